@@ -1,0 +1,108 @@
+//! Han et al.'s hierarchical questions Q1–Q5 (Algorithms 1–6), with the
+//! paper's sentence templates.
+
+use super::{Answer, Question};
+use crate::frame::steps;
+use crate::model::{Kind, Tree, Uid};
+
+/// Answers one of Q1–Q5 about the node `n` the robot is executing.
+pub fn answer(tree: &Tree, n: Uid, q: Question) -> Answer {
+    let (text, nodes) = match q {
+        Question::Doing => q1(tree, n),
+        Question::Why => q2(tree, n),
+        Question::Subgoal => q3(tree, n),
+        Question::Goal => q4(tree),
+        Question::HowSubgoal => match subgoal(tree, n) {
+            Some(g) => q5(tree, "subgoal", g),
+            None => (NO_SUBGOAL.to_string(), vec![n]),
+        },
+        Question::HowGoal => match goal(tree) {
+            Some(g) => q5(tree, "goal", g),
+            None => (NO_GOAL.to_string(), vec![Tree::ROOT]),
+        },
+    };
+    Answer {
+        question: q,
+        text,
+        nodes,
+    }
+}
+
+const NO_SUBGOAL: &str = "Sorry. I don't have a subgoal.";
+const NO_GOAL: &str = "Sorry. I don't have a named goal.";
+
+/// Algorithm 1.
+fn q1(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
+    (format!("I {}.", tree.description(n)), vec![n])
+}
+
+/// Algorithm 2: the nearest non-decorator ancestor that has a name different
+/// from the node's.
+pub fn why_ancestor(tree: &Tree, n: Uid) -> Option<Uid> {
+    let d = tree.description(n);
+    tree.ancestors(n)
+        .find(|&p| !tree.is_decorator(p) && tree.has_name(p) && tree.description(p) != d)
+}
+
+fn q2(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
+    match why_ancestor(tree, n) {
+        Some(p) => (
+            format!(
+                "I {} in order to {}.",
+                tree.description(n),
+                tree.description(p)
+            ),
+            vec![n, p],
+        ),
+        // Only the goal itself has nothing above it to serve.
+        None => (
+            format!("I {} because it is my goal.", tree.description(n)),
+            vec![n],
+        ),
+    }
+}
+
+/// Algorithm 3: the nearest SubTree ancestor.
+pub fn subgoal(tree: &Tree, n: Uid) -> Option<Uid> {
+    tree.ancestors(n)
+        .find(|&p| tree.node(p).kind == Kind::SubTree)
+}
+
+fn q3(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
+    match subgoal(tree, n) {
+        Some(p) => (
+            format!("My subgoal is to {}.", tree.description(p)),
+            vec![n, p],
+        ),
+        None => (NO_SUBGOAL.to_string(), vec![n]),
+    }
+}
+
+/// Algorithm 4's goal: the root, when it has a name.
+pub fn goal(tree: &Tree) -> Option<Uid> {
+    tree.has_name(Tree::ROOT).then_some(Tree::ROOT)
+}
+
+fn q4(tree: &Tree) -> (String, Vec<Uid>) {
+    match goal(tree) {
+        Some(g) => (format!("My goal is to {}.", tree.description(g)), vec![g]),
+        None => (NO_GOAL.to_string(), vec![Tree::ROOT]),
+    }
+}
+
+/// Algorithm 6 over Algorithm 5's steps.
+fn q5(tree: &Tree, what: &str, g: Uid) -> (String, Vec<Uid>) {
+    let s = steps(tree, g);
+    let mut text = format!(
+        "To achieve the {what} \"{}\", I need to do {} step{}.",
+        tree.description(g),
+        s.len(),
+        if s.len() == 1 { "" } else { "s" }
+    );
+    for (i, &x) in s.iter().enumerate() {
+        text.push_str(&format!(" {}. {}.", i + 1, tree.description(x)));
+    }
+    let mut nodes = vec![g];
+    nodes.extend(s);
+    (text, nodes)
+}

@@ -1,0 +1,78 @@
+use super::{draw, kind_label, port_label};
+use crate::frame::{steps, Framed, Role};
+use crate::model::{Kind, Tree, Uid};
+
+/// The full tree: description, `[type #uid]`, then ports.
+pub fn tree_text(tree: &Tree) -> String {
+    draw(
+        Tree::ROOT as usize,
+        |x| {
+            tree.node(x as Uid)
+                .children
+                .iter()
+                .map(|&c| c as usize)
+                .collect()
+        },
+        |x| {
+            let uid = x as Uid;
+            let n = tree.node(uid);
+            let mut s = format!(
+                "{}  [{} #{}]",
+                tree.description(uid),
+                kind_label(tree, uid),
+                uid
+            );
+            if !n.ports.is_empty() {
+                let ports: Vec<String> = n.ports.iter().map(port_label).collect();
+                s.push_str("  ");
+                s.push_str(&ports.join(", "));
+            }
+            for (k, v) in &n.scripts {
+                s.push_str(&format!("  {k}={v:?}"));
+            }
+            s
+        },
+    )
+}
+
+/// The framed tree, then the semantic sets.
+pub fn framed_text(tree: &Tree, framed: &Framed) -> String {
+    let mut out = draw(
+        0,
+        |i| framed.nodes[i].children.clone(),
+        |i| {
+            let f = &framed.nodes[i];
+            let role = match f.role {
+                Role::Goal => "goal",
+                Role::Subgoal => "subgoal",
+                Role::Step => "step",
+                Role::Action if tree.node(f.uid).kind == Kind::Condition => "condition",
+                Role::Action => "action",
+            };
+            let mut s = format!("{role}: {}  #{}", tree.description(f.uid), f.uid);
+            if !f.merged.is_empty() {
+                let m: Vec<String> = f.merged.iter().map(|u| format!("#{u}")).collect();
+                s.push_str(&format!(" (with {})", m.join(" ")));
+            }
+            s
+        },
+    );
+    let names = |v: &[Uid]| {
+        v.iter()
+            .map(|&u| tree.description(u))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    out.push('\n');
+    out.push_str(&format!("goal: {}\n", tree.description(framed.goal)));
+    out.push_str(&format!("subgoals: {}\n", names(&framed.subgoals)));
+    for &g in std::iter::once(&framed.goal).chain(&framed.subgoals) {
+        out.push_str(&format!(
+            "steps of \"{}\": {}\n",
+            tree.description(g),
+            names(&steps(tree, g))
+        ));
+    }
+    out.push_str(&format!("actions: {}\n", framed.actions.len()));
+    out
+}

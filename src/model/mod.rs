@@ -1,0 +1,322 @@
+//! The tree model: one expanded tree (every SubTree instance inlined), its
+//! nodes numbered as BehaviorTree.CPP numbers them, with the naming rules that
+//! make Han et al.'s algorithms answer alike on v3 and v4 files.
+
+pub mod builtins;
+mod naming;
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+pub use builtins::Builtin;
+
+/// A node uid, as BehaviorTree.CPP assigns it (from 1, depth-first in document
+/// order, a subtree's nodes right after its SubTree node).
+pub type Uid = u32;
+
+/// Index of a blackboard scope (0 is the main tree's).
+pub type ScopeId = usize;
+
+/// Index of a source file in [`Tree::files`].
+pub type FileId = usize;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    Action,
+    Condition,
+    Control,
+    Decorator,
+    SubTree,
+}
+
+impl Kind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Kind::Action => "Action",
+            Kind::Condition => "Condition",
+            Kind::Control => "Control",
+            Kind::Decorator => "Decorator",
+            Kind::SubTree => "SubTree",
+        }
+    }
+
+    pub fn is_leaf(self) -> bool {
+        matches!(self, Kind::Action | Kind::Condition)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Direction {
+    In,
+    Out,
+    InOut,
+}
+
+impl Direction {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Direction::In => "in",
+            Direction::Out => "out",
+            Direction::InOut => "inout",
+        }
+    }
+}
+
+/// BehaviorTree.CPP major version whose rules a file follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+pub enum Version {
+    V3,
+    V4,
+}
+
+impl Version {
+    pub fn number(self) -> u8 {
+        match self {
+            Version::V3 => 3,
+            Version::V4 => 4,
+        }
+    }
+}
+
+/// What a port is bound to.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum PortValue {
+    /// A literal string, converted by the node.
+    Literal(String),
+    /// `{key}`: an entry of the node's own (subtree) blackboard.
+    Key(String),
+    /// `{@key}`: an entry of the root blackboard.
+    RootKey(String),
+}
+
+impl PortValue {
+    /// Parses an attribute value; `port` is the port's name, for `{=}`.
+    pub fn parse(port: &str, raw: &str) -> PortValue {
+        let t = raw.trim();
+        if t == "=" || t == "{=}" {
+            return PortValue::Key(port.to_string());
+        }
+        if t.len() >= 2 && t.starts_with('{') && t.ends_with('}') {
+            let inner = &t[1..t.len() - 1];
+            if let Some(root) = inner.strip_prefix('@') {
+                return PortValue::RootKey(root.to_string());
+            }
+            if inner == "=" {
+                return PortValue::Key(port.to_string());
+            }
+            return PortValue::Key(inner.to_string());
+        }
+        PortValue::Literal(raw.to_string())
+    }
+
+    /// The value as BehaviorTree.CPP 4 XML writes it.
+    pub fn to_xml(&self) -> String {
+        match self {
+            PortValue::Literal(s) => s.clone(),
+            PortValue::Key(k) => format!("{{{k}}}"),
+            PortValue::RootKey(k) => format!("{{@{k}}}"),
+        }
+    }
+
+    pub fn key(&self) -> Option<&str> {
+        match self {
+            PortValue::Literal(_) => None,
+            PortValue::Key(k) | PortValue::RootKey(k) => Some(k),
+        }
+    }
+
+    pub fn kind_str(&self) -> &'static str {
+        match self {
+            PortValue::Literal(_) => "literal",
+            PortValue::Key(_) => "blackboard",
+            PortValue::RootKey(_) => "root",
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct Port {
+    pub name: String,
+    pub value: PortValue,
+    /// From a `<TreeNodesModel>` or the built-in table; `None` when nothing says.
+    pub direction: Option<Direction>,
+}
+
+impl Port {
+    /// Reads data (input, inout, or unknown direction).
+    pub fn reads(&self) -> bool {
+        !matches!(self.direction, Some(Direction::Out))
+    }
+    /// Writes data (output, inout, or unknown direction).
+    pub fn writes(&self) -> bool {
+        !matches!(self.direction, Some(Direction::In))
+    }
+}
+
+/// How a SubTree instance's blackboard sees its parent's.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub enum Remap {
+    /// The subtree's `inner` key aliases the parent's `outer` key.
+    Key { inner: String, outer: String },
+    /// The subtree's `inner` key aliases the root blackboard's `outer` key.
+    RootKey { inner: String, outer: String },
+    /// The subtree's `inner` key starts with this literal value.
+    Literal { inner: String, value: String },
+}
+
+/// A blackboard scope: the main tree's, or one per SubTree instance.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Scope {
+    pub parent: Option<ScopeId>,
+    /// The SubTree node that opened this scope.
+    pub subtree: Option<Uid>,
+    pub remaps: Vec<Remap>,
+    /// v4 `_autoremap` / v3 `__autoremap`: unknown keys are looked up in the parent.
+    pub autoremap: bool,
+    /// v3 `__shared_blackboard`: the subtree uses its parent's blackboard.
+    pub shared: bool,
+}
+
+/// Where a node was written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Origin {
+    pub file: FileId,
+    /// Byte range of the start tag in the file.
+    pub start: usize,
+    pub end: usize,
+}
+
+#[derive(Debug, Clone)]
+pub struct Node {
+    pub uid: Uid,
+    pub kind: Kind,
+    /// Registration ID as written (v3 IDs may contain spaces).
+    pub id: String,
+    /// Instance name, after BehaviorTree.CPP's rules for the file's version.
+    pub name: String,
+    pub builtin: Option<Builtin>,
+    pub ports: Vec<Port>,
+    /// Pre/post-condition scripts (`_skipIf`, `_onSuccess`, ...), in order.
+    pub scripts: Vec<(String, String)>,
+    pub parent: Option<Uid>,
+    pub children: Vec<Uid>,
+    /// The blackboard scope the node's ports resolve in.
+    pub scope: ScopeId,
+    /// For SubTree nodes: the scope of the subtree they open.
+    pub opens_scope: Option<ScopeId>,
+    pub depth: u32,
+    pub origin: Origin,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SourceFile {
+    pub path: PathBuf,
+    pub text: String,
+}
+
+/// A port declared by a `<TreeNodesModel>`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PortModel {
+    pub name: String,
+    pub direction: Direction,
+    pub default: Option<String>,
+    pub type_name: Option<String>,
+    pub description: Option<String>,
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct NodeModel {
+    pub kind: Kind,
+    pub ports: Vec<PortModel>,
+}
+
+/// A fully expanded behaviour tree.
+#[derive(Debug, Clone)]
+pub struct Tree {
+    pub version: Version,
+    /// The ID of the `<BehaviorTree>` that was executed.
+    pub main_tree: String,
+    /// Nodes indexed by `uid - 1`.
+    pub nodes: Vec<Node>,
+    pub scopes: Vec<Scope>,
+    /// Models from `<TreeNodesModel>` (custom nodes).
+    pub models: BTreeMap<String, NodeModel>,
+    pub files: Vec<SourceFile>,
+}
+
+impl Tree {
+    pub const ROOT: Uid = 1;
+
+    pub fn root(&self) -> &Node {
+        &self.nodes[0]
+    }
+
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    pub fn node(&self, uid: Uid) -> &Node {
+        &self.nodes[(uid - 1) as usize]
+    }
+
+    pub fn get(&self, uid: Uid) -> Option<&Node> {
+        uid.checked_sub(1).and_then(|i| self.nodes.get(i as usize))
+    }
+
+    pub fn parent(&self, uid: Uid) -> Option<Uid> {
+        self.node(uid).parent
+    }
+
+    /// The strict ancestors of a node, nearest first.
+    pub fn ancestors(&self, uid: Uid) -> impl Iterator<Item = Uid> + '_ {
+        std::iter::successors(self.parent(uid), move |&p| self.parent(p))
+    }
+
+    /// Whether `a` is a strict ancestor of `b`.
+    pub fn is_ancestor(&self, a: Uid, b: Uid) -> bool {
+        self.ancestors(b).any(|x| x == a)
+    }
+
+    /// The node and its descendants in uid (pre-)order. Because uids are
+    /// assigned depth-first, a subtree is a contiguous uid range.
+    pub fn subtree_range(&self, uid: Uid) -> std::ops::RangeInclusive<Uid> {
+        let mut last = uid;
+        while let Some(&c) = self.node(last).children.last() {
+            last = c;
+        }
+        uid..=last
+    }
+
+    /// The leaves (actions and conditions) below a node, in tree order.
+    pub fn leaves_below(&self, uid: Uid) -> impl Iterator<Item = Uid> + '_ {
+        self.subtree_range(uid)
+            .filter(move |&u| self.node(u).kind.is_leaf())
+    }
+
+    pub fn is_decorator(&self, uid: Uid) -> bool {
+        self.node(uid).kind == Kind::Decorator
+    }
+
+    /// The file and 1-based line and column where a node was written.
+    pub fn location(&self, uid: Uid) -> (String, usize, usize) {
+        let o = self.node(uid).origin;
+        let f = &self.files[o.file];
+        let (line, col) = crate::source::line_col(&f.text, o.start);
+        (f.path.display().to_string(), line, col)
+    }
+
+    /// The node's type as a person reads it: the built-in's v4 name, or the ID.
+    pub fn type_name(&self, uid: Uid) -> &str {
+        let n = self.node(uid);
+        match n.builtin.and_then(|b| b.v4_name()) {
+            Some(s) if n.kind != Kind::SubTree => s,
+            _ => &n.id,
+        }
+    }
+}

@@ -1,0 +1,82 @@
+//! Naming rules that make Han et al.'s algorithms answer alike on v3 and v4
+//! files (see the README, "Naming rules").
+
+use super::{Kind, Tree, Uid};
+
+/// IDs and names compare equal when they differ only by the `_` that v4 model
+/// names need in place of spaces (`lift_torso` vs `lift torso`).
+fn same_words(a: &str, b: &str) -> bool {
+    a.len() == b.len()
+        && a.chars()
+            .zip(b.chars())
+            .all(|(x, y)| x == y || (matches!(x, '_' | ' ') && matches!(y, '_' | ' ')))
+}
+
+impl Tree {
+    /// Han's `short_description`: the name, or the ID when the name is empty.
+    pub fn description(&self, uid: Uid) -> &str {
+        let n = self.node(uid);
+        if n.name.is_empty() {
+            &n.id
+        } else {
+            &n.name
+        }
+    }
+
+    /// Han's `has_name`. A SubTree always has one (its name, or its ID). Any
+    /// other node has a name when its name is non-empty and is not just its
+    /// type: v4 fills a missing name with the registration ID, and a v3 leaf
+    /// with `name=""` converts to a v4 leaf named after its old ID.
+    pub fn has_name(&self, uid: Uid) -> bool {
+        let n = self.node(uid);
+        if n.kind == Kind::SubTree {
+            return true;
+        }
+        if n.name.is_empty() {
+            return false;
+        }
+        if same_words(&n.name, &n.id) {
+            return false;
+        }
+        // A built-in's other spellings (a v3 `SequenceStar` named "SequenceWithMemory").
+        match n.builtin {
+            Some(b) => {
+                !(b.v4_name().is_some_and(|s| s == n.name)
+                    || b.v3_name().is_some_and(|s| s == n.name))
+            }
+            None => true,
+        }
+    }
+
+    /// A path of descriptions from the root that `pick` resolves back to this
+    /// node: nodes without a name are left out, and so is a node that repeats
+    /// its parent's description.
+    pub fn display_path(&self, uid: Uid) -> String {
+        let mut chain: Vec<Uid> = self.ancestors(uid).collect();
+        chain.reverse();
+        let mut parts: Vec<&str> = Vec::new();
+        for a in chain {
+            if self.has_name(a) {
+                let d = self.description(a);
+                if parts.last() != Some(&d) {
+                    parts.push(d);
+                }
+            }
+        }
+        parts.push(self.description(uid));
+        parts.join("/")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::same_words;
+
+    #[test]
+    fn underscores_match_spaces() {
+        assert!(same_words("lift_torso", "lift torso"));
+        assert!(same_words("ask", "ask"));
+        assert!(!same_words("ask", "asks"));
+        assert!(!same_words("lift-torso", "lift torso"));
+    }
+}

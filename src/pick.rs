@@ -1,0 +1,154 @@
+//! Picking a node: `#uid`, a description or ID, or a path of descriptions
+//! from the root (`go insert large gear/detect chuck/lift torso`).
+
+use crate::model::{Tree, Uid};
+
+/// Why a pick did not resolve to one node.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum PickError {
+    #[error("no node matches \"{query}\"{}", list(.candidates, "closest"))]
+    Unknown {
+        query: String,
+        candidates: Vec<Candidate>,
+    },
+    #[error("\"{query}\" matches {} nodes{}", .candidates.len(), list(.candidates, "pick one with its path or #uid"))]
+    Ambiguous {
+        query: String,
+        candidates: Vec<Candidate>,
+    },
+}
+
+/// A node offered in an error: its uid and a path that picks it.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
+pub struct Candidate {
+    pub uid: Uid,
+    pub path: String,
+}
+
+fn list(c: &[Candidate], what: &str) -> String {
+    if c.is_empty() {
+        return String::new();
+    }
+    let mut s = format!("; {what}:");
+    for x in c {
+        s.push_str(&format!("\n  #{}  {}", x.uid, x.path));
+    }
+    s
+}
+
+fn matches(tree: &Tree, uid: Uid, segment: &str, fold: bool) -> bool {
+    let n = tree.node(uid);
+    let eq = |a: &str| {
+        if fold {
+            a.eq_ignore_ascii_case(segment)
+        } else {
+            a == segment
+        }
+    };
+    eq(tree.description(uid)) || eq(&n.id) || eq(&n.name)
+}
+
+/// Resolves a pick to one node.
+///
+/// Segments of a path match, in order, any subsequence of the node's
+/// ancestors (so unnamed nodes and repeated names need not be written), and
+/// the last segment matches the node itself by description, name or ID.
+/// Exact case is tried first, then any case. When every match lies on one
+/// line of descent (a same-named SubTree, Fallback and Sequence), the
+/// outermost is meant.
+pub fn pick(tree: &Tree, query: &str) -> Result<Uid, PickError> {
+    let q = query.trim();
+    if let Some(num) = q.strip_prefix('#') {
+        if let Ok(uid) = num.trim().parse::<Uid>() {
+            if tree.get(uid).is_some() {
+                return Ok(uid);
+            }
+        }
+        return Err(PickError::Unknown {
+            query: q.to_string(),
+            candidates: closest(tree, q),
+        });
+    }
+    let segments: Vec<&str> = q
+        .split('/')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect();
+    if segments.is_empty() {
+        return Err(PickError::Unknown {
+            query: q.to_string(),
+            candidates: closest(tree, q),
+        });
+    }
+    for fold in [false, true] {
+        let found = find(tree, &segments, fold);
+        if found.is_empty() {
+            continue;
+        }
+        let outermost = found
+            .iter()
+            .copied()
+            .find(|&a| found.iter().all(|&b| a == b || tree.is_ancestor(a, b)));
+        return match outermost {
+            Some(uid) => Ok(uid),
+            None => Err(PickError::Ambiguous {
+                query: q.to_string(),
+                candidates: found.iter().map(|&u| candidate(tree, u)).collect(),
+            }),
+        };
+    }
+    Err(PickError::Unknown {
+        query: q.to_string(),
+        candidates: closest(tree, q),
+    })
+}
+
+fn find(tree: &Tree, segments: &[&str], fold: bool) -> Vec<Uid> {
+    let (last, rest) = segments.split_last().expect("non-empty");
+    (1..=tree.len() as Uid)
+        .filter(|&u| matches(tree, u, last, fold))
+        .filter(|&u| {
+            // Greedy from the nearest ancestor up finds a subsequence if one exists.
+            let mut want = rest.iter().rev().peekable();
+            for a in tree.ancestors(u) {
+                match want.peek() {
+                    Some(s) if matches(tree, a, s, fold) => {
+                        want.next();
+                    }
+                    Some(_) => {}
+                    None => break,
+                }
+            }
+            want.peek().is_none()
+        })
+        .collect()
+}
+
+fn candidate(tree: &Tree, uid: Uid) -> Candidate {
+    Candidate {
+        uid,
+        path: tree.display_path(uid),
+    }
+}
+
+fn closest(tree: &Tree, query: &str) -> Vec<Candidate> {
+    let q = query.trim_start_matches('#');
+    let last = q.rsplit('/').next().unwrap_or(q);
+    let items: Vec<(String, Uid)> = (1..=tree.len() as Uid)
+        .map(|u| {
+            (
+                if q.contains('/') {
+                    tree.display_path(u)
+                } else {
+                    tree.description(u).to_string()
+                },
+                u,
+            )
+        })
+        .collect();
+    let query = if q.contains('/') { q } else { last };
+    crate::rank::rank(query, &items, 5)
+        .into_iter()
+        .map(|u| candidate(tree, u))
+        .collect()
+}

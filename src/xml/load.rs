@@ -1,0 +1,651 @@
+//! BehaviorTree.CPP XML (v3 and v4) → one expanded [`Tree`].
+
+use super::parse::{parse_document, Element};
+use crate::model::builtins::{self, Availability};
+use crate::model::*;
+use crate::source::{Located, Warning};
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::path::{Path, PathBuf};
+
+/// How to read a file.
+#[derive(Debug, Clone, Default)]
+pub struct LoadOptions {
+    /// Force the BehaviorTree.CPP version instead of detecting it.
+    pub version: Option<Version>,
+    /// Execute this `<BehaviorTree>` instead of the file's main tree.
+    pub main_tree: Option<String>,
+}
+
+/// A loaded tree and what the loader noticed on the way.
+#[derive(Debug, Clone)]
+pub struct Loaded {
+    pub tree: Tree,
+    pub warnings: Vec<Warning>,
+}
+
+/// Loads a tree file and the files it includes.
+pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded, Located> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| Located::file(path, format!("cannot read the tree file: {e}")))?;
+    load_str(path, &text, opts)
+}
+
+/// Loads a tree from text; `path` names it in messages and anchors includes.
+pub fn load_str(path: &Path, text: &str, opts: &LoadOptions) -> Result<Loaded, Located> {
+    let mut l = Loader::default();
+    l.add_document(path.to_path_buf(), text.to_string())?;
+    l.finish(opts)
+}
+
+const SCRIPT_ATTRS: &[&str] = &[
+    "_failureIf",
+    "_successIf",
+    "_skipIf",
+    "_while",
+    "_onSuccess",
+    "_onFailure",
+    "_onHalted",
+    "_post",
+];
+
+struct Def {
+    id: Option<String>,
+    file: FileId,
+    el: Element,
+}
+
+#[derive(Default)]
+struct Loader {
+    files: Vec<SourceFile>,
+    seen: HashSet<PathBuf>,
+    /// Each document's `<root>` element, in load order.
+    roots: Vec<(FileId, Element)>,
+    defs: Vec<Def>,
+    models: BTreeMap<String, NodeModel>,
+    warnings: Vec<Warning>,
+}
+
+impl Loader {
+    fn err(&self, file: FileId, el: &Element, msg: impl Into<String>) -> Located {
+        let f = &self.files[file];
+        Located::at(&f.path, &f.text, el.start, el.end, msg)
+    }
+
+    fn warn(&mut self, file: FileId, el: &Element, msg: impl Into<String>) {
+        let f = &self.files[file];
+        let (line, col) = crate::source::line_col(&f.text, el.start);
+        self.warnings.push(Warning {
+            location: format!("{}:{line}:{col}", f.path.display()),
+            message: msg.into(),
+        });
+    }
+
+    fn add_document(&mut self, path: PathBuf, text: String) -> Result<(), Located> {
+        let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
+        if !self.seen.insert(key) {
+            return Ok(());
+        }
+        let root = parse_document(&path, &text)?;
+        let file = self.files.len();
+        self.files.push(SourceFile { path, text });
+        if root.tag != "root" {
+            return Err(self.err(
+                file,
+                &root,
+                format!("the top element must be <root>, found <{}>", root.tag),
+            ));
+        }
+        for child in &root.children {
+            match child.tag.as_str() {
+                "include" => self.include(file, child)?,
+                "BehaviorTree" => {
+                    if child.children.len() != 1 {
+                        let id = child.attr("ID").unwrap_or("");
+                        return Err(self.err(
+                            file,
+                            child,
+                            format!(
+                                "<BehaviorTree ID=\"{id}\"> must have exactly one child, found {}",
+                                child.children.len()
+                            ),
+                        ));
+                    }
+                    let id = child.attr("ID").map(str::to_string);
+                    if let Some(id) = &id {
+                        if self.defs.iter().any(|d| d.id.as_deref() == Some(id)) {
+                            return Err(self.err(
+                                file,
+                                child,
+                                format!("a <BehaviorTree> with ID \"{id}\" is defined twice"),
+                            ));
+                        }
+                    }
+                    self.defs.push(Def {
+                        id,
+                        file,
+                        el: child.clone(),
+                    });
+                }
+                "TreeNodesModel" => self.read_models(file, child),
+                other => {
+                    let msg =
+                        format!("<{other}> is not part of the BehaviorTree.CPP format; ignored");
+                    self.warn(file, child, msg);
+                }
+            }
+        }
+        self.roots.push((file, root));
+        Ok(())
+    }
+
+    fn include(&mut self, file: FileId, el: &Element) -> Result<(), Located> {
+        if el.attr("ros_pkg").is_some() {
+            return Err(self
+                .err(
+                    file,
+                    el,
+                    "<include ros_pkg=...> needs a ROS workspace, which btx does not read",
+                )
+                .with_help("give the path relative to this file instead"));
+        }
+        let Some(rel) = el.attr("path") else {
+            return Err(self.err(file, el, "<include> needs a path attribute"));
+        };
+        let base = self.files[file]
+            .path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_default();
+        let path = base.join(rel);
+        let text = std::fs::read_to_string(&path).map_err(|e| {
+            self.err(
+                file,
+                el,
+                format!("cannot read included file {}: {e}", path.display()),
+            )
+        })?;
+        self.add_document(path, text)
+    }
+
+    fn read_models(&mut self, file: FileId, el: &Element) {
+        for m in &el.children {
+            let kind = match m.tag.as_str() {
+                "Action" => Kind::Action,
+                "Condition" => Kind::Condition,
+                "Control" => Kind::Control,
+                "Decorator" => Kind::Decorator,
+                "SubTree" => Kind::SubTree,
+                other => {
+                    let msg = format!("<{other}> in <TreeNodesModel> is not a node kind; ignored");
+                    self.warn(file, m, msg);
+                    continue;
+                }
+            };
+            let Some(id) = m.attr("ID") else {
+                self.warn(file, m, "a model without an ID; ignored");
+                continue;
+            };
+            let ports = m
+                .children
+                .iter()
+                .filter_map(|p| {
+                    let direction = match p.tag.as_str() {
+                        "input_port" => Direction::In,
+                        "output_port" => Direction::Out,
+                        "inout_port" => Direction::InOut,
+                        _ => return None,
+                    };
+                    Some(PortModel {
+                        name: p.attr("name")?.to_string(),
+                        direction,
+                        default: p.attr("default").map(str::to_string),
+                        type_name: p.attr("type").map(str::to_string),
+                        description: Some(p.text.trim().to_string()).filter(|s| !s.is_empty()),
+                    })
+                })
+                .collect();
+            self.models
+                .entry(id.to_string())
+                .or_insert(NodeModel { kind, ports });
+        }
+    }
+
+    fn detect_version(&mut self) -> Result<Version, Located> {
+        let (file, root) = &self.roots[self.roots.len() - 1];
+        let (file, root) = (*file, root.clone());
+        match root.attr("BTCPP_format") {
+            Some("4") => Ok(Version::V4),
+            Some("3") => Ok(Version::V3),
+            Some(other) => Err(self.err(
+                file,
+                &root,
+                format!("BTCPP_format=\"{other}\" is not a BehaviorTree.CPP format (3 or 4)"),
+            )),
+            None => {
+                let v4 = self.defs.iter().any(|d| uses_v4_only(&d.el));
+                let msg = if v4 {
+                    "no BTCPP_format attribute; the tree uses v4-only nodes or attributes, so it is read as BehaviorTree.CPP 4"
+                } else {
+                    "no BTCPP_format attribute: read as BehaviorTree.CPP 3 (SubTree names are their IDs); pass --btcpp 4 to read it as v4"
+                };
+                self.warn(file, &root, msg);
+                Ok(if v4 { Version::V4 } else { Version::V3 })
+            }
+        }
+    }
+
+    fn main_tree(&self, opts: &LoadOptions) -> Result<usize, Located> {
+        let (file, root) = &self.roots[self.roots.len() - 1];
+        let known = || {
+            self.defs
+                .iter()
+                .filter_map(|d| d.id.clone())
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let find = |id: &str| self.defs.iter().position(|d| d.id.as_deref() == Some(id));
+        if let Some(id) = &opts.main_tree {
+            return find(id).ok_or_else(|| {
+                Located::file(
+                    &self.files[*file].path,
+                    format!("there is no <BehaviorTree ID=\"{id}\">"),
+                )
+                .with_help(format!("the trees are: {}", known()))
+            });
+        }
+        if let Some(id) = root.attr("main_tree_to_execute") {
+            return find(id).ok_or_else(|| {
+                self.err(*file, root, format!("main_tree_to_execute names \"{id}\", but there is no <BehaviorTree ID=\"{id}\">"))
+                    .with_help(format!("the trees are: {}", known()))
+            });
+        }
+        match self.defs.len() {
+            1 => Ok(0),
+            0 => Err(self.err(*file, root, "no main tree: the file has no <BehaviorTree>")),
+            n => Err(self.err(*file, root, format!("no main tree: {n} <BehaviorTree> elements and no main_tree_to_execute"))
+                .with_help(format!("add main_tree_to_execute=\"...\" to <root>, or pass --main-tree; the trees are: {}", known()))),
+        }
+    }
+
+    fn finish(mut self, opts: &LoadOptions) -> Result<Loaded, Located> {
+        // The first document opened is the last one pushed (includes finish first).
+        let version = match opts.version {
+            Some(v) => v,
+            None => self.detect_version()?,
+        };
+        if self.defs.len() > 1 {
+            if let Some(d) = self.defs.iter().find(|d| d.id.is_none()) {
+                return Err(self.err(
+                    d.file,
+                    &d.el,
+                    "a <BehaviorTree> needs an ID when the file has more than one",
+                ));
+            }
+        }
+        let main = self.main_tree(opts)?;
+        let main_id = self.defs[main]
+            .id
+            .clone()
+            .unwrap_or_else(|| "MainTree".to_string());
+        let by_id: HashMap<String, usize> = self
+            .defs
+            .iter()
+            .enumerate()
+            .filter_map(|(i, d)| d.id.clone().map(|id| (id, i)))
+            .collect();
+
+        let mut nodes: Vec<Node> = Vec::new();
+        let mut scopes = vec![Scope {
+            parent: None,
+            subtree: None,
+            remaps: Vec::new(),
+            autoremap: false,
+            shared: false,
+        }];
+        struct Work<'a> {
+            el: &'a Element,
+            file: FileId,
+            parent: Option<Uid>,
+            scope: ScopeId,
+            depth: u32,
+            chain: std::rc::Rc<Vec<String>>,
+        }
+        let defs = std::mem::take(&mut self.defs);
+        let main_def = &defs[main];
+        let mut stack = vec![Work {
+            el: &main_def.el.children[0],
+            file: main_def.file,
+            parent: None,
+            scope: 0,
+            depth: 0,
+            chain: std::rc::Rc::new(vec![main_id.clone()]),
+        }];
+        while let Some(w) = stack.pop() {
+            let uid = Uid::try_from(nodes.len() + 1).expect("fewer than 2^32 nodes");
+            let mut node =
+                self.make_node(version, w.file, w.el, uid, w.parent, w.scope, w.depth)?;
+            if let Some(p) = w.parent {
+                nodes[(p - 1) as usize].children.push(uid);
+            }
+            if node.kind == Kind::SubTree {
+                let Some(&di) = by_id.get(&node.id) else {
+                    let items: Vec<(String, String)> =
+                        by_id.keys().map(|k| (k.clone(), k.clone())).collect();
+                    let near = crate::rank::rank(&node.id, &items, 5);
+                    return Err(self
+                        .err(
+                            w.file,
+                            w.el,
+                            format!(
+                                "unknown SubTree ID \"{}\": no <BehaviorTree> has it",
+                                node.id
+                            ),
+                        )
+                        .with_help(format!("did you mean: {}", near.join(", "))));
+                };
+                if w.chain.contains(&node.id) {
+                    let mut cycle: Vec<String> = w
+                        .chain
+                        .iter()
+                        .skip_while(|c| **c != node.id)
+                        .cloned()
+                        .collect();
+                    cycle.push(node.id.clone());
+                    return Err(self.err(
+                        w.file,
+                        w.el,
+                        format!(
+                            "SubTree \"{}\" includes itself: {}",
+                            node.id,
+                            cycle.join(" → ")
+                        ),
+                    ));
+                }
+                let scope = subtree_scope(&node, w.el, w.scope);
+                scopes.push(scope);
+                node.opens_scope = Some(scopes.len() - 1);
+                let mut chain = (*w.chain).clone();
+                chain.push(node.id.clone());
+                let d = &defs[di];
+                stack.push(Work {
+                    el: &d.el.children[0],
+                    file: d.file,
+                    parent: Some(uid),
+                    scope: scopes.len() - 1,
+                    depth: w.depth + 1,
+                    chain: std::rc::Rc::new(chain),
+                });
+            } else {
+                for c in w.el.children.iter().rev() {
+                    stack.push(Work {
+                        el: c,
+                        file: w.file,
+                        parent: Some(uid),
+                        scope: w.scope,
+                        depth: w.depth + 1,
+                        chain: w.chain.clone(),
+                    });
+                }
+            }
+            nodes.push(node);
+        }
+        let tree = Tree {
+            version,
+            main_tree: main_id,
+            nodes,
+            scopes,
+            models: self.models,
+            files: self.files,
+        };
+        Ok(Loaded {
+            tree,
+            warnings: self.warnings,
+        })
+    }
+}
+
+fn subtree_scope(node: &Node, el: &Element, parent: ScopeId) -> Scope {
+    {
+        let flag = |k: &str| {
+            el.attr(k)
+                .is_some_and(|v| matches!(v.trim(), "true" | "1" | "True" | "TRUE"))
+        };
+        let remaps = node
+            .ports
+            .iter()
+            .map(|p| match &p.value {
+                PortValue::Key(k) => Remap::Key {
+                    inner: p.name.clone(),
+                    outer: k.clone(),
+                },
+                PortValue::RootKey(k) => Remap::RootKey {
+                    inner: p.name.clone(),
+                    outer: k.clone(),
+                },
+                PortValue::Literal(v) => Remap::Literal {
+                    inner: p.name.clone(),
+                    value: v.clone(),
+                },
+            })
+            .collect();
+        Scope {
+            parent: Some(parent),
+            subtree: Some(node.uid),
+            remaps,
+            autoremap: flag("_autoremap") || flag("__autoremap"),
+            shared: flag("__shared_blackboard"),
+        }
+    }
+}
+
+impl Loader {
+    #[allow(clippy::too_many_arguments)]
+    fn make_node(
+        &mut self,
+        version: Version,
+        file: FileId,
+        el: &Element,
+        uid: Uid,
+        parent: Option<Uid>,
+        scope: ScopeId,
+        depth: u32,
+    ) -> Result<Node, Located> {
+        let tag = el.tag.as_str();
+        let explicit_kind = match tag {
+            "Action" => Some(Kind::Action),
+            "Condition" => Some(Kind::Condition),
+            "Control" => Some(Kind::Control),
+            "Decorator" => Some(Kind::Decorator),
+            "SubTree" | "SubTreePlus" => Some(Kind::SubTree),
+            _ => None,
+        };
+        let id = match explicit_kind {
+            Some(_) => match el.attr("ID") {
+                Some(id) => id.to_string(),
+                None => return Err(self.err(file, el, format!("<{tag}> needs an ID attribute"))),
+            },
+            None => {
+                if matches!(tag, "root" | "BehaviorTree" | "TreeNodesModel" | "include") {
+                    return Err(self.err(file, el, format!("<{tag}> cannot be used as a node")));
+                }
+                if el.attr("ID").is_some() {
+                    self.warn(
+                        file,
+                        el,
+                        format!("<{tag}> is in compact form, where ID is not allowed; ignored"),
+                    );
+                }
+                tag.to_string()
+            }
+        };
+        let old_style_subtree = tag == "SubTree" && version == Version::V3;
+
+        // What kind of node, and which built-in behaviour.
+        let (kind, builtin) = if explicit_kind == Some(Kind::SubTree) {
+            (Kind::SubTree, Some(Builtin::SubTree))
+        } else if let Some(spec) = builtins::lookup(&id) {
+            match (spec.availability, version) {
+                (Availability::V3Only, Version::V4) => {
+                    let msg = match spec.builtin.v4_name() {
+                        Some(v4) => format!("\"{id}\" is a BehaviorTree.CPP 3 name; read as {v4}"),
+                        None => format!("\"{id}\" exists only in BehaviorTree.CPP 3"),
+                    };
+                    self.warn(file, el, msg);
+                }
+                (Availability::V4Only, Version::V3) => {
+                    self.warn(
+                        file,
+                        el,
+                        format!("\"{id}\" does not exist in BehaviorTree.CPP 3"),
+                    );
+                }
+                _ => {}
+            }
+            (spec.kind, Some(spec.builtin))
+        } else if let Some(m) = self.models.get(&id) {
+            (m.kind, None)
+        } else if let Some(k) = explicit_kind {
+            (k, None)
+        } else {
+            let (k, what) = match el.children.len() {
+                0 => (Kind::Action, "an Action"),
+                1 => (Kind::Decorator, "a Decorator"),
+                _ => (Kind::Control, "a Control"),
+            };
+            self.warn(
+                file,
+                el,
+                format!(
+                    "unknown node \"{id}\" has no model in <TreeNodesModel>; treated as {what}"
+                ),
+            );
+            (k, None)
+        };
+
+        // Child counts, as BehaviorTree.CPP verifies them.
+        let n = el.children.len();
+        let (min, max) = match builtin {
+            Some(Builtin::SubTree) => (0, Some(0)),
+            Some(b) => b.spec().children,
+            None => match kind {
+                Kind::Action | Kind::Condition | Kind::SubTree => (0, Some(0)),
+                Kind::Decorator => (1, Some(1)),
+                Kind::Control => (1, None),
+            },
+        };
+        if n < min || max.is_some_and(|m| n > m) {
+            let what = match (min, max) {
+                (a, Some(b)) if a == b && a == 0 => "no children".to_string(),
+                (a, Some(b)) if a == b && a == 1 => "exactly one child".to_string(),
+                (a, Some(b)) if a == b => format!("exactly {a} children"),
+                (a, Some(b)) => format!("{a} to {b} children"),
+                (a, None) => format!("at least {a} {}", if a == 1 { "child" } else { "children" }),
+            };
+            return Err(self.err(
+                file,
+                el,
+                format!("{} \"{id}\" must have {what}, found {n}", kind.as_str()),
+            ));
+        }
+
+        // Instance name, by the version's rules.
+        let name_attr = el.attr("name");
+        let name = if kind == Kind::SubTree {
+            match (version, name_attr) {
+                (Version::V4, Some(n)) if !n.is_empty() => n.to_string(),
+                _ => id.clone(),
+            }
+        } else {
+            name_attr.unwrap_or(&id).to_string()
+        };
+
+        // Ports, scripts and subtree flags.
+        let model_ports = self
+            .models
+            .get(&id)
+            .map(|m| m.ports.clone())
+            .unwrap_or_default();
+        let mut ports = Vec::new();
+        let mut scripts = Vec::new();
+        for a in &el.attrs {
+            let k = a.key.as_str();
+            if matches!(k, "ID" | "name" | "_uid" | "_fullpath") {
+                continue;
+            }
+            if SCRIPT_ATTRS.contains(&k) {
+                scripts.push((k.to_string(), a.value.clone()));
+                continue;
+            }
+            if kind == Kind::SubTree
+                && matches!(k, "_autoremap" | "__autoremap" | "__shared_blackboard")
+            {
+                continue;
+            }
+            let value = if old_style_subtree {
+                // v3 <SubTree inner="outer"/>: values are key names, without braces.
+                match PortValue::parse(k, &a.value) {
+                    PortValue::Literal(s) => PortValue::Key(s),
+                    other => other,
+                }
+            } else {
+                PortValue::parse(k, &a.value)
+            };
+            let direction = model_ports
+                .iter()
+                .find(|p| p.name == k)
+                .map(|p| p.direction)
+                .or_else(|| {
+                    builtin
+                        .filter(|b| *b != Builtin::SubTree)
+                        .and_then(|b| b.spec().ports.iter().find(|p| p.0 == k).map(|p| p.1))
+                });
+            ports.push(Port {
+                name: k.to_string(),
+                value,
+                direction,
+            });
+        }
+        Ok(Node {
+            uid,
+            kind,
+            id,
+            name,
+            builtin,
+            ports,
+            scripts,
+            parent,
+            children: Vec::with_capacity(n),
+            scope,
+            opens_scope: None,
+            depth,
+            origin: Origin {
+                file,
+                start: el.start,
+                end: el.end,
+            },
+        })
+    }
+}
+
+/// Whether an element (or one below it) only makes sense in v4.
+fn uses_v4_only(el: &Element) -> bool {
+    let mut stack = vec![el];
+    while let Some(e) = stack.pop() {
+        let id = match e.tag.as_str() {
+            "Action" | "Condition" | "Control" | "Decorator" => e.attr("ID").unwrap_or(""),
+            t => t,
+        };
+        if builtins::lookup(id).is_some_and(|s| s.availability == Availability::V4Only) {
+            return true;
+        }
+        if e.attrs.iter().any(|a| {
+            a.key == "_autoremap"
+                || SCRIPT_ATTRS.contains(&a.key.as_str())
+                || a.value.trim().starts_with("{@")
+        }) {
+            return true;
+        }
+        stack.extend(e.children.iter());
+    }
+    false
+}

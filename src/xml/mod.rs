@@ -1,0 +1,8 @@
+//! Reading and writing BehaviorTree.CPP XML.
+
+mod load;
+mod parse;
+mod write;
+
+pub use load::{load_file, load_str, LoadOptions, Loaded};
+pub use write::{sanitize_id, to_v4_xml};

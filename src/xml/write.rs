@@ -1,0 +1,336 @@
+//! [`Tree`] → BehaviorTree.CPP 4 XML. Written so that BehaviorTree.CPP 4.10
+//! loads it and btx reads it back with the same names and answers; this is
+//! what makes `btx tree --format xml` a v3 → v4 converter without the bugs of
+//! the library's own script (IDs with spaces, the retry typo, SubTree names).
+
+use crate::model::*;
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::fmt::Write;
+
+/// A v4 model name: BehaviorTree.CPP ≥ 4.8.4 forbids spaces and
+/// `<>&"'/\:*?|.`, and the compact form needs a valid XML element name.
+pub fn sanitize_id(id: &str) -> String {
+    let mut s: String = id
+        .chars()
+        .map(|c| {
+            if c.is_alphanumeric() || c == '_' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit() || c == '-') {
+        s.insert(0, '_');
+    }
+    if s == "Root" {
+        s.push('_');
+    }
+    s
+}
+
+fn escape(v: &str) -> String {
+    let mut out = String::with_capacity(v.len());
+    for c in v.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\n' => out.push_str("&#10;"),
+            '\r' => out.push_str("&#13;"),
+            '\t' => out.push_str("&#9;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+fn is_builtin(id: &str) -> bool {
+    id == "SubTree" || crate::model::builtins::lookup(id).is_some()
+}
+
+/// Maps every custom and tree ID to a unique valid v4 name.
+struct Names {
+    map: HashMap<String, String>,
+}
+
+impl Names {
+    fn new(tree: &Tree) -> Names {
+        let mut taken: HashSet<String> = crate::model::builtins::BUILTINS
+            .iter()
+            .map(|s| s.spelling.to_string())
+            .collect();
+        taken.insert("SubTree".into());
+        let mut map = HashMap::new();
+        let mut ids: Vec<&str> = vec![tree.main_tree.as_str()];
+        for n in &tree.nodes {
+            if n.builtin.is_none() || n.kind == Kind::SubTree {
+                ids.push(&n.id);
+            }
+        }
+        ids.extend(
+            tree.models
+                .keys()
+                .map(String::as_str)
+                .filter(|id| !is_builtin(id)),
+        );
+        for id in ids {
+            if map.contains_key(id) {
+                continue;
+            }
+            let base = sanitize_id(id);
+            let mut cand = base.clone();
+            let mut k = 2;
+            while taken.contains(&cand) {
+                cand = format!("{base}_{k}");
+                k += 1;
+            }
+            taken.insert(cand.clone());
+            map.insert(id.to_string(), cand);
+        }
+        Names { map }
+    }
+
+    fn get<'a>(&'a self, id: &'a str) -> &'a str {
+        self.map.get(id).map(String::as_str).unwrap_or(id)
+    }
+}
+
+/// Writes the tree as BehaviorTree.CPP 4 XML: one `<BehaviorTree>` per tree
+/// definition (taken from its first instance), and a `<TreeNodesModel>` that
+/// declares every custom node and the ports it is given.
+pub fn to_v4_xml(tree: &Tree) -> String {
+    let names = Names::new(tree);
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "<root BTCPP_format=\"4\" main_tree_to_execute=\"{}\">",
+        escape(names.get(&tree.main_tree))
+    );
+    // Definitions in order of first use.
+    let mut defs: Vec<(String, Uid)> = vec![(tree.main_tree.clone(), Tree::ROOT)];
+    let mut seen: HashSet<&str> = HashSet::from([tree.main_tree.as_str()]);
+    for n in &tree.nodes {
+        if n.kind == Kind::SubTree && seen.insert(&n.id) {
+            if let Some(&c) = n.children.first() {
+                defs.push((n.id.clone(), c));
+            }
+        }
+    }
+    for (id, root) in &defs {
+        let _ = writeln!(out, "  <BehaviorTree ID=\"{}\">", escape(names.get(id)));
+        write_node(tree, &names, *root, &mut out);
+        out.push_str("  </BehaviorTree>\n");
+    }
+    write_models(tree, &names, &mut out);
+    out.push_str("</root>\n");
+    out
+}
+
+enum Step {
+    Open(Uid, usize),
+    Close(String, usize),
+}
+
+fn write_node(tree: &Tree, names: &Names, root: Uid, out: &mut String) {
+    let mut stack = vec![Step::Open(root, 2)];
+    while let Some(step) = stack.pop() {
+        match step {
+            Step::Close(tag, depth) => {
+                let _ = writeln!(out, "{}</{}>", "  ".repeat(depth), tag);
+            }
+            Step::Open(uid, depth) => {
+                let n = tree.node(uid);
+                let (tag, attrs) = element_of(tree, names, uid);
+                let _ = write!(out, "{}<{}", "  ".repeat(depth), tag);
+                for (k, v) in &attrs {
+                    let _ = write!(out, " {}=\"{}\"", k, escape(v));
+                }
+                if n.kind == Kind::SubTree || n.children.is_empty() {
+                    out.push_str("/>\n");
+                } else {
+                    out.push_str(">\n");
+                    stack.push(Step::Close(tag, depth));
+                    for &c in n.children.iter().rev() {
+                        stack.push(Step::Open(c, depth + 1));
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The element name and attributes that express one node in v4.
+fn element_of(tree: &Tree, names: &Names, uid: Uid) -> (String, Vec<(String, String)>) {
+    let n = tree.node(uid);
+    let mut attrs: Vec<(String, String)> = Vec::new();
+    if n.kind == Kind::SubTree {
+        attrs.push(("ID".into(), names.get(&n.id).to_string()));
+        attrs.push(("name".into(), n.name.clone()));
+        for p in &n.ports {
+            attrs.push((p.name.clone(), p.value.to_xml()));
+        }
+        if let Some(s) = n.opens_scope.map(|s| &tree.scopes[s]) {
+            if s.autoremap || s.shared {
+                attrs.push(("_autoremap".into(), "true".into()));
+            }
+        }
+        return (String::from("SubTree"), attrs);
+    }
+    let tag = match n.builtin {
+        Some(b) => match b.v4_name() {
+            Some(t) => t.to_string(),
+            None => return blackboard_check(tree, uid),
+        },
+        None => names.get(&n.id).to_string(),
+    };
+    let keep_name = if n.builtin.is_some() && !n.kind.is_leaf() {
+        tree.has_name(uid)
+    } else {
+        tree.description(uid) != tag
+    };
+    if keep_name {
+        attrs.push(("name".into(), tree.description(uid).to_string()));
+    }
+    for p in &n.ports {
+        let name = match (n.builtin, p.name.as_str()) {
+            (Some(Builtin::Parallel), "success_threshold") => "success_count",
+            (Some(Builtin::Parallel), "failure_threshold") => "failure_count",
+            (_, other) => other,
+        };
+        attrs.push((name.to_string(), p.value.to_xml()));
+    }
+    for (k, v) in &n.scripts {
+        attrs.push((k.clone(), v.clone()));
+    }
+    (tag, attrs)
+}
+
+/// v3's `BlackboardCheck*` has no v4 node; the migration guide's replacement is
+/// a script, so it becomes `<Precondition if="A == B" else="...">`.
+fn blackboard_check(tree: &Tree, uid: Uid) -> (String, Vec<(String, String)>) {
+    let n = tree.node(uid);
+    let quote = matches!(n.builtin, Some(Builtin::BlackboardCheckString));
+    let operand = |port: &str| -> String {
+        match n.ports.iter().find(|p| p.name == port).map(|p| &p.value) {
+            Some(PortValue::Key(k)) => k.clone(),
+            Some(PortValue::RootKey(k)) => format!("@{k}"),
+            Some(PortValue::Literal(l)) if quote => format!("'{l}'"),
+            Some(PortValue::Literal(l)) => l.clone(),
+            None => "''".into(),
+        }
+    };
+    let mut attrs = Vec::new();
+    if tree.has_name(uid) {
+        attrs.push(("name".into(), tree.description(uid).to_string()));
+    }
+    attrs.push((
+        "if".into(),
+        format!("{} == {}", operand("value_A"), operand("value_B")),
+    ));
+    let otherwise = n
+        .ports
+        .iter()
+        .find(|p| p.name == "return_on_mismatch")
+        .map(|p| p.value.to_xml())
+        .unwrap_or_else(|| "FAILURE".into());
+    attrs.push(("else".into(), otherwise));
+    (String::from("Precondition"), attrs)
+}
+
+fn write_models(tree: &Tree, names: &Names, out: &mut String) {
+    // Custom node IDs in first-use order, with every port they are given.
+    let mut order: Vec<&str> = Vec::new();
+    let mut ports: HashMap<&str, BTreeMap<String, Option<Direction>>> = HashMap::new();
+    let mut kinds: HashMap<&str, Kind> = HashMap::new();
+    for n in &tree.nodes {
+        if n.builtin.is_some() {
+            continue;
+        }
+        if !ports.contains_key(n.id.as_str()) {
+            order.push(&n.id);
+            kinds.insert(&n.id, n.kind);
+        }
+        let e = ports.entry(&n.id).or_default();
+        for p in &n.ports {
+            let d = e.entry(p.name.clone()).or_insert(None);
+            if d.is_none() {
+                *d = p.direction;
+            }
+        }
+    }
+    for (id, m) in &tree.models {
+        if !is_builtin(id) && !ports.contains_key(id.as_str()) {
+            order.push(id);
+            kinds.insert(id, m.kind);
+            ports.insert(id, BTreeMap::new());
+        }
+    }
+    if order.is_empty() {
+        return;
+    }
+    out.push_str("  <TreeNodesModel>\n");
+    for id in order {
+        let kind = kinds[id];
+        let model = tree.models.get(id);
+        let mut declared: Vec<(String, Direction, Option<&PortModel>)> = Vec::new();
+        if let Some(m) = model {
+            for p in &m.ports {
+                declared.push((p.name.clone(), p.direction, Some(p)));
+            }
+        }
+        for (name, dir) in &ports[id] {
+            if !declared.iter().any(|d| &d.0 == name) {
+                declared.push((name.clone(), dir.unwrap_or(Direction::InOut), None));
+            }
+        }
+        let _ = write!(
+            out,
+            "    <{} ID=\"{}\"",
+            kind.as_str(),
+            escape(names.get(id))
+        );
+        if declared.is_empty() {
+            out.push_str("/>\n");
+            continue;
+        }
+        out.push_str(">\n");
+        for (name, dir, pm) in declared {
+            let tag = match dir {
+                Direction::In => "input_port",
+                Direction::Out => "output_port",
+                Direction::InOut => "inout_port",
+            };
+            let _ = write!(out, "      <{tag} name=\"{}\"", escape(&name));
+            if let Some(pm) = pm {
+                if let Some(t) = &pm.type_name {
+                    let _ = write!(out, " type=\"{}\"", escape(t));
+                }
+                if let Some(d) = &pm.default {
+                    let _ = write!(out, " default=\"{}\"", escape(d));
+                }
+                if let Some(desc) = &pm.description {
+                    let _ = writeln!(out, ">{}</{tag}>", escape(desc));
+                    continue;
+                }
+            }
+            out.push_str("/>\n");
+        }
+        let _ = writeln!(out, "    </{}>", kind.as_str());
+    }
+    out.push_str("  </TreeNodesModel>\n");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_become_valid_v4_model_names() {
+        assert_eq!(sanitize_id("move to"), "move_to");
+        assert_eq!(sanitize_id("a.b/c"), "a_b_c");
+        assert_eq!(sanitize_id("3d"), "_3d");
+        assert_eq!(sanitize_id("Root"), "Root_");
+    }
+}

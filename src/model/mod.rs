@@ -145,13 +145,11 @@ pub struct Port {
 }
 
 impl Port {
-    /// Reads data (input, inout, or unknown direction).
-    pub fn reads(&self) -> bool {
-        !matches!(self.direction, Some(Direction::Out))
-    }
-    /// Writes data (output, inout, or unknown direction).
-    pub fn writes(&self) -> bool {
-        !matches!(self.direction, Some(Direction::In))
+    /// The declared direction, or else Han et al.'s convention (which the
+    /// fixture conversion follows too): a port named `output` is an output,
+    /// any other an input.
+    pub fn assumed_direction(&self) -> Direction {
+        self.direction.unwrap_or(if self.name == "output" { Direction::Out } else { Direction::In })
     }
 }
 

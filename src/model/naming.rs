@@ -76,6 +76,7 @@ mod tests {
     fn underscores_match_spaces() {
         assert!(same_words("lift_torso", "lift torso"));
         assert!(same_words("ask", "ask"));
+        assert!(same_words("Ask", "ask"));
         assert!(!same_words("ask", "asks"));
         assert!(!same_words("lift-torso", "lift torso"));
     }

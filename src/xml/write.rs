@@ -242,7 +242,7 @@ fn blackboard_check(tree: &Tree, uid: Uid) -> (String, Vec<(String, String)>) {
 fn write_models(tree: &Tree, names: &Names, out: &mut String) {
     // Custom node IDs in first-use order, with every port they are given.
     let mut order: Vec<&str> = Vec::new();
-    let mut ports: HashMap<&str, BTreeMap<String, Option<Direction>>> = HashMap::new();
+    let mut ports: HashMap<&str, BTreeMap<String, Direction>> = HashMap::new();
     let mut kinds: HashMap<&str, Kind> = HashMap::new();
     for n in &tree.nodes {
         if n.builtin.is_some() {
@@ -254,10 +254,7 @@ fn write_models(tree: &Tree, names: &Names, out: &mut String) {
         }
         let e = ports.entry(&n.id).or_default();
         for p in &n.ports {
-            let d = e.entry(p.name.clone()).or_insert(None);
-            if d.is_none() {
-                *d = p.direction;
-            }
+            e.entry(p.name.clone()).or_insert(p.assumed_direction());
         }
     }
     for (id, m) in &tree.models {
@@ -282,7 +279,7 @@ fn write_models(tree: &Tree, names: &Names, out: &mut String) {
         }
         for (name, dir) in &ports[id] {
             if !declared.iter().any(|d| &d.0 == name) {
-                declared.push((name.clone(), dir.unwrap_or(Direction::InOut), None));
+                declared.push((name.clone(), *dir, None));
             }
         }
         let _ = write!(

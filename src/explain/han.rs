@@ -54,9 +54,15 @@ fn q2(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
             ),
             vec![n, p],
         ),
-        // Only the goal itself has nothing above it to serve.
-        None => (
+        None if n == Tree::ROOT => (
             format!("I {} because it is my goal.", tree.description(n)),
+            vec![n],
+        ),
+        None => (
+            format!(
+                "Sorry. I don't know why I {}: no node above it has a name.",
+                tree.description(n)
+            ),
             vec![n],
         ),
     }

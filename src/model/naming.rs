@@ -3,13 +3,14 @@
 
 use super::{Kind, Tree, Uid};
 
-/// IDs and names compare equal when they differ only by the `_` that v4 model
-/// names need in place of spaces (`lift_torso` vs `lift torso`).
+/// IDs and names compare equal when they differ only in case or by the `_`
+/// that v4 model names need in place of spaces (`lift_torso` vs `lift torso`).
 fn same_words(a: &str, b: &str) -> bool {
-    a.len() == b.len()
-        && a.chars()
-            .zip(b.chars())
-            .all(|(x, y)| x == y || (matches!(x, '_' | ' ') && matches!(y, '_' | ' ')))
+    a.chars().count() == b.chars().count()
+        && a.chars().zip(b.chars()).all(|(x, y)| {
+            x.to_lowercase().eq(y.to_lowercase())
+                || (matches!(x, '_' | ' ') && matches!(y, '_' | ' '))
+        })
 }
 
 impl Tree {

@@ -36,26 +36,54 @@ fn list(c: &[Candidate], what: &str) -> String {
     s
 }
 
-fn matches(tree: &Tree, uid: Uid, segment: &str, fold: bool) -> bool {
+/// How strictly a segment must match: the description first, then the name
+/// or ID; exact case first, then any case.
+#[derive(Clone, Copy)]
+struct Tier {
+    by_id: bool,
+    fold: bool,
+}
+
+const TIERS: [Tier; 4] = [
+    Tier {
+        by_id: false,
+        fold: false,
+    },
+    Tier {
+        by_id: true,
+        fold: false,
+    },
+    Tier {
+        by_id: false,
+        fold: true,
+    },
+    Tier {
+        by_id: true,
+        fold: true,
+    },
+];
+
+fn matches(tree: &Tree, uid: Uid, segment: &str, tier: Tier) -> bool {
     let n = tree.node(uid);
     let eq = |a: &str| {
-        if fold {
-            a.eq_ignore_ascii_case(segment)
+        if tier.fold {
+            a.to_lowercase() == segment.to_lowercase()
         } else {
             a == segment
         }
     };
-    eq(tree.description(uid)) || eq(&n.id) || eq(&n.name)
+    eq(tree.description(uid)) || (tier.by_id && (eq(&n.id) || eq(&n.name)))
 }
 
 /// Resolves a pick to one node.
 ///
 /// Segments of a path match, in order, any subsequence of the node's
 /// ancestors (so unnamed nodes and repeated names need not be written), and
-/// the last segment matches the node itself by description, name or ID.
-/// Exact case is tried first, then any case. When every match lies on one
+/// the last segment matches the node itself: by description, else by name or
+/// ID; in exact case, else in any case. When every match lies on one
 /// line of descent (a same-named SubTree, Fallback and Sequence), the
-/// outermost is meant.
+/// outermost is meant; otherwise a path written out in full (from the root
+/// or any named ancestor) means the node it spells.
 pub fn pick(tree: &Tree, query: &str) -> Result<Uid, PickError> {
     let q = query.trim();
     if let Some(num) = q.strip_prefix('#') {
@@ -80,8 +108,8 @@ pub fn pick(tree: &Tree, query: &str) -> Result<Uid, PickError> {
             candidates: closest(tree, q),
         });
     }
-    for fold in [false, true] {
-        let found = find(tree, &segments, fold);
+    for tier in TIERS {
+        let found = find(tree, &segments, tier);
         if found.is_empty() {
             continue;
         }
@@ -89,7 +117,19 @@ pub fn pick(tree: &Tree, query: &str) -> Result<Uid, PickError> {
             .iter()
             .copied()
             .find(|&a| found.iter().all(|&b| a == b || tree.is_ancestor(a, b)));
-        return match outermost {
+        // A path written out in full means the node whose path it is, not
+        // one further down that merely contains its segments.
+        let joined = segments.join("/");
+        let suffix = format!("/{joined}");
+        let mut spelled = found.iter().copied().filter(|&u| {
+            let p = tree.display_path(u);
+            p == joined || p.ends_with(&suffix)
+        });
+        let spelled_one = match (spelled.next(), spelled.next()) {
+            (Some(u), None) if segments.len() > 1 => Some(u),
+            _ => None,
+        };
+        return match outermost.or(spelled_one) {
             Some(uid) => Ok(uid),
             None => Err(PickError::Ambiguous {
                 query: q.to_string(),
@@ -103,16 +143,27 @@ pub fn pick(tree: &Tree, query: &str) -> Result<Uid, PickError> {
     })
 }
 
-fn find(tree: &Tree, segments: &[&str], fold: bool) -> Vec<Uid> {
+fn find(tree: &Tree, segments: &[&str], tier: Tier) -> Vec<Uid> {
     let (last, rest) = segments.split_last().expect("non-empty");
     (1..=tree.len() as Uid)
-        .filter(|&u| matches(tree, u, last, fold))
+        .filter(|&u| matches(tree, u, last, tier))
         .filter(|&u| {
             // Greedy from the nearest ancestor up finds a subsequence if one exists.
             let mut want = rest.iter().rev().peekable();
             for a in tree.ancestors(u) {
                 match want.peek() {
-                    Some(s) if matches(tree, a, s, fold) => {
+                    // Ancestors may be named by ID too (a SubTree's).
+                    Some(s)
+                        if matches(
+                            tree,
+                            a,
+                            s,
+                            Tier {
+                                by_id: true,
+                                ..tier
+                            },
+                        ) =>
+                    {
                         want.next();
                     }
                     Some(_) => {}

@@ -10,7 +10,11 @@ fn ask(tree: &btx::Tree, pick: &str, q: Question) -> String {
 }
 
 const KITTING: [&str; 3] = ["kitting-tree.v3.xml", "kitting-tree.v4.xml", "@kitting.xml"];
-const TAXI: [&str; 3] = ["taxi-domain-tree.v3.xml", "taxi-domain-tree.v4.xml", "@taxi.xml"];
+const TAXI: [&str; 3] = [
+    "taxi-domain-tree.v3.xml",
+    "taxi-domain-tree.v4.xml",
+    "@taxi.xml",
+];
 
 fn open(name: &str) -> btx::Tree {
     match name.strip_prefix('@') {
@@ -25,9 +29,21 @@ fn move_to_see_chuck() {
         let t = open(f);
         let n = "go insert large gear/move to see chuck";
         assert_eq!(ask(&t, n, Question::Doing), "I move to see chuck.", "{f}");
-        assert_eq!(ask(&t, n, Question::Why), "I move to see chuck in order to go insert large gear.", "{f}");
-        assert_eq!(ask(&t, n, Question::Subgoal), "My subgoal is to go insert large gear.", "{f}");
-        assert_eq!(ask(&t, n, Question::Goal), "My goal is to build a gearbox kit.", "{f}");
+        assert_eq!(
+            ask(&t, n, Question::Why),
+            "I move to see chuck in order to go insert large gear.",
+            "{f}"
+        );
+        assert_eq!(
+            ask(&t, n, Question::Subgoal),
+            "My subgoal is to go insert large gear.",
+            "{f}"
+        );
+        assert_eq!(
+            ask(&t, n, Question::Goal),
+            "My goal is to build a gearbox kit.",
+            "{f}"
+        );
         assert_eq!(
             ask(&t, n, Question::HowSubgoal),
             "To achieve the subgoal \"go insert large gear\", I need to do 3 steps. 1. move to see chuck. 2. detect chuck. 3. insert large gear.",
@@ -58,16 +74,32 @@ fn look_at_chuck_roughly_and_scan_scene() {
     for f in KITTING {
         let t = open(f);
         let n = "go insert large gear/look at chuck roughly";
-        assert_eq!(ask(&t, n, Question::Doing), "I look at chuck roughly.", "{f}");
-        assert_eq!(ask(&t, n, Question::Why), "I look at chuck roughly in order to detect chuck.", "{f}");
+        assert_eq!(
+            ask(&t, n, Question::Doing),
+            "I look at chuck roughly.",
+            "{f}"
+        );
+        assert_eq!(
+            ask(&t, n, Question::Why),
+            "I look at chuck roughly in order to detect chuck.",
+            "{f}"
+        );
         let s = "go insert large gear/scan scene for collision avoidance";
-        assert_eq!(ask(&t, s, Question::Doing), "I scan scene for collision avoidance.", "{f}");
+        assert_eq!(
+            ask(&t, s, Question::Doing),
+            "I scan scene for collision avoidance.",
+            "{f}"
+        );
         assert_eq!(
             ask(&t, s, Question::Why),
             "I scan scene for collision avoidance in order to insert large gear.",
             "{f}"
         );
-        assert_eq!(ask(&t, s, Question::Subgoal), "My subgoal is to go insert large gear.", "{f}");
+        assert_eq!(
+            ask(&t, s, Question::Subgoal),
+            "My subgoal is to go insert large gear.",
+            "{f}"
+        );
     }
 }
 
@@ -77,9 +109,21 @@ fn taxi_move_right() {
         let t = open(f);
         let n = "#5"; // the first move right
         assert_eq!(ask(&t, n, Question::Doing), "I move right.", "{f}");
-        assert_eq!(ask(&t, n, Question::Why), "I move right in order to navigate to passenger.", "{f}");
-        assert_eq!(ask(&t, n, Question::Subgoal), "My subgoal is to go pick up passenger.", "{f}");
-        assert_eq!(ask(&t, n, Question::Goal), "My goal is to go deliver passenger.", "{f}");
+        assert_eq!(
+            ask(&t, n, Question::Why),
+            "I move right in order to navigate to passenger.",
+            "{f}"
+        );
+        assert_eq!(
+            ask(&t, n, Question::Subgoal),
+            "My subgoal is to go pick up passenger.",
+            "{f}"
+        );
+        assert_eq!(
+            ask(&t, n, Question::Goal),
+            "My goal is to go deliver passenger.",
+            "{f}"
+        );
         assert_eq!(
             ask(&t, n, Question::HowSubgoal),
             "To achieve the subgoal \"go pick up passenger\", I need to do 2 steps. 1. navigate to passenger. 2. pick up passenger.",
@@ -99,9 +143,21 @@ fn taxi_drop_off() {
         let t = open(f);
         let n = "drop off passenger";
         assert_eq!(ask(&t, n, Question::Doing), "I drop off passenger.", "{f}");
-        assert_eq!(ask(&t, n, Question::Why), "I drop off passenger in order to go drop off passenger.", "{f}");
-        assert_eq!(ask(&t, n, Question::Subgoal), "My subgoal is to go drop off passenger.", "{f}");
-        assert_eq!(ask(&t, n, Question::Goal), "My goal is to go deliver passenger.", "{f}");
+        assert_eq!(
+            ask(&t, n, Question::Why),
+            "I drop off passenger in order to go drop off passenger.",
+            "{f}"
+        );
+        assert_eq!(
+            ask(&t, n, Question::Subgoal),
+            "My subgoal is to go drop off passenger.",
+            "{f}"
+        );
+        assert_eq!(
+            ask(&t, n, Question::Goal),
+            "My goal is to go deliver passenger.",
+            "{f}"
+        );
         assert_eq!(
             ask(&t, n, Question::HowSubgoal),
             "To achieve the subgoal \"go drop off passenger\", I need to do 2 steps. 1. navigate to destination. 2. drop off passenger.",
@@ -118,9 +174,18 @@ fn taxi_drop_off() {
 #[test]
 fn the_goal_has_no_subgoal() {
     let t = open("@kitting.xml");
-    assert_eq!(ask(&t, "#1", Question::Subgoal), "Sorry. I don't have a subgoal.");
-    assert_eq!(ask(&t, "#1", Question::HowSubgoal), "Sorry. I don't have a subgoal.");
-    assert_eq!(ask(&t, "#1", Question::Why), "I build a gearbox kit because it is my goal.");
+    assert_eq!(
+        ask(&t, "#1", Question::Subgoal),
+        "Sorry. I don't have a subgoal."
+    );
+    assert_eq!(
+        ask(&t, "#1", Question::HowSubgoal),
+        "Sorry. I don't have a subgoal."
+    );
+    assert_eq!(
+        ask(&t, "#1", Question::Why),
+        "I build a gearbox kit because it is my goal."
+    );
 }
 
 #[test]
@@ -132,9 +197,18 @@ fn an_unnamed_goal_is_said_to_be_missing() {
     )
     .unwrap()
     .tree;
-    assert_eq!(ask(&t, "go", Question::Goal), "Sorry. I don't have a named goal.");
-    assert_eq!(ask(&t, "go", Question::HowGoal), "Sorry. I don't have a named goal.");
-    assert_eq!(ask(&t, "go", Question::Why), "Sorry. I don't know why I go: no node above it has a name.");
+    assert_eq!(
+        ask(&t, "go", Question::Goal),
+        "Sorry. I don't have a named goal."
+    );
+    assert_eq!(
+        ask(&t, "go", Question::HowGoal),
+        "Sorry. I don't have a named goal."
+    );
+    assert_eq!(
+        ask(&t, "go", Question::Why),
+        "Sorry. I don't know why I go: no node above it has a name."
+    );
 }
 
 #[test]

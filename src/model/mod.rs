@@ -149,7 +149,11 @@ impl Port {
     /// fixture conversion follows too): a port named `output` is an output,
     /// any other an input.
     pub fn assumed_direction(&self) -> Direction {
-        self.direction.unwrap_or(if self.name == "output" { Direction::Out } else { Direction::In })
+        self.direction.unwrap_or(if self.name == "output" {
+            Direction::Out
+        } else {
+            Direction::In
+        })
     }
 }
 

@@ -5,11 +5,15 @@ use btx::Tree;
 use std::path::{Path, PathBuf};
 
 pub fn fixture(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures")
+        .join(name)
 }
 
 pub fn shipped(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("trees").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("trees")
+        .join(name)
 }
 
 pub fn load(path: &Path) -> Tree {

@@ -4,6 +4,10 @@
 //! then views and explanations over it (`frame`, `pick`, `explain`), then
 //! renderings (`export`). No module imports a later stage.
 
+// Load errors carry the file's text so that they can show the offending line;
+// they are built once, on a cold path, so their size does not matter.
+#![allow(clippy::result_large_err)]
+
 pub mod model;
 pub mod rank;
 pub mod source;

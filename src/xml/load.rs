@@ -48,20 +48,23 @@ const SCRIPT_ATTRS: &[&str] = &[
     "_post",
 ];
 
+/// A `<BehaviorTree>`: child `idx` of file `file`'s `<root>`.
 struct Def {
     id: Option<String>,
     file: FileId,
-    el: Element,
+    idx: usize,
 }
 
 #[derive(Default)]
 struct Loader {
     files: Vec<SourceFile>,
     seen: HashSet<PathBuf>,
-    /// Each document's `<root>` element, in load order.
-    roots: Vec<(FileId, Element)>,
+    /// Each file's `<root>` element, by file (file 0 is the one opened first).
+    roots: Vec<Option<Element>>,
     defs: Vec<Def>,
     models: BTreeMap<String, NodeModel>,
+    /// The kind each custom ID was first used as.
+    kinds: HashMap<String, Kind>,
     warnings: Vec<Warning>,
 }
 
@@ -71,9 +74,21 @@ impl Loader {
         Located::at(&f.path, &f.text, el.start, el.end, msg)
     }
 
+    fn root(&self, file: FileId) -> &Element {
+        self.roots[file].as_ref().expect("every file has a root")
+    }
+
+    fn def_el(&self, d: &Def) -> &Element {
+        &self.root(d.file).children[d.idx]
+    }
+
     fn warn(&mut self, file: FileId, el: &Element, msg: impl Into<String>) {
+        self.warn_at(file, el.start, msg);
+    }
+
+    fn warn_at(&mut self, file: FileId, start: usize, msg: impl Into<String>) {
         let f = &self.files[file];
-        let (line, col) = crate::source::line_col(&f.text, el.start);
+        let (line, col) = crate::source::line_col(&f.text, start);
         self.warnings.push(Warning {
             location: format!("{}:{line}:{col}", f.path.display()),
             message: msg.into(),
@@ -95,7 +110,8 @@ impl Loader {
                 format!("the top element must be <root>, found <{}>", root.tag),
             ));
         }
-        for child in &root.children {
+        self.roots.push(None);
+        for (idx, child) in root.children.iter().enumerate() {
             match child.tag.as_str() {
                 "include" => self.include(file, child)?,
                 "BehaviorTree" => {
@@ -120,11 +136,7 @@ impl Loader {
                             ));
                         }
                     }
-                    self.defs.push(Def {
-                        id,
-                        file,
-                        el: child.clone(),
-                    });
+                    self.defs.push(Def { id, file, idx });
                 }
                 "TreeNodesModel" => self.read_models(file, child),
                 other => {
@@ -134,7 +146,7 @@ impl Loader {
                 }
             }
         }
-        self.roots.push((file, root));
+        self.roots[file] = Some(root);
         Ok(())
     }
 
@@ -211,31 +223,31 @@ impl Loader {
     }
 
     fn detect_version(&mut self) -> Result<Version, Located> {
-        let (file, root) = &self.roots[self.roots.len() - 1];
-        let (file, root) = (*file, root.clone());
+        let root = self.root(0);
         match root.attr("BTCPP_format") {
             Some("4") => Ok(Version::V4),
             Some("3") => Ok(Version::V3),
             Some(other) => Err(self.err(
-                file,
-                &root,
+                0,
+                root,
                 format!("BTCPP_format=\"{other}\" is not a BehaviorTree.CPP format (3 or 4)"),
             )),
             None => {
-                let v4 = self.defs.iter().any(|d| uses_v4_only(&d.el));
+                let v4 = self.defs.iter().any(|d| uses_v4_only(self.def_el(d)));
                 let msg = if v4 {
                     "no BTCPP_format attribute; the tree uses v4-only nodes or attributes, so it is read as BehaviorTree.CPP 4"
                 } else {
                     "no BTCPP_format attribute: read as BehaviorTree.CPP 3 (SubTree names are their IDs); pass --btcpp 4 to read it as v4"
                 };
-                self.warn(file, &root, msg);
+                let start = root.start;
+                self.warn_at(0, start, msg);
                 Ok(if v4 { Version::V4 } else { Version::V3 })
             }
         }
     }
 
     fn main_tree(&self, opts: &LoadOptions) -> Result<usize, Located> {
-        let (file, root) = &self.roots[self.roots.len() - 1];
+        let (file, root) = (&0, self.root(0));
         let known = || {
             self.defs
                 .iter()
@@ -268,7 +280,6 @@ impl Loader {
     }
 
     fn finish(mut self, opts: &LoadOptions) -> Result<Loaded, Located> {
-        // The first document opened is the last one pushed (includes finish first).
         let version = match opts.version {
             Some(v) => v,
             None => self.detect_version()?,
@@ -277,7 +288,7 @@ impl Loader {
             if let Some(d) = self.defs.iter().find(|d| d.id.is_none()) {
                 return Err(self.err(
                     d.file,
-                    &d.el,
+                    self.def_el(d),
                     "a <BehaviorTree> needs an ID when the file has more than one",
                 ));
             }
@@ -311,9 +322,16 @@ impl Loader {
             chain: std::rc::Rc<Vec<String>>,
         }
         let defs = std::mem::take(&mut self.defs);
+        let roots = std::mem::take(&mut self.roots);
+        let def_el = |d: &Def| {
+            &roots[d.file]
+                .as_ref()
+                .expect("every file has a root")
+                .children[d.idx]
+        };
         let main_def = &defs[main];
         let mut stack = vec![Work {
-            el: &main_def.el.children[0],
+            el: &def_el(main_def).children[0],
             file: main_def.file,
             parent: None,
             scope: 0,
@@ -368,7 +386,7 @@ impl Loader {
                 chain.push(node.id.clone());
                 let d = &defs[di];
                 stack.push(Work {
-                    el: &d.el.children[0],
+                    el: &def_el(d).children[0],
                     file: d.file,
                     parent: Some(uid),
                     scope: scopes.len() - 1,
@@ -522,6 +540,27 @@ impl Loader {
             (k, None)
         };
 
+        if builtin.is_none() {
+            if let Some(k) = explicit_kind.filter(|k| *k != kind) {
+                let msg = format!(
+                    "<{}> names \"{id}\", which <TreeNodesModel> declares a {}; read as a {}",
+                    k.as_str(),
+                    kind.as_str(),
+                    kind.as_str()
+                );
+                self.warn(file, el, msg);
+            }
+            let first = *self.kinds.entry(id.clone()).or_insert(kind);
+            if first != kind {
+                let msg = format!(
+                    "\"{id}\" is used as a {} here and as a {} before; BehaviorTree.CPP registers one kind per ID",
+                    kind.as_str(),
+                    first.as_str()
+                );
+                self.warn(file, el, msg);
+            }
+        }
+
         // Child counts, as BehaviorTree.CPP verifies them.
         let n = el.children.len();
         let (min, max) = match builtin {
@@ -560,11 +599,7 @@ impl Loader {
         };
 
         // Ports, scripts and subtree flags.
-        let model_ports = self
-            .models
-            .get(&id)
-            .map(|m| m.ports.clone())
-            .unwrap_or_default();
+        let model_ports: &[PortModel] = self.models.get(&id).map_or(&[], |m| &m.ports);
         let mut ports = Vec::new();
         let mut scripts = Vec::new();
         for a in &el.attrs {

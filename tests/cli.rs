@@ -1,0 +1,245 @@
+//! The CLI forms of the foundation issue, called as a user calls them.
+
+mod common;
+use common::*;
+use std::process::Command;
+
+fn btx(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+fn path(p: std::path::PathBuf) -> String {
+    p.display().to_string()
+}
+
+#[test]
+fn ask_answers_one_line_per_question_in_order() {
+    let f = path(fixture("kitting-tree.v3.xml"));
+    let (ok, out, _) = btx(&[
+        "ask",
+        &f,
+        "--node",
+        "go insert large gear/move to see chuck",
+        "What are you doing?",
+        "Why are you doing this?",
+        "What is your subgoal?",
+        "What is your goal?",
+        "How do you achieve your subgoal?",
+        "How do you achieve your goal?",
+    ]);
+    assert!(ok);
+    assert_eq!(
+        out,
+        "I move to see chuck.\n\
+         I move to see chuck in order to go insert large gear.\n\
+         My subgoal is to go insert large gear.\n\
+         My goal is to build a gearbox kit.\n\
+         To achieve the subgoal \"go insert large gear\", I need to do 3 steps. 1. move to see chuck. 2. detect chuck. 3. insert large gear.\n\
+         To achieve the goal \"build a gearbox kit\", I need to do 3 steps. 1. go insert large gear. 2. go pick screw. 3. go place screw.\n"
+    );
+    let (ok, short, _) = btx(&[
+        "ask",
+        &f,
+        "--node",
+        "#6",
+        "q1",
+        "q2",
+        "q3",
+        "q4",
+        "q5-subgoal",
+        "q5-goal",
+    ]);
+    assert!(ok);
+    assert_eq!(short, out);
+}
+
+#[test]
+fn ask_json_names_question_answer_and_nodes() {
+    let f = path(shipped("taxi.xml"));
+    let (ok, out, _) = btx(&[
+        "ask",
+        &f,
+        "--node",
+        "drop off passenger",
+        "q2",
+        "--format",
+        "json",
+    ]);
+    assert!(ok);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["schema"], "btx.answers/1");
+    assert_eq!(v["node"]["uid"], 21);
+    let a = &v["answers"][0];
+    assert_eq!(a["question"], "Why are you doing this?");
+    assert_eq!(a["short"], "q2");
+    assert_eq!(
+        a["answer"],
+        "I drop off passenger in order to go drop off passenger."
+    );
+    assert_eq!(a["nodes"][1]["uid"], 13);
+}
+
+#[test]
+fn ask_rejects_unknown_questions_and_nodes() {
+    let f = path(shipped("kitting.xml"));
+    let (ok, _, err) = btx(&["ask", &f, "--node", "#6", "why not?"]);
+    assert!(!ok);
+    assert!(err.contains("unknown question \"why not?\""), "{err}");
+    let (ok, _, err) = btx(&["ask", &f, "--node", "lift torso", "q1"]);
+    assert!(!ok);
+    assert!(
+        err.contains("matches 3 nodes") && err.contains("#37"),
+        "{err}"
+    );
+}
+
+#[test]
+fn tree_text_shows_kind_description_uid_and_ports() {
+    let (ok, out, _) = btx(&["tree", &path(shipped("kitting.xml"))]);
+    assert!(ok);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 79);
+    assert_eq!(lines[0], "build a gearbox kit  [Sequence #1]");
+    assert!(
+        lines[5].ends_with("move to see chuck  [Action move_to #6]  in:place=\"chuck place\""),
+        "{}",
+        lines[5]
+    );
+    assert!(
+        out.contains("detect chuck  [Action detect_chuck #12]  out:output={object pose}"),
+        "{out}"
+    );
+}
+
+#[test]
+fn tree_framed_text_and_json() {
+    let f = path(shipped("kitting.xml"));
+    let (ok, out, _) = btx(&["tree", &f, "--framed"]);
+    assert!(ok);
+    assert!(out.starts_with("goal: build a gearbox kit  #1\n├─ subgoal: go insert large gear  #2 (with #3 #4)\n│  ├─ action: move to see chuck  #6\n│  ├─ step: detect chuck  #9\n"), "{out}");
+    assert!(out.contains(
+        "steps of \"go insert large gear\": move to see chuck, detect chuck, insert large gear\n"
+    ));
+    let (ok, out, _) = btx(&["tree", &f, "--framed", "--format", "json"]);
+    assert!(ok);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["schema"], "btx.framed/1");
+    assert_eq!(v["goal"]["description"], "build a gearbox kit");
+    assert_eq!(v["subgoals"].as_array().unwrap().len(), 3);
+    let steps: Vec<&str> = v["subgoals"][0]["steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["description"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        steps,
+        ["move to see chuck", "detect chuck", "insert large gear"]
+    );
+    assert_eq!(v["actions"].as_array().unwrap().len(), 48);
+}
+
+#[test]
+fn tree_json_is_a_flat_node_list() {
+    let (ok, out, _) = btx(&[
+        "tree",
+        &path(fixture("kitting-tree.v3.xml")),
+        "--format",
+        "json",
+        "-q",
+    ]);
+    assert!(ok);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["schema"], "btx.tree/1");
+    assert_eq!(v["btcpp_format"], 3);
+    assert_eq!(v["node_count"], 79);
+    let n6 = &v["nodes"][5];
+    assert_eq!(n6["uid"], 6);
+    assert_eq!(n6["kind"], "action");
+    assert_eq!(n6["id"], "move to");
+    assert_eq!(n6["description"], "move to see chuck");
+    assert_eq!(n6["parent"], 5);
+    assert_eq!(n6["ports"][0]["kind"], "literal");
+    assert_eq!(n6["source"]["line"], 36);
+    let n12 = &v["nodes"][11];
+    assert_eq!(n12["ports"][0]["key"], "object pose");
+    assert_eq!(n12["has_name"], false);
+}
+
+#[test]
+fn tree_dot_is_a_graphviz_digraph() {
+    let (ok, out, _) = btx(&["tree", &path(shipped("taxi.xml")), "--format", "dot"]);
+    assert!(ok);
+    assert!(out.starts_with("digraph btx {"));
+    assert_eq!(out.matches(" -> ").count(), 20);
+    assert!(
+        out.contains("n21 [label=\"Action drop_off\\ndrop off passenger\\n#21\""),
+        "{out}"
+    );
+    let (ok, out, _) = btx(&[
+        "tree",
+        &path(shipped("taxi.xml")),
+        "--framed",
+        "--format",
+        "dot",
+    ]);
+    assert!(ok);
+    assert!(out.starts_with("digraph btx_framed {"));
+}
+
+#[test]
+fn tree_xml_converts_v3_to_v4() {
+    let dir = tempfile::tempdir().unwrap();
+    let (ok, out, err) = btx(&[
+        "tree",
+        &path(fixture("kitting-tree.v3.xml")),
+        "--format",
+        "xml",
+    ]);
+    assert!(ok);
+    assert!(
+        err.contains("no BTCPP_format"),
+        "the v3 guess is reported: {err}"
+    );
+    assert!(out.starts_with("<root BTCPP_format=\"4\" main_tree_to_execute=\"MainTree\">"));
+    assert!(!out.contains("RetryUntilSuccesful"));
+    let p = dir.path().join("k4.xml");
+    std::fs::write(&p, &out).unwrap();
+    let (ok, answers, err) = btx(&["ask", &path(p), "--node", "#6", "q5-goal"]);
+    assert!(ok, "{err}");
+    assert!(
+        err.is_empty(),
+        "a converted file loads without warnings: {err}"
+    );
+    assert_eq!(answers, "To achieve the goal \"build a gearbox kit\", I need to do 3 steps. 1. go insert large gear. 2. go pick screw. 3. go place screw.\n");
+    let (ok, _, err) = btx(&[
+        "tree",
+        &path(shipped("taxi.xml")),
+        "--framed",
+        "--format",
+        "xml",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("drop --framed"), "{err}");
+}
+
+#[test]
+fn btcpp_flag_overrides_detection() {
+    // Read as v4, the v3 file's SubTree names come from `name` (empty here, so the ID).
+    let f = path(fixture("kitting-tree.v3.xml"));
+    let (ok, out, err) = btx(&["ask", &f, "--btcpp", "4", "--node", "#6", "q5-goal"]);
+    assert!(ok, "{err}");
+    assert!(out.contains("2. go pick first screw."), "{out}");
+    assert!(
+        err.contains("RetryUntilSuccesful"),
+        "the v3 spelling is reported: {err}"
+    );
+}

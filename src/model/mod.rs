@@ -314,11 +314,12 @@ impl Tree {
     }
 
     /// The node's type as a person reads it: the built-in's v4 name, or the ID.
+    /// `SubTree` for subtrees, whose tree ID is their `id`.
     pub fn type_name(&self, uid: Uid) -> &str {
         let n = self.node(uid);
-        match n.builtin.and_then(|b| b.v4_name()) {
-            Some(s) if n.kind != Kind::SubTree => s,
-            _ => &n.id,
+        if n.kind == Kind::SubTree {
+            return "SubTree";
         }
+        n.builtin.and_then(|b| b.v4_name()).unwrap_or(&n.id)
     }
 }

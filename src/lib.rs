@@ -15,6 +15,7 @@ pub mod xml;
 
 pub mod frame;
 pub mod pick;
+pub mod run;
 
 pub mod explain;
 

@@ -49,6 +49,44 @@ impl Tree {
         }
     }
 
+    /// BehaviorTree.CPP's path of a blackboard scope: its SubTree's name (or
+    /// `ID::uid` when it has none) under its parent's path; `""` for the main tree.
+    pub fn scope_path(&self, scope: super::ScopeId) -> String {
+        let s = &self.scopes[scope];
+        let (Some(parent), Some(st)) = (s.parent, s.subtree) else {
+            return String::new();
+        };
+        let n = self.node(st);
+        let seg = if n.name != n.id {
+            n.name.clone()
+        } else {
+            format!("{}::{}", n.id, st)
+        };
+        let p = self.scope_path(parent);
+        if p.is_empty() {
+            seg
+        } else {
+            format!("{p}/{seg}")
+        }
+    }
+
+    /// BehaviorTree.CPP's `fullPath`: the scope path, `/`, the name, with
+    /// `::uid` appended when the name is the ID. Not unique.
+    pub fn full_path(&self, uid: Uid) -> String {
+        let n = self.node(uid);
+        let name = if n.name == n.id {
+            format!("{}::{}", n.name, uid)
+        } else {
+            n.name.clone()
+        };
+        let p = self.scope_path(n.scope);
+        if p.is_empty() {
+            name
+        } else {
+            format!("{p}/{name}")
+        }
+    }
+
     /// A path of descriptions from the root that `pick` resolves back to this
     /// node: nodes without a name are left out, and so is a node that repeats
     /// its parent's description.

@@ -1,0 +1,1158 @@
+//! The executor: ticks a tree exactly as BehaviorTree.CPP 4.10 does
+//! (`tickExactlyOnce`), and reports every status change as the library's
+//! `StatusChangeLogger` sees it, halts and resets (→ IDLE) included.
+
+use super::blackboard::{Blackboard, EntryId};
+use super::status::Status;
+use crate::model::{Builtin, Kind, PortValue, Tree, Uid};
+use serde_json::Value;
+
+/// What a leaf's behaviour is asked to do.
+pub struct LeafCall<'a> {
+    pub tree: &'a Tree,
+    pub uid: Uid,
+    pub kind: Kind,
+    /// `onRunning` (true) or `onStart` (false); conditions are always false.
+    pub resumed: bool,
+    pub tick: u32,
+    bb: &'a mut Blackboard,
+    writes: &'a mut Vec<(EntryId, Value)>,
+}
+
+impl LeafCall<'_> {
+    /// A port's value: its literal, or the blackboard entry it names.
+    pub fn input(&self, port: &str) -> Option<Value> {
+        let n = self.tree.node(self.uid);
+        let p = n.ports.iter().find(|p| p.name == port)?;
+        match &p.value {
+            PortValue::Literal(s) => Some(Value::from(s.clone())),
+            v => {
+                let e = self.bb.port_entry(self.tree, n.scope, v)?;
+                self.bb.get(&e).cloned()
+            }
+        }
+    }
+
+    /// Ports this leaf writes to a blackboard entry.
+    pub fn output_ports(&self) -> Vec<String> {
+        self.tree
+            .node(self.uid)
+            .ports
+            .iter()
+            .filter(|p| {
+                p.value.key().is_some() && p.assumed_direction() != crate::model::Direction::In
+            })
+            .map(|p| p.name.clone())
+            .collect()
+    }
+
+    /// Writes a value through a port; ignored for literal ports.
+    pub fn write_port(&mut self, port: &str, v: Value) {
+        let n = self.tree.node(self.uid);
+        let Some(p) = n.ports.iter().find(|p| p.name == port) else {
+            return;
+        };
+        if let Some(e) = self.bb.port_entry(self.tree, n.scope, &p.value) {
+            self.bb.set(&e, v.clone());
+            self.writes.push((e, v));
+        }
+    }
+
+    pub fn blackboard(&self) -> &Blackboard {
+        self.bb
+    }
+}
+
+pub struct LeafOutcome {
+    pub status: Status,
+    /// The action the leaf chose (Love et al.'s d_i), if it chooses.
+    pub decision: Option<String>,
+}
+
+/// What the leaves of a tree do: a plan, a domain file, a built-in world.
+pub trait Leaves {
+    fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome;
+    /// `onHalted`: the leaf was RUNNING and is halted.
+    fn halt(&mut self, _uid: Uid) {}
+}
+
+/// One thing that happened during a run.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Event {
+    /// A status change, as StatusChangeLogger reports it.
+    Transition {
+        tick: u32,
+        uid: Uid,
+        prev: Status,
+        status: Status,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        decision: Option<String>,
+    },
+    /// A leaf chose an action without changing status (it stays RUNNING).
+    Decision {
+        tick: u32,
+        uid: Uid,
+        decision: String,
+    },
+    /// A blackboard entry written by a node.
+    Write {
+        tick: u32,
+        uid: Uid,
+        entry: EntryId,
+        value: Value,
+    },
+}
+
+/// A run that cannot go on: a node the library would throw on.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("tick {tick}: {node} #{uid}: {message}")]
+pub struct RunError {
+    pub tick: u32,
+    pub uid: Uid,
+    pub node: String,
+    pub message: String,
+}
+
+#[derive(Debug, Clone, Default)]
+struct NodeRt {
+    status: Status,
+    /// Current child (sequences, fallbacks, IfThenElse, TryCatch), or the
+    /// running child + 1 (reactive nodes, Switch; 0 = none).
+    idx: usize,
+    /// Retry attempts or Repeat cycles so far.
+    count: i64,
+    completed: Vec<bool>,
+    successes: usize,
+    failures: usize,
+    skipped: usize,
+    /// Timeout/Delay started; RunOnce done; TryCatch in its catch.
+    started: bool,
+    /// Timeout halted its child; Delay's time is up.
+    fired: bool,
+    cached: Status,
+    deadline: Option<u64>,
+}
+
+/// Options of a run.
+#[derive(Debug, Clone, Copy)]
+pub struct RunOptions {
+    /// Simulated time between ticks, for Timeout, Delay and Sleep.
+    pub tick_ms: u64,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions { tick_ms: 10 }
+    }
+}
+
+pub struct Executor<'t, L: Leaves> {
+    tree: &'t Tree,
+    pub leaves: L,
+    rt: Vec<NodeRt>,
+    pub bb: Blackboard,
+    tick: u32,
+    now_ms: u64,
+    opts: RunOptions,
+    events: Vec<Event>,
+    pending_decision: Option<(Uid, String)>,
+}
+
+type R<T> = Result<T, RunError>;
+
+impl<'t, L: Leaves> Executor<'t, L> {
+    pub fn new(tree: &'t Tree, leaves: L, opts: RunOptions) -> Self {
+        Executor {
+            tree,
+            leaves,
+            rt: vec![NodeRt::default(); tree.len()],
+            bb: Blackboard::new(tree),
+            tick: 0,
+            now_ms: 0,
+            opts,
+            events: Vec::new(),
+            pending_decision: None,
+        }
+    }
+
+    /// Ticks completed so far.
+    pub fn ticks(&self) -> u32 {
+        self.tick
+    }
+
+    pub fn status(&self, uid: Uid) -> Status {
+        self.rt[(uid - 1) as usize].status
+    }
+
+    /// Retry attempts (failures so far) of a RetryUntilSuccessful, or cycles of a Repeat.
+    pub fn attempts(&self, uid: Uid) -> i64 {
+        self.rt[(uid - 1) as usize].count
+    }
+
+    /// The events since the last call.
+    pub fn take_events(&mut self) -> Vec<Event> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// One `tickExactlyOnce()`: fire due timers, tick the root, and reset the
+    /// root when it completes.
+    pub fn tick_once(&mut self) -> R<Status> {
+        self.tick += 1;
+        self.now_ms = u64::from(self.tick - 1) * self.opts.tick_ms;
+        self.fire_timers()?;
+        let s = self.exec(Tree::ROOT)?;
+        if s.is_completed() {
+            self.set_status(Tree::ROOT, Status::Idle);
+        }
+        Ok(s)
+    }
+
+    fn err(&self, uid: Uid, message: impl Into<String>) -> RunError {
+        RunError {
+            tick: self.tick,
+            uid,
+            node: self.tree.description(uid).to_string(),
+            message: message.into(),
+        }
+    }
+
+    fn rt(&mut self, uid: Uid) -> &mut NodeRt {
+        &mut self.rt[(uid - 1) as usize]
+    }
+
+    fn set_status(&mut self, uid: Uid, s: Status) {
+        let prev = self.rt(uid).status;
+        if prev == s {
+            return;
+        }
+        self.rt(uid).status = s;
+        let decision = match self.pending_decision.take() {
+            Some((u, d)) if u == uid => Some(d),
+            other => {
+                self.pending_decision = other;
+                None
+            }
+        };
+        self.events.push(Event::Transition {
+            tick: self.tick,
+            uid,
+            prev,
+            status: s,
+            decision,
+        });
+    }
+
+    // ---- ports of built-in nodes ----
+
+    fn port_str(&self, uid: Uid, name: &str) -> Option<String> {
+        let n = self.tree.node(uid);
+        let p = n.ports.iter().find(|p| p.name == name)?;
+        match &p.value {
+            PortValue::Literal(s) => Some(s.clone()),
+            v => {
+                let e = self.bb.port_entry(self.tree, n.scope, v)?;
+                self.bb.get(&e).map(|v| match v {
+                    Value::String(s) => s.clone(),
+                    other => other.to_string(),
+                })
+            }
+        }
+    }
+
+    fn port_int(&self, uid: Uid, names: &[&str], default: Option<i64>) -> R<i64> {
+        for name in names {
+            if let Some(s) = self.port_str(uid, name) {
+                return s
+                    .trim()
+                    .parse::<i64>()
+                    .map_err(|_| self.err(uid, format!("port {name}=\"{s}\" is not an integer")));
+            }
+        }
+        default.ok_or_else(|| self.err(uid, format!("the port {} is missing", names[0])))
+    }
+
+    // ---- halting and resetting ----
+
+    fn reset_status(&mut self, uid: Uid) {
+        self.set_status(uid, Status::Idle);
+    }
+
+    /// `haltNode()`: the node's `halt()`.
+    fn halt_node(&mut self, uid: Uid) {
+        let n = self.tree.node(uid);
+        match n.builtin {
+            Some(Builtin::SequenceWithMemory) => {}
+            Some(Builtin::RetryUntilSuccessful | Builtin::Repeat) => self.rt(uid).count = 0,
+            Some(Builtin::Timeout | Builtin::Delay | Builtin::Sleep) => {
+                let r = self.rt(uid);
+                r.started = false;
+                r.fired = false;
+                r.deadline = None;
+            }
+            Some(Builtin::Parallel | Builtin::ParallelAll) => self.clear_parallel(uid),
+            Some(Builtin::RunOnce) => {}
+            _ => {
+                let r = self.rt(uid);
+                r.idx = 0;
+                r.skipped = 0;
+                r.started = false;
+            }
+        }
+        if n.kind.is_leaf() {
+            if self.status(uid) == Status::Running && n.builtin.is_none() {
+                self.leaves.halt(uid);
+            }
+        } else {
+            self.reset_children(uid);
+        }
+        self.reset_status(uid);
+    }
+
+    fn halt_child(&mut self, child: Uid) {
+        if self.status(child) == Status::Running {
+            self.halt_node(child);
+        }
+        self.reset_status(child);
+    }
+
+    /// `resetChildren()` / `resetChild()`.
+    fn reset_children(&mut self, uid: Uid) {
+        let tree = self.tree;
+        for &c in &tree.node(uid).children {
+            self.halt_child(c);
+        }
+    }
+
+    fn clear_parallel(&mut self, uid: Uid) {
+        let r = self.rt(uid);
+        r.completed.iter_mut().for_each(|c| *c = false);
+        r.successes = 0;
+        r.failures = 0;
+        r.skipped = 0;
+    }
+
+    // ---- timers on the simulated clock ----
+
+    fn fire_timers(&mut self) -> R<()> {
+        for i in 0..self.rt.len() {
+            let Some(deadline) = self.rt[i].deadline else {
+                continue;
+            };
+            if deadline > self.now_ms {
+                continue;
+            }
+            let uid = (i + 1) as Uid;
+            self.rt[i].deadline = None;
+            match self.tree.node(uid).builtin {
+                Some(Builtin::Timeout) => {
+                    let child = self.tree.node(uid).children[0];
+                    if self.status(child) == Status::Running {
+                        self.rt[i].fired = true;
+                        self.halt_child(child);
+                    }
+                }
+                _ => self.rt[i].fired = true,
+            }
+        }
+        Ok(())
+    }
+
+    // ---- ticking ----
+
+    /// `executeTick()`: tick, then take the returned status (a SKIPPED node
+    /// stays IDLE).
+    fn exec(&mut self, uid: Uid) -> R<Status> {
+        let n = self.tree.node(uid);
+        if !n.scripts.is_empty() {
+            return Err(self.err(
+                uid,
+                "pre/post-condition scripts are not run by this version of btx",
+            ));
+        }
+        let s = self.tick_node(uid)?;
+        if s == Status::Idle {
+            return Err(self.err(uid, "a node returned IDLE when ticked"));
+        }
+        if s != Status::Skipped {
+            self.set_status(uid, s);
+        }
+        Ok(s)
+    }
+
+    fn tick_node(&mut self, uid: Uid) -> R<Status> {
+        let n = self.tree.node(uid);
+        match (n.kind, n.builtin) {
+            (Kind::SubTree, _) => self.tick_subtree(uid),
+            (Kind::Action | Kind::Condition, Some(b)) => self.tick_builtin_leaf(uid, b),
+            (Kind::Action | Kind::Condition, None) => self.tick_leaf(uid),
+            (_, Some(b)) => self.tick_builtin(uid, b),
+            (Kind::Control, None) => Err(self.err(
+                uid,
+                format!("custom control node \"{}\" has no behaviour in btx", n.id),
+            )),
+            (Kind::Decorator, None) => Err(self.err(
+                uid,
+                format!("custom decorator \"{}\" has no behaviour in btx", n.id),
+            )),
+        }
+    }
+
+    fn tick_leaf(&mut self, uid: Uid) -> R<Status> {
+        let n = self.tree.node(uid);
+        let prev = self.status(uid);
+        if n.kind == Kind::Action && prev.is_completed() {
+            // A StatefulActionNode ticked again before a reset keeps its status.
+            return Ok(prev);
+        }
+        let mut writes = Vec::new();
+        let out = {
+            let mut call = LeafCall {
+                tree: self.tree,
+                uid,
+                kind: n.kind,
+                resumed: n.kind == Kind::Action && prev == Status::Running,
+                tick: self.tick,
+                bb: &mut self.bb,
+                writes: &mut writes,
+            };
+            self.leaves.tick(&mut call)
+        };
+        for (entry, value) in writes {
+            self.events.push(Event::Write {
+                tick: self.tick,
+                uid,
+                entry,
+                value,
+            });
+        }
+        if let Some(d) = out.decision {
+            if out.status == prev {
+                self.events.push(Event::Decision {
+                    tick: self.tick,
+                    uid,
+                    decision: d,
+                });
+            } else {
+                self.pending_decision = Some((uid, d));
+            }
+        }
+        if out.status == Status::Idle {
+            return Err(self.err(uid, "the leaf returned IDLE"));
+        }
+        Ok(out.status)
+    }
+
+    fn tick_builtin_leaf(&mut self, uid: Uid, b: Builtin) -> R<Status> {
+        match b {
+            Builtin::AlwaysSuccess => Ok(Status::Success),
+            Builtin::AlwaysFailure => Ok(Status::Failure),
+            Builtin::Sleep => {
+                if self.status(uid) == Status::Idle {
+                    let ms = self.port_int(uid, &["msec"], None)?;
+                    if ms <= 0 {
+                        return Ok(Status::Success);
+                    }
+                    let now = self.now_ms;
+                    let r = self.rt(uid);
+                    r.deadline = Some(now + ms as u64);
+                    r.fired = false;
+                    return Ok(Status::Running);
+                }
+                let r = self.rt(uid);
+                if r.fired {
+                    r.fired = false;
+                    Ok(Status::Success)
+                } else {
+                    Ok(Status::Running)
+                }
+            }
+            Builtin::SetBlackboard => {
+                let value = self
+                    .port_str(uid, "value")
+                    .ok_or_else(|| self.err(uid, "the port value is missing"))?;
+                let n = self.tree.node(uid);
+                let key = n
+                    .ports
+                    .iter()
+                    .find(|p| p.name == "output_key")
+                    .ok_or_else(|| self.err(uid, "the port output_key is missing"))?;
+                let entry = match &key.value {
+                    PortValue::Literal(k) => self.bb.resolve(self.tree, n.scope, k),
+                    v => self.bb.port_entry(self.tree, n.scope, v).expect("a key"),
+                };
+                let v = super::blackboard::typed_literal(&value);
+                self.bb.set(&entry, v.clone());
+                self.events.push(Event::Write {
+                    tick: self.tick,
+                    uid,
+                    entry,
+                    value: v,
+                });
+                Ok(Status::Success)
+            }
+            Builtin::UnsetBlackboard => {
+                let n = self.tree.node(uid);
+                if let Some(k) = self.port_str(uid, "key") {
+                    let e = self.bb.resolve(self.tree, n.scope, &k);
+                    self.bb.remove(&e);
+                }
+                Ok(Status::Success)
+            }
+            _ => Err(self.err(
+                uid,
+                format!(
+                    "{} needs BehaviorTree.CPP scripts, which this version of btx does not run",
+                    self.tree.type_name(uid)
+                ),
+            )),
+        }
+    }
+
+    fn tick_subtree(&mut self, uid: Uid) -> R<Status> {
+        if self.status(uid) == Status::Idle {
+            self.set_status(uid, Status::Running);
+        }
+        let child = self.tree.node(uid).children[0];
+        let s = self.exec(child)?;
+        if s.is_completed() {
+            self.halt_child(child);
+        }
+        Ok(s)
+    }
+
+    fn tick_builtin(&mut self, uid: Uid, b: Builtin) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        match b {
+            Builtin::Sequence | Builtin::AsyncSequence => self.tick_sequence(uid, b == Builtin::AsyncSequence),
+            Builtin::Fallback | Builtin::AsyncFallback => self.tick_fallback(uid, b == Builtin::AsyncFallback),
+            Builtin::SequenceWithMemory => self.tick_sequence_with_memory(uid),
+            Builtin::ReactiveSequence => self.tick_reactive(uid, Status::Success),
+            Builtin::ReactiveFallback => self.tick_reactive(uid, Status::Failure),
+            Builtin::Parallel => self.tick_parallel(uid),
+            Builtin::ParallelAll => self.tick_parallel_all(uid),
+            Builtin::IfThenElse => {
+                self.set_status(uid, Status::Running);
+                if self.rt(uid).idx == 0 {
+                    match self.exec(children[0])? {
+                        Status::Running => return Ok(Status::Running),
+                        Status::Success => self.rt(uid).idx = 1,
+                        Status::Failure if children.len() == 3 => self.rt(uid).idx = 2,
+                        Status::Failure => return Ok(Status::Failure),
+                        other => return Ok(other),
+                    }
+                }
+                let i = self.rt(uid).idx;
+                let s = self.exec(children[i])?;
+                if s == Status::Running {
+                    return Ok(s);
+                }
+                self.reset_children(uid);
+                self.rt(uid).idx = 0;
+                Ok(s)
+            }
+            Builtin::WhileDoElse => {
+                self.set_status(uid, Status::Running);
+                let c = self.exec(children[0])?;
+                let s = match c {
+                    Status::Running => return Ok(Status::Running),
+                    Status::Success => {
+                        if children.len() == 3 {
+                            self.halt_child(children[2]);
+                        }
+                        self.exec(children[1])?
+                    }
+                    Status::Failure if children.len() == 3 => {
+                        self.halt_child(children[1]);
+                        self.exec(children[2])?
+                    }
+                    Status::Failure => Status::Failure,
+                    other => other,
+                };
+                if s == Status::Running {
+                    return Ok(s);
+                }
+                self.reset_children(uid);
+                Ok(s)
+            }
+            Builtin::TryCatch => self.tick_try_catch(uid),
+            Builtin::Switch(k) => self.tick_switch(uid, k as usize),
+            Builtin::ManualSelector => Err(self.err(uid, "ManualSelector asks a person at the terminal; btx cannot run it")),
+            Builtin::Inverter => {
+                self.set_status(uid, Status::Running);
+                let s = self.exec(children[0])?;
+                Ok(match s {
+                    Status::Success => {
+                        self.halt_child(children[0]);
+                        Status::Failure
+                    }
+                    Status::Failure => {
+                        self.halt_child(children[0]);
+                        Status::Success
+                    }
+                    other => other,
+                })
+            }
+            Builtin::ForceSuccess | Builtin::ForceFailure => {
+                self.set_status(uid, Status::Running);
+                let s = self.exec(children[0])?;
+                if s.is_completed() {
+                    self.halt_child(children[0]);
+                    return Ok(if b == Builtin::ForceSuccess { Status::Success } else { Status::Failure });
+                }
+                Ok(s)
+            }
+            Builtin::RetryUntilSuccessful => self.tick_retry(uid),
+            Builtin::Repeat => self.tick_repeat(uid),
+            Builtin::KeepRunningUntilFailure => {
+                self.set_status(uid, Status::Running);
+                let s = self.exec(children[0])?;
+                match s {
+                    Status::Failure => {
+                        self.halt_child(children[0]);
+                        Ok(Status::Failure)
+                    }
+                    Status::Success => {
+                        self.halt_child(children[0]);
+                        Ok(Status::Running)
+                    }
+                    other => Ok(other),
+                }
+            }
+            Builtin::Timeout => {
+                if !self.rt(uid).started {
+                    let ms = self.port_int(uid, &["msec"], None)?;
+                    self.set_status(uid, Status::Running);
+                    let now = self.now_ms;
+                    let r = self.rt(uid);
+                    r.started = true;
+                    r.fired = false;
+                    r.deadline = (ms > 0).then_some(now + ms as u64);
+                }
+                if self.rt(uid).fired {
+                    let r = self.rt(uid);
+                    r.started = false;
+                    r.fired = false;
+                    return Ok(Status::Failure);
+                }
+                let s = self.exec(children[0])?;
+                if s.is_completed() {
+                    let r = self.rt(uid);
+                    r.started = false;
+                    r.deadline = None;
+                    self.halt_child(children[0]);
+                }
+                Ok(s)
+            }
+            Builtin::Delay => {
+                if !self.rt(uid).started {
+                    let ms = self.port_int(uid, &["delay_msec"], None)?;
+                    self.set_status(uid, Status::Running);
+                    let now = self.now_ms;
+                    let r = self.rt(uid);
+                    r.started = true;
+                    r.fired = ms <= 0;
+                    r.deadline = (ms > 0).then_some(now + ms as u64);
+                }
+                if !self.rt(uid).fired {
+                    return Ok(Status::Running);
+                }
+                let s = self.exec(children[0])?;
+                if s.is_completed() {
+                    let r = self.rt(uid);
+                    r.started = false;
+                    r.fired = false;
+                    self.halt_child(children[0]);
+                }
+                Ok(s)
+            }
+            Builtin::RunOnce => {
+                let skip = self.port_str(uid, "then_skip").is_none_or(|s| s.trim() != "false");
+                if self.rt(uid).started {
+                    return Ok(if skip { Status::Skipped } else { self.rt(uid).cached });
+                }
+                self.set_status(uid, Status::Running);
+                let s = self.exec(children[0])?;
+                if s.is_completed() {
+                    let r = self.rt(uid);
+                    r.started = true;
+                    r.cached = s;
+                    self.halt_child(children[0]);
+                }
+                Ok(s)
+            }
+            Builtin::BlackboardCheckInt
+            | Builtin::BlackboardCheckDouble
+            | Builtin::BlackboardCheckString
+            | Builtin::BlackboardCheckBool => {
+                let a = self.port_str(uid, "value_A");
+                let bv = self.port_str(uid, "value_B");
+                let equal = match (a, bv, b) {
+                    (Some(a), Some(bv), Builtin::BlackboardCheckInt | Builtin::BlackboardCheckDouble) => {
+                        match (a.trim().parse::<f64>(), bv.trim().parse::<f64>()) {
+                            (Ok(x), Ok(y)) => x == y,
+                            _ => a == bv,
+                        }
+                    }
+                    (Some(a), Some(bv), _) => a.trim() == bv.trim(),
+                    _ => false,
+                };
+                if equal {
+                    return self.exec(children[0]);
+                }
+                if self.status(children[0]) == Status::Running {
+                    self.halt_child(children[0]);
+                }
+                let ret = self.port_str(uid, "return_on_mismatch").unwrap_or_else(|| "FAILURE".into());
+                Status::parse(&ret).ok_or_else(|| self.err(uid, format!("return_on_mismatch=\"{ret}\" is not a status")))
+            }
+            Builtin::Precondition
+            | Builtin::LoopInt
+            | Builtin::LoopBool
+            | Builtin::LoopDouble
+            | Builtin::LoopString
+            | Builtin::SkipUnlessUpdated
+            | Builtin::WaitValueUpdate => Err(self.err(
+                uid,
+                format!("{} needs BehaviorTree.CPP scripts or typed queues, which this version of btx does not run", tree.type_name(uid)),
+            )),
+            Builtin::SubTree
+            | Builtin::AlwaysSuccess
+            | Builtin::AlwaysFailure
+            | Builtin::Script
+            | Builtin::ScriptCondition
+            | Builtin::SetBlackboard
+            | Builtin::UnsetBlackboard
+            | Builtin::Sleep
+            | Builtin::WasEntryUpdated => unreachable!("leaves and subtrees are ticked elsewhere"),
+        }
+    }
+
+    fn tick_sequence(&mut self, uid: Uid, asynch: bool) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        if !self.status(uid).is_active() {
+            self.rt(uid).skipped = 0;
+        }
+        self.set_status(uid, Status::Running);
+        while self.rt(uid).idx < children.len() {
+            let c = children[self.rt(uid).idx];
+            let prev = self.status(c);
+            match self.exec(c)? {
+                Status::Running => return Ok(Status::Running),
+                Status::Failure => {
+                    self.reset_children(uid);
+                    self.rt(uid).idx = 0;
+                    return Ok(Status::Failure);
+                }
+                Status::Success => {
+                    self.rt(uid).idx += 1;
+                    if asynch && prev == Status::Idle && self.rt(uid).idx < children.len() {
+                        return Ok(Status::Running);
+                    }
+                }
+                Status::Skipped => {
+                    let r = self.rt(uid);
+                    r.idx += 1;
+                    r.skipped += 1;
+                }
+                Status::Idle => unreachable!("exec rejects IDLE"),
+            }
+        }
+        let all_skipped = self.rt(uid).skipped == children.len();
+        self.reset_children(uid);
+        self.rt(uid).idx = 0;
+        Ok(if all_skipped {
+            Status::Skipped
+        } else {
+            Status::Success
+        })
+    }
+
+    fn tick_fallback(&mut self, uid: Uid, asynch: bool) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        if !self.status(uid).is_active() {
+            self.rt(uid).skipped = 0;
+        }
+        self.set_status(uid, Status::Running);
+        while self.rt(uid).idx < children.len() {
+            let c = children[self.rt(uid).idx];
+            let prev = self.status(c);
+            match self.exec(c)? {
+                Status::Running => return Ok(Status::Running),
+                Status::Success => {
+                    self.reset_children(uid);
+                    self.rt(uid).idx = 0;
+                    return Ok(Status::Success);
+                }
+                Status::Failure => {
+                    self.rt(uid).idx += 1;
+                    if asynch && prev == Status::Idle && self.rt(uid).idx < children.len() {
+                        return Ok(Status::Running);
+                    }
+                }
+                Status::Skipped => {
+                    let r = self.rt(uid);
+                    r.idx += 1;
+                    r.skipped += 1;
+                }
+                Status::Idle => unreachable!("exec rejects IDLE"),
+            }
+        }
+        let all_skipped = self.rt(uid).skipped == children.len();
+        self.reset_children(uid);
+        self.rt(uid).idx = 0;
+        Ok(if all_skipped {
+            Status::Skipped
+        } else {
+            Status::Failure
+        })
+    }
+
+    fn tick_sequence_with_memory(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        if !self.status(uid).is_active() {
+            self.rt(uid).skipped = 0;
+        }
+        self.set_status(uid, Status::Running);
+        while self.rt(uid).idx < children.len() {
+            let i = self.rt(uid).idx;
+            match self.exec(children[i])? {
+                Status::Running => return Ok(Status::Running),
+                Status::Failure => {
+                    // The index is kept: the next tick resumes at the failed child.
+                    for &c in &children[i..] {
+                        self.halt_child(c);
+                    }
+                    return Ok(Status::Failure);
+                }
+                Status::Success => self.rt(uid).idx += 1,
+                Status::Skipped => {
+                    let r = self.rt(uid);
+                    r.idx += 1;
+                    r.skipped += 1;
+                }
+                Status::Idle => unreachable!("exec rejects IDLE"),
+            }
+        }
+        let all_skipped = self.rt(uid).skipped == children.len();
+        self.reset_children(uid);
+        self.rt(uid).idx = 0;
+        Ok(if all_skipped {
+            Status::Skipped
+        } else {
+            Status::Success
+        })
+    }
+
+    /// ReactiveSequence (`goes_on` = SUCCESS) and ReactiveFallback (FAILURE).
+    fn tick_reactive(&mut self, uid: Uid, goes_on: Status) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        if self.status(uid) == Status::Idle {
+            self.rt(uid).idx = 0;
+        }
+        self.set_status(uid, Status::Running);
+        let mut all_skipped = true;
+        for (i, &c) in children.iter().enumerate() {
+            let s = self.exec(c)?;
+            all_skipped &= s == Status::Skipped;
+            match s {
+                Status::Running => {
+                    for (j, &other) in children.iter().enumerate() {
+                        if j != i {
+                            self.halt_child(other);
+                        }
+                    }
+                    if self.rt(uid).idx == 0 {
+                        self.rt(uid).idx = i + 1;
+                    }
+                    return Ok(Status::Running);
+                }
+                Status::Skipped => self.halt_child(c),
+                s if s == goes_on => {}
+                s => {
+                    self.reset_children(uid);
+                    return Ok(s);
+                }
+            }
+        }
+        self.reset_children(uid);
+        Ok(if all_skipped {
+            Status::Skipped
+        } else {
+            goes_on
+        })
+    }
+
+    fn tick_parallel(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        let n = children.len() as i64;
+        let v3 = self.tree.version == crate::model::Version::V3;
+        let success = self.port_int(
+            uid,
+            &["success_count", "success_threshold"],
+            Some(if v3 { n } else { -1 }),
+        )?;
+        let failure = self.port_int(uid, &["failure_count", "failure_threshold"], Some(1))?;
+        let threshold = |t: i64| if t < 0 { (n + t + 1).max(0) } else { t };
+        let (need_s, need_f) = (threshold(success), threshold(failure));
+        if n < need_s || n < need_f {
+            return Err(self.err(
+                uid,
+                format!(
+                    "{n} children cannot reach the thresholds (success {need_s}, failure {need_f})"
+                ),
+            ));
+        }
+        if !self.status(uid).is_active() {
+            self.rt(uid).skipped = 0;
+        }
+        if self.rt(uid).completed.len() != children.len() {
+            self.rt(uid).completed = vec![false; children.len()];
+        }
+        self.set_status(uid, Status::Running);
+        for (i, &c) in children.iter().enumerate() {
+            if !self.rt(uid).completed[i] {
+                match self.exec(c)? {
+                    Status::Skipped => self.rt(uid).skipped += 1,
+                    Status::Success => {
+                        let r = self.rt(uid);
+                        r.completed[i] = true;
+                        r.successes += 1;
+                    }
+                    Status::Failure => {
+                        let r = self.rt(uid);
+                        r.completed[i] = true;
+                        r.failures += 1;
+                    }
+                    _ => {}
+                }
+            }
+            let r = self.rt(uid);
+            let (s, f, k) = (r.successes as i64, r.failures as i64, r.skipped as i64);
+            if s >= need_s || (success < 0 && s + k >= need_s) {
+                self.clear_parallel(uid);
+                self.reset_children(uid);
+                return Ok(Status::Success);
+            }
+            if n - f < need_s || f == need_f {
+                self.clear_parallel(uid);
+                self.reset_children(uid);
+                return Ok(Status::Failure);
+            }
+        }
+        Ok(if self.rt(uid).skipped == children.len() {
+            Status::Skipped
+        } else {
+            Status::Running
+        })
+    }
+
+    fn tick_parallel_all(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        let n = children.len() as i64;
+        let max_failures = self.port_int(uid, &["max_failures"], Some(1))?;
+        let threshold = if max_failures < 0 {
+            (n + max_failures + 1).max(0)
+        } else {
+            max_failures
+        };
+        if n < threshold {
+            return Err(self.err(
+                uid,
+                format!("{n} children cannot reach max_failures {threshold}"),
+            ));
+        }
+        if self.rt(uid).completed.len() != children.len() {
+            self.rt(uid).completed = vec![false; children.len()];
+        }
+        self.set_status(uid, Status::Running);
+        let mut skipped = 0;
+        for (i, &c) in children.iter().enumerate() {
+            if self.rt(uid).completed[i] {
+                continue;
+            }
+            match self.exec(c)? {
+                Status::Success => self.rt(uid).completed[i] = true,
+                Status::Failure => {
+                    let r = self.rt(uid);
+                    r.completed[i] = true;
+                    r.failures += 1;
+                }
+                Status::Skipped => skipped += 1,
+                _ => {}
+            }
+        }
+        if skipped == children.len() {
+            return Ok(Status::Skipped);
+        }
+        let done = self.rt(uid).completed.iter().filter(|c| **c).count();
+        if skipped + done >= children.len() {
+            self.reset_children(uid);
+            let failures = self.rt(uid).failures as i64;
+            self.clear_parallel(uid);
+            return Ok(if failures >= threshold {
+                Status::Failure
+            } else {
+                Status::Success
+            });
+        }
+        Ok(Status::Running)
+    }
+
+    fn tick_try_catch(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        let catch = *children.last().expect("TryCatch has children");
+        let body = &children[..children.len() - 1];
+        if !self.status(uid).is_active() {
+            self.rt(uid).skipped = 0;
+        }
+        self.set_status(uid, Status::Running);
+        if !self.rt(uid).started {
+            while self.rt(uid).idx < body.len() {
+                let c = body[self.rt(uid).idx];
+                match self.exec(c)? {
+                    Status::Running => return Ok(Status::Running),
+                    Status::Failure => {
+                        for &b in body {
+                            self.halt_child(b);
+                        }
+                        let r = self.rt(uid);
+                        r.idx = 0;
+                        r.started = true;
+                        break;
+                    }
+                    Status::Success => self.rt(uid).idx += 1,
+                    Status::Skipped => {
+                        let r = self.rt(uid);
+                        r.idx += 1;
+                        r.skipped += 1;
+                    }
+                    Status::Idle => unreachable!("exec rejects IDLE"),
+                }
+            }
+            if !self.rt(uid).started {
+                let all_skipped = self.rt(uid).skipped == body.len();
+                self.reset_children(uid);
+                self.rt(uid).idx = 0;
+                return Ok(if all_skipped {
+                    Status::Skipped
+                } else {
+                    Status::Success
+                });
+            }
+        }
+        match self.exec(catch)? {
+            Status::Running => Ok(Status::Running),
+            _ => {
+                self.reset_children(uid);
+                self.rt(uid).started = false;
+                Ok(Status::Failure)
+            }
+        }
+    }
+
+    fn tick_switch(&mut self, uid: Uid, cases: usize) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        let mut matched = cases;
+        if let Some(var) = self.port_str(uid, "variable") {
+            for i in 0..cases {
+                if let Some(v) = self.port_str(uid, &format!("case_{}", i + 1)) {
+                    if v.trim() == var.trim() {
+                        matched = i;
+                        break;
+                    }
+                }
+            }
+        }
+        let running = self.rt(uid).idx;
+        if running != 0 && running - 1 != matched {
+            self.halt_child(children[running - 1]);
+        }
+        let s = self.exec(children[matched])?;
+        match s {
+            Status::Skipped => self.rt(uid).idx = 0,
+            Status::Running => self.rt(uid).idx = matched + 1,
+            _ => {
+                self.reset_children(uid);
+                self.rt(uid).idx = 0;
+            }
+        }
+        Ok(s)
+    }
+
+    fn tick_retry(&mut self, uid: Uid) -> R<Status> {
+        let child = self.tree.node(uid).children[0];
+        let max = self.port_int(uid, &["num_attempts"], None)?;
+        self.set_status(uid, Status::Running);
+        let mut do_loop = self.rt(uid).count < max || max == -1;
+        while do_loop {
+            match self.exec(child)? {
+                Status::Success => {
+                    self.rt(uid).count = 0;
+                    self.halt_child(child);
+                    return Ok(Status::Success);
+                }
+                Status::Failure => {
+                    let r = self.rt(uid);
+                    r.count += 1;
+                    do_loop = r.count < max || max == -1;
+                    self.halt_child(child);
+                }
+                Status::Running => return Ok(Status::Running),
+                Status::Skipped => {
+                    self.halt_child(child);
+                    return Ok(Status::Skipped);
+                }
+                Status::Idle => unreachable!("exec rejects IDLE"),
+            }
+        }
+        self.rt(uid).count = 0;
+        Ok(Status::Failure)
+    }
+
+    fn tick_repeat(&mut self, uid: Uid) -> R<Status> {
+        let child = self.tree.node(uid).children[0];
+        let max = self.port_int(uid, &["num_cycles"], None)?;
+        self.set_status(uid, Status::Running);
+        let mut do_loop = self.rt(uid).count < max || max == -1;
+        let mut all_skipped = true;
+        while do_loop {
+            let s = self.exec(child)?;
+            all_skipped &= s == Status::Skipped;
+            match s {
+                Status::Success => {
+                    let r = self.rt(uid);
+                    r.count += 1;
+                    do_loop = r.count < max || max == -1;
+                    self.halt_child(child);
+                }
+                Status::Failure => {
+                    self.rt(uid).count = 0;
+                    self.halt_child(child);
+                    return Ok(Status::Failure);
+                }
+                Status::Running => return Ok(Status::Running),
+                Status::Skipped => {
+                    self.halt_child(child);
+                    return Ok(Status::Skipped);
+                }
+                Status::Idle => unreachable!("exec rejects IDLE"),
+            }
+        }
+        self.rt(uid).count = 0;
+        Ok(if all_skipped {
+            Status::Skipped
+        } else {
+            Status::Success
+        })
+    }
+}

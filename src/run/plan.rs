@@ -1,0 +1,319 @@
+//! Scripted leaf outcomes in the fixture syntax (`key = S, F, 2RS, 1RF`), so
+//! that any tree runs without code.
+
+use super::exec::{LeafCall, LeafOutcome, Leaves};
+use super::status::Status;
+use crate::model::{Kind, Tree, Uid, Version};
+use crate::source::{Located, Warning};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// One scripted outcome.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Outcome {
+    /// Ticks the action returns RUNNING (the first at its start).
+    pub running: u32,
+    /// SUCCESS or FAILURE after that.
+    pub then: Status,
+}
+
+impl std::fmt::Display for Outcome {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let c = if self.then == Status::Success {
+            'S'
+        } else {
+            'F'
+        };
+        if self.running > 0 {
+            write!(f, "{}R{c}", self.running)
+        } else {
+            write!(f, "{c}")
+        }
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PlanEntry {
+    pub key: String,
+    pub outcomes: Vec<Outcome>,
+    pub line: usize,
+}
+
+/// A parsed plan file.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    pub path: PathBuf,
+    pub text: String,
+    pub entries: Vec<PlanEntry>,
+}
+
+fn parse_outcome(s: &str) -> Option<Outcome> {
+    let s = s.trim();
+    let then = match s.chars().last()? {
+        'S' | 's' => Status::Success,
+        'F' | 'f' => Status::Failure,
+        _ => return None,
+    };
+    let head = &s[..s.len() - 1];
+    if head.is_empty() {
+        return Some(Outcome { running: 0, then });
+    }
+    let n = head.strip_suffix(['R', 'r'])?;
+    Some(Outcome {
+        running: n.parse().ok()?,
+        then,
+    })
+}
+
+impl Plan {
+    pub fn parse(path: &Path, text: &str) -> Result<Plan, Located> {
+        let mut entries: Vec<PlanEntry> = Vec::new();
+        let mut offset = 0;
+        for (i, raw) in text.split_inclusive('\n').enumerate() {
+            let start = offset;
+            offset += raw.len();
+            let line = raw.trim_end_matches(['\n', '\r']);
+            let content = line.trim();
+            if content.is_empty() || content.starts_with('#') {
+                continue;
+            }
+            let at = |msg: String| Located::at(path, text, start, start + line.len(), msg);
+            let Some((key, list)) = content.split_once('=') else {
+                return Err(at("a plan line is `key = outcome, ...`".into())
+                    .with_help("outcomes are S, F, nRS or nRF, e.g. `look at chuck = 1RF, 1RS`"));
+            };
+            let key = key.trim().to_string();
+            if key.is_empty() {
+                return Err(at("a plan line needs a key before `=`".into()));
+            }
+            let mut outcomes = Vec::new();
+            for o in list.split(',') {
+                match parse_outcome(o) {
+                    Some(x) => outcomes.push(x),
+                    None => {
+                        return Err(at(format!("\"{}\" is not an outcome", o.trim()))
+                            .with_help("outcomes are S, F, nRS or nRF (RUNNING for n ticks, then SUCCESS or FAILURE)"))
+                    }
+                }
+            }
+            if let Some(prev) = entries.iter().find(|e| e.key == key) {
+                return Err(at(format!(
+                    "\"{key}\" is already planned on line {}",
+                    prev.line
+                )));
+            }
+            entries.push(PlanEntry {
+                key,
+                outcomes,
+                line: i + 1,
+            });
+        }
+        Ok(Plan {
+            path: path.to_path_buf(),
+            text: text.to_string(),
+            entries,
+        })
+    }
+
+    pub fn load(path: &Path) -> Result<Plan, Located> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Located::file(path, format!("cannot read the plan: {e}")))?;
+        Plan::parse(path, &text)
+    }
+
+    fn entry(&self, key: &str) -> Option<usize> {
+        self.entries.iter().position(|e| e.key == key)
+    }
+}
+
+/// Leaves driven by a plan, as the fixture runner drives them: actions are
+/// stateful (each start takes the next outcome), conditions take one outcome
+/// per tick; each node steps through its own copy of its list and the last
+/// outcome repeats. On SUCCESS an action writes `value of <port> from
+/// '<name>'` to its output ports.
+pub struct PlanLeaves {
+    plan: Plan,
+    /// leaf uid → (plan entry, cursor key)
+    assigned: HashMap<Uid, (Option<usize>, String)>,
+    cursors: HashMap<String, usize>,
+    running: HashMap<Uid, (u32, Status)>,
+    pub warnings: Vec<Warning>,
+}
+
+impl PlanLeaves {
+    pub fn new(plan: Plan, tree: &Tree) -> PlanLeaves {
+        let mut warnings = Vec::new();
+        let mut used = vec![false; plan.entries.len()];
+        let mut assigned = HashMap::new();
+        for n in &tree.nodes {
+            if !n.kind.is_leaf() {
+                continue;
+            }
+            let default = if n.kind == Kind::Condition {
+                "@default_condition"
+            } else {
+                "@default_action"
+            };
+            let full = tree.full_path(n.uid);
+            // fullPath (v4 only), then instance name, then registration ID, then the default.
+            let candidates = [
+                (tree.version == Version::V4).then_some(full.as_str()),
+                Some(n.name.as_str()).filter(|s| !s.is_empty()),
+                Some(n.id.as_str()),
+                Some(default),
+            ];
+            let entry = candidates.iter().flatten().find_map(|k| plan.entry(k));
+            if let Some(e) = entry {
+                used[e] = true;
+            }
+            let cursor = match tree.version {
+                Version::V4 => full,
+                Version::V3 => format!("#{}", n.uid),
+            };
+            assigned.insert(n.uid, (entry, cursor));
+        }
+        let unplanned: Vec<String> = assigned
+            .iter()
+            .filter(|(_, (e, _))| e.is_none())
+            .map(|(u, _)| format!("{} #{u}", tree.description(*u)))
+            .collect();
+        if !unplanned.is_empty() {
+            let mut unplanned = unplanned;
+            unplanned.sort();
+            warnings.push(Warning {
+                location: plan.path.display().to_string(),
+                message: format!(
+                    "no plan entry for {} (add @default_action / @default_condition); they succeed at once",
+                    unplanned.join(", ")
+                ),
+            });
+        }
+        for (e, u) in plan.entries.iter().zip(&used) {
+            if !u && !e.key.starts_with('@') {
+                warnings.push(Warning {
+                    location: format!("{}:{}:1", plan.path.display(), e.line),
+                    message: format!("\"{}\" matches no leaf of the tree", e.key),
+                });
+            }
+        }
+        PlanLeaves {
+            plan,
+            assigned,
+            cursors: HashMap::new(),
+            running: HashMap::new(),
+            warnings,
+        }
+    }
+
+    /// The next outcome of a leaf, and the plan key it came from.
+    fn next(&mut self, uid: Uid) -> (Outcome, Option<&str>) {
+        let (entry, cursor) = self
+            .assigned
+            .get(&uid)
+            .cloned()
+            .unwrap_or((None, format!("#{uid}")));
+        let Some(e) = entry else {
+            return (
+                Outcome {
+                    running: 0,
+                    then: Status::Success,
+                },
+                None,
+            );
+        };
+        let list = &self.plan.entries[e].outcomes;
+        let pos = self.cursors.entry(cursor).or_insert(0);
+        let o = list[(*pos).min(list.len() - 1)];
+        *pos += 1;
+        (o, Some(self.plan.entries[e].key.as_str()))
+    }
+}
+
+impl Leaves for PlanLeaves {
+    fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {
+        let uid = call.uid;
+        let status = if call.kind == Kind::Condition {
+            self.next(uid).0.then
+        } else if let Some((left, then)) = self.running.get_mut(&uid) {
+            if *left > 0 {
+                *left -= 1;
+                Status::Running
+            } else {
+                let then = *then;
+                self.running.remove(&uid);
+                then
+            }
+        } else {
+            let (o, _) = self.next(uid);
+            if o.running > 0 {
+                self.running.insert(uid, (o.running - 1, o.then));
+                Status::Running
+            } else {
+                o.then
+            }
+        };
+        if status == Status::Success && call.kind == Kind::Action {
+            let name = call.tree.description(uid).to_string();
+            for p in call.output_ports() {
+                call.write_port(
+                    &p,
+                    serde_json::Value::from(format!("value of {p} from '{name}'")),
+                );
+            }
+        }
+        LeafOutcome {
+            status,
+            decision: None,
+        }
+    }
+
+    fn halt(&mut self, uid: Uid) {
+        self.running.remove(&uid);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_the_fixture_syntax() {
+        let p = Plan::parse(
+            Path::new("p.plan"),
+            "# c\n@default_action = 1RS\nlook at chuck = 1RF, 1RS\nx = S, F,2RF\n",
+        )
+        .unwrap();
+        assert_eq!(p.entries.len(), 3);
+        assert_eq!(p.entries[1].key, "look at chuck");
+        assert_eq!(
+            p.entries[1].outcomes[0],
+            Outcome {
+                running: 1,
+                then: Status::Failure
+            }
+        );
+        assert_eq!(
+            p.entries[2]
+                .outcomes
+                .iter()
+                .map(|o| o.to_string())
+                .collect::<Vec<_>>(),
+            ["S", "F", "2RF"]
+        );
+        assert_eq!(p.entries[2].line, 4);
+    }
+
+    #[test]
+    fn bad_lines_are_located() {
+        let e = Plan::parse(Path::new("p.plan"), "a = S\nb = 2RX\n").unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("p.plan:2:1: \"2RX\" is not an outcome"),
+            "{e}"
+        );
+        let e = Plan::parse(Path::new("p.plan"), "a = S\n\njust words\n").unwrap_err();
+        assert!(e.to_string().starts_with("p.plan:3:1:"), "{e}");
+        let e = Plan::parse(Path::new("p.plan"), "a = S\na = F\n").unwrap_err();
+        assert!(e.to_string().contains("already planned on line 1"), "{e}");
+    }
+}

@@ -44,8 +44,8 @@ impl Framed {
         let mut nodes: Vec<FramedNode> = Vec::new();
         let mut subgoals = Vec::new();
         let mut actions = Vec::new();
-        for i in 0..n {
-            let uid = (i + 1) as Uid;
+        for uid in tree.descendants(Tree::ROOT) {
+            let i = (uid - 1) as usize;
             let node = tree.node(uid);
             let parent_rep = node.parent.map(|p| rep[(p - 1) as usize]);
             let role = match (parent_rep, node.kind) {

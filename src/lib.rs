@@ -16,6 +16,9 @@ pub mod xml;
 pub mod frame;
 pub mod pick;
 pub mod run;
+pub mod session;
+
+pub mod input;
 
 pub mod explain;
 

@@ -1,18 +1,23 @@
 //! The `btx` command line: a thin shell over the library.
 
-use btx::explain::{han, Question};
+use btx::explain::{self, Question};
 use btx::frame::Framed;
-use btx::xml::{load_file, LoadOptions, Loaded};
+use btx::input::{open, Input};
+use btx::run::plan::{Plan, PlanLeaves};
+use btx::run::RunOptions;
+use btx::session::record::{record, RecordError, RunRequest};
+use btx::session::{Moment, Session, Source};
+use btx::xml::LoadOptions;
 use btx::{export, pick, Version};
 use clap::{Parser, Subcommand, ValueEnum};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 #[derive(Parser)]
 #[command(
     name = "btx",
     version,
-    about = "Explain behaviour-tree runs: BehaviorTree.CPP trees, framed and questioned"
+    about = "Explain behaviour-tree runs: BehaviorTree.CPP trees and their runs, framed and questioned"
 )]
 struct Cli {
     /// Do not print warnings.
@@ -31,15 +36,19 @@ enum TreeFormat {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
-enum AnswerFormat {
+enum Format {
     Text,
     Json,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+enum World {
+    Taxi,
+    Kitting,
+}
+
 #[derive(clap::Args)]
-struct TreeSource {
-    /// A BehaviorTree.CPP XML file (v3 or v4).
-    file: PathBuf,
+struct Reading {
     /// Run this <BehaviorTree> instead of the file's main tree.
     #[arg(long, value_name = "ID")]
     main_tree: Option<String>,
@@ -48,48 +57,92 @@ struct TreeSource {
     btcpp: Option<String>,
 }
 
+impl Reading {
+    fn options(&self) -> LoadOptions {
+        LoadOptions {
+            version: self
+                .btcpp
+                .as_deref()
+                .map(|v| if v == "3" { Version::V3 } else { Version::V4 }),
+            main_tree: self.main_tree.clone(),
+        }
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
-    /// Print a tree: the full tree, or the framed tree (--framed).
+    /// Print a tree (of a tree file or a session): the full tree, or the framed tree.
     Tree {
+        /// A BehaviorTree.CPP XML file (v3 or v4), or a session.
+        file: PathBuf,
         #[command(flatten)]
-        source: TreeSource,
+        reading: Reading,
         /// Show the framed tree and the semantic sets {goal, subgoals, steps, actions}.
         #[arg(long)]
         framed: bool,
         #[arg(long, value_enum, default_value = "text")]
         format: TreeFormat,
     },
-    /// Ask Han et al.'s questions about a node.
+    /// Ask questions about a node of a tree, or about a moment of a session.
     Ask {
+        /// A tree file, or a session.
+        file: PathBuf,
         #[command(flatten)]
-        source: TreeSource,
+        reading: Reading,
+        /// The moment of a session: TICK (its end) or TICK:STEP. Default: the end of the run.
+        #[arg(long, value_name = "MOMENT")]
+        at: Option<String>,
         /// The node: #uid, a description or ID, or a path like "go insert large gear/detect chuck/lift torso".
+        /// Default for a session: the current node at the moment.
         #[arg(long, value_name = "PICK")]
-        node: String,
-        /// Questions: the paper's wording or q1, q2, q3, q4, q5-subgoal, q5-goal.
+        node: Option<String>,
+        /// Questions: the paper's wording, "Can you X?", or q1 q2 q3 q4 q5-subgoal q5-goal anything-wrong wrong handled.
         #[arg(required = true, value_name = "QUESTION")]
         questions: Vec<String>,
         #[arg(long, value_enum, default_value = "text")]
-        format: AnswerFormat,
+        format: Format,
     },
-}
-
-fn load(source: &TreeSource, quiet: bool) -> Result<Loaded, Failure> {
-    let opts = LoadOptions {
-        version: source
-            .btcpp
-            .as_deref()
-            .map(|v| if v == "3" { Version::V3 } else { Version::V4 }),
-        main_tree: source.main_tree.clone(),
-    };
-    let loaded = load_file(&source.file, &opts)?;
-    if !quiet {
-        for w in &loaded.warnings {
-            eprintln!("{w}");
-        }
-    }
-    Ok(loaded)
+    /// Run a tree tick by tick and record the run as a session.
+    Run {
+        /// A BehaviorTree.CPP XML file (v3 or v4).
+        tree: PathBuf,
+        #[command(flatten)]
+        reading: Reading,
+        /// Scripted leaf outcomes (`key = S, F, 2RS, 1RF`).
+        #[arg(long, value_name = "FILE", group = "leaves", required_unless_present_any = ["domain", "world"])]
+        plan: Option<PathBuf>,
+        /// A domain file (state variables and leaf functions).
+        #[arg(long, value_name = "FILE", group = "leaves")]
+        domain: Option<PathBuf>,
+        /// A built-in world.
+        #[arg(long, value_enum, group = "leaves")]
+        world: Option<World>,
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        #[arg(long, value_name = "N", default_value_t = 10_000)]
+        max_ticks: u32,
+        /// Simulated milliseconds between ticks (Timeout, Delay, Sleep).
+        #[arg(long, value_name = "MS", default_value_t = 10)]
+        tick_ms: u64,
+        /// Ask "Can you X?" at the end of tick MOMENT; a yes inserts the subgoal and the run goes on with it.
+        #[arg(long, num_args = 2, value_names = ["MOMENT", "QUESTION"])]
+        ask_at: Option<Vec<String>>,
+        /// The session file to write (never overwritten).
+        #[arg(long, value_name = "SESSION")]
+        out: PathBuf,
+    },
+    /// List the status transitions of a session, like Groot's table.
+    Log {
+        session: PathBuf,
+        /// Only this node's transitions.
+        #[arg(long, value_name = "PICK")]
+        node: Option<String>,
+        /// Leave out transitions to IDLE (resets and halts).
+        #[arg(long)]
+        no_idle: bool,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
 }
 
 /// What went wrong: located input errors are drawn by miette with the
@@ -97,12 +150,6 @@ fn load(source: &TreeSource, quiet: bool) -> Result<Loaded, Failure> {
 enum Failure {
     Located(miette::Report),
     Plain(String),
-}
-
-impl From<miette::Report> for Failure {
-    fn from(r: miette::Report) -> Self {
-        Failure::Located(r)
-    }
 }
 
 impl From<btx::Located> for Failure {
@@ -115,73 +162,247 @@ macro_rules! fail {
     ($($t:tt)*) => { return Err(Failure::Plain(format!($($t)*))) };
 }
 
+fn warn_all(quiet: bool, warnings: &[btx::Warning]) {
+    if !quiet {
+        for w in warnings {
+            eprintln!("{w}");
+        }
+    }
+}
+
+fn open_input(file: &Path, reading: &Reading, quiet: bool) -> Result<Input, Failure> {
+    let input = open(file, &reading.options())?;
+    warn_all(quiet, input.warnings());
+    Ok(input)
+}
+
+fn pick_node(tree: &btx::Tree, pick: &str) -> Result<btx::Uid, Failure> {
+    pick::pick(tree, pick).map_err(|e| Failure::Plain(e.to_string()))
+}
+
 fn run(cli: Cli) -> Result<(), Failure> {
     match cli.command {
         Command::Tree {
-            source,
+            file,
+            reading,
             framed,
             format,
         } => {
-            let tree = load(&source, cli.quiet)?.tree;
+            let input = open_input(&file, &reading, cli.quiet)?;
+            let tree = input.tree();
             let out = match (framed, format) {
-                (false, TreeFormat::Text) => export::tree_text(&tree),
-                (false, TreeFormat::Json) => pretty(&export::tree_json(&tree)),
-                (false, TreeFormat::Dot) => export::tree_dot(&tree),
-                (_, TreeFormat::Xml) => {
-                    if framed {
-                        fail!("the framed tree is a view, not a runnable tree: drop --framed to write XML");
-                    }
-                    btx::xml::to_v4_xml(&tree)
-                }
+                (false, TreeFormat::Text) => export::tree_text(tree),
+                (false, TreeFormat::Json) => pretty(&export::tree_json(tree)),
+                (false, TreeFormat::Dot) => export::tree_dot(tree),
+                (true, TreeFormat::Xml) => fail!(
+                    "the framed tree is a view, not a runnable tree: drop --framed to write XML"
+                ),
+                (false, TreeFormat::Xml) => btx::xml::to_v4_xml(tree),
                 (true, f) => {
-                    let fr = Framed::new(&tree);
+                    let fr = Framed::new(tree);
                     match f {
-                        TreeFormat::Json => pretty(&export::framed_json(&tree, &fr)),
-                        TreeFormat::Dot => export::framed_dot(&tree, &fr),
-                        _ => export::framed_text(&tree, &fr),
+                        TreeFormat::Json => pretty(&export::framed_json(tree, &fr)),
+                        TreeFormat::Dot => export::framed_dot(tree, &fr),
+                        _ => export::framed_text(tree, &fr),
                     }
                 }
             };
             print!("{out}");
         }
         Command::Ask {
-            source,
+            file,
+            reading,
+            at,
             node,
             questions,
             format,
         } => {
-            let tree = load(&source, cli.quiet)?.tree;
+            let input = open_input(&file, &reading, cli.quiet)?;
             let mut qs = Vec::new();
             for q in &questions {
                 match Question::parse(q) {
                     Some(q) => qs.push(q),
                     None => {
-                        let known: Vec<String> = Question::ALL
+                        let known: Vec<String> = Question::fixed()
                             .iter()
                             .map(|q| format!("\"{}\" ({})", q.wording(), q.short()))
                             .collect();
-                        fail!("unknown question \"{q}\"; ask one of: {}", known.join(", "));
+                        fail!(
+                            "unknown question \"{q}\"; ask one of: {}, or \"Can you X?\"",
+                            known.join(", ")
+                        );
                     }
                 }
             }
-            let uid = match pick::pick(&tree, &node) {
-                Ok(uid) => uid,
-                Err(e) => return Err(Failure::Plain(e.to_string())),
+            let tree = input.tree();
+            let view = match input.session() {
+                Some(s) => {
+                    let m = match &at {
+                        Some(a) => Moment::parse(a).map_err(Failure::Plain)?,
+                        None => Moment {
+                            tick: s.index.ticks().max(1),
+                            step: None,
+                        },
+                    };
+                    if s.index.ticks() == 0 {
+                        fail!("{}: the session recorded no tick", file.display());
+                    }
+                    Some(s.at(m).map_err(Failure::Plain)?)
+                }
+                None => {
+                    if at.is_some() {
+                        fail!(
+                            "--at picks a moment of a run, and {} is a tree, not a session",
+                            file.display()
+                        );
+                    }
+                    None
+                }
             };
-            let answers: Vec<_> = qs.into_iter().map(|q| han::answer(&tree, uid, q)).collect();
+            let uid = match (&node, &view) {
+                (Some(p), _) => pick_node(tree, p)?,
+                (None, Some(v)) => match v.current() {
+                    Some(u) => u,
+                    None => fail!(
+                        "nothing has been ticked yet at moment {}; pick a node with --node",
+                        v.moment()
+                    ),
+                },
+                (None, None) => {
+                    fail!("pick the node to ask about with --node (a tree has no current node)")
+                }
+            };
+            let mut answers = Vec::new();
+            for q in &qs {
+                answers.push(explain::answer(tree, view.as_ref(), uid, q).map_err(Failure::Plain)?);
+            }
             match format {
-                AnswerFormat::Text => {
+                Format::Text => {
                     for a in &answers {
                         println!("{}", a.text);
                     }
                 }
-                AnswerFormat::Json => {
-                    print!("{}", pretty(&export::answers_json(&tree, uid, &answers)))
+                Format::Json => {
+                    let moment = view.map(|v| v.moment().to_string());
+                    print!(
+                        "{}",
+                        pretty(&export::answers_json(
+                            tree,
+                            uid,
+                            moment.as_deref(),
+                            &answers
+                        ))
+                    )
                 }
             }
         }
+        Command::Run {
+            tree: path,
+            reading,
+            plan,
+            domain,
+            world,
+            seed,
+            max_ticks,
+            tick_ms,
+            ask_at,
+            out,
+        } => {
+            let text = std::fs::read_to_string(&path).map_err(|e| {
+                btx::Located::file(&path, format!("cannot read the tree file: {e}"))
+            })?;
+            let loaded = btx::xml::load_str(&path, &text, &reading.options())?;
+            warn_all(cli.quiet, &loaded.warnings);
+            let tree = loaded.tree;
+            let ask = match ask_at {
+                Some(v) => {
+                    let m = Moment::parse(&v[0]).map_err(Failure::Plain)?;
+                    if m.step.is_some() {
+                        fail!("--ask-at takes a whole tick: a run is asked between ticks");
+                    }
+                    match Question::parse(&v[1]) {
+                        Some(Question::CanYou(_)) => {}
+                        _ => fail!("--ask-at asks \"Can you X?\"; other questions are asked of the session with btx ask"),
+                    }
+                    Some((m.tick, v[1].clone()))
+                }
+                None => None,
+            };
+            let (leaves, source) = if let Some(p) = &plan {
+                let plan = Plan::load(p)?;
+                let source = Source {
+                    kind: "plan".into(),
+                    path: Some(p.display().to_string()),
+                    text: Some(plan.text.clone()),
+                    name: None,
+                };
+                let leaves = PlanLeaves::new(plan, &tree);
+                warn_all(cli.quiet, &leaves.warnings);
+                (leaves, source)
+            } else if domain.is_some() {
+                fail!("domain files are not supported by this version of btx yet; use --plan");
+            } else {
+                let _ = world;
+                fail!("built-in worlds are not supported by this version of btx yet; use --plan");
+            };
+            let req = RunRequest {
+                tree: &tree,
+                tree_file: Some((&path, &text)),
+                source,
+                seed: Some(seed),
+                max_ticks,
+                options: RunOptions { tick_ms },
+                ask,
+                out: &out,
+            };
+            match record(req, leaves) {
+                Ok(s) => {
+                    if let Some(a) = &s.answer {
+                        println!("{a}");
+                    }
+                    eprintln!(
+                        "{}: {} ticks, {} transitions, root {} ({})",
+                        s.path.display(),
+                        s.ticks,
+                        s.transitions,
+                        s.root,
+                        s.reason
+                    );
+                }
+                Err(RecordError::Io(e)) => return Err(e.into()),
+                Err(RecordError::Run(e, s)) => {
+                    let (file, line, col) = tree.location(e.uid);
+                    fail!(
+                        "{file}:{line}:{col}: {e}\nthe run up to here is in {}",
+                        s.path.display()
+                    );
+                }
+            }
+        }
+        Command::Log {
+            session,
+            node,
+            no_idle,
+            format,
+        } => {
+            let s = Session::load(&session)?;
+            warn_all(cli.quiet, &s.warnings);
+            let only = match &node {
+                Some(p) => Some(pick_node(&s.tree, p)?),
+                None => None,
+            };
+            print!("{}", log_output(&s, only, no_idle, format));
+        }
     }
     Ok(())
+}
+
+fn log_output(s: &Session, only: Option<btx::Uid>, no_idle: bool, format: Format) -> String {
+    let rows = btx::export::log_rows(s, only, no_idle);
+    match format {
+        Format::Json => pretty(&btx::export::log_json(s, &rows)),
+        Format::Text => btx::export::log_text(s, &rows),
+    }
 }
 
 fn pretty(v: &serde_json::Value) -> String {

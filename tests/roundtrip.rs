@@ -3,7 +3,7 @@
 //! v3 → v4 converter.
 
 mod common;
-use btx::explain::{han, Question};
+use btx::explain::{han, TreeQuestion};
 use btx::model::{Builtin, Direction, Kind, Tree};
 use btx::xml::{load_str, sanitize_id, to_v4_xml, LoadOptions};
 use common::*;
@@ -112,7 +112,7 @@ fn check_roundtrip(t1: &Tree) {
     }
     assert_eq!(v1.len(), v2.len());
     for leaf in t1.leaves_below(Tree::ROOT) {
-        for q in Question::ALL {
+        for q in TreeQuestion::ALL {
             assert_eq!(
                 han::answer(t1, leaf, q),
                 han::answer(&t2, leaf, q),

@@ -2,7 +2,7 @@
 //! fixture logs), and v3 and v4 files give the same answers.
 
 mod common;
-use btx::explain::{han, Question};
+use btx::explain::{han, TreeQuestion};
 use btx::{Kind, Tree};
 use common::*;
 
@@ -111,7 +111,7 @@ fn v3_and_v4_answer_alike_for_every_leaf() {
         assert_eq!(renamed.len(), expect_renamed, "{renamed:?}");
         let mut compared = 0;
         for leaf in v3.leaves_below(Tree::ROOT) {
-            for q in Question::ALL {
+            for q in TreeQuestion::ALL {
                 let x = han::answer(&v3, leaf, q);
                 let y = han::answer(&v4, leaf, q);
                 if x.text == y.text {
@@ -129,7 +129,7 @@ fn v3_and_v4_answer_alike_for_every_leaf() {
                         && renamed.iter().any(|(n, _)| n == v4.description(u))
                 });
                 assert!(in_renamed, "{a} #{leaf} {q:?}: {} vs {}", x.text, y.text);
-                if q != Question::HowSubgoal {
+                if q != TreeQuestion::HowSubgoal {
                     assert_eq!(x.text, renamed_text, "{a} #{leaf} {q:?}");
                 }
             }

@@ -1,30 +1,31 @@
 //! Han et al.'s hierarchical questions Q1–Q5 (Algorithms 1–6), with the
 //! paper's sentence templates.
 
-use super::{Answer, Question};
+use super::{Answer, Question, TreeQuestion};
 use crate::frame::steps;
 use crate::model::{Kind, Tree, Uid};
 
 /// Answers one of Q1–Q5 about the node `n` the robot is executing.
-pub fn answer(tree: &Tree, n: Uid, q: Question) -> Answer {
+pub fn answer(tree: &Tree, n: Uid, q: TreeQuestion) -> Answer {
     let (text, nodes) = match q {
-        Question::Doing => q1(tree, n),
-        Question::Why => q2(tree, n),
-        Question::Subgoal => q3(tree, n),
-        Question::Goal => q4(tree),
-        Question::HowSubgoal => match subgoal(tree, n) {
+        TreeQuestion::Doing => q1(tree, n),
+        TreeQuestion::Why => q2(tree, n),
+        TreeQuestion::Subgoal => q3(tree, n),
+        TreeQuestion::Goal => q4(tree),
+        TreeQuestion::HowSubgoal => match subgoal(tree, n) {
             Some(g) => q5(tree, "subgoal", g),
             None => (NO_SUBGOAL.to_string(), vec![n]),
         },
-        Question::HowGoal => match goal(tree) {
+        TreeQuestion::HowGoal => match goal(tree) {
             Some(g) => q5(tree, "goal", g),
             None => (NO_GOAL.to_string(), vec![Tree::ROOT]),
         },
     };
     Answer {
-        question: q,
+        question: Question::Tree(q),
         text,
         nodes,
+        insertion: None,
     }
 }
 

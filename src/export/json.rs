@@ -97,15 +97,20 @@ pub fn framed_json(tree: &Tree, framed: &Framed) -> Value {
 }
 
 /// Answers as `btx.answers/1`.
-pub fn answers_json(tree: &Tree, node: Uid, answers: &[Answer]) -> Value {
+pub fn answers_json(tree: &Tree, node: Uid, moment: Option<&str>, answers: &[Answer]) -> Value {
     json!({
         "schema": "btx.answers/1",
+        "moment": moment,
         "node": node_ref(tree, node),
         "answers": answers.iter().map(|a| json!({
             "question": a.question.wording(),
             "short": a.question.short(),
             "answer": a.text,
             "nodes": a.nodes.iter().map(|&u| node_ref(tree, u)).collect::<Vec<_>>(),
+            "insert": a.insertion.as_ref().map(|i| json!({
+                "copy_of": node_ref(tree, i.copy_of),
+                "after": node_ref(tree, i.after),
+            })),
         })).collect::<Vec<_>>(),
     })
 }

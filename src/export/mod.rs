@@ -3,10 +3,12 @@
 
 mod dot;
 mod json;
+mod log;
 mod text;
 
 pub use dot::{framed_dot, tree_dot};
 pub use json::{answers_json, framed_json, tree_json};
+pub use log::{log_json, log_rows, log_text, LogRow};
 pub use text::{framed_text, tree_text};
 
 use crate::model::{Kind, Port, PortValue, Tree, Uid};

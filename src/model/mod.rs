@@ -3,6 +3,7 @@
 //! make Han et al.'s algorithms answer alike on v3 and v4 files.
 
 pub mod builtins;
+mod edit;
 mod naming;
 
 use std::collections::BTreeMap;
@@ -285,19 +286,20 @@ impl Tree {
         self.ancestors(b).any(|x| x == a)
     }
 
-    /// The node and its descendants in uid (pre-)order. Because uids are
-    /// assigned depth-first, a subtree is a contiguous uid range.
-    pub fn subtree_range(&self, uid: Uid) -> std::ops::RangeInclusive<Uid> {
-        let mut last = uid;
-        while let Some(&c) = self.node(last).children.last() {
-            last = c;
-        }
-        uid..=last
+    /// The node and its descendants, depth-first in tree order. (Loaded trees
+    /// number nodes this way, but nodes inserted later get the next free uids.)
+    pub fn descendants(&self, uid: Uid) -> impl Iterator<Item = Uid> + '_ {
+        let mut stack = vec![uid];
+        std::iter::from_fn(move || {
+            let u = stack.pop()?;
+            stack.extend(self.node(u).children.iter().rev());
+            Some(u)
+        })
     }
 
     /// The leaves (actions and conditions) below a node, in tree order.
     pub fn leaves_below(&self, uid: Uid) -> impl Iterator<Item = Uid> + '_ {
-        self.subtree_range(uid)
+        self.descendants(uid)
             .filter(move |&u| self.node(u).kind.is_leaf())
     }
 

@@ -176,6 +176,24 @@ impl<'t, L: Leaves> Executor<'t, L> {
         }
     }
 
+    /// Carries the run on with a tree that has nodes inserted (existing uids
+    /// unchanged, new ones appended), as after "Can you X?".
+    pub fn retarget<'u>(self, tree: &'u Tree) -> Executor<'u, L> {
+        let mut rt = self.rt;
+        rt.resize(tree.len(), NodeRt::default());
+        Executor {
+            tree,
+            leaves: self.leaves,
+            rt,
+            bb: self.bb,
+            tick: self.tick,
+            now_ms: self.now_ms,
+            opts: self.opts,
+            events: self.events,
+            pending_decision: self.pending_decision,
+        }
+    }
+
     /// Ticks completed so far.
     pub fn ticks(&self) -> u32 {
         self.tick

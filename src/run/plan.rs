@@ -142,67 +142,73 @@ pub struct PlanLeaves {
 
 impl PlanLeaves {
     pub fn new(plan: Plan, tree: &Tree) -> PlanLeaves {
-        let mut warnings = Vec::new();
-        let mut used = vec![false; plan.entries.len()];
-        let mut assigned = HashMap::new();
+        let mut p = PlanLeaves {
+            plan,
+            assigned: HashMap::new(),
+            cursors: HashMap::new(),
+            running: HashMap::new(),
+            warnings: Vec::new(),
+        };
+        let mut used = vec![false; p.plan.entries.len()];
         for n in &tree.nodes {
-            if !n.kind.is_leaf() {
-                continue;
+            if n.kind.is_leaf() {
+                if let Some(e) = p.assign(tree, n.uid) {
+                    used[e] = true;
+                }
             }
-            let default = if n.kind == Kind::Condition {
-                "@default_condition"
-            } else {
-                "@default_action"
-            };
-            let full = tree.full_path(n.uid);
-            // fullPath (v4 only), then instance name, then registration ID, then the default.
-            let candidates = [
-                (tree.version == Version::V4).then_some(full.as_str()),
-                Some(n.name.as_str()).filter(|s| !s.is_empty()),
-                Some(n.id.as_str()),
-                Some(default),
-            ];
-            let entry = candidates.iter().flatten().find_map(|k| plan.entry(k));
-            if let Some(e) = entry {
-                used[e] = true;
-            }
-            let cursor = match tree.version {
-                Version::V4 => full,
-                Version::V3 => format!("#{}", n.uid),
-            };
-            assigned.insert(n.uid, (entry, cursor));
         }
-        let unplanned: Vec<String> = assigned
+        let mut unplanned: Vec<String> = p
+            .assigned
             .iter()
             .filter(|(_, (e, _))| e.is_none())
             .map(|(u, _)| format!("{} #{u}", tree.description(*u)))
             .collect();
         if !unplanned.is_empty() {
-            let mut unplanned = unplanned;
             unplanned.sort();
-            warnings.push(Warning {
-                location: plan.path.display().to_string(),
+            p.warnings.push(Warning {
+                location: p.plan.path.display().to_string(),
                 message: format!(
                     "no plan entry for {} (add @default_action / @default_condition); they succeed at once",
                     unplanned.join(", ")
                 ),
             });
         }
-        for (e, u) in plan.entries.iter().zip(&used) {
+        for (e, u) in p.plan.entries.iter().zip(&used) {
             if !u && !e.key.starts_with('@') {
-                warnings.push(Warning {
-                    location: format!("{}:{}:1", plan.path.display(), e.line),
+                p.warnings.push(Warning {
+                    location: format!("{}:{}:1", p.plan.path.display(), e.line),
                     message: format!("\"{}\" matches no leaf of the tree", e.key),
                 });
             }
         }
-        PlanLeaves {
-            plan,
-            assigned,
-            cursors: HashMap::new(),
-            running: HashMap::new(),
-            warnings,
-        }
+        p
+    }
+
+    /// Which plan entry drives a leaf: its fullPath (v4 only), then its
+    /// instance name, then its registration ID, then the default.
+    fn assign(&mut self, tree: &Tree, uid: Uid) -> Option<usize> {
+        let n = tree.node(uid);
+        let default = if n.kind == Kind::Condition {
+            "@default_condition"
+        } else {
+            "@default_action"
+        };
+        let full = tree.full_path(uid);
+        let candidates = [
+            (tree.version == Version::V4).then_some(full.as_str()),
+            Some(n.name.as_str()).filter(|s| !s.is_empty()),
+            Some(n.id.as_str()),
+            Some(default),
+        ];
+        let entry = candidates.iter().flatten().find_map(|k| self.plan.entry(k));
+        // Each node steps through its own copy of its list: keyed by fullPath
+        // in v4, by uid in v3, as the fixture runner did.
+        let cursor = match tree.version {
+            Version::V4 => full,
+            Version::V3 => format!("#{uid}"),
+        };
+        self.assigned.insert(uid, (entry, cursor));
+        entry
     }
 
     /// The next outcome of a leaf, and the plan key it came from.
@@ -232,6 +238,10 @@ impl PlanLeaves {
 impl Leaves for PlanLeaves {
     fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {
         let uid = call.uid;
+        if !self.assigned.contains_key(&uid) {
+            // A leaf inserted during the run ("Can you X?").
+            self.assign(call.tree, uid);
+        }
         let status = if call.kind == Kind::Condition {
             self.next(uid).0.then
         } else if let Some((left, then)) = self.running.get_mut(&uid) {

@@ -1,0 +1,143 @@
+//! "Can you X?": Han et al.'s Algorithms 8 and 9. Find the behaviour the
+//! person names, climb to the self-contained node whose leaves produce every
+//! blackboard entry it reads, and insert that after the current subgoal.
+
+use super::han::subgoal;
+use crate::model::{Builtin, Kind, Tree, Uid};
+use crate::run::blackboard::{Blackboard, EntryId};
+use std::collections::BTreeSet;
+
+/// A "Yes": what to insert where.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Insertion {
+    /// The node the question named.
+    pub named: Uid,
+    /// Algorithm 8's self-contained node: the one copied.
+    pub copy_of: Uid,
+    /// The current subgoal: the copy goes right after it.
+    pub after: Uid,
+    pub answer: String,
+}
+
+fn refuse(x: &str, why: &str) -> String {
+    if why.is_empty() {
+        format!("Sorry. I cannot redo \"{x}\".")
+    } else {
+        format!("Sorry. I cannot redo \"{x}\": {why}.")
+    }
+}
+
+fn is_sequence_or_subtree(tree: &Tree, uid: Uid) -> bool {
+    tree.node(uid).kind == Kind::SubTree
+        || matches!(
+            tree.node(uid).builtin,
+            Some(
+                Builtin::Sequence
+                    | Builtin::SequenceWithMemory
+                    | Builtin::ReactiveSequence
+                    | Builtin::AsyncSequence
+            )
+        )
+}
+
+/// The behaviour "X" names: a Sequence or SubTree in the current subgoal, or
+/// else another subgoal (the paper's taxi asks for the other subgoal).
+fn find_named(tree: &Tree, scope: Uid, x: &str) -> Option<Uid> {
+    let matches = |u: Uid| {
+        is_sequence_or_subtree(tree, u) && tree.description(u).eq_ignore_ascii_case(x.trim())
+    };
+    // Outermost first: descendants come in depth-first order.
+    tree.descendants(scope).find(|&u| matches(u)).or_else(|| {
+        tree.descendants(Tree::ROOT)
+            .find(|&u| tree.node(u).kind == Kind::SubTree && matches(u))
+    })
+}
+
+/// Entries read and written by the leaves below `uid`.
+fn leaf_io(tree: &Tree, bb: &Blackboard, uid: Uid) -> (BTreeSet<EntryId>, BTreeSet<EntryId>) {
+    let (mut reads, mut writes) = (BTreeSet::new(), BTreeSet::new());
+    for l in tree.leaves_below(uid) {
+        let n = tree.node(l);
+        for p in &n.ports {
+            let Some(e) = bb.port_entry(tree, n.scope, &p.value) else {
+                continue;
+            };
+            match p.assumed_direction() {
+                crate::model::Direction::In => {
+                    reads.insert(e);
+                }
+                crate::model::Direction::Out => {
+                    writes.insert(e);
+                }
+                crate::model::Direction::InOut => {
+                    reads.insert(e.clone());
+                    writes.insert(e);
+                }
+            }
+        }
+    }
+    (reads, writes)
+}
+
+/// Algorithm 8: the nearest node at or above `n` whose leaves write every
+/// entry that the leaves below `n` read.
+pub fn self_contained(tree: &Tree, n: Uid) -> Result<Uid, EntryId> {
+    let bb = Blackboard::new(tree);
+    let (needed, _) = leaf_io(tree, &bb, n);
+    let mut ns = n;
+    for e in &needed {
+        loop {
+            let (_, provided) = leaf_io(tree, &bb, ns);
+            if provided.contains(e) {
+                break;
+            }
+            match tree.parent(ns) {
+                Some(p) => ns = p,
+                None => return Err(e.clone()),
+            }
+        }
+    }
+    Ok(ns)
+}
+
+/// Answers "Can you X?" for the robot executing `current`.
+pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> {
+    let Some(p) = subgoal(tree, current) else {
+        return Err(refuse(x, "I don't have a subgoal to do it after"));
+    };
+    let Some(named) = find_named(tree, p, x) else {
+        return Err(refuse(x, "no sequence or subtree of mine is called that"));
+    };
+    let ns = self_contained(tree, named).map_err(|e| {
+        refuse(
+            x,
+            &format!(
+                "nothing I can do provides \"{}\", which it needs",
+                e.display(tree)
+            ),
+        )
+    })?;
+    if ns == p || tree.is_ancestor(ns, p) {
+        return Err(refuse(
+            x,
+            &format!(
+                "it needs all of \"{}\", which I am doing now",
+                tree.description(ns)
+            ),
+        ));
+    }
+    let after_parent_ok = tree.parent(p).is_some();
+    if !after_parent_ok {
+        return Err(refuse(x, "my subgoal is the whole tree"));
+    }
+    Ok(Insertion {
+        named,
+        copy_of: ns,
+        after: p,
+        answer: format!(
+            "Yes. I will {} after {}.",
+            tree.description(named),
+            tree.description(p)
+        ),
+    })
+}

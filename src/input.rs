@@ -1,0 +1,71 @@
+//! Opening whatever a person points btx at: a tree file or a session,
+//! recognised by content, not by extension.
+
+use crate::model::Tree;
+use crate::session::Session;
+use crate::source::{Located, Warning};
+use crate::xml::{load_str, LoadOptions};
+use std::path::Path;
+
+pub enum Input {
+    Tree { tree: Tree, warnings: Vec<Warning> },
+    Session(Box<Session>),
+}
+
+impl Input {
+    pub fn tree(&self) -> &Tree {
+        match self {
+            Input::Tree { tree, .. } => tree,
+            Input::Session(s) => &s.tree,
+        }
+    }
+
+    pub fn warnings(&self) -> &[Warning] {
+        match self {
+            Input::Tree { warnings, .. } => warnings,
+            Input::Session(s) => &s.warnings,
+        }
+    }
+
+    pub fn session(&self) -> Option<&Session> {
+        match self {
+            Input::Session(s) => Some(s),
+            Input::Tree { .. } => None,
+        }
+    }
+}
+
+pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
+    let bytes =
+        std::fs::read(path).map_err(|e| Located::file(path, format!("cannot read: {e}")))?;
+    let first = bytes.iter().position(|b| !b.is_ascii_whitespace());
+    let text = || {
+        String::from_utf8(bytes.clone()).map_err(|e| {
+            Located::file(
+                path,
+                format!(
+                    "not UTF-8 text (byte offset {}): not a tree or a session",
+                    e.utf8_error().valid_up_to()
+                ),
+            )
+        })
+    };
+    match first.map(|i| bytes[i]) {
+        Some(b'{') => Ok(Input::Session(Box::new(Session::parse(path, &text()?)?))),
+        Some(b'<') | Some(0xEF) => {
+            let l = load_str(path, &text()?, opts)?;
+            Ok(Input::Tree {
+                tree: l.tree,
+                warnings: l.warnings,
+            })
+        }
+        Some(b) => Err(Located::file(
+            path,
+            format!(
+                "not a BehaviorTree.CPP XML tree nor a btx session (byte offset {} is 0x{b:02x})",
+                first.unwrap_or(0)
+            ),
+        )),
+        None => Err(Located::file(path, "the file is empty")),
+    }
+}

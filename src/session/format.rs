@@ -1,0 +1,304 @@
+//! The session file: JSON Lines, version 1. A header line, then one record
+//! per status transition (and per decision, blackboard write or inserted
+//! subgoal), then an end record. See the README, "Session files".
+
+use crate::model::Uid;
+use crate::run::blackboard::EntryId;
+use crate::run::{Event, Status};
+use crate::source::Located;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+pub const FORMAT_VERSION: u32 = 1;
+
+/// The tree a session ran, embedded so the session stands alone.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct TreeRef {
+    /// Where the tree was read from, if it was a file.
+    pub path: Option<String>,
+    /// FNV-1a 64 of the file's text, to tell whether it changed since.
+    pub hash: Option<String>,
+    /// The tree as BehaviorTree.CPP 4 XML written by btx (same uids).
+    pub xml: String,
+    pub btcpp_format: u8,
+    pub main_tree: String,
+}
+
+/// What drove the leaves.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Source {
+    /// `plan`, `domain`, `world` or `import`.
+    pub kind: String,
+    pub path: Option<String>,
+    /// The plan or domain text, embedded.
+    pub text: Option<String>,
+    /// The world's name.
+    pub name: Option<String>,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+pub struct Header {
+    pub btx_session: u32,
+    pub btx_version: String,
+    pub tree: TreeRef,
+    pub source: Source,
+    pub seed: Option<u64>,
+    pub tick_ms: u64,
+    /// Blackboard entries before the first tick.
+    #[serde(default)]
+    pub blackboard: Vec<(EntryId, Value)>,
+}
+
+/// One line after the header. `step` is the number of transitions of the
+/// tick so far (a transition's own step counts it).
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "k")]
+pub enum Record {
+    #[serde(rename = "t")]
+    Transition {
+        tick: u32,
+        step: u32,
+        uid: Uid,
+        from: Status,
+        to: Status,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        decision: Option<String>,
+    },
+    #[serde(rename = "d")]
+    Decision {
+        tick: u32,
+        step: u32,
+        uid: Uid,
+        decision: String,
+    },
+    #[serde(rename = "w")]
+    Write {
+        tick: u32,
+        step: u32,
+        uid: Uid,
+        entry: EntryId,
+        value: Value,
+    },
+    /// A subgoal inserted by "Can you X?": a copy of `copy_of` placed after
+    /// `after`, its nodes numbered from `first_uid`.
+    #[serde(rename = "i")]
+    Insert {
+        tick: u32,
+        step: u32,
+        copy_of: Uid,
+        after: Uid,
+        first_uid: Uid,
+        question: String,
+    },
+    #[serde(rename = "end")]
+    End {
+        ticks: u32,
+        root: Status,
+        transitions: u64,
+        reason: String,
+    },
+}
+
+/// 64-bit FNV-1a, hex: enough to notice that a tree file changed.
+pub fn fnv64(text: &str) -> String {
+    let mut h: u64 = 0xcbf29ce484222325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x100000001b3);
+    }
+    format!("{h:016x}")
+}
+
+/// Writes a session as the run goes: into `NAME.partial`, flushed after
+/// every tick so a killed run leaves a readable prefix; `finish` renames it
+/// to `NAME` without ever replacing an existing file.
+pub struct SessionWriter {
+    path: PathBuf,
+    partial: PathBuf,
+    out: BufWriter<File>,
+    tick: u32,
+    step: u32,
+    transitions: u64,
+}
+
+fn io_err(path: &Path, what: &str, e: std::io::Error) -> Located {
+    Located::file(path, format!("{what}: {e}"))
+}
+
+impl SessionWriter {
+    pub fn partial_path(path: &Path) -> PathBuf {
+        let mut p = path.as_os_str().to_owned();
+        p.push(".partial");
+        PathBuf::from(p)
+    }
+
+    pub fn create(path: &Path, header: &Header) -> Result<SessionWriter, Located> {
+        if path.exists() {
+            return Err(Located::file(
+                path,
+                "a session already exists here; btx does not overwrite sessions",
+            )
+            .with_help("choose another --out, or remove the old session first"));
+        }
+        let partial = Self::partial_path(path);
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&partial)
+            .map_err(|e| {
+                if e.kind() == std::io::ErrorKind::AlreadyExists {
+                    Located::file(
+                        &partial,
+                        "a run is writing this session, or one was stopped half way",
+                    )
+                    .with_help("open it with btx to see what it recorded, then remove it")
+                } else {
+                    io_err(&partial, "cannot create the session", e)
+                }
+            })?;
+        let mut w = SessionWriter {
+            path: path.to_path_buf(),
+            partial,
+            out: BufWriter::new(file),
+            tick: 0,
+            step: 0,
+            transitions: 0,
+        };
+        w.line(&serde_json::to_value(header).expect("headers serialise"))?;
+        w.flush()?;
+        Ok(w)
+    }
+
+    fn line(&mut self, v: &impl Serialize) -> Result<(), Located> {
+        let mut s = serde_json::to_string(v).expect("records serialise");
+        s.push('\n');
+        self.out
+            .write_all(s.as_bytes())
+            .map_err(|e| io_err(&self.partial, "cannot write the session", e))
+    }
+
+    fn at(&mut self, tick: u32) -> u32 {
+        if tick != self.tick {
+            self.tick = tick;
+            self.step = 0;
+        }
+        self.step
+    }
+
+    pub fn event(&mut self, e: &Event) -> Result<(), Located> {
+        let rec = match e {
+            Event::Transition {
+                tick,
+                uid,
+                prev,
+                status,
+                decision,
+            } => {
+                self.at(*tick);
+                self.step += 1;
+                self.transitions += 1;
+                Record::Transition {
+                    tick: *tick,
+                    step: self.step,
+                    uid: *uid,
+                    from: *prev,
+                    to: *status,
+                    decision: decision.clone(),
+                }
+            }
+            Event::Decision {
+                tick,
+                uid,
+                decision,
+            } => Record::Decision {
+                tick: *tick,
+                step: self.at(*tick),
+                uid: *uid,
+                decision: decision.clone(),
+            },
+            Event::Write {
+                tick,
+                uid,
+                entry,
+                value,
+            } => Record::Write {
+                tick: *tick,
+                step: self.at(*tick),
+                uid: *uid,
+                entry: entry.clone(),
+                value: value.clone(),
+            },
+        };
+        self.line(&rec)
+    }
+
+    pub fn insert(
+        &mut self,
+        tick: u32,
+        copy_of: Uid,
+        after: Uid,
+        first_uid: Uid,
+        question: &str,
+    ) -> Result<(), Located> {
+        let step = self.at(tick);
+        self.line(&Record::Insert {
+            tick,
+            step,
+            copy_of,
+            after,
+            first_uid,
+            question: question.to_string(),
+        })
+    }
+
+    /// Makes everything written so far readable by another process.
+    pub fn flush(&mut self) -> Result<(), Located> {
+        self.out
+            .flush()
+            .map_err(|e| io_err(&self.partial, "cannot write the session", e))
+    }
+
+    pub fn finish(mut self, ticks: u32, root: Status, reason: &str) -> Result<PathBuf, Located> {
+        let end = Record::End {
+            ticks,
+            root,
+            transitions: self.transitions,
+            reason: reason.to_string(),
+        };
+        self.line(&end)?;
+        self.flush()?;
+        let file = self
+            .out
+            .into_inner()
+            .map_err(|e| io_err(&self.partial, "cannot write the session", e.into_error()))?;
+        file.sync_all()
+            .map_err(|e| io_err(&self.partial, "cannot write the session", e))?;
+        drop(file);
+        // A hard link fails rather than replace a session created meanwhile.
+        std::fs::hard_link(&self.partial, &self.path)
+            .or_else(|e| {
+                if e.kind() == std::io::ErrorKind::AlreadyExists {
+                    Err(e)
+                } else {
+                    // File systems without hard links: rename, after checking again.
+                    if self.path.exists() {
+                        Err(std::io::Error::from(std::io::ErrorKind::AlreadyExists))
+                    } else {
+                        std::fs::rename(&self.partial, &self.path)
+                    }
+                }
+            })
+            .map_err(|e| {
+                io_err(
+                    &self.path,
+                    "cannot finalise the session (it is kept as .partial)",
+                    e,
+                )
+            })?;
+        let _ = std::fs::remove_file(&self.partial);
+        Ok(self.path)
+    }
+}

@@ -1,0 +1,380 @@
+//! The episodic memory indexed by moment: for any moment, every node's
+//! status and last completed status, retry attempts, the current node, the
+//! blackboard, each found by binary search, so stepping backwards costs what
+//! stepping forwards does.
+
+use crate::model::{Builtin, Tree, Uid};
+use crate::run::blackboard::EntryId;
+use crate::run::Status;
+use serde_json::Value;
+use std::collections::HashMap;
+use std::fmt;
+
+/// A status transition of a run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Transition {
+    pub tick: u32,
+    pub uid: Uid,
+    pub prev: Status,
+    pub status: Status,
+}
+
+/// `TICK` (the end of that tick) or `TICK:STEP` (after the STEP-th status
+/// transition of that tick; `TICK:0` is its start). Ticks and steps count from 1.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Moment {
+    pub tick: u32,
+    pub step: Option<u32>,
+}
+
+impl Moment {
+    pub fn parse(s: &str) -> Result<Moment, String> {
+        let bad = || format!("\"{s}\" is not a moment: write TICK or TICK:STEP, e.g. 10 or 10:3");
+        let (t, st) = match s.trim().split_once(':') {
+            Some((t, st)) => (t, Some(st)),
+            None => (s.trim(), None),
+        };
+        let tick: u32 = t.trim().parse().map_err(|_| bad())?;
+        let step = match st {
+            Some(st) => Some(st.trim().parse::<u32>().map_err(|_| bad())?),
+            None => None,
+        };
+        if tick == 0 {
+            return Err(format!("\"{s}\": ticks count from 1"));
+        }
+        Ok(Moment { tick, step })
+    }
+}
+
+impl fmt::Display for Moment {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.step {
+            Some(s) => write!(f, "{}:{}", self.tick, s),
+            None => write!(f, "{}", self.tick),
+        }
+    }
+}
+
+/// A value that changes at some positions: (position, value) sorted.
+#[derive(Debug, Clone, Default)]
+pub struct Changes<T> {
+    at: Vec<(u32, T)>,
+}
+
+impl<T> Changes<T> {
+    fn push(&mut self, pos: u32, v: T) {
+        match self.at.last_mut() {
+            Some(last) if last.0 == pos => last.1 = v,
+            _ => self.at.push((pos, v)),
+        }
+    }
+
+    /// The value in force at `pos` (after `pos` transitions).
+    pub fn at(&self, pos: u32) -> Option<&T> {
+        let i = self.at.partition_point(|(p, _)| *p <= pos);
+        i.checked_sub(1).map(|i| &self.at[i].1)
+    }
+
+    pub fn positions(&self) -> impl Iterator<Item = u32> + '_ {
+        self.at.iter().map(|(p, _)| *p)
+    }
+}
+
+/// Positions count transitions applied: position 0 is before the first
+/// transition, position `k` is after the k-th.
+#[derive(Debug, Clone, Default)]
+pub struct Index {
+    pub transitions: Vec<Transition>,
+    /// Position at the end of each tick (index = tick - 1).
+    tick_end: Vec<u32>,
+    /// Per node (uid - 1): positions after each of its transitions.
+    by_node: Vec<Vec<u32>>,
+    /// Per node: positions after each completion (SUCCESS/FAILURE).
+    completed: Vec<Vec<u32>>,
+    /// Per position: the current node (0 = none yet).
+    current: Vec<Uid>,
+    attempts: HashMap<Uid, Changes<u32>>,
+    entries: HashMap<EntryId, Changes<Value>>,
+    decisions: HashMap<Uid, Changes<String>>,
+    /// Decisions taken with a transition, by transition index.
+    decided: HashMap<u32, String>,
+}
+
+impl Index {
+    pub fn new(nodes: usize) -> Index {
+        Index {
+            by_node: vec![Vec::new(); nodes],
+            completed: vec![Vec::new(); nodes],
+            current: vec![0],
+            ..Default::default()
+        }
+    }
+
+    /// Grows the per-node tables after nodes were inserted.
+    pub fn resize(&mut self, nodes: usize) {
+        self.by_node.resize(nodes, Vec::new());
+        self.completed.resize(nodes, Vec::new());
+    }
+
+    /// A transition, with the decision the leaf took in the same tick call.
+    pub fn push_transition(&mut self, tree: &Tree, t: Transition, decision: Option<String>) {
+        if let Some(d) = decision {
+            self.decided
+                .insert(self.transitions.len() as u32, d.clone());
+            self.push_decision(t.uid, d);
+        }
+        while self.tick_end.len() < t.tick as usize {
+            self.tick_end.push(self.transitions.len() as u32);
+        }
+        self.transitions.push(t);
+        let pos = self.transitions.len() as u32;
+        let i = (t.uid - 1) as usize;
+        self.by_node[i].push(pos);
+        if t.status.is_completed() {
+            self.completed[i].push(pos);
+        }
+        let n = tree.node(t.uid);
+        // The current node: the leaf ticked most recently.
+        let cur = if n.kind.is_leaf() && t.status != Status::Idle {
+            t.uid
+        } else {
+            *self.current.last().expect("seeded")
+        };
+        self.current.push(cur);
+        // Retry attempts (failures of the child) and Repeat cycles (successes).
+        if let Some(p) = n.parent {
+            let counts = match tree.node(p).builtin {
+                Some(Builtin::RetryUntilSuccessful) => Some(Status::Failure),
+                Some(Builtin::Repeat) => Some(Status::Success),
+                _ => None,
+            };
+            if counts == Some(t.status) {
+                let ch = self.attempts.entry(p).or_default();
+                let k = ch.at(pos).copied().unwrap_or(0);
+                ch.push(pos, k + 1);
+            }
+        }
+        if matches!(
+            n.builtin,
+            Some(Builtin::RetryUntilSuccessful | Builtin::Repeat)
+        ) && t.status != Status::Running
+        {
+            self.attempts.entry(t.uid).or_default().push(pos, 0);
+        }
+        self.tick_end.truncate(t.tick as usize - 1);
+        self.tick_end.push(pos);
+    }
+
+    /// Records that tick `tick` ended (it may have had no transitions).
+    pub fn end_tick(&mut self, tick: u32) {
+        let pos = self.transitions.len() as u32;
+        while self.tick_end.len() < tick as usize {
+            self.tick_end.push(pos);
+        }
+    }
+
+    pub fn push_write(&mut self, entry: EntryId, value: Value) {
+        let pos = self.transitions.len() as u32;
+        self.entries.entry(entry).or_default().push(pos, value);
+    }
+
+    pub fn push_decision(&mut self, uid: Uid, d: String) {
+        let pos = self.transitions.len() as u32;
+        self.decisions.entry(uid).or_default().push(pos, d);
+    }
+
+    pub fn ticks(&self) -> u32 {
+        self.tick_end.len() as u32
+    }
+
+    /// Transitions of tick `tick` (1-based).
+    pub fn tick_range(&self, tick: u32) -> std::ops::Range<usize> {
+        let end = self.tick_end.get(tick as usize - 1).copied().unwrap_or(0) as usize;
+        let start = if tick <= 1 {
+            0
+        } else {
+            self.tick_end[tick as usize - 2] as usize
+        };
+        start..end
+    }
+
+    /// The position of a moment.
+    pub fn position(&self, m: Moment) -> Result<u32, String> {
+        if m.tick == 0 || m.tick > self.ticks() {
+            return Err(format!(
+                "moment {m} is outside the run: it has ticks 1 to {}",
+                self.ticks()
+            ));
+        }
+        let r = self.tick_range(m.tick);
+        match m.step {
+            None => Ok(r.end as u32),
+            Some(s) => {
+                let n = (r.end - r.start) as u32;
+                if s > n {
+                    Err(format!(
+                        "moment {m}: tick {} has {n} transition{}",
+                        m.tick,
+                        if n == 1 { "" } else { "s" }
+                    ))
+                } else {
+                    Ok(r.start as u32 + s)
+                }
+            }
+        }
+    }
+
+    /// The moment of a position (`TICK:STEP`, or `TICK` at a tick's end).
+    pub fn moment(&self, pos: u32) -> Moment {
+        if pos == 0 {
+            return Moment {
+                tick: 1,
+                step: Some(0),
+            };
+        }
+        let t = self.transitions[pos as usize - 1].tick;
+        let r = self.tick_range(t);
+        if pos as usize == r.end {
+            Moment {
+                tick: t,
+                step: None,
+            }
+        } else {
+            Moment {
+                tick: t,
+                step: Some(pos - r.start as u32),
+            }
+        }
+    }
+
+    pub fn at(&self, pos: u32) -> At<'_> {
+        At {
+            index: self,
+            pos: pos.min(self.transitions.len() as u32),
+        }
+    }
+
+    /// The decision taken with transition `i` (0-based), if any.
+    pub fn transition_decision(&self, i: usize) -> Option<&str> {
+        self.decided.get(&(i as u32)).map(String::as_str)
+    }
+
+    /// Positions at which a node changed status.
+    pub fn changes_of(&self, uid: Uid) -> &[u32] {
+        &self.by_node[(uid - 1) as usize]
+    }
+}
+
+/// The run as it was at one position.
+#[derive(Clone, Copy)]
+pub struct At<'a> {
+    pub index: &'a Index,
+    pub pos: u32,
+}
+
+impl At<'_> {
+    fn last_before(list: &[u32], pos: u32) -> Option<&u32> {
+        let i = list.partition_point(|&p| p <= pos);
+        i.checked_sub(1).map(|i| &list[i])
+    }
+
+    pub fn status(&self, uid: Uid) -> Status {
+        let list = &self.index.by_node[(uid - 1) as usize];
+        match Self::last_before(list, self.pos) {
+            Some(&p) => self.index.transitions[p as usize - 1].status,
+            None => Status::Idle,
+        }
+    }
+
+    /// The status the node last completed with, even if it was reset since.
+    pub fn last_completed(&self, uid: Uid) -> Option<Status> {
+        let list = &self.index.completed[(uid - 1) as usize];
+        Self::last_before(list, self.pos).map(|&p| self.index.transitions[p as usize - 1].status)
+    }
+
+    /// Han's `failed`: the last completed status is FAILURE.
+    pub fn failed(&self, uid: Uid) -> bool {
+        self.last_completed(uid) == Some(Status::Failure)
+    }
+
+    /// Failures so far of a RetryUntilSuccessful's child (cycles of a Repeat).
+    pub fn attempts(&self, uid: Uid) -> u32 {
+        self.index
+            .attempts
+            .get(&uid)
+            .and_then(|c| c.at(self.pos))
+            .copied()
+            .unwrap_or(0)
+    }
+
+    /// The node Han's state listener reports: the leaf ticked most recently.
+    pub fn current(&self) -> Option<Uid> {
+        Some(self.index.current[self.pos as usize]).filter(|&u| u != 0)
+    }
+
+    pub fn entry(&self, e: &EntryId) -> Option<&Value> {
+        self.index.entries.get(e).and_then(|c| c.at(self.pos))
+    }
+
+    /// Every blackboard entry with its value at this position.
+    pub fn entries(&self) -> Vec<(&EntryId, &Value)> {
+        let mut v: Vec<_> = self
+            .index
+            .entries
+            .iter()
+            .filter_map(|(e, c)| c.at(self.pos).map(|v| (e, v)))
+            .collect();
+        v.sort_by(|a, b| a.0.cmp(b.0));
+        v
+    }
+
+    pub fn decision(&self, uid: Uid) -> Option<&str> {
+        self.index
+            .decisions
+            .get(&uid)
+            .and_then(|c| c.at(self.pos))
+            .map(String::as_str)
+    }
+
+    pub fn moment(&self) -> Moment {
+        self.index.moment(self.pos)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn moments_parse() {
+        assert_eq!(
+            Moment::parse("10").unwrap(),
+            Moment {
+                tick: 10,
+                step: None
+            }
+        );
+        assert_eq!(
+            Moment::parse(" 10:3 ").unwrap(),
+            Moment {
+                tick: 10,
+                step: Some(3)
+            }
+        );
+        assert!(Moment::parse("0").is_err());
+        assert!(Moment::parse("a:1").is_err());
+        assert!(Moment::parse("1:").is_err());
+    }
+
+    #[test]
+    fn changes_answer_by_binary_search() {
+        let mut c = Changes::default();
+        c.push(3, 'a');
+        c.push(7, 'b');
+        c.push(7, 'c');
+        assert_eq!(c.at(2), None);
+        assert_eq!(c.at(3), Some(&'a'));
+        assert_eq!(c.at(6), Some(&'a'));
+        assert_eq!(c.at(100), Some(&'c'));
+    }
+}

@@ -1,0 +1,216 @@
+//! Sessions: the episodic memory of a run (Love et al. §5.1), as a file and
+//! as an index by moment.
+
+pub mod format;
+pub mod index;
+pub mod record;
+
+pub use format::{Header, Record, SessionWriter, Source, TreeRef};
+pub use index::{At, Index, Moment, Transition};
+
+use crate::model::{Tree, Uid};
+use crate::source::{Located, Warning};
+use crate::xml::{load_str, LoadOptions};
+use std::path::{Path, PathBuf};
+
+/// A loaded session.
+pub struct Session {
+    pub path: PathBuf,
+    pub header: Header,
+    /// The tree as it ran, inserted subgoals included.
+    pub tree: Tree,
+    pub index: Index,
+    /// The end record, if the run finished.
+    pub end: Option<(u32, crate::run::Status, String)>,
+    /// Subgoals inserted during the run: (position, copy of, after, first uid, question).
+    pub inserts: Vec<(u32, Uid, Uid, Uid, String)>,
+    pub warnings: Vec<Warning>,
+}
+
+impl Session {
+    pub fn load(path: &Path) -> Result<Session, Located> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Located::file(path, format!("cannot read the session: {e}")))?;
+        Session::parse(path, &text)
+    }
+
+    pub fn parse(path: &Path, text: &str) -> Result<Session, Located> {
+        let mut lines = Vec::new();
+        let mut offset = 0;
+        for l in text.split_inclusive('\n') {
+            lines.push((offset, l));
+            offset += l.len();
+        }
+        let err_at = |start: usize, len: usize, msg: String| {
+            Located::at(path, text, start, start + len, msg)
+        };
+        let Some(&(_, first)) = lines.first() else {
+            return Err(Located::file(path, "the session is empty"));
+        };
+        let header: Header = serde_json::from_str(first.trim_end()).map_err(|e| {
+            err_at(
+                0,
+                first.trim_end().len(),
+                format!("not a btx session header: {e}"),
+            )
+        })?;
+        if header.btx_session != format::FORMAT_VERSION {
+            return Err(err_at(
+                0,
+                first.len(),
+                format!(
+                    "session format {} is not one this btx reads (it reads {})",
+                    header.btx_session,
+                    format::FORMAT_VERSION
+                ),
+            ));
+        }
+        let tree_name = PathBuf::from(format!("{} (embedded tree)", path.display()));
+        let opts = LoadOptions {
+            version: Some(crate::model::Version::V4),
+            main_tree: None,
+        };
+        let mut tree = load_str(&tree_name, &header.tree.xml, &opts)?.tree;
+        let mut index = Index::new(tree.len());
+        let mut warnings = Vec::new();
+        let mut end = None;
+        let mut inserts = Vec::new();
+        let n = lines.len();
+        for (i, &(start, line)) in lines.iter().enumerate().skip(1) {
+            let body = line.trim_end();
+            if body.is_empty() {
+                continue;
+            }
+            let rec: Record = match serde_json::from_str(body) {
+                Ok(r) => r,
+                Err(e) if i == n - 1 && !line.ends_with('\n') => {
+                    warnings.push(Warning {
+                        location: format!("{}:{}:1", path.display(), i + 1),
+                        message: format!(
+                            "the last record was cut off half way ({e}); it is left out"
+                        ),
+                    });
+                    break;
+                }
+                Err(e) => {
+                    return Err(err_at(
+                        start,
+                        body.len(),
+                        format!("not a session record: {e}"),
+                    ))
+                }
+            };
+            let bad_uid = |uid: Uid, tree: &Tree| {
+                if tree.get(uid).is_none() {
+                    Err(err_at(
+                        start,
+                        body.len(),
+                        format!(
+                            "uid {uid} is not a node of the session's tree ({} nodes)",
+                            tree.len()
+                        ),
+                    ))
+                } else {
+                    Ok(())
+                }
+            };
+            if end.is_some() {
+                return Err(err_at(
+                    start,
+                    body.len(),
+                    "a record after the end record".into(),
+                ));
+            }
+            match rec {
+                Record::Transition {
+                    tick,
+                    uid,
+                    from,
+                    to,
+                    decision,
+                    ..
+                } => {
+                    bad_uid(uid, &tree)?;
+                    if tick < index.ticks() || tick == 0 {
+                        return Err(err_at(
+                            start,
+                            body.len(),
+                            format!("tick {tick} comes after tick {}", index.ticks()),
+                        ));
+                    }
+                    index.push_transition(
+                        &tree,
+                        Transition {
+                            tick,
+                            uid,
+                            prev: from,
+                            status: to,
+                        },
+                        decision,
+                    );
+                }
+                Record::Decision { uid, decision, .. } => {
+                    bad_uid(uid, &tree)?;
+                    index.push_decision(uid, decision);
+                }
+                Record::Write { entry, value, .. } => index.push_write(entry, value),
+                Record::Insert {
+                    copy_of,
+                    after,
+                    first_uid,
+                    question,
+                    ..
+                } => {
+                    bad_uid(copy_of, &tree)?;
+                    bad_uid(after, &tree)?;
+                    let (t2, first) = tree
+                        .with_copy_after(copy_of, after)
+                        .map_err(|m| err_at(start, body.len(), m))?;
+                    if first != first_uid {
+                        return Err(err_at(start, body.len(), format!("the inserted nodes were numbered from {first_uid}, btx numbers them from {first}")));
+                    }
+                    tree = t2;
+                    index.resize(tree.len());
+                    inserts.push((
+                        index.transitions.len() as u32,
+                        copy_of,
+                        after,
+                        first_uid,
+                        question,
+                    ));
+                }
+                Record::End {
+                    ticks,
+                    root,
+                    reason,
+                    ..
+                } => {
+                    index.end_tick(ticks);
+                    end = Some((ticks, root, reason));
+                }
+            }
+        }
+        if end.is_none() {
+            warnings.push(Warning {
+                location: path.display().to_string(),
+                message: format!(
+                    "the session has no end record: the run stopped after tick {}",
+                    index.ticks()
+                ),
+            });
+        }
+        Ok(Session {
+            path: path.to_path_buf(),
+            header,
+            tree,
+            index,
+            end,
+            inserts,
+            warnings,
+        })
+    }
+
+    pub fn at(&self, m: Moment) -> Result<At<'_>, String> {
+        Ok(self.index.at(self.index.position(m)?))
+    }
+}

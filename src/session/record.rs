@@ -1,0 +1,218 @@
+//! Recording a run into a session file as it goes.
+
+use super::format::{fnv64, Header, Source, TreeRef, FORMAT_VERSION};
+use super::{Index, SessionWriter, Transition};
+use crate::explain::insert::can_you;
+use crate::model::Tree;
+use crate::run::{Event, Executor, Leaves, RunError, RunOptions, Status};
+use crate::source::Located;
+use std::path::{Path, PathBuf};
+
+/// What to run and where to record it.
+pub struct RunRequest<'a> {
+    pub tree: &'a Tree,
+    /// The tree file's path and text, named in the header.
+    pub tree_file: Option<(&'a Path, &'a str)>,
+    pub source: Source,
+    pub seed: Option<u64>,
+    pub max_ticks: u32,
+    pub options: RunOptions,
+    /// A "Can you X?" question asked at the end of a tick.
+    pub ask: Option<(u32, String)>,
+    pub out: &'a Path,
+}
+
+#[derive(Debug, Clone)]
+pub struct RunSummary {
+    pub path: PathBuf,
+    pub ticks: u32,
+    pub root: Status,
+    pub transitions: u64,
+    pub reason: String,
+    /// The answer to the question asked during the run.
+    pub answer: Option<String>,
+}
+
+/// A run that stopped on an error; the session up to it is kept.
+#[derive(Debug)]
+pub enum RecordError {
+    /// The session could not be written.
+    Io(Located),
+    /// The tree could not go on; the session was finished up to here.
+    Run(RunError, RunSummary),
+}
+
+pub fn header(req: &RunRequest) -> Header {
+    Header {
+        btx_session: FORMAT_VERSION,
+        btx_version: env!("CARGO_PKG_VERSION").to_string(),
+        tree: TreeRef {
+            path: req.tree_file.map(|(p, _)| p.display().to_string()),
+            hash: req.tree_file.map(|(_, t)| fnv64(t)),
+            xml: crate::xml::to_v4_xml(req.tree),
+            btcpp_format: req.tree.version.number(),
+            main_tree: req.tree.main_tree.clone(),
+        },
+        source: req.source.clone(),
+        seed: req.seed,
+        tick_ms: req.options.tick_ms,
+        blackboard: Vec::new(),
+    }
+}
+
+/// The recording so far.
+struct Rec {
+    w: SessionWriter,
+    index: Index,
+    transitions: u64,
+    root: Status,
+    ended: Option<String>,
+    failure: Option<RunError>,
+}
+
+/// Ticks until the root completes, an error, or tick `until`. True when the run is over.
+fn phase<L: Leaves>(
+    ex: &mut Executor<L>,
+    tree: &Tree,
+    rec: &mut Rec,
+    until: u32,
+) -> Result<bool, RecordError> {
+    while ex.ticks() < until {
+        let r = ex.tick_once();
+        for e in ex.take_events() {
+            rec.w.event(&e).map_err(RecordError::Io)?;
+            match e {
+                Event::Transition {
+                    tick,
+                    uid,
+                    prev,
+                    status,
+                    decision,
+                } => {
+                    rec.transitions += 1;
+                    rec.index.push_transition(
+                        tree,
+                        Transition {
+                            tick,
+                            uid,
+                            prev,
+                            status,
+                        },
+                        decision,
+                    );
+                }
+                Event::Decision { uid, decision, .. } => rec.index.push_decision(uid, decision),
+                Event::Write { entry, value, .. } => rec.index.push_write(entry, value),
+            }
+        }
+        rec.index.end_tick(ex.ticks());
+        rec.w.flush().map_err(RecordError::Io)?;
+        match r {
+            Err(e) => {
+                rec.ended = Some(format!("error: {e}"));
+                rec.failure = Some(e);
+                return Ok(true);
+            }
+            Ok(s) => rec.root = s,
+        }
+        if rec.root != Status::Running {
+            rec.ended = Some("root completed".into());
+            return Ok(true);
+        }
+    }
+    Ok(false)
+}
+
+fn finish(rec: Rec, ticks: u32, answer: Option<String>) -> Result<RunSummary, RecordError> {
+    let reason = rec.ended.unwrap_or_else(|| "max ticks".into());
+    let path = rec
+        .w
+        .finish(ticks, rec.root, &reason)
+        .map_err(RecordError::Io)?;
+    let summary = RunSummary {
+        path,
+        ticks,
+        root: rec.root,
+        transitions: rec.transitions,
+        reason,
+        answer,
+    };
+    match rec.failure {
+        Some(e) => Err(RecordError::Run(e, summary)),
+        None => Ok(summary),
+    }
+}
+
+/// Runs the tree until the root completes or `max_ticks`, writing every
+/// event to the session as it happens. A "Can you X?" answered yes inserts
+/// the subgoal and the run goes on with it.
+pub fn record<L: Leaves>(req: RunRequest, leaves: L) -> Result<RunSummary, RecordError> {
+    let mut h = header(&req);
+    let mut ex = Executor::new(req.tree, leaves, req.options);
+    h.blackboard = ex.bb.entries().map(|(e, v)| (e, v.clone())).collect();
+    let w = SessionWriter::create(req.out, &h).map_err(RecordError::Io)?;
+    let mut rec = Rec {
+        w,
+        index: Index::new(req.tree.len()),
+        transitions: 0,
+        root: Status::Idle,
+        ended: None,
+        failure: None,
+    };
+    let ask_tick = req
+        .ask
+        .as_ref()
+        .map(|(t, _)| *t)
+        .filter(|t| *t < req.max_ticks);
+    if phase(
+        &mut ex,
+        req.tree,
+        &mut rec,
+        ask_tick.unwrap_or(req.max_ticks),
+    )? {
+        let ticks = ex.ticks();
+        return finish(rec, ticks, None);
+    }
+    let Some((t, q)) = req.ask.as_ref().filter(|_| ask_tick.is_some()) else {
+        let ticks = ex.ticks();
+        return finish(rec, ticks, None);
+    };
+    let x = match crate::explain::Question::parse(q) {
+        Some(crate::explain::Question::CanYou(x)) => x,
+        _ => q.trim().to_string(),
+    };
+    let at = rec.index.at(rec
+        .index
+        .position(super::Moment {
+            tick: *t,
+            step: None,
+        })
+        .expect("the tick ran"));
+    let decided = match at.current() {
+        None => Err(format!(
+            "Sorry. I cannot redo \"{x}\": I am not doing anything yet."
+        )),
+        Some(cur) => can_you(req.tree, cur, &x),
+    };
+    match decided {
+        Ok(ins) => {
+            let (modified, first) = req
+                .tree
+                .with_copy_after(ins.copy_of, ins.after)
+                .expect("checked by can_you");
+            rec.w
+                .insert(*t, ins.copy_of, ins.after, first, &format!("Can you {x}?"))
+                .map_err(RecordError::Io)?;
+            rec.index.resize(modified.len());
+            let mut ex = ex.retarget(&modified);
+            phase(&mut ex, &modified, &mut rec, req.max_ticks)?;
+            let ticks = ex.ticks();
+            finish(rec, ticks, Some(ins.answer))
+        }
+        Err(refusal) => {
+            phase(&mut ex, req.tree, &mut rec, req.max_ticks)?;
+            let ticks = ex.ticks();
+            finish(rec, ticks, Some(refusal))
+        }
+    }
+}

@@ -1,0 +1,426 @@
+//! Runs recorded as sessions, and questions at moments of them (Han §6.3,
+//! §7.1.2, §7.1.3).
+
+mod common;
+use btx::explain::{answer, Question};
+use btx::run::plan::{Plan, PlanLeaves};
+use btx::run::{RunOptions, Status};
+use btx::session::record::{record, RunRequest};
+use btx::session::{Moment, Session, Source};
+use common::*;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
+}
+
+fn run_plan(
+    tree: &Path,
+    plan: &Path,
+    out: &Path,
+    ask: Option<(u32, &str)>,
+) -> btx::session::record::RunSummary {
+    let t = load(tree);
+    let plan = Plan::load(plan).unwrap();
+    let req = RunRequest {
+        tree: &t,
+        tree_file: None,
+        source: Source {
+            kind: "plan".into(),
+            path: None,
+            text: Some(plan.text.clone()),
+            name: None,
+        },
+        seed: None,
+        max_ticks: 1000,
+        options: RunOptions::default(),
+        ask: ask.map(|(t, q)| (t, q.to_string())),
+        out,
+    };
+    let leaves = PlanLeaves::new(plan, &t);
+    record(req, leaves).unwrap_or_else(|e| panic!("{e:?}"))
+}
+
+fn ask(s: &Session, at: &str, q: &str) -> String {
+    let view = s.at(Moment::parse(at).unwrap()).unwrap();
+    let n = view.current().unwrap();
+    answer(&s.tree, Some(&view), n, &Question::parse(q).unwrap())
+        .unwrap()
+        .text
+}
+
+fn btx(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+#[test]
+fn what_went_wrong_when_look_at_chuck_failed() {
+    // The required sentences, on the released tree's v4 conversion.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.jsonl");
+    let tree = fixture("kitting-tree.v4.xml");
+    let plan = fixture("plans/kitting_lookat_fails_once.plan");
+    let (ok, _, err) = btx(&[
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let s = out.to_str().unwrap();
+    let (ok, a, _) = btx(&[
+        "ask",
+        s,
+        "--at",
+        "10",
+        "What are you doing?",
+        "What went wrong?",
+    ]);
+    assert!(ok);
+    assert_eq!(
+        a,
+        "I retreat arm.\nI could not insert large gear because look at chuck failed.\n"
+    );
+    let (ok, a, _) = btx(&["ask", s, "--at", "11", "q1", "wrong"]);
+    assert!(ok);
+    assert_eq!(
+        a,
+        "I lift torso.\nI am retrying for attempt 1 to go insert large gear. I could not insert large gear because look at chuck failed.\n"
+    );
+    let (ok, a, _) = btx(&["ask", s, "--at", "9", "anything-wrong", "wrong", "handled"]);
+    assert!(ok);
+    assert_eq!(
+        a,
+        "Nothing went wrong.\nNothing went wrong.\nNothing went wrong.\n"
+    );
+    let (ok, a, _) = btx(&[
+        "ask",
+        s,
+        "--at",
+        "10",
+        "Was there anything wrong?",
+        "How was the failure handled?",
+    ]);
+    assert!(ok);
+    assert_eq!(
+        a,
+        "Yes. I could not insert large gear because look at chuck failed.\nWhen insert large gear failed, I fell back to reset arm.\n"
+    );
+}
+
+#[test]
+fn navigation_and_lift_torso_failures_of_section_7_1_3() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = shipped("kitting.xml");
+    let nav = dir.path().join("nav.jsonl");
+    run_plan(
+        &tree,
+        &root().join("trees/plans/kitting-navigation-fails-once.plan"),
+        &nav,
+        None,
+    );
+    let s = Session::load(&nav).unwrap();
+    assert_eq!(ask(&s, "2", "q1"), "I move to see chuck.");
+    assert_eq!(
+        ask(&s, "2", "wrong"),
+        "I am retrying for attempt 1 to go insert large gear. I could not go insert large gear because move to see chuck failed."
+    );
+    let lift = dir.path().join("lift.jsonl");
+    run_plan(
+        &tree,
+        &root().join("trees/plans/kitting-lift-torso-fails-once.plan"),
+        &lift,
+        None,
+    );
+    let s = Session::load(&lift).unwrap();
+    assert_eq!(ask(&s, "4", "q1"), "I lift torso.");
+    assert_eq!(
+        ask(&s, "4", "wrong"),
+        "I am retrying for attempt 1 to go insert large gear. I could not detect chuck because lift torso failed."
+    );
+    assert_eq!(
+        ask(&s, "4", "handled"),
+        "I am retrying to go insert large gear: 1 attempt failed, this is attempt 2 of 3."
+    );
+}
+
+#[test]
+fn han_questions_work_at_any_moment() {
+    let s = Session::load(&root().join("sessions/kitting-lookat-fails-once.jsonl")).unwrap();
+    assert_eq!(ask(&s, "3", "q2"), "I lift torso in order to detect chuck.");
+    assert_eq!(ask(&s, "10:8", "q1"), "I retreat arm.");
+    assert_eq!(ask(&s, "10:3", "q1"), "I look at chuck.");
+    assert_eq!(ask(&s, "30", "q3"), "My subgoal is to go pick screw.");
+}
+
+#[test]
+fn can_you_insert_large_gear_inserts_the_unnamed_sequence() {
+    let s = Session::load(&root().join("sessions/kitting-lookat-fails-once.jsonl")).unwrap();
+    let view = s.at(Moment::parse("10").unwrap()).unwrap();
+    let a = answer(
+        &s.tree,
+        Some(&view),
+        27,
+        &Question::parse("Can you insert large gear?").unwrap(),
+    )
+    .unwrap();
+    assert_eq!(
+        a.text,
+        "Yes. I will insert large gear after go insert large gear."
+    );
+    let ins = a.insertion.unwrap();
+    assert_eq!(
+        (ins.named, ins.copy_of, ins.after),
+        (14, 8, 2),
+        "paper §7.1.2, Fig. 11"
+    );
+    assert_eq!(s.tree.description(8), "Sequence");
+    let refusal = answer(
+        &s.tree,
+        Some(&view),
+        27,
+        &Question::parse("Can you fly?").unwrap(),
+    )
+    .unwrap();
+    assert_eq!(
+        refusal.text,
+        "Sorry. I cannot redo \"fly\": no sequence or subtree of mine is called that."
+    );
+}
+
+#[test]
+fn a_run_asked_can_you_executes_the_inserted_subgoal() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ins.jsonl");
+    let sum = run_plan(
+        &shipped("kitting.xml"),
+        &root().join("trees/plans/kitting-lookat-fails-once.plan"),
+        &out,
+        Some((10, "Can you insert large gear?")),
+    );
+    assert_eq!(
+        sum.answer.as_deref(),
+        Some("Yes. I will insert large gear after go insert large gear.")
+    );
+    assert_eq!(sum.root, Status::Success);
+    let s = Session::load(&out).unwrap();
+    assert_eq!(s.tree.len(), 79 + 20);
+    assert_eq!(s.tree.node(1).children, vec![2, 80, 29, 56]);
+    // The copy ran after the subgoal, before go pick screw.
+    let first_copy = s
+        .index
+        .transitions
+        .iter()
+        .position(|t| t.uid == 80)
+        .unwrap();
+    let subgoal_done = s
+        .index
+        .transitions
+        .iter()
+        .position(|t| t.uid == 2 && t.status == Status::Success)
+        .unwrap();
+    let next_subgoal = s
+        .index
+        .transitions
+        .iter()
+        .position(|t| t.uid == 29)
+        .unwrap();
+    assert!(subgoal_done < first_copy && first_copy < next_subgoal);
+    assert!(
+        s.index
+            .transitions
+            .iter()
+            .any(|t| t.uid == 97 && t.status == Status::Success),
+        "the copy's retreat arm ran"
+    );
+    // The modified tree writes as v4 XML with the unnamed Sequence after the subgoal (Fig. 11).
+    let xml = btx::xml::to_v4_xml(&s.tree);
+    let i = xml.find("<SubTree ID=\"GoInsertLargeGear\"").unwrap();
+    assert!(
+        xml[i..].lines().nth(1).unwrap().trim() == "<Sequence>",
+        "{xml}"
+    );
+}
+
+#[test]
+fn shipped_sessions_are_what_their_plans_give() {
+    for (tree, plan) in [
+        ("kitting.xml", "kitting-nominal"),
+        ("kitting.xml", "kitting-lookat-fails-once"),
+        ("kitting.xml", "kitting-detect-chuck-always-fails"),
+        ("kitting.xml", "kitting-grasp-check-fails-first"),
+        ("kitting.xml", "kitting-navigation-fails-once"),
+        ("kitting.xml", "kitting-lift-torso-fails-once"),
+        ("taxi.xml", "taxi-nominal"),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("s.jsonl");
+        run_plan(
+            &shipped(tree),
+            &root().join(format!("trees/plans/{plan}.plan")),
+            &out,
+            None,
+        );
+        let fresh = Session::load(&out).unwrap();
+        let shipped = Session::load(&root().join(format!("sessions/{plan}.jsonl"))).unwrap();
+        assert!(
+            shipped.warnings.is_empty(),
+            "{plan}: {:?}",
+            shipped.warnings
+        );
+        assert_eq!(
+            fresh.index.transitions, shipped.index.transitions,
+            "{plan}: regenerate sessions/ (see README)"
+        );
+        assert_eq!(fresh.tree.len(), shipped.tree.len());
+    }
+}
+
+#[test]
+fn sessions_are_never_clobbered_and_a_cut_session_still_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.jsonl");
+    let plan = root().join("trees/plans/taxi-nominal.plan");
+    run_plan(&shipped("taxi.xml"), &plan, &out, None);
+    let before = std::fs::read_to_string(&out).unwrap();
+    let (ok, _, err) = btx(&[
+        "run",
+        shipped("taxi.xml").to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(err.contains("already exists"), "{err}");
+    assert_eq!(std::fs::read_to_string(&out).unwrap(), before);
+    assert!(!dir.path().join("s.jsonl.partial").exists());
+
+    // A run killed half way: the file ends in the middle of a record.
+    let cut = &before[..before.len() * 2 / 3];
+    let cut_path = dir.path().join("cut.jsonl.partial");
+    std::fs::write(&cut_path, cut).unwrap();
+    let s = Session::load(&cut_path).unwrap();
+    assert!(s.end.is_none());
+    assert!(
+        s.warnings.iter().any(|w| w.message.contains("cut off")),
+        "{:?}",
+        s.warnings
+    );
+    assert!(s
+        .warnings
+        .iter()
+        .any(|w| w.message.contains("no end record")));
+    assert!(s.index.ticks() > 5);
+    let (ok, a, _) = btx(&["ask", cut_path.to_str().unwrap(), "q1"]);
+    assert!(ok);
+    assert!(a.starts_with("I ") && a.ends_with(".\n"), "{a}");
+}
+
+#[test]
+fn broken_sessions_are_located_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = std::fs::read_to_string(root().join("sessions/taxi-nominal.jsonl")).unwrap();
+    let mut lines: Vec<&str> = good.lines().collect();
+    lines[3] =
+        "{\"k\":\"t\",\"tick\":1,\"step\":3,\"uid\":999,\"from\":\"IDLE\",\"to\":\"RUNNING\"}";
+    let p = dir.path().join("bad.jsonl");
+    std::fs::write(&p, lines.join("\n") + "\n").unwrap();
+    let e = Session::load(&p).err().unwrap().to_string();
+    assert!(e.contains("bad.jsonl:4:1: uid 999 is not a node"), "{e}");
+    lines[3] = "{\"k\":\"t\",\"tick\":1,\"step\":3,\"uid\":3,\"from\":\"IDLE\",\"to\":\"BORED\"}";
+    std::fs::write(&p, lines.join("\n") + "\n").unwrap();
+    let e = Session::load(&p).err().unwrap().to_string();
+    assert!(e.contains("bad.jsonl:4:1: not a session record"), "{e}");
+    std::fs::write(&p, "{\"hello\": 1}\n").unwrap();
+    let e = Session::load(&p).err().unwrap().to_string();
+    assert!(e.contains("bad.jsonl:1:1: not a btx session header"), "{e}");
+}
+
+#[test]
+fn moments_outside_the_run_are_refused() {
+    let s = Session::load(&root().join("sessions/taxi-nominal.jsonl")).unwrap();
+    assert!(s
+        .at(Moment::parse("16").unwrap())
+        .err()
+        .unwrap()
+        .contains("ticks 1 to 15"));
+    assert!(s
+        .at(Moment::parse("1:99").unwrap())
+        .err()
+        .unwrap()
+        .contains("tick 1 has 5 transitions"));
+    let (ok, _, err) = btx(&[
+        "ask",
+        root().join("sessions/taxi-nominal.jsonl").to_str().unwrap(),
+        "--at",
+        "x",
+        "q1",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("not a moment"), "{err}");
+}
+
+#[test]
+fn the_index_agrees_with_a_replay_at_every_position() {
+    let s = Session::load(&root().join("sessions/kitting-grasp-check-fails-first.jsonl")).unwrap();
+    let mut status = vec![Status::Idle; s.tree.len()];
+    let mut last_done: Vec<Option<Status>> = vec![None; s.tree.len()];
+    for (i, t) in s.index.transitions.iter().enumerate() {
+        status[(t.uid - 1) as usize] = t.status;
+        if t.status.is_completed() {
+            last_done[(t.uid - 1) as usize] = Some(t.status);
+        }
+        let at = s.index.at(i as u32 + 1);
+        for u in 1..=s.tree.len() as u32 {
+            assert_eq!(
+                at.status(u),
+                status[(u - 1) as usize],
+                "#{u} at position {}",
+                i + 1
+            );
+            assert_eq!(at.last_completed(u), last_done[(u - 1) as usize]);
+        }
+    }
+    // Retry attempts: the pick retry counts one failure after tick 31.
+    let at = s.at(Moment::parse("32").unwrap()).unwrap();
+    assert_eq!(at.attempts(34), 1);
+    assert_eq!(s.at(Moment::parse("30").unwrap()).unwrap().attempts(34), 0);
+}
+
+#[test]
+fn log_lists_filters_and_writes_json() {
+    let p = root().join("sessions/kitting-lookat-fails-once.jsonl");
+    let (ok, out, _) = btx(&[
+        "log",
+        p.to_str().unwrap(),
+        "--node",
+        "go insert large gear/look at chuck",
+    ]);
+    assert!(ok);
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 7);
+    assert!(
+        lines[2].split_whitespace().collect::<Vec<_>>()
+            == ["10", "1", "18", "look", "at", "chuck", "RUNNING", "->", "FAILURE"],
+        "{out}"
+    );
+    let (ok, out, _) = btx(&["log", p.to_str().unwrap(), "--no-idle", "--format", "json"]);
+    assert!(ok);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["schema"], "btx.log/1");
+    let rows = v["transitions"].as_array().unwrap();
+    assert!(rows.iter().all(|r| r["status"] != "IDLE"));
+    assert_eq!(rows[0]["node"], "build a gearbox kit");
+}

@@ -3,6 +3,7 @@
 use btx::explain::{self, Question};
 use btx::frame::Framed;
 use btx::input::{open, Input};
+use btx::run::domain::{Domain, DomainLeaves};
 use btx::run::plan::{Plan, PlanLeaves};
 use btx::run::RunOptions;
 use btx::session::record::{record, RecordError, RunRequest};
@@ -328,7 +329,17 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 }
                 None => None,
             };
-            let (leaves, source) = if let Some(p) = &plan {
+            let req = |source: Source| RunRequest {
+                tree: &tree,
+                tree_file: Some((&path, &text)),
+                source,
+                seed: Some(seed),
+                max_ticks,
+                options: RunOptions { tick_ms },
+                ask: ask.clone(),
+                out: &out,
+            };
+            if let Some(p) = &plan {
                 let plan = Plan::load(p)?;
                 let source = Source {
                     kind: "plan".into(),
@@ -338,45 +349,20 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 };
                 let leaves = PlanLeaves::new(plan, &tree);
                 warn_all(cli.quiet, &leaves.warnings);
-                (leaves, source)
-            } else if domain.is_some() {
-                fail!("domain files are not supported by this version of btx yet; use --plan");
+                report_run(&tree, record(req(source), leaves))?;
+            } else if let Some(p) = &domain {
+                let d = std::sync::Arc::new(Domain::load(p)?);
+                let source = Source {
+                    kind: "domain".into(),
+                    path: Some(p.display().to_string()),
+                    text: Some(d.text.clone()),
+                    name: Some(d.name.clone()),
+                };
+                let leaves = DomainLeaves::new(d, &tree)?;
+                report_run(&tree, record(req(source), leaves))?;
             } else {
                 let _ = world;
-                fail!("built-in worlds are not supported by this version of btx yet; use --plan");
-            };
-            let req = RunRequest {
-                tree: &tree,
-                tree_file: Some((&path, &text)),
-                source,
-                seed: Some(seed),
-                max_ticks,
-                options: RunOptions { tick_ms },
-                ask,
-                out: &out,
-            };
-            match record(req, leaves) {
-                Ok(s) => {
-                    if let Some(a) = &s.answer {
-                        println!("{a}");
-                    }
-                    eprintln!(
-                        "{}: {} ticks, {} transitions, root {} ({})",
-                        s.path.display(),
-                        s.ticks,
-                        s.transitions,
-                        s.root,
-                        s.reason
-                    );
-                }
-                Err(RecordError::Io(e)) => return Err(e.into()),
-                Err(RecordError::Run(e, s)) => {
-                    let (file, line, col) = tree.location(e.uid);
-                    fail!(
-                        "{file}:{line}:{col}: {e}\nthe run up to here is in {}",
-                        s.path.display()
-                    );
-                }
+                fail!("built-in worlds are not supported by this version of btx yet; use --plan or --domain");
             }
         }
         Command::Log {
@@ -395,6 +381,40 @@ fn run(cli: Cli) -> Result<(), Failure> {
         }
     }
     Ok(())
+}
+
+fn report_run(
+    tree: &btx::Tree,
+    r: Result<btx::session::record::RunSummary, RecordError>,
+) -> Result<(), Failure> {
+    match r {
+        Ok(s) => {
+            if let Some(a) = &s.answer {
+                println!("{a}");
+            }
+            eprintln!(
+                "{}: {} ticks, {} transitions, root {} ({})",
+                s.path.display(),
+                s.ticks,
+                s.transitions,
+                s.root,
+                s.reason
+            );
+            Ok(())
+        }
+        Err(RecordError::Io(e)) => Err(e.into()),
+        Err(RecordError::Script(e, s)) => {
+            eprintln!("the run up to the error is in {}", s.path.display());
+            Err(e.into())
+        }
+        Err(RecordError::Run(e, s)) => {
+            let (file, line, col) = tree.location(e.uid);
+            fail!(
+                "{file}:{line}:{col}: {e}\nthe run up to here is in {}",
+                s.path.display()
+            );
+        }
+    }
 }
 
 fn log_output(s: &Session, only: Option<btx::Uid>, no_idle: bool, format: Format) -> String {

@@ -58,6 +58,12 @@ impl LeafCall<'_> {
         }
     }
 
+    /// Writes a blackboard entry directly (a domain's state variable).
+    pub fn write_entry(&mut self, e: EntryId, v: Value) {
+        self.bb.set(&e, v.clone());
+        self.writes.push((e, v));
+    }
+
     pub fn blackboard(&self) -> &Blackboard {
         self.bb
     }
@@ -74,6 +80,14 @@ pub trait Leaves {
     fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome;
     /// `onHalted`: the leaf was RUNNING and is halted.
     fn halt(&mut self, _uid: Uid) {}
+    /// Blackboard entries the leaves start with (a domain's state).
+    fn initial_entries(&self) -> Vec<(EntryId, Value)> {
+        Vec::new()
+    }
+    /// An error the leaves met (a failing script); the run stops on it.
+    fn take_error(&mut self) -> Option<crate::source::Located> {
+        None
+    }
 }
 
 /// One thing that happened during a run.
@@ -163,11 +177,15 @@ type R<T> = Result<T, RunError>;
 
 impl<'t, L: Leaves> Executor<'t, L> {
     pub fn new(tree: &'t Tree, leaves: L, opts: RunOptions) -> Self {
+        let mut bb = Blackboard::new(tree);
+        for (e, v) in leaves.initial_entries() {
+            bb.set(&e, v);
+        }
         Executor {
             tree,
             leaves,
             rt: vec![NodeRt::default(); tree.len()],
-            bb: Blackboard::new(tree),
+            bb,
             tick: 0,
             now_ms: 0,
             opts,

@@ -2,6 +2,7 @@
 //! with leaves driven by a plan, a domain file or a built-in world.
 
 pub mod blackboard;
+pub mod domain;
 pub mod exec;
 pub mod plan;
 pub mod status;

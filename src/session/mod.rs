@@ -72,6 +72,9 @@ impl Session {
         };
         let mut tree = load_str(&tree_name, &header.tree.xml, &opts)?.tree;
         let mut index = Index::new(tree.len());
+        for (e, v) in &header.blackboard {
+            index.push_write(e.clone(), v.clone());
+        }
         let mut warnings = Vec::new();
         let mut end = None;
         let mut inserts = Vec::new();

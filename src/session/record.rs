@@ -40,6 +40,8 @@ pub enum RecordError {
     Io(Located),
     /// The tree could not go on; the session was finished up to here.
     Run(RunError, RunSummary),
+    /// A leaf's script failed; the session was finished up to here.
+    Script(Located, RunSummary),
 }
 
 pub fn header(req: &RunRequest) -> Header {
@@ -68,6 +70,7 @@ struct Rec {
     root: Status,
     ended: Option<String>,
     failure: Option<RunError>,
+    script: Option<Located>,
 }
 
 /// Ticks until the root completes, an error, or tick `until`. True when the run is over.
@@ -107,6 +110,11 @@ fn phase<L: Leaves>(
         }
         rec.index.end_tick(ex.ticks());
         rec.w.flush().map_err(RecordError::Io)?;
+        if let Some(e) = ex.leaves.take_error() {
+            rec.ended = Some(format!("error: {e}"));
+            rec.script = Some(e);
+            return Ok(true);
+        }
         match r {
             Err(e) => {
                 rec.ended = Some(format!("error: {e}"));
@@ -137,6 +145,9 @@ fn finish(rec: Rec, ticks: u32, answer: Option<String>) -> Result<RunSummary, Re
         reason,
         answer,
     };
+    if let Some(e) = rec.script {
+        return Err(RecordError::Script(e, summary));
+    }
     match rec.failure {
         Some(e) => Err(RecordError::Run(e, summary)),
         None => Ok(summary),
@@ -151,13 +162,18 @@ pub fn record<L: Leaves>(req: RunRequest, leaves: L) -> Result<RunSummary, Recor
     let mut ex = Executor::new(req.tree, leaves, req.options);
     h.blackboard = ex.bb.entries().map(|(e, v)| (e, v.clone())).collect();
     let w = SessionWriter::create(req.out, &h).map_err(RecordError::Io)?;
+    let mut index = Index::new(req.tree.len());
+    for (e, v) in &h.blackboard {
+        index.push_write(e.clone(), v.clone());
+    }
     let mut rec = Rec {
         w,
-        index: Index::new(req.tree.len()),
+        index,
         transitions: 0,
         root: Status::Idle,
         ended: None,
         failure: None,
+        script: None,
     };
     let ask_tick = req
         .ask

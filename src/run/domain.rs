@@ -1,0 +1,921 @@
+//! Domain files: Love et al.'s domain knowledge in TOML, with the functions
+//! written in rhai (sandboxed). These are the functions the simulator runs
+//! and the causal model re-evaluates: one source of truth for both.
+//! The format is documented in the README ("Domain files").
+
+use super::exec::{LeafCall, LeafOutcome, Leaves};
+use super::status::Status;
+use crate::model::{Kind, Tree, Uid, Version};
+use crate::run::blackboard::EntryId;
+use crate::source::Located;
+use rhai::{Dynamic, Engine, Scope, AST};
+use serde::Deserialize;
+use serde_json::Value;
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use toml::Spanned;
+
+pub const FORMAT_VERSION: i64 = 1;
+
+/// The range of a state variable.
+#[derive(Debug, Clone, PartialEq)]
+pub enum VarType {
+    Bool,
+    Int {
+        min: i64,
+        max: i64,
+    },
+    Cat {
+        values: Vec<String>,
+    },
+    /// A float in `[min, max]`; the search tries `grid` evenly spaced values.
+    Float {
+        min: f64,
+        max: f64,
+        grid: usize,
+    },
+    /// Any value (a string, a seed); never intervened on.
+    Any,
+}
+
+#[derive(Debug, Clone)]
+pub struct Var {
+    pub name: String,
+    pub ty: VarType,
+    pub initial: Value,
+    pub parents: Vec<usize>,
+    /// Structural function of a derived variable (an expression over its parents).
+    pub function: Option<Script>,
+    pub intervene: bool,
+    pub internal: bool,
+}
+
+/// A compiled rhai script and where it stands in the domain file.
+#[derive(Debug, Clone)]
+pub struct Script {
+    pub ast: AST,
+    /// Byte offset of the script's first character in the domain file.
+    pub start: usize,
+    pub what: String,
+}
+
+#[derive(Debug, Clone)]
+pub struct LeafDef {
+    /// The leaf's path, name or ID (or `@default_action`/`@default_condition`).
+    pub key: String,
+    pub inputs: Vec<usize>,
+    pub outputs: Vec<usize>,
+    pub actions: Vec<String>,
+    pub decide: Option<Script>,
+    pub effect: Option<Script>,
+    pub status: Script,
+}
+
+/// A loaded domain.
+pub struct Domain {
+    pub path: PathBuf,
+    pub text: String,
+    pub name: String,
+    pub vars: Vec<Var>,
+    pub leaves: Vec<LeafDef>,
+    index: HashMap<String, usize>,
+    /// Derived variables in an order where parents come first.
+    order: Vec<usize>,
+    engine: Engine,
+    lib: AST,
+}
+
+/// A state: one value per variable, in `Domain::vars` order.
+pub type State = Vec<Value>;
+
+// ---- the file ----
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileVar {
+    #[serde(rename = "type")]
+    ty: Spanned<String>,
+    initial: Option<toml::Value>,
+    min: Option<toml::Value>,
+    max: Option<toml::Value>,
+    values: Option<Vec<String>>,
+    grid: Option<usize>,
+    #[serde(default)]
+    parents: Vec<Spanned<String>>,
+    function: Option<Spanned<String>>,
+    intervene: Option<bool>,
+    internal: Option<bool>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileLeaf {
+    #[serde(default)]
+    inputs: Vec<Spanned<String>>,
+    #[serde(default)]
+    outputs: Vec<Spanned<String>>,
+    #[serde(default)]
+    actions: Vec<String>,
+    decide: Option<Spanned<String>>,
+    effect: Option<Spanned<String>>,
+    status: Spanned<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct File {
+    btx_domain: Spanned<i64>,
+    #[serde(default)]
+    name: String,
+    #[serde(default)]
+    functions: Option<Spanned<String>>,
+    #[serde(default)]
+    state: BTreeMap<String, Spanned<FileVar>>,
+    #[serde(default)]
+    leaf: BTreeMap<String, Spanned<FileLeaf>>,
+}
+
+/// The seeded random helpers scripts may call: pure functions of a seed, so
+/// that every function stays deterministic, as the causal search needs.
+fn splitmix(mut x: u64) -> u64 {
+    x = x.wrapping_add(0x9E3779B97F4A7C15);
+    let mut z = x;
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58476D1CE4E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D049BB133111EB);
+    z ^ (z >> 31)
+}
+
+fn unit(seed: i64) -> f64 {
+    (splitmix(seed as u64) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+fn engine() -> Engine {
+    let mut e = Engine::new();
+    e.set_max_operations(1_000_000);
+    e.set_max_call_levels(64);
+    e.set_max_expr_depths(128, 64);
+    e.set_max_string_size(1 << 20);
+    e.set_max_array_size(100_000);
+    e.set_max_map_size(100_000);
+    e.on_print(|_| {});
+    e.on_debug(|_, _, _| {});
+    e.register_fn("rand_seeded", unit);
+    e.register_fn("rand_int_seeded", |seed: i64, lo: i64, hi: i64| {
+        if hi <= lo {
+            lo
+        } else {
+            lo + (splitmix(seed as u64) % ((hi - lo + 1) as u64)) as i64
+        }
+    });
+    e.register_fn("normal_seeded", |seed: i64, mean: f64, sd: f64| {
+        // Box–Muller on two draws from the seed.
+        let u1 = unit(seed).max(f64::MIN_POSITIVE);
+        let u2 = unit(seed ^ 0x5DEECE66D);
+        mean + sd * (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+    });
+    e.register_fn("next_seed", |seed: i64| (splitmix(seed as u64) >> 1) as i64);
+    e.register_fn("clamp", |x: f64, lo: f64, hi: f64| x.max(lo).min(hi));
+    e
+}
+
+/// Where a script's text starts, inside its TOML string.
+fn script_start(text: &str, span: &std::ops::Range<usize>) -> usize {
+    let raw = &text[span.start..span.end];
+    let q = if raw.starts_with("\"\"\"") || raw.starts_with("'''") {
+        3
+    } else {
+        1
+    };
+    let mut s = span.start + q;
+    if q == 3 && text[s..].starts_with('\n') {
+        s += 1;
+    } else if q == 3 && text[s..].starts_with("\r\n") {
+        s += 2;
+    }
+    s
+}
+
+/// The file offset of a (1-based) line and column inside a script.
+fn offset_in(text: &str, start: usize, line: usize, col: usize) -> usize {
+    let mut off = start;
+    for _ in 1..line {
+        match text[off..].find('\n') {
+            Some(i) => off += i + 1,
+            None => break,
+        }
+    }
+    let line_text = text[off..].split('\n').next().unwrap_or("");
+    off + line_text
+        .char_indices()
+        .nth(col.saturating_sub(1))
+        .map_or(line_text.len(), |(i, _)| i)
+}
+
+impl Domain {
+    pub fn load(path: &Path) -> Result<Domain, Located> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Located::file(path, format!("cannot read the domain: {e}")))?;
+        Domain::parse(path, &text)
+    }
+
+    fn err(&self, range: std::ops::Range<usize>, msg: impl Into<String>) -> Located {
+        Located::at(&self.path, &self.text, range.start, range.end, msg)
+    }
+
+    pub fn parse(path: &Path, text: &str) -> Result<Domain, Located> {
+        let file: File = toml::from_str(text).map_err(|e| {
+            let r = e.span().unwrap_or(0..0);
+            Located::at(
+                path,
+                text,
+                r.start,
+                r.end.max(r.start + 1),
+                format!("not a btx domain file: {}", e.message().trim()),
+            )
+        })?;
+        let mut d = Domain {
+            path: path.to_path_buf(),
+            text: text.to_string(),
+            name: file.name.clone(),
+            vars: Vec::new(),
+            leaves: Vec::new(),
+            index: HashMap::new(),
+            order: Vec::new(),
+            engine: engine(),
+            lib: AST::empty(),
+        };
+        if *file.btx_domain.get_ref() != FORMAT_VERSION {
+            return Err(d.err(
+                file.btx_domain.span(),
+                format!(
+                    "btx_domain = {} is not a format this btx reads (it reads {FORMAT_VERSION})",
+                    file.btx_domain.get_ref()
+                ),
+            ));
+        }
+        if let Some(f) = &file.functions {
+            d.lib = d.compile(f, "functions", false)?.ast;
+        }
+        for name in file.state.keys() {
+            let i = d.vars.len();
+            d.index.insert(name.clone(), i);
+            d.vars.push(Var {
+                name: name.clone(),
+                ty: VarType::Any,
+                initial: Value::Null,
+                parents: Vec::new(),
+                function: None,
+                intervene: true,
+                internal: false,
+            });
+        }
+        for (name, v) in &file.state {
+            let i = d.index[name];
+            let span = v.span();
+            let v = v.get_ref();
+            let num = |x: &Option<toml::Value>, what: &str| -> Result<Option<f64>, Located> {
+                match x {
+                    None => Ok(None),
+                    Some(toml::Value::Integer(i)) => Ok(Some(*i as f64)),
+                    Some(toml::Value::Float(f)) => Ok(Some(*f)),
+                    Some(_) => Err(d.err(span.clone(), format!("{name}: {what} must be a number"))),
+                }
+            };
+            let (min, max) = (num(&v.min, "min")?, num(&v.max, "max")?);
+            let ty = match v.ty.get_ref().as_str() {
+                "bool" => VarType::Bool,
+                "int" => match (min, max) {
+                    (Some(a), Some(b)) if a <= b => VarType::Int {
+                        min: a as i64,
+                        max: b as i64,
+                    },
+                    _ => return Err(d.err(v.ty.span(), format!("{name}: an int needs min <= max"))),
+                },
+                "cat" => match &v.values {
+                    Some(vals) if !vals.is_empty() => VarType::Cat {
+                        values: vals.clone(),
+                    },
+                    _ => {
+                        return Err(
+                            d.err(v.ty.span(), format!("{name}: a cat needs values = [...]"))
+                        )
+                    }
+                },
+                "float" => match (min, max) {
+                    (Some(a), Some(b)) if a <= b => VarType::Float {
+                        min: a,
+                        max: b,
+                        grid: v.grid.unwrap_or(11).max(2),
+                    },
+                    _ => {
+                        return Err(d.err(v.ty.span(), format!("{name}: a float needs min <= max")))
+                    }
+                },
+                "any" => VarType::Any,
+                other => {
+                    return Err(d.err(
+                        v.ty.span(),
+                        format!(
+                            "{name}: type \"{other}\" is not one of bool, int, cat, float, any"
+                        ),
+                    ))
+                }
+            };
+            let mut parents = Vec::new();
+            for p in &v.parents {
+                match d.index.get(p.get_ref()) {
+                    Some(&j) => parents.push(j),
+                    None => {
+                        return Err(d.err(
+                            p.span(),
+                            format!("{name}: parent \"{}\" is not a state variable", p.get_ref()),
+                        ))
+                    }
+                }
+            }
+            let function = match &v.function {
+                Some(f) => Some(d.compile(f, &format!("function of {name}"), true)?),
+                None if !parents.is_empty() => {
+                    return Err(d.err(
+                        span,
+                        format!("{name} has parents but no function computing it from them"),
+                    ))
+                }
+                None => None,
+            };
+            let initial = match &v.initial {
+                Some(x) => {
+                    let val = toml_to_json(x);
+                    d.check_value(&ty, &val)
+                        .map_err(|m| d.err(span.clone(), format!("{name}: initial value {m}")))?;
+                    val
+                }
+                None if function.is_some() => Value::Null,
+                None => default_of(&ty),
+            };
+            let var = &mut d.vars[i];
+            var.ty = ty;
+            var.initial = initial;
+            var.parents = parents;
+            var.function = function;
+            var.intervene = v.intervene.unwrap_or(true) && var.ty != VarType::Any;
+            var.internal = v.internal.unwrap_or(false);
+        }
+        d.order = d.topological().map_err(|cycle| {
+            let first = file.state.get(&cycle[0]).map_or(0..0, |s| s.span());
+            d.err(
+                first,
+                format!(
+                    "the state's causal graph has a cycle: {}",
+                    cycle.join(" → ")
+                ),
+            )
+        })?;
+        for (key, l) in &file.leaf {
+            let span = l.span();
+            let l = l.get_ref();
+            let vars = |list: &[Spanned<String>], what: &str| -> Result<Vec<usize>, Located> {
+                list.iter()
+                    .map(|v| {
+                        d.index.get(v.get_ref()).copied().ok_or_else(|| {
+                            d.err(
+                                v.span(),
+                                format!(
+                                    "leaf {key}: {what} \"{}\" is not a state variable",
+                                    v.get_ref()
+                                ),
+                            )
+                        })
+                    })
+                    .collect()
+            };
+            let inputs = vars(&l.inputs, "input")?;
+            let outputs = vars(&l.outputs, "output")?;
+            let decide = match &l.decide {
+                Some(s) => Some(d.compile(s, &format!("decide of {key}"), false)?),
+                None => None,
+            };
+            let effect = match &l.effect {
+                Some(s) => Some(d.compile(s, &format!("effect of {key}"), false)?),
+                None if !outputs.is_empty() => {
+                    return Err(d.err(span, format!("leaf {key} has outputs but no effect")))
+                }
+                None => None,
+            };
+            let status = d.compile(&l.status, &format!("status of {key}"), false)?;
+            d.leaves.push(LeafDef {
+                key: key.clone(),
+                inputs,
+                outputs,
+                actions: l.actions.clone(),
+                decide,
+                effect,
+                status,
+            });
+        }
+        Ok(d)
+    }
+
+    fn compile(
+        &self,
+        s: &Spanned<String>,
+        what: &str,
+        expression: bool,
+    ) -> Result<Script, Located> {
+        let start = script_start(&self.text, &s.span());
+        let r = if expression {
+            self.engine.compile_expression(s.get_ref())
+        } else {
+            self.engine.compile(s.get_ref())
+        };
+        match r {
+            Ok(ast) => Ok(Script {
+                ast: self.lib.merge(&ast),
+                start,
+                what: what.to_string(),
+            }),
+            Err(e) => {
+                let p = e.position();
+                let off = offset_in(
+                    &self.text,
+                    start,
+                    p.line().unwrap_or(1),
+                    p.position().unwrap_or(1),
+                );
+                Err(Located::at(
+                    &self.path,
+                    &self.text,
+                    off,
+                    off + 1,
+                    format!("{what}: {}", e.err_type()),
+                ))
+            }
+        }
+    }
+
+    fn topological(&self) -> Result<Vec<usize>, Vec<String>> {
+        // 0 = unseen, 1 = on the stack, 2 = done
+        let mut mark = vec![0u8; self.vars.len()];
+        let mut order = Vec::new();
+        fn visit(
+            d: &Domain,
+            i: usize,
+            mark: &mut [u8],
+            order: &mut Vec<usize>,
+            path: &mut Vec<usize>,
+        ) -> Result<(), Vec<String>> {
+            match mark[i] {
+                2 => return Ok(()),
+                1 => {
+                    let from = path.iter().position(|&p| p == i).unwrap_or(0);
+                    let mut c: Vec<String> = path[from..]
+                        .iter()
+                        .map(|&p| d.vars[p].name.clone())
+                        .collect();
+                    c.push(d.vars[i].name.clone());
+                    return Err(c);
+                }
+                _ => {}
+            }
+            mark[i] = 1;
+            path.push(i);
+            for &p in &d.vars[i].parents {
+                visit(d, p, mark, order, path)?;
+            }
+            path.pop();
+            mark[i] = 2;
+            order.push(i);
+            Ok(())
+        }
+        for i in 0..self.vars.len() {
+            visit(self, i, &mut mark, &mut order, &mut Vec::new())?;
+        }
+        Ok(order
+            .into_iter()
+            .filter(|&i| self.vars[i].function.is_some())
+            .collect())
+    }
+
+    fn check_value(&self, ty: &VarType, v: &Value) -> Result<(), String> {
+        let ok = match ty {
+            VarType::Bool => v.is_boolean(),
+            VarType::Int { min, max } => v.as_i64().is_some_and(|x| (*min..=*max).contains(&x)),
+            VarType::Cat { values } => v.as_str().is_some_and(|s| values.iter().any(|x| x == s)),
+            VarType::Float { min, max, .. } => v
+                .as_f64()
+                .is_some_and(|x| x >= *min - 1e-9 && x <= *max + 1e-9),
+            VarType::Any => true,
+        };
+        if ok {
+            Ok(())
+        } else {
+            Err(format!("{v} is outside its range {ty:?}"))
+        }
+    }
+
+    pub fn var(&self, name: &str) -> Option<usize> {
+        self.index.get(name).copied()
+    }
+
+    /// The initial state: declared values, then derived ones computed.
+    pub fn initial_state(&self) -> Result<State, Located> {
+        let mut s: State = self.vars.iter().map(|v| v.initial.clone()).collect();
+        for &i in &self.order.clone() {
+            if self.vars[i].initial.is_null() {
+                s[i] = self.derive(i, &s)?;
+            }
+        }
+        Ok(s)
+    }
+
+    fn scope_for(&self, vars: impl Iterator<Item = usize>, state: &State) -> Scope<'static> {
+        let mut scope = Scope::new();
+        scope.push_constant("SUCCESS", "SUCCESS");
+        scope.push_constant("FAILURE", "FAILURE");
+        scope.push_constant("RUNNING", "RUNNING");
+        for i in vars {
+            scope.push(self.vars[i].name.clone(), json_to_dynamic(&state[i]));
+        }
+        scope
+    }
+
+    fn eval(&self, script: &Script, scope: &mut Scope) -> Result<Dynamic, Located> {
+        self.engine
+            .eval_ast_with_scope::<Dynamic>(scope, &script.ast)
+            .map_err(|e| {
+                let p = e.position();
+                let off = offset_in(
+                    &self.text,
+                    script.start,
+                    p.line().unwrap_or(1),
+                    p.position().unwrap_or(1),
+                );
+                let msg = e.to_string();
+                let msg = msg.split(" (line ").next().unwrap_or(&msg).to_string();
+                Located::at(
+                    &self.path,
+                    &self.text,
+                    off,
+                    off + 1,
+                    format!("{}: {msg}", script.what),
+                )
+            })
+    }
+
+    /// A derived variable's structural function, on a state.
+    pub fn derive(&self, var: usize, state: &State) -> Result<Value, Located> {
+        let v = &self.vars[var];
+        let f = v
+            .function
+            .as_ref()
+            .expect("derived variables have functions");
+        let mut scope = self.scope_for(v.parents.iter().copied(), state);
+        let out = dynamic_to_json(self.eval(f, &mut scope)?);
+        let out = self.conform(&v.ty, out);
+        self.check_value(&v.ty, &out)
+            .map_err(|m| self.at_script(f, format!("{} returned {m}", f.what)))?;
+        Ok(out)
+    }
+
+    fn at_script(&self, s: &Script, msg: String) -> Located {
+        Located::at(&self.path, &self.text, s.start, s.start + 1, msg)
+    }
+
+    /// Ints where a float is expected, rounded floats on the way back.
+    fn conform(&self, ty: &VarType, v: Value) -> Value {
+        match (ty, &v) {
+            (VarType::Float { .. }, Value::Number(n)) => Value::from(n.as_f64().unwrap_or(0.0)),
+            _ => v,
+        }
+    }
+
+    /// The leaf's decision (d_i): an action name, or `None` for the null action.
+    pub fn decide(&self, leaf: usize, state: &State) -> Result<Option<String>, Located> {
+        let l = &self.leaves[leaf];
+        let Some(script) = &l.decide else {
+            return Ok(None);
+        };
+        let mut scope = self.scope_for(l.inputs.iter().copied(), state);
+        let r = self.eval(script, &mut scope)?;
+        if r.is_unit() {
+            return Ok(None);
+        }
+        let a = r.into_string().map_err(|t| {
+            self.at_script(
+                script,
+                format!("{} returned a {t}, not an action name", script.what),
+            )
+        })?;
+        if !l.actions.is_empty() && !l.actions.contains(&a) {
+            return Err(self.at_script(
+                script,
+                format!(
+                    "{} chose \"{a}\", which is not in actions {:?}",
+                    script.what, l.actions
+                ),
+            ));
+        }
+        Ok(Some(a))
+    }
+
+    fn action_scope(&self, leaf: usize, state: &State, action: &Option<String>) -> Scope<'static> {
+        let l = &self.leaves[leaf];
+        let mut scope = self.scope_for(l.inputs.iter().copied(), state);
+        scope.push(
+            "action",
+            action.clone().map_or(Dynamic::UNIT, Dynamic::from),
+        );
+        scope
+    }
+
+    /// The leaf's return status (r_i) for a state and a decision.
+    pub fn status(
+        &self,
+        leaf: usize,
+        state: &State,
+        action: &Option<String>,
+    ) -> Result<Status, Located> {
+        let l = &self.leaves[leaf];
+        let mut scope = self.action_scope(leaf, state, action);
+        let r = self.eval(&l.status, &mut scope)?;
+        let s = r.clone().into_string().ok().and_then(|s| Status::parse(&s));
+        match s {
+            Some(s @ (Status::Success | Status::Failure | Status::Running)) => Ok(s),
+            _ => Err(self.at_script(
+                &l.status,
+                format!(
+                    "{} returned {r}, not SUCCESS, FAILURE or RUNNING",
+                    l.status.what
+                ),
+            )),
+        }
+    }
+
+    /// The leaf's direct effect (p_i): new values of its outputs.
+    pub fn effect(
+        &self,
+        leaf: usize,
+        state: &State,
+        action: &Option<String>,
+    ) -> Result<Vec<(usize, Value)>, Located> {
+        let l = &self.leaves[leaf];
+        let Some(script) = &l.effect else {
+            return Ok(Vec::new());
+        };
+        let mut scope = self.action_scope(leaf, state, action);
+        let r = self.eval(script, &mut scope)?;
+        if r.is_unit() {
+            return Ok(Vec::new());
+        }
+        let map = r.try_cast::<rhai::Map>().ok_or_else(|| {
+            self.at_script(
+                script,
+                format!("{} must return a map #{{ var: value }} or ()", script.what),
+            )
+        })?;
+        let mut out = Vec::new();
+        for (k, v) in map {
+            let Some(i) = self.var(k.as_str()).filter(|i| l.outputs.contains(i)) else {
+                return Err(self.at_script(
+                    script,
+                    format!(
+                        "{} sets \"{k}\", which is not one of its outputs",
+                        script.what
+                    ),
+                ));
+            };
+            let v = self.conform(&self.vars[i].ty, dynamic_to_json(v));
+            self.check_value(&self.vars[i].ty, &v).map_err(|m| {
+                self.at_script(script, format!("{} sets {k} to a value {m}", script.what))
+            })?;
+            out.push((i, v));
+        }
+        Ok(out)
+    }
+
+    /// Recomputes derived variables after `changed` changed, parents first,
+    /// leaving alone the ones the leaf set itself.
+    pub fn propagate(
+        &self,
+        state: &mut State,
+        changed: &[usize],
+        set_by_leaf: &[usize],
+    ) -> Result<Vec<usize>, Located> {
+        let mut dirty = vec![false; self.vars.len()];
+        for &c in changed {
+            dirty[c] = true;
+        }
+        let mut updated = Vec::new();
+        for &i in &self.order {
+            if set_by_leaf.contains(&i) || !self.vars[i].parents.iter().any(|&p| dirty[p]) {
+                continue;
+            }
+            let v = self.derive(i, state)?;
+            if v != state[i] {
+                state[i] = v;
+                dirty[i] = true;
+                updated.push(i);
+            }
+        }
+        Ok(updated)
+    }
+
+    /// Which leaf definition drives a tree leaf (path, name, ID, default).
+    pub fn leaf_for(&self, tree: &Tree, uid: Uid) -> Option<usize> {
+        let n = tree.node(uid);
+        let default = if n.kind == Kind::Condition {
+            "@default_condition"
+        } else {
+            "@default_action"
+        };
+        let full = tree.full_path(uid);
+        [
+            (tree.version == Version::V4).then_some(full.as_str()),
+            Some(n.name.as_str()).filter(|s| !s.is_empty()),
+            Some(n.id.as_str()),
+            Some(default),
+        ]
+        .iter()
+        .flatten()
+        .find_map(|k| self.leaves.iter().position(|l| l.key == *k))
+    }
+}
+
+fn default_of(ty: &VarType) -> Value {
+    match ty {
+        VarType::Bool => Value::Bool(false),
+        VarType::Int { min, .. } => Value::from(*min),
+        VarType::Cat { values } => Value::from(values[0].clone()),
+        VarType::Float { min, .. } => Value::from(*min),
+        VarType::Any => Value::from(""),
+    }
+}
+
+fn toml_to_json(v: &toml::Value) -> Value {
+    match v {
+        toml::Value::String(s) => Value::from(s.clone()),
+        toml::Value::Integer(i) => Value::from(*i),
+        toml::Value::Float(f) => Value::from(*f),
+        toml::Value::Boolean(b) => Value::Bool(*b),
+        other => Value::from(other.to_string()),
+    }
+}
+
+pub fn json_to_dynamic(v: &Value) -> Dynamic {
+    match v {
+        Value::Bool(b) => Dynamic::from(*b),
+        Value::Number(n) => match n.as_i64() {
+            Some(i) => Dynamic::from(i),
+            None => Dynamic::from(n.as_f64().unwrap_or(0.0)),
+        },
+        Value::String(s) => Dynamic::from(s.clone()),
+        Value::Null => Dynamic::UNIT,
+        other => Dynamic::from(other.to_string()),
+    }
+}
+
+pub fn dynamic_to_json(d: Dynamic) -> Value {
+    if let Some(b) = d.clone().try_cast::<bool>() {
+        return Value::Bool(b);
+    }
+    if let Some(i) = d.clone().try_cast::<i64>() {
+        return Value::from(i);
+    }
+    if let Some(f) = d.clone().try_cast::<f64>() {
+        return Value::from(f);
+    }
+    if d.is_unit() {
+        return Value::Null;
+    }
+    Value::from(d.to_string())
+}
+
+/// Leaves driven by a domain. The state lives in the root blackboard, one
+/// entry per variable, so `{@X_a}` ports read and write it.
+pub struct DomainLeaves {
+    pub domain: Arc<Domain>,
+    pub state: State,
+    assigned: HashMap<Uid, usize>,
+    /// The first error met; the leaf then fails and the run stops.
+    pub error: Option<Located>,
+}
+
+impl DomainLeaves {
+    /// Every leaf of the tree must be described (or covered by a default).
+    pub fn new(domain: Arc<Domain>, tree: &Tree) -> Result<DomainLeaves, Located> {
+        let mut assigned = HashMap::new();
+        let mut missing = Vec::new();
+        for n in &tree.nodes {
+            if n.kind.is_leaf() && n.builtin.is_none() {
+                match domain.leaf_for(tree, n.uid) {
+                    Some(l) => {
+                        assigned.insert(n.uid, l);
+                    }
+                    None => missing.push(format!("{} #{}", tree.description(n.uid), n.uid)),
+                }
+            }
+        }
+        if !missing.is_empty() {
+            return Err(Located::file(&domain.path, format!("no [leaf] for {}", missing.join(", ")))
+                .with_help("add [leaf.\"NAME\"] tables, or [leaf.\"@default_action\"] / [leaf.\"@default_condition\"]"));
+        }
+        let state = domain.initial_state()?;
+        Ok(DomainLeaves {
+            domain,
+            state,
+            assigned,
+            error: None,
+        })
+    }
+
+    /// The state as root-blackboard entries.
+    pub fn entries(&self) -> Vec<(EntryId, Value)> {
+        self.domain
+            .vars
+            .iter()
+            .zip(&self.state)
+            .map(|(v, x)| {
+                (
+                    EntryId {
+                        scope: 0,
+                        key: v.name.clone(),
+                    },
+                    x.clone(),
+                )
+            })
+            .collect()
+    }
+
+    fn step(&mut self, call: &mut LeafCall) -> Result<LeafOutcome, Located> {
+        let leaf = match self.assigned.get(&call.uid) {
+            Some(&l) => l,
+            None => {
+                let l = self.domain.leaf_for(call.tree, call.uid).ok_or_else(|| {
+                    Located::file(
+                        &self.domain.path,
+                        format!(
+                            "no [leaf] for {} #{}",
+                            call.tree.description(call.uid),
+                            call.uid
+                        ),
+                    )
+                })?;
+                self.assigned.insert(call.uid, l);
+                l
+            }
+        };
+        let d = Arc::clone(&self.domain);
+        let action = d.decide(leaf, &self.state)?;
+        let status = d.status(leaf, &self.state, &action)?;
+        let effect = d.effect(leaf, &self.state, &action)?;
+        let mut changed = Vec::new();
+        for (i, v) in effect {
+            if self.state[i] != v {
+                self.state[i] = v;
+                changed.push(i);
+            }
+        }
+        let derived = d.propagate(&mut self.state, &changed, &d.leaves[leaf].outputs)?;
+        for i in changed.into_iter().chain(derived) {
+            call.write_entry(
+                EntryId {
+                    scope: 0,
+                    key: d.vars[i].name.clone(),
+                },
+                self.state[i].clone(),
+            );
+        }
+        let decision = if d.leaves[leaf].decide.is_some() {
+            Some(action.unwrap_or_else(|| "null".into()))
+        } else {
+            None
+        };
+        Ok(LeafOutcome { status, decision })
+    }
+}
+
+impl Leaves for DomainLeaves {
+    fn initial_entries(&self) -> Vec<(EntryId, Value)> {
+        self.entries()
+    }
+
+    fn take_error(&mut self) -> Option<Located> {
+        self.error.take()
+    }
+
+    fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {
+        match self.step(call) {
+            Ok(o) => o,
+            Err(e) => {
+                if self.error.is_none() {
+                    self.error = Some(e);
+                }
+                LeafOutcome {
+                    status: Status::Failure,
+                    decision: None,
+                }
+            }
+        }
+    }
+}

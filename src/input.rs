@@ -39,33 +39,34 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
     let bytes =
         std::fs::read(path).map_err(|e| Located::file(path, format!("cannot read: {e}")))?;
     let first = bytes.iter().position(|b| !b.is_ascii_whitespace());
-    let text = || {
-        String::from_utf8(bytes.clone()).map_err(|e| {
-            Located::file(
-                path,
-                format!(
-                    "not UTF-8 text (byte offset {}): not a tree or a session",
-                    e.utf8_error().valid_up_to()
-                ),
-            )
-        })
-    };
-    match first.map(|i| bytes[i]) {
-        Some(b'{') => Ok(Input::Session(Box::new(Session::parse(path, &text()?)?))),
-        Some(b'<') | Some(0xEF) => {
-            let l = load_str(path, &text()?, opts)?;
-            Ok(Input::Tree {
-                tree: l.tree,
-                warnings: l.warnings,
-            })
-        }
-        Some(b) => Err(Located::file(
+    let kind = first.map(|i| bytes[i]);
+    if let Some(b) = kind.filter(|b| !matches!(b, b'{' | b'<' | 0xEF)) {
+        return Err(Located::file(
             path,
             format!(
                 "not a BehaviorTree.CPP XML tree nor a btx session (byte offset {} is 0x{b:02x})",
                 first.unwrap_or(0)
             ),
-        )),
+        ));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| {
+        Located::file(
+            path,
+            format!(
+                "not UTF-8 text (byte offset {}): not a tree or a session",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })?;
+    match kind {
+        Some(b'{') => Ok(Input::Session(Box::new(Session::parse(path, &text)?))),
+        Some(_) => {
+            let l = load_str(path, &text, opts)?;
+            Ok(Input::Tree {
+                tree: l.tree,
+                warnings: l.warnings,
+            })
+        }
         None => Err(Located::file(path, "the file is empty")),
     }
 }

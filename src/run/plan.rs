@@ -133,9 +133,12 @@ impl Plan {
 /// '<name>'` to its output ports.
 pub struct PlanLeaves {
     plan: Plan,
-    /// leaf uid → (plan entry, cursor key)
-    assigned: HashMap<Uid, (Option<usize>, String)>,
-    cursors: HashMap<String, usize>,
+    /// leaf uid → (plan entry, cursor)
+    assigned: HashMap<Uid, (Option<usize>, usize)>,
+    /// Cursor keys (fullPath in v4, uid in v3) → cursor.
+    cursor_ids: HashMap<String, usize>,
+    /// Position of each cursor in its list.
+    cursors: Vec<usize>,
     running: HashMap<Uid, (u32, Status)>,
     pub warnings: Vec<Warning>,
 }
@@ -145,7 +148,8 @@ impl PlanLeaves {
         let mut p = PlanLeaves {
             plan,
             assigned: HashMap::new(),
-            cursors: HashMap::new(),
+            cursor_ids: HashMap::new(),
+            cursors: Vec::new(),
             running: HashMap::new(),
             warnings: Vec::new(),
         };
@@ -207,17 +211,26 @@ impl PlanLeaves {
             Version::V4 => full,
             Version::V3 => format!("#{uid}"),
         };
-        self.assigned.insert(uid, (entry, cursor));
+        let next = self.cursors.len();
+        let id = *self.cursor_ids.entry(cursor).or_insert(next);
+        if id == next {
+            self.cursors.push(0);
+        }
+        self.assigned.insert(uid, (entry, id));
         entry
     }
 
     /// The next outcome of a leaf, and the plan key it came from.
     fn next(&mut self, uid: Uid) -> (Outcome, Option<&str>) {
-        let (entry, cursor) = self
-            .assigned
-            .get(&uid)
-            .cloned()
-            .unwrap_or((None, format!("#{uid}")));
+        let Some(&(entry, cursor)) = self.assigned.get(&uid) else {
+            return (
+                Outcome {
+                    running: 0,
+                    then: Status::Success,
+                },
+                None,
+            );
+        };
         let Some(e) = entry else {
             return (
                 Outcome {
@@ -228,7 +241,7 @@ impl PlanLeaves {
             );
         };
         let list = &self.plan.entries[e].outcomes;
-        let pos = self.cursors.entry(cursor).or_insert(0);
+        let pos = &mut self.cursors[cursor];
         let o = list[(*pos).min(list.len() - 1)];
         *pos += 1;
         (o, Some(self.plan.entries[e].key.as_str()))

@@ -84,7 +84,7 @@ impl Session {
             if body.is_empty() {
                 continue;
             }
-            let rec: Record = match serde_json::from_str(body) {
+            let rec: Record = match format::parse_record(body) {
                 Ok(r) => r,
                 Err(e) if i == n - 1 && !line.ends_with('\n') => {
                     warnings.push(Warning {

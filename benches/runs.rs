@@ -1,0 +1,166 @@
+//! Running trees and reading sessions: executor ticks per second on a
+//! 10,000-node tree; loading a 1,000,000-transition session; moving to a
+//! random moment of it.
+
+use btx::run::plan::{Plan, PlanLeaves};
+use btx::run::{Executor, RunOptions, Status};
+use btx::session::record::{record, RunRequest};
+use btx::session::{Moment, Session, Source};
+use btx::xml::{load_str, LoadOptions};
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
+use std::hint::black_box;
+use std::path::Path;
+
+#[path = "generated.rs"]
+mod generated;
+
+fn plan(text: &str) -> Plan {
+    Plan::parse(Path::new("bench.plan"), text).unwrap()
+}
+
+fn executor(c: &mut Criterion) {
+    // Every leaf succeeds at once: each tick runs the whole tree and resets it.
+    let xml = generated::flat_tree(99, 100);
+    let tree = load_str(Path::new("flat.xml"), &xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    eprintln!("flat tree: {} nodes", tree.len());
+    let mut g = c.benchmark_group("executor, 10k-node tree");
+    g.bench_function("one tick through every node", |b| {
+        b.iter_batched(
+            || {
+                Executor::new(
+                    &tree,
+                    PlanLeaves::new(plan("@default_action = S"), &tree),
+                    RunOptions::default(),
+                )
+            },
+            |mut ex| {
+                let s = ex.tick_once().unwrap();
+                assert_eq!(s, Status::Success);
+                ex.take_events().len()
+            },
+            BatchSize::SmallInput,
+        )
+    });
+    // Realistic: one leaf runs for a tick at a time, in a deep kitting-like tree.
+    let xml = generated::generated_tree(10_000);
+    let deep = load_str(Path::new("deep.xml"), &xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    g.bench_function("100 ticks, one RUNNING leaf at a time", |b| {
+        b.iter_batched(
+            || {
+                Executor::new(
+                    &deep,
+                    PlanLeaves::new(plan("@default_action = 1RS\n@default_condition = S"), &deep),
+                    RunOptions::default(),
+                )
+            },
+            |mut ex| {
+                for _ in 0..100 {
+                    ex.tick_once().unwrap();
+                }
+                ex.take_events().len()
+            },
+            BatchSize::SmallInput,
+        )
+    });
+    g.finish();
+}
+
+/// Records a session of at least `n` transitions of the deep tree.
+fn big_session(dir: &Path, n: u64) -> std::path::PathBuf {
+    // Repeat forever: the root never completes.
+    let xml = generated::generated_tree(10_000)
+        .replace(
+            "<BehaviorTree ID=\"Main\">",
+            "<BehaviorTree ID=\"Main\"><Repeat num_cycles=\"-1\">",
+        )
+        .replacen(
+            "</Sequence></BehaviorTree>",
+            "</Sequence></Repeat></BehaviorTree>",
+            1,
+        );
+    let tree = load_str(Path::new("deep.xml"), &xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    let out = dir.join("big.jsonl");
+    let leaves = PlanLeaves::new(plan("@default_action = 1RS\n@default_condition = S"), &tree);
+    let req = RunRequest {
+        tree: &tree,
+        tree_file: None,
+        source: Source {
+            kind: "plan".into(),
+            path: None,
+            text: None,
+            name: None,
+        },
+        seed: None,
+        max_ticks: (n / 4) as u32,
+        options: RunOptions::default(),
+        ask: None,
+        out: &out,
+    };
+    let s = record(req, leaves).unwrap();
+    assert!(s.transitions >= n, "{} transitions", s.transitions);
+    out
+}
+
+fn sessions(c: &mut Criterion) {
+    let dir = std::env::var("BTX_BENCH_DIR")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|_| std::env::temp_dir().join("btx-bench"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("big.jsonl");
+    if !path.exists() {
+        big_session(&dir, 1_000_000);
+    }
+    let s = Session::load(&path).unwrap();
+    eprintln!(
+        "session: {} transitions, {} ticks, {} bytes",
+        s.index.transitions.len(),
+        s.index.ticks(),
+        std::fs::metadata(&path).unwrap().len()
+    );
+    let mut g = c.benchmark_group("1M-transition session");
+    g.sample_size(10);
+    g.bench_function("load", |b| {
+        b.iter(|| {
+            Session::load(black_box(&path))
+                .unwrap()
+                .index
+                .transitions
+                .len()
+        })
+    });
+    let ticks = s.index.ticks();
+    let mut x: u64 = 12345;
+    g.bench_function(
+        "move to a random moment (position, current node, 100 statuses)",
+        |b| {
+            b.iter(|| {
+                x = x
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                let m = Moment {
+                    tick: 1 + (x >> 33) as u32 % ticks,
+                    step: None,
+                };
+                let at = s.index.at(s.index.position(m).unwrap());
+                let cur = at.current().unwrap_or(1);
+                let mut k = 0u32;
+                for u in cur..cur + 100 {
+                    if let Some(_n) = s.tree.get(u) {
+                        k += at.status(u) as u32;
+                    }
+                }
+                k
+            })
+        },
+    );
+    g.finish();
+}
+
+criterion_group!(benches, executor, sessions);
+criterion_main!(benches);

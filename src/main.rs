@@ -5,6 +5,8 @@ use btx::frame::Framed;
 use btx::input::{open, Input};
 use btx::run::domain::{Domain, DomainLeaves};
 use btx::run::plan::{Plan, PlanLeaves};
+use btx::run::world::kitting;
+use btx::run::world::taxi::{self, Costs, Grid, TaxiLeaves};
 use btx::run::RunOptions;
 use btx::session::record::{record, RecordError, RunRequest};
 use btx::session::{Moment, Session, Source};
@@ -40,6 +42,12 @@ enum TreeFormat {
 enum Format {
     Text,
     Json,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum CostModel {
+    Optimal,
+    Expected,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -131,6 +139,17 @@ enum Command {
         /// The session file to write (never overwritten).
         #[arg(long, value_name = "SESSION")]
         out: PathBuf,
+    },
+    /// Show a built-in world: the taxi grid, its optimal policy and the tree generated from it.
+    World {
+        #[arg(value_enum)]
+        world: World,
+        /// Whose costs: the optimal driver's (a toll costs 3 moves) or a person's expectation (1 move).
+        #[arg(long, value_enum, default_value = "optimal")]
+        costs: CostModel,
+        /// Print the behaviour tree generated from the policy, as BehaviorTree.CPP 4 XML.
+        #[arg(long)]
+        tree: bool,
     },
     /// List the status transitions of a session, like Groot's table.
     Log {
@@ -361,10 +380,58 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 let leaves = DomainLeaves::new(d, &tree)?;
                 report_run(&tree, record(req(source), leaves))?;
             } else {
-                let _ = world;
-                fail!("built-in worlds are not supported by this version of btx yet; use --plan or --domain");
+                match world.expect("clap requires one source of leaves") {
+                    World::Taxi => {
+                        let unknown = TaxiLeaves::unknown_leaves(&tree);
+                        if !unknown.is_empty() {
+                            fail!(
+                                "the taxi world moves, picks up and drops off; it cannot run {}",
+                                unknown.join(", ")
+                            );
+                        }
+                        let source = Source {
+                            kind: "world".into(),
+                            path: None,
+                            text: None,
+                            name: Some("taxi".into()),
+                        };
+                        report_run(&tree, record(req(source), TaxiLeaves::new(Grid::han())))?;
+                    }
+                    World::Kitting => {
+                        let (name, plan) = kitting::scenario(seed).map_err(Failure::Plain)?;
+                        let source = Source {
+                            kind: "world".into(),
+                            path: None,
+                            text: Some(plan.text.clone()),
+                            name: Some(format!("kitting: {name}")),
+                        };
+                        let leaves = PlanLeaves::new(plan, &tree);
+                        warn_all(cli.quiet, &leaves.warnings);
+                        report_run(&tree, record(req(source), leaves))?;
+                    }
+                }
             }
         }
+        Command::World { world, costs, tree } => match world {
+            World::Kitting => {
+                for (i, (name, _)) in kitting::SCENARIOS.iter().enumerate() {
+                    println!("--seed {i}: {name}");
+                }
+            }
+            World::Taxi => {
+                let g = Grid::han();
+                let c = match costs {
+                    CostModel::Optimal => Costs::OPTIMAL,
+                    CostModel::Expected => Costs::EXPECTED,
+                };
+                let actions = g.rollout(&g.solve(c));
+                if tree {
+                    print!("{}", taxi::policy_tree_xml(&actions));
+                } else {
+                    print!("{}", taxi_text(&g, c, &actions));
+                }
+            }
+        },
         Command::Log {
             session,
             node,
@@ -381,6 +448,45 @@ fn run(cli: Cli) -> Result<(), Failure> {
         }
     }
     Ok(())
+}
+
+fn taxi_text(g: &Grid, c: Costs, actions: &[taxi::Action]) -> String {
+    let mut out = String::new();
+    for y in (1..=g.height).rev() {
+        out.push_str(&format!("row {y} "));
+        for x in 1..=g.width {
+            let cell = if (x, y) == g.passenger {
+                'P'
+            } else if g.tolls.contains(&(x, y)) {
+                'T'
+            } else if (x, y) == g.start {
+                'S'
+            } else {
+                '.'
+            };
+            let wall = x > 1 && g.walls.contains(&((x - 1, y), (x, y)));
+            out.push_str(if wall { " | " } else { "   " });
+            out.push(cell);
+        }
+        out.push('\n');
+    }
+    out.push_str("      ");
+    for x in 1..=g.width {
+        out.push_str(&format!("   {x}"));
+    }
+    out.push_str(&format!(
+        "\ncosts: a move {}, a toll {}\npolicy: ",
+        c.step, c.toll
+    ));
+    out.push_str(
+        &actions
+            .iter()
+            .map(|a| a.name())
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    out.push('\n');
+    out
 }
 
 fn report_run(

@@ -6,6 +6,7 @@ pub mod domain;
 pub mod exec;
 pub mod plan;
 pub mod status;
+pub mod world;
 
 pub use exec::{Event, Executor, LeafCall, LeafOutcome, Leaves, RunError, RunOptions};
 pub use status::Status;

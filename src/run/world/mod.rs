@@ -1,0 +1,4 @@
+//! Built-in worlds: the taxi domain and the kitting task.
+
+pub mod kitting;
+pub mod taxi;

@@ -7,6 +7,37 @@ use super::status::Status;
 use crate::model::{Builtin, Kind, PortValue, Tree, Uid};
 use serde_json::Value;
 
+/// A node's view of the blackboard, for its scripts.
+struct NodeEnv<'a> {
+    tree: &'a Tree,
+    bb: &'a mut Blackboard,
+    scope: crate::model::ScopeId,
+    writes: &'a mut Vec<(EntryId, Value)>,
+}
+
+impl NodeEnv<'_> {
+    fn entry(&self, name: &str) -> EntryId {
+        match name.strip_prefix('@') {
+            Some(root) => EntryId {
+                scope: 0,
+                key: root.to_string(),
+            },
+            None => self.bb.resolve(self.tree, self.scope, name),
+        }
+    }
+}
+
+impl super::script::Env for NodeEnv<'_> {
+    fn get(&self, name: &str) -> Option<Value> {
+        self.bb.get(&self.entry(name)).cloned()
+    }
+    fn set(&mut self, name: &str, v: Value) {
+        let e = self.entry(name);
+        self.bb.set(&e, v.clone());
+        self.writes.push((e, v));
+    }
+}
+
 /// What a leaf's behaviour is asked to do.
 pub struct LeafCall<'a> {
     pub tree: &'a Tree,
@@ -342,6 +373,10 @@ impl<'t, L: Leaves> Executor<'t, L> {
         } else {
             self.reset_children(uid);
         }
+        if let Some(code) = self.script_attr(uid, "_onHalted") {
+            // A failing _onHalted script cannot stop a halt; it is skipped.
+            let _ = self.script(uid, &code, "_onHalted");
+        }
         self.reset_status(uid);
     }
 
@@ -400,13 +435,13 @@ impl<'t, L: Leaves> Executor<'t, L> {
     /// stays IDLE).
     fn exec(&mut self, uid: Uid) -> R<Status> {
         let n = self.tree.node(uid);
+        let s = match self.pre_conditions(uid)? {
+            Some(s) => s,
+            None => self.tick_node(uid)?,
+        };
         if !n.scripts.is_empty() {
-            return Err(self.err(
-                uid,
-                "pre/post-condition scripts are not run by this version of btx",
-            ));
+            self.post_conditions(uid, s)?;
         }
-        let s = self.tick_node(uid)?;
         if s == Status::Idle {
             return Err(self.err(uid, "a node returned IDLE when ticked"));
         }
@@ -535,14 +570,119 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 }
                 Ok(Status::Success)
             }
+            Builtin::Script => {
+                let code = self.port_str(uid, "code").unwrap_or_default();
+                self.script(uid, &code, "code")?;
+                Ok(Status::Success)
+            }
+            Builtin::ScriptCondition => {
+                let code = self.port_str(uid, "code").unwrap_or_default();
+                Ok(if self.script_test(uid, &code, "code")? {
+                    Status::Success
+                } else {
+                    Status::Failure
+                })
+            }
             _ => Err(self.err(
                 uid,
                 format!(
-                    "{} needs BehaviorTree.CPP scripts, which this version of btx does not run",
+                    "{} is not run by this version of btx",
                     self.tree.type_name(uid)
                 ),
             )),
         }
+    }
+
+    // ---- scripts ----
+
+    fn script(&mut self, uid: Uid, code: &str, what: &str) -> R<Value> {
+        let tree = self.tree;
+        let mut writes = Vec::new();
+        let r = {
+            let mut env = NodeEnv {
+                tree,
+                bb: &mut self.bb,
+                scope: tree.node(uid).scope,
+                writes: &mut writes,
+            };
+            super::script::run(code, &mut env)
+        };
+        for (entry, value) in writes {
+            self.events.push(Event::Write {
+                tick: self.tick,
+                uid,
+                entry,
+                value,
+            });
+        }
+        r.map_err(|e| self.err(uid, format!("{what}=\"{code}\": {e}")))
+    }
+
+    fn script_test(&mut self, uid: Uid, code: &str, what: &str) -> R<bool> {
+        let v = self.script(uid, code, what)?;
+        Ok(match v {
+            Value::Bool(b) => b,
+            Value::Number(n) => n.as_f64().is_some_and(|x| x != 0.0),
+            Value::String(s) => !s.is_empty() && s != "false",
+            _ => false,
+        })
+    }
+
+    fn script_attr(&self, uid: Uid, name: &str) -> Option<String> {
+        self.tree
+            .node(uid)
+            .scripts
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.clone())
+    }
+
+    /// `checkPreConditions`: `_failureIf`, `_successIf`, `_skipIf` while the
+    /// node is IDLE, `_while` while IDLE or RUNNING.
+    fn pre_conditions(&mut self, uid: Uid) -> R<Option<Status>> {
+        if self.tree.node(uid).scripts.is_empty() {
+            return Ok(None);
+        }
+        let status = self.status(uid);
+        if status == Status::Idle {
+            for (attr, result) in [
+                ("_failureIf", Status::Failure),
+                ("_successIf", Status::Success),
+                ("_skipIf", Status::Skipped),
+            ] {
+                if let Some(code) = self.script_attr(uid, attr) {
+                    if self.script_test(uid, &code, attr)? {
+                        return Ok(Some(result));
+                    }
+                }
+            }
+        }
+        if matches!(status, Status::Idle | Status::Running) {
+            if let Some(code) = self.script_attr(uid, "_while") {
+                if !self.script_test(uid, &code, "_while")? {
+                    if status == Status::Running {
+                        self.halt_node(uid);
+                    }
+                    return Ok(Some(Status::Skipped));
+                }
+            }
+        }
+        Ok(None)
+    }
+
+    /// `_onSuccess`, `_onFailure` and `_post` after a node completes.
+    fn post_conditions(&mut self, uid: Uid, s: Status) -> R<()> {
+        let which = match s {
+            Status::Success => "_onSuccess",
+            Status::Failure => "_onFailure",
+            _ => return Ok(()),
+        };
+        for attr in [which, "_post"] {
+            if let Some(code) = self.script_attr(uid, attr) {
+                self.script(uid, &code, attr)?;
+            }
+        }
+        Ok(())
     }
 
     fn tick_subtree(&mut self, uid: Uid) -> R<Status> {
@@ -743,8 +883,20 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 let ret = self.port_str(uid, "return_on_mismatch").unwrap_or_else(|| "FAILURE".into());
                 Status::parse(&ret).ok_or_else(|| self.err(uid, format!("return_on_mismatch=\"{ret}\" is not a status")))
             }
-            Builtin::Precondition
-            | Builtin::LoopInt
+            Builtin::Precondition => {
+                let child = children[0];
+                let code = self.port_str(uid, "if").unwrap_or_default();
+                if self.status(child) == Status::Running || self.script_test(uid, &code, "if")? {
+                    let s = self.exec(child)?;
+                    if s.is_completed() {
+                        self.halt_child(child);
+                    }
+                    return Ok(s);
+                }
+                let otherwise = self.port_str(uid, "else").unwrap_or_else(|| "FAILURE".into());
+                Status::parse(&otherwise).ok_or_else(|| self.err(uid, format!("else=\"{otherwise}\" is not a status")))
+            }
+            Builtin::LoopInt
             | Builtin::LoopBool
             | Builtin::LoopDouble
             | Builtin::LoopString

@@ -5,6 +5,7 @@ pub mod blackboard;
 pub mod domain;
 pub mod exec;
 pub mod plan;
+pub mod script;
 pub mod status;
 pub mod world;
 

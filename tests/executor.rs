@@ -1,0 +1,256 @@
+//! Tick semantics of the built-in nodes (BehaviorTree.CPP 4.10, as
+//! ../shared/docs/behaviortree-cpp.md §1.6 describes them), on small trees.
+
+use btx::run::plan::{Plan, PlanLeaves};
+use btx::run::{Event, Executor, RunOptions, Status};
+use btx::xml::{load_str, LoadOptions};
+use std::path::Path;
+
+/// Runs `body` (the main tree's child) with a plan; returns each tick's
+/// transitions as "name:STATUS" and the root's results.
+fn run(body: &str, plan: &str, ticks: u32) -> (Vec<Vec<String>>, Vec<Status>) {
+    ticked(body, plan, ticks, true)
+}
+
+/// `c` is a condition, every other unknown leaf an action.
+fn ticked(body: &str, plan: &str, ticks: u32, stop: bool) -> (Vec<Vec<String>>, Vec<Status>) {
+    let xml = format!("<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\">{body}</BehaviorTree><TreeNodesModel><Condition ID=\"c\"/></TreeNodesModel></root>");
+    let tree = load_str(Path::new("t.xml"), &xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    let plan = Plan::parse(Path::new("t.plan"), plan).unwrap();
+    let mut ex = Executor::new(
+        &tree,
+        PlanLeaves::new(plan, &tree),
+        RunOptions { tick_ms: 10 },
+    );
+    let (mut out, mut roots) = (Vec::new(), Vec::new());
+    for _ in 0..ticks {
+        let s = ex.tick_once().unwrap_or_else(|e| panic!("{e}"));
+        roots.push(s);
+        out.push(
+            ex.take_events()
+                .into_iter()
+                .filter_map(|e| match e {
+                    Event::Transition { uid, status, .. } => {
+                        Some(format!("{}:{}", tree.description(uid), status))
+                    }
+                    _ => None,
+                })
+                .collect(),
+        );
+        if stop && s != Status::Running {
+            break;
+        }
+    }
+    (out, roots)
+}
+
+fn s(v: &[&str]) -> Vec<String> {
+    v.iter().map(|x| x.to_string()).collect()
+}
+
+#[test]
+fn reactive_sequence_reticks_its_condition_every_tick() {
+    let (t, roots) = run(
+        r#"<ReactiveSequence name="r"><c name="c"/><a name="a"/></ReactiveSequence>"#,
+        "c = S\na = 2RS",
+        5,
+    );
+    assert_eq!(t[0], s(&["r:RUNNING", "c:SUCCESS", "a:RUNNING", "c:IDLE"]));
+    assert_eq!(t[1], s(&["c:SUCCESS", "c:IDLE"]));
+    assert_eq!(
+        t[2],
+        s(&[
+            "c:SUCCESS",
+            "a:SUCCESS",
+            "c:IDLE",
+            "a:IDLE",
+            "r:SUCCESS",
+            "r:IDLE"
+        ])
+    );
+    assert_eq!(roots, [Status::Running, Status::Running, Status::Success]);
+    // A condition that turns false halts the running action.
+    let (t, _) = run(
+        r#"<ReactiveSequence name="r"><c name="c"/><a name="a"/></ReactiveSequence>"#,
+        "c = S, F\na = 3RS",
+        5,
+    );
+    assert_eq!(
+        t[1],
+        s(&["c:FAILURE", "c:IDLE", "a:IDLE", "r:FAILURE", "r:IDLE"])
+    );
+}
+
+#[test]
+fn sequence_with_memory_resumes_at_the_failed_child() {
+    let body = r#"<SequenceWithMemory name="m"><a name="a"/><b name="b"/></SequenceWithMemory>"#;
+    let (t, roots) = ticked(body, "a = S\nb = F, S", 2, false);
+    assert_eq!(roots, [Status::Failure, Status::Success]);
+    assert_eq!(
+        t[1],
+        s(&[
+            "m:RUNNING",
+            "b:SUCCESS",
+            "a:IDLE",
+            "b:IDLE",
+            "m:SUCCESS",
+            "m:IDLE"
+        ]),
+        "a is not ticked again"
+    );
+}
+
+#[test]
+fn retry_loops_within_the_tick_and_counts() {
+    let (t, roots) = run(
+        r#"<RetryUntilSuccessful num_attempts="3"><a name="a"/></RetryUntilSuccessful>"#,
+        "a = F, F, S",
+        2,
+    );
+    assert_eq!(roots, [Status::Success]);
+    assert_eq!(t[0].iter().filter(|x| *x == "a:FAILURE").count(), 2);
+    let (_, roots) = run(
+        r#"<RetryUntilSuccessful num_attempts="2"><a name="a"/></RetryUntilSuccessful>"#,
+        "a = F",
+        2,
+    );
+    assert_eq!(roots, [Status::Failure]);
+}
+
+#[test]
+fn parallel_thresholds() {
+    let body = r#"<Parallel name="p" success_count="1" failure_count="2"><a name="a"/><b name="b"/></Parallel>"#;
+    let (t, roots) = run(body, "a = 2RS\nb = 1RF", 5);
+    assert_eq!(roots, [Status::Running, Status::Running, Status::Success]);
+    assert!(t[1].contains(&"b:FAILURE".to_string()));
+    let (_, roots) = run(
+        r#"<Parallel><a name="a"/><b name="b"/></Parallel>"#,
+        "a = 1RS\nb = F",
+        5,
+    );
+    assert_eq!(roots, [Status::Failure], "the default failure_count is 1");
+    let (_, roots) = run(
+        r#"<ParallelAll max_failures="2"><a name="a"/><b name="b"/></ParallelAll>"#,
+        "a = 1RS\nb = F",
+        5,
+    );
+    assert_eq!(roots, [Status::Running, Status::Success]);
+}
+
+#[test]
+fn timeout_halts_its_child_on_the_simulated_clock() {
+    let (t, roots) = run(
+        r#"<Timeout name="t" msec="25"><a name="a"/></Timeout>"#,
+        "a = 10RS",
+        10,
+    );
+    assert_eq!(
+        roots,
+        [
+            Status::Running,
+            Status::Running,
+            Status::Running,
+            Status::Failure
+        ]
+    );
+    assert_eq!(t[3], s(&["a:IDLE", "t:FAILURE", "t:IDLE"]));
+    let (_, roots) = run(r#"<Delay delay_msec="15"><AlwaysSuccess/></Delay>"#, "", 10);
+    assert_eq!(roots, [Status::Running, Status::Running, Status::Success]);
+}
+
+#[test]
+fn decorators() {
+    let (_, r) = run(r#"<Inverter><a name="a"/></Inverter>"#, "a = F", 2);
+    assert_eq!(r, [Status::Success]);
+    let (_, r) = run(
+        r#"<ForceSuccess><a name="a"/></ForceSuccess>"#,
+        "a = 1RF",
+        3,
+    );
+    assert_eq!(r, [Status::Running, Status::Success]);
+    let (_, r) = run(
+        r#"<KeepRunningUntilFailure><a name="a"/></KeepRunningUntilFailure>"#,
+        "a = S, S, F",
+        5,
+    );
+    assert_eq!(r, [Status::Running, Status::Running, Status::Failure]);
+    let (t, r) = run(
+        r#"<Repeat num_cycles="3"><a name="a"/></Repeat>"#,
+        "a = S",
+        2,
+    );
+    assert_eq!(r, [Status::Success]);
+    assert_eq!(t[0].iter().filter(|x| *x == "a:SUCCESS").count(), 3);
+    let (_, r) = run(
+        r#"<Sequence><RunOnce><a name="a"/></RunOnce><b name="b"/></Sequence>"#,
+        "a = S\nb = 1RS",
+        3,
+    );
+    assert_eq!(r, [Status::Running, Status::Success]);
+}
+
+#[test]
+fn if_then_else_while_do_else_switch_try_catch() {
+    let (_, r) = run(
+        r#"<IfThenElse><c name="c"/><a name="a"/><b name="b"/></IfThenElse>"#,
+        "c = F\na = F\nb = S",
+        2,
+    );
+    assert_eq!(r, [Status::Success]);
+    let (t, r) = run(
+        r#"<WhileDoElse name="w"><c name="c"/><a name="a"/><b name="b"/></WhileDoElse>"#,
+        "c = S, F\na = 3RS\nb = S",
+        4,
+    );
+    assert_eq!(r, [Status::Running, Status::Success]);
+    assert!(
+        t[1].contains(&"a:IDLE".to_string()),
+        "the do branch is halted: {:?}",
+        t[1]
+    );
+    let body = r#"<Sequence><Script code="mode := 'two'"/><Switch2 variable="{mode}" case_1="one" case_2="two"><a name="a"/><b name="b"/><d name="d"/></Switch2></Sequence>"#;
+    let (t, r) = run(body, "a = F\nb = S\nd = F", 2);
+    assert_eq!(r, [Status::Success]);
+    assert!(t[0].contains(&"b:SUCCESS".to_string()));
+    let (t, r) = run(
+        r#"<TryCatch><a name="a"/><b name="b"/><fix name="fix"/></TryCatch>"#,
+        "a = S\nb = F\nfix = S",
+        2,
+    );
+    assert_eq!(r, [Status::Failure], "TryCatch fails after its catch");
+    assert!(t[0].contains(&"fix:SUCCESS".to_string()));
+}
+
+#[test]
+fn scripts_preconditions_and_script_attributes() {
+    let body = r#"<Sequence><Script code="n := 3"/><Precondition if="n > 5" else="SUCCESS"><a name="a"/></Precondition><ScriptCondition code="n == 3"/><b name="b" _skipIf="n == 3"/><c name="c" _onSuccess="n += 1"/><ScriptCondition code="n == 4"/></Sequence>"#;
+    let (t, r) = run(body, "a = F\nb = F\nc = S", 2);
+    assert_eq!(r, [Status::Success]);
+    assert!(
+        !t[0]
+            .iter()
+            .any(|x| x.starts_with("a:") || x.starts_with("b:")),
+        "{:?}",
+        t[0]
+    );
+    let (_, r) = run(r#"<a name="a" _failureIf="true"/>"#, "a = S", 1);
+    assert_eq!(r, [Status::Failure]);
+}
+
+#[test]
+fn errors_name_the_node() {
+    let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><ScriptCondition code="nope > 1"/></Sequence></BehaviorTree></root>"#;
+    let tree = load_str(Path::new("t.xml"), xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    let plan = Plan::parse(Path::new("t.plan"), "").unwrap();
+    let mut ex = Executor::new(&tree, PlanLeaves::new(plan, &tree), RunOptions::default());
+    let e = ex.tick_once().unwrap_err();
+    assert_eq!(e.uid, 2);
+    assert!(
+        e.to_string().contains("\"nope\" is not on the blackboard"),
+        "{e}"
+    );
+}

@@ -243,3 +243,101 @@ fn btcpp_flag_overrides_detection() {
         "the v3 spelling is reported: {err}"
     );
 }
+
+#[test]
+fn run_with_a_domain_and_with_worlds() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cs.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        &path(shipped("case-study.xml")),
+        "--domain",
+        &path(shipped("case-study.domain.toml")),
+        "--out",
+        &path(out.clone()),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("1 ticks, 10 transitions, root SUCCESS"),
+        "{err}"
+    );
+    let (ok, log, _) = btx(&["log", &path(out), "--node", "L2"]);
+    assert!(ok);
+    assert!(
+        log.lines().nth(1).unwrap().ends_with("SUCCESS  Action2"),
+        "{log}"
+    );
+
+    let out = dir.path().join("taxi.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        &path(shipped("taxi.xml")),
+        "--world",
+        "taxi",
+        "--out",
+        &path(out.clone()),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, a, _) = btx(&["ask", &path(out), "--at", "8", "q1", "q2"]);
+    assert!(ok);
+    assert_eq!(
+        a,
+        "I move right.\nI move right in order to navigate to destination.\n"
+    );
+    let (ok, _, err) = btx(&[
+        "run",
+        &path(shipped("kitting.xml")),
+        "--world",
+        "taxi",
+        "--out",
+        &path(dir.path().join("x.jsonl")),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("the taxi world moves, picks up and drops off; it cannot run"),
+        "{err}"
+    );
+    let (ok, _, err) = btx(&[
+        "run",
+        &path(shipped("kitting.xml")),
+        "--world",
+        "kitting",
+        "--seed",
+        "9",
+        "--out",
+        &path(dir.path().join("y.jsonl")),
+    ]);
+    assert!(!ok);
+    assert!(err.contains("seeds 0 to 5"), "{err}");
+    let (ok, out, _) = btx(&["world", "taxi", "--tree"]);
+    assert!(ok);
+    assert!(
+        out.contains("<Sequence name=\"navigate to passenger\">"),
+        "{out}"
+    );
+}
+
+#[test]
+fn ask_with_run_questions_needs_a_session() {
+    let (ok, _, err) = btx(&[
+        "ask",
+        &path(shipped("kitting.xml")),
+        "--node",
+        "#6",
+        "wrong",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("is about a run: ask it of a session"), "{err}");
+    let (ok, a, _) = btx(&[
+        "ask",
+        &path(shipped("kitting.xml")),
+        "--node",
+        "#27",
+        "Can you insert large gear?",
+    ]);
+    assert!(ok);
+    assert_eq!(
+        a,
+        "Yes. I will insert large gear after go insert large gear.\n"
+    );
+}

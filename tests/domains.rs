@@ -185,3 +185,34 @@ status = "SUCCESS"
     let r = a[d.var("R").unwrap()].as_f64().unwrap();
     assert!((0.0..1.0).contains(&r));
 }
+
+#[test]
+fn the_format_expresses_serial_recall_rules() {
+    let d = Domain::load(&fixture("serial-recall-excerpt.domain.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let s = d.initial_state().unwrap();
+    let confusion = s[d.var("UserConfusion").unwrap()].as_f64().unwrap();
+    assert!((confusion - (0.7 * 0.2 + 0.15)).abs() < 1e-9, "{confusion}");
+    let errors = s[d.var("UserNumErrors").unwrap()].as_i64().unwrap();
+    assert!((0..=3).contains(&errors));
+    // A frustrated user (0.8 > 0.7) ends the sequence unless a rule before it applies.
+    let leaf = d
+        .leaves
+        .iter()
+        .position(|l| l.key == "RepeatOrEnd")
+        .unwrap();
+    let a = d.decide(leaf, &s).unwrap();
+    assert_eq!(a.as_deref(), Some("EndThisSequence"));
+    let mut calm = s.clone();
+    calm[d.var("UserFrustration").unwrap()] = Value::from(0.2);
+    calm[d.var("UserNumErrors").unwrap()] = Value::from(1);
+    assert_eq!(
+        d.decide(leaf, &calm).unwrap().as_deref(),
+        Some("RepeatThisSequence")
+    );
+    assert_eq!(
+        d.effect(leaf, &calm, &Some("RepeatThisSequence".into()))
+            .unwrap(),
+        vec![(d.var("RepeatSequence").unwrap(), Value::Bool(true))]
+    );
+}

@@ -255,7 +255,7 @@ impl Domain {
             ));
         }
         if let Some(f) = &file.functions {
-            d.lib = d.compile(f, "functions", false)?.ast;
+            d.lib = d.compile(f, "functions")?.ast;
         }
         for name in file.state.keys() {
             let i = d.vars.len();
@@ -335,7 +335,7 @@ impl Domain {
                 }
             }
             let function = match &v.function {
-                Some(f) => Some(d.compile(f, &format!("function of {name}"), true)?),
+                Some(f) => Some(d.compile(f, &format!("function of {name}"))?),
                 None if !parents.is_empty() => {
                     return Err(d.err(
                         span,
@@ -393,17 +393,17 @@ impl Domain {
             let inputs = vars(&l.inputs, "input")?;
             let outputs = vars(&l.outputs, "output")?;
             let decide = match &l.decide {
-                Some(s) => Some(d.compile(s, &format!("decide of {key}"), false)?),
+                Some(s) => Some(d.compile(s, &format!("decide of {key}"))?),
                 None => None,
             };
             let effect = match &l.effect {
-                Some(s) => Some(d.compile(s, &format!("effect of {key}"), false)?),
+                Some(s) => Some(d.compile(s, &format!("effect of {key}"))?),
                 None if !outputs.is_empty() => {
                     return Err(d.err(span, format!("leaf {key} has outputs but no effect")))
                 }
                 None => None,
             };
-            let status = d.compile(&l.status, &format!("status of {key}"), false)?;
+            let status = d.compile(&l.status, &format!("status of {key}"))?;
             d.leaves.push(LeafDef {
                 key: key.clone(),
                 inputs,
@@ -417,18 +417,9 @@ impl Domain {
         Ok(d)
     }
 
-    fn compile(
-        &self,
-        s: &Spanned<String>,
-        what: &str,
-        expression: bool,
-    ) -> Result<Script, Located> {
+    fn compile(&self, s: &Spanned<String>, what: &str) -> Result<Script, Located> {
         let start = script_start(&self.text, &s.span());
-        let r = if expression {
-            self.engine.compile_expression(s.get_ref())
-        } else {
-            self.engine.compile(s.get_ref())
-        };
+        let r = self.engine.compile(s.get_ref());
         match r {
             Ok(ast) => Ok(Script {
                 ast: self.lib.merge(&ast),

@@ -5,7 +5,7 @@
 
 use super::exec::{LeafCall, LeafOutcome, Leaves};
 use super::status::Status;
-use crate::model::{Kind, Tree, Uid, Version};
+use crate::model::{Tree, Uid};
 use crate::run::blackboard::EntryId;
 use crate::source::Located;
 use rhai::{Dynamic, Engine, Scope, AST};
@@ -714,22 +714,9 @@ impl Domain {
 
     /// Which leaf definition drives a tree leaf (path, name, ID, default).
     pub fn leaf_for(&self, tree: &Tree, uid: Uid) -> Option<usize> {
-        let n = tree.node(uid);
-        let default = if n.kind == Kind::Condition {
-            "@default_condition"
-        } else {
-            "@default_action"
-        };
-        let full = tree.full_path(uid);
-        [
-            (tree.version == Version::V4).then_some(full.as_str()),
-            Some(n.name.as_str()).filter(|s| !s.is_empty()),
-            Some(n.id.as_str()),
-            Some(default),
-        ]
-        .iter()
-        .flatten()
-        .find_map(|k| self.leaves.iter().position(|l| l.key == *k))
+        super::leaf_keys(tree, uid)
+            .iter()
+            .find_map(|k| self.leaves.iter().position(|l| l.key == *k))
     }
 }
 

@@ -701,8 +701,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
         let tree = self.tree;
         let children = &tree.node(uid).children;
         match b {
-            Builtin::Sequence | Builtin::AsyncSequence => self.tick_sequence(uid, b == Builtin::AsyncSequence),
-            Builtin::Fallback | Builtin::AsyncFallback => self.tick_fallback(uid, b == Builtin::AsyncFallback),
+            Builtin::Sequence | Builtin::AsyncSequence => self.tick_sequential(uid, b == Builtin::AsyncSequence, Status::Success),
+            Builtin::Fallback | Builtin::AsyncFallback => self.tick_sequential(uid, b == Builtin::AsyncFallback, Status::Failure),
             Builtin::SequenceWithMemory => self.tick_sequence_with_memory(uid),
             Builtin::ReactiveSequence => self.tick_reactive(uid, Status::Success),
             Builtin::ReactiveFallback => self.tick_reactive(uid, Status::Failure),
@@ -917,7 +917,10 @@ impl<'t, L: Leaves> Executor<'t, L> {
         }
     }
 
-    fn tick_sequence(&mut self, uid: Uid, asynch: bool) -> R<Status> {
+    /// Sequence (`goes_on` = SUCCESS) and Fallback (FAILURE), mirrors of
+    /// each other; the Async variants return after a child that completed
+    /// at once, so that one child runs per tick.
+    fn tick_sequential(&mut self, uid: Uid, asynch: bool, goes_on: Status) -> R<Status> {
         let tree = self.tree;
         let children = &tree.node(uid).children;
         if !self.status(uid).is_active() {
@@ -929,23 +932,23 @@ impl<'t, L: Leaves> Executor<'t, L> {
             let prev = self.status(c);
             match self.exec(c)? {
                 Status::Running => return Ok(Status::Running),
-                Status::Failure => {
-                    self.reset_children(uid);
-                    self.rt(uid).idx = 0;
-                    return Ok(Status::Failure);
-                }
-                Status::Success => {
-                    self.rt(uid).idx += 1;
-                    if asynch && prev == Status::Idle && self.rt(uid).idx < children.len() {
-                        return Ok(Status::Running);
-                    }
-                }
                 Status::Skipped => {
                     let r = self.rt(uid);
                     r.idx += 1;
                     r.skipped += 1;
                 }
                 Status::Idle => unreachable!("exec rejects IDLE"),
+                s if s == goes_on => {
+                    self.rt(uid).idx += 1;
+                    if asynch && prev == Status::Idle && self.rt(uid).idx < children.len() {
+                        return Ok(Status::Running);
+                    }
+                }
+                s => {
+                    self.reset_children(uid);
+                    self.rt(uid).idx = 0;
+                    return Ok(s);
+                }
             }
         }
         let all_skipped = self.rt(uid).skipped == children.len();
@@ -954,48 +957,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
         Ok(if all_skipped {
             Status::Skipped
         } else {
-            Status::Success
-        })
-    }
-
-    fn tick_fallback(&mut self, uid: Uid, asynch: bool) -> R<Status> {
-        let tree = self.tree;
-        let children = &tree.node(uid).children;
-        if !self.status(uid).is_active() {
-            self.rt(uid).skipped = 0;
-        }
-        self.set_status(uid, Status::Running);
-        while self.rt(uid).idx < children.len() {
-            let c = children[self.rt(uid).idx];
-            let prev = self.status(c);
-            match self.exec(c)? {
-                Status::Running => return Ok(Status::Running),
-                Status::Success => {
-                    self.reset_children(uid);
-                    self.rt(uid).idx = 0;
-                    return Ok(Status::Success);
-                }
-                Status::Failure => {
-                    self.rt(uid).idx += 1;
-                    if asynch && prev == Status::Idle && self.rt(uid).idx < children.len() {
-                        return Ok(Status::Running);
-                    }
-                }
-                Status::Skipped => {
-                    let r = self.rt(uid);
-                    r.idx += 1;
-                    r.skipped += 1;
-                }
-                Status::Idle => unreachable!("exec rejects IDLE"),
-            }
-        }
-        let all_skipped = self.rt(uid).skipped == children.len();
-        self.reset_children(uid);
-        self.rt(uid).idx = 0;
-        Ok(if all_skipped {
-            Status::Skipped
-        } else {
-            Status::Failure
+            goes_on
         })
     }
 

@@ -11,3 +11,28 @@ pub mod world;
 
 pub use exec::{Event, Executor, LeafCall, LeafOutcome, Leaves, RunError, RunOptions};
 pub use status::Status;
+
+use crate::model::{Kind, Tree, Uid, Version};
+
+/// The keys a leaf is matched by in plans and domain files, in order: its
+/// fullPath (v4 only), its instance name, its registration ID, the default.
+pub fn leaf_keys(tree: &Tree, uid: Uid) -> Vec<String> {
+    let n = tree.node(uid);
+    let mut keys = Vec::with_capacity(4);
+    if tree.version == Version::V4 {
+        keys.push(tree.full_path(uid));
+    }
+    if !n.name.is_empty() {
+        keys.push(n.name.clone());
+    }
+    keys.push(n.id.clone());
+    keys.push(
+        if n.kind == Kind::Condition {
+            "@default_condition"
+        } else {
+            "@default_action"
+        }
+        .to_string(),
+    );
+    keys
+}

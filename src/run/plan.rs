@@ -191,20 +191,10 @@ impl PlanLeaves {
     /// Which plan entry drives a leaf: its fullPath (v4 only), then its
     /// instance name, then its registration ID, then the default.
     fn assign(&mut self, tree: &Tree, uid: Uid) -> Option<usize> {
-        let n = tree.node(uid);
-        let default = if n.kind == Kind::Condition {
-            "@default_condition"
-        } else {
-            "@default_action"
-        };
+        let entry = super::leaf_keys(tree, uid)
+            .iter()
+            .find_map(|k| self.plan.entry(k));
         let full = tree.full_path(uid);
-        let candidates = [
-            (tree.version == Version::V4).then_some(full.as_str()),
-            Some(n.name.as_str()).filter(|s| !s.is_empty()),
-            Some(n.id.as_str()),
-            Some(default),
-        ];
-        let entry = candidates.iter().flatten().find_map(|k| self.plan.entry(k));
         // Each node steps through its own copy of its list: keyed by fullPath
         // in v4, by uid in v3, as the fixture runner did.
         let cursor = match tree.version {

@@ -24,5 +24,7 @@ pub mod explain;
 
 pub mod export;
 
+pub mod tui;
+
 pub use model::{Kind, Tree, Uid, Version};
 pub use source::{Located, Warning};

@@ -27,7 +27,7 @@ struct Cli {
     #[arg(short, long, global = true)]
     quiet: bool,
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -151,6 +151,25 @@ enum Command {
         #[arg(long)]
         tree: bool,
     },
+    /// Explore a tree and a run in the terminal: `btx open TREE [SESSION]` or `btx open SESSION`.
+    Open {
+        #[arg(required = true, num_args = 1..=2, value_name = "TREE|SESSION")]
+        files: Vec<PathBuf>,
+        #[command(flatten)]
+        reading: Reading,
+    },
+    /// Render a scripted scene of the explorer's demo to an SVG file.
+    Screenshot {
+        /// failure, framed, answer, finder or help.
+        #[arg(long, value_name = "SCENE")]
+        demo: String,
+        #[arg(long, value_name = "FILE.svg")]
+        out: PathBuf,
+        #[arg(long, default_value_t = 110)]
+        width: u16,
+        #[arg(long, default_value_t = 34)]
+        height: u16,
+    },
     /// List the status transitions of a session, like Groot's table.
     Log {
         session: PathBuf,
@@ -201,7 +220,36 @@ fn pick_node(tree: &btx::Tree, pick: &str) -> Result<btx::Uid, Failure> {
 }
 
 fn run(cli: Cli) -> Result<(), Failure> {
-    match cli.command {
+    let Some(command) = cli.command else {
+        return btx::tui::run(btx::tui::demo())
+            .map_err(|e| Failure::Plain(format!("the terminal: {e}")));
+    };
+    match command {
+        Command::Open { files, reading } => {
+            let app = btx::tui::open(
+                &files[0],
+                files.get(1).map(PathBuf::as_path),
+                &reading.options(),
+            )?;
+            btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
+        }
+        Command::Screenshot {
+            demo,
+            out,
+            width,
+            height,
+        } => {
+            let app = btx::tui::scene(&demo).map_err(Failure::Plain)?;
+            let buf = btx::tui::render(&app, width, height);
+            match out.extension().and_then(|e| e.to_str()) {
+                Some("svg") => std::fs::write(&out, btx::tui::svg::buffer_to_svg(&buf))
+                    .map_err(|e| Failure::Plain(format!("{}: {e}", out.display())))?,
+                _ => fail!(
+                    "{}: screenshots are written as .svg (PNG is not built into this version)",
+                    out.display()
+                ),
+            }
+        }
         Command::Tree {
             file,
             reading,

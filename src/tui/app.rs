@@ -1,0 +1,500 @@
+//! The explorer's state and `update`: every change goes through an
+//! [`Action`]; answers come from the library.
+
+use super::keymap::Action;
+use crate::explain::{answer, Answer, Question, RunQuestion, TreeQuestion};
+use crate::frame::Framed;
+use crate::model::{Builtin, Kind, Tree, Uid};
+use crate::run::Status;
+use crate::session::{At, Session};
+use fuzzy_matcher::skim::SkimMatcherV2;
+use fuzzy_matcher::FuzzyMatcher;
+use std::collections::HashSet;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pane {
+    Tree,
+    Timeline,
+    Details,
+    Ask,
+}
+
+/// A window over the panes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Overlay {
+    None,
+    Help,
+    Finder { query: String, selected: usize },
+    Ask { selected: usize },
+}
+
+/// A visible row of the tree pane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Row {
+    pub uid: Uid,
+    pub depth: usize,
+    pub has_children: bool,
+}
+
+pub struct App {
+    pub tree: Tree,
+    pub session: Option<Session>,
+    pub title: String,
+    pub framed: Framed,
+    pub framed_view: bool,
+    pub collapsed: HashSet<Uid>,
+    pub selected: Uid,
+    /// The moment, as a position in the session (transitions applied).
+    pub pos: u32,
+    pub focus: Pane,
+    pub overlay: Overlay,
+    pub answer: Option<Answer>,
+    pub playing: bool,
+    /// Milliseconds between steps while playing.
+    pub play_ms: u64,
+    pub quit: bool,
+    rows: Vec<Row>,
+}
+
+impl App {
+    pub fn new(tree: Tree, session: Option<Session>, title: String) -> App {
+        let framed = Framed::new(&tree);
+        let pos = session.as_ref().map_or(0, |s| {
+            s.index
+                .position(crate::session::Moment {
+                    tick: 1,
+                    step: None,
+                })
+                .unwrap_or(0)
+        });
+        let mut app = App {
+            tree,
+            session,
+            title,
+            framed,
+            framed_view: false,
+            collapsed: HashSet::new(),
+            selected: Tree::ROOT,
+            pos,
+            focus: Pane::Tree,
+            overlay: Overlay::None,
+            answer: None,
+            playing: false,
+            play_ms: 200,
+            quit: false,
+            rows: Vec::new(),
+        };
+        app.follow_current();
+        app.rebuild_rows();
+        app
+    }
+
+    pub fn rows(&self) -> &[Row] {
+        &self.rows
+    }
+
+    /// The run at the current moment, if there is a run.
+    pub fn at(&self) -> Option<At<'_>> {
+        self.session.as_ref().map(|s| s.index.at(self.pos))
+    }
+
+    pub fn status(&self, uid: Uid) -> Status {
+        self.at().map_or(Status::Idle, |a| a.status(uid))
+    }
+
+    /// Rebuilds the visible rows after expanding, collapsing or switching view.
+    pub fn rebuild_rows(&mut self) {
+        let mut rows = Vec::new();
+        if self.framed_view {
+            let mut stack = vec![(0usize, 0usize)];
+            while let Some((i, depth)) = stack.pop() {
+                let f = &self.framed.nodes[i];
+                rows.push(Row {
+                    uid: f.uid,
+                    depth,
+                    has_children: !f.children.is_empty(),
+                });
+                if !self.collapsed.contains(&f.uid) {
+                    stack.extend(f.children.iter().rev().map(|&c| (c, depth + 1)));
+                }
+            }
+        } else {
+            let mut stack = vec![(Tree::ROOT, 0usize)];
+            while let Some((u, depth)) = stack.pop() {
+                let n = self.tree.node(u);
+                rows.push(Row {
+                    uid: u,
+                    depth,
+                    has_children: !n.children.is_empty(),
+                });
+                if !self.collapsed.contains(&u) {
+                    stack.extend(n.children.iter().rev().map(|&c| (c, depth + 1)));
+                }
+            }
+        }
+        self.rows = rows;
+        if self.row_of(self.selected).is_none() {
+            // The selection was folded away (or is not in the framed view):
+            // select its nearest visible ancestor.
+            let visible: HashSet<Uid> = self.rows.iter().map(|r| r.uid).collect();
+            self.selected = self
+                .tree
+                .ancestors(self.selected)
+                .find(|a| visible.contains(a))
+                .unwrap_or(Tree::ROOT);
+        }
+    }
+
+    pub fn row_of(&self, uid: Uid) -> Option<usize> {
+        self.rows.iter().position(|r| r.uid == uid)
+    }
+
+    /// Makes a node visible: expands its ancestors.
+    fn reveal(&mut self, uid: Uid) {
+        let anc: Vec<Uid> = self.tree.ancestors(uid).collect();
+        for a in anc {
+            self.collapsed.remove(&a);
+        }
+        self.rebuild_rows();
+    }
+
+    /// Selects the current node of the moment, as Groot keeps it in view.
+    fn follow_current(&mut self) {
+        if let Some(cur) = self.at().and_then(|a| a.current()) {
+            self.selected = self.visible_for(cur);
+            self.reveal(cur);
+        }
+    }
+
+    /// In the framed view, a folded node is shown by its framed ancestor.
+    fn visible_for(&self, uid: Uid) -> Uid {
+        if !self.framed_view || self.framed.nodes.iter().any(|f| f.uid == uid) {
+            return uid;
+        }
+        self.tree
+            .ancestors(uid)
+            .find(|a| self.framed.nodes.iter().any(|f| f.uid == *a))
+            .unwrap_or(Tree::ROOT)
+    }
+
+    fn positions(&self) -> u32 {
+        self.session
+            .as_ref()
+            .map_or(0, |s| s.index.transitions.len() as u32)
+    }
+
+    fn goto(&mut self, pos: u32) {
+        self.pos = pos.min(self.positions());
+        self.answer = None;
+        self.follow_current();
+    }
+
+    fn tick_end(&self, tick: u32) -> Option<u32> {
+        let s = self.session.as_ref()?;
+        s.index
+            .position(crate::session::Moment { tick, step: None })
+            .ok()
+    }
+
+    fn current_tick(&self) -> u32 {
+        self.at().map_or(0, |a| a.moment().tick)
+    }
+
+    /// Ticks in which a leaf failed.
+    fn failure_ticks(&self) -> Vec<u32> {
+        let Some(s) = &self.session else {
+            return Vec::new();
+        };
+        let mut ticks: Vec<u32> = s
+            .index
+            .transitions
+            .iter()
+            .filter(|t| t.status == Status::Failure && s.tree.node(t.uid).kind.is_leaf())
+            .map(|t| t.tick)
+            .collect();
+        ticks.dedup();
+        ticks
+    }
+
+    /// The questions that apply to the selected node at this moment.
+    pub fn questions(&self) -> Vec<Question> {
+        let mut qs: Vec<Question> = TreeQuestion::ALL.into_iter().map(Question::Tree).collect();
+        if self.session.is_some() {
+            qs.extend(RunQuestion::ALL.into_iter().map(Question::Run));
+        }
+        // "Can you X?" for the sequences and subtrees of the current subgoal.
+        let me = self.asked_node();
+        if let Some(sg) = crate::explain::han::subgoal(&self.tree, me) {
+            let mut seen = HashSet::new();
+            for u in self.tree.descendants(sg) {
+                let n = self.tree.node(u);
+                let seq = n.kind == Kind::SubTree
+                    || matches!(
+                        n.builtin,
+                        Some(
+                            Builtin::Sequence
+                                | Builtin::SequenceWithMemory
+                                | Builtin::ReactiveSequence
+                        )
+                    );
+                if seq && self.tree.has_name(u) && seen.insert(self.tree.description(u).to_string())
+                {
+                    qs.push(Question::CanYou(self.tree.description(u).to_string()));
+                }
+            }
+        }
+        qs
+    }
+
+    /// The node questions are about: the selected one.
+    pub fn asked_node(&self) -> Uid {
+        self.selected
+    }
+
+    /// Finder results: (uid, score, matched character positions in the label).
+    pub fn finder_results(&self, query: &str) -> Vec<(Uid, Vec<usize>)> {
+        let m = SkimMatcherV2::default().ignore_case();
+        let mut scored: Vec<(i64, Uid, Vec<usize>)> = (1..=self.tree.len() as Uid)
+            .filter_map(|u| {
+                let label = finder_label(&self.tree, u);
+                if query.is_empty() {
+                    return Some((0, u, Vec::new()));
+                }
+                m.fuzzy_indices(&label, query).map(|(s, idx)| (s, u, idx))
+            })
+            .collect();
+        scored.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+        scored
+            .into_iter()
+            .take(200)
+            .map(|(_, u, i)| (u, i))
+            .collect()
+    }
+
+    /// Applies one action.
+    pub fn update(&mut self, a: Action) {
+        match &mut self.overlay {
+            Overlay::Help => {
+                if matches!(
+                    a,
+                    Action::Back | Action::Help | Action::Quit | Action::Toggle
+                ) {
+                    self.overlay = Overlay::None;
+                }
+                return;
+            }
+            Overlay::Finder { .. } | Overlay::Ask { .. } => return self.update_list(a),
+            Overlay::None => {}
+        }
+        match a {
+            Action::Quit => self.quit = true,
+            Action::Up | Action::Down => {
+                let i = self.row_of(self.selected).unwrap_or(0);
+                let j = if a == Action::Up {
+                    i.saturating_sub(1)
+                } else {
+                    (i + 1).min(self.rows.len().saturating_sub(1))
+                };
+                self.selected = self.rows[j].uid;
+            }
+            Action::Collapse => {
+                if self
+                    .rows
+                    .get(self.row_of(self.selected).unwrap_or(0))
+                    .is_some_and(|r| r.has_children)
+                    && !self.collapsed.contains(&self.selected)
+                {
+                    self.collapsed.insert(self.selected);
+                    self.rebuild_rows();
+                } else if let Some(p) = self
+                    .tree
+                    .ancestors(self.selected)
+                    .find(|p| self.row_of(*p).is_some())
+                {
+                    self.selected = p;
+                }
+            }
+            Action::Expand => {
+                if self.collapsed.remove(&self.selected) {
+                    self.rebuild_rows();
+                } else if let Some(i) = self.row_of(self.selected) {
+                    if self.rows[i].has_children {
+                        if let Some(next) = self.rows.get(i + 1) {
+                            self.selected = next.uid;
+                        }
+                    }
+                }
+            }
+            Action::Toggle => {
+                if !self.collapsed.remove(&self.selected) {
+                    self.collapsed.insert(self.selected);
+                }
+                self.rebuild_rows();
+            }
+            Action::NextPane => {
+                self.focus = match self.focus {
+                    Pane::Tree => Pane::Timeline,
+                    Pane::Timeline => Pane::Details,
+                    Pane::Details => Pane::Ask,
+                    Pane::Ask => Pane::Tree,
+                }
+            }
+            Action::StepForward => self.goto(self.pos + 1),
+            Action::StepBack => self.goto(self.pos.saturating_sub(1)),
+            Action::TickForward | Action::TickBack => {
+                let t = self.current_tick();
+                let at_end = self.tick_end(t) == Some(self.pos);
+                let target = match a {
+                    Action::TickForward if at_end => t + 1,
+                    Action::TickForward => t,
+                    _ => t.saturating_sub(1),
+                };
+                if let Some(p) = self.tick_end(target.max(1)) {
+                    self.goto(p);
+                }
+            }
+            Action::Start => {
+                if let Some(p) = self.tick_end(1) {
+                    self.goto(p)
+                }
+            }
+            Action::End => self.goto(self.positions()),
+            Action::NextFailure | Action::PrevFailure => {
+                let t = self.current_tick();
+                let at_end = self.tick_end(t) == Some(self.pos);
+                let ticks = self.failure_ticks();
+                let target = if a == Action::NextFailure {
+                    ticks.into_iter().find(|&x| x > t || (x == t && !at_end))
+                } else {
+                    ticks.into_iter().rev().find(|&x| x < t)
+                };
+                if let Some(p) = target.and_then(|x| self.tick_end(x)) {
+                    self.goto(p);
+                }
+            }
+            Action::NextChange | Action::PrevChange => {
+                let Some(s) = &self.session else { return };
+                let changes = s.index.changes_of(self.selected);
+                let target = if a == Action::NextChange {
+                    changes.iter().copied().find(|&p| p > self.pos)
+                } else {
+                    changes.iter().copied().rev().find(|&p| p < self.pos)
+                };
+                if let Some(p) = target {
+                    let keep = self.selected;
+                    self.goto(p);
+                    self.selected = keep;
+                }
+            }
+            Action::Ask => self.overlay = Overlay::Ask { selected: 0 },
+            Action::Find => {
+                self.overlay = Overlay::Finder {
+                    query: String::new(),
+                    selected: 0,
+                }
+            }
+            Action::ToggleFramed => {
+                self.framed_view = !self.framed_view;
+                self.selected = self.visible_for(self.selected);
+                self.rebuild_rows();
+            }
+            Action::Help => self.overlay = Overlay::Help,
+            Action::Play => self.playing = !self.playing && self.session.is_some(),
+            Action::Faster => self.play_ms = (self.play_ms / 2).max(10),
+            Action::Slower => self.play_ms = (self.play_ms * 2).min(5000),
+            Action::Back => self.answer = None,
+        }
+    }
+
+    /// Typing into the finder.
+    pub fn type_char(&mut self, c: char) {
+        if let Overlay::Finder { query, selected } = &mut self.overlay {
+            query.push(c);
+            *selected = 0;
+        }
+    }
+
+    pub fn backspace(&mut self) {
+        if let Overlay::Finder { query, selected } = &mut self.overlay {
+            query.pop();
+            *selected = 0;
+        }
+    }
+
+    fn update_list(&mut self, a: Action) {
+        let len = match &self.overlay {
+            Overlay::Finder { query, .. } => self.finder_results(query).len(),
+            Overlay::Ask { .. } => self.questions().len(),
+            _ => 0,
+        };
+        let choice = match &mut self.overlay {
+            Overlay::Finder { selected, .. } | Overlay::Ask { selected } => selected,
+            _ => return,
+        };
+        match a {
+            Action::Up => *choice = choice.saturating_sub(1),
+            Action::Down => *choice = (*choice + 1).min(len.saturating_sub(1)),
+            Action::Back | Action::Quit => self.overlay = Overlay::None,
+            Action::Toggle => {
+                let i = *choice;
+                match std::mem::replace(&mut self.overlay, Overlay::None) {
+                    Overlay::Finder { query, .. } => {
+                        if let Some((u, _)) = self.finder_results(&query).get(i) {
+                            let u = *u;
+                            self.reveal(u);
+                            self.selected = self.visible_for(u);
+                        }
+                    }
+                    Overlay::Ask { .. } => {
+                        if let Some(q) = self.questions().get(i).cloned() {
+                            self.ask(&q);
+                        }
+                    }
+                    other => self.overlay = other,
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Asks the library; the answer and its nodes are shown.
+    pub fn ask(&mut self, q: &Question) {
+        let at = self.at();
+        let node = self.asked_node();
+        self.answer = answer(&self.tree, at.as_ref(), node, q).ok();
+        if let Some(a) = &self.answer {
+            let nodes = a.nodes.clone();
+            for u in nodes {
+                self.reveal(u);
+            }
+        }
+        self.focus = Pane::Ask;
+    }
+
+    /// A mouse click on tree row `row` (counted from the pane's first row).
+    pub fn click_row(&mut self, row: usize, first: usize) {
+        if let Some(r) = self.rows.get(first + row) {
+            self.selected = r.uid;
+        }
+    }
+
+    /// One step of autoplay; stops at the end.
+    pub fn play_step(&mut self) {
+        if self.pos >= self.positions() {
+            self.playing = false;
+        } else {
+            self.goto(self.pos + 1);
+        }
+    }
+}
+
+/// What the finder matches against: description, ID, path and uid.
+pub fn finder_label(tree: &Tree, uid: Uid) -> String {
+    format!(
+        "#{:<4} {}  [{}]  {}",
+        uid,
+        tree.description(uid),
+        tree.node(uid).id,
+        tree.display_path(uid)
+    )
+}

@@ -1,0 +1,201 @@
+//! The explorer: a terminal UI over trees and runs. State and `update` are
+//! in `app`, drawing in `view`, keys in `keymap`; this module runs the loop.
+
+pub mod app;
+pub mod keymap;
+pub mod svg;
+pub mod view;
+
+pub use app::App;
+pub use keymap::Action;
+
+use crate::session::Session;
+use crate::source::Located;
+use crate::xml::LoadOptions;
+use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind, MouseEventKind};
+use std::path::Path;
+use std::time::Duration;
+
+const DEMO_SESSION: &str = include_str!("../../sessions/kitting-lookat-fails-once.jsonl");
+
+/// The bundled demo: the kitting tree and its `look at chuck fails once` run.
+pub fn demo() -> App {
+    let session = Session::parse(
+        Path::new("demo: kitting, look at chuck fails once"),
+        DEMO_SESSION,
+    )
+    .expect("the bundled session loads");
+    let tree = session.tree.clone();
+    App::new(
+        tree,
+        Some(session),
+        "demo: kitting, look at chuck fails once".into(),
+    )
+}
+
+/// Opens a tree, a session, or a tree with a session of it.
+pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<App, Located> {
+    use crate::input::{open as open_input, Input};
+    let a = open_input(first, opts)?;
+    let b = match second {
+        Some(p) => Some(open_input(p, opts)?),
+        None => None,
+    };
+    let title = first.file_name().map_or_else(
+        || first.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    match (a, b) {
+        (Input::Session(s), None) => {
+            let tree = s.tree.clone();
+            Ok(App::new(tree, Some(*s), title))
+        }
+        (Input::Tree { tree, .. }, None) => Ok(App::new(tree, None, title)),
+        (Input::Tree { tree, .. }, Some(Input::Session(s))) => {
+            if tree.len() != s.tree.len() {
+                return Err(Located::file(
+                    second.expect("given"),
+                    format!(
+                        "the session's tree has {} nodes and {} has {}: not a run of this tree",
+                        s.tree.len(),
+                        first.display(),
+                        tree.len()
+                    ),
+                ));
+            }
+            Ok(App::new(tree, Some(*s), title))
+        }
+        _ => Err(Located::file(
+            first,
+            "give a tree and then a session of it, or just one of them",
+        )),
+    }
+}
+
+/// Maps one terminal event to state changes.
+pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
+    match ev {
+        Event::Key(k) if k.kind == KeyEventKind::Press => {
+            if matches!(app.overlay, app::Overlay::Finder { .. }) {
+                match k.code {
+                    KeyCode::Char(c) if !k.modifiers.contains(event::KeyModifiers::CONTROL) => {
+                        return app.type_char(c)
+                    }
+                    KeyCode::Backspace => return app.backspace(),
+                    _ => {}
+                }
+            }
+            if let Some(a) = keymap::action_for(&k) {
+                app.update(a);
+            }
+        }
+        Event::Mouse(m) => {
+            let areas = view::layout(ratatui::layout::Rect::new(0, 0, size.0, size.1));
+            let t = areas.tree;
+            match m.kind {
+                MouseEventKind::Down(_)
+                    if m.column > t.x
+                        && m.column < t.x + t.width
+                        && m.row > t.y
+                        && m.row < t.y + t.height - 1 =>
+                {
+                    let first = view::first_row(app, t.height.saturating_sub(2) as usize);
+                    app.click_row((m.row - t.y - 1) as usize, first);
+                }
+                MouseEventKind::ScrollDown => app.update(Action::Down),
+                MouseEventKind::ScrollUp => app.update(Action::Up),
+                _ => {}
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Runs the explorer until the person quits. The terminal is restored on
+/// quit, on error and on panic (ratatui's hook).
+pub fn run(mut app: App) -> std::io::Result<()> {
+    let mut terminal = ratatui::try_init()?;
+    let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
+    let result = (|| -> std::io::Result<()> {
+        let mut dirty = true;
+        while !app.quit {
+            if dirty {
+                terminal.draw(|f| view::view(&app, f))?;
+                dirty = false;
+            }
+            // Block until input; wake on a timer only while playing.
+            let ev = if app.playing {
+                if event::poll(Duration::from_millis(app.play_ms))? {
+                    Some(event::read()?)
+                } else {
+                    app.play_step();
+                    dirty = true;
+                    None
+                }
+            } else {
+                Some(event::read()?)
+            };
+            if let Some(ev) = ev {
+                let size = terminal.size()?;
+                handle(&mut app, ev, (size.width, size.height));
+                dirty = true;
+            }
+        }
+        Ok(())
+    })();
+    let _ = ratatui::crossterm::execute!(std::io::stdout(), event::DisableMouseCapture);
+    ratatui::restore();
+    result
+}
+
+/// The scripted scenes of `btx screenshot --demo SCENE`.
+pub const SCENES: [&str; 5] = ["failure", "framed", "answer", "finder", "help"];
+
+/// The demo after a scene's key presses.
+pub fn scene(name: &str) -> Result<App, String> {
+    let mut app = demo();
+    match name {
+        "failure" => app.update(Action::NextFailure),
+        "framed" => {
+            app.update(Action::NextFailure);
+            app.update(Action::ToggleFramed);
+        }
+        "answer" => {
+            app.update(Action::NextFailure);
+            app.update(Action::Ask);
+            let i = app
+                .questions()
+                .iter()
+                .position(|q| {
+                    *q == crate::explain::Question::Run(crate::explain::RunQuestion::WhatWentWrong)
+                })
+                .expect("a run has the failure questions");
+            for _ in 0..i {
+                app.update(Action::Down);
+            }
+            app.update(Action::Toggle);
+        }
+        "finder" => {
+            app.update(Action::Find);
+            for c in "look chuck".chars() {
+                app.type_char(c);
+            }
+        }
+        "help" => app.update(Action::Help),
+        other => {
+            return Err(format!(
+                "no scene \"{other}\"; the scenes are {}",
+                SCENES.join(", ")
+            ))
+        }
+    }
+    Ok(app)
+}
+
+/// Draws the app into an off-screen buffer.
+pub fn render(app: &App, width: u16, height: u16) -> ratatui::buffer::Buffer {
+    let mut t = ratatui::Terminal::new(ratatui::backend::TestBackend::new(width, height))
+        .expect("a test backend");
+    t.draw(|f| view::view(app, f)).expect("drawing into memory");
+    t.backend().buffer().clone()
+}

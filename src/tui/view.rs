@@ -1,0 +1,510 @@
+//! `view(&App)`: draws the panes from the state, building widgets only for
+//! what is visible. It computes nothing that explains.
+
+use super::app::{finder_label, App, Overlay, Pane};
+use super::keymap::{hints, KEYMAP};
+use crate::model::{Kind, Uid};
+use crate::run::Status;
+use ratatui::layout::{Constraint, Direction, Layout, Rect};
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph, Wrap};
+use ratatui::Frame;
+
+/// Where each pane is, for drawing and for mouse clicks.
+pub struct Areas {
+    pub tree: Rect,
+    pub details: Rect,
+    pub timeline: Rect,
+    pub ask: Rect,
+    pub status: Rect,
+}
+
+pub fn layout(area: Rect) -> Areas {
+    let v = Layout::default()
+        .direction(Direction::Vertical)
+        .constraints([
+            Constraint::Min(6),
+            Constraint::Length(8),
+            Constraint::Length(1),
+        ])
+        .split(area);
+    let top = Layout::default()
+        .direction(Direction::Horizontal)
+        .constraints([Constraint::Percentage(58), Constraint::Percentage(42)])
+        .split(v[0]);
+    let right = Layout::default()
+        .direction(Direction::Vertical)
+        .constraints([Constraint::Percentage(55), Constraint::Percentage(45)])
+        .split(top[1]);
+    Areas {
+        tree: top[0],
+        details: right[0],
+        ask: right[1],
+        timeline: v[1],
+        status: v[2],
+    }
+}
+
+/// Groot's colours.
+pub fn status_color(s: Status) -> Color {
+    match s {
+        Status::Running => Color::Yellow,
+        Status::Success => Color::Green,
+        Status::Failure => Color::Red,
+        Status::Idle | Status::Skipped => Color::DarkGray,
+    }
+}
+
+fn glyph(app: &App, uid: Uid) -> &'static str {
+    let n = app.tree.node(uid);
+    match n.kind {
+        Kind::SubTree => "▣",
+        Kind::Action => "▢",
+        Kind::Condition => "◯",
+        Kind::Decorator => "◇",
+        Kind::Control => match app.tree.type_name(uid) {
+            t if t.contains("Fallback") => "?",
+            t if t.contains("Sequence") => "→",
+            t if t.contains("Parallel") => "⇉",
+            _ => "◆",
+        },
+    }
+}
+
+fn block(title: String, focused: bool) -> Block<'static> {
+    let style = if focused {
+        Style::default().fg(Color::Cyan)
+    } else {
+        Style::default()
+    };
+    Block::default()
+        .borders(Borders::ALL)
+        .border_style(style)
+        .title(title)
+}
+
+/// The first row shown so that the selection stays in view.
+pub fn first_row(app: &App, height: usize) -> usize {
+    let sel = app.row_of(app.selected).unwrap_or(0);
+    let h = height.max(1);
+    if sel < h / 2 {
+        0
+    } else {
+        (sel - h / 2).min(app.rows().len().saturating_sub(h))
+    }
+}
+
+fn tree_pane(app: &App, f: &mut Frame, area: Rect) {
+    let title = format!(
+        " {} tree · {} ",
+        if app.framed_view { "framed" } else { "full" },
+        app.title
+    );
+    let b = block(title, app.focus == Pane::Tree);
+    let inner = b.inner(area);
+    f.render_widget(b, area);
+    let h = inner.height as usize;
+    let first = first_row(app, h);
+    let at = app.at();
+    let current = at.and_then(|a| a.current());
+    let highlighted: Vec<Uid> = app
+        .answer
+        .as_ref()
+        .map(|a| a.nodes.clone())
+        .unwrap_or_default();
+    let mut lines = Vec::with_capacity(h);
+    for r in app.rows().iter().skip(first).take(h) {
+        let status = app.status(r.uid);
+        let mut marker = match status {
+            Status::Idle => " ".to_string(),
+            s => s.as_str()[..1].to_string(),
+        };
+        let mut mstyle = Style::default()
+            .fg(status_color(status))
+            .add_modifier(Modifier::BOLD);
+        if let Some(a) = &at {
+            if status == Status::Idle {
+                let t = a
+                    .index
+                    .changes_of(r.uid)
+                    .iter()
+                    .rev()
+                    .find(|&&p| p <= a.pos)
+                    .map(|&p| a.index.transitions[p as usize - 1]);
+                if t.is_some_and(|t| t.prev == Status::Running) {
+                    marker = "H".into();
+                    mstyle = Style::default().fg(Color::Magenta);
+                } else if a.failed(r.uid) {
+                    marker = "x".into();
+                    mstyle = Style::default().fg(Color::Red);
+                }
+            }
+        }
+        let fold = if !r.has_children {
+            "  "
+        } else if app.collapsed.contains(&r.uid) {
+            "▸ "
+        } else {
+            "▾ "
+        };
+        let mut name_style = Style::default();
+        if highlighted.contains(&r.uid) {
+            name_style = name_style
+                .fg(Color::Cyan)
+                .add_modifier(Modifier::UNDERLINED);
+        }
+        if Some(r.uid) == current {
+            name_style = name_style.add_modifier(Modifier::BOLD);
+        }
+        if r.uid == app.selected {
+            name_style = name_style.add_modifier(Modifier::REVERSED);
+        }
+        let role = if app.framed_view {
+            match app
+                .framed
+                .nodes
+                .iter()
+                .find(|x| x.uid == r.uid)
+                .map(|x| x.role)
+            {
+                Some(crate::frame::Role::Goal) => "goal ",
+                Some(crate::frame::Role::Subgoal) => "subgoal ",
+                Some(crate::frame::Role::Step) => "step ",
+                _ => "",
+            }
+        } else {
+            ""
+        };
+        lines.push(Line::from(vec![
+            Span::styled(format!("{marker} "), mstyle),
+            Span::raw("  ".repeat(r.depth)),
+            Span::raw(fold),
+            Span::styled(
+                format!("{} ", glyph(app, r.uid)),
+                Style::default().fg(Color::Blue),
+            ),
+            Span::styled(format!("{role}{}", app.tree.description(r.uid)), name_style),
+            Span::styled(format!(" #{}", r.uid), Style::default().fg(Color::DarkGray)),
+            Span::raw(if Some(r.uid) == current {
+                "  ◀ now"
+            } else {
+                ""
+            }),
+        ]));
+    }
+    f.render_widget(Paragraph::new(lines), inner);
+}
+
+fn details_pane(app: &App, f: &mut Frame, area: Rect) {
+    let b = block(" details ".into(), app.focus == Pane::Details);
+    let u = app.selected;
+    let n = app.tree.node(u);
+    let at = app.at();
+    let mut lines = vec![
+        Line::from(format!("{}  #{}", app.tree.description(u), u)),
+        Line::from(format!(
+            "{} {}  name {:?}",
+            n.kind.as_str(),
+            app.tree.type_name(u),
+            n.name
+        )),
+        Line::from(format!("path {}", app.tree.display_path(u))),
+    ];
+    if let Some(a) = &at {
+        let last = a
+            .last_completed(u)
+            .map_or("never".to_string(), |s| s.to_string());
+        lines.push(Line::from(vec![
+            Span::raw("status "),
+            Span::styled(
+                a.status(u).to_string(),
+                Style::default().fg(status_color(a.status(u))),
+            ),
+            Span::raw(format!("  last completed {last}")),
+        ]));
+        if matches!(
+            n.builtin,
+            Some(crate::model::Builtin::RetryUntilSuccessful | crate::model::Builtin::Repeat)
+        ) {
+            lines.push(Line::from(format!("attempts so far {}", a.attempts(u))));
+        }
+        if let Some(d) = a.decision(u) {
+            lines.push(Line::from(format!("decision {d}")));
+        }
+    }
+    let bb = crate::run::blackboard::Blackboard::new(&app.tree);
+    for p in &n.ports {
+        let mut s = format!(
+            "{} {}",
+            p.direction.map_or("", |d| d.as_str()),
+            crate::export::port_label(p)
+        );
+        if let (Some(a), Some(e)) = (&at, bb.port_entry(&app.tree, n.scope, &p.value)) {
+            if let Some(v) = a.entry(&e) {
+                s.push_str(&format!(" = {v}"));
+            }
+        }
+        lines.push(Line::from(s.trim_start().to_string()));
+    }
+    if let Some(a) = &at {
+        let state: Vec<String> = a
+            .entries()
+            .iter()
+            .filter(|(e, _)| e.scope == 0)
+            .map(|(e, v)| format!("{}={}", e.key, v))
+            .collect();
+        if !state.is_empty() {
+            lines.push(Line::from(Span::styled(
+                "state",
+                Style::default().add_modifier(Modifier::BOLD),
+            )));
+            lines.push(Line::from(state.join("  ")));
+        }
+    }
+    f.render_widget(
+        Paragraph::new(lines).block(b).wrap(Wrap { trim: false }),
+        area,
+    );
+}
+
+fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
+    let b = block(" timeline ".into(), app.focus == Pane::Timeline);
+    let inner = b.inner(area);
+    f.render_widget(b, area);
+    let Some(s) = &app.session else {
+        f.render_widget(
+            Paragraph::new("no run: open a session to step through it"),
+            inner,
+        );
+        return;
+    };
+    let at = s.index.at(app.pos);
+    let m = at.moment();
+    let ticks = s.index.ticks();
+    let total = s.index.transitions.len();
+    let play = if app.playing {
+        format!("  ▶ playing every {} ms", app.play_ms)
+    } else {
+        String::new()
+    };
+    let mut lines = vec![Line::from(format!(
+        "moment {m}  ·  tick {} of {ticks}  ·  transition {} of {total}{play}",
+        m.tick, app.pos
+    ))];
+    // A strip of the selected node's status at the end of each tick around now.
+    let width = inner.width.saturating_sub(10) as u32;
+    let start = m.tick.saturating_sub(width / 2).max(1);
+    let mut strip = vec![Span::raw(format!("#{:<4} ", app.selected))];
+    for t in start..=(start + width).min(ticks) {
+        let p = s
+            .index
+            .position(crate::session::Moment {
+                tick: t,
+                step: None,
+            })
+            .unwrap_or(0);
+        let st = s.index.at(p).status(app.selected);
+        let done = s.index.at(p).last_completed(app.selected);
+        let c = match (st, done) {
+            (Status::Running, _) => '▆',
+            (Status::Idle, Some(Status::Failure)) | (Status::Failure, _) => '▃',
+            (Status::Success, _) | (Status::Idle, Some(Status::Success)) => '▂',
+            _ => '·',
+        };
+        let color = match (st, done) {
+            (Status::Idle, Some(x)) => status_color(x),
+            (x, _) => status_color(x),
+        };
+        let mut style = Style::default().fg(color);
+        if t == m.tick {
+            style = style.add_modifier(Modifier::REVERSED);
+        }
+        strip.push(Span::styled(c.to_string(), style));
+    }
+    lines.push(Line::from(strip));
+    // The transitions around the moment.
+    let around = (inner.height as usize).saturating_sub(2);
+    let lo = (app.pos as usize).saturating_sub(around / 2);
+    for i in lo..(lo + around).min(total) {
+        let t = s.index.transitions[i];
+        let here = i + 1 == app.pos as usize;
+        let style = if here {
+            Style::default().add_modifier(Modifier::REVERSED)
+        } else {
+            Style::default()
+        };
+        lines.push(Line::from(vec![
+            Span::styled(
+                format!(
+                    "{:>5} #{:<4} {:<32} ",
+                    t.tick,
+                    t.uid,
+                    truncate(s.tree.description(t.uid), 32)
+                ),
+                style,
+            ),
+            Span::styled(
+                format!("{:<8}", t.prev.as_str()),
+                Style::default().fg(status_color(t.prev)),
+            ),
+            Span::raw(" → "),
+            Span::styled(
+                t.status.as_str(),
+                Style::default().fg(status_color(t.status)),
+            ),
+        ]));
+    }
+    f.render_widget(Paragraph::new(lines), inner);
+}
+
+fn truncate(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        s.to_string()
+    } else {
+        s.chars().take(n - 1).collect::<String>() + "…"
+    }
+}
+
+fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
+    let b = block(" ask (a) ".into(), app.focus == Pane::Ask);
+    let mut lines = vec![Line::from(Span::styled(
+        format!(
+            "about {} #{}",
+            app.tree.description(app.asked_node()),
+            app.asked_node()
+        ),
+        Style::default().fg(Color::DarkGray),
+    ))];
+    match &app.answer {
+        Some(a) => {
+            lines.push(Line::from(Span::styled(
+                a.question.wording(),
+                Style::default().add_modifier(Modifier::BOLD),
+            )));
+            lines.push(Line::from(a.text.clone()));
+            let used: Vec<String> = a.nodes.iter().map(|u| format!("#{u}")).collect();
+            lines.push(Line::from(Span::styled(
+                format!("from {}", used.join(" ")),
+                Style::default().fg(Color::Cyan),
+            )));
+        }
+        None => lines.push(Line::from(
+            "press a to ask a question about the selected node",
+        )),
+    }
+    f.render_widget(
+        Paragraph::new(lines).block(b).wrap(Wrap { trim: false }),
+        area,
+    );
+}
+
+fn centered(area: Rect, w: u16, h: u16) -> Rect {
+    let w = w.min(area.width);
+    let h = h.min(area.height);
+    Rect {
+        x: area.x + (area.width - w) / 2,
+        y: area.y + (area.height - h) / 2,
+        width: w,
+        height: h,
+    }
+}
+
+fn overlay(app: &App, f: &mut Frame, area: Rect) {
+    match &app.overlay {
+        Overlay::None => {}
+        Overlay::Help => {
+            let r = centered(area, 70, KEYMAP.len() as u16 + 2);
+            let lines: Vec<Line> = KEYMAP
+                .iter()
+                .map(|b| {
+                    Line::from(vec![
+                        Span::styled(
+                            format!("{:<16}", b.keys.join(" ")),
+                            Style::default().fg(Color::Yellow),
+                        ),
+                        Span::raw(b.help),
+                    ])
+                })
+                .collect();
+            f.render_widget(Clear, r);
+            f.render_widget(
+                Paragraph::new(lines).block(
+                    Block::default()
+                        .borders(Borders::ALL)
+                        .title(" keys (? or Esc to close) "),
+                ),
+                r,
+            );
+        }
+        Overlay::Finder { query, selected } => {
+            let r = centered(
+                area,
+                area.width.saturating_sub(8),
+                area.height.saturating_sub(4),
+            );
+            f.render_widget(Clear, r);
+            let b = Block::default()
+                .borders(Borders::ALL)
+                .title(format!(" find: {query}▏ "));
+            let inner = b.inner(r);
+            f.render_widget(b, r);
+            let results = app.finder_results(query);
+            let h = inner.height as usize;
+            let first = selected.saturating_sub(h.saturating_sub(1));
+            let mut lines = Vec::new();
+            for (i, (u, idx)) in results.iter().enumerate().skip(first).take(h) {
+                let label = finder_label(&app.tree, *u);
+                let mut spans = Vec::new();
+                for (ci, ch) in label.chars().enumerate() {
+                    let mut st = Style::default();
+                    if idx.contains(&ci) {
+                        st = st.fg(Color::Yellow).add_modifier(Modifier::BOLD);
+                    }
+                    if i == *selected {
+                        st = st.add_modifier(Modifier::REVERSED);
+                    }
+                    spans.push(Span::styled(ch.to_string(), st));
+                }
+                lines.push(Line::from(spans));
+            }
+            f.render_widget(Paragraph::new(lines), inner);
+        }
+        Overlay::Ask { selected } => {
+            let qs = app.questions();
+            let r = centered(area, 60, qs.len() as u16 + 2);
+            f.render_widget(Clear, r);
+            let lines: Vec<Line> = qs
+                .iter()
+                .enumerate()
+                .map(|(i, q)| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    Line::from(Span::styled(q.wording(), st))
+                })
+                .collect();
+            let title = format!(" ask about {} ", app.tree.description(app.asked_node()));
+            f.render_widget(
+                Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
+                r,
+            );
+        }
+    }
+}
+
+/// Draws the whole screen.
+pub fn view(app: &App, f: &mut Frame) {
+    let a = layout(f.area());
+    tree_pane(app, f, a.tree);
+    details_pane(app, f, a.details);
+    ask_pane(app, f, a.ask);
+    timeline_pane(app, f, a.timeline);
+    f.render_widget(
+        Paragraph::new(Span::styled(hints(), Style::default().fg(Color::DarkGray))),
+        a.status,
+    );
+    overlay(app, f, f.area());
+}

@@ -1,0 +1,124 @@
+//! The explorer's screens, as TestBackend snapshots, and scripted key
+//! sequences.
+
+use btx::tui::keymap::{Action, KEYMAP};
+use btx::tui::{demo, render, scene, SCENES};
+
+fn screen(app: &btx::tui::App, w: u16, h: u16) -> String {
+    let buf = render(app, w, h);
+    let mut s = String::new();
+    for y in 0..h {
+        for x in 0..w {
+            s.push_str(buf[(x, y)].symbol());
+        }
+        s.push('\n');
+    }
+    s
+}
+
+#[test]
+fn scenes() {
+    for name in SCENES {
+        let app = scene(name).unwrap();
+        insta::assert_snapshot!(name, screen(&app, 110, 34));
+    }
+}
+
+#[test]
+fn the_smallest_screen_still_draws() {
+    let app = scene("failure").unwrap();
+    insta::assert_snapshot!("small", screen(&app, 80, 24));
+}
+
+#[test]
+fn demo_f_a_what_went_wrong_shows_the_papers_sentence() {
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    assert_eq!(app.at().unwrap().moment().to_string(), "10");
+    app.update(Action::Ask);
+    let qs = app.questions();
+    let i = qs
+        .iter()
+        .position(|q| q.wording() == "What went wrong?")
+        .unwrap();
+    for _ in 0..i {
+        app.update(Action::Down);
+    }
+    app.update(Action::Toggle);
+    let a = app.answer.as_ref().unwrap();
+    assert_eq!(
+        a.text,
+        "I could not insert large gear because look at chuck failed."
+    );
+    let s = screen(&app, 110, 34);
+    assert!(s.contains("I could not insert large gear because"), "{s}");
+}
+
+#[test]
+fn stepping_moves_the_moment_both_ways() {
+    let mut app = demo();
+    let start = app.pos;
+    app.update(Action::StepForward);
+    app.update(Action::StepForward);
+    app.update(Action::StepBack);
+    assert_eq!(app.pos, start + 1);
+    // Tick 2 has no transitions (the move runs on), so the step lands in tick 3.
+    assert_eq!(app.at().unwrap().moment().to_string(), "3:1");
+    app.update(Action::TickForward);
+    assert_eq!(app.at().unwrap().moment().to_string(), "3");
+    app.update(Action::End);
+    assert_eq!(app.at().unwrap().moment().to_string(), "54");
+    app.update(Action::PrevFailure);
+    assert_eq!(app.at().unwrap().moment().to_string(), "10");
+    app.update(Action::Start);
+    assert_eq!(app.at().unwrap().moment().to_string(), "1");
+    // The current node is selected and kept visible.
+    assert_eq!(app.selected, 6);
+}
+
+#[test]
+fn finder_jumps_to_the_pick() {
+    let mut app = demo();
+    app.update(Action::Find);
+    for c in "#27 retreat arm".chars() {
+        app.type_char(c);
+    }
+    app.update(Action::Toggle);
+    assert_eq!(app.selected, 27);
+    assert!(app.row_of(27).is_some());
+}
+
+#[test]
+fn framed_view_and_collapsing() {
+    let mut app = demo();
+    let full = app.rows().len();
+    app.update(Action::ToggleFramed);
+    assert!(app.rows().len() < full);
+    app.update(Action::Start);
+    app.selected = 1;
+    app.update(Action::Collapse);
+    assert_eq!(app.rows().len(), 1);
+    app.update(Action::Expand);
+    assert!(app.rows().len() > 1);
+}
+
+#[test]
+fn help_lists_every_binding_of_the_keymap() {
+    let app = scene("help").unwrap();
+    let s = screen(&app, 110, 40);
+    for b in KEYMAP {
+        assert!(s.contains(b.help), "help lacks {:?}", b.help);
+        assert!(
+            s.contains(&b.keys.join(" ")),
+            "help lacks the keys {:?}",
+            b.keys
+        );
+    }
+}
+
+#[test]
+fn screenshots_are_svg() {
+    let svg = btx::tui::svg::buffer_to_svg(&render(&demo(), 80, 24));
+    assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+    assert!(svg.trim_end().ends_with("</svg>"));
+}

@@ -1,0 +1,60 @@
+//! The real binary in a real terminal (tmux): open the demo, press keys,
+//! read the screen, quit, and check the terminal came back.
+
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+struct Tmux(String);
+
+impl Tmux {
+    fn run(&self, args: &[&str]) -> String {
+        let out = Command::new("tmux").arg("-L").arg(&self.0).args(args).output().expect("tmux runs");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    fn screen(&self) -> String {
+        self.run(&["capture-pane", "-p", "-t", "btx"])
+    }
+
+    /// Waits until the screen shows `text`.
+    fn wait_for(&self, text: &str) -> String {
+        let start = Instant::now();
+        loop {
+            let s = self.screen();
+            if s.contains(text) {
+                return s;
+            }
+            if start.elapsed() > Duration::from_secs(20) {
+                panic!("the screen never showed {text:?}:\n{s}");
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    }
+}
+
+impl Drop for Tmux {
+    fn drop(&mut self) {
+        let _ = Command::new("tmux").arg("-L").arg(&self.0).arg("kill-server").output();
+    }
+}
+
+#[test]
+fn demo_in_a_real_terminal() {
+    if Command::new("tmux").arg("-V").output().is_err() {
+        eprintln!("tmux is not installed; .ci/run installs it");
+        return;
+    }
+    let t = Tmux(format!("btx-e2e-{}", std::process::id()));
+    let cmd = format!("{}; echo EXITED:$?; sleep 30", env!("CARGO_BIN_EXE_btx"));
+    t.run(&["new-session", "-d", "-s", "btx", "-x", "110", "-y", "34", &cmd]);
+    let s = t.wait_for("full tree");
+    assert!(s.contains("moment 1"), "{s}");
+    t.run(&["send-keys", "-t", "btx", "f"]);
+    t.wait_for("moment 10 ");
+    t.run(&["send-keys", "-t", "btx", "?"]);
+    t.wait_for("keys (? or Esc to close)");
+    t.run(&["send-keys", "-t", "btx", "Escape"]);
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    let s = t.wait_for("EXITED:0");
+    assert!(!s.contains("full tree"), "the alternate screen was left: {s}");
+}

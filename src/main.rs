@@ -158,12 +158,12 @@ enum Command {
         #[command(flatten)]
         reading: Reading,
     },
-    /// Render a scripted scene of the explorer's demo to an SVG file.
+    /// Render a scripted scene of the explorer's demo to an SVG or PNG file.
     Screenshot {
         /// failure, framed, answer, finder or help.
         #[arg(long, value_name = "SCENE")]
         demo: String,
-        #[arg(long, value_name = "FILE.svg")]
+        #[arg(long, value_name = "FILE.svg|FILE.png")]
         out: PathBuf,
         #[arg(long, default_value_t = 110)]
         width: u16,
@@ -244,10 +244,13 @@ fn run(cli: Cli) -> Result<(), Failure> {
             match out.extension().and_then(|e| e.to_str()) {
                 Some("svg") => std::fs::write(&out, btx::tui::svg::buffer_to_svg(&buf))
                     .map_err(|e| Failure::Plain(format!("{}: {e}", out.display())))?,
-                _ => fail!(
-                    "{}: screenshots are written as .svg (PNG is not built into this version)",
-                    out.display()
-                ),
+                Some("png") => {
+                    let png = btx::tui::svg::svg_to_png(&btx::tui::svg::buffer_to_svg(&buf))
+                        .map_err(Failure::Plain)?;
+                    std::fs::write(&out, png)
+                        .map_err(|e| Failure::Plain(format!("{}: {e}", out.display())))?
+                }
+                _ => fail!("{}: a screenshot is a .svg or a .png file", out.display()),
             }
         }
         Command::Tree {

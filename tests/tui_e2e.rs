@@ -8,7 +8,12 @@ struct Tmux(String);
 
 impl Tmux {
     fn run(&self, args: &[&str]) -> String {
-        let out = Command::new("tmux").arg("-L").arg(&self.0).args(args).output().expect("tmux runs");
+        let out = Command::new("tmux")
+            .arg("-L")
+            .arg(&self.0)
+            .args(args)
+            .output()
+            .expect("tmux runs");
         String::from_utf8_lossy(&out.stdout).into_owned()
     }
 
@@ -34,7 +39,11 @@ impl Tmux {
 
 impl Drop for Tmux {
     fn drop(&mut self) {
-        let _ = Command::new("tmux").arg("-L").arg(&self.0).arg("kill-server").output();
+        let _ = Command::new("tmux")
+            .arg("-L")
+            .arg(&self.0)
+            .arg("kill-server")
+            .output();
     }
 }
 
@@ -46,7 +55,17 @@ fn demo_in_a_real_terminal() {
     }
     let t = Tmux(format!("btx-e2e-{}", std::process::id()));
     let cmd = format!("{}; echo EXITED:$?; sleep 30", env!("CARGO_BIN_EXE_btx"));
-    t.run(&["new-session", "-d", "-s", "btx", "-x", "110", "-y", "34", &cmd]);
+    t.run(&[
+        "new-session",
+        "-d",
+        "-s",
+        "btx",
+        "-x",
+        "110",
+        "-y",
+        "34",
+        &cmd,
+    ]);
     let s = t.wait_for("full tree");
     assert!(s.contains("moment 1"), "{s}");
     t.run(&["send-keys", "-t", "btx", "f"]);
@@ -56,5 +75,8 @@ fn demo_in_a_real_terminal() {
     t.run(&["send-keys", "-t", "btx", "Escape"]);
     t.run(&["send-keys", "-t", "btx", "q"]);
     let s = t.wait_for("EXITED:0");
-    assert!(!s.contains("full tree"), "the alternate screen was left: {s}");
+    assert!(
+        !s.contains("full tree"),
+        "the alternate screen was left: {s}"
+    );
 }

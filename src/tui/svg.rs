@@ -91,3 +91,22 @@ pub fn buffer_to_svg(buf: &Buffer) -> String {
     out.push_str("</svg>\n");
     out
 }
+
+/// The SVG as a PNG image, drawn by resvg with the system's monospace fonts.
+pub fn svg_to_png(svg: &str) -> Result<Vec<u8>, String> {
+    let mut opt = resvg::usvg::Options::default();
+    opt.fontdb_mut().load_system_fonts();
+    let tree = resvg::usvg::Tree::from_str(svg, &opt)
+        .map_err(|e| format!("the SVG does not parse: {e}"))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap =
+        resvg::tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("the image is empty")?;
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::default(),
+        &mut pixmap.as_mut(),
+    );
+    pixmap
+        .encode_png()
+        .map_err(|e| format!("PNG encoding: {e}"))
+}

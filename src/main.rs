@@ -26,6 +26,9 @@ struct Cli {
     /// Do not print warnings.
     #[arg(short, long, global = true)]
     quiet: bool,
+    /// The explorer's keymap file (default: $XDG_CONFIG_HOME/btx/keys.toml or ~/.config/btx/keys.toml, if it exists).
+    #[arg(long, global = true, value_name = "FILE")]
+    keys: Option<PathBuf>,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -538,6 +541,19 @@ fn taxi_text(g: &Grid, c: Costs, actions: &[taxi::Action]) -> String {
     );
     out.push('\n');
     out
+}
+
+/// The keymap: the given file, else the user's config file if there is one.
+fn keymap(path: Option<&Path>) -> Result<btx::tui::keymap::Keymap, Failure> {
+    let default = std::env::var_os("XDG_CONFIG_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))
+        .map(|d| d.join("btx/keys.toml"))
+        .filter(|p| p.exists());
+    match path.map(Path::to_path_buf).or(default) {
+        Some(p) => Ok(btx::tui::keymap::Keymap::with_file(&p)?),
+        None => Ok(btx::tui::keymap::Keymap::default()),
+    }
 }
 
 fn report_run(

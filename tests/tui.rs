@@ -122,3 +122,25 @@ fn screenshots_are_svg() {
     assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
     assert!(svg.trim_end().ends_with("</svg>"));
 }
+
+#[test]
+fn a_keymap_file_overrides_the_table() {
+    use btx::tui::keymap::Keymap;
+    use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("keys.toml");
+    std::fs::write(&p, "step_forward = [\"x\", \"Right\"]\nquit = [\"Q\"]\n").unwrap();
+    let km = Keymap::with_file(&p).unwrap();
+    let key = |c| KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE);
+    assert_eq!(km.action_for(&key('x')), Some(Action::StepForward));
+    assert_eq!(km.action_for(&key('n')), None);
+    assert_eq!(km.action_for(&key('Q')), Some(Action::Quit));
+    assert!(km.hints().starts_with("x step"), "{}", km.hints());
+    let mut app = scene("help").unwrap();
+    app.keymap = km;
+    let s = screen(&app, 110, 40);
+    assert!(s.contains("x Right"), "the help shows the keymap in force");
+    std::fs::write(&p, "fly = [\"z\"]\n").unwrap();
+    let e = Keymap::with_file(&p).unwrap_err().to_string();
+    assert!(e.contains("keys.toml:1:7: \"fly\" is not an action"), "{e}");
+}

@@ -53,6 +53,8 @@ pub struct App {
     /// Milliseconds between steps while playing.
     pub play_ms: u64,
     pub quit: bool,
+    /// The key bindings in force (the help and the hints show these).
+    pub keymap: super::keymap::Keymap,
     rows: Vec<Row>,
 }
 
@@ -82,6 +84,7 @@ impl App {
             playing: false,
             play_ms: 200,
             quit: false,
+            keymap: super::keymap::Keymap::default(),
             rows: Vec::new(),
         };
         app.follow_current();

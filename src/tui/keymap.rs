@@ -217,21 +217,97 @@ pub fn key_name(k: &KeyEvent) -> Option<String> {
     Some(if ctrl { format!("Ctrl-{base}") } else { base })
 }
 
-/// The action bound to a key press.
-pub fn action_for(k: &KeyEvent) -> Option<Action> {
-    let name = key_name(k)?;
-    KEYMAP
-        .iter()
-        .find(|b| b.keys.contains(&name.as_str()))
-        .map(|b| b.action)
+impl Action {
+    /// The name a keymap file uses: `step_forward`, `next_failure`, ...
+    pub fn name(self) -> String {
+        let dbg = format!("{self:?}");
+        let mut out = String::new();
+        for (i, c) in dbg.chars().enumerate() {
+            if c.is_uppercase() && i > 0 {
+                out.push('_');
+            }
+            out.push(c.to_ascii_lowercase());
+        }
+        out
+    }
 }
 
-/// The status bar's hints: `n step  N tick  f failure ...`.
-pub fn hints() -> String {
-    KEYMAP
-        .iter()
-        .filter(|b| !b.hint.is_empty())
-        .map(|b| format!("{} {}", b.keys[0], b.hint))
-        .collect::<Vec<_>>()
-        .join("  ")
+/// The bindings in force: the table, with a person's keymap file laid over it.
+#[derive(Debug, Clone)]
+pub struct Keymap {
+    pub keys: Vec<(Vec<String>, Action, &'static str, &'static str)>,
+}
+
+impl Default for Keymap {
+    fn default() -> Self {
+        Keymap {
+            keys: KEYMAP
+                .iter()
+                .map(|b| {
+                    (
+                        b.keys.iter().map(|k| k.to_string()).collect(),
+                        b.action,
+                        b.help,
+                        b.hint,
+                    )
+                })
+                .collect(),
+        }
+    }
+}
+
+impl Keymap {
+    /// Reads `action = ["key", ...]` lines (TOML) over the defaults; the
+    /// listed actions get exactly the listed keys.
+    pub fn with_file(path: &std::path::Path) -> Result<Keymap, crate::source::Located> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            crate::source::Located::file(path, format!("cannot read the keymap: {e}"))
+        })?;
+        let table: std::collections::BTreeMap<String, toml::Spanned<Vec<String>>> =
+            toml::from_str(&text).map_err(|e| {
+                let r = e.span().unwrap_or(0..0);
+                crate::source::Located::at(
+                    path,
+                    &text,
+                    r.start,
+                    r.end.max(r.start + 1),
+                    format!("not a keymap: {}", e.message().trim()),
+                )
+            })?;
+        let mut km = Keymap::default();
+        for (name, keys) in table {
+            let Some(entry) = km.keys.iter_mut().find(|k| k.1.name() == name) else {
+                let known: Vec<String> = KEYMAP.iter().map(|b| b.action.name()).collect();
+                let r = keys.span();
+                return Err(crate::source::Located::at(
+                    path,
+                    &text,
+                    r.start,
+                    r.end,
+                    format!("\"{name}\" is not an action"),
+                )
+                .with_help(format!("the actions are: {}", known.join(", "))));
+            };
+            entry.0 = keys.into_inner();
+        }
+        Ok(km)
+    }
+
+    pub fn action_for(&self, k: &KeyEvent) -> Option<Action> {
+        let name = key_name(k)?;
+        self.keys
+            .iter()
+            .find(|b| b.0.iter().any(|x| *x == name))
+            .map(|b| b.1)
+    }
+
+    /// The status bar's hints: `n step  N tick  f failure ...`.
+    pub fn hints(&self) -> String {
+        self.keys
+            .iter()
+            .filter(|b| !b.3.is_empty() && !b.0.is_empty())
+            .map(|b| format!("{} {}", b.0[0], b.3))
+            .collect::<Vec<_>>()
+            .join("  ")
+    }
 }

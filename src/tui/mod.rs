@@ -85,7 +85,7 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
                     _ => {}
                 }
             }
-            if let Some(a) = keymap::action_for(&k) {
+            if let Some(a) = app.keymap.action_for(&k) {
                 app.update(a);
             }
         }

@@ -2,7 +2,6 @@
 //! what is visible. It computes nothing that explains.
 
 use super::app::{finder_label, App, Overlay, Pane};
-use super::keymap::{hints, KEYMAP};
 use crate::model::{Kind, Uid};
 use crate::run::Status;
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
@@ -414,16 +413,18 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
     match &app.overlay {
         Overlay::None => {}
         Overlay::Help => {
-            let r = centered(area, 70, KEYMAP.len() as u16 + 2);
-            let lines: Vec<Line> = KEYMAP
+            let r = centered(area, 70, app.keymap.keys.len() as u16 + 2);
+            let lines: Vec<Line> = app
+                .keymap
+                .keys
                 .iter()
                 .map(|b| {
                     Line::from(vec![
                         Span::styled(
-                            format!("{:<16}", b.keys.join(" ")),
+                            format!("{:<16}", b.0.join(" ")),
                             Style::default().fg(Color::Yellow),
                         ),
-                        Span::raw(b.help),
+                        Span::raw(b.2),
                     ])
                 })
                 .collect();
@@ -503,7 +504,10 @@ pub fn view(app: &App, f: &mut Frame) {
     ask_pane(app, f, a.ask);
     timeline_pane(app, f, a.timeline);
     f.render_widget(
-        Paragraph::new(Span::styled(hints(), Style::default().fg(Color::DarkGray))),
+        Paragraph::new(Span::styled(
+            app.keymap.hints(),
+            Style::default().fg(Color::DarkGray),
+        )),
         a.status,
     );
     overlay(app, f, f.area());

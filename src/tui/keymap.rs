@@ -297,7 +297,7 @@ impl Keymap {
         let name = key_name(k)?;
         self.keys
             .iter()
-            .find(|b| b.0.iter().any(|x| *x == name))
+            .find(|b| b.0.contains(&name))
             .map(|b| b.1)
     }
 

@@ -223,17 +223,20 @@ fn pick_node(tree: &btx::Tree, pick: &str) -> Result<btx::Uid, Failure> {
 }
 
 fn run(cli: Cli) -> Result<(), Failure> {
+    let keymap = keymap(cli.keys.as_deref())?;
     let Some(command) = cli.command else {
-        return btx::tui::run(btx::tui::demo())
-            .map_err(|e| Failure::Plain(format!("the terminal: {e}")));
+        let mut app = btx::tui::demo();
+        app.keymap = keymap;
+        return btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     };
     match command {
         Command::Open { files, reading } => {
-            let app = btx::tui::open(
+            let mut app = btx::tui::open(
                 &files[0],
                 files.get(1).map(PathBuf::as_path),
                 &reading.options(),
             )?;
+            app.keymap = keymap;
             btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
         }
         Command::Screenshot {

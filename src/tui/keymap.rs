@@ -295,10 +295,7 @@ impl Keymap {
 
     pub fn action_for(&self, k: &KeyEvent) -> Option<Action> {
         let name = key_name(k)?;
-        self.keys
-            .iter()
-            .find(|b| b.0.contains(&name))
-            .map(|b| b.1)
+        self.keys.iter().find(|b| b.0.contains(&name)).map(|b| b.1)
     }
 
     /// The status bar's hints: `n step  N tick  f failure ...`.

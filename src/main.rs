@@ -223,10 +223,9 @@ fn pick_node(tree: &btx::Tree, pick: &str) -> Result<btx::Uid, Failure> {
 }
 
 fn run(cli: Cli) -> Result<(), Failure> {
-    let keymap = keymap(cli.keys.as_deref())?;
     let Some(command) = cli.command else {
         let mut app = btx::tui::demo();
-        app.keymap = keymap;
+        app.keymap = keymap(cli.keys.as_deref())?;
         return btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     };
     match command {
@@ -236,7 +235,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 files.get(1).map(PathBuf::as_path),
                 &reading.options(),
             )?;
-            app.keymap = keymap;
+            app.keymap = keymap(cli.keys.as_deref())?;
             btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
         }
         Command::Screenshot {

@@ -80,3 +80,42 @@ fn demo_in_a_real_terminal() {
         "the alternate screen was left: {s}"
     );
 }
+
+#[test]
+fn sigterm_restores_the_terminal() {
+    if Command::new("tmux").arg("-V").output().is_err() {
+        eprintln!("tmux is not installed; .ci/run installs it");
+        return;
+    }
+    let t = Tmux(format!("btx-term-{}", std::process::id()));
+    let dir = tempfile::tempdir().unwrap();
+    let pidfile = dir.path().join("pid");
+    let cmd = format!(
+        "{} & echo $! > {}; wait $!; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx"),
+        pidfile.display()
+    );
+    t.run(&[
+        "new-session",
+        "-d",
+        "-s",
+        "btx",
+        "-x",
+        "110",
+        "-y",
+        "34",
+        &cmd,
+    ]);
+    t.wait_for("full tree");
+    let pid = std::fs::read_to_string(&pidfile).unwrap();
+    Command::new("kill")
+        .arg("-TERM")
+        .arg(pid.trim())
+        .status()
+        .unwrap();
+    let s = t.wait_for("EXITED:");
+    assert!(
+        !s.contains("full tree"),
+        "the alternate screen was left: {s}"
+    );
+}

@@ -55,6 +55,8 @@ pub struct App {
     pub quit: bool,
     /// The key bindings in force (the help and the hints show these).
     pub keymap: super::keymap::Keymap,
+    /// The tree pane's share of the width, in percent.
+    pub split: u16,
     rows: Vec<Row>,
 }
 
@@ -85,6 +87,7 @@ impl App {
             play_ms: 200,
             quit: false,
             keymap: super::keymap::Keymap::default(),
+            split: 58,
             rows: Vec::new(),
         };
         app.follow_current();
@@ -406,6 +409,8 @@ impl App {
             Action::Faster => self.play_ms = (self.play_ms / 2).max(10),
             Action::Slower => self.play_ms = (self.play_ms * 2).min(5000),
             Action::Back => self.answer = None,
+            Action::Wider => self.split = (self.split + 5).min(85),
+            Action::Narrower => self.split = self.split.saturating_sub(5).max(25),
         }
     }
 

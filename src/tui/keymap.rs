@@ -32,6 +32,9 @@ pub enum Action {
     Quit,
     /// Close an overlay or clear an answer.
     Back,
+    /// Give the tree pane more or less of the width.
+    Wider,
+    Narrower,
 }
 
 /// One binding: the keys, the action, what the help says, and a short hint
@@ -174,6 +177,18 @@ pub const KEYMAP: &[Binding] = &[
         keys: &["-"],
         action: Action::Slower,
         help: "play slower",
+        hint: "",
+    },
+    Binding {
+        keys: &[">"],
+        action: Action::Wider,
+        help: "widen the tree pane",
+        hint: "",
+    },
+    Binding {
+        keys: &["<"],
+        action: Action::Narrower,
+        help: "narrow the tree pane",
         hint: "",
     },
     Binding {

@@ -90,7 +90,7 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
             }
         }
         Event::Mouse(m) => {
-            let areas = view::layout(ratatui::layout::Rect::new(0, 0, size.0, size.1));
+            let areas = view::layout(ratatui::layout::Rect::new(0, 0, size.0, size.1), app.split);
             let t = areas.tree;
             match m.kind {
                 MouseEventKind::Down(_)
@@ -114,6 +114,20 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
 /// Runs the explorer until the person quits. The terminal is restored on
 /// quit, on error and on panic (ratatui's hook).
 pub fn run(mut app: App) -> std::io::Result<()> {
+    // SIGTERM (and SIGHUP) while the loop blocks on input: put the terminal
+    // back from a watcher thread, then leave as a killed process would.
+    let mut signals = signal_hook::iterator::Signals::new([
+        signal_hook::consts::SIGTERM,
+        signal_hook::consts::SIGHUP,
+    ])?;
+    let watcher = signals.handle();
+    std::thread::spawn(move || {
+        if let Some(sig) = signals.forever().next() {
+            let _ = ratatui::crossterm::execute!(std::io::stdout(), event::DisableMouseCapture);
+            ratatui::restore();
+            std::process::exit(128 + sig);
+        }
+    });
     let mut terminal = ratatui::try_init()?;
     let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
     let result = (|| -> std::io::Result<()> {
@@ -145,6 +159,7 @@ pub fn run(mut app: App) -> std::io::Result<()> {
     })();
     let _ = ratatui::crossterm::execute!(std::io::stdout(), event::DisableMouseCapture);
     ratatui::restore();
+    watcher.close();
     result
 }
 

@@ -19,7 +19,7 @@ pub struct Areas {
     pub status: Rect,
 }
 
-pub fn layout(area: Rect) -> Areas {
+pub fn layout(area: Rect, split: u16) -> Areas {
     let v = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
@@ -30,7 +30,10 @@ pub fn layout(area: Rect) -> Areas {
         .split(area);
     let top = Layout::default()
         .direction(Direction::Horizontal)
-        .constraints([Constraint::Percentage(58), Constraint::Percentage(42)])
+        .constraints([
+            Constraint::Percentage(split),
+            Constraint::Percentage(100 - split),
+        ])
         .split(v[0]);
     let right = Layout::default()
         .direction(Direction::Vertical)
@@ -234,17 +237,13 @@ fn details_pane(app: &App, f: &mut Frame, area: Rect) {
     }
     let bb = crate::run::blackboard::Blackboard::new(&app.tree);
     for p in &n.ports {
-        let mut s = format!(
-            "{} {}",
-            p.direction.map_or("", |d| d.as_str()),
-            crate::export::port_label(p)
-        );
+        let mut s = crate::export::port_label(p);
         if let (Some(a), Some(e)) = (&at, bb.port_entry(&app.tree, n.scope, &p.value)) {
             if let Some(v) = a.entry(&e) {
                 s.push_str(&format!(" = {v}"));
             }
         }
-        lines.push(Line::from(s.trim_start().to_string()));
+        lines.push(Line::from(s));
     }
     if let Some(a) = &at {
         let state: Vec<String> = a
@@ -498,7 +497,7 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
 
 /// Draws the whole screen.
 pub fn view(app: &App, f: &mut Frame) {
-    let a = layout(f.area());
+    let a = layout(f.area(), app.split);
     tree_pane(app, f, a.tree);
     details_pane(app, f, a.details);
     ask_pane(app, f, a.ask);

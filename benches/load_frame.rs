@@ -6,7 +6,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::Path;
 
-#[path = "generated.rs"]
+#[path = "support/generated.rs"]
 mod generated;
 use generated::generated_tree;
 

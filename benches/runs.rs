@@ -4,14 +4,13 @@
 
 use btx::run::plan::{Plan, PlanLeaves};
 use btx::run::{Executor, RunOptions, Status};
-use btx::session::record::{record, RunRequest};
-use btx::session::{Moment, Session, Source};
+use btx::session::{Moment, Session};
 use btx::xml::{load_str, LoadOptions};
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use std::hint::black_box;
 use std::path::Path;
 
-#[path = "generated.rs"]
+#[path = "support/generated.rs"]
 mod generated;
 
 fn plan(text: &str) -> Plan {
@@ -69,53 +68,8 @@ fn executor(c: &mut Criterion) {
     g.finish();
 }
 
-/// Records a session of at least `n` transitions of the deep tree.
-fn big_session(dir: &Path, n: u64) -> std::path::PathBuf {
-    // Repeat forever: the root never completes.
-    let xml = generated::generated_tree(10_000)
-        .replace(
-            "<BehaviorTree ID=\"Main\">",
-            "<BehaviorTree ID=\"Main\"><Repeat num_cycles=\"-1\">",
-        )
-        .replacen(
-            "</Sequence></BehaviorTree>",
-            "</Sequence></Repeat></BehaviorTree>",
-            1,
-        );
-    let tree = load_str(Path::new("deep.xml"), &xml, &LoadOptions::default())
-        .unwrap()
-        .tree;
-    let out = dir.join("big.jsonl");
-    let leaves = PlanLeaves::new(plan("@default_action = 1RS\n@default_condition = S"), &tree);
-    let req = RunRequest {
-        tree: &tree,
-        tree_file: None,
-        source: Source {
-            kind: "plan".into(),
-            path: None,
-            text: None,
-            name: None,
-        },
-        seed: None,
-        max_ticks: (n / 4) as u32,
-        options: RunOptions::default(),
-        ask: None,
-        out: &out,
-    };
-    let s = record(req, leaves).unwrap();
-    assert!(s.transitions >= n, "{} transitions", s.transitions);
-    out
-}
-
 fn sessions(c: &mut Criterion) {
-    let dir = std::env::var("BTX_BENCH_DIR")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|_| std::env::temp_dir().join("btx-bench"));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("big.jsonl");
-    if !path.exists() {
-        big_session(&dir, 1_000_000);
-    }
+    let path = generated::big_session();
     let s = Session::load(&path).unwrap();
     eprintln!(
         "session: {} transitions, {} ticks, {} bytes",

@@ -51,3 +51,55 @@ pub fn flat_tree(groups: usize, per_group: usize) -> String {
     x.push_str("</Sequence></BehaviorTree><TreeNodesModel><Action ID=\"do_thing\"/></TreeNodesModel></root>\n");
     x
 }
+
+/// A session of the deep generated tree under `Repeat -1` (the root never
+/// completes), of 250,000 ticks (about 1,080,000 transitions), written once
+/// to `$BTX_BENCH_DIR` (default: `$TMPDIR/btx-bench`) and reused.
+pub fn big_session() -> std::path::PathBuf {
+    use btx::run::plan::{Plan, PlanLeaves};
+    use btx::session::record::{record, RunRequest};
+    use std::path::{Path, PathBuf};
+    let dir = std::env::var("BTX_BENCH_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|_| std::env::temp_dir().join("btx-bench"));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("big.jsonl");
+    if out.exists() {
+        return out;
+    }
+    let xml = generated_tree(10_000)
+        .replace(
+            "<BehaviorTree ID=\"Main\">",
+            "<BehaviorTree ID=\"Main\"><Repeat num_cycles=\"-1\">",
+        )
+        .replacen(
+            "</Sequence></BehaviorTree>",
+            "</Sequence></Repeat></BehaviorTree>",
+            1,
+        );
+    let tree = btx::xml::load_str(Path::new("deep.xml"), &xml, &Default::default())
+        .unwrap()
+        .tree;
+    let plan = Plan::parse(
+        Path::new("bench.plan"),
+        "@default_action = 1RS\n@default_condition = S",
+    )
+    .unwrap();
+    let req = RunRequest {
+        tree: &tree,
+        tree_file: None,
+        source: btx::session::Source {
+            kind: "plan".into(),
+            path: None,
+            text: None,
+            name: None,
+        },
+        seed: None,
+        max_ticks: 250_000,
+        options: btx::run::RunOptions::default(),
+        ask: None,
+        out: &out,
+    };
+    record(req, PlanLeaves::new(plan, &tree)).unwrap();
+    out
+}

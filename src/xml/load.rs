@@ -51,6 +51,9 @@ const SCRIPT_ATTRS: &[&str] = &[
 /// A `<BehaviorTree>`: child `idx` of file `file`'s `<root>`.
 struct Def {
     id: Option<String>,
+    /// In the instantiated XML that BehaviorTree.CPP embeds in its logs,
+    /// one `<BehaviorTree _fullpath=...>` per SubTree instance.
+    fullpath: Option<String>,
     file: FileId,
     idx: usize,
 }
@@ -127,8 +130,13 @@ impl Loader {
                         ));
                     }
                     let id = child.attr("ID").map(str::to_string);
-                    if let Some(id) = &id {
-                        if self.defs.iter().any(|d| d.id.as_deref() == Some(id)) {
+                    let fullpath = child.attr("_fullpath").map(str::to_string);
+                    if let (Some(id), None) = (&id, &fullpath) {
+                        if self
+                            .defs
+                            .iter()
+                            .any(|d| d.id.as_deref() == Some(id) && d.fullpath.is_none())
+                        {
                             return Err(self.err(
                                 file,
                                 child,
@@ -136,7 +144,12 @@ impl Loader {
                             ));
                         }
                     }
-                    self.defs.push(Def { id, file, idx });
+                    self.defs.push(Def {
+                        id,
+                        fullpath,
+                        file,
+                        idx,
+                    });
                 }
                 "TreeNodesModel" => self.read_models(file, child),
                 other => {
@@ -265,6 +278,16 @@ impl Loader {
                 .with_help(format!("the trees are: {}", known()))
             });
         }
+        // An instantiated tree (from a log): the main tree's path is "".
+        if let Some(i) = self
+            .defs
+            .iter()
+            .position(|d| d.fullpath.as_deref() == Some(""))
+        {
+            if opts.main_tree.is_none() && root.attr("main_tree_to_execute").is_none() {
+                return Ok(i);
+            }
+        }
         if let Some(id) = root.attr("main_tree_to_execute") {
             return find(id).ok_or_else(|| {
                 self.err(*file, root, format!("main_tree_to_execute names \"{id}\", but there is no <BehaviorTree ID=\"{id}\">"))
@@ -346,7 +369,10 @@ impl Loader {
                 nodes[(p - 1) as usize].children.push(uid);
             }
             if node.kind == Kind::SubTree {
-                let Some(&di) = by_id.get(&node.id) else {
+                let by_path =
+                    w.el.attr("_fullpath")
+                        .and_then(|p| defs.iter().position(|d| d.fullpath.as_deref() == Some(p)));
+                let Some(di) = by_path.or_else(|| by_id.get(&node.id).copied()) else {
                     let items: Vec<(String, String)> =
                         by_id.keys().map(|k| (k.clone(), k.clone())).collect();
                     let near = crate::rank::rank(&node.id, &items, 5);
@@ -590,8 +616,13 @@ impl Loader {
         // Instance name, by the version's rules.
         let name_attr = el.attr("name");
         let name = if kind == Kind::SubTree {
-            match (version, name_attr) {
-                (Version::V4, Some(n)) if !n.is_empty() => n.to_string(),
+            match (version, name_attr, el.attr("_fullpath")) {
+                (Version::V4, Some(n), _) if !n.is_empty() => n.to_string(),
+                // The instantiated XML of a log names a subtree by its path.
+                (_, None, Some(path)) => match path.rsplit('/').next() {
+                    Some(last) if !last.is_empty() && !last.contains("::") => last.to_string(),
+                    _ => id.clone(),
+                },
                 _ => id.clone(),
             }
         } else {
@@ -604,6 +635,10 @@ impl Loader {
         let mut scripts = Vec::new();
         for a in &el.attrs {
             let k = a.key.as_str();
+            if k == "_uid" && a.value.trim().parse::<Uid>().ok() != Some(uid) {
+                let msg = format!("this node is _uid=\"{}\" in the file, but BehaviorTree.CPP's numbering gives it {uid}", a.value);
+                return Err(self.err(file, el, msg));
+            }
             if matches!(k, "ID" | "name" | "_uid" | "_fullpath") {
                 continue;
             }

@@ -1,5 +1,5 @@
-//! Opening whatever a person points btx at: a tree file or a session,
-//! recognised by content, not by extension.
+//! Opening whatever a person points btx at: a tree file, a session or a
+//! BehaviorTree.CPP `.btlog`, recognised by content, not by extension.
 
 use crate::model::Tree;
 use crate::session::Session;
@@ -38,6 +38,11 @@ impl Input {
 pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
     let bytes =
         std::fs::read(path).map_err(|e| Located::file(path, format!("cannot read: {e}")))?;
+    if crate::logs::btlog::is_btlog(&bytes) {
+        return Ok(Input::Session(Box::new(crate::logs::open_btlog(
+            path, &bytes,
+        )?)));
+    }
     let first = bytes.iter().position(|b| !b.is_ascii_whitespace());
     let kind = first.map(|i| bytes[i]);
     if let Some(b) = kind.filter(|b| !matches!(b, b'{' | b'<' | 0xEF)) {

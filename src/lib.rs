@@ -18,6 +18,8 @@ pub mod pick;
 pub mod run;
 pub mod session;
 
+pub mod logs;
+
 pub mod input;
 
 pub mod explain;

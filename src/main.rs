@@ -143,6 +143,12 @@ enum Command {
         #[arg(long, value_name = "SESSION")]
         out: PathBuf,
     },
+    /// Convert a log (BehaviorTree.CPP .btlog) into a btx session file.
+    Import {
+        log: PathBuf,
+        #[arg(long, value_name = "SESSION")]
+        out: PathBuf,
+    },
     /// Show a built-in world: the taxi grid, its optimal policy and the tree generated from it.
     World {
         #[arg(value_enum)]
@@ -468,6 +474,20 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 }
             }
         }
+        Command::Import { log, out } => {
+            let s = match btx::input::open(&log, &LoadOptions::default())? {
+                Input::Session(s) => *s,
+                Input::Tree { .. } => fail!("{} is a tree, not a log", log.display()),
+            };
+            warn_all(cli.quiet, &s.warnings);
+            let path = btx::logs::write_session(&s, &out)?;
+            eprintln!(
+                "{}: {} ticks, {} transitions",
+                path.display(),
+                s.index.ticks(),
+                s.index.transitions.len()
+            );
+        }
         Command::World { world, costs, tree } => match world {
             World::Kitting => {
                 for (i, (name, _)) in kitting::SCENARIOS.iter().enumerate() {
@@ -494,7 +514,13 @@ fn run(cli: Cli) -> Result<(), Failure> {
             no_idle,
             format,
         } => {
-            let s = Session::load(&session)?;
+            let s = match btx::input::open(&session, &LoadOptions::default())? {
+                Input::Session(s) => *s,
+                Input::Tree { .. } => fail!(
+                    "{} is a tree; btx log reads sessions and logs",
+                    session.display()
+                ),
+            };
             warn_all(cli.quiet, &s.warnings);
             let only = match &node {
                 Some(p) => Some(pick_node(&s.tree, p)?),

@@ -115,6 +115,9 @@ pub trait Leaves {
     fn initial_entries(&self) -> Vec<(EntryId, Value)> {
         Vec::new()
     }
+    /// Sees every status transition, as a logger would (a replay of a log
+    /// follows its position this way).
+    fn observe(&mut self, _uid: Uid, _prev: Status, _status: Status) {}
     /// An error the leaves met (a failing script); the run stops on it.
     fn take_error(&mut self) -> Option<crate::source::Located> {
         None
@@ -294,6 +297,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
             return;
         }
         self.rt(uid).status = s;
+        self.leaves.observe(uid, prev, s);
         let decision = match self.pending_decision.take() {
             Some((u, d)) if u == uid => Some(d),
             other => {

@@ -1,0 +1,132 @@
+//! Logs that robots already write, opened as sessions.
+
+pub mod btlog;
+pub mod ticks;
+
+use crate::run::Status;
+use crate::session::{format, Header, Index, Session, Source, Transition, TreeRef};
+use crate::source::{Located, Warning};
+use crate::xml::{load_str, LoadOptions};
+use std::path::{Path, PathBuf};
+
+/// A `.btlog` as a session: the tree from its XML, ticks reconstructed.
+pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
+    let raw = btlog::parse(path, bytes)?;
+    let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
+    let tree = load_str(
+        &name,
+        &raw.xml,
+        &LoadOptions {
+            version: Some(crate::model::Version::V4),
+            main_tree: None,
+        },
+    )?
+    .tree;
+    let mut warnings = Vec::new();
+    for r in &raw.records {
+        if tree.get(r.uid).is_none() {
+            return Err(Located::file(
+                path,
+                format!(
+                    "byte offset {}: uid {} is not a node of the log's tree ({} nodes)",
+                    r.offset,
+                    r.uid,
+                    tree.len()
+                ),
+            ));
+        }
+    }
+    if raw.partial_tail > 0 {
+        warnings.push(Warning {
+            location: format!(
+                "{}: byte offset {}",
+                path.display(),
+                bytes.len() - raw.partial_tail
+            ),
+            message: format!(
+                "the last {} bytes are not a whole record (a log still being written?); left out",
+                raw.partial_tail
+            ),
+        });
+    }
+    let (ticks, fell_back) = ticks::reconstruct(&tree, &raw.records);
+    if let Some(i) = fell_back {
+        warnings.push(Warning {
+            location: format!(
+                "{}: byte offset {}",
+                path.display(),
+                raw.records.get(i).map_or(bytes.len(), |r| r.offset)
+            ),
+            message:
+                "the replay could not follow the log from here; ticks are told apart by timing"
+                    .into(),
+        });
+    }
+    let mut index = Index::new(tree.len());
+    let mut status = vec![Status::Idle; tree.len()];
+    for (r, &t) in raw.records.iter().zip(&ticks) {
+        let prev = status[(r.uid - 1) as usize];
+        status[(r.uid - 1) as usize] = r.status;
+        index.push_transition(
+            &tree,
+            Transition {
+                tick: t,
+                uid: r.uid,
+                prev,
+                status: r.status,
+            },
+            None,
+        );
+    }
+    let header = Header {
+        btx_session: format::FORMAT_VERSION,
+        btx_version: env!("CARGO_PKG_VERSION").to_string(),
+        tree: TreeRef {
+            path: Some(path.display().to_string()),
+            hash: None,
+            xml: crate::xml::to_v4_xml(&tree),
+            btcpp_format: 4,
+            main_tree: tree.main_tree.clone(),
+        },
+        source: Source {
+            kind: "import".into(),
+            path: Some(path.display().to_string()),
+            text: None,
+            name: Some("btlog".into()),
+        },
+        seed: None,
+        tick_ms: 0,
+        blackboard: Vec::new(),
+    };
+    Ok(Session {
+        path: path.to_path_buf(),
+        header,
+        tree,
+        index,
+        end: None,
+        inserts: Vec::new(),
+        warnings,
+    })
+}
+
+/// Writes a session read from a log as a btx session file.
+pub fn write_session(s: &Session, out: &Path) -> Result<PathBuf, Located> {
+    let mut w = crate::session::SessionWriter::create(out, &s.header)?;
+    for t in &s.index.transitions {
+        w.event(&crate::run::Event::Transition {
+            tick: t.tick,
+            uid: t.uid,
+            prev: t.prev,
+            status: t.status,
+            decision: None,
+        })?;
+    }
+    let root = s
+        .index
+        .transitions
+        .iter()
+        .rev()
+        .find(|t| t.uid == crate::model::Tree::ROOT && t.status.is_completed())
+        .map_or(Status::Idle, |t| t.status);
+    w.finish(s.index.ticks(), root, "imported")
+}

@@ -1,0 +1,148 @@
+//! Tick numbers for logs that have none (`.btlog`, `.fbl`, `.db3`).
+//!
+//! The rule: replay the log through the executor, with each leaf doing what
+//! the log says it did next. A tick ends where the executor's tick ends, so
+//! a new tick starts exactly when the root, or a branch that was left
+//! RUNNING, is ticked again. A leaf that stays RUNNING through ticks in which
+//! nothing changes leaves no trace, so those empty ticks are counted from the
+//! time between ticks: the gap from one tick's first record to the next,
+//! divided by the median such gap, rounded. If the replay cannot follow the
+//! log (a custom control node, a lost record), ticks fall back to timing
+//! alone: a new tick after a gap of 1 ms or more, as Groot 1 does.
+
+use super::btlog::Record;
+use crate::model::{Tree, Uid};
+use crate::run::{Executor, LeafCall, LeafOutcome, Leaves, RunOptions, Status};
+
+struct Replay<'a> {
+    recs: &'a [Record],
+    cursor: usize,
+    diverged: bool,
+}
+
+impl Leaves for Replay<'_> {
+    fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {
+        let now = if call.resumed {
+            Status::Running
+        } else {
+            Status::Idle
+        };
+        let status = match self.recs.get(self.cursor) {
+            Some(r) if r.uid == call.uid && r.status != now => r.status,
+            _ if now == Status::Running => Status::Running,
+            _ => {
+                self.diverged = true;
+                Status::Failure
+            }
+        };
+        LeafOutcome {
+            status,
+            decision: None,
+        }
+    }
+
+    fn observe(&mut self, uid: Uid, _prev: Status, status: Status) {
+        match self.recs.get(self.cursor) {
+            Some(r) if r.uid == uid && r.status == status => self.cursor += 1,
+            _ => self.diverged = true,
+        }
+    }
+}
+
+/// Structural tick of each record, or the index of the first record the
+/// replay could not follow.
+fn by_structure(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
+    let mut ex = Executor::new(
+        tree,
+        Replay {
+            recs,
+            cursor: 0,
+            diverged: false,
+        },
+        RunOptions::default(),
+    );
+    let mut ticks = vec![0u32; recs.len()];
+    let mut stuck = 0;
+    while ex.leaves.cursor < recs.len() {
+        let before = ex.leaves.cursor;
+        let r = ex.tick_once();
+        ex.take_events();
+        let after = ex.leaves.cursor;
+        if r.is_err() || ex.leaves.diverged {
+            return Err(after);
+        }
+        for t in &mut ticks[before..after] {
+            *t = ex.ticks();
+        }
+        if after == before {
+            stuck += 1;
+            if stuck > 2 {
+                return Err(after);
+            }
+        } else {
+            stuck = 0;
+        }
+    }
+    // Compact: ticks without records are put back from timing below.
+    let mut out = Vec::with_capacity(ticks.len());
+    let (mut last, mut n) = (0, 0);
+    for t in ticks {
+        if t != last {
+            last = t;
+            n += 1;
+        }
+        out.push(n);
+    }
+    Ok(out)
+}
+
+/// Timing alone: a new tick after a gap of 1 ms or more.
+fn by_timing(recs: &[Record]) -> Vec<u32> {
+    let mut n = 0;
+    let mut prev: Option<i64> = None;
+    recs.iter()
+        .map(|r| {
+            if prev.is_none_or(|p| r.time_us - p >= 1000) {
+                n += 1;
+            }
+            prev = Some(r.time_us);
+            n
+        })
+        .collect()
+}
+
+/// Puts back the ticks in which nothing changed, from the time between ticks.
+fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> Vec<u32> {
+    let mut firsts: Vec<i64> = Vec::new();
+    for (i, r) in recs.iter().enumerate() {
+        if i == 0 || ticks[i] != ticks[i - 1] {
+            firsts.push(r.time_us);
+        }
+    }
+    let mut gaps: Vec<i64> = firsts
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|g| *g > 0)
+        .collect();
+    gaps.sort_unstable();
+    let Some(&period) = gaps.get(gaps.len() / 2) else {
+        return ticks.to_vec();
+    };
+    let mut numbers = vec![1u32];
+    for w in firsts.windows(2) {
+        let steps = ((w[1] - w[0]) as f64 / period.max(1) as f64)
+            .round()
+            .max(1.0) as u32;
+        numbers.push(numbers.last().expect("seeded") + steps);
+    }
+    ticks.iter().map(|&t| numbers[t as usize - 1]).collect()
+}
+
+/// Tick numbers (from 1) for each record, and whether the structure was
+/// followed to the end (else the index where timing took over).
+pub fn reconstruct(tree: &Tree, recs: &[Record]) -> (Vec<u32>, Option<usize>) {
+    match by_structure(tree, recs) {
+        Ok(t) => (with_empty_ticks(recs, &t), None),
+        Err(at) => (with_empty_ticks(recs, &by_timing(recs)), Some(at)),
+    }
+}

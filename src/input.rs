@@ -44,6 +44,13 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
         )?)));
     }
     let first = bytes.iter().position(|b| !b.is_ascii_whitespace());
+    if !matches!(first.map(|i| bytes[i]), Some(b'{' | b'<' | 0xEF))
+        && crate::logs::fbl::is_fbl(&bytes)
+    {
+        return Ok(Input::Session(Box::new(crate::logs::open_fbl(
+            path, &bytes,
+        )?)));
+    }
     let kind = first.map(|i| bytes[i]);
     if let Some(b) = kind.filter(|b| !matches!(b, b'{' | b'<' | 0xEF)) {
         return Err(Located::file(

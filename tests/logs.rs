@@ -158,3 +158,33 @@ fn the_cli_reads_logs_and_imports_them() {
         open("kitting_lookat_fails_once").index.transitions
     );
 }
+
+fn open_fbl(run: &str) -> btx::session::Session {
+    let p = fixture(&format!("logs/{run}.fbl"));
+    btx::logs::open_fbl(&p, &std::fs::read(&p).unwrap()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn v3_fbl_ticks_are_reconstructed_exactly() {
+    for run in [
+        "taxi_nominal_v3",
+        "kitting_nominal_v3",
+        "kitting_lookat_fails_once_v3",
+        "kitting_detect_chuck_always_fails_v3",
+        "kitting_grasp_check_fails_first_v3",
+    ] {
+        let s = open_fbl(run);
+        assert!(s.warnings.is_empty(), "{run}: {:?}", s.warnings);
+        let ours: Vec<(u32, u32, String, String)> = s
+            .index
+            .transitions
+            .iter()
+            .map(|t| (t.tick, t.uid, t.prev.to_string(), t.status.to_string()))
+            .collect();
+        let want = logged(run);
+        for (i, (a, b)) in ours.iter().zip(&want).enumerate() {
+            assert_eq!(a, b, "{run}: record {i}");
+        }
+        assert_eq!(ours.len(), want.len(), "{run}");
+    }
+}

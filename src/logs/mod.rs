@@ -1,6 +1,7 @@
 //! Logs that robots already write, opened as sessions.
 
 pub mod btlog;
+pub mod fbl;
 pub mod ticks;
 
 use crate::run::Status;
@@ -12,18 +13,53 @@ use std::path::{Path, PathBuf};
 /// A `.btlog` as a session: the tree from its XML, ticks reconstructed.
 pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
     let raw = btlog::parse(path, bytes)?;
+    session_from(
+        path,
+        bytes.len(),
+        &raw.xml,
+        crate::model::Version::V4,
+        &raw.records,
+        raw.partial_tail,
+        "btlog",
+    )
+}
+
+/// A v3 `.fbl` as a session: the tree from its flatbuffer, ticks reconstructed.
+pub fn open_fbl(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
+    let raw = fbl::parse(path, bytes)?;
+    let records: Vec<btlog::Record> = raw.records.iter().map(|(r, _)| *r).collect();
+    session_from(
+        path,
+        bytes.len(),
+        &raw.xml,
+        crate::model::Version::V3,
+        &records,
+        raw.partial_tail,
+        "fbl",
+    )
+}
+
+fn session_from(
+    path: &Path,
+    len: usize,
+    xml: &str,
+    version: crate::model::Version,
+    records: &[btlog::Record],
+    partial_tail: usize,
+    kind: &str,
+) -> Result<Session, Located> {
     let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
     let tree = load_str(
         &name,
-        &raw.xml,
+        xml,
         &LoadOptions {
-            version: Some(crate::model::Version::V4),
+            version: Some(version),
             main_tree: None,
         },
     )?
     .tree;
     let mut warnings = Vec::new();
-    for r in &raw.records {
+    for r in records {
         if tree.get(r.uid).is_none() {
             return Err(Located::file(
                 path,
@@ -36,26 +72,19 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             ));
         }
     }
-    if raw.partial_tail > 0 {
+    if partial_tail > 0 {
         warnings.push(Warning {
-            location: format!(
-                "{}: byte offset {}",
-                path.display(),
-                bytes.len() - raw.partial_tail
-            ),
-            message: format!(
-                "the last {} bytes are not a whole record (a log still being written?); left out",
-                raw.partial_tail
-            ),
+            location: format!("{}: byte offset {}", path.display(), len - partial_tail),
+            message: format!("the last {partial_tail} bytes are not a whole record (a log still being written?); left out"),
         });
     }
-    let (ticks, fell_back) = ticks::reconstruct(&tree, &raw.records);
+    let (ticks, fell_back) = ticks::reconstruct(&tree, records);
     if let Some(i) = fell_back {
         warnings.push(Warning {
             location: format!(
                 "{}: byte offset {}",
                 path.display(),
-                raw.records.get(i).map_or(bytes.len(), |r| r.offset)
+                records.get(i).map_or(len, |r| r.offset)
             ),
             message:
                 "the replay could not follow the log from here; ticks are told apart by timing"
@@ -64,7 +93,7 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
     }
     let mut index = Index::new(tree.len());
     let mut status = vec![Status::Idle; tree.len()];
-    for (r, &t) in raw.records.iter().zip(&ticks) {
+    for (r, &t) in records.iter().zip(&ticks) {
         let prev = status[(r.uid - 1) as usize];
         status[(r.uid - 1) as usize] = r.status;
         index.push_transition(
@@ -85,14 +114,14 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             path: Some(path.display().to_string()),
             hash: None,
             xml: crate::xml::to_v4_xml(&tree),
-            btcpp_format: 4,
+            btcpp_format: version.number(),
             main_tree: tree.main_tree.clone(),
         },
         source: Source {
             kind: "import".into(),
             path: Some(path.display().to_string()),
             text: None,
-            name: Some("btlog".into()),
+            name: Some(kind.into()),
         },
         seed: None,
         tick_ms: 0,

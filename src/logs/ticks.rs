@@ -6,7 +6,8 @@
 //! RUNNING, is ticked again. A leaf that stays RUNNING through ticks in which
 //! nothing changes leaves no trace, so those empty ticks are counted from the
 //! time between ticks: the gap from one tick's first record to the next,
-//! divided by the median such gap, rounded. If the replay cannot follow the
+//! over the period (the 10th percentile of those gaps, as a late tick only
+//! lengthens a gap), counted as k ticks from 0.9·k periods on. If the replay cannot follow the
 //! log (a custom control node, a lost record), ticks fall back to timing
 //! alone: a new tick after a gap of 1 ms or more, as Groot 1 does.
 
@@ -125,13 +126,16 @@ fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> Vec<u32> {
         .filter(|g| *g > 0)
         .collect();
     gaps.sort_unstable();
-    let Some(&period) = gaps.get(gaps.len() / 2) else {
+    // A late tick makes a long gap, never a short one: measure the period
+    // by the short gaps, and count a gap as k ticks only once it is almost
+    // k periods long.
+    let Some(&period) = gaps.get(gaps.len() / 10) else {
         return ticks.to_vec();
     };
     let mut numbers = vec![1u32];
     for w in firsts.windows(2) {
-        let steps = ((w[1] - w[0]) as f64 / period.max(1) as f64)
-            .round()
+        let steps = ((w[1] - w[0]) as f64 / period.max(1) as f64 + 0.1)
+            .floor()
             .max(1.0) as u32;
         numbers.push(numbers.last().expect("seeded") + steps);
     }

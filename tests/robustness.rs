@@ -74,6 +74,21 @@ proptest! {
     }
 
     #[test]
+    fn logs(edits in prop::collection::vec((any::<usize>(), any::<u8>()), 1..8), fbl in any::<bool>(), cut in any::<u16>()) {
+        let name = if fbl { "tests/fixtures/logs/kitting_lookat_fails_once_v3.fbl" } else { "tests/fixtures/logs/kitting_lookat_fails_once.btlog" };
+        let mut bytes = std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join(name)).unwrap();
+        for (at, b) in edits {
+            let i = at % bytes.len();
+            bytes[i] = b;
+        }
+        let keep = bytes.len() - (cut as usize % bytes.len());
+        bytes.truncate(keep);
+        let p = Path::new("m.log");
+        let _ = btx::logs::open_btlog(p, &bytes);
+        let _ = btx::logs::open_fbl(p, &bytes);
+    }
+
+    #[test]
     fn arbitrary_text(s in "\\PC{0,200}") {
         let _ = load_str(Path::new("a.xml"), &s, &LoadOptions::default());
         let _ = Session::parse(Path::new("a.jsonl"), &s);

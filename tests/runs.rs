@@ -424,3 +424,41 @@ fn log_lists_filters_and_writes_json() {
     assert!(rows.iter().all(|r| r["status"] != "IDLE"));
     assert_eq!(rows[0]["node"], "build a gearbox kit");
 }
+
+#[test]
+fn log_marks_halts() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("t.xml");
+    std::fs::write(&tree, r#"<root BTCPP_format="4"><BehaviorTree ID="M"><ReactiveSequence name="r"><check name="c"/><act name="a"/></ReactiveSequence></BehaviorTree><TreeNodesModel><Condition ID="check"/></TreeNodesModel></root>"#).unwrap();
+    let plan = dir.path().join("p.plan");
+    std::fs::write(&plan, "c = S, F\na = 3RS\n").unwrap();
+    let out = dir.path().join("s.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, text, _) = btx(&["log", out.to_str().unwrap(), "--node", "a"]);
+    assert!(ok);
+    assert!(
+        text.lines()
+            .last()
+            .unwrap()
+            .ends_with("RUNNING  -> IDLE     (halted)"),
+        "{text}"
+    );
+    let (_, json, _) = btx(&["log", out.to_str().unwrap(), "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let halted: Vec<&serde_json::Value> = v["transitions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|r| r["halted"] == true)
+        .collect();
+    assert_eq!(halted.len(), 1);
+    assert_eq!(halted[0]["node"], "a");
+}

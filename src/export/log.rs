@@ -57,7 +57,11 @@ pub fn log_text(s: &Session, rows: &[LogRow]) -> String {
             name,
             r.prev,
             r.status,
-            r.decision.as_deref().unwrap_or("")
+            if r.prev == Status::Running && r.status == Status::Idle {
+                "(halted)"
+            } else {
+                r.decision.as_deref().unwrap_or("")
+            }
         ));
     }
     out
@@ -77,6 +81,7 @@ pub fn log_json(s: &Session, rows: &[LogRow]) -> Value {
             "prev": r.prev,
             "status": r.status,
             "decision": r.decision,
+            "halted": r.prev == Status::Running && r.status == Status::Idle,
         })).collect::<Vec<_>>(),
     })
 }

@@ -6,23 +6,6 @@ use btx::run::plan::{Plan, PlanLeaves};
 use btx::run::{Event, Executor, RunOptions, Status};
 use common::*;
 
-fn logged(run: &str) -> Vec<(u32, u32, String, String)> {
-    std::fs::read_to_string(fixture(&format!("runs/{run}.txt")))
-        .unwrap()
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(|l| {
-            let f: Vec<&str> = l.split_whitespace().collect();
-            (
-                f[0].parse().unwrap(),
-                f[1].parse().unwrap(),
-                f[2].to_string(),
-                f[3].to_string(),
-            )
-        })
-        .collect()
-}
-
 fn ours(tree: &str, plan: &str) -> Vec<(u32, u32, String, String)> {
     let t = load(&fixture(tree));
     let plan = Plan::load(&fixture(&format!("plans/{plan}.plan"))).unwrap();

@@ -6,23 +6,6 @@ use btx::explain::{answer, Question};
 use btx::session::Moment;
 use common::*;
 
-fn logged(run: &str) -> Vec<(u32, u32, String, String)> {
-    std::fs::read_to_string(fixture(&format!("runs/{run}.txt")))
-        .unwrap()
-        .lines()
-        .filter(|l| !l.starts_with('#'))
-        .map(|l| {
-            let f: Vec<&str> = l.split_whitespace().collect();
-            (
-                f[0].parse().unwrap(),
-                f[1].parse().unwrap(),
-                f[2].to_string(),
-                f[3].to_string(),
-            )
-        })
-        .collect()
-}
-
 fn open(run: &str) -> btx::session::Session {
     let p = fixture(&format!("logs/{run}.btlog"));
     btx::logs::open_btlog(&p, &std::fs::read(&p).unwrap()).unwrap_or_else(|e| panic!("{e}"))

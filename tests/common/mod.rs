@@ -26,3 +26,21 @@ pub fn load(path: &Path) -> Tree {
 pub fn uid_of(tree: &Tree, pick: &str) -> btx::Uid {
     btx::pick::pick(tree, pick).unwrap_or_else(|e| panic!("{e}"))
 }
+
+/// The (tick, uid, previous status, status) rows of `tests/fixtures/runs/RUN.txt`.
+pub fn logged(run: &str) -> Vec<(u32, u32, String, String)> {
+    std::fs::read_to_string(fixture(&format!("runs/{run}.txt")))
+        .unwrap()
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .map(|l| {
+            let f: Vec<&str> = l.split_whitespace().collect();
+            (
+                f[0].parse().unwrap(),
+                f[1].parse().unwrap(),
+                f[2].to_string(),
+                f[3].to_string(),
+            )
+        })
+        .collect()
+}

@@ -6,6 +6,22 @@ use btx::explain::{answer, Question};
 use btx::session::Moment;
 use common::*;
 
+/// The session's transitions equal the recorded run's, ticks included.
+fn assert_same_run(s: &btx::session::Session, run: &str) {
+    assert!(s.warnings.is_empty(), "{run}: {:?}", s.warnings);
+    let ours: Vec<(u32, u32, String, String)> = s
+        .index
+        .transitions
+        .iter()
+        .map(|t| (t.tick, t.uid, t.prev.to_string(), t.status.to_string()))
+        .collect();
+    let want = logged(run);
+    for (i, (a, b)) in ours.iter().zip(&want).enumerate() {
+        assert_eq!(a, b, "{run}: record {i}");
+    }
+    assert_eq!(ours.len(), want.len(), "{run}");
+}
+
 fn open(run: &str) -> btx::session::Session {
     let p = fixture(&format!("logs/{run}.btlog"));
     btx::logs::open_btlog(&p, &std::fs::read(&p).unwrap()).unwrap_or_else(|e| panic!("{e}"))
@@ -20,15 +36,7 @@ fn ticks_are_reconstructed_exactly() {
         "kitting_detect_chuck_always_fails",
         "kitting_grasp_check_fails_first",
     ] {
-        let s = open(run);
-        assert!(s.warnings.is_empty(), "{run}: {:?}", s.warnings);
-        let ours: Vec<(u32, u32, String, String)> = s
-            .index
-            .transitions
-            .iter()
-            .map(|t| (t.tick, t.uid, t.prev.to_string(), t.status.to_string()))
-            .collect();
-        assert_eq!(ours, logged(run), "{run}");
+        assert_same_run(&open(run), run);
     }
 }
 
@@ -156,18 +164,6 @@ fn v3_fbl_ticks_are_reconstructed_exactly() {
         "kitting_detect_chuck_always_fails_v3",
         "kitting_grasp_check_fails_first_v3",
     ] {
-        let s = open_fbl(run);
-        assert!(s.warnings.is_empty(), "{run}: {:?}", s.warnings);
-        let ours: Vec<(u32, u32, String, String)> = s
-            .index
-            .transitions
-            .iter()
-            .map(|t| (t.tick, t.uid, t.prev.to_string(), t.status.to_string()))
-            .collect();
-        let want = logged(run);
-        for (i, (a, b)) in ours.iter().zip(&want).enumerate() {
-            assert_eq!(a, b, "{run}: record {i}");
-        }
-        assert_eq!(ours.len(), want.len(), "{run}");
+        assert_same_run(&open_fbl(run), run);
     }
 }

@@ -409,6 +409,17 @@ impl<'t, L: Leaves> Executor<'t, L> {
 
     // ---- timers on the simulated clock ----
 
+    /// Timeout's and Delay's first tick: RUNNING, and a timer that fires
+    /// `ms` from now (at once when `ms` <= 0).
+    fn start_timer(&mut self, uid: Uid, ms: i64) {
+        self.set_status(uid, Status::Running);
+        let now = self.now_ms;
+        let r = self.rt(uid);
+        r.started = true;
+        r.fired = ms <= 0;
+        r.deadline = (ms > 0).then_some(now + ms as u64);
+    }
+
     fn fire_timers(&mut self) -> R<()> {
         for i in 0..self.rt.len() {
             let Some(deadline) = self.rt[i].deadline else {
@@ -803,12 +814,9 @@ impl<'t, L: Leaves> Executor<'t, L> {
             Builtin::Timeout => {
                 if !self.rt(uid).started {
                     let ms = self.port_int(uid, &["msec"], None)?;
-                    self.set_status(uid, Status::Running);
-                    let now = self.now_ms;
-                    let r = self.rt(uid);
-                    r.started = true;
-                    r.fired = false;
-                    r.deadline = (ms > 0).then_some(now + ms as u64);
+                    self.start_timer(uid, ms);
+                    // No timeout at all when msec <= 0.
+                    self.rt(uid).fired = false;
                 }
                 if self.rt(uid).fired {
                     let r = self.rt(uid);
@@ -828,12 +836,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
             Builtin::Delay => {
                 if !self.rt(uid).started {
                     let ms = self.port_int(uid, &["delay_msec"], None)?;
-                    self.set_status(uid, Status::Running);
-                    let now = self.now_ms;
-                    let r = self.rt(uid);
-                    r.started = true;
-                    r.fired = ms <= 0;
-                    r.deadline = (ms > 0).then_some(now + ms as u64);
+                    self.start_timer(uid, ms);
                 }
                 if !self.rt(uid).fired {
                     return Ok(Status::Running);

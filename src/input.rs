@@ -71,6 +71,9 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
         )
     })?;
     match kind {
+        Some(b'{') if crate::logs::btcm::is_btcm(&text) => Ok(Input::Session(Box::new(
+            crate::logs::btcm::open_btcm(path, &text)?,
+        ))),
         Some(b'{') => Ok(Input::Session(Box::new(Session::parse(path, &text)?))),
         Some(_) => {
             let l = load_str(path, &text, opts)?;

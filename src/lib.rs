@@ -24,6 +24,8 @@ pub mod input;
 
 pub mod explain;
 
+pub mod causal;
+
 pub mod export;
 
 pub mod tui;

@@ -48,6 +48,12 @@ enum Format {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum GraphFormat {
+    Dot,
+    Json,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum CostModel {
     Optimal,
     Expected,
@@ -59,7 +65,7 @@ enum World {
     Kitting,
 }
 
-#[derive(clap::Args)]
+#[derive(clap::Args, Default)]
 struct Reading {
     /// Run this <BehaviorTree> instead of the file's main tree.
     #[arg(long, value_name = "ID")]
@@ -179,6 +185,40 @@ enum Command {
         #[arg(long, default_value_t = 34)]
         height: u16,
     },
+    /// Why did something happen and not something else? A counterfactual search
+    /// over the explanation model of the tick (Love et al.).
+    Why {
+        /// A session (or a log btx reads as one).
+        session: PathBuf,
+        /// status(NODE), executed(NODE), decision(NODE) or a state variable VAR (VAR^K: its copy K in the tick).
+        target: String,
+        /// A value the target did not have (repeatable). Default: every other value.
+        #[arg(long = "not", value_name = "VALUE")]
+        not: Vec<String>,
+        /// The moment: TICK (its end) or TICK:STEP. Default: the end of the run.
+        #[arg(long, value_name = "MOMENT")]
+        at: Option<String>,
+        /// The largest number of variables changed together.
+        #[arg(long, value_name = "N", default_value_t = 2)]
+        max_depth: usize,
+        /// A domain file instead of the one the session recorded.
+        #[arg(long, value_name = "FILE")]
+        domain: Option<PathBuf>,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
+    /// Print the explanation model (causal graph) of a tick of a session.
+    Graph {
+        session: PathBuf,
+        /// The moment: TICK or TICK:STEP. Default: the last tick.
+        #[arg(long, value_name = "MOMENT")]
+        at: Option<String>,
+        /// A domain file instead of the one the session recorded.
+        #[arg(long, value_name = "FILE")]
+        domain: Option<PathBuf>,
+        #[arg(long, value_enum, default_value = "dot")]
+        format: GraphFormat,
+    },
     /// List the status transitions of a session, like Groot's table.
     Log {
         session: PathBuf,
@@ -222,6 +262,26 @@ fn open_input(file: &Path, reading: &Reading, quiet: bool) -> Result<Input, Fail
     let input = open(file, &reading.options())?;
     warn_all(quiet, input.warnings());
     Ok(input)
+}
+
+/// An error without a position reads best as one plain message.
+fn located(e: btx::Located) -> Failure {
+    if e.source_code.is_none() {
+        Failure::Plain(e.to_string())
+    } else {
+        Failure::from(e)
+    }
+}
+
+fn session_of<'a>(input: &'a Input, file: &Path) -> Result<&'a Session, Failure> {
+    match input.session() {
+        Some(s) if s.index.ticks() > 0 => Ok(s),
+        Some(_) => fail!("{}: the session recorded no tick", file.display()),
+        None => fail!(
+            "{} is a tree; a why-question is about a run: give a session (btx run … --out SESSION) or a log",
+            file.display()
+        ),
+    }
 }
 
 fn pick_node(tree: &btx::Tree, pick: &str) -> Result<btx::Uid, Failure> {
@@ -290,6 +350,52 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 }
             };
             print!("{out}");
+        }
+        Command::Why {
+            session,
+            target,
+            not,
+            at,
+            max_depth,
+            domain,
+            format,
+        } => {
+            let input = open_input(&session, &Reading::default(), cli.quiet)?;
+            let s = session_of(&input, &session)?;
+            let at = at
+                .as_deref()
+                .map(Moment::parse)
+                .transpose()
+                .map_err(Failure::Plain)?;
+            let d = btx::causal::session_domain(s, domain.as_deref()).map_err(located)?;
+            let w = btx::causal::why(s, d, &target, &not, at, max_depth).map_err(located)?;
+            match format {
+                Format::Text => print!("{}", w.text()),
+                Format::Json => print!("{}", pretty(&w.json())),
+            }
+        }
+        Command::Graph {
+            session,
+            at,
+            domain,
+            format,
+        } => {
+            let input = open_input(&session, &Reading::default(), cli.quiet)?;
+            let s = session_of(&input, &session)?;
+            let tick = match at.as_deref() {
+                Some(a) => {
+                    let m = Moment::parse(a).map_err(Failure::Plain)?;
+                    s.index.position(m).map_err(Failure::Plain)?;
+                    m.tick
+                }
+                None => s.index.ticks(),
+            };
+            let d = btx::causal::session_domain(s, domain.as_deref()).map_err(located)?;
+            let m = btx::causal::model_at(s, d, tick).map_err(located)?;
+            match format {
+                GraphFormat::Dot => print!("{}", btx::causal::graph::dot(&m)),
+                GraphFormat::Json => print!("{}", pretty(&btx::causal::graph::json(&m))),
+            }
         }
         Command::Ask {
             file,

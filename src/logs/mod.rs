@@ -1,5 +1,6 @@
 //! Logs that robots already write, opened as sessions.
 
+pub mod btcm;
 pub mod btlog;
 pub mod fbl;
 pub mod ticks;
@@ -141,13 +142,33 @@ fn session_from(
 /// Writes a session read from a log as a btx session file.
 pub fn write_session(s: &Session, out: &Path) -> Result<PathBuf, Located> {
     let mut w = crate::session::SessionWriter::create(out, &s.header)?;
-    for t in &s.index.transitions {
+    let idx = &s.index;
+    let (mut wi, mut di) = (0, 0);
+    for (i, t) in idx.transitions.iter().enumerate() {
+        while let Some(x) = idx.writes.get(wi).filter(|x| x.pos as usize <= i) {
+            w.event(&crate::run::Event::Write {
+                tick: x.tick,
+                uid: x.uid,
+                entry: x.entry.clone(),
+                value: x.value.clone(),
+            })?;
+            wi += 1;
+        }
+        while let Some((_, tick, uid, d)) = idx.decision_calls.get(di).filter(|x| x.0 as usize <= i)
+        {
+            w.event(&crate::run::Event::Decision {
+                tick: *tick,
+                uid: *uid,
+                decision: d.clone(),
+            })?;
+            di += 1;
+        }
         w.event(&crate::run::Event::Transition {
             tick: t.tick,
             uid: t.uid,
             prev: t.prev,
             status: t.status,
-            decision: None,
+            decision: idx.transition_decision(i).map(str::to_string),
         })?;
     }
     let root = s

@@ -180,6 +180,23 @@ struct NodeRt {
     fired: bool,
     cached: Status,
     deadline: Option<u64>,
+    /// The tick the node was last ticked in, and what it returned then.
+    ticked: u32,
+    returned: Status,
+}
+
+/// What a control node carries from one tick into the next, as the causal
+/// model needs it: where a composite resumes, which Parallel children are
+/// done, how many retries are spent.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Flow {
+    pub idx: usize,
+    pub completed: Vec<bool>,
+    pub successes: usize,
+    pub failures: usize,
+    pub skipped: usize,
+    pub count: i64,
+    pub started: bool,
 }
 
 /// Options of a run.
@@ -258,6 +275,26 @@ impl<'t, L: Leaves> Executor<'t, L> {
     /// Retry attempts (failures so far) of a RetryUntilSuccessful, or cycles of a Repeat.
     pub fn attempts(&self, uid: Uid) -> i64 {
         self.rt[(uid - 1) as usize].count
+    }
+
+    /// The tick in which a node was last ticked (0: never) and the status
+    /// it returned then (a ticked node may return SKIPPED).
+    pub fn last_ticked(&self, uid: Uid) -> (u32, Status) {
+        let r = &self.rt[(uid - 1) as usize];
+        (r.ticked, r.returned)
+    }
+
+    pub fn flow(&self, uid: Uid) -> Flow {
+        let r = &self.rt[(uid - 1) as usize];
+        Flow {
+            idx: r.idx,
+            completed: r.completed.clone(),
+            successes: r.successes,
+            failures: r.failures,
+            skipped: r.skipped,
+            count: r.count,
+            started: r.started,
+        }
     }
 
     /// The events since the last call.
@@ -460,6 +497,10 @@ impl<'t, L: Leaves> Executor<'t, L> {
         if s == Status::Idle {
             return Err(self.err(uid, "a node returned IDLE when ticked"));
         }
+        let tick = self.tick;
+        let r = self.rt(uid);
+        r.ticked = tick;
+        r.returned = s;
         if s != Status::Skipped {
             self.set_status(uid, s);
         }

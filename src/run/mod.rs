@@ -5,11 +5,12 @@ pub mod blackboard;
 pub mod domain;
 pub mod exec;
 pub mod plan;
+pub mod replay;
 pub mod script;
 pub mod status;
 pub mod world;
 
-pub use exec::{Event, Executor, LeafCall, LeafOutcome, Leaves, RunError, RunOptions};
+pub use exec::{Event, Executor, Flow, LeafCall, LeafOutcome, Leaves, RunError, RunOptions};
 pub use status::Status;
 
 use crate::model::{Kind, Tree, Uid, Version};

@@ -98,6 +98,20 @@ pub struct Index {
     decisions: HashMap<Uid, Changes<String>>,
     /// Decisions taken with a transition, by transition index.
     decided: HashMap<u32, String>,
+    /// Blackboard writes by the node that made them, in order.
+    pub writes: Vec<Write>,
+    /// Decisions taken by a leaf that stayed RUNNING: (position, tick, uid, decision).
+    pub decision_calls: Vec<(u32, u32, Uid, String)>,
+}
+
+/// A blackboard write made by a node during a tick, at a position.
+#[derive(Debug, Clone)]
+pub struct Write {
+    pub pos: u32,
+    pub tick: u32,
+    pub uid: Uid,
+    pub entry: EntryId,
+    pub value: Value,
 }
 
 impl Index {
@@ -176,6 +190,25 @@ impl Index {
     pub fn push_write(&mut self, entry: EntryId, value: Value) {
         let pos = self.transitions.len() as u32;
         self.entries.entry(entry).or_default().push(pos, value);
+    }
+
+    /// A write by a node during a run (kept with its writer, for replays).
+    pub fn push_write_by(&mut self, tick: u32, uid: Uid, entry: EntryId, value: Value) {
+        self.writes.push(Write {
+            pos: self.transitions.len() as u32,
+            tick,
+            uid,
+            entry: entry.clone(),
+            value: value.clone(),
+        });
+        self.push_write(entry, value);
+    }
+
+    /// A decision by a leaf whose status did not change (it stayed RUNNING).
+    pub fn push_decision_call(&mut self, tick: u32, uid: Uid, d: String) {
+        self.decision_calls
+            .push((self.transitions.len() as u32, tick, uid, d.clone()));
+        self.push_decision(uid, d);
     }
 
     pub fn push_decision(&mut self, uid: Uid, d: String) {

@@ -6,7 +6,7 @@ pub mod index;
 pub mod record;
 
 pub use format::{Header, Record, SessionWriter, Source, TreeRef};
-pub use index::{At, Index, Moment, Transition};
+pub use index::{At, Index, Moment, Transition, Write};
 
 use crate::model::{Tree, Uid};
 use crate::source::{Located, Warning};
@@ -152,11 +152,22 @@ impl Session {
                         decision,
                     );
                 }
-                Record::Decision { uid, decision, .. } => {
+                Record::Decision {
+                    tick,
+                    uid,
+                    decision,
+                    ..
+                } => {
                     bad_uid(uid, &tree)?;
-                    index.push_decision(uid, decision);
+                    index.push_decision_call(tick, uid, decision);
                 }
-                Record::Write { entry, value, .. } => index.push_write(entry, value),
+                Record::Write {
+                    tick,
+                    uid,
+                    entry,
+                    value,
+                    ..
+                } => index.push_write_by(tick, uid, entry, value),
                 Record::Insert {
                     copy_of,
                     after,

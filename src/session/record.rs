@@ -104,8 +104,17 @@ fn phase<L: Leaves>(
                         decision,
                     );
                 }
-                Event::Decision { uid, decision, .. } => rec.index.push_decision(uid, decision),
-                Event::Write { entry, value, .. } => rec.index.push_write(entry, value),
+                Event::Decision {
+                    tick,
+                    uid,
+                    decision,
+                } => rec.index.push_decision_call(tick, uid, decision),
+                Event::Write {
+                    tick,
+                    uid,
+                    entry,
+                    value,
+                } => rec.index.push_write_by(tick, uid, entry, value),
             }
         }
         rec.index.end_tick(ex.ticks());

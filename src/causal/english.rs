@@ -1,0 +1,454 @@
+//! Answers in plain English, and in JSON with Love et al.'s formal reason
+//! set R and counterfactual set C. Explanations that differ only in which
+//! temporal copy of a variable they change read the same, so they are
+//! merged; value sets of discretised variables read as ≤, ≥ or intervals.
+
+use super::model::{Model, Val, VarId, VarKind};
+use super::search::{Answer, Explanation, Query};
+use crate::run::Status;
+use serde_json::{json, Value};
+
+pub fn value_text(v: &Val) -> String {
+    match v {
+        Val::Bool(b) => b.to_string(),
+        Val::Status(s) => s.as_str().to_string(),
+        Val::Action(Some(a)) => a.clone(),
+        Val::Action(None) => "no action".into(),
+        Val::Data(Value::String(s)) => s.clone(),
+        Val::Data(d) => d.to_string(),
+    }
+}
+
+pub fn value_json(v: &Val) -> Value {
+    match v {
+        Val::Bool(b) => Value::Bool(*b),
+        Val::Status(s) => Value::from(s.as_str()),
+        Val::Action(a) => a.clone().map_or(Value::Null, Value::from),
+        Val::Data(d) => d.clone(),
+    }
+}
+
+/// What a variable is about: a node's description or a variable's name.
+fn subject(m: &Model, v: VarId) -> String {
+    subject_as(m, v, false)
+}
+
+/// With `copy`, a state variable is named with its copy (`X_b^1`), to tell
+/// an earlier value of the queried variable from the queried one.
+fn subject_as(m: &Model, v: VarId, copy: bool) -> String {
+    if copy {
+        if let VarKind::State { .. } = m.vars[v].kind {
+            return m.var_name(v);
+        }
+    }
+    match m.vars[v].kind {
+        VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) => {
+            m.tree.description(u).to_string()
+        }
+        VarKind::State { var, .. } => m.domain.as_ref().expect("a domain").vars[var].name.clone(),
+    }
+}
+
+fn status_past(s: Status) -> &'static str {
+    match s {
+        Status::Success => "succeeded",
+        Status::Failure => "failed",
+        Status::Running => "was still running",
+        Status::Idle => "was not ticked",
+        Status::Skipped => "was skipped",
+    }
+}
+
+fn status_inf(s: Status) -> &'static str {
+    match s {
+        Status::Success => "succeed",
+        Status::Failure => "fail",
+        Status::Running => "keep running",
+        Status::Idle => "not be ticked",
+        Status::Skipped => "be skipped",
+    }
+}
+
+/// "L0 failed", "L1 did not execute", "L2 chose Action2", "X_a was false".
+pub fn fact(m: &Model, v: VarId, x: &Val) -> String {
+    fact_as(m, v, x, false)
+}
+
+fn fact_as(m: &Model, v: VarId, x: &Val, copy: bool) -> String {
+    let s = subject_as(m, v, copy);
+    match (m.vars[v].kind, x) {
+        (VarKind::Executed(_), Val::Bool(true)) => format!("{s} executed"),
+        (VarKind::Executed(_), _) => format!("{s} did not execute"),
+        (VarKind::Status(_), Val::Status(st)) => format!("{s} {}", status_past(*st)),
+        (VarKind::Decision(_), Val::Action(None)) => format!("{s} chose no action"),
+        (VarKind::Decision(_), a) => format!("{s} chose {}", value_text(a)),
+        (_, x) => format!("{s} was {}", value_text(x)),
+    }
+}
+
+fn or_list(items: &[String]) -> String {
+    match items.len() {
+        0 => String::new(),
+        1 => items[0].clone(),
+        n => format!("{} or {}", items[..n - 1].join(", "), items[n - 1]),
+    }
+}
+
+fn and_list(items: &[String]) -> String {
+    match items.len() {
+        0 => String::new(),
+        1 => items[0].clone(),
+        n => format!("{} and {}", items[..n - 1].join(", "), items[n - 1]),
+    }
+}
+
+/// A set of values of one variable: "true", "≤ 0.7", "between 2 and 4",
+/// "Action3 or Action4".
+fn value_set(m: &Model, v: VarId, xs: &[Val]) -> String {
+    if xs.len() == 1 {
+        return value_text(&xs[0]);
+    }
+    let range = &m.vars[v].range;
+    let numeric = xs.iter().all(|x| matches!(x, Val::Data(Value::Number(_))));
+    let mut pos: Vec<usize> = xs
+        .iter()
+        .filter_map(|x| range.iter().position(|r| r == x))
+        .collect();
+    pos.sort_unstable();
+    if numeric && pos.len() == xs.len() && pos.windows(2).all(|w| w[1] == w[0] + 1) {
+        let (lo, hi) = (pos[0], *pos.last().expect("two or more"));
+        if lo == 0 {
+            return format!("≤ {}", value_text(&range[hi]));
+        }
+        if hi == range.len() - 1 {
+            return format!("≥ {}", value_text(&range[lo]));
+        }
+        return format!(
+            "between {} and {}",
+            value_text(&range[lo]),
+            value_text(&range[hi])
+        );
+    }
+    let mut sorted: Vec<&Val> = pos.iter().map(|&p| &range[p]).collect();
+    if sorted.len() != xs.len() {
+        sorted = xs.iter().collect();
+    }
+    let items: Vec<String> = sorted.into_iter().map(value_text).collect();
+    if items.len() > 2 {
+        format!("one of {}", items.join(", "))
+    } else {
+        or_list(&items)
+    }
+}
+
+/// "X_a had been true", "L0 had succeeded", "UserFrustration had been ≤ 0.7".
+fn supposed(m: &Model, v: VarId, xs: &[Val], copy: bool) -> String {
+    let s = subject_as(m, v, copy);
+    match m.vars[v].kind {
+        VarKind::Executed(_) => {
+            if xs[0] == Val::Bool(true) {
+                format!("{s} had executed")
+            } else {
+                format!("{s} had not executed")
+            }
+        }
+        VarKind::Status(_) => {
+            let forms: Vec<String> = xs
+                .iter()
+                .map(|x| match x {
+                    Val::Status(Status::Success) => "succeeded".into(),
+                    Val::Status(Status::Failure) => "failed".into(),
+                    Val::Status(Status::Running) => "been running".into(),
+                    Val::Status(Status::Idle) => "not been ticked".into(),
+                    _ => "been skipped".into(),
+                })
+                .collect();
+            format!("{s} had {}", or_list(&forms))
+        }
+        VarKind::Decision(_) => format!("{s} had chosen {}", value_set(m, v, xs)),
+        VarKind::State { .. } => format!("{s} had been {}", value_set(m, v, xs)),
+    }
+}
+
+/// "L0 would have succeeded", "X_c would have been true".
+fn would(m: &Model, v: VarId, x: &Val) -> String {
+    let s = subject(m, v);
+    match (m.vars[v].kind, x) {
+        (VarKind::Executed(_), Val::Bool(true)) => format!("{s} would have executed"),
+        (VarKind::Executed(_), _) => format!("{s} would not have executed"),
+        (VarKind::Status(_), Val::Status(st)) => format!(
+            "{s} would {}",
+            match st {
+                Status::Success => "have succeeded",
+                Status::Failure => "have failed",
+                Status::Running => "have been running",
+                Status::Idle => "not have been ticked",
+                Status::Skipped => "have been skipped",
+            }
+        ),
+        (VarKind::Decision(_), Val::Action(None)) => format!("{s} would have chosen no action"),
+        (VarKind::Decision(_), a) => format!("{s} would have chosen {}", value_text(a)),
+        (_, x) => format!("{s} would have been {}", value_text(&m.snap(v, x))),
+    }
+}
+
+/// "Why did L0 fail rather than succeed?"
+pub fn question(m: &Model, q: &Query) -> String {
+    let v = q.targets[0];
+    let x = &m.fact[v];
+    let foils = &q.foils[0];
+    let s = subject(m, v);
+    let binary = m.vars[v].range.len() == 2 && foils.len() == 1;
+    match (m.vars[v].kind, x) {
+        (VarKind::Executed(_), Val::Bool(e)) => {
+            if *e {
+                format!("Why did {s} execute?")
+            } else {
+                format!("Why did {s} not execute?")
+            }
+        }
+        (VarKind::Status(_), Val::Status(st)) => {
+            let alts: Vec<String> = foils
+                .iter()
+                .map(|f| status_inf(f_status(f)).to_string())
+                .collect();
+            format!(
+                "Why did {s} {} rather than {}?",
+                status_inf(*st),
+                or_list(&alts)
+            )
+        }
+        (VarKind::Decision(_), a) => format!(
+            "Why did {s} choose {} rather than {}?",
+            value_text(a),
+            value_set(m, v, foils)
+        ),
+        (_, x) if binary => format!("Why was {s} {}?", value_text(x)),
+        (_, x) => format!(
+            "Why was {s} {} rather than {}?",
+            value_text(x),
+            value_set(m, v, foils)
+        ),
+    }
+}
+
+fn f_status(v: &Val) -> Status {
+    match v {
+        Val::Status(s) => *s,
+        _ => Status::Idle,
+    }
+}
+
+/// Explanations that read alike: the same variables up to their copy, the
+/// same values, the same outcome.
+pub fn merge(m: &Model, a: &Answer) -> Vec<Vec<usize>> {
+    let base = |v: VarId| match m.vars[v].kind {
+        VarKind::State { var, .. } => (3u8, var as u64),
+        VarKind::Executed(u) => (0, u64::from(u)),
+        VarKind::Status(u) => (1, u64::from(u)),
+        VarKind::Decision(u) => (2, u64::from(u)),
+    };
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for (i, e) in a.explanations.iter().enumerate() {
+        let key = |e: &Explanation| {
+            (
+                e.vars.iter().map(|&v| base(v)).collect::<Vec<_>>(),
+                e.values.clone(),
+                e.outcome.clone(),
+            )
+        };
+        match groups
+            .iter_mut()
+            .find(|g| key(&a.explanations[g[0]]) == key(e))
+        {
+            Some(g) => g.push(i),
+            None => groups.push(vec![i]),
+        }
+    }
+    groups
+}
+
+/// The values each variable takes over an explanation's assignments, if
+/// they form a full product (so they can be read one variable at a time).
+fn per_variable(e: &Explanation) -> Option<Vec<Vec<Val>>> {
+    let mut sets: Vec<Vec<Val>> = vec![Vec::new(); e.vars.len()];
+    for tuple in &e.values {
+        for (i, x) in tuple.iter().enumerate() {
+            if !sets[i].contains(x) {
+                sets[i].push(x.clone());
+            }
+        }
+    }
+    let product: usize = sets.iter().map(Vec::len).product();
+    (product == e.values.len()).then_some(sets)
+}
+
+/// One merged explanation as sentences.
+pub fn sentence(m: &Model, q: &Query, e: &Explanation) -> String {
+    let target_fact: Vec<String> = q.targets.iter().map(|&t| fact(m, t, &m.fact[t])).collect();
+    let base = |v: VarId| match m.vars[v].kind {
+        VarKind::State { var, .. } => Some(var),
+        _ => None,
+    };
+    let same = |v: VarId| base(v).is_some() && q.targets.iter().any(|&t| base(t) == base(v));
+    let reasons: Vec<String> = e
+        .vars
+        .iter()
+        .map(|&v| fact_as(m, v, &m.fact[v], same(v)))
+        .collect();
+    let cond = match per_variable(e) {
+        Some(sets) => and_list(
+            &e.vars
+                .iter()
+                .zip(&sets)
+                .map(|(&v, xs)| supposed(m, v, xs, same(v)))
+                .collect::<Vec<_>>(),
+        ),
+        None => or_list(
+            &e.values
+                .iter()
+                .map(|t| {
+                    and_list(
+                        &e.vars
+                            .iter()
+                            .zip(t)
+                            .map(|(&v, x)| supposed(m, v, std::slice::from_ref(x), same(v)))
+                            .collect::<Vec<_>>(),
+                    )
+                })
+                .collect::<Vec<_>>(),
+        ),
+    };
+    let outcome: Vec<String> = q
+        .targets
+        .iter()
+        .zip(&e.outcome)
+        .map(|(&t, x)| would(m, t, x))
+        .collect();
+    format!(
+        "{} because {}. If {}, {}.",
+        capitalise(&and_list(&target_fact)),
+        and_list(&reasons),
+        cond,
+        and_list(&outcome)
+    )
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_uppercase().collect::<String>() + c.as_str(),
+        None => String::new(),
+    }
+}
+
+/// The formal statement of one explanation: R and C.
+fn formal(m: &Model, q: &Query, e: &Explanation) -> (Vec<Value>, Vec<Value>) {
+    let r = e
+        .vars
+        .iter()
+        .map(|&v| json!({"variable": m.var_name(v), "value": value_json(&m.fact[v])}))
+        .collect();
+    let k: Vec<Value> = q
+        .targets
+        .iter()
+        .zip(&e.outcome)
+        .map(|(&t, x)| json!({"variable": m.var_name(t), "value": value_json(x)}))
+        .collect();
+    let c = e
+        .values
+        .iter()
+        .map(|tuple| {
+            json!({
+                "J": e.vars.iter().zip(tuple).map(|(&v, x)| json!({"variable": m.var_name(v), "value": value_json(x)})).collect::<Vec<_>>(),
+                "K": k.clone(),
+            })
+        })
+        .collect();
+    (r, c)
+}
+
+/// The formal reasons of a merged explanation, one line.
+pub fn formal_line(m: &Model, a: &Answer, group: &[usize]) -> String {
+    let alts: Vec<String> = group
+        .iter()
+        .map(|&i| {
+            a.explanations[i]
+                .vars
+                .iter()
+                .map(|&v| format!("{} = {}", m.var_name(v), value_text(&m.fact[v])))
+                .collect::<Vec<_>>()
+                .join(" ∧ ")
+        })
+        .collect();
+    alts.join("  |  ")
+}
+
+pub fn to_json(m: &Model, q: &Query, a: &Answer, moment: &str) -> Value {
+    let groups = merge(m, a);
+    let explanations: Vec<Value> = groups
+        .iter()
+        .map(|g| {
+            let mut rs = Vec::new();
+            let mut cs = Vec::new();
+            for &i in g {
+                let (r, c) = formal(m, q, &a.explanations[i]);
+                rs.push(Value::Array(r));
+                cs.extend(c);
+            }
+            json!({
+                "text": sentence(m, q, &a.explanations[g[0]]),
+                "R": rs,
+                "C": cs,
+            })
+        })
+        .collect();
+    json!({
+        "question": question(m, q),
+        "moment": moment,
+        "tick": m.facts.tick,
+        "targets": q.targets.iter().map(|&t| json!({"variable": m.var_name(t), "value": value_json(&m.fact[t])})).collect::<Vec<_>>(),
+        "foils": q.foils.iter().map(|f| f.iter().map(value_json).collect::<Vec<_>>()).collect::<Vec<_>>(),
+        "depth": a.depth,
+        "max_depth": a.max_depth,
+        "candidates": a.candidates,
+        "evaluated": a.evaluated,
+        "model": {"nodes": m.vars.len(), "edges": m.edge_count()},
+        "explanations": explanations,
+        "unfaithful": m.unfaithful(),
+    })
+}
+
+pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str) -> String {
+    let mut out = format!(
+        "{}  (tick {}, moment {moment})\n",
+        question(m, q),
+        m.facts.tick
+    );
+    let groups = merge(m, a);
+    match a.depth {
+        None => out.push_str(&format!(
+            "No explanation up to depth {}: no change of up to {} of the {} variables it depends on gives {}.\n",
+            a.max_depth,
+            a.max_depth,
+            a.candidates,
+            or_list(&q.foils[0].iter().map(value_text).collect::<Vec<_>>())
+        )),
+        Some(_) => {
+            for (n, g) in groups.iter().enumerate() {
+                out.push_str(&format!(
+                    "{}. {}\n   formally: {}\n",
+                    n + 1,
+                    sentence(m, q, &a.explanations[g[0]]),
+                    formal_line(m, a, g)
+                ));
+            }
+        }
+    }
+    for w in m.unfaithful() {
+        out.push_str(&format!(
+            "warning: the model does not reproduce the run: {w}\n"
+        ));
+    }
+    out
+}

@@ -1,0 +1,233 @@
+//! What happened in one tick of a session, as the explanation model needs
+//! it. The record is replayed through the executor (`run::replay`), so which
+//! nodes were ticked and where composites resumed come from the executor's
+//! own semantics, not from a second reading of the log.
+
+use crate::model::{Kind, Tree, Uid};
+use crate::run::blackboard::EntryId;
+use crate::run::replay::{Call, Replay};
+use crate::run::{Executor, Flow, RunOptions, Status};
+use crate::session::Session;
+use serde_json::Value;
+use std::collections::HashMap;
+
+/// One tick of a run.
+#[derive(Debug, Clone)]
+pub struct TickFacts {
+    pub tick: u32,
+    /// Ticked in this tick (E_i), per uid − 1.
+    pub ticked: Vec<bool>,
+    /// What the node returned when last ticked in this tick (r_i); IDLE if
+    /// it was not ticked.
+    pub returned: Vec<Status>,
+    /// Control-flow state at the start of the tick, per uid − 1.
+    pub flows: Vec<Flow>,
+    /// Statuses at the start of the tick, per uid − 1.
+    pub start: Vec<Status>,
+    /// The leaf's decision in this tick, if it took one.
+    pub decisions: Vec<Option<String>>,
+    /// The status a leaf returns if it is ticked: what it returned in this
+    /// tick, else the last status it returned before, else SUCCESS. The
+    /// outcome of a leaf without domain knowledge is exogenous.
+    pub outcome: Vec<Status>,
+    /// Blackboard at the start of the tick, before each leaf's first call
+    /// (by uid), and at the end.
+    pub state_start: HashMap<EntryId, Value>,
+    pub state_before: HashMap<Uid, HashMap<EntryId, Value>>,
+    pub state_end: HashMap<EntryId, Value>,
+    /// Leaf calls of this tick, in the order they happened (first call of each leaf).
+    pub order: Vec<Uid>,
+    /// Position (transitions applied) after which each leaf's first call
+    /// in this tick had happened.
+    pub done_at: HashMap<Uid, u32>,
+    /// Calls the replay had to guess (the record did not hold them).
+    pub guessed: Vec<(u32, Uid)>,
+}
+
+fn plain_leaf(tree: &Tree, uid: Uid) -> bool {
+    let n = tree.node(uid);
+    n.kind.is_leaf() && n.builtin.is_none()
+}
+
+/// The leaf calls of a session, for the replay.
+fn replay_of(session: &Session) -> Replay {
+    let tree = &session.tree;
+    let idx = &session.index;
+    let mut r = Replay::new(session.header.blackboard.clone());
+    let mut pending: HashMap<(u32, Uid), Vec<(EntryId, Value)>> = HashMap::new();
+    let (mut w, mut d) = (0, 0);
+    for i in 0..=idx.transitions.len() {
+        while let Some(x) = idx.writes.get(w).filter(|x| x.pos as usize <= i) {
+            if tree.get(x.uid).is_some() && plain_leaf(tree, x.uid) {
+                pending
+                    .entry((x.tick, x.uid))
+                    .or_default()
+                    .push((x.entry.clone(), x.value.clone()));
+            }
+            w += 1;
+        }
+        while let Some((_, tick, uid, dec)) =
+            idx.decision_calls.get(d).filter(|x| x.0 as usize <= i)
+        {
+            r.push(
+                *tick,
+                *uid,
+                Call {
+                    status: Status::Running,
+                    decision: Some(dec.clone()),
+                    writes: pending.remove(&(*tick, *uid)).unwrap_or_default(),
+                },
+            );
+            d += 1;
+        }
+        let Some(t) = idx.transitions.get(i) else {
+            break;
+        };
+        if t.status != Status::Idle && plain_leaf(tree, t.uid) {
+            r.push(
+                t.tick,
+                t.uid,
+                Call {
+                    status: t.status,
+                    decision: idx.transition_decision(i).map(str::to_string),
+                    writes: pending.remove(&(t.tick, t.uid)).unwrap_or_default(),
+                },
+            );
+        }
+    }
+    r
+}
+
+impl TickFacts {
+    /// The facts of `tick` (from 1) of a session.
+    pub fn of(session: &Session, tick: u32) -> Result<TickFacts, String> {
+        let tree = &session.tree;
+        let idx = &session.index;
+        if tick == 0 || tick > idx.ticks() {
+            return Err(format!(
+                "tick {tick} is outside the run: it has ticks 1 to {}",
+                idx.ticks()
+            ));
+        }
+        let n = tree.len();
+        let mut ex = Executor::new(
+            tree,
+            replay_of(session),
+            RunOptions {
+                tick_ms: session.header.tick_ms.max(1),
+            },
+        );
+        for t in 1..tick {
+            ex.tick_once()
+                .map_err(|e| format!("replaying tick {t}: {e}"))?;
+            ex.take_events();
+        }
+        let uids = 1..=n as Uid;
+        let flows: Vec<Flow> = uids.clone().map(|u| ex.flow(u)).collect();
+        let start: Vec<Status> = uids.clone().map(|u| ex.status(u)).collect();
+        ex.tick_once()
+            .map_err(|e| format!("replaying tick {tick}: {e}"))?;
+        let mut ticked = vec![false; n];
+        let mut returned = vec![Status::Idle; n];
+        for u in uids.clone() {
+            let (t, s) = ex.last_ticked(u);
+            if t == tick {
+                ticked[u as usize - 1] = true;
+                returned[u as usize - 1] = s;
+            }
+        }
+        let guessed = ex.leaves.guessed.clone();
+
+        // Decisions and outcomes from the record.
+        let range = idx.tick_range(tick);
+        let mut decisions = vec![None; n];
+        let mut outcome = vec![Status::Success; n];
+        for (i, t) in idx.transitions[..range.end].iter().enumerate() {
+            if t.status == Status::Idle || !tree.node(t.uid).kind.is_leaf() {
+                continue;
+            }
+            outcome[t.uid as usize - 1] = t.status;
+            if range.contains(&i) {
+                if let Some(dd) = idx.transition_decision(i) {
+                    decisions[t.uid as usize - 1] = Some(dd.to_string());
+                }
+            }
+        }
+        for &(_, t, uid, ref dd) in &idx.decision_calls {
+            if t == tick && tree.get(uid).is_some() {
+                decisions[uid as usize - 1] = Some(dd.clone());
+            }
+        }
+        for u in uids {
+            if ticked[u as usize - 1] && tree.node(u).kind.is_leaf() {
+                outcome[u as usize - 1] = returned[u as usize - 1];
+            }
+        }
+
+        // The blackboard through the tick, from the writes.
+        let mut state: HashMap<EntryId, Value> =
+            session.header.blackboard.iter().cloned().collect();
+        let mut w = 0;
+        let writes = &idx.writes;
+        while let Some(x) = writes.get(w).filter(|x| x.tick < tick) {
+            state.insert(x.entry.clone(), x.value.clone());
+            w += 1;
+        }
+        let state_start = state.clone();
+        let mut state_before = HashMap::new();
+        let mut order = Vec::new();
+        let mut done_at = HashMap::new();
+        let mut first_call = |uid: Uid, state: &HashMap<EntryId, Value>| {
+            if tree.node(uid).kind.is_leaf() && !state_before.contains_key(&uid) {
+                state_before.insert(uid, state.clone());
+                order.push(uid);
+            }
+        };
+        for i in range.clone() {
+            while let Some(x) = writes
+                .get(w)
+                .filter(|x| x.tick == tick && x.pos as usize <= i)
+            {
+                first_call(x.uid, &state);
+                state.insert(x.entry.clone(), x.value.clone());
+                w += 1;
+            }
+            let t = &idx.transitions[i];
+            if t.status != Status::Idle {
+                first_call(t.uid, &state);
+                if tree.node(t.uid).kind.is_leaf() {
+                    done_at.entry(t.uid).or_insert(i as u32 + 1);
+                }
+            }
+        }
+        while let Some(x) = writes.get(w).filter(|x| x.tick == tick) {
+            first_call(x.uid, &state);
+            state.insert(x.entry.clone(), x.value.clone());
+            w += 1;
+        }
+        // Leaves ticked without a record of it (RUNNING again) read the
+        // state as it was when the tick reached them: the start, unless an
+        // earlier leaf changed it; the end state is the best stand-in.
+        for (u, &t) in ticked.iter().enumerate() {
+            let uid = u as Uid + 1;
+            if t && tree.node(uid).kind == Kind::Action && !state_before.contains_key(&uid) {
+                state_before.insert(uid, state_start.clone());
+            }
+        }
+        Ok(TickFacts {
+            tick,
+            ticked,
+            returned,
+            flows,
+            start,
+            decisions,
+            outcome,
+            state_start,
+            state_before,
+            state_end: state,
+            order,
+            done_at,
+            guessed,
+        })
+    }
+}

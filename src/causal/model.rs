@@ -1,0 +1,1298 @@
+//! The explanation model of one tick (Love et al. §5.2): a DAG over the
+//! execution E_i, return status r_i and decision d_i of every node and the
+//! temporal copies X^(k) of the state variables, built by Algorithms 1–5, 7
+//! and 8, with the structural functions of Algorithms 9–13. Leaf functions
+//! are the domain file's own (the simulator runs the same ones); control
+//! flow beyond Sequence and Fallback follows the executor, whose state at
+//! the start of the tick says where composites resume.
+
+use super::facts::TickFacts;
+use crate::model::{Builtin, Kind, PortValue, Tree, Uid};
+use crate::run::blackboard::EntryId;
+use crate::run::domain::{Domain, State, VarType};
+use crate::run::Status;
+use crate::source::Located;
+use petgraph::graph::{DiGraph, NodeIndex};
+use serde_json::Value;
+use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
+
+pub type VarId = usize;
+
+/// What a variable of the model stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum VarKind {
+    Executed(Uid),
+    Status(Uid),
+    Decision(Uid),
+    /// Copy `copy` (from 0, within the tick) of domain variable `var`.
+    State {
+        var: usize,
+        copy: u32,
+    },
+}
+
+/// A value of a variable.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Val {
+    Bool(bool),
+    Status(Status),
+    /// An action name; `None` is the null action.
+    Action(Option<String>),
+    Data(Value),
+}
+
+impl Val {
+    fn is_true(&self) -> bool {
+        matches!(self, Val::Bool(true))
+    }
+
+    fn status(&self) -> Status {
+        match self {
+            Val::Status(s) => *s,
+            _ => Status::Idle,
+        }
+    }
+
+    /// A key for memoising leaf functions on their inputs.
+    fn key(&self, out: &mut String) {
+        match self {
+            Val::Data(v) => out.push_str(&v.to_string()),
+            other => out.push_str(&format!("{other:?}")),
+        }
+        out.push('\u{1f}');
+    }
+}
+
+/// How a control node decides which child runs next and what it returns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Flow {
+    /// Sequence (`cont` = SUCCESS) or Fallback (FAILURE), resuming at
+    /// `start`; the Async variants return RUNNING after a child that
+    /// completed in its first tick.
+    Sequential {
+        cont: Status,
+        start: usize,
+        asynch: bool,
+    },
+    Reactive {
+        cont: Status,
+    },
+    Parallel {
+        need_s: i64,
+        need_f: i64,
+        any_s: bool,
+    },
+    ParallelAll {
+        threshold: i64,
+    },
+    /// IfThenElse and WhileDoElse: a condition, then one branch; `start` is
+    /// the branch an IfThenElse resumes (0: the condition first).
+    Branch {
+        start: usize,
+    },
+    /// A decorator that maps its child's status.
+    Map(Mapping),
+    /// Children ticked or not by what the executor saw (timers, scripts,
+    /// blackboard values): the recorded choice is exogenous.
+    Gated,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Mapping {
+    Same,
+    Invert,
+    ForceSuccess,
+    ForceFailure,
+    KeepRunning,
+}
+
+#[derive(Debug, Clone)]
+enum Func {
+    /// E of the root: always ticked.
+    Root,
+    /// No parents: the factual value.
+    Exo,
+    ExecChild {
+        parent: Uid,
+        index: usize,
+    },
+    LeafStatus {
+        uid: Uid,
+        leaf: Option<usize>,
+    },
+    CompositeStatus {
+        uid: Uid,
+    },
+    Decision {
+        uid: Uid,
+        leaf: usize,
+    },
+    Copy {
+        var: usize,
+        prev: Option<VarId>,
+        sparents: Vec<(usize, VarId)>,
+        writers: Vec<Uid>,
+    },
+}
+
+#[derive(Debug, Clone)]
+pub struct VarInfo {
+    pub kind: VarKind,
+    /// Every value the variable can take (empty: not enumerable).
+    pub range: Vec<Val>,
+    /// Whether the search may intervene on it.
+    pub intervene: bool,
+    func: Func,
+}
+
+/// The explanation model of one tick of a session.
+pub struct Model {
+    pub tree: Tree,
+    pub domain: Option<Arc<Domain>>,
+    pub facts: TickFacts,
+    pub vars: Vec<VarInfo>,
+    pub graph: DiGraph<VarId, ()>,
+    pub parents: Vec<Vec<VarId>>,
+    topo: Vec<VarId>,
+    pub topo_pos: Vec<usize>,
+    e_of: Vec<VarId>,
+    r_of: Vec<VarId>,
+    d_of: Vec<Option<VarId>>,
+    flows: Vec<Flow>,
+    leaf_of: Vec<Option<usize>>,
+    inputs_of: HashMap<Uid, Vec<(usize, VarId)>>,
+    /// Per domain variable, its copies in order.
+    pub copies: Vec<Vec<VarId>>,
+    /// Per leaf (domain order), the copy counts τ after it (Alg. 3).
+    tau_after: Vec<(Uid, Vec<u32>)>,
+    /// Values with no intervention.
+    pub fact: Vec<Val>,
+    /// Each node's place in the tree's pre-order, by uid − 1.
+    pre_pos: Vec<usize>,
+    /// Edges added beyond Algorithms 1–8 for control flow the paper does
+    /// not cover (resumed composites, Parallel, branches, gates).
+    pub extension_edges: usize,
+}
+
+fn status_range(kind: Kind) -> Vec<Val> {
+    let mut r = vec![Val::Status(Status::Success), Val::Status(Status::Failure)];
+    if kind != Kind::Condition {
+        r.insert(0, Val::Status(Status::Running));
+    }
+    r.push(Val::Status(Status::Idle));
+    r
+}
+
+fn state_range(ty: &VarType) -> Vec<Val> {
+    match ty {
+        VarType::Bool => vec![Val::Data(Value::Bool(true)), Val::Data(Value::Bool(false))],
+        VarType::Int { min, max } => (*min..=*max)
+            .take(10_000)
+            .map(|i| Val::Data(Value::from(i)))
+            .collect(),
+        VarType::Cat { values } => values
+            .iter()
+            .map(|v| Val::Data(Value::from(v.clone())))
+            .collect(),
+        VarType::Float { min, max, grid } => {
+            let n = (*grid).max(2);
+            (0..n)
+                .map(|i| {
+                    let x = min + (max - min) * i as f64 / (n - 1) as f64;
+                    Val::Data(Value::from((x * 1e10).round() / 1e10))
+                })
+                .collect()
+        }
+        VarType::Any => Vec::new(),
+    }
+}
+
+fn literal_int(tree: &Tree, uid: Uid, names: &[&str], default: i64) -> i64 {
+    let n = tree.node(uid);
+    names
+        .iter()
+        .find_map(|name| {
+            n.ports
+                .iter()
+                .find(|p| p.name == *name)
+                .and_then(|p| match &p.value {
+                    PortValue::Literal(s) => s.trim().parse().ok(),
+                    _ => None,
+                })
+        })
+        .unwrap_or(default)
+}
+
+fn flow_of(tree: &Tree, uid: Uid, f: &crate::run::Flow) -> Flow {
+    let n = tree.node(uid);
+    let seq = |cont, asynch| Flow::Sequential {
+        cont,
+        start: f.idx,
+        asynch,
+    };
+    if n.kind == Kind::SubTree {
+        return Flow::Map(Mapping::Same);
+    }
+    match n.builtin {
+        Some(Builtin::Sequence | Builtin::SequenceWithMemory) => seq(Status::Success, false),
+        Some(Builtin::AsyncSequence) => seq(Status::Success, true),
+        Some(Builtin::Fallback) => seq(Status::Failure, false),
+        Some(Builtin::AsyncFallback) => seq(Status::Failure, true),
+        Some(Builtin::ReactiveSequence) => Flow::Reactive {
+            cont: Status::Success,
+        },
+        Some(Builtin::ReactiveFallback) => Flow::Reactive {
+            cont: Status::Failure,
+        },
+        Some(Builtin::Parallel) => {
+            let k = n.children.len() as i64;
+            let v3 = tree.version == crate::model::Version::V3;
+            let s = literal_int(
+                tree,
+                uid,
+                &["success_count", "success_threshold"],
+                if v3 { k } else { -1 },
+            );
+            let fl = literal_int(tree, uid, &["failure_count", "failure_threshold"], 1);
+            let th = |t: i64| if t < 0 { (k + t + 1).max(0) } else { t };
+            Flow::Parallel {
+                need_s: th(s),
+                need_f: th(fl),
+                any_s: s < 0,
+            }
+        }
+        Some(Builtin::ParallelAll) => {
+            let k = n.children.len() as i64;
+            let m = literal_int(tree, uid, &["max_failures"], 1);
+            Flow::ParallelAll {
+                threshold: if m < 0 { (k + m + 1).max(0) } else { m },
+            }
+        }
+        Some(Builtin::IfThenElse) => Flow::Branch { start: f.idx },
+        Some(Builtin::WhileDoElse) => Flow::Branch { start: 0 },
+        Some(Builtin::Inverter) => Flow::Map(Mapping::Invert),
+        Some(Builtin::ForceSuccess) => Flow::Map(Mapping::ForceSuccess),
+        Some(Builtin::ForceFailure) => Flow::Map(Mapping::ForceFailure),
+        Some(Builtin::KeepRunningUntilFailure) => Flow::Map(Mapping::KeepRunning),
+        Some(Builtin::RetryUntilSuccessful | Builtin::Repeat) => Flow::Map(Mapping::Same),
+        _ => Flow::Gated,
+    }
+}
+
+fn continues(s: Status, cont: Status) -> bool {
+    s == cont || s == Status::Skipped
+}
+
+/// A model error: the domain or the record does not fit the tree.
+fn model_err(msg: String) -> Located {
+    Located::file(std::path::Path::new("explanation model"), msg)
+}
+
+struct Builder {
+    vars: Vec<VarInfo>,
+    edges: HashSet<(VarId, VarId)>,
+    edge_list: Vec<(VarId, VarId)>,
+    extension: usize,
+}
+
+impl Builder {
+    fn var(&mut self, kind: VarKind, range: Vec<Val>, intervene: bool, func: Func) -> VarId {
+        self.vars.push(VarInfo {
+            kind,
+            range,
+            intervene,
+            func,
+        });
+        self.vars.len() - 1
+    }
+
+    fn edge(&mut self, a: VarId, b: VarId) -> bool {
+        if self.edges.insert((a, b)) {
+            self.edge_list.push((a, b));
+            true
+        } else {
+            false
+        }
+    }
+
+    fn extra(&mut self, a: VarId, b: VarId) {
+        if self.edge(a, b) {
+            self.extension += 1;
+        }
+    }
+}
+
+/// Depth-first, left to right.
+pub fn preorder(tree: &Tree) -> Vec<Uid> {
+    let mut out = Vec::with_capacity(tree.len());
+    let mut stack = vec![Tree::ROOT];
+    while let Some(u) = stack.pop() {
+        out.push(u);
+        stack.extend(tree.node(u).children.iter().rev());
+    }
+    out
+}
+
+impl Model {
+    /// Builds the model of the tick in `facts`. Without a domain, the model
+    /// has the tree's structure only and leaf outcomes are exogenous.
+    pub fn build(
+        tree: &Tree,
+        domain: Option<Arc<Domain>>,
+        facts: TickFacts,
+    ) -> Result<Model, Located> {
+        let n = tree.len();
+        let order = preorder(tree);
+        let mut pre_pos = vec![0; n];
+        for (i, &u) in order.iter().enumerate() {
+            pre_pos[u as usize - 1] = i;
+        }
+        let mut b = Builder {
+            vars: Vec::new(),
+            edges: HashSet::new(),
+            edge_list: Vec::new(),
+            extension: 0,
+        };
+        let mut e_of = vec![usize::MAX; n];
+        let mut r_of = vec![usize::MAX; n];
+        let mut d_of = vec![None; n];
+        let mut leaf_of = vec![None; n];
+        let flows: Vec<Flow> = (1..=n as Uid)
+            .map(|u| flow_of(tree, u, &facts.flows[u as usize - 1]))
+            .collect();
+        // Algorithm 7: variables and structural edges.
+        for &u in &order {
+            let node = tree.node(u);
+            let i = u as usize - 1;
+            let is_leaf = node.kind.is_leaf();
+            let leaf = if is_leaf && node.builtin.is_none() {
+                domain.as_ref().and_then(|d| d.leaf_for(tree, u))
+            } else {
+                None
+            };
+            leaf_of[i] = leaf;
+            let e_func = match node.parent {
+                None => Func::Root,
+                Some(p) => Func::ExecChild {
+                    parent: p,
+                    index: tree
+                        .node(p)
+                        .children
+                        .iter()
+                        .position(|&c| c == u)
+                        .unwrap_or(0),
+                },
+            };
+            e_of[i] = b.var(
+                VarKind::Executed(u),
+                vec![Val::Bool(true), Val::Bool(false)],
+                true,
+                e_func,
+            );
+            let r_func = if is_leaf {
+                Func::LeafStatus { uid: u, leaf }
+            } else {
+                Func::CompositeStatus { uid: u }
+            };
+            r_of[i] = b.var(VarKind::Status(u), status_range(node.kind), true, r_func);
+            if let (Some(l), Kind::Action) = (leaf, node.kind) {
+                let d = domain.as_ref().expect("a leaf has a domain");
+                let mut range: Vec<Val> = d.leaves[l]
+                    .actions
+                    .iter()
+                    .map(|a| Val::Action(Some(a.clone())))
+                    .collect();
+                range.push(Val::Action(None));
+                d_of[i] = Some(b.var(
+                    VarKind::Decision(u),
+                    range,
+                    true,
+                    Func::Decision { uid: u, leaf: l },
+                ));
+            }
+        }
+        for &u in &order {
+            let node = tree.node(u);
+            let i = u as usize - 1;
+            b.edge(e_of[i], r_of[i]);
+            if let Some(d) = d_of[i] {
+                b.edge(e_of[i], d);
+                b.edge(d, r_of[i]);
+            }
+            for &c in &node.children {
+                b.edge(r_of[c as usize - 1], r_of[i]);
+            }
+            let Some(p) = node.parent else { continue };
+            let siblings = &tree.node(p).children;
+            let k = siblings.iter().position(|&c| c == u).unwrap_or(0);
+            let ep = e_of[p as usize - 1];
+            if k == 0 {
+                b.edge(ep, e_of[i]);
+            } else {
+                b.edge(r_of[siblings[k - 1] as usize - 1], e_of[i]);
+            }
+            match flows[p as usize - 1] {
+                Flow::Sequential { start, .. } | Flow::Branch { start } if start == k && k > 0 => {
+                    b.extra(ep, e_of[i])
+                }
+                Flow::Parallel { .. } | Flow::ParallelAll { .. } if k > 0 => {
+                    b.extra(ep, e_of[i]);
+                    for &s in &siblings[..k - 1] {
+                        b.extra(r_of[s as usize - 1], e_of[i]);
+                    }
+                }
+                Flow::Branch { .. } if k == 2 => b.extra(r_of[siblings[0] as usize - 1], e_of[i]),
+                Flow::Gated | Flow::Map(_) if k > 0 => b.extra(ep, e_of[i]),
+                _ => {}
+            }
+        }
+
+        // Algorithms 3–5 and 8: the state's temporal copies.
+        let mut copies: Vec<Vec<VarId>> = Vec::new();
+        let mut inputs_of: HashMap<Uid, Vec<(usize, VarId)>> = HashMap::new();
+        let mut tau_after = Vec::new();
+        if let Some(d) = &domain {
+            let nv = d.vars.len();
+            copies = vec![Vec::new(); nv];
+            let mut tau = vec![0u32; nv];
+            // Ancestors in the state graph, nearest first, each once.
+            let ancestors: Vec<Vec<usize>> = (0..nv)
+                .map(|x| {
+                    let mut seen = vec![false; nv];
+                    let mut out = Vec::new();
+                    let mut stack: Vec<usize> = d.vars[x].parents.clone();
+                    while let Some(a) = stack.pop() {
+                        if !seen[a] {
+                            seen[a] = true;
+                            out.push(a);
+                            stack.extend(d.vars[a].parents.iter().copied());
+                        }
+                    }
+                    out.sort_unstable();
+                    out
+                })
+                .collect();
+            let ensure = |b: &mut Builder, copies: &mut Vec<Vec<VarId>>, x: usize, k: u32| {
+                while copies[x].len() <= k as usize {
+                    let c = copies[x].len() as u32;
+                    let v = &d.vars[x];
+                    let id = b.var(
+                        VarKind::State { var: x, copy: c },
+                        state_range(&v.ty),
+                        v.intervene && v.ty != VarType::Any,
+                        Func::Copy {
+                            var: x,
+                            prev: None,
+                            sparents: Vec::new(),
+                            writers: Vec::new(),
+                        },
+                    );
+                    copies[x].push(id);
+                }
+                copies[x][k as usize]
+            };
+            for x in 0..nv {
+                ensure(&mut b, &mut copies, x, 0);
+            }
+            for &u in &order {
+                let Some(l) = leaf_of[u as usize - 1] else {
+                    continue;
+                };
+                let i = u as usize - 1;
+                let def = &d.leaves[l];
+                let mut touched: Vec<usize> = Vec::new();
+                for &x in &def.inputs {
+                    let xc = ensure(&mut b, &mut copies, x, tau[x]);
+                    let mut set = ancestors[x].clone();
+                    set.push(x);
+                    for &a in &ancestors[x] {
+                        ensure(&mut b, &mut copies, a, tau[a]);
+                    }
+                    for &y in &set {
+                        for &p in &d.vars[y].parents {
+                            if set.contains(&p) {
+                                let (pc, yc) =
+                                    (copies[p][tau[p] as usize], copies[y][tau[y] as usize]);
+                                if b.edge(pc, yc) {
+                                    if let Func::Copy { sparents, .. } = &mut b.vars[yc].func {
+                                        sparents.push((p, pc));
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    b.edge(xc, r_of[i]);
+                    if let Some(dv) = d_of[i] {
+                        b.edge(xc, dv);
+                    }
+                    inputs_of.entry(u).or_default().push((x, xc));
+                    touched.extend(set);
+                }
+                touched.sort_unstable();
+                touched.dedup();
+                for x in touched {
+                    tau[x] += 1;
+                }
+                for &y in &def.outputs {
+                    let yc = ensure(&mut b, &mut copies, y, tau[y]);
+                    b.edge(e_of[i], yc);
+                    if let Some(dv) = d_of[i] {
+                        b.edge(dv, yc);
+                    }
+                    if let Func::Copy { writers, .. } = &mut b.vars[yc].func {
+                        if !writers.contains(&u) {
+                            writers.push(u);
+                        }
+                    }
+                }
+                tau_after.push((u, tau.clone()));
+            }
+            // Algorithm 8: top-level variables carry their value forward.
+            // A copy of a derived variable that a leaf writes and nothing
+            // recomputes carries its previous copy too (btx's addition).
+            for (x, cs) in copies.iter().enumerate() {
+                let top = d.vars[x].parents.is_empty();
+                for k in 1..cs.len() {
+                    let (a, c) = (cs[k - 1], cs[k]);
+                    let needs = match &b.vars[c].func {
+                        Func::Copy {
+                            sparents, writers, ..
+                        } => top || (sparents.is_empty() && !writers.is_empty()),
+                        _ => false,
+                    };
+                    if needs {
+                        if top {
+                            b.edge(a, c);
+                        } else {
+                            b.extra(a, c);
+                        }
+                        if let Func::Copy { prev, .. } = &mut b.vars[c].func {
+                            *prev = Some(a);
+                        }
+                    }
+                }
+            }
+            for cs in &copies {
+                for &c in cs {
+                    if let Func::Copy {
+                        prev: None,
+                        sparents,
+                        writers,
+                        ..
+                    } = &b.vars[c].func
+                    {
+                        if sparents.is_empty() && writers.is_empty() {
+                            b.vars[c].func = Func::Exo;
+                        }
+                    }
+                }
+            }
+        }
+
+        let nvars = b.vars.len();
+        let mut graph = DiGraph::<VarId, ()>::with_capacity(nvars, b.edge_list.len());
+        for v in 0..nvars {
+            graph.add_node(v);
+        }
+        let mut parents = vec![Vec::new(); nvars];
+        for &(a, c) in &b.edge_list {
+            graph.add_edge(NodeIndex::new(a), NodeIndex::new(c), ());
+            parents[c].push(a);
+        }
+        let topo: Vec<VarId> = petgraph::algo::toposort(&graph, None)
+            .map_err(|c| {
+                model_err(format!(
+                    "the explanation model has a cycle through variable {}",
+                    c.node_id().index()
+                ))
+            })?
+            .into_iter()
+            .map(|n| n.index())
+            .collect();
+        let mut topo_pos = vec![0; nvars];
+        for (i, &v) in topo.iter().enumerate() {
+            topo_pos[v] = i;
+        }
+        let mut m = Model {
+            tree: tree.clone(),
+            domain,
+            facts,
+            vars: b.vars,
+            graph,
+            parents,
+            topo,
+            topo_pos,
+            e_of,
+            r_of,
+            d_of,
+            flows,
+            leaf_of,
+            inputs_of,
+            copies,
+            tau_after,
+            fact: Vec::new(),
+            pre_pos,
+            extension_edges: b.extension,
+        };
+        m.fact = m.evaluate_all()?;
+        Ok(m)
+    }
+
+    pub fn edge_count(&self) -> usize {
+        self.graph.edge_count()
+    }
+
+    pub fn e(&self, uid: Uid) -> VarId {
+        self.e_of[uid as usize - 1]
+    }
+
+    pub fn r(&self, uid: Uid) -> VarId {
+        self.r_of[uid as usize - 1]
+    }
+
+    pub fn d(&self, uid: Uid) -> Option<VarId> {
+        self.d_of[uid as usize - 1]
+    }
+
+    /// The copy of a domain variable that holds its value once the leaves
+    /// that ran up to `pos` (transitions applied) have run.
+    pub fn copy_at(&self, var: usize, pos: u32) -> Option<VarId> {
+        let copies = self.copies.get(var)?;
+        let mut k = 0u32;
+        for (u, tau) in &self.tau_after {
+            if self.facts.done_at.get(u).is_some_and(|&p| p <= pos) {
+                k = k.max(tau[var]);
+            }
+        }
+        let k = (k as usize).min(copies.len() - 1);
+        Some(copies[k])
+    }
+
+    /// Values of every variable, computed from the exogenous ones.
+    fn evaluate_all(&self) -> Result<Vec<Val>, Located> {
+        let mut vals = vec![Val::Bool(false); self.vars.len()];
+        let mut memo = Memo::default();
+        for &v in &self.topo {
+            vals[v] = self.eval(v, &vals, &mut memo)?;
+        }
+        Ok(vals)
+    }
+
+    /// The factual value of an exogenous variable.
+    fn exogenous(&self, v: VarId) -> Val {
+        match self.vars[v].kind {
+            VarKind::State { var, copy } => {
+                let d = self.domain.as_ref().expect("state variables have a domain");
+                let e = EntryId {
+                    scope: 0,
+                    key: d.vars[var].name.clone(),
+                };
+                let src = if copy == 0 {
+                    &self.facts.state_start
+                } else {
+                    &self.facts.state_end
+                };
+                Val::Data(
+                    src.get(&e)
+                        .cloned()
+                        .unwrap_or_else(|| d.vars[var].initial.clone()),
+                )
+            }
+            VarKind::Executed(u) => Val::Bool(self.facts.ticked[u as usize - 1]),
+            VarKind::Status(u) => Val::Status(self.facts.returned[u as usize - 1]),
+            VarKind::Decision(u) => Val::Action(self.facts.decisions[u as usize - 1].clone()),
+        }
+    }
+
+    fn leaf_state(&self, uid: Uid, vals: &[Val]) -> State {
+        let d = self.domain.as_ref().expect("a domain");
+        let mut s: State = vec![Value::Null; d.vars.len()];
+        for &(x, c) in self.inputs_of.get(&uid).map(Vec::as_slice).unwrap_or(&[]) {
+            if let Val::Data(v) = &vals[c] {
+                s[x] = v.clone();
+            }
+        }
+        s
+    }
+
+    fn memo_key(&self, what: u8, uid: Uid, vals: &[Val], extra: Option<&Val>) -> String {
+        let mut k = format!("{what}/{uid}/");
+        for &(_, c) in self.inputs_of.get(&uid).map(Vec::as_slice).unwrap_or(&[]) {
+            vals[c].key(&mut k);
+        }
+        if let Some(x) = extra {
+            x.key(&mut k);
+        }
+        k
+    }
+
+    fn action_of(&self, uid: Uid, vals: &[Val]) -> Option<String> {
+        match self.d_of[uid as usize - 1].map(|d| &vals[d]) {
+            Some(Val::Action(a)) => a.clone(),
+            _ => None,
+        }
+    }
+
+    /// F_v (Algorithm 9) on the current values of v's parents.
+    fn eval(&self, v: VarId, vals: &[Val], memo: &mut Memo) -> Result<Val, Located> {
+        Ok(match &self.vars[v].func {
+            Func::Root => Val::Bool(true),
+            Func::Exo => self.exogenous(v),
+            Func::ExecChild { parent, index } => Val::Bool(self.exec_child(*parent, *index, vals)),
+            Func::LeafStatus { uid, leaf } => {
+                if !vals[self.e(*uid)].is_true() {
+                    return Ok(Val::Status(Status::Idle));
+                }
+                match leaf {
+                    None => Val::Status(self.facts.outcome[*uid as usize - 1]),
+                    Some(l) => {
+                        let action = self.action_of(*uid, vals);
+                        let dv = self.d(*uid).map(|d| &vals[d]);
+                        let key = self.memo_key(0, *uid, vals, dv);
+                        if let Some(x) = memo.status.get(&key) {
+                            return Ok(Val::Status(*x));
+                        }
+                        let d = self.domain.as_ref().expect("a domain");
+                        let s = d.status(*l, &self.leaf_state(*uid, vals), &action)?;
+                        memo.status.insert(key, s);
+                        Val::Status(s)
+                    }
+                }
+            }
+            Func::CompositeStatus { uid } => Val::Status(self.composite(*uid, vals)),
+            Func::Decision { uid, leaf } => {
+                if !vals[self.e(*uid)].is_true() {
+                    return Ok(Val::Action(None));
+                }
+                let key = self.memo_key(1, *uid, vals, None);
+                if let Some(x) = memo.decide.get(&key) {
+                    return Ok(Val::Action(x.clone()));
+                }
+                let d = self.domain.as_ref().expect("a domain");
+                let a = d.decide(*leaf, &self.leaf_state(*uid, vals))?;
+                memo.decide.insert(key, a.clone());
+                Val::Action(a)
+            }
+            Func::Copy {
+                var,
+                prev,
+                sparents,
+                writers,
+            } => {
+                let d = self.domain.as_ref().expect("a domain");
+                let mut value = if let Some(p) = prev {
+                    vals[*p].clone()
+                } else if !sparents.is_empty() {
+                    let mut s: State = vec![Value::Null; d.vars.len()];
+                    for &(x, c) in sparents {
+                        if let Val::Data(val) = &vals[c] {
+                            s[x] = val.clone();
+                        }
+                    }
+                    Val::Data(d.derive(*var, &s)?)
+                } else {
+                    self.exogenous(v)
+                };
+                for &w in writers {
+                    if !vals[self.e(w)].is_true() {
+                        continue;
+                    }
+                    let l = self.leaf_of[w as usize - 1].expect("writers have domain leaves");
+                    let dv = self.d(w).map(|d| &vals[d]);
+                    let key = self.memo_key(2, w, vals, dv);
+                    let effect = match memo.effect.get(&key) {
+                        Some(e) => e.clone(),
+                        None => {
+                            let action = self.action_of(w, vals);
+                            let e = d.effect(l, &self.leaf_state(w, vals), &action)?;
+                            memo.effect.insert(key, e.clone());
+                            e
+                        }
+                    };
+                    if let Some((_, x)) = effect.iter().find(|(x, _)| x == var) {
+                        value = Val::Data(x.clone());
+                    }
+                }
+                value
+            }
+        })
+    }
+
+    fn r_val(&self, uid: Uid, vals: &[Val]) -> Status {
+        vals[self.r(uid)].status()
+    }
+
+    /// Whether child `k` of `p` is ticked, as the executor ticks it.
+    fn exec_child(&self, p: Uid, k: usize, vals: &[Val]) -> bool {
+        let kids = &self.tree.node(p).children;
+        let ep = vals[self.e(p)].is_true();
+        let left = |j: usize| self.r_val(kids[j], vals);
+        let fi = p as usize - 1;
+        match self.flows[fi] {
+            Flow::Sequential {
+                cont,
+                start,
+                asynch,
+            } => {
+                if k < start {
+                    false
+                } else if k == start {
+                    ep
+                } else {
+                    continues(left(k - 1), cont)
+                        && (!asynch
+                            || self.facts.start[kids[k - 1] as usize - 1] == Status::Running)
+                }
+            }
+            Flow::Reactive { cont } => {
+                if k == 0 {
+                    ep
+                } else {
+                    continues(left(k - 1), cont)
+                }
+            }
+            Flow::Parallel { .. } | Flow::ParallelAll { .. } => {
+                let done = &self.facts.flows[fi].completed;
+                if !ep || done.get(k).copied().unwrap_or(false) {
+                    return false;
+                }
+                // Ticked unless the Parallel already decided before child k.
+                !matches!(self.parallel(p, vals, k), Some(s) if s != Status::Running)
+            }
+            Flow::Branch { start } => {
+                if start > 0 {
+                    k == start && ep
+                } else {
+                    match k {
+                        0 => ep,
+                        1 => left(0) == Status::Success,
+                        _ => left(0) == Status::Failure,
+                    }
+                }
+            }
+            Flow::Map(_) => ep,
+            Flow::Gated => {
+                ep && if self.facts.ticked[fi] {
+                    self.facts.ticked[kids[k] as usize - 1]
+                } else {
+                    k == 0
+                        || matches!(self.tree.node(p).builtin, Some(Builtin::Switch(_)))
+                            && k + 1 == kids.len()
+                }
+            }
+        }
+    }
+
+    /// A Parallel's status after its children before `upto` (all if
+    /// `upto` = their number): `None` while undecided.
+    fn parallel(&self, p: Uid, vals: &[Val], upto: usize) -> Option<Status> {
+        let kids = &self.tree.node(p).children;
+        let fi = p as usize - 1;
+        let f = &self.facts.flows[fi];
+        let n = kids.len() as i64;
+        let (mut s, mut fl, mut sk) = (f.successes as i64, f.failures as i64, f.skipped as i64);
+        let mut done: Vec<bool> = f.completed.clone();
+        done.resize(kids.len(), false);
+        for (i, &c) in kids.iter().enumerate().take(upto) {
+            if !done[i] {
+                match self.r_val(c, vals) {
+                    Status::Success => {
+                        s += 1;
+                        done[i] = true
+                    }
+                    Status::Failure => {
+                        fl += 1;
+                        done[i] = true
+                    }
+                    Status::Skipped => sk += 1,
+                    Status::Idle => return Some(Status::Idle),
+                    Status::Running => {}
+                }
+            }
+            if let Flow::Parallel {
+                need_s,
+                need_f,
+                any_s,
+            } = self.flows[fi]
+            {
+                if s >= need_s || (any_s && s + sk >= need_s) {
+                    return Some(Status::Success);
+                }
+                if n - fl < need_s || fl == need_f {
+                    return Some(Status::Failure);
+                }
+            }
+        }
+        if let Flow::ParallelAll { threshold } = self.flows[fi] {
+            if upto < kids.len() {
+                return None;
+            }
+            if sk == n {
+                return Some(Status::Skipped);
+            }
+            let finished = done.iter().filter(|d| **d).count() as i64;
+            if sk + finished >= n {
+                return Some(if fl >= threshold {
+                    Status::Failure
+                } else {
+                    Status::Success
+                });
+            }
+            return Some(Status::Running);
+        }
+        if upto < kids.len() {
+            None
+        } else if sk == n {
+            Some(Status::Skipped)
+        } else {
+            Some(Status::Running)
+        }
+    }
+
+    /// r of a control node (Algorithm 11, and the executor's other nodes).
+    fn composite(&self, uid: Uid, vals: &[Val]) -> Status {
+        if !vals[self.e(uid)].is_true() {
+            return Status::Idle;
+        }
+        let kids = &self.tree.node(uid).children;
+        let fi = uid as usize - 1;
+        let r = |j: usize| self.r_val(kids[j], vals);
+        match self.flows[fi] {
+            Flow::Sequential {
+                cont,
+                start,
+                asynch,
+            } => {
+                let mut skipped = self.facts.flows[fi].skipped;
+                if self.facts.start[fi].is_active() {
+                    skipped = skipped.min(start);
+                } else {
+                    skipped = 0;
+                }
+                for k in start..kids.len() {
+                    match r(k) {
+                        Status::Skipped => skipped += 1,
+                        s if s == cont => {
+                            let fresh = self.facts.start[kids[k] as usize - 1] != Status::Running;
+                            if asynch && fresh && k + 1 < kids.len() {
+                                return Status::Running;
+                            }
+                        }
+                        s => return s,
+                    }
+                }
+                if skipped == kids.len() {
+                    Status::Skipped
+                } else {
+                    cont
+                }
+            }
+            Flow::Reactive { cont } => {
+                let mut all_skipped = true;
+                for k in 0..kids.len() {
+                    match r(k) {
+                        Status::Skipped => {}
+                        s if s == cont => all_skipped = false,
+                        s => return s,
+                    }
+                }
+                if all_skipped {
+                    Status::Skipped
+                } else {
+                    cont
+                }
+            }
+            Flow::Parallel { .. } | Flow::ParallelAll { .. } => self
+                .parallel(uid, vals, kids.len())
+                .unwrap_or(Status::Running),
+            Flow::Branch { start } => {
+                if start > 0 {
+                    return r(start);
+                }
+                match r(0) {
+                    Status::Success => r(1),
+                    Status::Failure if kids.len() == 3 => r(2),
+                    Status::Failure => Status::Failure,
+                    other => other,
+                }
+            }
+            Flow::Map(m) => {
+                let s = r(0);
+                match (m, s) {
+                    (_, Status::Idle) => Status::Idle,
+                    (Mapping::Invert, Status::Success) => Status::Failure,
+                    (Mapping::Invert, Status::Failure) => Status::Success,
+                    (Mapping::ForceSuccess, x) if x.is_completed() => Status::Success,
+                    (Mapping::ForceFailure, x) if x.is_completed() => Status::Failure,
+                    (Mapping::KeepRunning, Status::Success) => Status::Running,
+                    _ => s,
+                }
+            }
+            Flow::Gated => {
+                // The child that is ticked decides, else what the node
+                // returned without ticking one.
+                for (k, &c) in kids.iter().enumerate() {
+                    let s = r(k);
+                    if s != Status::Idle
+                        && (self.facts.ticked[c as usize - 1] || !self.facts.ticked[fi])
+                    {
+                        return s;
+                    }
+                }
+                match self.facts.returned[fi] {
+                    Status::Idle => Status::Failure,
+                    s => s,
+                }
+            }
+        }
+    }
+
+    /// A float variable's value moved to the nearest value of its grid (ties
+    /// to the smaller), as foils of discretised variables are compared.
+    pub fn snap(&self, v: VarId, x: &Val) -> Val {
+        let (VarKind::State { var, .. }, Val::Data(Value::Number(n))) = (self.vars[v].kind, x)
+        else {
+            return x.clone();
+        };
+        let d = self.domain.as_ref().expect("a domain");
+        if !matches!(d.vars[var].ty, VarType::Float { .. }) {
+            return x.clone();
+        }
+        let x0 = n.as_f64().unwrap_or(0.0);
+        let mut best: Option<(f64, &Val)> = None;
+        for g in &self.vars[v].range {
+            if let Val::Data(Value::Number(m)) = g {
+                let dist = (m.as_f64().unwrap_or(0.0) - x0).abs();
+                if best.is_none_or(|(b, _)| dist < b - 1e-12) {
+                    best = Some((dist, g));
+                }
+            }
+        }
+        best.map_or_else(|| x.clone(), |(_, g)| g.clone())
+    }
+
+    /// A human name for a variable: `executed(L0)`, `X_b^1`.
+    pub fn var_name(&self, v: VarId) -> String {
+        match self.vars[v].kind {
+            VarKind::Executed(u) => format!("executed({})", self.tree.description(u)),
+            VarKind::Status(u) => format!("status({})", self.tree.description(u)),
+            VarKind::Decision(u) => format!("decision({})", self.tree.description(u)),
+            VarKind::State { var, copy } => {
+                let d = self.domain.as_ref().expect("a domain");
+                format!("{}^{copy}", d.vars[var].name)
+            }
+        }
+    }
+
+    /// Variables whose model value differs from the record: empty when the
+    /// model is faithful to the run.
+    pub fn unfaithful(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        for u in 1..=self.tree.len() as Uid {
+            let i = u as usize - 1;
+            let e = self.fact[self.e(u)].is_true();
+            if e != self.facts.ticked[i] {
+                out.push(format!(
+                    "executed({}) is {e} in the model, {} in the run",
+                    self.tree.description(u),
+                    self.facts.ticked[i]
+                ));
+            }
+            let r = self.fact[self.r(u)].status();
+            if r != self.facts.returned[i] {
+                out.push(format!(
+                    "status({}) is {r} in the model, {} in the run",
+                    self.tree.description(u),
+                    self.facts.returned[i]
+                ));
+            }
+            if let Some(d) = self.d(u) {
+                if let Val::Action(a) = &self.fact[d] {
+                    let rec = &self.facts.decisions[i];
+                    let same = match (a, rec) {
+                        (None, None) => true,
+                        (None, Some(x)) => x == "null",
+                        (Some(a), Some(x)) => a == x,
+                        (Some(_), None) => !self.facts.ticked[i],
+                    };
+                    if !same {
+                        out.push(format!(
+                            "decision({}) is {a:?} in the model, {rec:?} in the run",
+                            self.tree.description(u)
+                        ));
+                    }
+                }
+            }
+        }
+        let Some(d) = &self.domain else {
+            return out;
+        };
+        let key = |x: usize| EntryId {
+            scope: 0,
+            key: d.vars[x].name.clone(),
+        };
+        for (u, inputs) in &self.inputs_of {
+            if !self.facts.ticked[*u as usize - 1] {
+                continue;
+            }
+            let Some(before) = self.facts.state_before.get(u) else {
+                continue;
+            };
+            for &(x, c) in inputs {
+                if let (Val::Data(m), Some(r)) = (&self.fact[c], before.get(&key(x))) {
+                    if !same_value(m, r) {
+                        out.push(format!(
+                            "{} read by {} is {m} in the model, {r} in the run",
+                            self.var_name(c),
+                            self.tree.description(*u)
+                        ));
+                    }
+                }
+            }
+        }
+        // A derived variable's last copy is its value when last read; its
+        // parents may change after that, so only top-level ones are checked.
+        for (x, cs) in self.copies.iter().enumerate() {
+            if !d.vars[x].parents.is_empty() {
+                continue;
+            }
+            let last = *cs.last().expect("every variable has copy 0");
+            if let (Val::Data(m), Some(r)) = (&self.fact[last], self.facts.state_end.get(&key(x))) {
+                if !same_value(m, r) {
+                    out.push(format!(
+                        "{} at the end of the tick is {m} in the model, {r} in the run",
+                        self.var_name(last)
+                    ));
+                }
+            }
+        }
+        out.sort();
+        out
+    }
+
+    /// The order variables read in: the tree's (pre-order; execution,
+    /// status, decision), then the state's (declaration order, copy).
+    pub fn display_key(&self, v: VarId) -> (u8, usize, u32) {
+        match self.vars[v].kind {
+            VarKind::Executed(u) => (0, self.pre_pos[u as usize - 1], 0),
+            VarKind::Status(u) => (0, self.pre_pos[u as usize - 1], 1),
+            VarKind::Decision(u) => (0, self.pre_pos[u as usize - 1], 2),
+            VarKind::State { var, copy } => (1, var, copy),
+        }
+    }
+
+    /// For every variable, the fewest edges from it to one of `vs`
+    /// (`usize::MAX` if none).
+    pub fn distances_to(&self, vs: &[VarId]) -> Vec<usize> {
+        let mut dist = vec![usize::MAX; self.vars.len()];
+        let mut queue = std::collections::VecDeque::new();
+        for &v in vs {
+            dist[v] = 0;
+            queue.push_back(v);
+        }
+        while let Some(v) = queue.pop_front() {
+            for &p in &self.parents[v] {
+                if dist[p] == usize::MAX {
+                    dist[p] = dist[v] + 1;
+                    queue.push_back(p);
+                }
+            }
+        }
+        dist
+    }
+
+    /// Ancestors of `vs` (and `vs`), in topological order.
+    pub fn ancestors(&self, vs: &[VarId]) -> Vec<VarId> {
+        let mut seen = vec![false; self.vars.len()];
+        let mut stack: Vec<VarId> = vs.to_vec();
+        while let Some(v) = stack.pop() {
+            if !seen[v] {
+                seen[v] = true;
+                stack.extend(self.parents[v].iter().copied());
+            }
+        }
+        let mut out: Vec<VarId> = (0..self.vars.len()).filter(|&v| seen[v]).collect();
+        out.sort_by_key(|&v| self.topo_pos[v]);
+        out
+    }
+
+    /// An evaluator for interventions restricted to `within` (topologically
+    /// sorted, closed under ancestors).
+    pub fn evaluator<'m>(&'m self, within: &'m [VarId]) -> Evaluator<'m> {
+        Evaluator {
+            m: self,
+            within,
+            vals: self.fact.clone(),
+            changed: vec![false; self.vars.len()],
+            fixed: vec![false; self.vars.len()],
+            touched: Vec::new(),
+            memo: Memo::default(),
+        }
+    }
+}
+
+fn same_value(a: &Value, b: &Value) -> bool {
+    match (a.as_f64(), b.as_f64()) {
+        (Some(x), Some(y)) => (x - y).abs() <= 1e-9 * x.abs().max(y.abs()).max(1.0),
+        _ => a == b,
+    }
+}
+
+/// Leaf functions already evaluated on the same inputs: the domain's
+/// functions are deterministic, so each input is evaluated once.
+#[derive(Default)]
+pub struct Memo {
+    status: HashMap<String, Status>,
+    decide: HashMap<String, Option<String>>,
+    effect: HashMap<String, Vec<(usize, Value)>>,
+}
+
+/// Evaluates interventions (the Do operator): only descendants of the
+/// intervened variables are recomputed, and only while values change.
+pub struct Evaluator<'m> {
+    m: &'m Model,
+    within: &'m [VarId],
+    vals: Vec<Val>,
+    changed: Vec<bool>,
+    fixed: Vec<bool>,
+    touched: Vec<VarId>,
+    memo: Memo,
+}
+
+impl Evaluator<'_> {
+    /// Do(v = x for each (v, x)); afterwards `value` reads the result.
+    pub fn run(&mut self, dos: &[(VarId, Val)]) -> Result<(), Located> {
+        for &t in &self.touched {
+            self.vals[t] = self.m.fact[t].clone();
+            self.changed[t] = false;
+            self.fixed[t] = false;
+        }
+        self.touched.clear();
+        let mut first = usize::MAX;
+        for (v, x) in dos {
+            self.vals[*v] = x.clone();
+            self.fixed[*v] = true;
+            self.changed[*v] = *x != self.m.fact[*v];
+            self.touched.push(*v);
+            first = first.min(self.m.topo_pos[*v]);
+        }
+        let start = self.within.partition_point(|&v| self.m.topo_pos[v] < first);
+        for &v in &self.within[start..] {
+            if self.fixed[v] || !self.m.parents[v].iter().any(|&p| self.changed[p]) {
+                continue;
+            }
+            let nv = self.m.eval(v, &self.vals, &mut self.memo)?;
+            if nv != self.vals[v] {
+                self.vals[v] = nv;
+                self.changed[v] = true;
+                self.touched.push(v);
+            }
+        }
+        Ok(())
+    }
+
+    pub fn value(&self, v: VarId) -> &Val {
+        &self.vals[v]
+    }
+}

@@ -1,0 +1,191 @@
+//! The counterfactual search (Love et al., Algorithm 6): interventions on
+//! the ancestors of the queried variables, smallest sets first; every
+//! satisfying assignment of the first size that has one.
+
+use super::model::{Model, Val, VarId};
+use crate::source::Located;
+use rayon::prelude::*;
+
+/// why(V = v, V ∈ foils): the queried variables and their foil values.
+#[derive(Debug, Clone)]
+pub struct Query {
+    pub targets: Vec<VarId>,
+    /// Per target, the values that satisfy the query.
+    pub foils: Vec<Vec<Val>>,
+}
+
+/// Interventions on one set of variables that all led to the same foil.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Explanation {
+    /// The variables intervened on; their factual values are the reasons.
+    pub vars: Vec<VarId>,
+    /// Every satisfying assignment to `vars`, in range order.
+    pub values: Vec<Vec<Val>>,
+    /// The queried variables' values under those interventions.
+    pub outcome: Vec<Val>,
+}
+
+#[derive(Debug, Clone)]
+pub struct Answer {
+    /// The size of the explanations (`None`: none up to `max_depth`).
+    pub depth: Option<usize>,
+    pub max_depth: usize,
+    pub explanations: Vec<Explanation>,
+    /// Variables the search could intervene on.
+    pub candidates: usize,
+    /// Interventions evaluated.
+    pub evaluated: usize,
+}
+
+/// Every `k`-subset of `0..n`, in lexicographic order.
+fn subsets(n: usize, k: usize) -> Vec<Vec<usize>> {
+    let mut out = Vec::new();
+    if k == 0 || k > n {
+        return out;
+    }
+    let mut idx: Vec<usize> = (0..k).collect();
+    loop {
+        out.push(idx.clone());
+        let mut i = k;
+        while i > 0 && idx[i - 1] == n - k + i - 1 {
+            i -= 1;
+        }
+        if i == 0 {
+            return out;
+        }
+        idx[i - 1] += 1;
+        for j in i..k {
+            idx[j] = idx[j - 1] + 1;
+        }
+    }
+}
+
+pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Located> {
+    let within = model.ancestors(&q.targets);
+    let mut ids = within.clone();
+    ids.sort_unstable();
+    let candidates: Vec<(VarId, Vec<Val>)> = ids
+        .into_iter()
+        .filter(|v| !q.targets.contains(v) && model.vars[*v].intervene)
+        .map(|v| {
+            let alts: Vec<Val> = model.vars[v]
+                .range
+                .iter()
+                .filter(|x| **x != model.fact[v])
+                .cloned()
+                .collect();
+            (v, alts)
+        })
+        .filter(|(_, alts)| !alts.is_empty())
+        .collect();
+    let mut evaluated = 0;
+    for depth in 1..=max_depth.min(candidates.len()) {
+        let sets = subsets(candidates.len(), depth);
+        let found: Vec<Result<(Vec<Explanation>, usize), Located>> = sets
+            .par_iter()
+            .map_init(
+                || model.evaluator(&within),
+                |ev, set| {
+                    let mut groups: Vec<Explanation> = Vec::new();
+                    let mut count = 0;
+                    let mut choice = vec![0usize; set.len()];
+                    loop {
+                        let dos: Vec<(VarId, Val)> = set
+                            .iter()
+                            .zip(&choice)
+                            .map(|(&c, &i)| (candidates[c].0, candidates[c].1[i].clone()))
+                            .collect();
+                        ev.run(&dos)?;
+                        count += 1;
+                        let outcome: Vec<Val> =
+                            q.targets.iter().map(|&t| ev.value(t).clone()).collect();
+                        if outcome
+                            .iter()
+                            .zip(&q.targets)
+                            .zip(&q.foils)
+                            .all(|((o, &t), f)| f.contains(&model.snap(t, o)))
+                        {
+                            let mut dos = dos;
+                            dos.sort_by_key(|(v, _)| model.display_key(*v));
+                            let vars: Vec<VarId> = dos.iter().map(|(v, _)| *v).collect();
+                            let values: Vec<Val> = dos.into_iter().map(|(_, x)| x).collect();
+                            match groups.iter_mut().find(|g| g.outcome == outcome) {
+                                Some(g) => g.values.push(values),
+                                None => groups.push(Explanation {
+                                    vars,
+                                    values: vec![values],
+                                    outcome,
+                                }),
+                            }
+                        }
+                        // Next assignment, odometer-style.
+                        let mut i = set.len();
+                        loop {
+                            if i == 0 {
+                                return Ok((groups, count));
+                            }
+                            i -= 1;
+                            choice[i] += 1;
+                            if choice[i] < candidates[set[i]].1.len() {
+                                break;
+                            }
+                            choice[i] = 0;
+                        }
+                    }
+                },
+            )
+            .collect();
+        let mut explanations = Vec::new();
+        for r in found {
+            let (g, n) = r?;
+            evaluated += n;
+            explanations.extend(g);
+        }
+        // Nearest causes first (fewest edges to the target), then by variable.
+        let dist = model.distances_to(&q.targets);
+        explanations.sort_by_key(|e| {
+            (
+                e.vars.iter().map(|&v| dist[v]).max().unwrap_or(0),
+                e.vars.clone(),
+            )
+        });
+        if !explanations.is_empty() {
+            return Ok(Answer {
+                depth: Some(depth),
+                max_depth,
+                explanations,
+                candidates: candidates.len(),
+                evaluated,
+            });
+        }
+    }
+    Ok(Answer {
+        depth: None,
+        max_depth,
+        explanations: Vec::new(),
+        candidates: candidates.len(),
+        evaluated,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::subsets;
+
+    #[test]
+    fn subsets_are_all_and_ordered() {
+        assert_eq!(
+            subsets(4, 2),
+            vec![
+                vec![0, 1],
+                vec![0, 2],
+                vec![0, 3],
+                vec![1, 2],
+                vec![1, 3],
+                vec![2, 3]
+            ]
+        );
+        assert_eq!(subsets(3, 3), vec![vec![0, 1, 2]]);
+        assert!(subsets(2, 3).is_empty());
+    }
+}

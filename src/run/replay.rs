@@ -1,0 +1,83 @@
+//! Replaying a recorded run through the executor: every leaf call returns
+//! what the record says that call returned (and makes the writes it made),
+//! so the executor rebuilds what a record cannot hold: which nodes were
+//! ticked in a tick (a node that stays RUNNING leaves no transition), where
+//! a composite resumes, which Parallel children are done.
+
+use super::blackboard::EntryId;
+use super::exec::{LeafCall, LeafOutcome, Leaves};
+use super::status::Status;
+use crate::model::Uid;
+use serde_json::Value;
+use std::collections::{HashMap, VecDeque};
+
+/// One recorded call of a leaf: what it returned, chose and wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Call {
+    pub status: Status,
+    pub decision: Option<String>,
+    pub writes: Vec<(EntryId, Value)>,
+}
+
+/// Leaves that do what a record says.
+#[derive(Debug, Default)]
+pub struct Replay {
+    initial: Vec<(EntryId, Value)>,
+    calls: HashMap<(u32, Uid), VecDeque<Call>>,
+    /// The status a leaf returned last, for calls the record does not hold.
+    last: HashMap<Uid, Status>,
+    /// Calls the record did not hold and that were not resumptions: the
+    /// replay guessed them (tick, uid).
+    pub guessed: Vec<(u32, Uid)>,
+}
+
+impl Replay {
+    pub fn new(initial: Vec<(EntryId, Value)>) -> Replay {
+        Replay {
+            initial,
+            ..Replay::default()
+        }
+    }
+
+    /// Adds a recorded call of `uid` in `tick`, after the ones added before.
+    pub fn push(&mut self, tick: u32, uid: Uid, call: Call) {
+        self.calls.entry((tick, uid)).or_default().push_back(call);
+    }
+
+    /// Whether every recorded call was replayed.
+    pub fn exhausted(&self) -> bool {
+        self.calls.values().all(VecDeque::is_empty)
+    }
+}
+
+impl Leaves for Replay {
+    fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {
+        let next = self
+            .calls
+            .get_mut(&(call.tick, call.uid))
+            .and_then(VecDeque::pop_front);
+        let (status, decision) = match next {
+            Some(c) => {
+                for (e, v) in c.writes {
+                    call.write_entry(e, v);
+                }
+                (c.status, c.decision)
+            }
+            // A RUNNING leaf ticked again without a change leaves no record.
+            None if call.resumed => (Status::Running, None),
+            None => {
+                self.guessed.push((call.tick, call.uid));
+                (
+                    self.last.get(&call.uid).copied().unwrap_or(Status::Success),
+                    None,
+                )
+            }
+        };
+        self.last.insert(call.uid, status);
+        LeafOutcome { status, decision }
+    }
+
+    fn initial_entries(&self) -> Vec<(EntryId, Value)> {
+        self.initial.clone()
+    }
+}

@@ -48,6 +48,17 @@ enum Format {
 }
 
 #[derive(Clone, Copy, ValueEnum)]
+enum EvalWhat {
+    Recovery,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EvalDomain {
+    Random,
+    SerialRecall,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
 enum GraphFormat {
     Dot,
     Json,
@@ -204,6 +215,21 @@ enum Command {
         /// A domain file instead of the one the session recorded.
         #[arg(long, value_name = "FILE")]
         domain: Option<PathBuf>,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
+    /// Evaluations: `btx eval recovery random` (Love et al.'s Table 2).
+    Eval {
+        #[arg(value_enum)]
+        what: EvalWhat,
+        #[arg(value_enum)]
+        domain: EvalDomain,
+        /// Seeds per configuration (random: the paper uses 10; serial recall: 50).
+        #[arg(long, value_name = "N")]
+        seeds: Option<u64>,
+        /// Random trees with reactive and memory composites, Parallel, IfThenElse, decorators and RUNNING leaves.
+        #[arg(long)]
+        extended: bool,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
     },
@@ -374,6 +400,37 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 Format::Json => print!("{}", pretty(&w.json())),
             }
         }
+        Command::Eval {
+            what: EvalWhat::Recovery,
+            domain,
+            seeds,
+            extended,
+            format,
+        } => match domain {
+            EvalDomain::Random => {
+                let start = std::time::Instant::now();
+                let rows = btx::causal::eval::recovery_random(seeds.unwrap_or(10), extended)
+                    .map_err(Failure::Plain)?;
+                let secs = start.elapsed().as_secs_f64();
+                match format {
+                    Format::Text => {
+                        print!("{}", btx::causal::eval::table2(&rows));
+                        println!(
+                            "{} comparisons in {secs:.2} s ({} threads)",
+                            rows.len(),
+                            rayon::current_num_threads()
+                        );
+                    }
+                    Format::Json => print!(
+                        "{}",
+                        pretty(&serde_json::json!({"rows": rows, "seconds": secs}))
+                    ),
+                }
+            }
+            EvalDomain::SerialRecall => {
+                fail!("the serial-recall domain is not in this version of btx yet")
+            }
+        },
         Command::Graph {
             session,
             at,

@@ -7,7 +7,9 @@
 //! leaf outcomes are exogenous, so structural questions ("why did ask not
 //! run?") still get answers.
 
+pub mod compare;
 pub mod english;
+pub mod eval;
 pub mod facts;
 pub mod graph;
 pub mod model;

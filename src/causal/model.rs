@@ -671,10 +671,20 @@ impl Model {
 
     /// Values of every variable, computed from the exogenous ones.
     fn evaluate_all(&self) -> Result<Vec<Val>, Located> {
+        self.evaluate_with(&[])
+    }
+
+    /// Do(v = x for each (v, x)), every other variable recomputed from its
+    /// parents, none skipped: the reference the incremental evaluator must
+    /// agree with.
+    pub fn evaluate_with(&self, dos: &[(VarId, Val)]) -> Result<Vec<Val>, Located> {
         let mut vals = vec![Val::Bool(false); self.vars.len()];
         let mut memo = Memo::default();
         for &v in &self.topo {
-            vals[v] = self.eval(v, &vals, &mut memo)?;
+            vals[v] = match dos.iter().find(|(d, _)| *d == v) {
+                Some((_, x)) => x.clone(),
+                None => self.eval(v, &vals, &mut memo)?,
+            };
         }
         Ok(vals)
     }

@@ -82,7 +82,6 @@ pub struct Domain {
     index: HashMap<String, usize>,
     /// Derived variables in an order where parents come first.
     order: Vec<usize>,
-    engine: Engine,
     lib: AST,
 }
 
@@ -150,7 +149,18 @@ fn unit(seed: i64) -> f64 {
     (splitmix(seed as u64) >> 11) as f64 / (1u64 << 53) as f64
 }
 
-fn engine() -> Engine {
+/// One engine per thread, for every domain: building one registers rhai's
+/// packages, which costs more than many evaluations; sharing one across
+/// threads makes them fight over its reference counts. Each thread's engine
+/// lives as long as the thread (there are few).
+fn engine() -> &'static Engine {
+    thread_local! {
+        static ENGINE: &'static Engine = Box::leak(Box::new(new_engine()));
+    }
+    ENGINE.with(|e| *e)
+}
+
+fn new_engine() -> Engine {
     let mut e = Engine::new();
     e.set_max_operations(1_000_000);
     e.set_max_call_levels(64);
@@ -242,7 +252,6 @@ impl Domain {
             leaves: Vec::new(),
             index: HashMap::new(),
             order: Vec::new(),
-            engine: engine(),
             lib: AST::empty(),
         };
         if *file.btx_domain.get_ref() != FORMAT_VERSION {
@@ -419,7 +428,7 @@ impl Domain {
 
     fn compile(&self, s: &Spanned<String>, what: &str) -> Result<Script, Located> {
         let start = script_start(&self.text, &s.span());
-        let r = self.engine.compile(s.get_ref());
+        let r = engine().compile(s.get_ref());
         match r {
             Ok(ast) => Ok(Script {
                 ast: self.lib.merge(&ast),
@@ -532,7 +541,7 @@ impl Domain {
     }
 
     fn eval(&self, script: &Script, scope: &mut Scope) -> Result<Dynamic, Located> {
-        self.engine
+        engine()
             .eval_ast_with_scope::<Dynamic>(scope, &script.ast)
             .map_err(|e| {
                 let p = e.position();

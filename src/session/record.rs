@@ -44,14 +44,19 @@ pub enum RecordError {
     Script(Located, RunSummary),
 }
 
-pub fn header(req: &RunRequest) -> Header {
+/// The session's header; without `xml`, the tree is not written into it.
+pub fn header(req: &RunRequest, xml: bool) -> Header {
     Header {
         btx_session: FORMAT_VERSION,
         btx_version: env!("CARGO_PKG_VERSION").to_string(),
         tree: TreeRef {
             path: req.tree_file.map(|(p, _)| p.display().to_string()),
             hash: req.tree_file.map(|(_, t)| fnv64(t)),
-            xml: crate::xml::to_v4_xml(req.tree),
+            xml: if xml {
+                crate::xml::to_v4_xml(req.tree)
+            } else {
+                String::new()
+            },
             btcpp_format: req.tree.version.number(),
             main_tree: req.tree.main_tree.clone(),
         },
@@ -60,6 +65,95 @@ pub fn header(req: &RunRequest) -> Header {
         tick_ms: req.options.tick_ms,
         blackboard: Vec::new(),
     }
+}
+
+/// Adds an event of a run to an index.
+fn index_event(index: &mut Index, tree: &Tree, e: Event) {
+    match e {
+        Event::Transition {
+            tick,
+            uid,
+            prev,
+            status,
+            decision,
+        } => index.push_transition(
+            tree,
+            Transition {
+                tick,
+                uid,
+                prev,
+                status,
+            },
+            decision,
+        ),
+        Event::Decision {
+            tick,
+            uid,
+            decision,
+        } => index.push_decision_call(tick, uid, decision),
+        Event::Write {
+            tick,
+            uid,
+            entry,
+            value,
+        } => index.push_write_by(tick, uid, entry, value),
+    }
+}
+
+/// Runs a tree in memory, without a session file: the session a recorded
+/// run would give (for evaluations that run thousands of times).
+pub fn simulate<L: Leaves>(
+    tree: &Tree,
+    source: Source,
+    seed: Option<u64>,
+    max_ticks: u32,
+    options: RunOptions,
+    leaves: L,
+) -> Result<super::Session, String> {
+    let req = RunRequest {
+        tree,
+        tree_file: None,
+        source,
+        seed,
+        max_ticks,
+        options,
+        ask: None,
+        out: Path::new("(simulated)"),
+    };
+    // Never written to a file: the tree's XML would only cost time.
+    let mut h = header(&req, false);
+    let mut ex = Executor::new(tree, leaves, options);
+    h.blackboard = ex.bb.entries().map(|(e, v)| (e, v.clone())).collect();
+    let mut index = Index::new(tree.len());
+    for (e, v) in &h.blackboard {
+        index.push_write(e.clone(), v.clone());
+    }
+    let mut root = Status::Idle;
+    let mut reason = "max ticks".to_string();
+    while ex.ticks() < max_ticks {
+        let r = ex.tick_once();
+        for e in ex.take_events() {
+            index_event(&mut index, tree, e);
+        }
+        index.end_tick(ex.ticks());
+        if let Some(e) = ex.leaves.take_error() {
+            return Err(e.to_string());
+        }
+        root = r.map_err(|e| e.to_string())?;
+        if root != Status::Running {
+            reason = "root completed".into();
+            break;
+        }
+    }
+    Ok(super::Session {
+        path: PathBuf::from("(simulated)"),
+        header: h,
+        tree: tree.clone(),
+        index,
+        end: Some((ex.ticks(), root, reason)),
+        inserts: Vec::new(),
+        warnings: Vec::new(),
+    })
 }
 
 /// The recording so far.
@@ -84,38 +178,10 @@ fn phase<L: Leaves>(
         let r = ex.tick_once();
         for e in ex.take_events() {
             rec.w.event(&e).map_err(RecordError::Io)?;
-            match e {
-                Event::Transition {
-                    tick,
-                    uid,
-                    prev,
-                    status,
-                    decision,
-                } => {
-                    rec.transitions += 1;
-                    rec.index.push_transition(
-                        tree,
-                        Transition {
-                            tick,
-                            uid,
-                            prev,
-                            status,
-                        },
-                        decision,
-                    );
-                }
-                Event::Decision {
-                    tick,
-                    uid,
-                    decision,
-                } => rec.index.push_decision_call(tick, uid, decision),
-                Event::Write {
-                    tick,
-                    uid,
-                    entry,
-                    value,
-                } => rec.index.push_write_by(tick, uid, entry, value),
+            if matches!(e, Event::Transition { .. }) {
+                rec.transitions += 1;
             }
+            index_event(&mut rec.index, tree, e);
         }
         rec.index.end_tick(ex.ticks());
         rec.w.flush().map_err(RecordError::Io)?;
@@ -167,7 +233,7 @@ fn finish(rec: Rec, ticks: u32, answer: Option<String>) -> Result<RunSummary, Re
 /// event to the session as it happens. A "Can you X?" answered yes inserts
 /// the subgoal and the run goes on with it.
 pub fn record<L: Leaves>(req: RunRequest, leaves: L) -> Result<RunSummary, RecordError> {
-    let mut h = header(&req);
+    let mut h = header(&req, true);
     let mut ex = Executor::new(req.tree, leaves, req.options);
     h.blackboard = ex.bb.entries().map(|(e, v)| (e, v.clone())).collect();
     let w = SessionWriter::create(req.out, &h).map_err(RecordError::Io)?;

@@ -69,6 +69,18 @@ fn run(
     )
 }
 
+/// What explaining one difference gave.
+#[derive(Debug, Clone, Default)]
+pub struct Comparison {
+    /// `None`: the runs do not differ.
+    pub found: Option<bool>,
+    pub explanations: usize,
+    pub merged: usize,
+    pub model_nodes: usize,
+    pub model_edges: usize,
+    pub evaluated: usize,
+}
+
 /// Compares `default` with `altered` (the run with `target` perturbed)
 /// and explains their first difference.
 pub fn compare(
@@ -78,14 +90,18 @@ pub fn compare(
     altered: &Session,
     target: usize,
     max_depth: usize,
-) -> Result<(Option<bool>, usize, usize, usize, usize, usize), String> {
+) -> Result<Comparison, String> {
     let Some(d) = first_difference(default, altered) else {
-        return Ok((None, 0, 0, 0, 0, 0));
+        return Ok(Comparison::default());
     };
     let facts = TickFacts::of(altered, d.moment.tick)?;
     let m = Model::build(tree, Some(Arc::clone(domain)), facts).map_err(|e| e.to_string())?;
     let Some((t, foils)) = difference_query(&m, &d) else {
-        return Ok((None, 0, 0, m.vars.len(), m.edge_count(), 0));
+        return Ok(Comparison {
+            model_nodes: m.vars.len(),
+            model_edges: m.edge_count(),
+            ..Comparison::default()
+        });
     };
     let q = Query {
         targets: vec![t],
@@ -98,14 +114,14 @@ pub fn compare(
             .any(|&v| matches!(m.vars[v].kind, VarKind::State { var, .. } if var == target))
     });
     let merged = super::english::merge(&m, &a).len();
-    Ok((
-        Some(found),
-        a.explanations.len(),
+    Ok(Comparison {
+        found: Some(found),
+        explanations: a.explanations.len(),
         merged,
-        m.vars.len(),
-        m.edge_count(),
-        a.evaluated,
-    ))
+        model_nodes: m.vars.len(),
+        model_edges: m.edge_count(),
+        evaluated: a.evaluated,
+    })
 }
 
 /// The paper's grid: 4/8/12 variables × 2/4/8 leaves × 5 connectivities ×
@@ -147,20 +163,19 @@ pub fn recovery_random(seeds: u64, extended: bool) -> Result<Vec<Row>, String> {
                 let k = domain.var(t).expect("generated variables exist");
                 let start = Instant::now();
                 let altered = run(&tree, &domain, &g.domain, Some(k), ticks)?;
-                let (found, explanations, merged, nodes, edges, evaluated) =
-                    compare(&tree, &domain, &default, &altered, k, p.vars)?;
+                let c = compare(&tree, &domain, &default, &altered, k, p.vars)?;
                 out.push(Row {
                     config: name.clone(),
                     vars: p.vars,
                     leaves: p.leaves,
                     seed: p.seed,
                     target: t.clone(),
-                    found,
-                    explanations,
-                    merged,
-                    model_nodes: nodes,
-                    model_edges: edges,
-                    evaluated,
+                    found: c.found,
+                    explanations: c.explanations,
+                    merged: c.merged,
+                    model_nodes: c.model_nodes,
+                    model_edges: c.model_edges,
+                    evaluated: c.evaluated,
                     seconds: start.elapsed().as_secs_f64(),
                 });
             }
@@ -191,7 +206,11 @@ fn stats(xs: &[f64]) -> String {
 }
 
 /// Love et al.'s Table 2: found, no difference, nodes (min max mean), explanations (mean).
-const PAPER_TABLE2: [((usize, usize), (usize, usize, &str, &str)); 10] = [
+/// A row of the paper's table: (variables, leaves) and (found, no
+/// difference, node counts, mean explanations).
+type PaperRow = ((usize, usize), (usize, usize, &'static str, &'static str));
+
+const PAPER_TABLE2: [PaperRow; 10] = [
     ((4, 2), (49, 51, "10 14 11.71", "1.86")),
     ((4, 4), (48, 52, "19 29 22.52", "2.00")),
     ((4, 8), (47, 53, "33 51 40.64", "1.89")),

@@ -3,6 +3,7 @@
 //! nodes were ticked and where composites resumed come from the executor's
 //! own semantics, not from a second reading of the log.
 
+use super::model::preorder;
 use crate::model::{Kind, Tree, Uid};
 use crate::run::blackboard::EntryId;
 use crate::run::replay::{Call, Replay};
@@ -123,17 +124,28 @@ impl TickFacts {
             ex.take_events();
         }
         let uids = 1..=n as Uid;
-        let flows: Vec<Flow> = uids.clone().map(|u| ex.flow(u)).collect();
-        let start: Vec<Status> = uids.clone().map(|u| ex.status(u)).collect();
+        let mut flows: Vec<Flow> = uids.clone().map(|u| ex.flow(u)).collect();
+        let mut start: Vec<Status> = uids.clone().map(|u| ex.status(u)).collect();
         ex.tick_once()
             .map_err(|e| format!("replaying tick {tick}: {e}"))?;
+        // A node ticked more than once in the tick (under a Retry or a
+        // Repeat) is taken at its last tick, and its descendants at the
+        // ticks that belong to it: those that began after it began.
         let mut ticked = vec![false; n];
         let mut returned = vec![Status::Idle; n];
-        for u in uids.clone() {
+        for u in preorder(tree) {
+            let i = u as usize - 1;
             let (t, s) = ex.last_ticked(u);
-            if t == tick {
-                ticked[u as usize - 1] = true;
-                returned[u as usize - 1] = s;
+            let (seq, flow, entry_status) = ex.last_entry(u);
+            let in_parent = tree
+                .node(u)
+                .parent
+                .is_none_or(|p| ticked[p as usize - 1] && ex.last_entry(p).0 < seq);
+            if t == tick && in_parent {
+                ticked[i] = true;
+                returned[i] = s;
+                flows[i] = flow.clone();
+                start[i] = entry_status;
             }
         }
         let guessed = ex.leaves.guessed.clone();

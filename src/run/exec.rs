@@ -183,6 +183,12 @@ struct NodeRt {
     /// The tick the node was last ticked in, and what it returned then.
     ticked: u32,
     returned: Status,
+    /// When the node was last ticked (a counter over all ticks of nodes),
+    /// and its control state and status as that tick began: a node ticked
+    /// again within one tick (under a Retry) starts from a reset state.
+    entry_seq: u64,
+    entry: Flow,
+    entry_status: Status,
 }
 
 /// What a control node carries from one tick into the next, as the causal
@@ -222,6 +228,7 @@ pub struct Executor<'t, L: Leaves> {
     opts: RunOptions,
     events: Vec<Event>,
     pending_decision: Option<(Uid, String)>,
+    seq: u64,
 }
 
 type R<T> = Result<T, RunError>;
@@ -242,6 +249,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
             opts,
             events: Vec::new(),
             pending_decision: None,
+            seq: 0,
         }
     }
 
@@ -260,6 +268,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
             opts: self.opts,
             events: self.events,
             pending_decision: self.pending_decision,
+            seq: self.seq,
         }
     }
 
@@ -282,6 +291,13 @@ impl<'t, L: Leaves> Executor<'t, L> {
     pub fn last_ticked(&self, uid: Uid) -> (u32, Status) {
         let r = &self.rt[(uid - 1) as usize];
         (r.ticked, r.returned)
+    }
+
+    /// When the node was last ticked (an increasing counter, 0: never),
+    /// with its control state and status as that tick began.
+    pub fn last_entry(&self, uid: Uid) -> (u64, &Flow, Status) {
+        let r = &self.rt[(uid - 1) as usize];
+        (r.entry_seq, &r.entry, r.entry_status)
     }
 
     pub fn flow(&self, uid: Uid) -> Flow {
@@ -487,6 +503,20 @@ impl<'t, L: Leaves> Executor<'t, L> {
     /// stays IDLE).
     fn exec(&mut self, uid: Uid) -> R<Status> {
         let n = self.tree.node(uid);
+        self.seq += 1;
+        let seq = self.seq;
+        let r = self.rt(uid);
+        r.entry_seq = seq;
+        r.entry_status = r.status;
+        r.entry.idx = r.idx;
+        r.entry.successes = r.successes;
+        r.entry.failures = r.failures;
+        r.entry.skipped = r.skipped;
+        r.entry.count = r.count;
+        r.entry.started = r.started;
+        if !r.completed.is_empty() || !r.entry.completed.is_empty() {
+            r.entry.completed.clone_from(&r.completed);
+        }
         let s = match self.pre_conditions(uid)? {
             Some(s) => s,
             None => self.tick_node(uid)?,

@@ -20,7 +20,7 @@ impl Rng {
         Rng(seed ^ 0x5851_F42D_4C95_7F2D)
     }
 
-    pub fn next(&mut self) -> u64 {
+    pub fn next_u64(&mut self) -> u64 {
         self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -33,12 +33,12 @@ impl Rng {
         if hi <= lo {
             lo
         } else {
-            lo + (self.next() % (hi - lo + 1) as u64) as usize
+            lo + (self.next_u64() % (hi - lo + 1) as u64) as usize
         }
     }
 
     pub fn coin(&mut self) -> bool {
-        self.next() & 1 == 1
+        self.next_u64() & 1 == 1
     }
 
     /// `k` distinct items of `0..n`, in increasing order.
@@ -252,14 +252,12 @@ pub fn generate(p: &Params, flip: Option<&str>) -> Generated {
                 let index = input_index(&inputs, vars);
                 let mut effect = String::from("switch action {\n");
                 for a in &names {
-                    let sets: Vec<String> = outputs
-                        .iter()
-                        .filter_map(|&o| {
-                            rng.coin()
-                                .then(|| format!("{}: {}", vars[o].name, rng.coin()))
-                        })
-                        .collect();
-                    let mut sets = sets;
+                    let mut sets: Vec<String> = Vec::new();
+                    for &o in &outputs {
+                        if rng.coin() {
+                            sets.push(format!("{}: {}", vars[o].name, rng.coin()));
+                        }
+                    }
                     if slow {
                         sets.push(format!("{progress}: true"));
                     }

@@ -356,3 +356,139 @@ fn btcm_logs_open_as_sessions() {
     let m = causal::model_at(&r, None, 1).unwrap();
     assert!(m.unfaithful().is_empty(), "{:?}", m.unfaithful());
 }
+
+fn btx(args: &[&str]) -> (bool, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+#[test]
+fn btx_why_answers_in_text_and_json() {
+    let (ok, out, err) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "status(L0)",
+        "--not",
+        "SUCCESS",
+        "--at",
+        "1:3",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out,
+        "Why did L0 fail rather than succeed?  (tick 1, moment 1:3)\n\
+         1. L0 failed because X_a was false. If X_a had been true, L0 would have succeeded.\n   formally: X_a^0 = false\n"
+    );
+    let (ok, out, _) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "X_c",
+        "--at",
+        "1:5",
+        "--format",
+        "json",
+    ]);
+    assert!(ok);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(j["depth"], 2);
+    assert_eq!(j["explanations"].as_array().unwrap().len(), 1);
+    // btcm's log with the domain given.
+    let f = fixture("btcm/case_study.json").display().to_string();
+    let (ok, out, err) = btx(&[
+        "why",
+        &f,
+        "decision(L2)",
+        "--at",
+        "1:3",
+        "--domain",
+        "trees/case-study.domain.toml",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("L2 chose Action2 because X_d was true."),
+        "{out}"
+    );
+    // A depth bound too small for any explanation says so.
+    let (ok, out, _) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "X_c",
+        "--at",
+        "1:5",
+        "--max-depth",
+        "1",
+    ]);
+    assert!(ok);
+    assert!(out.contains("No explanation up to depth 1"), "{out}");
+}
+
+#[test]
+fn btx_why_and_graph_refuse_what_they_cannot_answer() {
+    let (ok, _, err) = btx(&["why", "trees/case-study.xml", "status(L0)"]);
+    assert!(!ok);
+    assert!(
+        err.contains("is a tree; a why-question is about a run"),
+        "{err}"
+    );
+    let (ok, _, err) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "status(L0)",
+        "--at",
+        "9",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("outside the run"), "{err}");
+    let (ok, _, err) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "status(L0)",
+        "--domain",
+        "no/such.toml",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("no/such.toml"), "{err}");
+}
+
+#[test]
+fn btx_graph_prints_the_model() {
+    let (ok, out, _) = btx(&[
+        "graph",
+        "sessions/case-study.jsonl",
+        "--at",
+        "1",
+        "--format",
+        "json",
+    ]);
+    assert!(ok);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(
+        (j["nodes"].as_u64(), j["edges"].as_u64()),
+        (Some(19), Some(34))
+    );
+    let (ok, out, _) = btx(&["graph", "sessions/case-study.jsonl"]);
+    assert!(ok);
+    assert!(
+        out.starts_with("// explanation model of tick 1: 19 variables, 34 edges\ndigraph model {")
+    );
+    assert_eq!(out.matches(" -> ").count(), 34);
+}
+
+#[test]
+fn target_recovery_on_random_domains_is_complete() {
+    let rows = btx::causal::eval::recovery_random(1, false).unwrap();
+    assert_eq!(rows.len(), 180);
+    let differ: Vec<_> = rows.iter().filter(|r| r.found.is_some()).collect();
+    assert!(differ.len() > 40, "{}", differ.len());
+    assert!(differ.iter().all(|r| r.found == Some(true)));
+    let ext = btx::causal::eval::recovery_random(1, true).unwrap();
+    assert!(ext.iter().all(|r| r.found != Some(false)));
+}

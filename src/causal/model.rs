@@ -794,13 +794,24 @@ impl Model {
                 let mut value = if let Some(p) = prev {
                     vals[*p].clone()
                 } else if !sparents.is_empty() {
-                    let mut s: State = vec![Value::Null; d.vars.len()];
-                    for &(x, c) in sparents {
-                        if let Val::Data(val) = &vals[c] {
-                            s[x] = val.clone();
+                    let mut key = format!("3/{var}/");
+                    for &(_, c) in sparents {
+                        vals[c].key(&mut key);
+                    }
+                    match memo.derive.get(&key) {
+                        Some(x) => Val::Data(x.clone()),
+                        None => {
+                            let mut s: State = vec![Value::Null; d.vars.len()];
+                            for &(x, c) in sparents {
+                                if let Val::Data(val) = &vals[c] {
+                                    s[x] = val.clone();
+                                }
+                            }
+                            let x = d.derive(*var, &s)?;
+                            memo.derive.insert(key, x.clone());
+                            Val::Data(x)
                         }
                     }
-                    Val::Data(d.derive(*var, &s)?)
                 } else {
                     self.exogenous(v)
                 };
@@ -1256,6 +1267,7 @@ pub struct Memo {
     status: HashMap<String, Status>,
     decide: HashMap<String, Option<String>>,
     effect: HashMap<String, Vec<(usize, Value)>>,
+    derive: HashMap<String, Value>,
 }
 
 /// Evaluates interventions (the Do operator): only descendants of the

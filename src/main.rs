@@ -428,7 +428,24 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 }
             }
             EvalDomain::SerialRecall => {
-                fail!("the serial-recall domain is not in this version of btx yet")
+                let start = std::time::Instant::now();
+                let rows = btx::causal::eval::recovery_serial_recall(seeds.unwrap_or(50))
+                    .map_err(Failure::Plain)?;
+                let secs = start.elapsed().as_secs_f64();
+                match format {
+                    Format::Text => {
+                        print!("{}", btx::causal::eval::table3(&rows));
+                        println!(
+                            "{} comparisons in {secs:.2} s ({} threads)",
+                            rows.len(),
+                            rayon::current_num_threads()
+                        );
+                    }
+                    Format::Json => print!(
+                        "{}",
+                        pretty(&serde_json::json!({"rows": rows, "seconds": secs}))
+                    ),
+                }
             }
         },
         Command::Graph {

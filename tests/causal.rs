@@ -492,3 +492,64 @@ fn target_recovery_on_random_domains_is_complete() {
     let ext = btx::causal::eval::recovery_random(1, true).unwrap();
     assert!(ext.iter().all(|r| r.found != Some(false)));
 }
+
+#[test]
+fn serial_recall_model_has_177_nodes_and_406_edges_and_is_faithful() {
+    let s = session(&root("sessions/serial-recall.jsonl"));
+    let d = causal::session_domain(&s, None).unwrap();
+    assert!(s.index.ticks() >= 5, "{}", s.index.ticks());
+    for tick in 1..=s.index.ticks() {
+        let m = causal::model_at(&s, d.clone(), tick).unwrap();
+        // btcm's construction with btcm's input and output sets: 33 E, 33 r,
+        // 15 d, 96 state copies; no edge beyond the paper's algorithms.
+        assert_eq!(
+            (m.vars.len(), m.edge_count(), m.extension_edges),
+            (177, 406, 0),
+            "tick {tick}"
+        );
+        assert!(
+            m.unfaithful().is_empty(),
+            "tick {tick}: {:?}",
+            m.unfaithful()
+        );
+        if tick <= 2 {
+            identity_changes_nothing(&m);
+        }
+    }
+}
+
+#[test]
+fn the_shipped_serial_recall_session_is_what_the_domain_gives() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        "trees/serial-recall.xml",
+        "--domain",
+        "trees/serial-recall.domain.toml",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let fresh = session(&out);
+    let shipped = session(&root("sessions/serial-recall.jsonl"));
+    assert_eq!(
+        fresh.index.transitions, shipped.index.transitions,
+        "regenerate sessions/serial-recall.jsonl (see README)"
+    );
+}
+
+#[test]
+fn target_recovery_on_serial_recall_is_complete() {
+    let rows = btx::causal::eval::recovery_serial_recall(3).unwrap();
+    assert_eq!(rows.len(), 12);
+    for r in &rows {
+        assert_eq!(r.found, Some(true), "{} seed {}", r.config, r.seed);
+        assert_eq!((r.model_nodes, r.model_edges), (177, 406));
+    }
+    // The frustrated user: the robot ended the sequence because of it.
+    assert!(rows
+        .iter()
+        .filter(|r| r.config == "frustrated")
+        .all(|r| r.explanations == 1));
+}

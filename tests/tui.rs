@@ -144,3 +144,50 @@ fn a_keymap_file_overrides_the_table() {
     let e = Keymap::with_file(&p).unwrap_err().to_string();
     assert!(e.contains("keys.toml:1:7: \"fly\" is not an action"), "{e}");
 }
+
+#[test]
+fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = btx::tui::open(
+        &root.join("sessions/case-study.jsonl"),
+        None,
+        &btx::xml::LoadOptions::default(),
+    )
+    .unwrap();
+    // L1 (#4), at the end of the tick: why did it not execute?
+    app.selected = 4;
+    app.update(Action::Why);
+    let targets = match &app.overlay {
+        btx::tui::app::Overlay::Why { targets, .. } => targets.clone(),
+        other => panic!("{other:?}"),
+    };
+    assert_eq!(targets[0].1, "Why was L1 not ticked?");
+    assert_eq!(targets[1].1, "Why did L1 not execute?");
+    app.update(Action::Down);
+    app.update(Action::Toggle);
+    let w = app.why.as_ref().unwrap();
+    assert_eq!(
+        w.why.sentences(),
+        [
+            "L1 did not execute because L0 failed. If L0 had succeeded, L1 would have executed.",
+            "L1 did not execute because X_a was false. If X_a had been true, L1 would have executed."
+        ]
+    );
+    // L0 is the first reason's node: it is highlighted in the tree.
+    assert_eq!(app.highlighted(), vec![3]);
+    let s = screen(&app, 110, 34);
+    assert!(
+        s.contains("1. L1 did not execute because L0 failed."),
+        "{s}"
+    );
+    // The causal model, the reason marked.
+    app.update(Action::Graph);
+    insta::assert_snapshot!("why", screen(&app, 110, 34));
+    // Follow up on the first reason: why did L0 fail?
+    app.update(Action::Toggle);
+    let w = app.why.as_ref().unwrap();
+    assert_eq!(
+        w.why.sentences(),
+        ["L0 failed because X_a was false. If X_a had been true, L0 would have succeeded."]
+    );
+}

@@ -207,6 +207,7 @@ pub fn question(m: &Model, q: &Query) -> String {
                 format!("Why did {s} not execute?")
             }
         }
+        (VarKind::Status(_), Val::Status(Status::Idle)) => format!("Why was {s} not ticked?"),
         (VarKind::Status(_), Val::Status(st)) => {
             let alts: Vec<String> = foils
                 .iter()

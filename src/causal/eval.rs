@@ -14,6 +14,7 @@ use crate::session::{Session, Source};
 use crate::xml::{load_str, LoadOptions};
 use crate::Tree;
 use rayon::prelude::*;
+use serde_json::Value;
 use std::path::Path;
 use std::sync::Arc;
 use std::time::Instant;
@@ -39,21 +40,23 @@ pub struct Row {
     pub seconds: f64,
 }
 
+/// A run of `domain` from its initial state with some variables set first
+/// (their derived variables recomputed).
 fn run(
     tree: &Tree,
     domain: &Arc<Domain>,
     text: &str,
-    flip: Option<usize>,
+    set: &[(usize, Value)],
     max_ticks: u32,
 ) -> Result<Session, String> {
     let mut leaves = DomainLeaves::new(Arc::clone(domain), tree).map_err(|e| e.to_string())?;
-    if let Some(k) = flip {
-        let v = !leaves.state[k].as_bool().unwrap_or(false);
-        leaves.state[k] = serde_json::Value::Bool(v);
-        domain
-            .propagate(&mut leaves.state, &[k], &[])
-            .map_err(|e| e.to_string())?;
+    for (k, v) in set {
+        leaves.state[*k] = v.clone();
     }
+    let changed: Vec<usize> = set.iter().map(|(k, _)| *k).collect();
+    domain
+        .propagate(&mut leaves.state, &changed, &[])
+        .map_err(|e| e.to_string())?;
     simulate(
         tree,
         Source {
@@ -157,12 +160,19 @@ pub fn recovery_random(seeds: u64, extended: bool) -> Result<Vec<Row>, String> {
             let domain =
                 Arc::new(Domain::parse(Path::new(&name), &g.domain).map_err(|e| e.to_string())?);
             let ticks = if extended { 8 } else { 1 };
-            let default = run(&tree, &domain, &g.domain, None, ticks)?;
+            let default = run(&tree, &domain, &g.domain, &[], ticks)?;
             let mut out = Vec::new();
             for t in &g.top {
                 let k = domain.var(t).expect("generated variables exist");
                 let start = Instant::now();
-                let altered = run(&tree, &domain, &g.domain, Some(k), ticks)?;
+                let flipped = !default.header.blackboard[k].1.as_bool().unwrap_or(false);
+                let altered = run(
+                    &tree,
+                    &domain,
+                    &g.domain,
+                    &[(k, Value::Bool(flipped))],
+                    ticks,
+                )?;
                 let c = compare(&tree, &domain, &default, &altered, k, p.vars)?;
                 out.push(Row {
                     config: name.clone(),
@@ -273,6 +283,143 @@ pub fn table2(rows: &[Row]) -> String {
             } else {
                 format!("{:.2}", merged.iter().sum::<f64>() / merged.len() as f64)
             }
+        ));
+    }
+    out
+}
+
+/// The serial-recall task, shipped in `trees/` and built in.
+pub const SERIAL_RECALL_TREE: &str = include_str!("../../trees/serial-recall.xml");
+pub const SERIAL_RECALL_DOMAIN: &str = include_str!("../../trees/serial-recall.domain.toml");
+
+/// Love et al.'s altered profiles: name, the variable perturbed, its value.
+pub const PROFILES: [(&str, &str, f64); 4] = [
+    ("frustrated", "UserFrustration", 0.8),
+    ("no_attention", "UserAttention", 0.0),
+    ("no_reactivity", "UserReactivity", 0.0),
+    ("no_memory", "UserMemory", 0.0),
+];
+
+/// The serial-recall tree and domain (with the profile's frustration).
+pub fn serial_recall(frustration: f64) -> Result<(Tree, Arc<Domain>, String), String> {
+    let tree = load_str(
+        Path::new("trees/serial-recall.xml"),
+        SERIAL_RECALL_TREE,
+        &LoadOptions::default(),
+    )
+    .map_err(|e| e.to_string())?
+    .tree;
+    let text = SERIAL_RECALL_DOMAIN.replace(
+        "fn base_frustration() { 0.2 }",
+        &format!("fn base_frustration() {{ {frustration:?} }}"),
+    );
+    let domain = Domain::parse(Path::new("trees/serial-recall.domain.toml"), &text)
+        .map_err(|e| e.to_string())?;
+    Ok((tree, Arc::new(domain), text))
+}
+
+/// Each profile against the default one, over `seeds` seeds (the user's
+/// accuracy and response-time seeds are the seed and the seed + 1000).
+pub fn recovery_serial_recall(seeds: u64) -> Result<Vec<Row>, String> {
+    let (tree, domain, text) = serial_recall(0.2)?;
+    let (_, frustrated, ftext) = serial_recall(0.8)?;
+    let var = |n: &str| domain.var(n).ok_or(format!("no variable {n}"));
+    let (aseed, tseed) = (var("AccuracySeed")?, var("ResponseTimeSeed")?);
+    let per_seed: Vec<Result<Vec<Row>, String>> = (0..seeds)
+        .into_par_iter()
+        .map(|seed| {
+            let seeds = [
+                (aseed, Value::from(seed as i64)),
+                (tseed, Value::from(seed as i64 + 1000)),
+            ];
+            let default = run(&tree, &domain, &text, &seeds, 200)?;
+            let mut rows = Vec::new();
+            for (name, target, value) in PROFILES {
+                let k = var(target)?;
+                let start = Instant::now();
+                let (d, altered) = if name == "frustrated" {
+                    (&frustrated, run(&tree, &frustrated, &ftext, &seeds, 200)?)
+                } else {
+                    let mut set = seeds.to_vec();
+                    set.push((k, Value::from(value)));
+                    (&domain, run(&tree, &domain, &text, &set, 200)?)
+                };
+                let c = compare(&tree, d, &default, &altered, k, 2)?;
+                rows.push(Row {
+                    config: name.to_string(),
+                    vars: domain.vars.len(),
+                    leaves: 18,
+                    seed,
+                    target: target.to_string(),
+                    found: c.found,
+                    explanations: c.explanations,
+                    merged: c.merged,
+                    model_nodes: c.model_nodes,
+                    model_edges: c.model_edges,
+                    evaluated: c.evaluated,
+                    seconds: start.elapsed().as_secs_f64(),
+                });
+            }
+            Ok(rows)
+        })
+        .collect();
+    let mut rows = Vec::new();
+    for r in per_seed {
+        rows.extend(r?);
+    }
+    Ok(rows)
+}
+
+/// Love et al.'s Table 3: found, no difference, explanations min max mean (sd).
+const PAPER_TABLE3: [(&str, &str); 5] = [
+    ("frustrated", "47 3 1 5 1.09 (0.58)"),
+    ("no_attention", "50 0 5 17 6.62 (1.93)"),
+    ("no_reactivity", "49 1 3 38 7.37 (10.08)"),
+    ("no_memory", "50 0 3 38 18.48 (14.64)"),
+    ("All", "196 4 1 38 8.51 (10.95)"),
+];
+
+/// The rows as Love et al.'s Table 3, the paper's figures beside ours.
+pub fn table3(rows: &[Row]) -> String {
+    let mut out = String::from(
+        "profile       | found no-diff recovery | explanations min max mean (sd) | merged mean | model nodes/edges || paper: found no-diff expl. min max mean (sd)\n",
+    );
+    let mut names: Vec<&str> = PROFILES.iter().map(|p| p.0).collect();
+    names.push("All");
+    for name in names {
+        let sel: Vec<&Row> = rows
+            .iter()
+            .filter(|r| name == "All" || r.config == name)
+            .collect();
+        let found: Vec<&&Row> = sel.iter().filter(|r| r.found == Some(true)).collect();
+        let differ = sel.iter().filter(|r| r.found.is_some()).count();
+        let rate = if differ == 0 {
+            "-".to_string()
+        } else {
+            format!("{:.3}", found.len() as f64 / differ as f64)
+        };
+        let expl: Vec<f64> = found.iter().map(|r| r.explanations as f64).collect();
+        let merged = if found.is_empty() {
+            "-".to_string()
+        } else {
+            format!(
+                "{:.2}",
+                found.iter().map(|r| r.merged as f64).sum::<f64>() / found.len() as f64
+            )
+        };
+        let size = found.first().map_or("-".to_string(), |r| {
+            format!("{}/{}", r.model_nodes, r.model_edges)
+        });
+        let paper = PAPER_TABLE3
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map_or("", |(_, p)| p);
+        out.push_str(&format!(
+            "{name:<13} | {:>5} {:>7} {:>8} | {:>30} | {merged:>11} | {size:>17} || {paper}\n",
+            found.len(),
+            sel.len() - differ,
+            rate,
+            stats(&expl),
         ));
     }
     out

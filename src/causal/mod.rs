@@ -68,6 +68,107 @@ pub struct Why {
 }
 
 impl Why {
+    /// The explanations as they read: merged copies, in order.
+    pub fn groups(&self) -> Vec<Vec<usize>> {
+        english::merge(&self.model, &self.answer)
+    }
+
+    pub fn sentences(&self) -> Vec<String> {
+        self.groups()
+            .iter()
+            .map(|g| english::sentence(&self.model, &self.query, &self.answer.explanations[g[0]]))
+            .collect()
+    }
+
+    /// The tree nodes a merged explanation's reasons are about.
+    pub fn reason_nodes(&self, group: usize) -> Vec<crate::model::Uid> {
+        let mut out = Vec::new();
+        for g in self.groups().get(group).into_iter().flatten() {
+            for &v in &self.answer.explanations[*g].vars {
+                if let VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) =
+                    self.model.vars[v].kind
+                {
+                    if !out.contains(&u) {
+                        out.push(u);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The follow-up question on a merged explanation's first reason: why it
+    /// had its value and not the value the explanation changes it to. A
+    /// reason about copy 0 of a top-level variable after the first tick is
+    /// asked in the tick before, at its end, where its value was set.
+    pub fn follow_up(&self, group: usize) -> Option<(String, Vec<String>, Moment)> {
+        let groups = self.groups();
+        let e = &self.answer.explanations[*groups.get(group)?.first()?];
+        let v = *e.vars.first()?;
+        let foils: Vec<String> = e
+            .values
+            .iter()
+            .map(|t| english::value_text(&t[0]))
+            .collect::<std::collections::BTreeSet<_>>()
+            .into_iter()
+            .collect();
+        let m = &self.model;
+        let tick = m.facts.tick;
+        let moment = Moment::parse(&self.moment).ok()?;
+        Some(match m.vars[v].kind {
+            VarKind::State { var, copy: 0 }
+                if tick > 1
+                    && m.domain
+                        .as_ref()
+                        .is_some_and(|d| d.vars[var].parents.is_empty()) =>
+            {
+                let name = m.domain.as_ref()?.vars[var].name.clone();
+                (
+                    name,
+                    foils,
+                    Moment {
+                        tick: tick - 1,
+                        step: None,
+                    },
+                )
+            }
+            VarKind::State { .. } => (m.var_name(v), foils, moment),
+            VarKind::Executed(u) => (format!("executed(#{u})"), foils, moment),
+            VarKind::Status(u) => (format!("status(#{u})"), foils, moment),
+            VarKind::Decision(u) => (format!("decision(#{u})"), foils, moment),
+        })
+    }
+
+    /// The target and its ancestors in layers by distance (0: the target),
+    /// each as (name, value, is a reason of `group`).
+    pub fn layers(&self, group: usize) -> Vec<Vec<(String, String, bool)>> {
+        let m = &self.model;
+        let dist = m.distances_to(&self.query.targets);
+        let reasons: Vec<VarId> = self
+            .groups()
+            .get(group)
+            .into_iter()
+            .flatten()
+            .flat_map(|&i| self.answer.explanations[i].vars.clone())
+            .collect();
+        let mut layers: Vec<Vec<(String, String, bool)>> = Vec::new();
+        for v in m.ancestors(&self.query.targets) {
+            let d = dist[v];
+            if d == usize::MAX {
+                continue;
+            }
+            if layers.len() <= d {
+                layers.resize(d + 1, Vec::new());
+            }
+            layers[d].push((
+                m.var_name(v),
+                english::value_text(&m.fact[v]),
+                reasons.contains(&v),
+            ));
+        }
+        layers
+    }
+
     pub fn text(&self) -> String {
         english::to_text(&self.model, &self.query, &self.answer, &self.moment)
     }
@@ -75,6 +176,79 @@ impl Why {
     pub fn json(&self) -> serde_json::Value {
         english::to_json(&self.model, &self.query, &self.answer, &self.moment)
     }
+}
+
+/// The foils of a query that names none: every other value, except that a
+/// ticked node is contrasted with the other outcomes of being ticked, and
+/// a leaf that chose an action with its other actions ("not ticked" and
+/// "no action" answer another question: ask executed(NODE) for that).
+pub fn default_foils(model: &Model, v: VarId) -> Vec<Val> {
+    let factual = model.snap(v, &model.fact[v]);
+    let ticked_alt = |x: &Val| match (model.vars[v].kind, x) {
+        (VarKind::Status(_), Val::Status(crate::run::Status::Idle)) => {
+            factual == Val::Status(crate::run::Status::Idle)
+        }
+        (VarKind::Decision(_), Val::Action(None)) => factual == Val::Action(None),
+        _ => true,
+    };
+    model.vars[v]
+        .range
+        .iter()
+        .filter(|x| **x != factual && ticked_alt(x))
+        .cloned()
+        .collect()
+}
+
+/// The why-questions that can be asked about a node at a moment: its
+/// status, whether it ran, its decision, and the state variables a leaf
+/// reads or writes, as (target, question) pairs.
+pub fn why_targets(
+    session: &Session,
+    domain: Option<Arc<Domain>>,
+    uid: crate::model::Uid,
+    at: Moment,
+) -> Result<Vec<(String, String)>, Located> {
+    let pos = session
+        .index
+        .position(at)
+        .map_err(|m| Located::file(&session.path, m))?;
+    let m = model_at(session, domain, at.tick)?;
+    let mut vars = vec![m.r(uid), m.e(uid)];
+    vars.extend(m.d(uid));
+    let mut targets: Vec<String> = vec![format!("status(#{uid})"), format!("executed(#{uid})")];
+    if m.d(uid).is_some() {
+        targets.push(format!("decision(#{uid})"));
+    }
+    if let Some(d) = &m.domain {
+        if let Some(l) = d.leaf_for(&m.tree, uid) {
+            let mut names: Vec<usize> = d.leaves[l].inputs.clone();
+            for o in &d.leaves[l].outputs {
+                if !names.contains(o) {
+                    names.push(*o);
+                }
+            }
+            for x in names {
+                if let Some(c) = m.copy_at(x, pos) {
+                    vars.push(c);
+                    targets.push(d.vars[x].name.clone());
+                }
+            }
+        }
+    }
+    Ok(targets
+        .into_iter()
+        .zip(vars)
+        .filter_map(|(t, v)| {
+            let foils = default_foils(&m, v);
+            (!foils.is_empty()).then(|| {
+                let q = Query {
+                    targets: vec![v],
+                    foils: vec![foils],
+                };
+                (t, english::question(&m, &q))
+            })
+        })
+        .collect())
 }
 
 /// Asks why `target` had its value at `at` (default: the end of the run)
@@ -101,24 +275,8 @@ pub fn why(
     let t = query::parse_target(&model, target).map_err(fail)?;
     let v = query::target_var(&model, &t, pos).map_err(fail)?;
     let factual = model.snap(v, &model.fact[v]);
-    // By default a ticked node is contrasted with the other outcomes of
-    // being ticked, and a leaf that decided with its other actions: "not
-    // ticked" and "no action" answer a different question (ask
-    // executed(NODE) for that).
-    let ticked_alt = |x: &Val| match (model.vars[v].kind, x) {
-        (VarKind::Status(_), Val::Status(crate::run::Status::Idle)) => {
-            factual == Val::Status(crate::run::Status::Idle)
-        }
-        (VarKind::Decision(_), Val::Action(None)) => factual == Val::Action(None),
-        _ => true,
-    };
     let foil_vals: Vec<Val> = if foils.is_empty() {
-        model.vars[v]
-            .range
-            .iter()
-            .filter(|x| **x != factual && ticked_alt(x))
-            .cloned()
-            .collect()
+        default_foils(&model, v)
     } else {
         let mut out = Vec::new();
         for f in foils {

@@ -54,13 +54,40 @@ impl Val {
         }
     }
 
-    /// A key for memoising leaf functions on their inputs.
-    fn key(&self, out: &mut String) {
-        match self {
-            Val::Data(v) => out.push_str(&v.to_string()),
-            other => out.push_str(&format!("{other:?}")),
+    /// A key for memoising leaf functions on their inputs: exact, and
+    /// cheap to build (no number formatting).
+    fn key(&self, out: &mut Vec<u8>) {
+        fn text(out: &mut Vec<u8>, s: &str) {
+            out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+            out.extend_from_slice(s.as_bytes());
         }
-        out.push('\u{1f}');
+        match self {
+            Val::Bool(b) => out.extend_from_slice(&[0, u8::from(*b)]),
+            Val::Status(s) => out.extend_from_slice(&[1, s.code()]),
+            Val::Action(None) => out.push(2),
+            Val::Action(Some(a)) => {
+                out.push(3);
+                text(out, a);
+            }
+            Val::Data(Value::Bool(b)) => out.extend_from_slice(&[4, u8::from(*b)]),
+            Val::Data(Value::Number(n)) => {
+                if let Some(i) = n.as_i64() {
+                    out.push(5);
+                    out.extend_from_slice(&i.to_le_bytes());
+                } else {
+                    out.push(6);
+                    out.extend_from_slice(&n.as_f64().unwrap_or(0.0).to_bits().to_le_bytes());
+                }
+            }
+            Val::Data(Value::String(s)) => {
+                out.push(7);
+                text(out, s);
+            }
+            Val::Data(other) => {
+                out.push(8);
+                text(out, &other.to_string());
+            }
+        }
     }
 }
 
@@ -154,6 +181,10 @@ pub struct Model {
     pub vars: Vec<VarInfo>,
     pub graph: DiGraph<VarId, ()>,
     pub parents: Vec<Vec<VarId>>,
+    /// What each variable's function reads: its parents and, for a copy a
+    /// leaf writes, the leaf's inputs (Algorithm 13 runs p_i on the inputs
+    /// of d_i, which reach the copy only through d_i's edge).
+    deps: Vec<Vec<VarId>>,
     topo: Vec<VarId>,
     pub topo_pos: Vec<usize>,
     e_of: Vec<VarId>,
@@ -610,6 +641,18 @@ impl Model {
             .into_iter()
             .map(|n| n.index())
             .collect();
+        let mut deps = parents.clone();
+        for (v, info) in b.vars.iter().enumerate() {
+            if let Func::Copy { writers, .. } = &info.func {
+                for w in writers {
+                    for &(_, c) in inputs_of.get(w).map(Vec::as_slice).unwrap_or(&[]) {
+                        if !deps[v].contains(&c) {
+                            deps[v].push(c);
+                        }
+                    }
+                }
+            }
+        }
         let mut topo_pos = vec![0; nvars];
         for (i, &v) in topo.iter().enumerate() {
             topo_pos[v] = i;
@@ -621,6 +664,7 @@ impl Model {
             vars: b.vars,
             graph,
             parents,
+            deps,
             topo,
             topo_pos,
             e_of,
@@ -726,8 +770,10 @@ impl Model {
         s
     }
 
-    fn memo_key(&self, what: u8, uid: Uid, vals: &[Val], extra: Option<&Val>) -> String {
-        let mut k = format!("{what}/{uid}/");
+    fn memo_key(&self, what: u8, uid: Uid, vals: &[Val], extra: Option<&Val>) -> Vec<u8> {
+        let mut k = Vec::with_capacity(64);
+        k.push(what);
+        k.extend_from_slice(&uid.to_le_bytes());
         for &(_, c) in self.inputs_of.get(&uid).map(Vec::as_slice).unwrap_or(&[]) {
             vals[c].key(&mut k);
         }
@@ -794,7 +840,8 @@ impl Model {
                 let mut value = if let Some(p) = prev {
                     vals[*p].clone()
                 } else if !sparents.is_empty() {
-                    let mut key = format!("3/{var}/");
+                    let mut key = vec![3u8];
+                    key.extend_from_slice(&(*var as u32).to_le_bytes());
                     for &(_, c) in sparents {
                         vals[c].key(&mut key);
                     }
@@ -1230,7 +1277,7 @@ impl Model {
         while let Some(v) = stack.pop() {
             if !seen[v] {
                 seen[v] = true;
-                stack.extend(self.parents[v].iter().copied());
+                stack.extend(self.deps[v].iter().copied());
             }
         }
         let mut out: Vec<VarId> = (0..self.vars.len()).filter(|&v| seen[v]).collect();
@@ -1264,10 +1311,10 @@ fn same_value(a: &Value, b: &Value) -> bool {
 /// functions are deterministic, so each input is evaluated once.
 #[derive(Default)]
 pub struct Memo {
-    status: HashMap<String, Status>,
-    decide: HashMap<String, Option<String>>,
-    effect: HashMap<String, Vec<(usize, Value)>>,
-    derive: HashMap<String, Value>,
+    status: HashMap<Vec<u8>, Status>,
+    decide: HashMap<Vec<u8>, Option<String>>,
+    effect: HashMap<Vec<u8>, Vec<(usize, Value)>>,
+    derive: HashMap<Vec<u8>, Value>,
 }
 
 /// Evaluates interventions (the Do operator): only descendants of the
@@ -1301,7 +1348,7 @@ impl Evaluator<'_> {
         }
         let start = self.within.partition_point(|&v| self.m.topo_pos[v] < first);
         for &v in &self.within[start..] {
-            if self.fixed[v] || !self.m.parents[v].iter().any(|&p| self.changed[p]) {
+            if self.fixed[v] || !self.m.deps[v].iter().any(|&p| self.changed[p]) {
                 continue;
             }
             let nv = self.m.eval(v, &self.vals, &mut self.memo)?;

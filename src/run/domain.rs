@@ -77,6 +77,9 @@ pub struct Domain {
     pub path: PathBuf,
     pub text: String,
     pub name: String,
+    /// Leaves after whose tick the run ends; with none, a run ends when the
+    /// root completes, with some, the tree is ticked again until one runs.
+    pub end_after: Vec<String>,
     pub vars: Vec<Var>,
     pub leaves: Vec<LeafDef>,
     index: HashMap<String, usize>,
@@ -127,6 +130,8 @@ struct File {
     btx_domain: Spanned<i64>,
     #[serde(default)]
     name: String,
+    #[serde(default)]
+    end_after: Vec<String>,
     #[serde(default)]
     functions: Option<Spanned<String>>,
     #[serde(default)]
@@ -248,6 +253,7 @@ impl Domain {
             path: path.to_path_buf(),
             text: text.to_string(),
             name: file.name.clone(),
+            end_after: file.end_after.clone(),
             vars: Vec::new(),
             leaves: Vec::new(),
             index: HashMap::new(),
@@ -786,6 +792,8 @@ pub struct DomainLeaves {
     assigned: HashMap<Uid, usize>,
     /// The first error met; the leaf then fails and the run stops.
     pub error: Option<Located>,
+    /// A leaf of `end_after` ran.
+    ended: bool,
 }
 
 impl DomainLeaves {
@@ -813,6 +821,7 @@ impl DomainLeaves {
             state,
             assigned,
             error: None,
+            ended: false,
         })
     }
 
@@ -853,6 +862,9 @@ impl DomainLeaves {
             }
         };
         let d = Arc::clone(&self.domain);
+        if d.end_after.contains(&d.leaves[leaf].key) {
+            self.ended = true;
+        }
         let action = d.decide(leaf, &self.state)?;
         let status = d.status(leaf, &self.state, &action)?;
         let effect = d.effect(leaf, &self.state, &action)?;
@@ -889,6 +901,14 @@ impl Leaves for DomainLeaves {
 
     fn take_error(&mut self) -> Option<Located> {
         self.error.take()
+    }
+
+    fn run_over(&mut self, root: Status) -> bool {
+        if self.domain.end_after.is_empty() {
+            root != Status::Running
+        } else {
+            self.ended
+        }
     }
 
     fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {

@@ -118,6 +118,12 @@ pub trait Leaves {
     /// Sees every status transition, as a logger would (a replay of a log
     /// follows its position this way).
     fn observe(&mut self, _uid: Uid, _prev: Status, _status: Status) {}
+    /// Whether the run is over after a tick that returned `root`: by
+    /// default when the root completes; a domain may keep ticking a tree
+    /// (a game of several rounds) until a leaf of its own says so.
+    fn run_over(&mut self, root: Status) -> bool {
+        root != Status::Running
+    }
     /// An error the leaves met (a failing script); the run stops on it.
     fn take_error(&mut self) -> Option<crate::source::Located> {
         None

@@ -140,7 +140,7 @@ pub fn simulate<L: Leaves>(
             return Err(e.to_string());
         }
         root = r.map_err(|e| e.to_string())?;
-        if root != Status::Running {
+        if ex.leaves.run_over(root) {
             reason = "root completed".into();
             break;
         }
@@ -198,7 +198,7 @@ fn phase<L: Leaves>(
             }
             Ok(s) => rec.root = s,
         }
-        if rec.root != Status::Running {
+        if ex.leaves.run_over(rec.root) {
             rec.ended = Some("root completed".into());
             return Ok(true);
         }

@@ -24,8 +24,26 @@ pub enum Pane {
 pub enum Overlay {
     None,
     Help,
-    Finder { query: String, selected: usize },
-    Ask { selected: usize },
+    Finder {
+        query: String,
+        selected: usize,
+    },
+    Ask {
+        selected: usize,
+    },
+    /// The why-questions about the selected node: (target, question).
+    Why {
+        selected: usize,
+        targets: Vec<(String, String)>,
+    },
+}
+
+/// A why-answer on screen: the library's answer, the explanation picked,
+/// and whether its causal model is shown.
+pub struct WhyView {
+    pub why: crate::causal::Why,
+    pub selected: usize,
+    pub graph: bool,
 }
 
 /// A visible row of the tree pane.
@@ -49,6 +67,9 @@ pub struct App {
     pub focus: Pane,
     pub overlay: Overlay,
     pub answer: Option<Answer>,
+    pub why: Option<WhyView>,
+    /// A one-line message for the status bar (an error, a file written).
+    pub message: Option<String>,
     pub playing: bool,
     /// Milliseconds between steps while playing.
     pub play_ms: u64,
@@ -83,6 +104,8 @@ impl App {
             focus: Pane::Tree,
             overlay: Overlay::None,
             answer: None,
+            why: None,
+            message: None,
             playing: false,
             play_ms: 200,
             quit: false,
@@ -289,8 +312,22 @@ impl App {
                 }
                 return;
             }
-            Overlay::Finder { .. } | Overlay::Ask { .. } => return self.update_list(a),
+            Overlay::Finder { .. } | Overlay::Ask { .. } | Overlay::Why { .. } => {
+                return self.update_list(a)
+            }
             Overlay::None => {}
+        }
+        self.message = None;
+        if self.focus == Pane::Ask && self.why.is_some() {
+            if let Some(w) = &mut self.why {
+                let n = w.why.groups().len();
+                match a {
+                    Action::Up => return w.selected = w.selected.saturating_sub(1),
+                    Action::Down => return w.selected = (w.selected + 1).min(n.saturating_sub(1)),
+                    Action::Toggle => return self.follow_up(),
+                    _ => {}
+                }
+            }
         }
         match a {
             Action::Quit => self.quit = true,
@@ -393,6 +430,13 @@ impl App {
                 }
             }
             Action::Ask => self.overlay = Overlay::Ask { selected: 0 },
+            Action::Why => self.open_why(),
+            Action::Graph => {
+                if let Some(w) = &mut self.why {
+                    w.graph = !w.graph;
+                }
+            }
+            Action::ExportGraph => self.export_graph(),
             Action::Find => {
                 self.overlay = Overlay::Finder {
                     query: String::new(),
@@ -408,7 +452,10 @@ impl App {
             Action::Play => self.playing = !self.playing && self.session.is_some(),
             Action::Faster => self.play_ms = (self.play_ms / 2).max(10),
             Action::Slower => self.play_ms = (self.play_ms * 2).min(5000),
-            Action::Back => self.answer = None,
+            Action::Back => {
+                self.answer = None;
+                self.why = None;
+            }
             Action::Wider => self.split = (self.split + 5).min(85),
             Action::Narrower => self.split = self.split.saturating_sub(5).max(25),
         }
@@ -433,10 +480,13 @@ impl App {
         let len = match &self.overlay {
             Overlay::Finder { query, .. } => self.finder_results(query).len(),
             Overlay::Ask { .. } => self.questions().len(),
+            Overlay::Why { targets, .. } => targets.len(),
             _ => 0,
         };
         let choice = match &mut self.overlay {
-            Overlay::Finder { selected, .. } | Overlay::Ask { selected } => selected,
+            Overlay::Finder { selected, .. }
+            | Overlay::Ask { selected }
+            | Overlay::Why { selected, .. } => selected,
             _ => return,
         };
         match a {
@@ -458,6 +508,11 @@ impl App {
                             self.ask(&q);
                         }
                     }
+                    Overlay::Why { targets, .. } => {
+                        if let (Some((t, _)), Some(m)) = (targets.get(i), self.moment()) {
+                            self.ask_why(t.clone(), Vec::new(), m);
+                        }
+                    }
                     other => self.overlay = other,
                 }
             }
@@ -477,6 +532,93 @@ impl App {
             }
         }
         self.focus = Pane::Ask;
+    }
+
+    fn moment(&self) -> Option<crate::session::Moment> {
+        let s = self.session.as_ref()?;
+        (s.index.ticks() > 0).then(|| s.index.moment(self.pos.max(1)))
+    }
+
+    /// Opens the why-questions about the selected node at this moment.
+    fn open_why(&mut self) {
+        let (Some(s), Some(m)) = (&self.session, self.moment()) else {
+            self.message = Some("why-questions are about a run: open a session or a log".into());
+            return;
+        };
+        let targets = crate::causal::session_domain(s, None)
+            .and_then(|d| crate::causal::why_targets(s, d, self.selected, m));
+        match targets {
+            Ok(targets) if !targets.is_empty() => {
+                self.overlay = Overlay::Why {
+                    selected: 0,
+                    targets,
+                }
+            }
+            Ok(_) => self.message = Some("nothing to ask why about here".into()),
+            Err(e) => self.message = Some(e.to_string()),
+        }
+    }
+
+    /// Asks the library why; the answer, its reasons' nodes and the moment
+    /// are shown.
+    pub fn ask_why(&mut self, target: String, foils: Vec<String>, at: crate::session::Moment) {
+        let Some(s) = &self.session else { return };
+        let r = crate::causal::session_domain(s, None)
+            .and_then(|d| crate::causal::why(s, d, &target, &foils, Some(at), 2));
+        match r {
+            Ok(w) => {
+                if let Ok(p) = s.index.position(at) {
+                    if p != self.pos {
+                        let keep = self.selected;
+                        self.goto(p);
+                        self.selected = keep;
+                    }
+                }
+                for u in w.reason_nodes(0) {
+                    self.reveal(u);
+                }
+                self.why = Some(WhyView {
+                    why: w,
+                    selected: 0,
+                    graph: false,
+                });
+                self.focus = Pane::Ask;
+            }
+            Err(e) => self.message = Some(e.to_string()),
+        }
+    }
+
+    /// Why does the picked explanation's first reason hold?
+    fn follow_up(&mut self) {
+        let Some(w) = &self.why else { return };
+        match w.why.follow_up(w.selected) {
+            Some((t, foils, at)) => self.ask_why(t, foils, at),
+            None => self.message = Some("no reason to follow up".into()),
+        }
+    }
+
+    /// Writes the why-answer's causal model next to where btx runs.
+    fn export_graph(&mut self) {
+        let Some(w) = &self.why else {
+            self.message = Some("ask why first (w): the model is the answer's".into());
+            return;
+        };
+        let path = format!("btx-model-tick-{}.dot", w.why.model.facts.tick);
+        self.message = Some(
+            match std::fs::write(&path, crate::causal::graph::dot(&w.why.model)) {
+                Ok(()) => format!("wrote {path}"),
+                Err(e) => format!("{path}: {e}"),
+            },
+        );
+    }
+
+    /// Nodes shown as used by the answer on screen.
+    pub fn highlighted(&self) -> Vec<Uid> {
+        match (&self.why, &self.answer) {
+            (Some(w), _) => w.why.reason_nodes(w.selected),
+            (None, Some(a)) => a.nodes.clone(),
+            _ => Vec::new(),
+        }
     }
 
     /// A mouse click on tree row `row` (counted from the pane's first row).

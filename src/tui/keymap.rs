@@ -23,6 +23,12 @@ pub enum Action {
     NextChange,
     PrevChange,
     Ask,
+    /// A why-question (counterfactual) about the selected node.
+    Why,
+    /// Show the why-answer's causal model in the details pane.
+    Graph,
+    /// Write the why-answer's causal model as a DOT file.
+    ExportGraph,
     Find,
     ToggleFramed,
     Help,
@@ -148,6 +154,24 @@ pub const KEYMAP: &[Binding] = &[
         action: Action::Ask,
         help: "ask about the selected node",
         hint: "ask",
+    },
+    Binding {
+        keys: &["w"],
+        action: Action::Why,
+        help: "why? about the node (Enter on a reason: why that?)",
+        hint: "why",
+    },
+    Binding {
+        keys: &["m"],
+        action: Action::Graph,
+        help: "show or hide the causal model of the why-answer",
+        hint: "",
+    },
+    Binding {
+        keys: &["x"],
+        action: Action::ExportGraph,
+        help: "write the why-answer's causal model as DOT",
+        hint: "",
     },
     Binding {
         keys: &["/"],

@@ -110,11 +110,7 @@ fn tree_pane(app: &App, f: &mut Frame, area: Rect) {
     let first = first_row(app, h);
     let at = app.at();
     let current = at.and_then(|a| a.current());
-    let highlighted: Vec<Uid> = app
-        .answer
-        .as_ref()
-        .map(|a| a.nodes.clone())
-        .unwrap_or_default();
+    let highlighted: Vec<Uid> = app.highlighted();
     let mut lines = Vec::with_capacity(h);
     for r in app.rows().iter().skip(first).take(h) {
         let status = app.status(r.uid);
@@ -198,7 +194,51 @@ fn tree_pane(app: &App, f: &mut Frame, area: Rect) {
     f.render_widget(Paragraph::new(lines), inner);
 }
 
+/// The why-answer's causal model: the target, then its causes layer by
+/// layer (fewest edges first), the picked explanation's reasons marked.
+fn model_pane(app: &App, w: &super::app::WhyView, f: &mut Frame, area: Rect) {
+    let m = &w.why.model;
+    let b = block(
+        format!(
+            " causal model · tick {} · {} variables, {} edges (m to hide) ",
+            m.facts.tick,
+            m.vars.len(),
+            m.edge_count()
+        ),
+        app.focus == Pane::Details,
+    );
+    let mut lines = Vec::new();
+    for (d, layer) in w.why.layers(w.selected).iter().enumerate() {
+        let mut spans = vec![Span::styled(
+            format!("{d:>2} "),
+            Style::default().fg(Color::DarkGray),
+        )];
+        for (name, value, reason) in layer {
+            let st = if *reason {
+                Style::default()
+                    .fg(Color::Yellow)
+                    .add_modifier(Modifier::BOLD)
+            } else if d == 0 {
+                Style::default().add_modifier(Modifier::BOLD)
+            } else {
+                Style::default()
+            };
+            let mark = if *reason { "★" } else { "" };
+            spans.push(Span::styled(format!("{mark}{name}={value}"), st));
+            spans.push(Span::raw("  "));
+        }
+        lines.push(Line::from(spans));
+    }
+    f.render_widget(
+        Paragraph::new(lines).block(b).wrap(Wrap { trim: false }),
+        area,
+    );
+}
+
 fn details_pane(app: &App, f: &mut Frame, area: Rect) {
+    if let Some(w) = app.why.as_ref().filter(|w| w.graph) {
+        return model_pane(app, w, f, area);
+    }
     let b = block(" details ".into(), app.focus == Pane::Details);
     let u = app.selected;
     let n = app.tree.node(u);
@@ -374,6 +414,39 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
         ),
         Style::default().fg(Color::DarkGray),
     ))];
+    if let Some(w) = &app.why {
+        let q = &w.why;
+        lines.push(Line::from(Span::styled(
+            crate::causal::english::question(&q.model, &q.query),
+            Style::default().add_modifier(Modifier::BOLD),
+        )));
+        let sentences = q.sentences();
+        if sentences.is_empty() {
+            lines.push(Line::from(format!(
+                "No explanation up to depth {}.",
+                q.answer.max_depth
+            )));
+        }
+        for (i, s) in sentences.iter().enumerate() {
+            let st = if i == w.selected {
+                Style::default().add_modifier(Modifier::REVERSED)
+            } else {
+                Style::default()
+            };
+            lines.push(Line::from(Span::styled(format!("{}. {s}", i + 1), st)));
+        }
+        lines.push(Line::from(Span::styled(
+            "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file",
+            Style::default().fg(Color::DarkGray),
+        )));
+        f.render_widget(
+            Paragraph::new(lines)
+                .block(block(" why (w) ".into(), app.focus == Pane::Ask))
+                .wrap(Wrap { trim: false }),
+            area,
+        );
+        return;
+    }
     match &app.answer {
         Some(a) => {
             lines.push(Line::from(Span::styled(
@@ -470,6 +543,27 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
             }
             f.render_widget(Paragraph::new(lines), inner);
         }
+        Overlay::Why { selected, targets } => {
+            let r = centered(area, 70, targets.len() as u16 + 2);
+            f.render_widget(Clear, r);
+            let lines: Vec<Line> = targets
+                .iter()
+                .enumerate()
+                .map(|(i, (_, q))| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    Line::from(Span::styled(q.clone(), st))
+                })
+                .collect();
+            let title = format!(" why? about {} ", app.tree.description(app.asked_node()));
+            f.render_widget(
+                Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
+                r,
+            );
+        }
         Overlay::Ask { selected } => {
             let qs = app.questions();
             let r = centered(area, 60, qs.len() as u16 + 2);
@@ -502,12 +596,10 @@ pub fn view(app: &App, f: &mut Frame) {
     details_pane(app, f, a.details);
     ask_pane(app, f, a.ask);
     timeline_pane(app, f, a.timeline);
-    f.render_widget(
-        Paragraph::new(Span::styled(
-            app.keymap.hints(),
-            Style::default().fg(Color::DarkGray),
-        )),
-        a.status,
-    );
+    let status = match &app.message {
+        Some(m) => Span::styled(m.clone(), Style::default().fg(Color::Yellow)),
+        None => Span::styled(app.keymap.hints(), Style::default().fg(Color::DarkGray)),
+    };
+    f.render_widget(Paragraph::new(status), a.status);
     overlay(app, f, f.area());
 }

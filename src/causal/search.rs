@@ -2,7 +2,7 @@
 //! the ancestors of the queried variables, smallest sets first; every
 //! satisfying assignment of the first size that has one.
 
-use super::model::{Model, Val, VarId};
+use super::model::{Evaluator, Model, Val, VarId};
 use crate::source::Located;
 use rayon::prelude::*;
 
@@ -79,61 +79,76 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
         .filter(|(_, alts)| !alts.is_empty())
         .collect();
     let mut evaluated = 0;
+    // One evaluator per thread for the whole search, so each keeps what it
+    // learnt of the leaf functions (their memo) from set to set and depth
+    // to depth.
+    let threads = rayon::current_num_threads().max(1);
+    let mut evaluators: Vec<_> = (0..threads).map(|_| model.evaluator(&within)).collect();
     for depth in 1..=max_depth.min(candidates.len()) {
         let sets = subsets(candidates.len(), depth);
-        let found: Vec<Result<(Vec<Explanation>, usize), Located>> = sets
-            .par_iter()
-            .map_init(
-                || model.evaluator(&within),
-                |ev, set| {
-                    let mut groups: Vec<Explanation> = Vec::new();
-                    let mut count = 0;
-                    let mut choice = vec![0usize; set.len()];
-                    loop {
-                        let dos: Vec<(VarId, Val)> = set
-                            .iter()
-                            .zip(&choice)
-                            .map(|(&c, &i)| (candidates[c].0, candidates[c].1[i].clone()))
-                            .collect();
-                        ev.run(&dos)?;
-                        count += 1;
-                        let outcome: Vec<Val> =
-                            q.targets.iter().map(|&t| ev.value(t).clone()).collect();
-                        if outcome
-                            .iter()
-                            .zip(&q.targets)
-                            .zip(&q.foils)
-                            .all(|((o, &t), f)| f.contains(&model.snap(t, o)))
-                        {
-                            let mut dos = dos;
-                            dos.sort_by_key(|(v, _)| model.display_key(*v));
-                            let vars: Vec<VarId> = dos.iter().map(|(v, _)| *v).collect();
-                            let values: Vec<Val> = dos.into_iter().map(|(_, x)| x).collect();
-                            match groups.iter_mut().find(|g| g.outcome == outcome) {
-                                Some(g) => g.values.push(values),
-                                None => groups.push(Explanation {
-                                    vars,
-                                    values: vec![values],
-                                    outcome,
-                                }),
-                            }
-                        }
-                        // Next assignment, odometer-style.
-                        let mut i = set.len();
-                        loop {
-                            if i == 0 {
-                                return Ok((groups, count));
-                            }
-                            i -= 1;
-                            choice[i] += 1;
-                            if choice[i] < candidates[set[i]].1.len() {
-                                break;
-                            }
-                            choice[i] = 0;
-                        }
+        let chunk = sets.len().div_ceil(threads).max(1);
+        let one = |ev: &mut Evaluator,
+                   set: &Vec<usize>|
+         -> Result<(Vec<Explanation>, usize), Located> {
+            let mut groups: Vec<Explanation> = Vec::new();
+            let mut count = 0;
+            let mut choice = vec![0usize; set.len()];
+            loop {
+                let dos: Vec<(VarId, Val)> = set
+                    .iter()
+                    .zip(&choice)
+                    .map(|(&c, &i)| (candidates[c].0, candidates[c].1[i].clone()))
+                    .collect();
+                ev.run(&dos)?;
+                count += 1;
+                let outcome: Vec<Val> = q.targets.iter().map(|&t| ev.value(t).clone()).collect();
+                if outcome
+                    .iter()
+                    .zip(&q.targets)
+                    .zip(&q.foils)
+                    .all(|((o, &t), f)| f.contains(&model.snap(t, o)))
+                {
+                    let mut dos = dos;
+                    dos.sort_by_key(|(v, _)| model.display_key(*v));
+                    let vars: Vec<VarId> = dos.iter().map(|(v, _)| *v).collect();
+                    let values: Vec<Val> = dos.into_iter().map(|(_, x)| x).collect();
+                    match groups.iter_mut().find(|g| g.outcome == outcome) {
+                        Some(g) => g.values.push(values),
+                        None => groups.push(Explanation {
+                            vars,
+                            values: vec![values],
+                            outcome,
+                        }),
                     }
-                },
-            )
+                }
+                // Next assignment, odometer-style.
+                let mut i = set.len();
+                loop {
+                    if i == 0 {
+                        return Ok((groups, count));
+                    }
+                    i -= 1;
+                    choice[i] += 1;
+                    if choice[i] < candidates[set[i]].1.len() {
+                        break;
+                    }
+                    choice[i] = 0;
+                }
+            }
+        };
+        let found: Vec<Result<(Vec<Explanation>, usize), Located>> = evaluators
+            .par_iter_mut()
+            .zip(sets.par_chunks(chunk))
+            .map(|(ev, chunk)| {
+                let mut groups = Vec::new();
+                let mut count = 0;
+                for set in chunk {
+                    let (g, n) = one(ev, set)?;
+                    groups.extend(g);
+                    count += n;
+                }
+                Ok((groups, count))
+            })
             .collect();
         let mut explanations = Vec::new();
         for r in found {

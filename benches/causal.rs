@@ -1,6 +1,7 @@
-//! Counterfactual explanations: one query on the case study, one on the
-//! largest random models, and the whole random target-recovery sweep
-//! (btcm needs 110 s for its 1800 comparisons on this machine kind).
+//! Counterfactual explanations: one query on the case study and one on the
+//! serial-recall model, and the whole target-recovery sweeps (btcm needs
+//! 110 s for its 1800 random comparisons and 680 s for the 200
+//! serial-recall ones on this machine kind).
 
 use btx::causal::{self, eval};
 use btx::session::{Moment, Session};
@@ -30,6 +31,25 @@ fn queries(c: &mut Criterion) {
             })
         },
     );
+    let s = Session::load(Path::new("sessions/serial-recall.jsonl")).unwrap();
+    let d = causal::session_domain(&s, None).unwrap();
+    g.bench_function(
+        "serial recall: why did RepeatOrEnd end the sequence (tick 2)",
+        |b| {
+            b.iter(|| {
+                let w = causal::why(
+                    &s,
+                    d.clone(),
+                    "decision(RepeatOrEnd)",
+                    &[],
+                    Some(Moment::parse("2").unwrap()),
+                    2,
+                )
+                .unwrap();
+                black_box(w.answer.explanations.len())
+            })
+        },
+    );
     g.finish();
 }
 
@@ -40,6 +60,13 @@ fn sweeps(c: &mut Criterion) {
         b.iter(|| {
             let rows = eval::recovery_random(10, false).unwrap();
             assert_eq!(rows.len(), 1800);
+            black_box(rows.len())
+        })
+    });
+    g.bench_function("serial recall, 200 comparisons", |b| {
+        b.iter(|| {
+            let rows = eval::recovery_serial_recall(50).unwrap();
+            assert_eq!(rows.len(), 200);
             black_box(rows.len())
         })
     });

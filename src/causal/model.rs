@@ -13,8 +13,9 @@ use crate::run::domain::{Domain, State, VarType};
 use crate::run::Status;
 use crate::source::Located;
 use petgraph::graph::{DiGraph, NodeIndex};
+use rustc_hash::FxHashMap;
 use serde_json::Value;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::sync::Arc;
 
 pub type VarId = usize;
@@ -192,7 +193,8 @@ pub struct Model {
     d_of: Vec<Option<VarId>>,
     flows: Vec<Flow>,
     leaf_of: Vec<Option<usize>>,
-    inputs_of: HashMap<Uid, Vec<(usize, VarId)>>,
+    /// The copies each leaf reads, by uid − 1.
+    inputs_of: Vec<Vec<(usize, VarId)>>,
     /// Per domain variable, its copies in order.
     pub copies: Vec<Vec<VarId>>,
     /// Per leaf (domain order), the copy counts τ after it (Alg. 3).
@@ -481,7 +483,7 @@ impl Model {
 
         // Algorithms 3–5 and 8: the state's temporal copies.
         let mut copies: Vec<Vec<VarId>> = Vec::new();
-        let mut inputs_of: HashMap<Uid, Vec<(usize, VarId)>> = HashMap::new();
+        let mut inputs_of: Vec<Vec<(usize, VarId)>> = vec![Vec::new(); n];
         let mut tau_after = Vec::new();
         if let Some(d) = &domain {
             let nv = d.vars.len();
@@ -557,7 +559,7 @@ impl Model {
                     if let Some(dv) = d_of[i] {
                         b.edge(xc, dv);
                     }
-                    inputs_of.entry(u).or_default().push((x, xc));
+                    inputs_of[u as usize - 1].push((x, xc));
                     touched.extend(set);
                 }
                 touched.sort_unstable();
@@ -645,7 +647,7 @@ impl Model {
         for (v, info) in b.vars.iter().enumerate() {
             if let Func::Copy { writers, .. } = &info.func {
                 for w in writers {
-                    for &(_, c) in inputs_of.get(w).map(Vec::as_slice).unwrap_or(&[]) {
+                    for &(_, c) in &inputs_of[*w as usize - 1] {
                         if !deps[v].contains(&c) {
                             deps[v].push(c);
                         }
@@ -762,7 +764,7 @@ impl Model {
     fn leaf_state(&self, uid: Uid, vals: &[Val]) -> State {
         let d = self.domain.as_ref().expect("a domain");
         let mut s: State = vec![Value::Null; d.vars.len()];
-        for &(x, c) in self.inputs_of.get(&uid).map(Vec::as_slice).unwrap_or(&[]) {
+        for &(x, c) in &self.inputs_of[uid as usize - 1] {
             if let Val::Data(v) = &vals[c] {
                 s[x] = v.clone();
             }
@@ -770,17 +772,18 @@ impl Model {
         s
     }
 
-    fn memo_key(&self, what: u8, uid: Uid, vals: &[Val], extra: Option<&Val>) -> Vec<u8> {
-        let mut k = Vec::with_capacity(64);
+    /// The memo key of a leaf function on its current inputs, built in
+    /// the memo's buffer (no allocation once it has grown).
+    fn memo_key(&self, what: u8, uid: Uid, vals: &[Val], extra: Option<&Val>, k: &mut Vec<u8>) {
+        k.clear();
         k.push(what);
         k.extend_from_slice(&uid.to_le_bytes());
-        for &(_, c) in self.inputs_of.get(&uid).map(Vec::as_slice).unwrap_or(&[]) {
-            vals[c].key(&mut k);
+        for &(_, c) in &self.inputs_of[uid as usize - 1] {
+            vals[c].key(k);
         }
         if let Some(x) = extra {
-            x.key(&mut k);
+            x.key(k);
         }
-        k
     }
 
     fn action_of(&self, uid: Uid, vals: &[Val]) -> Option<String> {
@@ -803,15 +806,15 @@ impl Model {
                 match leaf {
                     None => Val::Status(self.facts.outcome[*uid as usize - 1]),
                     Some(l) => {
-                        let action = self.action_of(*uid, vals);
                         let dv = self.d(*uid).map(|d| &vals[d]);
-                        let key = self.memo_key(0, *uid, vals, dv);
-                        if let Some(x) = memo.status.get(&key) {
+                        self.memo_key(0, *uid, vals, dv, &mut memo.buf);
+                        if let Some(x) = memo.status.get(&memo.buf[..]) {
                             return Ok(Val::Status(*x));
                         }
+                        let action = self.action_of(*uid, vals);
                         let d = self.domain.as_ref().expect("a domain");
                         let s = d.status(*l, &self.leaf_state(*uid, vals), &action)?;
-                        memo.status.insert(key, s);
+                        memo.status.insert(memo.buf.clone(), s);
                         Val::Status(s)
                     }
                 }
@@ -821,13 +824,13 @@ impl Model {
                 if !vals[self.e(*uid)].is_true() {
                     return Ok(Val::Action(None));
                 }
-                let key = self.memo_key(1, *uid, vals, None);
-                if let Some(x) = memo.decide.get(&key) {
+                self.memo_key(1, *uid, vals, None, &mut memo.buf);
+                if let Some(x) = memo.decide.get(&memo.buf[..]) {
                     return Ok(Val::Action(x.clone()));
                 }
                 let d = self.domain.as_ref().expect("a domain");
                 let a = d.decide(*leaf, &self.leaf_state(*uid, vals))?;
-                memo.decide.insert(key, a.clone());
+                memo.decide.insert(memo.buf.clone(), a.clone());
                 Val::Action(a)
             }
             Func::Copy {
@@ -840,12 +843,14 @@ impl Model {
                 let mut value = if let Some(p) = prev {
                     vals[*p].clone()
                 } else if !sparents.is_empty() {
-                    let mut key = vec![3u8];
+                    let key = &mut memo.buf;
+                    key.clear();
+                    key.push(3);
                     key.extend_from_slice(&(*var as u32).to_le_bytes());
                     for &(_, c) in sparents {
-                        vals[c].key(&mut key);
+                        vals[c].key(key);
                     }
-                    match memo.derive.get(&key) {
+                    match memo.derive.get(&memo.buf[..]) {
                         Some(x) => Val::Data(x.clone()),
                         None => {
                             let mut s: State = vec![Value::Null; d.vars.len()];
@@ -855,7 +860,7 @@ impl Model {
                                 }
                             }
                             let x = d.derive(*var, &s)?;
-                            memo.derive.insert(key, x.clone());
+                            memo.derive.insert(memo.buf.clone(), x.clone());
                             Val::Data(x)
                         }
                     }
@@ -868,13 +873,13 @@ impl Model {
                     }
                     let l = self.leaf_of[w as usize - 1].expect("writers have domain leaves");
                     let dv = self.d(w).map(|d| &vals[d]);
-                    let key = self.memo_key(2, w, vals, dv);
-                    let effect = match memo.effect.get(&key) {
-                        Some(e) => e.clone(),
+                    self.memo_key(2, w, vals, dv, &mut memo.buf);
+                    let effect = match memo.effect.get(&memo.buf[..]) {
+                        Some(e) => Arc::clone(e),
                         None => {
                             let action = self.action_of(w, vals);
-                            let e = d.effect(l, &self.leaf_state(w, vals), &action)?;
-                            memo.effect.insert(key, e.clone());
+                            let e = Arc::new(d.effect(l, &self.leaf_state(w, vals), &action)?);
+                            memo.effect.insert(memo.buf.clone(), Arc::clone(&e));
                             e
                         }
                     };
@@ -1200,8 +1205,9 @@ impl Model {
             scope: 0,
             key: d.vars[x].name.clone(),
         };
-        for (u, inputs) in &self.inputs_of {
-            if !self.facts.ticked[*u as usize - 1] {
+        for (i, inputs) in self.inputs_of.iter().enumerate() {
+            let u = &(i as Uid + 1);
+            if inputs.is_empty() || !self.facts.ticked[i] {
                 continue;
             }
             let Some(before) = self.facts.state_before.get(u) else {
@@ -1311,10 +1317,11 @@ fn same_value(a: &Value, b: &Value) -> bool {
 /// functions are deterministic, so each input is evaluated once.
 #[derive(Default)]
 pub struct Memo {
-    status: HashMap<Vec<u8>, Status>,
-    decide: HashMap<Vec<u8>, Option<String>>,
-    effect: HashMap<Vec<u8>, Vec<(usize, Value)>>,
-    derive: HashMap<Vec<u8>, Value>,
+    status: FxHashMap<Vec<u8>, Status>,
+    decide: FxHashMap<Vec<u8>, Option<String>>,
+    effect: FxHashMap<Vec<u8>, Arc<Vec<(usize, Value)>>>,
+    derive: FxHashMap<Vec<u8>, Value>,
+    buf: Vec<u8>,
 }
 
 /// Evaluates interventions (the Do operator): only descendants of the

@@ -86,6 +86,49 @@ pub struct Domain {
     /// Derived variables in an order where parents come first.
     order: Vec<usize>,
     lib: AST,
+    /// Results of the functions by their inputs: the functions are
+    /// deterministic, and a search or an evaluation asks the same ones many
+    /// times over.
+    memo: std::sync::Mutex<rustc_hash::FxHashMap<Vec<u8>, Memoed>>,
+}
+
+/// A memoised result.
+#[derive(Debug, Clone)]
+enum Memoed {
+    Value(Value),
+    Action(Option<String>),
+    Status(Status),
+    Effect(Vec<(usize, Value)>),
+}
+
+/// Appends an exact, cheap key of a value (no number formatting).
+pub fn value_key(v: &Value, out: &mut Vec<u8>) {
+    let text = |out: &mut Vec<u8>, s: &str| {
+        out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+        out.extend_from_slice(s.as_bytes());
+    };
+    match v {
+        Value::Null => out.push(0),
+        Value::Bool(b) => out.extend_from_slice(&[1, u8::from(*b)]),
+        Value::Number(n) => match n.as_i64() {
+            Some(i) => {
+                out.push(2);
+                out.extend_from_slice(&i.to_le_bytes());
+            }
+            None => {
+                out.push(3);
+                out.extend_from_slice(&n.as_f64().unwrap_or(0.0).to_bits().to_le_bytes());
+            }
+        },
+        Value::String(s) => {
+            out.push(4);
+            text(out, s);
+        }
+        other => {
+            out.push(5);
+            text(out, &other.to_string());
+        }
+    }
 }
 
 /// A state: one value per variable, in `Domain::vars` order.
@@ -259,6 +302,7 @@ impl Domain {
             index: HashMap::new(),
             order: Vec::new(),
             lib: AST::empty(),
+            memo: Default::default(),
         };
         if *file.btx_domain.get_ref() != FORMAT_VERSION {
             return Err(d.err(
@@ -570,7 +614,57 @@ impl Domain {
     }
 
     /// A derived variable's structural function, on a state.
+    fn key(
+        &self,
+        tag: u8,
+        index: usize,
+        vars: &[usize],
+        state: &State,
+        action: Option<&Option<String>>,
+    ) -> Vec<u8> {
+        let mut k = Vec::with_capacity(16 + 9 * vars.len());
+        k.push(tag);
+        k.extend_from_slice(&(index as u32).to_le_bytes());
+        for &x in vars {
+            value_key(&state[x], &mut k);
+        }
+        if let Some(a) = action {
+            value_key(&a.clone().map_or(Value::Null, Value::from), &mut k);
+        }
+        k
+    }
+
+    fn memoised(
+        &self,
+        key: Vec<u8>,
+        f: impl FnOnce() -> Result<Memoed, Located>,
+    ) -> Result<Memoed, Located> {
+        if let Some(x) = self
+            .memo
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+        {
+            return Ok(x.clone());
+        }
+        let x = f()?;
+        let mut m = self.memo.lock().unwrap_or_else(|e| e.into_inner());
+        if m.len() >= 1 << 20 {
+            m.clear();
+        }
+        m.insert(key, x.clone());
+        Ok(x)
+    }
+
     pub fn derive(&self, var: usize, state: &State) -> Result<Value, Located> {
+        let key = self.key(0, var, &self.vars[var].parents, state, None);
+        match self.memoised(key, || self.derive_now(var, state).map(Memoed::Value))? {
+            Memoed::Value(v) => Ok(v),
+            other => unreachable!("{other:?}"),
+        }
+    }
+
+    fn derive_now(&self, var: usize, state: &State) -> Result<Value, Located> {
         let v = &self.vars[var];
         let f = v
             .function
@@ -598,6 +692,14 @@ impl Domain {
 
     /// The leaf's decision (d_i): an action name, or `None` for the null action.
     pub fn decide(&self, leaf: usize, state: &State) -> Result<Option<String>, Located> {
+        let key = self.key(1, leaf, &self.leaves[leaf].inputs, state, None);
+        match self.memoised(key, || self.decide_now(leaf, state).map(Memoed::Action))? {
+            Memoed::Action(a) => Ok(a),
+            other => unreachable!("{other:?}"),
+        }
+    }
+
+    fn decide_now(&self, leaf: usize, state: &State) -> Result<Option<String>, Located> {
         let l = &self.leaves[leaf];
         let Some(script) = &l.decide else {
             return Ok(None);
@@ -642,6 +744,21 @@ impl Domain {
         state: &State,
         action: &Option<String>,
     ) -> Result<Status, Located> {
+        let key = self.key(2, leaf, &self.leaves[leaf].inputs, state, Some(action));
+        match self.memoised(key, || {
+            self.status_now(leaf, state, action).map(Memoed::Status)
+        })? {
+            Memoed::Status(s) => Ok(s),
+            other => unreachable!("{other:?}"),
+        }
+    }
+
+    fn status_now(
+        &self,
+        leaf: usize,
+        state: &State,
+        action: &Option<String>,
+    ) -> Result<Status, Located> {
         let l = &self.leaves[leaf];
         let mut scope = self.action_scope(leaf, state, action);
         let r = self.eval(&l.status, &mut scope)?;
@@ -660,6 +777,21 @@ impl Domain {
 
     /// The leaf's direct effect (p_i): new values of its outputs.
     pub fn effect(
+        &self,
+        leaf: usize,
+        state: &State,
+        action: &Option<String>,
+    ) -> Result<Vec<(usize, Value)>, Located> {
+        let key = self.key(3, leaf, &self.leaves[leaf].inputs, state, Some(action));
+        match self.memoised(key, || {
+            self.effect_now(leaf, state, action).map(Memoed::Effect)
+        })? {
+            Memoed::Effect(e) => Ok(e),
+            other => unreachable!("{other:?}"),
+        }
+    }
+
+    fn effect_now(
         &self,
         leaf: usize,
         state: &State,

@@ -406,48 +406,38 @@ fn run(cli: Cli) -> Result<(), Failure> {
             seeds,
             extended,
             format,
-        } => match domain {
-            EvalDomain::Random => {
-                let start = std::time::Instant::now();
-                let rows = btx::causal::eval::recovery_random(seeds.unwrap_or(10), extended)
-                    .map_err(Failure::Plain)?;
-                let secs = start.elapsed().as_secs_f64();
-                match format {
-                    Format::Text => {
-                        print!("{}", btx::causal::eval::table2(&rows));
-                        println!(
-                            "{} comparisons in {secs:.2} s ({} threads)",
-                            rows.len(),
-                            rayon::current_num_threads()
-                        );
-                    }
-                    Format::Json => print!(
-                        "{}",
-                        pretty(&serde_json::json!({"rows": rows, "seconds": secs}))
-                    ),
+        } => {
+            let started = std::time::Instant::now();
+            let (rows, table) = match domain {
+                EvalDomain::Random => {
+                    let rows = btx::causal::eval::recovery_random(seeds.unwrap_or(10), extended)
+                        .map_err(Failure::Plain)?;
+                    let t = btx::causal::eval::table2(&rows);
+                    (rows, t)
                 }
-            }
-            EvalDomain::SerialRecall => {
-                let start = std::time::Instant::now();
-                let rows = btx::causal::eval::recovery_serial_recall(seeds.unwrap_or(50))
-                    .map_err(Failure::Plain)?;
-                let secs = start.elapsed().as_secs_f64();
-                match format {
-                    Format::Text => {
-                        print!("{}", btx::causal::eval::table3(&rows));
-                        println!(
-                            "{} comparisons in {secs:.2} s ({} threads)",
-                            rows.len(),
-                            rayon::current_num_threads()
-                        );
-                    }
-                    Format::Json => print!(
-                        "{}",
-                        pretty(&serde_json::json!({"rows": rows, "seconds": secs}))
-                    ),
+                EvalDomain::SerialRecall => {
+                    let rows = btx::causal::eval::recovery_serial_recall(seeds.unwrap_or(50))
+                        .map_err(Failure::Plain)?;
+                    let t = btx::causal::eval::table3(&rows);
+                    (rows, t)
                 }
+            };
+            let secs = started.elapsed().as_secs_f64();
+            match format {
+                Format::Text => {
+                    print!("{table}");
+                    println!(
+                        "{} comparisons in {secs:.2} s ({} threads)",
+                        rows.len(),
+                        rayon::current_num_threads()
+                    );
+                }
+                Format::Json => print!(
+                    "{}",
+                    pretty(&serde_json::json!({"rows": rows, "seconds": secs}))
+                ),
             }
-        },
+        }
         Command::Graph {
             session,
             at,

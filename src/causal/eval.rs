@@ -42,6 +42,33 @@ pub struct Row {
 
 /// A run of `domain` from its initial state with some variables set first
 /// (their derived variables recomputed).
+impl Row {
+    /// A comparison of `config` ((variables, leaves, seed)) that perturbed
+    /// `target`, begun at `start`.
+    fn of(
+        config: &str,
+        (vars, leaves, seed): (usize, usize, u64),
+        target: &str,
+        c: &Comparison,
+        start: Instant,
+    ) -> Row {
+        Row {
+            config: config.to_string(),
+            vars,
+            leaves,
+            seed,
+            target: target.to_string(),
+            found: c.found,
+            explanations: c.explanations,
+            merged: c.merged,
+            model_nodes: c.model_nodes,
+            model_edges: c.model_edges,
+            evaluated: c.evaluated,
+            seconds: start.elapsed().as_secs_f64(),
+        }
+    }
+}
+
 fn run(
     tree: &Tree,
     domain: &Arc<Domain>,
@@ -174,20 +201,7 @@ pub fn recovery_random(seeds: u64, extended: bool) -> Result<Vec<Row>, String> {
                     ticks,
                 )?;
                 let c = compare(&tree, &domain, &default, &altered, k, p.vars)?;
-                out.push(Row {
-                    config: name.clone(),
-                    vars: p.vars,
-                    leaves: p.leaves,
-                    seed: p.seed,
-                    target: t.clone(),
-                    found: c.found,
-                    explanations: c.explanations,
-                    merged: c.merged,
-                    model_nodes: c.model_nodes,
-                    model_edges: c.model_edges,
-                    evaluated: c.evaluated,
-                    seconds: start.elapsed().as_secs_f64(),
-                });
+                out.push(Row::of(&name, (p.vars, p.leaves, p.seed), t, &c, start));
             }
             Ok(out)
         })
@@ -197,6 +211,23 @@ pub fn recovery_random(seeds: u64, extended: bool) -> Result<Vec<Row>, String> {
         out.extend(r?);
     }
     Ok(out)
+}
+
+/// The rows whose target was found, how many runs did not differ, and the
+/// recovery rate (found over runs that differ).
+fn recovered<'a>(sel: &[&'a Row]) -> (Vec<&'a Row>, usize, String) {
+    let found: Vec<&Row> = sel
+        .iter()
+        .copied()
+        .filter(|r| r.found == Some(true))
+        .collect();
+    let differ = sel.iter().filter(|r| r.found.is_some()).count();
+    let rate = if differ == 0 {
+        "-".to_string()
+    } else {
+        format!("{:.3}", found.len() as f64 / differ as f64)
+    };
+    (found, sel.len() - differ, rate)
 }
 
 fn stats(xs: &[f64]) -> String {
@@ -250,14 +281,7 @@ pub fn table2(rows: &[Row]) -> String {
             .iter()
             .filter(|r| g == (0, 0) || (r.vars, r.leaves) == g)
             .collect();
-        let found: Vec<&&Row> = sel.iter().filter(|r| r.found == Some(true)).collect();
-        let differ = sel.iter().filter(|r| r.found.is_some()).count();
-        let nodiff = sel.len() - differ;
-        let rate = if differ == 0 {
-            "-".to_string()
-        } else {
-            format!("{:.3}", found.len() as f64 / differ as f64)
-        };
+        let (found, nodiff, rate) = recovered(&sel);
         let nodes: Vec<f64> = found.iter().map(|r| r.model_nodes as f64).collect();
         let expl: Vec<f64> = found.iter().map(|r| r.explanations as f64).collect();
         let merged: Vec<f64> = found.iter().map(|r| r.merged as f64).collect();
@@ -345,20 +369,13 @@ pub fn recovery_serial_recall(seeds: u64) -> Result<Vec<Row>, String> {
                     (&domain, run(&tree, &domain, &text, &set, 200)?)
                 };
                 let c = compare(&tree, d, &default, &altered, k, 2)?;
-                rows.push(Row {
-                    config: name.to_string(),
-                    vars: domain.vars.len(),
-                    leaves: 18,
-                    seed,
-                    target: target.to_string(),
-                    found: c.found,
-                    explanations: c.explanations,
-                    merged: c.merged,
-                    model_nodes: c.model_nodes,
-                    model_edges: c.model_edges,
-                    evaluated: c.evaluated,
-                    seconds: start.elapsed().as_secs_f64(),
-                });
+                rows.push(Row::of(
+                    name,
+                    (domain.vars.len(), 18, seed),
+                    target,
+                    &c,
+                    start,
+                ));
             }
             Ok(rows)
         })
@@ -391,13 +408,7 @@ pub fn table3(rows: &[Row]) -> String {
             .iter()
             .filter(|r| name == "All" || r.config == name)
             .collect();
-        let found: Vec<&&Row> = sel.iter().filter(|r| r.found == Some(true)).collect();
-        let differ = sel.iter().filter(|r| r.found.is_some()).count();
-        let rate = if differ == 0 {
-            "-".to_string()
-        } else {
-            format!("{:.3}", found.len() as f64 / differ as f64)
-        };
+        let (found, nodiff, rate) = recovered(&sel);
         let expl: Vec<f64> = found.iter().map(|r| r.explanations as f64).collect();
         let merged = if found.is_empty() {
             "-".to_string()
@@ -417,7 +428,7 @@ pub fn table3(rows: &[Row]) -> String {
         out.push_str(&format!(
             "{name:<13} | {:>5} {:>7} {:>8} | {:>30} | {merged:>11} | {size:>17} || {paper}\n",
             found.len(),
-            sel.len() - differ,
+            nodiff,
             rate,
             stats(&expl),
         ));

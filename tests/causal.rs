@@ -357,19 +357,6 @@ fn btcm_logs_open_as_sessions() {
     assert!(m.unfaithful().is_empty(), "{:?}", m.unfaithful());
 }
 
-fn btx(args: &[&str]) -> (bool, String, String) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_btx"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
-}
-
 #[test]
 fn btx_why_answers_in_text_and_json() {
     let (ok, out, err) = btx(&[

@@ -2,19 +2,6 @@
 
 mod common;
 use common::*;
-use std::process::Command;
-
-fn btx(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_btx"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
-}
 
 fn path(p: std::path::PathBuf) -> String {
     p.display().to_string()

@@ -9,7 +9,6 @@ use btx::session::record::{record, RunRequest};
 use btx::session::{Moment, Session, Source};
 use common::*;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).to_path_buf()
@@ -48,18 +47,6 @@ fn ask(s: &Session, at: &str, q: &str) -> String {
     answer(&s.tree, Some(&view), n, &Question::parse(q).unwrap())
         .unwrap()
         .text
-}
-
-fn btx(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_btx"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
 }
 
 #[test]

@@ -9,7 +9,7 @@
 use super::facts::TickFacts;
 use crate::model::{Builtin, Kind, PortValue, Tree, Uid};
 use crate::run::blackboard::EntryId;
-use crate::run::domain::{Domain, State, VarType};
+use crate::run::domain::{str_key, value_key, Domain, State, VarType};
 use crate::run::Status;
 use crate::source::Located;
 use petgraph::graph::{DiGraph, NodeIndex};
@@ -55,39 +55,19 @@ impl Val {
         }
     }
 
-    /// A key for memoising leaf functions on their inputs: exact, and
-    /// cheap to build (no number formatting).
+    /// A key for memoising leaf functions on their inputs (a first cache
+    /// in front of the domain's: a hit here builds no state and takes no
+    /// lock).
     fn key(&self, out: &mut Vec<u8>) {
-        fn text(out: &mut Vec<u8>, s: &str) {
-            out.extend_from_slice(&(s.len() as u32).to_le_bytes());
-            out.extend_from_slice(s.as_bytes());
-        }
         match self {
-            Val::Bool(b) => out.extend_from_slice(&[0, u8::from(*b)]),
-            Val::Status(s) => out.extend_from_slice(&[1, s.code()]),
-            Val::Action(None) => out.push(2),
+            Val::Bool(b) => out.extend_from_slice(&[10, u8::from(*b)]),
+            Val::Status(s) => out.extend_from_slice(&[11, s.code()]),
+            Val::Action(None) => out.push(12),
             Val::Action(Some(a)) => {
-                out.push(3);
-                text(out, a);
+                out.push(13);
+                str_key(a, out);
             }
-            Val::Data(Value::Bool(b)) => out.extend_from_slice(&[4, u8::from(*b)]),
-            Val::Data(Value::Number(n)) => {
-                if let Some(i) = n.as_i64() {
-                    out.push(5);
-                    out.extend_from_slice(&i.to_le_bytes());
-                } else {
-                    out.push(6);
-                    out.extend_from_slice(&n.as_f64().unwrap_or(0.0).to_bits().to_le_bytes());
-                }
-            }
-            Val::Data(Value::String(s)) => {
-                out.push(7);
-                text(out, s);
-            }
-            Val::Data(other) => {
-                out.push(8);
-                text(out, &other.to_string());
-            }
+            Val::Data(v) => value_key(v, out),
         }
     }
 }

@@ -101,12 +101,15 @@ enum Memoed {
     Effect(Vec<(usize, Value)>),
 }
 
+/// Appends an exact, cheap key of a text.
+pub fn str_key(s: &str, out: &mut Vec<u8>) {
+    out.push(4);
+    out.extend_from_slice(&(s.len() as u32).to_le_bytes());
+    out.extend_from_slice(s.as_bytes());
+}
+
 /// Appends an exact, cheap key of a value (no number formatting).
 pub fn value_key(v: &Value, out: &mut Vec<u8>) {
-    let text = |out: &mut Vec<u8>, s: &str| {
-        out.extend_from_slice(&(s.len() as u32).to_le_bytes());
-        out.extend_from_slice(s.as_bytes());
-    };
     match v {
         Value::Null => out.push(0),
         Value::Bool(b) => out.extend_from_slice(&[1, u8::from(*b)]),
@@ -120,13 +123,10 @@ pub fn value_key(v: &Value, out: &mut Vec<u8>) {
                 out.extend_from_slice(&n.as_f64().unwrap_or(0.0).to_bits().to_le_bytes());
             }
         },
-        Value::String(s) => {
-            out.push(4);
-            text(out, s);
-        }
+        Value::String(s) => str_key(s, out),
         other => {
             out.push(5);
-            text(out, &other.to_string());
+            str_key(&other.to_string(), out);
         }
     }
 }
@@ -628,8 +628,10 @@ impl Domain {
         for &x in vars {
             value_key(&state[x], &mut k);
         }
-        if let Some(a) = action {
-            value_key(&a.clone().map_or(Value::Null, Value::from), &mut k);
+        match action {
+            Some(Some(a)) => str_key(a, &mut k),
+            Some(None) => k.push(0),
+            None => {}
         }
         k
     }

@@ -44,3 +44,17 @@ pub fn logged(run: &str) -> Vec<(u32, u32, String, String)> {
         })
         .collect()
 }
+
+/// Runs the btx binary in the project's folder: (success, stdout, stderr).
+pub fn btx(args: &[&str]) -> (bool, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}

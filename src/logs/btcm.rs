@@ -11,7 +11,7 @@
 use crate::model::Uid;
 use crate::run::blackboard::EntryId;
 use crate::run::Status;
-use crate::session::{format, Header, Index, Session, Source, Transition, TreeRef};
+use crate::session::{Index, Session, Transition};
 use crate::source::{Located, Warning};
 use crate::xml::{load_str, LoadOptions};
 use serde_json::{Map, Value};
@@ -331,26 +331,7 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         }
         index.end_tick(tick);
     }
-    let header = Header {
-        btx_session: format::FORMAT_VERSION,
-        btx_version: env!("CARGO_PKG_VERSION").to_string(),
-        tree: TreeRef {
-            path: Some(path.display().to_string()),
-            hash: None,
-            xml: crate::xml::to_v4_xml(&tree),
-            btcpp_format: 4,
-            main_tree: tree.main_tree.clone(),
-        },
-        source: Source {
-            kind: "import".into(),
-            path: Some(path.display().to_string()),
-            text: None,
-            name: Some("btcm".into()),
-        },
-        seed: None,
-        tick_ms: 0,
-        blackboard: initial,
-    };
+    let header = super::import_header(path, &tree, crate::model::Version::V4, "btcm", initial);
     let ticks = index.ticks();
     Ok(Session {
         path: path.to_path_buf(),

@@ -108,13 +108,33 @@ fn session_from(
             None,
         );
     }
-    let header = Header {
+    let header = import_header(path, &tree, version, kind, Vec::new());
+    Ok(Session {
+        path: path.to_path_buf(),
+        header,
+        tree,
+        index,
+        end: None,
+        inserts: Vec::new(),
+        warnings,
+    })
+}
+
+/// The header of a session read from a log: the log's tree, embedded.
+pub(crate) fn import_header(
+    path: &Path,
+    tree: &crate::model::Tree,
+    version: crate::model::Version,
+    kind: &str,
+    blackboard: Vec<(crate::run::blackboard::EntryId, serde_json::Value)>,
+) -> Header {
+    Header {
         btx_session: format::FORMAT_VERSION,
         btx_version: env!("CARGO_PKG_VERSION").to_string(),
         tree: TreeRef {
             path: Some(path.display().to_string()),
             hash: None,
-            xml: crate::xml::to_v4_xml(&tree),
+            xml: crate::xml::to_v4_xml(tree),
             btcpp_format: version.number(),
             main_tree: tree.main_tree.clone(),
         },
@@ -126,17 +146,8 @@ fn session_from(
         },
         seed: None,
         tick_ms: 0,
-        blackboard: Vec::new(),
-    };
-    Ok(Session {
-        path: path.to_path_buf(),
-        header,
-        tree,
-        index,
-        end: None,
-        inserts: Vec::new(),
-        warnings,
-    })
+        blackboard,
+    }
 }
 
 /// Writes a session read from a log as a btx session file.

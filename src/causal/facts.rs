@@ -217,9 +217,9 @@ impl TickFacts {
             state.insert(x.entry.clone(), x.value.clone());
             w += 1;
         }
-        // Leaves ticked without a record of it (RUNNING again) read the
-        // state as it was when the tick reached them: the start, unless an
-        // earlier leaf changed it; the end state is the best stand-in.
+        // An action ticked again while RUNNING leaves no record of its
+        // call; the state it read is taken as the tick's start (exact
+        // unless a leaf before it in the tick wrote one of its inputs).
         for (u, &t) in ticked.iter().enumerate() {
             let uid = u as Uid + 1;
             if t && tree.node(uid).kind == Kind::Action && !state_before.contains_key(&uid) {

@@ -103,7 +103,7 @@ fn by_timing(recs: &[Record]) -> Vec<u32> {
     let mut prev: Option<i64> = None;
     recs.iter()
         .map(|r| {
-            if prev.is_none_or(|p| r.time_us - p >= 1000) {
+            if prev.is_none_or(|p| r.time_us.saturating_sub(p) >= 1000) {
                 n += 1;
             }
             prev = Some(r.time_us);
@@ -132,12 +132,15 @@ fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> Vec<u32> {
     let Some(&period) = gaps.get(gaps.len() / 10) else {
         return ticks.to_vec();
     };
+    // A corrupt timestamp can claim billions of empty ticks: a gap counts
+    // for at most a million, and the numbering stays far from overflow.
     let mut numbers = vec![1u32];
     for w in firsts.windows(2) {
-        let steps = ((w[1] - w[0]) as f64 / period.max(1) as f64 + 0.1)
+        let steps = ((w[1].saturating_sub(w[0])) as f64 / period.max(1) as f64 + 0.1)
             .floor()
-            .max(1.0) as u32;
-        numbers.push(numbers.last().expect("seeded") + steps);
+            .clamp(1.0, 1e6) as u32;
+        let last = *numbers.last().expect("seeded");
+        numbers.push(last.saturating_add(steps).min(u32::MAX / 2));
     }
     ticks.iter().map(|&t| numbers[t as usize - 1]).collect()
 }
@@ -148,5 +151,32 @@ pub fn reconstruct(tree: &Tree, recs: &[Record]) -> (Vec<u32>, Option<usize>) {
     match by_structure(tree, recs) {
         Ok(t) => (with_empty_ticks(recs, &t), None),
         Err(at) => (with_empty_ticks(recs, &by_timing(recs)), Some(at)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::run::Status;
+
+    fn rec(time_us: i64) -> Record {
+        Record {
+            time_us,
+            uid: 1,
+            status: Status::Running,
+            offset: 0,
+        }
+    }
+
+    #[test]
+    fn a_corrupt_timestamp_cannot_overflow_the_tick_numbers() {
+        let recs: Vec<Record> = [0, 10_000, 20_000, i64::MAX / 4, i64::MAX / 2, 0]
+            .into_iter()
+            .map(rec)
+            .collect();
+        let ticks = with_empty_ticks(&recs, &by_timing(&recs));
+        assert_eq!(&ticks[..3], [1, 2, 3]);
+        assert_eq!(ticks[3], 3 + 1_000_000);
+        assert!(ticks.iter().all(|&t| t <= u32::MAX / 2));
     }
 }

@@ -26,6 +26,8 @@ pub mod explain;
 
 pub mod causal;
 
+pub mod diff;
+
 pub mod export;
 
 pub mod tui;

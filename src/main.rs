@@ -146,6 +146,9 @@ enum Command {
         /// A built-in world.
         #[arg(long, value_enum, group = "leaves")]
         world: Option<World>,
+        /// With --domain: start with a state variable set (repeatable), e.g. UserMemory=0.0.
+        #[arg(long = "set", value_name = "NAME=VALUE", requires = "domain")]
+        set: Vec<String>,
         #[arg(long, default_value_t = 0)]
         seed: u64,
         #[arg(long, value_name = "N", default_value_t = 10_000)]
@@ -181,6 +184,9 @@ enum Command {
     Open {
         #[arg(required = true, num_args = 1..=2, value_name = "TREE|SESSION")]
         files: Vec<PathBuf>,
+        /// Show two trees or runs side by side (`btx open --diff A B`).
+        #[arg(long)]
+        diff: bool,
         #[command(flatten)]
         reading: Reading,
     },
@@ -245,6 +251,29 @@ enum Command {
         #[arg(long, value_enum, default_value = "dot")]
         format: GraphFormat,
     },
+    /// Compare two trees or runs subgoal by subgoal (Han et al.'s expected vs
+    /// actual policy), or one reference with several runs.
+    Diff {
+        /// A then B (trees, sessions or logs); or a reference and several runs.
+        #[arg(required = true, num_args = 2.., value_name = "A B | REF RUN...")]
+        files: Vec<PathBuf>,
+        #[command(flatten)]
+        reading: Reading,
+        /// For two runs of one tree: where they first part ways, and why B did not do what A did.
+        #[arg(long)]
+        why: bool,
+        /// With --why: the largest number of variables changed together.
+        #[arg(long, value_name = "N", default_value_t = 2)]
+        max_depth: usize,
+        /// With --why: a domain file instead of the one B recorded.
+        #[arg(long, value_name = "FILE")]
+        domain: Option<PathBuf>,
+        /// Exit with status 1 when the inputs diverge (like diff(1)).
+        #[arg(long)]
+        exit_code: bool,
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
     /// List the status transitions of a session, like Groot's table.
     Log {
         session: PathBuf,
@@ -264,6 +293,8 @@ enum Command {
 enum Failure {
     Located(miette::Report),
     Plain(String),
+    /// Not an error: an exit status the command reports (`diff --exit-code`).
+    Exit(u8),
 }
 
 impl From<btx::Located> for Failure {
@@ -321,7 +352,23 @@ fn run(cli: Cli) -> Result<(), Failure> {
         return btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     };
     match command {
-        Command::Open { files, reading } => {
+        Command::Open {
+            files,
+            diff: true,
+            reading,
+        } => {
+            if files.len() != 2 {
+                fail!("--diff shows two inputs side by side: btx open --diff A B");
+            }
+            let mut app = btx::tui::open_diff(&files[0], &files[1], &reading.options())?;
+            app.keymap = keymap(cli.keys.as_deref())?;
+            btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
+        }
+        Command::Open {
+            files,
+            diff: false,
+            reading,
+        } => {
             let mut app = btx::tui::open(
                 &files[0],
                 files.get(1).map(PathBuf::as_path),
@@ -554,6 +601,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             plan,
             domain,
             world,
+            set,
             seed,
             max_ticks,
             tick_ms,
@@ -609,7 +657,10 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     text: Some(d.text.clone()),
                     name: Some(d.name.clone()),
                 };
-                let leaves = DomainLeaves::new(d, &tree)?;
+                let mut leaves = DomainLeaves::new(d, &tree)?;
+                for a in &set {
+                    leaves.set(a).map_err(Failure::Plain)?;
+                }
                 report_run(&tree, record(req(source), leaves))?;
             } else {
                 match world.expect("clap requires one source of leaves") {
@@ -678,6 +729,108 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 }
             }
         },
+        Command::Diff {
+            files,
+            reading,
+            why,
+            max_depth,
+            domain,
+            exit_code,
+            format,
+        } => {
+            let inputs = files
+                .iter()
+                .map(|f| open_input(f, &reading, cli.quiet))
+                .collect::<Result<Vec<_>, _>>()?;
+            let sides: Vec<btx::diff::Side> = files
+                .iter()
+                .zip(&inputs)
+                .map(|(f, i)| {
+                    let name = f.display().to_string();
+                    match i.session() {
+                        Some(s) => btx::diff::Side::session(name, s),
+                        None => btx::diff::Side::tree(name, i.tree()),
+                    }
+                })
+                .collect();
+            let diverges = if sides.len() > 2 {
+                if why {
+                    fail!("--why compares two runs; give A and B only");
+                }
+                let f = btx::diff::fleet::Fleet::new(&sides[0], &sides[1..]);
+                match format {
+                    Format::Text => print!("{}", f.text()),
+                    Format::Json => print!("{}", pretty(&f.json())),
+                }
+                f.diffs.iter().any(|d| !d.is_empty())
+            } else {
+                let d = btx::diff::Diff::new(&sides[0], &sides[1]);
+                let diverged = if why {
+                    let (Some(a), Some(b)) = (inputs[0].session(), inputs[1].session()) else {
+                        fail!("--why asks why two runs diverged: give two sessions or logs");
+                    };
+                    if !btx::diff::same_shape(&a.tree, &b.tree) {
+                        fail!(
+                            "--why compares two runs of one tree, and {} and {} ran different trees",
+                            files[0].display(),
+                            files[1].display()
+                        );
+                    }
+                    let dom = btx::causal::session_domain(b, domain.as_deref()).map_err(located)?;
+                    Some(
+                        btx::causal::compare::why_diverged(a, b, dom, max_depth)
+                            .map_err(located)?,
+                    )
+                } else {
+                    None
+                };
+                let (an, bn) = ("A", "B");
+                match format {
+                    Format::Text => {
+                        print!("{}", d.text());
+                        match &diverged {
+                            Some(None) => {
+                                println!(
+                                    "\nThe runs make the same transitions: they do not diverge."
+                                )
+                            }
+                            Some(Some(x)) => {
+                                println!(
+                                    "\nThe runs part ways {}.",
+                                    x.difference.text(inputs[1].tree(), an, bn)
+                                );
+                                match &x.why {
+                                    Some(w) => print!("Why, in B: {}", w.text()),
+                                    None => {
+                                        println!("There is no value in B to contrast with A's.")
+                                    }
+                                }
+                            }
+                            None => {}
+                        }
+                    }
+                    Format::Json => {
+                        let mut v = d.json();
+                        if let Some(x) = &diverged {
+                            v["why"] = match x {
+                                None => serde_json::Value::Null,
+                                Some(x) => serde_json::json!({
+                                    "transition": x.difference.index + 1,
+                                    "moment": x.difference.moment.to_string(),
+                                    "text": x.difference.text(inputs[1].tree(), an, bn),
+                                    "answer": x.why.as_ref().map(|w| w.json()),
+                                }),
+                            };
+                        }
+                        print!("{}", pretty(&v));
+                    }
+                }
+                !d.is_empty() || matches!(diverged, Some(Some(_)))
+            };
+            if exit_code && diverges {
+                return Err(Failure::Exit(1));
+            }
+        }
         Command::Log {
             session,
             node,
@@ -814,5 +967,6 @@ fn main() -> ExitCode {
             eprintln!("error: {msg}");
             ExitCode::FAILURE
         }
+        Err(Failure::Exit(code)) => ExitCode::from(code),
     }
 }

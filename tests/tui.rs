@@ -4,7 +4,7 @@
 use btx::tui::keymap::{Action, KEYMAP};
 use btx::tui::{demo, render, scene, SCENES};
 
-fn screen(app: &btx::tui::App, w: u16, h: u16) -> String {
+fn screen(app: &impl btx::tui::Screen, w: u16, h: u16) -> String {
     let buf = render(app, w, h);
     let mut s = String::new();
     for y in 0..h {
@@ -190,4 +190,81 @@ fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
         w.why.sentences(),
         ["L0 failed because X_a was false. If X_a had been true, L0 would have succeeded."]
     );
+}
+
+fn diff_app(a: &str, b: &str) -> btx::tui::diff::DiffApp {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::env::set_current_dir(root).unwrap();
+    btx::tui::open_diff(
+        std::path::Path::new(a),
+        std::path::Path::new(b),
+        &Default::default(),
+    )
+    .unwrap()
+}
+
+#[test]
+fn side_by_side_taxi_policies_colour_the_detour() {
+    let mut app = diff_app("trees/taxi-expected.xml", "trees/taxi.xml");
+    insta::assert_snapshot!("diff_taxi", screen(&app, 110, 34));
+    // Fig. 14's colours: the detour's leaves dark blue, their parent blue-grey.
+    let buf = render(&app, 110, 34);
+    let row_of = |text: &str, from: u16| {
+        (0..34u16)
+            .find(|&y| {
+                let line: String = (from..from + 55).map(|x| buf[(x, y)].symbol()).collect();
+                line.contains(text)
+            })
+            .unwrap_or_else(|| panic!("no {text}"))
+    };
+    let y = row_of("move left #10", 55);
+    let x = (55..110).find(|&x| buf[(x, y)].symbol() == "m").unwrap();
+    assert_eq!(buf[(x, y)].bg, btx::tui::diff_view::DIVERGENT);
+    let y = row_of("navigate to passenger #4", 55);
+    let x = (55..110).find(|&x| buf[(x, y)].symbol() == "n").unwrap();
+    assert_eq!(buf[(x, y)].bg, btx::tui::diff_view::PARENT);
+    // The left side has a gap facing each inserted action.
+    let left: String = (0..55).map(|x| buf[(x, y + 3)].symbol()).collect();
+    assert!(left.trim_matches(['│', ' ']).is_empty(), "{left:?}");
+    // d jumps from divergence to divergence, and wraps around.
+    let mut seen = Vec::new();
+    for _ in 0..5 {
+        app.update(Action::NextDivergence);
+        seen.push(app.message.clone().unwrap());
+    }
+    assert!(
+        seen[0].starts_with("divergence 1 of 4: go pick up passenger"),
+        "{seen:?}"
+    );
+    assert_eq!(seen[4], seen[0]);
+    app.update(Action::PrevDivergence);
+    assert!(app
+        .message
+        .as_deref()
+        .unwrap()
+        .starts_with("divergence 4 of 4"));
+}
+
+#[test]
+fn side_by_side_runs_move_together_and_say_why_they_diverged() {
+    let mut app = diff_app(
+        "sessions/kitting-nominal.jsonl",
+        "sessions/kitting-lookat-fails-once.jsonl",
+    );
+    app.update(Action::TickForward);
+    let (a, b) = (app.a.moment().unwrap(), app.b.moment().unwrap());
+    assert_eq!((a.tick, b.tick), (2, 2));
+    app.update(Action::NextDivergence);
+    assert_eq!(app.b.moment().unwrap().tick, 9);
+    assert_eq!(app.a.moment().unwrap().tick, 9);
+    app.update(Action::Why);
+    let text = app.answer.clone().unwrap();
+    assert!(
+        text.starts_with("The runs part ways at transition 32 (moment 10:1), look at chuck (#18) became FAILURE in B and SUCCESS in A."),
+        "{text}"
+    );
+    assert_eq!(app.b.moment().unwrap().to_string(), "10:1");
+    insta::assert_snapshot!("diff_runs_why", screen(&app, 110, 34));
+    app.update(Action::Back);
+    assert!(app.answer.is_none());
 }

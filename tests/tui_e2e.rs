@@ -119,3 +119,40 @@ fn sigterm_restores_the_terminal() {
         "the alternate screen was left: {s}"
     );
 }
+
+#[test]
+fn side_by_side_diff_in_a_real_terminal() {
+    if Command::new("tmux").arg("-V").output().is_err() {
+        eprintln!("tmux is not installed; .ci/run installs it");
+        return;
+    }
+    let t = Tmux(format!("btx-e2e-diff-{}", std::process::id()));
+    let cmd = format!(
+        "cd {} && {} open --diff sessions/taxi-expected.jsonl sessions/taxi.jsonl; echo EXITED:$?; sleep 30",
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_BIN_EXE_btx")
+    );
+    t.run(&[
+        "new-session",
+        "-d",
+        "-s",
+        "btx",
+        "-x",
+        "110",
+        "-y",
+        "34",
+        &cmd,
+    ]);
+    let s = t.wait_for("edit distance 4, LCS 10 in all");
+    assert!(s.contains("A: moment 1 "), "{s}");
+    t.run(&["send-keys", "-t", "btx", "d"]);
+    t.wait_for("divergence 1 of 4: go pick up passenger");
+    t.run(&["send-keys", "-t", "btx", "N"]);
+    t.wait_for("A: moment 4 ");
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    let s = t.wait_for("EXITED:0");
+    assert!(
+        !s.contains("edit distance"),
+        "the alternate screen was left: {s}"
+    );
+}

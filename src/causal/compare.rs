@@ -111,3 +111,70 @@ pub fn difference_query(m: &Model, d: &Difference) -> Option<(VarId, Vec<Val>)> 
         Divergence::Length => None,
     }
 }
+
+impl Difference {
+    /// Where the runs part ways, in words; `a` and `b` name the runs.
+    pub fn text(&self, tree: &crate::Tree, a: &str, b: &str) -> String {
+        let node = |u: Uid| format!("{} (#{u})", tree.description(u));
+        let at = format!("at transition {} (moment {})", self.index + 1, self.moment);
+        match &self.what {
+            Divergence::Status { uid, first, second } => format!(
+                "{at}, {} became {} in {b} and {} in {a}",
+                node(*uid),
+                second.as_str(),
+                first.as_str()
+            ),
+            Divergence::Decision { uid, first, second } => format!(
+                "{at}, {} chose {} in {b} and {} in {a}",
+                node(*uid),
+                second.as_deref().unwrap_or("nothing"),
+                first.as_deref().unwrap_or("nothing")
+            ),
+            Divergence::Node { first, second } => format!(
+                "{at}, {b} updated {} where {a} updated {}",
+                node(*second),
+                node(*first)
+            ),
+            Divergence::Length => format!("{at}, one run ended and the other went on"),
+        }
+    }
+}
+
+/// Two runs' first divergence, and why the second run went its own way.
+pub struct Diverged {
+    pub difference: Difference,
+    /// The contrastive question in the second run (none when one run only
+    /// ended earlier: there is no value to contrast).
+    pub why: Option<super::Why>,
+}
+
+/// Finds where run `b` first diverges from run `a` and asks, in `b`'s model
+/// of that tick, why it did not do what `a` did. `None`: the runs agree.
+pub fn why_diverged(
+    a: &Session,
+    b: &Session,
+    domain: Option<std::sync::Arc<crate::run::domain::Domain>>,
+    max_depth: usize,
+) -> Result<Option<Diverged>, crate::Located> {
+    let Some(difference) = first_difference(a, b) else {
+        return Ok(None);
+    };
+    let model = super::model_at(b, domain, difference.moment.tick)?;
+    let why = match difference_query(&model, &difference) {
+        Some((target, foils)) => {
+            let query = super::Query {
+                targets: vec![target],
+                foils: vec![foils],
+            };
+            let answer = super::search(&model, &query, max_depth)?;
+            Some(super::Why {
+                model,
+                query,
+                answer,
+                moment: difference.moment.to_string(),
+            })
+        }
+        None => None,
+    };
+    Ok(Some(Diverged { difference, why }))
+}

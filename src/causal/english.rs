@@ -420,6 +420,22 @@ pub fn to_json(m: &Model, q: &Query, a: &Answer, moment: &str) -> Value {
     })
 }
 
+/// Why nothing can explain a leaf's own outcome in a structure-only model:
+/// the run gave it (a plan, a log), and only a domain says what it depends on.
+fn exogenous_note(m: &Model, q: &Query) -> String {
+    match m.vars[q.targets[0]].kind {
+        VarKind::Status(u) | VarKind::Decision(u)
+            if m.domain.is_none() && m.tree.node(u).kind.is_leaf() =>
+        {
+            format!(
+                "Without a domain file, what {} returns is given by the run (its plan or log), not explained; give --domain FILE to ask what it depends on.\n",
+                m.tree.description(u)
+            )
+        }
+        _ => String::new(),
+    }
+}
+
 pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str) -> String {
     let mut out = format!(
         "{}  (tick {}, moment {moment})\n",
@@ -428,13 +444,16 @@ pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str) -> String {
     );
     let groups = merge(m, a);
     match a.depth {
-        None => out.push_str(&format!(
-            "No explanation up to depth {}: no change of up to {} of the {} variables it depends on gives {}.\n",
-            a.max_depth,
-            a.max_depth,
-            a.candidates,
-            or_list(&q.foils[0].iter().map(value_text).collect::<Vec<_>>())
-        )),
+        None => {
+            out.push_str(&format!(
+                "No explanation up to depth {}: no change of up to {} of the {} variables it depends on gives {}.\n",
+                a.max_depth,
+                a.max_depth,
+                a.candidates,
+                or_list(&q.foils[0].iter().map(value_text).collect::<Vec<_>>())
+            ));
+            out.push_str(&exogenous_note(m, q));
+        }
         Some(_) => {
             for (n, g) in groups.iter().enumerate() {
                 out.push_str(&format!(

@@ -558,10 +558,16 @@ impl Domain {
             VarType::Any => true,
         };
         if ok {
-            Ok(())
-        } else {
-            Err(format!("{v} is outside its range {ty:?}"))
+            return Ok(());
         }
+        let range = match ty {
+            VarType::Bool => "true or false".to_string(),
+            VarType::Int { min, max } => format!("an integer from {min} to {max}"),
+            VarType::Cat { values } => format!("one of {}", values.join(", ")),
+            VarType::Float { min, max, .. } => format!("a number from {min:?} to {max:?}"),
+            VarType::Any => "any value".to_string(),
+        };
+        Err(format!("{v} is outside its range: {range}"))
     }
 
     pub fn var(&self, name: &str) -> Option<usize> {
@@ -957,6 +963,42 @@ impl DomainLeaves {
             error: None,
             ended: false,
         })
+    }
+
+    /// Starts the run with `NAME=VALUE` for a variable without a function
+    /// (a top-level one, or one only leaves write), then recomputes what
+    /// derives from it. VALUE is JSON (`0.0`, `true`, `"a"`) or a bare word.
+    pub fn set(&mut self, assignment: &str) -> Result<(), String> {
+        let (name, raw) = assignment
+            .split_once('=')
+            .ok_or_else(|| format!("--set {assignment}: write NAME=VALUE"))?;
+        let (name, raw) = (name.trim(), raw.trim());
+        let d = &self.domain;
+        let k = d.var(name).ok_or_else(|| {
+            let names: Vec<&str> = d.vars.iter().map(|v| v.name.as_str()).collect();
+            format!(
+                "--set {name}: the domain has no such variable; it has {}",
+                names.join(", ")
+            )
+        })?;
+        if d.vars[k].function.is_some() {
+            return Err(format!(
+                "--set {name}: it is computed from {} by the domain's function; set one of those instead",
+                d.vars[k]
+                    .parents
+                    .iter()
+                    .map(|&p| d.vars[p].name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        let v: Value = serde_json::from_str(raw).unwrap_or_else(|_| Value::from(raw));
+        d.check_value(&d.vars[k].ty, &v)
+            .map_err(|e| format!("--set {name}: {e}"))?;
+        self.state[k] = v;
+        d.propagate(&mut self.state, &[k], &[])
+            .map_err(|e| format!("--set {name}: {e}"))?;
+        Ok(())
     }
 
     /// The state as root-blackboard entries.

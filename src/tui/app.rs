@@ -456,6 +456,9 @@ impl App {
                 self.answer = None;
                 self.why = None;
             }
+            Action::NextDivergence | Action::PrevDivergence => {
+                self.message = Some("divergences are shown by btx open --diff A B".into())
+            }
             Action::Wider => self.split = (self.split + 5).min(85),
             Action::Narrower => self.split = self.split.saturating_sub(5).max(25),
         }

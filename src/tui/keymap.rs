@@ -38,6 +38,9 @@ pub enum Action {
     Quit,
     /// Close an overlay or clear an answer.
     Back,
+    /// In the side-by-side diff: the next or previous divergence.
+    NextDivergence,
+    PrevDivergence,
     /// Give the tree pane more or less of the width.
     Wider,
     Narrower,
@@ -216,6 +219,18 @@ pub const KEYMAP: &[Binding] = &[
         hint: "",
     },
     Binding {
+        keys: &["d"],
+        action: Action::NextDivergence,
+        help: "side-by-side diff: next divergence",
+        hint: "",
+    },
+    Binding {
+        keys: &["D"],
+        action: Action::PrevDivergence,
+        help: "side-by-side diff: previous divergence",
+        hint: "",
+    },
+    Binding {
         keys: &["?"],
         action: Action::Help,
         help: "this help",
@@ -335,6 +350,15 @@ impl Keymap {
     pub fn action_for(&self, k: &KeyEvent) -> Option<Action> {
         let name = key_name(k)?;
         self.keys.iter().find(|b| b.0.contains(&name)).map(|b| b.1)
+    }
+
+    /// The first key bound to an action, if any.
+    pub fn key_of(&self, a: Action) -> Option<&str> {
+        self.keys
+            .iter()
+            .find(|b| b.1 == a)
+            .and_then(|b| b.0.first())
+            .map(String::as_str)
     }
 
     /// The status bar's hints: `n step  N tick  f failure ...`.

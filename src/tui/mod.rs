@@ -2,6 +2,8 @@
 //! in `app`, drawing in `view`, keys in `keymap`; this module runs the loop.
 
 pub mod app;
+pub mod diff;
+pub mod diff_view;
 pub mod keymap;
 pub mod svg;
 pub mod view;
@@ -72,6 +74,71 @@ pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<A
     }
 }
 
+/// A screen the loop can drive: the explorer, or the side-by-side diff.
+pub trait Screen {
+    fn draw(&self, f: &mut ratatui::Frame);
+    fn event(&mut self, ev: Event, size: (u16, u16));
+    fn done(&self) -> bool;
+    /// While playing, how long to wait between automatic steps.
+    fn play_every(&self) -> Option<Duration> {
+        None
+    }
+    fn play_step(&mut self) {}
+}
+
+impl Screen for App {
+    fn draw(&self, f: &mut ratatui::Frame) {
+        view::view(self, f)
+    }
+    fn event(&mut self, ev: Event, size: (u16, u16)) {
+        handle(self, ev, size)
+    }
+    fn done(&self) -> bool {
+        self.quit
+    }
+    fn play_every(&self) -> Option<Duration> {
+        self.playing.then(|| Duration::from_millis(self.play_ms))
+    }
+    fn play_step(&mut self) {
+        App::play_step(self)
+    }
+}
+
+impl Screen for diff::DiffApp {
+    fn draw(&self, f: &mut ratatui::Frame) {
+        diff_view::view(self, f)
+    }
+    fn event(&mut self, ev: Event, _size: (u16, u16)) {
+        let act = match ev {
+            Event::Key(k) if k.kind == KeyEventKind::Press => self.keymap.action_for(&k),
+            Event::Mouse(m) => match m.kind {
+                MouseEventKind::ScrollDown => Some(Action::Down),
+                MouseEventKind::ScrollUp => Some(Action::Up),
+                _ => None,
+            },
+            _ => None,
+        };
+        if let Some(a) = act {
+            self.update(a);
+        }
+    }
+    fn done(&self) -> bool {
+        self.quit
+    }
+}
+
+/// `btx open --diff A B`: two trees, two runs, or a tree and a run, side by side.
+pub fn open_diff(a: &Path, b: &Path, opts: &LoadOptions) -> Result<diff::DiffApp, Located> {
+    use crate::input::{open as open_input, Input};
+    let side = |p: &Path| -> Result<(String, crate::model::Tree, Option<Session>), Located> {
+        Ok(match open_input(p, opts)? {
+            Input::Tree { tree, .. } => (p.display().to_string(), tree, None),
+            Input::Session(s) => (p.display().to_string(), s.tree.clone(), Some(*s)),
+        })
+    };
+    Ok(diff::DiffApp::new(side(a)?, side(b)?))
+}
+
 /// Maps one terminal event to state changes.
 pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
     match ev {
@@ -113,7 +180,7 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
 
 /// Runs the explorer until the person quits. The terminal is restored on
 /// quit, on error and on panic (ratatui's hook).
-pub fn run(mut app: App) -> std::io::Result<()> {
+pub fn run(mut app: impl Screen) -> std::io::Result<()> {
     // SIGTERM (and SIGHUP) while the loop blocks on input: put the terminal
     // back from a watcher thread, then leave as a killed process would.
     let mut signals = signal_hook::iterator::Signals::new([
@@ -132,14 +199,14 @@ pub fn run(mut app: App) -> std::io::Result<()> {
     let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
     let result = (|| -> std::io::Result<()> {
         let mut dirty = true;
-        while !app.quit {
+        while !app.done() {
             if dirty {
-                terminal.draw(|f| view::view(&app, f))?;
+                terminal.draw(|f| app.draw(f))?;
                 dirty = false;
             }
             // Block until input; wake on a timer only while playing.
-            let ev = if app.playing {
-                if event::poll(Duration::from_millis(app.play_ms))? {
+            let ev = if let Some(every) = app.play_every() {
+                if event::poll(every)? {
                     Some(event::read()?)
                 } else {
                     app.play_step();
@@ -151,7 +218,7 @@ pub fn run(mut app: App) -> std::io::Result<()> {
             };
             if let Some(ev) = ev {
                 let size = terminal.size()?;
-                handle(&mut app, ev, (size.width, size.height));
+                app.event(ev, (size.width, size.height));
                 dirty = true;
             }
         }
@@ -208,9 +275,9 @@ pub fn scene(name: &str) -> Result<App, String> {
 }
 
 /// Draws the app into an off-screen buffer.
-pub fn render(app: &App, width: u16, height: u16) -> ratatui::buffer::Buffer {
+pub fn render(app: &impl Screen, width: u16, height: u16) -> ratatui::buffer::Buffer {
     let mut t = ratatui::Terminal::new(ratatui::backend::TestBackend::new(width, height))
         .expect("a test backend");
-    t.draw(|f| view::view(app, f)).expect("drawing into memory");
+    t.draw(|f| app.draw(f)).expect("drawing into memory");
     t.backend().buffer().clone()
 }

@@ -59,13 +59,18 @@ pub fn status_color(s: Status) -> Color {
 }
 
 fn glyph(app: &App, uid: Uid) -> &'static str {
-    let n = app.tree.node(uid);
+    tree_glyph(&app.tree, uid)
+}
+
+/// A node's kind at a glance: ▣ subtree, ▢ action, ◯ condition, → sequence…
+pub fn tree_glyph(tree: &crate::model::Tree, uid: Uid) -> &'static str {
+    let n = tree.node(uid);
     match n.kind {
         Kind::SubTree => "▣",
         Kind::Action => "▢",
         Kind::Condition => "◯",
         Kind::Decorator => "◇",
-        Kind::Control => match app.tree.type_name(uid) {
+        Kind::Control => match tree.type_name(uid) {
             t if t.contains("Fallback") => "?",
             t if t.contains("Sequence") => "→",
             t if t.contains("Parallel") => "⇉",
@@ -74,7 +79,7 @@ fn glyph(app: &App, uid: Uid) -> &'static str {
     }
 }
 
-fn block(title: String, focused: bool) -> Block<'static> {
+pub(super) fn block(title: String, focused: bool) -> Block<'static> {
     let style = if focused {
         Style::default().fg(Color::Cyan)
     } else {

@@ -1,0 +1,423 @@
+//! Expected vs actual: `btx diff` on trees, runs and fleets (Han et al.
+//! §7.2.1, Fig. 14), run comparison with `--why`, and the edit script's
+//! optimality against a plain dynamic programme.
+
+mod common;
+
+use btx::diff::align::{distance, edits, lcs, Op};
+use common::btx;
+use proptest::prelude::*;
+use serde_json::Value;
+
+fn json(args: &[&str]) -> Value {
+    let (ok, out, err) = btx(args);
+    assert!(ok, "{err}");
+    serde_json::from_str(&out).unwrap()
+}
+
+/// The taxi divergence of Han Fig. 14: the optimal policy's detour through
+/// the rightmost column (one more move right and one more move left on each
+/// leg) against the person's path through the toll.
+const TAXI: &str = r#"A  trees/taxi-expected.xml  (a tree: each subgoal's actions in tree order)
+B  trees/taxi.xml  (a tree: each subgoal's actions in tree order)
+
+go pick up passenger: edit distance 2, LCS 5 (A 5 actions, B 7 actions): 2 inserted
+    #5 move right            #5 move right
+    #6 move right            #6 move right
+  +                          #7 move right
+    #7 move up               #8 move up
+    #8 move up               #9 move up
+  +                          #10 move left
+    #9 pick up passenger     #11 pick up passenger
+
+go drop off passenger: edit distance 2, LCS 5 (A 5 actions, B 7 actions): 2 inserted
+  +                          #15 move right
+    #13 move down            #16 move down
+    #14 move down            #17 move down
+    #15 move left            #18 move left
+    #16 move left            #19 move left
+  +                          #20 move left
+    #17 drop off passenger   #21 drop off passenger
+
+In all: edit distance 4, LCS 10. First divergence: go pick up passenger: B's 3rd action, "move right" (#7), is not in A.
+"#;
+
+#[test]
+fn the_taxi_detour_is_the_divergence() {
+    let (ok, out, err) = btx(&["diff", "trees/taxi-expected.xml", "trees/taxi.xml"]);
+    assert!(ok, "{err}");
+    assert_eq!(out, TAXI);
+}
+
+#[test]
+fn the_taxi_runs_diverge_as_their_trees_do() {
+    let v = json(&[
+        "diff",
+        "sessions/taxi-expected.jsonl",
+        "sessions/taxi.jsonl",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(
+        (v["distance"].as_u64(), v["lcs"].as_u64()),
+        (Some(4), Some(10))
+    );
+    assert_eq!(v["a"]["kind"], "run");
+    let inserted = |i: usize| -> Vec<(u64, String, u64)> {
+        v["sections"][i]["inserted"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| {
+                (
+                    s["uid"].as_u64().unwrap(),
+                    s["name"].as_str().unwrap().to_string(),
+                    s["tick"].as_u64().unwrap(),
+                )
+            })
+            .collect()
+    };
+    assert_eq!(v["sections"][1]["subgoal"], "go pick up passenger");
+    assert_eq!(
+        inserted(1),
+        [(7, "move right".into(), 3), (10, "move left".into(), 6)]
+    );
+    assert_eq!(
+        inserted(2),
+        [(15, "move right".into(), 8), (20, "move left".into(), 13)]
+    );
+}
+
+#[test]
+fn identical_inputs_give_an_empty_diff() {
+    for (a, b) in [
+        ("trees/taxi.xml", "trees/taxi.xml"),
+        (
+            "sessions/kitting-nominal.jsonl",
+            "sessions/kitting-nominal.jsonl",
+        ),
+        // A run that does what its tree says, in tree order.
+        ("trees/taxi.xml", "sessions/taxi.jsonl"),
+    ] {
+        let v = json(&["diff", a, b, "--format", "json"]);
+        assert_eq!(v["identical"], true, "{a} {b}");
+        assert_eq!(v["distance"], 0);
+        assert!(v["first_divergence"].is_null());
+        for s in v["sections"].as_array().unwrap() {
+            assert!(s["edits"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .all(|e| e["op"] == "same"));
+        }
+        let (ok, out, _) = btx(&["diff", a, b, "--exit-code"]);
+        assert!(ok);
+        assert!(
+            out.contains("No divergence: every subgoal has the same"),
+            "{out}"
+        );
+    }
+    let (ok, _, _) = btx(&[
+        "diff",
+        "trees/taxi.xml",
+        "trees/taxi-expected.xml",
+        "--exit-code",
+    ]);
+    assert!(!ok, "--exit-code reports a divergence with status 1");
+}
+
+#[test]
+fn a_retry_shows_as_the_inserted_attempt() {
+    let v = json(&[
+        "diff",
+        "sessions/kitting-nominal.jsonl",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "--format",
+        "json",
+    ]);
+    let s = &v["sections"][1];
+    assert_eq!(s["subgoal"], "go insert large gear");
+    assert_eq!(
+        (s["distance"].as_u64(), s["lcs"].as_u64()),
+        (Some(8), Some(15))
+    );
+    let first = &s["inserted"][0];
+    assert_eq!(
+        (
+            first["uid"].as_u64(),
+            &first["outcome"],
+            first["tick"].as_u64()
+        ),
+        (Some(18), &Value::from("FAILURE"), Some(9))
+    );
+    // The other subgoals are untouched.
+    for i in 2..4 {
+        assert_eq!(
+            v["sections"][i]["distance"], 0,
+            "{}",
+            v["sections"][i]["subgoal"]
+        );
+    }
+}
+
+#[test]
+fn why_two_runs_diverged_is_asked_in_the_second_run() {
+    let (ok, out, err) = btx(&[
+        "diff",
+        "sessions/serial-recall.jsonl",
+        "sessions/serial-recall-no-memory.jsonl",
+        "--why",
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains(
+        "The runs part ways at transition 35 (moment 1:35), RepeatOrEnd (#24) chose EndThisSequence in B and RepeatThisSequence in A."
+    ), "{out}");
+    assert!(out.contains(
+        "RepeatOrEnd chose EndThisSequence because UserMemory was 0.0. If UserMemory had been between 0.1 and 0.9, RepeatOrEnd would have chosen RepeatThisSequence."
+    ), "{out}");
+    let v = json(&[
+        "diff",
+        "sessions/serial-recall.jsonl",
+        "sessions/serial-recall-no-memory.jsonl",
+        "--why",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(v["why"]["moment"], "1:35");
+    assert_eq!(v["why"]["transition"], 35);
+    assert!(!v["why"]["answer"]["explanations"]
+        .as_array()
+        .unwrap()
+        .is_empty());
+    // Without a domain the failing leaf's outcome is the plan's: said so.
+    let (ok, out, _) = btx(&[
+        "diff",
+        "sessions/kitting-nominal.jsonl",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "--why",
+    ]);
+    assert!(ok);
+    assert!(
+        out.contains("look at chuck (#18) became FAILURE in B and SUCCESS in A"),
+        "{out}"
+    );
+    assert!(
+        out.contains("Without a domain file, what look at chuck returns is given by the run"),
+        "{out}"
+    );
+    // The same run twice does not diverge.
+    let (ok, out, _) = btx(&[
+        "diff",
+        "sessions/taxi.jsonl",
+        "sessions/taxi.jsonl",
+        "--why",
+    ]);
+    assert!(ok);
+    assert!(
+        out.ends_with("The runs make the same transitions: they do not diverge.\n"),
+        "{out}"
+    );
+}
+
+#[test]
+fn why_needs_two_runs_of_one_tree() {
+    let (ok, _, err) = btx(&["diff", "trees/taxi.xml", "trees/taxi.xml", "--why"]);
+    assert!(!ok);
+    assert!(err.contains("give two sessions or logs"), "{err}");
+    let (ok, _, err) = btx(&[
+        "diff",
+        "sessions/taxi-expected.jsonl",
+        "sessions/taxi.jsonl",
+        "--why",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("ran different trees"), "{err}");
+    let (ok, _, err) = btx(&[
+        "diff",
+        "sessions/taxi.jsonl",
+        "sessions/taxi.jsonl",
+        "sessions/taxi.jsonl",
+        "--why",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("--why compares two runs"), "{err}");
+    let (ok, _, err) = btx(&["diff", "trees/taxi.xml", "trees/nope.xml"]);
+    assert!(!ok);
+    assert!(err.contains("trees/nope.xml"), "{err}");
+}
+
+#[test]
+fn a_fleet_is_tabulated_per_subgoal() {
+    let (ok, out, err) = btx(&[
+        "diff",
+        "sessions/kitting-nominal.jsonl",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "sessions/kitting-nominal.jsonl",
+        "sessions/kitting-grasp-check-fails-first.jsonl",
+    ]);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "Reference: sessions/kitting-nominal.jsonl");
+    let row = |name: &str| {
+        lines
+            .iter()
+            .find(|l| l.starts_with(name))
+            .unwrap_or_else(|| panic!("no row {name} in\n{out}"))
+            .split("  ")
+            .filter(|c| !c.trim().is_empty())
+            .map(|c| c.trim().to_string())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        row("go insert large gear"),
+        ["go insert large gear", "8 (+8)", "=", "="]
+    );
+    assert_eq!(row("go pick screw")[2], "=");
+    assert_ne!(row("go pick screw")[3], "=");
+    assert!(
+        out.contains("runs that do what the reference does: 1 of 3"),
+        "{out}"
+    );
+    assert!(out.contains("kitting-lookat-fails-once.jsonl: first divergence: go insert large gear: the run's 8th action, \"look at chuck\" (#18, tick 9, FAILURE), is not in the reference"), "{out}");
+    assert!(
+        out.contains("go insert large gear: 1 of 3 runs diverge"),
+        "{out}"
+    );
+    let v = json(&[
+        "diff",
+        "trees/taxi-expected.xml",
+        "trees/taxi.xml",
+        "sessions/taxi.jsonl",
+        "sessions/taxi-expected.jsonl",
+        "--format",
+        "json",
+    ]);
+    let d: Vec<u64> = v["runs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["distance"].as_u64().unwrap())
+        .collect();
+    assert_eq!(d, [4, 4, 0]);
+}
+
+#[test]
+fn the_shipped_comparison_sessions_are_what_their_worlds_give() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, shipped) in [
+        (
+            vec!["run", "trees/taxi-expected.xml", "--world", "taxi"],
+            "sessions/taxi-expected.jsonl",
+        ),
+        (
+            vec![
+                "run",
+                "trees/serial-recall.xml",
+                "--domain",
+                "trees/serial-recall.domain.toml",
+                "--set",
+                "UserMemory=0.0",
+            ],
+            "sessions/serial-recall-no-memory.jsonl",
+        ),
+    ] {
+        let out = dir.path().join(shipped.replace('/', "_"));
+        let mut a = args.clone();
+        a.extend(["--out", out.to_str().unwrap()]);
+        let (ok, _, err) = btx(&a);
+        assert!(ok, "{err}");
+        let fresh = btx::session::Session::load(&out).unwrap();
+        let old = btx::session::Session::load(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(shipped),
+        )
+        .unwrap();
+        assert_eq!(
+            fresh.index.transitions, old.index.transitions,
+            "regenerate {shipped} (see README)"
+        );
+    }
+}
+
+#[test]
+fn set_names_what_it_cannot_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.jsonl");
+    let run = |set: &str| {
+        btx(&[
+            "run",
+            "trees/serial-recall.xml",
+            "--domain",
+            "trees/serial-recall.domain.toml",
+            "--set",
+            set,
+            "--out",
+            out.to_str().unwrap(),
+        ])
+    };
+    let (ok, _, err) = run("UserConfusion=1");
+    assert!(!ok);
+    assert!(
+        err.contains("it is computed from UserMemory, SequenceComplexity"),
+        "{err}"
+    );
+    let (ok, _, err) = run("UserMemory=7");
+    assert!(!ok);
+    assert!(
+        err.contains("7 is outside its range: a number from 0.0 to 1.0"),
+        "{err}"
+    );
+    let (ok, _, err) = run("Nope=1");
+    assert!(!ok);
+    assert!(err.contains("the domain has no such variable"), "{err}");
+    assert!(
+        !out.exists(),
+        "nothing is written when the run cannot start"
+    );
+}
+
+/// Insertions plus deletions, by the textbook table.
+fn dp_distance(a: &[u8], b: &[u8]) -> usize {
+    let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
+    for (i, row) in d.iter_mut().enumerate() {
+        row[0] = i;
+    }
+    d[0] = (0..=b.len()).collect();
+    for i in 1..=a.len() {
+        for j in 1..=b.len() {
+            d[i][j] = if a[i - 1] == b[j - 1] {
+                d[i - 1][j - 1]
+            } else {
+                1 + d[i - 1][j].min(d[i][j - 1])
+            };
+        }
+    }
+    d[a.len()][b.len()]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(400))]
+
+    #[test]
+    fn the_edit_distance_is_the_dynamic_programmes(
+        a in prop::collection::vec(0u8..4, 0..40),
+        b in prop::collection::vec(0u8..4, 0..40),
+    ) {
+        let e = edits(&a, &b);
+        prop_assert_eq!(distance(&e), dp_distance(&a, &b));
+        prop_assert_eq!(lcs(&e), (a.len() + b.len() - dp_distance(&a, &b)) / 2);
+        // The script is a valid one: it walks both sequences in order, keeps
+        // equal items and changes only different ones.
+        let left: Vec<u8> = e.iter().filter_map(|x| x.a.map(|i| a[i])).collect();
+        let right: Vec<u8> = e.iter().filter_map(|x| x.b.map(|i| b[i])).collect();
+        prop_assert_eq!(&left, &a);
+        prop_assert_eq!(&right, &b);
+        for x in &e {
+            match x.op {
+                Op::Same => prop_assert_eq!(a[x.a.unwrap()], b[x.b.unwrap()]),
+                Op::Changed => prop_assert_ne!(a[x.a.unwrap()], b[x.b.unwrap()]),
+                Op::Inserted => prop_assert!(x.a.is_none() && x.b.is_some()),
+                Op::Deleted => prop_assert!(x.a.is_some() && x.b.is_none()),
+            }
+        }
+    }
+}

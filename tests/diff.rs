@@ -421,3 +421,34 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_robots_log_and_our_run_of_its_plan_do_the_same() {
+    // The recorded tree names two subgoals "first screw"; they pair in place.
+    let v = json(&[
+        "diff",
+        "tests/fixtures/logs/kitting_lookat_fails_once.btlog",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(v["identical"], true);
+    assert_eq!(
+        v["sections"][2]["subgoal"],
+        "go pick first screw → go pick screw"
+    );
+    assert_eq!(v["lcs"], 50);
+    // And the log of the nominal run parts from the failing run where
+    // look at chuck fails.
+    let (ok, out, err) = btx(&[
+        "diff",
+        "tests/fixtures/logs/kitting_nominal.btlog",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "--why",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("at transition 32 (moment 10:1), look at chuck (#18) became FAILURE in B and SUCCESS in A"),
+        "{out}"
+    );
+}

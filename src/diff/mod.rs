@@ -296,13 +296,17 @@ impl Diff {
         let (sa, sb) = (sequences(a), sequences(b));
         let mut sections = Vec::new();
         let mut pair = |x: Option<&Sequence>, y: Option<&Sequence>| {
+            let name = match (x, y) {
+                (Some(x), Some(y)) if x.name != y.name => format!("{} → {}", x.name, y.name),
+                _ => x.or(y).map(|s| s.name.clone()).unwrap_or_default(),
+            };
             let empty = Vec::new();
             let xs = x.map_or(&empty, |s| &s.steps);
             let ys = y.map_or(&empty, |s| &s.steps);
             let kx: Vec<String> = xs.iter().map(|s| s.key(outcomes)).collect();
             let ky: Vec<String> = ys.iter().map(|s| s.key(outcomes)).collect();
             sections.push(Section {
-                name: x.or(y).map(|s| s.name.clone()).unwrap_or_default(),
+                name,
                 a_subgoal: x.map(|s| s.subgoal),
                 b_subgoal: y.map(|s| s.subgoal),
                 a: xs.clone(),
@@ -310,13 +314,15 @@ impl Diff {
                 edits: align::edits(&kx, &ky),
             });
         };
-        // The goals always pair; subgoals pair by name, in order.
+        // The goals always pair; subgoals pair by name, in order, and a
+        // subgoal renamed in place pairs with its new name (which never
+        // costs more than deleting one and inserting the other).
         pair(Some(&sa[0]), Some(&sb[0]));
         let na: Vec<&str> = sa[1..].iter().map(|s| s.name.as_str()).collect();
         let nb: Vec<&str> = sb[1..].iter().map(|s| s.name.as_str()).collect();
         for e in align::edits(&na, &nb) {
             match e.op {
-                Op::Same => pair(e.a.map(|i| &sa[i + 1]), e.b.map(|i| &sb[i + 1])),
+                Op::Same | Op::Changed => pair(e.a.map(|i| &sa[i + 1]), e.b.map(|i| &sb[i + 1])),
                 _ => {
                     if let Some(i) = e.a {
                         pair(Some(&sa[i + 1]), None);
@@ -536,13 +542,15 @@ fn ordinal(n: usize) -> String {
     format!("{n}{suffix}")
 }
 
-/// Whether two trees have the same nodes (kind, ID, name) under the same
-/// uids: runs of such trees can be compared transition by transition.
+/// Whether two trees have the same shape under the same uids (kinds and
+/// parents; names may differ, as between a tree file and a log of it):
+/// runs of such trees can be compared transition by transition.
 pub fn same_shape(a: &Tree, b: &Tree) -> bool {
     a.len() == b.len()
-        && a.nodes.iter().zip(&b.nodes).all(|(x, y)| {
-            x.kind == y.kind && x.id == y.id && x.name == y.name && x.parent == y.parent
-        })
+        && a.nodes
+            .iter()
+            .zip(&b.nodes)
+            .all(|(x, y)| x.kind == y.kind && x.parent == y.parent && x.builtin == y.builtin)
 }
 
 #[cfg(test)]

@@ -586,12 +586,21 @@ impl Domain {
     }
 
     fn scope_for(&self, vars: impl Iterator<Item = usize>, state: &State) -> Scope<'static> {
+        // Scripts run millions of times in a search: the status names are
+        // made once per thread (cloning one shares it), and a variable's
+        // name goes into the scope without a copy of the String.
+        thread_local! {
+            static STATUS_NAMES: [Dynamic; 3] =
+                ["SUCCESS", "FAILURE", "RUNNING"].map(Dynamic::from);
+        }
         let mut scope = Scope::new();
-        scope.push_constant("SUCCESS", "SUCCESS");
-        scope.push_constant("FAILURE", "FAILURE");
-        scope.push_constant("RUNNING", "RUNNING");
+        STATUS_NAMES.with(|names| {
+            for (n, v) in ["SUCCESS", "FAILURE", "RUNNING"].iter().zip(names) {
+                scope.push_constant_dynamic(*n, v.clone());
+            }
+        });
         for i in vars {
-            scope.push(self.vars[i].name.clone(), json_to_dynamic(&state[i]));
+            scope.push_dynamic(self.vars[i].name.as_str(), json_to_dynamic(&state[i]));
         }
         scope
     }
@@ -909,16 +918,22 @@ pub fn json_to_dynamic(v: &Value) -> Dynamic {
 }
 
 pub fn dynamic_to_json(d: Dynamic) -> Value {
-    if let Some(b) = d.clone().try_cast::<bool>() {
+    if let Ok(b) = d.as_bool() {
         return Value::Bool(b);
     }
-    if let Some(i) = d.clone().try_cast::<i64>() {
+    if let Ok(i) = d.as_int() {
         return Value::from(i);
     }
-    if let Some(f) = d.clone().try_cast::<f64>() {
+    if let Ok(f) = d.as_float() {
         return Value::from(f);
     }
     if d.is_unit() {
+        return Value::Null;
+    }
+    if d.is_string() {
+        if let Ok(s) = d.into_string() {
+            return Value::String(s);
+        }
         return Value::Null;
     }
     Value::from(d.to_string())

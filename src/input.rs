@@ -35,9 +35,31 @@ impl Input {
     }
 }
 
+/// `LOG.db3#N`: session N of a SqliteLogger database, when no file has
+/// that very name.
+fn db3_session(path: &Path) -> Option<(&Path, i64)> {
+    if path.exists() {
+        return None;
+    }
+    let s = path.to_str()?;
+    let (file, n) = s.rsplit_once('#')?;
+    let n: i64 = n.parse().ok()?;
+    let file = Path::new(file);
+    file.is_file().then_some((file, n))
+}
+
 pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
+    if let Some((file, n)) = db3_session(path) {
+        return Ok(Input::Session(Box::new(crate::logs::open_db3(
+            file,
+            Some(n),
+        )?)));
+    }
     let bytes =
         std::fs::read(path).map_err(|e| Located::file(path, format!("cannot read: {e}")))?;
+    if crate::logs::db3::is_db3(&bytes) {
+        return Ok(Input::Session(Box::new(crate::logs::open_db3(path, None)?)));
+    }
     if crate::logs::btlog::is_btlog(&bytes) {
         return Ok(Input::Session(Box::new(crate::logs::open_btlog(
             path, &bytes,

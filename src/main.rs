@@ -163,7 +163,7 @@ enum Command {
         #[arg(long, value_name = "SESSION")]
         out: PathBuf,
     },
-    /// Convert a log (BehaviorTree.CPP .btlog) into a btx session file.
+    /// Convert a log (BehaviorTree.CPP .btlog, .db3 or .fbl, or a btcm log) into a btx session file.
     Import {
         log: PathBuf,
         #[arg(long, value_name = "SESSION")]

@@ -167,3 +167,138 @@ fn v3_fbl_ticks_are_reconstructed_exactly() {
         assert_same_run(&open_fbl(run), run);
     }
 }
+
+fn open_db3(run: &str) -> btx::session::Session {
+    btx::logs::open_db3(&fixture(&format!("logs/{run}.db3")), None)
+        .unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn db3_ticks_are_reconstructed_exactly() {
+    for run in [
+        "taxi_nominal",
+        "kitting_nominal",
+        "kitting_lookat_fails_once",
+        "kitting_detect_chuck_always_fails",
+        "kitting_grasp_check_fails_first",
+    ] {
+        assert_same_run(&open_db3(run), run);
+    }
+    // Recognised by content, as every command opens it.
+    let (ok, out, err) = btx(&[
+        "ask",
+        "tests/fixtures/logs/kitting_lookat_fails_once.db3",
+        "--at",
+        "11",
+        "wrong",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out,
+        "I am retrying for attempt 1 to go insert large gear. I could not insert large gear because look at chuck failed.\n"
+    );
+}
+
+/// A copy of a fixture database, changed by `sql`.
+fn db3_with(sql: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("log.db3");
+    std::fs::copy(fixture("logs/taxi_nominal.db3"), &p).unwrap();
+    let c = rusqlite::Connection::open(&p).unwrap();
+    c.execute_batch(sql).unwrap();
+    drop(c);
+    (dir, p)
+}
+
+#[test]
+fn every_session_of_a_database_opens() {
+    let (_d, p) = db3_with(
+        "INSERT INTO Definitions(session_id, date, xml_tree) SELECT 2, '2026-11-22 09:00:00', xml_tree FROM Definitions WHERE session_id = 1;
+         INSERT INTO Nodes SELECT 2, fullpath, node_uid FROM Nodes WHERE session_id = 1;
+         INSERT INTO Transitions SELECT timestamp + 100000000, 2, node_uid, duration, state, extra_data FROM Transitions WHERE session_id = 1 AND timestamp < (SELECT min(timestamp) FROM Transitions) + 30000;",
+    );
+    let last = btx::logs::open_db3(&p, None).unwrap();
+    let first = btx::logs::open_db3(&p, Some(1)).unwrap();
+    assert_eq!(first.index.transitions.len(), 63);
+    assert!(last.index.transitions.len() < 63);
+    assert_eq!(
+        last.index.transitions[..],
+        first.index.transitions[..last.index.transitions.len()]
+    );
+    assert!(
+        last.warnings[0].message.starts_with("the database holds sessions 1, 2; this is session 2 (2026-11-22 09:00:00); open another as "),
+        "{:?}",
+        last.warnings
+    );
+    // FILE#N on the command line.
+    let one = format!("{}#1", p.display());
+    let (ok, out, err) = btx(&["log", &one, "--format", "json"]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["transitions"].as_array().unwrap().len(), 63);
+    let (ok, _, err) = btx(&["log", &format!("{}#7", p.display())]);
+    assert!(!ok);
+    assert!(
+        err.contains("no session 7 in table Definitions; it has 1, 2"),
+        "{err}"
+    );
+}
+
+#[test]
+fn broken_databases_name_the_table_and_row() {
+    let msg = |sql: &str| {
+        let (_d, p) = db3_with(sql);
+        btx::logs::open_db3(&p, None)
+            .err()
+            .expect("should fail")
+            .to_string()
+    };
+    let e = msg("UPDATE Transitions SET state = 9 WHERE rowid = (SELECT rowid FROM Transitions ORDER BY timestamp LIMIT 1 OFFSET 4);");
+    assert!(
+        e.contains("table Transitions, session 1, row 5 (timestamp "),
+        "{e}"
+    );
+    assert!(e.contains("state 9 is not a status (0-4)"), "{e}");
+    let e = msg("UPDATE Transitions SET node_uid = 999 WHERE rowid = (SELECT rowid FROM Transitions ORDER BY timestamp LIMIT 1 OFFSET 2);");
+    assert!(
+        e.contains("table Transitions, session 1, row 3: uid 999 is not a node"),
+        "{e}"
+    );
+    let e = msg("DELETE FROM Transitions; DELETE FROM Nodes; DELETE FROM Definitions;");
+    assert!(
+        e.contains("the database has no session (table Definitions is empty)"),
+        "{e}"
+    );
+    let e = msg("DROP TABLE Nodes;");
+    assert!(e.contains("it has no table Nodes"), "{e}");
+    // A database cut short: the header is there, the pages are not.
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("cut.db3");
+    let bytes = std::fs::read(fixture("logs/taxi_nominal.db3")).unwrap();
+    std::fs::write(&p, &bytes[..200]).unwrap();
+    let (ok, _, err) = btx(&["log", p.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(err.contains("cut.db3"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn a_database_is_read_without_taking_a_lock() {
+    // The robot's logger holds the database; a locking reader would make
+    // it wait (SQLITE_BUSY), which aborts the library's writer.
+    let (_d, p) = db3_with("");
+    let writer = rusqlite::Connection::open(&p).unwrap();
+    writer.execute_batch("BEGIN EXCLUSIVE;").unwrap();
+    let s = btx::logs::open_db3(&p, None).unwrap();
+    assert_eq!(s.index.transitions.len(), 63);
+    // And it leaves nothing behind: no journal, no change to the file.
+    writer.execute_batch("COMMIT;").unwrap();
+    let before = std::fs::read(&p).unwrap();
+    btx::logs::open_db3(&p, None).unwrap();
+    assert_eq!(std::fs::read(&p).unwrap(), before);
+    let names: Vec<String> = std::fs::read_dir(p.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["log.db3"]);
+}

@@ -2,6 +2,7 @@
 
 pub mod btcm;
 pub mod btlog;
+pub mod db3;
 pub mod fbl;
 pub mod ticks;
 
@@ -16,13 +17,60 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
     let raw = btlog::parse(path, bytes)?;
     session_from(
         path,
-        bytes.len(),
-        &raw.xml,
-        crate::model::Version::V4,
-        &raw.records,
-        raw.partial_tail,
-        "btlog",
+        LogRun {
+            len: bytes.len(),
+            partial_tail: raw.partial_tail,
+            xml: &raw.xml,
+            version: crate::model::Version::V4,
+            records: &raw.records,
+            kind: "btlog",
+        },
+        &|o| format!("byte offset {o}"),
     )
+}
+
+/// One session of a SqliteLogger database (`which`, or the last one).
+pub fn open_db3(path: &Path, which: Option<i64>) -> Result<Session, Located> {
+    let (ids, raw) = db3::read(path, which)?;
+    let id = raw.id;
+    let mut s = session_from(
+        path,
+        LogRun {
+            len: raw.records.len(),
+            partial_tail: 0,
+            xml: &raw.xml,
+            version: crate::model::Version::V4,
+            records: &raw.records,
+            kind: "db3",
+        },
+        &|o| format!("table Transitions, session {id}, row {o}"),
+    )?;
+    for (uid, full) in &raw.nodes {
+        if s.tree.get(*uid).is_none() {
+            return Err(Located::file(
+                path,
+                format!(
+                    "table Nodes, session {id}: uid {uid} ({full}) is not a node of the session's tree ({} nodes)",
+                    s.tree.len()
+                ),
+            ));
+        }
+    }
+    if ids.len() > 1 {
+        s.warnings.push(Warning {
+            location: path.display().to_string(),
+            message: format!(
+                "the database holds sessions {}; this is session {id} ({}); open another as {}#N",
+                ids.iter()
+                    .map(|x| x.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                raw.date,
+                path.display()
+            ),
+        });
+    }
+    Ok(s)
 }
 
 /// A v3 `.fbl` as a session: the tree from its flatbuffer, ticks reconstructed.
@@ -31,24 +79,44 @@ pub fn open_fbl(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
     let records: Vec<btlog::Record> = raw.records.iter().map(|(r, _)| *r).collect();
     session_from(
         path,
-        bytes.len(),
-        &raw.xml,
-        crate::model::Version::V3,
-        &records,
-        raw.partial_tail,
-        "fbl",
+        LogRun {
+            len: bytes.len(),
+            partial_tail: raw.partial_tail,
+            xml: &raw.xml,
+            version: crate::model::Version::V3,
+            records: &records,
+            kind: "fbl",
+        },
+        &|o| format!("byte offset {o}"),
     )
 }
 
+/// What a log gave: its tree, its records, how much of its end was cut.
+struct LogRun<'a> {
+    /// The file's length, and the bytes at its end that are not a whole record.
+    len: usize,
+    partial_tail: usize,
+    xml: &'a str,
+    version: crate::model::Version,
+    records: &'a [btlog::Record],
+    kind: &'a str,
+}
+
+/// A log's run as a session; `place` names where a record is (a byte
+/// offset, a table row).
 fn session_from(
     path: &Path,
-    len: usize,
-    xml: &str,
-    version: crate::model::Version,
-    records: &[btlog::Record],
-    partial_tail: usize,
-    kind: &str,
+    run: LogRun,
+    place: &dyn Fn(usize) -> String,
 ) -> Result<Session, Located> {
+    let LogRun {
+        len,
+        partial_tail,
+        xml,
+        version,
+        records,
+        kind,
+    } = run;
     let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
     let tree = load_str(
         &name,
@@ -65,8 +133,8 @@ fn session_from(
             return Err(Located::file(
                 path,
                 format!(
-                    "byte offset {}: uid {} is not a node of the log's tree ({} nodes)",
-                    r.offset,
+                    "{}: uid {} is not a node of the log's tree ({} nodes)",
+                    place(r.offset),
                     r.uid,
                     tree.len()
                 ),
@@ -83,9 +151,9 @@ fn session_from(
     if let Some(i) = fell_back {
         warnings.push(Warning {
             location: format!(
-                "{}: byte offset {}",
+                "{}: {}",
                 path.display(),
-                records.get(i).map_or(len, |r| r.offset)
+                place(records.get(i).map_or(len, |r| r.offset))
             ),
             message:
                 "the replay could not follow the log from here; ticks are told apart by timing"

@@ -1,0 +1,172 @@
+//! SqliteLogger databases (`.db3`, `.btdb`; BehaviorTree.CPP ≥ 4.1.1):
+//! `Definitions(session_id, date, xml_tree)`, `Nodes(session_id, fullpath,
+//! node_uid)` and `Transitions(timestamp, session_id, node_uid, duration,
+//! state, extra_data)`, one session per `session_id`.
+//!
+//! The database is opened read-only through SQLite's `unix-none` VFS, which
+//! takes no lock at all: the library's writer sets no busy timeout, so a
+//! reader's lock makes its next INSERT fail and the robot process abort.
+
+use super::btlog::Record;
+use crate::run::Status;
+use crate::source::Located;
+use rusqlite::{Connection, OpenFlags};
+use std::path::Path;
+
+/// The first 16 bytes of every SQLite 3 database.
+pub const MAGIC: &[u8] = b"SQLite format 3\0";
+
+pub fn is_db3(bytes: &[u8]) -> bool {
+    bytes.starts_with(MAGIC)
+}
+
+/// One run of the database.
+#[derive(Debug, Clone)]
+pub struct Db3Session {
+    pub id: i64,
+    pub date: String,
+    pub xml: String,
+    /// `offset` is the row's place among the session's transitions (from 1).
+    pub records: Vec<Record>,
+    /// The Nodes table: (uid, full path) as the logger named them.
+    pub nodes: Vec<(u32, String)>,
+}
+
+/// Every session id in the file, oldest first, and the one asked for (the
+/// last if `which` is `None`), read.
+pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), Located> {
+    let fail = |m: String| Located::file(path, m);
+    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
+    let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+    #[cfg(unix)]
+    let conn = Connection::open_with_flags_and_vfs(path, flags, "unix-none");
+    #[cfg(not(unix))]
+    let conn = Connection::open_with_flags(path, flags);
+    let conn = conn.map_err(|e| sql("cannot open the database", e))?;
+    for table in ["Definitions", "Nodes", "Transitions"] {
+        let n: i64 = conn
+            .query_row(
+                "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?1",
+                [table],
+                |r| r.get(0),
+            )
+            .map_err(|e| sql("not a readable SQLite database", e))?;
+        if n == 0 {
+            return Err(fail(format!(
+                "not a BehaviorTree.CPP SqliteLogger database: it has no table {table}"
+            )));
+        }
+    }
+    let mut ids: Vec<(i64, String)> = Vec::new();
+    {
+        let mut st = conn
+            .prepare("SELECT session_id, coalesce(date, '') FROM Definitions ORDER BY session_id")
+            .map_err(|e| sql("table Definitions", e))?;
+        let rows = st
+            .query_map([], |r| Ok((r.get::<_, i64>(0)?, r.get::<_, String>(1)?)))
+            .map_err(|e| sql("table Definitions", e))?;
+        for row in rows {
+            ids.push(row.map_err(|e| sql("table Definitions", e))?);
+        }
+    }
+    let Some(last) = ids.last() else {
+        return Err(fail(
+            "the database has no session (table Definitions is empty): the logger wrote nothing"
+                .into(),
+        ));
+    };
+    let id = which.unwrap_or(last.0);
+    let Some((_, date)) = ids.iter().find(|x| x.0 == id).cloned() else {
+        return Err(fail(format!(
+            "no session {id} in table Definitions; it has {}",
+            ids.iter()
+                .map(|x| x.0.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    };
+    let xml: String = conn
+        .query_row(
+            "SELECT xml_tree FROM Definitions WHERE session_id = ?1",
+            [id],
+            |r| r.get::<_, Option<String>>(0),
+        )
+        .map_err(|e| sql(&format!("table Definitions, session {id}"), e))?
+        .ok_or_else(|| {
+            fail(format!(
+                "table Definitions, session {id}: xml_tree is empty"
+            ))
+        })?;
+    let mut nodes = Vec::new();
+    {
+        let mut st = conn
+            .prepare("SELECT node_uid, fullpath FROM Nodes WHERE session_id = ?1 ORDER BY rowid")
+            .map_err(|e| sql("table Nodes", e))?;
+        let rows = st
+            .query_map([id], |r| {
+                Ok((r.get::<_, i64>(0)?, r.get::<_, Option<String>>(1)?))
+            })
+            .map_err(|e| sql("table Nodes", e))?;
+        for (i, row) in rows.enumerate() {
+            let (uid, p) = row.map_err(|e| sql(&format!("table Nodes, row {}", i + 1), e))?;
+            let uid = u32::try_from(uid).map_err(|_| {
+                fail(format!(
+                    "table Nodes, row {}: node_uid {uid} is not a uid",
+                    i + 1
+                ))
+            })?;
+            nodes.push((uid, p.unwrap_or_default()));
+        }
+    }
+    let mut records = Vec::new();
+    {
+        let mut st = conn
+            .prepare(
+                "SELECT timestamp, node_uid, state FROM Transitions WHERE session_id = ?1 ORDER BY timestamp",
+            )
+            .map_err(|e| sql("table Transitions", e))?;
+        let rows = st
+            .query_map([id], |r| {
+                Ok((
+                    r.get::<_, i64>(0)?,
+                    r.get::<_, i64>(1)?,
+                    r.get::<_, i64>(2)?,
+                ))
+            })
+            .map_err(|e| sql("table Transitions", e))?;
+        for (i, row) in rows.enumerate() {
+            let n = i + 1;
+            let (time_us, uid, state) =
+                row.map_err(|e| sql(&format!("table Transitions, session {id}, row {n}"), e))?;
+            let status = u8::try_from(state)
+                .ok()
+                .and_then(Status::from_code)
+                .ok_or_else(|| {
+                    fail(format!(
+                        "table Transitions, session {id}, row {n} (timestamp {time_us}): state {state} is not a status (0-4)"
+                    ))
+                })?;
+            let uid = u32::try_from(uid).map_err(|_| {
+                fail(format!(
+                    "table Transitions, session {id}, row {n} (timestamp {time_us}): node_uid {uid} is not a uid"
+                ))
+            })?;
+            records.push(Record {
+                time_us,
+                uid,
+                status,
+                offset: n,
+            });
+        }
+    }
+    Ok((
+        ids.iter().map(|x| x.0).collect(),
+        Db3Session {
+            id,
+            date,
+            xml,
+            records,
+            nodes,
+        },
+    ))
+}

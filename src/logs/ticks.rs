@@ -29,6 +29,9 @@ impl Leaves for Replay<'_> {
             Status::Idle
         };
         let status = match self.recs.get(self.cursor) {
+            // The log ends inside this tick (it is still being written, or
+            // the logger lost its queue): what follows is unknown, not wrong.
+            None => Status::Running,
             Some(r) if r.uid == call.uid && r.status != now => r.status,
             _ if now == Status::Running => Status::Running,
             _ => {
@@ -45,6 +48,7 @@ impl Leaves for Replay<'_> {
     fn observe(&mut self, uid: Uid, _prev: Status, status: Status) {
         match self.recs.get(self.cursor) {
             Some(r) if r.uid == uid && r.status == status => self.cursor += 1,
+            None => {}
             _ => self.diverged = true,
         }
     }
@@ -165,6 +169,27 @@ mod tests {
             uid: 1,
             status: Status::Running,
             offset: 0,
+        }
+    }
+
+    #[test]
+    fn a_log_cut_inside_a_tick_keeps_its_structural_ticks() {
+        let bytes = std::fs::read(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fixtures/logs/kitting_lookat_fails_once.btlog"
+        ))
+        .unwrap();
+        let path = std::path::Path::new("log.btlog");
+        let raw = crate::logs::btlog::parse(path, &bytes).unwrap();
+        let tree = crate::xml::load_str(path, &raw.xml, &Default::default())
+            .unwrap()
+            .tree;
+        let (full, fell_back) = reconstruct(&tree, &raw.records);
+        assert_eq!(fell_back, None);
+        for cut in [1, 5, 40, 100, raw.records.len() - 1] {
+            let (part, fell_back) = reconstruct(&tree, &raw.records[..cut]);
+            assert_eq!(fell_back, None, "cut at {cut}");
+            assert_eq!(part[..], full[..cut], "cut at {cut}");
         }
     }
 

@@ -107,3 +107,41 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
         None => Err(Located::file(path, "the file is empty")),
     }
 }
+
+/// Follows a log (or a session) that is still being written: each `poll`
+/// reads it again if it grew or changed. The whole file is read again, so
+/// ticks stay reconstructed from the whole run, and a half-written last
+/// record is left out until it is whole.
+pub struct Follow {
+    path: std::path::PathBuf,
+    seen: Option<(u64, Option<std::time::SystemTime>)>,
+}
+
+impl Follow {
+    pub fn new(path: &Path) -> Follow {
+        Follow {
+            path: path.to_path_buf(),
+            seen: None,
+        }
+    }
+
+    /// The run as it is now, if the file changed since the last poll.
+    pub fn poll(&mut self) -> Result<Option<Session>, Located> {
+        let meta = std::fs::metadata(&self.path)
+            .map_err(|e| Located::file(&self.path, format!("cannot read: {e}")))?;
+        let stamp = (meta.len(), meta.modified().ok());
+        if self.seen == Some(stamp) {
+            return Ok(None);
+        }
+        match open(&self.path, &LoadOptions::default())? {
+            Input::Session(s) => {
+                self.seen = Some(stamp);
+                Ok(Some(*s))
+            }
+            Input::Tree { .. } => Err(Located::file(
+                &self.path,
+                "this is a tree: --follow follows a log or a session as it grows",
+            )),
+        }
+    }
+}

@@ -185,8 +185,11 @@ enum Command {
         #[arg(required = true, num_args = 1..=2, value_name = "TREE|SESSION")]
         files: Vec<PathBuf>,
         /// Show two trees or runs side by side (`btx open --diff A B`).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "follow")]
         diff: bool,
+        /// Keep reading a log (or session) that is still being written; the timeline grows.
+        #[arg(long)]
+        follow: bool,
         #[command(flatten)]
         reading: Reading,
     },
@@ -283,6 +286,9 @@ enum Command {
         /// Leave out transitions to IDLE (resets and halts).
         #[arg(long)]
         no_idle: bool,
+        /// Keep printing transitions as the log grows (until interrupted); with --format json, one object a line.
+        #[arg(long)]
+        follow: bool,
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
     },
@@ -356,6 +362,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             files,
             diff: true,
             reading,
+            ..
         } => {
             if files.len() != 2 {
                 fail!("--diff shows two inputs side by side: btx open --diff A B");
@@ -367,6 +374,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
         Command::Open {
             files,
             diff: false,
+            follow,
             reading,
         } => {
             let mut app = btx::tui::open(
@@ -374,6 +382,21 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 files.get(1).map(PathBuf::as_path),
                 &reading.options(),
             )?;
+            if follow {
+                let log = files.last().expect("one file at least");
+                if app.session.is_none() {
+                    fail!(
+                        "--follow follows a log or a session as it grows, and {} is a tree",
+                        log.display()
+                    );
+                }
+                let mut f = btx::input::Follow::new(log);
+                // The first reading is the one just opened.
+                let _ = f.poll();
+                app.follow = Some(f);
+                // Start at the end: following means watching what comes in.
+                app.update(btx::tui::Action::End);
+            }
             app.keymap = keymap(cli.keys.as_deref())?;
             btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
         }
@@ -835,6 +858,59 @@ fn run(cli: Cli) -> Result<(), Failure> {
             session,
             node,
             no_idle,
+            follow: true,
+            format,
+        } => {
+            let mut f = btx::input::Follow::new(&session);
+            let mut printed = 0usize;
+            let mut header = false;
+            loop {
+                match f.poll() {
+                    Ok(Some(s)) => {
+                        let only = match &node {
+                            Some(p) => Some(pick_node(&s.tree, p)?),
+                            None => None,
+                        };
+                        let rows = btx::export::log_rows(&s, only, no_idle);
+                        let new = rows.get(printed..).unwrap_or(&[]);
+                        let out = match format {
+                            Format::Json => btx::export::log_json_lines(&s, new),
+                            Format::Text => {
+                                let t = btx::export::log_text(&s, new);
+                                if header {
+                                    t.split_once('\n')
+                                        .map_or(String::new(), |x| x.1.to_string())
+                                } else {
+                                    header = true;
+                                    t
+                                }
+                            }
+                        };
+                        use std::io::Write;
+                        let mut so = std::io::stdout().lock();
+                        if so
+                            .write_all(out.as_bytes())
+                            .and_then(|_| so.flush())
+                            .is_err()
+                        {
+                            // The reader went away (a closed pipe): done.
+                            return Ok(());
+                        }
+                        printed = printed.max(rows.len());
+                    }
+                    Ok(None) => {}
+                    // Caught mid-write: read again at the next poll.
+                    Err(e) if printed > 0 => eprintln!("following: {e}"),
+                    Err(e) => return Err(located(e)),
+                }
+                std::thread::sleep(std::time::Duration::from_millis(250));
+            }
+        }
+        Command::Log {
+            session,
+            node,
+            no_idle,
+            follow: false,
             format,
         } => {
             let s = match btx::input::open(&session, &LoadOptions::default())? {

@@ -302,3 +302,76 @@ fn a_database_is_read_without_taking_a_lock() {
         .collect();
     assert_eq!(names, ["log.db3"]);
 }
+
+/// The fixture's header and its first `records` records (plus `extra`
+/// bytes of the next one, a record half written).
+fn live_log(p: &std::path::Path, records: usize, extra: usize) {
+    let src = std::fs::read(fixture("logs/kitting_lookat_fails_once.btlog")).unwrap();
+    let n = i32::from_le_bytes(src[19..23].try_into().unwrap()) as usize;
+    let end = (31 + n + 9 * records + extra).min(src.len());
+    std::fs::write(p, &src[..end]).unwrap();
+}
+
+#[test]
+fn a_growing_log_is_followed() {
+    use std::io::Read;
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("live.btlog");
+    live_log(&p, 20, 4);
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["log", "--follow", p.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdout = child.stdout.take().unwrap();
+    let reader = std::thread::spawn(move || {
+        let mut s = String::new();
+        let _ = stdout.read_to_string(&mut s);
+        s
+    });
+    let wait = || std::thread::sleep(std::time::Duration::from_millis(800));
+    wait();
+    live_log(&p, 100, 5);
+    wait();
+    live_log(&p, 248, 0);
+    // Polls come every 250 ms; leave a loaded machine time for several.
+    for _ in 0..4 {
+        wait();
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let followed = reader.join().unwrap();
+    let (ok, whole, err) = btx(&["log", p.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        followed, whole,
+        "following prints what reading the whole log prints"
+    );
+    assert_eq!(whole.lines().count(), 249);
+}
+
+#[test]
+fn the_explorer_follows_a_log_and_keeps_the_moment() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("live.btlog");
+    live_log(&p, 30, 0);
+    let mut app = btx::tui::open(&p, None, &Default::default()).unwrap();
+    let mut f = btx::input::Follow::new(&p);
+    assert!(f.poll().unwrap().is_some());
+    assert!(f.poll().unwrap().is_none(), "unchanged: nothing to read");
+    app.follow = Some(f);
+    app.update(btx::tui::Action::End);
+    assert_eq!(app.pos, 30);
+    // At the end, the moment keeps to the end as the log grows.
+    live_log(&p, 60, 3);
+    app.follow_poll();
+    assert_eq!(app.pos, 60);
+    // Elsewhere, it stays where the person put it.
+    app.update(btx::tui::Action::Start);
+    let here = app.pos;
+    live_log(&p, 248, 0);
+    app.follow_poll();
+    assert_eq!(app.pos, here);
+    assert_eq!(app.session.as_ref().unwrap().index.transitions.len(), 248);
+}

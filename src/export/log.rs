@@ -67,6 +67,18 @@ pub fn log_text(s: &Session, rows: &[LogRow]) -> String {
     out
 }
 
+/// One JSON object a line, for a log followed as it grows.
+pub fn log_json_lines(s: &Session, rows: &[LogRow]) -> String {
+    let mut out = String::new();
+    if let Some(all) = log_json(s, rows)["transitions"].as_array() {
+        for r in all {
+            out.push_str(&r.to_string());
+            out.push('\n');
+        }
+    }
+    out
+}
+
 pub fn log_json(s: &Session, rows: &[LogRow]) -> Value {
     json!({
         "schema": "btx.log/1",

@@ -78,6 +78,8 @@ pub struct App {
     pub keymap: super::keymap::Keymap,
     /// The tree pane's share of the width, in percent.
     pub split: u16,
+    /// A log still being written, read again as it grows (`--follow`).
+    pub follow: Option<crate::input::Follow>,
     rows: Vec<Row>,
 }
 
@@ -111,6 +113,7 @@ impl App {
             quit: false,
             keymap: super::keymap::Keymap::default(),
             split: 58,
+            follow: None,
             rows: Vec::new(),
         };
         app.follow_current();
@@ -632,6 +635,43 @@ impl App {
     }
 
     /// One step of autoplay; stops at the end.
+    /// Reads a followed log again: the timeline grows; the moment stays
+    /// where the person put it, or keeps to the end if it was there.
+    pub fn follow_poll(&mut self) {
+        let Some(f) = self.follow.as_mut() else {
+            return;
+        };
+        match f.poll() {
+            Ok(None) => {}
+            Ok(Some(s)) => self.grow(s),
+            // A log caught mid-write reads again at the next poll.
+            Err(e) => self.message = Some(format!("following: {e}")),
+        }
+    }
+
+    /// Takes a newer reading of the same run.
+    pub fn grow(&mut self, s: Session) {
+        let at_end = self.pos >= self.positions();
+        if s.tree.len() != self.tree.len() {
+            self.message = Some(format!(
+                "{}: the log's tree changed ({} nodes, was {}); not followed further",
+                s.path.display(),
+                s.tree.len(),
+                self.tree.len()
+            ));
+            self.follow = None;
+            return;
+        }
+        self.session = Some(s);
+        let end = self.positions();
+        if at_end {
+            self.pos = end;
+            self.follow_current();
+        } else {
+            self.pos = self.pos.min(end);
+        }
+    }
+
     pub fn play_step(&mut self) {
         if self.pos >= self.positions() {
             self.playing = false;

@@ -74,6 +74,9 @@ pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<A
     }
 }
 
+/// How often a followed log is read again, in milliseconds.
+const FOLLOW_MS: u64 = 500;
+
 /// A screen the loop can drive: the explorer, or the side-by-side diff.
 pub trait Screen {
     fn draw(&self, f: &mut ratatui::Frame);
@@ -97,10 +100,17 @@ impl Screen for App {
         self.quit
     }
     fn play_every(&self) -> Option<Duration> {
-        self.playing.then(|| Duration::from_millis(self.play_ms))
+        match (self.playing, self.follow.is_some()) {
+            (true, _) => Some(Duration::from_millis(self.play_ms)),
+            (false, true) => Some(Duration::from_millis(FOLLOW_MS)),
+            _ => None,
+        }
     }
     fn play_step(&mut self) {
-        App::play_step(self)
+        if self.playing {
+            App::play_step(self)
+        }
+        self.follow_poll()
     }
 }
 

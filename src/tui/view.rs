@@ -326,11 +326,14 @@ fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
     let m = at.moment();
     let ticks = s.index.ticks();
     let total = s.index.transitions.len();
-    let play = if app.playing {
+    let mut play = if app.playing {
         format!("  ▶ playing every {} ms", app.play_ms)
     } else {
         String::new()
     };
+    if app.follow.is_some() {
+        play.push_str("  · following the log");
+    }
     let mut lines = vec![Line::from(format!(
         "moment {m}  ·  tick {} of {ticks}  ·  transition {} of {total}{play}",
         m.tick, app.pos

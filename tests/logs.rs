@@ -375,3 +375,52 @@ fn the_explorer_follows_a_log_and_keeps_the_moment() {
     assert_eq!(app.pos, here);
     assert_eq!(app.session.as_ref().unwrap().index.transitions.len(), 248);
 }
+
+#[test]
+fn a_tree_file_that_is_not_the_logs_tree_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.jsonl");
+    let log = "tests/fixtures/logs/kitting_nominal.btlog";
+    // The shipped kitting tree renamed two subgoals ("first" is gone).
+    let (ok, _, err) = btx(&[
+        "import",
+        log,
+        "--tree",
+        "trees/kitting.xml",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(err.contains("is not a log of trees/kitting.xml:"), "{err}");
+    assert!(
+        err.contains("#29: trees/kitting.xml:17:7 has SubTree \"go pick screw\", the log SubTree \"go pick first screw\""),
+        "{err}"
+    );
+    assert!(!out.exists());
+    // The tree file the robot ran matches, and the session keeps it.
+    let tree = "tests/fixtures/kitting-tree.v4.xml";
+    let (ok, _, err) = btx(&[
+        "import",
+        log,
+        "--tree",
+        tree,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let s = btx::session::Session::load(&out).unwrap();
+    assert_eq!(s.header.tree.path.as_deref(), Some(tree));
+    // The explorer checks a tree and a log given together.
+    let e = btx::tui::open(
+        std::path::Path::new(&format!("{}/trees/taxi.xml", env!("CARGO_MANIFEST_DIR"))),
+        Some(&fixture("logs/kitting_nominal.btlog")),
+        &Default::default(),
+    )
+    .err()
+    .expect("not a run of the taxi tree")
+    .to_string();
+    assert!(
+        e.contains("the tree file has 21 nodes and the log's tree 79"),
+        "{e}"
+    );
+}

@@ -188,6 +188,46 @@ fn session_from(
     })
 }
 
+/// Where a tree file and the tree a log recorded differ, uid by uid (the
+/// node's kind, type and name), each as one line naming the tree file's
+/// line; empty when they match. At most `max` lines, then a count.
+pub fn tree_mismatch(
+    file: &crate::model::Tree,
+    log: &crate::model::Tree,
+    max: usize,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    if file.len() != log.len() {
+        out.push(format!(
+            "the tree file has {} nodes and the log's tree {}",
+            file.len(),
+            log.len()
+        ));
+    }
+    let mut more = 0;
+    for uid in 1..=file.len().min(log.len()) as u32 {
+        let (a, b) = (file.node(uid), log.node(uid));
+        let what =
+            |t: &crate::model::Tree| format!("{} \"{}\"", t.type_name(uid), t.description(uid));
+        if a.kind != b.kind || file.type_name(uid) != log.type_name(uid) || a.name != b.name {
+            if out.len() >= max {
+                more += 1;
+                continue;
+            }
+            let (f, line, col) = file.location(uid);
+            out.push(format!(
+                "#{uid}: {f}:{line}:{col} has {}, the log {}",
+                what(file),
+                what(log)
+            ));
+        }
+    }
+    if more > 0 {
+        out.push(format!("and {more} more nodes differ"));
+    }
+    out
+}
+
 /// The header of a session read from a log: the log's tree, embedded.
 pub(crate) fn import_header(
     path: &Path,

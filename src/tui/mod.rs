@@ -54,15 +54,11 @@ pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<A
         }
         (Input::Tree { tree, .. }, None) => Ok(App::new(tree, None, title)),
         (Input::Tree { tree, .. }, Some(Input::Session(s))) => {
-            if tree.len() != s.tree.len() {
+            let diff = crate::logs::tree_mismatch(&tree, &s.tree, 8);
+            if !diff.is_empty() {
                 return Err(Located::file(
                     second.expect("given"),
-                    format!(
-                        "the session's tree has {} nodes and {} has {}: not a run of this tree",
-                        s.tree.len(),
-                        first.display(),
-                        tree.len()
-                    ),
+                    format!("not a run of {}:\n  {}", first.display(), diff.join("\n  ")),
                 ));
             }
             Ok(App::new(tree, Some(*s), title))

@@ -837,27 +837,14 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 } else {
                     None
                 };
-                let (an, bn) = ("A", "B");
+                use btx::causal::compare::Diverged;
                 match format {
                     Format::Text => {
                         print!("{}", d.text());
                         match &diverged {
-                            Some(None) => {
-                                println!(
-                                    "\nThe runs make the same transitions: they do not diverge."
-                                )
-                            }
+                            Some(None) => println!("\n{}", Diverged::SAME),
                             Some(Some(x)) => {
-                                println!(
-                                    "\nThe runs part ways {}.",
-                                    x.difference.text(inputs[1].tree(), an, bn)
-                                );
-                                match &x.why {
-                                    Some(w) => print!("Why, in B: {}", w.text()),
-                                    None => {
-                                        println!("There is no value in B to contrast with A's.")
-                                    }
-                                }
+                                print!("\n{}", x.text(inputs[1].tree(), "Why, in B: "))
                             }
                             None => {}
                         }
@@ -870,7 +857,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                                 Some(x) => serde_json::json!({
                                     "transition": x.difference.index + 1,
                                     "moment": x.difference.moment.to_string(),
-                                    "text": x.difference.text(inputs[1].tree(), an, bn),
+                                    "text": x.difference.text(inputs[1].tree(), "A", "B"),
                                     "answer": x.why.as_ref().map(|w| w.json()),
                                 }),
                             };

@@ -6,6 +6,15 @@ use btx::explain::{answer, Question};
 use btx::session::Moment;
 use common::*;
 
+/// The five recorded runs (each as `.btlog`, `.db3` and, with `_v3`, `.fbl`).
+const RUNS: [&str; 5] = [
+    "taxi_nominal",
+    "kitting_nominal",
+    "kitting_lookat_fails_once",
+    "kitting_detect_chuck_always_fails",
+    "kitting_grasp_check_fails_first",
+];
+
 /// The session's transitions equal the recorded run's, ticks included.
 fn assert_same_run(s: &btx::session::Session, run: &str) {
     assert!(s.warnings.is_empty(), "{run}: {:?}", s.warnings);
@@ -29,13 +38,7 @@ fn open(run: &str) -> btx::session::Session {
 
 #[test]
 fn ticks_are_reconstructed_exactly() {
-    for run in [
-        "taxi_nominal",
-        "kitting_nominal",
-        "kitting_lookat_fails_once",
-        "kitting_detect_chuck_always_fails",
-        "kitting_grasp_check_fails_first",
-    ] {
+    for run in RUNS {
         assert_same_run(&open(run), run);
     }
 }
@@ -157,14 +160,8 @@ fn open_fbl(run: &str) -> btx::session::Session {
 
 #[test]
 fn v3_fbl_ticks_are_reconstructed_exactly() {
-    for run in [
-        "taxi_nominal_v3",
-        "kitting_nominal_v3",
-        "kitting_lookat_fails_once_v3",
-        "kitting_detect_chuck_always_fails_v3",
-        "kitting_grasp_check_fails_first_v3",
-    ] {
-        assert_same_run(&open_fbl(run), run);
+    for run in RUNS.map(|r| format!("{r}_v3")) {
+        assert_same_run(&open_fbl(&run), &run);
     }
 }
 
@@ -175,13 +172,7 @@ fn open_db3(run: &str) -> btx::session::Session {
 
 #[test]
 fn db3_ticks_are_reconstructed_exactly() {
-    for run in [
-        "taxi_nominal",
-        "kitting_nominal",
-        "kitting_lookat_fails_once",
-        "kitting_detect_chuck_always_fails",
-        "kitting_grasp_check_fails_first",
-    ] {
+    for run in RUNS {
         assert_same_run(&open_db3(run), run);
     }
     // Recognised by content, as every command opens it.

@@ -17,6 +17,21 @@ impl Tmux {
         String::from_utf8_lossy(&out.stdout).into_owned()
     }
 
+    /// Runs `cmd` in a detached 110×34 session named `btx`.
+    fn start(&self, cmd: &str) {
+        self.run(&[
+            "new-session",
+            "-d",
+            "-s",
+            "btx",
+            "-x",
+            "110",
+            "-y",
+            "34",
+            cmd,
+        ]);
+    }
+
     fn screen(&self) -> String {
         self.run(&["capture-pane", "-p", "-t", "btx"])
     }
@@ -55,17 +70,7 @@ fn demo_in_a_real_terminal() {
     }
     let t = Tmux(format!("btx-e2e-{}", std::process::id()));
     let cmd = format!("{}; echo EXITED:$?; sleep 30", env!("CARGO_BIN_EXE_btx"));
-    t.run(&[
-        "new-session",
-        "-d",
-        "-s",
-        "btx",
-        "-x",
-        "110",
-        "-y",
-        "34",
-        &cmd,
-    ]);
+    t.start(&cmd);
     // The frame may be captured half drawn: wait for its last pane too.
     t.wait_for("full tree");
     t.wait_for("moment 1 ");
@@ -96,17 +101,7 @@ fn sigterm_restores_the_terminal() {
         env!("CARGO_BIN_EXE_btx"),
         pidfile.display()
     );
-    t.run(&[
-        "new-session",
-        "-d",
-        "-s",
-        "btx",
-        "-x",
-        "110",
-        "-y",
-        "34",
-        &cmd,
-    ]);
+    t.start(&cmd);
     t.wait_for("full tree");
     let pid = std::fs::read_to_string(&pidfile).unwrap();
     Command::new("kill")
@@ -133,17 +128,7 @@ fn side_by_side_diff_in_a_real_terminal() {
         env!("CARGO_MANIFEST_DIR"),
         env!("CARGO_BIN_EXE_btx")
     );
-    t.run(&[
-        "new-session",
-        "-d",
-        "-s",
-        "btx",
-        "-x",
-        "110",
-        "-y",
-        "34",
-        &cmd,
-    ]);
+    t.start(&cmd);
     t.wait_for("edit distance 4, LCS 10 in all");
     t.wait_for("A: moment 1 ");
     t.run(&["send-keys", "-t", "btx", "d"]);

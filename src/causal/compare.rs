@@ -148,6 +148,28 @@ pub struct Diverged {
     pub why: Option<super::Why>,
 }
 
+impl Diverged {
+    /// What two runs agreeing is said as.
+    pub const SAME: &'static str = "The runs make the same transitions: they do not diverge.";
+
+    /// Where the runs part ways, then the answer to why (after `lead`), in
+    /// the second run's tree; the runs are A and B.
+    pub fn text(&self, tree: &crate::Tree, lead: &str) -> String {
+        let mut out = format!(
+            "The runs part ways {}.\n",
+            self.difference.text(tree, "A", "B")
+        );
+        match &self.why {
+            Some(w) => {
+                out.push_str(lead);
+                out.push_str(&w.text());
+            }
+            None => out.push_str("There is no value in B to contrast with A's.\n"),
+        }
+        out
+    }
+}
+
 /// Finds where run `b` first diverges from run `a` and asks, in `b`'s model
 /// of that tick, why it did not do what `a` did. `None`: the runs agree.
 pub fn why_diverged(

@@ -42,13 +42,14 @@ impl<'a> Side<'a> {
             session: Some(s),
         }
     }
+}
 
-    fn what(&self) -> &'static str {
-        if self.session.is_some() {
-            "a run: the leaves each subgoal executed"
-        } else {
-            "a tree: each subgoal's actions in tree order"
-        }
+/// How a report describes a side: a run or a tree.
+fn what(run: bool) -> &'static str {
+    if run {
+        "a run: the leaves each subgoal executed"
+    } else {
+        "a tree: each subgoal's actions in tree order"
     }
 }
 
@@ -282,11 +283,9 @@ impl Section {
 pub struct Diff {
     pub a_name: String,
     pub b_name: String,
-    a_what: &'static str,
-    b_what: &'static str,
-    /// Whether outcomes are compared too (both sides are runs): a leaf that
-    /// failed is then a different step from the same leaf succeeding.
-    pub outcomes: bool,
+    /// Whether each side is a run (else a tree).
+    pub a_run: bool,
+    pub b_run: bool,
     pub sections: Vec<Section>,
 }
 
@@ -336,11 +335,16 @@ impl Diff {
         Diff {
             a_name: a.name.clone(),
             b_name: b.name.clone(),
-            a_what: a.what(),
-            b_what: b.what(),
-            outcomes,
+            a_run: a.session.is_some(),
+            b_run: b.session.is_some(),
             sections,
         }
+    }
+
+    /// Whether outcomes are compared too (both sides are runs): a leaf that
+    /// failed is then a different step from the same leaf succeeding.
+    pub fn outcomes(&self) -> bool {
+        self.a_run && self.b_run
     }
 
     pub fn distance(&self) -> usize {
@@ -419,7 +423,10 @@ impl Diff {
     pub fn text(&self) -> String {
         let mut out = format!(
             "A  {}  ({})\nB  {}  ({})\n",
-            self.a_name, self.a_what, self.b_name, self.b_what
+            self.a_name,
+            what(self.a_run),
+            self.b_name,
+            what(self.b_run)
         );
         let width = self
             .sections
@@ -488,9 +495,9 @@ impl Diff {
             })
         });
         json!({
-            "a": {"name": self.a_name, "kind": kind(self.a_what)},
-            "b": {"name": self.b_name, "kind": kind(self.b_what)},
-            "outcomes_compared": self.outcomes,
+            "a": {"name": self.a_name, "kind": kind(self.a_run)},
+            "b": {"name": self.b_name, "kind": kind(self.b_run)},
+            "outcomes_compared": self.outcomes(),
             "identical": self.is_empty(),
             "distance": self.distance(),
             "lcs": self.lcs(),
@@ -500,8 +507,8 @@ impl Diff {
     }
 }
 
-fn kind(what: &str) -> &'static str {
-    if what.starts_with("a run") {
+fn kind(run: bool) -> &'static str {
+    if run {
         "run"
     } else {
         "tree"

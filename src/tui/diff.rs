@@ -321,20 +321,10 @@ impl DiffApp {
             }
         };
         match crate::causal::compare::why_diverged(sa, sb, domain, 2) {
-            Ok(None) => {
-                self.answer =
-                    Some("The runs make the same transitions: they do not diverge.".into())
-            }
+            Ok(None) => self.answer = Some(crate::causal::compare::Diverged::SAME.into()),
             Ok(Some(x)) => {
                 let i = x.difference.index as u32 + 1;
-                let mut text = format!(
-                    "The runs part ways {}.\n",
-                    x.difference.text(&sb.tree, "A", "B")
-                );
-                match &x.why {
-                    Some(w) => text.push_str(&w.text()),
-                    None => text.push_str("There is no value in B to contrast with A's.\n"),
-                }
+                let text = x.text(&sb.tree, "");
                 self.a.go_to_pos(i);
                 self.b.go_to_pos(i);
                 self.answer = Some(text);

@@ -105,6 +105,31 @@ fn broken_logs_name_the_byte_offset() {
         .expect("should fail")
         .to_string();
     assert!(e.contains("uid 999 is not a node"), "{e}");
+    // Timestamps that jump by 2^40 µs twenty times: each jump claims a
+    // million empty ticks, more than a session keeps in all, so the count
+    // stops, with a warning, instead of filling memory.
+    let k = fixture("logs/kitting_nominal.btlog");
+    let mut gaps = std::fs::read(&k).unwrap();
+    let xml_len = i32::from_le_bytes(gaps[19..23].try_into().unwrap()) as usize;
+    let offsets: Vec<usize> = (31 + xml_len..gaps.len() - 8).step_by(9).collect();
+    let stair = offsets.len() / 20;
+    for (i, &r) in offsets.iter().enumerate() {
+        let mut dt = [0u8; 8];
+        dt[..6].copy_from_slice(&gaps[r..r + 6]);
+        let dt = u64::from_le_bytes(dt) + ((i / stair) as u64) * (1 << 40);
+        gaps[r..r + 6].copy_from_slice(&dt.to_le_bytes()[..6]);
+    }
+    let s = btx::logs::open_btlog(&k, &gaps).unwrap();
+    let real = btx::logs::open_btlog(&k, &std::fs::read(&k).unwrap()).unwrap();
+    assert!(s.index.ticks() > btx::session::EMPTY_TICKS_MAX);
+    assert!(s.index.ticks() <= btx::session::EMPTY_TICKS_MAX + real.index.ticks());
+    assert!(
+        s.warnings
+            .iter()
+            .any(|w| w.message.contains("from here a gap counts as one tick")),
+        "{:?}",
+        s.warnings
+    );
     let cut = &good[..good.len() - 4];
     let s = btx::logs::open_btlog(&p, cut).unwrap();
     assert!(s
@@ -414,4 +439,23 @@ fn a_tree_file_that_is_not_the_logs_tree_is_reported() {
         e.contains("the tree file has 21 nodes and the log's tree 79"),
         "{e}"
     );
+}
+
+/// Inputs the fuzzers found a panic with (in `fixtures/fuzz/`), and the
+/// located error each now gives.
+const FUZZ_FINDINGS: &[(&str, &str)] = &[(
+    "fuzz/fbl-vtable-before-buffer.fbl",
+    "byte offset 4864: a table's vtable lies before the flatbuffer",
+)];
+
+#[test]
+fn fuzzer_findings_are_errors() {
+    for (file, expect) in FUZZ_FINDINGS {
+        let p = fixture(file);
+        let e = btx::input::open(&p, &Default::default())
+            .err()
+            .unwrap_or_else(|| panic!("{file} opened"))
+            .to_string();
+        assert!(e.contains(expect), "{file}: {e}");
+    }
 }

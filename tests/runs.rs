@@ -330,6 +330,15 @@ fn broken_sessions_are_located_errors() {
     std::fs::write(&p, lines.join("\n") + "\n").unwrap();
     let e = Session::load(&p).err().unwrap().to_string();
     assert!(e.contains("bad.jsonl:4:1: not a session record"), "{e}");
+    // A tick number far ahead of the records is refused, not indexed.
+    lines[3] =
+        "{\"k\":\"t\",\"tick\":4000000000,\"step\":3,\"uid\":3,\"from\":\"IDLE\",\"to\":\"RUNNING\"}";
+    std::fs::write(&p, lines.join("\n") + "\n").unwrap();
+    let e = Session::load(&p).err().unwrap().to_string();
+    assert!(
+        e.contains("bad.jsonl:4:1: tick 4000000000 leaves more than 10000000 ticks"),
+        "{e}"
+    );
     std::fs::write(&p, "{\"hello\": 1}\n").unwrap();
     let e = Session::load(&p).err().unwrap().to_string();
     assert!(e.contains("bad.jsonl:1:1: not a btx session header"), "{e}");

@@ -92,7 +92,7 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawLog, Located> {
             )
         })?;
         records.push(Record {
-            time_us: t0_us + dt,
+            time_us: t0_us.saturating_add(dt),
             uid,
             status,
             offset: off,

@@ -15,28 +15,30 @@ struct Fb<'a> {
 
 impl<'a> Fb<'a> {
     fn err(&self, at: usize, msg: &str) -> Located {
-        Located::file(self.path, format!("byte offset {}: {msg}", at + 4))
+        Located::file(
+            self.path,
+            format!("byte offset {}: {msg}", at.saturating_add(4)),
+        )
     }
-    fn u8(&self, at: usize) -> Result<u8, Located> {
-        self.b
-            .get(at)
-            .copied()
+    fn bytes<const N: usize>(&self, at: usize) -> Result<[u8; N], Located> {
+        at.checked_add(N)
+            .and_then(|end| self.b.get(at..end))
+            .map(|b| b.try_into().expect("N bytes"))
             .ok_or_else(|| self.err(at, "the tree's flatbuffer ends early"))
     }
+    fn u8(&self, at: usize) -> Result<u8, Located> {
+        Ok(self.bytes::<1>(at)?[0])
+    }
     fn u16(&self, at: usize) -> Result<u16, Located> {
-        Ok(u16::from_le_bytes([self.u8(at)?, self.u8(at + 1)?]))
+        Ok(u16::from_le_bytes(self.bytes(at)?))
     }
     fn u32(&self, at: usize) -> Result<u32, Located> {
-        Ok(u32::from_le_bytes([
-            self.u8(at)?,
-            self.u8(at + 1)?,
-            self.u8(at + 2)?,
-            self.u8(at + 3)?,
-        ]))
+        Ok(u32::from_le_bytes(self.bytes(at)?))
     }
     /// The position of field `i` of the table at `t`, if present.
     fn field(&self, t: usize, i: usize) -> Result<Option<usize>, Located> {
-        let vt = (t as i64 - i64::from(self.u32(t)? as i32)) as usize;
+        let vt = usize::try_from(t as i64 - i64::from(self.u32(t)? as i32))
+            .map_err(|_| self.err(t, "a table's vtable lies before the flatbuffer"))?;
         let vt_len = self.u16(vt)? as usize;
         if 4 + 2 * i >= vt_len {
             return Ok(None);
@@ -170,11 +172,17 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawFbl, Located> {
         kinds: &std::collections::HashMap<String, u8>,
         trees: &mut Vec<String>,
         out: &mut String,
+        seen: &mut std::collections::HashSet<u16>,
         depth: usize,
     ) -> Result<(), String> {
         let n = nodes
             .get(&u)
             .ok_or_else(|| format!("the tree names node {u}, which it does not describe"))?;
+        // A node reached twice would be a cycle, or a copy that multiplies
+        // at every level.
+        if !seen.insert(u) {
+            return Err(format!("node {u} is the child of more than one node"));
+        }
         if depth > 10_000 {
             return Err("the tree is nested too deep".into());
         }
@@ -193,7 +201,7 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawFbl, Located> {
             ));
             let mut sub = String::new();
             for &c in &n.children {
-                element(c, nodes, kinds, trees, &mut sub, depth + 1)?;
+                element(c, nodes, kinds, trees, &mut sub, seen, depth + 1)?;
             }
             trees.push(format!(
                 "<BehaviorTree ID=\"{}\" _fullpath=\"{}\">{sub}</BehaviorTree>",
@@ -224,15 +232,18 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawFbl, Located> {
         } else {
             out.push('>');
             for &c in &n.children {
-                element(c, nodes, kinds, trees, out, depth + 1)?;
+                element(c, nodes, kinds, trees, out, seen, depth + 1)?;
             }
             out.push_str(&format!("</{close}>"));
         }
         Ok(())
     }
     let mut main = String::new();
-    element(root_uid, &nodes, &kinds, &mut trees, &mut main, 0)
-        .map_err(|m| Located::file(path, format!("the .fbl's tree: {m}")))?;
+    let mut seen = std::collections::HashSet::new();
+    element(
+        root_uid, &nodes, &kinds, &mut trees, &mut main, &mut seen, 0,
+    )
+    .map_err(|m| Located::file(path, format!("the .fbl's tree: {m}")))?;
     let mut xml =
         format!("<root><BehaviorTree ID=\"MainTree\" _fullpath=\"\">{main}</BehaviorTree>");
     for t in trees {

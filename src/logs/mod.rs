@@ -147,14 +147,24 @@ fn session_from(
             message: format!("the last {partial_tail} bytes are not a whole record (a log still being written?); left out"),
         });
     }
-    let (ticks, fell_back) = ticks::reconstruct(&tree, records);
+    let ticks::Ticks {
+        numbers: ticks,
+        fell_back,
+        capped,
+    } = ticks::reconstruct(&tree, records);
+    let at = |i: usize| place(records.get(i).map_or(len, |r| r.offset));
+    if let Some(i) = capped {
+        warnings.push(Warning {
+            location: format!("{}: {}", path.display(), at(i)),
+            message: format!(
+                "the timestamps claim more than {} ticks in which nothing changed; from here a gap counts as one tick",
+                ticks::EMPTY_MAX
+            ),
+        });
+    }
     if let Some(i) = fell_back {
         warnings.push(Warning {
-            location: format!(
-                "{}: {}",
-                path.display(),
-                place(records.get(i).map_or(len, |r| r.offset))
-            ),
+            location: format!("{}: {}", path.display(), at(i)),
             message:
                 "the replay could not follow the log from here; ticks are told apart by timing"
                     .into(),

@@ -116,17 +116,26 @@ fn by_timing(recs: &[Record]) -> Vec<u32> {
         .collect()
 }
 
-/// Puts back the ticks in which nothing changed, from the time between ticks.
-fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> Vec<u32> {
+/// Empty ticks one gap may stand for; all gaps together stand for at most
+/// `EMPTY_MAX`.
+const EMPTY_PER_GAP: f64 = 1e6;
+pub use crate::session::EMPTY_TICKS_MAX as EMPTY_MAX;
+
+/// Puts back the ticks in which nothing changed, from the time between
+/// ticks; and the record from which gaps counted for one tick each, if
+/// the empty ticks ran past `EMPTY_MAX`.
+fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> (Vec<u32>, Option<usize>) {
     let mut firsts: Vec<i64> = Vec::new();
+    let mut first_rec: Vec<usize> = Vec::new();
     for (i, r) in recs.iter().enumerate() {
         if i == 0 || ticks[i] != ticks[i - 1] {
             firsts.push(r.time_us);
+            first_rec.push(i);
         }
     }
     let mut gaps: Vec<i64> = firsts
         .windows(2)
-        .map(|w| w[1] - w[0])
+        .map(|w| w[1].saturating_sub(w[0]))
         .filter(|g| *g > 0)
         .collect();
     gaps.sort_unstable();
@@ -134,27 +143,51 @@ fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> Vec<u32> {
     // by the short gaps, and count a gap as k ticks only once it is almost
     // k periods long.
     let Some(&period) = gaps.get(gaps.len() / 10) else {
-        return ticks.to_vec();
+        return (ticks.to_vec(), None);
     };
-    // A corrupt timestamp can claim billions of empty ticks: a gap counts
-    // for at most a million, and the numbering stays far from overflow.
     let mut numbers = vec![1u32];
-    for w in firsts.windows(2) {
+    let mut empty = 0u32;
+    let mut capped = None;
+    for (k, w) in firsts.windows(2).enumerate() {
         let steps = ((w[1].saturating_sub(w[0])) as f64 / period.max(1) as f64 + 0.1)
             .floor()
-            .clamp(1.0, 1e6) as u32;
+            .clamp(1.0, EMPTY_PER_GAP) as u32;
+        let extra = (steps - 1).min(EMPTY_MAX - empty);
+        if extra < steps - 1 && capped.is_none() {
+            capped = Some(first_rec[k + 1]);
+        }
+        empty += extra;
         let last = *numbers.last().expect("seeded");
-        numbers.push(last.saturating_add(steps).min(u32::MAX / 2));
+        numbers.push(last + 1 + extra);
     }
-    ticks.iter().map(|&t| numbers[t as usize - 1]).collect()
+    (
+        ticks.iter().map(|&t| numbers[t as usize - 1]).collect(),
+        capped,
+    )
 }
 
-/// Tick numbers (from 1) for each record, and whether the structure was
-/// followed to the end (else the index where timing took over).
-pub fn reconstruct(tree: &Tree, recs: &[Record]) -> (Vec<u32>, Option<usize>) {
-    match by_structure(tree, recs) {
-        Ok(t) => (with_empty_ticks(recs, &t), None),
-        Err(at) => (with_empty_ticks(recs, &by_timing(recs)), Some(at)),
+/// A log's tick numbers.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Ticks {
+    /// Per record, from 1.
+    pub numbers: Vec<u32>,
+    /// The record where the replay lost the structure and timing took over.
+    pub fell_back: Option<usize>,
+    /// The record from which empty ticks were no longer counted (past
+    /// `EMPTY_MAX`).
+    pub capped: Option<usize>,
+}
+
+pub fn reconstruct(tree: &Tree, recs: &[Record]) -> Ticks {
+    let (structural, fell_back) = match by_structure(tree, recs) {
+        Ok(t) => (t, None),
+        Err(at) => (by_timing(recs), Some(at)),
+    };
+    let (numbers, capped) = with_empty_ticks(recs, &structural);
+    Ticks {
+        numbers,
+        fell_back,
+        capped,
     }
 }
 
@@ -184,12 +217,12 @@ mod tests {
         let tree = crate::xml::load_str(path, &raw.xml, &Default::default())
             .unwrap()
             .tree;
-        let (full, fell_back) = reconstruct(&tree, &raw.records);
-        assert_eq!(fell_back, None);
+        let full = reconstruct(&tree, &raw.records);
+        assert_eq!((full.fell_back, full.capped), (None, None));
         for cut in [1, 5, 40, 100, raw.records.len() - 1] {
-            let (part, fell_back) = reconstruct(&tree, &raw.records[..cut]);
-            assert_eq!(fell_back, None, "cut at {cut}");
-            assert_eq!(part[..], full[..cut], "cut at {cut}");
+            let part = reconstruct(&tree, &raw.records[..cut]);
+            assert_eq!(part.fell_back, None, "cut at {cut}");
+            assert_eq!(part.numbers[..], full.numbers[..cut], "cut at {cut}");
         }
     }
 
@@ -199,9 +232,29 @@ mod tests {
             .into_iter()
             .map(rec)
             .collect();
-        let ticks = with_empty_ticks(&recs, &by_timing(&recs));
+        let (ticks, capped) = with_empty_ticks(&recs, &by_timing(&recs));
         assert_eq!(&ticks[..3], [1, 2, 3]);
         assert_eq!(ticks[3], 3 + 1_000_000);
         assert!(ticks.iter().all(|&t| t <= u32::MAX / 2));
+        assert_eq!(capped, None);
+    }
+
+    #[test]
+    fn empty_ticks_stop_being_counted_past_the_limit() {
+        // Ticks every 10 ms, then gaps of a million periods each: the first
+        // ten fill the budget, later ones count for one tick.
+        let mut times: Vec<i64> = (0..20).map(|i| i * 10_000).collect();
+        let mut t = *times.last().unwrap();
+        for _ in 0..15 {
+            t += 10_000 * 1_000_000;
+            times.push(t);
+        }
+        let recs: Vec<Record> = times.into_iter().map(rec).collect();
+        let (ticks, capped) = with_empty_ticks(&recs, &by_timing(&recs));
+        assert_eq!(capped, Some(30));
+        let last = *ticks.last().unwrap();
+        assert_eq!(last, 35 + EMPTY_MAX);
+        assert_eq!(ticks[30] - ticks[29], 1 + 10);
+        assert_eq!(ticks[31] - ticks[30], 1);
     }
 }

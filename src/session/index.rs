@@ -10,6 +10,16 @@ use serde_json::Value;
 use std::collections::HashMap;
 use std::fmt;
 
+/// Ticks in which nothing changed that a session holds at most (beyond one
+/// per record): each tick costs the index a few bytes, and a corrupt log
+/// or session can claim billions.
+#[cfg(not(fuzzing))]
+pub const EMPTY_TICKS_MAX: u32 = 10_000_000;
+// Under the fuzzer a smaller budget keeps inputs that claim many empty
+// ticks fast enough to explore; the rule is the same.
+#[cfg(fuzzing)]
+pub const EMPTY_TICKS_MAX: u32 = 10_000;
+
 /// A status transition of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Transition {

@@ -6,7 +6,7 @@ pub mod index;
 pub mod record;
 
 pub use format::{Header, Record, SessionWriter, Source, TreeRef};
-pub use index::{At, Index, Moment, Transition, Write};
+pub use index::{At, Index, Moment, Transition, Write, EMPTY_TICKS_MAX};
 
 use crate::model::{Tree, Uid};
 use crate::source::{Located, Warning};
@@ -117,6 +117,21 @@ impl Session {
                     Ok(())
                 }
             };
+            // Every tick costs the index a little: a tick number may run
+            // ahead of the records by the empty ticks a session may hold.
+            let too_far = |tick: u32| {
+                if tick as u64 > i as u64 + EMPTY_TICKS_MAX as u64 {
+                    Err(err_at(
+                        start,
+                        body.len(),
+                        format!(
+                            "tick {tick} leaves more than {EMPTY_TICKS_MAX} ticks in which nothing happened (at most that many are kept)"
+                        ),
+                    ))
+                } else {
+                    Ok(())
+                }
+            };
             if end.is_some() {
                 return Err(err_at(
                     start,
@@ -134,6 +149,7 @@ impl Session {
                     ..
                 } => {
                     bad_uid(uid, &tree)?;
+                    too_far(tick)?;
                     if tick < index.ticks() || tick == 0 {
                         return Err(err_at(
                             start,
@@ -199,6 +215,7 @@ impl Session {
                     reason,
                     ..
                 } => {
+                    too_far(ticks)?;
                     index.end_tick(ticks);
                     end = Some((ticks, root, reason));
                 }

@@ -1,0 +1,14 @@
+#![no_main]
+mod common;
+
+use libfuzzer_sys::fuzz_target;
+use std::path::Path;
+
+fuzz_target!(|data: &[u8]| {
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    if let Ok(s) = btx::logs::btcm::open_btcm(Path::new("fuzz.json"), text) {
+        common::exercise(&s);
+    }
+});

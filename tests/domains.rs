@@ -106,6 +106,57 @@ fn a_runaway_script_is_a_located_error() {
     );
 }
 
+/// The domain's `functions` are run (and remembered) outside the script
+/// that calls them: a loop across calls must still stop.
+#[test]
+fn operations_are_counted_across_function_calls() {
+    let with_functions = |functions: &str, status: &str| {
+        case_study_with(|t| {
+            t.replace(
+                "name = \"Love et al. case study\"",
+                &format!(
+                    "name = \"Love et al. case study\"\nfunctions = \"\"\"\n{functions}\n\"\"\""
+                ),
+            )
+            .replace(
+                "status = \"SUCCESS\"",
+                &format!("status = \"\"\"\n{status}\n\"\"\""),
+            )
+        })
+    };
+    let e = with_functions("fn spin() { loop { } }", "spin()")
+        .err()
+        .expect("should fail");
+    assert!(
+        e.contains("status of L2") && e.contains("Too many operations"),
+        "{e}"
+    );
+    // Each call stays under the limit; together they do not.
+    let e = with_functions(
+        "fn busy(n) { let i = 0; while i < 300000 { i += 1; } n }",
+        "let s = 0; for k in 0..20 { s += busy(k); } SUCCESS",
+    )
+    .err()
+    .expect("should fail");
+    assert!(
+        e.contains("status of L2") && e.contains("Too many operations"),
+        "{e}"
+    );
+    // A function called with the same arguments again gives the same result.
+    let s = with_functions(
+        "fn twice(x) { x * 2 }",
+        "if twice(2) == 4 && twice(2) == 4 { SUCCESS } else { FAILURE }",
+    )
+    .unwrap();
+    let fresh = case_study_with(|t| t.to_string()).unwrap();
+    assert_eq!(s.index.transitions, fresh.index.transitions);
+    // `eval` could read a variable without naming it (see Script::reads).
+    let e = with_functions("", "eval(\"SUCCESS\")")
+        .err()
+        .expect("should fail");
+    assert!(e.contains("status of L2"), "{e}");
+}
+
 #[test]
 fn script_and_file_errors_are_located() {
     let e = case_study_with(|t| t.replace("{ FAILURE }\"", "{ FAILURE \""))

@@ -9,7 +9,7 @@
 use super::facts::TickFacts;
 use crate::model::{Builtin, Kind, PortValue, Tree, Uid};
 use crate::run::blackboard::EntryId;
-use crate::run::domain::{str_key, value_key, Domain, State, VarType};
+use crate::run::domain::{str_key, value_key, Domain, LeafFn, State, VarType};
 use crate::run::Status;
 use crate::source::Located;
 use petgraph::graph::{DiGraph, NodeIndex};
@@ -175,6 +175,9 @@ pub struct Model {
     leaf_of: Vec<Option<usize>>,
     /// The copies each leaf reads, by uid − 1.
     inputs_of: Vec<Vec<(usize, VarId)>>,
+    /// Of those, the ones each of its functions reads (by `LeafFn`): the
+    /// memo keys and the states its functions see.
+    reads_of: Vec<[Vec<(usize, VarId)>; 3]>,
     /// Per domain variable, its copies in order.
     pub copies: Vec<Vec<VarId>>,
     /// Per leaf (domain order), the copy counts τ after it (Alg. 3).
@@ -639,6 +642,20 @@ impl Model {
         for (i, &v) in topo.iter().enumerate() {
             topo_pos[v] = i;
         }
+        let reads_of = inputs_of
+            .iter()
+            .zip(&leaf_of)
+            .map(|(inputs, l)| {
+                let def = domain.as_ref().zip(*l).map(|(d, l)| &d.leaves[l]);
+                [LeafFn::Status, LeafFn::Decide, LeafFn::Effect].map(|f| {
+                    inputs
+                        .iter()
+                        .filter(|(x, _)| def.is_some_and(|def| def.reads(f).contains(x)))
+                        .copied()
+                        .collect()
+                })
+            })
+            .collect();
         let mut m = Model {
             tree: tree.clone(),
             domain,
@@ -655,6 +672,7 @@ impl Model {
             flows,
             leaf_of,
             inputs_of,
+            reads_of,
             copies,
             tau_after,
             fact: Vec::new(),
@@ -741,10 +759,10 @@ impl Model {
         }
     }
 
-    fn leaf_state(&self, uid: Uid, vals: &[Val]) -> State {
+    fn leaf_state(&self, f: LeafFn, uid: Uid, vals: &[Val]) -> State {
         let d = self.domain.as_ref().expect("a domain");
         let mut s: State = vec![Value::Null; d.vars.len()];
-        for &(x, c) in &self.inputs_of[uid as usize - 1] {
+        for &(x, c) in &self.reads_of[uid as usize - 1][f as usize] {
             if let Val::Data(v) = &vals[c] {
                 s[x] = v.clone();
             }
@@ -754,11 +772,11 @@ impl Model {
 
     /// The memo key of a leaf function on its current inputs, built in
     /// the memo's buffer (no allocation once it has grown).
-    fn memo_key(&self, what: u8, uid: Uid, vals: &[Val], extra: Option<&Val>, k: &mut Vec<u8>) {
+    fn memo_key(&self, f: LeafFn, uid: Uid, vals: &[Val], extra: Option<&Val>, k: &mut Vec<u8>) {
         k.clear();
-        k.push(what);
+        k.push(f as u8);
         k.extend_from_slice(&uid.to_le_bytes());
-        for &(_, c) in &self.inputs_of[uid as usize - 1] {
+        for &(_, c) in &self.reads_of[uid as usize - 1][f as usize] {
             vals[c].key(k);
         }
         if let Some(x) = extra {
@@ -787,13 +805,14 @@ impl Model {
                     None => Val::Status(self.facts.outcome[*uid as usize - 1]),
                     Some(l) => {
                         let dv = self.d(*uid).map(|d| &vals[d]);
-                        self.memo_key(0, *uid, vals, dv, &mut memo.buf);
+                        self.memo_key(LeafFn::Status, *uid, vals, dv, &mut memo.buf);
                         if let Some(x) = memo.status.get(&memo.buf[..]) {
                             return Ok(Val::Status(*x));
                         }
                         let action = self.action_of(*uid, vals);
                         let d = self.domain.as_ref().expect("a domain");
-                        let s = d.status(*l, &self.leaf_state(*uid, vals), &action)?;
+                        let state = self.leaf_state(LeafFn::Status, *uid, vals);
+                        let s = d.status(*l, &state, &action)?;
                         memo.status.insert(memo.buf.clone(), s);
                         Val::Status(s)
                     }
@@ -804,12 +823,12 @@ impl Model {
                 if !vals[self.e(*uid)].is_true() {
                     return Ok(Val::Action(None));
                 }
-                self.memo_key(1, *uid, vals, None, &mut memo.buf);
+                self.memo_key(LeafFn::Decide, *uid, vals, None, &mut memo.buf);
                 if let Some(x) = memo.decide.get(&memo.buf[..]) {
                     return Ok(Val::Action(x.clone()));
                 }
                 let d = self.domain.as_ref().expect("a domain");
-                let a = d.decide(*leaf, &self.leaf_state(*uid, vals))?;
+                let a = d.decide(*leaf, &self.leaf_state(LeafFn::Decide, *uid, vals))?;
                 memo.decide.insert(memo.buf.clone(), a.clone());
                 Val::Action(a)
             }
@@ -853,12 +872,13 @@ impl Model {
                     }
                     let l = self.leaf_of[w as usize - 1].expect("writers have domain leaves");
                     let dv = self.d(w).map(|d| &vals[d]);
-                    self.memo_key(2, w, vals, dv, &mut memo.buf);
+                    self.memo_key(LeafFn::Effect, w, vals, dv, &mut memo.buf);
                     let effect = match memo.effect.get(&memo.buf[..]) {
                         Some(e) => Arc::clone(e),
                         None => {
                             let action = self.action_of(w, vals);
-                            let e = Arc::new(d.effect(l, &self.leaf_state(w, vals), &action)?);
+                            let state = self.leaf_state(LeafFn::Effect, w, vals);
+                            let e = Arc::new(d.effect(l, &state, &action)?);
                             memo.effect.insert(memo.buf.clone(), Arc::clone(&e));
                             e
                         }

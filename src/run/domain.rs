@@ -58,6 +58,41 @@ pub struct Script {
     /// Byte offset of the script's first character in the domain file.
     pub start: usize,
     pub what: String,
+    /// Every identifier-like word of the script's text, sorted.
+    words: Vec<String>,
+}
+
+impl Script {
+    /// The variables of `among` that the script names. A script reads a
+    /// variable of its scope only by naming it (`eval` is disabled and
+    /// functions do not see the caller's scope), so its result depends on
+    /// these alone; a name in a string or a comment only adds to them.
+    pub fn reads(&self, among: &[usize], vars: &[Var]) -> Vec<usize> {
+        among
+            .iter()
+            .copied()
+            .filter(|&i| self.words.binary_search(&vars[i].name).is_ok())
+            .collect()
+    }
+}
+
+/// Which of a leaf's three functions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LeafFn {
+    Status = 0,
+    Decide = 1,
+    Effect = 2,
+}
+
+fn words_of(text: &str) -> Vec<String> {
+    let mut w: Vec<String> = text
+        .split(|c: char| !(c.is_alphanumeric() || c == '_'))
+        .filter(|w| !w.is_empty())
+        .map(str::to_string)
+        .collect();
+    w.sort_unstable();
+    w.dedup();
+    w
 }
 
 #[derive(Debug, Clone)]
@@ -70,6 +105,16 @@ pub struct LeafDef {
     pub decide: Option<Script>,
     pub effect: Option<Script>,
     pub status: Script,
+    /// The inputs each function reads (by `LeafFn`): its results are
+    /// memoised on these alone, so a decision that reads many inputs does
+    /// not make an effect that reads few miss.
+    pub reads: [Vec<usize>; 3],
+}
+
+impl LeafDef {
+    pub fn reads(&self, f: LeafFn) -> &[usize] {
+        &self.reads[f as usize]
+    }
 }
 
 /// A loaded domain.
@@ -86,6 +131,8 @@ pub struct Domain {
     /// Derived variables in an order where parents come first.
     order: Vec<usize>,
     lib: AST,
+    /// Tells this domain's engines apart (see `Domain::engine`).
+    id: u64,
     /// Results of the functions by their inputs: the functions are
     /// deterministic, and a search or an evaluation asks the same ones many
     /// times over.
@@ -197,10 +244,20 @@ fn unit(seed: i64) -> f64 {
     (splitmix(seed as u64) >> 11) as f64 / (1u64 << 53) as f64
 }
 
-/// One engine per thread, for every domain: building one registers rhai's
-/// packages, which costs more than many evaluations; sharing one across
-/// threads makes them fight over its reference counts. Each thread's engine
-/// lives as long as the thread (there are few).
+static NEXT_DOMAIN: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// The most operations one script may run, counting those of the domain's
+/// functions it calls.
+const MAX_OPERATIONS: u64 = 1_000_000;
+
+thread_local! {
+    /// Operations of the script running on this thread, its functions' included.
+    static OPERATIONS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+/// An engine for compiling, per thread: building one costs more than many
+/// evaluations, and sharing one across threads makes them fight over its
+/// reference counts. Each thread's engine lives as long as the thread.
 fn engine() -> &'static Engine {
     thread_local! {
         static ENGINE: &'static Engine = Box::leak(Box::new(new_engine()));
@@ -208,8 +265,55 @@ fn engine() -> &'static Engine {
     ENGINE.with(|e| *e)
 }
 
+/// rhai's standard functions, registered once for every engine.
+fn standard() -> rhai::Shared<rhai::Module> {
+    use rhai::packages::Package;
+    static STD: std::sync::OnceLock<rhai::Shared<rhai::Module>> = std::sync::OnceLock::new();
+    STD.get_or_init(|| rhai::packages::StandardPackage::new().as_shared_module())
+        .clone()
+}
+
+/// Results of a `functions` function by its arguments' key.
+type FnResults = rustc_hash::FxHashMap<Vec<u8>, Dynamic>;
+
+/// A key of a function call's arguments, if they are all plain values.
+fn args_key(name: &str, args: &[&mut Dynamic], out: &mut Vec<u8>) -> bool {
+    out.clear();
+    str_key(name, out);
+    for a in args {
+        if let Ok(i) = a.as_int() {
+            out.push(1);
+            out.extend_from_slice(&i.to_le_bytes());
+        } else if let Ok(f) = a.as_float() {
+            out.push(2);
+            out.extend_from_slice(&f.to_bits().to_le_bytes());
+        } else if let Ok(b) = a.as_bool() {
+            out.push(3 + b as u8);
+        } else if a.is_unit() {
+            out.push(5);
+        } else if let Some(s) = a.read_lock::<rhai::ImmutableString>() {
+            out.push(6);
+            str_key(s.as_str(), out);
+        } else {
+            return false;
+        }
+    }
+    true
+}
+
 fn new_engine() -> Engine {
-    let mut e = Engine::new();
+    let mut e = Engine::new_raw();
+    e.register_global_module(standard());
+    e.set_optimization_level(rhai::OptimizationLevel::Full);
+    // Counts every operation, those of the functions called through
+    // `Domain::engine`'s wrappers too (each call starts its own count).
+    e.on_progress(|_| {
+        OPERATIONS.with(|c| {
+            let n = c.get() + 1;
+            c.set(n);
+            (n > MAX_OPERATIONS + 1).then(|| Dynamic::from("Too many operations"))
+        })
+    });
     e.set_max_operations(1_000_000);
     e.set_max_call_levels(64);
     e.set_max_expr_depths(128, 64);
@@ -218,6 +322,8 @@ fn new_engine() -> Engine {
     e.set_max_map_size(100_000);
     e.on_print(|_| {});
     e.on_debug(|_, _, _| {});
+    // A script must name each variable it reads (see `Script::reads`).
+    e.disable_symbol("eval");
     e.register_fn("rand_seeded", unit);
     e.register_fn("rand_int_seeded", |seed: i64, lo: i64, hi: i64| {
         if hi <= lo {
@@ -302,6 +408,7 @@ impl Domain {
             index: HashMap::new(),
             order: Vec::new(),
             lib: AST::empty(),
+            id: NEXT_DOMAIN.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             memo: Default::default(),
         };
         if *file.btx_domain.get_ref() != FORMAT_VERSION {
@@ -463,6 +570,12 @@ impl Domain {
                 None => None,
             };
             let status = d.compile(&l.status, &format!("status of {key}"))?;
+            let reads = |s: Option<&Script>| s.map_or(Vec::new(), |s| s.reads(&inputs, &d.vars));
+            let reads = [
+                reads(Some(&status)),
+                reads(decide.as_ref()),
+                reads(effect.as_ref()),
+            ];
             d.leaves.push(LeafDef {
                 key: key.clone(),
                 inputs,
@@ -471,6 +584,7 @@ impl Domain {
                 decide,
                 effect,
                 status,
+                reads,
             });
         }
         Ok(d)
@@ -481,9 +595,10 @@ impl Domain {
         let r = engine().compile(s.get_ref());
         match r {
             Ok(ast) => Ok(Script {
-                ast: self.lib.merge(&ast),
+                ast,
                 start,
                 what: what.to_string(),
+                words: words_of(s.get_ref()),
             }),
             Err(e) => {
                 let p = e.position();
@@ -605,8 +720,73 @@ impl Domain {
         scope
     }
 
+    /// This domain's engine on this thread: its functions are registered
+    /// as native ones that remember their results (they are pure: a
+    /// function sees only its arguments), so a script calling
+    /// `confusion(m, c)` with arguments seen before does not run it again.
+    /// A thread keeps the engines of the few domains it used last.
+    fn engine(&self) -> std::rc::Rc<Engine> {
+        thread_local! {
+            static ENGINES: std::cell::RefCell<Vec<(u64, std::rc::Rc<Engine>)>> =
+                const { std::cell::RefCell::new(Vec::new()) };
+        }
+        ENGINES.with(|c| {
+            let mut c = c.borrow_mut();
+            if let Some(i) = c.iter().position(|(id, _)| *id == self.id) {
+                let e = c.remove(i);
+                c.insert(0, e);
+            } else {
+                c.insert(0, (self.id, std::rc::Rc::new(self.new_engine())));
+                c.truncate(8);
+            }
+            std::rc::Rc::clone(&c[0].1)
+        })
+    }
+
+    fn new_engine(&self) -> Engine {
+        let mut e = new_engine();
+        let lib = std::sync::Arc::new(self.lib.clone_functions_only());
+        for f in self.lib.iter_functions() {
+            let name = f.name.to_string();
+            let types = vec![std::any::TypeId::of::<Dynamic>(); f.params.len()];
+            let lib = std::sync::Arc::clone(&lib);
+            let memo: std::sync::Mutex<(FnResults, Vec<u8>)> = Default::default();
+            e.register_raw_fn(name.clone(), types, move |ctx, args| {
+                let mut guard = memo.lock().unwrap_or_else(|e| e.into_inner());
+                let (seen, key) = &mut *guard;
+                let plain = args_key(&name, args, key);
+                if plain {
+                    if let Some(v) = seen.get(&key[..]) {
+                        return Ok(v.clone());
+                    }
+                }
+                let key = plain.then(|| key.clone());
+                drop(guard);
+                // Cloned, not taken: rhai may pass a variable itself.
+                let args: Vec<Dynamic> = args.iter().map(|a| (**a).clone()).collect();
+                let v: Dynamic = ctx.engine().call_fn_with_options(
+                    rhai::CallFnOptions::new().eval_ast(false),
+                    &mut Scope::new(),
+                    &lib,
+                    &name,
+                    args,
+                )?;
+                if let Some(key) = key {
+                    let mut guard = memo.lock().unwrap_or_else(|e| e.into_inner());
+                    if guard.0.len() >= 1 << 16 {
+                        guard.0.clear();
+                    }
+                    guard.0.insert(key, v.clone());
+                }
+                Ok(v)
+            });
+        }
+        e
+    }
+
     fn eval(&self, script: &Script, scope: &mut Scope) -> Result<Dynamic, Located> {
-        engine()
+        OPERATIONS.with(|c| c.set(0));
+        self.engine()
             .eval_ast_with_scope::<Dynamic>(scope, &script.ast)
             .map_err(|e| {
                 let p = e.position();
@@ -616,7 +796,12 @@ impl Domain {
                     p.line().unwrap_or(1),
                     p.position().unwrap_or(1),
                 );
-                let msg = e.to_string();
+                let msg = match e.unwrap_inner() {
+                    rhai::EvalAltResult::ErrorTerminated(..) => format!(
+                        "Too many operations (more than {MAX_OPERATIONS}, the functions it calls included)"
+                    ),
+                    _ => e.to_string(),
+                };
                 let msg = msg.split(" (line ").next().unwrap_or(&msg).to_string();
                 Located::at(
                     &self.path,
@@ -709,7 +894,13 @@ impl Domain {
 
     /// The leaf's decision (d_i): an action name, or `None` for the null action.
     pub fn decide(&self, leaf: usize, state: &State) -> Result<Option<String>, Located> {
-        let key = self.key(1, leaf, &self.leaves[leaf].inputs, state, None);
+        let key = self.key(
+            1,
+            leaf,
+            self.leaves[leaf].reads(LeafFn::Decide),
+            state,
+            None,
+        );
         match self.memoised(key, || self.decide_now(leaf, state).map(Memoed::Action))? {
             Memoed::Action(a) => Ok(a),
             other => unreachable!("{other:?}"),
@@ -761,7 +952,8 @@ impl Domain {
         state: &State,
         action: &Option<String>,
     ) -> Result<Status, Located> {
-        let key = self.key(2, leaf, &self.leaves[leaf].inputs, state, Some(action));
+        let reads = self.leaves[leaf].reads(LeafFn::Status);
+        let key = self.key(2, leaf, reads, state, Some(action));
         match self.memoised(key, || {
             self.status_now(leaf, state, action).map(Memoed::Status)
         })? {
@@ -799,7 +991,8 @@ impl Domain {
         state: &State,
         action: &Option<String>,
     ) -> Result<Vec<(usize, Value)>, Located> {
-        let key = self.key(3, leaf, &self.leaves[leaf].inputs, state, Some(action));
+        let reads = self.leaves[leaf].reads(LeafFn::Effect);
+        let key = self.key(3, leaf, reads, state, Some(action));
         match self.memoised(key, || {
             self.effect_now(leaf, state, action).map(Memoed::Effect)
         })? {
@@ -1115,5 +1308,50 @@ impl Leaves for DomainLeaves {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_function_reads_the_inputs_it_names() {
+        let text = r#"
+btx_domain = 1
+name = "reads"
+[state.A]
+type = "bool"
+[state.B]
+type = "bool"
+[state.AB]
+type = "bool"
+[leaf.L]
+inputs = ["A", "B", "AB"]
+outputs = ["A"]
+actions = ["go"]
+decide = 'if AB { "go" } else { () }'
+effect = '#{ A: !A } // B is only in this comment'
+status = "SUCCESS"
+"#;
+        let d = Domain::parse(Path::new("reads.toml"), text).unwrap();
+        let l = &d.leaves[0];
+        let names = |f: LeafFn| -> Vec<&str> {
+            l.reads(f)
+                .iter()
+                .map(|&i| d.vars[i].name.as_str())
+                .collect()
+        };
+        assert_eq!(names(LeafFn::Decide), ["AB"]);
+        assert_eq!(names(LeafFn::Effect), ["A", "B"]);
+        assert!(names(LeafFn::Status).is_empty());
+        // Memoised on what it reads: a change of B alone does not change
+        // the decision, and the decision is the one a fresh domain makes.
+        let mut s = d.initial_state().unwrap();
+        s[d.var("AB").unwrap()] = Value::Bool(true);
+        let first = d.decide(0, &s).unwrap();
+        s[d.var("B").unwrap()] = Value::Bool(true);
+        assert_eq!(d.decide(0, &s).unwrap(), first);
+        assert_eq!(first.as_deref(), Some("go"));
     }
 }

@@ -158,7 +158,7 @@ fn session_from(
             location: format!("{}: {}", path.display(), at(i)),
             message: format!(
                 "the timestamps claim more than {} ticks in which nothing changed; from here a gap counts as one tick",
-                ticks::EMPTY_MAX
+                crate::session::EMPTY_TICKS_MAX
             ),
         });
     }

@@ -14,6 +14,7 @@
 use super::btlog::Record;
 use crate::model::{Tree, Uid};
 use crate::run::{Executor, LeafCall, LeafOutcome, Leaves, RunOptions, Status};
+use crate::session::EMPTY_TICKS_MAX;
 
 struct Replay<'a> {
     recs: &'a [Record],
@@ -117,13 +118,12 @@ fn by_timing(recs: &[Record]) -> Vec<u32> {
 }
 
 /// Empty ticks one gap may stand for; all gaps together stand for at most
-/// `EMPTY_MAX`.
+/// `EMPTY_TICKS_MAX`.
 const EMPTY_PER_GAP: f64 = 1e6;
-pub use crate::session::EMPTY_TICKS_MAX as EMPTY_MAX;
 
 /// Puts back the ticks in which nothing changed, from the time between
 /// ticks; and the record from which gaps counted for one tick each, if
-/// the empty ticks ran past `EMPTY_MAX`.
+/// the empty ticks ran past `EMPTY_TICKS_MAX`.
 fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> (Vec<u32>, Option<usize>) {
     let mut firsts: Vec<i64> = Vec::new();
     let mut first_rec: Vec<usize> = Vec::new();
@@ -152,7 +152,7 @@ fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> (Vec<u32>, Option<usize>)
         let steps = ((w[1].saturating_sub(w[0])) as f64 / period.max(1) as f64 + 0.1)
             .floor()
             .clamp(1.0, EMPTY_PER_GAP) as u32;
-        let extra = (steps - 1).min(EMPTY_MAX - empty);
+        let extra = (steps - 1).min(EMPTY_TICKS_MAX - empty);
         if extra < steps - 1 && capped.is_none() {
             capped = Some(first_rec[k + 1]);
         }
@@ -174,7 +174,7 @@ pub struct Ticks {
     /// The record where the replay lost the structure and timing took over.
     pub fell_back: Option<usize>,
     /// The record from which empty ticks were no longer counted (past
-    /// `EMPTY_MAX`).
+    /// `EMPTY_TICKS_MAX`).
     pub capped: Option<usize>,
 }
 
@@ -253,7 +253,7 @@ mod tests {
         let (ticks, capped) = with_empty_ticks(&recs, &by_timing(&recs));
         assert_eq!(capped, Some(30));
         let last = *ticks.last().unwrap();
-        assert_eq!(last, 35 + EMPTY_MAX);
+        assert_eq!(last, 35 + EMPTY_TICKS_MAX);
         assert_eq!(ticks[30] - ticks[29], 1 + 10);
         assert_eq!(ticks[31] - ticks[30], 1);
     }

@@ -277,9 +277,8 @@ fn standard() -> rhai::Shared<rhai::Module> {
 type FnResults = rustc_hash::FxHashMap<Vec<u8>, Dynamic>;
 
 /// A key of a function call's arguments, if they are all plain values.
-fn args_key(name: &str, args: &[&mut Dynamic], out: &mut Vec<u8>) -> bool {
+fn args_key(args: &[&mut Dynamic], out: &mut Vec<u8>) -> bool {
     out.clear();
-    str_key(name, out);
     for a in args {
         if let Ok(i) = a.as_int() {
             out.push(1);
@@ -314,7 +313,7 @@ fn new_engine() -> Engine {
             (n > MAX_OPERATIONS + 1).then(|| Dynamic::from("Too many operations"))
         })
     });
-    e.set_max_operations(1_000_000);
+    e.set_max_operations(MAX_OPERATIONS);
     e.set_max_call_levels(64);
     e.set_max_expr_depths(128, 64);
     e.set_max_string_size(1 << 20);
@@ -733,8 +732,7 @@ impl Domain {
         ENGINES.with(|c| {
             let mut c = c.borrow_mut();
             if let Some(i) = c.iter().position(|(id, _)| *id == self.id) {
-                let e = c.remove(i);
-                c.insert(0, e);
+                c[..=i].rotate_right(1);
             } else {
                 c.insert(0, (self.id, std::rc::Rc::new(self.new_engine())));
                 c.truncate(8);
@@ -750,11 +748,13 @@ impl Domain {
             let name = f.name.to_string();
             let types = vec![std::any::TypeId::of::<Dynamic>(); f.params.len()];
             let lib = std::sync::Arc::clone(&lib);
+            // Each wrapper has its own results; rhai's `sync` feature wants
+            // them behind a lock although one thread owns the engine.
             let memo: std::sync::Mutex<(FnResults, Vec<u8>)> = Default::default();
             e.register_raw_fn(name.clone(), types, move |ctx, args| {
                 let mut guard = memo.lock().unwrap_or_else(|e| e.into_inner());
                 let (seen, key) = &mut *guard;
-                let plain = args_key(&name, args, key);
+                let plain = args_key(args, key);
                 if plain {
                     if let Some(v) = seen.get(&key[..]) {
                         return Ok(v.clone());

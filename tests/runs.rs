@@ -147,7 +147,11 @@ fn han_questions_work_at_any_moment() {
     let s = Session::load(&root().join("sessions/kitting-lookat-fails-once.jsonl")).unwrap();
     assert_eq!(ask(&s, "3", "q2"), "I lift torso in order to detect chuck.");
     assert_eq!(ask(&s, "10:8", "q1"), "I retreat arm.");
-    assert_eq!(ask(&s, "10:3", "q1"), "I look at chuck.");
+    // Nothing runs between look at chuck failing and retreat arm starting.
+    assert_eq!(
+        ask(&s, "10:3", "q1"),
+        "I am between actions at this moment. The last thing I did was look at chuck, which failed."
+    );
     assert_eq!(ask(&s, "30", "q3"), "My subgoal is to go pick screw.");
 }
 
@@ -457,4 +461,109 @@ fn log_marks_halts() {
         .collect();
     assert_eq!(halted.len(), 1);
     assert_eq!(halted[0]["node"], "a");
+}
+
+/// Runs a tree of `tests/fixtures/answers/` with its plan into `dir`.
+fn answers_run(dir: &Path, name: &str) -> Session {
+    let out = dir.join(format!("{name}.jsonl"));
+    run_plan(
+        &fixture(&format!("answers/{name}.xml")),
+        &fixture(&format!("answers/{name}.plan")),
+        &out,
+        None,
+    );
+    Session::load(&out).unwrap()
+}
+
+fn ask_at(s: &Session, at: &str, q: &str) -> String {
+    let view = s.at(Moment::parse(at).unwrap()).unwrap();
+    let n = view.current().unwrap_or(1);
+    answer(&s.tree, Some(&view), n, &Question::parse(q).unwrap())
+        .unwrap()
+        .text
+}
+
+#[test]
+fn what_are_you_doing_names_what_runs_then() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = answers_run(dir.path(), "patrol");
+    // Both children of the Parallel run in tick 1; in tick 2 look around
+    // has finished and only walk runs (the most recent leaf is look around).
+    assert_eq!(ask_at(&s, "1", "q1"), "I walk and look around.");
+    assert_eq!(ask_at(&s, "2", "q1"), "I walk.");
+    assert_eq!(ask_at(&s, "4", "q1"), "I drive.");
+    // Past tense once the root's run is over.
+    assert_eq!(
+        ask_at(&s, "5", "q1"),
+        "I have finished: patrol failed. The last thing I did was path clear, which failed."
+    );
+    let s = answers_run(dir.path(), "timeout");
+    assert_eq!(
+        ask_at(&s, "4", "q1"),
+        "I have finished: deliver part failed. The last thing I did was move part, which was halted."
+    );
+}
+
+#[test]
+fn a_failed_root_says_what_ended_the_task() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = answers_run(dir.path(), "patrol");
+    assert_eq!(ask_at(&s, "4", "wrong"), "Nothing went wrong.");
+    assert_eq!(
+        ask_at(&s, "5", "wrong"),
+        "The task failed: guarded drive stopped because path clear failed."
+    );
+    assert_eq!(
+        ask_at(&s, "5", "handled"),
+        "The task failed: guarded drive stopped because path clear failed. Nothing handled the failure."
+    );
+    let s = answers_run(dir.path(), "timeout");
+    assert_eq!(
+        ask_at(&s, "4", "wrong"),
+        "The task failed: move part in time stopped because its time ran out."
+    );
+}
+
+#[test]
+fn what_went_wrong_looks_at_the_current_run_only() {
+    // Serial recall restarts the root every tick: tick 1's failed check is
+    // history by tick 8, where nothing has failed.
+    let s = Session::load(&root().join("sessions/serial-recall.jsonl")).unwrap();
+    assert_eq!(ask(&s, "8:3", "wrong"), "Nothing went wrong.");
+    // While a Retry retries, its cause stays in the answer, even after the
+    // leaf that failed has succeeded on the next attempt (tick 18).
+    let s = Session::load(&root().join("sessions/kitting-lookat-fails-once.jsonl")).unwrap();
+    for t in ["11", "15", "18", "25"] {
+        assert_eq!(
+            ask(&s, t, "wrong"),
+            "I am retrying for attempt 1 to go insert large gear. I could not insert large gear because look at chuck failed.",
+            "tick {t}"
+        );
+    }
+    assert_eq!(ask(&s, "26", "wrong"), "Nothing went wrong.");
+}
+
+#[test]
+fn can_you_finds_every_behaviour_of_that_name() {
+    let s = Session::load(&root().join("sessions/kitting-lookat-fails-once.jsonl")).unwrap();
+    // #41 "pick screw" is in another subgoal: it is found and inserted.
+    assert_eq!(
+        ask(&s, "10", "Can you pick screw?"),
+        "Yes. I will pick screw after go insert large gear."
+    );
+    // Asked while that subgoal runs, Han §7.2 inserts it after itself.
+    assert_eq!(
+        ask(&s, "10", "Can you go insert large gear?"),
+        "Yes. I will go insert large gear after go insert large gear."
+    );
+    // A refusal names the node it means, with a true reason.
+    assert_eq!(
+        ask(&s, "10", "Can you build a gearbox kit?"),
+        "Sorry. I cannot redo \"build a gearbox kit\" (#1): it contains what I am doing now."
+    );
+    let s = Session::load(&root().join("sessions/taxi.jsonl")).unwrap();
+    assert_eq!(
+        ask(&s, "3", "Can you go pick up passenger?"),
+        "Yes. I will go pick up passenger after go pick up passenger."
+    );
 }

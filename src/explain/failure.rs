@@ -2,6 +2,7 @@
 //! wrong?", "How was the failure handled?", at a moment of a run.
 
 use crate::model::{Builtin, Kind, Tree, Uid};
+use crate::run::Status;
 use crate::session::At;
 
 /// What Algorithm 7 found above the current node.
@@ -29,10 +30,15 @@ fn is_retry(tree: &Tree, uid: Uid) -> bool {
     tree.node(uid).builtin == Some(Builtin::RetryUntilSuccessful)
 }
 
-/// The first failed action or condition below `p`, depth-first.
-fn first_failed_leaf(tree: &Tree, run: &At, p: Uid) -> Option<Uid> {
+/// The leaf below `p` that failed last since `since` (a position): the
+/// cause of the failure being explained, even if it has succeeded since (a
+/// retry is under way).
+fn last_failed_leaf(tree: &Tree, run: &At, p: Uid, since: u32) -> Option<Uid> {
     tree.descendants(p)
-        .find(|&u| tree.node(u).kind.is_leaf() && run.failed(u))
+        .filter(|&u| tree.node(u).kind.is_leaf())
+        .filter_map(|u| run.last_failure_since(u, since).map(|pos| (pos, u)))
+        .max()
+        .map(|(_, u)| u)
 }
 
 /// The nearest ancestor that has a name (Han's `find_non_null_parent`).
@@ -50,11 +56,12 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
             break;
         }
         let children = &tree.node(x).children;
-        if is_fallback(tree, x) && run.failed(children[0]) {
+        // Han's released code tests the first child's current status.
+        if is_fallback(tree, x) && run.status(children[0]) == Status::Failure {
             fallback = Some(x);
             d.text = format!("I could not {} because ", tree.description(x));
             d.nodes.push(x);
-            match first_failed_leaf(tree, run, x) {
+            match last_failed_leaf(tree, run, children[0], run.started_at(x)) {
                 Some(f) => {
                     // The paper's line 9 compares with `=`; its own examples
                     // only come out when the parent is named if it differs.
@@ -92,7 +99,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                 )
             );
             d.nodes.extend(rp);
-            if let Some(f) = first_failed_leaf(tree, run, x) {
+            if let Some(f) = last_failed_leaf(tree, run, x, run.started_at(x)) {
                 let fp = named_ancestor(tree, f).unwrap_or(x);
                 d.text.push_str(&format!(
                     "I could not {} because {} failed.",
@@ -128,7 +135,61 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
             p = tree.parent(x);
         }
     }
+    if d.text.is_empty() && run.root_outcome() == Some(Status::Failure) {
+        root_failure(tree, run, &mut d);
+    }
     d
+}
+
+/// Beyond Algorithm 7: the root itself failed (through a Timeout, a
+/// reactive guard, a Parallel threshold, or a failure nothing handled), so
+/// say what ended the task.
+fn root_failure(tree: &Tree, run: &At, d: &mut Diagnosis) {
+    let since = run.run_start();
+    let ended = match last_failed_leaf(tree, run, Tree::ROOT, since) {
+        Some(leaf) => {
+            let stopped = tree
+                .ancestors(leaf)
+                .find(|&a| {
+                    !tree.is_decorator(a)
+                        && tree.has_name(a)
+                        && tree.description(a) != tree.description(leaf)
+                })
+                .unwrap_or(Tree::ROOT);
+            d.failed_leaf = Some(leaf);
+            d.nodes.extend([stopped, leaf]);
+            format!(
+                "{} stopped because {} failed.",
+                tree.description(stopped),
+                tree.description(leaf)
+            )
+        }
+        None => {
+            // No leaf failed: a node failed of its own accord (a Timeout
+            // that ran out, a Parallel that could no longer succeed). Take
+            // the deepest node that failed in this run.
+            let deepest = tree
+                .descendants(Tree::ROOT)
+                .filter(|&u| run.last_failure_since(u, since).is_some())
+                .filter(|&u| {
+                    tree.node(u)
+                        .children
+                        .iter()
+                        .all(|&c| run.last_failure_since(c, since).is_none())
+                })
+                .last()
+                .unwrap_or(Tree::ROOT);
+            d.nodes.push(deepest);
+            match tree.node(deepest).builtin {
+                Some(Builtin::Timeout) => format!(
+                    "{} stopped because its time ran out.",
+                    tree.description(deepest)
+                ),
+                _ => format!("{} failed.", tree.description(deepest)),
+            }
+        }
+    };
+    d.text = format!("The task failed: {ended}");
 }
 
 pub const NOTHING_WRONG: &str = "Nothing went wrong.";
@@ -202,6 +263,10 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
             a + 1
         ));
         nodes.extend([*r, rp]);
+    }
+    if parts.is_empty() {
+        // The root failed and nothing above the failure handled it.
+        return (format!("{} Nothing handled the failure.", d.text), d.nodes);
     }
     (parts.join(" "), nodes)
 }

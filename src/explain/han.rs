@@ -4,6 +4,8 @@
 use super::{Answer, Question, TreeQuestion};
 use crate::frame::steps;
 use crate::model::{Kind, Tree, Uid};
+use crate::run::Status;
+use crate::session::At;
 
 /// Answers one of Q1–Q5 about the node `n` the robot is executing.
 pub fn answer(tree: &Tree, n: Uid, q: TreeQuestion) -> Answer {
@@ -35,6 +37,59 @@ const NO_GOAL: &str = "Sorry. I don't have a named goal.";
 /// Algorithm 1.
 fn q1(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
     (format!("I {}.", tree.description(n)), vec![n])
+}
+
+/// Q1 at a moment of a run: what is running then (every RUNNING leaf, as
+/// under a Parallel), never a leaf that finished or was halted; once the
+/// root's run has completed, in the past tense.
+pub fn doing_at(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
+    let running = run.running_leaves(tree);
+    if !running.is_empty() {
+        let names: Vec<&str> = running.iter().map(|&u| tree.description(u)).collect();
+        return (format!("I {}.", and_list(&names)), running);
+    }
+    let last = run.current();
+    let last_text = |verb: &str| match last {
+        Some(l) => format!(
+            " The last thing I {verb} was {}{}.",
+            tree.description(l),
+            match (run.halted(l), run.last_completed(l)) {
+                (true, _) => ", which was halted",
+                (_, Some(Status::Success)) => ", which succeeded",
+                (_, Some(Status::Failure)) => ", which failed",
+                _ => "",
+            }
+        ),
+        None => String::new(),
+    };
+    let mut nodes: Vec<Uid> = Vec::new();
+    let text = match run.root_outcome() {
+        Some(s) => {
+            nodes.push(Tree::ROOT);
+            format!(
+                "I have finished: {} {}.{}",
+                tree.description(Tree::ROOT),
+                match s {
+                    Status::Success => "succeeded",
+                    _ => "failed",
+                },
+                last_text("did")
+            )
+        }
+        None if last.is_none() => "I have not started yet.".to_string(),
+        None => format!("I am between actions at this moment.{}", last_text("did")),
+    };
+    nodes.extend(last);
+    (text, nodes)
+}
+
+/// "a", "a and b", "a, b and c".
+fn and_list(items: &[&str]) -> String {
+    match items {
+        [] => String::new(),
+        [a] => a.to_string(),
+        [init @ .., last] => format!("{} and {last}", init.join(", ")),
+    }
 }
 
 /// Algorithm 2: the nearest non-decorator ancestor that has a name different

@@ -40,17 +40,18 @@ fn is_sequence_or_subtree(tree: &Tree, uid: Uid) -> bool {
         )
 }
 
-/// The behaviour "X" names: a Sequence or SubTree in the current subgoal, or
-/// else another subgoal (the paper's taxi asks for the other subgoal).
-fn find_named(tree: &Tree, scope: Uid, x: &str) -> Option<Uid> {
+/// Every behaviour "X" names: the Sequences and SubTrees of that name in
+/// the whole tree, those in the current subgoal first, then in tree order.
+fn find_named(tree: &Tree, scope: Uid, x: &str) -> Vec<Uid> {
     let matches = |u: Uid| {
         is_sequence_or_subtree(tree, u) && tree.description(u).eq_ignore_ascii_case(x.trim())
     };
-    // Outermost first: descendants come in depth-first order.
-    tree.descendants(scope).find(|&u| matches(u)).or_else(|| {
-        tree.descendants(Tree::ROOT)
-            .find(|&u| tree.node(u).kind == Kind::SubTree && matches(u))
-    })
+    let (mut inside, outside): (Vec<Uid>, Vec<Uid>) = tree
+        .descendants(Tree::ROOT)
+        .filter(|&u| matches(u))
+        .partition(|&u| u == scope || tree.is_ancestor(scope, u));
+    inside.extend(outside);
+    inside
 }
 
 /// Entries read and written by the leaves below `uid`.
@@ -100,44 +101,72 @@ pub fn self_contained(tree: &Tree, n: Uid) -> Result<Uid, EntryId> {
     Ok(ns)
 }
 
-/// Answers "Can you X?" for the robot executing `current`.
+/// Answers "Can you X?" for the robot executing `current`: the first
+/// behaviour of that name that can be inserted after the current subgoal
+/// (Han §7.2 inserts even the subgoal being done, after itself); when none
+/// can, the reason for the first, naming it by uid.
 pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> {
     let Some(p) = subgoal(tree, current) else {
         return Err(refuse(x, "I don't have a subgoal to do it after"));
     };
-    let Some(named) = find_named(tree, p, x) else {
+    let named = find_named(tree, p, x);
+    if named.is_empty() {
         return Err(refuse(x, "no sequence or subtree of mine is called that"));
-    };
-    let ns = self_contained(tree, named).map_err(|e| {
-        refuse(
-            x,
-            &format!(
-                "nothing I can do provides \"{}\", which it needs",
-                e.display(tree)
-            ),
-        )
-    })?;
-    if ns == p || tree.is_ancestor(ns, p) {
-        return Err(refuse(
-            x,
-            &format!(
-                "it needs all of \"{}\", which I am doing now",
-                tree.description(ns)
-            ),
-        ));
     }
-    let after_parent_ok = tree.parent(p).is_some();
-    if !after_parent_ok {
+    if tree.parent(p).is_none() {
         return Err(refuse(x, "my subgoal is the whole tree"));
     }
-    Ok(Insertion {
-        named,
-        copy_of: ns,
-        after: p,
-        answer: format!(
-            "Yes. I will {} after {}.",
-            tree.description(named),
-            tree.description(p)
-        ),
-    })
+    let mut first_refusal = None;
+    for &n in &named {
+        match insertable(tree, n, p) {
+            Ok(ns) => {
+                return Ok(Insertion {
+                    named: n,
+                    copy_of: ns,
+                    after: p,
+                    answer: format!(
+                        "Yes. I will {} after {}.",
+                        tree.description(n),
+                        tree.description(p)
+                    ),
+                })
+            }
+            Err(why) => {
+                first_refusal.get_or_insert((n, why));
+            }
+        }
+    }
+    let (n, why) = first_refusal.expect("one behaviour at least");
+    Err(format!(
+        "Sorry. I cannot redo \"{x}\" (#{n}): {why}{}.",
+        if named.len() > 1 {
+            format!(
+                " (nor any of the {} other behaviours of that name)",
+                named.len() - 1
+            )
+        } else {
+            String::new()
+        }
+    ))
+}
+
+/// Algorithm 8 for `named`, and whether its self-contained node can go
+/// after the subgoal `p`: not when it contains `p` (it would contain itself).
+fn insertable(tree: &Tree, named: Uid, p: Uid) -> Result<Uid, String> {
+    let ns = self_contained(tree, named).map_err(|e| {
+        format!(
+            "nothing I can do provides \"{}\", which it needs",
+            e.display(tree)
+        )
+    })?;
+    if tree.is_ancestor(ns, p) && ns == named {
+        return Err("it contains what I am doing now".to_string());
+    }
+    if tree.is_ancestor(ns, p) {
+        return Err(format!(
+            "it needs all of \"{}\" (#{ns}), which contains what I am doing now",
+            tree.description(ns)
+        ));
+    }
+    Ok(ns)
 }

@@ -167,6 +167,10 @@ pub struct Answer {
 /// moment of a run when there is one. Failure questions need a run.
 pub fn answer(tree: &Tree, run: Option<&At>, n: Uid, q: &Question) -> Result<Answer, String> {
     let (text, nodes, insertion) = match q {
+        Question::Tree(TreeQuestion::Doing) if run.is_some() => {
+            let (text, nodes) = han::doing_at(tree, run.expect("matched"));
+            (text, nodes, None)
+        }
         Question::Tree(t) => {
             let a = han::answer(tree, n, *t);
             (a.text, a.nodes, None)

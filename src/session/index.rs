@@ -340,6 +340,73 @@ impl At<'_> {
         self.last_completed(uid) == Some(Status::Failure)
     }
 
+    /// The position just before the transition that started the root's
+    /// current run (its last start from IDLE at or before this position;
+    /// 0 before any).
+    /// Han's released code looks only at this run: a failure from before
+    /// the root last restarted is history, not what went wrong.
+    pub fn run_start(&self) -> u32 {
+        self.started_at(crate::model::Tree::ROOT)
+    }
+
+    /// The position of the node's last completion at or before this one,
+    /// with its status.
+    pub fn last_completion(&self, uid: Uid) -> Option<(u32, Status)> {
+        let list = &self.index.completed[(uid - 1) as usize];
+        Self::last_before(list, self.pos)
+            .map(|&p| (p, self.index.transitions[p as usize - 1].status))
+    }
+
+    /// The position just before the node's last start from IDLE at or
+    /// before this position (0 before any).
+    pub fn started_at(&self, uid: Uid) -> u32 {
+        let list = &self.index.by_node[(uid - 1) as usize];
+        let i = list.partition_point(|&p| p <= self.pos);
+        list[..i]
+            .iter()
+            .rev()
+            .find(|&&p| self.index.transitions[p as usize - 1].prev == Status::Idle)
+            .map_or(0, |&p| p - 1)
+    }
+
+    /// The position of the node's last FAILURE after position `since`, at
+    /// or before this one (a failure stays a cause after a later success).
+    pub fn last_failure_since(&self, uid: Uid, since: u32) -> Option<u32> {
+        let list = &self.index.completed[(uid - 1) as usize];
+        let i = list.partition_point(|&p| p <= self.pos);
+        list[..i]
+            .iter()
+            .rev()
+            .take_while(|&&p| p > since)
+            .find(|&&p| self.index.transitions[p as usize - 1].status == Status::Failure)
+            .copied()
+    }
+
+    /// How the root's current run ended, if it has: its completion status.
+    pub fn root_outcome(&self) -> Option<Status> {
+        self.last_completion(crate::model::Tree::ROOT)
+            .filter(|&(p, _)| p > self.run_start())
+            .map(|(_, s)| s)
+    }
+
+    /// The node's last change was a halt (RUNNING → IDLE).
+    pub fn halted(&self, uid: Uid) -> bool {
+        let list = &self.index.by_node[(uid - 1) as usize];
+        Self::last_before(list, self.pos).is_some_and(|&p| {
+            let t = &self.index.transitions[p as usize - 1];
+            t.prev == Status::Running && t.status == Status::Idle
+        })
+    }
+
+    /// The leaves RUNNING at this position, in tree order.
+    pub fn running_leaves(&self, tree: &Tree) -> Vec<Uid> {
+        tree.nodes
+            .iter()
+            .filter(|n| n.kind.is_leaf() && self.status(n.uid) == Status::Running)
+            .map(|n| n.uid)
+            .collect()
+    }
+
     /// Failures so far of a RetryUntilSuccessful's child (cycles of a Repeat).
     pub fn attempts(&self, uid: Uid) -> u32 {
         self.index

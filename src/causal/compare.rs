@@ -189,11 +189,18 @@ pub fn why_diverged(
                 foils: vec![foils],
             };
             let answer = super::search(&model, &query, max_depth)?;
+            let watch = match model.vars[target].kind {
+                super::VarKind::State { var, copy } => super::verify::watch_copy(&model, var, copy),
+                _ => None,
+            };
+            let (answer, checks, dropped) = super::verified(b, &model, &query, answer, watch);
             Some(super::Why {
                 model,
                 query,
                 answer,
                 moment: difference.moment.to_string(),
+                checks,
+                dropped,
             })
         }
         None => None,

@@ -15,6 +15,7 @@ pub mod graph;
 pub mod model;
 pub mod query;
 pub mod search;
+pub mod verify;
 
 pub use facts::TickFacts;
 pub use model::{Model, Val, VarId, VarKind};
@@ -65,6 +66,43 @@ pub struct Why {
     pub answer: Answer,
     /// The moment asked about, as written back (`TICK` or `TICK:STEP`).
     pub moment: String,
+    /// What re-running the tree said of each explanation kept.
+    pub checks: Vec<verify::Check>,
+    /// Explanations the search found and re-running disproved: their
+    /// sentence and what the re-run gave.
+    pub dropped: Vec<(String, verify::Check)>,
+}
+
+/// Checks every explanation of `answer` by re-running the session, and
+/// drops those the re-run disproves.
+fn verified(
+    session: &Session,
+    model: &Model,
+    query: &Query,
+    mut answer: Answer,
+    watch: Option<usize>,
+) -> (Answer, Vec<verify::Check>, Vec<(String, verify::Check)>) {
+    let checks: Vec<verify::Check> = match verify::Rerunner::new(session, model.facts.tick) {
+        Ok(r) => answer
+            .explanations
+            .iter()
+            .map(|e| r.check(model, query, e, watch))
+            .collect(),
+        Err(why) => vec![verify::Check::NotRerun(why); answer.explanations.len()],
+    };
+    let mut kept = Vec::new();
+    let mut kept_checks = Vec::new();
+    let mut dropped = Vec::new();
+    for (e, c) in answer.explanations.into_iter().zip(checks) {
+        if matches!(c, verify::Check::Refuted { .. }) {
+            dropped.push((english::sentence(model, query, &e), c));
+        } else {
+            kept.push(e);
+            kept_checks.push(c);
+        }
+    }
+    answer.explanations = kept;
+    (answer, kept_checks, dropped)
 }
 
 impl Why {
@@ -170,11 +208,105 @@ impl Why {
     }
 
     pub fn text(&self) -> String {
-        english::to_text(&self.model, &self.query, &self.answer, &self.moment)
+        let mut out = english::to_text(&self.model, &self.query, &self.answer, &self.moment);
+        out.push_str(&self.checks_text());
+        out
+    }
+
+    /// What re-running said, as lines after the explanations (numbered as
+    /// the merged explanations are).
+    pub fn checks_text(&self) -> String {
+        let mut out = String::new();
+        let tick = self.model.facts.tick;
+        let groups = self.groups();
+        let mut confirmed = Vec::new();
+        let mut unchecked: Vec<(String, Vec<usize>)> = Vec::new();
+        for (n, g) in groups.iter().enumerate() {
+            match g
+                .iter()
+                .map(|&i| &self.checks[i])
+                .find(|c| matches!(c, verify::Check::NotRerun(_)))
+            {
+                Some(verify::Check::NotRerun(why)) => {
+                    match unchecked.iter_mut().find(|(w, _)| w == why) {
+                        Some((_, ns)) => ns.push(n + 1),
+                        None => unchecked.push((why.clone(), vec![n + 1])),
+                    }
+                }
+                _ => confirmed.push(n + 1),
+            }
+        }
+        let list = |ns: &[usize]| {
+            ns.iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        if unchecked.is_empty() && !confirmed.is_empty() {
+            out.push_str(&format!(
+                "Checked: running the tree again to tick {tick} with each change gives what {} says.\n",
+                if confirmed.len() == 1 { "the explanation" } else { "every explanation" }
+            ));
+        } else if !confirmed.is_empty() {
+            out.push_str(&format!(
+                "Checked by running the tree again to tick {tick}: {}.\n",
+                list(&confirmed)
+            ));
+        }
+        for (why, ns) in &unchecked {
+            if ns.len() == groups.len() {
+                out.push_str(&format!("Not checked by running the tree again: {why}.\n"));
+            } else {
+                out.push_str(&format!(
+                    "Not checked by running the tree again: {} ({why}).\n",
+                    list(ns)
+                ));
+            }
+        }
+        if groups.is_empty() && !self.dropped.is_empty() {
+            out.push_str(&format!(
+                "No explanation holds: running the tree again disproved {} the model found.\n",
+                if self.dropped.len() == 1 {
+                    "the one".to_string()
+                } else {
+                    format!("all {}", self.dropped.len())
+                }
+            ));
+        }
+        for (sentence, c) in &self.dropped {
+            if let verify::Check::Refuted {
+                change,
+                claimed,
+                got,
+            } = c
+            {
+                out.push_str(&format!(
+                    "dropped, as running the tree again disproved it: \"{sentence}\" (with {change}, {} was {got}, not {claimed})\n",
+                    self.model.var_name(self.query.targets[0])
+                ));
+            }
+        }
+        out
     }
 
     pub fn json(&self) -> serde_json::Value {
-        english::to_json(&self.model, &self.query, &self.answer, &self.moment)
+        let mut j = english::to_json(&self.model, &self.query, &self.answer, &self.moment);
+        let groups = self.groups();
+        if let Some(list) = j["explanations"].as_array_mut() {
+            for (x, g) in list.iter_mut().zip(&groups) {
+                x["checks"] = g.iter().map(|&i| self.checks[i].json()).collect();
+            }
+        }
+        j["dropped"] = self
+            .dropped
+            .iter()
+            .map(|(s, c)| {
+                let mut v = c.json();
+                v["text"] = serde_json::Value::from(s.clone());
+                v
+            })
+            .collect();
+        j
     }
 }
 
@@ -272,8 +404,33 @@ pub fn why(
     });
     let pos = session.index.position(moment).map_err(fail)?;
     let model = model_at(session, domain, moment.tick)?;
+    if let Some(first) = model.unfaithful().first() {
+        return Err(fail(format!(
+            "the model of tick {} does not reproduce the run, so it cannot explain it: {first} (was the domain file changed since the run?)",
+            moment.tick
+        )));
+    }
     let t = query::parse_target(&model, target).map_err(fail)?;
     let v = query::target_var(&model, &t, pos).map_err(fail)?;
+    if let (query::Target::State { var, copy: None }, Some(d)) = (&t, &model.domain) {
+        let e = crate::run::blackboard::EntryId {
+            scope: 0,
+            key: d.vars[*var].name.clone(),
+        };
+        let at = session.index.at(pos);
+        if let (Some(rec), Val::Data(m)) = (at.entry(&e), &model.fact[v]) {
+            if !model::same_value(rec, m) {
+                return Err(fail(format!(
+                    "at {moment} the run has {} = {}, but the model's copy {} is {} (Love's model makes a new copy of a derived variable only where a leaf reads it); ask about {} at the moment a leaf read it",
+                    d.vars[*var].name,
+                    english::value_text(&Val::Data(rec.clone())),
+                    model.var_name(v),
+                    english::value_text(&model.fact[v]),
+                    model.var_name(v),
+                )));
+            }
+        }
+    }
     let factual = model.snap(v, &model.fact[v]);
     let foil_vals: Vec<Val> = if foils.is_empty() {
         default_foils(&model, v)
@@ -305,10 +462,20 @@ pub fn why(
         foils: vec![foil_vals],
     };
     let answer = search(&model, &query, max_depth)?;
+    // A state variable is checked where the model's copy is read, or at the
+    // tick's end when that is the moment asked about.
+    let watch = match (&model.vars[v].kind, moment.step, &t) {
+        (_, None, query::Target::State { copy: None, .. }) => None,
+        (VarKind::State { var, copy }, ..) => verify::watch_copy(&model, *var, *copy),
+        _ => None,
+    };
+    let (answer, checks, dropped) = verified(session, &model, &query, answer, watch);
     Ok(Why {
         model,
         query,
         answer,
         moment: moment.to_string(),
+        checks,
+        dropped,
     })
 }

@@ -713,6 +713,44 @@ impl Model {
         Some(copies[k])
     }
 
+    /// The leaf after which copy `k` (> 0) of a domain variable holds: the
+    /// first leaf, in tree order, to move its count to `k` (Alg. 3 moves
+    /// counts over every leaf, ticked or not).
+    pub fn copy_writer(&self, var: usize, k: u32) -> Option<Uid> {
+        self.tau_after
+            .iter()
+            .filter(|(_, tau)| tau.get(var).is_some_and(|&t| t >= k))
+            .map(|(u, _)| (self.pre_pos[*u as usize - 1], *u))
+            .min()
+            .map(|(_, u)| u)
+    }
+
+    /// The leaves that write copy `k` of a domain variable.
+    pub fn copy_writers(&self, var: usize, k: u32) -> Vec<Uid> {
+        match self
+            .copies
+            .get(var)
+            .and_then(|cs| cs.get(k as usize))
+            .map(|&c| &self.vars[c].func)
+        {
+            Some(Func::Copy { writers, .. }) => writers.clone(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// The leaves that read copy `k` of a domain variable.
+    pub fn copy_readers(&self, var: usize, k: u32) -> Vec<Uid> {
+        let Some(&c) = self.copies.get(var).and_then(|cs| cs.get(k as usize)) else {
+            return Vec::new();
+        };
+        self.inputs_of
+            .iter()
+            .enumerate()
+            .filter(|(_, ins)| ins.iter().any(|&(_, x)| x == c))
+            .map(|(i, _)| i as Uid + 1)
+            .collect()
+    }
+
     /// Values of every variable, computed from the exogenous ones.
     fn evaluate_all(&self) -> Result<Vec<Val>, Located> {
         self.evaluate_with(&[])
@@ -1306,7 +1344,7 @@ impl Model {
     }
 }
 
-fn same_value(a: &Value, b: &Value) -> bool {
+pub fn same_value(a: &Value, b: &Value) -> bool {
     match (a.as_f64(), b.as_f64()) {
         (Some(x), Some(y)) => (x - y).abs() <= 1e-9 * x.abs().max(y.abs()).max(1.0),
         _ => a == b,

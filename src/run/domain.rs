@@ -1142,6 +1142,31 @@ pub struct DomainLeaves {
     pub error: Option<Located>,
     /// A leaf of `end_after` ran.
     ended: bool,
+    /// Interventions of a counterfactual re-run.
+    pub intervene: Intervention,
+}
+
+/// What a counterfactual re-run changes within one tick: a leaf's decision
+/// at one of its calls (Love's d_i), or a state variable's value right
+/// after a leaf's first call (a temporal copy the leaf leaves behind).
+#[derive(Debug, Clone, Default)]
+pub struct Intervention {
+    pub tick: u32,
+    /// (leaf, which call within the tick from 1, the action it takes).
+    pub actions: Vec<(Uid, u32, Option<String>)>,
+    /// (place, variable, value): set before the first call of a leaf at
+    /// or past that place in the tree's pre-order (a temporal copy is
+    /// there whether or not the leaves around it run).
+    pub sets: Vec<(usize, usize, Value)>,
+    /// Each node's place in the tree's pre-order, by uid − 1.
+    pub order: Vec<usize>,
+    /// A variable to read once the first leaf at or past a place in the
+    /// pre-order is called (or at the tick's end): (variable, place).
+    pub watch: Option<(usize, Option<usize>)>,
+    /// What the watched variable was then.
+    pub seen: Option<Value>,
+    calls: HashMap<Uid, u32>,
+    applied: Vec<bool>,
 }
 
 impl DomainLeaves {
@@ -1170,6 +1195,7 @@ impl DomainLeaves {
             assigned,
             error: None,
             ended: false,
+            intervene: Intervention::default(),
         })
     }
 
@@ -1207,6 +1233,23 @@ impl DomainLeaves {
         d.propagate(&mut self.state, &[k], &[])
             .map_err(|e| format!("--set {name}: {e}"))?;
         Ok(())
+    }
+
+    /// Notes the watched variable's value now.
+    fn watch_now(&mut self) {
+        if let Some((x, _)) = self.intervene.watch {
+            self.intervene.seen = Some(self.state[x].clone());
+        }
+    }
+
+    /// Sets a state variable as an intervention does (what derives from it
+    /// is recomputed, what it derives from is not): the variables changed.
+    pub fn apply(&mut self, var: usize, v: Value) -> Result<Vec<usize>, Located> {
+        self.state[var] = v;
+        let d = Arc::clone(&self.domain);
+        let mut changed = vec![var];
+        changed.extend(d.propagate(&mut self.state, &[var], &[var])?);
+        Ok(changed)
     }
 
     /// The state as root-blackboard entries.
@@ -1249,7 +1292,52 @@ impl DomainLeaves {
         if d.end_after.contains(&d.leaves[leaf].key) {
             self.ended = true;
         }
-        let action = d.decide(leaf, &self.state)?;
+        let call_no = if call.tick == self.intervene.tick {
+            let c = self.intervene.calls.entry(call.uid).or_insert(0);
+            *c += 1;
+            *c
+        } else {
+            0
+        };
+        let forced = self
+            .intervene
+            .actions
+            .iter()
+            .find(|(u, k, _)| *u == call.uid && *k == call_no)
+            .map(|(_, _, a)| a.clone());
+        let mut derived_early = Vec::new();
+        if call_no > 0 {
+            let iv = &mut self.intervene;
+            iv.applied.resize(iv.sets.len(), false);
+            let here = iv.order.get(call.uid as usize - 1).copied().unwrap_or(0);
+            let boundary = match iv.watch {
+                Some((_, Some(b))) if iv.seen.is_none() && here >= b => Some(b),
+                _ => None,
+            };
+            // Copies set at or before the watched place first, then the
+            // watched value, then the rest.
+            let mut due: Vec<usize> = (0..iv.sets.len())
+                .filter(|&i| !iv.applied[i] && iv.sets[i].0 <= here)
+                .collect();
+            due.sort_by_key(|&i| boundary.is_some_and(|b| iv.sets[i].0 > b));
+            let mut watched = false;
+            for i in due {
+                let (place, x, v) = self.intervene.sets[i].clone();
+                if !watched && boundary.is_some_and(|b| place > b) {
+                    self.watch_now();
+                    watched = true;
+                }
+                self.intervene.applied[i] = true;
+                derived_early.extend(self.apply(x, v)?);
+            }
+            if !watched && boundary.is_some() {
+                self.watch_now();
+            }
+        }
+        let action = match forced {
+            Some(a) => a,
+            None => d.decide(leaf, &self.state)?,
+        };
         let status = d.status(leaf, &self.state, &action)?;
         let effect = d.effect(leaf, &self.state, &action)?;
         let mut changed = Vec::new();
@@ -1260,7 +1348,7 @@ impl DomainLeaves {
             }
         }
         let derived = d.propagate(&mut self.state, &changed, &d.leaves[leaf].outputs)?;
-        for i in changed.into_iter().chain(derived) {
+        for i in derived_early.into_iter().chain(changed).chain(derived) {
             call.write_entry(
                 EntryId {
                     scope: 0,

@@ -235,6 +235,22 @@ pub struct Executor<'t, L: Leaves> {
     events: Vec<Event>,
     pending_decision: Option<(Uid, String)>,
     seq: u64,
+    /// Interventions of a counterfactual re-run: node `uid`'s `call`-th
+    /// tick within tick `tick` returns `status`, whatever it computed.
+    pub forced: Vec<Forced>,
+    /// How often each node was ticked in the current tick (uid − 1).
+    calls: Vec<u32>,
+}
+
+/// One forced return status (a counterfactual re-run's intervention on
+/// Love's r_i): the node's children still run as they would.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Forced {
+    pub tick: u32,
+    pub uid: Uid,
+    /// Which of the node's ticks within the tick, from 1.
+    pub call: u32,
+    pub status: Status,
 }
 
 type R<T> = Result<T, RunError>;
@@ -256,6 +272,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
             events: Vec::new(),
             pending_decision: None,
             seq: 0,
+            forced: Vec::new(),
+            calls: vec![0; tree.len()],
         }
     }
 
@@ -275,7 +293,15 @@ impl<'t, L: Leaves> Executor<'t, L> {
             events: self.events,
             pending_decision: self.pending_decision,
             seq: self.seq,
+            forced: self.forced,
+            calls: vec![0; tree.len()],
         }
+    }
+
+    /// How often the node was ticked in the last tick (a node under a
+    /// Retry or Repeat can be ticked more than once).
+    pub fn calls(&self, uid: Uid) -> u32 {
+        self.calls[(uid - 1) as usize]
     }
 
     /// Ticks completed so far.
@@ -328,6 +354,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
     /// root when it completes.
     pub fn tick_once(&mut self) -> R<Status> {
         self.tick += 1;
+        self.calls.iter_mut().for_each(|c| *c = 0);
         self.now_ms = u64::from(self.tick - 1) * self.opts.tick_ms;
         self.fire_timers()?;
         let s = self.exec(Tree::ROOT)?;
@@ -523,10 +550,23 @@ impl<'t, L: Leaves> Executor<'t, L> {
         if !r.completed.is_empty() || !r.entry.completed.is_empty() {
             r.entry.completed.clone_from(&r.completed);
         }
-        let s = match self.pre_conditions(uid)? {
+        let c = &mut self.calls[(uid - 1) as usize];
+        *c = c.saturating_add(1);
+        let mut s = match self.pre_conditions(uid)? {
             Some(s) => s,
             None => self.tick_node(uid)?,
         };
+        if !self.forced.is_empty() {
+            let call = self.calls[(uid - 1) as usize];
+            let tick = self.tick;
+            if let Some(f) = self
+                .forced
+                .iter()
+                .find(|f| f.tick == tick && f.uid == uid && f.call == call)
+            {
+                s = f.status;
+            }
+        }
         if !n.scripts.is_empty() {
             self.post_conditions(uid, s)?;
         }

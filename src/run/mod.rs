@@ -10,7 +10,9 @@ pub mod script;
 pub mod status;
 pub mod world;
 
-pub use exec::{Event, Executor, Flow, LeafCall, LeafOutcome, Leaves, RunError, RunOptions};
+pub use exec::{
+    Event, Executor, Flow, Forced, LeafCall, LeafOutcome, Leaves, RunError, RunOptions,
+};
 pub use status::Status;
 
 use crate::model::{Kind, Tree, Uid, Version};

@@ -112,6 +112,9 @@ pub struct Index {
     pub writes: Vec<Write>,
     /// Decisions taken by a leaf that stayed RUNNING: (position, tick, uid, decision).
     pub decision_calls: Vec<(u32, u32, Uid, String)>,
+    /// Writes a leaf made during the call whose transition comes next: the
+    /// blackboard shows them from that transition on, not before it.
+    held: Vec<(Uid, EntryId, Value)>,
 }
 
 /// A blackboard write made by a node during a tick, at a position.
@@ -141,7 +144,17 @@ impl Index {
     }
 
     /// A transition, with the decision the leaf took in the same tick call.
+    /// Shows the writes held for a leaf's call from now on.
+    fn release_writes(&mut self) {
+        for (_, e, v) in std::mem::take(&mut self.held) {
+            self.push_write(e, v);
+        }
+    }
+
     pub fn push_transition(&mut self, tree: &Tree, t: Transition, decision: Option<String>) {
+        if self.held.iter().any(|(u, _, _)| *u != t.uid) {
+            self.release_writes();
+        }
         if let Some(d) = decision {
             self.decided
                 .insert(self.transitions.len() as u32, d.clone());
@@ -187,10 +200,12 @@ impl Index {
         }
         self.tick_end.truncate(t.tick as usize - 1);
         self.tick_end.push(pos);
+        self.release_writes();
     }
 
     /// Records that tick `tick` ended (it may have had no transitions).
     pub fn end_tick(&mut self, tick: u32) {
+        self.release_writes();
         let pos = self.transitions.len() as u32;
         while self.tick_end.len() < tick as usize {
             self.tick_end.push(pos);
@@ -211,11 +226,15 @@ impl Index {
             entry: entry.clone(),
             value: value.clone(),
         });
-        self.push_write(entry, value);
+        if self.held.iter().any(|(u, _, _)| *u != uid) {
+            self.release_writes();
+        }
+        self.held.push((uid, entry, value));
     }
 
     /// A decision by a leaf whose status did not change (it stayed RUNNING).
     pub fn push_decision_call(&mut self, tick: u32, uid: Uid, d: String) {
+        self.release_writes();
         self.decision_calls
             .push((self.transitions.len() as u32, tick, uid, d.clone()));
         self.push_decision(uid, d);

@@ -4,6 +4,7 @@
 pub mod format;
 pub mod index;
 pub mod record;
+pub mod rerun;
 
 pub use format::{Header, Record, SessionWriter, Source, TreeRef};
 pub use index::{At, Index, Moment, Transition, Write, EMPTY_TICKS_MAX};
@@ -221,6 +222,8 @@ impl Session {
                 }
             }
         }
+        // Writes of a last call whose transition never came are shown.
+        index.end_tick(index.ticks());
         if end.is_none() {
             warnings.push(Warning {
                 location: path.display().to_string(),

@@ -50,6 +50,7 @@ enum Format {
 #[derive(Clone, Copy, ValueEnum)]
 enum EvalWhat {
     Recovery,
+    Truth,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -473,6 +474,31 @@ fn run(cli: Cli) -> Result<(), Failure> {
             match format {
                 Format::Text => print!("{}", w.text()),
                 Format::Json => print!("{}", pretty(&w.json())),
+            }
+        }
+        Command::Eval {
+            what: EvalWhat::Truth,
+            domain,
+            seeds,
+            extended,
+            format,
+        } => {
+            if !matches!(domain, EvalDomain::Random) {
+                fail!("btx eval truth runs on random domains: btx eval truth random");
+            }
+            let started = std::time::Instant::now();
+            let t = btx::causal::truth::truth_random(seeds.unwrap_or(2), extended)
+                .map_err(Failure::Plain)?;
+            let secs = started.elapsed().as_secs_f64();
+            match format {
+                Format::Text => {
+                    print!("{}", t.text());
+                    println!("in {secs:.2} s");
+                }
+                Format::Json => print!(
+                    "{}",
+                    pretty(&serde_json::json!({"tally": t, "seconds": secs}))
+                ),
             }
         }
         Command::Eval {

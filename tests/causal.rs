@@ -279,7 +279,8 @@ fn without_a_domain_the_structure_still_explains() {
     .unwrap();
     assert_eq!(
         answers(&w)[0].1,
-        "Ask did not execute because go insert large gear succeeded. If go insert large gear had failed, ask would have executed."
+        // Several nodes read "ask" and "go insert large gear": each carries its uid.
+        "Ask (#28) did not execute because go insert large gear (#4) succeeded. If go insert large gear (#4) had failed, ask (#28) would have executed."
     );
     // A state variable needs a domain.
     let e = causal::why(&s, None, "X_a", &[], None, 2)

@@ -34,29 +34,53 @@ fn sentences(w: &causal::Why) -> Vec<String> {
 
 #[test]
 fn a_retry_is_not_passed_through_a_counterfactual() {
-    // The README's own example: with trial and error insert failing at tick
-    // 13, RetryUntilSuccessful starts attempt 2 and ask never runs.
+    // The README's own example: with the Sequence under the Retry failing at
+    // tick 13, RetryUntilSuccessful starts attempt 2 and ask never runs.
     let s = session("sessions/kitting-nominal.jsonl");
     let w = why(&s, "executed(#28)", "13");
     let kept = sentences(&w);
+    assert!(kept.contains(&"Ask (#28) did not execute because Sequence (#8) was still running. If Sequence (#8) had failed, I would have retried to go insert large gear (#4): attempt 2 of 3.".to_string()), "{kept:?}");
+    // Trial and error insert failing does not even reach the Retry: the
+    // Fallback goes on to reset arm, whose retreat arm keeps running.
     assert!(
         kept.iter().all(|k| !k.contains("trial and error insert")),
         "{kept:?}"
     );
-    assert!(
-        w.dropped
-            .iter()
-            .any(|(d, _)| d
-                .contains("If trial and error insert had failed, ask would have executed."))
-    );
+    assert!(w
+        .dropped
+        .iter()
+        .any(|(d, _)| d.contains("If trial and error insert had failed")));
     // What stays is true: the Retry itself failing, or the Sequence above it.
     assert!(kept
         .iter()
-        .any(|k| k.contains("If RetryUntilSuccessful had failed, ask would have executed.")));
+        .any(|k| k
+            .contains("If RetryUntilSuccessful (#7) had failed, ask (#28) would have executed.")));
     assert!(w
         .checks
         .iter()
         .all(|c| matches!(c, Check::Confirmed { .. })));
+    // A log of the same run cannot be re-run: a change whose outcome hangs
+    // on a leaf not ticked says what the tree would have gone on to.
+    let log = match btx::input::open(
+        &fixture("logs/kitting_nominal.btlog"),
+        &LoadOptions::default(),
+    ) {
+        Ok(btx::input::Input::Session(s)) => *s,
+        _ => panic!("the fixture log opens as a session"),
+    };
+    let w = why(&log, "executed(#28)", "13");
+    let kept = sentences(&w);
+    assert!(kept.contains(&"Ask (#28) did not execute because trial and error insert was still running. If trial and error insert had failed, the tree would have gone on to retreat arm (#27), whose outcome the run does not give.".to_string()), "{kept:?}");
+    assert!(kept.contains(&"Ask (#28) did not execute because Sequence (#8) was still running. If Sequence (#8) had failed, I would have retried to go insert large gear (#4): attempt 2 of 3.".to_string()), "{kept:?}");
+    let log = match btx::input::open(
+        &fixture("logs/kitting_lookat_fails_once.btlog"),
+        &LoadOptions::default(),
+    ) {
+        Ok(btx::input::Input::Session(s)) => *s,
+        _ => panic!("the fixture log opens as a session"),
+    };
+    let w = why(&log, "status(#13)", "10");
+    assert!(sentences(&w).contains(&"Insert large gear (#13) was still running because look at chuck failed. If look at chuck had succeeded, insert large gear (#13) would have gone on to approach door, whose outcome the run does not give.".to_string()));
 }
 
 #[test]
@@ -247,7 +271,7 @@ proptest! {
             if !m.vars[v].intervene || v == t {
                 continue;
             }
-            let e = Explanation { vars: vec![v], values: vec![vec![m.fact[v].clone()]], outcome: vec![m.fact[t].clone()] };
+            let e = Explanation { vars: vec![v], values: vec![vec![m.fact[v].clone()]], outcome: vec![m.fact[t].clone()], next: None };
             let q = Query { targets: vec![t], foils: vec![Vec::<Val>::new()] };
             let watch = match m.vars[t].kind {
                 causal::VarKind::State { var, copy } => causal::verify::watch_copy(&m, var, copy),
@@ -281,4 +305,101 @@ proptest! {
             prop_assert!(matches!(c, Check::Refuted { .. }), "{c:?}");
         }
     }
+}
+
+#[test]
+fn a_fact_is_explained_only_once_it_holds() {
+    let (ok, _, err) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "status(L2)",
+        "--at",
+        "1:3",
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains(
+            "at 1:3, \"L2 succeeded\" is not true yet: it becomes true at 1:6; ask at 1:6 or later"
+        ),
+        "{err}"
+    );
+    let (ok, _, err) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "decision(L2)",
+        "--at",
+        "1:5",
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("\"L2 chose Action2\" is not true yet"),
+        "{err}"
+    );
+    // From that moment on, it is asked and answered.
+    let (ok, out, err) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "decision(L2)",
+        "--at",
+        "1:6",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("L2 chose Action2 because X_d was true."),
+        "{out}"
+    );
+    // L0 failed at 1:3 and was reset at 1:4: at 1:6 it still failed in this tick.
+    let (ok, _, err) = btx(&[
+        "why",
+        "sessions/case-study.jsonl",
+        "status(L0)",
+        "--at",
+        "1:6",
+    ]);
+    assert!(ok, "{err}");
+}
+
+#[test]
+fn same_named_nodes_carry_their_uid_and_numbers_print_short() {
+    let s = session("sessions/kitting-lookat-fails-once.jsonl");
+    let w = why(&s, "status(#13)", "10");
+    let text = w.text();
+    assert!(
+        text.starts_with(
+            "Why did insert large gear (#13) keep running rather than succeed or fail?"
+        ),
+        "{text}"
+    );
+    assert!(
+        text.contains("   formally: status(insert large gear (#14)) = FAILURE\n"),
+        "{text}"
+    );
+    assert_eq!(causal::english::short_number(0.1 + 0.06), "0.16");
+    assert_eq!(causal::english::short_number(0.3), "0.3");
+    assert_eq!(causal::english::short_number(1.0), "1.0");
+    assert_eq!(causal::english::short_number(-2.5e-7), "-0.00000025");
+}
+
+#[test]
+fn eval_truth_counts_what_re_running_says() {
+    let (ok, out, err) = btx(&[
+        "eval", "truth", "random", "--seeds", "1", "--format", "json",
+    ]);
+    assert!(ok, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let t = &j["tally"];
+    let n = |k: &str| t[k].as_u64().unwrap();
+    let not_rerun: u64 = t["not_rerun"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|v| v.as_u64().unwrap())
+        .sum();
+    assert_eq!(n("proposed"), n("confirmed") + n("refuted") + not_rerun);
+    // The model proposes explanations a re-run disproves; btx drops them.
+    assert!(n("refuted") > 0, "{t}");
+    assert!(n("confirmed") > n("refuted") * 5, "{t}");
+    let (ok, _, err) = btx(&["eval", "truth", "serial-recall"]);
+    assert!(!ok);
+    assert!(err.contains("btx eval truth random"), "{err}");
 }

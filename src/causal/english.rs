@@ -4,7 +4,7 @@
 //! merged; value sets of discretised variables read as ≤, ≥ or intervals.
 
 use super::model::{Model, Val, VarId, VarKind};
-use super::search::{Answer, Explanation, Query};
+use super::search::{Answer, Explanation, Next, Query};
 use crate::run::Status;
 use serde_json::{json, Value};
 
@@ -15,8 +15,31 @@ pub fn value_text(v: &Val) -> String {
         Val::Action(Some(a)) => a.clone(),
         Val::Action(None) => "no action".into(),
         Val::Data(Value::String(s)) => s.clone(),
+        Val::Data(Value::Number(n)) if n.is_f64() => short_number(n.as_f64().unwrap_or(0.0)),
         Val::Data(d) => d.to_string(),
     }
+}
+
+/// A float at the fewest significant digits that still name it (within a
+/// few units in the last place): `0.16`, not `0.16000000000000003`, which
+/// is 0.1 + 0.06 in binary.
+pub fn short_number(x: f64) -> String {
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    for digits in 1..=17 {
+        let s = format!("{:.*e}", digits - 1, x);
+        let back: f64 = s.parse().unwrap_or(f64::NAN);
+        if (back - x).abs() <= 4.0 * f64::EPSILON * x.abs() {
+            let plain = back.to_string();
+            return if plain.contains('.') || plain.contains('e') || plain.contains("inf") {
+                plain
+            } else {
+                format!("{plain}.0")
+            };
+        }
+    }
+    x.to_string()
 }
 
 pub fn value_json(v: &Val) -> Value {
@@ -42,9 +65,7 @@ fn subject_as(m: &Model, v: VarId, copy: bool) -> String {
         }
     }
     match m.vars[v].kind {
-        VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) => {
-            m.tree.description(u).to_string()
-        }
+        VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) => m.node_name(u),
         VarKind::State { var, .. } => m.domain.as_ref().expect("a domain").vars[var].name.clone(),
     }
 }
@@ -251,11 +272,18 @@ pub fn merge(m: &Model, a: &Answer) -> Vec<Vec<usize>> {
     };
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for (i, e) in a.explanations.iter().enumerate() {
+        // Copies merge only when they read alike in full: the same
+        // factual values, the same changes, the same outcome.
         let key = |e: &Explanation| {
             (
                 e.vars.iter().map(|&v| base(v)).collect::<Vec<_>>(),
+                e.vars
+                    .iter()
+                    .map(|&v| m.fact[v].clone())
+                    .collect::<Vec<_>>(),
                 e.values.clone(),
                 e.outcome.clone(),
+                e.next,
             )
         };
         match groups
@@ -320,12 +348,50 @@ pub fn sentence(m: &Model, q: &Query, e: &Explanation) -> String {
                 .collect::<Vec<_>>(),
         ),
     };
-    let outcome: Vec<String> = q
-        .targets
-        .iter()
-        .zip(&e.outcome)
-        .map(|(&t, x)| would(m, t, x))
-        .collect();
+    let outcome: Vec<String> = match e.next {
+        // Never a final status the run cannot give: what the tree would
+        // have done next, and that its outcome is unknown.
+        Some(Next::Unknown(l)) => vec![format!(
+            "{} would have gone on to {}, whose outcome the run does not give",
+            match m.vars[q.targets[0]].kind {
+                VarKind::Status(u) | VarKind::Executed(u) | VarKind::Decision(u)
+                    if m.tree.is_ancestor(u, l) =>
+                {
+                    m.node_name(u)
+                }
+                _ => "the tree".to_string(),
+            },
+            m.node_name(l)
+        )],
+        Some(Next::Retry {
+            node,
+            attempt,
+            of,
+            repeat,
+        }) => {
+            let what = m
+                .tree
+                .ancestors(node)
+                .find(|&a| m.tree.has_name(a))
+                .map_or_else(|| m.node_name(node), |a| m.node_name(a));
+            let of = if of > 0 {
+                format!(" of {of}")
+            } else {
+                String::new()
+            };
+            vec![if repeat {
+                format!("I would have repeated {what}: cycle {attempt}{of}")
+            } else {
+                format!("I would have retried to {what}: attempt {attempt}{of}")
+            }]
+        }
+        None => q
+            .targets
+            .iter()
+            .zip(&e.outcome)
+            .map(|(&t, x)| would(m, t, x))
+            .collect(),
+    };
     format!(
         "{} because {}. If {}, {}.",
         capitalise(&and_list(&target_fact)),

@@ -15,11 +15,12 @@ pub mod graph;
 pub mod model;
 pub mod query;
 pub mod search;
+pub mod truth;
 pub mod verify;
 
 pub use facts::TickFacts;
 pub use model::{Model, Val, VarId, VarKind};
-pub use search::{search, Answer, Explanation, Query};
+pub use search::{search, Answer, Explanation, Next, Query};
 
 use crate::run::domain::Domain;
 use crate::session::{Moment, Session};
@@ -74,7 +75,10 @@ pub struct Why {
 }
 
 /// Checks every explanation of `answer` by re-running the session, and
-/// drops those the re-run disproves.
+/// drops those the re-run disproves. First, an explanation whose change
+/// the model cannot follow to the end (a Retry that would try again, a leaf
+/// nothing recorded) is said as what the tree would have done next, one
+/// explanation per such consequent.
 fn verified(
     session: &Session,
     model: &Model,
@@ -82,18 +86,51 @@ fn verified(
     mut answer: Answer,
     watch: Option<usize>,
 ) -> (Answer, Vec<verify::Check>, Vec<(String, verify::Check)>) {
-    let checks: Vec<verify::Check> = match verify::Rerunner::new(session, model.facts.tick) {
-        Ok(r) => answer
-            .explanations
+    let rerunner = verify::Rerunner::new(session, model.facts.tick);
+    let mut split: Vec<Explanation> = Vec::new();
+    for e in answer.explanations.drain(..) {
+        let mut parts: Vec<Explanation> = Vec::new();
+        for values in &e.values {
+            let dos: Vec<(VarId, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
+            // A log's leaves not ticked come first: what they would have
+            // returned decides whether a Retry is reached at all.
+            let mut next = None;
+            if rerunner.is_err() {
+                let one = Explanation {
+                    values: vec![values.clone()],
+                    next: None,
+                    ..e.clone()
+                };
+                next = verify::unknown_next(model, query, &one);
+            }
+            if next.is_none() {
+                next = verify::retry_next(session, model, query, &dos);
+            }
+            match parts.iter_mut().find(|p| p.next == next) {
+                Some(p) => p.values.push(values.clone()),
+                None => parts.push(Explanation {
+                    values: vec![values.clone()],
+                    next,
+                    ..e.clone()
+                }),
+            }
+        }
+        split.extend(parts);
+    }
+    let checks: Vec<verify::Check> = match &rerunner {
+        Ok(r) => split
             .iter()
-            .map(|e| r.check(model, query, e, watch))
+            .map(|e| match e.next {
+                Some(search::Next::Retry { node, .. }) => r.check_retry(model, query, e, node),
+                _ => r.check(model, query, e, watch),
+            })
             .collect(),
-        Err(why) => vec![verify::Check::NotRerun(why); answer.explanations.len()],
+        Err(why) => vec![verify::Check::NotRerun(why.clone()); split.len()],
     };
     let mut kept = Vec::new();
     let mut kept_checks = Vec::new();
     let mut dropped = Vec::new();
-    for (e, c) in answer.explanations.into_iter().zip(checks) {
+    for (e, c) in split.into_iter().zip(checks) {
         if matches!(c, verify::Check::Refuted { .. }) {
             dropped.push((english::sentence(model, query, &e), c));
         } else {
@@ -276,13 +313,13 @@ impl Why {
         for (sentence, c) in &self.dropped {
             if let verify::Check::Refuted {
                 change,
+                subject,
                 claimed,
                 got,
             } = c
             {
                 out.push_str(&format!(
-                    "dropped, as running the tree again disproved it: \"{sentence}\" (with {change}, {} was {got}, not {claimed})\n",
-                    self.model.var_name(self.query.targets[0])
+                    "dropped, as running the tree again disproved it: \"{sentence}\" (with {change}, {subject} was {got}, not {claimed})\n"
                 ));
             }
         }
@@ -307,6 +344,33 @@ impl Why {
             })
             .collect();
         j
+    }
+}
+
+/// The position from which a node's fact in the model of `tick` holds
+/// within the tick (`None`: from its start): Love §5.3 explains a fact at
+/// a time only if it holds then. A status holds once the node's last
+/// transition into it in the tick was made; a decision or a node's having
+/// run, once it was first ticked.
+fn fact_from(session: &Session, model: &Model, v: VarId, tick: u32) -> Option<u32> {
+    let range = session.index.tick_range(tick);
+    let in_tick = |u: crate::model::Uid| {
+        session
+            .index
+            .changes_of(u)
+            .iter()
+            .copied()
+            .filter(move |&p| range.contains(&(p as usize - 1)))
+    };
+    let status_of = |p: u32| session.index.transitions[p as usize - 1].status;
+    match (model.vars[v].kind, &model.fact[v]) {
+        (VarKind::Status(u), Val::Status(s)) if *s != crate::run::Status::Idle => {
+            in_tick(u).rfind(|&p| status_of(p) == *s)
+        }
+        (VarKind::Executed(u), Val::Bool(true)) | (VarKind::Decision(u), Val::Action(Some(_))) => {
+            in_tick(u).next()
+        }
+        _ => None,
     }
 }
 
@@ -412,6 +476,13 @@ pub fn why(
     }
     let t = query::parse_target(&model, target).map_err(fail)?;
     let v = query::target_var(&model, &t, pos).map_err(fail)?;
+    if let Some(when) = fact_from(session, &model, v, moment.tick).filter(|&p| p > pos) {
+        let then = session.index.moment(when);
+        return Err(fail(format!(
+            "at {moment}, \"{}\" is not true yet: it becomes true at {then}; ask at {then} or later",
+            english::fact(&model, v, &model.fact[v])
+        )));
+    }
     if let (query::Target::State { var, copy: None }, Some(d)) = (&t, &model.domain) {
         let e = crate::run::blackboard::EntryId {
             scope: 0,

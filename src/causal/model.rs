@@ -224,7 +224,7 @@ fn state_range(ty: &VarType) -> Vec<Val> {
     }
 }
 
-fn literal_int(tree: &Tree, uid: Uid, names: &[&str], default: i64) -> i64 {
+pub fn literal_int(tree: &Tree, uid: Uid, names: &[&str], default: i64) -> i64 {
     let n = tree.node(uid);
     names
         .iter()
@@ -738,6 +738,26 @@ impl Model {
         }
     }
 
+    /// The copies of other domain variables that copy `k` of a derived
+    /// variable is computed from, as (variable, copy).
+    pub fn copy_sources(&self, var: usize, k: u32) -> Vec<(usize, u32)> {
+        match self
+            .copies
+            .get(var)
+            .and_then(|cs| cs.get(k as usize))
+            .map(|&c| &self.vars[c].func)
+        {
+            Some(Func::Copy { sparents, .. }) => sparents
+                .iter()
+                .filter_map(|&(p, pc)| match self.vars[pc].kind {
+                    VarKind::State { copy, .. } => Some((p, copy)),
+                    _ => None,
+                })
+                .collect(),
+            _ => Vec::new(),
+        }
+    }
+
     /// The leaves that read copy `k` of a domain variable.
     pub fn copy_readers(&self, var: usize, k: u32) -> Vec<Uid> {
         let Some(&c) = self.copies.get(var).and_then(|cs| cs.get(k as usize)) else {
@@ -1183,12 +1203,28 @@ impl Model {
         best.map_or_else(|| x.clone(), |(_, g)| g.clone())
     }
 
+    /// A node as answers name it: its description, with its uid when
+    /// another node of the tree reads the same ("insert large gear (#13)").
+    pub fn node_name(&self, u: Uid) -> String {
+        let d = self.tree.description(u);
+        let shared = self
+            .tree
+            .nodes
+            .iter()
+            .any(|n| n.uid != u && self.tree.description(n.uid) == d);
+        if shared {
+            format!("{d} (#{u})")
+        } else {
+            d.to_string()
+        }
+    }
+
     /// A human name for a variable: `executed(L0)`, `X_b^1`.
     pub fn var_name(&self, v: VarId) -> String {
         match self.vars[v].kind {
-            VarKind::Executed(u) => format!("executed({})", self.tree.description(u)),
-            VarKind::Status(u) => format!("status({})", self.tree.description(u)),
-            VarKind::Decision(u) => format!("decision({})", self.tree.description(u)),
+            VarKind::Executed(u) => format!("executed({})", self.node_name(u)),
+            VarKind::Status(u) => format!("status({})", self.node_name(u)),
+            VarKind::Decision(u) => format!("decision({})", self.node_name(u)),
             VarKind::State { var, copy } => {
                 let d = self.domain.as_ref().expect("a domain");
                 format!("{}^{copy}", d.vars[var].name)

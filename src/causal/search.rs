@@ -23,6 +23,24 @@ pub struct Explanation {
     pub values: Vec<Vec<Val>>,
     /// The queried variables' values under those interventions.
     pub outcome: Vec<Val>,
+    /// When the model cannot say the outcome: what the tree would have
+    /// done instead of reaching it.
+    pub next: Option<Next>,
+}
+
+/// What follows a change when the model cannot give the final value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Next {
+    /// The tree would have ticked this leaf, whose outcome nothing recorded.
+    Unknown(crate::model::Uid),
+    /// This RetryUntilSuccessful (or Repeat) would have ticked its child
+    /// again within the tick: attempt (cycle) `attempt` of `of` (−1: no limit).
+    Retry {
+        node: crate::model::Uid,
+        attempt: i64,
+        of: i64,
+        repeat: bool,
+    },
 }
 
 #[derive(Debug, Clone)]
@@ -118,6 +136,7 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
                             vars,
                             values: vec![values],
                             outcome,
+                            next: None,
                         }),
                     }
                 }

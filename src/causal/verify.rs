@@ -4,7 +4,7 @@
 //! the target must come out as the explanation says. The model only proposes.
 
 use super::model::{Model, Val, VarKind};
-use super::search::{Explanation, Query};
+use super::search::{Explanation, Next, Query};
 use crate::model::Uid;
 use crate::run::blackboard::EntryId;
 use crate::run::domain::Intervention;
@@ -25,6 +25,8 @@ pub enum Check {
     /// An assignment gave another value: the explanation is false.
     Refuted {
         change: String,
+        /// What the claim is about (a variable, a node).
+        subject: String,
         claimed: String,
         got: String,
     },
@@ -40,10 +42,11 @@ impl Check {
             }),
             Check::Refuted {
                 change,
+                subject,
                 claimed,
                 got,
             } => serde_json::json!({
-                "rerun": true, "confirmed": false, "change": change, "claimed": claimed, "got": got,
+                "rerun": true, "confirmed": false, "change": change, "subject": subject, "claimed": claimed, "got": got,
             }),
             Check::NotRerun(why) => serde_json::json!({"rerun": false, "why": why}),
         }
@@ -151,7 +154,7 @@ impl<'s> Rerunner<'s> {
                 Err(err) => return Check::NotRerun(format!("the model cannot evaluate it: {err}")),
             };
             let got = match self.run_with(model, &dos, query.targets[0], watch) {
-                Ok(v) => v,
+                Ok((v, _)) => v,
                 Err(why) => return Check::NotRerun(why),
             };
             let t = query.targets[0];
@@ -167,6 +170,7 @@ impl<'s> Rerunner<'s> {
                     .join(", ");
                 return Check::Refuted {
                     change,
+                    subject: model.var_name(t),
                     claimed: super::english::value_text(&claimed),
                     got: super::english::value_text(&got),
                 };
@@ -186,7 +190,7 @@ impl<'s> Rerunner<'s> {
         dos: &[(usize, Val)],
         target: usize,
         watch: Option<usize>,
-    ) -> Result<Val, String> {
+    ) -> Result<(Val, Vec<u32>), String> {
         let tick = self.tick;
         let mut ex = new_executor(self.session)?;
         let mut before: Vec<(usize, serde_json::Value)> = Vec::new();
@@ -277,7 +281,8 @@ impl<'s> Rerunner<'s> {
             }
             r.map_err(|e| format!("the re-run stopped: {e}"))?;
         }
-        Ok(match model.vars[target].kind {
+        let calls = (1..=model.tree.len() as Uid).map(|u| ex.calls(u)).collect();
+        let val = match model.vars[target].kind {
             VarKind::Status(u) => {
                 let (t, s) = ex.last_ticked(u);
                 Val::Status(if t == tick && s != Status::Skipped {
@@ -306,30 +311,220 @@ impl<'s> Rerunner<'s> {
                         .unwrap_or_else(|| l.state[var].clone()),
                 )
             }
-        })
+        };
+        Ok((val, calls))
+    }
+
+    /// Checks an explanation whose consequent is a retry: re-run, the
+    /// node's child must be ticked again within the tick.
+    pub fn check_retry(&self, model: &Model, query: &Query, e: &Explanation, node: Uid) -> Check {
+        let Some(&child) = model.tree.node(node).children.first() else {
+            return Check::NotRerun("the node has no child".into());
+        };
+        let before = self.calls[child as usize - 1];
+        for values in e.values.iter().take(ASSIGNMENTS_MAX) {
+            let dos: Vec<(usize, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
+            match self.run_with(model, &dos, query.targets[0], None) {
+                Ok((_, calls)) if calls[child as usize - 1] > before => {}
+                Ok(_) => {
+                    return Check::Refuted {
+                        change: dos
+                            .iter()
+                            .map(|(v, x)| {
+                                format!(
+                                    "{} = {}",
+                                    model.var_name(*v),
+                                    super::english::value_text(x)
+                                )
+                            })
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        subject: model.node_name(child),
+                        claimed: "ticked again within the tick".into(),
+                        got: "ticked only as in the run".into(),
+                    }
+                }
+                Err(why) => return Check::NotRerun(why),
+            }
+        }
+        Check::Confirmed {
+            checked: e.values.len().min(ASSIGNMENTS_MAX),
+            of: e.values.len(),
+        }
     }
 }
 
-/// Where copy `k` of a variable holds in a re-run, as a place in the tree's
-/// pre-order (before the first call of a leaf at or past it): where its
-/// first reader reads it; with no reader, after its last writer; else where
-/// the count of copies moved on to it. `None`: before the tick.
+/// Where copy `k` of a variable begins to hold in a re-run, as a place in
+/// the tree's pre-order (it holds before the first call of a leaf at or
+/// past that place): after the last leaf that writes it, or after the leaf
+/// whose read moved the count on to it; a derived copy not before the
+/// copies it is computed from. `None`: from the tick's start.
 pub fn copy_place(model: &Model, var: usize, k: u32) -> Option<usize> {
     let order = super::model::preorder(&model.tree);
     let place = |u: Uid| order.iter().position(|&x| x == u).unwrap_or(0);
-    if let Some(first) = model.copy_readers(var, k).into_iter().map(place).min() {
-        return Some(first);
+    let mut seen = Vec::new();
+    let p = copy_start(model, &place, var, k, &mut seen);
+    (p > 0).then_some(p)
+}
+
+fn copy_start(
+    model: &Model,
+    place: &dyn Fn(Uid) -> usize,
+    var: usize,
+    k: u32,
+    seen: &mut Vec<(usize, u32)>,
+) -> usize {
+    if seen.contains(&(var, k)) {
+        return 0;
     }
-    if let Some(last) = model.copy_writers(var, k).into_iter().map(place).max() {
-        return Some(last + 1);
+    seen.push((var, k));
+    let mut start = match model.copy_writers(var, k).into_iter().map(place).max() {
+        Some(last) => last + 1,
+        None if k > 0 => model.copy_writer(var, k).map_or(0, |w| place(w) + 1),
+        None => 0,
+    };
+    for (p, pk) in model.copy_sources(var, k) {
+        start = start.max(copy_start(model, place, p, pk, seen));
     }
-    match k {
-        0 => None,
-        _ => model.copy_writer(var, k).map(|w| place(w) + 1),
-    }
+    start
 }
 
 /// Where a re-run reads copy `k` of a variable, as `Rerunner::check` takes it.
 pub fn watch_copy(model: &Model, var: usize, k: u32) -> Option<usize> {
     Some(copy_place(model, var, k).unwrap_or(0))
+}
+
+/// At most this many evaluations are spent per explanation on the leaves
+/// nothing recorded; past it, the outcome counts as unknown.
+const UNKNOWN_EVALUATIONS_MAX: usize = 512;
+
+/// For a model with no domain (a log): whether the explanation's outcome
+/// depends on what leaves not ticked in the tick would have returned. Each
+/// such leaf its change makes the tree tick is given every outcome in turn
+/// (leaves in tree order, each given its own); if the target does not
+/// always come out as claimed, the first leaf is returned.
+pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Next> {
+    if model.domain.is_some() {
+        return None;
+    }
+    let t = query.targets[0];
+    let unknown = |u: Uid| model.tree.node(u).kind.is_leaf() && !model.facts.ticked[u as usize - 1];
+    // Only leaves whose status can reach the target matter.
+    let matters = model.ancestors(&[t]);
+    let unknown = |u: Uid| unknown(u) && matters.contains(&model.r(u));
+    let order = super::model::preorder(&model.tree);
+    let mut budget = UNKNOWN_EVALUATIONS_MAX;
+    for values in e.values.iter().take(ASSIGNMENTS_MAX) {
+        let dos: Vec<(usize, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
+        let Ok(base) = model.evaluate_with(&dos) else {
+            return None;
+        };
+        let claimed = model.snap(t, &base[t]);
+        // Depth-first over the outcomes of the unknown leaves ticked.
+        let mut stack = vec![dos];
+        let mut first: Option<Uid> = None;
+        while let Some(dos) = stack.pop() {
+            if budget == 0 {
+                return first
+                    .or_else(|| order.iter().copied().find(|&u| unknown(u)))
+                    .map(Next::Unknown);
+            }
+            budget -= 1;
+            let Ok(vals) = model.evaluate_with(&dos) else {
+                continue;
+            };
+            let open = order.iter().copied().find(|&u| {
+                unknown(u)
+                    && vals[model.e(u)] == Val::Bool(true)
+                    && !dos.iter().any(|(v, _)| *v == model.r(u))
+            });
+            match open {
+                None => {
+                    if model.snap(t, &vals[t]) != claimed {
+                        return first.map(Next::Unknown);
+                    }
+                }
+                Some(u) => {
+                    first.get_or_insert(u);
+                    for s in &model.vars[model.r(u)].range {
+                        if *s != Val::Status(Status::Idle) {
+                            let mut next = dos.clone();
+                            next.push((model.r(u), s.clone()));
+                            stack.push(next);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
+/// Where the model passes a RetryUntilSuccessful's (Repeat's) child status
+/// straight up although the node would tick the child again within the
+/// tick: under the change `dos`, a child that did not fail (succeed) in the
+/// run now does, with attempts (cycles) left. The model cannot say what the
+/// next attempt gives; the run would have retried. Nearest the target first.
+pub fn retry_next(
+    session: &Session,
+    model: &Model,
+    query: &Query,
+    dos: &[(usize, Val)],
+) -> Option<Next> {
+    use crate::model::Builtin;
+    let vals = model.evaluate_with(dos).ok()?;
+    let matters = model.ancestors(&query.targets);
+    let range = session.index.tick_range(model.facts.tick);
+    let mut found: Option<(usize, Next)> = None;
+    for u in 1..=model.tree.len() as Uid {
+        let repeat = match model.tree.node(u).builtin {
+            Some(Builtin::RetryUntilSuccessful) => false,
+            Some(Builtin::Repeat) => true,
+            _ => continue,
+        };
+        if vals[model.e(u)] != Val::Bool(true) || !matters.contains(&model.r(u)) {
+            continue;
+        }
+        let Some(&c) = model.tree.node(u).children.first() else {
+            continue;
+        };
+        let again = Val::Status(if repeat {
+            Status::Success
+        } else {
+            Status::Failure
+        });
+        if vals[model.r(c)] != again || model.fact[model.r(c)] == again {
+            continue;
+        }
+        let max = super::model::literal_int(
+            &model.tree,
+            u,
+            if repeat {
+                &["num_cycles"]
+            } else {
+                &["num_attempts"]
+            },
+            -1,
+        );
+        // Attempts spent before the child's last tick of the run.
+        let spent = model.facts.flows[u as usize - 1].count
+            + session.index.transitions[range.clone()]
+                .iter()
+                .filter(|t| t.uid == c && Val::Status(t.status) == again)
+                .count() as i64;
+        if max != -1 && spent + 1 >= max {
+            continue;
+        }
+        let dist = model.distances_to(&query.targets)[model.r(u)];
+        let next = Next::Retry {
+            node: u,
+            attempt: spent + 2,
+            of: max,
+            repeat,
+        };
+        if found.as_ref().is_none_or(|(d, _)| dist < *d) {
+            found = Some((dist, next));
+        }
+    }
+    found.map(|(_, n)| n)
 }

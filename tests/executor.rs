@@ -86,10 +86,13 @@ fn reactive_sequence_reticks_its_condition_every_tick() {
 #[test]
 fn sequence_with_memory_resumes_at_the_failed_child() {
     let body = r#"<SequenceWithMemory name="m"><a name="a"/><b name="b"/></SequenceWithMemory>"#;
-    let (t, roots) = ticked(body, "a = S\nb = F, S", 2, false);
-    assert_eq!(roots, [Status::Failure, Status::Success]);
+    // a starts and succeeds within tick 1: the wake-up path returns RUNNING
+    // and b runs in tick 2 (BehaviorTree.CPP 4, checked in tests/oracle.rs).
+    let (t, roots) = ticked(body, "a = S\nb = F, S", 3, false);
+    assert_eq!(roots, [Status::Running, Status::Failure, Status::Success]);
+    assert_eq!(t[0], s(&["m:RUNNING", "a:SUCCESS"]));
     assert_eq!(
-        t[1],
+        t[2],
         s(&[
             "m:RUNNING",
             "b:SUCCESS",
@@ -103,20 +106,31 @@ fn sequence_with_memory_resumes_at_the_failed_child() {
 }
 
 #[test]
-fn retry_loops_within_the_tick_and_counts() {
+fn retry_takes_the_wake_up_path_or_loops_within_the_tick() {
+    // A child that starts and fails within one tick: RUNNING, the next
+    // attempt in the next tick.
     let (t, roots) = run(
         r#"<RetryUntilSuccessful num_attempts="3"><a name="a"/></RetryUntilSuccessful>"#,
         "a = F, F, S",
-        2,
+        5,
     );
-    assert_eq!(roots, [Status::Success]);
-    assert_eq!(t[0].iter().filter(|x| *x == "a:FAILURE").count(), 2);
+    assert_eq!(roots, [Status::Running, Status::Running, Status::Success]);
+    assert_eq!(t[0].iter().filter(|x| *x == "a:FAILURE").count(), 1);
+    // A child that was RUNNING and then fails is retried at once.
+    let (t, roots) = run(
+        r#"<RetryUntilSuccessful num_attempts="3"><a name="a"/></RetryUntilSuccessful>"#,
+        "a = 1RF, S",
+        5,
+    );
+    assert_eq!(roots, [Status::Running, Status::Success]);
+    assert!(t[1].contains(&"a:FAILURE".to_string()) && t[1].contains(&"a:SUCCESS".to_string()));
+    // The last attempt's failure is the Retry's, with no wake-up.
     let (_, roots) = run(
         r#"<RetryUntilSuccessful num_attempts="2"><a name="a"/></RetryUntilSuccessful>"#,
         "a = F",
-        2,
+        5,
     );
-    assert_eq!(roots, [Status::Failure]);
+    assert_eq!(roots, [Status::Running, Status::Failure]);
 }
 
 #[test]
@@ -176,13 +190,21 @@ fn decorators() {
         5,
     );
     assert_eq!(r, [Status::Running, Status::Running, Status::Failure]);
+    // Repeat mirrors Retry: a cycle that completes within its tick wakes up.
     let (t, r) = run(
         r#"<Repeat num_cycles="3"><a name="a"/></Repeat>"#,
         "a = S",
-        2,
+        5,
     );
-    assert_eq!(r, [Status::Success]);
-    assert_eq!(t[0].iter().filter(|x| *x == "a:SUCCESS").count(), 3);
+    assert_eq!(r, [Status::Running, Status::Running, Status::Success]);
+    assert_eq!(t[0].iter().filter(|x| *x == "a:SUCCESS").count(), 1);
+    let (t, r) = run(
+        r#"<Repeat num_cycles="2"><a name="a"/></Repeat>"#,
+        "a = 1RS",
+        5,
+    );
+    assert_eq!(r, [Status::Running, Status::Running, Status::Success]);
+    assert_eq!(t[1].iter().filter(|x| *x == "a:SUCCESS").count(), 1);
     let (_, r) = run(
         r#"<Sequence><RunOnce><a name="a"/></RunOnce><b name="b"/></Sequence>"#,
         "a = S\nb = 1RS",

@@ -43,6 +43,9 @@ pub struct TickFacts {
     pub done_at: HashMap<Uid, u32>,
     /// Calls the replay had to guess (the record did not hold them).
     pub guessed: Vec<(u32, Uid)>,
+    /// How often each node was ticked in the tick (a child under a Retry
+    /// or Repeat may be ticked more than once), per uid − 1.
+    pub calls: Vec<u32>,
 }
 
 fn plain_leaf(tree: &Tree, uid: Uid) -> bool {
@@ -149,6 +152,7 @@ impl TickFacts {
             }
         }
         let guessed = ex.leaves.guessed.clone();
+        let calls: Vec<u32> = (1..=n as Uid).map(|u| ex.calls(u)).collect();
 
         // Decisions and outcomes from the record.
         let range = idx.tick_range(tick);
@@ -240,6 +244,7 @@ impl TickFacts {
             order,
             done_at,
             guessed,
+            calls,
         })
     }
 }

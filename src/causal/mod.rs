@@ -104,7 +104,7 @@ fn verified(
                 next = verify::unknown_next(model, query, &one);
             }
             if next.is_none() {
-                next = verify::retry_next(session, model, query, &dos);
+                next = verify::retry_next(model, query, &dos);
             }
             match parts.iter_mut().find(|p| p.next == next) {
                 Some(p) => p.values.push(values.clone()),

@@ -113,6 +113,17 @@ enum Mapping {
     ForceSuccess,
     ForceFailure,
     KeepRunning,
+    /// RetryUntilSuccessful (`again` = FAILURE) or Repeat (SUCCESS): `spent`
+    /// attempts or cycles before the child's last tick of the tick, out of
+    /// `max` (−1: no limit); `wakes` when that tick started the child, so
+    /// another attempt waits for the next tick (BehaviorTree.CPP 4's
+    /// wake-up path) and the node returns RUNNING.
+    Loop {
+        again: Status,
+        spent: i64,
+        max: i64,
+        wakes: bool,
+    },
 }
 
 #[derive(Debug, Clone)]
@@ -251,7 +262,12 @@ fn flow_of(tree: &Tree, uid: Uid, f: &crate::run::Flow) -> Flow {
         return Flow::Map(Mapping::Same);
     }
     match n.builtin {
-        Some(Builtin::Sequence | Builtin::SequenceWithMemory) => seq(Status::Success, false),
+        Some(Builtin::Sequence) => seq(Status::Success, false),
+        // A child that starts and succeeds within a tick wakes the tree up
+        // for the next (BehaviorTree.CPP 4), as in the Async composites.
+        Some(Builtin::SequenceWithMemory) => {
+            seq(Status::Success, tree.version == crate::model::Version::V4)
+        }
         Some(Builtin::AsyncSequence) => seq(Status::Success, true),
         Some(Builtin::Fallback) => seq(Status::Failure, false),
         Some(Builtin::AsyncFallback) => seq(Status::Failure, true),
@@ -294,6 +310,38 @@ fn flow_of(tree: &Tree, uid: Uid, f: &crate::run::Flow) -> Flow {
         Some(Builtin::RetryUntilSuccessful | Builtin::Repeat) => Flow::Map(Mapping::Same),
         _ => Flow::Gated,
     }
+}
+
+/// A RetryUntilSuccessful's or Repeat's control flow in the tick: the
+/// attempts spent before its child's last tick (those at the node's tick,
+/// and every earlier tick of the child within this one, each of which ended
+/// in another attempt), and whether that last tick started the child.
+fn loop_of(tree: &Tree, facts: &TickFacts, uid: Uid) -> Option<Flow> {
+    let n = tree.node(uid);
+    let again = match n.builtin {
+        Some(Builtin::RetryUntilSuccessful) => Status::Failure,
+        Some(Builtin::Repeat) => Status::Success,
+        _ => return None,
+    };
+    let &child = n.children.first()?;
+    let max = literal_int(
+        tree,
+        uid,
+        if again == Status::Failure {
+            &["num_attempts"]
+        } else {
+            &["num_cycles"]
+        },
+        -1,
+    );
+    let calls = i64::from(facts.calls[child as usize - 1]);
+    Some(Flow::Map(Mapping::Loop {
+        again,
+        spent: facts.flows[uid as usize - 1].count + (calls - 1).max(0),
+        max,
+        wakes: tree.version == crate::model::Version::V4
+            && facts.start[child as usize - 1] == Status::Idle,
+    }))
 }
 
 fn continues(s: Status, cont: Status) -> bool {
@@ -375,7 +423,10 @@ impl Model {
         let mut d_of = vec![None; n];
         let mut leaf_of = vec![None; n];
         let flows: Vec<Flow> = (1..=n as Uid)
-            .map(|u| flow_of(tree, u, &facts.flows[u as usize - 1]))
+            .map(|u| {
+                loop_of(tree, &facts, u)
+                    .unwrap_or_else(|| flow_of(tree, u, &facts.flows[u as usize - 1]))
+            })
             .collect();
         // Algorithm 7: variables and structural edges.
         for &u in &order {
@@ -1156,7 +1207,27 @@ impl Model {
                     (Mapping::Invert, Status::Failure) => Status::Success,
                     (Mapping::ForceSuccess, x) if x.is_completed() => Status::Success,
                     (Mapping::ForceFailure, x) if x.is_completed() => Status::Failure,
-                    (Mapping::KeepRunning, Status::Success) => Status::Running,
+                    (Mapping::KeepRunning, Status::Success | Status::Skipped) => Status::Running,
+                    (
+                        Mapping::Loop {
+                            again,
+                            spent,
+                            max,
+                            wakes,
+                        },
+                        x,
+                    ) if x == again => {
+                        let more = spent + 1 < max || max == -1;
+                        match (more, again) {
+                            (false, Status::Failure) => Status::Failure,
+                            (false, _) => Status::Success,
+                            (true, _) if wakes => Status::Running,
+                            // The node would tick its child again within
+                            // the tick: what that gives is not in the
+                            // model (see causal::verify::retry_next).
+                            (true, _) => x,
+                        }
+                    }
                     _ => s,
                 }
             }

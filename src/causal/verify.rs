@@ -465,16 +465,10 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
 /// tick: under the change `dos`, a child that did not fail (succeed) in the
 /// run now does, with attempts (cycles) left. The model cannot say what the
 /// next attempt gives; the run would have retried. Nearest the target first.
-pub fn retry_next(
-    session: &Session,
-    model: &Model,
-    query: &Query,
-    dos: &[(usize, Val)],
-) -> Option<Next> {
+pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
     use crate::model::Builtin;
     let vals = model.evaluate_with(dos).ok()?;
     let matters = model.ancestors(&query.targets);
-    let range = session.index.tick_range(model.facts.tick);
     let mut found: Option<(usize, Next)> = None;
     for u in 1..=model.tree.len() as Uid {
         let repeat = match model.tree.node(u).builtin {
@@ -506,13 +500,15 @@ pub fn retry_next(
             },
             -1,
         );
-        // Attempts spent before the child's last tick of the run.
+        // Attempts spent before the child's last tick of the run; a child
+        // that this tick started takes the wake-up path, which the model
+        // follows (the node returns RUNNING), so only a child already
+        // running is ticked again within the tick.
         let spent = model.facts.flows[u as usize - 1].count
-            + session.index.transitions[range.clone()]
-                .iter()
-                .filter(|t| t.uid == c && Val::Status(t.status) == again)
-                .count() as i64;
-        if max != -1 && spent + 1 >= max {
+            + i64::from(model.facts.calls[c as usize - 1]).saturating_sub(1);
+        let wakes = model.tree.version == crate::model::Version::V4
+            && model.facts.start[c as usize - 1] == Status::Idle;
+        if wakes || (max != -1 && spent + 1 >= max) {
             continue;
         }
         let dist = model.distances_to(&query.targets)[model.r(u)];

@@ -848,7 +848,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
                         Status::Success => self.rt(uid).idx = 1,
                         Status::Failure if children.len() == 3 => self.rt(uid).idx = 2,
                         Status::Failure => return Ok(Status::Failure),
-                        other => return Ok(other),
+                        // BehaviorTree.CPP keeps the index at 0 and throws.
+                        _ => return Err(self.err(uid, "its condition was skipped; BehaviorTree.CPP throws \"Something unexpected happened in IfThenElseNode\"")),
                     }
                 }
                 let i = self.rt(uid).idx;
@@ -876,7 +877,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
                         self.exec(children[2])?
                     }
                     Status::Failure => Status::Failure,
-                    other => other,
+                    // BehaviorTree.CPP returns IDLE, and setting it throws.
+                    _ => return Err(self.err(uid, "its condition was skipped; BehaviorTree.CPP throws \"you are not allowed to set manually the status to IDLE\"")),
                 };
                 if s == Status::Running {
                     return Ok(s);
@@ -925,6 +927,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
                         self.halt_child(children[0]);
                         Ok(Status::Running)
                     }
+                    // A skipped child leaves the node's own RUNNING.
+                    Status::Skipped => Ok(Status::Running),
                     other => Ok(other),
                 }
             }
@@ -1075,9 +1079,13 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 }
             }
         }
+        // The count starts again once the node completes: a node that
+        // returned SKIPPED stays RUNNING, and ticked again it counts anew.
         let all_skipped = self.rt(uid).skipped == children.len();
         self.reset_children(uid);
-        self.rt(uid).idx = 0;
+        let r = self.rt(uid);
+        r.idx = 0;
+        r.skipped = 0;
         Ok(if all_skipped {
             Status::Skipped
         } else {
@@ -1094,6 +1102,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
         self.set_status(uid, Status::Running);
         while self.rt(uid).idx < children.len() {
             let i = self.rt(uid).idx;
+            let prev = self.status(children[i]);
             match self.exec(children[i])? {
                 Status::Running => return Ok(Status::Running),
                 Status::Failure => {
@@ -1103,7 +1112,12 @@ impl<'t, L: Leaves> Executor<'t, L> {
                     }
                     return Ok(Status::Failure);
                 }
-                Status::Success => self.rt(uid).idx += 1,
+                Status::Success => {
+                    self.rt(uid).idx += 1;
+                    if self.rt(uid).idx < children.len() && self.wakes_up(prev) {
+                        return Ok(Status::Running);
+                    }
+                }
                 Status::Skipped => {
                     let r = self.rt(uid);
                     r.idx += 1;
@@ -1114,7 +1128,9 @@ impl<'t, L: Leaves> Executor<'t, L> {
         }
         let all_skipped = self.rt(uid).skipped == children.len();
         self.reset_children(uid);
-        self.rt(uid).idx = 0;
+        let r = self.rt(uid);
+        r.idx = 0;
+        r.skipped = 0;
         Ok(if all_skipped {
             Status::Skipped
         } else {
@@ -1183,9 +1199,9 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 ),
             ));
         }
-        if !self.status(uid).is_active() {
-            self.rt(uid).skipped = 0;
-        }
+        // Skips are counted within the tick (BehaviorTree.CPP's local
+        // count): a child skipped in an earlier tick is ticked again.
+        self.rt(uid).skipped = 0;
         if self.rt(uid).completed.len() != children.len() {
             self.rt(uid).completed = vec![false; children.len()];
         }
@@ -1363,12 +1379,21 @@ impl<'t, L: Leaves> Executor<'t, L> {
         Ok(s)
     }
 
+    /// BehaviorTree.CPP 4's wake-up path (`requiresWakeUp() && prev_status
+    /// == IDLE`): a node whose child started and completed within one tick
+    /// returns RUNNING instead of going on, and goes on at the next tick.
+    /// Every tree a v4 factory builds has a wake-up instance; v3 has none.
+    fn wakes_up(&self, prev: Status) -> bool {
+        self.tree.version == crate::model::Version::V4 && prev == Status::Idle
+    }
+
     fn tick_retry(&mut self, uid: Uid) -> R<Status> {
         let child = self.tree.node(uid).children[0];
         let max = self.port_int(uid, &["num_attempts"], None)?;
         self.set_status(uid, Status::Running);
         let mut do_loop = self.rt(uid).count < max || max == -1;
         while do_loop {
+            let prev = self.status(child);
             match self.exec(child)? {
                 Status::Success => {
                     self.rt(uid).count = 0;
@@ -1380,6 +1405,9 @@ impl<'t, L: Leaves> Executor<'t, L> {
                     r.count += 1;
                     do_loop = r.count < max || max == -1;
                     self.halt_child(child);
+                    if do_loop && self.wakes_up(prev) {
+                        return Ok(Status::Running);
+                    }
                 }
                 Status::Running => return Ok(Status::Running),
                 Status::Skipped => {
@@ -1400,6 +1428,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
         let mut do_loop = self.rt(uid).count < max || max == -1;
         let mut all_skipped = true;
         while do_loop {
+            let prev = self.status(child);
             let s = self.exec(child)?;
             all_skipped &= s == Status::Skipped;
             match s {
@@ -1408,6 +1437,9 @@ impl<'t, L: Leaves> Executor<'t, L> {
                     r.count += 1;
                     do_loop = r.count < max || max == -1;
                     self.halt_child(child);
+                    if do_loop && self.wakes_up(prev) {
+                        return Ok(Status::Running);
+                    }
                 }
                 Status::Failure => {
                     self.rt(uid).count = 0;

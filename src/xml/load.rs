@@ -613,6 +613,24 @@ impl Loader {
             ));
         }
 
+        // BehaviorTree.CPP 4's verifyXML: a ReactiveSequence may hold one
+        // AsyncSequence at most (by element name), or two would race.
+        if version == Version::V4
+            && el.tag == "ReactiveSequence"
+            && el
+                .children
+                .iter()
+                .filter(|c| c.tag == "AsyncSequence")
+                .count()
+                > 1
+        {
+            return Err(self.err(
+                file,
+                el,
+                "A ReactiveSequence cannot have more than one async child (BehaviorTree.CPP refuses it: two AsyncSequence children would race)".to_string(),
+            ));
+        }
+
         // Instance name, by the version's rules.
         let name_attr = el.attr("name");
         let name = if kind == Kind::SubTree {

@@ -3,7 +3,6 @@
 //! nodes were ticked and where composites resumed come from the executor's
 //! own semantics, not from a second reading of the log.
 
-use super::model::preorder;
 use crate::model::{Kind, Tree, Uid};
 use crate::run::blackboard::EntryId;
 use crate::run::replay::{Call, Replay};
@@ -136,7 +135,7 @@ impl TickFacts {
         // ticks that belong to it: those that began after it began.
         let mut ticked = vec![false; n];
         let mut returned = vec![Status::Idle; n];
-        for u in preorder(tree) {
+        for u in tree.preorder() {
             let i = u as usize - 1;
             let (t, s) = ex.last_ticked(u);
             let (seq, flow, entry_status) = ex.last_entry(u);

@@ -387,27 +387,381 @@ impl Builder {
     }
 }
 
-/// Depth-first, left to right.
-pub fn preorder(tree: &Tree) -> Vec<Uid> {
-    let mut out = Vec::with_capacity(tree.len());
-    let mut stack = vec![Tree::ROOT];
-    while let Some(u) = stack.pop() {
-        out.push(u);
-        stack.extend(tree.node(u).children.iter().rev());
+/// The tree's variables and edges (Algorithm 7, and btx's control flow
+/// beyond it): E, r and d per node.
+struct Structure {
+    e_of: Vec<VarId>,
+    r_of: Vec<VarId>,
+    d_of: Vec<Option<VarId>>,
+    leaf_of: Vec<Option<usize>>,
+}
+
+/// The state's temporal copies (Algorithms 3–5 and 8).
+struct StateCopies {
+    copies: Vec<Vec<VarId>>,
+    inputs_of: Vec<Vec<(usize, VarId)>>,
+    tau_after: Vec<(Uid, Vec<u32>)>,
+}
+
+/// The variables as a graph, in an order to evaluate them in.
+struct Assembled {
+    graph: DiGraph<VarId, ()>,
+    parents: Vec<Vec<VarId>>,
+    deps: Vec<Vec<VarId>>,
+    topo: Vec<VarId>,
+    topo_pos: Vec<usize>,
+}
+
+/// Stage "attempts": how each control node goes on in the tick, from where
+/// it resumed, and how Retry and Repeat spend attempts within the tick.
+fn control_flows(tree: &Tree, facts: &TickFacts) -> Vec<Flow> {
+    (1..=tree.len() as Uid)
+        .map(|u| {
+            loop_of(tree, facts, u)
+                .unwrap_or_else(|| flow_of(tree, u, &facts.flows[u as usize - 1]))
+        })
+        .collect()
+}
+
+/// Stage "structure": Algorithm 7's variables and structural edges.
+fn structure(
+    tree: &Tree,
+    domain: &Option<Arc<Domain>>,
+    order: &[Uid],
+    flows: &[Flow],
+    b: &mut Builder,
+) -> Structure {
+    let n = tree.len();
+    let mut e_of = vec![usize::MAX; n];
+    let mut r_of = vec![usize::MAX; n];
+    let mut d_of = vec![None; n];
+    let mut leaf_of = vec![None; n];
+    // Algorithm 7: variables and structural edges.
+    for &u in order {
+        let node = tree.node(u);
+        let i = u as usize - 1;
+        let is_leaf = node.kind.is_leaf();
+        let leaf = if is_leaf && node.builtin.is_none() {
+            domain.as_ref().and_then(|d| d.leaf_for(tree, u))
+        } else {
+            None
+        };
+        leaf_of[i] = leaf;
+        let e_func = match node.parent {
+            None => Func::Root,
+            Some(p) => Func::ExecChild {
+                parent: p,
+                index: tree
+                    .node(p)
+                    .children
+                    .iter()
+                    .position(|&c| c == u)
+                    .unwrap_or(0),
+            },
+        };
+        e_of[i] = b.var(
+            VarKind::Executed(u),
+            vec![Val::Bool(true), Val::Bool(false)],
+            true,
+            e_func,
+        );
+        let r_func = if is_leaf {
+            Func::LeafStatus { uid: u, leaf }
+        } else {
+            Func::CompositeStatus { uid: u }
+        };
+        r_of[i] = b.var(VarKind::Status(u), status_range(node.kind), true, r_func);
+        if let (Some(l), Kind::Action) = (leaf, node.kind) {
+            let d = domain.as_ref().expect("a leaf has a domain");
+            let mut range: Vec<Val> = d.leaves[l]
+                .actions
+                .iter()
+                .map(|a| Val::Action(Some(a.clone())))
+                .collect();
+            range.push(Val::Action(None));
+            d_of[i] = Some(b.var(
+                VarKind::Decision(u),
+                range,
+                true,
+                Func::Decision { uid: u, leaf: l },
+            ));
+        }
     }
-    out
+    for &u in order {
+        let node = tree.node(u);
+        let i = u as usize - 1;
+        b.edge(e_of[i], r_of[i]);
+        if let Some(d) = d_of[i] {
+            b.edge(e_of[i], d);
+            b.edge(d, r_of[i]);
+        }
+        for &c in &node.children {
+            b.edge(r_of[c as usize - 1], r_of[i]);
+        }
+        let Some(p) = node.parent else { continue };
+        let siblings = &tree.node(p).children;
+        let k = siblings.iter().position(|&c| c == u).unwrap_or(0);
+        let ep = e_of[p as usize - 1];
+        if k == 0 {
+            b.edge(ep, e_of[i]);
+        } else {
+            b.edge(r_of[siblings[k - 1] as usize - 1], e_of[i]);
+        }
+        match flows[p as usize - 1] {
+            Flow::Sequential { start, .. } | Flow::Branch { start } if start == k && k > 0 => {
+                b.extra(ep, e_of[i])
+            }
+            Flow::Parallel { .. } | Flow::ParallelAll { .. } if k > 0 => {
+                b.extra(ep, e_of[i]);
+                for &s in &siblings[..k - 1] {
+                    b.extra(r_of[s as usize - 1], e_of[i]);
+                }
+            }
+            Flow::Branch { .. } if k == 2 => b.extra(r_of[siblings[0] as usize - 1], e_of[i]),
+            Flow::Gated | Flow::Map(_) if k > 0 => b.extra(ep, e_of[i]),
+            _ => {}
+        }
+    }
+
+    Structure {
+        e_of,
+        r_of,
+        d_of,
+        leaf_of,
+    }
+}
+
+/// Stage "domain": the state's temporal copies, read and written by the
+/// leaves in tree order (Algorithms 3–5 and 8).
+fn state_copies(
+    tree: &Tree,
+    domain: &Option<Arc<Domain>>,
+    order: &[Uid],
+    st: &Structure,
+    b: &mut Builder,
+) -> StateCopies {
+    let n = tree.len();
+    let Structure {
+        e_of,
+        r_of,
+        d_of,
+        leaf_of,
+    } = st;
+    // Algorithms 3–5 and 8: the state's temporal copies.
+    let mut copies: Vec<Vec<VarId>> = Vec::new();
+    let mut inputs_of: Vec<Vec<(usize, VarId)>> = vec![Vec::new(); n];
+    let mut tau_after = Vec::new();
+    if let Some(d) = &domain {
+        let nv = d.vars.len();
+        copies = vec![Vec::new(); nv];
+        let mut tau = vec![0u32; nv];
+        // Ancestors in the state graph, nearest first, each once.
+        let ancestors: Vec<Vec<usize>> = (0..nv)
+            .map(|x| {
+                let mut seen = vec![false; nv];
+                let mut out = Vec::new();
+                let mut stack: Vec<usize> = d.vars[x].parents.clone();
+                while let Some(a) = stack.pop() {
+                    if !seen[a] {
+                        seen[a] = true;
+                        out.push(a);
+                        stack.extend(d.vars[a].parents.iter().copied());
+                    }
+                }
+                out.sort_unstable();
+                out
+            })
+            .collect();
+        let ensure = |b: &mut Builder, copies: &mut Vec<Vec<VarId>>, x: usize, k: u32| {
+            while copies[x].len() <= k as usize {
+                let c = copies[x].len() as u32;
+                let v = &d.vars[x];
+                let id = b.var(
+                    VarKind::State { var: x, copy: c },
+                    state_range(&v.ty),
+                    v.intervene && v.ty != VarType::Any,
+                    Func::Copy {
+                        var: x,
+                        prev: None,
+                        sparents: Vec::new(),
+                        writers: Vec::new(),
+                    },
+                );
+                copies[x].push(id);
+            }
+            copies[x][k as usize]
+        };
+        for x in 0..nv {
+            ensure(b, &mut copies, x, 0);
+        }
+        for &u in order {
+            let Some(l) = leaf_of[u as usize - 1] else {
+                continue;
+            };
+            let i = u as usize - 1;
+            let def = &d.leaves[l];
+            let mut touched: Vec<usize> = Vec::new();
+            for &x in &def.inputs {
+                let xc = ensure(b, &mut copies, x, tau[x]);
+                let mut set = ancestors[x].clone();
+                set.push(x);
+                for &a in &ancestors[x] {
+                    ensure(b, &mut copies, a, tau[a]);
+                }
+                for &y in &set {
+                    for &p in &d.vars[y].parents {
+                        if set.contains(&p) {
+                            let (pc, yc) = (copies[p][tau[p] as usize], copies[y][tau[y] as usize]);
+                            if b.edge(pc, yc) {
+                                if let Func::Copy { sparents, .. } = &mut b.vars[yc].func {
+                                    sparents.push((p, pc));
+                                }
+                            }
+                        }
+                    }
+                }
+                b.edge(xc, r_of[i]);
+                if let Some(dv) = d_of[i] {
+                    b.edge(xc, dv);
+                }
+                inputs_of[u as usize - 1].push((x, xc));
+                touched.extend(set);
+            }
+            touched.sort_unstable();
+            touched.dedup();
+            for x in touched {
+                tau[x] += 1;
+            }
+            for &y in &def.outputs {
+                let yc = ensure(b, &mut copies, y, tau[y]);
+                b.edge(e_of[i], yc);
+                if let Some(dv) = d_of[i] {
+                    b.edge(dv, yc);
+                }
+                if let Func::Copy { writers, .. } = &mut b.vars[yc].func {
+                    if !writers.contains(&u) {
+                        writers.push(u);
+                    }
+                }
+            }
+            tau_after.push((u, tau.clone()));
+        }
+        carry_forward(d, &copies, b);
+    }
+
+    StateCopies {
+        copies,
+        inputs_of,
+        tau_after,
+    }
+}
+
+/// Algorithm 8: top-level variables carry their value from copy to copy;
+/// a copy nothing computes or writes is exogenous.
+fn carry_forward(d: &Domain, copies: &[Vec<VarId>], b: &mut Builder) {
+    // Algorithm 8: top-level variables carry their value forward.
+    // A copy of a derived variable that a leaf writes and nothing
+    // recomputes carries its previous copy too (btx's addition).
+    for (x, cs) in copies.iter().enumerate() {
+        let top = d.vars[x].parents.is_empty();
+        for k in 1..cs.len() {
+            let (a, c) = (cs[k - 1], cs[k]);
+            let needs = match &b.vars[c].func {
+                Func::Copy {
+                    sparents, writers, ..
+                } => top || (sparents.is_empty() && !writers.is_empty()),
+                _ => false,
+            };
+            if needs {
+                if top {
+                    b.edge(a, c);
+                } else {
+                    b.extra(a, c);
+                }
+                if let Func::Copy { prev, .. } = &mut b.vars[c].func {
+                    *prev = Some(a);
+                }
+            }
+        }
+    }
+    for cs in copies {
+        for &c in cs {
+            if let Func::Copy {
+                prev: None,
+                sparents,
+                writers,
+                ..
+            } = &b.vars[c].func
+            {
+                if sparents.is_empty() && writers.is_empty() {
+                    b.vars[c].func = Func::Exo;
+                }
+            }
+        }
+    }
+}
+
+/// The graph of the variables, its topological order, and what each
+/// variable's function reads.
+fn assemble(b: &Builder, inputs_of: &[Vec<(usize, VarId)>]) -> Result<Assembled, Located> {
+    let nvars = b.vars.len();
+    let mut graph = DiGraph::<VarId, ()>::with_capacity(nvars, b.edge_list.len());
+    for v in 0..nvars {
+        graph.add_node(v);
+    }
+    let mut parents = vec![Vec::new(); nvars];
+    for &(a, c) in &b.edge_list {
+        graph.add_edge(NodeIndex::new(a), NodeIndex::new(c), ());
+        parents[c].push(a);
+    }
+    let topo: Vec<VarId> = petgraph::algo::toposort(&graph, None)
+        .map_err(|c| {
+            model_err(format!(
+                "the explanation model has a cycle through variable {}",
+                c.node_id().index()
+            ))
+        })?
+        .into_iter()
+        .map(|n| n.index())
+        .collect();
+    let mut deps = parents.clone();
+    for (v, info) in b.vars.iter().enumerate() {
+        if let Func::Copy { writers, .. } = &info.func {
+            for w in writers {
+                for &(_, c) in &inputs_of[*w as usize - 1] {
+                    if !deps[v].contains(&c) {
+                        deps[v].push(c);
+                    }
+                }
+            }
+        }
+    }
+    let mut topo_pos = vec![0; nvars];
+    for (i, &v) in topo.iter().enumerate() {
+        topo_pos[v] = i;
+    }
+    Ok(Assembled {
+        graph,
+        parents,
+        deps,
+        topo,
+        topo_pos,
+    })
 }
 
 impl Model {
-    /// Builds the model of the tick in `facts`. Without a domain, the model
-    /// has the tree's structure only and leaf outcomes are exogenous.
+    /// Builds the model of the tick in `facts`, stage by stage: the control
+    /// flow of the tick, the tree's structure, the domain's state copies,
+    /// the graph, then the facts (every variable's value with no change).
+    /// Without a domain, the model has the tree's structure only and leaf
+    /// outcomes are exogenous.
     pub fn build(
         tree: &Tree,
         domain: Option<Arc<Domain>>,
         facts: TickFacts,
     ) -> Result<Model, Located> {
         let n = tree.len();
-        let order = preorder(tree);
+        let order = tree.preorder();
         let mut pre_pos = vec![0; n];
         for (i, &u) in order.iter().enumerate() {
             pre_pos[u as usize - 1] = i;
@@ -418,281 +772,12 @@ impl Model {
             edge_list: Vec::new(),
             extension: 0,
         };
-        let mut e_of = vec![usize::MAX; n];
-        let mut r_of = vec![usize::MAX; n];
-        let mut d_of = vec![None; n];
-        let mut leaf_of = vec![None; n];
-        let flows: Vec<Flow> = (1..=n as Uid)
-            .map(|u| {
-                loop_of(tree, &facts, u)
-                    .unwrap_or_else(|| flow_of(tree, u, &facts.flows[u as usize - 1]))
-            })
-            .collect();
-        // Algorithm 7: variables and structural edges.
-        for &u in &order {
-            let node = tree.node(u);
-            let i = u as usize - 1;
-            let is_leaf = node.kind.is_leaf();
-            let leaf = if is_leaf && node.builtin.is_none() {
-                domain.as_ref().and_then(|d| d.leaf_for(tree, u))
-            } else {
-                None
-            };
-            leaf_of[i] = leaf;
-            let e_func = match node.parent {
-                None => Func::Root,
-                Some(p) => Func::ExecChild {
-                    parent: p,
-                    index: tree
-                        .node(p)
-                        .children
-                        .iter()
-                        .position(|&c| c == u)
-                        .unwrap_or(0),
-                },
-            };
-            e_of[i] = b.var(
-                VarKind::Executed(u),
-                vec![Val::Bool(true), Val::Bool(false)],
-                true,
-                e_func,
-            );
-            let r_func = if is_leaf {
-                Func::LeafStatus { uid: u, leaf }
-            } else {
-                Func::CompositeStatus { uid: u }
-            };
-            r_of[i] = b.var(VarKind::Status(u), status_range(node.kind), true, r_func);
-            if let (Some(l), Kind::Action) = (leaf, node.kind) {
-                let d = domain.as_ref().expect("a leaf has a domain");
-                let mut range: Vec<Val> = d.leaves[l]
-                    .actions
-                    .iter()
-                    .map(|a| Val::Action(Some(a.clone())))
-                    .collect();
-                range.push(Val::Action(None));
-                d_of[i] = Some(b.var(
-                    VarKind::Decision(u),
-                    range,
-                    true,
-                    Func::Decision { uid: u, leaf: l },
-                ));
-            }
-        }
-        for &u in &order {
-            let node = tree.node(u);
-            let i = u as usize - 1;
-            b.edge(e_of[i], r_of[i]);
-            if let Some(d) = d_of[i] {
-                b.edge(e_of[i], d);
-                b.edge(d, r_of[i]);
-            }
-            for &c in &node.children {
-                b.edge(r_of[c as usize - 1], r_of[i]);
-            }
-            let Some(p) = node.parent else { continue };
-            let siblings = &tree.node(p).children;
-            let k = siblings.iter().position(|&c| c == u).unwrap_or(0);
-            let ep = e_of[p as usize - 1];
-            if k == 0 {
-                b.edge(ep, e_of[i]);
-            } else {
-                b.edge(r_of[siblings[k - 1] as usize - 1], e_of[i]);
-            }
-            match flows[p as usize - 1] {
-                Flow::Sequential { start, .. } | Flow::Branch { start } if start == k && k > 0 => {
-                    b.extra(ep, e_of[i])
-                }
-                Flow::Parallel { .. } | Flow::ParallelAll { .. } if k > 0 => {
-                    b.extra(ep, e_of[i]);
-                    for &s in &siblings[..k - 1] {
-                        b.extra(r_of[s as usize - 1], e_of[i]);
-                    }
-                }
-                Flow::Branch { .. } if k == 2 => b.extra(r_of[siblings[0] as usize - 1], e_of[i]),
-                Flow::Gated | Flow::Map(_) if k > 0 => b.extra(ep, e_of[i]),
-                _ => {}
-            }
-        }
-
-        // Algorithms 3–5 and 8: the state's temporal copies.
-        let mut copies: Vec<Vec<VarId>> = Vec::new();
-        let mut inputs_of: Vec<Vec<(usize, VarId)>> = vec![Vec::new(); n];
-        let mut tau_after = Vec::new();
-        if let Some(d) = &domain {
-            let nv = d.vars.len();
-            copies = vec![Vec::new(); nv];
-            let mut tau = vec![0u32; nv];
-            // Ancestors in the state graph, nearest first, each once.
-            let ancestors: Vec<Vec<usize>> = (0..nv)
-                .map(|x| {
-                    let mut seen = vec![false; nv];
-                    let mut out = Vec::new();
-                    let mut stack: Vec<usize> = d.vars[x].parents.clone();
-                    while let Some(a) = stack.pop() {
-                        if !seen[a] {
-                            seen[a] = true;
-                            out.push(a);
-                            stack.extend(d.vars[a].parents.iter().copied());
-                        }
-                    }
-                    out.sort_unstable();
-                    out
-                })
-                .collect();
-            let ensure = |b: &mut Builder, copies: &mut Vec<Vec<VarId>>, x: usize, k: u32| {
-                while copies[x].len() <= k as usize {
-                    let c = copies[x].len() as u32;
-                    let v = &d.vars[x];
-                    let id = b.var(
-                        VarKind::State { var: x, copy: c },
-                        state_range(&v.ty),
-                        v.intervene && v.ty != VarType::Any,
-                        Func::Copy {
-                            var: x,
-                            prev: None,
-                            sparents: Vec::new(),
-                            writers: Vec::new(),
-                        },
-                    );
-                    copies[x].push(id);
-                }
-                copies[x][k as usize]
-            };
-            for x in 0..nv {
-                ensure(&mut b, &mut copies, x, 0);
-            }
-            for &u in &order {
-                let Some(l) = leaf_of[u as usize - 1] else {
-                    continue;
-                };
-                let i = u as usize - 1;
-                let def = &d.leaves[l];
-                let mut touched: Vec<usize> = Vec::new();
-                for &x in &def.inputs {
-                    let xc = ensure(&mut b, &mut copies, x, tau[x]);
-                    let mut set = ancestors[x].clone();
-                    set.push(x);
-                    for &a in &ancestors[x] {
-                        ensure(&mut b, &mut copies, a, tau[a]);
-                    }
-                    for &y in &set {
-                        for &p in &d.vars[y].parents {
-                            if set.contains(&p) {
-                                let (pc, yc) =
-                                    (copies[p][tau[p] as usize], copies[y][tau[y] as usize]);
-                                if b.edge(pc, yc) {
-                                    if let Func::Copy { sparents, .. } = &mut b.vars[yc].func {
-                                        sparents.push((p, pc));
-                                    }
-                                }
-                            }
-                        }
-                    }
-                    b.edge(xc, r_of[i]);
-                    if let Some(dv) = d_of[i] {
-                        b.edge(xc, dv);
-                    }
-                    inputs_of[u as usize - 1].push((x, xc));
-                    touched.extend(set);
-                }
-                touched.sort_unstable();
-                touched.dedup();
-                for x in touched {
-                    tau[x] += 1;
-                }
-                for &y in &def.outputs {
-                    let yc = ensure(&mut b, &mut copies, y, tau[y]);
-                    b.edge(e_of[i], yc);
-                    if let Some(dv) = d_of[i] {
-                        b.edge(dv, yc);
-                    }
-                    if let Func::Copy { writers, .. } = &mut b.vars[yc].func {
-                        if !writers.contains(&u) {
-                            writers.push(u);
-                        }
-                    }
-                }
-                tau_after.push((u, tau.clone()));
-            }
-            // Algorithm 8: top-level variables carry their value forward.
-            // A copy of a derived variable that a leaf writes and nothing
-            // recomputes carries its previous copy too (btx's addition).
-            for (x, cs) in copies.iter().enumerate() {
-                let top = d.vars[x].parents.is_empty();
-                for k in 1..cs.len() {
-                    let (a, c) = (cs[k - 1], cs[k]);
-                    let needs = match &b.vars[c].func {
-                        Func::Copy {
-                            sparents, writers, ..
-                        } => top || (sparents.is_empty() && !writers.is_empty()),
-                        _ => false,
-                    };
-                    if needs {
-                        if top {
-                            b.edge(a, c);
-                        } else {
-                            b.extra(a, c);
-                        }
-                        if let Func::Copy { prev, .. } = &mut b.vars[c].func {
-                            *prev = Some(a);
-                        }
-                    }
-                }
-            }
-            for cs in &copies {
-                for &c in cs {
-                    if let Func::Copy {
-                        prev: None,
-                        sparents,
-                        writers,
-                        ..
-                    } = &b.vars[c].func
-                    {
-                        if sparents.is_empty() && writers.is_empty() {
-                            b.vars[c].func = Func::Exo;
-                        }
-                    }
-                }
-            }
-        }
-
-        let nvars = b.vars.len();
-        let mut graph = DiGraph::<VarId, ()>::with_capacity(nvars, b.edge_list.len());
-        for v in 0..nvars {
-            graph.add_node(v);
-        }
-        let mut parents = vec![Vec::new(); nvars];
-        for &(a, c) in &b.edge_list {
-            graph.add_edge(NodeIndex::new(a), NodeIndex::new(c), ());
-            parents[c].push(a);
-        }
-        let topo: Vec<VarId> = petgraph::algo::toposort(&graph, None)
-            .map_err(|c| {
-                model_err(format!(
-                    "the explanation model has a cycle through variable {}",
-                    c.node_id().index()
-                ))
-            })?
-            .into_iter()
-            .map(|n| n.index())
-            .collect();
-        let mut deps = parents.clone();
-        for (v, info) in b.vars.iter().enumerate() {
-            if let Func::Copy { writers, .. } = &info.func {
-                for w in writers {
-                    for &(_, c) in &inputs_of[*w as usize - 1] {
-                        if !deps[v].contains(&c) {
-                            deps[v].push(c);
-                        }
-                    }
-                }
-            }
-        }
-        let mut topo_pos = vec![0; nvars];
-        for (i, &v) in topo.iter().enumerate() {
-            topo_pos[v] = i;
-        }
+        let flows = control_flows(tree, &facts);
+        let st = structure(tree, &domain, &order, &flows, &mut b);
+        let sc = state_copies(tree, &domain, &order, &st, &mut b);
+        let g = assemble(&b, &sc.inputs_of)?;
+        let leaf_of = st.leaf_of;
+        let inputs_of = sc.inputs_of;
         let reads_of = inputs_of
             .iter()
             .zip(&leaf_of)
@@ -712,24 +797,25 @@ impl Model {
             domain,
             facts,
             vars: b.vars,
-            graph,
-            parents,
-            deps,
-            topo,
-            topo_pos,
-            e_of,
-            r_of,
-            d_of,
+            graph: g.graph,
+            parents: g.parents,
+            deps: g.deps,
+            topo: g.topo,
+            topo_pos: g.topo_pos,
+            e_of: st.e_of,
+            r_of: st.r_of,
+            d_of: st.d_of,
             flows,
             leaf_of,
             inputs_of,
             reads_of,
-            copies,
-            tau_after,
+            copies: sc.copies,
+            tau_after: sc.tau_after,
             fact: Vec::new(),
             pre_pos,
             extension_edges: b.extension,
         };
+        // Stage "facts": every variable's value with no intervention.
         m.fact = m.evaluate_all()?;
         Ok(m)
     }
@@ -1515,5 +1601,116 @@ impl Evaluator<'_> {
 
     pub fn value(&self, v: VarId) -> &Val {
         &self.vals[v]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::run::plan::{Plan, PlanLeaves};
+    use crate::run::RunOptions;
+    use crate::session::record::simulate;
+    use crate::session::{Session, Source};
+    use std::path::Path;
+
+    fn case_study() -> (Session, Arc<Domain>) {
+        let s =
+            Session::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/case-study.jsonl"))
+                .unwrap();
+        let d = crate::causal::session_domain(&s, None).unwrap().unwrap();
+        (s, d)
+    }
+
+    fn builder() -> Builder {
+        Builder {
+            vars: Vec::new(),
+            edges: HashSet::new(),
+            edge_list: Vec::new(),
+            extension: 0,
+        }
+    }
+
+    #[test]
+    fn structure_gives_e_r_and_d_per_node() {
+        let (s, d) = case_study();
+        let facts = TickFacts::of(&s, 1).unwrap();
+        let flows = control_flows(&s.tree, &facts);
+        let mut b = builder();
+        let st = structure(&s.tree, &Some(d), &s.tree.preorder(), &flows, &mut b);
+        // Five nodes: E and r each, d for the two action leaves L1 and L2.
+        assert_eq!(b.vars.len(), 12);
+        assert!(st.e_of.iter().chain(&st.r_of).all(|&v| v < 12));
+        assert_eq!(st.d_of.iter().flatten().count(), 2);
+        assert_eq!(b.extension, 0, "Love's case study needs no extension edge");
+    }
+
+    #[test]
+    fn state_copies_follow_the_leaves_in_tree_order() {
+        let (s, d) = case_study();
+        let facts = TickFacts::of(&s, 1).unwrap();
+        let flows = control_flows(&s.tree, &facts);
+        let order = s.tree.preorder();
+        let mut b = builder();
+        let dom = Some(Arc::clone(&d));
+        let st = structure(&s.tree, &dom, &order, &flows, &mut b);
+        let sc = state_copies(&s.tree, &dom, &order, &st, &mut b);
+        let count = |name: &str| sc.copies[d.var(name).unwrap()].len();
+        // Love's Table 1 model: X_a twice, X_b three times, X_c and X_d once.
+        assert_eq!(
+            (count("X_a"), count("X_b"), count("X_c"), count("X_d")),
+            (2, 3, 1, 1)
+        );
+        assert_eq!(b.vars.len(), 19);
+        let g = assemble(&b, &sc.inputs_of).unwrap();
+        assert_eq!(g.graph.edge_count(), 34);
+        for &(a, c) in &b.edge_list {
+            assert!(g.topo_pos[a] < g.topo_pos[c], "topological order");
+        }
+    }
+
+    #[test]
+    fn attempts_follow_the_wake_up_path() {
+        let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><RetryUntilSuccessful num_attempts="3"><a name="a"/></RetryUntilSuccessful></BehaviorTree></root>"#;
+        let tree = crate::xml::load_str(Path::new("t.xml"), xml, &Default::default())
+            .unwrap()
+            .tree;
+        let plan = Plan::parse(Path::new("t.plan"), "a = F, 1RF, S").unwrap();
+        let source = Source {
+            kind: "plan".into(),
+            path: None,
+            text: Some(plan.text.clone()),
+            name: None,
+        };
+        let leaves = PlanLeaves::new(plan, &tree);
+        let s = simulate(&tree, source, None, 10, RunOptions::default(), leaves).unwrap();
+        // Tick 1: a starts and fails at once; the Retry waits for tick 2.
+        let f1 = control_flows(&tree, &TickFacts::of(&s, 1).unwrap());
+        assert!(matches!(
+            f1[0],
+            Flow::Map(Mapping::Loop {
+                spent: 0,
+                max: 3,
+                wakes: true,
+                ..
+            })
+        ));
+        // Tick 3: a was running, fails, and the Retry tries again at once
+        // (attempt 3, the child ticked twice in the tick).
+        let facts = TickFacts::of(&s, 3).unwrap();
+        assert_eq!(facts.calls[1], 2);
+        let f3 = control_flows(&tree, &facts);
+        assert!(matches!(
+            f3[0],
+            Flow::Map(Mapping::Loop {
+                spent: 2,
+                wakes: true,
+                ..
+            })
+        ));
+        // And the model reproduces every tick of it.
+        for t in 1..=s.index.ticks() {
+            let m = Model::build(&tree, None, TickFacts::of(&s, t).unwrap()).unwrap();
+            assert!(m.unfaithful().is_empty(), "tick {t}: {:?}", m.unfaithful());
+        }
     }
 }

@@ -197,7 +197,7 @@ impl<'s> Rerunner<'s> {
         let mut iv = Intervention::default();
         iv.tick = tick;
         iv.order = vec![0; model.tree.len()];
-        for (i, u) in super::model::preorder(&model.tree).into_iter().enumerate() {
+        for (i, u) in model.tree.preorder().into_iter().enumerate() {
             iv.order[u as usize - 1] = i;
         }
         for (v, x) in dos {
@@ -360,7 +360,7 @@ impl<'s> Rerunner<'s> {
 /// whose read moved the count on to it; a derived copy not before the
 /// copies it is computed from. `None`: from the tick's start.
 pub fn copy_place(model: &Model, var: usize, k: u32) -> Option<usize> {
-    let order = super::model::preorder(&model.tree);
+    let order = model.tree.preorder();
     let place = |u: Uid| order.iter().position(|&x| x == u).unwrap_or(0);
     let mut seen = Vec::new();
     let p = copy_start(model, &place, var, k, &mut seen);
@@ -412,7 +412,7 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
     // Only leaves whose status can reach the target matter.
     let matters = model.ancestors(&[t]);
     let unknown = |u: Uid| unknown(u) && matters.contains(&model.r(u));
-    let order = super::model::preorder(&model.tree);
+    let order = model.tree.preorder();
     let mut budget = UNKNOWN_EVALUATIONS_MAX;
     for values in e.values.iter().take(ASSIGNMENTS_MAX) {
         let dos: Vec<(usize, Val)> = e.vars.iter().copied().zip(values.clone()).collect();

@@ -297,6 +297,11 @@ impl Tree {
         })
     }
 
+    /// Every node, depth-first and left to right from the root.
+    pub fn preorder(&self) -> Vec<Uid> {
+        self.descendants(Tree::ROOT).collect()
+    }
+
     /// The leaves (actions and conditions) below a node, in tree order.
     pub fn leaves_below(&self, uid: Uid) -> impl Iterator<Item = Uid> + '_ {
         self.descendants(uid)

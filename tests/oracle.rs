@@ -13,13 +13,16 @@
 
 use btx::logs::btlog;
 use btx::run::plan::{Plan, PlanLeaves};
-use btx::run::world::random::Rng;
 use btx::run::{RunOptions, Status};
 use btx::session::record::simulate;
 use btx::session::Source;
 use btx::xml::{load_str, LoadOptions};
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+#[path = "common/trees.rs"]
+mod trees;
+use trees::{generate, Case};
 
 fn python() -> PathBuf {
     if let Some(p) = std::env::var_os("BTX_ORACLE_PYTHON") {
@@ -31,244 +34,6 @@ fn python() -> PathBuf {
         "the BehaviorTree.CPP oracle is not installed: run tests/oracle/setup.sh (or set BTX_ORACLE_PYTHON)"
     );
     p
-}
-
-/// A generated case: the tree, its plan, and how many ticks to run.
-struct Case {
-    xml: String,
-    plan: String,
-    max_ticks: u32,
-}
-
-struct Gen<'a> {
-    rng: &'a mut Rng,
-    leaves: Vec<(String, bool)>,
-    /// Scripts, blackboard nodes, Switch, Precondition and the pre/post
-    /// script attributes, over one integer entry `k`.
-    scripted: bool,
-}
-
-impl Gen<'_> {
-    /// A script condition over `k`, in the syntax both sides read.
-    fn test(&mut self) -> String {
-        let op = ["==", "!=", "<", ">", "<=", ">="][self.rng.range(0, 5)];
-        format!("k {op} {}", self.rng.range(0, 4))
-    }
-
-    /// A script that changes `k`.
-    fn change(&mut self) -> String {
-        match self.rng.range(0, 3) {
-            0 => format!("k := {}", self.rng.range(0, 4)),
-            1 => "k += 1".into(),
-            2 => "k -= 1".into(),
-            _ => format!("k := k + {}", self.rng.range(1, 2)),
-        }
-    }
-
-    /// Pre/post script attributes, sometimes.
-    fn attributes(&mut self) -> String {
-        if !self.scripted || self.rng.range(0, 3) != 0 {
-            return String::new();
-        }
-        let (name, code) = match self.rng.range(0, 7) {
-            0 => ("_skipIf", self.test()),
-            1 => ("_successIf", self.test()),
-            2 => ("_failureIf", self.test()),
-            3 => ("_while", self.test()),
-            4 => ("_onSuccess", self.change()),
-            5 => ("_onFailure", self.change()),
-            6 => ("_post", self.change()),
-            _ => ("_onHalted", self.change()),
-        };
-        format!(" {name}=\"{}\"", xml_escape(&code))
-    }
-
-    fn leaf(&mut self) -> String {
-        let n = self.leaves.len();
-        if self.scripted && self.rng.range(0, 5) == 0 {
-            // SetBlackboard writes a string: it gets an entry of its own
-            // (`m`), which scripts only compare (see the README on what the
-            // library does to a script's number overwritten with a string).
-            return match self.rng.range(0, 4) {
-                0 => format!("<Script code=\"{}\"/>", xml_escape(&self.change())),
-                1 => format!("<ScriptCondition code=\"{}\"/>", xml_escape(&self.test())),
-                2 => format!(
-                    "<SetBlackboard output_key=\"m\" value=\"{}\"/>",
-                    self.rng.range(0, 4)
-                ),
-                3 => {
-                    let op = ["==", "!=", "<", ">"][self.rng.range(0, 3)];
-                    let v = self.rng.range(0, 4);
-                    format!(
-                        "<ScriptCondition code=\"{}\"/>",
-                        xml_escape(&format!("m {op} {v}"))
-                    )
-                }
-                _ => "<AlwaysSuccess/>".into(),
-            };
-        }
-        if self.rng.range(0, 9) == 0 {
-            return if self.rng.coin() {
-                "<AlwaysSuccess/>".into()
-            } else {
-                "<AlwaysFailure/>".into()
-            };
-        }
-        let condition = self.rng.range(0, 2) == 0;
-        let id = if condition { "Check" } else { "Act" };
-        self.leaves.push((format!("n{n}"), condition));
-        let attrs = self.attributes();
-        format!("<{id} name=\"n{n}\"{attrs}/>")
-    }
-
-    fn children(&mut self, depth: u32, lo: usize, hi: usize) -> String {
-        let k = self.rng.range(lo, hi);
-        (0..k).map(|_| self.node(depth + 1)).collect()
-    }
-
-    fn node(&mut self, depth: u32) -> String {
-        if depth >= 4 || self.rng.range(0, 9) < 3 + depth as usize {
-            return self.leaf();
-        }
-        let kinds = [
-            "Sequence",
-            "Fallback",
-            "ReactiveSequence",
-            "ReactiveFallback",
-            "SequenceWithMemory",
-            "AsyncSequence",
-            "AsyncFallback",
-            "Parallel",
-            "ParallelAll",
-            "IfThenElse",
-            "WhileDoElse",
-            "Inverter",
-            "ForceSuccess",
-            "ForceFailure",
-            "RetryUntilSuccessful",
-            "Repeat",
-            "KeepRunningUntilFailure",
-            "RunOnce",
-        ];
-        if self.scripted && self.rng.range(0, 5) == 0 {
-            return match self.rng.coin() {
-                true => {
-                    let cases = self.rng.range(2, 3);
-                    let body = (0..=cases)
-                        .map(|_| self.node(depth + 1))
-                        .collect::<String>();
-                    let attrs: String = (1..=cases)
-                        .map(|i| format!(" case_{i}=\"{}\"", self.rng.range(0, 3)))
-                        .collect();
-                    format!("<Switch{cases} variable=\"{{k}}\"{attrs}>{body}</Switch{cases}>")
-                }
-                false => {
-                    let body = self.node(depth + 1);
-                    let cond = xml_escape(&self.test());
-                    let other = ["SUCCESS", "FAILURE"][self.rng.range(0, 1)];
-                    format!("<Precondition if=\"{cond}\" else=\"{other}\">{body}</Precondition>")
-                }
-            };
-        }
-        let kind = kinds[self.rng.range(0, kinds.len() - 1)];
-        let attrs = self.attributes();
-        let node = self.composite(kind, depth);
-        // The attributes go on the element's opening tag.
-        match node.find('>') {
-            Some(i) if !attrs.is_empty() => format!("{}{attrs}{}", &node[..i], &node[i..]),
-            _ => node,
-        }
-    }
-
-    fn composite(&mut self, kind: &str, depth: u32) -> String {
-        match kind {
-            "Parallel" => {
-                let body = self.children(depth, 2, 3);
-                let n = body.matches("/>").count().max(2) as i64;
-                let s = self.rng.range(1, 2) as i64;
-                let f = self.rng.range(1, 2) as i64;
-                let _ = n;
-                format!("<Parallel success_count=\"{s}\" failure_count=\"{f}\">{body}</Parallel>")
-            }
-            "ParallelAll" => {
-                let body = self.children(depth, 2, 3);
-                let m = self.rng.range(1, 2);
-                format!("<ParallelAll max_failures=\"{m}\">{body}</ParallelAll>")
-            }
-            "IfThenElse" | "WhileDoElse" => {
-                let body = self.children(depth, 2, 3);
-                format!("<{kind}>{body}</{kind}>")
-            }
-            "RetryUntilSuccessful" => {
-                let body = self.node(depth + 1);
-                let a = self.rng.range(1, 3);
-                format!("<RetryUntilSuccessful num_attempts=\"{a}\">{body}</RetryUntilSuccessful>")
-            }
-            "Repeat" => {
-                let body = self.node(depth + 1);
-                let a = self.rng.range(1, 3);
-                format!("<Repeat num_cycles=\"{a}\">{body}</Repeat>")
-            }
-            "RunOnce" => {
-                let body = self.node(depth + 1);
-                let skip = self.rng.coin();
-                format!("<RunOnce then_skip=\"{skip}\">{body}</RunOnce>")
-            }
-            "Inverter" | "ForceSuccess" | "ForceFailure" | "KeepRunningUntilFailure" => {
-                let body = self.node(depth + 1);
-                format!("<{kind}>{body}</{kind}>")
-            }
-            _ => {
-                let body = self.children(depth, 1, 3);
-                format!("<{kind}>{body}</{kind}>")
-            }
-        }
-    }
-}
-
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
-fn generate(seed: u64) -> Case {
-    let mut rng = Rng::new(seed);
-    // Every other case uses scripts and the blackboard, starting from k = 0.
-    let scripted = seed % 2 == 1;
-    let mut g = Gen {
-        rng: &mut rng,
-        leaves: Vec::new(),
-        scripted,
-    };
-    let mut body = g.node(0);
-    if scripted {
-        body = format!("<Sequence><Script code=\"k := 0\"/><SetBlackboard output_key=\"m\" value=\"1\"/>{body}</Sequence>");
-    }
-    let leaves = g.leaves;
-    let mut plan = String::from("@default_action = 1RS\n@default_condition = S\n");
-    for (name, condition) in &leaves {
-        let k = rng.range(1, 3);
-        let list: Vec<&str> = (0..k)
-            .map(|_| {
-                if *condition {
-                    ["S", "F"][rng.range(0, 1)]
-                } else {
-                    ["S", "F", "1RS", "1RF", "2RS", "2RF"][rng.range(0, 5)]
-                }
-            })
-            .collect();
-        plan.push_str(&format!("{name} = {}\n", list.join(", ")));
-    }
-    let xml = format!(
-        "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">{body}</BehaviorTree><TreeNodesModel><Action ID=\"Act\"/><Condition ID=\"Check\"/></TreeNodesModel></root>"
-    );
-    Case {
-        xml,
-        plan,
-        max_ticks: 24,
-    }
 }
 
 /// One run: (tick, uid, status) for each transition, the root's last
@@ -283,7 +48,13 @@ struct Run {
 fn oracle(cases: &[Case], dir: &Path) -> Vec<Run> {
     let json: Vec<serde_json::Value> = cases
         .iter()
-        .map(|c| serde_json::json!({"xml": c.xml, "plan": c.plan, "max_ticks": c.max_ticks}))
+        .map(|c| {
+            let mut j = serde_json::json!({"xml": c.xml, "plan": c.plan, "max_ticks": c.max_ticks});
+            if c.tick_ms > 0 {
+                j["sleep_ms"] = serde_json::json!(c.tick_ms);
+            }
+            j
+        })
         .collect();
     let input = dir.join("cases.json");
     std::fs::write(&input, serde_json::to_string(&json).unwrap()).unwrap();
@@ -334,24 +105,21 @@ fn oracle(cases: &[Case], dir: &Path) -> Vec<Run> {
         .collect()
 }
 
-/// The tick (from 1) whose wall-clock interval is nearest to a record's
-/// time: ticks last microseconds and are 1.5 ms apart, so a small offset
-/// between the logger's clock and Python's cannot move a record.
+/// The tick (from 1) of a record's time: the tick whose wall-clock interval
+/// holds it, within a slack for the offset between the logger's clock and
+/// Python's; a record between two ticks (a Timeout's timer thread halting
+/// its child) belongs to the next tick, where btx's simulated timers fire.
 fn nearest_tick(ticks: &[(i64, i64)], t: i64) -> u32 {
-    let dist = |&(s, e): &(i64, i64)| {
-        if t < s {
-            s - t
-        } else if t > e {
-            t - e
-        } else {
-            0
+    const SLACK_US: i64 = 300;
+    for (i, &(s, e)) in ticks.iter().enumerate() {
+        if t >= s - SLACK_US && t <= e + SLACK_US {
+            return i as u32 + 1;
         }
-    };
-    ticks
-        .iter()
-        .enumerate()
-        .min_by_key(|(_, iv)| dist(iv))
-        .map_or(1, |(i, _)| i as u32 + 1)
+        if t < s {
+            return i as u32 + 1;
+        }
+    }
+    ticks.len().max(1) as u32
 }
 
 fn btx_run(case: &Case) -> Run {
@@ -373,14 +141,10 @@ fn btx_run(case: &Case) -> Run {
         text: Some(plan.text.clone()),
         name: None,
     };
-    match simulate(
-        &tree,
-        source,
-        None,
-        case.max_ticks,
-        RunOptions::default(),
-        leaves,
-    ) {
+    let options = RunOptions {
+        tick_ms: if case.tick_ms > 0 { case.tick_ms } else { 10 },
+    };
+    match simulate(&tree, source, None, case.max_ticks, options, leaves) {
         Ok(s) => Run {
             transitions: s
                 .index
@@ -493,4 +257,46 @@ fn btx_runs_generated_trees_as_behaviortree_cpp_does() {
             .collect::<Vec<_>>()
             .join("\n")
     );
+}
+
+/// Timeout, Delay and Sleep against the library's own clock: ticks 20 ms
+/// apart, times far from any tick, so that a timer fires between the same
+/// two ticks on both sides.
+#[test]
+fn timers_fire_in_the_same_ticks_as_behaviortree_cpp() {
+    let tree = |body: &str| {
+        format!("<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">{body}</BehaviorTree><TreeNodesModel><Action ID=\"Act\"/><Condition ID=\"Check\"/></TreeNodesModel></root>")
+    };
+    let cases: Vec<Case> = [
+        // The child outlasts the Timeout: halted between ticks 3 and 4.
+        (r#"<Sequence><Timeout msec="50"><Act name="move"/></Timeout><Act name="after"/></Sequence>"#, "move = 10RS\nafter = S"),
+        // The child finishes in time.
+        (r#"<Timeout msec="90"><Act name="move"/></Timeout>"#, "move = 2RS"),
+        // Delay: RUNNING until its time is up, then the child.
+        (r#"<Delay delay_msec="50"><Act name="go"/></Delay>"#, "go = 1RS"),
+        // Sleep as a leaf, in a Sequence.
+        (r#"<Sequence><Sleep msec="50"/><Act name="go"/></Sequence>"#, "go = S"),
+        // A Timeout inside a reactive guard.
+        (r#"<ReactiveSequence><Check name="ok"/><Timeout msec="50"><Act name="move"/></Timeout></ReactiveSequence>"#, "ok = S\nmove = 10RS"),
+    ]
+    .iter()
+    .map(|(body, plan)| Case {
+        xml: tree(body),
+        plan: format!("@default_action = 1RS\n@default_condition = S\n{plan}\n"),
+        max_ticks: 12,
+        tick_ms: 20,
+    })
+    .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let runs = oracle(&cases, dir.path());
+    for (case, real) in cases.iter().zip(&runs) {
+        let ours = btx_run(case);
+        assert!(real.error.is_none(), "{:?}", real.error);
+        assert!(
+            real.transitions == ours.transitions && real.root == ours.root,
+            "{}\n  tree: {}",
+            first_difference(real, &ours),
+            case.xml
+        );
+    }
 }

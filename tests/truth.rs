@@ -4,6 +4,8 @@
 //! that issue are asserted gone here, each against a re-run of the tree.
 
 mod common;
+#[path = "common/trees.rs"]
+mod trees;
 use btx::causal::search::{Explanation, Query};
 use btx::causal::verify::{Check, Rerunner};
 use btx::causal::{self, Model, Val};
@@ -250,8 +252,55 @@ fn targets(m: &Model) -> Vec<String> {
     out
 }
 
+/// A generated tree's run from its plan (the trees of the differential
+/// tests: every built-in node kind, scripts and the blackboard).
+fn planned(seed: u64) -> Option<Session> {
+    let case = trees::generate(seed);
+    let tree = load_str(Path::new("case.xml"), &case.xml, &LoadOptions::default())
+        .ok()?
+        .tree;
+    let plan = btx::run::plan::Plan::parse(Path::new("case.plan"), &case.plan).unwrap();
+    let leaves = btx::run::plan::PlanLeaves::new(plan.clone(), &tree);
+    let source = Source {
+        kind: "plan".into(),
+        path: None,
+        text: Some(plan.text),
+        name: None,
+    };
+    simulate(
+        &tree,
+        source,
+        None,
+        case.max_ticks,
+        RunOptions::default(),
+        leaves,
+    )
+    .ok()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 32, .. ProptestConfig::default() })]
+
+    /// Runs of generated trees from plans: asked why a node had its status
+    /// or ran at a random moment, every explanation shown has been
+    /// confirmed by running the plan again, or says why it could not be.
+    #[test]
+    fn planned_runs_show_only_confirmed_explanations(seed in any::<u64>(), pick in any::<u64>()) {
+        let Some(s) = planned(seed) else { return Ok(()) };
+        let mut rng = Rng::new(pick);
+        let tick = rng.range(1, s.index.ticks() as usize) as u32;
+        let uid = rng.range(1, s.tree.len()) as btx::Uid;
+        let target = if rng.coin() { format!("status(#{uid})") } else { format!("executed(#{uid})") };
+        let at = btx::session::Moment { tick, step: None };
+        let Ok(w) = causal::why(&s, None, &target, &[], Some(at), 2) else { return Ok(()) };
+        prop_assert_eq!(w.checks.len(), w.answer.explanations.len());
+        for c in &w.checks {
+            prop_assert!(matches!(c, Check::Confirmed { .. } | Check::NotRerun(_)), "{c:?}");
+        }
+        for (_, c) in &w.dropped {
+            prop_assert!(matches!(c, Check::Refuted { .. }), "{c:?}");
+        }
+    }
 
     /// The re-run is faithful: changing a variable to the value it had
     /// gives, in a re-run, the value the target had (never a refutation),

@@ -197,6 +197,7 @@ fn btx_runs_generated_trees_as_behaviortree_cpp_does() {
     let mut failures = Vec::new();
     let mut compared = 0;
     let mut errored = 0;
+    let (mut with_subtrees, mut with_scripts) = (0, 0);
     let batch = 200;
     let mut start = first;
     while start < first + n {
@@ -218,6 +219,8 @@ fn btx_runs_generated_trees_as_behaviortree_cpp_does() {
         for (k, (case, real)) in cases.iter().zip(&runs).enumerate() {
             let ours = btx_run(case);
             compared += 1;
+            with_subtrees += usize::from(case.xml.contains("<SubTree "));
+            with_scripts += usize::from(case.xml.contains("<Script "));
             if real.error.is_some() {
                 errored += 1;
             }
@@ -239,7 +242,7 @@ fn btx_runs_generated_trees_as_behaviortree_cpp_does() {
         start = end;
     }
     eprintln!(
-        "{compared} generated trees compared with BehaviorTree.CPP ({errored} stopped with an error in both)"
+        "{compared} generated trees compared with BehaviorTree.CPP ({with_scripts} with scripts, {with_subtrees} with SubTrees; {errored} stopped with an error in both)"
     );
     // The comparison is of runs, not of refusals.
     assert!(

@@ -21,6 +21,10 @@ struct Gen<'a> {
     /// Scripts, blackboard nodes, Switch, Precondition and the pre/post
     /// script attributes, over one integer entry `k`.
     scripted: bool,
+    /// Parts of the tree made SubTrees (remapped automatically, so that
+    /// scripts share `k`), with their definitions.
+    with_subtrees: bool,
+    subtrees: Vec<String>,
 }
 
 impl Gen<'_> {
@@ -107,6 +111,13 @@ impl Gen<'_> {
     fn node(&mut self, depth: u32) -> String {
         if depth >= 4 || self.rng.range(0, 9) < 3 + depth as usize {
             return self.leaf();
+        }
+        if self.with_subtrees && self.rng.range(0, 5) == 0 {
+            let inner = self.node(depth + 1);
+            let j = self.subtrees.len();
+            self.subtrees
+                .push(format!("<BehaviorTree ID=\"S{j}\">{inner}</BehaviorTree>"));
+            return format!("<SubTree ID=\"S{j}\" name=\"s{j}\" _autoremap=\"true\"/>");
         }
         let kinds = [
             "Sequence",
@@ -219,12 +230,15 @@ pub fn generate(seed: u64) -> Case {
         rng: &mut rng,
         leaves: Vec::new(),
         scripted,
+        with_subtrees: seed % 4 >= 2,
+        subtrees: Vec::new(),
     };
     let mut body = g.node(0);
     if scripted {
         body = format!("<Sequence><Script code=\"k := 0\"/><SetBlackboard output_key=\"m\" value=\"1\"/>{body}</Sequence>");
     }
     let leaves = g.leaves;
+    let subtrees = g.subtrees.concat();
     let mut plan = String::from("@default_action = 1RS\n@default_condition = S\n");
     for (name, condition) in &leaves {
         let k = rng.range(1, 3);
@@ -240,7 +254,7 @@ pub fn generate(seed: u64) -> Case {
         plan.push_str(&format!("{name} = {}\n", list.join(", ")));
     }
     let xml = format!(
-        "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">{body}</BehaviorTree><TreeNodesModel><Action ID=\"Act\"/><Condition ID=\"Check\"/></TreeNodesModel></root>"
+        "<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">{body}</BehaviorTree>{subtrees}<TreeNodesModel><Action ID=\"Act\"/><Condition ID=\"Check\"/></TreeNodesModel></root>"
     );
     Case {
         xml,

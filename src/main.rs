@@ -310,9 +310,65 @@ enum Failure {
 }
 
 impl From<btx::Located> for Failure {
-    fn from(e: btx::Located) -> Self {
+    fn from(mut e: btx::Located) -> Self {
+        use btx::text::{same_length, visible};
+        e.location = visible(&e.location).into_owned();
+        e.message = visible(&e.message).into_owned();
+        e.label = visible(&e.label).into_owned();
+        e.help = e.help.map(|h| visible(&h).into_owned());
+        // The offending line is shown only when it is of a readable length
+        // (a minified file's one line is not, and miette cannot draw a
+        // column past 65,535); control characters in it become `?`, byte
+        // for byte, so that the span still points where it did.
+        if let (Some(src), Some(span)) = (&e.source_code, e.span) {
+            let text = src.inner();
+            let at = span.offset().min(text.len());
+            let start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+            let end = text[at..].find('\n').map_or(text.len(), |i| at + i);
+            if end - start > LINE_SHOWN_MAX {
+                e.source_code = None;
+                e.span = None;
+            } else if let std::borrow::Cow::Owned(clean) = same_length(text) {
+                e.source_code = Some(miette::NamedSource::new(src.name(), clean));
+            }
+        }
         Failure::Located(miette::Report::new(e))
     }
+}
+
+/// The longest line an error shows with its source (bytes).
+const LINE_SHOWN_MAX: usize = 2000;
+
+// Everything btx prints goes through one sanitiser (data never drives the
+// terminal), and a closed pipe (`btx log … | head`) ends btx quietly, as
+// ripgrep does.
+macro_rules! print {
+    ($($t:tt)*) => { out(&format!($($t)*)) };
+}
+macro_rules! println {
+    () => { out("\n") };
+    ($($t:tt)*) => { out(&format!("{}\n", format_args!($($t)*))) };
+}
+macro_rules! eprintln {
+    ($($t:tt)*) => { err_out(&format!("{}\n", format_args!($($t)*))) };
+}
+
+fn out(s: &str) {
+    use std::io::Write;
+    let s = btx::text::visible(s);
+    let mut o = std::io::stdout().lock();
+    if let Err(e) = o.write_all(s.as_bytes()).and_then(|()| o.flush()) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        let _ = writeln!(std::io::stderr(), "error: cannot write the output: {e}");
+        std::process::exit(1);
+    }
+}
+
+fn err_out(s: &str) {
+    use std::io::Write;
+    let _ = std::io::stderr().write_all(btx::text::visible(s).as_bytes());
 }
 
 macro_rules! fail {
@@ -1079,7 +1135,9 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Located(report)) => {
-            eprintln!("{report:?}");
+            // Its text was made safe when it was built; miette may colour it.
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "{report:?}");
             ExitCode::FAILURE
         }
         Err(Failure::Plain(msg)) => {

@@ -1118,6 +1118,9 @@ pub fn dynamic_to_json(d: Dynamic) -> Value {
         return Value::from(i);
     }
     if let Ok(f) = d.as_float() {
+        if !f.is_finite() {
+            return super::script::number(f);
+        }
         return Value::from(f);
     }
     if d.is_unit() {

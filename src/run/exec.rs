@@ -255,6 +255,9 @@ pub struct Forced {
 
 type R<T> = Result<T, RunError>;
 
+/// The most ticks of one child within one tick (a Retry or Repeat loop).
+pub const CHILD_TICKS_IN_A_TICK_MAX: u32 = 100_000;
+
 impl<'t, L: Leaves> Executor<'t, L> {
     pub fn new(tree: &'t Tree, leaves: L, opts: RunOptions) -> Self {
         let mut bb = Blackboard::new(tree);
@@ -1387,12 +1390,31 @@ impl<'t, L: Leaves> Executor<'t, L> {
         self.tree.version == crate::model::Version::V4 && prev == Status::Idle
     }
 
+    /// A Retry or Repeat that ticks its child this often within one tick
+    /// is making no progress (v3 has no wake-up path to end the loop): the
+    /// run stops with an error instead of looping forever.
+    fn check_progress(&self, uid: Uid, child: Uid) -> R<()> {
+        let n = self.calls[(child - 1) as usize];
+        if n >= CHILD_TICKS_IN_A_TICK_MAX {
+            return Err(self.err(
+                uid,
+                format!(
+                    "ticked its child {} {n} times within tick {} without the tick ending; a loop that makes no progress is stopped (at most {CHILD_TICKS_IN_A_TICK_MAX} ticks of a child within one tick)",
+                    self.tree.description(child),
+                    self.tick
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     fn tick_retry(&mut self, uid: Uid) -> R<Status> {
         let child = self.tree.node(uid).children[0];
         let max = self.port_int(uid, &["num_attempts"], None)?;
         self.set_status(uid, Status::Running);
         let mut do_loop = self.rt(uid).count < max || max == -1;
         while do_loop {
+            self.check_progress(uid, child)?;
             let prev = self.status(child);
             match self.exec(child)? {
                 Status::Success => {
@@ -1428,6 +1450,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
         let mut do_loop = self.rt(uid).count < max || max == -1;
         let mut all_skipped = true;
         while do_loop {
+            self.check_progress(uid, child)?;
             let prev = self.status(child);
             let s = self.exec(child)?;
             all_skipped &= s == Status::Skipped;

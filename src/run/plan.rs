@@ -154,8 +154,10 @@ impl PlanLeaves {
             warnings: Vec::new(),
         };
         let mut used = vec![false; p.plan.entries.len()];
+        // Built-in leaves (Script, AlwaysSuccess, SetBlackboard…) run by
+        // their own rules and take no plan entry.
         for n in &tree.nodes {
-            if n.kind.is_leaf() {
+            if n.kind.is_leaf() && n.builtin.is_none() {
                 if let Some(e) = p.assign(tree, n.uid) {
                     used[e] = true;
                 }

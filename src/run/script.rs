@@ -112,7 +112,20 @@ fn num(v: &Value) -> Result<f64, String> {
     }
 }
 
-fn number(x: f64) -> Value {
+/// A number as the blackboard keeps it. JSON has no infinity or NaN: they
+/// are kept as BehaviorTree.CPP prints them (`inf`, `-inf`, `nan`), strings
+/// that read back as the same numbers, so a session holds every value a
+/// run can make.
+pub fn number(x: f64) -> Value {
+    if !x.is_finite() {
+        return Value::from(if x.is_nan() {
+            "nan".to_string()
+        } else if x > 0.0 {
+            "inf".to_string()
+        } else {
+            "-inf".to_string()
+        });
+    }
     if x.fract() == 0.0 && x.abs() < 9e15 {
         Value::from(x as i64)
     } else {

@@ -1,0 +1,71 @@
+//! Text that reaches a terminal: data from files (node names, IDs, ports,
+//! log decisions, script messages) must never drive the terminal, so every
+//! control character is shown as a visible escape. JSON needs none of this:
+//! it escapes control characters by its own rules.
+
+use std::borrow::Cow;
+
+/// A control character a terminal would act on: C0 but newline and tab,
+/// DEL, and C1.
+fn is_hostile(c: char) -> bool {
+    (c < ' ' && c != '\n' && c != '\t') || c == '\u{7f}' || ('\u{80}'..='\u{9f}').contains(&c)
+}
+
+/// `s` with every control character shown as an escape: ESC as `\x1b`,
+/// C1 as `\u{9b}`.
+pub fn visible(s: &str) -> Cow<'_, str> {
+    if !s.chars().any(is_hostile) {
+        return Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if !is_hostile(c) {
+            out.push(c);
+        } else if (c as u32) < 0x80 {
+            out.push_str(&format!("\\x{:02x}", c as u32));
+        } else {
+            out.push_str(&format!("\\u{{{:x}}}", c as u32));
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// `s` with every control character replaced by `?`s of the same length in
+/// bytes, so that byte offsets into it (an error's span) stay right.
+pub fn same_length(s: &str) -> Cow<'_, str> {
+    if !s.chars().any(is_hostile) {
+        return Cow::Borrowed(s);
+    }
+    Cow::Owned(
+        s.chars()
+            .map(|c| {
+                if is_hostile(c) {
+                    "?".repeat(c.len_utf8())
+                } else {
+                    c.to_string()
+                }
+            })
+            .collect(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn control_characters_become_visible() {
+        assert_eq!(visible("plain\ttext\n"), "plain\ttext\n");
+        assert_eq!(visible("a\u{1b}]0;title\u{7}b"), "a\\x1b]0;title\\x07b");
+        assert_eq!(visible("\u{9b}2J\u{7f}"), "\\u{9b}2J\\x7f");
+        assert_eq!(visible("é ✓ 中"), "é ✓ 中");
+    }
+
+    #[test]
+    fn same_length_keeps_offsets() {
+        let s = "x\u{1b}[2J\u{9b}y";
+        let t = same_length(s);
+        assert_eq!(t.len(), s.len());
+        assert_eq!(t, "x?[2J??y");
+    }
+}

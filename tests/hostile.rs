@@ -1,0 +1,180 @@
+//! Hostile input and the data btx writes (issue "Hostile input and big
+//! runs"): nothing btx writes is unreadable by btx, data never drives the
+//! terminal, a closed pipe ends btx quietly, a loop within a tick stops,
+//! and a located error past column 65,535 is an error, not a panic.
+
+mod common;
+use common::*;
+use std::io::Read;
+use std::path::Path;
+use std::process::{Command, Stdio};
+
+fn write(dir: &Path, name: &str, text: &str) -> String {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p.display().to_string()
+}
+
+/// Runs btx and returns (exit code, stdout, stderr).
+fn btx_code(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn infinity_and_nan_round_trip_through_a_session() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = write(
+        dir.path(),
+        "inf.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence><Script code="k := 9e307 * 10"/><ScriptCondition code="k &gt; 5"/><Script code="n := k - k"/><Script code="m := 0 - k"/></Sequence></BehaviorTree></root>"#,
+    );
+    let plan = write(dir.path(), "inf.plan", "");
+    let out = dir.path().join("inf.jsonl").display().to_string();
+    let (ok, _, err) = btx(&["run", &tree, "--plan", &plan, "--out", &out]);
+    assert!(ok, "{err}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    for v in [r#""value":"inf""#, r#""value":"nan""#, r#""value":"-inf""#] {
+        assert!(text.contains(v), "{v} in {text}");
+    }
+    assert!(!text.contains(r#""value":null"#), "{text}");
+    // Every command reads what btx wrote.
+    for args in [
+        vec!["log", out.as_str()],
+        vec!["ask", out.as_str(), "q1"],
+        vec!["tree", out.as_str()],
+        vec!["why", out.as_str(), "status(#3)"],
+    ] {
+        let (ok, _, err) = btx(&args);
+        assert!(ok, "{args:?}: {err}");
+    }
+    // And the script read infinity back as a number: k > 5 held.
+    let s = btx::session::Session::load(Path::new(&out)).unwrap();
+    assert!(s
+        .index
+        .transitions
+        .iter()
+        .any(|t| t.uid == 3 && t.status == btx::run::Status::Success));
+}
+
+#[test]
+fn data_never_drives_the_terminal() {
+    let dir = tempfile::tempdir().unwrap();
+    // A window-title (OSC 0), a clear-screen and an OSC 52 clipboard write.
+    let tree = write(
+        dir.path(),
+        "esc.xml",
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence name="a&#x1b;]0;pwned&#x07;b"><AlwaysSuccess name="x&#x1b;[2Jy"/><AlwaysFailure name="&#x1b;]52;c;ZXZpbA==&#x07;"/></Sequence></BehaviorTree></root>"#,
+    );
+    for args in [
+        vec!["tree", tree.as_str()],
+        vec!["tree", tree.as_str(), "--framed"],
+        vec!["tree", tree.as_str(), "--format", "dot"],
+        vec!["ask", tree.as_str(), "--node", "#2", "q1", "q2"],
+    ] {
+        let (code, out, err) = btx_code(&args);
+        assert_eq!(code, Some(0), "{args:?}: {err}");
+        assert!(
+            !out.contains('\u{1b}') && !out.contains('\u{7}'),
+            "{args:?}: {out:?}"
+        );
+        assert!(out.contains("\\x1b"), "{args:?}: {out:?}");
+    }
+    // Error messages too (the closest nodes of a bad pick name them).
+    let (code, _, err) = btx_code(&["ask", &tree, "--node", "nothing like it", "q1"]);
+    assert_eq!(code, Some(1));
+    assert!(!err.contains('\u{1b}'), "{err:?}");
+    // JSON stays exact, escaped by JSON's rules.
+    let (code, out, _) = btx_code(&["tree", &tree, "--format", "json"]);
+    assert_eq!(code, Some(0));
+    assert!(out.contains("\\u001b"), "{out}");
+}
+
+#[test]
+fn a_closed_pipe_ends_btx_quietly() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["log", "sessions/serial-recall.jsonl"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read a little, then close the pipe, as `| head -c1` does.
+    let mut stdout = child.stdout.take().unwrap();
+    let mut one = [0u8; 1];
+    stdout.read_exact(&mut one).unwrap();
+    drop(stdout);
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(0), "{err}");
+    assert!(err.is_empty(), "{err}");
+}
+
+#[test]
+fn a_loop_within_a_tick_is_stopped_with_the_node_and_tick() {
+    let dir = tempfile::tempdir().unwrap();
+    // v3 has no wake-up path: Repeat -1 over an action that succeeds at once
+    // would tick forever within tick 1.
+    let tree = write(
+        dir.path(),
+        "loop.xml",
+        r#"<root BTCPP_format="3" main_tree_to_execute="M"><BehaviorTree ID="M"><Repeat num_cycles="-1"><go name="go"/></Repeat></BehaviorTree></root>"#,
+    );
+    let plan = write(dir.path(), "loop.plan", "go = S\n");
+    let out = dir.path().join("loop.jsonl").display().to_string();
+    let (code, _, err) = btx_code(&["run", &tree, "--plan", &plan, "--out", &out]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("tick 1: Repeat #1: ticked its child go 100000 times within tick 1"),
+        "{err}"
+    );
+    // In v4 the wake-up path ends each tick after one cycle.
+    let tree = write(
+        dir.path(),
+        "loop4.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Repeat num_cycles="-1"><go name="go"/></Repeat></BehaviorTree></root>"#,
+    );
+    let out4 = dir.path().join("loop4.jsonl").display().to_string();
+    let (code, _, err) = btx_code(&[
+        "run",
+        &tree,
+        "--plan",
+        &plan,
+        "--max-ticks",
+        "5",
+        "--out",
+        &out4,
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+}
+
+#[test]
+fn an_error_past_column_65535_is_an_error_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let body = "<AlwaysSuccess/>".repeat(5000);
+    let tree = write(
+        dir.path(),
+        "long.xml",
+        &format!(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>{body}<Inverter/></Sequence></BehaviorTree></root>"#
+        ),
+    );
+    let (code, _, err) = btx_code(&["tree", &tree]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("long.xml:1:80055"), "{err}");
+    assert!(err.contains("Decorator \"Inverter\" must have"), "{err}");
+}

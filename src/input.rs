@@ -55,8 +55,7 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
             Some(n),
         )?)));
     }
-    let bytes =
-        std::fs::read(path).map_err(|e| Located::file(path, format!("cannot read: {e}")))?;
+    let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the file")?;
     if crate::logs::db3::is_db3(&bytes) {
         return Ok(Input::Session(Box::new(crate::logs::open_db3(path, None)?)));
     }

@@ -95,6 +95,7 @@ impl Reading {
                 .as_deref()
                 .map(|v| if v == "3" { Version::V3 } else { Version::V4 }),
             main_tree: self.main_tree.clone(),
+            embedded: false,
         }
     }
 }
@@ -718,9 +719,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             ask_at,
             out,
         } => {
-            let text = std::fs::read_to_string(&path).map_err(|e| {
-                btx::Located::file(&path, format!("cannot read the tree file: {e}"))
-            })?;
+            let text = btx::source::read_text(&path, btx::source::TEXT_SIZE_MAX, "the tree file")?;
             let loaded = btx::xml::load_str(&path, &text, &reading.options())?;
             warn_all(cli.quiet, &loaded.warnings);
             let tree = loaded.tree;

@@ -83,6 +83,61 @@ impl Located {
     }
 }
 
+/// The largest input file btx reads (a session of 10^7 transitions is
+/// about a GiB; a tree of that size is an attack, not a tree).
+pub const INPUT_SIZE_MAX: u64 = 2 << 30;
+
+/// The largest plan, domain, keymap or tree file btx reads.
+pub const TEXT_SIZE_MAX: u64 = 64 << 20;
+
+/// Reads an input file: a regular file (not a FIFO that blocks forever,
+/// not `/dev/zero` read until memory runs out), of at most `max` bytes.
+pub fn read_input(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, Located> {
+    let meta = std::fs::metadata(path)
+        .map_err(|e| Located::file(path, format!("cannot read {what}: {e}")))?;
+    if !meta.is_file() {
+        return Err(Located::file(
+            path,
+            format!("cannot read {what}: not a regular file (a device, a FIFO or a directory)"),
+        ));
+    }
+    if meta.len() > max {
+        return Err(Located::file(
+            path,
+            format!(
+                "{what} is {} bytes, more than the {max} bytes btx reads",
+                meta.len()
+            ),
+        ));
+    }
+    use std::io::Read;
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(max + 1).read_to_end(&mut bytes))
+        .map_err(|e| Located::file(path, format!("cannot read {what}: {e}")))?;
+    if bytes.len() as u64 > max {
+        return Err(Located::file(
+            path,
+            format!("{what} grew past the {max} bytes btx reads while it was read"),
+        ));
+    }
+    Ok(bytes)
+}
+
+/// Reads a text input: a regular file of at most `max` bytes, UTF-8.
+pub fn read_text(path: &Path, max: u64, what: &str) -> Result<String, Located> {
+    let bytes = read_input(path, max, what)?;
+    String::from_utf8(bytes).map_err(|e| {
+        Located::file(
+            path,
+            format!(
+                "{what} is not UTF-8 text (byte offset {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
 /// A non-fatal finding, printed as `warning: file:line:col: message`.
 #[derive(Debug, Clone, PartialEq, Eq, serde::Serialize)]
 pub struct Warning {

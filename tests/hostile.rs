@@ -178,3 +178,47 @@ fn an_error_past_column_65535_is_an_error_not_a_panic() {
     assert!(err.contains("long.xml:1:80055"), "{err}");
     assert!(err.contains("Decorator \"Inverter\" must have"), "{err}");
 }
+
+#[test]
+fn trees_in_logs_and_sessions_read_no_other_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/case-study.jsonl"),
+    )
+    .unwrap();
+    let (header, rest) = text.split_once('\n').unwrap();
+    let mut h: serde_json::Value = serde_json::from_str(header).unwrap();
+    let xml = h["tree"]["xml"].as_str().unwrap().to_string();
+    let i = xml.find("<BehaviorTree").unwrap();
+    h["tree"]["xml"] = serde_json::Value::from(format!(
+        "{}<include path=\"/etc/passwd\"/>{}",
+        &xml[..i],
+        &xml[i..]
+    ));
+    let path = dir.path().join("evil.jsonl");
+    std::fs::write(&path, format!("{h}\n{rest}")).unwrap();
+    let (code, _, err) = btx_code(&["log", path.to_str().unwrap()]);
+    assert_eq!(code, Some(1), "{err}");
+    let e = match btx::session::Session::load(&path) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("the session opened"),
+    };
+    assert!(
+        e.ends_with("an <include> in a tree embedded in a log or a session is not followed: BehaviorTree.CPP's instantiated XML never has one"),
+        "{e}"
+    );
+}
+
+#[test]
+fn devices_and_fifos_are_refused_at_once() {
+    let (code, _, err) = btx_code(&["tree", "/dev/zero"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("not a regular file"), "{err}");
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("fifo");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    let (code, _, err) = btx_code(&["tree", fifo.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("not a regular file"), "{err}");
+}

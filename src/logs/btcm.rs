@@ -185,6 +185,7 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         &LoadOptions {
             version: Some(crate::model::Version::V4),
             main_tree: None,
+            embedded: true,
         },
     )?
     .tree;

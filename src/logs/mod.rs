@@ -124,6 +124,7 @@ fn session_from(
         &LoadOptions {
             version: Some(version),
             main_tree: None,
+            embedded: true,
         },
     )?
     .tree;

@@ -214,9 +214,16 @@ mod tests {
         .unwrap();
         let path = std::path::Path::new("log.btlog");
         let raw = crate::logs::btlog::parse(path, &bytes).unwrap();
-        let tree = crate::xml::load_str(path, &raw.xml, &Default::default())
-            .unwrap()
-            .tree;
+        let tree = crate::xml::load_str(
+            path,
+            &raw.xml,
+            &crate::xml::LoadOptions {
+                embedded: true,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .tree;
         let full = reconstruct(&tree, &raw.records);
         assert_eq!((full.fell_back, full.capped), (None, None));
         for cut in [1, 5, 40, 100, raw.records.len() - 1] {

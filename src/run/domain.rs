@@ -377,8 +377,7 @@ fn offset_in(text: &str, start: usize, line: usize, col: usize) -> usize {
 
 impl Domain {
     pub fn load(path: &Path) -> Result<Domain, Located> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Located::file(path, format!("cannot read the domain: {e}")))?;
+        let text = crate::source::read_text(path, crate::source::TEXT_SIZE_MAX, "the domain")?;
         Domain::parse(path, &text)
     }
 

@@ -116,8 +116,7 @@ impl Plan {
     }
 
     pub fn load(path: &Path) -> Result<Plan, Located> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Located::file(path, format!("cannot read the plan: {e}")))?;
+        let text = crate::source::read_text(path, crate::source::TEXT_SIZE_MAX, "the plan")?;
         Plan::parse(path, &text)
     }
 

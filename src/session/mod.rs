@@ -30,8 +30,7 @@ pub struct Session {
 
 impl Session {
     pub fn load(path: &Path) -> Result<Session, Located> {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Located::file(path, format!("cannot read the session: {e}")))?;
+        let text = crate::source::read_text(path, crate::source::INPUT_SIZE_MAX, "the session")?;
         Session::parse(path, &text)
     }
 
@@ -70,6 +69,7 @@ impl Session {
         let opts = LoadOptions {
             version: Some(crate::model::Version::V4),
             main_tree: None,
+            embedded: true,
         };
         let mut tree = load_str(&tree_name, &header.tree.xml, &opts)?.tree;
         let mut index = Index::new(tree.len());

@@ -314,9 +314,7 @@ impl Keymap {
     /// Reads `action = ["key", ...]` lines (TOML) over the defaults; the
     /// listed actions get exactly the listed keys.
     pub fn with_file(path: &std::path::Path) -> Result<Keymap, crate::source::Located> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            crate::source::Located::file(path, format!("cannot read the keymap: {e}"))
-        })?;
+        let text = crate::source::read_text(path, crate::source::TEXT_SIZE_MAX, "the keymap")?;
         let table: std::collections::BTreeMap<String, toml::Spanned<Vec<String>>> =
             toml::from_str(&text).map_err(|e| {
                 let r = e.span().unwrap_or(0..0);

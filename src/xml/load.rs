@@ -14,7 +14,16 @@ pub struct LoadOptions {
     pub version: Option<Version>,
     /// Execute this `<BehaviorTree>` instead of the file's main tree.
     pub main_tree: Option<String>,
+    /// The tree is embedded in a log or a session: it never reads another
+    /// file (BehaviorTree.CPP's instantiated XML has no `<include>`, so one
+    /// there is an attempt to read `/etc/passwd` or `/dev/zero`).
+    pub embedded: bool,
 }
+
+/// The most files one tree may include, directly or not.
+pub const INCLUDES_MAX: usize = 256;
+/// The largest included file btx reads.
+pub const INCLUDE_SIZE_MAX: u64 = 64 << 20;
 
 /// A loaded tree and what the loader noticed on the way.
 #[derive(Debug, Clone)]
@@ -25,14 +34,16 @@ pub struct Loaded {
 
 /// Loads a tree file and the files it includes.
 pub fn load_file(path: &Path, opts: &LoadOptions) -> Result<Loaded, Located> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| Located::file(path, format!("cannot read the tree file: {e}")))?;
+    let text = crate::source::read_text(path, INCLUDE_SIZE_MAX, "the tree file")?;
     load_str(path, &text, opts)
 }
 
 /// Loads a tree from text; `path` names it in messages and anchors includes.
 pub fn load_str(path: &Path, text: &str, opts: &LoadOptions) -> Result<Loaded, Located> {
-    let mut l = Loader::default();
+    let mut l = Loader {
+        embedded: opts.embedded,
+        ..Loader::default()
+    };
     l.add_document(path.to_path_buf(), text.to_string())?;
     l.finish(opts)
 }
@@ -60,6 +71,8 @@ struct Def {
 
 #[derive(Default)]
 struct Loader {
+    /// The tree is embedded in a log or a session: no file is read.
+    embedded: bool,
     files: Vec<SourceFile>,
     seen: HashSet<PathBuf>,
     /// Each file's `<root>` element, by file (file 0 is the one opened first).
@@ -181,12 +194,33 @@ impl Loader {
             .parent()
             .map(Path::to_path_buf)
             .unwrap_or_default();
+        if self.embedded {
+            return Err(self.err(
+                file,
+                el,
+                "an <include> in a tree embedded in a log or a session is not followed: BehaviorTree.CPP's instantiated XML never has one",
+            ));
+        }
+        if self.files.len() >= INCLUDES_MAX {
+            return Err(self.err(
+                file,
+                el,
+                format!("more than {INCLUDES_MAX} files are included; btx stops here"),
+            ));
+        }
         let path = base.join(rel);
-        let text = std::fs::read_to_string(&path).map_err(|e| {
+        let what = format!("included file {}", path.display());
+        let bytes = crate::source::read_input(&path, INCLUDE_SIZE_MAX, &what)
+            .map_err(|e| self.err(file, el, e.message))?;
+        let text = String::from_utf8(bytes).map_err(|e| {
             self.err(
                 file,
                 el,
-                format!("cannot read included file {}: {e}", path.display()),
+                format!(
+                    "cannot include {}: not UTF-8 text (byte offset {})",
+                    path.display(),
+                    e.utf8_error().valid_up_to()
+                ),
             )
         })?;
         self.add_document(path, text)

@@ -207,9 +207,11 @@ enum Command {
         demo: String,
         #[arg(long, value_name = "FILE.svg|FILE.png")]
         out: PathBuf,
-        #[arg(long, default_value_t = 110)]
+        /// Columns, 20 to 1000.
+        #[arg(long, default_value_t = 110, value_parser = clap::value_parser!(u16).range(20..=1000))]
         width: u16,
-        #[arg(long, default_value_t = 34)]
+        /// Rows, 5 to 500.
+        #[arg(long, default_value_t = 34, value_parser = clap::value_parser!(u16).range(5..=500))]
         height: u16,
     },
     /// Why did something happen and not something else? A counterfactual search
@@ -240,8 +242,8 @@ enum Command {
         what: EvalWhat,
         #[arg(value_enum)]
         domain: EvalDomain,
-        /// Seeds per configuration (random: the paper uses 10; serial recall: 50).
-        #[arg(long, value_name = "N")]
+        /// Seeds per configuration (random: the paper uses 10; serial recall: 50), at most 10,000.
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000))]
         seeds: Option<u64>,
         /// Random trees with reactive and memory composites, Parallel, IfThenElse, decorators and RUNNING leaves.
         #[arg(long)]

@@ -222,3 +222,56 @@ fn devices_and_fifos_are_refused_at_once() {
     assert_eq!(code, Some(1));
     assert!(err.contains("not a regular file"), "{err}");
 }
+
+#[test]
+fn numbers_taken_from_files_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    // A session whose blackboard names a scope its tree does not have.
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/case-study.jsonl"),
+    )
+    .unwrap();
+    let (header, rest) = text.split_once('\n').unwrap();
+    let mut h: serde_json::Value = serde_json::from_str(header).unwrap();
+    h["blackboard"] = serde_json::json!([[{"scope": 999, "key": "X_a"}, true]]);
+    let path = dir.path().join("scope.jsonl");
+    std::fs::write(&path, format!("{h}\n{rest}")).unwrap();
+    for cmd in ["why", "log"] {
+        let mut args = vec![cmd, path.to_str().unwrap()];
+        if cmd == "why" {
+            args.push("X_a");
+        }
+        let (code, _, err) = btx_code(&args);
+        assert_eq!(code, Some(1), "{cmd}: {err}");
+        assert!(err.contains("scope 999"), "{err}");
+    }
+    // A float grid of 2^64 - 1 values.
+    let domain = write(
+        dir.path(),
+        "grid.domain.toml",
+        "btx_domain = 1\nname = \"g\"\n[state.x]\ntype = \"float\"\nmin = 0.0\nmax = 1.0\ngrid = 18446744073709551615\n[leaf.\"@default_action\"]\nstatus = \"SUCCESS\"\n",
+    );
+    let (code, _, err) = btx_code(&[
+        "run",
+        "trees/taxi.xml",
+        "--domain",
+        &domain,
+        "--out",
+        dir.path().join("g.jsonl").to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("grid 18446744073709551615 is more"), "{err}");
+    // Sizes from the command line.
+    let (code, _, err) = btx_code(&["eval", "recovery", "random", "--seeds", "4294967295"]);
+    assert_eq!(code, Some(2), "{err}");
+    let (code, _, err) = btx_code(&[
+        "screenshot",
+        "--demo",
+        "main",
+        "--out",
+        dir.path().join("s.svg").to_str().unwrap(),
+        "--width",
+        "60000",
+    ]);
+    assert_eq!(code, Some(2), "{err}");
+}

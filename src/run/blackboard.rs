@@ -101,12 +101,18 @@ impl Blackboard {
         self.scopes.get(e.scope).and_then(|s| s.get(&e.key))
     }
 
+    /// Sets an entry; a scope the tree does not have (from a damaged
+    /// session) is ignored here and refused where the session is read.
     pub fn set(&mut self, e: &EntryId, v: Value) {
-        self.scopes[e.scope].insert(e.key.clone(), v);
+        if let Some(s) = self.scopes.get_mut(e.scope) {
+            s.insert(e.key.clone(), v);
+        }
     }
 
     pub fn remove(&mut self, e: &EntryId) {
-        self.scopes[e.scope].remove(&e.key);
+        if let Some(s) = self.scopes.get_mut(e.scope) {
+            s.remove(&e.key);
+        }
     }
 
     /// Every entry, for snapshots.

@@ -466,6 +466,15 @@ impl Domain {
                         )
                     }
                 },
+                "float" if v.grid.is_some_and(|g| g > GRID_MAX) => {
+                    return Err(d.err(
+                        v.ty.span(),
+                        format!(
+                            "{name}: grid {} is more values than the {GRID_MAX} a search tries",
+                            v.grid.unwrap_or(0)
+                        ),
+                    ))
+                }
                 "float" => match (min, max) {
                     (Some(a), Some(b)) if a <= b => VarType::Float {
                         min: a,
@@ -1075,6 +1084,9 @@ impl Domain {
             .find_map(|k| self.leaves.iter().position(|l| l.key == *k))
     }
 }
+
+/// The most values a float variable's grid may have.
+pub const GRID_MAX: usize = 10_000;
 
 fn default_of(ty: &VarType) -> Value {
     match ty {

@@ -73,7 +73,18 @@ impl Session {
         };
         let mut tree = load_str(&tree_name, &header.tree.xml, &opts)?.tree;
         let mut index = Index::new(tree.len());
+        let scopes = tree.scopes.len();
         for (e, v) in &header.blackboard {
+            if e.scope >= scopes {
+                return Err(err_at(
+                    0,
+                    first.trim_end().len(),
+                    format!(
+                        "the blackboard names scope {}, and the session's tree has {scopes} scopes",
+                        e.scope
+                    ),
+                ));
+            }
             index.push_write(e.clone(), v.clone());
         }
         let mut warnings = Vec::new();
@@ -184,7 +195,20 @@ impl Session {
                     entry,
                     value,
                     ..
-                } => index.push_write_by(tick, uid, entry, value),
+                } => {
+                    if entry.scope >= tree.scopes.len() {
+                        return Err(err_at(
+                            start,
+                            body.len(),
+                            format!(
+                                "a write to scope {}, and the session's tree has {} scopes",
+                                entry.scope,
+                                tree.scopes.len()
+                            ),
+                        ));
+                    }
+                    index.push_write_by(tick, uid, entry, value)
+                }
                 Record::Insert {
                     copy_of,
                     after,

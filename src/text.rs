@@ -49,6 +49,19 @@ pub fn same_length(s: &str) -> Cow<'_, str> {
     )
 }
 
+/// At most the first `max` bytes of `s` (on a character boundary), with
+/// `…` and the length when it was cut: what an error quotes of a long input.
+pub fn clip(s: &str, max: usize) -> Cow<'_, str> {
+    if s.len() <= max {
+        return Cow::Borrowed(s);
+    }
+    let mut end = max;
+    while !s.is_char_boundary(end) {
+        end -= 1;
+    }
+    Cow::Owned(format!("{}… ({} bytes in all)", &s[..end], s.len()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -59,6 +72,12 @@ mod tests {
         assert_eq!(visible("a\u{1b}]0;title\u{7}b"), "a\\x1b]0;title\\x07b");
         assert_eq!(visible("\u{9b}2J\u{7f}"), "\\u{9b}2J\\x7f");
         assert_eq!(visible("é ✓ 中"), "é ✓ 中");
+    }
+
+    #[test]
+    fn clip_cuts_long_text_on_a_character_boundary() {
+        assert_eq!(clip("short", 10), "short");
+        assert_eq!(clip("ééé", 3), "é… (6 bytes in all)");
     }
 
     #[test]

@@ -275,3 +275,65 @@ fn numbers_taken_from_files_are_checked() {
     ]);
     assert_eq!(code, Some(2), "{err}");
 }
+
+#[test]
+fn deep_wide_and_nested_inputs_are_refused_with_their_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    // 100,000 levels of nesting: refused by the reader, as tinyxml2 does.
+    let n = 100_000;
+    let deep = write(
+        dir.path(),
+        "deep.xml",
+        &format!(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M">{}<AlwaysSuccess/>{}</BehaviorTree></root>"#,
+            "<Inverter>".repeat(n),
+            "</Inverter>".repeat(n)
+        ),
+    );
+    let (code, _, err) = btx_code(&["tree", &deep]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("deeper than 500 levels"), "{err}");
+    // 450 levels load, and print.
+    let n = 450;
+    let ok = write(
+        dir.path(),
+        "ok.xml",
+        &format!(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M">{}<AlwaysSuccess/>{}</BehaviorTree></root>"#,
+            "<Inverter>".repeat(n),
+            "</Inverter>".repeat(n)
+        ),
+    );
+    let (code, _, err) = btx_code(&["tree", &ok]);
+    assert_eq!(code, Some(0), "{err}");
+    // 40 trees, each calling the next twice: 2^40 instances.
+    let mut xml = String::from(r#"<root BTCPP_format="4" main_tree_to_execute="T0">"#);
+    for i in 0..40 {
+        xml.push_str(&format!(
+            r#"<BehaviorTree ID="T{i}"><Sequence><SubTree ID="T{j}" name="a"/><SubTree ID="T{j}" name="b"/></Sequence></BehaviorTree>"#,
+            j = i + 1
+        ));
+    }
+    xml.push_str(r#"<BehaviorTree ID="T40"><AlwaysSuccess/></BehaviorTree></root>"#);
+    let fan = write(dir.path(), "fan.xml", &xml);
+    let (code, _, err) = btx_code(&["tree", &fan]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("250000 nodes"), "{err}");
+    // A script with 4,000 nested parentheses: an error, quoted short.
+    let script = write(
+        dir.path(),
+        "script.xml",
+        &format!(
+            r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Script code="k := {}1{}"/></BehaviorTree></root>"#,
+            "(".repeat(4000),
+            ")".repeat(4000)
+        ),
+    );
+    let plan = write(dir.path(), "empty.plan", "");
+    let out = dir.path().join("s.jsonl").display().to_string();
+    let (code, _, err) = btx_code(&["run", &script, "--plan", &plan, "--out", &out]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("nests deeper than 200 levels"), "{err}");
+    assert!(err.contains("(8006 bytes in all)"), "{err}");
+    assert!(err.len() < 2000, "{}", err.len());
+}

@@ -255,6 +255,9 @@ pub struct Forced {
 
 type R<T> = Result<T, RunError>;
 
+/// The most of a script an error quotes (bytes).
+const QUOTED_MAX: usize = 200;
+
 /// The most ticks of one child within one tick (a Retry or Repeat loop).
 pub const CHILD_TICKS_IN_A_TICK_MAX: u32 = 100_000;
 
@@ -750,7 +753,12 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 value,
             });
         }
-        r.map_err(|e| self.err(uid, format!("{what}=\"{code}\": {e}")))
+        r.map_err(|e| {
+            self.err(
+                uid,
+                format!("{what}=\"{}\": {e}", crate::text::clip(code, QUOTED_MAX)),
+            )
+        })
     }
 
     fn script_test(&mut self, uid: Uid, code: &str, what: &str) -> R<bool> {

@@ -88,7 +88,13 @@ struct P<'a, E: Env> {
     toks: Vec<Tok>,
     pos: usize,
     env: &'a mut E,
+    /// How deep the expression being read nests (parentheses, unary
+    /// operators): bounded, so that no script overflows the stack.
+    depth: usize,
 }
+
+/// The deepest an expression may nest.
+pub const SCRIPT_NESTING_MAX: usize = 200;
 
 fn truthy(v: &Value) -> bool {
     match v {
@@ -313,6 +319,18 @@ impl<E: Env> P<'_, E> {
     }
 
     fn unary(&mut self) -> Result<Value, String> {
+        if self.depth >= SCRIPT_NESTING_MAX {
+            return Err(format!(
+                "the expression nests deeper than {SCRIPT_NESTING_MAX} levels"
+            ));
+        }
+        self.depth += 1;
+        let v = self.unary_inner();
+        self.depth -= 1;
+        v
+    }
+
+    fn unary_inner(&mut self) -> Result<Value, String> {
         if self.eat("!") {
             let v = self.unary()?;
             return Ok(Value::Bool(!truthy(&v)));
@@ -351,7 +369,13 @@ impl<E: Env> P<'_, E> {
 /// Runs a script; returns the value of its last statement.
 pub fn run(src: &str, env: &mut impl Env) -> Result<Value, String> {
     let toks = lex(src)?;
-    P { toks, pos: 0, env }.statements()
+    P {
+        toks,
+        pos: 0,
+        env,
+        depth: 0,
+    }
+    .statements()
 }
 
 /// Runs a script as a condition.

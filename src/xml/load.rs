@@ -20,6 +20,11 @@ pub struct LoadOptions {
     pub embedded: bool,
 }
 
+/// The most nodes a tree may have once its SubTrees are expanded.
+pub const NODES_MAX: usize = 250_000;
+/// The deepest a tree may be once its SubTrees are expanded.
+pub const DEPTH_MAX: usize = 2_000;
+
 /// The most files one tree may include, directly or not.
 pub const INCLUDES_MAX: usize = 256;
 /// The largest included file btx reads.
@@ -396,6 +401,22 @@ impl Loader {
             chain: std::rc::Rc::new(vec![main_id.clone()]),
         }];
         while let Some(w) = stack.pop() {
+            // SubTrees that call others twice double the tree at each
+            // level: the count and depth after expansion are bounded.
+            if nodes.len() >= NODES_MAX || w.depth as usize >= DEPTH_MAX {
+                return Err(self.err(
+                    w.file,
+                    w.el,
+                    format!(
+                        "the tree grows past {} once its SubTrees are expanded; btx stops here (at most {NODES_MAX} nodes, {DEPTH_MAX} levels deep)",
+                        if nodes.len() >= NODES_MAX {
+                            format!("{NODES_MAX} nodes")
+                        } else {
+                            format!("{DEPTH_MAX} levels")
+                        }
+                    ),
+                ));
+            }
             let uid = Uid::try_from(nodes.len() + 1).expect("fewer than 2^32 nodes");
             let mut node =
                 self.make_node(version, w.file, w.el, uid, w.parent, w.scope, w.depth)?;

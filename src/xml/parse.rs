@@ -34,6 +34,10 @@ impl Element {
 }
 
 /// Parses a whole document and returns its top element.
+/// The deepest nesting of elements read, as tinyxml2's
+/// TINYXML2_MAX_ELEMENT_DEPTH (BehaviorTree.CPP reads XML with tinyxml2).
+pub const NESTING_MAX: usize = 500;
+
 pub fn parse_document(path: &Path, text: &str) -> Result<Element, Located> {
     let mut reader = Reader::from_str(text);
     reader.config_mut().trim_text(true);
@@ -60,6 +64,15 @@ pub fn parse_document(path: &Path, text: &str) -> Result<Element, Located> {
         let end = reader.buffer_position() as usize;
         match event {
             Event::Start(e) => {
+                if stack.len() >= NESTING_MAX {
+                    return Err(Located::at(
+                        path,
+                        text,
+                        start,
+                        end,
+                        format!("elements nest deeper than {NESTING_MAX} levels, which BehaviorTree.CPP's XML reader (tinyxml2) refuses too"),
+                    ));
+                }
                 let el = element(path, text, &e, start, end)?;
                 stack.push(el);
             }

@@ -337,3 +337,35 @@ fn deep_wide_and_nested_inputs_are_refused_with_their_limit() {
     assert!(err.contains("(8006 bytes in all)"), "{err}");
     assert!(err.len() < 2000, "{}", err.len());
 }
+
+#[test]
+fn a_wal_mode_database_is_read_with_the_rows_in_its_wal() {
+    let dir = tempfile::tempdir().unwrap();
+    let db = dir.path().join("w.db3");
+    std::fs::copy(fixture("logs/kitting_nominal.db3"), &db).unwrap();
+    // A writer in WAL mode that has not checkpointed: a second session
+    // lives in `w.db3-wal` only, while the writer stays connected.
+    let c = rusqlite::Connection::open(&db).unwrap();
+    let mode: String = c
+        .query_row("PRAGMA journal_mode=WAL", [], |r| r.get(0))
+        .unwrap();
+    assert_eq!(mode, "wal");
+    c.execute_batch(
+        "PRAGMA wal_autocheckpoint=0;
+         INSERT INTO Definitions(session_id, date, xml_tree) SELECT 99, date, xml_tree FROM Definitions LIMIT 1;
+         INSERT INTO Nodes(session_id, fullpath, node_uid) SELECT 99, fullpath, node_uid FROM Nodes WHERE session_id = 1;
+         INSERT INTO Transitions(timestamp, session_id, node_uid, duration, state, extra_data)
+           SELECT timestamp + 100000000000, 99, node_uid, duration, state, extra_data FROM Transitions WHERE session_id = 1;",
+    )
+    .unwrap();
+    assert!(dir.path().join("w.db3-wal").exists());
+    let before = std::fs::read(&db).unwrap();
+    let (code, out, err) = btx_code(&["log", db.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("this is session 99"), "{err}");
+    assert_eq!(out.lines().count(), 1 + 209, "every row of the WAL is read");
+    // The database was not touched, and the writer goes on.
+    assert_eq!(std::fs::read(&db).unwrap(), before);
+    c.execute("DELETE FROM Transitions WHERE session_id = 99", [])
+        .unwrap();
+}

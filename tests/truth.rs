@@ -452,3 +452,32 @@ fn eval_truth_counts_what_re_running_says() {
     assert!(!ok);
     assert!(err.contains("btx eval truth random"), "{err}");
 }
+
+#[test]
+fn nothing_is_replayed_past_the_root_s_completion() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/case-study.jsonl"),
+    )
+    .unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let mut end: serde_json::Value = serde_json::from_str(lines.last().unwrap()).unwrap();
+    end["ticks"] = serde_json::json!(10_000_001);
+    *lines.last_mut().unwrap() = end.to_string();
+    let path = dir.path().join("big.jsonl");
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    let p = path.to_str().unwrap();
+    // The default moment is the tick the root completed in, not 10^7.
+    let (ok, out, err) = btx(&["why", p, "status(L0)"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with("Why did L0 fail rather than succeed?  (tick 1, moment 1)"),
+        "{out}"
+    );
+    let (ok, _, err) = btx(&["why", p, "status(L0)", "--at", "500"]);
+    assert!(!ok);
+    assert!(
+        err.contains("the run ended at tick 1, when its root completed; tick 500 is after it"),
+        "{err}"
+    );
+}

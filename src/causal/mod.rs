@@ -374,6 +374,19 @@ fn fact_from(session: &Session, model: &Model, v: VarId, tick: u32) -> Option<u3
     }
 }
 
+/// The last tick of a run: the tick of its last transition when the root
+/// had completed by then, else the last tick the session counts.
+pub fn last_tick(session: &Session) -> u32 {
+    let idx = &session.index;
+    let end = idx.at(idx.transitions.len() as u32);
+    match (end.root_outcome(), idx.transitions.last()) {
+        (Some(_), Some(t)) if end.status(crate::model::Tree::ROOT) == crate::run::Status::Idle => {
+            t.tick
+        }
+        _ => idx.ticks(),
+    }
+}
+
 /// The foils of a query that names none: every other value, except that a
 /// ticked node is contrasted with the other outcomes of being ticked, and
 /// a leaf that chose an action with its other actions ("not ticked" and
@@ -462,10 +475,19 @@ pub fn why(
     if ticks == 0 {
         return Err(fail("the session has no ticks".into()));
     }
+    // Ticks after the root completed are not part of the run, whatever an
+    // end record says: nothing is replayed past the root's completion.
+    let last = last_tick(session);
     let moment = at.unwrap_or(Moment {
-        tick: ticks,
+        tick: last,
         step: None,
     });
+    if moment.tick > last {
+        return Err(fail(format!(
+            "the run ended at tick {last}, when its root completed; tick {} is after it",
+            moment.tick
+        )));
+    }
     let pos = session.index.position(moment).map_err(fail)?;
     let model = model_at(session, domain, moment.tick)?;
     if let Some(first) = model.unfaithful().first() {

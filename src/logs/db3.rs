@@ -20,6 +20,54 @@ pub fn is_db3(bytes: &[u8]) -> bool {
     bytes.starts_with(MAGIC)
 }
 
+/// Whether the database's header says WAL mode (its read and write
+/// versions, bytes 18 and 19, are 2).
+fn is_wal(path: &Path) -> bool {
+    use std::io::Read;
+    let mut head = [0u8; 20];
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut head))
+        .is_ok()
+        && (head[18] == 2 || head[19] == 2)
+}
+
+/// A copy of a WAL-mode database and its `-wal` file, removed when dropped.
+struct WalCopy {
+    dir: std::path::PathBuf,
+    db: std::path::PathBuf,
+}
+
+impl WalCopy {
+    fn of(path: &Path) -> std::io::Result<WalCopy> {
+        use std::sync::atomic::{AtomicU64, Ordering};
+        static N: AtomicU64 = AtomicU64::new(0);
+        let dir = std::env::temp_dir().join(format!(
+            "btx-db3-{}-{}",
+            std::process::id(),
+            N.fetch_add(1, Ordering::Relaxed)
+        ));
+        std::fs::create_dir_all(&dir)?;
+        let copy = WalCopy {
+            db: dir.join("copy.db3"),
+            dir,
+        };
+        std::fs::copy(path, &copy.db)?;
+        let mut wal = path.as_os_str().to_owned();
+        wal.push("-wal");
+        let wal = std::path::PathBuf::from(wal);
+        if wal.is_file() {
+            std::fs::copy(&wal, copy.dir.join("copy.db3-wal"))?;
+        }
+        Ok(copy)
+    }
+}
+
+impl Drop for WalCopy {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
 /// One run of the database.
 #[derive(Debug, Clone)]
 pub struct Db3Session {
@@ -37,11 +85,29 @@ pub struct Db3Session {
 pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), Located> {
     let fail = |m: String| Located::file(path, m);
     let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
-    let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
-    #[cfg(unix)]
-    let conn = Connection::open_with_flags_and_vfs(path, flags, "unix-none");
-    #[cfg(not(unix))]
-    let conn = Connection::open_with_flags(path, flags);
+    // A database in WAL mode keeps recent rows in `FILE-wal` and needs a
+    // shared-memory file to read them, which a lock-free read-only open
+    // cannot make: read a copy of the two files instead (SQLite checks each
+    // WAL frame's checksum, so a frame the robot is still writing is left
+    // out), and never touch the originals.
+    let _copy;
+    let conn = if is_wal(path) {
+        let c = WalCopy::of(path)
+            .map_err(|e| fail(format!("cannot copy the WAL-mode database to read it: {e}")))?;
+        let conn = Connection::open_with_flags(
+            &c.db,
+            OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX,
+        );
+        _copy = c;
+        conn
+    } else {
+        let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
+        #[cfg(unix)]
+        let conn = Connection::open_with_flags_and_vfs(path, flags, "unix-none");
+        #[cfg(not(unix))]
+        let conn = Connection::open_with_flags(path, flags);
+        conn
+    };
     let conn = conn.map_err(|e| sql("cannot open the database", e))?;
     for table in ["Definitions", "Nodes", "Transitions"] {
         let n: i64 = conn

@@ -315,6 +315,12 @@ impl Keymap {
     /// listed actions get exactly the listed keys.
     pub fn with_file(path: &std::path::Path) -> Result<Keymap, crate::source::Located> {
         let text = crate::source::read_text(path, crate::source::TEXT_SIZE_MAX, "the keymap")?;
+        Keymap::parse(path, &text)
+    }
+
+    /// A keymap file's text (`path` names it in errors).
+    pub fn parse(path: &std::path::Path, text: &str) -> Result<Keymap, crate::source::Located> {
+        let text = text.to_string();
         let table: std::collections::BTreeMap<String, toml::Spanned<Vec<String>>> =
             toml::from_str(&text).map_err(|e| {
                 let r = e.span().unwrap_or(0..0);

@@ -1025,10 +1025,68 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 Some(p) => Some(pick_node(&s.tree, p)?),
                 None => None,
             };
-            print!("{}", log_output(&s, only, no_idle, format));
+            // Written as it is read: a log of millions of transitions is
+            // never held whole, in text or in JSON.
+            let mut w = SafeOut::new();
+            let done = match format {
+                Format::Json => btx::export::write_log_json(&mut w, &s, only, no_idle),
+                Format::Text => {
+                    use std::io::Write;
+                    let mut r = w.write_all(btx::export::LOG_TEXT_HEADER.as_bytes());
+                    btx::export::each_log_row(&s, only, no_idle, |row| {
+                        if r.is_ok() {
+                            r = w.write_all(btx::export::log_text_row(&s, &row).as_bytes());
+                        }
+                    });
+                    r
+                }
+            };
+            w.finish(done);
         }
     }
     Ok(())
+}
+
+/// Standard output, buffered, through the sanitiser; a closed pipe ends
+/// btx quietly (exit 0).
+struct SafeOut(std::io::BufWriter<std::io::StdoutLock<'static>>);
+
+impl SafeOut {
+    fn new() -> SafeOut {
+        SafeOut(std::io::BufWriter::with_capacity(
+            1 << 16,
+            std::io::stdout().lock(),
+        ))
+    }
+
+    fn finish(mut self, r: std::io::Result<()>) {
+        use std::io::Write;
+        let r = r.and_then(|()| self.0.flush());
+        if let Err(e) = r {
+            if e.kind() == std::io::ErrorKind::BrokenPipe {
+                std::process::exit(0);
+            }
+            err_out(&format!("error: cannot write the output: {e}\n"));
+            std::process::exit(1);
+        }
+    }
+}
+
+impl std::io::Write for SafeOut {
+    /// Each write is whole UTF-8 text (a row), so it is sanitised whole.
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match std::str::from_utf8(buf) {
+            Ok(s) => self
+                .0
+                .write_all(btx::text::visible(s).as_bytes())
+                .map(|()| buf.len()),
+            Err(_) => self.0.write(buf),
+        }
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush()
+    }
 }
 
 fn taxi_text(g: &Grid, c: Costs, actions: &[taxi::Action]) -> String {
@@ -1114,14 +1172,6 @@ fn report_run(
                 s.path.display()
             );
         }
-    }
-}
-
-fn log_output(s: &Session, only: Option<btx::Uid>, no_idle: bool, format: Format) -> String {
-    let rows = btx::export::log_rows(s, only, no_idle);
-    match format {
-        Format::Json => pretty(&btx::export::log_json(s, &rows)),
-        Format::Text => btx::export::log_text(s, &rows),
     }
 }
 

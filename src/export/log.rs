@@ -16,8 +16,15 @@ pub struct LogRow {
 
 /// The rows of `btx log`, filtered to one node and/or without →IDLE.
 pub fn log_rows(s: &Session, only: Option<Uid>, no_idle: bool) -> Vec<LogRow> {
-    let idx = &s.index;
     let mut rows = Vec::new();
+    each_log_row(s, only, no_idle, |r| rows.push(r));
+    rows
+}
+
+/// The rows of `btx log` one at a time, in order: a log of millions of
+/// transitions is written as it is read, never held whole.
+pub fn each_log_row(s: &Session, only: Option<Uid>, no_idle: bool, mut f: impl FnMut(LogRow)) {
+    let idx = &s.index;
     for tick in 1..=idx.ticks() {
         let r = idx.tick_range(tick);
         for (k, i) in r.clone().enumerate() {
@@ -25,46 +32,110 @@ pub fn log_rows(s: &Session, only: Option<Uid>, no_idle: bool) -> Vec<LogRow> {
             if only.is_some_and(|u| u != t.uid) || (no_idle && t.status == Status::Idle) {
                 continue;
             }
-            let decision = idx.transition_decision(i);
-            rows.push(LogRow {
+            f(LogRow {
                 tick,
                 step: k as u32 + 1,
                 uid: t.uid,
                 prev: t.prev,
                 status: t.status,
-                decision: decision.map(str::to_string),
+                decision: idx.transition_decision(i).map(str::to_string),
             });
         }
     }
-    rows
+}
+
+pub const LOG_TEXT_HEADER: &str =
+    " tick  step   uid  node                                     prev        status   decision\n";
+
+/// One row of the text table.
+pub fn log_text_row(s: &Session, r: &LogRow) -> String {
+    let mut name = s.tree.description(r.uid).to_string();
+    if name.chars().count() > 40 {
+        name = name.chars().take(39).collect::<String>() + "…";
+    }
+    format!(
+        "{:>5} {:>5} {:>5}  {:<40} {:<8} -> {:<8} {}\n",
+        r.tick,
+        r.step,
+        r.uid,
+        name,
+        r.prev,
+        r.status,
+        if r.prev == Status::Running && r.status == Status::Idle {
+            "(halted)"
+        } else {
+            r.decision.as_deref().unwrap_or("")
+        }
+    )
 }
 
 pub fn log_text(s: &Session, rows: &[LogRow]) -> String {
-    let mut out = format!(
-        "{:>5} {:>5} {:>5}  {:<40} {:<8}    {:<8} {}\n",
-        "tick", "step", "uid", "node", "prev", "status", "decision"
-    );
+    let mut out = LOG_TEXT_HEADER.to_string();
     for r in rows {
-        let mut name = s.tree.description(r.uid).to_string();
-        if name.chars().count() > 40 {
-            name = name.chars().take(39).collect::<String>() + "…";
+        out.push_str(&log_text_row(s, r));
+    }
+    out
+}
+
+/// One row as `btx.log/1` has it.
+pub fn log_json_row(s: &Session, r: &LogRow) -> Value {
+    json!({
+        "tick": r.tick,
+        "step": r.step,
+        "uid": r.uid,
+        "node": s.tree.description(r.uid),
+        "type": s.tree.type_name(r.uid),
+        "prev": r.prev,
+        "status": r.status,
+        "decision": r.decision,
+        "halted": r.prev == Status::Running && r.status == Status::Idle,
+    })
+}
+
+/// `btx.log/1`, pretty-printed as `log_json` would be, written row by row.
+pub fn write_log_json(
+    w: &mut impl std::io::Write,
+    s: &Session,
+    only: Option<Uid>,
+    no_idle: bool,
+) -> std::io::Result<()> {
+    write!(
+        w,
+        "{{\n  \"schema\": \"btx.log/1\",\n  \"session\": {},\n  \"ticks\": {},\n  \"transitions\": [",
+        Value::from(s.path.display().to_string()),
+        s.index.ticks()
+    )?;
+    let mut first = true;
+    let mut result = Ok(());
+    each_log_row(s, only, no_idle, |r| {
+        if result.is_err() {
+            return;
         }
-        out.push_str(&format!(
-            "{:>5} {:>5} {:>5}  {:<40} {:<8} -> {:<8} {}\n",
+        // The row as `to_string_pretty` lays it out inside the array,
+        // written directly: a million rows cost no JSON tree.
+        let text = |x: &str| serde_json::to_string(x).expect("strings serialise");
+        let chunk = format!(
+            "{}    {{\n      \"tick\": {},\n      \"step\": {},\n      \"uid\": {},\n      \"node\": {},\n      \"type\": {},\n      \"prev\": \"{}\",\n      \"status\": \"{}\",\n      \"decision\": {},\n      \"halted\": {}\n    }}",
+            if first { "\n" } else { ",\n" },
             r.tick,
             r.step,
             r.uid,
-            name,
+            text(s.tree.description(r.uid)),
+            text(s.tree.type_name(r.uid)),
             r.prev,
             r.status,
-            if r.prev == Status::Running && r.status == Status::Idle {
-                "(halted)"
-            } else {
-                r.decision.as_deref().unwrap_or("")
-            }
-        ));
+            r.decision.as_deref().map_or_else(|| "null".to_string(), text),
+            r.prev == Status::Running && r.status == Status::Idle
+        );
+        first = false;
+        result = w.write_all(chunk.as_bytes());
+    });
+    result?;
+    if first {
+        writeln!(w, "]\n}}")
+    } else {
+        writeln!(w, "\n  ]\n}}")
     }
-    out
 }
 
 /// One JSON object a line, for a log followed as it grows.
@@ -84,16 +155,27 @@ pub fn log_json(s: &Session, rows: &[LogRow]) -> Value {
         "schema": "btx.log/1",
         "session": s.path.display().to_string(),
         "ticks": s.index.ticks(),
-        "transitions": rows.iter().map(|r| json!({
-            "tick": r.tick,
-            "step": r.step,
-            "uid": r.uid,
-            "node": s.tree.description(r.uid),
-            "type": s.tree.type_name(r.uid),
-            "prev": r.prev,
-            "status": r.status,
-            "decision": r.decision,
-            "halted": r.prev == Status::Running && r.status == Status::Idle,
-        })).collect::<Vec<_>>(),
+        "transitions": rows.iter().map(|r| log_json_row(s, r)).collect::<Vec<_>>(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_streamed_json_is_the_json_value_pretty_printed() {
+        let s = Session::load(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("sessions/kitting-lookat-fails-once.jsonl"),
+        )
+        .unwrap();
+        for (only, no_idle) in [(None, false), (Some(18), true), (Some(2), true)] {
+            let rows = log_rows(&s, only, no_idle);
+            let whole = serde_json::to_string_pretty(&log_json(&s, &rows)).unwrap() + "\n";
+            let mut streamed = Vec::new();
+            write_log_json(&mut streamed, &s, only, no_idle).unwrap();
+            assert_eq!(String::from_utf8(streamed).unwrap(), whole, "{only:?}");
+        }
+    }
 }

@@ -369,3 +369,23 @@ fn a_wal_mode_database_is_read_with_the_rows_in_its_wal() {
     c.execute("DELETE FROM Transitions WHERE session_id = 99", [])
         .unwrap();
 }
+
+#[test]
+fn warnings_past_fifty_are_counted_not_listed() {
+    let dir = tempfile::tempdir().unwrap();
+    let leaves: String = (0..5000).map(|i| format!("<U{}/>", i % 7)).collect();
+    let tree = write(
+        dir.path(),
+        "u.xml",
+        &format!(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>{leaves}</Sequence></BehaviorTree></root>"#
+        ),
+    );
+    let (code, _, err) = btx_code(&["tree", &tree]);
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(err.lines().count(), 51, "{err}");
+    assert!(
+        err.ends_with("4950 more warnings are not shown (the first 50 are)\n"),
+        "{err}"
+    );
+}

@@ -20,6 +20,9 @@ pub struct LoadOptions {
     pub embedded: bool,
 }
 
+/// The most warnings a load reports one by one.
+pub const WARNINGS_MAX: usize = 50;
+
 /// The most nodes a tree may have once its SubTrees are expanded.
 pub const NODES_MAX: usize = 250_000;
 /// The deepest a tree may be once its SubTrees are expanded.
@@ -78,6 +81,8 @@ struct Def {
 struct Loader {
     /// The tree is embedded in a log or a session: no file is read.
     embedded: bool,
+    /// Warnings counted past `WARNINGS_MAX`.
+    more_warnings: usize,
     files: Vec<SourceFile>,
     seen: HashSet<PathBuf>,
     /// Each file's `<root>` element, by file (file 0 is the one opened first).
@@ -108,6 +113,13 @@ impl Loader {
     }
 
     fn warn_at(&mut self, file: FileId, start: usize, msg: impl Into<String>) {
+        // Past a screenful, warnings are counted, not built (each one
+        // costs a scan for its line): a tree of 500,000 unknown leaves
+        // loads as fast as one of five.
+        if self.warnings.len() >= WARNINGS_MAX {
+            self.more_warnings += 1;
+            return;
+        }
         let f = &self.files[file];
         let (line, col) = crate::source::line_col(&f.text, start);
         self.warnings.push(Warning {
@@ -496,10 +508,20 @@ impl Loader {
             models: self.models,
             files: self.files,
         };
-        Ok(Loaded {
-            tree,
-            warnings: self.warnings,
-        })
+        let mut warnings = self.warnings;
+        if self.more_warnings > 0 {
+            warnings.push(Warning {
+                location: tree
+                    .files
+                    .first()
+                    .map_or_else(String::new, |f| f.path.display().to_string()),
+                message: format!(
+                    "{} more warnings are not shown (the first {WARNINGS_MAX} are)",
+                    self.more_warnings
+                ),
+            });
+        }
+        Ok(Loaded { tree, warnings })
     }
 }
 

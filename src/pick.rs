@@ -11,6 +11,8 @@ pub enum PickError {
         query: String,
         candidates: Vec<Candidate>,
     },
+    #[error("there is no node #{uid}: the tree's uids are 1 to {len}")]
+    NoUid { uid: Uid, len: usize },
     #[error("\"{query}\" matches {} nodes{}", .candidates.len(), list(.candidates, "pick one with its path or #uid"))]
     Ambiguous {
         query: String,
@@ -91,6 +93,11 @@ pub fn pick(tree: &Tree, query: &str) -> Result<Uid, PickError> {
             if tree.get(uid).is_some() {
                 return Ok(uid);
             }
+            // A uid is exact: nodes "close" to it mean nothing.
+            return Err(PickError::NoUid {
+                uid,
+                len: tree.len(),
+            });
         }
         return Err(PickError::Unknown {
             query: q.to_string(),

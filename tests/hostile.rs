@@ -389,3 +389,51 @@ fn warnings_past_fifty_are_counted_not_listed() {
         "{err}"
     );
 }
+
+#[test]
+fn unclear_or_silent_cases_say_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, _, err) = btx_code(&["ask", "trees/kitting.xml", "--node", "#99999", "q1"]);
+    assert_eq!(code, Some(1));
+    assert_eq!(
+        err,
+        "error: there is no node #99999: the tree's uids are 1 to 79\n"
+    );
+    let sub = dir.path().join("dir");
+    std::fs::create_dir(&sub).unwrap();
+    let log = dir.path().join("x.btlog");
+    std::fs::copy(fixture("logs/kitting_nominal.btlog"), &log).unwrap();
+    for (out, says) in [
+        (sub.to_str().unwrap(), "a directory is here"),
+        ("/dev/null", "this is a device, a FIFO or a link"),
+        (
+            log.to_str().unwrap(),
+            "a file that is not a btx session is here",
+        ),
+    ] {
+        let (code, _, err) = btx_code(&[
+            "run",
+            "trees/kitting.xml",
+            "--world",
+            "kitting",
+            "--out",
+            out,
+        ]);
+        assert_eq!(code, Some(1), "{out}");
+        assert!(err.contains(says), "{out}: {err}");
+    }
+    let plan = write(dir.path(), "p.plan", "@default_actoin = 1RS\n");
+    let (code, _, err) = btx_code(&[
+        "run",
+        "trees/kitting.xml",
+        "--plan",
+        &plan,
+        "--out",
+        dir.path().join("s.jsonl").to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("\"@default_actoin\" is not a plan directive"),
+        "{err}"
+    );
+}

@@ -477,7 +477,7 @@ fn nothing_is_replayed_past_the_root_s_completion() {
     let (ok, _, err) = btx(&["why", p, "status(L0)", "--at", "500"]);
     assert!(!ok);
     assert!(
-        err.contains("the run ended at tick 1, when its root completed; tick 500 is after it"),
+        err.contains("tick 500 is outside the run: it ended at tick 1, when its root completed"),
         "{err}"
     );
 }

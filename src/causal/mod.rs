@@ -484,7 +484,7 @@ pub fn why(
     });
     if moment.tick > last {
         return Err(fail(format!(
-            "the run ended at tick {last}, when its root completed; tick {} is after it",
+            "tick {} is outside the run: it ended at tick {last}, when its root completed",
             moment.tick
         )));
     }

@@ -96,6 +96,10 @@ impl Plan {
                     }
                 }
             }
+            if key.starts_with('@') && key != "@default_action" && key != "@default_condition" {
+                return Err(at(format!("\"{key}\" is not a plan directive"))
+                    .with_help("the directives are @default_action and @default_condition"));
+            }
             if let Some(prev) = entries.iter().find(|e| e.key == key) {
                 return Err(at(format!(
                     "\"{key}\" is already planned on line {}",

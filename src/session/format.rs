@@ -136,12 +136,23 @@ impl SessionWriter {
     }
 
     pub fn create(path: &Path, header: &Header) -> Result<SessionWriter, Located> {
-        if path.exists() {
-            return Err(Located::file(
-                path,
-                "a session already exists here; btx does not overwrite sessions",
-            )
-            .with_help("choose another --out, or remove the old session first"));
+        if let Ok(meta) = std::fs::symlink_metadata(path) {
+            // Say what is there: btx overwrites nothing, but a directory or
+            // a device is not an old session.
+            let what = if meta.is_dir() {
+                "a directory is here; --out names the session file to write"
+            } else if !meta.is_file() {
+                "this is a device, a FIFO or a link, not a file; --out names a new session file"
+            } else if std::fs::read(path)
+                .map(|b| b.starts_with(b"{\"btx_session\""))
+                .unwrap_or(false)
+            {
+                "a session already exists here; btx does not overwrite sessions"
+            } else {
+                "a file that is not a btx session is here; btx overwrites no file"
+            };
+            return Err(Located::file(path, what)
+                .with_help("choose another --out, or remove what is there first"));
         }
         let partial = Self::partial_path(path);
         let file = std::fs::OpenOptions::new()

@@ -437,3 +437,52 @@ fn unclear_or_silent_cases_say_what_is_wrong() {
         "{err}"
     );
 }
+
+#[test]
+fn a_script_cannot_grow_a_string_without_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let scripts = r#"<Script code="x := x .. x"/>"#.repeat(64);
+    let tree = write(
+        dir.path(),
+        "s.xml",
+        &format!(
+            r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence><Script code="x := 'ab'"/>{scripts}</Sequence></BehaviorTree></root>"#
+        ),
+    );
+    let plan = write(dir.path(), "s.plan", "");
+    let out = dir.path().join("s.jsonl").display().to_string();
+    let (code, _, err) = btx_code(&["run", &tree, "--plan", &plan, "--out", &out]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("more than the 1048576 a script may make"),
+        "{err}"
+    );
+}
+
+#[test]
+fn long_runs_with_little_in_common_align_in_bounded_time() {
+    use btx::diff::align::edits_bounded;
+    // Nothing in common: exact at once.
+    let a: Vec<u32> = (0..50_000).collect();
+    let b: Vec<u32> = (50_000..100_000).collect();
+    let (e, exact) = edits_bounded(&a, &b);
+    assert!(exact);
+    assert_eq!(btx::diff::align::distance(&e), 100_000);
+    // A little in common: the time bound may be reached; the script is
+    // then an upper bound, never wrong: it turns a into b.
+    let a: Vec<u32> = (0..50_000)
+        .map(|i| if i % 100 == 0 { 0 } else { i + 1 })
+        .collect();
+    let b: Vec<u32> = (0..50_000)
+        .map(|i| if i % 100 == 0 { 0 } else { i + 100_000 })
+        .collect();
+    let (e, _) = edits_bounded(&a, &b);
+    let mut out = Vec::new();
+    for x in &e {
+        if let Some(j) = x.b {
+            out.push(b[j]);
+        }
+    }
+    assert_eq!(out, b);
+    assert_eq!(e.iter().filter_map(|x| x.a).count(), a.len());
+}

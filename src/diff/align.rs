@@ -3,7 +3,7 @@
 //! the edit distance it implies (insertions plus deletions) is the one
 //! Wu et al.'s O(NP) algorithm, which Han et al. cite, computes.
 
-use similar::{capture_diff_slices, Algorithm, DiffOp};
+use similar::{Algorithm, DiffOp};
 
 /// What happened to one position of the two sequences.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -29,10 +29,57 @@ pub struct Edit {
     pub b: Option<usize>,
 }
 
+/// How long an alignment may take before the best one found so far is
+/// taken: Myers' algorithm costs time in proportion to length × distance,
+/// so two long runs with little in common would take minutes.
+pub const ALIGN_TIME_MAX: std::time::Duration = std::time::Duration::from_secs(2);
+
 /// The edit script turning `a` into `b`, in order.
 pub fn edits<T: Eq + std::hash::Hash + Ord>(a: &[T], b: &[T]) -> Vec<Edit> {
-    let mut out = Vec::with_capacity(a.len().max(b.len()));
-    for op in capture_diff_slices(Algorithm::Myers, a, b) {
+    edits_bounded(a, b).0
+}
+
+/// The edit script, and whether it is a shortest one (`false`: the time
+/// bound was reached and the script is the best found by then, longer
+/// than the shortest perhaps, never wrong).
+pub fn edits_bounded<T: Eq + std::hash::Hash + Ord>(a: &[T], b: &[T]) -> (Vec<Edit>, bool) {
+    // Sequences with nothing in common: every item changes, exactly, at
+    // no cost (the case where Myers' algorithm is slowest).
+    let common = {
+        let (small, large) = if a.len() <= b.len() { (a, b) } else { (b, a) };
+        let set: std::collections::HashSet<&T> = small.iter().collect();
+        large.iter().any(|x| set.contains(x))
+    };
+    if !common {
+        let ops = if a.is_empty() && b.is_empty() {
+            Vec::new()
+        } else {
+            vec![DiffOp::Replace {
+                old_index: 0,
+                old_len: a.len(),
+                new_index: 0,
+                new_len: b.len(),
+            }]
+        };
+        return (script(&ops), true);
+    }
+    let started = std::time::Instant::now();
+    let deadline = started + ALIGN_TIME_MAX;
+    let ops = similar::capture_diff_deadline(
+        Algorithm::Myers,
+        a,
+        0..a.len(),
+        b,
+        0..b.len(),
+        Some(deadline),
+    );
+    let exact = std::time::Instant::now() < deadline;
+    (script(&ops), exact)
+}
+
+fn script(ops: &[DiffOp]) -> Vec<Edit> {
+    let mut out = Vec::new();
+    for &op in ops {
         match op {
             DiffOp::Equal {
                 old_index,

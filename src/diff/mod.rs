@@ -206,6 +206,9 @@ pub struct Section {
     pub a: Vec<Step>,
     pub b: Vec<Step>,
     pub edits: Vec<Edit>,
+    /// The edit script is a shortest one (`false`: the alignment's time
+    /// bound was reached, and the distance is an upper bound).
+    pub exact: bool,
 }
 
 impl Section {
@@ -265,6 +268,7 @@ impl Section {
             "a_len": self.a.len(),
             "b_len": self.b.len(),
             "distance": self.distance(),
+            "exact": self.exact,
             "lcs": self.lcs(),
             "inserted": pick(Op::Inserted),
             "deleted": pick(Op::Deleted),
@@ -304,13 +308,15 @@ impl Diff {
             let ys = y.map_or(&empty, |s| &s.steps);
             let kx: Vec<String> = xs.iter().map(|s| s.key(outcomes)).collect();
             let ky: Vec<String> = ys.iter().map(|s| s.key(outcomes)).collect();
+            let (edits, exact) = align::edits_bounded(&kx, &ky);
             sections.push(Section {
                 name,
                 a_subgoal: x.map(|s| s.subgoal),
                 b_subgoal: y.map(|s| s.subgoal),
                 a: xs.clone(),
                 b: ys.clone(),
-                edits: align::edits(&kx, &ky),
+                edits,
+                exact,
             });
         };
         // The goals always pair; subgoals pair by name, in order, and a
@@ -446,9 +452,14 @@ impl Diff {
                 _ => "",
             };
             out.push_str(&format!(
-                "\n{}{only}: edit distance {}, LCS {} (A {}, B {}): {}\n",
+                "\n{}{only}: edit distance {}{}, LCS {} (A {}, B {}): {}\n",
                 sec.name,
                 sec.distance(),
+                if sec.exact {
+                    ""
+                } else {
+                    " at most (aligning took longer than 2 s)"
+                },
                 sec.lcs(),
                 plural(sec.a.len(), "action"),
                 plural(sec.b.len(), "action"),
@@ -477,8 +488,13 @@ impl Diff {
         } else {
             let (s, i) = self.divergences()[0];
             out.push_str(&format!(
-                "\nIn all: edit distance {}, LCS {}. First divergence: {}.\n",
+                "\nIn all: edit distance {}{}, LCS {}. First divergence: {}.\n",
                 self.distance(),
+                if self.sections.iter().all(|s| s.exact) {
+                    ""
+                } else {
+                    " at most"
+                },
                 self.lcs(),
                 self.describe(s, i)
             ));

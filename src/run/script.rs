@@ -93,6 +93,20 @@ struct P<'a, E: Env> {
     depth: usize,
 }
 
+/// The longest string a script may make (bytes): `x := x .. x` run over
+/// and over doubles a string each time.
+pub const STRING_MAX: usize = 1 << 20;
+
+fn joined(a: &str, b: &str) -> Result<String, String> {
+    if a.len() + b.len() > STRING_MAX {
+        return Err(format!(
+            "the string would be {} bytes long, more than the {STRING_MAX} a script may make",
+            a.len() + b.len()
+        ));
+    }
+    Ok(format!("{a}{b}"))
+}
+
 /// The deepest an expression may nest.
 pub const SCRIPT_NESTING_MAX: usize = 200;
 
@@ -201,11 +215,10 @@ impl<E: Env> P<'_, E> {
                             .get(&name)
                             .ok_or_else(|| format!("\"{name}\" is not on the blackboard"))?;
                         match op {
-                            "+=" if old.is_string() || rhs.is_string() => Value::from(format!(
-                                "{}{}",
+                            "+=" if old.is_string() || rhs.is_string() => Value::from(joined(
                                 old.as_str().unwrap_or(""),
-                                rhs.as_str().map_or(rhs.to_string(), str::to_string)
-                            )),
+                                &rhs.as_str().map_or(rhs.to_string(), str::to_string),
+                            )?),
                             "+=" => number(num(&old)? + num(&rhs)?),
                             "-=" => number(num(&old)? - num(&rhs)?),
                             "*=" => number(num(&old)? * num(&rhs)?),
@@ -279,7 +292,7 @@ impl<E: Env> P<'_, E> {
         while self.eat("..") {
             let r = self.sum()?;
             let s = |v: &Value| v.as_str().map_or(v.to_string(), str::to_string);
-            l = Value::from(format!("{}{}", s(&l), s(&r)));
+            l = Value::from(joined(&s(&l), &s(&r))?);
         }
         Ok(l)
     }

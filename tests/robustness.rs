@@ -1,5 +1,6 @@
-//! Bad input never panics: mutated trees, sessions, plans and domain files
-//! are loaded or refused with an error, nothing else.
+//! Bad input never panics: mutated trees, sessions, plans, domain files and
+//! logs are loaded or refused with an error that names the file and where
+//! in it (line and column, or byte offset), nothing else.
 
 use btx::run::domain::Domain;
 use btx::run::plan::Plan;
@@ -31,6 +32,25 @@ fn mutate(text: &str, edits: &[(usize, u8, char)]) -> String {
     chars.into_iter().collect()
 }
 
+/// The error names the file, and a line:column or a byte offset in it.
+fn located(e: &btx::Located, file: &str) -> Result<(), TestCaseError> {
+    // A tree embedded in a log or session is named after it, with the
+    // line and column in the embedded XML.
+    let at = e.location.strip_prefix(file).unwrap_or("");
+    let at = at.strip_prefix(" (embedded tree)").unwrap_or(at);
+    let line_col = at.starts_with(':')
+        && at[1..]
+            .split(':')
+            .take(2)
+            .all(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+    prop_assert!(e.location.starts_with(file), "{e}");
+    prop_assert!(
+        line_col || e.message.contains("byte offset"),
+        "no place in the file: {e}"
+    );
+    Ok(())
+}
+
 fn edits() -> impl Strategy<Value = Vec<(usize, u8, char)>> {
     prop::collection::vec(
         (
@@ -45,32 +65,43 @@ fn edits() -> impl Strategy<Value = Vec<(usize, u8, char)>> {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 300, failure_persistence: None, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
 
     #[test]
     fn trees(e in edits(), v3 in any::<bool>()) {
         let text = mutate(&root(if v3 { "tests/fixtures/kitting-tree.v3.xml" } else { "trees/kitting.xml" }), &e);
-        if let Ok(l) = load_str(Path::new("m.xml"), &text, &LoadOptions::default()) {
-            let _ = btx::xml::to_v4_xml(&l.tree);
-            let _ = btx::frame::Framed::new(&l.tree);
+        match load_str(Path::new("m.xml"), &text, &LoadOptions::default()) {
+            Ok(l) => {
+                let _ = btx::xml::to_v4_xml(&l.tree);
+                let _ = btx::frame::Framed::new(&l.tree);
+            }
+            Err(e) => located(&e, "m.xml")?,
         }
     }
 
     #[test]
     fn sessions(e in edits()) {
         let text = mutate(&root("sessions/kitting-lookat-fails-once.jsonl"), &e);
-        if let Ok(s) = Session::parse(Path::new("m.jsonl"), &text) {
-            for t in 1..=s.index.ticks() {
-                let at = s.at(btx::session::Moment { tick: t, step: None }).unwrap();
-                let _ = at.current();
+        match Session::parse(Path::new("m.jsonl"), &text) {
+            Ok(s) => {
+                for t in 1..=s.index.ticks() {
+                    let at = s.at(btx::session::Moment { tick: t, step: None }).unwrap();
+                    let _ = at.current();
+                }
             }
+            // The tree embedded in the session names itself after it.
+            Err(e) => located(&e, "m.jsonl")?,
         }
     }
 
     #[test]
     fn plans_and_domains(e in edits()) {
-        let _ = Plan::parse(Path::new("m.plan"), &mutate(&root("trees/plans/kitting-lookat-fails-once.plan"), &e));
-        let _ = Domain::parse(Path::new("m.toml"), &mutate(&root("trees/case-study.domain.toml"), &e));
+        if let Err(e) = Plan::parse(Path::new("m.plan"), &mutate(&root("trees/plans/kitting-lookat-fails-once.plan"), &e)) {
+            located(&e, "m.plan")?;
+        }
+        if let Err(e) = Domain::parse(Path::new("m.toml"), &mutate(&root("trees/case-study.domain.toml"), &e)) {
+            located(&e, "m.toml")?;
+        }
     }
 
     #[test]
@@ -84,15 +115,27 @@ proptest! {
         let keep = bytes.len() - (cut as usize % bytes.len());
         bytes.truncate(keep);
         let p = Path::new("m.log");
-        let _ = btx::logs::open_btlog(p, &bytes);
-        let _ = btx::logs::open_fbl(p, &bytes);
+        if let Err(e) = btx::logs::open_btlog(p, &bytes) {
+            located(&e, "m.log")?;
+        }
+        if let Err(e) = btx::logs::open_fbl(p, &bytes) {
+            located(&e, "m.log")?;
+        }
     }
 
     #[test]
     fn arbitrary_text(s in "\\PC{0,200}") {
-        let _ = load_str(Path::new("a.xml"), &s, &LoadOptions::default());
-        let _ = Session::parse(Path::new("a.jsonl"), &s);
-        let _ = Plan::parse(Path::new("a.plan"), &s);
-        let _ = Domain::parse(Path::new("a.toml"), &s);
+        if let Err(e) = load_str(Path::new("a.xml"), &s, &LoadOptions::default()) {
+            located(&e, "a.xml")?;
+        }
+        if let Err(e) = Session::parse(Path::new("a.jsonl"), &s) {
+            located(&e, "a.jsonl")?;
+        }
+        if let Err(e) = Plan::parse(Path::new("a.plan"), &s) {
+            located(&e, "a.plan")?;
+        }
+        if let Err(e) = Domain::parse(Path::new("a.toml"), &s) {
+            located(&e, "a.toml")?;
+        }
     }
 }

@@ -243,7 +243,12 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawFbl, Located> {
     element(
         root_uid, &nodes, &kinds, &mut trees, &mut main, &mut seen, 0,
     )
-    .map_err(|m| Located::file(path, format!("the .fbl's tree: {m}")))?;
+    .map_err(|m| {
+        Located::file(
+            path,
+            format!("byte offset 4: the .fbl's tree (a flatbuffer of {n} bytes there): {m}"),
+        )
+    })?;
     let mut xml =
         format!("<root><BehaviorTree ID=\"MainTree\" _fullpath=\"\">{main}</BehaviorTree>");
     for t in trees {

@@ -45,7 +45,7 @@ impl Session {
             Located::at(path, text, start, start + len, msg)
         };
         let Some(&(_, first)) = lines.first() else {
-            return Err(Located::file(path, "the session is empty"));
+            return Err(Located::at(path, text, 0, 0, "the session is empty"));
         };
         let header: Header = serde_json::from_str(first.trim_end()).map_err(|e| {
             err_at(

@@ -116,7 +116,15 @@ pub fn parse_document(path: &Path, text: &str) -> Result<Element, Located> {
             format!("malformed XML: <{}> is never closed", open.tag),
         ));
     }
-    top.ok_or_else(|| Located::file(path, "malformed XML: the document has no element"))
+    top.ok_or_else(|| {
+        Located::at(
+            path,
+            text,
+            text.len(),
+            text.len(),
+            "malformed XML: the document has no element",
+        )
+    })
 }
 
 fn attach(

@@ -486,3 +486,65 @@ fn long_runs_with_little_in_common_align_in_bounded_time() {
     assert_eq!(out, b);
     assert_eq!(e.iter().filter_map(|x| x.a).count(), a.len());
 }
+
+#[path = "common/trees.rs"]
+mod trees;
+
+/// Nothing btx writes is unreadable by btx: generated trees (every
+/// built-in node kind, scripts, the blackboard, SubTrees) run from random
+/// plans, and every command reads the session the run wrote.
+#[test]
+fn every_command_reads_every_session_btx_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut ran = 0;
+    for seed in 0..24u64 {
+        let case = trees::generate(seed * 7919 + 3);
+        let tree = write(dir.path(), &format!("{seed}.xml"), &case.xml);
+        let plan = write(dir.path(), &format!("{seed}.plan"), &case.plan);
+        let out = dir
+            .path()
+            .join(format!("{seed}.jsonl"))
+            .display()
+            .to_string();
+        let (code, _, err) = btx_code(&[
+            "run",
+            &tree,
+            "--plan",
+            &plan,
+            "--max-ticks",
+            "24",
+            "--out",
+            &out,
+            "-q",
+        ]);
+        // A run may stop on an error the library would throw too; the
+        // session up to there is kept, and read like any other.
+        assert!(matches!(code, Some(0 | 1)), "{err}");
+        if !Path::new(&out).exists() {
+            continue;
+        }
+        ran += 1;
+        for args in [
+            vec!["log", out.as_str()],
+            vec!["log", out.as_str(), "--format", "json"],
+            vec!["tree", out.as_str()],
+            vec![
+                "ask",
+                out.as_str(),
+                "--node",
+                "#1",
+                "q1",
+                "q2",
+                "wrong",
+                "handled",
+            ],
+            vec!["why", out.as_str(), "status(#1)"],
+            vec!["graph", out.as_str()],
+            vec!["diff", out.as_str(), out.as_str()],
+        ] {
+            let (code, _, err) = btx_code(&args);
+            assert_eq!(code, Some(0), "seed {seed}: {args:?}: {err}");
+        }
+    }
+    assert!(ran >= 20, "{ran} runs wrote a session");
+}

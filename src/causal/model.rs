@@ -417,10 +417,30 @@ struct Assembled {
 fn control_flows(tree: &Tree, facts: &TickFacts) -> Vec<Flow> {
     (1..=tree.len() as Uid)
         .map(|u| {
+            if decided_by_precondition(tree, facts, u) {
+                return Flow::Gated;
+            }
             loop_of(tree, facts, u)
                 .unwrap_or_else(|| flow_of(tree, u, &facts.flows[u as usize - 1]))
         })
         .collect()
+}
+
+/// A node whose pre-condition script (`_skipIf`, `_successIf`,
+/// `_failureIf`, `_while`) decided its status in the tick: it was ticked
+/// and none of its children was. What it returned is the recorded choice
+/// (the script reads the blackboard, which the model does not hold).
+fn decided_by_precondition(tree: &Tree, facts: &TickFacts, u: Uid) -> bool {
+    let n = tree.node(u);
+    !n.children.is_empty()
+        && n.scripts.iter().any(|(k, _)| {
+            matches!(
+                k.as_str(),
+                "_skipIf" | "_successIf" | "_failureIf" | "_while"
+            )
+        })
+        && facts.ticked[u as usize - 1]
+        && n.children.iter().all(|&c| !facts.ticked[c as usize - 1])
 }
 
 /// Stage "structure": Algorithm 7's variables and structural edges.
@@ -470,7 +490,13 @@ fn structure(
         } else {
             Func::CompositeStatus { uid: u }
         };
-        r_of[i] = b.var(VarKind::Status(u), status_range(node.kind), true, r_func);
+        // A built-in leaf other than Sleep is synchronous: BehaviorTree.CPP
+        // throws if it returns RUNNING, so no explanation may suppose it.
+        let mut range = status_range(node.kind);
+        if is_leaf && node.builtin.is_some_and(|b| b != Builtin::Sleep) {
+            range.retain(|x| *x != Val::Status(Status::Running));
+        }
+        r_of[i] = b.var(VarKind::Status(u), range, true, r_func);
         if let (Some(l), Kind::Action) = (leaf, node.kind) {
             let d = domain.as_ref().expect("a leaf has a domain");
             let mut range: Vec<Val> = d.leaves[l]

@@ -64,6 +64,12 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
             path, &bytes,
         )?)));
     }
+    if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
+        return Err(Located::file(
+            path,
+            "byte offset 0: the file is UTF-16 text; btx and BehaviorTree.CPP read UTF-8: save it as UTF-8",
+        ));
+    }
     let first = bytes.iter().position(|b| !b.is_ascii_whitespace());
     if !matches!(first.map(|i| bytes[i]), Some(b'{' | b'<' | 0xEF))
         && crate::logs::fbl::is_fbl(&bytes)

@@ -759,7 +759,11 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 };
                 let leaves = PlanLeaves::new(plan, &tree);
                 warn_all(cli.quiet, &leaves.warnings);
-                report_run(&tree, record(req(source), leaves))?;
+                report_run(
+                    &tree,
+                    ask.as_ref().map(|(t, _)| *t),
+                    record(req(source), leaves),
+                )?;
             } else if let Some(p) = &domain {
                 let d = std::sync::Arc::new(Domain::load(p)?);
                 let source = Source {
@@ -772,7 +776,11 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 for a in &set {
                     leaves.set(a).map_err(Failure::Plain)?;
                 }
-                report_run(&tree, record(req(source), leaves))?;
+                report_run(
+                    &tree,
+                    ask.as_ref().map(|(t, _)| *t),
+                    record(req(source), leaves),
+                )?;
             } else {
                 match world.expect("clap requires one source of leaves") {
                     World::Taxi => {
@@ -789,7 +797,11 @@ fn run(cli: Cli) -> Result<(), Failure> {
                             text: None,
                             name: Some("taxi".into()),
                         };
-                        report_run(&tree, record(req(source), TaxiLeaves::new(Grid::han())))?;
+                        report_run(
+                            &tree,
+                            ask.as_ref().map(|(t, _)| *t),
+                            record(req(source), TaxiLeaves::new(Grid::han())),
+                        )?;
                     }
                     World::Kitting => {
                         let (name, plan) = kitting::scenario(seed).map_err(Failure::Plain)?;
@@ -801,7 +813,11 @@ fn run(cli: Cli) -> Result<(), Failure> {
                         };
                         let leaves = PlanLeaves::new(plan, &tree);
                         warn_all(cli.quiet, &leaves.warnings);
-                        report_run(&tree, record(req(source), leaves))?;
+                        report_run(
+                            &tree,
+                            ask.as_ref().map(|(t, _)| *t),
+                            record(req(source), leaves),
+                        )?;
                     }
                 }
             }
@@ -1143,12 +1159,18 @@ fn keymap(path: Option<&Path>) -> Result<btx::tui::keymap::Keymap, Failure> {
 
 fn report_run(
     tree: &btx::Tree,
+    asked_at: Option<u32>,
     r: Result<btx::session::record::RunSummary, RecordError>,
 ) -> Result<(), Failure> {
     match r {
         Ok(s) => {
             if let Some(a) = &s.answer {
                 println!("{a}");
+            } else if let Some(t) = asked_at {
+                eprintln!(
+                    "warning: the run ended at tick {}, before tick {t} where --ask-at was to ask; nothing was asked",
+                    s.ticks
+                );
             }
             eprintln!(
                 "{}: {} ticks, {} transitions, root {} ({})",

@@ -548,3 +548,56 @@ fn every_command_reads_every_session_btx_writes() {
     }
     assert!(ran >= 20, "{ran} runs wrote a session");
 }
+
+#[test]
+fn silent_cases_now_speak() {
+    let dir = tempfile::tempdir().unwrap();
+    // --ask-at past the end of the run.
+    let (code, _, err) = btx_code(&[
+        "run",
+        "trees/kitting.xml",
+        "--world",
+        "kitting",
+        "--ask-at",
+        "500",
+        "Can you insert large gear?",
+        "--out",
+        dir.path().join("a.jsonl").to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(
+        err.contains("the run ended at tick 46, before tick 500 where --ask-at was to ask"),
+        "{err}"
+    );
+    // end_after naming no leaf.
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("trees/serial-recall.domain.toml"),
+    )
+    .unwrap()
+    .replace("end_after = [\"EndGame\"]", "end_after = [\"EndGmae\"]");
+    let domain = write(dir.path(), "d.toml", &text);
+    let (code, _, err) = btx_code(&[
+        "run",
+        "trees/serial-recall.xml",
+        "--domain",
+        &domain,
+        "--out",
+        dir.path().join("b.jsonl").to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("end_after names \"EndGmae\""), "{err}");
+}
+
+#[test]
+fn a_utf16_file_is_named_as_such() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("u16.xml");
+    let mut bytes = vec![0xFF, 0xFE];
+    for u in "<root BTCPP_format=\"4\"/>".encode_utf16() {
+        bytes.extend(u.to_le_bytes());
+    }
+    std::fs::write(&p, bytes).unwrap();
+    let (code, _, err) = btx_code(&["tree", p.to_str().unwrap()]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("UTF-16"), "{err}");
+}

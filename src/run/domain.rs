@@ -594,6 +594,27 @@ impl Domain {
                 reads,
             });
         }
+        // A run that ends after a leaf no table describes would never end.
+        if let Some(e) = d
+            .end_after
+            .iter()
+            .find(|e| !d.leaves.iter().any(|l| &l.key == *e))
+        {
+            let at = text.find("end_after").unwrap_or(0);
+            return Err(d
+                .err(
+                    at..at + "end_after".len(),
+                    format!("end_after names \"{e}\", which no [leaf] table is"),
+                )
+                .with_help(format!(
+                    "the leaf tables are: {}",
+                    d.leaves
+                        .iter()
+                        .map(|l| l.key.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )));
+        }
         Ok(d)
     }
 

@@ -62,10 +62,67 @@ impl Drop for Tmux {
     }
 }
 
+/// Whether tmux is here; under CI it must be (.ci/run installs it), so a
+/// missing tmux fails the run instead of passing by skipping.
+fn tmux_here() -> bool {
+    let here = Command::new("tmux").arg("-V").output().is_ok();
+    if !here {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "tmux is missing under CI: the terminal tests cannot run"
+        );
+        eprintln!("tmux is not installed; .ci/run installs it");
+    }
+    here
+}
+
+#[test]
+fn every_signal_restores_the_terminal() {
+    if !tmux_here() {
+        return;
+    }
+    for (sig, n) in [("TERM", 15), ("HUP", 1), ("INT", 2), ("QUIT", 3)] {
+        let t = Tmux(format!("btx-sig{sig}-{}", std::process::id()));
+        let dir = tempfile::tempdir().unwrap();
+        let pidfile = dir.path().join("pid");
+        let cmd = format!(
+            "{} & echo $! > {}; wait $!; echo EXITED:$?; sleep 30",
+            env!("CARGO_BIN_EXE_btx"),
+            pidfile.display()
+        );
+        t.start(&cmd);
+        t.wait_for("moment 1 ");
+        // The explorer has the alternate screen and mouse reporting on.
+        let on = t.run(&[
+            "display",
+            "-p",
+            "-t",
+            "btx",
+            "#{alternate_on} #{mouse_any_flag}",
+        ]);
+        assert_eq!(on.trim(), "1 1", "SIG{sig}: before");
+        let pid = std::fs::read_to_string(&pidfile).unwrap();
+        Command::new("kill")
+            .arg(format!("-{sig}"))
+            .arg(pid.trim())
+            .status()
+            .unwrap();
+        let s = t.wait_for("EXITED:");
+        assert!(s.contains(&format!("EXITED:{}", 128 + n)), "SIG{sig}: {s}");
+        let after = t.run(&[
+            "display",
+            "-p",
+            "-t",
+            "btx",
+            "#{alternate_on} #{mouse_any_flag} #{cursor_flag}",
+        ]);
+        assert_eq!(after.trim(), "0 0 1", "SIG{sig}: the terminal after: {s}");
+    }
+}
+
 #[test]
 fn demo_in_a_real_terminal() {
-    if Command::new("tmux").arg("-V").output().is_err() {
-        eprintln!("tmux is not installed; .ci/run installs it");
+    if !tmux_here() {
         return;
     }
     let t = Tmux(format!("btx-e2e-{}", std::process::id()));
@@ -88,38 +145,8 @@ fn demo_in_a_real_terminal() {
 }
 
 #[test]
-fn sigterm_restores_the_terminal() {
-    if Command::new("tmux").arg("-V").output().is_err() {
-        eprintln!("tmux is not installed; .ci/run installs it");
-        return;
-    }
-    let t = Tmux(format!("btx-term-{}", std::process::id()));
-    let dir = tempfile::tempdir().unwrap();
-    let pidfile = dir.path().join("pid");
-    let cmd = format!(
-        "{} & echo $! > {}; wait $!; echo EXITED:$?; sleep 30",
-        env!("CARGO_BIN_EXE_btx"),
-        pidfile.display()
-    );
-    t.start(&cmd);
-    t.wait_for("full tree");
-    let pid = std::fs::read_to_string(&pidfile).unwrap();
-    Command::new("kill")
-        .arg("-TERM")
-        .arg(pid.trim())
-        .status()
-        .unwrap();
-    let s = t.wait_for("EXITED:");
-    assert!(
-        !s.contains("full tree"),
-        "the alternate screen was left: {s}"
-    );
-}
-
-#[test]
 fn side_by_side_diff_in_a_real_terminal() {
-    if Command::new("tmux").arg("-V").output().is_err() {
-        eprintln!("tmux is not installed; .ci/run installs it");
+    if !tmux_here() {
         return;
     }
     let t = Tmux(format!("btx-e2e-diff-{}", std::process::id()));

@@ -189,19 +189,37 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
 pub fn run(mut app: impl Screen) -> std::io::Result<()> {
     // SIGTERM (and SIGHUP) while the loop blocks on input: put the terminal
     // back from a watcher thread, then leave as a killed process would.
+    // An external SIGINT or SIGQUIT too (Ctrl-C itself is a key in raw mode).
     let mut signals = signal_hook::iterator::Signals::new([
         signal_hook::consts::SIGTERM,
         signal_hook::consts::SIGHUP,
+        signal_hook::consts::SIGINT,
+        signal_hook::consts::SIGQUIT,
     ])?;
     let watcher = signals.handle();
     std::thread::spawn(move || {
         if let Some(sig) = signals.forever().next() {
-            let _ = ratatui::crossterm::execute!(std::io::stdout(), event::DisableMouseCapture);
+            let _ = ratatui::crossterm::execute!(
+                std::io::stdout(),
+                event::DisableMouseCapture,
+                ratatui::crossterm::cursor::Show
+            );
             ratatui::restore();
             std::process::exit(128 + sig);
         }
     });
     let mut terminal = ratatui::try_init()?;
+    // ratatui's panic hook leaves the alternate screen and raw mode; mouse
+    // reporting, which btx turned on, is turned off first.
+    let ratatui_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let _ = ratatui::crossterm::execute!(
+            std::io::stdout(),
+            event::DisableMouseCapture,
+            ratatui::crossterm::cursor::Show
+        );
+        ratatui_hook(info);
+    }));
     let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
     let result = (|| -> std::io::Result<()> {
         let mut dirty = true;

@@ -29,6 +29,16 @@ fn btx_code(args: &[&str]) -> (Option<i32>, String, String) {
     )
 }
 
+/// The shipped case-study session's header, to edit, and its records.
+fn case_study_header() -> (serde_json::Value, String) {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/case-study.jsonl"),
+    )
+    .unwrap();
+    let (header, rest) = text.split_once('\n').unwrap();
+    (serde_json::from_str(header).unwrap(), rest.to_string())
+}
+
 #[test]
 fn infinity_and_nan_round_trip_through_a_session() {
     let dir = tempfile::tempdir().unwrap();
@@ -182,12 +192,7 @@ fn an_error_past_column_65535_is_an_error_not_a_panic() {
 #[test]
 fn trees_in_logs_and_sessions_read_no_other_file() {
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/case-study.jsonl"),
-    )
-    .unwrap();
-    let (header, rest) = text.split_once('\n').unwrap();
-    let mut h: serde_json::Value = serde_json::from_str(header).unwrap();
+    let (mut h, rest) = case_study_header();
     let xml = h["tree"]["xml"].as_str().unwrap().to_string();
     let i = xml.find("<BehaviorTree").unwrap();
     h["tree"]["xml"] = serde_json::Value::from(format!(
@@ -227,12 +232,7 @@ fn devices_and_fifos_are_refused_at_once() {
 fn numbers_taken_from_files_are_checked() {
     let dir = tempfile::tempdir().unwrap();
     // A session whose blackboard names a scope its tree does not have.
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/case-study.jsonl"),
-    )
-    .unwrap();
-    let (header, rest) = text.split_once('\n').unwrap();
-    let mut h: serde_json::Value = serde_json::from_str(header).unwrap();
+    let (mut h, rest) = case_study_header();
     h["blackboard"] = serde_json::json!([[{"scope": 999, "key": "X_a"}, true]]);
     let path = dir.path().join("scope.jsonl");
     std::fs::write(&path, format!("{h}\n{rest}")).unwrap();

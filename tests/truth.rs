@@ -278,6 +278,22 @@ fn planned(seed: u64) -> Option<Session> {
     .ok()
 }
 
+/// What `why` shows has been confirmed by a re-run, or says why it could
+/// not be; what it dropped a re-run disproved.
+fn only_confirmed_shown(w: &causal::Why) -> Result<(), TestCaseError> {
+    prop_assert_eq!(w.checks.len(), w.answer.explanations.len());
+    for c in &w.checks {
+        prop_assert!(
+            matches!(c, Check::Confirmed { .. } | Check::NotRerun(_)),
+            "{c:?}"
+        );
+    }
+    for (_, c) in &w.dropped {
+        prop_assert!(matches!(c, Check::Refuted { .. }), "{c:?}");
+    }
+    Ok(())
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 32, .. ProptestConfig::default() })]
 
@@ -293,13 +309,7 @@ proptest! {
         let target = if rng.coin() { format!("status(#{uid})") } else { format!("executed(#{uid})") };
         let at = btx::session::Moment { tick, step: None };
         let Ok(w) = causal::why(&s, None, &target, &[], Some(at), 2) else { return Ok(()) };
-        prop_assert_eq!(w.checks.len(), w.answer.explanations.len());
-        for c in &w.checks {
-            prop_assert!(matches!(c, Check::Confirmed { .. } | Check::NotRerun(_)), "{c:?}");
-        }
-        for (_, c) in &w.dropped {
-            prop_assert!(matches!(c, Check::Refuted { .. }), "{c:?}");
-        }
+        only_confirmed_shown(&w)?;
     }
 
     /// The re-run is faithful: changing a variable to the value it had
@@ -346,13 +356,7 @@ proptest! {
         let Ok(w) = causal::why(&s, d, target, &[], Some(at), 2) else {
             return Ok(());
         };
-        prop_assert_eq!(w.checks.len(), w.answer.explanations.len());
-        for c in &w.checks {
-            prop_assert!(matches!(c, Check::Confirmed { .. } | Check::NotRerun(_)), "{c:?}");
-        }
-        for (_, c) in &w.dropped {
-            prop_assert!(matches!(c, Check::Refuted { .. }), "{c:?}");
-        }
+        only_confirmed_shown(&w)?;
     }
 }
 

@@ -268,3 +268,24 @@ fn side_by_side_runs_move_together_and_say_why_they_diverged() {
     app.update(Action::Back);
     assert!(app.answer.is_none());
 }
+
+#[test]
+fn next_tick_goes_to_every_tick_empty_or_not() {
+    let mut app = demo();
+    app.update(Action::Start);
+    let ticks = |app: &btx::tui::app::App| app.shown_moment().unwrap().tick;
+    assert_eq!(ticks(&app), 1);
+    // Ticks in which nothing changed (a leaf kept RUNNING) are ticks too.
+    let mut seen = vec![1];
+    for _ in 0..30 {
+        app.update(Action::TickForward);
+        seen.push(ticks(&app));
+    }
+    assert_eq!(seen, (1..=31).collect::<Vec<u32>>());
+    let s = screen(&app, 110, 34);
+    assert!(s.contains("tick 31 of"), "{s}");
+    for _ in 0..30 {
+        app.update(Action::TickBack);
+    }
+    assert_eq!(ticks(&app), 1);
+}

@@ -64,6 +64,8 @@ pub struct App {
     pub selected: Uid,
     /// The moment, as a position in the session (transitions applied).
     pub pos: u32,
+    /// The tick stepped to with N/P when it ends where an earlier one did.
+    pub at_tick: Option<u32>,
     pub focus: Pane,
     pub overlay: Overlay,
     pub answer: Option<Answer>,
@@ -103,6 +105,7 @@ impl App {
             collapsed: HashSet::new(),
             selected: Tree::ROOT,
             pos,
+            at_tick: None,
             focus: Pane::Tree,
             overlay: Overlay::None,
             answer: None,
@@ -217,8 +220,27 @@ impl App {
 
     fn goto(&mut self, pos: u32) {
         self.pos = pos.min(self.positions());
+        self.at_tick = None;
         self.answer = None;
         self.follow_current();
+    }
+
+    /// Goes to the end of tick `t`, which may have no transition of its
+    /// own (a leaf kept RUNNING): several ticks then end at one position,
+    /// and the tick is kept apart from it.
+    fn goto_tick(&mut self, t: u32) {
+        if let Some(p) = self.tick_end(t) {
+            self.goto(p);
+            self.at_tick = Some(t);
+        }
+    }
+
+    /// The moment shown: the tick stepped to, or the position's moment.
+    pub fn shown_moment(&self) -> Option<crate::session::Moment> {
+        match self.at_tick {
+            Some(tick) => Some(crate::session::Moment { tick, step: None }),
+            None => self.at().map(|a| a.moment()),
+        }
     }
 
     fn tick_end(&self, tick: u32) -> Option<u32> {
@@ -229,7 +251,7 @@ impl App {
     }
 
     fn current_tick(&self) -> u32 {
-        self.at().map_or(0, |a| a.moment().tick)
+        self.shown_moment().map_or(0, |m| m.tick)
     }
 
     /// Ticks in which a leaf failed.
@@ -395,15 +417,9 @@ impl App {
                     Action::TickForward => t,
                     _ => t.saturating_sub(1),
                 };
-                if let Some(p) = self.tick_end(target.max(1)) {
-                    self.goto(p);
-                }
+                self.goto_tick(target.max(1));
             }
-            Action::Start => {
-                if let Some(p) = self.tick_end(1) {
-                    self.goto(p)
-                }
-            }
+            Action::Start => self.goto_tick(1),
             Action::End => self.goto(self.positions()),
             Action::NextFailure | Action::PrevFailure => {
                 let t = self.current_tick();
@@ -542,6 +558,9 @@ impl App {
 
     fn moment(&self) -> Option<crate::session::Moment> {
         let s = self.session.as_ref()?;
+        if let Some(tick) = self.at_tick {
+            return Some(crate::session::Moment { tick, step: None });
+        }
         (s.index.ticks() > 0).then(|| s.index.moment(self.pos.max(1)))
     }
 
@@ -666,9 +685,11 @@ impl App {
         let end = self.positions();
         if at_end {
             self.pos = end;
+            self.at_tick = None;
             self.follow_current();
         } else {
             self.pos = self.pos.min(end);
+            self.at_tick = None;
         }
     }
 

@@ -322,8 +322,9 @@ fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
         );
         return;
     };
-    let at = s.index.at(app.pos);
-    let m = at.moment();
+    let m = app
+        .shown_moment()
+        .unwrap_or_else(|| s.index.at(app.pos).moment());
     let ticks = s.index.ticks();
     let total = s.index.transitions.len();
     let mut play = if app.playing {

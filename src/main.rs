@@ -977,10 +977,28 @@ fn run(cli: Cli) -> Result<(), Failure> {
             follow: true,
             format,
         } => {
+            // A session being recorded is `SESSION.partial` until the run
+            // ends and it is renamed: follow it to its final name, then stop.
+            let finished = session
+                .to_str()
+                .and_then(|p| p.strip_suffix(".partial"))
+                .map(std::path::PathBuf::from);
             let mut f = btx::input::Follow::new(&session);
             let mut printed = 0usize;
             let mut header = false;
             loop {
+                let mut done = false;
+                if let Some(fin) = finished.as_ref().filter(|_| !session.exists()) {
+                    if !fin.exists() {
+                        fail!(
+                            "{}: the session being followed is gone, and {} is not there either",
+                            session.display(),
+                            fin.display()
+                        );
+                    }
+                    f = btx::input::Follow::new(fin);
+                    done = true;
+                }
                 match f.poll() {
                     Ok(Some(s)) => {
                         let only = match &node {
@@ -1005,7 +1023,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                         use std::io::Write;
                         let mut so = std::io::stdout().lock();
                         if so
-                            .write_all(out.as_bytes())
+                            .write_all(btx::text::visible(&out).as_bytes())
                             .and_then(|_| so.flush())
                             .is_err()
                         {
@@ -1018,6 +1036,12 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     // Caught mid-write: read again at the next poll.
                     Err(e) if printed > 0 => eprintln!("following: {e}"),
                     Err(e) => return Err(located(e)),
+                }
+                if done {
+                    if let Some(fin) = &finished {
+                        eprintln!("the run ended: the session is now {}", fin.display());
+                    }
+                    return Ok(());
                 }
                 std::thread::sleep(std::time::Duration::from_millis(250));
             }

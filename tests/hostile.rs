@@ -601,3 +601,55 @@ fn a_utf16_file_is_named_as_such() {
     assert_eq!(code, Some(1));
     assert!(err.contains("UTF-16"), "{err}");
 }
+
+#[test]
+fn following_a_partial_session_ends_when_it_is_finalised() {
+    let dir = tempfile::tempdir().unwrap();
+    let fin = dir.path().join("run.jsonl");
+    let partial = dir.path().join("run.jsonl.partial");
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/case-study.jsonl"),
+    )
+    .unwrap();
+    // The run so far: every line but the end record.
+    let (so_far, _) = text.trim_end().rsplit_once('\n').unwrap();
+    std::fs::write(&partial, format!("{so_far}\n")).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["log", "--follow", partial.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(600));
+    // The run ends: the session is written whole and renamed.
+    std::fs::write(&partial, &text).unwrap();
+    std::fs::rename(&partial, &fin).unwrap();
+    let start = std::time::Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed() > std::time::Duration::from_secs(10) {
+            let _ = child.kill();
+            panic!("btx log --follow kept polling a finalised session");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    let mut out = String::new();
+    child
+        .stdout
+        .take()
+        .unwrap()
+        .read_to_string(&mut out)
+        .unwrap();
+    let mut err = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert_eq!(status.code(), Some(0), "{err}");
+    assert_eq!(out.lines().count(), 1 + 10, "{out}");
+    assert!(err.contains("the run ended: the session is now"), "{err}");
+}

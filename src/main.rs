@@ -360,11 +360,17 @@ fn out(s: &str) {
     use std::io::Write;
     let s = btx::text::visible(s);
     let mut o = std::io::stdout().lock();
-    if let Err(e) = o.write_all(s.as_bytes()).and_then(|()| o.flush()) {
+    written(o.write_all(s.as_bytes()).and_then(|()| o.flush()));
+}
+
+/// The end of a write to standard output: a closed pipe ends btx quietly
+/// (exit 0), any other failure with a message (exit 1).
+fn written(r: std::io::Result<()>) {
+    if let Err(e) = r {
         if e.kind() == std::io::ErrorKind::BrokenPipe {
             std::process::exit(0);
         }
-        let _ = writeln!(std::io::stderr(), "error: cannot write the output: {e}");
+        err_out(&format!("error: cannot write the output: {e}\n"));
         std::process::exit(1);
     }
 }
@@ -1020,16 +1026,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                                 }
                             }
                         };
-                        use std::io::Write;
-                        let mut so = std::io::stdout().lock();
-                        if so
-                            .write_all(btx::text::visible(&out).as_bytes())
-                            .and_then(|_| so.flush())
-                            .is_err()
-                        {
-                            // The reader went away (a closed pipe): done.
-                            return Ok(());
-                        }
+                        print!("{out}");
                         printed = printed.max(rows.len());
                     }
                     Ok(None) => {}
@@ -1101,14 +1098,7 @@ impl SafeOut {
 
     fn finish(mut self, r: std::io::Result<()>) {
         use std::io::Write;
-        let r = r.and_then(|()| self.0.flush());
-        if let Err(e) = r {
-            if e.kind() == std::io::ErrorKind::BrokenPipe {
-                std::process::exit(0);
-            }
-            err_out(&format!("error: cannot write the output: {e}\n"));
-            std::process::exit(1);
-        }
+        written(r.and_then(|()| self.0.flush()));
     }
 }
 

@@ -276,34 +276,25 @@ fn numbers_taken_from_files_are_checked() {
     assert_eq!(code, Some(2), "{err}");
 }
 
+/// A tree of `n` Inverters nested over one leaf.
+fn inverters(n: usize) -> String {
+    format!(
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M">{}<AlwaysSuccess/>{}</BehaviorTree></root>"#,
+        "<Inverter>".repeat(n),
+        "</Inverter>".repeat(n)
+    )
+}
+
 #[test]
 fn deep_wide_and_nested_inputs_are_refused_with_their_limit() {
     let dir = tempfile::tempdir().unwrap();
     // 100,000 levels of nesting: refused by the reader, as tinyxml2 does.
-    let n = 100_000;
-    let deep = write(
-        dir.path(),
-        "deep.xml",
-        &format!(
-            r#"<root BTCPP_format="4"><BehaviorTree ID="M">{}<AlwaysSuccess/>{}</BehaviorTree></root>"#,
-            "<Inverter>".repeat(n),
-            "</Inverter>".repeat(n)
-        ),
-    );
+    let deep = write(dir.path(), "deep.xml", &inverters(100_000));
     let (code, _, err) = btx_code(&["tree", &deep]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("deeper than 500 levels"), "{err}");
     // 450 levels load, and print.
-    let n = 450;
-    let ok = write(
-        dir.path(),
-        "ok.xml",
-        &format!(
-            r#"<root BTCPP_format="4"><BehaviorTree ID="M">{}<AlwaysSuccess/>{}</BehaviorTree></root>"#,
-            "<Inverter>".repeat(n),
-            "</Inverter>".repeat(n)
-        ),
-    );
+    let ok = write(dir.path(), "ok.xml", &inverters(450));
     let (code, _, err) = btx_code(&["tree", &ok]);
     assert_eq!(code, Some(0), "{err}");
     // 40 trees, each calling the next twice: 2^40 instances.

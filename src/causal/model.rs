@@ -235,7 +235,7 @@ fn state_range(ty: &VarType) -> Vec<Val> {
     }
 }
 
-pub fn literal_int(tree: &Tree, uid: Uid, names: &[&str], default: i64) -> i64 {
+fn literal_int(tree: &Tree, uid: Uid, names: &[&str], default: i64) -> i64 {
     let n = tree.node(uid);
     names
         .iter()
@@ -1384,6 +1384,23 @@ impl Model {
             }
         }
         best.map_or_else(|| x.clone(), |(_, g)| g.clone())
+    }
+
+    /// A RetryUntilSuccessful's or Repeat's attempts in the tick, as its
+    /// structural function counts them: the status that makes it try again,
+    /// the attempts spent before its child's last tick, the most it makes
+    /// (−1: no limit), and whether that last tick started the child (the
+    /// wake-up path).
+    pub fn attempt_loop(&self, u: Uid) -> Option<(Status, i64, i64, bool)> {
+        match self.flows[u as usize - 1] {
+            Flow::Map(Mapping::Loop {
+                again,
+                spent,
+                max,
+                wakes,
+            }) => Some((again, spent, max, wakes)),
+            _ => None,
+        }
     }
 
     /// A node as answers name it: its description, with its uid when

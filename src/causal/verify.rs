@@ -53,6 +53,14 @@ impl Check {
     }
 }
 
+/// A change as the answer names it: `status(L0) = SUCCESS, X_a^0 = true`.
+fn change_text(model: &Model, dos: &[(usize, Val)]) -> String {
+    dos.iter()
+        .map(|(v, x)| format!("{} = {}", model.var_name(*v), super::english::value_text(x)))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// A session that can be re-run, with its reference run checked.
 pub struct Rerunner<'s> {
     session: &'s Session,
@@ -161,15 +169,8 @@ impl<'s> Rerunner<'s> {
             let claimed = model.snap(t, &claimed[t]);
             let got = model.snap(t, &got);
             if claimed != got {
-                let change = dos
-                    .iter()
-                    .map(|(v, x)| {
-                        format!("{} = {}", model.var_name(*v), super::english::value_text(x))
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ");
                 return Check::Refuted {
-                    change,
+                    change: change_text(model, &dos),
                     subject: model.var_name(t),
                     claimed: super::english::value_text(&claimed),
                     got: super::english::value_text(&got),
@@ -328,17 +329,7 @@ impl<'s> Rerunner<'s> {
                 Ok((_, calls)) if calls[child as usize - 1] > before => {}
                 Ok(_) => {
                     return Check::Refuted {
-                        change: dos
-                            .iter()
-                            .map(|(v, x)| {
-                                format!(
-                                    "{} = {}",
-                                    model.var_name(*v),
-                                    super::english::value_text(x)
-                                )
-                            })
-                            .collect::<Vec<_>>()
-                            .join(", "),
+                        change: change_text(model, &dos),
                         subject: model.node_name(child),
                         claimed: "ticked again within the tick".into(),
                         got: "ticked only as in the run".into(),
@@ -466,60 +457,42 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
 /// run now does, with attempts (cycles) left. The model cannot say what the
 /// next attempt gives; the run would have retried. Nearest the target first.
 pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
-    use crate::model::Builtin;
+    let loops: Vec<(Uid, (Status, i64, i64, bool))> = (1..=model.tree.len() as Uid)
+        .filter_map(|u| model.attempt_loop(u).map(|l| (u, l)))
+        .collect();
+    if loops.is_empty() {
+        return None;
+    }
     let vals = model.evaluate_with(dos).ok()?;
     let matters = model.ancestors(&query.targets);
+    let dist = model.distances_to(&query.targets);
     let mut found: Option<(usize, Next)> = None;
-    for u in 1..=model.tree.len() as Uid {
-        let repeat = match model.tree.node(u).builtin {
-            Some(Builtin::RetryUntilSuccessful) => false,
-            Some(Builtin::Repeat) => true,
-            _ => continue,
-        };
+    for (u, (again, spent, max, wakes)) in loops {
         if vals[model.e(u)] != Val::Bool(true) || !matters.contains(&model.r(u)) {
             continue;
         }
         let Some(&c) = model.tree.node(u).children.first() else {
             continue;
         };
-        let again = Val::Status(if repeat {
-            Status::Success
-        } else {
-            Status::Failure
-        });
+        let again = Val::Status(again);
         if vals[model.r(c)] != again || model.fact[model.r(c)] == again {
             continue;
         }
-        let max = super::model::literal_int(
-            &model.tree,
-            u,
-            if repeat {
-                &["num_cycles"]
-            } else {
-                &["num_attempts"]
-            },
-            -1,
-        );
-        // Attempts spent before the child's last tick of the run; a child
-        // that this tick started takes the wake-up path, which the model
-        // follows (the node returns RUNNING), so only a child already
+        // A child that this tick started takes the wake-up path, which the
+        // model follows (the node returns RUNNING): only a child already
         // running is ticked again within the tick.
-        let spent = model.facts.flows[u as usize - 1].count
-            + i64::from(model.facts.calls[c as usize - 1]).saturating_sub(1);
-        let wakes = model.tree.version == crate::model::Version::V4
-            && model.facts.start[c as usize - 1] == Status::Idle;
         if wakes || (max != -1 && spent + 1 >= max) {
             continue;
         }
-        let dist = model.distances_to(&query.targets)[model.r(u)];
         let next = Next::Retry {
             node: u,
             attempt: spent + 2,
             of: max,
-            repeat,
+            repeat: again == Val::Status(Status::Success),
         };
-        if found.as_ref().is_none_or(|(d, _)| dist < *d) {
-            found = Some((dist, next));
+        let d = dist[model.r(u)];
+        if found.as_ref().is_none_or(|(best, _)| d < *best) {
+            found = Some((d, next));
         }
     }
     found.map(|(_, n)| n)

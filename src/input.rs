@@ -79,6 +79,12 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
         )?)));
     }
     let kind = first.map(|i| bytes[i]);
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("fbl"))
+    {
+        return Err(Located::file(path, crate::logs::fbl::not_fbl(&bytes)));
+    }
     if let Some(b) = kind.filter(|b| !matches!(b, b'{' | b'<' | 0xEF)) {
         return Err(Located::file(
             path,

@@ -120,8 +120,8 @@ enum Command {
         file: PathBuf,
         #[command(flatten)]
         reading: Reading,
-        /// The moment of a session: TICK (its end) or TICK:STEP. Default: the end of the run.
-        #[arg(long, value_name = "MOMENT")]
+        /// The moment of a session: TICK (its end), TICK:STEP, last, end, or -N (-1: the last tick). Default: the end of the run.
+        #[arg(long, value_name = "MOMENT", allow_hyphen_values = true)]
         at: Option<String>,
         /// The node: #uid, a description or ID, or a path like "go insert large gear/detect chuck/lift torso".
         /// Default for a session: the current node at the moment.
@@ -224,8 +224,8 @@ enum Command {
         /// A value the target did not have (repeatable). Default: every other value.
         #[arg(long = "not", value_name = "VALUE")]
         not: Vec<String>,
-        /// The moment: TICK (its end) or TICK:STEP. Default: the end of the run.
-        #[arg(long, value_name = "MOMENT")]
+        /// The moment: TICK (its end), TICK:STEP, last, end, or -N (-1: the last tick). Default: the end of the run.
+        #[arg(long, value_name = "MOMENT", allow_hyphen_values = true)]
         at: Option<String>,
         /// The largest number of variables changed together.
         #[arg(long, value_name = "N", default_value_t = 2)]
@@ -254,8 +254,8 @@ enum Command {
     /// Print the explanation model (causal graph) of a tick of a session.
     Graph {
         session: PathBuf,
-        /// The moment: TICK or TICK:STEP. Default: the last tick.
-        #[arg(long, value_name = "MOMENT")]
+        /// The moment: TICK, TICK:STEP, last, end, or -N (-1: the last tick). Default: the last tick.
+        #[arg(long, value_name = "MOMENT", allow_hyphen_values = true)]
         at: Option<String>,
         /// A domain file instead of the one the session recorded.
         #[arg(long, value_name = "FILE")]
@@ -500,7 +500,10 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let input = open_input(&file, &reading, cli.quiet)?;
             let tree = input.tree();
             let out = match (framed, format) {
-                (false, TreeFormat::Text) => export::tree_text(tree),
+                (false, TreeFormat::Text) => {
+                    export::write_tree_text(tree, &mut |l| print!("{l}"));
+                    return Ok(());
+                }
                 (false, TreeFormat::Json) => pretty(&export::tree_json(tree)),
                 (false, TreeFormat::Dot) => export::tree_dot(tree),
                 (true, TreeFormat::Xml) => fail!(
@@ -531,7 +534,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let s = session_of(&input, &session)?;
             let at = at
                 .as_deref()
-                .map(Moment::parse)
+                .map(|a| Moment::parse_within(a, s.index.ticks()))
                 .transpose()
                 .map_err(Failure::Plain)?;
             let d = btx::causal::session_domain(s, domain.as_deref()).map_err(located)?;
@@ -614,7 +617,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let s = session_of(&input, &session)?;
             let tick = match at.as_deref() {
                 Some(a) => {
-                    let m = Moment::parse(a).map_err(Failure::Plain)?;
+                    let m = Moment::parse_within(a, s.index.ticks()).map_err(Failure::Plain)?;
                     s.index.position(m).map_err(Failure::Plain)?;
                     m.tick
                 }
@@ -656,7 +659,9 @@ fn run(cli: Cli) -> Result<(), Failure> {
             let view = match input.session() {
                 Some(s) => {
                     let m = match &at {
-                        Some(a) => Moment::parse(a).map_err(Failure::Plain)?,
+                        Some(a) => {
+                            Moment::parse_within(a, s.index.ticks()).map_err(Failure::Plain)?
+                        }
                         None => Moment {
                             tick: s.index.ticks().max(1),
                             step: None,
@@ -1217,9 +1222,36 @@ fn pretty(v: &serde_json::Value) -> String {
     s
 }
 
+/// The stack btx runs on. The executor, the loaders and the explanations
+/// recurse down the tree, and a tree may be `DEPTH_MAX` (10,000) levels deep;
+/// the main thread's 8 MiB would overflow near 2,000. Only the pages used
+/// are committed.
+const STACK_SIZE: usize = 256 << 20;
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(cli) {
+    let worker = std::thread::Builder::new()
+        .name("btx".into())
+        .stack_size(
+            std::env::var("BTX_STACK_MB")
+                .ok()
+                .and_then(|s| s.parse::<usize>().ok())
+                .map_or(STACK_SIZE, |m| m << 20),
+        )
+        .spawn(move || finish(run(cli)));
+    match worker.map(|w| w.join()) {
+        Ok(Ok(code)) => code,
+        // The panic hook has already restored the terminal and said why.
+        Ok(Err(_)) => ExitCode::from(101),
+        Err(e) => {
+            eprintln!("error: cannot start btx's thread ({e}): is the address space limited below {} MiB?", STACK_SIZE >> 20);
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn finish(result: Result<(), Failure>) -> ExitCode {
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Located(report)) => {
             // Its text was made safe when it was built; miette may colour it.

@@ -15,18 +15,82 @@ fn write(dir: &Path, name: &str, text: &str) -> String {
     p.display().to_string()
 }
 
-/// Runs btx and returns (exit code, stdout, stderr).
-fn btx_code(args: &[&str]) -> (Option<i32>, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_btx"))
+/// The address space every btx run here gets (`prlimit --as`): what the
+/// issue's hostile inputs were tried under, halved. It holds btx's 256 MiB
+/// stack reservation, the allocator's arenas and the heap.
+const AS_MAX: u64 = 1 << 30;
+
+/// What a run of btx under `AS_MAX` did.
+struct Run {
+    code: Option<i32>,
+    out: String,
+    err: String,
+    /// The length of standard output (kept only up to 16 MiB in `out`).
+    out_len: u64,
+    /// Peak resident memory, KiB: btx's, or this test process's at the
+    /// fork if that was more (Linux keeps the larger across exec), so a
+    /// check that it is small never passes wrongly. Tests here keep their
+    /// own memory small (outputs past 16 MiB are not read) for that reason.
+    peak_kib: i64,
+}
+
+/// Runs btx under `prlimit --as=AS_MAX` and measures its peak memory (the
+/// child's own rusage, through wait4: per child, even with tests running in
+/// parallel). Output goes through files so no pipe fills.
+fn btx_run(args: &[&str]) -> Run {
+    let dir = tempfile::tempdir().unwrap();
+    let (o, e) = (dir.path().join("out"), dir.path().join("err"));
+    let child = Command::new("prlimit")
+        .arg(format!("--as={AS_MAX}"))
+        .arg("--")
+        .arg(env!("CARGO_BIN_EXE_btx"))
         .args(args)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .unwrap();
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+        .stdin(Stdio::null())
+        .stdout(std::fs::File::create(&o).unwrap())
+        .stderr(std::fs::File::create(&e).unwrap())
+        .spawn()
+        .expect("prlimit (util-linux) runs btx under a memory ceiling");
+    let pid = child.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let got = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(got, pid, "wait4: {}", std::io::Error::last_os_error());
+    std::mem::forget(child);
+    let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
+    let read = |p: &Path| String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned();
+    let err = read(&e);
+    let out_len = std::fs::metadata(&o).unwrap().len();
+    assert!(
+        code.is_some() && code != Some(101) && code != Some(134),
+        "btx {args:?} ended by a signal or a panic ({status:#x}): {err}"
+    );
+    Run {
+        code,
+        out: if out_len <= 16 << 20 {
+            read(&o)
+        } else {
+            String::new()
+        },
+        err,
+        out_len,
+        peak_kib: usage.ru_maxrss,
+    }
+}
+
+/// An error as one line: miette wraps its messages at the terminal's width.
+fn one_line(err: &str) -> String {
+    err.lines()
+        .map(|l| l.trim_start_matches([' ', '│']).trim_end())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Runs btx and returns (exit code, stdout, stderr).
+fn btx_code(args: &[&str]) -> (Option<i32>, String, String) {
+    let r = btx_run(args);
+    (r.code, r.out, r.err)
 }
 
 /// The shipped case-study session's header, to edit, and its records.
@@ -643,4 +707,156 @@ fn following_a_partial_session_ends_when_it_is_finalised() {
     assert_eq!(status.code(), Some(0), "{err}");
     assert_eq!(out.lines().count(), 1 + 10, "{out}");
     assert!(err.contains("the run ended: the session is now"), "{err}");
+}
+
+/// A chain of `n` trees, each `per` levels (XML itself nests at most 500):
+/// ForceSuccess nested in each, a SubTree to the next, and at the end a
+/// Sequence whose last child fails.
+fn chain(n: usize, per: usize) -> String {
+    let mut x = String::from(r#"<root BTCPP_format="4" main_tree_to_execute="T0">"#);
+    for i in 0..n {
+        let inner = if i + 1 < n {
+            format!(r#"<SubTree ID="T{}"/>"#, i + 1)
+        } else {
+            r#"<Sequence name="s"><AlwaysSuccess/><Script code="x := 1"/><AlwaysFailure/></Sequence>"#.to_string()
+        };
+        x.push_str(&format!(
+            r#"<BehaviorTree ID="T{i}">{}{inner}{}</BehaviorTree>"#,
+            "<ForceSuccess>".repeat(per - 1),
+            "</ForceSuccess>".repeat(per - 1)
+        ));
+    }
+    x + "</root>"
+}
+
+#[test]
+fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    // 24 × 416 levels, the Sequence and its leaves: 9,986 levels.
+    let deep = write(dir.path(), "deep.xml", &chain(24, 416));
+    // Its indented text is 150 MB; it is written a line at a time.
+    let r = btx_run(&["tree", &deep]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(r.out_len > 100_000_000, "{}", r.out_len);
+    assert!(r.peak_kib < 100 * 1024, "{} KiB", r.peak_kib);
+    let r = btx_run(&["tree", &deep, "--format", "json"]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(r.peak_kib < 200 * 1024, "{} KiB", r.peak_kib);
+    let plan = write(dir.path(), "empty.plan", "");
+    let session = dir.path().join("s.jsonl").display().to_string();
+    let r = btx_run(&["run", &deep, "--plan", &plan, "--out", &session]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(
+        one_line(&r.err).contains("1 ticks, 29958 transitions, root SUCCESS"),
+        "{}",
+        r.err
+    );
+    // A node halfway down has one cause of each kind below it; the root's
+    // search would take 10^9 evaluations and says so instead of guessing.
+    let r = btx_run(&["why", &session, "status(#5000)", "--max-depth", "1"]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(
+        r.out
+            .contains("1. ForceSuccess (#5000) succeeded because ForceSuccess (#5001) succeeded."),
+        "{}",
+        r.out
+    );
+    assert!(r.out.contains("more explanations of this size, farther from status(ForceSuccess (#5000)): not shown or checked (btx keeps the nearest 50)."), "{}", r.out);
+    let r = btx_run(&["why", &session, "status(#1)"]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(
+        r.out.contains("not searched at depth 1: it would try 39942 changes of the 19973 variables it depends on, past btx's bound (4·10^8 variable evaluations). Unknown whether an explanation exists there"),
+        "{}",
+        r.out
+    );
+    let r = btx_run(&[
+        "ask", &session, "--node", "#9987", "q1", "q2", "q3", "wrong",
+    ]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(r.out.contains("My subgoal is to T23."), "{}", r.out);
+    // 100,000 levels: refused, with the limit.
+    let deeper = write(dir.path(), "deeper.xml", &chain(250, 400));
+    let r = btx_run(&["tree", &deeper]);
+    assert_eq!(r.code, Some(1), "{}", r.err);
+    assert!(one_line(&r.err).contains("10000 levels deep"), "{}", r.err);
+    assert!(r.peak_kib < 100 * 1024, "{} KiB", r.peak_kib);
+}
+
+#[test]
+fn names_attributes_and_records_have_a_stated_length() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = |key: &str, n: usize| {
+        format!(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess {key}="{}"/></BehaviorTree></root>"#,
+            "n".repeat(n)
+        )
+    };
+    for (key, n, says) in [
+        (
+            "name",
+            4097,
+            "attribute name is 4097 bytes long, more than the 4096 bytes btx reads",
+        ),
+        (
+            "_description",
+            (1 << 20) + 1,
+            "attribute _description is 1048577 bytes long, more than the 1048576 bytes btx reads",
+        ),
+    ] {
+        let f = write(dir.path(), "long.xml", &long(key, n));
+        let r = btx_run(&["tree", &f]);
+        assert_eq!(r.code, Some(1), "{}", r.err);
+        assert!(one_line(&r.err).contains("long.xml:1:"), "{}", r.err);
+        assert!(one_line(&r.err).contains(says), "{}", r.err);
+        assert!(r.err.len() < 2000, "{}", r.err.len());
+    }
+    let f = write(dir.path(), "ok.xml", &long("name", 4096));
+    assert_eq!(btx_run(&["tree", &f]).code, Some(0));
+    // A session record past 8 MiB: an array of 4 million numbers would cost
+    // 60 times its size once read.
+    let (header, rest) = case_study_header();
+    let big = format!(
+        r#"{{"k":"w","tick":1,"step":0,"uid":2,"entry":{{"scope":0,"key":"X_a"}},"value":[{}0]}}"#,
+        "0,".repeat(4_500_000)
+    );
+    let f = write(dir.path(), "big.jsonl", &format!("{header}\n{big}\n{rest}"));
+    let r = btx_run(&["log", &f]);
+    assert_eq!(r.code, Some(1), "{}", r.err);
+    assert!(one_line(&r.err).contains("big.jsonl:2:1: a record of 9000079 bytes: a session's records (after the header) are at most 8 MiB"), "{}", r.err);
+    assert!(r.peak_kib < 200 * 1024, "{} KiB", r.peak_kib);
+}
+
+#[test]
+fn a_second_btcm_root_and_a_corrupt_fbl_size_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(fixture("btcm/case_study.json")).unwrap();
+    let mut log: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let tree = log["tree"].as_object_mut().unwrap();
+    let leaf = tree.values().next_back().unwrap().clone();
+    tree.insert("stray".into(), leaf);
+    let f = write(dir.path(), "two.json", &log.to_string());
+    let r = btx_run(&["log", &f]);
+    assert_eq!(r.code, Some(1), "{}", r.err);
+    assert!(
+        one_line(&r.err).contains("tree.stray: the node is not under the root"),
+        "{}",
+        r.err
+    );
+    assert!(
+        one_line(&r.err).contains("a btcm tree has one root"),
+        "{}",
+        r.err
+    );
+
+    let mut bytes = std::fs::read(fixture("logs/taxi_nominal_v3.fbl")).unwrap();
+    bytes[..4].copy_from_slice(&0x7fff_ffffu32.to_le_bytes());
+    let p = dir.path().join("cut.fbl");
+    std::fs::write(&p, &bytes).unwrap();
+    let r = btx_run(&["log", p.to_str().unwrap()]);
+    assert_eq!(r.code, Some(1), "{}", r.err);
+    assert!(
+        one_line(&r.err).contains(&format!("cut.fbl: byte offset 0: not an .fbl, or a corrupt one: its size field says the tree takes 2147483647 bytes, but the file has {} after the field", bytes.len() - 4)),
+        "{}",
+        r.err
+    );
 }

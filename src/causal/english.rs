@@ -480,6 +480,8 @@ pub fn to_json(m: &Model, q: &Query, a: &Answer, moment: &str) -> Value {
         "max_depth": a.max_depth,
         "candidates": a.candidates,
         "evaluated": a.evaluated,
+        "omitted": a.omitted,
+        "stopped": a.stopped.map(|(depth, n)| json!({"depth": depth, "interventions": n.to_string()})),
         "model": {"nodes": m.vars.len(), "edges": m.edge_count()},
         "explanations": explanations,
         "unfaithful": m.unfaithful(),
@@ -502,6 +504,38 @@ fn exogenous_note(m: &Model, q: &Query) -> String {
     }
 }
 
+/// What a search cut by its bound found: nothing, up to a depth, which is
+/// not "no explanation".
+pub fn stopped_text(a: &Answer) -> String {
+    let Some((depth, n)) = a.stopped else {
+        return String::new();
+    };
+    let searched = if depth > 1 {
+        format!("No explanation up to depth {}; ", depth - 1)
+    } else {
+        String::new()
+    };
+    let narrower = if depth > 1 {
+        format!(", or give --max-depth {}", depth - 1)
+    } else {
+        String::new()
+    };
+    format!(
+        "{searched}not searched at depth {depth}: it would try {n} changes of the {} variables it depends on, past btx's bound ({} variable evaluations). Unknown whether an explanation exists there: ask about something that depends on fewer variables{narrower}.\n",
+        a.candidates,
+        short_count(super::search::SEARCH_WORK_MAX),
+    )
+}
+
+fn short_count(n: u128) -> String {
+    match n.checked_ilog10() {
+        Some(e) if n.is_multiple_of(10u128.pow(e)) && e >= 4 => {
+            format!("{}·10^{e}", n / 10u128.pow(e))
+        }
+        _ => n.to_string(),
+    }
+}
+
 pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str) -> String {
     let mut out = format!(
         "{}  (tick {}, moment {moment})\n",
@@ -510,6 +544,7 @@ pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str) -> String {
     );
     let groups = merge(m, a);
     match a.depth {
+        None if a.stopped.is_some() => out.push_str(&stopped_text(a)),
         None => {
             out.push_str(&format!(
                 "No explanation up to depth {}: no change of up to {} of the {} variables it depends on gives {}.\n",
@@ -527,6 +562,14 @@ pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str) -> String {
                     n + 1,
                     sentence(m, q, &a.explanations[g[0]]),
                     formal_line(m, a, g)
+                ));
+            }
+            if a.omitted > 0 {
+                out.push_str(&format!(
+                    "… and {} more explanations of this size, farther from {}: not shown or checked (btx keeps the nearest {}).\n",
+                    a.omitted,
+                    m.var_name(q.targets[0]),
+                    super::search::EXPLANATIONS_MAX
                 ));
             }
         }

@@ -53,6 +53,37 @@ pub struct Answer {
     pub candidates: usize,
     /// Interventions evaluated.
     pub evaluated: usize,
+    /// The search stopped before this depth, which would have evaluated
+    /// this many interventions (more than `SEARCH_WORK_MAX` allows).
+    pub stopped: Option<(usize, u128)>,
+    /// Explanations found past the first `EXPLANATIONS_MAX` (the nearest
+    /// causes), left out: not checked, merged or shown.
+    pub omitted: usize,
+}
+
+/// The most explanations of one size kept. A chain of 10,000 decorators has
+/// 10,000 single causes of its root's status; each kept one is re-run and
+/// merged, and nobody reads past the first few dozen.
+pub const EXPLANATIONS_MAX: usize = 50;
+
+/// The most work a search does: interventions × the variables each one
+/// evaluates. Serial recall's queries take about 10^5; a depth-1 search on a
+/// 9,600-node chain about 1.8·10^8 (4 s on the development machine); the
+/// depth-2 search there would take 10^12. The bound is counted, not timed,
+/// so an answer does not depend on the machine.
+pub const SEARCH_WORK_MAX: u128 = 400_000_000;
+
+/// How many interventions the sets of `k` of these candidates make: the
+/// k-th elementary symmetric polynomial of their numbers of values.
+fn interventions(alts: &[usize], k: usize) -> u128 {
+    let mut e = vec![0u128; k + 1];
+    e[0] = 1;
+    for &a in alts {
+        for j in (1..=k).rev() {
+            e[j] = e[j].saturating_add(e[j - 1].saturating_mul(a as u128));
+        }
+    }
+    e[k]
 }
 
 /// Every `k`-subset of `0..n`, in lexicographic order.
@@ -102,7 +133,22 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
     // to depth.
     let threads = rayon::current_num_threads().max(1);
     let mut evaluators: Vec<_> = (0..threads).map(|_| model.evaluator(&within)).collect();
+    let alts: Vec<usize> = candidates.iter().map(|(_, a)| a.len()).collect();
+    let mut work: u128 = 0;
     for depth in 1..=max_depth.min(candidates.len()) {
+        let n = interventions(&alts, depth);
+        work = work.saturating_add(n.saturating_mul(within.len().max(1) as u128));
+        if work > SEARCH_WORK_MAX {
+            return Ok(Answer {
+                depth: None,
+                max_depth,
+                explanations: Vec::new(),
+                candidates: candidates.len(),
+                evaluated,
+                stopped: Some((depth, n)),
+                omitted: 0,
+            });
+        }
         let sets = subsets(candidates.len(), depth);
         let chunk = sets.len().div_ceil(threads).max(1);
         let one = |ev: &mut Evaluator,
@@ -184,12 +230,16 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
             )
         });
         if !explanations.is_empty() {
+            let omitted = explanations.len().saturating_sub(EXPLANATIONS_MAX);
+            explanations.truncate(EXPLANATIONS_MAX);
             return Ok(Answer {
+                omitted,
                 depth: Some(depth),
                 max_depth,
                 explanations,
                 candidates: candidates.len(),
                 evaluated,
+                stopped: None,
             });
         }
     }
@@ -199,12 +249,23 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
         explanations: Vec::new(),
         candidates: candidates.len(),
         evaluated,
+        stopped: None,
+        omitted: 0,
     })
 }
 
 #[cfg(test)]
 mod tests {
-    use super::subsets;
+    use super::{interventions, subsets};
+
+    #[test]
+    fn interventions_count_every_assignment_of_every_set() {
+        // Sets of 2 of {2, 3, 1} values: 2·3 + 2·1 + 3·1.
+        assert_eq!(interventions(&[2, 3, 1], 2), 11);
+        assert_eq!(interventions(&[2, 3, 1], 1), 6);
+        assert_eq!(interventions(&[2, 3, 1], 3), 6);
+        assert_eq!(interventions(&[3; 10_000], 2), 9 * 10_000 * 9_999 / 2);
+    }
 
     #[test]
     fn subsets_are_all_and_ordered() {

@@ -9,6 +9,7 @@ fn node_ref(tree: &Tree, uid: Uid) -> Value {
 
 /// The tree as `btx.tree/1`: a flat list of nodes in uid order.
 pub fn tree_json(tree: &Tree) -> Value {
+    let paths = tree.display_paths();
     let nodes: Vec<Value> = tree
         .nodes
         .iter()
@@ -47,7 +48,7 @@ pub fn tree_json(tree: &Tree) -> Value {
                 "parent": n.parent,
                 "children": n.children,
                 "depth": n.depth,
-                "path": tree.display_path(n.uid),
+                "path": paths[(n.uid - 1) as usize],
                 "ports": ports,
                 "scripts": scripts,
                 "subtree": subtree,

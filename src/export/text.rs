@@ -4,6 +4,13 @@ use crate::model::{Kind, Tree, Uid};
 
 /// The full tree: description, `[type #uid]`, then ports.
 pub fn tree_text(tree: &Tree) -> String {
+    let mut out = String::new();
+    write_tree_text(tree, &mut |l| out.push_str(l));
+    out
+}
+
+/// `tree_text` a line at a time.
+pub fn write_tree_text(tree: &Tree, line: &mut dyn FnMut(&str)) {
     draw(
         Tree::ROOT as usize,
         |x| {
@@ -32,12 +39,14 @@ pub fn tree_text(tree: &Tree) -> String {
             }
             s
         },
+        line,
     )
 }
 
 /// The framed tree, then the semantic sets.
 pub fn framed_text(tree: &Tree, framed: &Framed) -> String {
-    let mut out = draw(
+    let mut out = String::new();
+    draw(
         0,
         |i| framed.nodes[i].children.clone(),
         |i| {
@@ -56,6 +65,7 @@ pub fn framed_text(tree: &Tree, framed: &Framed) -> String {
             }
             s
         },
+        &mut |l| out.push_str(l),
     );
     let names = |v: &[Uid]| {
         v.iter()

@@ -61,6 +61,7 @@ struct Emitted {
     xml: String,
     models: Vec<(String, &'static str)>,
     order: Vec<String>,
+    seen: std::collections::HashSet<String>,
 }
 
 fn emit(
@@ -71,7 +72,7 @@ fn emit(
     out: &mut Emitted,
 ) -> Result<(), Located> {
     let at = format!("tree.{id}");
-    if out.order.iter().any(|s| s == id) {
+    if !out.seen.insert(id.to_string()) {
         return Err(rd.err(&at, "the node appears twice (a cycle?)"));
     }
     if depth > 1000 {
@@ -166,12 +167,24 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         xml: String::from("<root BTCPP_format=\"4\" main_tree_to_execute=\"btcm\">\n  <BehaviorTree ID=\"btcm\">\n"),
         models: Vec::new(),
         order: Vec::new(),
+        seen: Default::default(),
     };
     emit(&rd, nodes, &root_id, 0, &mut out)?;
+    // btcm takes the first node as the root; a node it never reaches would
+    // be a second root whose run the log cannot place in the tree.
+    if let Some(stray) = nodes.keys().find(|k| !out.seen.contains(k.as_str())) {
+        return Err(rd.err(
+            &format!("tree.{stray}"),
+            format!(
+                "the node is not under the root \"{root_id}\" (the first node of \"tree\"): a btcm tree has one root"
+            ),
+        ));
+    }
     let Emitted {
         mut xml,
         models,
         order,
+        ..
     } = out;
     xml.push_str("  </BehaviorTree>\n  <TreeNodesModel>\n");
     for (class, kind) in &models {

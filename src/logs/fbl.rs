@@ -103,6 +103,27 @@ pub fn is_fbl(bytes: &[u8]) -> bool {
     }
 }
 
+/// Why bytes that should be an `.fbl` are not: what their first field,
+/// the flatbuffer's length, says against the file.
+pub fn not_fbl(bytes: &[u8]) -> String {
+    if bytes.len() < 12 {
+        return format!(
+            "byte offset 0: not an .fbl: {} bytes, fewer than a length field and a tree need",
+            bytes.len()
+        );
+    }
+    let n = i32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]);
+    if n <= 8 || (n as usize) + 4 > bytes.len() {
+        return format!(
+            "byte offset 0: not an .fbl, or a corrupt one: its size field says the tree takes {n} bytes, \
+             but the file has {} after the field",
+            bytes.len() - 4
+        );
+    }
+    "byte offset 4: not an .fbl, or a corrupt one: the tree's root offset lies outside the tree"
+        .into()
+}
+
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
@@ -112,10 +133,7 @@ fn esc(s: &str) -> String {
 
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawFbl, Located> {
     if !is_fbl(bytes) {
-        return Err(Located::file(
-            path,
-            "byte offset 0: not an .fbl (no flatbuffer length a tree could have)",
-        ));
+        return Err(Located::file(path, not_fbl(bytes)));
     }
     let n = i32::from_le_bytes(bytes[..4].try_into().expect("4 bytes")) as usize;
     let fb = Fb {

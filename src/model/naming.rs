@@ -105,11 +105,55 @@ impl Tree {
         parts.push(self.description(uid));
         parts.join("/")
     }
+
+    /// `display_path` of every node, by uid − 1, built top-down: a deep tree
+    /// costs the length of its paths, not depth × nodes ancestor walks.
+    pub fn display_paths(&self) -> Vec<String> {
+        use std::rc::Rc;
+        // Per node: the named ancestors' joined descriptions, and the last one.
+        let mut above: Vec<(Rc<str>, Option<Uid>)> = vec![(Rc::from(""), None); self.len()];
+        let mut out = vec![String::new(); self.len()];
+        let join = |base: &str, d: &str| {
+            if base.is_empty() {
+                d.to_string()
+            } else {
+                format!("{base}/{d}")
+            }
+        };
+        for u in self.preorder() {
+            let i = (u - 1) as usize;
+            if let Some(p) = self.parent(u) {
+                let (base, last) = above[(p - 1) as usize].clone();
+                let d = self.description(p);
+                above[i] = if self.has_name(p) && last.map(|l| self.description(l)) != Some(d) {
+                    (Rc::from(join(&base, d)), Some(p))
+                } else {
+                    (base, last)
+                };
+            }
+            out[i] = join(&above[i].0, self.description(u));
+        }
+        out
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::same_words;
+
+    #[test]
+    fn all_paths_at_once_are_each_nodes_path() {
+        let tree = crate::xml::load_file(
+            std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/trees/kitting.xml")),
+            &Default::default(),
+        )
+        .unwrap()
+        .tree;
+        let all = tree.display_paths();
+        for n in &tree.nodes {
+            assert_eq!(all[(n.uid - 1) as usize], tree.display_path(n.uid));
+        }
+    }
 
     #[test]
     fn underscores_match_spaces() {

@@ -365,6 +365,11 @@ fn fast_transition(line: &str) -> Option<Record> {
     })
 }
 
+/// The longest record line read after the header. btx writes none longer
+/// than a 1 MiB script string escaped (at most 6 bytes a byte); a longer line
+/// would cost up to 60 times its size once parsed into values.
+pub const RECORD_MAX: usize = 8 << 20;
+
 /// Reads one record line.
 pub fn parse_record(line: &str) -> Result<Record, String> {
     if let Some(r) = fast_transition(line) {

@@ -96,6 +96,17 @@ impl Session {
             if body.is_empty() {
                 continue;
             }
+            if body.len() > format::RECORD_MAX {
+                return Err(err_at(
+                    start,
+                    body.len(),
+                    format!(
+                        "a record of {} bytes: a session's records (after the header) are at most {} MiB",
+                        body.len(),
+                        format::RECORD_MAX >> 20
+                    ),
+                ));
+            }
             let rec: Record = match format::parse_record(body) {
                 Ok(r) => r,
                 Err(e) if i == n - 1 && !line.ends_with('\n') => {

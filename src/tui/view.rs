@@ -430,7 +430,10 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
             Style::default().add_modifier(Modifier::BOLD),
         )));
         let sentences = q.sentences();
-        if sentences.is_empty() {
+        if sentences.is_empty() && q.answer.stopped.is_some() {
+            let text = crate::causal::english::stopped_text(&q.answer);
+            lines.push(Line::from(text.trim_end().to_string()));
+        } else if sentences.is_empty() {
             lines.push(Line::from(format!(
                 "No explanation up to depth {}.",
                 q.answer.max_depth
@@ -551,6 +554,24 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
                 lines.push(Line::from(spans));
             }
             f.render_widget(Paragraph::new(lines), inner);
+        }
+        Overlay::Export { path, replace } => {
+            let r = centered(area, area.width.saturating_sub(8).min(90), 4);
+            f.render_widget(Clear, r);
+            let title = if *replace {
+                " a file is there: Enter replaces it, Esc keeps it "
+            } else {
+                " write the causal model (DOT) to: Enter writes, Esc cancels "
+            };
+            let note = app.message.clone().unwrap_or_default();
+            f.render_widget(
+                Paragraph::new(vec![
+                    Line::from(format!("{}▏", crate::text::visible(path))),
+                    Line::from(crate::text::visible(&note).into_owned()),
+                ])
+                .block(Block::default().borders(Borders::ALL).title(title)),
+                r,
+            );
         }
         Overlay::Why { selected, targets } => {
             let r = centered(area, 70, targets.len() as u16 + 2);

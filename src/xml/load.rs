@@ -26,7 +26,7 @@ pub const WARNINGS_MAX: usize = 50;
 /// The most nodes a tree may have once its SubTrees are expanded.
 pub const NODES_MAX: usize = 250_000;
 /// The deepest a tree may be once its SubTrees are expanded.
-pub const DEPTH_MAX: usize = 2_000;
+pub const DEPTH_MAX: usize = 10_000;
 
 /// The most files one tree may include, directly or not.
 pub const INCLUDES_MAX: usize = 256;

@@ -38,6 +38,12 @@ impl Element {
 /// TINYXML2_MAX_ELEMENT_DEPTH (BehaviorTree.CPP reads XML with tinyxml2).
 pub const NESTING_MAX: usize = 500;
 
+/// The longest element name, attribute name, and `ID` or `name` value: names
+/// are shown on every screen and matched by the finder.
+pub const NAME_MAX: usize = 4096;
+/// The longest other attribute value (a port, a script) or text.
+pub const ATTRIBUTE_MAX: usize = 1 << 20;
+
 pub fn parse_document(path: &Path, text: &str) -> Result<Element, Located> {
     let mut reader = Reader::from_str(text);
     reader.config_mut().trim_text(true);
@@ -158,6 +164,18 @@ fn element(
     end: usize,
 ) -> Result<Element, Located> {
     let tag = e.name().0.to_string();
+    let too_long = |what: &str, len: usize, max: usize| {
+        Located::at(
+            path,
+            text,
+            start,
+            end,
+            format!("{what} is {len} bytes long, more than the {max} bytes btx reads"),
+        )
+    };
+    if tag.len() > NAME_MAX {
+        return Err(too_long("the element name", tag.len(), NAME_MAX));
+    }
     let mut attrs = Vec::new();
     for a in e.attributes() {
         let a = a.map_err(|err| {
@@ -180,8 +198,20 @@ fn element(
                     format!("malformed XML attribute value: {err}"),
                 )
             })?;
+        let key = a.key.0.to_string();
+        if key.len() > NAME_MAX {
+            return Err(too_long("an attribute name", key.len(), NAME_MAX));
+        }
+        let max = if matches!(key.as_str(), "ID" | "name") {
+            NAME_MAX
+        } else {
+            ATTRIBUTE_MAX
+        };
+        if value.len() > max {
+            return Err(too_long(&format!("attribute {key}"), value.len(), max));
+        }
         attrs.push(Attr {
-            key: a.key.0.to_string(),
+            key,
             value: value.into_owned(),
         });
     }

@@ -328,3 +328,24 @@ fn ask_with_run_questions_needs_a_session() {
         "Yes. I will insert large gear after go insert large gear.\n"
     );
 }
+
+#[test]
+fn moments_count_from_the_end_of_the_run_everywhere_one_is_taken() {
+    let s = "sessions/kitting-nominal.jsonl";
+    for (rel, abs) in [("-1", "46"), ("last", "46"), ("end", "46"), ("-2:1", "45:1")] {
+        for args in [
+            vec!["ask", s, "--at", rel, "q1", "q3"],
+            vec!["why", s, "executed(#28)", "--at", rel],
+            vec!["graph", s, "--at", rel],
+        ] {
+            let (ok, out, err) = btx(&args);
+            assert!(ok, "{args:?}: {err}");
+            let args_abs: Vec<&str> = args.iter().map(|a| if *a == rel { abs } else { a }).collect();
+            let (_, want, _) = btx(&args_abs);
+            assert_eq!(out, want, "{args:?}");
+        }
+    }
+    let (ok, _, err) = btx(&["ask", s, "--at", "-47", "q1"]);
+    assert!(!ok);
+    assert_eq!(err, "error: \"-47\": the run has 46 ticks\n");
+}

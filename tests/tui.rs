@@ -129,20 +129,61 @@ fn a_keymap_file_overrides_the_table() {
     use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("keys.toml");
-    std::fs::write(&p, "step_forward = [\"x\", \"Right\"]\nquit = [\"Q\"]\n").unwrap();
+    std::fs::write(
+        &p,
+        "step_forward = [\"z\", \"Right\"]\nexpand = [\"l\"]\nquit = [\"Q\"]\n",
+    )
+    .unwrap();
     let km = Keymap::with_file(&p).unwrap();
     let key = |c| KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE);
-    assert_eq!(km.action_for(&key('x')), Some(Action::StepForward));
+    assert_eq!(km.action_for(&key('z')), Some(Action::StepForward));
     assert_eq!(km.action_for(&key('n')), None);
     assert_eq!(km.action_for(&key('Q')), Some(Action::Quit));
-    assert!(km.hints().starts_with("x step"), "{}", km.hints());
+    assert!(km.hints().starts_with("z step"), "{}", km.hints());
     let mut app = scene("help").unwrap();
     app.keymap = km;
     let s = screen(&app, 110, 40);
-    assert!(s.contains("x Right"), "the help shows the keymap in force");
+    assert!(s.contains("z Right"), "the help shows the keymap in force");
     std::fs::write(&p, "fly = [\"z\"]\n").unwrap();
     let e = Keymap::with_file(&p).unwrap_err().to_string();
     assert!(e.contains("keys.toml:1:7: \"fly\" is not an action"), "{e}");
+    // Ctrl-c quits whatever the file says.
+    let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
+    assert_eq!(km_quit_elsewhere().action_for(&ctrl_c), Some(Action::Quit));
+}
+
+fn km_quit_elsewhere() -> btx::tui::keymap::Keymap {
+    btx::tui::keymap::Keymap::parse(std::path::Path::new("k.toml"), "quit = [\"Q\"]\n").unwrap()
+}
+
+#[test]
+fn a_keymap_that_clashes_or_locks_the_user_in_is_refused() {
+    use btx::tui::keymap::Keymap;
+    let err = |text: &str| {
+        Keymap::parse(std::path::Path::new("k.toml"), text)
+            .unwrap_err()
+            .to_string()
+    };
+    assert_eq!(
+        err("step_forward = [\"Right\"]\n"),
+        "k.toml:1:16: \"Right\" is bound to both step_forward and expand (built in)"
+    );
+    assert_eq!(
+        err("step_forward = [\"z\"]\nstep_back = [\"z\"]\n"),
+        "k.toml:2:13: \"z\" is bound to both step_back and step_forward (in this file)"
+    );
+    assert_eq!(
+        err("quit = []\n"),
+        "k.toml:1:8: quit has no key: the keymap would leave no way out"
+    );
+    assert_eq!(
+        err("why = [\"Ctrl-c\"]\n"),
+        "k.toml:1:7: Ctrl-c is bound to why, and Ctrl-c always quits"
+    );
+    assert_eq!(
+        err("why = [\"Rigth\"]\n"),
+        "k.toml:1:7: \"Rigth\" is not a key"
+    );
 }
 
 #[test]
@@ -190,6 +231,69 @@ fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
         w.why.sentences(),
         ["L0 failed because X_a was false. If X_a had been true, L0 would have succeeded."]
     );
+}
+
+#[test]
+fn x_asks_where_to_write_and_never_overwrites_unasked() {
+    use btx::tui::app::Overlay;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = btx::tui::open(
+        &root.join("sessions/case-study.jsonl"),
+        None,
+        &btx::xml::LoadOptions::default(),
+    )
+    .unwrap();
+    app.selected = 4;
+    app.update(Action::Why);
+    app.update(Action::Toggle);
+    app.update(Action::ExportGraph);
+    match &app.overlay {
+        Overlay::Export { path, replace } => {
+            assert_eq!(path, "btx-model-tick-1.dot");
+            assert!(!replace);
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(screen(&app, 110, 34).contains("btx-model-tick-1.dot▏"));
+    let dir = tempfile::tempdir().unwrap();
+    let to = dir.path().join("m.dot");
+    std::fs::write(&to, "mine").unwrap();
+    app.overlay = Overlay::Export {
+        path: String::new(),
+        replace: false,
+    };
+    for c in to.display().to_string().chars() {
+        app.type_char(c);
+    }
+    // A file is there: the prompt asks, and Esc keeps it.
+    app.update(Action::Toggle);
+    assert!(matches!(app.overlay, Overlay::Export { replace: true, .. }));
+    assert!(screen(&app, 110, 34).contains("a file is there: Enter replaces it"));
+    app.update(Action::Back);
+    assert_eq!(std::fs::read_to_string(&to).unwrap(), "mine");
+    // Asked again and confirmed, it is replaced.
+    app.overlay = Overlay::Export {
+        path: to.display().to_string(),
+        replace: false,
+    };
+    app.update(Action::Toggle);
+    app.update(Action::Toggle);
+    assert!(matches!(app.overlay, Overlay::None));
+    assert!(std::fs::read_to_string(&to).unwrap().contains("digraph model"));
+    // A link planted there is never written through, confirmed or not.
+    let target = dir.path().join("target");
+    std::fs::write(&target, "keep").unwrap();
+    let link = dir.path().join("link.dot");
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    for replace in [false, true] {
+        app.overlay = Overlay::Export {
+            path: link.display().to_string(),
+            replace,
+        };
+        app.update(Action::Toggle);
+        assert!(app.message.as_deref().unwrap().contains("symbolic link"));
+    }
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep");
 }
 
 fn diff_app(a: &str, b: &str) -> btx::tui::diff::DiffApp {

@@ -82,6 +82,9 @@ impl Plan {
                 return Err(at("a plan line is `key = outcome, ...`".into())
                     .with_help("outcomes are S, F, nRS or nRF, e.g. `look at chuck = 1RF, 1RS`"));
             };
+            // A `#` after the `=` starts a comment, as in a domain file (no
+            // outcome has one; a key may, being a node's name).
+            let list = list.split_once('#').map_or(list, |(l, _)| l);
             let key = key.trim().to_string();
             if key.is_empty() {
                 return Err(at("a plan line needs a key before `=`".into()));
@@ -319,6 +322,24 @@ mod tests {
             ["S", "F", "2RF"]
         );
         assert_eq!(p.entries[2].line, 4);
+    }
+
+    #[test]
+    fn a_comment_may_end_a_line_as_in_the_readme() {
+        let readme = include_str!("../../README.md");
+        let block = readme
+            .split("## Plans")
+            .nth(1)
+            .and_then(|s| s.split("```text\n").nth(1))
+            .and_then(|s| s.split("```").next())
+            .unwrap();
+        let p = Plan::parse(Path::new("README.md"), block).unwrap();
+        assert_eq!(p.entries.len(), 3);
+        assert_eq!(p.entries[0].outcomes[0].to_string(), "1RS");
+        assert_eq!(p.entries[2].outcomes[1].to_string(), "1RS");
+        // A `#` in a key is the node's name.
+        let p = Plan::parse(Path::new("p.plan"), "pick #2 = F # first\n").unwrap();
+        assert_eq!(p.entries[0].key, "pick #2");
     }
 
     #[test]

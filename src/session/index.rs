@@ -39,7 +39,9 @@ pub struct Moment {
 
 impl Moment {
     pub fn parse(s: &str) -> Result<Moment, String> {
-        let bad = || format!("\"{s}\" is not a moment: write TICK or TICK:STEP, e.g. 10 or 10:3");
+        let bad = || {
+            format!("\"{s}\" is not a moment: write TICK or TICK:STEP, e.g. 10 or 10:3 (of a run: also last, end or -N, the N-th tick from the end)")
+        };
         let (t, st) = match s.trim().split_once(':') {
             Some((t, st)) => (t, Some(st)),
             None => (s.trim(), None),
@@ -53,6 +55,35 @@ impl Moment {
             return Err(format!("\"{s}\": ticks count from 1"));
         }
         Ok(Moment { tick, step })
+    }
+
+    /// `parse`, and also the moments a run of `ticks` ticks gives: `last`
+    /// and `end` (the end of its last tick) and `-N` or `-N:STEP` (the N-th
+    /// tick from the end: `-1` is the last).
+    pub fn parse_within(s: &str, ticks: u32) -> Result<Moment, String> {
+        let t = s.trim();
+        if t.eq_ignore_ascii_case("last") || t.eq_ignore_ascii_case("end") {
+            return Ok(Moment {
+                tick: ticks.max(1),
+                step: None,
+            });
+        }
+        let Some(rest) = t.strip_prefix('-') else {
+            return Moment::parse(s);
+        };
+        let m = Moment::parse(rest).map_err(|_| {
+            format!("\"{s}\" is not a moment: write TICK, TICK:STEP, last, end or -N (the N-th tick from the end), e.g. 10, 10:3 or -1")
+        })?;
+        if m.tick > ticks {
+            return Err(format!(
+                "\"{s}\": the run has {ticks} tick{}",
+                if ticks == 1 { "" } else { "s" }
+            ));
+        }
+        Ok(Moment {
+            tick: ticks + 1 - m.tick,
+            step: m.step,
+        })
     }
 }
 
@@ -473,6 +504,24 @@ impl At<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn moments_count_from_the_end_of_a_run() {
+        let m = |tick, step| Moment { tick, step };
+        assert_eq!(Moment::parse_within("last", 54).unwrap(), m(54, None));
+        assert_eq!(Moment::parse_within("END", 54).unwrap(), m(54, None));
+        assert_eq!(Moment::parse_within("-1", 54).unwrap(), m(54, None));
+        assert_eq!(Moment::parse_within("-3:2", 54).unwrap(), m(52, Some(2)));
+        assert_eq!(Moment::parse_within("7:1", 54).unwrap(), m(7, Some(1)));
+        assert_eq!(
+            Moment::parse_within("-55", 54).unwrap_err(),
+            "\"-55\": the run has 54 ticks"
+        );
+        assert!(Moment::parse_within("-0", 54).is_err());
+        assert!(Moment::parse_within("-x", 54)
+            .unwrap_err()
+            .contains("last, end or -N"));
+    }
 
     #[test]
     fn moments_parse() {

@@ -36,6 +36,12 @@ pub enum Overlay {
         selected: usize,
         targets: Vec<(String, String)>,
     },
+    /// Where to write the why-answer's causal model (DOT): a path to edit,
+    /// and whether the file there is to be replaced on the next Enter.
+    Export {
+        path: String,
+        replace: bool,
+    },
 }
 
 /// A why-answer on screen: the library's answer, the explanation picked,
@@ -340,6 +346,17 @@ impl App {
             Overlay::Finder { .. } | Overlay::Ask { .. } | Overlay::Why { .. } => {
                 return self.update_list(a)
             }
+            Overlay::Export { path, replace } => {
+                match a {
+                    Action::Back | Action::Quit => self.overlay = Overlay::None,
+                    Action::Toggle => {
+                        let (path, replace) = (path.clone(), *replace);
+                        self.export_to(path, replace);
+                    }
+                    _ => {}
+                }
+                return;
+            }
             Overlay::None => {}
         }
         self.message = None;
@@ -483,19 +500,41 @@ impl App {
         }
     }
 
-    /// Typing into the finder.
+    /// Typing into the finder or the export prompt.
     pub fn type_char(&mut self, c: char) {
-        if let Overlay::Finder { query, selected } = &mut self.overlay {
-            query.push(c);
-            *selected = 0;
+        match &mut self.overlay {
+            Overlay::Finder { query, selected } => {
+                query.push(c);
+                *selected = 0;
+            }
+            Overlay::Export { path, replace } => {
+                path.push(c);
+                *replace = false;
+            }
+            _ => {}
         }
     }
 
     pub fn backspace(&mut self) {
-        if let Overlay::Finder { query, selected } = &mut self.overlay {
-            query.pop();
-            *selected = 0;
+        match &mut self.overlay {
+            Overlay::Finder { query, selected } => {
+                query.pop();
+                *selected = 0;
+            }
+            Overlay::Export { path, replace } => {
+                path.pop();
+                *replace = false;
+            }
+            _ => {}
         }
+    }
+
+    /// Whether keys type text (the finder, the export prompt).
+    pub fn typing(&self) -> bool {
+        matches!(
+            self.overlay,
+            Overlay::Finder { .. } | Overlay::Export { .. }
+        )
     }
 
     fn update_list(&mut self, a: Action) {
@@ -622,19 +661,41 @@ impl App {
         }
     }
 
-    /// Writes the why-answer's causal model next to where btx runs.
+    /// Asks where to write the why-answer's causal model.
     fn export_graph(&mut self) {
         let Some(w) = &self.why else {
             self.message = Some("ask why first (w): the model is the answer's".into());
             return;
         };
-        let path = format!("btx-model-tick-{}.dot", w.why.model.facts.tick);
-        self.message = Some(
-            match std::fs::write(&path, crate::causal::graph::dot(&w.why.model)) {
-                Ok(()) => format!("wrote {path}"),
-                Err(e) => format!("{path}: {e}"),
-            },
-        );
+        self.overlay = Overlay::Export {
+            path: format!("btx-model-tick-{}.dot", w.why.model.facts.tick),
+            replace: false,
+        };
+    }
+
+    /// Enter in the export prompt: writes, or asks before replacing a file.
+    fn export_to(&mut self, path: String, replace: bool) {
+        let Some(w) = &self.why else { return };
+        let dot = crate::causal::graph::dot(&w.why.model);
+        match crate::export::write_file(std::path::Path::new(&path), dot.as_bytes(), replace) {
+            Ok(crate::export::Written::Done) => {
+                self.message = Some(format!("wrote {path}"));
+                self.overlay = Overlay::None;
+            }
+            Ok(crate::export::Written::Exists) => {
+                self.overlay = Overlay::Export {
+                    path,
+                    replace: true,
+                };
+            }
+            Err(e) => {
+                self.message = Some(format!("{path}: {e}"));
+                self.overlay = Overlay::Export {
+                    path,
+                    replace: false,
+                };
+            }
+        }
     }
 
     /// Nodes shown as used by the answer on screen.

@@ -251,6 +251,27 @@ pub const KEYMAP: &[Binding] = &[
 ];
 
 /// The name of a key press as the table writes it.
+/// The keys with names, as `key_name` writes them.
+const NAMED_KEYS: &[&str] = &[
+    "Up",
+    "Down",
+    "Left",
+    "Right",
+    "Enter",
+    "Tab",
+    "Esc",
+    "Home",
+    "End",
+    "Backspace",
+    "Space",
+];
+
+/// Whether `key_name` can ever give this name.
+fn is_key(k: &str) -> bool {
+    let base = k.strip_prefix("Ctrl-").unwrap_or(k);
+    NAMED_KEYS.contains(&base) || (base.chars().count() == 1 && base != " ")
+}
+
 pub fn key_name(k: &KeyEvent) -> Option<String> {
     let ctrl = k.modifiers.contains(KeyModifiers::CONTROL);
     let base = match k.code {
@@ -333,29 +354,77 @@ impl Keymap {
                 )
             })?;
         let mut km = Keymap::default();
+        let at = |r: std::ops::Range<usize>, msg: String| {
+            crate::source::Located::at(path, &text, r.start, r.end.max(r.start + 1), msg)
+        };
+        let mut from_file: Vec<(Action, std::ops::Range<usize>)> = Vec::new();
         for (name, keys) in table {
+            let r = keys.span();
             let Some(entry) = km.keys.iter_mut().find(|k| k.1.name() == name) else {
                 let known: Vec<String> = KEYMAP.iter().map(|b| b.action.name()).collect();
-                let r = keys.span();
-                return Err(crate::source::Located::at(
-                    path,
-                    &text,
-                    r.start,
-                    r.end,
-                    format!("\"{name}\" is not an action"),
-                )
-                .with_help(format!("the actions are: {}", known.join(", "))));
+                return Err(at(r, format!("\"{name}\" is not an action"))
+                    .with_help(format!("the actions are: {}", known.join(", "))));
             };
+            for k in keys.get_ref() {
+                if !is_key(k) {
+                    return Err(at(r, format!("\"{k}\" is not a key")).with_help(format!(
+                        "a key is one character, Ctrl- and one character, or one of {}",
+                        NAMED_KEYS.join(", ")
+                    )));
+                }
+                if k == "Ctrl-c" && entry.1 != Action::Quit {
+                    return Err(at(
+                        r,
+                        format!("Ctrl-c is bound to {name}, and Ctrl-c always quits"),
+                    ));
+                }
+            }
+            from_file.push((entry.1, r));
             entry.0 = keys.into_inner();
+        }
+        // A key bound twice would do one thing and the help would show both.
+        for (action, r) in &from_file {
+            let keys = &km.keys.iter().find(|b| b.1 == *action).expect("bound").0;
+            for k in keys {
+                if let Some(other) = km.keys.iter().find(|b| b.1 != *action && b.0.contains(k)) {
+                    let whose = if from_file.iter().any(|(a, _)| *a == other.1) {
+                        "in this file"
+                    } else {
+                        "built in"
+                    };
+                    return Err(at(
+                        r.clone(),
+                        format!(
+                            "\"{k}\" is bound to both {} and {} ({whose})",
+                            action.name(),
+                            other.1.name()
+                        ),
+                    )
+                    .with_help(format!("give {} other keys too", other.1.name())));
+                }
+            }
+        }
+        if km.key_of(Action::Quit).is_none() {
+            let r = from_file
+                .iter()
+                .find(|(a, _)| *a == Action::Quit)
+                .map_or(0..0, |(_, r)| r.clone());
+            return Err(at(
+                r,
+                "quit has no key: the keymap would leave no way out".into(),
+            )
+            .with_help("give quit a key (Ctrl-c quits too, always)"));
         }
         Ok(km)
     }
 
     pub fn action_for(&self, k: &KeyEvent) -> Option<Action> {
         let name = key_name(k)?;
+        if name == "Ctrl-c" {
+            return Some(Action::Quit);
+        }
         self.keys.iter().find(|b| b.0.contains(&name)).map(|b| b.1)
     }
-
     /// The first key bound to an action, if any.
     pub fn key_of(&self, a: Action) -> Option<&str> {
         self.keys

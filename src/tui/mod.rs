@@ -149,7 +149,7 @@ pub fn open_diff(a: &Path, b: &Path, opts: &LoadOptions) -> Result<diff::DiffApp
 pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
     match ev {
         Event::Key(k) if k.kind == KeyEventKind::Press => {
-            if matches!(app.overlay, app::Overlay::Finder { .. }) {
+            if app.typing() {
                 match k.code {
                     KeyCode::Char(c) if !k.modifiers.contains(event::KeyModifiers::CONTROL) => {
                         return app.type_char(c)

@@ -332,7 +332,12 @@ fn ask_with_run_questions_needs_a_session() {
 #[test]
 fn moments_count_from_the_end_of_the_run_everywhere_one_is_taken() {
     let s = "sessions/kitting-nominal.jsonl";
-    for (rel, abs) in [("-1", "46"), ("last", "46"), ("end", "46"), ("-2:1", "45:1")] {
+    for (rel, abs) in [
+        ("-1", "46"),
+        ("last", "46"),
+        ("end", "46"),
+        ("-2:1", "45:1"),
+    ] {
         for args in [
             vec!["ask", s, "--at", rel, "q1", "q3"],
             vec!["why", s, "executed(#28)", "--at", rel],
@@ -340,7 +345,10 @@ fn moments_count_from_the_end_of_the_run_everywhere_one_is_taken() {
         ] {
             let (ok, out, err) = btx(&args);
             assert!(ok, "{args:?}: {err}");
-            let args_abs: Vec<&str> = args.iter().map(|a| if *a == rel { abs } else { a }).collect();
+            let args_abs: Vec<&str> = args
+                .iter()
+                .map(|a| if *a == rel { abs } else { a })
+                .collect();
             let (_, want, _) = btx(&args_abs);
             assert_eq!(out, want, "{args:?}");
         }

@@ -279,7 +279,9 @@ fn x_asks_where_to_write_and_never_overwrites_unasked() {
     app.update(Action::Toggle);
     app.update(Action::Toggle);
     assert!(matches!(app.overlay, Overlay::None));
-    assert!(std::fs::read_to_string(&to).unwrap().contains("digraph model"));
+    assert!(std::fs::read_to_string(&to)
+        .unwrap()
+        .contains("digraph model"));
     // A link planted there is never written through, confirmed or not.
     let target = dir.path().join("target");
     std::fs::write(&target, "keep").unwrap();

@@ -760,6 +760,9 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 ask: ask.clone(),
                 out: &out,
             };
+            if !set.is_empty() && domain.is_none() {
+                fail!("--set starts a domain's state variable, and this run has no --domain: with a plan or a world it would change nothing");
+            }
             if let Some(p) = &plan {
                 let plan = Plan::load(p)?;
                 let source = Source {

@@ -607,6 +607,23 @@ fn every_command_reads_every_session_btx_writes() {
 #[test]
 fn silent_cases_now_speak() {
     let dir = tempfile::tempdir().unwrap();
+    // --set without a domain would change nothing.
+    for source in [
+        ["--plan", "trees/plans/kitting-nominal.plan"],
+        ["--world", "kitting"],
+    ] {
+        let out = dir.path().join("set.jsonl");
+        let mut args = vec!["run", "trees/kitting.xml", "--set", "x=1", "--out"];
+        args.push(out.to_str().unwrap());
+        args.extend(source);
+        let (code, _, err) = btx_code(&args);
+        assert_eq!(code, Some(1), "{err}");
+        assert!(
+            err.contains("--set starts a domain's state variable, and this run has no --domain"),
+            "{err}"
+        );
+        assert!(!out.exists());
+    }
     // --ask-at past the end of the run.
     let (code, _, err) = btx_code(&[
         "run",

@@ -395,3 +395,26 @@ fn next_tick_goes_to_every_tick_empty_or_not() {
     }
     assert_eq!(ticks(&app), 1);
 }
+
+#[test]
+fn the_status_bar_fits_and_always_says_how_to_quit() {
+    use btx::tui::keymap::Keymap;
+    let km = Keymap::default();
+    for width in [30, 60, 80, 120, 250] {
+        let h = km.hints_within(&[(Action::Down, "move")], width);
+        assert!(h.chars().count() <= width.max(16), "{width}: {h}");
+        assert!(h.ends_with("? help  q quit"), "{width}: {h}");
+    }
+    assert!(km
+        .hints_within(&[(Action::Down, "move")], 250)
+        .starts_with("Down move  n step"));
+}
+
+#[test]
+fn names_give_way_to_the_uid_with_an_ellipsis() {
+    use btx::tui::view::fit;
+    assert_eq!(fit("trial and error insert", 10), "trial and…");
+    assert_eq!(fit("ask", 10), "ask");
+    assert_eq!(fit("抓取螺丝钉", 5), "抓取…");
+    assert_eq!(fit("abc", 0), "");
+}

@@ -336,6 +336,8 @@ impl DiffApp {
     /// The hints for the status bar, with the keys in force.
     pub fn hints(&self) -> String {
         let mut out = Vec::new();
+        // Stepping and "why" are about runs; two trees have neither.
+        let runs = self.a.session.is_some() && self.b.session.is_some();
         for (a, what) in [
             (Action::NextDivergence, "next divergence"),
             (Action::StepForward, "step"),
@@ -344,6 +346,9 @@ impl DiffApp {
             (Action::Help, "help"),
             (Action::Quit, "quit"),
         ] {
+            if !runs && matches!(a, Action::StepForward | Action::TickForward | Action::Why) {
+                continue;
+            }
             if let Some(k) = self.keymap.key_of(a) {
                 out.push(format!("{k} {what}"));
             }

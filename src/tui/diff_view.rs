@@ -56,6 +56,14 @@ fn tree_pane(app: &DiffApp, side: usize, f: &mut Frame, area: Rect) {
             s => s.as_str()[..1].to_string(),
         };
         let mut name = Style::default();
+        // The mark says it without colour too (NO_COLOR, monochrome terminals).
+        let mark = if p.divergent.contains(&uid) {
+            "≠ "
+        } else if p.parents.contains(&uid) {
+            "› "
+        } else {
+            "  "
+        };
         if p.divergent.contains(&uid) {
             name = name
                 .bg(DIVERGENT)
@@ -74,6 +82,7 @@ fn tree_pane(app: &DiffApp, side: usize, f: &mut Frame, area: Rect) {
                     .fg(status_color(status))
                     .add_modifier(Modifier::BOLD),
             ),
+            Span::styled(mark, Style::default().add_modifier(Modifier::BOLD)),
             Span::raw("  ".repeat(depth)),
             Span::styled(
                 format!("{} ", tree_glyph(&p.tree, uid)),
@@ -182,9 +191,9 @@ fn help(app: &DiffApp, f: &mut Frame, area: Rect) {
         Style::default().add_modifier(Modifier::BOLD),
     ))];
     lines.push(Line::from(vec![
-        Span::styled(" leaf ", Style::default().bg(DIVERGENT).fg(Color::White)),
+        Span::styled("≠ leaf ", Style::default().bg(DIVERGENT).fg(Color::White)),
         Span::raw(" a divergent action   "),
-        Span::styled(" parent ", Style::default().bg(PARENT).fg(Color::White)),
+        Span::styled("› parent ", Style::default().bg(PARENT).fg(Color::White)),
         Span::raw(" its parent"),
     ]));
     lines.push(Line::from(""));

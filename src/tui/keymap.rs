@@ -434,6 +434,39 @@ impl Keymap {
             .map(String::as_str)
     }
 
+    /// `hints` in at most `width` columns, after the focused pane's own
+    /// `first` hints: hints are dropped from the end, but help and quit stay.
+    pub fn hints_within(&self, first: &[(Action, &str)], width: usize) -> String {
+        let key = |a: Action| self.key_of(a).map(str::to_string);
+        let mut all: Vec<String> = first
+            .iter()
+            .filter_map(|&(a, what)| key(a).map(|k| format!("{k} {what}")))
+            .collect();
+        all.extend(
+            self.keys
+                .iter()
+                .filter(|b| !b.3.is_empty() && !b.0.is_empty())
+                .filter(|b| !matches!(b.1, Action::Help | Action::Quit))
+                .filter(|b| !first.iter().any(|(a, _)| *a == b.1))
+                .map(|b| format!("{} {}", b.0[0], b.3)),
+        );
+        let end: Vec<String> = [(Action::Help, "help"), (Action::Quit, "quit")]
+            .iter()
+            .filter_map(|&(a, what)| key(a).map(|k| format!("{k} {what}")))
+            .collect();
+        let cols = |v: &[String]| {
+            v.iter()
+                .map(|s| s.chars().count() + 2)
+                .sum::<usize>()
+                .saturating_sub(2)
+        };
+        while !all.is_empty() && cols(&all) + 2 + cols(&end) > width {
+            all.pop();
+        }
+        all.extend(end);
+        all.join("  ")
+    }
+
     /// The status bar's hints: `n step  N tick  f failure ...`.
     pub fn hints(&self) -> String {
         self.keys

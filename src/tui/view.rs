@@ -102,6 +102,27 @@ pub fn first_row(app: &App, height: usize) -> usize {
     }
 }
 
+/// `text` in at most `cols` columns: cut with `…` when it does not fit.
+pub fn fit(text: &str, cols: usize) -> String {
+    if Span::raw(text).width() <= cols {
+        return text.to_string();
+    }
+    let mut out = String::new();
+    let mut w = 0;
+    for c in text.chars() {
+        let cw = Span::raw(c.to_string()).width();
+        if w + cw + 1 > cols {
+            break;
+        }
+        out.push(c);
+        w += cw;
+    }
+    if cols > 0 {
+        out.push('…');
+    }
+    out
+}
+
 fn tree_pane(app: &App, f: &mut Frame, area: Rect) {
     let title = format!(
         " {} tree · {} ",
@@ -116,6 +137,15 @@ fn tree_pane(app: &App, f: &mut Frame, area: Rect) {
     let at = app.at();
     let current = at.and_then(|a| a.current());
     let highlighted: Vec<Uid> = app.highlighted();
+    let width = inner.width as usize;
+    // Deep rows scroll sideways with the selection: its indentation is kept
+    // within half the pane, and rows that start left of the view show `‹`.
+    let sel_depth = app
+        .rows()
+        .iter()
+        .find(|r| r.uid == app.selected)
+        .map_or(0, |r| r.depth);
+    let shift = (2 * sel_depth).saturating_sub(width / 2);
     let mut lines = Vec::with_capacity(h);
     for r in app.rows().iter().skip(first).take(h) {
         let status = app.status(r.uid);
@@ -179,22 +209,38 @@ fn tree_pane(app: &App, f: &mut Frame, area: Rect) {
         } else {
             ""
         };
-        lines.push(Line::from(vec![
+        let indent = match (2 * r.depth).checked_sub(shift) {
+            Some(n) if shift == 0 => " ".repeat(n),
+            Some(n) => format!("‹{}", " ".repeat(n.saturating_sub(1))),
+            None => "‹".to_string(),
+        };
+        let head = vec![
             Span::styled(format!("{marker} "), mstyle),
-            Span::raw("  ".repeat(r.depth)),
+            Span::raw(indent),
             Span::raw(fold),
             Span::styled(
                 format!("{} ", glyph(app, r.uid)),
                 Style::default().fg(Color::Blue),
             ),
-            Span::styled(format!("{role}{}", app.tree.description(r.uid)), name_style),
+        ];
+        let tail = [
             Span::styled(format!(" #{}", r.uid), Style::default().fg(Color::DarkGray)),
             Span::raw(if Some(r.uid) == current {
                 "  ◀ now"
             } else {
                 ""
             }),
-        ]));
+        ];
+        // The name gives way, with an ellipsis, so the uid always shows.
+        let used: usize = head.iter().chain(&tail[..1]).map(Span::width).sum();
+        let name = fit(
+            &format!("{role}{}", app.tree.description(r.uid)),
+            width.saturating_sub(used),
+        );
+        let mut spans = head;
+        spans.push(Span::styled(name, name_style));
+        spans.extend(tail);
+        lines.push(Line::from(spans));
     }
     f.render_widget(Paragraph::new(lines), inner);
 }
@@ -628,7 +674,27 @@ pub fn view(app: &App, f: &mut Frame) {
     timeline_pane(app, f, a.timeline);
     let status = match &app.message {
         Some(m) => Span::styled(m.clone(), Style::default().fg(Color::Yellow)),
-        None => Span::styled(app.keymap.hints(), Style::default().fg(Color::DarkGray)),
+        None => {
+            use super::keymap::Action as A;
+            let first: &[(A, &str)] = match app.focus {
+                Pane::Ask if app.why.is_some() => &[
+                    (A::Down, "next explanation"),
+                    (A::Toggle, "why that?"),
+                    (A::Graph, "model"),
+                    (A::ExportGraph, "export"),
+                ],
+                Pane::Tree => &[
+                    (A::Down, "move"),
+                    (A::Expand, "open"),
+                    (A::Collapse, "close"),
+                ],
+                _ => &[(A::NextPane, "next pane")],
+            };
+            Span::styled(
+                app.keymap.hints_within(first, a.status.width as usize),
+                Style::default().fg(Color::DarkGray),
+            )
+        }
     };
     f.render_widget(Paragraph::new(status), a.status);
     overlay(app, f, f.area());

@@ -418,3 +418,23 @@ fn names_give_way_to_the_uid_with_an_ellipsis() {
     assert_eq!(fit("抓取螺丝钉", 5), "抓取…");
     assert_eq!(fit("abc", 0), "");
 }
+
+#[test]
+fn the_help_scrolls_to_a_legend_of_every_sign() {
+    let mut app = scene("help").unwrap();
+    let top = screen(&app, 80, 24);
+    assert!(top.contains("↓ more"), "{top}");
+    assert!(!top.contains("a divergent leaf"), "{top}");
+    app.update(Action::End);
+    let end = screen(&app, 80, 24);
+    for sign in [
+        "halted: was RUNNING",
+        "IDLE now, and its last completion was FAILURE",
+        "running, failed, succeeded, idle",
+        "side-by-side diff: a divergent leaf, its parent",
+    ] {
+        assert!(end.contains(sign), "{sign}: {end}");
+    }
+    app.update(Action::Back);
+    assert!(!screen(&app, 80, 24).contains("keys and signs"));
+}

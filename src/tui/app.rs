@@ -23,7 +23,10 @@ pub enum Pane {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Overlay {
     None,
-    Help,
+    /// The keys and the legend, scrolled down `scroll` lines.
+    Help {
+        scroll: usize,
+    },
     Finder {
         query: String,
         selected: usize,
@@ -334,12 +337,16 @@ impl App {
     /// Applies one action.
     pub fn update(&mut self, a: Action) {
         match &mut self.overlay {
-            Overlay::Help => {
-                if matches!(
-                    a,
-                    Action::Back | Action::Help | Action::Quit | Action::Toggle
-                ) {
-                    self.overlay = Overlay::None;
+            Overlay::Help { scroll } => {
+                match a {
+                    Action::Back | Action::Help | Action::Quit | Action::Toggle => {
+                        self.overlay = Overlay::None
+                    }
+                    Action::Down => *scroll += 1,
+                    Action::Up => *scroll = scroll.saturating_sub(1),
+                    Action::End => *scroll = usize::MAX,
+                    Action::Start => *scroll = 0,
+                    _ => {}
                 }
                 return;
             }
@@ -484,7 +491,7 @@ impl App {
                 self.selected = self.visible_for(self.selected);
                 self.rebuild_rows();
             }
-            Action::Help => self.overlay = Overlay::Help,
+            Action::Help => self.overlay = Overlay::Help { scroll: 0 },
             Action::Play => self.playing = !self.playing && self.session.is_some(),
             Action::Faster => self.play_ms = (self.play_ms / 2).max(10),
             Action::Slower => self.play_ms = (self.play_ms * 2).min(5000),

@@ -62,6 +62,28 @@ fn glyph(app: &App, uid: Uid) -> &'static str {
     tree_glyph(&app.tree, uid)
 }
 
+/// What every sign on screen means, for the help.
+const LEGEND: &[(&str, &str)] = &[
+    (
+        "R S F",
+        "status now: RUNNING, SUCCESS, FAILURE (blank: IDLE)",
+    ),
+    ("H", "halted: was RUNNING, reset to IDLE by its parent"),
+    ("x", "IDLE now, and its last completion was FAILURE"),
+    ("▣ ▢ ◯", "subtree, action, condition"),
+    ("→ ? ⇉", "sequence, fallback, parallel"),
+    ("◇ ◆", "decorator, other control node"),
+    ("▾ ▸", "expanded, collapsed"),
+    ("◀ now", "the current node (the leaf last ticked)"),
+    ("‹", "a row that begins left of the view (deep trees)"),
+    (
+        "▆ ▃ ▂ ·",
+        "strip, per tick: running, failed, succeeded, idle",
+    ),
+    ("★", "causal model: a reason of the picked explanation"),
+    ("≠ ›", "side-by-side diff: a divergent leaf, its parent"),
+];
+
 /// A node's kind at a glance: ▣ subtree, ▢ action, ◯ condition, → sequence…
 pub fn tree_glyph(tree: &crate::model::Tree, uid: Uid) -> &'static str {
     let n = tree.node(uid);
@@ -542,9 +564,8 @@ fn centered(area: Rect, w: u16, h: u16) -> Rect {
 fn overlay(app: &App, f: &mut Frame, area: Rect) {
     match &app.overlay {
         Overlay::None => {}
-        Overlay::Help => {
-            let r = centered(area, 70, app.keymap.keys.len() as u16 + 2);
-            let lines: Vec<Line> = app
+        Overlay::Help { scroll } => {
+            let mut lines: Vec<Line> = app
                 .keymap
                 .keys
                 .iter()
@@ -558,12 +579,28 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
                     ])
                 })
                 .collect();
+            lines.push(Line::from(""));
+            for (sign, what) in LEGEND {
+                lines.push(Line::from(vec![
+                    Span::styled(format!("{sign:<16}"), Style::default().fg(Color::Yellow)),
+                    Span::raw(*what),
+                ]));
+            }
+            let r = centered(area, 76, lines.len() as u16 + 2);
+            let shown = r.height.saturating_sub(2) as usize;
+            let top = (*scroll).min(lines.len().saturating_sub(shown));
+            let more = if top + shown < lines.len() {
+                " ↓ more "
+            } else {
+                ""
+            };
             f.render_widget(Clear, r);
             f.render_widget(
-                Paragraph::new(lines).block(
+                Paragraph::new(lines).scroll((top as u16, 0)).block(
                     Block::default()
                         .borders(Borders::ALL)
-                        .title(" keys (? or Esc to close) "),
+                        .title(" keys and signs (↑↓ scroll, ? or Esc to close) ")
+                        .title_bottom(more),
                 ),
                 r,
             );

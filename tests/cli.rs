@@ -357,3 +357,37 @@ fn moments_count_from_the_end_of_the_run_everywhere_one_is_taken() {
     assert!(!ok);
     assert_eq!(err, "error: \"-47\": the run has 46 ticks\n");
 }
+
+#[test]
+fn a_session_says_how_its_run_ended() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("t.xml");
+    std::fs::write(
+        &tree,
+        r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence><AlwaysSuccess/><MyControl><AlwaysSuccess/><AlwaysFailure/></MyControl></Sequence></BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let plan = dir.path().join("p.plan");
+    std::fs::write(&plan, "").unwrap();
+    let out = dir.path().join("s.jsonl");
+    let (ok, _, _) = btx(&[
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    let s = btx::session::Session::load(&out).unwrap();
+    assert_eq!(
+        s.ending(),
+        "stopped at tick 1 by an error: tick 1: MyControl #3: custom control node \"MyControl\" has no behaviour in btx"
+    );
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let s = btx::session::Session::load(&root.join("sessions/kitting-nominal.jsonl")).unwrap();
+    assert_eq!(
+        s.ending(),
+        "ended at tick 46: root SUCCESS (root completed)"
+    );
+}

@@ -29,6 +29,23 @@ pub struct Session {
 }
 
 impl Session {
+    /// How the run ended, as a line: the root's last status and why it
+    /// stopped, or the error that stopped it, or that nothing says.
+    pub fn ending(&self) -> String {
+        match &self.end {
+            Some((ticks, _, reason)) if reason.starts_with("error: ") => {
+                format!("stopped at tick {ticks} by an {reason}")
+            }
+            Some((ticks, root, reason)) => {
+                format!("ended at tick {ticks}: root {} ({reason})", root.as_str())
+            }
+            None => format!(
+                "no end recorded after tick {}: the run was cut off or is still going",
+                self.index.ticks()
+            ),
+        }
+    }
+
     pub fn load(path: &Path) -> Result<Session, Located> {
         let text = crate::source::read_text(path, crate::source::INPUT_SIZE_MAX, "the session")?;
         Session::parse(path, &text)

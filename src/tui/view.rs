@@ -348,6 +348,9 @@ fn details_pane(app: &App, f: &mut Frame, area: Rect) {
             lines.push(Line::from(format!("decision {d}")));
         }
     }
+    if let Some(s) = &app.session {
+        lines.push(Line::from(format!("run {}", s.ending())));
+    }
     let bb = crate::run::blackboard::Blackboard::new(&app.tree);
     for p in &n.ports {
         let mut s = crate::export::port_label(p);
@@ -380,7 +383,11 @@ fn details_pane(app: &App, f: &mut Frame, area: Rect) {
 }
 
 fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
-    let b = block(" timeline ".into(), app.focus == Pane::Timeline);
+    let title = match &app.session {
+        Some(s) => format!(" timeline · run {} ", crate::text::visible(&s.ending())),
+        None => " timeline ".into(),
+    };
+    let b = block(title, app.focus == Pane::Timeline);
     let inner = b.inner(area);
     f.render_widget(b, area);
     let Some(s) = &app.session else {

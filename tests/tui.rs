@@ -105,7 +105,7 @@ fn framed_view_and_collapsing() {
 #[test]
 fn help_lists_every_binding_of_the_keymap() {
     let app = scene("help").unwrap();
-    let s = screen(&app, 110, 40);
+    let s = screen(&app, 110, 70);
     for b in KEYMAP {
         assert!(s.contains(b.help), "help lacks {:?}", b.help);
         assert!(
@@ -437,4 +437,34 @@ fn the_help_scrolls_to_a_legend_of_every_sign() {
     }
     app.update(Action::Back);
     assert!(!screen(&app, 80, 24).contains("keys and signs"));
+}
+
+#[test]
+fn the_selection_stays_while_stepping_and_answers_keep_their_node() {
+    let mut app = demo();
+    // Following at first: stepping selects the current node.
+    app.update(Action::TickForward);
+    let current = app.at().unwrap().current().unwrap();
+    assert_eq!(app.selected, current);
+    // The person selects a node: it stays while the run moves.
+    app.update(Action::Up);
+    let mine = app.selected;
+    assert_ne!(mine, current);
+    for _ in 0..5 {
+        app.update(Action::TickForward);
+    }
+    assert_eq!(app.selected, mine);
+    // `o` follows again.
+    app.update(Action::Follow);
+    assert_eq!(app.selected, app.at().unwrap().current().unwrap());
+    // f lands on the leaf that failed and selects it.
+    app.update(Action::NextFailure);
+    assert_eq!(app.selected, 18, "look at chuck");
+    // Q1 there, then the selection moves: the pane still names #18.
+    app.update(Action::Ask);
+    app.update(Action::Toggle);
+    app.update(Action::Up);
+    assert_ne!(app.selected, 18);
+    let s = screen(&app, 110, 34);
+    assert!(s.contains("about look at chuck #18 at moment 10"), "{s}");
 }

@@ -134,7 +134,7 @@ fn demo_in_a_real_terminal() {
     t.run(&["send-keys", "-t", "btx", "f"]);
     t.wait_for("moment 10 ");
     t.run(&["send-keys", "-t", "btx", "?"]);
-    t.wait_for("keys (? or Esc to close)");
+    t.wait_for("keys and signs (↑↓ scroll, ? or Esc to close)");
     t.run(&["send-keys", "-t", "btx", "Escape"]);
     t.run(&["send-keys", "-t", "btx", "q"]);
     let s = t.wait_for("EXITED:0");

@@ -79,6 +79,12 @@ pub struct App {
     pub overlay: Overlay,
     pub answer: Option<Answer>,
     pub why: Option<WhyView>,
+    /// The node and moment the answer or why-answer on screen is about:
+    /// the pane keeps saying so when the selection or the moment moves.
+    pub asked: Option<(Uid, Option<String>)>,
+    /// Whether stepping selects the current node. On until the person
+    /// selects a node themselves; `o` turns it on and off.
+    pub follow_node: bool,
     /// A one-line message for the status bar (an error, a file written).
     pub message: Option<String>,
     pub playing: bool,
@@ -119,6 +125,8 @@ impl App {
             overlay: Overlay::None,
             answer: None,
             why: None,
+            asked: None,
+            follow_node: true,
             message: None,
             playing: false,
             play_ms: 200,
@@ -204,6 +212,9 @@ impl App {
 
     /// Selects the current node of the moment, as Groot keeps it in view.
     fn follow_current(&mut self) {
+        if !self.follow_node {
+            return;
+        }
         if let Some(cur) = self.at().and_then(|a| a.current()) {
             self.selected = self.visible_for(cur);
             self.reveal(cur);
@@ -264,6 +275,19 @@ impl App {
     }
 
     /// Ticks in which a leaf failed.
+    /// The leaf whose FAILURE came last in tick `t`.
+    fn failed_leaf(&self, t: u32) -> Option<Uid> {
+        let s = self.session.as_ref()?;
+        s.index
+            .transitions
+            .iter()
+            .rev()
+            .find(|x| {
+                x.tick == t && x.status == Status::Failure && s.tree.node(x.uid).kind.is_leaf()
+            })
+            .map(|x| x.uid)
+    }
+
     fn failure_ticks(&self) -> Vec<u32> {
         let Some(s) = &self.session else {
             return Vec::new();
@@ -388,6 +412,7 @@ impl App {
                     (i + 1).min(self.rows.len().saturating_sub(1))
                 };
                 self.selected = self.rows[j].uid;
+                self.follow_node = false;
             }
             Action::Collapse => {
                 if self
@@ -404,6 +429,7 @@ impl App {
                     .find(|p| self.row_of(*p).is_some())
                 {
                     self.selected = p;
+                    self.follow_node = false;
                 }
             }
             Action::Expand => {
@@ -413,6 +439,7 @@ impl App {
                     if self.rows[i].has_children {
                         if let Some(next) = self.rows.get(i + 1) {
                             self.selected = next.uid;
+                            self.follow_node = false;
                         }
                     }
                 }
@@ -454,9 +481,23 @@ impl App {
                 } else {
                     ticks.into_iter().rev().find(|&x| x < t)
                 };
-                if let Some(p) = target.and_then(|x| self.tick_end(x)) {
+                if let Some((x, p)) = target.and_then(|x| Some((x, self.tick_end(x)?))) {
                     self.goto(p);
+                    // Land on the leaf that failed (the tick's last failure).
+                    if let Some(u) = self.failed_leaf(x) {
+                        self.reveal(u);
+                        self.selected = self.visible_for(u);
+                    }
                 }
+            }
+            Action::Follow => {
+                self.follow_node = !self.follow_node;
+                self.follow_current();
+                self.message = Some(if self.follow_node {
+                    "following the current node as the run moves".into()
+                } else {
+                    "the selection stays where it is as the run moves".into()
+                });
             }
             Action::NextChange | Action::PrevChange => {
                 let Some(s) = &self.session else { return };
@@ -569,6 +610,7 @@ impl App {
                             let u = *u;
                             self.reveal(u);
                             self.selected = self.visible_for(u);
+                            self.follow_node = false;
                         }
                     }
                     Overlay::Ask { .. } => {
@@ -593,6 +635,7 @@ impl App {
         let at = self.at();
         let node = self.asked_node();
         self.answer = answer(&self.tree, at.as_ref(), node, q).ok();
+        self.asked = Some((node, self.moment().map(|m| m.to_string())));
         if let Some(a) = &self.answer {
             let nodes = a.nodes.clone();
             for u in nodes {
@@ -648,6 +691,7 @@ impl App {
                 for u in w.reason_nodes(0) {
                     self.reveal(u);
                 }
+                self.asked = Some((self.selected, Some(w.moment.clone())));
                 self.why = Some(WhyView {
                     why: w,
                     selected: 0,
@@ -718,6 +762,7 @@ impl App {
     pub fn click_row(&mut self, row: usize, first: usize) {
         if let Some(r) = self.rows.get(first + row) {
             self.selected = r.uid;
+            self.follow_node = false;
         }
     }
 

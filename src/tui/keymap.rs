@@ -30,6 +30,8 @@ pub enum Action {
     /// Write the why-answer's causal model as a DOT file.
     ExportGraph,
     Find,
+    /// Whether stepping selects the current node.
+    Follow,
     ToggleFramed,
     Help,
     Play,
@@ -174,6 +176,12 @@ pub const KEYMAP: &[Binding] = &[
         keys: &["x"],
         action: Action::ExportGraph,
         help: "write the why-answer's causal model as DOT",
+        hint: "",
+    },
+    Binding {
+        keys: &["o"],
+        action: Action::Follow,
+        help: "follow the current node while stepping (on/off)",
         hint: "",
     },
     Binding {

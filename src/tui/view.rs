@@ -490,12 +490,23 @@ fn truncate(s: &str, n: usize) -> String {
 
 fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
     let b = block(" ask (a) ".into(), app.focus == Pane::Ask);
-    let mut lines = vec![Line::from(Span::styled(
-        format!(
+    // An answer on screen names what it was asked about, wherever the
+    // selection has gone since.
+    let about = match &app.asked {
+        Some((u, at)) if app.answer.is_some() || app.why.is_some() => format!(
+            "about {} #{u}{}",
+            app.tree.description(*u),
+            at.as_ref()
+                .map_or(String::new(), |m| format!(" at moment {m}"))
+        ),
+        _ => format!(
             "about {} #{}",
             app.tree.description(app.asked_node()),
             app.asked_node()
         ),
+    };
+    let mut lines = vec![Line::from(Span::styled(
+        about,
         Style::default().fg(Color::DarkGray),
     ))];
     if let Some(w) = &app.why {

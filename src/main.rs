@@ -39,6 +39,7 @@ enum TreeFormat {
     Json,
     Dot,
     Xml,
+    Mermaid,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -63,6 +64,7 @@ enum EvalDomain {
 enum GraphFormat {
     Dot,
     Json,
+    Mermaid,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -506,6 +508,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                 }
                 (false, TreeFormat::Json) => pretty(&export::tree_json(tree)),
                 (false, TreeFormat::Dot) => export::tree_dot(tree),
+                (false, TreeFormat::Mermaid) => export::tree_mermaid(tree),
                 (true, TreeFormat::Xml) => fail!(
                     "the framed tree is a view, not a runnable tree: drop --framed to write XML"
                 ),
@@ -515,6 +518,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
                     match f {
                         TreeFormat::Json => pretty(&export::framed_json(tree, &fr)),
                         TreeFormat::Dot => export::framed_dot(tree, &fr),
+                        TreeFormat::Mermaid => export::framed_mermaid(tree, &fr),
                         _ => export::framed_text(tree, &fr),
                     }
                 }
@@ -628,6 +632,7 @@ fn run(cli: Cli) -> Result<(), Failure> {
             match format {
                 GraphFormat::Dot => print!("{}", btx::causal::graph::dot(&m)),
                 GraphFormat::Json => print!("{}", pretty(&btx::causal::graph::json(&m))),
+                GraphFormat::Mermaid => print!("{}", btx::causal::graph::mermaid(&m)),
             }
         }
         Command::Ask {

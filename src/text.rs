@@ -88,3 +88,32 @@ mod tests {
         assert_eq!(t, "x?[2J??y");
     }
 }
+
+/// A label as Mermaid reads it inside `["…"]`: quotes and the characters
+/// Mermaid or its HTML would take as syntax become entity codes.
+pub fn mermaid_label(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("#quot;"),
+            '#' => out.push_str("#35;"),
+            '<' => out.push_str("#lt;"),
+            '>' => out.push_str("#gt;"),
+            '&' => out.push_str("#amp;"),
+            '\n' | '\r' => out.push(' '),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod mermaid_tests {
+    #[test]
+    fn labels_cannot_break_out_of_their_quotes() {
+        assert_eq!(
+            super::mermaid_label(r#"say "hi" #2 <b>&"#),
+            "say #quot;hi#quot; #35;2 #lt;b#gt;#amp;"
+        );
+    }
+}

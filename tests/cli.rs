@@ -391,3 +391,33 @@ fn a_session_says_how_its_run_ended() {
         "ended at tick 46: root SUCCESS (root completed)"
     );
 }
+
+#[test]
+fn trees_and_models_print_as_mermaid() {
+    let (ok, out, err) = btx(&["tree", "trees/case-study.xml", "--format", "mermaid"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with("flowchart TD\n  n1[/\"Fallback<br/>CaseStudyFallback #35;1\"/]\n"),
+        "{out}"
+    );
+    assert!(out.contains("  n2 --> n4\n"), "{out}");
+    let (ok, out, err) = btx(&[
+        "tree",
+        "trees/kitting.xml",
+        "--framed",
+        "--format",
+        "mermaid",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("[[\"subgoal<br/>go insert large gear #35;2\"]]"),
+        "{out}"
+    );
+    let (ok, out, err) = btx(&["graph", "sessions/case-study.jsonl", "--format", "mermaid"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with("%% explanation model of tick 1: 19 variables, 34 edges\nflowchart TD\n"),
+        "{out}"
+    );
+    assert_eq!(out.matches(" --> ").count(), 34);
+}

@@ -49,6 +49,37 @@ pub fn dot(m: &Model) -> String {
     out
 }
 
+/// The model as a Mermaid flowchart: each variable with its value, edges
+/// from cause to effect.
+pub fn mermaid(m: &Model) -> String {
+    use crate::text::mermaid_label as label;
+    let mut out = format!(
+        "%% explanation model of tick {}: {} variables, {} edges\nflowchart TD\n",
+        m.facts.tick,
+        m.vars.len(),
+        m.edge_count()
+    );
+    for (v, info) in m.vars.iter().enumerate() {
+        let (open, close) = match info.kind {
+            VarKind::State { .. } => ("([", "])"),
+            _ => ("[", "]"),
+        };
+        out.push_str(&format!(
+            "  v{v}{open}\"{} = {}\"{close}\n",
+            label(&m.var_name(v)),
+            label(&value_text(&m.fact[v]))
+        ));
+    }
+    for e in m.graph.edge_references() {
+        out.push_str(&format!(
+            "  v{} --> v{}\n",
+            e.source().index(),
+            e.target().index()
+        ));
+    }
+    out
+}
+
 pub fn json(m: &Model) -> Value {
     let nodes: Vec<Value> = m
         .vars

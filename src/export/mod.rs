@@ -4,6 +4,7 @@
 mod dot;
 mod json;
 mod log;
+pub mod mermaid;
 mod text;
 
 pub use dot::{framed_dot, tree_dot};
@@ -12,6 +13,7 @@ pub use log::{
     each_log_row, log_json, log_json_lines, log_rows, log_text, log_text_row, write_log_json,
     LogRow, LOG_TEXT_HEADER,
 };
+pub use mermaid::{framed_mermaid, tree_mermaid};
 pub use text::{framed_text, tree_text, write_tree_text};
 
 use crate::model::{Kind, Port, PortValue, Tree, Uid};

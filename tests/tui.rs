@@ -131,19 +131,19 @@ fn a_keymap_file_overrides_the_table() {
     let p = dir.path().join("keys.toml");
     std::fs::write(
         &p,
-        "step_forward = [\"z\", \"Right\"]\nexpand = [\"l\"]\nquit = [\"Q\"]\n",
+        "step_forward = [\"Z\", \"Right\"]\nexpand = [\"l\"]\nquit = [\"Q\"]\n",
     )
     .unwrap();
     let km = Keymap::with_file(&p).unwrap();
     let key = |c| KeyEvent::new(KeyCode::Char(c), KeyModifiers::NONE);
-    assert_eq!(km.action_for(&key('z')), Some(Action::StepForward));
+    assert_eq!(km.action_for(&key('Z')), Some(Action::StepForward));
     assert_eq!(km.action_for(&key('n')), None);
     assert_eq!(km.action_for(&key('Q')), Some(Action::Quit));
-    assert!(km.hints().starts_with("z step"), "{}", km.hints());
+    assert!(km.hints().starts_with("Z step"), "{}", km.hints());
     let mut app = scene("help").unwrap();
     app.keymap = km;
     let s = screen(&app, 110, 40);
-    assert!(s.contains("z Right"), "the help shows the keymap in force");
+    assert!(s.contains("Z Right"), "the help shows the keymap in force");
     std::fs::write(&p, "fly = [\"z\"]\n").unwrap();
     let e = Keymap::with_file(&p).unwrap_err().to_string();
     assert!(e.contains("keys.toml:1:7: \"fly\" is not an action"), "{e}");
@@ -463,8 +463,53 @@ fn the_selection_stays_while_stepping_and_answers_keep_their_node() {
     // Q1 there, then the selection moves: the pane still names #18.
     app.update(Action::Ask);
     app.update(Action::Toggle);
+    app.focus = btx::tui::app::Pane::Tree;
     app.update(Action::Up);
     assert_ne!(app.selected, 18);
     let s = screen(&app, 110, 34);
     assert!(s.contains("about look at chuck #18 at moment 10"), "{s}");
+}
+
+#[test]
+fn every_pane_scrolls_and_zooms() {
+    use btx::tui::app::Pane;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = btx::tui::open(
+        &root.join("sessions/serial-recall.jsonl"),
+        None,
+        &btx::xml::LoadOptions::default(),
+    )
+    .unwrap();
+    // A why-answer's causal model in the details pane: 177 variables.
+    let leaf = (1..=app.tree.len() as u32)
+        .find(|&u| app.tree.description(u) == "RepeatOrEnd")
+        .unwrap();
+    app.selected = leaf;
+    app.update(Action::Why);
+    app.update(Action::Toggle);
+    app.update(Action::Graph);
+    app.focus = Pane::Details;
+    let before = screen(&app, 80, 24);
+    app.update(Action::PageDown);
+    let after = screen(&app, 80, 24);
+    assert_ne!(before, after, "the model scrolls");
+    app.update(Action::PageUp);
+    assert_eq!(screen(&app, 80, 24), before);
+    // Zoomed, the details pane takes the screen: more of the model shows.
+    app.update(Action::Zoom);
+    let zoomed = screen(&app, 80, 24);
+    assert!(!zoomed.contains("timeline"), "{zoomed}");
+    app.update(Action::Zoom);
+    // The wheel over the ask pane scrolls it, the focus stays.
+    app.wheel(Pane::Ask, true);
+    assert_eq!(app.scroll_ask, 1);
+    assert_eq!(app.focus, Pane::Details);
+    // The timeline's list scrolls away from the moment and back on a step.
+    app.focus = Pane::Timeline;
+    let pos = app.pos;
+    app.update(Action::PageUp);
+    assert_eq!(app.pos, pos, "scrolling the list does not move the moment");
+    assert_eq!(app.scroll_timeline, -10);
+    app.update(Action::StepBack);
+    assert_eq!(app.scroll_timeline, 0);
 }

@@ -55,6 +55,9 @@ pub struct WhyView {
     pub graph: bool,
 }
 
+/// Rows or lines a page key moves.
+pub const PAGE: usize = 10;
+
 /// A visible row of the tree pane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Row {
@@ -85,6 +88,14 @@ pub struct App {
     /// Whether stepping selects the current node. On until the person
     /// selects a node themselves; `o` turns it on and off.
     pub follow_node: bool,
+    /// Lines scrolled in the details and ask panes, and transitions the
+    /// timeline's list is moved from the moment (the tree scrolls with its
+    /// selection).
+    pub scroll_details: usize,
+    pub scroll_ask: usize,
+    pub scroll_timeline: i64,
+    /// The focused pane fills the screen.
+    pub zoom: bool,
     /// A one-line message for the status bar (an error, a file written).
     pub message: Option<String>,
     pub playing: bool,
@@ -127,6 +138,10 @@ impl App {
             why: None,
             asked: None,
             follow_node: true,
+            scroll_details: 0,
+            scroll_ask: 0,
+            scroll_timeline: 0,
+            zoom: false,
             message: None,
             playing: false,
             play_ms: 200,
@@ -242,6 +257,8 @@ impl App {
         self.pos = pos.min(self.positions());
         self.at_tick = None;
         self.answer = None;
+        self.scroll_timeline = 0;
+        self.scroll_details = 0;
         self.follow_current();
     }
 
@@ -275,6 +292,38 @@ impl App {
     }
 
     /// Ticks in which a leaf failed.
+    /// The mouse wheel over a pane: the tree moves its selection, the
+    /// others scroll, whichever pane has the focus.
+    pub fn wheel(&mut self, pane: Pane, down: bool) {
+        let a = if down { Action::Down } else { Action::Up };
+        if pane == Pane::Tree || self.overlay != Overlay::None {
+            return self.update(a);
+        }
+        let focus = std::mem::replace(&mut self.focus, pane);
+        self.scroll_pane(a);
+        self.focus = focus;
+    }
+
+    /// Up, Down and a page in a focused pane other than the tree scroll it.
+    /// Whether the key was taken.
+    fn scroll_pane(&mut self, a: Action) -> bool {
+        let step: i64 = match a {
+            Action::Up => -1,
+            Action::Down => 1,
+            Action::PageUp => -(PAGE as i64),
+            Action::PageDown => PAGE as i64,
+            _ => return false,
+        };
+        let by = |x: &mut usize| *x = (*x as i64 + step).max(0) as usize;
+        match self.focus {
+            Pane::Tree => return false,
+            Pane::Details => by(&mut self.scroll_details),
+            Pane::Ask => by(&mut self.scroll_ask),
+            Pane::Timeline => self.scroll_timeline += step,
+        }
+        true
+    }
+
     /// The leaf whose FAILURE came last in tick `t`.
     fn failed_leaf(&self, t: u32) -> Option<Uid> {
         let s = self.session.as_ref()?;
@@ -401,6 +450,9 @@ impl App {
                     _ => {}
                 }
             }
+        }
+        if self.scroll_pane(a) {
+            return;
         }
         match a {
             Action::Quit => self.quit = true,
@@ -543,6 +595,17 @@ impl App {
             Action::NextDivergence | Action::PrevDivergence => {
                 self.message = Some("divergences are shown by btx open --diff A B".into())
             }
+            Action::Zoom => self.zoom = !self.zoom,
+            Action::PageUp | Action::PageDown => {
+                let i = self.row_of(self.selected).unwrap_or(0);
+                let j = if a == Action::PageUp {
+                    i.saturating_sub(PAGE)
+                } else {
+                    (i + PAGE).min(self.rows.len().saturating_sub(1))
+                };
+                self.selected = self.rows[j].uid;
+                self.follow_node = false;
+            }
             Action::Wider => self.split = (self.split + 5).min(85),
             Action::Narrower => self.split = self.split.saturating_sub(5).max(25),
         }
@@ -636,6 +699,7 @@ impl App {
         let node = self.asked_node();
         self.answer = answer(&self.tree, at.as_ref(), node, q).ok();
         self.asked = Some((node, self.moment().map(|m| m.to_string())));
+        self.scroll_ask = 0;
         if let Some(a) = &self.answer {
             let nodes = a.nodes.clone();
             for u in nodes {
@@ -692,6 +756,7 @@ impl App {
                     self.reveal(u);
                 }
                 self.asked = Some((self.selected, Some(w.moment.clone())));
+                self.scroll_ask = 0;
                 self.why = Some(WhyView {
                     why: w,
                     selected: 0,

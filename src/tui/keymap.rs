@@ -46,6 +46,11 @@ pub enum Action {
     /// Give the tree pane more or less of the width.
     Wider,
     Narrower,
+    /// A page up or down in the focused pane.
+    PageUp,
+    PageDown,
+    /// The focused pane on the whole screen, or back.
+    Zoom,
 }
 
 /// One binding: the keys, the action, what the help says, and a short hint
@@ -179,6 +184,24 @@ pub const KEYMAP: &[Binding] = &[
         hint: "",
     },
     Binding {
+        keys: &["PageUp", "Ctrl-u"],
+        action: Action::PageUp,
+        help: "a page up in the focused pane",
+        hint: "",
+    },
+    Binding {
+        keys: &["PageDown", "Ctrl-d"],
+        action: Action::PageDown,
+        help: "a page down in the focused pane",
+        hint: "",
+    },
+    Binding {
+        keys: &["z"],
+        action: Action::Zoom,
+        help: "the focused pane on the whole screen, or back",
+        hint: "",
+    },
+    Binding {
         keys: &["o"],
         action: Action::Follow,
         help: "follow the current node while stepping (on/off)",
@@ -293,6 +316,8 @@ pub fn key_name(k: &KeyEvent) -> Option<String> {
         KeyCode::Home => "Home".to_string(),
         KeyCode::End => "End".to_string(),
         KeyCode::Backspace => "Backspace".to_string(),
+        KeyCode::PageUp => "PageUp".to_string(),
+        KeyCode::PageDown => "PageDown".to_string(),
         KeyCode::Char(' ') => "Space".to_string(),
         KeyCode::Char(c) => c.to_string(),
         _ => return None,

@@ -175,8 +175,26 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
                     let first = view::first_row(app, t.height.saturating_sub(2) as usize);
                     app.click_row((m.row - t.y - 1) as usize, first);
                 }
-                MouseEventKind::ScrollDown => app.update(Action::Down),
-                MouseEventKind::ScrollUp => app.update(Action::Up),
+                MouseEventKind::ScrollDown | MouseEventKind::ScrollUp => {
+                    // The wheel scrolls the pane under the pointer.
+                    let inside = |r: ratatui::layout::Rect| {
+                        m.column >= r.x
+                            && m.column < r.x + r.width
+                            && m.row >= r.y
+                            && m.row < r.y + r.height
+                    };
+                    let pane = if inside(areas.details) {
+                        app::Pane::Details
+                    } else if inside(areas.ask) {
+                        app::Pane::Ask
+                    } else if inside(areas.timeline) {
+                        app::Pane::Timeline
+                    } else {
+                        app::Pane::Tree
+                    };
+                    let down = matches!(m.kind, MouseEventKind::ScrollDown);
+                    app.wheel(pane, down);
+                }
                 _ => {}
             }
         }

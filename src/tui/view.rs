@@ -302,10 +302,16 @@ fn model_pane(app: &App, w: &super::app::WhyView, f: &mut Frame, area: Rect) {
         }
         lines.push(Line::from(spans));
     }
-    f.render_widget(
-        Paragraph::new(lines).block(b).wrap(Wrap { trim: false }),
-        area,
-    );
+    f.render_widget(scrolled(lines, app.scroll_details).block(b), area);
+}
+
+/// Wrapped lines scrolled down `by` lines (kept within the text, so a pane
+/// never scrolls to blank).
+fn scrolled(lines: Vec<Line<'static>>, by: usize) -> Paragraph<'static> {
+    let by = by.min(lines.len().saturating_sub(1));
+    Paragraph::new(lines)
+        .wrap(Wrap { trim: false })
+        .scroll((by.min(u16::MAX as usize) as u16, 0))
 }
 
 fn details_pane(app: &App, f: &mut Frame, area: Rect) {
@@ -376,10 +382,7 @@ fn details_pane(app: &App, f: &mut Frame, area: Rect) {
             lines.push(Line::from(state.join("  ")));
         }
     }
-    f.render_widget(
-        Paragraph::new(lines).block(b).wrap(Wrap { trim: false }),
-        area,
-    );
+    f.render_widget(scrolled(lines, app.scroll_details).block(b), area);
 }
 
 fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
@@ -447,7 +450,8 @@ fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
     lines.push(Line::from(strip));
     // The transitions around the moment.
     let around = (inner.height as usize).saturating_sub(2);
-    let lo = (app.pos as usize).saturating_sub(around / 2);
+    let lo = ((app.pos as i64 - (around / 2) as i64 + app.scroll_timeline).max(0) as usize)
+        .min(total.saturating_sub(around));
     for i in lo..(lo + around).min(total) {
         let t = s.index.transitions[i];
         let here = i + 1 == app.pos as usize;
@@ -538,9 +542,8 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
             Style::default().fg(Color::DarkGray),
         )));
         f.render_widget(
-            Paragraph::new(lines)
-                .block(block(" why (w) ".into(), app.focus == Pane::Ask))
-                .wrap(Wrap { trim: false }),
+            scrolled(lines, app.scroll_ask)
+                .block(block(" why (w) ".into(), app.focus == Pane::Ask)),
             area,
         );
         return;
@@ -551,7 +554,8 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
                 a.question.wording(),
                 Style::default().add_modifier(Modifier::BOLD),
             )));
-            lines.push(Line::from(a.text.clone()));
+            // Q5's steps come a line each.
+            lines.extend(a.text.lines().map(|l| Line::from(l.to_string())));
             let used: Vec<String> = a.nodes.iter().map(|u| format!("#{u}")).collect();
             lines.push(Line::from(Span::styled(
                 format!("from {}", used.join(" ")),
@@ -562,10 +566,7 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
             "press a to ask a question about the selected node",
         )),
     }
-    f.render_widget(
-        Paragraph::new(lines).block(b).wrap(Wrap { trim: false }),
-        area,
-    );
+    f.render_widget(scrolled(lines, app.scroll_ask).block(b), area);
 }
 
 fn centered(area: Rect, w: u16, h: u16) -> Rect {
@@ -723,10 +724,23 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
 /// Draws the whole screen.
 pub fn view(app: &App, f: &mut Frame) {
     let a = layout(f.area(), app.split);
-    tree_pane(app, f, a.tree);
-    details_pane(app, f, a.details);
-    ask_pane(app, f, a.ask);
-    timeline_pane(app, f, a.timeline);
+    if app.zoom {
+        let whole = Rect {
+            height: f.area().height.saturating_sub(1),
+            ..f.area()
+        };
+        match app.focus {
+            Pane::Tree => tree_pane(app, f, whole),
+            Pane::Details => details_pane(app, f, whole),
+            Pane::Ask => ask_pane(app, f, whole),
+            Pane::Timeline => timeline_pane(app, f, whole),
+        }
+    } else {
+        tree_pane(app, f, a.tree);
+        details_pane(app, f, a.details);
+        ask_pane(app, f, a.ask);
+        timeline_pane(app, f, a.timeline);
+    }
     let status = match &app.message {
         Some(m) => Span::styled(m.clone(), Style::default().fg(Color::Yellow)),
         None => {

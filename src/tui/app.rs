@@ -96,6 +96,8 @@ pub struct App {
     pub scroll_timeline: i64,
     /// The focused pane fills the screen.
     pub zoom: bool,
+    /// The finder's lines, made when it first opens (the tree is fixed).
+    finder_labels: std::cell::OnceCell<Vec<String>>,
     /// A one-line message for the status bar (an error, a file written).
     pub message: Option<String>,
     pub playing: bool,
@@ -142,6 +144,7 @@ impl App {
             scroll_ask: 0,
             scroll_timeline: 0,
             zoom: false,
+            finder_labels: std::cell::OnceCell::new(),
             message: None,
             playing: false,
             play_ms: 200,
@@ -387,12 +390,18 @@ impl App {
         self.selected
     }
 
+    /// The finder's line for a node (made for every node on first use).
+    pub fn finder_label(&self, u: Uid) -> &str {
+        let all = self.finder_labels.get_or_init(|| finder_labels(&self.tree));
+        all.get(u as usize - 1).map_or("", String::as_str)
+    }
+
     /// Finder results: (uid, score, matched character positions in the label).
     pub fn finder_results(&self, query: &str) -> Vec<(Uid, Vec<usize>)> {
         let m = SkimMatcherV2::default().ignore_case();
         let mut scored: Vec<(i64, Uid, Vec<usize>)> = (1..=self.tree.len() as Uid)
             .filter_map(|u| {
-                let label = finder_label(&self.tree, u);
+                let label = self.finder_label(u);
                 if query.is_empty() {
                     return Some((0, u, Vec::new()));
                 }
@@ -881,12 +890,32 @@ impl App {
 }
 
 /// What the finder matches against: description, ID, path and uid.
-pub fn finder_label(tree: &Tree, uid: Uid) -> String {
-    format!(
-        "#{:<4} {}  [{}]  {}",
-        uid,
-        tree.description(uid),
-        tree.node(uid).id,
-        tree.display_path(uid)
-    )
+/// The finder's line for each node, by uid − 1: uid, description, ID and
+/// path, the path built top-down and cut to its last `FINDER_PATH_MAX`
+/// characters, so a 10,000-level tree costs its size, once.
+pub fn finder_labels(tree: &Tree) -> Vec<String> {
+    tree.display_paths()
+        .into_iter()
+        .enumerate()
+        .map(|(i, path)| {
+            let uid = i as Uid + 1;
+            let n = path.chars().count();
+            let path = if n > FINDER_PATH_MAX {
+                let tail: String = path.chars().skip(n - FINDER_PATH_MAX).collect();
+                format!("…{tail}")
+            } else {
+                path
+            };
+            format!(
+                "#{:<4} {}  [{}]  {}",
+                uid,
+                tree.description(uid),
+                tree.node(uid).id,
+                path
+            )
+        })
+        .collect()
 }
+
+/// The most of a path the finder matches and shows.
+pub const FINDER_PATH_MAX: usize = 120;

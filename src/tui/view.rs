@@ -1,7 +1,7 @@
 //! `view(&App)`: draws the panes from the state, building widgets only for
 //! what is visible. It computes nothing that explains.
 
-use super::app::{finder_label, App, Overlay, Pane};
+use super::app::{App, Overlay, Pane};
 use crate::model::{Kind, Uid};
 use crate::run::Status;
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
@@ -641,7 +641,7 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
             let first = selected.saturating_sub(h.saturating_sub(1));
             let mut lines = Vec::new();
             for (i, (u, idx)) in results.iter().enumerate().skip(first).take(h) {
-                let label = finder_label(&app.tree, *u);
+                let label = app.finder_label(*u);
                 let mut spans = Vec::new();
                 for (ci, ch) in label.chars().enumerate() {
                     let mut st = Style::default();

@@ -169,3 +169,59 @@ fn side_by_side_diff_in_a_real_terminal() {
         "the alternate screen was left: {s}"
     );
 }
+
+#[test]
+fn ctrl_z_suspends_and_fg_redraws() {
+    if !tmux_here() {
+        return;
+    }
+    let t = Tmux(format!("btx-suspend-{}", std::process::id()));
+    t.start("bash --norc --noprofile -i");
+    t.run(&["send-keys", "-t", "btx", "PS1='$ '", "Enter"]);
+    let cmd = format!(
+        "{} open sessions/kitting-nominal.jsonl",
+        env!("CARGO_BIN_EXE_btx")
+    );
+    t.run(&[
+        "send-keys",
+        "-t",
+        "btx",
+        &format!("cd {}", env!("CARGO_MANIFEST_DIR")),
+        "Enter",
+    ]);
+    t.run(&["send-keys", "-t", "btx", &cmd, "Enter"]);
+    t.wait_for("moment 1 ");
+    t.run(&["send-keys", "-t", "btx", "C-z"]);
+    let s = t.wait_for("Stopped");
+    // The shell has the terminal back, as it was.
+    let state = t.run(&[
+        "display",
+        "-p",
+        "-t",
+        "btx",
+        "#{alternate_on} #{mouse_any_flag} #{cursor_flag}",
+    ]);
+    assert_eq!(state.trim(), "0 0 1", "{s}");
+    t.run(&["send-keys", "-t", "btx", "fg", "Enter"]);
+    t.wait_for("moment 1 ");
+    let on = t.run(&[
+        "display",
+        "-p",
+        "-t",
+        "btx",
+        "#{alternate_on} #{mouse_any_flag}",
+    ]);
+    assert_eq!(on.trim(), "1 1");
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    // fg's status is btx's.
+    t.run(&["send-keys", "-t", "btx", "echo EXITED:$?", "Enter"]);
+    let s = t.wait_for("EXITED:0");
+    let after = t.run(&[
+        "display",
+        "-p",
+        "-t",
+        "btx",
+        "#{alternate_on} #{mouse_any_flag} #{cursor_flag}",
+    ]);
+    assert_eq!(after.trim(), "0 0 1", "{s}");
+}

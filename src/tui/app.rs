@@ -405,7 +405,7 @@ impl App {
                 if query.is_empty() {
                     return Some((0, u, Vec::new()));
                 }
-                m.fuzzy_indices(&label, query).map(|(s, idx)| (s, u, idx))
+                m.fuzzy_indices(label, query).map(|(s, idx)| (s, u, idx))
             })
             .collect();
         scored.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));

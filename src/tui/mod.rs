@@ -202,6 +202,25 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
     }
 }
 
+/// Ctrl-Z: in raw mode it is a key, not the terminal's suspend.
+fn is_suspend(ev: &Event) -> bool {
+    matches!(ev, Event::Key(k) if k.kind == KeyEventKind::Press
+        && k.code == KeyCode::Char('z')
+        && k.modifiers.contains(event::KeyModifiers::CONTROL))
+}
+
+/// Gives the terminal back and stops as the shell's job control expects;
+/// returns when `fg` continues btx.
+fn suspend() -> std::io::Result<()> {
+    let _ = ratatui::crossterm::execute!(
+        std::io::stdout(),
+        event::DisableMouseCapture,
+        ratatui::crossterm::cursor::Show
+    );
+    ratatui::restore();
+    signal_hook::low_level::raise(signal_hook::consts::SIGTSTP)
+}
+
 /// Runs the explorer until the person quits. The terminal is restored on
 /// quit, on error and on panic (ratatui's hook).
 pub fn run(mut app: impl Screen) -> std::io::Result<()> {
@@ -259,6 +278,15 @@ pub fn run(mut app: impl Screen) -> std::io::Result<()> {
                 Some(event::read()?)
             };
             if let Some(ev) = ev {
+                if is_suspend(&ev) {
+                    suspend()?;
+                    terminal = ratatui::try_init()?;
+                    let _ =
+                        ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
+                    terminal.clear()?;
+                    dirty = true;
+                    continue;
+                }
                 let size = terminal.size()?;
                 app.event(ev, (size.width, size.height));
                 dirty = true;

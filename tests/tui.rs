@@ -513,3 +513,56 @@ fn every_pane_scrolls_and_zooms() {
     app.update(Action::StepBack);
     assert_eq!(app.scroll_timeline, 0);
 }
+
+#[test]
+fn the_transition_list_filters_and_follows_the_moment() {
+    use btx::tui::app::Pane;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = btx::tui::open(
+        &root.join("sessions/kitting-lookat-fails-once.jsonl"),
+        None,
+        &btx::xml::LoadOptions::default(),
+    )
+    .unwrap();
+    app.update(Action::End);
+    app.focus = Pane::Timeline;
+    let list = |app: &btx::tui::app::App| {
+        let s = screen(app, 110, 34);
+        let top = s.lines().position(|l| l.contains("┌ timeline")).unwrap();
+        s.lines()
+            .skip(top + 3)
+            .take(4)
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert!(list(&app).contains("→ IDLE"), "{}", list(&app));
+    app.update(Action::HideResets);
+    assert!(!list(&app).contains("→ IDLE"), "{}", list(&app));
+    assert!(screen(&app, 110, 34).contains("· showing no resets"));
+    // Only failures.
+    for _ in 0..3 {
+        app.update(Action::OnlyStatus);
+    }
+    let l = list(&app);
+    assert_eq!(l.matches("→ FAILURE").count(), 4, "{l}");
+    assert_eq!(l.matches(" → ").count(), 4, "{l}");
+    app.update(Action::OnlyStatus);
+    // A name, typed.
+    app.update(Action::Find);
+    for c in "RETREAT".chars() {
+        app.type_char(c);
+    }
+    app.update(Action::Toggle);
+    let l = list(&app);
+    assert!(
+        l.lines()
+            .all(|x| x.contains("retreat arm") || x.trim_matches(['│', ' ']).is_empty()),
+        "{l}"
+    );
+    // The selected subtree: go insert large gear's transitions only.
+    app.log_filter.text.clear();
+    app.selected = 13;
+    app.update(Action::OnlyBelow);
+    let s = screen(&app, 110, 34);
+    assert!(s.contains("#13 and below"), "{s}");
+}

@@ -21,15 +21,56 @@ pub fn log_rows(s: &Session, only: Option<Uid>, no_idle: bool) -> Vec<LogRow> {
     rows
 }
 
+/// Which transitions a table shows: `btx log`'s `--node` and `--no-idle`,
+/// and the explorer's filters.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LogFilter {
+    /// One node.
+    pub node: Option<Uid>,
+    /// A node and everything below it.
+    pub below: Option<Uid>,
+    /// Leave out transitions to IDLE (resets and halts).
+    pub no_idle: bool,
+    /// Only transitions to this status.
+    pub status: Option<Status>,
+    /// Only nodes whose description contains this (any case).
+    pub text: String,
+}
+
+impl LogFilter {
+    pub fn is_empty(&self) -> bool {
+        *self == LogFilter::default()
+    }
+
+    pub fn keeps(&self, tree: &crate::model::Tree, t: &crate::session::Transition) -> bool {
+        !(self.node.is_some_and(|u| u != t.uid)
+            || self
+                .below
+                .is_some_and(|u| u != t.uid && !tree.is_ancestor(u, t.uid))
+            || (self.no_idle && t.status == Status::Idle)
+            || self.status.is_some_and(|x| x != t.status)
+            || (!self.text.is_empty()
+                && !tree
+                    .description(t.uid)
+                    .to_lowercase()
+                    .contains(&self.text.to_lowercase())))
+    }
+}
+
 /// The rows of `btx log` one at a time, in order: a log of millions of
 /// transitions is written as it is read, never held whole.
 pub fn each_log_row(s: &Session, only: Option<Uid>, no_idle: bool, mut f: impl FnMut(LogRow)) {
     let idx = &s.index;
+    let filter = LogFilter {
+        node: only,
+        no_idle,
+        ..LogFilter::default()
+    };
     for tick in 1..=idx.ticks() {
         let r = idx.tick_range(tick);
         for (k, i) in r.clone().enumerate() {
             let t = idx.transitions[i];
-            if only.is_some_and(|u| u != t.uid) || (no_idle && t.status == Status::Idle) {
+            if !filter.keeps(&s.tree, &t) {
                 continue;
             }
             f(LogRow {

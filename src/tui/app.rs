@@ -39,6 +39,10 @@ pub enum Overlay {
         selected: usize,
         targets: Vec<(String, String)>,
     },
+    /// The text the timeline's transitions are filtered by, being typed.
+    Filter {
+        text: String,
+    },
     /// Where to write the why-answer's causal model (DOT): a path to edit,
     /// and whether the file there is to be replaced on the next Enter.
     Export {
@@ -96,6 +100,8 @@ pub struct App {
     pub scroll_timeline: i64,
     /// The focused pane fills the screen.
     pub zoom: bool,
+    /// Which transitions the timeline lists.
+    pub log_filter: crate::export::LogFilter,
     /// The finder's lines, made when it first opens (the tree is fixed).
     finder_labels: std::cell::OnceCell<Vec<String>>,
     /// A one-line message for the status bar (an error, a file written).
@@ -144,6 +150,7 @@ impl App {
             scroll_ask: 0,
             scroll_timeline: 0,
             zoom: false,
+            log_filter: Default::default(),
             finder_labels: std::cell::OnceCell::new(),
             message: None,
             playing: false,
@@ -435,6 +442,18 @@ impl App {
             Overlay::Finder { .. } | Overlay::Ask { .. } | Overlay::Why { .. } => {
                 return self.update_list(a)
             }
+            Overlay::Filter { text } => {
+                match a {
+                    Action::Back | Action::Quit => self.overlay = Overlay::None,
+                    Action::Toggle => {
+                        self.log_filter.text = std::mem::take(text);
+                        self.overlay = Overlay::None;
+                        self.scroll_timeline = 0;
+                    }
+                    _ => {}
+                }
+                return;
+            }
             Overlay::Export { path, replace } => {
                 match a {
                     Action::Back | Action::Quit => self.overlay = Overlay::None,
@@ -582,6 +601,11 @@ impl App {
                 }
             }
             Action::ExportGraph => self.export_graph(),
+            Action::Find if self.focus == Pane::Timeline => {
+                self.overlay = Overlay::Filter {
+                    text: self.log_filter.text.clone(),
+                }
+            }
             Action::Find => {
                 self.overlay = Overlay::Finder {
                     query: String::new(),
@@ -605,6 +629,21 @@ impl App {
                 self.message = Some("divergences are shown by btx open --diff A B".into())
             }
             Action::Zoom => self.zoom = !self.zoom,
+            Action::HideResets => self.log_filter.no_idle = !self.log_filter.no_idle,
+            Action::OnlyBelow => {
+                self.log_filter.below = match self.log_filter.below {
+                    Some(_) => None,
+                    None => Some(self.selected),
+                }
+            }
+            Action::OnlyStatus => {
+                self.log_filter.status = match self.log_filter.status {
+                    None => Some(Status::Running),
+                    Some(Status::Running) => Some(Status::Success),
+                    Some(Status::Success) => Some(Status::Failure),
+                    _ => None,
+                }
+            }
             Action::PageUp | Action::PageDown => {
                 let i = self.row_of(self.selected).unwrap_or(0);
                 let j = if a == Action::PageUp {
@@ -631,6 +670,7 @@ impl App {
                 path.push(c);
                 *replace = false;
             }
+            Overlay::Filter { text } => text.push(c),
             _ => {}
         }
     }
@@ -644,6 +684,9 @@ impl App {
             Overlay::Export { path, replace } => {
                 path.pop();
                 *replace = false;
+            }
+            Overlay::Filter { text } => {
+                text.pop();
             }
             _ => {}
         }

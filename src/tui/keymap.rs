@@ -51,6 +51,10 @@ pub enum Action {
     PageDown,
     /// The focused pane on the whole screen, or back.
     Zoom,
+    /// The transition list's filters: resets, the selected subtree, a status.
+    HideResets,
+    OnlyBelow,
+    OnlyStatus,
 }
 
 /// One binding: the keys, the action, what the help says, and a short hint
@@ -196,6 +200,24 @@ pub const KEYMAP: &[Binding] = &[
         hint: "",
     },
     Binding {
+        keys: &["i"],
+        action: Action::HideResets,
+        help: "transitions: hide or show resets (→ IDLE)",
+        hint: "",
+    },
+    Binding {
+        keys: &["."],
+        action: Action::OnlyBelow,
+        help: "transitions: only the selected node and below, or all",
+        hint: "",
+    },
+    Binding {
+        keys: &["S"],
+        action: Action::OnlyStatus,
+        help: "transitions: only to RUNNING, SUCCESS, FAILURE, or all",
+        hint: "",
+    },
+    Binding {
         keys: &["z"],
         action: Action::Zoom,
         help: "the focused pane on the whole screen, or back",
@@ -210,7 +232,7 @@ pub const KEYMAP: &[Binding] = &[
     Binding {
         keys: &["/"],
         action: Action::Find,
-        help: "find a node",
+        help: "find a node (timeline focused: filter it by name)",
         hint: "find",
     },
     Binding {

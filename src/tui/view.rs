@@ -385,11 +385,54 @@ fn details_pane(app: &App, f: &mut Frame, area: Rect) {
     f.render_widget(scrolled(lines, app.scroll_details).block(b), area);
 }
 
+/// The indices of the transitions the list shows: `rows` of those the
+/// filters keep, the moment's (or the last kept before it) in the middle,
+/// moved by the pane's scroll. Only as far from the moment as it must look.
+fn shown_transitions(app: &App, s: &crate::session::Session, rows: usize) -> Vec<usize> {
+    let total = s.index.transitions.len();
+    let f = &app.log_filter;
+    let keeps = |i: usize| f.keeps(&s.tree, &s.index.transitions[i]);
+    let pos = app.pos as usize;
+    // Kept transitions at or before the moment, nearest first, and after it.
+    let before: Vec<usize> = (0..pos.min(total))
+        .rev()
+        .filter(|&i| keeps(i))
+        .take(rows + 1 + app.scroll_timeline.unsigned_abs() as usize)
+        .collect();
+    let after: Vec<usize> = (pos.min(total)..total)
+        .filter(|&i| keeps(i))
+        .take(rows + app.scroll_timeline.max(0) as usize)
+        .collect();
+    let mut all: Vec<usize> = before.into_iter().rev().collect();
+    let here = all.len();
+    all.extend(after);
+    let start = (here as i64 - (rows / 2) as i64 + app.scroll_timeline)
+        .clamp(0, all.len().saturating_sub(rows) as i64) as usize;
+    all.into_iter().skip(start).take(rows).collect()
+}
+
 fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
-    let title = match &app.session {
+    let mut title = match &app.session {
         Some(s) => format!(" timeline · run {} ", crate::text::visible(&s.ending())),
         None => " timeline ".into(),
     };
+    let lf = &app.log_filter;
+    if !lf.is_empty() {
+        let mut parts = Vec::new();
+        if lf.no_idle {
+            parts.push("no resets".to_string());
+        }
+        if let Some(u) = lf.below {
+            parts.push(format!("#{u} and below"));
+        }
+        if let Some(st) = lf.status {
+            parts.push(format!("to {}", st.as_str()));
+        }
+        if !lf.text.is_empty() {
+            parts.push(format!("\"{}\"", crate::text::visible(&lf.text)));
+        }
+        title.push_str(&format!("· showing {} ", parts.join(", ")));
+    }
     let b = block(title, app.focus == Pane::Timeline);
     let inner = b.inner(area);
     f.render_widget(b, area);
@@ -448,11 +491,9 @@ fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
         strip.push(Span::styled(c.to_string(), style));
     }
     lines.push(Line::from(strip));
-    // The transitions around the moment.
+    // The transitions around the moment (those the filters keep).
     let around = (inner.height as usize).saturating_sub(2);
-    let lo = ((app.pos as i64 - (around / 2) as i64 + app.scroll_timeline).max(0) as usize)
-        .min(total.saturating_sub(around));
-    for i in lo..(lo + around).min(total) {
+    for i in shown_transitions(app, s, around) {
         let t = s.index.transitions[i];
         let here = i + 1 == app.pos as usize;
         let style = if here {
@@ -656,6 +697,18 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
                 lines.push(Line::from(spans));
             }
             f.render_widget(Paragraph::new(lines), inner);
+        }
+        Overlay::Filter { text } => {
+            let r = centered(area, area.width.saturating_sub(8).min(70), 3);
+            f.render_widget(Clear, r);
+            f.render_widget(
+                Paragraph::new(format!("{}▏", crate::text::visible(text))).block(
+                    Block::default()
+                        .borders(Borders::ALL)
+                        .title(" show transitions of nodes named: Enter applies, empty for all "),
+                ),
+                r,
+            );
         }
         Overlay::Export { path, replace } => {
             let r = centered(area, area.width.saturating_sub(8).min(90), 4);

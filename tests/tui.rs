@@ -1,6 +1,8 @@
 //! The explorer's screens, as TestBackend snapshots, and scripted key
 //! sequences.
 
+mod common;
+
 use btx::tui::keymap::{Action, KEYMAP};
 use btx::tui::{demo, render, scene, SCENES};
 
@@ -565,4 +567,43 @@ fn the_transition_list_filters_and_follows_the_moment() {
     app.update(Action::OnlyBelow);
     let s = screen(&app, 110, 34);
     assert!(s.contains("#13 and below"), "{s}");
+}
+
+#[test]
+fn can_you_is_typed_with_completion_over_the_whole_tree() {
+    use btx::tui::app::Overlay;
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    app.update(Action::Ask);
+    let last = app.questions().len() - 1;
+    for _ in 0..last {
+        app.update(Action::Down);
+    }
+    assert!(screen(&app, 110, 34).contains("Can you …? (type any subgoal or step)"));
+    app.update(Action::Toggle);
+    assert!(matches!(app.overlay, Overlay::CanYou { .. }));
+    // Every subgoal and sequence of the tree, not only the current subgoal's.
+    let all = app.can_you_candidates("");
+    assert!(all.contains(&"go place screw".to_string()), "{all:?}");
+    for c in "pick scr".chars() {
+        app.type_char(c);
+    }
+    let picked = app.can_you_candidates("pick scr")[0].clone();
+    assert!(picked.contains("pick screw"), "{picked}");
+    assert!(screen(&app, 110, 34).contains("Can you pick scr▏?"));
+    app.update(Action::Toggle);
+    let a = app.answer.as_ref().unwrap();
+    assert_eq!(a.question.wording(), format!("Can you {picked}?"));
+    // The same answer as the CLI's.
+    let (ok, out, _) = common::btx(&[
+        "ask",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "--at",
+        "10",
+        "--node",
+        &format!("#{}", app.asked.as_ref().unwrap().0),
+        &format!("Can you {picked}?"),
+    ]);
+    assert!(ok);
+    assert_eq!(out.trim_end(), a.text.trim_end());
 }

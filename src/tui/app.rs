@@ -39,6 +39,11 @@ pub enum Overlay {
         selected: usize,
         targets: Vec<(String, String)>,
     },
+    /// "Can you X?" being typed: the text and the completion picked.
+    CanYou {
+        text: String,
+        selected: usize,
+    },
     /// The text the timeline's transitions are filtered by, being typed.
     Filter {
         text: String,
@@ -389,7 +394,37 @@ impl App {
                 }
             }
         }
+        // Last: any subgoal or step, typed (an empty X opens the prompt).
+        qs.push(Question::CanYou(String::new()));
         qs
+    }
+
+    /// What "Can you X?" can name: every sequence, subtree and step of the
+    /// whole tree, by description, once each, fuzzy-matched to `typed`.
+    pub fn can_you_candidates(&self, typed: &str) -> Vec<String> {
+        let mut seen = HashSet::new();
+        let names: Vec<String> = self
+            .tree
+            .preorder()
+            .into_iter()
+            .filter(|&u| {
+                let n = self.tree.node(u);
+                self.tree.has_name(u) && matches!(n.kind, Kind::SubTree | Kind::Control)
+            })
+            .map(|u| self.tree.description(u).to_string())
+            .filter(|d| seen.insert(d.clone()))
+            .collect();
+        if typed.is_empty() {
+            return names;
+        }
+        let m = SkimMatcherV2::default().ignore_case();
+        let mut scored: Vec<(i64, usize, String)> = names
+            .into_iter()
+            .enumerate()
+            .filter_map(|(i, d)| m.fuzzy_match(&d, typed).map(|s| (s, i, d)))
+            .collect();
+        scored.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+        scored.into_iter().map(|(_, _, d)| d).collect()
     }
 
     /// The node questions are about: the selected one.
@@ -441,6 +476,32 @@ impl App {
             }
             Overlay::Finder { .. } | Overlay::Ask { .. } | Overlay::Why { .. } => {
                 return self.update_list(a)
+            }
+            Overlay::CanYou { text, .. } => {
+                let text = text.clone();
+                let n = self.can_you_candidates(&text).len();
+                let Overlay::CanYou { selected, .. } = &mut self.overlay else {
+                    return;
+                };
+                match a {
+                    Action::Back | Action::Quit => self.overlay = Overlay::None,
+                    Action::Up => *selected = selected.saturating_sub(1),
+                    Action::Down => *selected = (*selected + 1).min(n.saturating_sub(1)),
+                    Action::Toggle => {
+                        let i = *selected;
+                        let x = self
+                            .can_you_candidates(&text)
+                            .get(i)
+                            .cloned()
+                            .unwrap_or(text);
+                        self.overlay = Overlay::None;
+                        if !x.trim().is_empty() {
+                            self.ask(&Question::CanYou(x.trim().to_string()));
+                        }
+                    }
+                    _ => {}
+                }
+                return;
             }
             Overlay::Filter { text } => {
                 match a {
@@ -671,6 +732,10 @@ impl App {
                 *replace = false;
             }
             Overlay::Filter { text } => text.push(c),
+            Overlay::CanYou { text, selected } => {
+                text.push(c);
+                *selected = 0;
+            }
             _ => {}
         }
     }
@@ -687,6 +752,10 @@ impl App {
             }
             Overlay::Filter { text } => {
                 text.pop();
+            }
+            Overlay::CanYou { text, selected } => {
+                text.pop();
+                *selected = 0;
             }
             _ => {}
         }
@@ -728,11 +797,16 @@ impl App {
                             self.follow_node = false;
                         }
                     }
-                    Overlay::Ask { .. } => {
-                        if let Some(q) = self.questions().get(i).cloned() {
-                            self.ask(&q);
+                    Overlay::Ask { .. } => match self.questions().get(i).cloned() {
+                        Some(Question::CanYou(x)) if x.is_empty() => {
+                            self.overlay = Overlay::CanYou {
+                                text: String::new(),
+                                selected: 0,
+                            }
                         }
-                    }
+                        Some(q) => self.ask(&q),
+                        None => {}
+                    },
                     Overlay::Why { targets, .. } => {
                         if let (Some((t, _)), Some(m)) = (targets.get(i), self.moment()) {
                             self.ask_why(t.clone(), Vec::new(), m);

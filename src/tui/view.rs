@@ -698,6 +698,37 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
             }
             f.render_widget(Paragraph::new(lines), inner);
         }
+        Overlay::CanYou { text, selected } => {
+            let r = centered(
+                area,
+                area.width.saturating_sub(8).min(70),
+                area.height.saturating_sub(4).min(16),
+            );
+            f.render_widget(Clear, r);
+            let b = Block::default()
+                .borders(Borders::ALL)
+                .title(format!(" Can you {}▏? ", crate::text::visible(text)));
+            let inner = b.inner(r);
+            f.render_widget(b, r);
+            let h = inner.height as usize;
+            let first = selected.saturating_sub(h.saturating_sub(1));
+            let lines: Vec<Line> = app
+                .can_you_candidates(text)
+                .into_iter()
+                .enumerate()
+                .skip(first)
+                .take(h)
+                .map(|(i, d)| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    Line::from(Span::styled(crate::text::visible(&d).into_owned(), st))
+                })
+                .collect();
+            f.render_widget(Paragraph::new(lines), inner);
+        }
         Overlay::Filter { text } => {
             let r = centered(area, area.width.saturating_sub(8).min(70), 3);
             f.render_widget(Clear, r);
@@ -762,7 +793,13 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
                     } else {
                         Style::default()
                     };
-                    Line::from(Span::styled(q.wording(), st))
+                    let text = match q {
+                        crate::explain::Question::CanYou(x) if x.is_empty() => {
+                            "Can you …? (type any subgoal or step)".to_string()
+                        }
+                        q => q.wording(),
+                    };
+                    Line::from(Span::styled(text, st))
                 })
                 .collect();
             let title = format!(" ask about {} ", app.tree.description(app.asked_node()));

@@ -1,0 +1,344 @@
+//! The `btx` command line, a thin shell over the library: what each command
+//! takes (clap), how it prints (every text output through the sanitiser),
+//! and one module a command.
+
+use btx::explain::{self, Question};
+use btx::frame::Framed;
+use btx::input::{open, Input};
+use btx::run::domain::{Domain, DomainLeaves};
+use btx::run::plan::{Plan, PlanLeaves};
+use btx::run::world::kitting;
+use btx::run::world::taxi::{self, Costs, Grid, TaxiLeaves};
+use btx::run::RunOptions;
+use btx::session::record::{record, RecordError, RunRequest};
+use btx::session::{Moment, Session, Source};
+use btx::xml::LoadOptions;
+use btx::{export, pick, Version};
+use clap::{Parser, Subcommand, ValueEnum};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "btx",
+    version,
+    about = "Explain behaviour-tree runs: BehaviorTree.CPP trees and their runs, framed and questioned"
+)]
+pub struct Cli {
+    /// Do not print warnings.
+    #[arg(short, long, global = true)]
+    quiet: bool,
+    /// The explorer's keymap file (default: $XDG_CONFIG_HOME/btx/keys.toml or ~/.config/btx/keys.toml, if it exists).
+    #[arg(long, global = true, value_name = "FILE")]
+    keys: Option<PathBuf>,
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum TreeFormat {
+    Text,
+    Json,
+    Dot,
+    Xml,
+    Mermaid,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum Format {
+    Text,
+    Json,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EvalWhat {
+    Recovery,
+    Truth,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum EvalDomain {
+    Random,
+    SerialRecall,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum GraphFormat {
+    Dot,
+    Json,
+    Mermaid,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum CostModel {
+    Optimal,
+    Expected,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum World {
+    Taxi,
+    Kitting,
+}
+
+#[derive(clap::Args, Default)]
+struct Reading {
+    /// Run this <BehaviorTree> instead of the file's main tree.
+    #[arg(long, value_name = "ID")]
+    main_tree: Option<String>,
+    /// Read the file by BehaviorTree.CPP 3 or 4 rules (default: its BTCPP_format).
+    #[arg(long, value_name = "3|4", value_parser = ["3", "4"])]
+    btcpp: Option<String>,
+}
+
+impl Reading {
+    fn options(&self) -> LoadOptions {
+        LoadOptions {
+            version: self
+                .btcpp
+                .as_deref()
+                .map(|v| if v == "3" { Version::V3 } else { Version::V4 }),
+            main_tree: self.main_tree.clone(),
+            embedded: false,
+        }
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Print a tree (of a tree file or a session): the full tree, or the framed tree.
+    Tree(tree::Args),
+    /// Ask questions about a node of a tree, or about a moment of a session.
+    Ask(ask::Args),
+    /// Run a tree tick by tick and record the run as a session.
+    Run(run::Args),
+    /// Convert a log (BehaviorTree.CPP .btlog, .db3 or .fbl, or a btcm log) into a btx session file.
+    Import(import::Args),
+    /// Show a built-in world: the taxi grid, its optimal policy and the tree generated from it.
+    World(world::Args),
+    /// Explore a tree and a run in the terminal: `btx open TREE [SESSION]` or `btx open SESSION`.
+    Open(open::Args),
+    /// Render a scripted scene of the explorer's demo to an SVG or PNG file.
+    Screenshot(screenshot::Args),
+    /// Why did something happen and not something else? A counterfactual search
+    /// over the explanation model of the tick (Love et al.).
+    Why(why::Args),
+    /// Evaluations: `btx eval recovery random` (Love et al.'s Table 2).
+    Eval(eval::Args),
+    /// Print the explanation model (causal graph) of a tick of a session.
+    Graph(graph::Args),
+    /// Compare two trees or runs subgoal by subgoal (Han et al.'s expected vs
+    /// actual policy), or one reference with several runs.
+    Diff(diff::Args),
+    /// List the status transitions of a session, like Groot's table.
+    Log(log::Args),
+}
+
+/// What went wrong: located input errors are drawn by miette with the
+/// offending line; the others are one plain message (lists stay unwrapped).
+enum Failure {
+    Located(miette::Report),
+    Plain(String),
+    /// Not an error: an exit status the command reports (`diff --exit-code`).
+    Exit(u8),
+}
+
+impl From<btx::Located> for Failure {
+    fn from(mut e: btx::Located) -> Self {
+        use btx::text::{same_length, visible};
+        e.location = visible(&e.location).into_owned();
+        e.message = visible(&e.message).into_owned();
+        e.label = visible(&e.label).into_owned();
+        e.help = e.help.map(|h| visible(&h).into_owned());
+        // The offending line is shown only when it is of a readable length
+        // (a minified file's one line is not, and miette cannot draw a
+        // column past 65,535); control characters in it become `?`, byte
+        // for byte, so that the span still points where it did.
+        if let (Some(src), Some(span)) = (&e.source_code, e.span) {
+            let text = src.inner();
+            let at = span.offset().min(text.len());
+            let start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+            let end = text[at..].find('\n').map_or(text.len(), |i| at + i);
+            if end - start > LINE_SHOWN_MAX {
+                e.source_code = None;
+                e.span = None;
+            } else if let std::borrow::Cow::Owned(clean) = same_length(text) {
+                e.source_code = Some(miette::NamedSource::new(src.name(), clean));
+            }
+        }
+        Failure::Located(miette::Report::new(e))
+    }
+}
+
+/// The longest line an error shows with its source (bytes).
+const LINE_SHOWN_MAX: usize = 2000;
+
+// Everything btx prints goes through one sanitiser (data never drives the
+// terminal), and a closed pipe (`btx log … | head`) ends btx quietly, as
+// ripgrep does.
+macro_rules! print {
+    ($($t:tt)*) => { out(&format!($($t)*)) };
+}
+macro_rules! println {
+    () => { out("\n") };
+    ($($t:tt)*) => { out(&format!("{}\n", format_args!($($t)*))) };
+}
+macro_rules! eprintln {
+    ($($t:tt)*) => { err_out(&format!("{}\n", format_args!($($t)*))) };
+}
+
+fn out(s: &str) {
+    use std::io::Write;
+    let s = btx::text::visible(s);
+    let mut o = std::io::stdout().lock();
+    written(o.write_all(s.as_bytes()).and_then(|()| o.flush()));
+}
+
+/// The end of a write to standard output: a closed pipe ends btx quietly
+/// (exit 0), any other failure with a message (exit 1).
+fn written(r: std::io::Result<()>) {
+    if let Err(e) = r {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        err_out(&format!("error: cannot write the output: {e}\n"));
+        std::process::exit(1);
+    }
+}
+
+fn err_out(s: &str) {
+    use std::io::Write;
+    let _ = std::io::stderr().write_all(btx::text::visible(s).as_bytes());
+}
+
+macro_rules! fail {
+    ($($t:tt)*) => { return Err(Failure::Plain(format!($($t)*))) };
+}
+
+/// The options every command takes.
+pub struct Globals {
+    pub quiet: bool,
+    pub keys: Option<PathBuf>,
+}
+
+// One module a command, as ripgrep and cargo keep them; declared after the
+// printing macros so that they use them.
+mod ask;
+mod diff;
+mod eval;
+mod graph;
+mod import;
+mod log;
+mod open;
+mod run;
+mod screenshot;
+mod tree;
+mod why;
+mod world;
+
+fn warn_all(quiet: bool, warnings: &[btx::Warning]) {
+    if !quiet {
+        for w in warnings {
+            eprintln!("{w}");
+        }
+    }
+}
+
+fn open_input(file: &Path, reading: &Reading, quiet: bool) -> Result<Input, Failure> {
+    let input = open(file, &reading.options())?;
+    warn_all(quiet, input.warnings());
+    Ok(input)
+}
+
+/// An error without a position reads best as one plain message.
+fn located(e: btx::Located) -> Failure {
+    if e.source_code.is_none() {
+        Failure::Plain(e.to_string())
+    } else {
+        Failure::from(e)
+    }
+}
+
+fn session_of<'a>(input: &'a Input, file: &Path) -> Result<&'a Session, Failure> {
+    match input.session() {
+        Some(s) if s.index.ticks() > 0 => Ok(s),
+        Some(_) => fail!("{}: the session recorded no tick", file.display()),
+        None => fail!(
+            "{} is a tree; a why-question is about a run: give a session (btx run … --out SESSION) or a log",
+            file.display()
+        ),
+    }
+}
+
+fn pick_node(tree: &btx::Tree, pick: &str) -> Result<btx::Uid, Failure> {
+    pick::pick(tree, pick).map_err(|e| Failure::Plain(e.to_string()))
+}
+
+/// Runs a command line: the demo with none, else its command's module.
+fn dispatch(cli: Cli) -> Result<(), Failure> {
+    let globals = Globals {
+        quiet: cli.quiet,
+        keys: cli.keys,
+    };
+    let Some(command) = cli.command else {
+        let mut app = btx::tui::demo();
+        app.keymap = keymap(globals.keys.as_deref())?;
+        return btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")));
+    };
+    match command {
+        Command::Tree(a) => tree::run(a, &globals),
+        Command::Ask(a) => ask::run(a, &globals),
+        Command::Run(a) => run::run(a, &globals),
+        Command::Import(a) => import::run(a, &globals),
+        Command::World(a) => world::run(a),
+        Command::Open(a) => open::run(a, &globals),
+        Command::Screenshot(a) => screenshot::run(a),
+        Command::Why(a) => why::run(a, &globals),
+        Command::Eval(a) => eval::run(a),
+        Command::Graph(a) => graph::run(a, &globals),
+        Command::Diff(a) => diff::run(a, &globals),
+        Command::Log(a) => log::run(a, &globals),
+    }
+}
+
+/// The keymap: the given file, else the user's config file if there is one.
+fn keymap(path: Option<&Path>) -> Result<btx::tui::keymap::Keymap, Failure> {
+    let default = std::env::var_os("XDG_CONFIG_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))
+        .map(|d| d.join("btx/keys.toml"))
+        .filter(|p| p.exists());
+    match path.map(Path::to_path_buf).or(default) {
+        Some(p) => Ok(btx::tui::keymap::Keymap::with_file(&p)?),
+        None => Ok(btx::tui::keymap::Keymap::default()),
+    }
+}
+
+fn pretty(v: &serde_json::Value) -> String {
+    let mut s = serde_json::to_string_pretty(v).expect("JSON values serialise");
+    s.push('\n');
+    s
+}
+
+/// The exit status of a command, its error printed (sanitised).
+fn finish(result: Result<(), Failure>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Located(report)) => {
+            // Its text was made safe when it was built; miette may colour it.
+            use std::io::Write;
+            let _ = writeln!(std::io::stderr(), "{report:?}");
+            ExitCode::FAILURE
+        }
+        Err(Failure::Plain(msg)) => {
+            eprintln!("error: {msg}");
+            ExitCode::FAILURE
+        }
+        Err(Failure::Exit(code)) => ExitCode::from(code),
+    }
+}
+
+/// Runs a parsed command line to its exit status.
+pub fn main(cli: Cli) -> ExitCode {
+    finish(dispatch(cli))
+}

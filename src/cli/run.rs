@@ -1,0 +1,196 @@
+//! `btx run`: Run a tree tick by tick and record the run as a session.
+
+use super::*;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// A BehaviorTree.CPP XML file (v3 or v4).
+    pub tree: PathBuf,
+    #[command(flatten)]
+    pub reading: Reading,
+    /// Scripted leaf outcomes (`key = S, F, 2RS, 1RF`).
+    #[arg(long, value_name = "FILE", group = "leaves", required_unless_present_any = ["domain", "world"])]
+    pub plan: Option<PathBuf>,
+    /// A domain file (state variables and leaf functions).
+    #[arg(long, value_name = "FILE", group = "leaves")]
+    pub domain: Option<PathBuf>,
+    /// A built-in world.
+    #[arg(long, value_enum, group = "leaves")]
+    pub world: Option<World>,
+    /// With --domain: start with a state variable set (repeatable), e.g. UserMemory=0.0.
+    #[arg(long = "set", value_name = "NAME=VALUE", requires = "domain")]
+    pub set: Vec<String>,
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    #[arg(long, value_name = "N", default_value_t = 10_000)]
+    pub max_ticks: u32,
+    /// Simulated milliseconds between ticks (Timeout, Delay, Sleep).
+    #[arg(long, value_name = "MS", default_value_t = 10)]
+    pub tick_ms: u64,
+    /// Ask "Can you X?" at the end of tick MOMENT; a yes inserts the subgoal and the run goes on with it.
+    #[arg(long, num_args = 2, value_names = ["MOMENT", "QUESTION"])]
+    pub ask_at: Option<Vec<String>>,
+    /// The session file to write (never overwritten).
+    #[arg(long, value_name = "SESSION")]
+    pub out: PathBuf,
+}
+
+pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
+    let Args {
+        tree: path,
+        reading,
+        plan,
+        domain,
+        world,
+        set,
+        seed,
+        max_ticks,
+        tick_ms,
+        ask_at,
+        out,
+    } = args;
+    let text = btx::source::read_text(&path, btx::source::TEXT_SIZE_MAX, "the tree file")?;
+    let loaded = btx::xml::load_str(&path, &text, &reading.options())?;
+    warn_all(cli.quiet, &loaded.warnings);
+    let tree = loaded.tree;
+    let ask = match ask_at {
+        Some(v) => {
+            let m = Moment::parse(&v[0]).map_err(Failure::Plain)?;
+            if m.step.is_some() {
+                fail!("--ask-at takes a whole tick: a run is asked between ticks");
+            }
+            match Question::parse(&v[1]) {
+                Some(Question::CanYou(_)) => {}
+                _ => fail!("--ask-at asks \"Can you X?\"; other questions are asked of the session with btx ask"),
+            }
+            Some((m.tick, v[1].clone()))
+        }
+        None => None,
+    };
+    let req = |source: Source| RunRequest {
+        tree: &tree,
+        tree_file: Some((&path, &text)),
+        source,
+        seed: Some(seed),
+        max_ticks,
+        options: RunOptions { tick_ms },
+        ask: ask.clone(),
+        out: &out,
+    };
+    if !set.is_empty() && domain.is_none() {
+        fail!("--set starts a domain's state variable, and this run has no --domain: with a plan or a world it would change nothing");
+    }
+    if let Some(p) = &plan {
+        let plan = Plan::load(p)?;
+        let source = Source {
+            kind: "plan".into(),
+            path: Some(p.display().to_string()),
+            text: Some(plan.text.clone()),
+            name: None,
+        };
+        let leaves = PlanLeaves::new(plan, &tree);
+        warn_all(cli.quiet, &leaves.warnings);
+        report_run(
+            &tree,
+            ask.as_ref().map(|(t, _)| *t),
+            record(req(source), leaves),
+        )?;
+    } else if let Some(p) = &domain {
+        let d = std::sync::Arc::new(Domain::load(p)?);
+        let source = Source {
+            kind: "domain".into(),
+            path: Some(p.display().to_string()),
+            text: Some(d.text.clone()),
+            name: Some(d.name.clone()),
+        };
+        let mut leaves = DomainLeaves::new(d, &tree)?;
+        for a in &set {
+            leaves.set(a).map_err(Failure::Plain)?;
+        }
+        report_run(
+            &tree,
+            ask.as_ref().map(|(t, _)| *t),
+            record(req(source), leaves),
+        )?;
+    } else {
+        match world.expect("clap requires one source of leaves") {
+            World::Taxi => {
+                let unknown = TaxiLeaves::unknown_leaves(&tree);
+                if !unknown.is_empty() {
+                    fail!(
+                        "the taxi world moves, picks up and drops off; it cannot run {}",
+                        unknown.join(", ")
+                    );
+                }
+                let source = Source {
+                    kind: "world".into(),
+                    path: None,
+                    text: None,
+                    name: Some("taxi".into()),
+                };
+                report_run(
+                    &tree,
+                    ask.as_ref().map(|(t, _)| *t),
+                    record(req(source), TaxiLeaves::new(Grid::han())),
+                )?;
+            }
+            World::Kitting => {
+                let (name, plan) = kitting::scenario(seed).map_err(Failure::Plain)?;
+                let source = Source {
+                    kind: "world".into(),
+                    path: None,
+                    text: Some(plan.text.clone()),
+                    name: Some(format!("kitting: {name}")),
+                };
+                let leaves = PlanLeaves::new(plan, &tree);
+                warn_all(cli.quiet, &leaves.warnings);
+                report_run(
+                    &tree,
+                    ask.as_ref().map(|(t, _)| *t),
+                    record(req(source), leaves),
+                )?;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn report_run(
+    tree: &btx::Tree,
+    asked_at: Option<u32>,
+    r: Result<btx::session::record::RunSummary, RecordError>,
+) -> Result<(), Failure> {
+    match r {
+        Ok(s) => {
+            if let Some(a) = &s.answer {
+                println!("{a}");
+            } else if let Some(t) = asked_at {
+                eprintln!(
+                    "warning: the run ended at tick {}, before tick {t} where --ask-at was to ask; nothing was asked",
+                    s.ticks
+                );
+            }
+            eprintln!(
+                "{}: {} ticks, {} transitions, root {} ({})",
+                s.path.display(),
+                s.ticks,
+                s.transitions,
+                s.root,
+                s.reason
+            );
+            Ok(())
+        }
+        Err(RecordError::Io(e)) => Err(e.into()),
+        Err(RecordError::Script(e, s)) => {
+            eprintln!("the run up to the error is in {}", s.path.display());
+            Err(e.into())
+        }
+        Err(RecordError::Run(e, s)) => {
+            let (file, line, col) = tree.location(e.uid);
+            fail!(
+                "{file}:{line}:{col}: {e}\nthe run up to here is in {}",
+                s.path.display()
+            );
+        }
+    }
+}

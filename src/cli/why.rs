@@ -1,0 +1,51 @@
+//! `btx why`: Why did something happen and not something else? A counterfactual search over the explanation model of the tick (Love et al.).
+
+use super::*;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// A session (or a log btx reads as one).
+    pub session: PathBuf,
+    /// status(NODE), executed(NODE), decision(NODE) or a state variable VAR (VAR^K: its copy K in the tick).
+    pub target: String,
+    /// A value the target did not have (repeatable). Default: every other value.
+    #[arg(long = "not", value_name = "VALUE")]
+    pub not: Vec<String>,
+    /// The moment: TICK (its end), TICK:STEP, last, end, or -N (-1: the last tick). Default: the end of the run.
+    #[arg(long, value_name = "MOMENT", allow_hyphen_values = true)]
+    pub at: Option<String>,
+    /// The largest number of variables changed together.
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    pub max_depth: usize,
+    /// A domain file instead of the one the session recorded.
+    #[arg(long, value_name = "FILE")]
+    pub domain: Option<PathBuf>,
+    #[arg(long, value_enum, default_value = "text")]
+    pub format: Format,
+}
+
+pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
+    let Args {
+        session,
+        target,
+        not,
+        at,
+        max_depth,
+        domain,
+        format,
+    } = args;
+    let input = open_input(&session, &Reading::default(), cli.quiet)?;
+    let s = session_of(&input, &session)?;
+    let at = at
+        .as_deref()
+        .map(|a| Moment::parse_within(a, s.index.ticks()))
+        .transpose()
+        .map_err(Failure::Plain)?;
+    let d = btx::causal::session_domain(s, domain.as_deref()).map_err(located)?;
+    let w = btx::causal::why(s, d, &target, &not, at, max_depth).map_err(located)?;
+    match format {
+        Format::Text => print!("{}", w.text()),
+        Format::Json => print!("{}", pretty(&w.json())),
+    }
+    Ok(())
+}

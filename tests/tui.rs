@@ -607,3 +607,37 @@ fn can_you_is_typed_with_completion_over_the_whole_tree() {
     assert!(ok);
     assert_eq!(out.trim_end(), a.text.trim_end());
 }
+
+#[test]
+fn the_causal_graph_is_a_graph_you_can_walk() {
+    use btx::tui::app::Pane;
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = btx::tui::open(
+        &root.join("sessions/case-study.jsonl"),
+        None,
+        &btx::xml::LoadOptions::default(),
+    )
+    .unwrap();
+    app.selected = 4;
+    app.update(Action::Why);
+    app.update(Action::Down);
+    app.update(Action::Toggle);
+    app.update(Action::Graph);
+    app.focus = Pane::Details;
+    app.zoom = true;
+    insta::assert_snapshot!("graph_80x24", screen(&app, 80, 24));
+    app.zoom = false;
+    insta::assert_snapshot!("graph_120x40", screen(&app, 120, 40));
+    // Pick the first cause and centre on it: the view moves along the edge.
+    app.update(Action::Expand);
+    let picked = screen(&app, 120, 40);
+    assert!(picked.contains("picked: "), "{picked}");
+    app.update(Action::Toggle);
+    let w = app.why.as_ref().unwrap();
+    let centre = w.centre.expect("centred on the cause");
+    assert!(w.why.model.parents[w.why.query.targets[0]].contains(&centre));
+    insta::assert_snapshot!("graph_recentred_120x40", screen(&app, 120, 40));
+    // Esc: back to the variable asked about.
+    app.update(Action::Back);
+    assert_eq!(app.why.as_ref().unwrap().centre, None);
+}

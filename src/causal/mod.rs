@@ -60,6 +60,26 @@ pub fn model_at(
     Model::build(&session.tree, domain, facts)
 }
 
+/// A variable as the graph view draws it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraphNode {
+    pub var: VarId,
+    pub name: String,
+    pub value: String,
+    /// A reason of the picked explanation.
+    pub reason: bool,
+    /// The variable asked about.
+    pub target: bool,
+}
+
+/// A variable with its causes and effects in the model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Neighbourhood {
+    pub centre: GraphNode,
+    pub parents: Vec<GraphNode>,
+    pub children: Vec<GraphNode>,
+}
+
 /// A "why?" question asked and answered.
 pub struct Why {
     pub model: Model,
@@ -212,6 +232,38 @@ impl Why {
             VarKind::Status(u) => (format!("status(#{u})"), foils, moment),
             VarKind::Decision(u) => (format!("decision(#{u})"), foils, moment),
         })
+    }
+
+    /// One variable of the model and its neighbours, for drawing it as a
+    /// graph: its parents (causes) and children (effects) in the model,
+    /// each as a `GraphNode`. `group` marks the picked explanation's reasons.
+    pub fn neighbourhood(&self, v: VarId, group: usize) -> Neighbourhood {
+        let m = &self.model;
+        let reasons: Vec<VarId> = self
+            .groups()
+            .get(group)
+            .into_iter()
+            .flatten()
+            .flat_map(|&i| self.answer.explanations[i].vars.clone())
+            .collect();
+        let node = |x: VarId| GraphNode {
+            var: x,
+            name: m.var_name(x),
+            value: english::value_text(&m.fact[x]),
+            reason: reasons.contains(&x),
+            target: self.query.targets.contains(&x),
+        };
+        let mut children: Vec<VarId> = (0..m.vars.len())
+            .filter(|&c| m.parents[c].contains(&v))
+            .collect();
+        children.sort_by_key(|&c| m.display_key(c));
+        let mut parents = m.parents[v].clone();
+        parents.sort_by_key(|&p| m.display_key(p));
+        Neighbourhood {
+            centre: node(v),
+            parents: parents.into_iter().map(node).collect(),
+            children: children.into_iter().map(node).collect(),
+        }
     }
 
     /// The target and its ancestors in layers by distance (0: the target),

@@ -62,6 +62,10 @@ pub struct WhyView {
     pub why: crate::causal::Why,
     pub selected: usize,
     pub graph: bool,
+    /// The variable the graph view is centred on (None: the one asked about).
+    pub centre: Option<crate::causal::model::VarId>,
+    /// The cause or effect picked in the graph view (parents, then children).
+    pub pick: Option<usize>,
 }
 
 /// Rows or lines a page key moves.
@@ -307,6 +311,41 @@ impl App {
     }
 
     /// Ticks in which a leaf failed.
+    /// Keys of the causal graph view (in the details pane): ←→ pick a
+    /// neighbour, Enter centres on it, Esc goes back to the variable asked
+    /// about. Whether the key was taken.
+    fn graph_key(&mut self, a: Action) -> bool {
+        let Some(w) = self.why.as_mut().filter(|w| w.graph) else {
+            return false;
+        };
+        let centre = w.centre.unwrap_or(w.why.query.targets[0]);
+        let n = w.why.neighbourhood(centre, w.selected);
+        let count = n.parents.len() + n.children.len();
+        match a {
+            Action::Expand if count > 0 => {
+                w.pick = Some(w.pick.map_or(0, |p| (p + 1) % count));
+            }
+            Action::Collapse if count > 0 => {
+                w.pick = Some(w.pick.map_or(count - 1, |p| (p + count - 1) % count));
+            }
+            Action::Toggle => {
+                if let Some(x) = w
+                    .pick
+                    .and_then(|p| n.parents.iter().chain(&n.children).nth(p))
+                {
+                    w.centre = Some(x.var);
+                    w.pick = None;
+                }
+            }
+            Action::Back if w.centre.is_some() => {
+                w.centre = None;
+                w.pick = None;
+            }
+            _ => return false,
+        }
+        true
+    }
+
     /// The mouse wheel over a pane: the tree moves its selection, the
     /// others scroll, whichever pane has the focus.
     pub fn wheel(&mut self, pane: Pane, down: bool) {
@@ -539,6 +578,9 @@ impl App {
                     _ => {}
                 }
             }
+        }
+        if self.focus == Pane::Details && self.graph_key(a) {
+            return;
         }
         if self.scroll_pane(a) {
             return;
@@ -887,6 +929,8 @@ impl App {
                     why: w,
                     selected: 0,
                     graph: false,
+                    centre: None,
+                    pick: None,
                 });
                 self.focus = Pane::Ask;
             }

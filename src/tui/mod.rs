@@ -4,6 +4,7 @@
 pub mod app;
 pub mod diff;
 pub mod diff_view;
+pub mod graph_view;
 pub mod keymap;
 pub mod svg;
 pub mod view;

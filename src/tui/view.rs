@@ -267,41 +267,24 @@ fn tree_pane(app: &App, f: &mut Frame, area: Rect) {
     f.render_widget(Paragraph::new(lines), inner);
 }
 
-/// The why-answer's causal model: the target, then its causes layer by
-/// layer (fewest edges first), the picked explanation's reasons marked.
+/// The why-answer's causal model as a graph: the variable in the centre
+/// (the one asked about, until another is picked), its causes above and its
+/// effects below, edges in box characters (`graph_view`).
 fn model_pane(app: &App, w: &super::app::WhyView, f: &mut Frame, area: Rect) {
     let m = &w.why.model;
     let b = block(
         format!(
-            " causal model · tick {} · {} variables, {} edges (m to hide) ",
+            " causal graph · tick {} · {} variables, {} edges (m to hide) ",
             m.facts.tick,
             m.vars.len(),
             m.edge_count()
         ),
         app.focus == Pane::Details,
     );
-    let mut lines = Vec::new();
-    for (d, layer) in w.why.layers(w.selected).iter().enumerate() {
-        let mut spans = vec![Span::styled(
-            format!("{d:>2} "),
-            Style::default().fg(Color::DarkGray),
-        )];
-        for (name, value, reason) in layer {
-            let st = if *reason {
-                Style::default()
-                    .fg(Color::Yellow)
-                    .add_modifier(Modifier::BOLD)
-            } else if d == 0 {
-                Style::default().add_modifier(Modifier::BOLD)
-            } else {
-                Style::default()
-            };
-            let mark = if *reason { "★" } else { "" };
-            spans.push(Span::styled(format!("{mark}{name}={value}"), st));
-            spans.push(Span::raw("  "));
-        }
-        lines.push(Line::from(spans));
-    }
+    let inner = b.inner(area);
+    let centre = w.centre.unwrap_or(w.why.query.targets[0]);
+    let n = w.why.neighbourhood(centre, w.selected);
+    let lines = super::graph_view::draw(&n, w.pick, inner.width as usize);
     f.render_widget(scrolled(lines, app.scroll_details).block(b), area);
 }
 

@@ -1,0 +1,228 @@
+//! The causal graph view: one variable of a why-answer's model with its
+//! causes above and its effects below, joined by edges in box characters.
+//! A pure function of the neighbourhood, the neighbour picked and the width.
+
+use crate::causal::{GraphNode, Neighbourhood};
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+
+/// A row of cells being drawn.
+type Row = Vec<(char, Style)>;
+
+fn blank(width: usize) -> Row {
+    vec![(' ', Style::default()); width]
+}
+
+fn to_line(row: Row) -> Line<'static> {
+    let mut spans: Vec<Span> = Vec::new();
+    let mut text = String::new();
+    let mut style = None;
+    for (c, st) in row {
+        if style != Some(st) && !text.is_empty() {
+            spans.push(Span::styled(
+                std::mem::take(&mut text),
+                style.unwrap_or_default(),
+            ));
+        }
+        style = Some(st);
+        text.push(c);
+    }
+    let trimmed = text.trim_end().to_string();
+    if !trimmed.is_empty() {
+        spans.push(Span::styled(trimmed, style.unwrap_or_default()));
+    }
+    Line::from(spans)
+}
+
+/// `[name = value]` with its marks: `★` a reason of the picked explanation,
+/// `◎` the variable asked about; cut with `…` to `max` columns.
+fn label(n: &GraphNode, max: usize) -> String {
+    let mark = match (n.target, n.reason) {
+        (true, _) => "◎",
+        (_, true) => "★",
+        _ => "",
+    };
+    let inner = format!("{mark}{} = {}", n.name, n.value);
+    format!(
+        "[{}]",
+        super::view::fit(&inner, max.saturating_sub(2).max(1))
+    )
+}
+
+fn style(n: &GraphNode, picked: bool) -> Style {
+    let mut st = if n.reason {
+        Style::default()
+            .fg(Color::Yellow)
+            .add_modifier(Modifier::BOLD)
+    } else if n.target {
+        Style::default().add_modifier(Modifier::BOLD)
+    } else {
+        Style::default()
+    };
+    if picked {
+        st = st.add_modifier(Modifier::REVERSED);
+    }
+    st
+}
+
+/// Lays out a row of labels: a window of them around `pick` that fits the
+/// width, centred. Returns the row, each shown label's anchor column (its
+/// middle), and how many are left out to the left and right.
+fn row_of(
+    nodes: &[GraphNode],
+    pick: Option<usize>,
+    width: usize,
+) -> (Row, Vec<usize>, usize, usize) {
+    const GAP: usize = 3;
+    let n = nodes.len();
+    // Each label gets at most an even share of the width, and at least 16.
+    let per = (width.saturating_sub(6) / n.max(1))
+        .saturating_sub(GAP)
+        .max(16);
+    let labels: Vec<String> = nodes.iter().map(|x| label(x, per)).collect();
+    let w = |i: usize| labels[i].chars().count();
+    // The widest window around the pick that fits, growing right then left.
+    let p = pick.unwrap_or(0).min(n.saturating_sub(1));
+    let (mut lo, mut hi) = (p, p + 1);
+    let mut used = w(p);
+    loop {
+        let mut grew = false;
+        if hi < n && used + GAP + w(hi) + 4 <= width {
+            used += GAP + w(hi);
+            hi += 1;
+            grew = true;
+        }
+        if lo > 0 && used + GAP + w(lo - 1) + 4 <= width {
+            used += GAP + w(lo - 1);
+            lo -= 1;
+            grew = true;
+        }
+        if !grew {
+            break;
+        }
+    }
+    let mut row = blank(width);
+    let dim = Style::default().fg(Color::DarkGray);
+    if lo > 0 {
+        for (k, c) in format!("◂{lo}").chars().enumerate() {
+            row[k] = (c, dim);
+        }
+    }
+    let right = n - hi;
+    if right > 0 {
+        let tag: Vec<char> = format!("{right}▸").chars().collect();
+        for (k, c) in tag.iter().enumerate() {
+            row[width - tag.len() + k] = (*c, dim);
+        }
+    }
+    let mut x = width.saturating_sub(used) / 2;
+    let mut anchors = Vec::new();
+    for i in lo..hi {
+        let st = style(&nodes[i], pick == Some(i));
+        for (k, c) in labels[i].chars().enumerate() {
+            if x + k < width {
+                row[x + k] = (c, st);
+            }
+        }
+        anchors.push((x + w(i) / 2).min(width.saturating_sub(1)));
+        x += w(i) + GAP;
+    }
+    (row, anchors, lo, right)
+}
+
+/// The edges between `ups` (columns that come down into the bus) and
+/// `downs` (columns that go down out of it), in one row.
+fn bus(ups: &[usize], downs: &[usize], width: usize) -> Row {
+    let mut row = blank(width);
+    let all: Vec<usize> = ups.iter().chain(downs).copied().collect();
+    let (Some(&lo), Some(&hi)) = (all.iter().min(), all.iter().max()) else {
+        return row;
+    };
+    let edge = Style::default().fg(Color::Blue);
+    for (c, cell) in row.iter_mut().enumerate().take(hi + 1).skip(lo) {
+        let (u, d) = (ups.contains(&c), downs.contains(&c));
+        let (l, r) = (c > lo, c < hi);
+        let ch = match (u, d, l, r) {
+            (true, true, true, true) => '┼',
+            (true, true, true, false) => '┤',
+            (true, true, false, true) => '├',
+            (true, true, false, false) => '│',
+            (true, false, true, true) => '┴',
+            (true, false, true, false) => '┘',
+            (true, false, false, true) => '└',
+            (true, false, false, false) => '│',
+            (false, true, true, true) => '┬',
+            (false, true, true, false) => '┐',
+            (false, true, false, true) => '┌',
+            (false, true, false, false) => '│',
+            (false, false, ..) => '─',
+        };
+        *cell = (ch, edge);
+    }
+    row
+}
+
+fn marks(cols: &[usize], ch: char, width: usize) -> Row {
+    let mut row = blank(width);
+    for &c in cols {
+        if c < width {
+            row[c] = (ch, Style::default().fg(Color::Blue));
+        }
+    }
+    row
+}
+
+/// The neighbourhood drawn in `width` columns. `pick` indexes the parents
+/// then the children. The last lines name the picked variable in full.
+pub fn draw(n: &Neighbourhood, pick: Option<usize>, width: usize) -> Vec<Line<'static>> {
+    let width = width.max(24);
+    let mut rows: Vec<Row> = Vec::new();
+    let np = n.parents.len();
+    let (centre_row, centre_anchor, ..) = row_of(std::slice::from_ref(&n.centre), None, width);
+    let cx = centre_anchor[0];
+    if n.parents.is_empty() {
+        let mut r = blank(width);
+        let text = "no causes in the model: its value is given (exogenous)";
+        for (k, c) in text.chars().enumerate().take(width) {
+            r[k] = (c, Style::default().fg(Color::DarkGray));
+        }
+        rows.push(r);
+    } else {
+        let (prow, anchors, ..) = row_of(&n.parents, pick.filter(|&p| p < np), width);
+        rows.push(prow);
+        rows.push(marks(&anchors, '│', width));
+        rows.push(bus(&anchors, &[cx], width));
+        rows.push(marks(&[cx], '▼', width));
+    }
+    rows.push(centre_row);
+    if n.children.is_empty() {
+        let mut r = blank(width);
+        let text = "no effects in the model";
+        for (k, c) in text.chars().enumerate().take(width) {
+            r[k] = (c, Style::default().fg(Color::DarkGray));
+        }
+        rows.push(r);
+    } else {
+        let (crow, anchors, ..) = row_of(&n.children, pick.and_then(|p| p.checked_sub(np)), width);
+        rows.push(marks(&[cx], '│', width));
+        rows.push(bus(&[cx], &anchors, width));
+        rows.push(marks(&anchors, '▼', width));
+        rows.push(crow);
+    }
+    let mut lines: Vec<Line> = rows.into_iter().map(to_line).collect();
+    let picked = pick.and_then(|p| n.parents.iter().chain(&n.children).nth(p));
+    let (what, x) = match picked {
+        Some(x) => ("picked", x),
+        None => ("centre", &n.centre),
+    };
+    lines.push(Line::from(""));
+    lines.push(Line::from(Span::styled(
+        format!("{what}: {} = {}", x.name, x.value),
+        Style::default().add_modifier(Modifier::BOLD),
+    )));
+    lines.push(Line::from(Span::styled(
+        "←→ pick a cause or effect · Enter: centre on it · Esc: back to the question's",
+        Style::default().fg(Color::DarkGray),
+    )));
+    lines
+}

@@ -530,7 +530,7 @@ fn the_transition_list_filters_and_follows_the_moment() {
     app.focus = Pane::Timeline;
     let list = |app: &btx::tui::app::App| {
         let s = screen(app, 110, 34);
-        let top = s.lines().position(|l| l.contains("┌ timeline")).unwrap();
+        let top = s.lines().position(|l| l.contains(" timeline")).unwrap();
         s.lines()
             .skip(top + 3)
             .take(4)
@@ -640,4 +640,41 @@ fn the_causal_graph_is_a_graph_you_can_walk() {
     // Esc: back to the variable asked about.
     app.update(Action::Back);
     assert_eq!(app.why.as_ref().unwrap().centre, None);
+}
+
+#[test]
+fn ascii_covers_every_sign_the_explorer_draws() {
+    let mut buffers = Vec::new();
+    for name in SCENES {
+        buffers.push(render(&scene(name).unwrap(), 120, 40));
+    }
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut app = btx::tui::open(
+        &root.join("sessions/case-study.jsonl"),
+        None,
+        &btx::xml::LoadOptions::default(),
+    )
+    .unwrap();
+    app.selected = 4;
+    app.update(Action::Why);
+    app.update(Action::Toggle);
+    app.update(Action::Graph);
+    buffers.push(render(&app, 120, 40));
+    app.update(Action::ExportGraph);
+    buffers.push(render(&app, 120, 40));
+    app.update(Action::Back);
+    app.update(Action::Help);
+    app.update(Action::End);
+    buffers.push(render(&app, 120, 40));
+    buffers.push(render(
+        &diff_app("trees/taxi-expected.xml", "trees/taxi.xml"),
+        120,
+        40,
+    ));
+    for buf in buffers {
+        for cell in buf.content.iter() {
+            let s = btx::tui::ascii_of(cell.symbol()).unwrap_or(cell.symbol());
+            assert!(s.is_ascii(), "{:?} has no ASCII form", cell.symbol());
+        }
+    }
 }

@@ -31,6 +31,9 @@ pub struct Cli {
     /// The explorer's keymap file (default: $XDG_CONFIG_HOME/btx/keys.toml or ~/.config/btx/keys.toml, if it exists).
     #[arg(long, global = true, value_name = "FILE")]
     keys: Option<PathBuf>,
+    /// The explorer draws only ASCII: no box drawing, arrows or symbols (names stay as they are).
+    #[arg(long, global = true)]
+    ascii: bool,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -219,6 +222,7 @@ macro_rules! fail {
 pub struct Globals {
     pub quiet: bool,
     pub keys: Option<PathBuf>,
+    pub ascii: bool,
 }
 
 // One module a command, as ripgrep and cargo keep them; declared after the
@@ -279,11 +283,13 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
     let globals = Globals {
         quiet: cli.quiet,
         keys: cli.keys,
+        ascii: cli.ascii,
     };
     let Some(command) = cli.command else {
         let mut app = btx::tui::demo();
         app.keymap = keymap(globals.keys.as_deref())?;
-        return btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")));
+        return btx::tui::run_with(app, globals.ascii)
+            .map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     };
     match command {
         Command::Tree(a) => tree::run(a, &globals),

@@ -29,7 +29,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             }
             let mut app = btx::tui::open_diff(&files[0], &files[1], &reading.options())?;
             app.keymap = keymap(cli.keys.as_deref())?;
-            btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
+            btx::tui::run_with(app, cli.ascii)
+                .map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
         }
         Args {
             files,
@@ -58,7 +59,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 app.update(btx::tui::Action::End);
             }
             app.keymap = keymap(cli.keys.as_deref())?;
-            btx::tui::run(app).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
+            btx::tui::run_with(app, cli.ascii)
+                .map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
         }
     }
     Ok(())

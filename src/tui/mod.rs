@@ -224,7 +224,58 @@ fn suspend() -> std::io::Result<()> {
 
 /// Runs the explorer until the person quits. The terminal is restored on
 /// quit, on error and on panic (ratatui's hook).
-pub fn run(mut app: impl Screen) -> std::io::Result<()> {
+pub fn run(app: impl Screen) -> std::io::Result<()> {
+    run_with(app, false)
+}
+
+/// The signs the explorer draws, as ASCII (`--ascii`): box drawing, arrows,
+/// glyphs and marks. Text from the tree and the run (names in any script)
+/// is data and stays as it is.
+pub fn ascii_of(sym: &str) -> Option<&'static str> {
+    Some(match sym {
+        "─" | "═" => "-",
+        // The focused pane's thick border stays apart from the others.
+        "━" => "=",
+        "┏" | "┓" | "┗" | "┛" => "#",
+        "│" | "┃" | "║" => "|",
+        "┌" | "┐" | "└" | "┘" | "├" | "┤" | "┬" | "┴" | "┼" | "┣" | "┫" | "┳" | "┻" | "╋" => {
+            "+"
+        }
+        "▾" => "v",
+        "▸" | "▶" | "→" | "⇉" | "›" => ">",
+        "◀" | "‹" | "◂" => "<",
+        "▼" | "↓" => "v",
+        "↑" => "^",
+        "↕" => "|",
+        "▣" => "#",
+        "▢" => "o",
+        "◯" => "c",
+        "◇" | "◆" => "*",
+        "…" => "~",
+        "≠" => "!",
+        "★" => "*",
+        "◎" => "@",
+        "▏" => "_",
+        "·" => ".",
+        "▆" => "R",
+        "▃" => "F",
+        "▂" => "S",
+        "×" => "x",
+        "←" => "<",
+        _ => return None,
+    })
+}
+
+fn asciify(buf: &mut ratatui::buffer::Buffer) {
+    for cell in buf.content.iter_mut() {
+        if let Some(a) = ascii_of(cell.symbol()) {
+            cell.set_symbol(a);
+        }
+    }
+}
+
+/// `run`, drawing only ASCII signs when `ascii` is set.
+pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
     // SIGTERM (and SIGHUP) while the loop blocks on input: put the terminal
     // back from a watcher thread, then leave as a killed process would.
     // An external SIGINT or SIGQUIT too (Ctrl-C itself is a key in raw mode).
@@ -263,7 +314,12 @@ pub fn run(mut app: impl Screen) -> std::io::Result<()> {
         let mut dirty = true;
         while !app.done() {
             if dirty {
-                terminal.draw(|f| app.draw(f))?;
+                terminal.draw(|f| {
+                    app.draw(f);
+                    if ascii {
+                        asciify(f.buffer_mut());
+                    }
+                })?;
                 dirty = false;
             }
             // Block until input; wake on a timer only while playing.

@@ -102,13 +102,19 @@ pub fn tree_glyph(tree: &crate::model::Tree, uid: Uid) -> &'static str {
 }
 
 pub(super) fn block(title: String, focused: bool) -> Block<'static> {
-    let style = if focused {
-        Style::default().fg(Color::Cyan)
+    // The focused pane's border is thick as well as cyan: it shows without
+    // colour (NO_COLOR).
+    let (style, kind) = if focused {
+        (
+            Style::default().fg(Color::Cyan),
+            ratatui::widgets::BorderType::Thick,
+        )
     } else {
-        Style::default()
+        (Style::default(), ratatui::widgets::BorderType::Plain)
     };
     Block::default()
         .borders(Borders::ALL)
+        .border_type(kind)
         .border_style(style)
         .title(title)
 }

@@ -678,3 +678,42 @@ fn ascii_covers_every_sign_the_explorer_draws() {
         }
     }
 }
+
+#[test]
+fn a_key_that_cannot_act_says_why() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut tree = btx::tui::open(
+        &root.join("trees/kitting.xml"),
+        None,
+        &btx::xml::LoadOptions::default(),
+    )
+    .unwrap();
+    for a in [
+        Action::StepForward,
+        Action::NextFailure,
+        Action::Why,
+        Action::Play,
+    ] {
+        tree.update(a);
+        assert_eq!(
+            tree.message.as_deref(),
+            Some("this is a tree, not a run: open a session or a robot's log to step through one"),
+            "{a:?}"
+        );
+    }
+    let mut app = demo();
+    app.update(Action::End);
+    app.update(Action::NextFailure);
+    assert_eq!(app.message.as_deref(), Some("no leaf failed after tick 54"));
+    assert!(screen(&app, 110, 34).contains("no leaf failed after tick 54"));
+    app.update(Action::Graph);
+    assert_eq!(
+        app.message.as_deref(),
+        Some("ask why first (w): the causal graph is the answer's")
+    );
+    app.update(Action::NextDivergence);
+    assert_eq!(
+        app.message.as_deref(),
+        Some("divergences are shown by btx open --diff A B")
+    );
+}

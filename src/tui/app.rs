@@ -579,6 +579,32 @@ impl App {
                 }
             }
         }
+        if self.session.is_none()
+            && matches!(
+                a,
+                Action::StepForward
+                    | Action::StepBack
+                    | Action::TickForward
+                    | Action::TickBack
+                    | Action::Start
+                    | Action::End
+                    | Action::NextFailure
+                    | Action::PrevFailure
+                    | Action::NextChange
+                    | Action::PrevChange
+                    | Action::Why
+                    | Action::Play
+                    | Action::HideResets
+                    | Action::OnlyBelow
+                    | Action::OnlyStatus
+            )
+        {
+            self.message = Some(
+                "this is a tree, not a run: open a session or a robot's log to step through one"
+                    .into(),
+            );
+            return;
+        }
         if self.focus == Pane::Details && self.graph_key(a) {
             return;
         }
@@ -671,6 +697,15 @@ impl App {
                         self.reveal(u);
                         self.selected = self.visible_for(u);
                     }
+                } else {
+                    self.message = Some(format!(
+                        "no leaf failed {} tick {t}",
+                        if a == Action::NextFailure {
+                            "after"
+                        } else {
+                            "before"
+                        }
+                    ));
                 }
             }
             Action::Follow => {
@@ -694,15 +729,27 @@ impl App {
                     let keep = self.selected;
                     self.goto(p);
                     self.selected = keep;
+                } else {
+                    self.message = Some(format!(
+                        "{} does not change {} this moment",
+                        self.tree.description(self.selected),
+                        if a == Action::NextChange {
+                            "after"
+                        } else {
+                            "before"
+                        }
+                    ));
                 }
             }
             Action::Ask => self.overlay = Overlay::Ask { selected: 0 },
             Action::Why => self.open_why(),
-            Action::Graph => {
-                if let Some(w) = &mut self.why {
-                    w.graph = !w.graph;
+            Action::Graph => match &mut self.why {
+                Some(w) => w.graph = !w.graph,
+                None => {
+                    self.message =
+                        Some("ask why first (w): the causal graph is the answer's".into())
                 }
-            }
+            },
             Action::ExportGraph => self.export_graph(),
             Action::Find if self.focus == Pane::Timeline => {
                 self.overlay = Overlay::Filter {

@@ -532,7 +532,7 @@ fn the_transition_list_filters_and_follows_the_moment() {
         let s = screen(app, 110, 34);
         let top = s.lines().position(|l| l.contains(" timeline")).unwrap();
         s.lines()
-            .skip(top + 3)
+            .skip(top + 4)
             .take(4)
             .collect::<Vec<_>>()
             .join("\n")

@@ -261,6 +261,7 @@ pub fn ascii_of(sym: &str) -> Option<&'static str> {
         "▃" => "F",
         "▂" => "S",
         "×" => "x",
+        "╵" => "'",
         "←" => "<",
         _ => return None,
     })

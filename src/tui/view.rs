@@ -24,7 +24,8 @@ pub fn layout(area: Rect, split: u16) -> Areas {
         .direction(Direction::Vertical)
         .constraints([
             Constraint::Min(6),
-            Constraint::Length(8),
+            // The timeline grows with the terminal: a third of it, 8 to 20 rows.
+            Constraint::Length((area.height / 3).clamp(8, 20)),
             Constraint::Length(1),
         ])
         .split(area);
@@ -445,10 +446,23 @@ fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
     if app.follow.is_some() {
         play.push_str("  · following the log");
     }
-    let mut lines = vec![Line::from(format!(
+    let head = format!(
         "moment {m}  ·  tick {} of {ticks}  ·  transition {} of {total}{play}",
         m.tick, app.pos
-    ))];
+    );
+    let legend = "strip: ▆ running ▃ failed ▂ succeeded · idle";
+    let room = (inner.width as usize).saturating_sub(head.chars().count() + 4);
+    let mut lines = vec![Line::from(vec![
+        Span::raw(head),
+        Span::styled(
+            if room >= legend.chars().count() {
+                format!("    {legend}")
+            } else {
+                String::new()
+            },
+            Style::default().fg(Color::DarkGray),
+        ),
+    ])];
     // A strip of the selected node's status at the end of each tick around now.
     let width = inner.width.saturating_sub(10) as u32;
     let start = m.tick.saturating_sub(width / 2).max(1);
@@ -480,8 +494,26 @@ fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
         strip.push(Span::styled(c.to_string(), style));
     }
     lines.push(Line::from(strip));
+    // Its tick axis: a mark and the number every ten ticks.
+    let mut axis = String::from("tick  ");
+    let mut t = start;
+    while t <= (start + width).min(ticks) {
+        if t.is_multiple_of(10) || t == 1 {
+            let label = format!("╵{t}");
+            axis.push_str(&label);
+            let skip = label.chars().count() as u32;
+            t += skip;
+        } else {
+            axis.push(' ');
+            t += 1;
+        }
+    }
+    lines.push(Line::from(Span::styled(
+        axis,
+        Style::default().fg(Color::DarkGray),
+    )));
     // The transitions around the moment (those the filters keep).
-    let around = (inner.height as usize).saturating_sub(2);
+    let around = (inner.height as usize).saturating_sub(3);
     for i in shown_transitions(app, s, around) {
         let t = s.index.transitions[i];
         let here = i + 1 == app.pos as usize;

@@ -717,3 +717,41 @@ fn a_key_that_cannot_act_says_why() {
         Some("divergences are shown by btx open --diff A B")
     );
 }
+
+#[test]
+fn running_nodes_are_picked_answers_are_kept_and_copied() {
+    use btx::tui::app::Overlay;
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    // The nodes RUNNING at moment 10, in tree order; Enter selects one.
+    let running = app.running_nodes();
+    assert_eq!(running.first(), Some(&1));
+    app.update(Action::Running);
+    assert!(matches!(app.overlay, Overlay::Running { .. }));
+    assert!(screen(&app, 110, 34).contains("RUNNING now: Enter selects"));
+    app.update(Action::End);
+    let last = *running.last().unwrap();
+    for _ in 1..running.len() {
+        app.update(Action::Down);
+    }
+    app.update(Action::Toggle);
+    assert_eq!(app.selected, last);
+    // Two answers: the first is kept under the second.
+    app.update(Action::Ask);
+    app.update(Action::Toggle);
+    let first = app.answer.as_ref().unwrap().text.clone();
+    app.update(Action::Ask);
+    app.update(Action::Down);
+    app.update(Action::Toggle);
+    assert_eq!(app.history.len(), 1);
+    assert!(app.history[0].ends_with(&first), "{:?}", app.history);
+    assert!(app.history[0].starts_with(&format!(
+        "about {} #{last} at moment 10",
+        app.tree.description(last)
+    )));
+    // y queues the answer for the clipboard, as OSC 52.
+    app.update(Action::Copy);
+    let copied = app.clipboard.clone().unwrap();
+    assert!(copied.contains(&app.answer.as_ref().unwrap().text));
+    assert_eq!(btx::tui::osc52("hi"), "\u{1b}]52;c;aGk=\u{7}");
+}

@@ -39,6 +39,10 @@ pub enum Overlay {
         selected: usize,
         targets: Vec<(String, String)>,
     },
+    /// The nodes RUNNING at this moment, to pick one from.
+    Running {
+        selected: usize,
+    },
     /// "Can you X?" being typed: the text and the completion picked.
     CanYou {
         text: String,
@@ -67,6 +71,9 @@ pub struct WhyView {
     /// The cause or effect picked in the graph view (parents, then children).
     pub pick: Option<usize>,
 }
+
+/// Earlier answers kept for the ask pane.
+pub const HISTORY_MAX: usize = 50;
 
 /// Rows or lines a page key moves.
 pub const PAGE: usize = 10;
@@ -111,6 +118,10 @@ pub struct App {
     pub zoom: bool,
     /// Which transitions the timeline lists.
     pub log_filter: crate::export::LogFilter,
+    /// Earlier answers, most recent first, each with what it was about.
+    pub history: Vec<String>,
+    /// Text waiting to be put on the clipboard by the terminal loop.
+    pub clipboard: Option<String>,
     /// The finder's lines, made when it first opens (the tree is fixed).
     finder_labels: std::cell::OnceCell<Vec<String>>,
     /// A one-line message for the status bar (an error, a file written).
@@ -161,6 +172,8 @@ impl App {
             zoom: false,
             log_filter: Default::default(),
             finder_labels: std::cell::OnceCell::new(),
+            clipboard: None,
+            history: Vec::new(),
             message: None,
             playing: false,
             play_ms: 200,
@@ -378,6 +391,55 @@ impl App {
         true
     }
 
+    /// The nodes RUNNING at this moment, in tree order.
+    pub fn running_nodes(&self) -> Vec<Uid> {
+        let Some(at) = self.at() else {
+            return Vec::new();
+        };
+        self.tree
+            .preorder()
+            .into_iter()
+            .filter(|&u| at.status(u) == Status::Running)
+            .collect()
+    }
+
+    /// The answer on screen as plain text (what `y` copies).
+    pub fn answer_text(&self) -> Option<String> {
+        if let Some(w) = &self.why {
+            return Some(w.why.text());
+        }
+        let a = self.answer.as_ref()?;
+        Some(format!("{}\n{}\n", a.question.wording(), a.text))
+    }
+
+    /// Keeps the answer on screen in the history before another replaces it.
+    fn remember_answer(&mut self) {
+        let (Some(text), Some((u, at))) = (self.answer_text(), &self.asked) else {
+            return;
+        };
+        let about = format!(
+            "about {} #{u}{}",
+            self.tree.description(*u),
+            at.as_ref()
+                .map_or(String::new(), |m| format!(" at moment {m}"))
+        );
+        self.history
+            .insert(0, format!("{about}\n{}", text.trim_end()));
+        self.history.truncate(HISTORY_MAX);
+    }
+
+    /// Copies the answer through the terminal (OSC 52), which works over
+    /// SSH; the sequence is queued for the next draw.
+    fn copy_answer(&mut self) {
+        match self.answer_text() {
+            Some(t) => {
+                self.clipboard = Some(t);
+                self.message = Some("copied the answer (OSC 52)".into());
+            }
+            None => self.message = Some("no answer to copy: ask first (a or w)".into()),
+        }
+    }
+
     /// The leaf whose FAILURE came last in tick `t`.
     fn failed_leaf(&self, t: u32) -> Option<Uid> {
         let s = self.session.as_ref()?;
@@ -513,9 +575,10 @@ impl App {
                 }
                 return;
             }
-            Overlay::Finder { .. } | Overlay::Ask { .. } | Overlay::Why { .. } => {
-                return self.update_list(a)
-            }
+            Overlay::Finder { .. }
+            | Overlay::Ask { .. }
+            | Overlay::Why { .. }
+            | Overlay::Running { .. } => return self.update_list(a),
             Overlay::CanYou { text, .. } => {
                 let text = text.clone();
                 let n = self.can_you_candidates(&text).len();
@@ -779,6 +842,14 @@ impl App {
                 self.message = Some("divergences are shown by btx open --diff A B".into())
             }
             Action::Zoom => self.zoom = !self.zoom,
+            Action::Running => {
+                if self.running_nodes().is_empty() {
+                    self.message = Some("nothing is RUNNING at this moment".into());
+                } else {
+                    self.overlay = Overlay::Running { selected: 0 };
+                }
+            }
+            Action::Copy => self.copy_answer(),
             Action::HideResets => self.log_filter.no_idle = !self.log_filter.no_idle,
             Action::OnlyBelow => {
                 self.log_filter.below = match self.log_filter.below {
@@ -863,12 +934,14 @@ impl App {
             Overlay::Finder { query, .. } => self.finder_results(query).len(),
             Overlay::Ask { .. } => self.questions().len(),
             Overlay::Why { targets, .. } => targets.len(),
+            Overlay::Running { .. } => self.running_nodes().len(),
             _ => 0,
         };
         let choice = match &mut self.overlay {
             Overlay::Finder { selected, .. }
             | Overlay::Ask { selected }
-            | Overlay::Why { selected, .. } => selected,
+            | Overlay::Why { selected, .. }
+            | Overlay::Running { selected } => selected,
             _ => return,
         };
         match a {
@@ -901,6 +974,13 @@ impl App {
                             self.ask_why(t.clone(), Vec::new(), m);
                         }
                     }
+                    Overlay::Running { .. } => {
+                        if let Some(&u) = self.running_nodes().get(i) {
+                            self.reveal(u);
+                            self.selected = self.visible_for(u);
+                            self.follow_node = false;
+                        }
+                    }
                     other => self.overlay = other,
                 }
             }
@@ -910,6 +990,8 @@ impl App {
 
     /// Asks the library; the answer and its nodes are shown.
     pub fn ask(&mut self, q: &Question) {
+        self.remember_answer();
+        self.why = None;
         let at = self.at();
         let node = self.asked_node();
         self.answer = answer(&self.tree, at.as_ref(), node, q).ok();
@@ -960,6 +1042,8 @@ impl App {
             .and_then(|d| crate::causal::why(s, d, &target, &foils, Some(at), 2));
         match r {
             Ok(w) => {
+                self.remember_answer();
+                let s = self.session.as_ref().expect("a why-answer is about a run");
                 if let Ok(p) = s.index.position(at) {
                     if p != self.pos {
                         let keep = self.selected;

@@ -55,6 +55,10 @@ pub enum Action {
     HideResets,
     OnlyBelow,
     OnlyStatus,
+    /// Pick from the nodes RUNNING at this moment.
+    Running,
+    /// Copy the answer on screen to the clipboard (OSC 52).
+    Copy,
 }
 
 /// One binding: the keys, the action, what the help says, and a short hint
@@ -215,6 +219,18 @@ pub const KEYMAP: &[Binding] = &[
         keys: &["S"],
         action: Action::OnlyStatus,
         help: "transitions: only to RUNNING, SUCCESS, FAILURE, or all",
+        hint: "",
+    },
+    Binding {
+        keys: &["r"],
+        action: Action::Running,
+        help: "pick from the nodes RUNNING at this moment",
+        hint: "",
+    },
+    Binding {
+        keys: &["y"],
+        action: Action::Copy,
+        help: "copy the answer to the clipboard (OSC 52: also over SSH)",
         hint: "",
     },
     Binding {

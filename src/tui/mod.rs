@@ -84,6 +84,20 @@ pub trait Screen {
         None
     }
     fn play_step(&mut self) {}
+    /// Text to put on the clipboard, once.
+    fn take_clipboard(&mut self) -> Option<String> {
+        None
+    }
+}
+
+/// The OSC 52 sequence that asks the terminal to put `text` on the
+/// clipboard: it travels with the output, so it works over SSH.
+pub fn osc52(text: &str) -> String {
+    use base64::Engine;
+    format!(
+        "\x1b]52;c;{}\x07",
+        base64::engine::general_purpose::STANDARD.encode(text)
+    )
 }
 
 impl Screen for App {
@@ -108,6 +122,9 @@ impl Screen for App {
             App::play_step(self)
         }
         self.follow_poll()
+    }
+    fn take_clipboard(&mut self) -> Option<String> {
+        self.clipboard.take()
     }
 }
 
@@ -347,6 +364,13 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
                 }
                 let size = terminal.size()?;
                 app.event(ev, (size.width, size.height));
+                if let Some(t) = app.take_clipboard() {
+                    use std::io::Write;
+                    let mut out = std::io::stdout();
+                    let _ = out
+                        .write_all(osc52(&t).as_bytes())
+                        .and_then(|()| out.flush());
+                }
                 dirty = true;
             }
         }

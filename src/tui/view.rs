@@ -401,6 +401,27 @@ fn shown_transitions(app: &App, s: &crate::session::Session, rows: usize) -> Vec
     all.into_iter().skip(start).take(rows).collect()
 }
 
+/// Earlier answers under the one on screen (scroll down to read them).
+fn push_history(app: &App, lines: &mut Vec<Line<'static>>) {
+    if app.history.is_empty() {
+        return;
+    }
+    lines.push(Line::from(Span::styled(
+        format!("── {} earlier (PageDown) ──", app.history.len()),
+        Style::default().fg(Color::DarkGray),
+    )));
+    for h in &app.history {
+        for (i, l) in h.lines().enumerate() {
+            let st = if i == 0 {
+                Style::default().fg(Color::DarkGray)
+            } else {
+                Style::default()
+            };
+            lines.push(Line::from(Span::styled(l.to_string(), st)));
+        }
+    }
+}
+
 fn timeline_pane(app: &App, f: &mut Frame, area: Rect) {
     let mut title = match &app.session {
         Some(s) => format!(" timeline · run {} ", crate::text::visible(&s.ending())),
@@ -600,9 +621,10 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
             lines.push(Line::from(Span::styled(format!("{}. {s}", i + 1), st)));
         }
         lines.push(Line::from(Span::styled(
-            "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file",
+            "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file · y: copy",
             Style::default().fg(Color::DarkGray),
         )));
+        push_history(app, &mut lines);
         f.render_widget(
             scrolled(lines, app.scroll_ask)
                 .block(block(" why (w) ".into(), app.focus == Pane::Ask)),
@@ -628,6 +650,7 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
             "press a to ask a question about the selected node",
         )),
     }
+    push_history(app, &mut lines);
     f.render_widget(scrolled(lines, app.scroll_ask).block(b), area);
 }
 
@@ -718,6 +741,46 @@ fn overlay(app: &App, f: &mut Frame, area: Rect) {
                 lines.push(Line::from(spans));
             }
             f.render_widget(Paragraph::new(lines), inner);
+        }
+        Overlay::Running { selected } => {
+            let nodes = app.running_nodes();
+            let r = centered(
+                area,
+                70,
+                (nodes.len() as u16 + 2).min(area.height.saturating_sub(2)),
+            );
+            f.render_widget(Clear, r);
+            let h = r.height.saturating_sub(2) as usize;
+            let first = selected.saturating_sub(h.saturating_sub(1));
+            let lines: Vec<Line> = nodes
+                .iter()
+                .enumerate()
+                .skip(first)
+                .take(h)
+                .map(|(i, &u)| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    Line::from(Span::styled(
+                        format!(
+                            "{} #{u}  {}",
+                            app.tree.description(u),
+                            app.tree.type_name(u)
+                        ),
+                        st,
+                    ))
+                })
+                .collect();
+            f.render_widget(
+                Paragraph::new(lines).block(
+                    Block::default()
+                        .borders(Borders::ALL)
+                        .title(" RUNNING now: Enter selects "),
+                ),
+                r,
+            );
         }
         Overlay::CanYou { text, selected } => {
             let r = centered(

@@ -383,7 +383,9 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
 }
 
 /// The scripted scenes of `btx screenshot --demo SCENE`.
-pub const SCENES: [&str; 5] = ["failure", "framed", "answer", "finder", "help"];
+pub const SCENES: [&str; 7] = [
+    "failure", "framed", "answer", "finder", "help", "graph", "filtered",
+];
 
 /// The demo after a scene's key presses.
 pub fn scene(name: &str) -> Result<App, String> {
@@ -416,6 +418,23 @@ pub fn scene(name: &str) -> Result<App, String> {
             }
         }
         "help" => app.update(Action::Help),
+        "graph" => {
+            // f lands on look at chuck; why did it fail? Its causal graph.
+            app.update(Action::NextFailure);
+            app.update(Action::Why);
+            app.update(Action::Toggle);
+            app.update(Action::Graph);
+            app.focus = app::Pane::Details;
+            app.update(Action::Expand);
+        }
+        "filtered" => {
+            app.update(Action::NextFailure);
+            app.focus = app::Pane::Timeline;
+            app.update(Action::HideResets);
+            for _ in 0..3 {
+                app.update(Action::OnlyStatus);
+            }
+        }
         other => {
             return Err(format!(
                 "no scene \"{other}\"; the scenes are {}",

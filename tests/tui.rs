@@ -6,6 +6,12 @@ mod common;
 use btx::tui::keymap::{Action, KEYMAP};
 use btx::tui::{demo, render, scene, SCENES};
 
+/// The explorer on a file of the project.
+fn opened(file: &str) -> btx::tui::app::App {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    btx::tui::open(&root.join(file), None, &btx::xml::LoadOptions::default()).unwrap()
+}
+
 fn screen(app: &impl btx::tui::Screen, w: u16, h: u16) -> String {
     let buf = render(app, w, h);
     let mut s = String::new();
@@ -190,13 +196,7 @@ fn a_keymap_that_clashes_or_locks_the_user_in_is_refused() {
 
 #[test]
 fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut app = btx::tui::open(
-        &root.join("sessions/case-study.jsonl"),
-        None,
-        &btx::xml::LoadOptions::default(),
-    )
-    .unwrap();
+    let mut app = opened("sessions/case-study.jsonl");
     // L1 (#4), at the end of the tick: why did it not execute?
     app.selected = 4;
     app.update(Action::Why);
@@ -238,13 +238,7 @@ fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
 #[test]
 fn x_asks_where_to_write_and_never_overwrites_unasked() {
     use btx::tui::app::Overlay;
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut app = btx::tui::open(
-        &root.join("sessions/case-study.jsonl"),
-        None,
-        &btx::xml::LoadOptions::default(),
-    )
-    .unwrap();
+    let mut app = opened("sessions/case-study.jsonl");
     app.selected = 4;
     app.update(Action::Why);
     app.update(Action::Toggle);
@@ -475,13 +469,7 @@ fn the_selection_stays_while_stepping_and_answers_keep_their_node() {
 #[test]
 fn every_pane_scrolls_and_zooms() {
     use btx::tui::app::Pane;
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut app = btx::tui::open(
-        &root.join("sessions/serial-recall.jsonl"),
-        None,
-        &btx::xml::LoadOptions::default(),
-    )
-    .unwrap();
+    let mut app = opened("sessions/serial-recall.jsonl");
     // A why-answer's causal model in the details pane: 177 variables.
     let leaf = (1..=app.tree.len() as u32)
         .find(|&u| app.tree.description(u) == "RepeatOrEnd")
@@ -519,13 +507,7 @@ fn every_pane_scrolls_and_zooms() {
 #[test]
 fn the_transition_list_filters_and_follows_the_moment() {
     use btx::tui::app::Pane;
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut app = btx::tui::open(
-        &root.join("sessions/kitting-lookat-fails-once.jsonl"),
-        None,
-        &btx::xml::LoadOptions::default(),
-    )
-    .unwrap();
+    let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
     app.update(Action::End);
     app.focus = Pane::Timeline;
     let list = |app: &btx::tui::app::App| {
@@ -611,13 +593,7 @@ fn can_you_is_typed_with_completion_over_the_whole_tree() {
 #[test]
 fn the_causal_graph_is_a_graph_you_can_walk() {
     use btx::tui::app::Pane;
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut app = btx::tui::open(
-        &root.join("sessions/case-study.jsonl"),
-        None,
-        &btx::xml::LoadOptions::default(),
-    )
-    .unwrap();
+    let mut app = opened("sessions/case-study.jsonl");
     app.selected = 4;
     app.update(Action::Why);
     app.update(Action::Down);
@@ -648,13 +624,7 @@ fn ascii_covers_every_sign_the_explorer_draws() {
     for name in SCENES {
         buffers.push(render(&scene(name).unwrap(), 120, 40));
     }
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut app = btx::tui::open(
-        &root.join("sessions/case-study.jsonl"),
-        None,
-        &btx::xml::LoadOptions::default(),
-    )
-    .unwrap();
+    let mut app = opened("sessions/case-study.jsonl");
     app.selected = 4;
     app.update(Action::Why);
     app.update(Action::Toggle);
@@ -681,13 +651,7 @@ fn ascii_covers_every_sign_the_explorer_draws() {
 
 #[test]
 fn a_key_that_cannot_act_says_why() {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut tree = btx::tui::open(
-        &root.join("trees/kitting.xml"),
-        None,
-        &btx::xml::LoadOptions::default(),
-    )
-    .unwrap();
+    let mut tree = opened("trees/kitting.xml");
     for a in [
         Action::StepForward,
         Action::NextFailure,

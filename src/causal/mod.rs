@@ -234,18 +234,22 @@ impl Why {
         })
     }
 
+    /// The variables a merged explanation intervenes on: its reasons.
+    pub fn reason_vars(&self, group: usize) -> Vec<VarId> {
+        self.groups()
+            .get(group)
+            .into_iter()
+            .flatten()
+            .flat_map(|&i| self.answer.explanations[i].vars.clone())
+            .collect()
+    }
+
     /// One variable of the model and its neighbours, for drawing it as a
     /// graph: its parents (causes) and children (effects) in the model,
     /// each as a `GraphNode`. `group` marks the picked explanation's reasons.
     pub fn neighbourhood(&self, v: VarId, group: usize) -> Neighbourhood {
         let m = &self.model;
-        let reasons: Vec<VarId> = self
-            .groups()
-            .get(group)
-            .into_iter()
-            .flatten()
-            .flat_map(|&i| self.answer.explanations[i].vars.clone())
-            .collect();
+        let reasons = self.reason_vars(group);
         let node = |x: VarId| GraphNode {
             var: x,
             name: m.var_name(x),
@@ -271,13 +275,7 @@ impl Why {
     pub fn layers(&self, group: usize) -> Vec<Vec<(String, String, bool)>> {
         let m = &self.model;
         let dist = m.distances_to(&self.query.targets);
-        let reasons: Vec<VarId> = self
-            .groups()
-            .get(group)
-            .into_iter()
-            .flatten()
-            .flat_map(|&i| self.answer.explanations[i].vars.clone())
-            .collect();
+        let reasons = self.reason_vars(group);
         let mut layers: Vec<Vec<(String, String, bool)>> = Vec::new();
         for v in m.ancestors(&self.query.targets) {
             let d = dist[v];

@@ -77,6 +77,13 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         ask: ask.clone(),
         out: &out,
     };
+    let asked_at = ask.as_ref().map(|(t, _)| *t);
+    // A plan's run, from a plan file or a kitting scenario.
+    let planned = |source: Source, plan: Plan| -> Result<(), Failure> {
+        let leaves = PlanLeaves::new(plan, &tree);
+        warn_all(cli.quiet, &leaves.warnings);
+        report_run(&tree, asked_at, record(req(source), leaves))
+    };
     if !set.is_empty() && domain.is_none() {
         fail!("--set starts a domain's state variable, and this run has no --domain: with a plan or a world it would change nothing");
     }
@@ -88,13 +95,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             text: Some(plan.text.clone()),
             name: None,
         };
-        let leaves = PlanLeaves::new(plan, &tree);
-        warn_all(cli.quiet, &leaves.warnings);
-        report_run(
-            &tree,
-            ask.as_ref().map(|(t, _)| *t),
-            record(req(source), leaves),
-        )?;
+        planned(source, plan)?;
     } else if let Some(p) = &domain {
         let d = std::sync::Arc::new(Domain::load(p)?);
         let source = Source {
@@ -107,11 +108,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         for a in &set {
             leaves.set(a).map_err(Failure::Plain)?;
         }
-        report_run(
-            &tree,
-            ask.as_ref().map(|(t, _)| *t),
-            record(req(source), leaves),
-        )?;
+        report_run(&tree, asked_at, record(req(source), leaves))?;
     } else {
         match world.expect("clap requires one source of leaves") {
             World::Taxi => {
@@ -130,7 +127,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 };
                 report_run(
                     &tree,
-                    ask.as_ref().map(|(t, _)| *t),
+                    asked_at,
                     record(req(source), TaxiLeaves::new(Grid::han())),
                 )?;
             }
@@ -142,13 +139,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     text: Some(plan.text.clone()),
                     name: Some(format!("kitting: {name}")),
                 };
-                let leaves = PlanLeaves::new(plan, &tree);
-                warn_all(cli.quiet, &leaves.warnings);
-                report_run(
-                    &tree,
-                    ask.as_ref().map(|(t, _)| *t),
-                    record(req(source), leaves),
-                )?;
+                planned(source, plan)?;
             }
         }
     }

@@ -32,6 +32,20 @@ impl Tmux {
         ]);
     }
 
+    /// `alternate-screen mouse cursor` as tmux sees the pane: `1 1 0` while
+    /// the explorer runs, `0 0 1` once the terminal is given back.
+    fn terminal(&self) -> String {
+        self.run(&[
+            "display",
+            "-p",
+            "-t",
+            "btx",
+            "#{alternate_on} #{mouse_any_flag} #{cursor_flag}",
+        ])
+        .trim()
+        .to_string()
+    }
+
     fn screen(&self) -> String {
         self.run(&["capture-pane", "-p", "-t", "btx"])
     }
@@ -109,14 +123,7 @@ fn every_signal_restores_the_terminal() {
             .unwrap();
         let s = t.wait_for("EXITED:");
         assert!(s.contains(&format!("EXITED:{}", 128 + n)), "SIG{sig}: {s}");
-        let after = t.run(&[
-            "display",
-            "-p",
-            "-t",
-            "btx",
-            "#{alternate_on} #{mouse_any_flag} #{cursor_flag}",
-        ]);
-        assert_eq!(after.trim(), "0 0 1", "SIG{sig}: the terminal after: {s}");
+        assert_eq!(t.terminal(), "0 0 1", "SIG{sig}: the terminal after: {s}");
     }
 }
 
@@ -194,34 +201,13 @@ fn ctrl_z_suspends_and_fg_redraws() {
     t.run(&["send-keys", "-t", "btx", "C-z"]);
     let s = t.wait_for("Stopped");
     // The shell has the terminal back, as it was.
-    let state = t.run(&[
-        "display",
-        "-p",
-        "-t",
-        "btx",
-        "#{alternate_on} #{mouse_any_flag} #{cursor_flag}",
-    ]);
-    assert_eq!(state.trim(), "0 0 1", "{s}");
+    assert_eq!(t.terminal(), "0 0 1", "{s}");
     t.run(&["send-keys", "-t", "btx", "fg", "Enter"]);
     t.wait_for("moment 1 ");
-    let on = t.run(&[
-        "display",
-        "-p",
-        "-t",
-        "btx",
-        "#{alternate_on} #{mouse_any_flag}",
-    ]);
-    assert_eq!(on.trim(), "1 1");
+    assert!(t.terminal().starts_with("1 1"), "{}", t.terminal());
     t.run(&["send-keys", "-t", "btx", "q"]);
     // fg's status is btx's.
     t.run(&["send-keys", "-t", "btx", "echo EXITED:$?", "Enter"]);
     let s = t.wait_for("EXITED:0");
-    let after = t.run(&[
-        "display",
-        "-p",
-        "-t",
-        "btx",
-        "#{alternate_on} #{mouse_any_flag} #{cursor_flag}",
-    ]);
-    assert_eq!(after.trim(), "0 0 1", "{s}");
+    assert_eq!(t.terminal(), "0 0 1", "{s}");
 }

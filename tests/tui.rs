@@ -719,3 +719,27 @@ fn running_nodes_are_picked_answers_are_kept_and_copied() {
     assert!(copied.contains(&app.answer.as_ref().unwrap().text));
     assert_eq!(btx::tui::osc52("hi"), "\u{1b}]52;c;aGk=\u{7}");
 }
+
+#[test]
+fn home_and_end_reach_the_ends_of_a_pane_and_scrolling_stops_there() {
+    use btx::tui::app::Pane;
+    let mut app = opened("sessions/serial-recall.jsonl");
+    let leaf = (1..=app.tree.len() as u32)
+        .find(|&u| app.tree.description(u) == "RepeatOrEnd")
+        .unwrap();
+    app.selected = leaf;
+    app.update(Action::Why);
+    app.update(Action::Toggle);
+    app.focus = Pane::Details;
+    let top = screen(&app, 80, 24);
+    app.update(Action::End);
+    let bottom = screen(&app, 80, 24);
+    assert_ne!(top, bottom);
+    // Past the end nothing moves, and one page up is one page up.
+    app.update(Action::PageDown);
+    assert_eq!(screen(&app, 80, 24), bottom);
+    app.update(Action::PageUp);
+    assert_ne!(screen(&app, 80, 24), bottom);
+    app.update(Action::Start);
+    assert_eq!(screen(&app, 80, 24), top);
+}

@@ -116,6 +116,9 @@ pub struct App {
     pub scroll_timeline: i64,
     /// The focused pane fills the screen.
     pub zoom: bool,
+    /// How far the details and the ask pane could scroll when last drawn
+    /// (their wrapped height less the pane's), so scrolling stops there.
+    pub scroll_max: std::cell::Cell<(usize, usize)>,
     /// Which transitions the timeline lists.
     pub log_filter: crate::export::LogFilter,
     /// Earlier answers, most recent first, each with what it was about.
@@ -170,6 +173,7 @@ impl App {
             scroll_ask: 0,
             scroll_timeline: 0,
             zoom: false,
+            scroll_max: std::cell::Cell::new((usize::MAX, usize::MAX)),
             log_filter: Default::default(),
             finder_labels: std::cell::OnceCell::new(),
             clipboard: None,
@@ -374,6 +378,20 @@ impl App {
     /// Up, Down and a page in a focused pane other than the tree scroll it.
     /// Whether the key was taken.
     fn scroll_pane(&mut self, a: Action) -> bool {
+        // Home/End (g/G) go to the top or bottom of the details and the
+        // answers; on the tree and the timeline they are the run's start/end.
+        if matches!(a, Action::Start | Action::End)
+            && matches!(self.focus, Pane::Details | Pane::Ask)
+        {
+            let (dmax, amax) = self.scroll_max.get();
+            match (self.focus, a) {
+                (Pane::Details, Action::Start) => self.scroll_details = 0,
+                (Pane::Details, _) => self.scroll_details = dmax,
+                (_, Action::Start) => self.scroll_ask = 0,
+                _ => self.scroll_ask = amax,
+            }
+            return true;
+        }
         let step: i64 = match a {
             Action::Up => -1,
             Action::Down => 1,
@@ -381,11 +399,12 @@ impl App {
             Action::PageDown => PAGE as i64,
             _ => return false,
         };
-        let by = |x: &mut usize| *x = (*x as i64 + step).max(0) as usize;
+        let by = |x: &mut usize, max: usize| *x = ((*x as i64 + step).max(0) as usize).min(max);
+        let (dmax, amax) = self.scroll_max.get();
         match self.focus {
             Pane::Tree => return false,
-            Pane::Details => by(&mut self.scroll_details),
-            Pane::Ask => by(&mut self.scroll_ask),
+            Pane::Details => by(&mut self.scroll_details, dmax),
+            Pane::Ask => by(&mut self.scroll_ask, amax),
             Pane::Timeline => self.scroll_timeline += step,
         }
         true

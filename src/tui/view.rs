@@ -292,16 +292,29 @@ fn model_pane(app: &App, w: &super::app::WhyView, f: &mut Frame, area: Rect) {
     let centre = w.centre.unwrap_or(w.why.query.targets[0]);
     let n = w.why.neighbourhood(centre, w.selected);
     let lines = super::graph_view::draw(&n, w.pick, inner.width as usize);
-    f.render_widget(scrolled(lines, app.scroll_details).block(b), area);
+    let (p, last) = scrolled(lines, app.scroll_details, area);
+    note_max(app, true, last);
+    f.render_widget(p.block(b), area);
 }
 
-/// Wrapped lines scrolled down `by` lines (kept within the text, so a pane
-/// never scrolls to blank).
-fn scrolled(lines: Vec<Line<'static>>, by: usize) -> Paragraph<'static> {
-    let by = by.min(lines.len().saturating_sub(1));
-    Paragraph::new(lines)
-        .wrap(Wrap { trim: false })
-        .scroll((by.min(u16::MAX as usize) as u16, 0))
+/// Wrapped lines scrolled down `by` lines, at most to the last page (the
+/// wrapped height less the pane's), which is also returned.
+fn scrolled(lines: Vec<Line<'static>>, by: usize, area: Rect) -> (Paragraph<'static>, usize) {
+    let p = Paragraph::new(lines).wrap(Wrap { trim: false });
+    let inner = (
+        area.width.saturating_sub(2),
+        area.height.saturating_sub(2) as usize,
+    );
+    let last = p.line_count(inner.0).saturating_sub(inner.1);
+    let by = by.min(last);
+    (p.scroll((by.min(u16::MAX as usize) as u16, 0)), last)
+}
+
+/// Notes how far the details (`details`) or the ask pane can scroll.
+fn note_max(app: &App, details: bool, last: usize) {
+    let (d, a) = app.scroll_max.get();
+    app.scroll_max
+        .set(if details { (last, a) } else { (d, last) });
 }
 
 fn details_pane(app: &App, f: &mut Frame, area: Rect) {
@@ -372,7 +385,9 @@ fn details_pane(app: &App, f: &mut Frame, area: Rect) {
             lines.push(Line::from(state.join("  ")));
         }
     }
-    f.render_widget(scrolled(lines, app.scroll_details).block(b), area);
+    let (p, last) = scrolled(lines, app.scroll_details, area);
+    note_max(app, true, last);
+    f.render_widget(p.block(b), area);
 }
 
 /// The indices of the transitions the list shows: `rows` of those the
@@ -626,8 +641,11 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
         )));
         push_history(app, &mut lines);
         f.render_widget(
-            scrolled(lines, app.scroll_ask)
-                .block(block(" why (w) ".into(), app.focus == Pane::Ask)),
+            {
+                let (p, last) = scrolled(lines, app.scroll_ask, area);
+                note_max(app, false, last);
+                p.block(block(" why (w) ".into(), app.focus == Pane::Ask))
+            },
             area,
         );
         return;
@@ -651,7 +669,9 @@ fn ask_pane(app: &App, f: &mut Frame, area: Rect) {
         )),
     }
     push_history(app, &mut lines);
-    f.render_widget(scrolled(lines, app.scroll_ask).block(b), area);
+    let (p, last) = scrolled(lines, app.scroll_ask, area);
+    note_max(app, false, last);
+    f.render_widget(p.block(b), area);
 }
 
 fn centered(area: Rect, w: u16, h: u16) -> Rect {

@@ -421,3 +421,34 @@ fn trees_and_models_print_as_mermaid() {
     );
     assert_eq!(out.matches(" --> ").count(), 34);
 }
+
+#[test]
+fn a_bare_ampersand_in_a_script_is_text_as_behaviortree_cpp_reads_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("t.xml");
+    std::fs::write(
+        &tree,
+        r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence><Script code="a:=1; b:=2"/><ScriptCondition code="a==1 && b==2"/></Sequence></BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let (ok, out, err) = btx(&["tree", tree.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(out.contains(r#"in:code="a==1 && b==2""#), "{out}");
+    // Written back as XML, it is escaped, and reads back the same.
+    let (ok, xml, err) = btx(&["tree", tree.to_str().unwrap(), "--format", "xml"]);
+    assert!(ok, "{err}");
+    assert!(xml.contains(r#"code="a==1 &amp;&amp; b==2""#), "{xml}");
+    let plan = dir.path().join("p.plan");
+    std::fs::write(&plan, "").unwrap();
+    let out = dir.path().join("s.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(err.contains("root SUCCESS"), "{err}");
+}

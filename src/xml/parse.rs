@@ -156,6 +156,58 @@ fn attach(
     Ok(())
 }
 
+/// An attribute value as BehaviorTree.CPP's XML reader (tinyxml2,
+/// `StrPair::GetStr` with entity processing) reads it: the five predefined
+/// entities and character references are replaced, and an `&` that starts
+/// none of them is literal text, so `code="a && b"` is the script `a && b`,
+/// as BT.CPP's own tests and tutorials write it. Tabs and line breaks
+/// become spaces (XML's attribute normalisation; scripts read them alike).
+pub fn attr_value(raw: &str) -> String {
+    let mut out = String::with_capacity(raw.len());
+    let mut rest = raw;
+    while let Some(c) = rest.chars().next() {
+        if c == '&' {
+            if let Some((r, len)) = reference(rest) {
+                out.push(r);
+                rest = &rest[len..];
+                continue;
+            }
+        }
+        if c == '\r' && rest[1..].starts_with('\n') {
+            rest = &rest[1..];
+            continue;
+        }
+        out.push(if matches!(c, '\t' | '\n' | '\r') {
+            ' '
+        } else {
+            c
+        });
+        rest = &rest[c.len_utf8()..];
+    }
+    out
+}
+
+/// The reference `s` starts with (`&lt;`, `&#65;`, `&#x41;`) and its length.
+fn reference(s: &str) -> Option<(char, usize)> {
+    let end = s.get(1..12.min(s.len()))?.find(';')? + 1;
+    let name = &s[1..end];
+    let c = match name {
+        "lt" => '<',
+        "gt" => '>',
+        "amp" => '&',
+        "quot" => '"',
+        "apos" => '\'',
+        _ => {
+            let code = match name.strip_prefix("#x") {
+                Some(hex) => u32::from_str_radix(hex, 16).ok()?,
+                None => name.strip_prefix('#')?.parse().ok()?,
+            };
+            char::from_u32(code).filter(|&c| c != '\0')?
+        }
+    };
+    Some((c, end + 1))
+}
+
 fn element(
     path: &Path,
     text: &str,
@@ -187,17 +239,7 @@ fn element(
                 format!("malformed XML attribute: {err}"),
             )
         })?;
-        let value = a
-            .normalized_value(quick_xml::XmlVersion::Implicit1_0)
-            .map_err(|err| {
-                Located::at(
-                    path,
-                    text,
-                    start,
-                    end,
-                    format!("malformed XML attribute value: {err}"),
-                )
-            })?;
+        let value = attr_value(&a.value);
         let key = a.key.0.to_string();
         if key.len() > NAME_MAX {
             return Err(too_long("an attribute name", key.len(), NAME_MAX));
@@ -210,10 +252,7 @@ fn element(
         if value.len() > max {
             return Err(too_long(&format!("attribute {key}"), value.len(), max));
         }
-        attrs.push(Attr {
-            key,
-            value: value.into_owned(),
-        });
+        attrs.push(Attr { key, value });
     }
     Ok(Element {
         tag,
@@ -228,6 +267,23 @@ fn element(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_ampersand_that_starts_no_entity_is_text_as_tinyxml2_reads_it() {
+        assert_eq!(attr_value("a==1 && b==2"), "a==1 && b==2");
+        assert_eq!(
+            attr_value("a &lt; 3 &amp;&amp; b &gt; 1 &#x41;&#66;"),
+            "a < 3 && b > 1 AB"
+        );
+        assert_eq!(
+            attr_value("&quot;x&apos; &unknown; &#xZZ; &#0; &"),
+            "\"x' &unknown; &#xZZ; &#0; &"
+        );
+        assert_eq!(attr_value("a\r\nb\tc\nd"), "a b c d");
+        let src = "<root>\n  <S code=\"a && b\"/>\n</root>";
+        let root = parse_document(Path::new("t.xml"), src).unwrap();
+        assert_eq!(root.children[0].attr("code"), Some("a && b"));
+    }
 
     #[test]
     fn keeps_spans_of_start_tags() {

@@ -251,6 +251,25 @@ fn an_error_past_column_65535_is_an_error_not_a_panic() {
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("long.xml:1:80055"), "{err}");
     assert!(err.contains("Decorator \"Inverter\" must have"), "{err}");
+    // A line of a few hundred bytes is shown; a longer one is not quoted.
+    for (n, shown) in [(10, true), (60, false)] {
+        let body = "<AlwaysSuccess/>".repeat(n);
+        let tree = write(
+            dir.path(),
+            "mid.xml",
+            &format!(
+                r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>{body}<Inverter/></Sequence></BehaviorTree></root>"#
+            ),
+        );
+        let (code, _, err) = btx_code(&["tree", &tree]);
+        assert_eq!(code, Some(1), "{err}");
+        assert_eq!(
+            err.contains("<AlwaysSuccess/><AlwaysSuccess/>"),
+            shown,
+            "{err}"
+        );
+        assert!(err.len() < 1500, "{}", err.len());
+    }
 }
 
 #[test]

@@ -173,8 +173,9 @@ impl From<btx::Located> for Failure {
     }
 }
 
-/// The longest line an error shows with its source (bytes).
-const LINE_SHOWN_MAX: usize = 2000;
+/// The longest line an error shows with its source (bytes): an error quotes
+/// at most a line's first few hundred bytes, and names file:line:column.
+const LINE_SHOWN_MAX: usize = 400;
 
 // Everything btx prints goes through one sanitiser (data never drives the
 // terminal), and a closed pipe (`btx log … | head`) ends btx quietly, as

@@ -361,23 +361,11 @@ fn moments_count_from_the_end_of_the_run_everywhere_one_is_taken() {
 #[test]
 fn a_session_says_how_its_run_ended() {
     let dir = tempfile::tempdir().unwrap();
-    let tree = dir.path().join("t.xml");
-    std::fs::write(
-        &tree,
+    let (ok, _, out) = run_planned(
+        dir.path(),
         r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence><AlwaysSuccess/><MyControl><AlwaysSuccess/><AlwaysFailure/></MyControl></Sequence></BehaviorTree></root>"#,
-    )
-    .unwrap();
-    let plan = dir.path().join("p.plan");
-    std::fs::write(&plan, "").unwrap();
-    let out = dir.path().join("s.jsonl");
-    let (ok, _, _) = btx(&[
-        "run",
-        tree.to_str().unwrap(),
-        "--plan",
-        plan.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        "",
+    );
     assert!(!ok);
     let s = btx::session::Session::load(&out).unwrap();
     assert_eq!(
@@ -438,17 +426,8 @@ fn a_bare_ampersand_in_a_script_is_text_as_behaviortree_cpp_reads_it() {
     let (ok, xml, err) = btx(&["tree", tree.to_str().unwrap(), "--format", "xml"]);
     assert!(ok, "{err}");
     assert!(xml.contains(r#"code="a==1 &amp;&amp; b==2""#), "{xml}");
-    let plan = dir.path().join("p.plan");
-    std::fs::write(&plan, "").unwrap();
-    let out = dir.path().join("s.jsonl");
-    let (ok, _, err) = btx(&[
-        "run",
-        tree.to_str().unwrap(),
-        "--plan",
-        plan.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let xml_text = std::fs::read_to_string(&tree).unwrap();
+    let (ok, err, _) = run_planned(dir.path(), &xml_text, "");
     assert!(ok, "{err}");
     assert!(err.contains("root SUCCESS"), "{err}");
 }

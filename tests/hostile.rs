@@ -239,28 +239,25 @@ fn a_loop_within_a_tick_is_stopped_with_the_node_and_tick() {
 #[test]
 fn an_error_past_column_65535_is_an_error_not_a_panic() {
     let dir = tempfile::tempdir().unwrap();
-    let body = "<AlwaysSuccess/>".repeat(5000);
-    let tree = write(
-        dir.path(),
-        "long.xml",
-        &format!(
-            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>{body}<Inverter/></Sequence></BehaviorTree></root>"#
-        ),
-    );
+    // One line: n leaves, then an Inverter without a child (the error).
+    let one_line = |name: &str, n: usize| {
+        write(
+            dir.path(),
+            name,
+            &format!(
+                r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>{}<Inverter/></Sequence></BehaviorTree></root>"#,
+                "<AlwaysSuccess/>".repeat(n)
+            ),
+        )
+    };
+    let tree = one_line("long.xml", 5000);
     let (code, _, err) = btx_code(&["tree", &tree]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("long.xml:1:80055"), "{err}");
     assert!(err.contains("Decorator \"Inverter\" must have"), "{err}");
     // A line of a few hundred bytes is shown; a longer one is not quoted.
     for (n, shown) in [(10, true), (60, false)] {
-        let body = "<AlwaysSuccess/>".repeat(n);
-        let tree = write(
-            dir.path(),
-            "mid.xml",
-            &format!(
-                r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>{body}<Inverter/></Sequence></BehaviorTree></root>"#
-            ),
-        );
+        let tree = one_line("mid.xml", n);
         let (code, _, err) = btx_code(&["tree", &tree]);
         assert_eq!(code, Some(1), "{err}");
         assert_eq!(

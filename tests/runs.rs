@@ -428,19 +428,11 @@ fn log_lists_filters_and_writes_json() {
 #[test]
 fn log_marks_halts() {
     let dir = tempfile::tempdir().unwrap();
-    let tree = dir.path().join("t.xml");
-    std::fs::write(&tree, r#"<root BTCPP_format="4"><BehaviorTree ID="M"><ReactiveSequence name="r"><check name="c"/><act name="a"/></ReactiveSequence></BehaviorTree><TreeNodesModel><Condition ID="check"/></TreeNodesModel></root>"#).unwrap();
-    let plan = dir.path().join("p.plan");
-    std::fs::write(&plan, "c = S, F\na = 3RS\n").unwrap();
-    let out = dir.path().join("s.jsonl");
-    let (ok, _, err) = btx(&[
-        "run",
-        tree.to_str().unwrap(),
-        "--plan",
-        plan.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (ok, err, out) = run_planned(
+        dir.path(),
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><ReactiveSequence name="r"><check name="c"/><act name="a"/></ReactiveSequence></BehaviorTree><TreeNodesModel><Condition ID="check"/></TreeNodesModel></root>"#,
+        "c = S, F\na = 3RS\n",
+    );
     assert!(ok, "{err}");
     let (ok, text, _) = btx(&["log", out.to_str().unwrap(), "--node", "a"]);
     assert!(ok);

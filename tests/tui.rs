@@ -12,6 +12,17 @@ fn opened(file: &str) -> btx::tui::app::App {
     btx::tui::open(&root.join(file), None, &btx::xml::LoadOptions::default()).unwrap()
 }
 
+/// Serial recall, with the first why-question about RepeatOrEnd answered.
+fn why_repeat_or_end() -> btx::tui::app::App {
+    let mut app = opened("sessions/serial-recall.jsonl");
+    app.selected = (1..=app.tree.len() as u32)
+        .find(|&u| app.tree.description(u) == "RepeatOrEnd")
+        .unwrap();
+    app.update(Action::Why);
+    app.update(Action::Toggle);
+    app
+}
+
 fn screen(app: &impl btx::tui::Screen, w: u16, h: u16) -> String {
     let buf = render(app, w, h);
     let mut s = String::new();
@@ -469,14 +480,8 @@ fn the_selection_stays_while_stepping_and_answers_keep_their_node() {
 #[test]
 fn every_pane_scrolls_and_zooms() {
     use btx::tui::app::Pane;
-    let mut app = opened("sessions/serial-recall.jsonl");
     // A why-answer's causal model in the details pane: 177 variables.
-    let leaf = (1..=app.tree.len() as u32)
-        .find(|&u| app.tree.description(u) == "RepeatOrEnd")
-        .unwrap();
-    app.selected = leaf;
-    app.update(Action::Why);
-    app.update(Action::Toggle);
+    let mut app = why_repeat_or_end();
     app.update(Action::Graph);
     app.focus = Pane::Details;
     let before = screen(&app, 80, 24);
@@ -723,13 +728,7 @@ fn running_nodes_are_picked_answers_are_kept_and_copied() {
 #[test]
 fn home_and_end_reach_the_ends_of_a_pane_and_scrolling_stops_there() {
     use btx::tui::app::Pane;
-    let mut app = opened("sessions/serial-recall.jsonl");
-    let leaf = (1..=app.tree.len() as u32)
-        .find(|&u| app.tree.description(u) == "RepeatOrEnd")
-        .unwrap();
-    app.selected = leaf;
-    app.update(Action::Why);
-    app.update(Action::Toggle);
+    let mut app = why_repeat_or_end();
     app.focus = Pane::Details;
     let top = screen(&app, 80, 24);
     app.update(Action::End);

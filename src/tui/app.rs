@@ -332,6 +332,12 @@ impl App {
     /// neighbour, Enter centres on it, Esc goes back to the variable asked
     /// about. Whether the key was taken.
     fn graph_key(&mut self, a: Action) -> bool {
+        if !matches!(
+            a,
+            Action::Expand | Action::Collapse | Action::Toggle | Action::Back
+        ) {
+            return false;
+        }
         let Some(w) = self.why.as_mut().filter(|w| w.graph) else {
             return false;
         };

@@ -58,3 +58,27 @@ pub fn btx(args: &[&str]) -> (bool, String, String) {
         String::from_utf8(out.stderr).unwrap(),
     )
 }
+
+/// Writes `xml` and `plan` into `dir` and runs `btx run` on them: whether it
+/// succeeded, its stderr, and the session it was to write.
+#[allow(dead_code)]
+pub fn run_planned(
+    dir: &std::path::Path,
+    xml: &str,
+    plan: &str,
+) -> (bool, String, std::path::PathBuf) {
+    let tree = dir.join("t.xml");
+    std::fs::write(&tree, xml).unwrap();
+    let plan_file = dir.join("p.plan");
+    std::fs::write(&plan_file, plan).unwrap();
+    let out = dir.join("s.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan_file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    (ok, err, out)
+}

@@ -195,6 +195,8 @@ struct NodeRt {
     entry_seq: u64,
     entry: Flow,
     entry_status: Status,
+    /// Transitions of this node so far.
+    transitions: u64,
 }
 
 /// What a control node carries from one tick into the next, as the causal
@@ -240,6 +242,39 @@ pub struct Executor<'t, L: Leaves> {
     pub forced: Vec<Forced>,
     /// How often each node was ticked in the current tick (uid − 1).
     calls: Vec<u32>,
+    /// Whether to keep `call_log` (the causal model's attempt copies read
+    /// it; a plain run does not pay for it).
+    pub record_calls: bool,
+    call_log: Vec<CallRecord>,
+    /// Transitions emitted in the current tick.
+    tick_transitions: u32,
+    /// Interventions of a counterfactual re-run on Love's attempt count:
+    /// at the start of tick `.0`, Retry or Repeat `.1` has spent `.2`.
+    pub set_count: Vec<(u32, Uid, i64)>,
+}
+
+/// One tick of a node within the current tick: the causal model gives each
+/// attempt of a Retry's or Repeat's child its own copy of the child's
+/// variables, from these.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CallRecord {
+    pub uid: Uid,
+    /// Which of the node's ticks within the tick, from 1.
+    pub call: u32,
+    /// When the call began and ended (the executor's counter of node ticks).
+    pub entry_seq: u64,
+    pub exit_seq: u64,
+    /// The node's control state and status as the call began.
+    pub entry: Flow,
+    pub entry_status: Status,
+    pub returned: Status,
+    /// Transitions of the tick emitted when the call ended, and whether
+    /// the call emitted one of the node's own.
+    pub transitions_before: u32,
+    pub transitions_after: u32,
+    pub transitioned: bool,
+    /// The action a leaf chose in this call, if it chose one.
+    pub decision: Option<String>,
 }
 
 /// One forced return status (a counterfactual re-run's intervention on
@@ -280,6 +315,10 @@ impl<'t, L: Leaves> Executor<'t, L> {
             seq: 0,
             forced: Vec::new(),
             calls: vec![0; tree.len()],
+            record_calls: false,
+            call_log: Vec::new(),
+            tick_transitions: 0,
+            set_count: Vec::new(),
         }
     }
 
@@ -301,6 +340,10 @@ impl<'t, L: Leaves> Executor<'t, L> {
             seq: self.seq,
             forced: self.forced,
             calls: vec![0; tree.len()],
+            record_calls: self.record_calls,
+            call_log: Vec::new(),
+            tick_transitions: 0,
+            set_count: self.set_count,
         }
     }
 
@@ -308,6 +351,12 @@ impl<'t, L: Leaves> Executor<'t, L> {
     /// Retry or Repeat can be ticked more than once).
     pub fn calls(&self, uid: Uid) -> u32 {
         self.calls[(uid - 1) as usize]
+    }
+
+    /// Every tick of a node in the last tick, in the order the calls
+    /// ended (kept only with `record_calls`).
+    pub fn call_log(&self) -> &[CallRecord] {
+        &self.call_log
     }
 
     /// Ticks completed so far.
@@ -361,6 +410,13 @@ impl<'t, L: Leaves> Executor<'t, L> {
     pub fn tick_once(&mut self) -> R<Status> {
         self.tick += 1;
         self.calls.iter_mut().for_each(|c| *c = 0);
+        self.call_log.clear();
+        self.tick_transitions = 0;
+        for &(t, uid, count) in &self.set_count {
+            if t == self.tick && (uid as usize) <= self.rt.len() {
+                self.rt[(uid - 1) as usize].count = count;
+            }
+        }
         self.now_ms = u64::from(self.tick - 1) * self.opts.tick_ms;
         self.fire_timers()?;
         let s = self.exec(Tree::ROOT)?;
@@ -389,6 +445,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
             return;
         }
         self.rt(uid).status = s;
+        self.rt(uid).transitions += 1;
+        self.tick_transitions += 1;
         self.leaves.observe(uid, prev, s);
         let decision = match self.pending_decision.take() {
             Some((u, d)) if u == uid => Some(d),
@@ -558,6 +616,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
         }
         let c = &mut self.calls[(uid - 1) as usize];
         *c = c.saturating_add(1);
+        let own_before = self.rt[(uid - 1) as usize].transitions;
+        let (transitions_before, events_before) = (self.tick_transitions, self.events.len());
         let mut s = match self.pre_conditions(uid)? {
             Some(s) => s,
             None => self.tick_node(uid)?,
@@ -585,6 +645,38 @@ impl<'t, L: Leaves> Executor<'t, L> {
         r.returned = s;
         if s != Status::Skipped {
             self.set_status(uid, s);
+        }
+        if self.record_calls {
+            let r = &self.rt[(uid - 1) as usize];
+            let record = CallRecord {
+                uid,
+                call: self.calls[(uid - 1) as usize],
+                entry_seq: seq,
+                exit_seq: self.seq,
+                entry: r.entry.clone(),
+                entry_status: r.entry_status,
+                returned: s,
+                transitions_before,
+                transitions_after: self.tick_transitions,
+                transitioned: r.transitions != own_before,
+                decision: self.events[events_before.min(self.events.len())..]
+                    .iter()
+                    .rev()
+                    .find_map(|e| match e {
+                        Event::Transition {
+                            uid: u,
+                            decision: Some(d),
+                            ..
+                        }
+                        | Event::Decision {
+                            uid: u,
+                            decision: d,
+                            ..
+                        } if *u == uid => Some(d.clone()),
+                        _ => None,
+                    }),
+            };
+            self.call_log.push(record);
         }
         Ok(s)
     }

@@ -11,7 +11,7 @@ pub mod status;
 pub mod world;
 
 pub use exec::{
-    Event, Executor, Flow, Forced, LeafCall, LeafOutcome, Leaves, RunError, RunOptions,
+    CallRecord, Event, Executor, Flow, Forced, LeafCall, LeafOutcome, Leaves, RunError, RunOptions,
 };
 pub use status::Status;
 

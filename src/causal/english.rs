@@ -65,8 +65,28 @@ fn subject_as(m: &Model, v: VarId, copy: bool) -> String {
         }
     }
     match m.vars[v].kind {
-        VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) => m.node_name(u),
+        VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) | VarKind::Attempts(u) => {
+            m.node_name(u)
+        }
         VarKind::State { var, .. } => m.domain.as_ref().expect("a domain").vars[var].name.clone(),
+    }
+}
+
+/// "of its 3 attempts before this tick" (cycles of a Repeat).
+fn attempts_of(m: &Model, u: crate::model::Uid) -> String {
+    let word = match m.tree.node(u).builtin {
+        Some(crate::model::Builtin::Repeat) => "cycles",
+        _ => "attempts",
+    };
+    let of = match m.attempt_loop(u) {
+        Some(l) if l.max > 0 => format!("of its {} {word}", l.max),
+        _ => word.to_string(),
+    };
+    // Attempts of the tick no copy stands for are counted in too.
+    if m.folded(u) == 0 {
+        format!("{of} before this tick")
+    } else {
+        format!("{of} before its first modelled attempt")
     }
 }
 
@@ -103,6 +123,9 @@ fn fact_as(m: &Model, v: VarId, x: &Val, copy: bool) -> String {
         (VarKind::Status(_), Val::Status(st)) => format!("{s} {}", status_past(*st)),
         (VarKind::Decision(_), Val::Action(None)) => format!("{s} chose no action"),
         (VarKind::Decision(_), a) => format!("{s} chose {}", value_text(a)),
+        (VarKind::Attempts(u), x) => {
+            format!("{s} had used {} {}", value_text(x), attempts_of(m, u))
+        }
         (_, x) => format!("{s} was {}", value_text(x)),
     }
 }
@@ -187,6 +210,9 @@ fn supposed(m: &Model, v: VarId, xs: &[Val], copy: bool) -> String {
             format!("{s} had {}", or_list(&forms))
         }
         VarKind::Decision(_) => format!("{s} had chosen {}", value_set(m, v, xs)),
+        VarKind::Attempts(u) => {
+            format!("{s} had used {} {}", value_set(m, v, xs), attempts_of(m, u))
+        }
         VarKind::State { .. } => format!("{s} had been {}", value_set(m, v, xs)),
     }
 }
@@ -209,6 +235,11 @@ fn would(m: &Model, v: VarId, x: &Val) -> String {
         ),
         (VarKind::Decision(_), Val::Action(None)) => format!("{s} would have chosen no action"),
         (VarKind::Decision(_), a) => format!("{s} would have chosen {}", value_text(a)),
+        (VarKind::Attempts(u), x) => format!(
+            "{s} would have used {} {}",
+            value_text(x),
+            attempts_of(m, u)
+        ),
         (_, x) => format!("{s} would have been {}", value_text(&m.snap(v, x))),
     }
 }
@@ -269,6 +300,7 @@ pub fn merge(m: &Model, a: &Answer) -> Vec<Vec<usize>> {
         VarKind::Executed(u) => (0, u64::from(u)),
         VarKind::Status(u) => (1, u64::from(u)),
         VarKind::Decision(u) => (2, u64::from(u)),
+        VarKind::Attempts(u) => (4, u64::from(u)),
     };
     let mut groups: Vec<Vec<usize>> = Vec::new();
     for (i, e) in a.explanations.iter().enumerate() {

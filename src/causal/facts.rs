@@ -6,7 +6,7 @@
 use crate::model::{Kind, Tree, Uid};
 use crate::run::blackboard::EntryId;
 use crate::run::replay::{Call, Replay};
-use crate::run::{Executor, Flow, RunOptions, Status};
+use crate::run::{CallRecord, Executor, Flow, RunOptions, Status};
 use crate::session::Session;
 use serde_json::Value;
 use std::collections::HashMap;
@@ -45,6 +45,18 @@ pub struct TickFacts {
     /// How often each node was ticked in the tick (a child under a Retry
     /// or Repeat may be ticked more than once), per uid − 1.
     pub calls: Vec<u32>,
+    /// Every tick of a node in this tick, in the order the calls ended.
+    pub call_log: Vec<CallRecord>,
+    /// For a leaf ticked more than once in the tick, per call: the
+    /// blackboard before it and the position after which it had happened.
+    pub per_call: HashMap<(Uid, u32), CallFacts>,
+}
+
+/// One call of a leaf ticked more than once in a tick.
+#[derive(Debug, Clone, Default)]
+pub struct CallFacts {
+    pub state_before: HashMap<EntryId, Value>,
+    pub done_at: Option<u32>,
 }
 
 fn plain_leaf(tree: &Tree, uid: Uid) -> bool {
@@ -128,8 +140,10 @@ impl TickFacts {
         let uids = 1..=n as Uid;
         let mut flows: Vec<Flow> = uids.clone().map(|u| ex.flow(u)).collect();
         let mut start: Vec<Status> = uids.clone().map(|u| ex.status(u)).collect();
+        ex.record_calls = true;
         ex.tick_once()
             .map_err(|e| format!("replaying tick {tick}: {e}"))?;
+        let call_log = ex.call_log().to_vec();
         // A node ticked more than once in the tick (under a Retry or a
         // Repeat) is taken at its last tick, and its descendants at the
         // ticks that belong to it: those that began after it began.
@@ -229,6 +243,13 @@ impl TickFacts {
                 state_before.insert(uid, state_start.clone());
             }
         }
+        let per_call = per_call_facts(
+            tree,
+            &call_log,
+            &state_start,
+            &writes_of_tick(session, tick),
+            range.start as u32,
+        );
         Ok(TickFacts {
             tick,
             ticked,
@@ -244,6 +265,59 @@ impl TickFacts {
             done_at,
             guessed,
             calls,
+            call_log,
+            per_call,
         })
     }
+}
+
+/// The writes of one tick, as (position, uid, entry, value).
+fn writes_of_tick(session: &Session, tick: u32) -> Vec<(u32, Uid, EntryId, Value)> {
+    session
+        .index
+        .writes
+        .iter()
+        .filter(|x| x.tick == tick)
+        .map(|x| (x.pos, x.uid, x.entry.clone(), x.value.clone()))
+        .collect()
+}
+
+/// The blackboard before each call, and where each call had happened, of
+/// the leaves ticked more than once in the tick (under a Retry or Repeat).
+fn per_call_facts(
+    tree: &Tree,
+    log: &[CallRecord],
+    state_start: &HashMap<EntryId, Value>,
+    writes: &[(u32, Uid, EntryId, Value)],
+    tick_start: u32,
+) -> HashMap<(Uid, u32), CallFacts> {
+    let mut out = HashMap::new();
+    let mut calls: HashMap<Uid, u32> = HashMap::new();
+    for r in log {
+        let c = calls.entry(r.uid).or_insert(0);
+        *c = (*c).max(r.call);
+    }
+    for r in log {
+        if !tree.node(r.uid).kind.is_leaf() || calls.get(&r.uid).is_none_or(|&c| c < 2) {
+            continue;
+        }
+        // Writes before the call's first transition, and those at its
+        // place made before the leaf's own.
+        let at = tick_start + r.transitions_before;
+        let mut state = state_start.clone();
+        for (pos, uid, e, v) in writes {
+            if *pos > at || (*pos == at && *uid == r.uid) {
+                break;
+            }
+            state.insert(e.clone(), v.clone());
+        }
+        out.insert(
+            (r.uid, r.call),
+            CallFacts {
+                state_before: state,
+                done_at: r.transitioned.then_some(tick_start + r.transitions_after),
+            },
+        );
+    }
+    out
 }

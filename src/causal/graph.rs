@@ -10,6 +10,7 @@ fn kind_str(k: VarKind) -> &'static str {
         VarKind::Executed(_) => "executed",
         VarKind::Status(_) => "status",
         VarKind::Decision(_) => "decision",
+        VarKind::Attempts(_) => "attempts",
         VarKind::State { .. } => "state",
     }
 }
@@ -30,6 +31,7 @@ pub fn dot(m: &Model) -> String {
             VarKind::Executed(_) => ("box", "#dbe9f6"),
             VarKind::Status(_) => ("box", "#d5f0d5"),
             VarKind::Decision(_) => ("box", "#f6e3c6"),
+            VarKind::Attempts(_) => ("box", "#eadcf4"),
             VarKind::State { .. } => ("ellipse", "#ececec"),
         };
         out.push_str(&format!(

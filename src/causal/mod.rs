@@ -7,6 +7,7 @@
 //! leaf outcomes are exogenous, so structural questions ("why did ask not
 //! run?") still get answers.
 
+pub mod attempts;
 pub mod compare;
 pub mod english;
 pub mod eval;
@@ -180,9 +181,12 @@ impl Why {
         let mut out = Vec::new();
         for g in self.groups().get(group).into_iter().flatten() {
             for &v in &self.answer.explanations[*g].vars {
-                if let VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) =
-                    self.model.vars[v].kind
+                if let VarKind::Executed(u)
+                | VarKind::Status(u)
+                | VarKind::Decision(u)
+                | VarKind::Attempts(u) = self.model.vars[v].kind
                 {
+                    let u = self.model.origin(u);
                     if !out.contains(&u) {
                         out.push(u);
                     }
@@ -210,6 +214,12 @@ impl Why {
         let m = &self.model;
         let tick = m.facts.tick;
         let moment = Moment::parse(&self.moment).ok()?;
+        // An attempt other than the last has no name to ask by.
+        if let VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) = m.vars[v].kind {
+            if m.copy_of(u).is_some() {
+                return None;
+            }
+        }
         Some(match m.vars[v].kind {
             VarKind::State { var, copy: 0 }
                 if tick > 1
@@ -231,6 +241,7 @@ impl Why {
             VarKind::Executed(u) => (format!("executed(#{u})"), foils, moment),
             VarKind::Status(u) => (format!("status(#{u})"), foils, moment),
             VarKind::Decision(u) => (format!("decision(#{u})"), foils, moment),
+            VarKind::Attempts(_) => return None,
         })
     }
 

@@ -26,11 +26,29 @@ pub enum VarKind {
     Executed(Uid),
     Status(Uid),
     Decision(Uid),
+    /// The attempts (cycles) a RetryUntilSuccessful (Repeat) had spent
+    /// before its first attempt modelled in the tick.
+    Attempts(Uid),
     /// Copy `copy` (from 0, within the tick) of domain variable `var`.
     State {
         var: usize,
         copy: u32,
     },
+}
+
+/// A RetryUntilSuccessful's or Repeat's last attempt in a model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AttemptLoop {
+    /// The status that makes it try again.
+    pub again: Status,
+    /// Attempts used before that attempt.
+    pub spent: i64,
+    /// Attempts at most (−1: no limit).
+    pub max: i64,
+    /// Whether the attempt's copy takes the wake-up path.
+    pub wakes: bool,
+    /// The attempt's copy of the child.
+    pub last: Uid,
 }
 
 /// A value of a variable.
@@ -113,16 +131,15 @@ enum Mapping {
     ForceSuccess,
     ForceFailure,
     KeepRunning,
-    /// RetryUntilSuccessful (`again` = FAILURE) or Repeat (SUCCESS): `spent`
-    /// attempts or cycles before the child's last tick of the tick, out of
-    /// `max` (−1: no limit); `wakes` when that tick started the child, so
-    /// another attempt waits for the next tick (BehaviorTree.CPP 4's
-    /// wake-up path) and the node returns RUNNING.
+    /// RetryUntilSuccessful (`again` = FAILURE) or Repeat (SUCCESS), out of
+    /// `max` attempts or cycles (−1: no limit). Its children are the copies
+    /// of its child, one per attempt (`causal::attempts`); the attempts
+    /// spent before the first are its `Attempts` variable. A copy started
+    /// in the tick takes BehaviorTree.CPP 4's wake-up path: another attempt
+    /// waits for the next tick and the node returns RUNNING.
     Loop {
         again: Status,
-        spent: i64,
         max: i64,
-        wakes: bool,
     },
 }
 
@@ -200,6 +217,13 @@ pub struct Model {
     /// Edges added beyond Algorithms 1–8 for control flow the paper does
     /// not cover (resumed composites, Parallel, branches, gates).
     pub extension_edges: usize,
+    /// Per uid − 1 of the model's tree: the attempts variable of a loop.
+    a_of: Vec<Option<VarId>>,
+    /// Per uid − 1: `Some` for the copies of a loop's child.
+    copy_of: Vec<Option<super::attempts::Copy>>,
+    /// Per uid − 1: attempts of a loop no copy stands for.
+    folded: Vec<i64>,
+    session_len: usize,
 }
 
 fn status_range(kind: Kind) -> Vec<Val> {
@@ -312,35 +336,12 @@ fn flow_of(tree: &Tree, uid: Uid, f: &crate::run::Flow) -> Flow {
     }
 }
 
-/// A RetryUntilSuccessful's or Repeat's control flow in the tick: the
-/// attempts spent before its child's last tick (those at the node's tick,
-/// and every earlier tick of the child within this one, each of which ended
-/// in another attempt), and whether that last tick started the child.
-fn loop_of(tree: &Tree, facts: &TickFacts, uid: Uid) -> Option<Flow> {
-    let n = tree.node(uid);
-    let again = match n.builtin {
-        Some(Builtin::RetryUntilSuccessful) => Status::Failure,
-        Some(Builtin::Repeat) => Status::Success,
-        _ => return None,
-    };
-    let &child = n.children.first()?;
-    let max = literal_int(
-        tree,
-        uid,
-        if again == Status::Failure {
-            &["num_attempts"]
-        } else {
-            &["num_cycles"]
-        },
-        -1,
-    );
-    let calls = i64::from(facts.calls[child as usize - 1]);
+/// A RetryUntilSuccessful's or Repeat's control flow.
+fn loop_of(tree: &Tree, uid: Uid) -> Option<Flow> {
+    let k = super::attempts::loop_kind(tree, uid)?;
     Some(Flow::Map(Mapping::Loop {
-        again,
-        spent: facts.flows[uid as usize - 1].count + (calls - 1).max(0),
-        max,
-        wakes: tree.version == crate::model::Version::V4
-            && facts.start[child as usize - 1] == Status::Idle,
+        again: k.again,
+        max: k.max,
     }))
 }
 
@@ -420,8 +421,7 @@ fn control_flows(tree: &Tree, facts: &TickFacts) -> Vec<Flow> {
             if decided_by_precondition(tree, facts, u) {
                 return Flow::Gated;
             }
-            loop_of(tree, facts, u)
-                .unwrap_or_else(|| flow_of(tree, u, &facts.flows[u as usize - 1]))
+            loop_of(tree, u).unwrap_or_else(|| flow_of(tree, u, &facts.flows[u as usize - 1]))
         })
         .collect()
 }
@@ -449,6 +449,7 @@ fn structure(
     domain: &Option<Arc<Domain>>,
     order: &[Uid],
     flows: &[Flow],
+    copy_of: &[Option<super::attempts::Copy>],
     b: &mut Builder,
 ) -> Structure {
     let n = tree.len();
@@ -462,7 +463,9 @@ fn structure(
         let i = u as usize - 1;
         let is_leaf = node.kind.is_leaf();
         let leaf = if is_leaf && node.builtin.is_none() {
-            domain.as_ref().and_then(|d| d.leaf_for(tree, u))
+            // A copy is the leaf it copies (its name says the attempt).
+            let origin = copy_of.get(i).copied().flatten().map_or(u, |c| c.origin);
+            domain.as_ref().and_then(|d| d.leaf_for(tree, origin))
         } else {
             None
         };
@@ -556,6 +559,45 @@ fn structure(
         leaf_of,
     }
 }
+
+/// Stage "attempts", its variables: each RetryUntilSuccessful's and
+/// Repeat's attempts spent before its first copy in the tick (the count it
+/// resumed with, and attempts no copy stands for). It decides what the loop
+/// returns and whether each further copy of its child is ticked.
+fn attempt_counts(
+    tree: &Tree,
+    facts: &TickFacts,
+    flows: &[Flow],
+    folded: &[i64],
+    st: &Structure,
+    b: &mut Builder,
+) -> Vec<Option<VarId>> {
+    let mut a_of = vec![None; tree.len()];
+    for (i, f) in flows.iter().enumerate() {
+        let Flow::Map(Mapping::Loop { max, .. }) = *f else {
+            continue;
+        };
+        let u = i as Uid + 1;
+        let spent = facts.flows[i].count + folded[i];
+        // Every count the node can resume with, when there are few.
+        let (range, intervene) = if (1..=ATTEMPTS_RANGE_MAX).contains(&max) {
+            ((0..max).map(|k| Val::Data(Value::from(k))).collect(), true)
+        } else {
+            (vec![Val::Data(Value::from(spent))], false)
+        };
+        let a = b.var(VarKind::Attempts(u), range, intervene, Func::Exo);
+        b.edge(a, st.r_of[i]);
+        for &c in tree.node(u).children.iter().skip(1) {
+            b.edge(a, st.e_of[c as usize - 1]);
+        }
+        a_of[i] = Some(a);
+    }
+    a_of
+}
+
+/// A loop's attempts variable has one value per count up to this many
+/// attempts; past it (or with no limit) it is not intervened on.
+const ATTEMPTS_RANGE_MAX: i64 = 100;
 
 /// Stage "domain": the state's temporal copies, read and written by the
 /// leaves in tree order (Algorithms 3–5 and 8).
@@ -786,6 +828,14 @@ impl Model {
         domain: Option<Arc<Domain>>,
         facts: TickFacts,
     ) -> Result<Model, Located> {
+        let session_len = tree.len();
+        let super::attempts::Unrolled {
+            tree,
+            facts,
+            copy_of,
+            folded,
+        } = super::attempts::unroll(tree, facts);
+        let tree = &tree;
         let n = tree.len();
         let order = tree.preorder();
         let mut pre_pos = vec![0; n];
@@ -799,7 +849,8 @@ impl Model {
             extension: 0,
         };
         let flows = control_flows(tree, &facts);
-        let st = structure(tree, &domain, &order, &flows, &mut b);
+        let st = structure(tree, &domain, &order, &flows, &copy_of, &mut b);
+        let a_of = attempt_counts(tree, &facts, &flows, &folded, &st, &mut b);
         let sc = state_copies(tree, &domain, &order, &st, &mut b);
         let g = assemble(&b, &sc.inputs_of)?;
         let leaf_of = st.leaf_of;
@@ -840,6 +891,10 @@ impl Model {
             fact: Vec::new(),
             pre_pos,
             extension_edges: b.extension,
+            a_of,
+            copy_of,
+            folded,
+            session_len,
         };
         // Stage "facts": every variable's value with no intervention.
         m.fact = m.evaluate_all()?;
@@ -977,6 +1032,10 @@ impl Model {
             VarKind::Executed(u) => Val::Bool(self.facts.ticked[u as usize - 1]),
             VarKind::Status(u) => Val::Status(self.facts.returned[u as usize - 1]),
             VarKind::Decision(u) => Val::Action(self.facts.decisions[u as usize - 1].clone()),
+            VarKind::Attempts(u) => {
+                let i = u as usize - 1;
+                Val::Data(Value::from(self.facts.flows[i].count + self.folded[i]))
+            }
         }
     }
 
@@ -1165,6 +1224,13 @@ impl Model {
                     }
                 }
             }
+            Flow::Map(Mapping::Loop { again, max }) => {
+                if k == 0 {
+                    return ep;
+                }
+                let spent = self.attempts_val(p, vals) + k as i64;
+                ep && left(k - 1) == again && (spent < max || max == -1) && !self.wakes(kids[k - 1])
+            }
             Flow::Map(_) => ep,
             Flow::Gated => {
                 ep && if self.facts.ticked[fi] {
@@ -1311,6 +1377,30 @@ impl Model {
                     other => other,
                 }
             }
+            Flow::Map(Mapping::Loop { again, max }) => {
+                let spent = self.attempts_val(uid, vals);
+                for (k, &kid) in kids.iter().enumerate() {
+                    let s = self.r_val(kid, vals);
+                    if s != again {
+                        return s;
+                    }
+                    let more = spent + k as i64 + 1 < max || max == -1;
+                    if !more {
+                        return if again == Status::Failure {
+                            Status::Failure
+                        } else {
+                            Status::Success
+                        };
+                    }
+                    if self.wakes(kid) {
+                        return Status::Running;
+                    }
+                }
+                // The node would tick its child again within the tick, in
+                // an attempt the model has no copy for (see
+                // causal::verify::retry_next).
+                again
+            }
             Flow::Map(m) => {
                 let s = r(0);
                 match (m, s) {
@@ -1320,26 +1410,6 @@ impl Model {
                     (Mapping::ForceSuccess, x) if x.is_completed() => Status::Success,
                     (Mapping::ForceFailure, x) if x.is_completed() => Status::Failure,
                     (Mapping::KeepRunning, Status::Success | Status::Skipped) => Status::Running,
-                    (
-                        Mapping::Loop {
-                            again,
-                            spent,
-                            max,
-                            wakes,
-                        },
-                        x,
-                    ) if x == again => {
-                        let more = spent + 1 < max || max == -1;
-                        match (more, again) {
-                            (false, Status::Failure) => Status::Failure,
-                            (false, _) => Status::Success,
-                            (true, _) if wakes => Status::Running,
-                            // The node would tick its child again within
-                            // the tick: what that gives is not in the
-                            // model (see causal::verify::retry_next).
-                            (true, _) => x,
-                        }
-                    }
                     _ => s,
                 }
             }
@@ -1386,37 +1456,108 @@ impl Model {
         best.map_or_else(|| x.clone(), |(_, g)| g.clone())
     }
 
-    /// A RetryUntilSuccessful's or Repeat's attempts in the tick, as its
-    /// structural function counts them: the status that makes it try again,
-    /// the attempts spent before its child's last tick, the most it makes
-    /// (−1: no limit), and whether that last tick started the child (the
-    /// wake-up path).
-    pub fn attempt_loop(&self, u: Uid) -> Option<(Status, i64, i64, bool)> {
+    /// A RetryUntilSuccessful's or Repeat's last attempt in the model, as
+    /// its structural function counts it with no change: the status that
+    /// makes it try again, the attempts spent before that attempt, the most
+    /// it makes (−1: no limit), whether the attempt's copy takes the wake-up
+    /// path, and the copy.
+    pub fn attempt_loop(&self, u: Uid) -> Option<AttemptLoop> {
         match self.flows[u as usize - 1] {
-            Flow::Map(Mapping::Loop {
-                again,
-                spent,
-                max,
-                wakes,
-            }) => Some((again, spent, max, wakes)),
+            Flow::Map(Mapping::Loop { again, max }) => {
+                let kids = &self.tree.node(u).children;
+                let &last = kids.last()?;
+                Some(AttemptLoop {
+                    again,
+                    spent: self.attempts_val(u, &self.fact) + kids.len() as i64 - 1,
+                    max,
+                    wakes: self.wakes(last),
+                    last,
+                })
+            }
             _ => None,
         }
+    }
+
+    /// A loop's attempts variable.
+    pub fn attempts_var(&self, u: Uid) -> Option<VarId> {
+        self.a_of.get(u as usize - 1).copied().flatten()
+    }
+
+    /// The attempts a loop had spent before its first copy, in `vals`.
+    fn attempts_val(&self, u: Uid, vals: &[Val]) -> i64 {
+        match self
+            .a_of
+            .get(u as usize - 1)
+            .copied()
+            .flatten()
+            .map(|a| &vals[a])
+        {
+            Some(Val::Data(Value::Number(n))) => n.as_i64().unwrap_or(0),
+            _ => 0,
+        }
+    }
+
+    /// Whether a copy of a loop's child was started in the tick, so that
+    /// ending in another attempt takes BehaviorTree.CPP 4's wake-up path.
+    fn wakes(&self, child: Uid) -> bool {
+        self.tree.version == crate::model::Version::V4
+            && self.facts.start[child as usize - 1] == Status::Idle
+    }
+
+    /// The copy a node of the model is, if it is not one of the session's
+    /// (an attempt of a loop's child other than its last in the tick).
+    pub fn copy_of(&self, u: Uid) -> Option<super::attempts::Copy> {
+        self.copy_of.get(u as usize - 1).copied().flatten()
+    }
+
+    /// The session's node a node of the model stands for.
+    pub fn origin(&self, u: Uid) -> Uid {
+        self.copy_of(u).map_or(u, |c| c.origin)
+    }
+
+    /// Attempts of a loop in the tick that no copy stands for.
+    pub fn folded(&self, u: Uid) -> i64 {
+        self.folded.get(u as usize - 1).copied().unwrap_or(0)
+    }
+
+    /// How many nodes the session's tree has (the model's tree may have
+    /// more: the copies).
+    pub fn session_len(&self) -> usize {
+        self.session_len
     }
 
     /// A node as answers name it: its description, with its uid when
     /// another node of the tree reads the same ("insert large gear (#13)").
     pub fn node_name(&self, u: Uid) -> String {
-        let d = self.tree.description(u);
-        let shared = self
-            .tree
-            .nodes
+        let o = self.origin(u);
+        let d = self.tree.description(o);
+        let shared = self.tree.nodes[..self.session_len]
             .iter()
-            .any(|n| n.uid != u && self.tree.description(n.uid) == d);
-        if shared {
-            format!("{d} (#{u})")
-        } else {
-            d.to_string()
+            .any(|n| n.uid != o && self.tree.description(n.uid) == d);
+        match (self.attempt_of(u), shared) {
+            (Some(a), true) => format!("{d} (#{o}, attempt {a})"),
+            (Some(a), false) => format!("{d} (attempt {a})"),
+            (None, true) => format!("{d} (#{u})"),
+            (None, false) => d.to_string(),
         }
+    }
+
+    /// The attempt of a loop a node belongs to, when the model has more
+    /// than one attempt of that loop in the tick.
+    pub fn attempt_of(&self, u: Uid) -> Option<i64> {
+        if let Some(c) = self.copy_of(u) {
+            return Some(c.attempt);
+        }
+        let mut child = u;
+        for a in self.tree.ancestors(u) {
+            let kids = &self.tree.node(a).children;
+            if self.attempt_loop(a).is_some() && kids.len() > 1 {
+                let k = kids.iter().position(|&c| c == child)? as i64;
+                return Some(self.attempts_val(a, &self.fact) + k + 1);
+            }
+            child = a;
+        }
+        None
     }
 
     /// A human name for a variable: `executed(L0)`, `X_b^1`.
@@ -1425,6 +1566,7 @@ impl Model {
             VarKind::Executed(u) => format!("executed({})", self.node_name(u)),
             VarKind::Status(u) => format!("status({})", self.node_name(u)),
             VarKind::Decision(u) => format!("decision({})", self.node_name(u)),
+            VarKind::Attempts(u) => format!("attempts({})", self.node_name(u)),
             VarKind::State { var, copy } => {
                 let d = self.domain.as_ref().expect("a domain");
                 format!("{}^{copy}", d.vars[var].name)
@@ -1526,6 +1668,7 @@ impl Model {
             VarKind::Executed(u) => (0, self.pre_pos[u as usize - 1], 0),
             VarKind::Status(u) => (0, self.pre_pos[u as usize - 1], 1),
             VarKind::Decision(u) => (0, self.pre_pos[u as usize - 1], 2),
+            VarKind::Attempts(u) => (0, self.pre_pos[u as usize - 1], 3),
             VarKind::State { var, copy } => (1, var, copy),
         }
     }
@@ -1679,7 +1822,7 @@ mod tests {
         let facts = TickFacts::of(&s, 1).unwrap();
         let flows = control_flows(&s.tree, &facts);
         let mut b = builder();
-        let st = structure(&s.tree, &Some(d), &s.tree.preorder(), &flows, &mut b);
+        let st = structure(&s.tree, &Some(d), &s.tree.preorder(), &flows, &[], &mut b);
         // Five nodes: E and r each, d for the two action leaves L1 and L2.
         assert_eq!(b.vars.len(), 12);
         assert!(st.e_of.iter().chain(&st.r_of).all(|&v| v < 12));
@@ -1695,7 +1838,7 @@ mod tests {
         let order = s.tree.preorder();
         let mut b = builder();
         let dom = Some(Arc::clone(&d));
-        let st = structure(&s.tree, &dom, &order, &flows, &mut b);
+        let st = structure(&s.tree, &dom, &order, &flows, &[], &mut b);
         let sc = state_copies(&s.tree, &dom, &order, &st, &mut b);
         let count = |name: &str| sc.copies[d.var(name).unwrap()].len();
         // Love's Table 1 model: X_a twice, X_b three times, X_c and X_d once.
@@ -1726,30 +1869,30 @@ mod tests {
         };
         let leaves = PlanLeaves::new(plan, &tree);
         let s = simulate(&tree, source, None, 10, RunOptions::default(), leaves).unwrap();
-        // Tick 1: a starts and fails at once; the Retry waits for tick 2.
-        let f1 = control_flows(&tree, &TickFacts::of(&s, 1).unwrap());
+        // Tick 1: a starts and fails at once; the Retry waits for tick 2:
+        // one attempt, no other copy.
+        let m1 = Model::build(&tree, None, TickFacts::of(&s, 1).unwrap()).unwrap();
         assert!(matches!(
-            f1[0],
-            Flow::Map(Mapping::Loop {
-                spent: 0,
-                max: 3,
-                wakes: true,
-                ..
-            })
+            m1.flows[0],
+            Flow::Map(Mapping::Loop { max: 3, .. })
         ));
-        // Tick 3: a was running, fails, and the Retry tries again at once
-        // (attempt 3, the child ticked twice in the tick).
+        assert_eq!(m1.tree.node(1).children, vec![2]);
+        let l = m1.attempt_loop(1).unwrap();
+        assert_eq!(
+            (l.again, l.spent, l.max, l.wakes, l.last),
+            (Status::Failure, 0, 3, true, 2)
+        );
+        // Tick 3: a was running, fails, and the Retry tries again at once:
+        // attempt 2 is a copy, attempt 3 the session's node.
         let facts = TickFacts::of(&s, 3).unwrap();
         assert_eq!(facts.calls[1], 2);
-        let f3 = control_flows(&tree, &facts);
-        assert!(matches!(
-            f3[0],
-            Flow::Map(Mapping::Loop {
-                spent: 2,
-                wakes: true,
-                ..
-            })
-        ));
+        let m3 = Model::build(&tree, None, facts).unwrap();
+        assert_eq!(m3.tree.node(1).children, vec![3, 2]);
+        let l = m3.attempt_loop(1).unwrap();
+        assert_eq!(
+            (l.again, l.spent, l.max, l.wakes, l.last),
+            (Status::Failure, 2, 3, true, 2)
+        );
         // And the model reproduces every tick of it.
         for t in 1..=s.index.ticks() {
             let m = Model::build(&tree, None, TickFacts::of(&s, t).unwrap()).unwrap();

@@ -15,7 +15,12 @@ pub enum Target {
     Status(Uid),
     Executed(Uid),
     Decision(Uid),
-    State { var: usize, copy: Option<u32> },
+    /// A loop's attempts used before the tick.
+    Attempts(Uid),
+    State {
+        var: usize,
+        copy: Option<u32>,
+    },
 }
 
 /// Parses a target against a model's tree and domain.
@@ -26,10 +31,20 @@ pub fn parse_target(model: &Model, s: &str) -> Result<Target, String> {
             .strip_suffix(')')
             .ok_or_else(|| format!("\"{s}\": a target reads status(NODE), executed(NODE), decision(NODE) or a state variable"))?;
         let uid = pick(&model.tree, inner.trim()).map_err(|e| e.to_string())?;
+        // `#N` is BehaviorTree.CPP's numbering; an attempt's copy is picked
+        // by the name answers give it ("look at chuck (attempt 1)").
+        if uid as usize > model.session_len() && inner.trim().starts_with('#') {
+            return Err(format!(
+                "there is no node {}: the tree has nodes #1 to #{}",
+                inner.trim(),
+                model.session_len()
+            ));
+        }
         return match f.trim().to_ascii_lowercase().as_str() {
             "status" | "return" | "r" => Ok(Target::Status(uid)),
             "executed" | "e" | "ran" => Ok(Target::Executed(uid)),
             "decision" | "d" => Ok(Target::Decision(uid)),
+            "attempts" => Ok(Target::Attempts(uid)),
             other => Err(format!(
                 "\"{other}(…)\" is not a target: use status(NODE), executed(NODE) or decision(NODE)"
             )),
@@ -95,6 +110,12 @@ pub fn target_var(model: &Model, t: &Target, pos: u32) -> Result<VarId, String> 
                 model.tree.description(u)
             )
         })?,
+        Target::Attempts(u) => model.attempts_var(u).ok_or_else(|| {
+            format!(
+                "{} counts no attempts: only a RetryUntilSuccessful or a Repeat does",
+                model.tree.description(u)
+            )
+        })?,
         Target::State { var, copy } => match copy {
             Some(k) => model.copies[var][k as usize],
             None => model
@@ -125,6 +146,11 @@ pub fn parse_value(model: &Model, v: VarId, s: &str) -> Result<Val, String> {
                 .map(Val::Status)
                 .ok_or_else(|| bad("a status (SUCCESS, FAILURE, RUNNING, IDLE)")),
         },
+        VarKind::Attempts(_) => s
+            .trim()
+            .parse::<i64>()
+            .map(|n| Val::Data(Value::from(n)))
+            .map_err(|_| bad("a number of attempts")),
         VarKind::Decision(_) => {
             let t = s.trim();
             if matches!(

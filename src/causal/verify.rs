@@ -3,7 +3,7 @@
 //! tick asked about, the explanation's change is made within that tick, and
 //! the target must come out as the explanation says. The model only proposes.
 
-use super::model::{Model, Val, VarKind};
+use super::model::{AttemptLoop, Model, Val, VarKind};
 use super::search::{Explanation, Next, Query};
 use crate::model::Uid;
 use crate::run::blackboard::EntryId;
@@ -201,13 +201,13 @@ impl<'s> Rerunner<'s> {
         for (i, u) in model.tree.preorder().into_iter().enumerate() {
             iv.order[u as usize - 1] = i;
         }
+        let call = |u: Uid| self.call_of(model, u);
         for (v, x) in dos {
-            let call = |u: Uid| self.calls[u as usize - 1].max(1);
             match (model.vars[*v].kind, x) {
                 (VarKind::Status(_), Val::Status(Status::Idle)) => {
                     return Err("a node's not being ticked is a change of its execution, which btx does not re-run yet".into())
                 }
-                (VarKind::Status(u), _) if self.calls[u as usize - 1] == 0 => {
+                (VarKind::Status(u), _) if !model.facts.ticked[u as usize - 1] => {
                     return Err(format!(
                         "{} was not ticked in tick {tick}, so a re-run cannot give it another status",
                         model.tree.description(u)
@@ -215,11 +215,19 @@ impl<'s> Rerunner<'s> {
                 }
                 (VarKind::Status(u), Val::Status(s)) => ex.forced.push(Forced {
                     tick,
-                    uid: u,
+                    uid: model.origin(u),
                     call: call(u),
                     status: *s,
                 }),
-                (VarKind::Decision(u), Val::Action(a)) => iv.actions.push((u, call(u), a.clone())),
+                (VarKind::Decision(u), Val::Action(a)) => {
+                    iv.actions.push((model.origin(u), call(u), a.clone()))
+                }
+                (VarKind::Attempts(u), Val::Data(n)) => {
+                    if model.folded(u) != 0 {
+                        return Err(format!("{} ticked its child more often in tick {tick} than the model has attempts for", model.tree.description(u)));
+                    }
+                    ex.set_count.push((tick, u, n.as_i64().unwrap_or(0)));
+                }
                 (VarKind::State { var, copy }, Val::Data(d)) => match copy_place(model, var, copy) {
                     None => before.push((var, d.clone())),
                     Some(p) => iv.sets.push((p, var, d.clone())),
@@ -242,6 +250,7 @@ impl<'s> Rerunner<'s> {
         }
         let mut decisions: Vec<(Uid, String)> = Vec::new();
         for t in 1..=tick {
+            ex.record_calls = t == tick;
             if t == tick && !before.is_empty() {
                 let SourceLeaves::Domain(l) = &mut ex.leaves else {
                     unreachable!("checked above")
@@ -282,8 +291,35 @@ impl<'s> Rerunner<'s> {
             }
             r.map_err(|e| format!("the re-run stopped: {e}"))?;
         }
-        let calls = (1..=model.tree.len() as Uid).map(|u| ex.calls(u)).collect();
+        let calls = (1..=model.session_len() as Uid)
+            .map(|u| ex.calls(u))
+            .collect();
+        // A node of an attempt is read at its own call.
+        let record = |u: Uid| {
+            let c = call(u);
+            ex.call_log()
+                .iter()
+                .find(|r| r.uid == model.origin(u) && r.call == c)
+        };
         let val = match model.vars[target].kind {
+            VarKind::Status(u) if self.in_attempts(model, u) => Val::Status(
+                record(u)
+                    .map(|r| r.returned)
+                    .filter(|s| *s != Status::Skipped)
+                    .unwrap_or(Status::Idle),
+            ),
+            VarKind::Executed(u) if self.in_attempts(model, u) => Val::Bool(record(u).is_some()),
+            VarKind::Decision(u) if self.in_attempts(model, u) => Val::Action(
+                record(u)
+                    .and_then(|r| r.decision.clone())
+                    .filter(|d| d != "null"),
+            ),
+            VarKind::Attempts(u) => Val::Data(serde_json::Value::from(
+                ex.call_log()
+                    .iter()
+                    .find(|r| r.uid == u)
+                    .map_or(0, |r| r.entry.count),
+            )),
             VarKind::Status(u) => {
                 let (t, s) = ex.last_ticked(u);
                 Val::Status(if t == tick && s != Status::Skipped {
@@ -316,12 +352,34 @@ impl<'s> Rerunner<'s> {
         Ok((val, calls))
     }
 
+    /// Which call within the tick a node of the model stands for: a copy's
+    /// own (the attempt that did not happen: the one after the last), else
+    /// the node's last in the reference run.
+    fn call_of(&self, model: &Model, u: Uid) -> u32 {
+        let last = |o: Uid| self.calls.get(o as usize - 1).copied().unwrap_or(0);
+        match model.copy_of(u) {
+            Some(c) if c.call > 0 => c.call,
+            Some(c) => last(c.origin) + 1,
+            None => last(u).max(1),
+        }
+    }
+
+    /// Whether a node is in a loop the model has copies of attempts for
+    /// (it is then read at its own call, not at its last).
+    fn in_attempts(&self, model: &Model, u: Uid) -> bool {
+        let t = &model.tree;
+        model.copy_of(u).is_some()
+            || t.ancestors(u)
+                .any(|a| model.attempt_loop(a).is_some() && t.node(a).children.len() > 1)
+    }
+
     /// Checks an explanation whose consequent is a retry: re-run, the
     /// node's child must be ticked again within the tick.
     pub fn check_retry(&self, model: &Model, query: &Query, e: &Explanation, node: Uid) -> Check {
         let Some(&child) = model.tree.node(node).children.first() else {
             return Check::NotRerun("the node has no child".into());
         };
+        let child = model.origin(child);
         let before = self.calls[child as usize - 1];
         for values in e.values.iter().take(ASSIGNMENTS_MAX) {
             let dos: Vec<(usize, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
@@ -418,7 +476,7 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
             if budget == 0 {
                 return first
                     .or_else(|| order.iter().copied().find(|&u| unknown(u)))
-                    .map(Next::Unknown);
+                    .map(|u| unknown_or_retry(model, u));
             }
             budget -= 1;
             let Ok(vals) = model.evaluate_with(&dos) else {
@@ -432,7 +490,7 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
             match open {
                 None => {
                     if model.snap(t, &vals[t]) != claimed {
-                        return first.map(Next::Unknown);
+                        return first.map(|u| unknown_or_retry(model, u));
                     }
                 }
                 Some(u) => {
@@ -451,13 +509,34 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
     None
 }
 
+/// A leaf nothing recorded, as what the tree would do next: a leaf of an
+/// attempt that did not happen is that attempt ("I would have retried").
+fn unknown_or_retry(model: &Model, leaf: Uid) -> Next {
+    let Some(c) = model.copy_of(leaf).filter(|c| c.call == 0) else {
+        return Next::Unknown(leaf);
+    };
+    let found = model
+        .tree
+        .ancestors(leaf)
+        .find_map(|a| model.attempt_loop(a).map(|l| (a, l)));
+    match found {
+        Some((node, l)) => Next::Retry {
+            node,
+            attempt: c.attempt,
+            of: l.max,
+            repeat: l.again == Status::Success,
+        },
+        None => Next::Unknown(leaf),
+    }
+}
+
 /// Where the model passes a RetryUntilSuccessful's (Repeat's) child status
 /// straight up although the node would tick the child again within the
 /// tick: under the change `dos`, a child that did not fail (succeed) in the
 /// run now does, with attempts (cycles) left. The model cannot say what the
 /// next attempt gives; the run would have retried. Nearest the target first.
 pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
-    let loops: Vec<(Uid, (Status, i64, i64, bool))> = (1..=model.tree.len() as Uid)
+    let loops: Vec<(Uid, AttemptLoop)> = (1..=model.tree.len() as Uid)
         .filter_map(|u| model.attempt_loop(u).map(|l| (u, l)))
         .collect();
     if loops.is_empty() {
@@ -467,13 +546,11 @@ pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<
     let matters = model.ancestors(&query.targets);
     let dist = model.distances_to(&query.targets);
     let mut found: Option<(usize, Next)> = None;
-    for (u, (again, spent, max, wakes)) in loops {
+    for (u, l) in loops {
+        let (again, spent, max, wakes, c) = (l.again, l.spent, l.max, l.wakes, l.last);
         if vals[model.e(u)] != Val::Bool(true) || !matters.contains(&model.r(u)) {
             continue;
         }
-        let Some(&c) = model.tree.node(u).children.first() else {
-            continue;
-        };
         let again = Val::Status(again);
         if vals[model.r(c)] != again || model.fact[model.r(c)] == again {
             continue;
@@ -496,4 +573,56 @@ pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<
         }
     }
     found.map(|(_, n)| n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::causal::search::Explanation;
+    use crate::causal::TickFacts;
+    use crate::run::plan::{Plan, PlanLeaves};
+    use crate::session::record::simulate;
+    use crate::session::Source;
+    use std::path::Path;
+
+    #[test]
+    fn an_attempt_the_run_does_not_give_is_said_as_a_retry() {
+        let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><RetryUntilSuccessful num_attempts="3"><Sequence><a name="a"/><b name="b"/></Sequence></RetryUntilSuccessful></BehaviorTree></root>"#;
+        let tree = crate::xml::load_str(Path::new("t.xml"), xml, &Default::default())
+            .unwrap()
+            .tree;
+        let plan = Plan::parse(Path::new("t.plan"), "a = S\nb = 2RS").unwrap();
+        let source = Source {
+            kind: "plan".into(),
+            path: None,
+            text: Some(plan.text.clone()),
+            name: None,
+        };
+        let leaves = PlanLeaves::new(plan, &tree);
+        let s = simulate(&tree, source, None, 5, Default::default(), leaves).unwrap();
+        // Tick 2: b resumed and still running; had it failed, attempt 2
+        // (copies 5–7) would have started in the tick, with leaves whose
+        // outcomes nothing gives.
+        let m = Model::build(&tree, None, TickFacts::of(&s, 2).unwrap()).unwrap();
+        assert_eq!(m.copy_of(6).map(|c| (c.origin, c.call)), Some((3, 0)));
+        let q = Query {
+            targets: vec![m.r(1)],
+            foils: vec![vec![Val::Status(Status::Success)]],
+        };
+        let e = Explanation {
+            vars: vec![m.r(4)],
+            values: vec![vec![Val::Status(Status::Failure)]],
+            outcome: vec![Val::Status(Status::Running)],
+            next: None,
+        };
+        assert_eq!(
+            unknown_next(&m, &q, &e),
+            Some(Next::Retry {
+                node: 1,
+                attempt: 2,
+                of: 3,
+                repeat: false
+            })
+        );
+    }
 }

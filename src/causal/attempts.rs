@@ -240,17 +240,20 @@ fn copy_subtree(
     first
 }
 
+/// A planned run of a tree, for the tests of the stages that read it.
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::causal::model::{Model, Val};
+pub(crate) mod testing {
+    use crate::model::Tree;
     use crate::run::plan::{Plan, PlanLeaves};
     use crate::run::RunOptions;
     use crate::session::record::simulate;
     use crate::session::{Session, Source};
     use std::path::Path;
 
-    fn run(xml: &str, plan: &str, ticks: u32) -> (Tree, Session) {
+    /// A Retry over a Sequence of two leaves, a and b.
+    pub const RETRY: &str = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><RetryUntilSuccessful num_attempts="3"><Sequence><a name="a"/><b name="b"/></Sequence></RetryUntilSuccessful></BehaviorTree></root>"#;
+
+    pub fn planned(xml: &str, plan: &str, ticks: u32) -> (Tree, Session) {
         let tree = crate::xml::load_str(Path::new("t.xml"), xml, &Default::default())
             .unwrap()
             .tree;
@@ -265,8 +268,13 @@ mod tests {
         let s = simulate(&tree, source, None, ticks, RunOptions::default(), leaves).unwrap();
         (tree, s)
     }
+}
 
-    const RETRY: &str = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><RetryUntilSuccessful num_attempts="3"><Sequence><a name="a"/><b name="b"/></Sequence></RetryUntilSuccessful></BehaviorTree></root>"#;
+#[cfg(test)]
+mod tests {
+    use super::testing::{planned as run, RETRY};
+    use super::*;
+    use crate::causal::model::{Model, Val};
 
     #[test]
     fn an_earlier_attempt_of_the_tick_is_a_copy_with_its_own_facts() {

@@ -1793,10 +1793,7 @@ impl Evaluator<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::run::plan::{Plan, PlanLeaves};
-    use crate::run::RunOptions;
-    use crate::session::record::simulate;
-    use crate::session::{Session, Source};
+    use crate::session::Session;
     use std::path::Path;
 
     fn case_study() -> (Session, Arc<Domain>) {
@@ -1857,18 +1854,7 @@ mod tests {
     #[test]
     fn attempts_follow_the_wake_up_path() {
         let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><RetryUntilSuccessful num_attempts="3"><a name="a"/></RetryUntilSuccessful></BehaviorTree></root>"#;
-        let tree = crate::xml::load_str(Path::new("t.xml"), xml, &Default::default())
-            .unwrap()
-            .tree;
-        let plan = Plan::parse(Path::new("t.plan"), "a = F, 1RF, S").unwrap();
-        let source = Source {
-            kind: "plan".into(),
-            path: None,
-            text: Some(plan.text.clone()),
-            name: None,
-        };
-        let leaves = PlanLeaves::new(plan, &tree);
-        let s = simulate(&tree, source, None, 10, RunOptions::default(), leaves).unwrap();
+        let (tree, s) = crate::causal::attempts::testing::planned(xml, "a = F, 1RF, S", 10);
         // Tick 1: a starts and fails at once; the Retry waits for tick 2:
         // one attempt, no other copy.
         let m1 = Model::build(&tree, None, TickFacts::of(&s, 1).unwrap()).unwrap();

@@ -580,26 +580,11 @@ mod tests {
     use super::*;
     use crate::causal::search::Explanation;
     use crate::causal::TickFacts;
-    use crate::run::plan::{Plan, PlanLeaves};
-    use crate::session::record::simulate;
-    use crate::session::Source;
-    use std::path::Path;
 
     #[test]
     fn an_attempt_the_run_does_not_give_is_said_as_a_retry() {
-        let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><RetryUntilSuccessful num_attempts="3"><Sequence><a name="a"/><b name="b"/></Sequence></RetryUntilSuccessful></BehaviorTree></root>"#;
-        let tree = crate::xml::load_str(Path::new("t.xml"), xml, &Default::default())
-            .unwrap()
-            .tree;
-        let plan = Plan::parse(Path::new("t.plan"), "a = S\nb = 2RS").unwrap();
-        let source = Source {
-            kind: "plan".into(),
-            path: None,
-            text: Some(plan.text.clone()),
-            name: None,
-        };
-        let leaves = PlanLeaves::new(plan, &tree);
-        let s = simulate(&tree, source, None, 5, Default::default(), leaves).unwrap();
+        use crate::causal::attempts::testing::{planned, RETRY};
+        let (tree, s) = planned(RETRY, "a = S\nb = 2RS", 5);
         // Tick 2: b resumed and still running; had it failed, attempt 2
         // (copies 5–7) would have started in the tick, with leaves whose
         // outcomes nothing gives.

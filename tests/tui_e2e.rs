@@ -211,3 +211,125 @@ fn ctrl_z_suspends_and_fg_redraws() {
     let s = t.wait_for("EXITED:0");
     assert_eq!(t.terminal(), "0 0 1", "{s}");
 }
+
+#[test]
+fn a_panic_gives_the_terminal_back_and_says_why() {
+    if !tmux_here() {
+        return;
+    }
+    let t = Tmux(format!("btx-panic-{}", std::process::id()));
+    let cmd = format!(
+        "BTX_CRASH_AFTER_DRAW=1 {}; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx")
+    );
+    t.start(&cmd);
+    let s = t.wait_for("EXITED:");
+    assert!(s.contains("EXITED:101"), "{s}");
+    assert!(
+        s.contains("crashing on purpose"),
+        "the panic is reported: {s}"
+    );
+    assert!(
+        !s.contains("full tree"),
+        "the alternate screen was left: {s}"
+    );
+    assert_eq!(t.terminal(), "0 0 1", "the terminal after: {s}");
+}
+
+#[test]
+fn why_on_a_run_stopped_by_an_unknown_control_node_answers_in_the_terminal() {
+    // Was a panic (src/session/index.rs:278) that left mouse reporting on.
+    if !tmux_here() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("t.xml");
+    let plan = dir.path().join("t.plan");
+    let out = dir.path().join("s.jsonl");
+    std::fs::write(
+        &tree,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><MyControl><a name="a"/><b name="b"/></MyControl></BehaviorTree></root>"#,
+    )
+    .unwrap();
+    std::fs::write(&plan, "a = S\nb = S\n").unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["run", tree.to_str().unwrap(), "--plan"])
+        .arg(&plan)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1), "the run stops with an error");
+    let t = Tmux(format!("btx-unknown-{}", std::process::id()));
+    t.start(&format!(
+        "{} open {}; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx"),
+        out.display()
+    ));
+    t.wait_for("run stopped at tick 1 by an error");
+    t.run(&["send-keys", "-t", "btx", "w"]);
+    // The status line says why there is nothing to ask.
+    let s = t.wait_for("replaying tick 1");
+    assert!(s.contains("full tree"), "{s}");
+    t.run(&["send-keys", "-t", "btx", "Escape"]);
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    let s = t.wait_for("EXITED:");
+    assert!(s.contains("EXITED:0"), "{s}");
+    assert_eq!(t.terminal(), "0 0 1", "the terminal after: {s}");
+}
+
+/// A key as tmux's `send-keys` names it (`None`: typed as text).
+fn tmux_key(name: &str) -> Option<String> {
+    Some(match name {
+        "Esc" => "Escape".into(),
+        "Backspace" => "BSpace".into(),
+        "PageUp" => "PPage".into(),
+        "PageDown" => "NPage".into(),
+        "Up" | "Down" | "Left" | "Right" | "Enter" | "Tab" | "Home" | "End" | "Space" => {
+            name.into()
+        }
+        n if n.starts_with("Ctrl-") => format!("C-{}", &n[5..]),
+        _ => return None,
+    })
+}
+
+#[test]
+fn every_key_of_the_keymap_in_a_real_terminal() {
+    if !tmux_here() {
+        return;
+    }
+    let t = Tmux(format!("btx-keys-{}", std::process::id()));
+    t.start(&format!(
+        "{}; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx")
+    ));
+    t.wait_for("moment 1 ");
+    let km = btx::tui::keymap::Keymap::default();
+    let mut pressed = 0;
+    for (keys, action, _, _) in &km.keys {
+        if *action == btx::tui::keymap::Action::Quit {
+            continue;
+        }
+        for k in keys {
+            match tmux_key(k) {
+                Some(name) => t.run(&["send-keys", "-t", "btx", &name]),
+                None => t.run(&["send-keys", "-t", "btx", "-l", k]),
+            };
+            // Whatever the key opened (a list, a prompt, the help) closes.
+            t.run(&["send-keys", "-t", "btx", "Escape"]);
+            std::thread::sleep(Duration::from_millis(100));
+            let s = t.screen();
+            assert!(
+                !s.contains("EXITED:"),
+                "{action:?} ({k}) ended the explorer: {s}"
+            );
+            pressed += 1;
+        }
+    }
+    assert!(pressed >= 30, "{pressed}");
+    // Still drawing, and it gives the terminal back on quit.
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    let s = t.wait_for("EXITED:");
+    assert!(s.contains("EXITED:0"), "{s}");
+    assert_eq!(t.terminal(), "0 0 1", "the terminal after: {s}");
+}

@@ -319,6 +319,9 @@ impl Index {
 
     /// The moment of a position (`TICK:STEP`, or `TICK` at a tick's end).
     pub fn moment(&self, pos: u32) -> Moment {
+        // A run stopped by an error in its first tick has a tick and no
+        // transition: every position is its start.
+        let pos = pos.min(self.transitions.len() as u32);
         if pos == 0 {
             return Moment {
                 tick: 1,

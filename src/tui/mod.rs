@@ -6,6 +6,7 @@ pub mod diff;
 pub mod diff_view;
 pub mod graph_view;
 pub mod keymap;
+pub mod panes;
 pub mod svg;
 pub mod view;
 
@@ -328,6 +329,9 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
         ratatui_hook(info);
     }));
     let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
+    // The end-to-end tests crash the explorer on purpose, to see the panic
+    // path give the terminal back; nothing else sets this.
+    let crash = std::env::var_os(CRASH_ENV).is_some();
     let result = (|| -> std::io::Result<()> {
         let mut dirty = true;
         while !app.done() {
@@ -339,6 +343,9 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
                     }
                 })?;
                 dirty = false;
+                if crash {
+                    panic!("{CRASH_ENV} is set: crashing on purpose after the first frame");
+                }
             }
             // Block until input; wake on a timer only while playing.
             let ev = if let Some(every) = app.play_every() {
@@ -381,6 +388,10 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
     watcher.close();
     result
 }
+
+/// Set, the explorer panics once it has drawn its first frame (a test hook
+/// for the panic path).
+pub const CRASH_ENV: &str = "BTX_CRASH_AFTER_DRAW";
 
 /// The scripted scenes of `btx screenshot --demo SCENE`.
 pub const SCENES: [&str; 7] = [

@@ -497,16 +497,16 @@ fn every_pane_scrolls_and_zooms() {
     app.update(Action::Zoom);
     // The wheel over the ask pane scrolls it, the focus stays.
     app.wheel(Pane::Ask, true);
-    assert_eq!(app.scroll_ask, 1);
+    assert_eq!(app.answers.scroll, 1);
     assert_eq!(app.focus, Pane::Details);
     // The timeline's list scrolls away from the moment and back on a step.
     app.focus = Pane::Timeline;
     let pos = app.pos;
     app.update(Action::PageUp);
     assert_eq!(app.pos, pos, "scrolling the list does not move the moment");
-    assert_eq!(app.scroll_timeline, -10);
+    assert_eq!(app.timeline.scroll, -10);
     app.update(Action::StepBack);
-    assert_eq!(app.scroll_timeline, 0);
+    assert_eq!(app.timeline.scroll, 0);
 }
 
 #[test]
@@ -549,7 +549,7 @@ fn the_transition_list_filters_and_follows_the_moment() {
         "{l}"
     );
     // The selected subtree: go insert large gear's transitions only.
-    app.log_filter.text.clear();
+    app.timeline.filter.text.clear();
     app.selected = 13;
     app.update(Action::OnlyBelow);
     let s = screen(&app, 110, 34);
@@ -712,9 +712,13 @@ fn running_nodes_are_picked_answers_are_kept_and_copied() {
     app.update(Action::Ask);
     app.update(Action::Down);
     app.update(Action::Toggle);
-    assert_eq!(app.history.len(), 1);
-    assert!(app.history[0].ends_with(&first), "{:?}", app.history);
-    assert!(app.history[0].starts_with(&format!(
+    assert_eq!(app.answers.history.len(), 1);
+    assert!(
+        app.answers.history[0].ends_with(&first),
+        "{:?}",
+        app.answers.history
+    );
+    assert!(app.answers.history[0].starts_with(&format!(
         "about {} #{last} at moment 10",
         app.tree.description(last)
     )));

@@ -108,25 +108,20 @@ pub struct App {
     /// Whether stepping selects the current node. On until the person
     /// selects a node themselves; `o` turns it on and off.
     pub follow_node: bool,
-    /// Lines scrolled in the details and ask panes, and transitions the
-    /// timeline's list is moved from the moment (the tree scrolls with its
-    /// selection).
-    pub scroll_details: usize,
-    pub scroll_ask: usize,
-    pub scroll_timeline: i64,
+    /// The panes' own state (the tree's is the selection and folding
+    /// above, which every pane reads).
+    pub timeline: super::panes::timeline::TimelineState,
+    pub details: super::panes::details::DetailsState,
+    pub answers: super::panes::answers::AnswersState,
     /// The focused pane fills the screen.
     pub zoom: bool,
     /// How far the details and the ask pane could scroll when last drawn
     /// (their wrapped height less the pane's), so scrolling stops there.
     pub scroll_max: std::cell::Cell<(usize, usize)>,
-    /// Which transitions the timeline lists.
-    pub log_filter: crate::export::LogFilter,
-    /// Earlier answers, most recent first, each with what it was about.
-    pub history: Vec<String>,
     /// Text waiting to be put on the clipboard by the terminal loop.
     pub clipboard: Option<String>,
     /// The finder's lines, made when it first opens (the tree is fixed).
-    finder_labels: std::cell::OnceCell<Vec<String>>,
+    pub(crate) finder_labels: std::cell::OnceCell<Vec<String>>,
     /// A one-line message for the status bar (an error, a file written).
     pub message: Option<String>,
     pub playing: bool,
@@ -139,7 +134,7 @@ pub struct App {
     pub split: u16,
     /// A log still being written, read again as it grows (`--follow`).
     pub follow: Option<crate::input::Follow>,
-    rows: Vec<Row>,
+    pub(crate) rows: Vec<Row>,
 }
 
 impl App {
@@ -169,15 +164,13 @@ impl App {
             why: None,
             asked: None,
             follow_node: true,
-            scroll_details: 0,
-            scroll_ask: 0,
-            scroll_timeline: 0,
+            timeline: Default::default(),
+            details: Default::default(),
+            answers: Default::default(),
             zoom: false,
             scroll_max: std::cell::Cell::new((usize::MAX, usize::MAX)),
-            log_filter: Default::default(),
             finder_labels: std::cell::OnceCell::new(),
             clipboard: None,
-            history: Vec::new(),
             message: None,
             playing: false,
             play_ms: 200,
@@ -253,7 +246,7 @@ impl App {
     }
 
     /// Makes a node visible: expands its ancestors.
-    fn reveal(&mut self, uid: Uid) {
+    pub(crate) fn reveal(&mut self, uid: Uid) {
         let anc: Vec<Uid> = self.tree.ancestors(uid).collect();
         for a in anc {
             self.collapsed.remove(&a);
@@ -262,7 +255,7 @@ impl App {
     }
 
     /// Selects the current node of the moment, as Groot keeps it in view.
-    fn follow_current(&mut self) {
+    pub(crate) fn follow_current(&mut self) {
         if !self.follow_node {
             return;
         }
@@ -273,7 +266,7 @@ impl App {
     }
 
     /// In the framed view, a folded node is shown by its framed ancestor.
-    fn visible_for(&self, uid: Uid) -> Uid {
+    pub(crate) fn visible_for(&self, uid: Uid) -> Uid {
         if !self.framed_view || self.framed.nodes.iter().any(|f| f.uid == uid) {
             return uid;
         }
@@ -283,25 +276,25 @@ impl App {
             .unwrap_or(Tree::ROOT)
     }
 
-    fn positions(&self) -> u32 {
+    pub(crate) fn positions(&self) -> u32 {
         self.session
             .as_ref()
             .map_or(0, |s| s.index.transitions.len() as u32)
     }
 
-    fn goto(&mut self, pos: u32) {
+    pub(crate) fn goto(&mut self, pos: u32) {
         self.pos = pos.min(self.positions());
         self.at_tick = None;
         self.answer = None;
-        self.scroll_timeline = 0;
-        self.scroll_details = 0;
+        self.timeline.scroll = 0;
+        self.details.scroll = 0;
         self.follow_current();
     }
 
     /// Goes to the end of tick `t`, which may have no transition of its
     /// own (a leaf kept RUNNING): several ticks then end at one position,
     /// and the tick is kept apart from it.
-    fn goto_tick(&mut self, t: u32) {
+    pub(crate) fn goto_tick(&mut self, t: u32) {
         if let Some(p) = self.tick_end(t) {
             self.goto(p);
             self.at_tick = Some(t);
@@ -316,104 +309,89 @@ impl App {
         }
     }
 
-    fn tick_end(&self, tick: u32) -> Option<u32> {
+    pub(crate) fn tick_end(&self, tick: u32) -> Option<u32> {
         let s = self.session.as_ref()?;
         s.index
             .position(crate::session::Moment { tick, step: None })
             .ok()
     }
 
-    fn current_tick(&self) -> u32 {
+    pub(crate) fn current_tick(&self) -> u32 {
         self.shown_moment().map_or(0, |m| m.tick)
     }
 
     /// Ticks in which a leaf failed.
-    /// Keys of the causal graph view (in the details pane): ←→ pick a
-    /// neighbour, Enter centres on it, Esc goes back to the variable asked
-    /// about. Whether the key was taken.
-    fn graph_key(&mut self, a: Action) -> bool {
-        if !matches!(
-            a,
-            Action::Expand | Action::Collapse | Action::Toggle | Action::Back
-        ) {
-            return false;
+    /// Routes an action: to the overlay if one is open, then to the
+    /// focused pane, then to the tree (where the selection lives), the
+    /// timeline (time), the answers, and last the explorer's own keys.
+    /// Each pane's keys and drawing are in `tui::panes`.
+    pub fn update(&mut self, a: Action) {
+        if self.overlay != Overlay::None {
+            return self.overlay_key(a);
         }
-        let Some(w) = self.why.as_mut().filter(|w| w.graph) else {
-            return false;
+        self.message = None;
+        if self.session.is_none() && super::panes::timeline::needs_run(a) {
+            self.message = Some(
+                "this is a tree, not a run: open a session or a robot's log to step through one"
+                    .into(),
+            );
+            return;
+        }
+        let focused = match self.focus {
+            Pane::Tree => false,
+            Pane::Timeline => self.timeline_focused_key(a),
+            Pane::Details => self.details_key(a),
+            Pane::Ask => self.answers_focused_key(a),
         };
-        let centre = w.centre.unwrap_or(w.why.query.targets[0]);
-        let n = w.why.neighbourhood(centre, w.selected);
-        let count = n.parents.len() + n.children.len();
+        if focused || self.tree_key(a) || self.time_key(a) || self.answers_key(a) {
+            return;
+        }
         match a {
-            Action::Expand if count > 0 => {
-                w.pick = Some(w.pick.map_or(0, |p| (p + 1) % count));
-            }
-            Action::Collapse if count > 0 => {
-                w.pick = Some(w.pick.map_or(count - 1, |p| (p + count - 1) % count));
-            }
-            Action::Toggle => {
-                if let Some(x) = w
-                    .pick
-                    .and_then(|p| n.parents.iter().chain(&n.children).nth(p))
-                {
-                    w.centre = Some(x.var);
-                    w.pick = None;
+            Action::Quit => self.quit = true,
+            Action::NextPane => {
+                self.focus = match self.focus {
+                    Pane::Tree => Pane::Timeline,
+                    Pane::Timeline => Pane::Details,
+                    Pane::Details => Pane::Ask,
+                    Pane::Ask => Pane::Tree,
                 }
             }
-            Action::Back if w.centre.is_some() => {
-                w.centre = None;
-                w.pick = None;
+            Action::Find => {
+                self.overlay = Overlay::Finder {
+                    query: String::new(),
+                    selected: 0,
+                }
             }
-            _ => return false,
+            Action::Help => self.overlay = Overlay::Help { scroll: 0 },
+            Action::NextDivergence | Action::PrevDivergence => {
+                self.message = Some("divergences are shown by btx open --diff A B".into())
+            }
+            Action::Zoom => self.zoom = !self.zoom,
+            Action::Wider => self.split = (self.split + 5).min(85),
+            Action::Narrower => self.split = self.split.saturating_sub(5).max(25),
+            _ => {}
         }
-        true
     }
 
     /// The mouse wheel over a pane: the tree moves its selection, the
     /// others scroll, whichever pane has the focus.
     pub fn wheel(&mut self, pane: Pane, down: bool) {
         let a = if down { Action::Down } else { Action::Up };
-        if pane == Pane::Tree || self.overlay != Overlay::None {
+        if self.overlay != Overlay::None {
             return self.update(a);
         }
-        let focus = std::mem::replace(&mut self.focus, pane);
-        self.scroll_pane(a);
-        self.focus = focus;
-    }
-
-    /// Up, Down and a page in a focused pane other than the tree scroll it.
-    /// Whether the key was taken.
-    fn scroll_pane(&mut self, a: Action) -> bool {
-        // Home/End (g/G) go to the top or bottom of the details and the
-        // answers; on the tree and the timeline they are the run's start/end.
-        if matches!(a, Action::Start | Action::End)
-            && matches!(self.focus, Pane::Details | Pane::Ask)
-        {
-            let (dmax, amax) = self.scroll_max.get();
-            match (self.focus, a) {
-                (Pane::Details, Action::Start) => self.scroll_details = 0,
-                (Pane::Details, _) => self.scroll_details = dmax,
-                (_, Action::Start) => self.scroll_ask = 0,
-                _ => self.scroll_ask = amax,
+        match pane {
+            Pane::Tree => self.update(a),
+            Pane::Timeline => {
+                self.timeline.scroll(a);
             }
-            return true;
+            Pane::Details => {
+                self.details.scroll(a, self.scroll_max.get().0);
+            }
+            Pane::Ask => {
+                self.answers.scroll(a, self.scroll_max.get().1);
+            }
         }
-        let step: i64 = match a {
-            Action::Up => -1,
-            Action::Down => 1,
-            Action::PageUp => -(PAGE as i64),
-            Action::PageDown => PAGE as i64,
-            _ => return false,
-        };
-        let by = |x: &mut usize, max: usize| *x = ((*x as i64 + step).max(0) as usize).min(max);
-        let (dmax, amax) = self.scroll_max.get();
-        match self.focus {
-            Pane::Tree => return false,
-            Pane::Details => by(&mut self.scroll_details, dmax),
-            Pane::Ask => by(&mut self.scroll_ask, amax),
-            Pane::Timeline => self.scroll_timeline += step,
-        }
-        true
     }
 
     /// The nodes RUNNING at this moment, in tree order.
@@ -438,7 +416,7 @@ impl App {
     }
 
     /// Keeps the answer on screen in the history before another replaces it.
-    fn remember_answer(&mut self) {
+    pub(crate) fn remember_answer(&mut self) {
         let (Some(text), Some((u, at))) = (self.answer_text(), &self.asked) else {
             return;
         };
@@ -448,14 +426,15 @@ impl App {
             at.as_ref()
                 .map_or(String::new(), |m| format!(" at moment {m}"))
         );
-        self.history
+        self.answers
+            .history
             .insert(0, format!("{about}\n{}", text.trim_end()));
-        self.history.truncate(HISTORY_MAX);
+        self.answers.history.truncate(HISTORY_MAX);
     }
 
     /// Copies the answer through the terminal (OSC 52), which works over
     /// SSH; the sequence is queued for the next draw.
-    fn copy_answer(&mut self) {
+    pub(crate) fn copy_answer(&mut self) {
         match self.answer_text() {
             Some(t) => {
                 self.clipboard = Some(t);
@@ -466,7 +445,7 @@ impl App {
     }
 
     /// The leaf whose FAILURE came last in tick `t`.
-    fn failed_leaf(&self, t: u32) -> Option<Uid> {
+    pub(crate) fn failed_leaf(&self, t: u32) -> Option<Uid> {
         let s = self.session.as_ref()?;
         s.index
             .transitions
@@ -478,7 +457,7 @@ impl App {
             .map(|x| x.uid)
     }
 
-    fn failure_ticks(&self) -> Vec<u32> {
+    pub(crate) fn failure_ticks(&self) -> Vec<u32> {
         let Some(s) = &self.session else {
             return Vec::new();
         };
@@ -585,434 +564,6 @@ impl App {
     }
 
     /// Applies one action.
-    pub fn update(&mut self, a: Action) {
-        match &mut self.overlay {
-            Overlay::Help { scroll } => {
-                match a {
-                    Action::Back | Action::Help | Action::Quit | Action::Toggle => {
-                        self.overlay = Overlay::None
-                    }
-                    Action::Down => *scroll += 1,
-                    Action::Up => *scroll = scroll.saturating_sub(1),
-                    Action::End => *scroll = usize::MAX,
-                    Action::Start => *scroll = 0,
-                    _ => {}
-                }
-                return;
-            }
-            Overlay::Finder { .. }
-            | Overlay::Ask { .. }
-            | Overlay::Why { .. }
-            | Overlay::Running { .. } => return self.update_list(a),
-            Overlay::CanYou { text, .. } => {
-                let text = text.clone();
-                let n = self.can_you_candidates(&text).len();
-                let Overlay::CanYou { selected, .. } = &mut self.overlay else {
-                    return;
-                };
-                match a {
-                    Action::Back | Action::Quit => self.overlay = Overlay::None,
-                    Action::Up => *selected = selected.saturating_sub(1),
-                    Action::Down => *selected = (*selected + 1).min(n.saturating_sub(1)),
-                    Action::Toggle => {
-                        let i = *selected;
-                        let x = self
-                            .can_you_candidates(&text)
-                            .get(i)
-                            .cloned()
-                            .unwrap_or(text);
-                        self.overlay = Overlay::None;
-                        if !x.trim().is_empty() {
-                            self.ask(&Question::CanYou(x.trim().to_string()));
-                        }
-                    }
-                    _ => {}
-                }
-                return;
-            }
-            Overlay::Filter { text } => {
-                match a {
-                    Action::Back | Action::Quit => self.overlay = Overlay::None,
-                    Action::Toggle => {
-                        self.log_filter.text = std::mem::take(text);
-                        self.overlay = Overlay::None;
-                        self.scroll_timeline = 0;
-                    }
-                    _ => {}
-                }
-                return;
-            }
-            Overlay::Export { path, replace } => {
-                match a {
-                    Action::Back | Action::Quit => self.overlay = Overlay::None,
-                    Action::Toggle => {
-                        let (path, replace) = (path.clone(), *replace);
-                        self.export_to(path, replace);
-                    }
-                    _ => {}
-                }
-                return;
-            }
-            Overlay::None => {}
-        }
-        self.message = None;
-        if self.focus == Pane::Ask && self.why.is_some() {
-            if let Some(w) = &mut self.why {
-                let n = w.why.groups().len();
-                match a {
-                    Action::Up => return w.selected = w.selected.saturating_sub(1),
-                    Action::Down => return w.selected = (w.selected + 1).min(n.saturating_sub(1)),
-                    Action::Toggle => return self.follow_up(),
-                    _ => {}
-                }
-            }
-        }
-        if self.session.is_none()
-            && matches!(
-                a,
-                Action::StepForward
-                    | Action::StepBack
-                    | Action::TickForward
-                    | Action::TickBack
-                    | Action::Start
-                    | Action::End
-                    | Action::NextFailure
-                    | Action::PrevFailure
-                    | Action::NextChange
-                    | Action::PrevChange
-                    | Action::Why
-                    | Action::Play
-                    | Action::HideResets
-                    | Action::OnlyBelow
-                    | Action::OnlyStatus
-            )
-        {
-            self.message = Some(
-                "this is a tree, not a run: open a session or a robot's log to step through one"
-                    .into(),
-            );
-            return;
-        }
-        if self.focus == Pane::Details && self.graph_key(a) {
-            return;
-        }
-        if self.scroll_pane(a) {
-            return;
-        }
-        match a {
-            Action::Quit => self.quit = true,
-            Action::Up | Action::Down => {
-                let i = self.row_of(self.selected).unwrap_or(0);
-                let j = if a == Action::Up {
-                    i.saturating_sub(1)
-                } else {
-                    (i + 1).min(self.rows.len().saturating_sub(1))
-                };
-                self.selected = self.rows[j].uid;
-                self.follow_node = false;
-            }
-            Action::Collapse => {
-                if self
-                    .rows
-                    .get(self.row_of(self.selected).unwrap_or(0))
-                    .is_some_and(|r| r.has_children)
-                    && !self.collapsed.contains(&self.selected)
-                {
-                    self.collapsed.insert(self.selected);
-                    self.rebuild_rows();
-                } else if let Some(p) = self
-                    .tree
-                    .ancestors(self.selected)
-                    .find(|p| self.row_of(*p).is_some())
-                {
-                    self.selected = p;
-                    self.follow_node = false;
-                }
-            }
-            Action::Expand => {
-                if self.collapsed.remove(&self.selected) {
-                    self.rebuild_rows();
-                } else if let Some(i) = self.row_of(self.selected) {
-                    if self.rows[i].has_children {
-                        if let Some(next) = self.rows.get(i + 1) {
-                            self.selected = next.uid;
-                            self.follow_node = false;
-                        }
-                    }
-                }
-            }
-            Action::Toggle => {
-                if !self.collapsed.remove(&self.selected) {
-                    self.collapsed.insert(self.selected);
-                }
-                self.rebuild_rows();
-            }
-            Action::NextPane => {
-                self.focus = match self.focus {
-                    Pane::Tree => Pane::Timeline,
-                    Pane::Timeline => Pane::Details,
-                    Pane::Details => Pane::Ask,
-                    Pane::Ask => Pane::Tree,
-                }
-            }
-            Action::StepForward => self.goto(self.pos + 1),
-            Action::StepBack => self.goto(self.pos.saturating_sub(1)),
-            Action::TickForward | Action::TickBack => {
-                let t = self.current_tick();
-                let at_end = self.tick_end(t) == Some(self.pos);
-                let target = match a {
-                    Action::TickForward if at_end => t + 1,
-                    Action::TickForward => t,
-                    _ => t.saturating_sub(1),
-                };
-                self.goto_tick(target.max(1));
-            }
-            Action::Start => self.goto_tick(1),
-            Action::End => self.goto(self.positions()),
-            Action::NextFailure | Action::PrevFailure => {
-                let t = self.current_tick();
-                let at_end = self.tick_end(t) == Some(self.pos);
-                let ticks = self.failure_ticks();
-                let target = if a == Action::NextFailure {
-                    ticks.into_iter().find(|&x| x > t || (x == t && !at_end))
-                } else {
-                    ticks.into_iter().rev().find(|&x| x < t)
-                };
-                if let Some((x, p)) = target.and_then(|x| Some((x, self.tick_end(x)?))) {
-                    self.goto(p);
-                    // Land on the leaf that failed (the tick's last failure).
-                    if let Some(u) = self.failed_leaf(x) {
-                        self.reveal(u);
-                        self.selected = self.visible_for(u);
-                    }
-                } else {
-                    self.message = Some(format!(
-                        "no leaf failed {} tick {t}",
-                        if a == Action::NextFailure {
-                            "after"
-                        } else {
-                            "before"
-                        }
-                    ));
-                }
-            }
-            Action::Follow => {
-                self.follow_node = !self.follow_node;
-                self.follow_current();
-                self.message = Some(if self.follow_node {
-                    "following the current node as the run moves".into()
-                } else {
-                    "the selection stays where it is as the run moves".into()
-                });
-            }
-            Action::NextChange | Action::PrevChange => {
-                let Some(s) = &self.session else { return };
-                let changes = s.index.changes_of(self.selected);
-                let target = if a == Action::NextChange {
-                    changes.iter().copied().find(|&p| p > self.pos)
-                } else {
-                    changes.iter().copied().rev().find(|&p| p < self.pos)
-                };
-                if let Some(p) = target {
-                    let keep = self.selected;
-                    self.goto(p);
-                    self.selected = keep;
-                } else {
-                    self.message = Some(format!(
-                        "{} does not change {} this moment",
-                        self.tree.description(self.selected),
-                        if a == Action::NextChange {
-                            "after"
-                        } else {
-                            "before"
-                        }
-                    ));
-                }
-            }
-            Action::Ask => self.overlay = Overlay::Ask { selected: 0 },
-            Action::Why => self.open_why(),
-            Action::Graph => match &mut self.why {
-                Some(w) => w.graph = !w.graph,
-                None => {
-                    self.message =
-                        Some("ask why first (w): the causal graph is the answer's".into())
-                }
-            },
-            Action::ExportGraph => self.export_graph(),
-            Action::Find if self.focus == Pane::Timeline => {
-                self.overlay = Overlay::Filter {
-                    text: self.log_filter.text.clone(),
-                }
-            }
-            Action::Find => {
-                self.overlay = Overlay::Finder {
-                    query: String::new(),
-                    selected: 0,
-                }
-            }
-            Action::ToggleFramed => {
-                self.framed_view = !self.framed_view;
-                self.selected = self.visible_for(self.selected);
-                self.rebuild_rows();
-            }
-            Action::Help => self.overlay = Overlay::Help { scroll: 0 },
-            Action::Play => self.playing = !self.playing && self.session.is_some(),
-            Action::Faster => self.play_ms = (self.play_ms / 2).max(10),
-            Action::Slower => self.play_ms = (self.play_ms * 2).min(5000),
-            Action::Back => {
-                self.answer = None;
-                self.why = None;
-            }
-            Action::NextDivergence | Action::PrevDivergence => {
-                self.message = Some("divergences are shown by btx open --diff A B".into())
-            }
-            Action::Zoom => self.zoom = !self.zoom,
-            Action::Running => {
-                if self.running_nodes().is_empty() {
-                    self.message = Some("nothing is RUNNING at this moment".into());
-                } else {
-                    self.overlay = Overlay::Running { selected: 0 };
-                }
-            }
-            Action::Copy => self.copy_answer(),
-            Action::HideResets => self.log_filter.no_idle = !self.log_filter.no_idle,
-            Action::OnlyBelow => {
-                self.log_filter.below = match self.log_filter.below {
-                    Some(_) => None,
-                    None => Some(self.selected),
-                }
-            }
-            Action::OnlyStatus => {
-                self.log_filter.status = match self.log_filter.status {
-                    None => Some(Status::Running),
-                    Some(Status::Running) => Some(Status::Success),
-                    Some(Status::Success) => Some(Status::Failure),
-                    _ => None,
-                }
-            }
-            Action::PageUp | Action::PageDown => {
-                let i = self.row_of(self.selected).unwrap_or(0);
-                let j = if a == Action::PageUp {
-                    i.saturating_sub(PAGE)
-                } else {
-                    (i + PAGE).min(self.rows.len().saturating_sub(1))
-                };
-                self.selected = self.rows[j].uid;
-                self.follow_node = false;
-            }
-            Action::Wider => self.split = (self.split + 5).min(85),
-            Action::Narrower => self.split = self.split.saturating_sub(5).max(25),
-        }
-    }
-
-    /// Typing into the finder or the export prompt.
-    pub fn type_char(&mut self, c: char) {
-        match &mut self.overlay {
-            Overlay::Finder { query, selected } => {
-                query.push(c);
-                *selected = 0;
-            }
-            Overlay::Export { path, replace } => {
-                path.push(c);
-                *replace = false;
-            }
-            Overlay::Filter { text } => text.push(c),
-            Overlay::CanYou { text, selected } => {
-                text.push(c);
-                *selected = 0;
-            }
-            _ => {}
-        }
-    }
-
-    pub fn backspace(&mut self) {
-        match &mut self.overlay {
-            Overlay::Finder { query, selected } => {
-                query.pop();
-                *selected = 0;
-            }
-            Overlay::Export { path, replace } => {
-                path.pop();
-                *replace = false;
-            }
-            Overlay::Filter { text } => {
-                text.pop();
-            }
-            Overlay::CanYou { text, selected } => {
-                text.pop();
-                *selected = 0;
-            }
-            _ => {}
-        }
-    }
-
-    /// Whether keys type text (the finder, the export prompt).
-    pub fn typing(&self) -> bool {
-        matches!(
-            self.overlay,
-            Overlay::Finder { .. } | Overlay::Export { .. }
-        )
-    }
-
-    fn update_list(&mut self, a: Action) {
-        let len = match &self.overlay {
-            Overlay::Finder { query, .. } => self.finder_results(query).len(),
-            Overlay::Ask { .. } => self.questions().len(),
-            Overlay::Why { targets, .. } => targets.len(),
-            Overlay::Running { .. } => self.running_nodes().len(),
-            _ => 0,
-        };
-        let choice = match &mut self.overlay {
-            Overlay::Finder { selected, .. }
-            | Overlay::Ask { selected }
-            | Overlay::Why { selected, .. }
-            | Overlay::Running { selected } => selected,
-            _ => return,
-        };
-        match a {
-            Action::Up => *choice = choice.saturating_sub(1),
-            Action::Down => *choice = (*choice + 1).min(len.saturating_sub(1)),
-            Action::Back | Action::Quit => self.overlay = Overlay::None,
-            Action::Toggle => {
-                let i = *choice;
-                match std::mem::replace(&mut self.overlay, Overlay::None) {
-                    Overlay::Finder { query, .. } => {
-                        if let Some((u, _)) = self.finder_results(&query).get(i) {
-                            let u = *u;
-                            self.reveal(u);
-                            self.selected = self.visible_for(u);
-                            self.follow_node = false;
-                        }
-                    }
-                    Overlay::Ask { .. } => match self.questions().get(i).cloned() {
-                        Some(Question::CanYou(x)) if x.is_empty() => {
-                            self.overlay = Overlay::CanYou {
-                                text: String::new(),
-                                selected: 0,
-                            }
-                        }
-                        Some(q) => self.ask(&q),
-                        None => {}
-                    },
-                    Overlay::Why { targets, .. } => {
-                        if let (Some((t, _)), Some(m)) = (targets.get(i), self.moment()) {
-                            self.ask_why(t.clone(), Vec::new(), m);
-                        }
-                    }
-                    Overlay::Running { .. } => {
-                        if let Some(&u) = self.running_nodes().get(i) {
-                            self.reveal(u);
-                            self.selected = self.visible_for(u);
-                            self.follow_node = false;
-                        }
-                    }
-                    other => self.overlay = other,
-                }
-            }
-            _ => {}
-        }
-    }
-
     /// Asks the library; the answer and its nodes are shown.
     pub fn ask(&mut self, q: &Question) {
         self.remember_answer();
@@ -1021,7 +572,7 @@ impl App {
         let node = self.asked_node();
         self.answer = answer(&self.tree, at.as_ref(), node, q).ok();
         self.asked = Some((node, self.moment().map(|m| m.to_string())));
-        self.scroll_ask = 0;
+        self.answers.scroll = 0;
         if let Some(a) = &self.answer {
             let nodes = a.nodes.clone();
             for u in nodes {
@@ -1031,7 +582,7 @@ impl App {
         self.focus = Pane::Ask;
     }
 
-    fn moment(&self) -> Option<crate::session::Moment> {
+    pub(crate) fn moment(&self) -> Option<crate::session::Moment> {
         let s = self.session.as_ref()?;
         if let Some(tick) = self.at_tick {
             return Some(crate::session::Moment { tick, step: None });
@@ -1040,7 +591,7 @@ impl App {
     }
 
     /// Opens the why-questions about the selected node at this moment.
-    fn open_why(&mut self) {
+    pub(crate) fn open_why(&mut self) {
         let (Some(s), Some(m)) = (&self.session, self.moment()) else {
             self.message = Some("why-questions are about a run: open a session or a log".into());
             return;
@@ -1080,7 +631,7 @@ impl App {
                     self.reveal(u);
                 }
                 self.asked = Some((self.selected, Some(w.moment.clone())));
-                self.scroll_ask = 0;
+                self.answers.scroll = 0;
                 self.why = Some(WhyView {
                     why: w,
                     selected: 0,
@@ -1095,7 +646,7 @@ impl App {
     }
 
     /// Why does the picked explanation's first reason hold?
-    fn follow_up(&mut self) {
+    pub(crate) fn follow_up(&mut self) {
         let Some(w) = &self.why else { return };
         match w.why.follow_up(w.selected) {
             Some((t, foils, at)) => self.ask_why(t, foils, at),
@@ -1104,7 +655,7 @@ impl App {
     }
 
     /// Asks where to write the why-answer's causal model.
-    fn export_graph(&mut self) {
+    pub(crate) fn export_graph(&mut self) {
         let Some(w) = &self.why else {
             self.message = Some("ask why first (w): the model is the answer's".into());
             return;
@@ -1116,7 +667,7 @@ impl App {
     }
 
     /// Enter in the export prompt: writes, or asks before replacing a file.
-    fn export_to(&mut self, path: String, replace: bool) {
+    pub(crate) fn export_to(&mut self, path: String, replace: bool) {
         let Some(w) = &self.why else { return };
         let dot = crate::causal::graph::dot(&w.why.model);
         match crate::export::write_file(std::path::Path::new(&path), dot.as_bytes(), replace) {

@@ -1,0 +1,170 @@
+//! The details pane: the selected node's ports, state and the run's end, or
+//! the why-answer's causal model, as a list or as the graph view.
+
+use crate::tui::app::{App, Pane};
+use crate::tui::keymap::Action;
+use crate::tui::view::*;
+use ratatui::layout::Rect;
+use ratatui::style::{Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::Frame;
+
+/// The details pane's own state.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct DetailsState {
+    /// Lines scrolled.
+    pub scroll: usize,
+}
+
+impl DetailsState {
+    /// Up, Down, a page, Home and End within the pane (`max`: how far it
+    /// could scroll when last drawn).
+    pub fn scroll(&mut self, a: Action, max: usize) -> bool {
+        super::scroll_lines(&mut self.scroll, a, max)
+    }
+}
+
+impl App {
+    /// Keys while the details pane has the focus: the graph view's, then
+    /// scrolling.
+    pub(crate) fn details_key(&mut self, a: Action) -> bool {
+        self.graph_key(a) || self.details.scroll(a, self.scroll_max.get().0)
+    }
+
+    /// Keys of the causal graph view: ←→ pick a neighbour, Enter centres on
+    /// it, Esc goes back to the variable asked about. Whether the key was
+    /// taken.
+    fn graph_key(&mut self, a: Action) -> bool {
+        if !matches!(
+            a,
+            Action::Expand | Action::Collapse | Action::Toggle | Action::Back
+        ) {
+            return false;
+        }
+        let Some(w) = self.why.as_mut().filter(|w| w.graph) else {
+            return false;
+        };
+        let centre = w.centre.unwrap_or(w.why.query.targets[0]);
+        let n = w.why.neighbourhood(centre, w.selected);
+        let count = n.parents.len() + n.children.len();
+        match a {
+            Action::Expand if count > 0 => {
+                w.pick = Some(w.pick.map_or(0, |p| (p + 1) % count));
+            }
+            Action::Collapse if count > 0 => {
+                w.pick = Some(w.pick.map_or(count - 1, |p| (p + count - 1) % count));
+            }
+            Action::Toggle => {
+                if let Some(x) = w
+                    .pick
+                    .and_then(|p| n.parents.iter().chain(&n.children).nth(p))
+                {
+                    w.centre = Some(x.var);
+                    w.pick = None;
+                }
+            }
+            Action::Back if w.centre.is_some() => {
+                w.centre = None;
+                w.pick = None;
+            }
+            _ => return false,
+        }
+        true
+    }
+}
+
+/// The why-answer's causal model as a graph: the variable in the centre
+/// (the one asked about, until another is picked), its causes above and its
+/// effects below, edges in box characters (`graph_view`).
+fn model_pane(app: &App, w: &crate::tui::app::WhyView, f: &mut Frame, area: Rect) {
+    let m = &w.why.model;
+    let b = block(
+        format!(
+            " causal graph · tick {} · {} variables, {} edges (m to hide) ",
+            m.facts.tick,
+            m.vars.len(),
+            m.edge_count()
+        ),
+        app.focus == Pane::Details,
+    );
+    let inner = b.inner(area);
+    let centre = w.centre.unwrap_or(w.why.query.targets[0]);
+    let n = w.why.neighbourhood(centre, w.selected);
+    let lines = crate::tui::graph_view::draw(&n, w.pick, inner.width as usize);
+    let (p, last) = scrolled(lines, app.details.scroll, area);
+    note_max(app, true, last);
+    f.render_widget(p.block(b), area);
+}
+
+pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
+    if let Some(w) = app.why.as_ref().filter(|w| w.graph) {
+        return model_pane(app, w, f, area);
+    }
+    let b = block(" details ".into(), app.focus == Pane::Details);
+    let u = app.selected;
+    let n = app.tree.node(u);
+    let at = app.at();
+    let mut lines = vec![
+        Line::from(format!("{}  #{}", app.tree.description(u), u)),
+        Line::from(format!(
+            "{} {}  name {:?}",
+            n.kind.as_str(),
+            app.tree.type_name(u),
+            n.name
+        )),
+        Line::from(format!("path {}", app.tree.display_path(u))),
+    ];
+    if let Some(a) = &at {
+        let last = a
+            .last_completed(u)
+            .map_or("never".to_string(), |s| s.to_string());
+        lines.push(Line::from(vec![
+            Span::raw("status "),
+            Span::styled(
+                a.status(u).to_string(),
+                Style::default().fg(status_color(a.status(u))),
+            ),
+            Span::raw(format!("  last completed {last}")),
+        ]));
+        if matches!(
+            n.builtin,
+            Some(crate::model::Builtin::RetryUntilSuccessful | crate::model::Builtin::Repeat)
+        ) {
+            lines.push(Line::from(format!("attempts so far {}", a.attempts(u))));
+        }
+        if let Some(d) = a.decision(u) {
+            lines.push(Line::from(format!("decision {d}")));
+        }
+    }
+    if let Some(s) = &app.session {
+        lines.push(Line::from(format!("run {}", s.ending())));
+    }
+    let bb = crate::run::blackboard::Blackboard::new(&app.tree);
+    for p in &n.ports {
+        let mut s = crate::export::port_label(p);
+        if let (Some(a), Some(e)) = (&at, bb.port_entry(&app.tree, n.scope, &p.value)) {
+            if let Some(v) = a.entry(&e) {
+                s.push_str(&format!(" = {v}"));
+            }
+        }
+        lines.push(Line::from(s));
+    }
+    if let Some(a) = &at {
+        let state: Vec<String> = a
+            .entries()
+            .iter()
+            .filter(|(e, _)| e.scope == 0)
+            .map(|(e, v)| format!("{}={}", e.key, v))
+            .collect();
+        if !state.is_empty() {
+            lines.push(Line::from(Span::styled(
+                "state",
+                Style::default().add_modifier(Modifier::BOLD),
+            )));
+            lines.push(Line::from(state.join("  ")));
+        }
+    }
+    let (p, last) = scrolled(lines, app.details.scroll, area);
+    note_max(app, true, last);
+    f.render_widget(p.block(b), area);
+}

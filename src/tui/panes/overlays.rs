@@ -1,0 +1,447 @@
+//! The windows over the panes: the help, the finder, the lists of
+//! questions, why-targets and running nodes, and the prompts ("Can you
+//! …?", the transition filter, the export path). Each holds its own state
+//! in [`Overlay`] and takes every key while open.
+
+use crate::explain::Question;
+use crate::tui::app::{App, Overlay};
+use crate::tui::keymap::Action;
+use crate::tui::view::*;
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, Clear, Paragraph};
+use ratatui::Frame;
+
+impl App {
+    /// A key while an overlay is open: the overlay takes it.
+    pub(crate) fn overlay_key(&mut self, a: Action) {
+        match self.overlay {
+            Overlay::Help { .. } => self.help_key(a),
+            Overlay::Finder { .. }
+            | Overlay::Ask { .. }
+            | Overlay::Why { .. }
+            | Overlay::Running { .. } => self.update_list(a),
+            Overlay::CanYou { .. } => self.can_you_key(a),
+            Overlay::Filter { .. } => self.filter_key(a),
+            Overlay::Export { .. } => self.export_key(a),
+            Overlay::None => {}
+        }
+    }
+
+    /// The help scrolls, and closes.
+    fn help_key(&mut self, a: Action) {
+        let Overlay::Help { scroll } = &mut self.overlay else {
+            return;
+        };
+        match a {
+            Action::Back | Action::Help | Action::Quit | Action::Toggle => {
+                self.overlay = Overlay::None
+            }
+            Action::Down => *scroll += 1,
+            Action::Up => *scroll = scroll.saturating_sub(1),
+            Action::End => *scroll = usize::MAX,
+            Action::Start => *scroll = 0,
+            _ => {}
+        }
+    }
+
+    /// "Can you …?": ↑↓ pick a completion, Enter asks.
+    fn can_you_key(&mut self, a: Action) {
+        let Overlay::CanYou { text, .. } = &self.overlay else {
+            return;
+        };
+        let text = text.clone();
+        let n = self.can_you_candidates(&text).len();
+        let Overlay::CanYou { selected, .. } = &mut self.overlay else {
+            return;
+        };
+        match a {
+            Action::Back | Action::Quit => self.overlay = Overlay::None,
+            Action::Up => *selected = selected.saturating_sub(1),
+            Action::Down => *selected = (*selected + 1).min(n.saturating_sub(1)),
+            Action::Toggle => {
+                let i = *selected;
+                let x = self
+                    .can_you_candidates(&text)
+                    .get(i)
+                    .cloned()
+                    .unwrap_or(text);
+                self.overlay = Overlay::None;
+                if !x.trim().is_empty() {
+                    self.ask(&Question::CanYou(x.trim().to_string()));
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// The transition filter's text: Enter applies it.
+    fn filter_key(&mut self, a: Action) {
+        let Overlay::Filter { text } = &mut self.overlay else {
+            return;
+        };
+        match a {
+            Action::Back | Action::Quit => self.overlay = Overlay::None,
+            Action::Toggle => {
+                self.timeline.filter.text = std::mem::take(text);
+                self.overlay = Overlay::None;
+                self.timeline.scroll = 0;
+            }
+            _ => {}
+        }
+    }
+
+    /// The export path: Enter writes (or asks before replacing).
+    fn export_key(&mut self, a: Action) {
+        let Overlay::Export { path, replace } = &self.overlay else {
+            return;
+        };
+        match a {
+            Action::Back | Action::Quit => self.overlay = Overlay::None,
+            Action::Toggle => {
+                let (path, replace) = (path.clone(), *replace);
+                self.export_to(path, replace);
+            }
+            _ => {}
+        }
+    }
+
+    /// Typing into the finder or the export prompt.
+    pub fn type_char(&mut self, c: char) {
+        match &mut self.overlay {
+            Overlay::Finder { query, selected } => {
+                query.push(c);
+                *selected = 0;
+            }
+            Overlay::Export { path, replace } => {
+                path.push(c);
+                *replace = false;
+            }
+            Overlay::Filter { text } => text.push(c),
+            Overlay::CanYou { text, selected } => {
+                text.push(c);
+                *selected = 0;
+            }
+            _ => {}
+        }
+    }
+
+    pub fn backspace(&mut self) {
+        match &mut self.overlay {
+            Overlay::Finder { query, selected } => {
+                query.pop();
+                *selected = 0;
+            }
+            Overlay::Export { path, replace } => {
+                path.pop();
+                *replace = false;
+            }
+            Overlay::Filter { text } => {
+                text.pop();
+            }
+            Overlay::CanYou { text, selected } => {
+                text.pop();
+                *selected = 0;
+            }
+            _ => {}
+        }
+    }
+
+    /// Whether keys type text (the finder, the export prompt).
+    pub fn typing(&self) -> bool {
+        matches!(
+            self.overlay,
+            Overlay::Finder { .. } | Overlay::Export { .. }
+        )
+    }
+
+    fn update_list(&mut self, a: Action) {
+        let len = match &self.overlay {
+            Overlay::Finder { query, .. } => self.finder_results(query).len(),
+            Overlay::Ask { .. } => self.questions().len(),
+            Overlay::Why { targets, .. } => targets.len(),
+            Overlay::Running { .. } => self.running_nodes().len(),
+            _ => 0,
+        };
+        let choice = match &mut self.overlay {
+            Overlay::Finder { selected, .. }
+            | Overlay::Ask { selected }
+            | Overlay::Why { selected, .. }
+            | Overlay::Running { selected } => selected,
+            _ => return,
+        };
+        match a {
+            Action::Up => *choice = choice.saturating_sub(1),
+            Action::Down => *choice = (*choice + 1).min(len.saturating_sub(1)),
+            Action::Back | Action::Quit => self.overlay = Overlay::None,
+            Action::Toggle => {
+                let i = *choice;
+                match std::mem::replace(&mut self.overlay, Overlay::None) {
+                    Overlay::Finder { query, .. } => {
+                        if let Some((u, _)) = self.finder_results(&query).get(i) {
+                            let u = *u;
+                            self.reveal(u);
+                            self.selected = self.visible_for(u);
+                            self.follow_node = false;
+                        }
+                    }
+                    Overlay::Ask { .. } => match self.questions().get(i).cloned() {
+                        Some(Question::CanYou(x)) if x.is_empty() => {
+                            self.overlay = Overlay::CanYou {
+                                text: String::new(),
+                                selected: 0,
+                            }
+                        }
+                        Some(q) => self.ask(&q),
+                        None => {}
+                    },
+                    Overlay::Why { targets, .. } => {
+                        if let (Some((t, _)), Some(m)) = (targets.get(i), self.moment()) {
+                            self.ask_why(t.clone(), Vec::new(), m);
+                        }
+                    }
+                    Overlay::Running { .. } => {
+                        if let Some(&u) = self.running_nodes().get(i) {
+                            self.reveal(u);
+                            self.selected = self.visible_for(u);
+                            self.follow_node = false;
+                        }
+                    }
+                    other => self.overlay = other,
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
+    match &app.overlay {
+        Overlay::None => {}
+        Overlay::Help { scroll } => {
+            let mut lines: Vec<Line> = app
+                .keymap
+                .keys
+                .iter()
+                .map(|b| {
+                    Line::from(vec![
+                        Span::styled(
+                            format!("{:<16}", b.0.join(" ")),
+                            Style::default().fg(Color::Yellow),
+                        ),
+                        Span::raw(b.2),
+                    ])
+                })
+                .collect();
+            lines.push(Line::from(""));
+            for (sign, what) in LEGEND {
+                lines.push(Line::from(vec![
+                    Span::styled(format!("{sign:<16}"), Style::default().fg(Color::Yellow)),
+                    Span::raw(*what),
+                ]));
+            }
+            let r = centered(area, 76, lines.len() as u16 + 2);
+            let shown = r.height.saturating_sub(2) as usize;
+            let top = (*scroll).min(lines.len().saturating_sub(shown));
+            let more = if top + shown < lines.len() {
+                " ↓ more "
+            } else {
+                ""
+            };
+            f.render_widget(Clear, r);
+            f.render_widget(
+                Paragraph::new(lines).scroll((top as u16, 0)).block(
+                    Block::default()
+                        .borders(Borders::ALL)
+                        .title(" keys and signs (↑↓ scroll, ? or Esc to close) ")
+                        .title_bottom(more),
+                ),
+                r,
+            );
+        }
+        Overlay::Finder { query, selected } => {
+            let r = centered(
+                area,
+                area.width.saturating_sub(8),
+                area.height.saturating_sub(4),
+            );
+            f.render_widget(Clear, r);
+            let b = Block::default()
+                .borders(Borders::ALL)
+                .title(format!(" find: {query}▏ "));
+            let inner = b.inner(r);
+            f.render_widget(b, r);
+            let results = app.finder_results(query);
+            let h = inner.height as usize;
+            let first = selected.saturating_sub(h.saturating_sub(1));
+            let mut lines = Vec::new();
+            for (i, (u, idx)) in results.iter().enumerate().skip(first).take(h) {
+                let label = app.finder_label(*u);
+                let mut spans = Vec::new();
+                for (ci, ch) in label.chars().enumerate() {
+                    let mut st = Style::default();
+                    if idx.contains(&ci) {
+                        st = st.fg(Color::Yellow).add_modifier(Modifier::BOLD);
+                    }
+                    if i == *selected {
+                        st = st.add_modifier(Modifier::REVERSED);
+                    }
+                    spans.push(Span::styled(ch.to_string(), st));
+                }
+                lines.push(Line::from(spans));
+            }
+            f.render_widget(Paragraph::new(lines), inner);
+        }
+        Overlay::Running { selected } => {
+            let nodes = app.running_nodes();
+            let r = centered(
+                area,
+                70,
+                (nodes.len() as u16 + 2).min(area.height.saturating_sub(2)),
+            );
+            f.render_widget(Clear, r);
+            let h = r.height.saturating_sub(2) as usize;
+            let first = selected.saturating_sub(h.saturating_sub(1));
+            let lines: Vec<Line> = nodes
+                .iter()
+                .enumerate()
+                .skip(first)
+                .take(h)
+                .map(|(i, &u)| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    Line::from(Span::styled(
+                        format!(
+                            "{} #{u}  {}",
+                            app.tree.description(u),
+                            app.tree.type_name(u)
+                        ),
+                        st,
+                    ))
+                })
+                .collect();
+            f.render_widget(
+                Paragraph::new(lines).block(
+                    Block::default()
+                        .borders(Borders::ALL)
+                        .title(" RUNNING now: Enter selects "),
+                ),
+                r,
+            );
+        }
+        Overlay::CanYou { text, selected } => {
+            let r = centered(
+                area,
+                area.width.saturating_sub(8).min(70),
+                area.height.saturating_sub(4).min(16),
+            );
+            f.render_widget(Clear, r);
+            let b = Block::default()
+                .borders(Borders::ALL)
+                .title(format!(" Can you {}▏? ", crate::text::visible(text)));
+            let inner = b.inner(r);
+            f.render_widget(b, r);
+            let h = inner.height as usize;
+            let first = selected.saturating_sub(h.saturating_sub(1));
+            let lines: Vec<Line> = app
+                .can_you_candidates(text)
+                .into_iter()
+                .enumerate()
+                .skip(first)
+                .take(h)
+                .map(|(i, d)| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    Line::from(Span::styled(crate::text::visible(&d).into_owned(), st))
+                })
+                .collect();
+            f.render_widget(Paragraph::new(lines), inner);
+        }
+        Overlay::Filter { text } => {
+            let r = centered(area, area.width.saturating_sub(8).min(70), 3);
+            f.render_widget(Clear, r);
+            f.render_widget(
+                Paragraph::new(format!("{}▏", crate::text::visible(text))).block(
+                    Block::default()
+                        .borders(Borders::ALL)
+                        .title(" show transitions of nodes named: Enter applies, empty for all "),
+                ),
+                r,
+            );
+        }
+        Overlay::Export { path, replace } => {
+            let r = centered(area, area.width.saturating_sub(8).min(90), 4);
+            f.render_widget(Clear, r);
+            let title = if *replace {
+                " a file is there: Enter replaces it, Esc keeps it "
+            } else {
+                " write the causal model (DOT) to: Enter writes, Esc cancels "
+            };
+            let note = app.message.clone().unwrap_or_default();
+            f.render_widget(
+                Paragraph::new(vec![
+                    Line::from(format!("{}▏", crate::text::visible(path))),
+                    Line::from(crate::text::visible(&note).into_owned()),
+                ])
+                .block(Block::default().borders(Borders::ALL).title(title)),
+                r,
+            );
+        }
+        Overlay::Why { selected, targets } => {
+            let r = centered(area, 70, targets.len() as u16 + 2);
+            f.render_widget(Clear, r);
+            let lines: Vec<Line> = targets
+                .iter()
+                .enumerate()
+                .map(|(i, (_, q))| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    Line::from(Span::styled(q.clone(), st))
+                })
+                .collect();
+            let title = format!(" why? about {} ", app.tree.description(app.asked_node()));
+            f.render_widget(
+                Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
+                r,
+            );
+        }
+        Overlay::Ask { selected } => {
+            let qs = app.questions();
+            let r = centered(area, 60, qs.len() as u16 + 2);
+            f.render_widget(Clear, r);
+            let lines: Vec<Line> = qs
+                .iter()
+                .enumerate()
+                .map(|(i, q)| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    let text = match q {
+                        crate::explain::Question::CanYou(x) if x.is_empty() => {
+                            "Can you …? (type any subgoal or step)".to_string()
+                        }
+                        q => q.wording(),
+                    };
+                    Line::from(Span::styled(text, st))
+                })
+                .collect();
+            let title = format!(" ask about {} ", app.tree.description(app.asked_node()));
+            f.render_widget(
+                Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
+                r,
+            );
+        }
+    }
+}

@@ -1,0 +1,344 @@
+//! The timeline: where the run is (stepping, ticks, failures, playing) and
+//! the list of transitions, which scrolls and filters.
+
+use crate::run::Status;
+use crate::tui::app::{App, Overlay, Pane, PAGE};
+use crate::tui::keymap::Action;
+use crate::tui::view::*;
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+use ratatui::Frame;
+
+/// The transition list's own state.
+#[derive(Debug, Clone, Default)]
+pub struct TimelineState {
+    /// Transitions the list is moved from the moment.
+    pub scroll: i64,
+    /// Which transitions the list shows.
+    pub filter: crate::export::LogFilter,
+}
+
+impl TimelineState {
+    /// Up, Down and a page scroll the list.
+    pub fn scroll(&mut self, a: Action) -> bool {
+        self.scroll += match a {
+            Action::Up => -1,
+            Action::Down => 1,
+            Action::PageUp => -(PAGE as i64),
+            Action::PageDown => PAGE as i64,
+            _ => return false,
+        };
+        true
+    }
+}
+
+/// Keys that mean nothing without a run.
+pub fn needs_run(a: Action) -> bool {
+    matches!(
+        a,
+        Action::StepForward
+            | Action::StepBack
+            | Action::TickForward
+            | Action::TickBack
+            | Action::Start
+            | Action::End
+            | Action::NextFailure
+            | Action::PrevFailure
+            | Action::NextChange
+            | Action::PrevChange
+            | Action::Why
+            | Action::Play
+            | Action::HideResets
+            | Action::OnlyBelow
+            | Action::OnlyStatus
+    )
+}
+
+impl App {
+    /// Keys while the timeline has the focus: the list scrolls, and `/`
+    /// filters it by text.
+    pub(crate) fn timeline_focused_key(&mut self, a: Action) -> bool {
+        if a == Action::Find {
+            self.overlay = Overlay::Filter {
+                text: self.timeline.filter.text.clone(),
+            };
+            return true;
+        }
+        self.timeline.scroll(a)
+    }
+
+    /// Time, whichever pane has the focus: steps, ticks, failures, changes
+    /// of the selected node, playing, and the list's filters.
+    pub(crate) fn time_key(&mut self, a: Action) -> bool {
+        match a {
+            Action::StepForward => self.goto(self.pos + 1),
+            Action::StepBack => self.goto(self.pos.saturating_sub(1)),
+            Action::TickForward | Action::TickBack => {
+                let t = self.current_tick();
+                let at_end = self.tick_end(t) == Some(self.pos);
+                let target = match a {
+                    Action::TickForward if at_end => t + 1,
+                    Action::TickForward => t,
+                    _ => t.saturating_sub(1),
+                };
+                self.goto_tick(target.max(1));
+            }
+            Action::Start => self.goto_tick(1),
+            Action::End => self.goto(self.positions()),
+            Action::NextFailure | Action::PrevFailure => {
+                self.goto_failure(a == Action::NextFailure)
+            }
+            Action::Follow => {
+                self.follow_node = !self.follow_node;
+                self.follow_current();
+                self.message = Some(if self.follow_node {
+                    "following the current node as the run moves".into()
+                } else {
+                    "the selection stays where it is as the run moves".into()
+                });
+            }
+            Action::NextChange | Action::PrevChange => self.goto_change(a == Action::NextChange),
+            Action::Play => self.playing = !self.playing && self.session.is_some(),
+            Action::Faster => self.play_ms = (self.play_ms / 2).max(10),
+            Action::Slower => self.play_ms = (self.play_ms * 2).min(5000),
+            Action::HideResets => self.timeline.filter.no_idle = !self.timeline.filter.no_idle,
+            Action::OnlyBelow => {
+                self.timeline.filter.below = match self.timeline.filter.below {
+                    Some(_) => None,
+                    None => Some(self.selected),
+                }
+            }
+            Action::OnlyStatus => {
+                self.timeline.filter.status = match self.timeline.filter.status {
+                    None => Some(Status::Running),
+                    Some(Status::Running) => Some(Status::Success),
+                    Some(Status::Success) => Some(Status::Failure),
+                    _ => None,
+                }
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// To the end of the next (previous) tick in which a leaf failed, with
+    /// that leaf selected.
+    fn goto_failure(&mut self, next: bool) {
+        let t = self.current_tick();
+        let at_end = self.tick_end(t) == Some(self.pos);
+        let ticks = self.failure_ticks();
+        let target = if next {
+            ticks.into_iter().find(|&x| x > t || (x == t && !at_end))
+        } else {
+            ticks.into_iter().rev().find(|&x| x < t)
+        };
+        if let Some((x, p)) = target.and_then(|x| Some((x, self.tick_end(x)?))) {
+            self.goto(p);
+            // Land on the leaf that failed (the tick's last failure).
+            if let Some(u) = self.failed_leaf(x) {
+                self.reveal(u);
+                self.selected = self.visible_for(u);
+            }
+        } else {
+            self.message = Some(format!(
+                "no leaf failed {} tick {t}",
+                if next { "after" } else { "before" }
+            ));
+        }
+    }
+
+    /// To the next (previous) moment the selected node changes status.
+    fn goto_change(&mut self, next: bool) {
+        let Some(s) = &self.session else { return };
+        let changes = s.index.changes_of(self.selected);
+        let target = if next {
+            changes.iter().copied().find(|&p| p > self.pos)
+        } else {
+            changes.iter().copied().rev().find(|&p| p < self.pos)
+        };
+        if let Some(p) = target {
+            let keep = self.selected;
+            self.goto(p);
+            self.selected = keep;
+        } else {
+            self.message = Some(format!(
+                "{} does not change {} this moment",
+                self.tree.description(self.selected),
+                if next { "after" } else { "before" }
+            ));
+        }
+    }
+}
+
+/// The indices of the transitions the list shows: `rows` of those the
+/// filters keep, the moment's (or the last kept before it) in the middle,
+/// moved by the pane's scroll. Only as far from the moment as it must look.
+fn shown_transitions(app: &App, s: &crate::session::Session, rows: usize) -> Vec<usize> {
+    let total = s.index.transitions.len();
+    let f = &app.timeline.filter;
+    let keeps = |i: usize| f.keeps(&s.tree, &s.index.transitions[i]);
+    let pos = app.pos as usize;
+    // Kept transitions at or before the moment, nearest first, and after it.
+    let before: Vec<usize> = (0..pos.min(total))
+        .rev()
+        .filter(|&i| keeps(i))
+        .take(rows + 1 + app.timeline.scroll.unsigned_abs() as usize)
+        .collect();
+    let after: Vec<usize> = (pos.min(total)..total)
+        .filter(|&i| keeps(i))
+        .take(rows + app.timeline.scroll.max(0) as usize)
+        .collect();
+    let mut all: Vec<usize> = before.into_iter().rev().collect();
+    let here = all.len();
+    all.extend(after);
+    let start = (here as i64 - (rows / 2) as i64 + app.timeline.scroll)
+        .clamp(0, all.len().saturating_sub(rows) as i64) as usize;
+    all.into_iter().skip(start).take(rows).collect()
+}
+
+pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
+    let mut title = match &app.session {
+        Some(s) => format!(" timeline · run {} ", crate::text::visible(&s.ending())),
+        None => " timeline ".into(),
+    };
+    let lf = &app.timeline.filter;
+    if !lf.is_empty() {
+        let mut parts = Vec::new();
+        if lf.no_idle {
+            parts.push("no resets".to_string());
+        }
+        if let Some(u) = lf.below {
+            parts.push(format!("#{u} and below"));
+        }
+        if let Some(st) = lf.status {
+            parts.push(format!("to {}", st.as_str()));
+        }
+        if !lf.text.is_empty() {
+            parts.push(format!("\"{}\"", crate::text::visible(&lf.text)));
+        }
+        title.push_str(&format!("· showing {} ", parts.join(", ")));
+    }
+    let b = block(title, app.focus == Pane::Timeline);
+    let inner = b.inner(area);
+    f.render_widget(b, area);
+    let Some(s) = &app.session else {
+        f.render_widget(
+            Paragraph::new("no run: open a session to step through it"),
+            inner,
+        );
+        return;
+    };
+    let m = app
+        .shown_moment()
+        .unwrap_or_else(|| s.index.at(app.pos).moment());
+    let ticks = s.index.ticks();
+    let total = s.index.transitions.len();
+    let mut play = if app.playing {
+        format!("  ▶ playing every {} ms", app.play_ms)
+    } else {
+        String::new()
+    };
+    if app.follow.is_some() {
+        play.push_str("  · following the log");
+    }
+    let head = format!(
+        "moment {m}  ·  tick {} of {ticks}  ·  transition {} of {total}{play}",
+        m.tick, app.pos
+    );
+    let legend = "strip: ▆ running ▃ failed ▂ succeeded · idle";
+    let room = (inner.width as usize).saturating_sub(head.chars().count() + 4);
+    let mut lines = vec![Line::from(vec![
+        Span::raw(head),
+        Span::styled(
+            if room >= legend.chars().count() {
+                format!("    {legend}")
+            } else {
+                String::new()
+            },
+            Style::default().fg(Color::DarkGray),
+        ),
+    ])];
+    // A strip of the selected node's status at the end of each tick around now.
+    let width = inner.width.saturating_sub(10) as u32;
+    let start = m.tick.saturating_sub(width / 2).max(1);
+    let mut strip = vec![Span::raw(format!("#{:<4} ", app.selected))];
+    for t in start..=(start + width).min(ticks) {
+        let p = s
+            .index
+            .position(crate::session::Moment {
+                tick: t,
+                step: None,
+            })
+            .unwrap_or(0);
+        let st = s.index.at(p).status(app.selected);
+        let done = s.index.at(p).last_completed(app.selected);
+        let c = match (st, done) {
+            (Status::Running, _) => '▆',
+            (Status::Idle, Some(Status::Failure)) | (Status::Failure, _) => '▃',
+            (Status::Success, _) | (Status::Idle, Some(Status::Success)) => '▂',
+            _ => '·',
+        };
+        let color = match (st, done) {
+            (Status::Idle, Some(x)) => status_color(x),
+            (x, _) => status_color(x),
+        };
+        let mut style = Style::default().fg(color);
+        if t == m.tick {
+            style = style.add_modifier(Modifier::REVERSED);
+        }
+        strip.push(Span::styled(c.to_string(), style));
+    }
+    lines.push(Line::from(strip));
+    // Its tick axis: a mark and the number every ten ticks.
+    let mut axis = String::from("tick  ");
+    let mut t = start;
+    while t <= (start + width).min(ticks) {
+        if t.is_multiple_of(10) || t == 1 {
+            let label = format!("╵{t}");
+            axis.push_str(&label);
+            let skip = label.chars().count() as u32;
+            t += skip;
+        } else {
+            axis.push(' ');
+            t += 1;
+        }
+    }
+    lines.push(Line::from(Span::styled(
+        axis,
+        Style::default().fg(Color::DarkGray),
+    )));
+    // The transitions around the moment (those the filters keep).
+    let around = (inner.height as usize).saturating_sub(3);
+    for i in shown_transitions(app, s, around) {
+        let t = s.index.transitions[i];
+        let here = i + 1 == app.pos as usize;
+        let style = if here {
+            Style::default().add_modifier(Modifier::REVERSED)
+        } else {
+            Style::default()
+        };
+        lines.push(Line::from(vec![
+            Span::styled(
+                format!(
+                    "{:>5} #{:<4} {:<32} ",
+                    t.tick,
+                    t.uid,
+                    truncate(s.tree.description(t.uid), 32)
+                ),
+                style,
+            ),
+            Span::styled(
+                format!("{:<8}", t.prev.as_str()),
+                Style::default().fg(status_color(t.prev)),
+            ),
+            Span::raw(" → "),
+            Span::styled(
+                t.status.as_str(),
+                Style::default().fg(status_color(t.status)),
+            ),
+        ]));
+    }
+    f.render_widget(Paragraph::new(lines), inner);
+}

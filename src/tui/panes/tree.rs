@@ -1,0 +1,199 @@
+//! The tree pane: moving the selection, folding, and the framed view. The
+//! selection lives here but every pane reads it, so these keys act whichever
+//! pane has the focus (unless the focused pane took the key first).
+
+use crate::model::Uid;
+use crate::run::Status;
+use crate::tui::app::{App, Pane, PAGE};
+use crate::tui::keymap::Action;
+use crate::tui::view::*;
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::Paragraph;
+use ratatui::Frame;
+
+impl App {
+    /// The tree's keys. Whether the key was taken.
+    pub(crate) fn tree_key(&mut self, a: Action) -> bool {
+        match a {
+            Action::Up | Action::Down | Action::PageUp | Action::PageDown => {
+                let i = self.row_of(self.selected).unwrap_or(0);
+                let last = self.rows.len().saturating_sub(1);
+                let j = match a {
+                    Action::Up => i.saturating_sub(1),
+                    Action::Down => (i + 1).min(last),
+                    Action::PageUp => i.saturating_sub(PAGE),
+                    _ => (i + PAGE).min(last),
+                };
+                self.selected = self.rows[j].uid;
+                self.follow_node = false;
+            }
+            Action::Collapse => {
+                if self
+                    .rows
+                    .get(self.row_of(self.selected).unwrap_or(0))
+                    .is_some_and(|r| r.has_children)
+                    && !self.collapsed.contains(&self.selected)
+                {
+                    self.collapsed.insert(self.selected);
+                    self.rebuild_rows();
+                } else if let Some(p) = self
+                    .tree
+                    .ancestors(self.selected)
+                    .find(|p| self.row_of(*p).is_some())
+                {
+                    self.selected = p;
+                    self.follow_node = false;
+                }
+            }
+            Action::Expand => {
+                if self.collapsed.remove(&self.selected) {
+                    self.rebuild_rows();
+                } else if let Some(i) = self.row_of(self.selected) {
+                    if self.rows[i].has_children {
+                        if let Some(next) = self.rows.get(i + 1) {
+                            self.selected = next.uid;
+                            self.follow_node = false;
+                        }
+                    }
+                }
+            }
+            Action::Toggle => {
+                if !self.collapsed.remove(&self.selected) {
+                    self.collapsed.insert(self.selected);
+                }
+                self.rebuild_rows();
+            }
+            Action::ToggleFramed => {
+                self.framed_view = !self.framed_view;
+                self.selected = self.visible_for(self.selected);
+                self.rebuild_rows();
+            }
+            _ => return false,
+        }
+        true
+    }
+}
+
+pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
+    let title = format!(
+        " {} tree · {} ",
+        if app.framed_view { "framed" } else { "full" },
+        app.title
+    );
+    let b = block(title, app.focus == Pane::Tree);
+    let inner = b.inner(area);
+    f.render_widget(b, area);
+    let h = inner.height as usize;
+    let first = first_row(app, h);
+    let at = app.at();
+    let current = at.and_then(|a| a.current());
+    let highlighted: Vec<Uid> = app.highlighted();
+    let width = inner.width as usize;
+    // Deep rows scroll sideways with the selection: its indentation is kept
+    // within half the pane, and rows that start left of the view show `‹`.
+    let sel_depth = app
+        .rows()
+        .iter()
+        .find(|r| r.uid == app.selected)
+        .map_or(0, |r| r.depth);
+    let shift = (2 * sel_depth).saturating_sub(width / 2);
+    let mut lines = Vec::with_capacity(h);
+    for r in app.rows().iter().skip(first).take(h) {
+        let status = app.status(r.uid);
+        let mut marker = match status {
+            Status::Idle => " ".to_string(),
+            s => s.as_str()[..1].to_string(),
+        };
+        let mut mstyle = Style::default()
+            .fg(status_color(status))
+            .add_modifier(Modifier::BOLD);
+        if let Some(a) = &at {
+            if status == Status::Idle {
+                let t = a
+                    .index
+                    .changes_of(r.uid)
+                    .iter()
+                    .rev()
+                    .find(|&&p| p <= a.pos)
+                    .map(|&p| a.index.transitions[p as usize - 1]);
+                if t.is_some_and(|t| t.prev == Status::Running) {
+                    marker = "H".into();
+                    mstyle = Style::default().fg(Color::Magenta);
+                } else if a.failed(r.uid) {
+                    marker = "x".into();
+                    mstyle = Style::default().fg(Color::Red);
+                }
+            }
+        }
+        let fold = if !r.has_children {
+            "  "
+        } else if app.collapsed.contains(&r.uid) {
+            "▸ "
+        } else {
+            "▾ "
+        };
+        let mut name_style = Style::default();
+        if highlighted.contains(&r.uid) {
+            name_style = name_style
+                .fg(Color::Cyan)
+                .add_modifier(Modifier::UNDERLINED);
+        }
+        if Some(r.uid) == current {
+            name_style = name_style.add_modifier(Modifier::BOLD);
+        }
+        if r.uid == app.selected {
+            name_style = name_style.add_modifier(Modifier::REVERSED);
+        }
+        let role = if app.framed_view {
+            match app
+                .framed
+                .nodes
+                .iter()
+                .find(|x| x.uid == r.uid)
+                .map(|x| x.role)
+            {
+                Some(crate::frame::Role::Goal) => "goal ",
+                Some(crate::frame::Role::Subgoal) => "subgoal ",
+                Some(crate::frame::Role::Step) => "step ",
+                _ => "",
+            }
+        } else {
+            ""
+        };
+        let indent = match (2 * r.depth).checked_sub(shift) {
+            Some(n) if shift == 0 => " ".repeat(n),
+            Some(n) => format!("‹{}", " ".repeat(n.saturating_sub(1))),
+            None => "‹".to_string(),
+        };
+        let head = vec![
+            Span::styled(format!("{marker} "), mstyle),
+            Span::raw(indent),
+            Span::raw(fold),
+            Span::styled(
+                format!("{} ", glyph(app, r.uid)),
+                Style::default().fg(Color::Blue),
+            ),
+        ];
+        let tail = [
+            Span::styled(format!(" #{}", r.uid), Style::default().fg(Color::DarkGray)),
+            Span::raw(if Some(r.uid) == current {
+                "  ◀ now"
+            } else {
+                ""
+            }),
+        ];
+        // The name gives way, with an ellipsis, so the uid always shows.
+        let used: usize = head.iter().chain(&tail[..1]).map(Span::width).sum();
+        let name = fit(
+            &format!("{role}{}", app.tree.description(r.uid)),
+            width.saturating_sub(used),
+        );
+        let mut spans = head;
+        spans.push(Span::styled(name, name_style));
+        spans.extend(tail);
+        lines.push(Line::from(spans));
+    }
+    f.render_widget(Paragraph::new(lines), inner);
+}

@@ -659,22 +659,30 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 transitions_before,
                 transitions_after: self.tick_transitions,
                 transitioned: r.transitions != own_before,
-                decision: self.events[events_before.min(self.events.len())..]
-                    .iter()
-                    .rev()
-                    .find_map(|e| match e {
-                        Event::Transition {
-                            uid: u,
-                            decision: Some(d),
-                            ..
-                        }
-                        | Event::Decision {
-                            uid: u,
-                            decision: d,
-                            ..
-                        } if *u == uid => Some(d.clone()),
-                        _ => None,
-                    }),
+                // Only a leaf decides; a control node's call spans all of
+                // its subtree's events, which are not searched.
+                decision: n
+                    .kind
+                    .is_leaf()
+                    .then(|| {
+                        self.events[events_before.min(self.events.len())..]
+                            .iter()
+                            .rev()
+                            .find_map(|e| match e {
+                                Event::Transition {
+                                    uid: u,
+                                    decision: Some(d),
+                                    ..
+                                }
+                                | Event::Decision {
+                                    uid: u,
+                                    decision: d,
+                                    ..
+                                } if *u == uid => Some(d.clone()),
+                                _ => None,
+                            })
+                    })
+                    .flatten(),
             };
             self.call_log.push(record);
         }

@@ -19,6 +19,7 @@ pub mod pick;
 pub mod run;
 pub mod session;
 
+pub mod live;
 pub mod logs;
 
 pub mod input;

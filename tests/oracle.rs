@@ -20,20 +20,13 @@ use btx::xml::{load_str, LoadOptions};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+mod common;
 #[path = "common/trees.rs"]
 mod trees;
 use trees::{generate, Case};
 
 fn python() -> PathBuf {
-    if let Some(p) = std::env::var_os("BTX_ORACLE_PYTHON") {
-        return PathBuf::from(p);
-    }
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/oracle-venv/bin/python");
-    assert!(
-        p.exists(),
-        "the BehaviorTree.CPP oracle is not installed: run tests/oracle/setup.sh (or set BTX_ORACLE_PYTHON)"
-    );
-    p
+    common::oracle_python()
 }
 
 /// One run: (tick, uid, status) for each transition, the root's last

@@ -55,23 +55,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                             Some(p) => Some(pick_node(&s.tree, p)?),
                             None => None,
                         };
-                        let rows = btx::export::log_rows(&s, only, no_idle);
-                        let new = rows.get(printed..).unwrap_or(&[]);
-                        let out = match format {
-                            Format::Json => btx::export::log_json_lines(&s, new),
-                            Format::Text => {
-                                let t = btx::export::log_text(&s, new);
-                                if header {
-                                    t.split_once('\n')
-                                        .map_or(String::new(), |x| x.1.to_string())
-                                } else {
-                                    header = true;
-                                    t
-                                }
-                            }
-                        };
-                        print!("{out}");
-                        printed = printed.max(rows.len());
+                        print_grown(&s, only, no_idle, format, &mut printed, &mut header);
                     }
                     Ok(None) => {}
                     // Caught mid-write: read again at the next poll.
@@ -161,4 +145,33 @@ impl std::io::Write for SafeOut {
     fn flush(&mut self) -> std::io::Result<()> {
         self.0.flush()
     }
+}
+
+/// Prints the rows of a growing run past the `printed` first, the table's
+/// header once (`btx log --follow`, `btx watch`).
+pub(super) fn print_grown(
+    s: &btx::session::Session,
+    only: Option<btx::Uid>,
+    no_idle: bool,
+    format: Format,
+    printed: &mut usize,
+    header: &mut bool,
+) {
+    let rows = btx::export::log_rows(s, only, no_idle);
+    let new = rows.get(*printed..).unwrap_or(&[]);
+    let out = match format {
+        Format::Json => btx::export::log_json_lines(s, new),
+        Format::Text => {
+            let t = btx::export::log_text(s, new);
+            if *header {
+                t.split_once('\n')
+                    .map_or(String::new(), |x| x.1.to_string())
+            } else {
+                *header = true;
+                t
+            }
+        }
+    };
+    print!("{out}");
+    *printed = (*printed).max(rows.len());
 }

@@ -135,6 +135,8 @@ enum Command {
     Diff(diff::Args),
     /// List the status transitions of a session, like Groot's table.
     Log(log::Args),
+    /// Watch a running robot over the Groot2 protocol (BehaviorTree.CPP 4, Nav2): print its transitions as they happen, and keep the run as a session.
+    Watch(watch::Args),
 }
 
 /// What went wrong: located input errors are drawn by miette with the
@@ -238,6 +240,7 @@ mod open;
 mod run;
 mod screenshot;
 mod tree;
+mod watch;
 mod why;
 mod world;
 
@@ -305,6 +308,7 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Graph(a) => graph::run(a, &globals),
         Command::Diff(a) => diff::run(a, &globals),
         Command::Log(a) => log::run(a, &globals),
+        Command::Watch(a) => watch::run(a, &globals),
     }
 }
 

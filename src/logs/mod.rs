@@ -29,6 +29,25 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
     )
 }
 
+/// A run received live over the Groot2 protocol (`crate::live`) as a
+/// session: the tree from the server's XML and ticks reconstructed, by the
+/// same code as a `.btlog`'s. `name` names the endpoint in messages; a
+/// record's `offset` is its place in the run.
+pub fn open_live(name: &Path, xml: &str, records: &[btlog::Record]) -> Result<Session, Located> {
+    session_from(
+        name,
+        LogRun {
+            len: records.len(),
+            partial_tail: 0,
+            xml,
+            version: crate::model::Version::V4,
+            records,
+            kind: "groot2",
+        },
+        &|o| format!("transition {}", o + 1),
+    )
+}
+
 /// One session of a SqliteLogger database (`which`, or the last one).
 pub fn open_db3(path: &Path, which: Option<i64>) -> Result<Session, Located> {
     let (ids, raw) = db3::read(path, which)?;

@@ -82,3 +82,17 @@ pub fn run_planned(
     ]);
     (ok, err, out)
 }
+
+/// The Python that has BehaviorTree.CPP (the PyPI package behaviortreepy):
+/// `tests/oracle/setup.sh` installs it; a missing one fails the test.
+pub fn oracle_python() -> PathBuf {
+    if let Some(p) = std::env::var_os("BTX_ORACLE_PYTHON") {
+        return PathBuf::from(p);
+    }
+    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/oracle-venv/bin/python");
+    assert!(
+        p.exists(),
+        "the BehaviorTree.CPP oracle is not installed: run tests/oracle/setup.sh (or set BTX_ORACLE_PYTHON)"
+    );
+    p
+}

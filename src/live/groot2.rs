@@ -1,0 +1,249 @@
+//! The Groot2 protocol of BehaviorTree.CPP 4 (`groot2_protocol.h`,
+//! `groot2_publisher.cpp`), client side: multipart requests whose first part
+//! is a 6-byte header `u8 protocol (2) | u8 type | u32 id`, replies whose
+//! first part echoes it followed by the tree's 16-byte UUID, or the two
+//! parts `error`, message.
+
+use super::zmtp::{Req, ZmtpError};
+use crate::run::Status;
+use std::time::Duration;
+
+pub const PROTOCOL: u8 = 2;
+/// Groot2's port (`Groot2Publisher`'s default, Nav2's `groot_server_port`).
+pub const DEFAULT_PORT: u16 = 1667;
+/// The transitions the server keeps between two `t` requests; a reply this
+/// long may have lost older ones.
+pub const SERVER_BUFFER: usize = 1000;
+
+/// One transition as the server records it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Transition {
+    /// Microseconds since the recording started.
+    pub time_us: i64,
+    pub uid: u32,
+    pub status: Status,
+}
+
+/// An error of the live client: the endpoint and what went wrong.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct LiveError(pub String);
+
+impl std::fmt::Display for LiveError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for LiveError {}
+
+impl From<ZmtpError> for LiveError {
+    fn from(e: ZmtpError) -> Self {
+        LiveError(e.to_string())
+    }
+}
+
+/// `HOST:PORT` from `[HOST][:PORT]` (default 127.0.0.1:1667).
+pub fn endpoint(spec: &str) -> String {
+    let spec = spec.trim().trim_start_matches("tcp://");
+    match spec.rsplit_once(':') {
+        Some((h, p)) if !p.is_empty() && p.chars().all(|c| c.is_ascii_digit()) => {
+            let h = if h.is_empty() { "127.0.0.1" } else { h };
+            format!("{h}:{p}")
+        }
+        _ if spec.is_empty() => format!("127.0.0.1:{DEFAULT_PORT}"),
+        _ => format!("{spec}:{DEFAULT_PORT}"),
+    }
+}
+
+/// The request header of `kind` with `id`.
+pub fn header(kind: u8, id: u32) -> [u8; 6] {
+    let mut h = [0u8; 6];
+    h[0] = PROTOCOL;
+    h[1] = kind;
+    h[2..].copy_from_slice(&id.to_le_bytes());
+    h
+}
+
+/// A status byte of the protocol (IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED;
+/// in `S` replies IDLE after a status is 10 + that status).
+fn status_of(b: u8) -> Option<Status> {
+    Some(match b {
+        0 | 10..=14 => Status::Idle,
+        1 => Status::Running,
+        2 => Status::Success,
+        3 => Status::Failure,
+        4 => Status::Skipped,
+        _ => return None,
+    })
+}
+
+/// The 9-byte records of a `t` reply.
+pub fn parse_transitions(body: &[u8]) -> Result<Vec<Transition>, String> {
+    if !body.len().is_multiple_of(9) {
+        return Err(format!(
+            "a transitions reply of {} bytes is not whole 9-byte records",
+            body.len()
+        ));
+    }
+    body.chunks_exact(9)
+        .enumerate()
+        .map(|(i, r)| {
+            let mut t = [0u8; 8];
+            t[..6].copy_from_slice(&r[..6]);
+            let status = status_of(r[8]).ok_or_else(|| {
+                format!(
+                    "record {} has status byte {}, which is no status",
+                    i + 1,
+                    r[8]
+                )
+            })?;
+            Ok(Transition {
+                time_us: i64::from_le_bytes(t),
+                uid: u32::from(u16::from_le_bytes([r[6], r[7]])),
+                status,
+            })
+        })
+        .collect()
+}
+
+/// The `u16 uid | u8 status` triples of an `S` reply.
+pub fn parse_statuses(body: &[u8]) -> Result<Vec<(u32, Status)>, String> {
+    if !body.len().is_multiple_of(3) {
+        return Err(format!(
+            "a status reply of {} bytes is not whole 3-byte records",
+            body.len()
+        ));
+    }
+    body.chunks_exact(3)
+        .map(|r| {
+            let uid = u32::from(u16::from_le_bytes([r[0], r[1]]));
+            status_of(r[2])
+                .map(|s| (uid, s))
+                .ok_or_else(|| format!("node {uid} has status byte {}, which is no status", r[2]))
+        })
+        .collect()
+}
+
+/// A connection to a Groot2 server.
+pub struct Client {
+    req: Req,
+    endpoint: String,
+    next_id: u32,
+    /// The tree's UUID as of the last reply.
+    pub uuid: [u8; 16],
+}
+
+impl Client {
+    pub fn connect(endpoint: &str, timeout: Duration) -> Result<Client, LiveError> {
+        Ok(Client {
+            req: Req::connect(endpoint, timeout)?,
+            endpoint: endpoint.to_string(),
+            next_id: std::process::id().wrapping_mul(2_654_435_761),
+            uuid: [0; 16],
+        })
+    }
+
+    fn err(&self, m: impl std::fmt::Display) -> LiveError {
+        LiveError(format!("{}: {m}", self.endpoint))
+    }
+
+    /// One request; the reply's parts after the header.
+    fn call(&mut self, kind: u8, arg: Option<&[u8]>) -> Result<Vec<Vec<u8>>, LiveError> {
+        self.next_id = self.next_id.wrapping_add(1);
+        let h = header(kind, self.next_id);
+        let mut parts: Vec<&[u8]> = vec![&h];
+        if let Some(a) = arg {
+            parts.push(a);
+        }
+        let mut reply = self.req.request(&parts)?;
+        let first = reply.first().cloned().unwrap_or_default();
+        if first == b"error" {
+            let msg = reply
+                .get(1)
+                .map(|m| String::from_utf8_lossy(m).into_owned())
+                .unwrap_or_default();
+            return Err(self.err(format!("the server refused the request: {msg}")));
+        }
+        if first.len() != 22 || first[..6] != h {
+            return Err(self.err(
+                "the reply is not a Groot2 reply (its header does not echo the request): is this a BehaviorTree.CPP 4 Groot2Publisher?",
+            ));
+        }
+        self.uuid.copy_from_slice(&first[6..22]);
+        reply.remove(0);
+        Ok(reply)
+    }
+
+    fn one(&mut self, kind: u8, arg: Option<&[u8]>, what: &str) -> Result<Vec<u8>, LiveError> {
+        let mut r = self.call(kind, arg)?;
+        if r.is_empty() {
+            return Err(self.err(format!("the {what} reply has no body")));
+        }
+        Ok(r.swap_remove(0))
+    }
+
+    /// `T`: the tree as XML, with `_uid` attributes.
+    pub fn tree_xml(&mut self) -> Result<String, LiveError> {
+        let b = self.one(b'T', None, "tree")?;
+        String::from_utf8(b).map_err(|_| self.err("the tree's XML is not UTF-8"))
+    }
+
+    /// `r start`: starts recording; the server's clock then, in µs since the epoch.
+    pub fn start_recording(&mut self) -> Result<i64, LiveError> {
+        let b = self.one(b'r', Some(b"start"), "recording")?;
+        String::from_utf8_lossy(&b)
+            .trim()
+            .parse()
+            .map_err(|_| self.err("the recording reply is not a time in µs"))
+    }
+
+    /// `t`: the transitions since the last `t`.
+    pub fn transitions(&mut self) -> Result<Vec<Transition>, LiveError> {
+        let b = self.one(b't', None, "transitions")?;
+        parse_transitions(&b).map_err(|m| self.err(m))
+    }
+
+    /// `S`: every node's status now.
+    pub fn statuses(&mut self) -> Result<Vec<(u32, Status)>, LiveError> {
+        let b = self.one(b'S', None, "status")?;
+        parse_statuses(&b).map_err(|m| self.err(m))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn endpoints_default_to_loopback_and_groots_port() {
+        assert_eq!(endpoint(""), "127.0.0.1:1667");
+        assert_eq!(endpoint(":1777"), "127.0.0.1:1777");
+        assert_eq!(endpoint("robot"), "robot:1667");
+        assert_eq!(endpoint("tcp://10.0.0.2:1667"), "10.0.0.2:1667");
+    }
+
+    #[test]
+    fn records_are_read_as_the_publisher_writes_them() {
+        let mut b = Vec::new();
+        b.extend_from_slice(&1_234_567u64.to_le_bytes()[..6]);
+        b.extend_from_slice(&7u16.to_le_bytes());
+        b.push(3);
+        assert_eq!(
+            parse_transitions(&b).unwrap(),
+            vec![Transition {
+                time_us: 1_234_567,
+                uid: 7,
+                status: Status::Failure
+            }]
+        );
+        assert!(parse_transitions(&b[..8]).is_err());
+        b[8] = 9;
+        assert!(parse_transitions(&b).unwrap_err().contains("status byte 9"));
+        // IDLE after SUCCESS is 12 in a status reply.
+        assert_eq!(
+            parse_statuses(&[2, 0, 12, 3, 0, 1]).unwrap(),
+            vec![(2, Status::Idle), (3, Status::Running)]
+        );
+        assert_eq!(header(b'T', 1), [2, b'T', 1, 0, 0, 0]);
+    }
+}

@@ -1,0 +1,337 @@
+//! A ZeroMQ REQ socket over TCP, as ZMTP 3.0 (RFC 23) defines it with the
+//! NULL mechanism: the greeting, the READY handshake, and multipart
+//! messages framed with a flags byte and a size. This is all of ZeroMQ the
+//! Groot2 protocol needs, written against the specification so that every
+//! read has a deadline and every length a bound: a server that never
+//! answers, answers garbage or answers gigabytes gives an error naming the
+//! endpoint, never a hang, a panic or an allocation the reply did not earn.
+//!
+//! (The pure-Rust `zeromq` crate asserts on a malformed reply and needs an
+//! async runtime; the `zmq` crate builds libzmq with CMake, which a fresh
+//! machine does not have.)
+
+use std::io::{Read, Write};
+use std::net::{TcpStream, ToSocketAddrs};
+use std::time::{Duration, Instant};
+
+/// The largest frame btx accepts (a tree's XML, a blackboard dump).
+pub const FRAME_MAX: u64 = 64 << 20;
+/// The most frames in one reply.
+pub const PARTS_MAX: usize = 16;
+
+/// Why a request got no reply.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ZmtpError {
+    pub endpoint: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for ZmtpError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.endpoint, self.message)
+    }
+}
+
+impl std::error::Error for ZmtpError {}
+
+/// A connected REQ socket.
+pub struct Req {
+    stream: TcpStream,
+    endpoint: String,
+    timeout: Duration,
+}
+
+const SIGNATURE_END: u8 = 0x7F;
+const MORE: u8 = 0x01;
+const LONG: u8 = 0x02;
+const COMMAND: u8 = 0x04;
+
+impl Req {
+    /// Connects to `host:port` and does the ZMTP handshake, each step
+    /// within `timeout`.
+    pub fn connect(endpoint: &str, timeout: Duration) -> Result<Req, ZmtpError> {
+        let err = |m: String| ZmtpError {
+            endpoint: endpoint.to_string(),
+            message: m,
+        };
+        let addrs: Vec<_> = endpoint
+            .to_socket_addrs()
+            .map_err(|e| err(format!("cannot resolve the address: {e}")))?
+            .collect();
+        let mut last = None;
+        let mut stream = None;
+        for a in &addrs {
+            match TcpStream::connect_timeout(a, timeout) {
+                Ok(s) => {
+                    stream = Some(s);
+                    break;
+                }
+                Err(e) => last = Some(e),
+            }
+        }
+        let stream = stream.ok_or_else(|| {
+            err(match last {
+                Some(e) if e.kind() == std::io::ErrorKind::ConnectionRefused => {
+                    "nothing is listening there (connection refused)".into()
+                }
+                Some(e) => format!("cannot connect: {e}"),
+                None => "the address resolves to nothing".into(),
+            })
+        })?;
+        let _ = stream.set_nodelay(true);
+        let mut req = Req {
+            stream,
+            endpoint: endpoint.to_string(),
+            timeout,
+        };
+        req.handshake()?;
+        Ok(req)
+    }
+
+    fn err(&self, m: impl Into<String>) -> ZmtpError {
+        ZmtpError {
+            endpoint: self.endpoint.clone(),
+            message: m.into(),
+        }
+    }
+
+    fn write_all(&mut self, bytes: &[u8]) -> Result<(), ZmtpError> {
+        self.stream
+            .set_write_timeout(Some(self.timeout))
+            .and_then(|()| self.stream.write_all(bytes))
+            .map_err(|e| self.err(format!("the connection failed while sending: {e}")))
+    }
+
+    /// Reads exactly `buf.len()` bytes before `deadline`.
+    fn read_exact(
+        &mut self,
+        buf: &mut [u8],
+        deadline: Instant,
+        what: &str,
+    ) -> Result<(), ZmtpError> {
+        let mut got = 0;
+        while got < buf.len() {
+            let left = deadline.saturating_duration_since(Instant::now());
+            if left.is_zero() {
+                return Err(self.err(format!(
+                    "no answer within {} s ({what})",
+                    self.timeout.as_secs_f64()
+                )));
+            }
+            self.stream
+                .set_read_timeout(Some(left))
+                .map_err(|e| self.err(e.to_string()))?;
+            match self.stream.read(&mut buf[got..]) {
+                Ok(0) => return Err(self.err(format!("the server closed the connection ({what})"))),
+                Ok(n) => got += n,
+                Err(e)
+                    if matches!(
+                        e.kind(),
+                        std::io::ErrorKind::WouldBlock | std::io::ErrorKind::TimedOut
+                    ) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(self.err(format!("the connection failed ({what}): {e}"))),
+            }
+        }
+        Ok(())
+    }
+
+    fn handshake(&mut self) -> Result<(), ZmtpError> {
+        let mut greeting = [0u8; 64];
+        greeting[0] = 0xFF;
+        greeting[9] = SIGNATURE_END;
+        greeting[10] = 3;
+        greeting[11] = 0;
+        greeting[12..16].copy_from_slice(b"NULL");
+        self.write_all(&greeting)?;
+        let deadline = Instant::now() + self.timeout;
+        let mut peer = [0u8; 64];
+        self.read_exact(&mut peer[..10], deadline, "the ZMTP greeting")?;
+        if peer[0] != 0xFF || peer[9] & 1 != 1 {
+            return Err(
+                self.err("this is not a ZeroMQ server (its first bytes are not a ZMTP greeting)")
+            );
+        }
+        self.read_exact(&mut peer[10..], deadline, "the ZMTP greeting")?;
+        if peer[10] < 3 {
+            return Err(self.err(format!(
+                "the server speaks ZMTP {}.{}; btx needs 3.0 or later",
+                peer[10], peer[11]
+            )));
+        }
+        if &peer[12..16] != b"NULL" {
+            return Err(
+                self.err("the server asks for a security mechanism btx does not have (only NULL)")
+            );
+        }
+        // READY, with our socket type.
+        let mut body = Vec::new();
+        body.push(5);
+        body.extend_from_slice(b"READY");
+        body.push(11);
+        body.extend_from_slice(b"Socket-Type");
+        body.extend_from_slice(&3u32.to_be_bytes());
+        body.extend_from_slice(b"REQ");
+        let mut frame = vec![COMMAND, body.len() as u8];
+        frame.extend_from_slice(&body);
+        self.write_all(&frame)?;
+        let (flags, body) = self.read_frame(deadline, "the READY command")?;
+        if flags & COMMAND == 0 || !body.starts_with(b"\x05READY") {
+            return Err(self.err("the server did not send READY after the greeting"));
+        }
+        if let Some(t) = property(&body[6..], b"Socket-Type") {
+            if t != b"REP" && t != b"ROUTER" {
+                return Err(self.err(format!(
+                    "the server's socket is {}, not REP: it cannot answer requests",
+                    String::from_utf8_lossy(t)
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    fn read_frame(&mut self, deadline: Instant, what: &str) -> Result<(u8, Vec<u8>), ZmtpError> {
+        let mut flags = [0u8; 1];
+        self.read_exact(&mut flags, deadline, what)?;
+        let flags = flags[0];
+        if flags & !(MORE | LONG | COMMAND) != 0 {
+            return Err(self.err(format!("a frame has unknown flags {flags:#04x} ({what})")));
+        }
+        let size = if flags & LONG != 0 {
+            let mut b = [0u8; 8];
+            self.read_exact(&mut b, deadline, what)?;
+            u64::from_be_bytes(b)
+        } else {
+            let mut b = [0u8; 1];
+            self.read_exact(&mut b, deadline, what)?;
+            u64::from(b[0])
+        };
+        if size > FRAME_MAX {
+            return Err(self.err(format!(
+                "a frame of {size} bytes is more than btx accepts ({FRAME_MAX}) ({what})"
+            )));
+        }
+        let mut body = vec![0u8; size as usize];
+        self.read_exact(&mut body, deadline, what)?;
+        Ok((flags, body))
+    }
+
+    /// Sends a multipart request and returns the reply's parts.
+    pub fn request(&mut self, parts: &[&[u8]]) -> Result<Vec<Vec<u8>>, ZmtpError> {
+        // REQ: an empty delimiter frame, then the parts.
+        let mut out = vec![MORE, 0];
+        for (i, p) in parts.iter().enumerate() {
+            let more = if i + 1 < parts.len() { MORE } else { 0 };
+            if p.len() > 255 {
+                out.push(more | LONG);
+                out.extend_from_slice(&(p.len() as u64).to_be_bytes());
+            } else {
+                out.push(more);
+                out.push(p.len() as u8);
+            }
+            out.extend_from_slice(p);
+        }
+        self.write_all(&out)?;
+        let deadline = Instant::now() + self.timeout;
+        let mut reply = Vec::new();
+        let mut delimited = false;
+        loop {
+            let (flags, body) = self.read_frame(deadline, "the reply")?;
+            if flags & COMMAND != 0 {
+                // PING and the like carry no reply: skip them.
+                continue;
+            }
+            if !delimited {
+                if !body.is_empty() {
+                    return Err(self.err("the reply does not start with REQ's empty delimiter"));
+                }
+                delimited = true;
+            } else {
+                reply.push(body);
+                if reply.len() > PARTS_MAX {
+                    return Err(self.err(format!("the reply has more than {PARTS_MAX} parts")));
+                }
+            }
+            if flags & MORE == 0 {
+                break;
+            }
+        }
+        Ok(reply)
+    }
+}
+
+/// A property's value in a READY command's metadata.
+fn property<'a>(mut meta: &'a [u8], name: &[u8]) -> Option<&'a [u8]> {
+    while let Some((&n, rest)) = meta.split_first() {
+        let (key, rest) = rest.split_at_checked(n as usize)?;
+        let (len, rest) = rest.split_at_checked(4)?;
+        let len = u32::from_be_bytes(len.try_into().ok()?) as usize;
+        let (value, rest) = rest.split_at_checked(len)?;
+        if key.eq_ignore_ascii_case(name) {
+            return Some(value);
+        }
+        meta = rest;
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::net::TcpListener;
+
+    /// A server that accepts one connection and runs `f` on it.
+    fn serve(f: impl FnOnce(TcpStream) + Send + 'static) -> String {
+        let l = TcpListener::bind("127.0.0.1:0").unwrap();
+        let addr = l.local_addr().unwrap().to_string();
+        std::thread::spawn(move || {
+            if let Ok((s, _)) = l.accept() {
+                f(s)
+            }
+        });
+        addr
+    }
+
+    #[test]
+    fn nothing_listening_is_said_at_once() {
+        let l = TcpListener::bind("127.0.0.1:0").unwrap();
+        let addr = l.local_addr().unwrap().to_string();
+        drop(l);
+        let e = Req::connect(&addr, Duration::from_secs(2)).err().unwrap();
+        assert!(e.to_string().contains("nothing is listening"), "{e}");
+    }
+
+    #[test]
+    fn a_server_that_never_answers_times_out() {
+        let addr = serve(|s| {
+            std::thread::sleep(Duration::from_secs(3));
+            drop(s)
+        });
+        let t = Instant::now();
+        let e = Req::connect(&addr, Duration::from_millis(300))
+            .err()
+            .unwrap();
+        assert!(e.to_string().contains("no answer within 0.3 s"), "{e}");
+        assert!(t.elapsed() < Duration::from_secs(2));
+    }
+
+    #[test]
+    fn a_server_that_is_not_zeromq_is_named() {
+        let addr = serve(|mut s| {
+            let _ = s.write_all(b"HTTP/1.1 400 Bad Request\r\n\r\n");
+            std::thread::sleep(Duration::from_millis(500));
+        });
+        let e = Req::connect(&addr, Duration::from_secs(2)).err().unwrap();
+        assert!(e.to_string().contains("not a ZeroMQ server"), "{e}");
+    }
+
+    #[test]
+    fn properties_are_read_from_ready_metadata() {
+        let mut m = vec![11];
+        m.extend_from_slice(b"Socket-Type");
+        m.extend_from_slice(&3u32.to_be_bytes());
+        m.extend_from_slice(b"REP");
+        assert_eq!(property(&m, b"socket-type"), Some(&b"REP"[..]));
+        assert_eq!(property(&m[..5], b"Socket-Type"), None);
+    }
+}

@@ -1,0 +1,143 @@
+//! Watching a robot that is running now: the real BehaviorTree.CPP (the
+//! PyPI package behaviortreepy) runs the kitting tree with the fixture
+//! plans, publishing with its own Groot2Publisher and recording with its own
+//! FileLogger; `btx watch` must keep every transition, tick for tick.
+
+mod common;
+
+use btx::input::{open, Input};
+use btx::session::Session;
+use btx::xml::LoadOptions;
+use common::{fixture, oracle_python};
+use std::io::{BufRead, BufReader};
+use std::net::TcpListener;
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A port with the one above it free too (the publisher binds both).
+fn free_port() -> u16 {
+    loop {
+        let l = TcpListener::bind("127.0.0.1:0").unwrap();
+        let p = l.local_addr().unwrap().port();
+        if p < u16::MAX && TcpListener::bind(("127.0.0.1", p + 1)).is_ok() {
+            return p;
+        }
+    }
+}
+
+fn session(p: &Path) -> Session {
+    match open(p, &LoadOptions::default()).unwrap() {
+        Input::Session(s) => *s,
+        Input::Tree { .. } => panic!("{} is a run", p.display()),
+    }
+}
+
+/// Runs the robot with `plan` and watches it; (the btlog the robot wrote,
+/// the session btx wrote, btx's stdout).
+fn watch(plan: &str, dir: &Path) -> (Session, Session, String) {
+    let port = free_port();
+    let btlog = dir.join(format!("{plan}.btlog"));
+    let out = dir.join(format!("{plan}.jsonl"));
+    let mut robot = Command::new(oracle_python())
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/live/robot.py"))
+        .arg(fixture("kitting-tree.v4.xml"))
+        .arg(fixture(&format!("plans/{plan}.plan")))
+        .arg(port.to_string())
+        .arg(&btlog)
+        .args(["20", "1500"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("the robot starts");
+    let mut lines = BufReader::new(robot.stdout.take().unwrap()).lines();
+    assert_eq!(lines.next().unwrap().unwrap(), "READY");
+    let w = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["watch", &format!(":{port}"), "--for", "4.5", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let _ = robot.wait();
+    let err = String::from_utf8_lossy(&w.stderr).into_owned();
+    assert!(w.status.success(), "{err}");
+    (
+        session(&btlog),
+        session(&out),
+        String::from_utf8_lossy(&w.stdout).into_owned(),
+    )
+}
+
+#[test]
+fn a_live_run_is_the_run_the_robot_logged_transition_for_transition() {
+    let dir = tempfile::tempdir().unwrap();
+    for plan in [
+        "kitting_nominal",
+        "kitting_lookat_fails_once",
+        "kitting_grasp_check_fails_first",
+        "kitting_detect_chuck_always_fails",
+    ] {
+        let (logged, watched, stdout) = watch(plan, dir.path());
+        assert!(!logged.index.transitions.is_empty(), "{plan}");
+        assert_eq!(
+            watched.index.transitions, logged.index.transitions,
+            "{plan}: btx watch and the robot's own FileLogger differ"
+        );
+        assert_eq!(watched.index.ticks(), logged.index.ticks(), "{plan}");
+        // The table printed as it grew is `btx log`'s.
+        let (ok, table, _) = common::btx(&["log", watched.path.to_str().unwrap()]);
+        assert!(ok);
+        assert_eq!(stdout, table, "{plan}");
+        if plan == "kitting_lookat_fails_once" {
+            let (ok, out, err) =
+                common::btx(&["ask", watched.path.to_str().unwrap(), "--at", "10", "wrong"]);
+            assert!(ok, "{err}");
+            assert!(
+                out.contains("I could not insert large gear because look at chuck failed."),
+                "{out}"
+            );
+        }
+    }
+}
+
+#[test]
+fn nothing_listening_or_not_groot2_is_said_within_two_seconds() {
+    let l = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = l.local_addr().unwrap().port();
+    drop(l);
+    let t = Instant::now();
+    let (ok, _, err) = common::btx(&["watch", &format!(":{port}"), "--for", "1"]);
+    assert!(!ok);
+    assert!(
+        err.contains(&format!("127.0.0.1:{port}: nothing is listening there")),
+        "{err}"
+    );
+    assert!(t.elapsed() < Duration::from_secs(2));
+    // A server that is not ZeroMQ (here: one that greets like HTTP).
+    let l = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = l.local_addr().unwrap().port();
+    std::thread::spawn(move || {
+        if let Ok((mut s, _)) = l.accept() {
+            use std::io::Write;
+            let _ = s.write_all(b"HTTP/1.1 400 Bad Request\r\n\r\n");
+            std::thread::sleep(Duration::from_secs(3));
+        }
+    });
+    let t = Instant::now();
+    let (ok, _, err) = common::btx(&["watch", &format!(":{port}"), "--for", "1"]);
+    assert!(!ok);
+    assert!(err.contains("not a ZeroMQ server"), "{err}");
+    assert!(t.elapsed() < Duration::from_secs(2));
+    // A server that accepts and never answers.
+    let l = TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = l.local_addr().unwrap().port();
+    std::thread::spawn(move || {
+        if let Ok((s, _)) = l.accept() {
+            std::thread::sleep(Duration::from_secs(5));
+            drop(s);
+        }
+    });
+    let t = Instant::now();
+    let (ok, _, err) = common::btx(&["watch", &format!(":{port}"), "--for", "1"]);
+    assert!(!ok);
+    assert!(err.contains("no answer within 1.5 s"), "{err}");
+    assert!(t.elapsed() < Duration::from_secs(2));
+}

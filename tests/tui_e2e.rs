@@ -1,6 +1,8 @@
 //! The real binary in a real terminal (tmux): open the demo, press keys,
 //! read the screen, quit, and check the terminal came back.
 
+mod common;
+
 use std::process::Command;
 use std::time::{Duration, Instant};
 
@@ -332,4 +334,57 @@ fn every_key_of_the_keymap_in_a_real_terminal() {
     let s = t.wait_for("EXITED:");
     assert!(s.contains("EXITED:0"), "{s}");
     assert_eq!(t.terminal(), "0 0 1", "the terminal after: {s}");
+}
+
+#[test]
+fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
+    if !tmux_here() {
+        return;
+    }
+    use std::io::{BufRead, BufReader};
+    let port = {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        l.local_addr().unwrap().port()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let btlog = dir.path().join("robot.btlog");
+    let out = dir.path().join("live.jsonl");
+    let mut robot = Command::new(common::oracle_python())
+        .arg(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/live/robot.py"))
+        .arg(common::fixture("kitting-tree.v4.xml"))
+        .arg(common::fixture("plans/kitting_lookat_fails_once.plan"))
+        .arg(port.to_string())
+        .arg(&btlog)
+        .args(["60", "1000"])
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("the robot starts");
+    let mut lines = BufReader::new(robot.stdout.take().unwrap()).lines();
+    assert_eq!(lines.next().unwrap().unwrap(), "READY");
+    let t = Tmux(format!("btx-live-{}", std::process::id()));
+    t.start(&format!(
+        "{} open --live :{port} --out {}; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx"),
+        out.display()
+    ));
+    t.wait_for(&format!("live 127.0.0.1:{port}"));
+    t.wait_for("connected");
+    // The failure at tick 10 has happened: step back to it while it runs.
+    t.wait_for("tick 12 of");
+    t.run(&["send-keys", "-t", "btx", "F"]);
+    let s = t.wait_for("transitions behind live");
+    assert!(s.contains("moment 10 "), "{s}");
+    // Back to the present, which follows the robot to the end of its run.
+    t.run(&["send-keys", "-t", "btx", "End"]);
+    t.wait_for("tick 54 of 54");
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    let s = t.wait_for("EXITED:");
+    assert!(s.contains("EXITED:0"), "{s}");
+    assert_eq!(t.terminal(), "0 0 1", "the terminal after: {s}");
+    let _ = robot.wait();
+    let (ok, a, _) = common::btx(&["log", out.to_str().unwrap()]);
+    assert!(ok);
+    let (ok, b, _) = common::btx(&["log", btlog.to_str().unwrap()]);
+    assert!(ok);
+    assert_eq!(a, b, "the run kept is the run the robot logged");
 }

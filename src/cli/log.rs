@@ -103,6 +103,11 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                             r = w.write_all(btx::export::log_text_row(&s, &row).as_bytes());
                         }
                     });
+                    for g in btx::export::trailing_gaps(&s) {
+                        if r.is_ok() {
+                            r = w.write_all(format!("  --- gap: {g} ---\n").as_bytes());
+                        }
+                    }
                     r
                 }
             };

@@ -4,7 +4,7 @@ use super::*;
 
 #[derive(clap::Args)]
 pub struct Args {
-    #[arg(required = true, num_args = 1..=2, value_name = "TREE|SESSION")]
+    #[arg(required_unless_present = "live", num_args = 1..=2, value_name = "TREE|SESSION")]
     pub files: Vec<PathBuf>,
     /// Show two trees or runs side by side (`btx open --diff A B`).
     #[arg(long, conflicts_with = "follow")]
@@ -12,11 +12,20 @@ pub struct Args {
     /// Keep reading a log (or session) that is still being written; the timeline grows.
     #[arg(long)]
     pub follow: bool,
+    /// Open a robot that is running now, over the Groot2 protocol: `[HOST][:PORT]` (default 127.0.0.1:1667).
+    #[arg(long, value_name = "[HOST][:PORT]", num_args = 0..=1, default_missing_value = "", conflicts_with_all = ["files", "diff", "follow"])]
+    pub live: Option<String>,
+    /// With --live: keep the run as a session (`SESSION.partial` while it runs, SESSION when the explorer closes).
+    #[arg(long, value_name = "SESSION", requires = "live")]
+    pub out: Option<PathBuf>,
     #[command(flatten)]
     pub reading: Reading,
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
+    if let Some(spec) = &args.live {
+        return live(spec, args.out.as_deref(), cli);
+    }
     match args {
         Args {
             files,
@@ -37,6 +46,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             diff: false,
             follow,
             reading,
+            ..
         } => {
             let mut app = btx::tui::open(
                 &files[0],
@@ -61,6 +71,33 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             app.keymap = keymap(cli.keys.as_deref())?;
             btx::tui::run_with(app, cli.ascii)
                 .map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
+        }
+    }
+    Ok(())
+}
+
+/// `btx open --live`: the explorer on a robot running now.
+fn live(spec: &str, out: Option<&Path>, cli: &Globals) -> Result<(), Failure> {
+    let ep = btx::live::groot2::endpoint(spec);
+    if let Some(out) = out {
+        let partial = btx::session::SessionWriter::partial_path(out);
+        if out.exists() || partial.exists() {
+            fail!(
+                "{}: a session is here already; --out names a new session file",
+                out.display()
+            );
+        }
+    }
+    let feed = btx::live::Feed::start(&ep, out.map(Path::to_path_buf))
+        .map_err(|e| Failure::Plain(e.to_string()))?;
+    let first = feed.session()?;
+    let mut app = btx::tui::App::new(first.tree.clone(), Some(first), format!("live {ep}"));
+    app.live = Some(feed);
+    app.keymap = keymap(cli.keys.as_deref())?;
+    btx::tui::run_with(app, cli.ascii).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
+    if let Some(out) = out.filter(|o| o.exists()) {
+        if !cli.quiet {
+            eprintln!("the run is in {}", out.display());
         }
     }
     Ok(())

@@ -1,7 +1,7 @@
 //! `btx watch`: Watch a running robot over the Groot2 protocol and print its transitions as they happen.
 
 use super::*;
-use btx::live::{groot2, uuid_text, Watch};
+use btx::live::{groot2, Feed};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -11,7 +11,7 @@ pub struct Args {
     /// The robot's Groot2 server, `[HOST][:PORT]` (default 127.0.0.1:1667).
     #[arg(value_name = "[HOST][:PORT]")]
     pub endpoint: Option<String>,
-    /// Also keep the run as a session file, written when watching ends (Ctrl-C, or --for).
+    /// Also keep the run as a session file: `SESSION.partial` holds the run so far (rewritten each second), SESSION the whole run once watching ends (Ctrl-C, or --for).
     #[arg(long, value_name = "SESSION")]
     pub out: Option<PathBuf>,
     /// Stop after this many seconds.
@@ -21,9 +21,6 @@ pub struct Args {
     pub format: Format,
 }
 
-/// How often the server's buffer is emptied: at 10,000 transitions a
-/// second, 100 of its 1,000 places.
-const POLL: Duration = Duration::from_millis(10);
 /// How often the table grows on screen.
 const PRINT: Duration = Duration::from_millis(100);
 
@@ -36,10 +33,17 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 out.display()
             );
         }
+        let partial = btx::session::SessionWriter::partial_path(out);
+        if partial.exists() {
+            fail!(
+                "{}: the run of an earlier watch or run that did not finish is here; choose another --out",
+                partial.display()
+            );
+        }
     }
-    let mut w = Watch::start(&ep).map_err(|e| Failure::Plain(e.to_string()))?;
+    let mut feed = Feed::start(&ep, args.out.clone()).map_err(|e| Failure::Plain(e.to_string()))?;
     if !cli.quiet {
-        eprintln!("watching {ep}: tree {} (Ctrl-C stops)", uuid_text(&w.uuid));
+        eprintln!("watching {ep}: tree {} (Ctrl-C stops)", feed.status.uuid);
     }
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
@@ -49,40 +53,36 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let deadline = args
         .for_secs
         .map(|s| Instant::now() + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
-    let (mut printed, mut seen, mut gaps_said) = (0usize, 0usize, 0usize);
+    let (mut printed, mut gaps_said) = (0usize, 0usize);
     let mut header = false;
-    let mut last_print = Instant::now();
+    let mut said: Option<String> = None;
     loop {
         let done = stop.load(Ordering::Relaxed) || deadline.is_some_and(|d| Instant::now() >= d);
-        if let Err(e) = w.poll() {
-            eprintln!("{e}; connecting again");
-            std::thread::sleep(Duration::from_millis(500));
+        if done {
+            feed.halt();
         }
-        if (done || last_print.elapsed() >= PRINT) && w.records.len() > seen {
-            last_print = Instant::now();
-            seen = w.records.len();
-            let s = w.session()?;
-            super::log::print_grown(&s, None, false, args.format, &mut printed, &mut header);
+        if let Some(s) = feed.news(if done { Duration::ZERO } else { PRINT }) {
+            super::log::print_grown(&s?, None, false, args.format, &mut printed, &mut header);
         }
-        for g in &w.gaps[gaps_said..] {
+        for g in &feed.gaps[gaps_said..] {
             eprintln!("gap after transition {}: {}", g.at, g.why);
         }
-        gaps_said = w.gaps.len();
+        gaps_said = feed.gaps.len();
+        if feed.status.error != said {
+            if let Some(e) = &feed.status.error {
+                eprintln!("{e}; connecting again");
+            }
+            said = feed.status.error.clone();
+        }
         if done {
             break;
         }
-        std::thread::sleep(POLL);
+        std::thread::sleep(Duration::from_millis(20));
     }
-    if let Some(out) = &args.out {
-        let s = w.session()?;
-        let path = btx::logs::write_session(&s, out)?;
+    let n = feed.records.len();
+    if let Some(path) = feed.stop()? {
         if !cli.quiet {
-            eprintln!(
-                "{} transitions in {} ticks written to {}",
-                s.index.transitions.len(),
-                s.index.ticks(),
-                path.display()
-            );
+            eprintln!("{n} transitions written to {}", path.display());
         }
     }
     Ok(())

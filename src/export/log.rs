@@ -12,6 +12,20 @@ pub struct LogRow {
     pub prev: Status,
     pub status: Status,
     pub decision: Option<String>,
+    /// Transitions may be missing just before this one (a live run's gap;
+    /// those before filtered-out rows come with the next row shown).
+    pub gap: Option<String>,
+}
+
+/// The gaps after the last transition (a live run that ended on one).
+pub fn trailing_gaps(s: &Session) -> Vec<&str> {
+    let n = s.index.transitions.len() as u32;
+    s.index
+        .gaps
+        .iter()
+        .filter(|g| g.0 >= n)
+        .map(|g| g.1.as_str())
+        .collect()
 }
 
 /// The rows of `btx log`, filtered to one node and/or without →IDLE.
@@ -66,14 +80,23 @@ pub fn each_log_row(s: &Session, only: Option<Uid>, no_idle: bool, mut f: impl F
         no_idle,
         ..LogFilter::default()
     };
+    let (mut gi, mut gap): (usize, Option<String>) = (0, None);
     for tick in 1..=idx.ticks() {
         let r = idx.tick_range(tick);
         for (k, i) in r.clone().enumerate() {
+            while let Some((_, why)) = idx.gaps.get(gi).filter(|g| g.0 as usize <= i) {
+                gap = Some(match gap.take() {
+                    Some(g) => format!("{g}; {why}"),
+                    None => why.clone(),
+                });
+                gi += 1;
+            }
             let t = idx.transitions[i];
             if !filter.keeps(&s.tree, &t) {
                 continue;
             }
             f(LogRow {
+                gap: gap.take(),
                 tick,
                 step: k as u32 + 1,
                 uid: t.uid,
@@ -94,8 +117,12 @@ pub fn log_text_row(s: &Session, r: &LogRow) -> String {
     if name.chars().count() > 40 {
         name = name.chars().take(39).collect::<String>() + "…";
     }
+    let gap = r
+        .gap
+        .as_ref()
+        .map_or(String::new(), |g| format!("  --- gap: {g} ---\n"));
     format!(
-        "{:>5} {:>5} {:>5}  {:<40} {:<8} -> {:<8} {}\n",
+        "{gap}{:>5} {:>5} {:>5}  {:<40} {:<8} -> {:<8} {}\n",
         r.tick,
         r.step,
         r.uid,
@@ -120,7 +147,7 @@ pub fn log_text(s: &Session, rows: &[LogRow]) -> String {
 
 /// One row as `btx.log/1` has it.
 pub fn log_json_row(s: &Session, r: &LogRow) -> Value {
-    json!({
+    let mut v = json!({
         "tick": r.tick,
         "step": r.step,
         "uid": r.uid,
@@ -130,7 +157,11 @@ pub fn log_json_row(s: &Session, r: &LogRow) -> Value {
         "status": r.status,
         "decision": r.decision,
         "halted": r.prev == Status::Running && r.status == Status::Idle,
-    })
+    });
+    if let Some(g) = &r.gap {
+        v["gap"] = Value::from(g.clone());
+    }
+    v
 }
 
 /// `btx.log/1`, pretty-printed as `log_json` would be, written row by row.
@@ -155,8 +186,12 @@ pub fn write_log_json(
         // The row as `to_string_pretty` lays it out inside the array,
         // written directly: a million rows cost no JSON tree.
         let text = |x: &str| serde_json::to_string(x).expect("strings serialise");
+        let gap = r
+            .gap
+            .as_deref()
+            .map_or(String::new(), |g| format!(",\n      \"gap\": {}", text(g)));
         let chunk = format!(
-            "{}    {{\n      \"tick\": {},\n      \"step\": {},\n      \"uid\": {},\n      \"node\": {},\n      \"type\": {},\n      \"prev\": \"{}\",\n      \"status\": \"{}\",\n      \"decision\": {},\n      \"halted\": {}\n    }}",
+            "{}    {{\n      \"tick\": {},\n      \"step\": {},\n      \"uid\": {},\n      \"node\": {},\n      \"type\": {},\n      \"prev\": \"{}\",\n      \"status\": \"{}\",\n      \"decision\": {},\n      \"halted\": {}{}\n    }}",
             if first { "\n" } else { ",\n" },
             r.tick,
             r.step,
@@ -166,16 +201,26 @@ pub fn write_log_json(
             r.prev,
             r.status,
             r.decision.as_deref().map_or_else(|| "null".to_string(), text),
-            r.prev == Status::Running && r.status == Status::Idle
+            r.prev == Status::Running && r.status == Status::Idle,
+            gap
         );
         first = false;
         result = w.write_all(chunk.as_bytes());
     });
     result?;
-    if first {
-        writeln!(w, "]\n}}")
+    let end = trailing_gaps(s);
+    let end = if end.is_empty() {
+        String::new()
     } else {
-        writeln!(w, "\n  ]\n}}")
+        format!(
+            ",\n  \"gaps_at_end\": {}",
+            serde_json::to_string(&end).expect("strings serialise")
+        )
+    };
+    if first {
+        writeln!(w, "]{end}\n}}")
+    } else {
+        writeln!(w, "\n  ]{end}\n}}")
     }
 }
 

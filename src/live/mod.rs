@@ -82,7 +82,14 @@ impl Watch {
                     self.gap(format!("the server's buffer of {SERVER_BUFFER} transitions was full: older ones may be lost"));
                 }
                 let n = ts.len();
-                for t in ts {
+                // BehaviorTree.CPP 4.8's publisher sizes its reply before it
+                // locks the buffer: records that arrive meanwhile come out
+                // as zeros (uid 0, which no node has).
+                let zeroed = ts.iter().filter(|t| t.uid == 0).count();
+                if zeroed > 0 {
+                    self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost"));
+                }
+                for t in ts.into_iter().filter(|t| t.uid != 0) {
                     let offset = self.records.len();
                     self.records.push(Record {
                         time_us: self.t0 + t.time_us,
@@ -125,12 +132,224 @@ impl Watch {
         self.client = Some(c);
         Ok(())
     }
+}
+
+/// What the explorer shows of a live run besides the run itself.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LiveStatus {
+    pub endpoint: String,
+    pub uuid: String,
+    pub connected: bool,
+    /// Transitions a second over the last second.
+    pub per_second: f64,
+    pub transitions: usize,
+    pub gaps: usize,
+    /// The last error, while not connected.
+    pub error: Option<String>,
+}
+
+impl LiveStatus {
+    /// One line: `live 127.0.0.1:1667 · tree 5cbb91d0… · connected · 812/s · 248 transitions · no gap`.
+    pub fn line(&self) -> String {
+        format!(
+            "live {} · tree {}… · {} · {:.0}/s · {} transitions · {}",
+            self.endpoint,
+            self.uuid.get(..8).unwrap_or(&self.uuid),
+            if self.connected {
+                "connected".to_string()
+            } else {
+                format!(
+                    "reconnecting{}",
+                    self.error
+                        .as_ref()
+                        .map_or(String::new(), |e| format!(" ({e})"))
+                )
+            },
+            self.per_second,
+            self.transitions,
+            match self.gaps {
+                0 => "no gap".to_string(),
+                1 => "1 gap".to_string(),
+                n => format!("{n} gaps"),
+            }
+        )
+    }
+}
+
+/// What the polling thread hands over: the transitions since the last
+/// batch, the gaps among them, the status.
+struct Batch {
+    records: Vec<Record>,
+    gaps: Vec<Gap>,
+    status: LiveStatus,
+}
+
+/// A live run watched from a thread of its own, which does nothing but
+/// empty the server's buffer every 10 ms, so that however long the run
+/// takes to turn into a session (its ticks reconstructed, `OUT.partial`
+/// written), no transition is lost. The run and the session are built on
+/// the caller's side, at its pace.
+pub struct Feed {
+    rx: std::sync::mpsc::Receiver<Batch>,
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+    pub status: LiveStatus,
+    /// The tree's XML and the whole run so far.
+    xml: String,
+    pub records: Vec<Record>,
+    pub gaps: Vec<Gap>,
+    out: Option<std::path::PathBuf>,
+    saved: std::time::Instant,
+    /// Whether the run grew since the last session built, and when that was.
+    dirty: bool,
+    built: std::time::Instant,
+}
+
+/// How often the server's buffer is emptied: as often as takes about
+/// `POLL_TARGET` transitions each time (a quarter of the server's 1,000),
+/// between `POLL_MIN` and `POLL_MAX` apart. At 10,000 transitions a second
+/// that is every 25 ms; the buffer fills only past 200,000 a second. Fewer
+/// requests also meet less often a race of BehaviorTree.CPP 4.8's publisher
+/// (see `Watch::poll`).
+pub const POLL_MIN: Duration = Duration::from_millis(5);
+pub const POLL_MAX: Duration = Duration::from_millis(25);
+const POLL_TARGET: f64 = 250.0;
+/// How often `OUT.partial` is written while the run grows.
+pub const SAVE: Duration = Duration::from_secs(1);
+
+impl Feed {
+    /// Connects (an error is returned at once), then watches from a thread;
+    /// with `out`, the run is kept as `OUT.partial` (each second, by `poll`)
+    /// and as `OUT` when the feed stops.
+    pub fn start(endpoint: &str, out: Option<std::path::PathBuf>) -> Result<Feed, LiveError> {
+        let mut w = Watch::start(endpoint)?;
+        // The tree is checked now, not at the first transition.
+        crate::logs::open_live(std::path::Path::new(endpoint), &w.xml, &[])
+            .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
+        let (tx, rx) = std::sync::mpsc::channel();
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let halt = std::sync::Arc::clone(&stop);
+        let status = w.status(0.0, None);
+        let xml = w.xml.clone();
+        let thread = std::thread::Builder::new()
+            .name("btx-live".into())
+            .spawn(move || {
+                let mut rate = (std::time::Instant::now(), 0usize, 0.0f64);
+                let (mut sent, mut gaps_sent) = (0usize, 0usize);
+                let mut last = std::time::Instant::now();
+                let mut polled = std::time::Instant::now();
+                let mut every = POLL_MIN;
+                loop {
+                    let halting = halt.load(std::sync::atomic::Ordering::Relaxed);
+                    let since = polled.elapsed();
+                    polled = std::time::Instant::now();
+                    let error = match w.poll() {
+                        Ok(got) => {
+                            let want = since.as_secs_f64() * POLL_TARGET / got.max(1) as f64;
+                            every = Duration::from_secs_f64(want).clamp(POLL_MIN, POLL_MAX);
+                            None
+                        }
+                        Err(e) => Some(e.to_string()),
+                    };
+                    let n = w.records.len();
+                    if rate.0.elapsed() >= Duration::from_secs(1) {
+                        let dt = rate.0.elapsed().as_secs_f64();
+                        rate = (std::time::Instant::now(), n, (n - rate.1) as f64 / dt);
+                    }
+                    let news = n > sent || w.gaps.len() > gaps_sent;
+                    if news
+                        || error.is_some()
+                        || last.elapsed() >= Duration::from_millis(500)
+                        || halting
+                    {
+                        last = std::time::Instant::now();
+                        let batch = Batch {
+                            records: w.records[sent..].to_vec(),
+                            gaps: w.gaps[gaps_sent..].to_vec(),
+                            status: w.status(rate.2, error.clone()),
+                        };
+                        (sent, gaps_sent) = (n, w.gaps.len());
+                        if tx.send(batch).is_err() || halting {
+                            break;
+                        }
+                    }
+                    std::thread::sleep(if error.is_some() {
+                        Duration::from_millis(500)
+                    } else {
+                        every.saturating_sub(polled.elapsed())
+                    });
+                }
+            })
+            .map_err(|e| LiveError(format!("cannot start watching: {e}")))?;
+        Ok(Feed {
+            rx,
+            stop,
+            thread: Some(thread),
+            status,
+            xml,
+            records: Vec::new(),
+            gaps: Vec::new(),
+            out,
+            saved: std::time::Instant::now(),
+            dirty: false,
+            built: std::time::Instant::now(),
+        })
+    }
+
+    fn take(&mut self, b: Batch) -> bool {
+        let grew = !b.records.is_empty() || !b.gaps.is_empty();
+        self.records.extend(b.records);
+        self.gaps.extend(b.gaps);
+        self.status = b.status;
+        grew
+    }
+
+    /// Takes what the thread received; whether the run grew. With `out`,
+    /// writes `OUT.partial` at most each second (an error is said in the
+    /// status and tried again).
+    pub fn poll(&mut self) -> bool {
+        let mut grew = false;
+        while let Ok(b) = self.rx.try_recv() {
+            grew |= self.take(b);
+        }
+        if let Some(out) = self
+            .out
+            .clone()
+            .filter(|_| self.saved.elapsed() >= SAVE && grew)
+        {
+            self.saved = std::time::Instant::now();
+            if let Err(e) = self
+                .session()
+                .and_then(|s| crate::logs::write_partial(&s, &out))
+            {
+                self.status.error = Some(e.to_string());
+            }
+        }
+        grew
+    }
+
+    /// The run so far, when it grew and at most every `every` (building it
+    /// takes time in proportion to the run).
+    pub fn news(&mut self, every: Duration) -> Option<Result<Session, Located>> {
+        self.dirty |= self.poll();
+        if !self.dirty || self.built.elapsed() < every {
+            return None;
+        }
+        self.dirty = false;
+        self.built = std::time::Instant::now();
+        Some(self.session())
+    }
 
     /// The run so far as a session (ticks reconstructed as for a `.btlog`),
     /// with each gap as a warning at its place.
     pub fn session(&self) -> Result<Session, Located> {
-        let name = std::path::PathBuf::from(format!("groot2://{}", self.endpoint));
+        let name = std::path::PathBuf::from(format!("groot2://{}", self.status.endpoint));
         let mut s = crate::logs::open_live(&name, &self.xml, &self.records)?;
+        s.index.gaps = self
+            .gaps
+            .iter()
+            .map(|g| (g.at as u32, g.why.clone()))
+            .collect();
         for g in &self.gaps {
             s.warnings.push(Warning {
                 location: format!("{}: transition {}", name.display(), g.at + 1),
@@ -138,5 +357,51 @@ impl Watch {
             });
         }
         Ok(s)
+    }
+
+    /// Stops watching, takes the last transitions, and with `out` writes
+    /// the whole run there; where it was written.
+    pub fn stop(mut self) -> Result<Option<std::path::PathBuf>, Located> {
+        self.finish()
+    }
+
+    /// Stops the thread and takes what it still had.
+    pub fn halt(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+        while let Ok(b) = self.rx.try_recv() {
+            self.dirty |= self.take(b);
+        }
+    }
+
+    fn finish(&mut self) -> Result<Option<std::path::PathBuf>, Located> {
+        self.halt();
+        match self.out.take() {
+            Some(out) => crate::logs::write_final(&self.session()?, &out).map(Some),
+            None => Ok(None),
+        }
+    }
+}
+
+impl Drop for Feed {
+    fn drop(&mut self) {
+        let _ = self.finish();
+    }
+}
+
+impl Watch {
+    /// The status line's facts now.
+    pub fn status(&self, per_second: f64, error: Option<String>) -> LiveStatus {
+        LiveStatus {
+            endpoint: self.endpoint.clone(),
+            uuid: uuid_text(&self.uuid),
+            connected: self.connected(),
+            per_second,
+            transitions: self.records.len(),
+            gaps: self.gaps.len(),
+            error,
+        }
     }
 }

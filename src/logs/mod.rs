@@ -291,9 +291,78 @@ pub(crate) fn import_header(
 /// Writes a session read from a log as a btx session file.
 pub fn write_session(s: &Session, out: &Path) -> Result<PathBuf, Located> {
     let mut w = crate::session::SessionWriter::create(out, &s.header)?;
+    write_events(s, &mut w)?;
+    let root = s
+        .index
+        .transitions
+        .iter()
+        .rev()
+        .find(|t| t.uid == crate::model::Tree::ROOT && t.status.is_completed())
+        .map_or(Status::Idle, |t| t.status);
+    w.finish(s.index.ticks(), root, "imported")
+}
+
+/// Writes a run still going on as `OUT.partial`, as `btx run` leaves its
+/// session while it runs (`btx log --follow OUT.partial` reads it): written
+/// whole beside it, then renamed over it, so a reader never sees half.
+pub fn write_partial(s: &Session, out: &Path) -> Result<PathBuf, Located> {
+    let partial = crate::session::SessionWriter::partial_path(out);
+    let mut tmp = partial.as_os_str().to_owned();
+    tmp.push(".next");
+    let tmp = PathBuf::from(tmp);
+    let tmp_partial = crate::session::SessionWriter::partial_path(&tmp);
+    // Our own leftover from a write that failed half-way.
+    let _ = std::fs::remove_file(&tmp_partial);
+    let mut w = crate::session::SessionWriter::create(&tmp, &s.header)?;
+    write_events(s, &mut w)?;
+    w.flush()?;
+    drop(w);
+    std::fs::rename(&tmp_partial, &partial)
+        .map_err(|e| Located::file(&partial, format!("cannot write the session so far: {e}")))?;
+    Ok(partial)
+}
+
+/// Writes the whole run as `OUT` once it is over, then removes the
+/// `OUT.partial` that `write_partial` kept while it ran (the run is on disk
+/// the whole time: the partial goes only once the whole is there).
+pub fn write_final(s: &Session, out: &Path) -> Result<PathBuf, Located> {
+    let partial = crate::session::SessionWriter::partial_path(out);
+    let mut next = out.as_os_str().to_owned();
+    next.push(".next");
+    let next = PathBuf::from(next);
+    let _ = std::fs::remove_file(crate::session::SessionWriter::partial_path(&next));
+    let _ = std::fs::remove_file(&next);
+    write_session(s, &next)?;
+    if out.exists() {
+        return Err(Located::file(
+            out,
+            format!(
+                "a file appeared here meanwhile; the run is in {}",
+                next.display()
+            ),
+        ));
+    }
+    std::fs::rename(&next, out).map_err(|e| {
+        Located::file(
+            out,
+            format!(
+                "cannot write the session: {e}; the run is in {}",
+                next.display()
+            ),
+        )
+    })?;
+    let _ = std::fs::remove_file(&partial);
+    Ok(out.to_path_buf())
+}
+
+fn write_events(s: &Session, w: &mut crate::session::SessionWriter) -> Result<(), Located> {
     let idx = &s.index;
-    let (mut wi, mut di) = (0, 0);
+    let (mut wi, mut di, mut gi) = (0, 0, 0);
     for (i, t) in idx.transitions.iter().enumerate() {
+        while let Some((_, why)) = idx.gaps.get(gi).filter(|g| g.0 as usize <= i) {
+            w.gap(t.tick, why)?;
+            gi += 1;
+        }
         while let Some(x) = idx.writes.get(wi).filter(|x| x.pos as usize <= i) {
             w.event(&crate::run::Event::Write {
                 tick: x.tick,
@@ -320,12 +389,8 @@ pub fn write_session(s: &Session, out: &Path) -> Result<PathBuf, Located> {
             decision: idx.transition_decision(i).map(str::to_string),
         })?;
     }
-    let root = s
-        .index
-        .transitions
-        .iter()
-        .rev()
-        .find(|t| t.uid == crate::model::Tree::ROOT && t.status.is_completed())
-        .map_or(Status::Idle, |t| t.status);
-    w.finish(s.index.ticks(), root, "imported")
+    for (_, why) in &idx.gaps[gi..] {
+        w.gap(idx.ticks().max(1), why)?;
+    }
+    Ok(())
 }

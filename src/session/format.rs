@@ -93,6 +93,14 @@ pub enum Record {
         first_uid: Uid,
         question: String,
     },
+    /// Transitions may be missing here (a live run: the server's buffer
+    /// overflowed, the robot restarted, the connection dropped).
+    #[serde(rename = "g")]
+    Gap {
+        tick: u32,
+        step: u32,
+        reason: String,
+    },
     #[serde(rename = "end")]
     End {
         ticks: u32,
@@ -244,6 +252,16 @@ impl SessionWriter {
             },
         };
         self.line(&rec)
+    }
+
+    /// A place where transitions may be missing, and why.
+    pub fn gap(&mut self, tick: u32, reason: &str) -> Result<(), Located> {
+        let step = self.at(tick);
+        self.line(&Record::Gap {
+            tick,
+            step,
+            reason: reason.to_string(),
+        })
     }
 
     pub fn insert(
@@ -410,6 +428,11 @@ pub fn parse_record(line: &str) -> Result<Record, String> {
             first_uid: need(f.first_uid, k, "first_uid")?,
             question: need(f.question, k, "question")?,
         },
+        "g" => Record::Gap {
+            tick: need(f.tick, k, "tick")?,
+            step: need(f.step, k, "step")?,
+            reason: need(f.reason, k, "reason")?,
+        },
         "end" => Record::End {
             ticks: need(f.ticks, k, "ticks")?,
             root: need(f.root, k, "root")?,
@@ -466,6 +489,11 @@ mod tests {
                 after: 2,
                 first_uid: 80,
                 question: "Can you x?".into(),
+            },
+            Record::Gap {
+                tick: 6,
+                step: 1,
+                reason: "the connection dropped".into(),
             },
             Record::End {
                 ticks: 9,

@@ -143,6 +143,9 @@ pub struct Index {
     pub writes: Vec<Write>,
     /// Decisions taken by a leaf that stayed RUNNING: (position, tick, uid, decision).
     pub decision_calls: Vec<(u32, u32, Uid, String)>,
+    /// Places where transitions may be missing (a live run), as (position,
+    /// why).
+    pub gaps: Vec<(u32, String)>,
     /// Writes a leaf made during the call whose transition comes next: the
     /// blackboard shows them from that transition on, not before it.
     held: Vec<(Uid, EntryId, Value)>,

@@ -262,6 +262,14 @@ impl Session {
                         question,
                     ));
                 }
+                Record::Gap { reason, .. } => {
+                    let at = index.transitions.len();
+                    warnings.push(Warning {
+                        location: format!("{}: transition {}", path.display(), at + 1),
+                        message: format!("gap: {reason}"),
+                    });
+                    index.gaps.push((at as u32, reason));
+                }
                 Record::End {
                     ticks,
                     root,

@@ -134,6 +134,8 @@ pub struct App {
     pub split: u16,
     /// A log still being written, read again as it grows (`--follow`).
     pub follow: Option<crate::input::Follow>,
+    /// A robot running now (`btx open --live`): the run grows from it.
+    pub live: Option<crate::live::Feed>,
     pub(crate) rows: Vec<Row>,
 }
 
@@ -178,6 +180,7 @@ impl App {
             keymap: super::keymap::Keymap::default(),
             split: 58,
             follow: None,
+            live: None,
             rows: Vec::new(),
         };
         app.follow_current();
@@ -712,6 +715,11 @@ impl App {
     /// Reads a followed log again: the timeline grows; the moment stays
     /// where the person put it, or keeps to the end if it was there.
     pub fn follow_poll(&mut self) {
+        match self.live.as_mut().and_then(|l| l.news(super::LIVE_EVERY)) {
+            Some(Ok(s)) => self.grow(s),
+            Some(Err(e)) => self.message = Some(e.to_string()),
+            None => {}
+        }
         let Some(f) = self.follow.as_mut() else {
             return;
         };

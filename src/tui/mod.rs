@@ -74,6 +74,10 @@ pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<A
 
 /// How often a followed log is read again, in milliseconds.
 const FOLLOW_MS: u64 = 500;
+/// How often the explorer takes a live run's news, in milliseconds.
+const LIVE_MS: u64 = 100;
+/// How often the live thread hands the run over.
+pub const LIVE_EVERY: Duration = Duration::from_millis(200);
 
 /// A screen the loop can drive: the explorer, or the side-by-side diff.
 pub trait Screen {
@@ -114,6 +118,7 @@ impl Screen for App {
     fn play_every(&self) -> Option<Duration> {
         match (self.playing, self.follow.is_some()) {
             (true, _) => Some(Duration::from_millis(self.play_ms)),
+            _ if self.live.is_some() => Some(Duration::from_millis(LIVE_MS)),
             (false, true) => Some(Duration::from_millis(FOLLOW_MS)),
             _ => None,
         }
@@ -269,7 +274,7 @@ pub fn ascii_of(sym: &str) -> Option<&'static str> {
         "▢" => "o",
         "◯" => "c",
         "◇" | "◆" => "*",
-        "…" => "~",
+        "…" | "⋯" => "~",
         "≠" => "!",
         "★" => "*",
         "◎" => "@",

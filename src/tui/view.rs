@@ -83,6 +83,10 @@ pub(crate) const LEGEND: &[(&str, &str)] = &[
     ),
     ("★", "causal model: a reason of the picked explanation"),
     ("≠ ›", "side-by-side diff: a divergent leaf, its parent"),
+    (
+        "⋯ gap",
+        "live run: transitions may be missing before this one",
+    ),
 ];
 
 /// A node's kind at a glance: ▣ subtree, ▢ action, ◯ condition, → sequence…

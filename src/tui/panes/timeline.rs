@@ -199,9 +199,22 @@ fn shown_transitions(app: &App, s: &crate::session::Session, rows: usize) -> Vec
 }
 
 pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
-    let mut title = match &app.session {
-        Some(s) => format!(" timeline · run {} ", crate::text::visible(&s.ending())),
-        None => " timeline ".into(),
+    let mut title = match (&app.live, &app.session) {
+        (Some(l), Some(s)) => {
+            // How far behind goes first: the status line is long.
+            let behind = s.index.transitions.len().saturating_sub(app.pos as usize);
+            format!(
+                " timeline · {}{} ",
+                if behind > 0 {
+                    format!("{behind} transitions behind live · ")
+                } else {
+                    String::new()
+                },
+                crate::text::visible(&l.status.line()),
+            )
+        }
+        (_, Some(s)) => format!(" timeline · run {} ", crate::text::visible(&s.ending())),
+        _ => " timeline ".into(),
     };
     let lf = &app.timeline.filter;
     if !lf.is_empty() {
@@ -337,6 +350,15 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             Span::styled(
                 t.status.as_str(),
                 Style::default().fg(status_color(t.status)),
+            ),
+            // A live run's gap just before this transition.
+            Span::styled(
+                if s.index.gaps.iter().any(|g| g.0 as usize == i) {
+                    "  ⋯ gap before: transitions may be missing"
+                } else {
+                    ""
+                },
+                Style::default().fg(Color::Yellow),
             ),
         ]));
     }

@@ -185,7 +185,7 @@ fn ten_thousand_transitions_a_second_for_ten_seconds_lose_nothing() {
     assert_eq!(lines.next().unwrap().unwrap(), "READY");
     let start = Instant::now();
     let w = Command::new(env!("CARGO_BIN_EXE_btx"))
-        .args(["-q", "watch", &format!(":{port}"), "--for", "16", "--out"])
+        .args(["-q", "watch", &format!(":{port}"), "--for", "25", "--out"])
         .arg(&out)
         .stdout(Stdio::null())
         .output()

@@ -355,7 +355,7 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
         .arg(common::fixture("plans/kitting_lookat_fails_once.plan"))
         .arg(port.to_string())
         .arg(&btlog)
-        .args(["60", "1000"])
+        .args(["100", "1000"])
         .stdout(std::process::Stdio::piped())
         .spawn()
         .expect("the robot starts");
@@ -370,7 +370,20 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
     t.wait_for(&format!("live 127.0.0.1:{port}"));
     t.wait_for("connected");
     // The failure at tick 10 has happened: step back to it while it runs.
-    t.wait_for("tick 12 of");
+    let start = Instant::now();
+    loop {
+        let s = t.screen();
+        // "tick N of M" in the timeline.
+        let tick = s.split("tick ").skip(1).find_map(|x| {
+            let (n, rest) = x.split_once(' ')?;
+            rest.starts_with("of ").then(|| n.parse::<u32>().ok())?
+        });
+        if tick.is_some_and(|n| n >= 12) {
+            break;
+        }
+        assert!(start.elapsed() < Duration::from_secs(20), "{s}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
     t.run(&["send-keys", "-t", "btx", "F"]);
     let s = t.wait_for("transitions behind live");
     assert!(s.contains("moment 10 "), "{s}");

@@ -221,3 +221,119 @@ fn ten_thousand_transitions_a_second_for_ten_seconds_lose_nothing() {
     assert!(!btx::session::SessionWriter::partial_path(&out).exists());
     eprintln!("{n} transitions in {secs:.1} s; lost by the server's race: {lost}");
 }
+
+/// `btx serve` on a free port, for `secs`.
+fn serve(run: &str, speed: &str, secs: &str) -> (u16, std::process::Child) {
+    let port = free_port();
+    let child = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args([
+            "-q",
+            "serve",
+            run,
+            "--port",
+            &port.to_string(),
+            "--speed",
+            speed,
+            "--for",
+            secs,
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .spawn()
+        .unwrap();
+    // Listening within a moment.
+    let start = Instant::now();
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(
+            start.elapsed() < Duration::from_secs(5),
+            "btx serve never listened"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    (port, child)
+}
+
+#[test]
+fn btx_serve_replays_a_run_that_btx_watch_keeps_tick_for_tick() {
+    let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "0.5", "8");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("served.jsonl");
+    let w = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["-q", "watch", &format!(":{port}"), "--for", "3", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(w.status.success(), "{}", String::from_utf8_lossy(&w.stderr));
+    let _ = server.kill();
+    let original = session(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/kitting-lookat-fails-once.jsonl"),
+    );
+    let served = session(&out);
+    assert_eq!(served.index.transitions, original.index.transitions);
+    assert_eq!(served.index.ticks(), original.index.ticks());
+}
+
+#[test]
+fn btview_sees_what_btx_serves() {
+    // A client nobody here wrote: btview (PyPI) reads the tree (T) and the
+    // statuses (S) of the run btx serves, once it has played.
+    let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "1", "20");
+    // The run starts with the first recording client and lasts 0.54 s.
+    let w = common::btx(&["watch", &format!(":{port}"), "--for", "1.5"]);
+    assert!(w.0, "{}", w.2);
+    let btview = oracle_python().with_file_name("btview");
+    let out = Command::new(&btview)
+        .args([
+            "snapshot",
+            "-p",
+            &port.to_string(),
+            "--ascii",
+            "--no-color",
+            "--uid",
+            "--no-legend",
+        ])
+        .output()
+        .expect("btview runs (tests/oracle/setup.sh installs it)");
+    let _ = server.kill();
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{text}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // What btx says of each node at the end of the run: IDLE, and the
+    // status it last completed with.
+    let s = session(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/kitting-lookat-fails-once.jsonl"),
+    );
+    let mut last = vec![None; s.tree.len()];
+    for t in &s.index.transitions {
+        if t.status == btx::run::Status::Idle {
+            last[t.uid as usize - 1] = Some(t.prev);
+        }
+    }
+    let mut checked = 0;
+    for line in text.lines() {
+        let Some((_, rest)) = line.split_once(" #") else {
+            continue;
+        };
+        let Some((uid, shown)) = rest.split_once(' ') else {
+            continue;
+        };
+        let Ok(uid) = uid.parse::<usize>() else {
+            continue;
+        };
+        let want = match last[uid - 1] {
+            Some(st) => format!(". was {}", st.as_str()),
+            None => ". IDLE".to_string(),
+        };
+        assert!(
+            shown.trim().ends_with(&want),
+            "#{uid}: btview shows {shown:?}, btx {want:?}"
+        );
+        checked += 1;
+    }
+    assert!(
+        checked >= 50,
+        "only {checked} nodes read from btview:\n{text}"
+    );
+}

@@ -135,6 +135,8 @@ enum Command {
     Diff(diff::Args),
     /// List the status transitions of a session, like Groot's table.
     Log(log::Args),
+    /// Serve a recorded run (session or log) over the Groot2 protocol, as a robot that is running now, for Groot2, btview or btx watch.
+    Serve(serve::Args),
     /// Watch a running robot over the Groot2 protocol (BehaviorTree.CPP 4, Nav2): print its transitions as they happen, and keep the run as a session.
     Watch(watch::Args),
 }
@@ -239,6 +241,7 @@ mod log;
 mod open;
 mod run;
 mod screenshot;
+mod serve;
 mod tree;
 mod watch;
 mod why;
@@ -309,6 +312,7 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Diff(a) => diff::run(a, &globals),
         Command::Log(a) => log::run(a, &globals),
         Command::Watch(a) => watch::run(a, &globals),
+        Command::Serve(a) => serve::run(a, &globals),
     }
 }
 

@@ -5,6 +5,7 @@
 //! far is a session built by the same code as a `.btlog`'s.
 
 pub mod groot2;
+pub mod serve;
 pub mod zmtp;
 
 use crate::logs::btlog::Record;

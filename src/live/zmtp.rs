@@ -84,7 +84,7 @@ impl Req {
             endpoint: endpoint.to_string(),
             timeout,
         };
-        req.handshake()?;
+        req.handshake(b"REQ", &[b"REP", b"ROUTER"])?;
         Ok(req)
     }
 
@@ -136,7 +136,8 @@ impl Req {
         Ok(())
     }
 
-    fn handshake(&mut self) -> Result<(), ZmtpError> {
+    /// The greeting and READY, as `ours`; the peer must be one of `peers`.
+    fn handshake(&mut self, ours: &[u8], peers: &[&[u8]]) -> Result<(), ZmtpError> {
         let mut greeting = [0u8; 64];
         greeting[0] = 0xFF;
         greeting[9] = SIGNATURE_END;
@@ -170,8 +171,8 @@ impl Req {
         body.extend_from_slice(b"READY");
         body.push(11);
         body.extend_from_slice(b"Socket-Type");
-        body.extend_from_slice(&3u32.to_be_bytes());
-        body.extend_from_slice(b"REQ");
+        body.extend_from_slice(&(ours.len() as u32).to_be_bytes());
+        body.extend_from_slice(ours);
         let mut frame = vec![COMMAND, body.len() as u8];
         frame.extend_from_slice(&body);
         self.write_all(&frame)?;
@@ -180,10 +181,11 @@ impl Req {
             return Err(self.err("the server did not send READY after the greeting"));
         }
         if let Some(t) = property(&body[6..], b"Socket-Type") {
-            if t != b"REP" && t != b"ROUTER" {
+            if !peers.contains(&t) {
                 return Err(self.err(format!(
-                    "the server's socket is {}, not REP: it cannot answer requests",
-                    String::from_utf8_lossy(t)
+                    "the peer's socket is {}, which cannot talk to a {} socket",
+                    String::from_utf8_lossy(t),
+                    String::from_utf8_lossy(ours)
                 )));
             }
         }
@@ -216,9 +218,9 @@ impl Req {
         Ok((flags, body))
     }
 
-    /// Sends a multipart request and returns the reply's parts.
-    pub fn request(&mut self, parts: &[&[u8]]) -> Result<Vec<Vec<u8>>, ZmtpError> {
-        // REQ: an empty delimiter frame, then the parts.
+    /// Sends an empty delimiter frame (as REQ and REP put before every
+    /// message), then the parts.
+    fn send(&mut self, parts: &[&[u8]]) -> Result<(), ZmtpError> {
         let mut out = vec![MORE, 0];
         for (i, p) in parts.iter().enumerate() {
             let more = if i + 1 < parts.len() { MORE } else { 0 };
@@ -231,8 +233,18 @@ impl Req {
             }
             out.extend_from_slice(p);
         }
-        self.write_all(&out)?;
+        self.write_all(&out)
+    }
+
+    /// Sends a multipart request and returns the reply's parts.
+    pub fn request(&mut self, parts: &[&[u8]]) -> Result<Vec<Vec<u8>>, ZmtpError> {
+        self.send(parts)?;
         let deadline = Instant::now() + self.timeout;
+        self.receive(deadline)
+    }
+
+    /// A message's parts after its empty delimiter, read before `deadline`.
+    fn receive(&mut self, deadline: Instant) -> Result<Vec<Vec<u8>>, ZmtpError> {
         let mut reply = Vec::new();
         let mut delimited = false;
         loop {
@@ -243,13 +255,13 @@ impl Req {
             }
             if !delimited {
                 if !body.is_empty() {
-                    return Err(self.err("the reply does not start with REQ's empty delimiter"));
+                    return Err(self.err("the message does not start with the empty delimiter"));
                 }
                 delimited = true;
             } else {
                 reply.push(body);
                 if reply.len() > PARTS_MAX {
-                    return Err(self.err(format!("the reply has more than {PARTS_MAX} parts")));
+                    return Err(self.err(format!("the message has more than {PARTS_MAX} parts")));
                 }
             }
             if flags & MORE == 0 {
@@ -258,6 +270,61 @@ impl Req {
         }
         Ok(reply)
     }
+}
+
+/// What a server does with a request's parts: the reply's parts.
+pub type Answer = std::sync::Arc<dyn Fn(&[Vec<u8>]) -> Vec<Vec<u8>> + Send + Sync>;
+
+/// Serves REQ clients on `listener`, a thread per connection, until
+/// `stop`: each request's parts go to `answer`, and its parts are the reply.
+/// A client that breaks the protocol loses its connection, not the server.
+pub fn serve_rep(
+    listener: std::net::TcpListener,
+    answer: Answer,
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+) -> std::io::Result<()> {
+    listener.set_nonblocking(true)?;
+    let endpoint = listener.local_addr()?.to_string();
+    while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+        match listener.accept() {
+            Ok((stream, peer)) => {
+                let answer = std::sync::Arc::clone(&answer);
+                let stop = std::sync::Arc::clone(&stop);
+                let endpoint = format!("{endpoint} (client {peer})");
+                std::thread::spawn(move || {
+                    let _ = stream.set_nonblocking(false);
+                    let _ = stream.set_nodelay(true);
+                    let mut conn = Req {
+                        stream,
+                        endpoint,
+                        timeout: Duration::from_secs(5),
+                    };
+                    if conn.handshake(b"REP", &[b"REQ", b"DEALER"]).is_err() {
+                        return;
+                    }
+                    while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                        // A client may stay quiet for long: wait in slices so
+                        // that the server can stop.
+                        let request = match conn.receive(Instant::now() + Duration::from_secs(3600))
+                        {
+                            Ok(r) => r,
+                            Err(_) => return,
+                        };
+                        let reply = answer(&request);
+                        let parts: Vec<&[u8]> = reply.iter().map(Vec::as_slice).collect();
+                        if conn.send(&parts).is_err() {
+                            return;
+                        }
+                    }
+                });
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                std::thread::sleep(Duration::from_millis(20))
+            }
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(())
 }
 
 /// A property's value in a READY command's metadata.

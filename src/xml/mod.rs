@@ -5,4 +5,4 @@ mod parse;
 mod write;
 
 pub use load::{load_file, load_str, LoadOptions, Loaded};
-pub use write::{sanitize_id, to_v4_xml};
+pub use write::{sanitize_id, to_instantiated_xml, to_v4_xml};

@@ -120,7 +120,37 @@ pub fn to_v4_xml(tree: &Tree) -> String {
     }
     for (id, root) in &defs {
         let _ = writeln!(out, "  <BehaviorTree ID=\"{}\">", escape(names.get(id)));
-        write_node(tree, &names, *root, &mut out);
+        write_node(tree, &names, *root, false, &mut out);
+        out.push_str("  </BehaviorTree>\n");
+    }
+    write_models(tree, &names, &mut out);
+    out.push_str("</root>\n");
+    out
+}
+
+/// Writes the tree as BehaviorTree.CPP 4 writes an instantiated tree
+/// (`WriteTreeToXML(tree, true)`, in `.btlog` files and Groot2's `T`
+/// reply): one `<BehaviorTree>` per SubTree instance with its `_fullpath`,
+/// every node with its `_uid`.
+pub fn to_instantiated_xml(tree: &Tree) -> String {
+    let names = Names::new(tree);
+    let mut out = String::from("<root BTCPP_format=\"4\">\n");
+    let mut instances: Vec<(String, String, Uid)> =
+        vec![(tree.main_tree.clone(), String::new(), Tree::ROOT)];
+    for u in tree.preorder() {
+        let n = tree.node(u);
+        if let (Kind::SubTree, Some(&c), Some(s)) = (n.kind, n.children.first(), n.opens_scope) {
+            instances.push((n.id.clone(), tree.scope_path(s), c));
+        }
+    }
+    for (id, path, root) in &instances {
+        let _ = writeln!(
+            out,
+            "  <BehaviorTree ID=\"{}\" _fullpath=\"{}\">",
+            escape(names.get(id)),
+            escape(path)
+        );
+        write_node(tree, &names, *root, true, &mut out);
         out.push_str("  </BehaviorTree>\n");
     }
     write_models(tree, &names, &mut out);
@@ -133,7 +163,7 @@ enum Step {
     Close(String, usize),
 }
 
-fn write_node(tree: &Tree, names: &Names, root: Uid, out: &mut String) {
+fn write_node(tree: &Tree, names: &Names, root: Uid, instantiated: bool, out: &mut String) {
     let mut stack = vec![Step::Open(root, 2)];
     while let Some(step) = stack.pop() {
         match step {
@@ -142,7 +172,13 @@ fn write_node(tree: &Tree, names: &Names, root: Uid, out: &mut String) {
             }
             Step::Open(uid, depth) => {
                 let n = tree.node(uid);
-                let (tag, attrs) = element_of(tree, names, uid);
+                let (tag, mut attrs) = element_of(tree, names, uid);
+                if instantiated {
+                    if let Some(s) = n.opens_scope.filter(|_| n.kind == Kind::SubTree) {
+                        attrs.push(("_fullpath".into(), tree.scope_path(s)));
+                    }
+                    attrs.push(("_uid".into(), uid.to_string()));
+                }
                 let _ = write!(out, "{}<{}", "  ".repeat(depth), tag);
                 for (k, v) in &attrs {
                     let _ = write!(out, " {}=\"{}\"", k, escape(v));
@@ -329,5 +365,32 @@ mod tests {
         assert_eq!(sanitize_id("a.b/c"), "a_b_c");
         assert_eq!(sanitize_id("3d"), "_3d");
         assert_eq!(sanitize_id("Root"), "Root_");
+    }
+
+    #[test]
+    fn an_instantiated_tree_reads_back_as_a_logs_tree() {
+        let path = std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fixtures/kitting-tree.v4.xml"
+        ));
+        let tree = crate::xml::load_file(path, &Default::default())
+            .unwrap()
+            .tree;
+        let xml = to_instantiated_xml(&tree);
+        assert!(xml.contains(r#"<SubTree ID="go_insert_large_gear" name="go insert large gear" _fullpath="go insert large gear" _uid="2"/>"#), "{xml}");
+        let back = crate::xml::load_str(
+            std::path::Path::new("t"),
+            &xml,
+            &crate::xml::LoadOptions {
+                embedded: true,
+                ..Default::default()
+            },
+        )
+        .unwrap()
+        .tree;
+        assert_eq!(back.len(), tree.len());
+        for (a, b) in tree.nodes.iter().zip(&back.nodes) {
+            assert_eq!((a.uid, &a.name, a.kind), (b.uid, &b.name, b.kind));
+        }
     }
 }

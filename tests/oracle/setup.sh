@@ -15,4 +15,8 @@ fi
 if ! "$venv/bin/python" -c "import behaviortreepy" 2>/dev/null; then
   "$venv/bin/pip" install --quiet "behaviortreepy==0.1.4"
 fi
+# btview (a Groot2 client nobody here wrote) checks btx serve.
+if ! "$venv/bin/python" -c "import btview" 2>/dev/null; then
+  "$venv/bin/pip" install --quiet "btview==0.2.0"
+fi
 "$venv/bin/python" -c "import behaviortreepy; print('oracle: behaviortreepy', behaviortreepy.__version__)"

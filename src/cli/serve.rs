@@ -1,0 +1,74 @@
+//! `btx serve`: Serve a recorded run over the Groot2 protocol, as a robot that is running now.
+
+use super::*;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// A session or a log (.btlog, .fbl, .db3, btcm).
+    pub run: PathBuf,
+    /// The port to serve on (Groot2's is 1667); on 127.0.0.1 unless --host says otherwise.
+    #[arg(long, default_value_t = btx::live::groot2::DEFAULT_PORT)]
+    pub port: u16,
+    /// The address to listen on (0.0.0.0: every interface).
+    #[arg(long, default_value = "127.0.0.1")]
+    pub host: String,
+    /// How many times faster than the run's tick period (100 ms a tick for a log).
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
+    /// Stop after this many seconds (default: at Ctrl-C).
+    #[arg(long = "for", value_name = "SECONDS")]
+    pub for_secs: Option<f64>,
+}
+
+pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
+    let s = match btx::input::open(&args.run, &LoadOptions::default())? {
+        Input::Session(s) => *s,
+        Input::Tree { .. } => fail!(
+            "{} is a tree; btx serve replays a session or a log",
+            args.run.display()
+        ),
+    };
+    warn_all(cli.quiet, &s.warnings);
+    if !(args.speed > 0.0 && args.speed.is_finite()) {
+        fail!("--speed must be a positive number, not {}", args.speed);
+    }
+    let listener = std::net::TcpListener::bind((args.host.as_str(), args.port))
+        .map_err(|e| Failure::Plain(format!("{}:{}: cannot listen: {e}", args.host, args.port)))?;
+    let replay = Arc::new(btx::live::serve::Replay::new(s, args.speed));
+    if !cli.quiet {
+        let s = replay.session();
+        eprintln!(
+            "serving {} ({} transitions in {} ticks) on {}:{} with the Groot2 protocol (Ctrl-C stops)",
+            args.run.display(),
+            s.index.transitions.len(),
+            s.index.ticks(),
+            args.host,
+            args.port
+        );
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
+        signal_hook::flag::register(sig, Arc::clone(&stop))
+            .map_err(|e| Failure::Plain(format!("cannot catch signals: {e}")))?;
+    }
+    if let Some(secs) = args.for_secs {
+        let stop = Arc::clone(&stop);
+        let until = Instant::now() + Duration::from_secs_f64(secs.clamp(0.0, 1e9));
+        std::thread::spawn(move || {
+            while Instant::now() < until {
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            stop.store(true, Ordering::Relaxed);
+        });
+    }
+    let answer = {
+        let replay = Arc::clone(&replay);
+        Arc::new(move |parts: &[Vec<u8>]| replay.answer(parts))
+    };
+    btx::live::zmtp::serve_rep(listener, answer, stop)
+        .map_err(|e| Failure::Plain(format!("{}:{}: {e}", args.host, args.port)))?;
+    Ok(())
+}

@@ -1,0 +1,187 @@
+//! The server side of the Groot2 protocol: a recorded run (a session or a
+//! log) replayed in real time, so that Groot2, btview or a second btx can
+//! watch any run btx knows, and the live mode can be tried without a robot.
+//! It answers `T` (the instantiated tree with `_uid`s), `S` (every node's
+//! status now, IDLE as 10 + the status before it), `r start|stop`, `t` (the
+//! transitions since the last `t`, as the publisher's 9-byte records, at
+//! most the last 1,000) and `B` (no blackboard: an empty msgpack map).
+//! Hooks and breakpoints are refused, as btx never changes a run. The run
+//! starts playing when the first client starts recording.
+
+use super::groot2::{PROTOCOL, SERVER_BUFFER};
+use crate::run::Status;
+use crate::session::Session;
+use std::sync::Mutex;
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
+
+/// The replay's clock and what it has handed out.
+struct State {
+    /// When the replay started (tick 1 begins then): at the first `r start`,
+    /// so that the first client to record sees the run from its start.
+    started: Option<Instant>,
+    /// When recording started, and the position handed out by `t` so far.
+    recording: Option<(Instant, usize)>,
+}
+
+/// A recorded run served as a robot that is running now.
+pub struct Replay {
+    session: Session,
+    xml: String,
+    /// Simulated time of one tick.
+    tick: Duration,
+    uuid: [u8; 16],
+    state: Mutex<State>,
+}
+
+/// The tick period of a session that records none (an imported log).
+pub const DEFAULT_TICK: Duration = Duration::from_millis(100);
+
+impl Replay {
+    /// `speed` times as fast as the run's tick period.
+    pub fn new(session: Session, speed: f64) -> Replay {
+        let ms = match session.header.tick_ms {
+            0 => DEFAULT_TICK.as_secs_f64() * 1000.0,
+            t => t as f64,
+        };
+        let tick = Duration::from_secs_f64(ms / 1000.0 / speed.clamp(1e-3, 1e6));
+        let xml = crate::xml::to_instantiated_xml(&session.tree);
+        let mut uuid = [0u8; 16];
+        let seed = crate::session::format::fnv64(&xml);
+        uuid[..16].copy_from_slice(&seed.as_bytes()[..16]);
+        Replay {
+            session,
+            xml,
+            tick,
+            uuid,
+            state: Mutex::new(State {
+                started: None,
+                recording: None,
+            }),
+        }
+    }
+
+    pub fn session(&self) -> &Session {
+        &self.session
+    }
+
+    /// Transitions played by `now`: those of every tick begun.
+    fn position(&self, started: Instant, now: Instant) -> usize {
+        let idx = &self.session.index;
+        let ticks = (now.saturating_duration_since(started).as_secs_f64() / self.tick.as_secs_f64())
+            as u64
+            + 1;
+        let t = ticks.min(u64::from(idx.ticks())) as u32;
+        if t == 0 {
+            0
+        } else {
+            idx.tick_range(t).end
+        }
+    }
+
+    /// When tick `t` began.
+    fn tick_start(&self, started: Instant, t: u32) -> Instant {
+        started + self.tick.mul_f64(f64::from(t.saturating_sub(1)))
+    }
+
+    fn header(&self, request: &[u8]) -> Vec<u8> {
+        let mut h = request.to_vec();
+        h[0] = PROTOCOL;
+        h.extend_from_slice(&self.uuid);
+        h
+    }
+
+    /// The reply to one request.
+    pub fn answer(&self, parts: &[Vec<u8>]) -> Vec<Vec<u8>> {
+        let error = |m: &str| vec![b"error".to_vec(), m.as_bytes().to_vec()];
+        let Some(h) = parts.first().filter(|h| h.len() == 6) else {
+            return error("wrong request header");
+        };
+        let now = Instant::now();
+        let mut st = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        // The first recording starts the run: it sees tick 1 whole.
+        let first = h[1] == b'r'
+            && parts.get(1).map(Vec::as_slice) == Some(b"start")
+            && st.started.is_none();
+        if first {
+            st.started = Some(now);
+        }
+        let started = st.started.unwrap_or(now);
+        let pos = if st.started.is_some() {
+            self.position(started, now)
+        } else {
+            0
+        };
+        let body = match h[1] {
+            b'T' => self.xml.as_bytes().to_vec(),
+            b'S' => self.statuses(pos),
+            b'B' => vec![0x80],
+            b'r' => match parts.get(1).map(Vec::as_slice) {
+                Some(b"start") => {
+                    st.recording = Some((now, if first { 0 } else { pos }));
+                    let epoch = SystemTime::now()
+                        .duration_since(UNIX_EPOCH)
+                        .unwrap_or_default()
+                        .as_micros();
+                    epoch.to_string().into_bytes()
+                }
+                Some(b"stop") => {
+                    st.recording = None;
+                    Vec::new()
+                }
+                _ => return error("must be 2 parts message"),
+            },
+            b't' => match st.recording {
+                Some((t0, from)) => {
+                    let out = self.records(started, t0, from, pos);
+                    st.recording = Some((t0, pos));
+                    out
+                }
+                None => Vec::new(),
+            },
+            _ => return error("Request not recognized"),
+        };
+        vec![self.header(h), body]
+    }
+
+    /// `u16 uid | u8 status` for every node at position `pos`.
+    fn statuses(&self, pos: usize) -> Vec<u8> {
+        let at = self.session.index.at(pos as u32);
+        let tree = &self.session.tree;
+        let mut last = vec![0u8; tree.len()];
+        for t in &self.session.index.transitions[..pos] {
+            last[t.uid as usize - 1] = t.prev.code();
+        }
+        let mut out = Vec::with_capacity(3 * tree.len());
+        for u in 1..=tree.len() as u32 {
+            out.extend_from_slice(&(u as u16).to_le_bytes());
+            out.push(match at.status(u) {
+                Status::Idle if last[u as usize - 1] != 0 => 10 + last[u as usize - 1],
+                s => s.code(),
+            });
+        }
+        out
+    }
+
+    /// The 9-byte records of transitions `from..to`, timed from `t0`; at
+    /// most the last `SERVER_BUFFER`, as the publisher keeps.
+    fn records(&self, started: Instant, t0: Instant, from: usize, to: usize) -> Vec<u8> {
+        let from = from.max(to.saturating_sub(SERVER_BUFFER));
+        let mut out = Vec::with_capacity(9 * (to - from));
+        for t in &self.session.index.transitions[from..to] {
+            let at = self.tick_start(started, t.tick);
+            let us = at.saturating_duration_since(t0).as_micros() as u64;
+            out.extend_from_slice(&us.to_le_bytes()[..6]);
+            out.extend_from_slice(&(t.uid as u16).to_le_bytes());
+            out.push(t.status.code());
+        }
+        out
+    }
+
+    /// Whether every tick has been played.
+    pub fn over(&self) -> bool {
+        let st = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        st.started.is_some_and(|s| {
+            self.position(s, Instant::now()) >= self.session.index.transitions.len()
+        })
+    }
+}

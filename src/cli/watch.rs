@@ -80,6 +80,9 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         std::thread::sleep(Duration::from_millis(20));
     }
     let n = feed.records.len();
+    if let (false, Some((median, p99))) = (cli.quiet, feed.latency_ms()) {
+        eprintln!("{n} transitions; from the robot to here: median {median:.1} ms, 99th percentile {p99:.1} ms");
+    }
     if let Some(path) = feed.stop()? {
         if !cli.quiet {
             eprintln!("{n} transitions written to {}", path.display());

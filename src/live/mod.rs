@@ -37,6 +37,9 @@ pub struct Watch {
     t0: i64,
     pub records: Vec<Record>,
     pub gaps: Vec<Gap>,
+    /// Per record, µs from the transition on the robot to its arrival here
+    /// (both clocks are the robot's and this machine's wall clocks).
+    pub latency_us: Vec<i64>,
 }
 
 /// A UUID as text.
@@ -58,6 +61,7 @@ impl Watch {
             t0,
             records: Vec::new(),
             gaps: Vec::new(),
+            latency_us: Vec::new(),
         })
     }
 
@@ -90,7 +94,11 @@ impl Watch {
                 if zeroed > 0 {
                     self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost"));
                 }
+                let now_us = std::time::SystemTime::now()
+                    .duration_since(std::time::UNIX_EPOCH)
+                    .map_or(0, |d| d.as_micros() as i64);
                 for t in ts.into_iter().filter(|t| t.uid != 0) {
+                    self.latency_us.push(now_us - (self.t0 + t.time_us));
                     let offset = self.records.len();
                     self.records.push(Record {
                         time_us: self.t0 + t.time_us,
@@ -181,6 +189,7 @@ impl LiveStatus {
 /// batch, the gaps among them, the status.
 struct Batch {
     records: Vec<Record>,
+    latency_us: Vec<i64>,
     gaps: Vec<Gap>,
     status: LiveStatus,
 }
@@ -199,6 +208,8 @@ pub struct Feed {
     xml: String,
     pub records: Vec<Record>,
     pub gaps: Vec<Gap>,
+    /// Per record, µs from the robot to here (see `Watch::latency_us`).
+    pub latency_us: Vec<i64>,
     out: Option<std::path::PathBuf>,
     saved: std::time::Instant,
     /// Whether the run grew since the last session built, and when that was.
@@ -266,6 +277,7 @@ impl Feed {
                         last = std::time::Instant::now();
                         let batch = Batch {
                             records: w.records[sent..].to_vec(),
+                            latency_us: w.latency_us[sent..].to_vec(),
                             gaps: w.gaps[gaps_sent..].to_vec(),
                             status: w.status(rate.2, error.clone()),
                         };
@@ -290,6 +302,7 @@ impl Feed {
             xml,
             records: Vec::new(),
             gaps: Vec::new(),
+            latency_us: Vec::new(),
             out,
             saved: std::time::Instant::now(),
             dirty: false,
@@ -300,6 +313,7 @@ impl Feed {
     fn take(&mut self, b: Batch) -> bool {
         let grew = !b.records.is_empty() || !b.gaps.is_empty();
         self.records.extend(b.records);
+        self.latency_us.extend(b.latency_us);
         self.gaps.extend(b.gaps);
         self.status = b.status;
         grew
@@ -364,6 +378,17 @@ impl Feed {
     /// the whole run there; where it was written.
     pub fn stop(mut self) -> Result<Option<std::path::PathBuf>, Located> {
         self.finish()
+    }
+
+    /// The median and the 99th percentile of the latency, in ms.
+    pub fn latency_ms(&self) -> Option<(f64, f64)> {
+        let mut l = self.latency_us.clone();
+        if l.is_empty() {
+            return None;
+        }
+        l.sort_unstable();
+        let at = |q: f64| l[((l.len() - 1) as f64 * q).round() as usize] as f64 / 1000.0;
+        Some((at(0.5), at(0.99)))
     }
 
     /// Stops the thread and takes what it still had.

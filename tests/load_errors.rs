@@ -261,3 +261,30 @@ fn the_cli_exits_non_zero_and_shows_the_line() {
         "the offending line is shown: {err}"
     );
 }
+
+#[test]
+fn a_childless_manual_selector_loads_in_v3_as_behaviortree_cpp_3_loads_it() {
+    // 3.8's VerifyXML asks for a child of Sequence, SequenceStar, Fallback
+    // and FallbackStar only; 4's of every control node.
+    let dir = tempfile::tempdir().unwrap();
+    let v3 = write(
+        dir.path(),
+        "v3.xml",
+        r#"<root main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence><ManualSelector/><AlwaysSuccess/></Sequence></BehaviorTree></root>"#,
+    );
+    let t = load_file(&v3, &LoadOptions::default()).unwrap().tree;
+    assert!(t.node(2).children.is_empty());
+    let m = error_at(
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><ManualSelector/><AlwaysSuccess/></Sequence></BehaviorTree></root>"#,
+        1,
+        55,
+    );
+    assert!(m.contains("must have at least 1 child"), "{m}");
+    // An empty Sequence is refused by both.
+    let v3 = write(
+        dir.path(),
+        "empty.xml",
+        r#"<root main_tree_to_execute="M"><BehaviorTree ID="M"><Sequence/></BehaviorTree></root>"#,
+    );
+    assert!(load_file(&v3, &LoadOptions::default()).is_err());
+}

@@ -664,9 +664,16 @@ impl Loader {
             }
         }
 
-        // Child counts, as BehaviorTree.CPP verifies them.
+        // Child counts, as BehaviorTree.CPP verifies them. Version 3's
+        // VerifyXML asks for a child only of Sequence, SequenceStar, Fallback
+        // and FallbackStar (by element name, xml_parsing.cpp of 3.8): a
+        // ManualSelector or a custom control node may have none.
         let n = el.children.len();
+        let v3_childless = version == Version::V3
+            && kind == Kind::Control
+            && matches!(builtin, None | Some(Builtin::ManualSelector));
         let (min, max) = match builtin {
+            _ if v3_childless => (0, None),
             Some(Builtin::SubTree) => (0, Some(0)),
             Some(b) => b.spec().children,
             None => match kind {

@@ -431,3 +431,28 @@ fn a_bare_ampersand_in_a_script_is_text_as_behaviortree_cpp_reads_it() {
     assert!(ok, "{err}");
     assert!(err.contains("root SUCCESS"), "{err}");
 }
+
+#[test]
+fn editor_metadata_is_kept_apart_from_ports_and_written_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("t.xml");
+    std::fs::write(
+        &p,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence _description="does things" _collapsed="true"><AlwaysSuccess/></Sequence></BehaviorTree></root>"#,
+    )
+    .unwrap();
+    let (ok, out, err) = common::btx(&["tree", p.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with("Sequence  [Sequence #1]  (metadata: _description=\"does things\", _collapsed=\"true\")\n"),
+        "{out}"
+    );
+    let t = btx::xml::load_file(&p, &Default::default()).unwrap().tree;
+    assert!(t.node(1).ports.is_empty());
+    let (ok, xml, _) = common::btx(&["tree", p.to_str().unwrap(), "--format", "xml"]);
+    assert!(ok);
+    assert!(
+        xml.contains(r#"<Sequence _description="does things" _collapsed="true">"#),
+        "{xml}"
+    );
+}

@@ -33,6 +33,11 @@ pub fn tree_json(tree: &Tree) -> Value {
                 .iter()
                 .map(|(k, v)| (k.clone(), Value::from(v.clone())))
                 .collect();
+            let metadata: serde_json::Map<String, Value> = n
+                .metadata
+                .iter()
+                .map(|(k, v)| (k.clone(), Value::from(v.clone())))
+                .collect();
             let subtree = n.opens_scope.map(|s| {
                 let sc = &tree.scopes[s];
                 json!({ "id": n.id, "autoremap": sc.autoremap, "shared_blackboard": sc.shared })
@@ -51,6 +56,7 @@ pub fn tree_json(tree: &Tree) -> Value {
                 "path": paths[(n.uid - 1) as usize],
                 "ports": ports,
                 "scripts": scripts,
+                "metadata": metadata,
                 "subtree": subtree,
                 "source": { "file": file, "line": line, "column": column },
             })

@@ -37,6 +37,14 @@ pub fn write_tree_text(tree: &Tree, line: &mut dyn FnMut(&str)) {
             for (k, v) in &n.scripts {
                 s.push_str(&format!("  {k}={v:?}"));
             }
+            if !n.metadata.is_empty() {
+                let m: Vec<String> = n
+                    .metadata
+                    .iter()
+                    .map(|(k, v)| format!("{k}={v:?}"))
+                    .collect();
+                s.push_str(&format!("  (metadata: {})", m.join(", ")));
+            }
             s
         },
         line,

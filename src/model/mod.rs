@@ -203,6 +203,10 @@ pub struct Node {
     pub ports: Vec<Port>,
     /// Pre/post-condition scripts (`_skipIf`, `_onSuccess`, ...), in order.
     pub scripts: Vec<(String, String)>,
+    /// Attributes that start with `_` and are neither scripts nor
+    /// BehaviorTree.CPP's own (`_collapsed`, `_description`, as editors
+    /// write them): not ports, kept as written.
+    pub metadata: Vec<(String, String)>,
     pub parent: Option<Uid>,
     pub children: Vec<Uid>,
     /// The blackboard scope the node's ports resolve in.

@@ -735,6 +735,7 @@ impl Loader {
         let model_ports: &[PortModel] = self.models.get(&id).map_or(&[], |m| &m.ports);
         let mut ports = Vec::new();
         let mut scripts = Vec::new();
+        let mut metadata = Vec::new();
         for a in &el.attrs {
             let k = a.key.as_str();
             if k == "_uid" && a.value.trim().parse::<Uid>().ok() != Some(uid) {
@@ -751,6 +752,14 @@ impl Loader {
             if kind == Kind::SubTree
                 && matches!(k, "_autoremap" | "__autoremap" | "__shared_blackboard")
             {
+                continue;
+            }
+            // Groot2 and other editors keep `_collapsed`, `_description`
+            // and the like on nodes; BehaviorTree.CPP 4 reads no port from
+            // them (`xml_parsing.cpp` skips the `_`-prefixed attributes it
+            // does not know).
+            if k.starts_with('_') && !k.starts_with("__") {
+                metadata.push((k.to_string(), a.value.clone()));
                 continue;
             }
             let value = if old_style_subtree {
@@ -785,6 +794,7 @@ impl Loader {
             builtin,
             ports,
             scripts,
+            metadata,
             parent,
             children: Vec::with_capacity(n),
             scope,

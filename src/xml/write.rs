@@ -212,6 +212,7 @@ fn element_of(tree: &Tree, names: &Names, uid: Uid) -> (String, Vec<(String, Str
                 attrs.push(("_autoremap".into(), "true".into()));
             }
         }
+        attrs.extend(n.metadata.iter().cloned());
         return (String::from("SubTree"), attrs);
     }
     let tag = match n.builtin {
@@ -237,7 +238,7 @@ fn element_of(tree: &Tree, names: &Names, uid: Uid) -> (String, Vec<(String, Str
         };
         attrs.push((name.to_string(), p.value.to_xml()));
     }
-    for (k, v) in &n.scripts {
+    for (k, v) in n.scripts.iter().chain(&n.metadata) {
         attrs.push((k.clone(), v.clone()));
     }
     (tag, attrs)

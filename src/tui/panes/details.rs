@@ -139,6 +139,12 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
     if let Some(s) = &app.session {
         lines.push(Line::from(format!("run {}", s.ending())));
     }
+    for (k, v) in &n.metadata {
+        lines.push(Line::from(Span::styled(
+            format!("{k} {}", crate::text::visible(v)),
+            Style::default().add_modifier(Modifier::DIM),
+        )));
+    }
     let bb = crate::run::blackboard::Blackboard::new(&app.tree);
     for p in &n.ports {
         let mut s = crate::export::port_label(p);

@@ -89,12 +89,60 @@ struct Loader {
     roots: Vec<Option<Element>>,
     defs: Vec<Def>,
     models: BTreeMap<String, NodeModel>,
-    /// The kind each custom ID was first used as.
-    kinds: HashMap<String, Kind>,
+    /// The kind each custom ID was first used as, and where.
+    kinds: HashMap<String, (Kind, FileId, usize)>,
+    /// IDs with no model, in order of first use: where first, how they are
+    /// read, how many uses (said once each, when the tree is loaded).
+    unknown: Vec<(String, FileId, usize, &'static str, usize)>,
+    unknown_at: HashMap<String, usize>,
     warnings: Vec<Warning>,
 }
 
+/// "an Action", "a Control".
+fn a_kind(k: Kind) -> String {
+    let s = k.as_str();
+    let article = if s.starts_with(['A', 'E', 'I', 'O', 'U']) {
+        "an"
+    } else {
+        "a"
+    };
+    format!("{article} {s}")
+}
+
 impl Loader {
+    /// One warning per ID with no model, at its first use, with its count;
+    /// then one hint.
+    fn say_unknown(&mut self) {
+        let unknown = std::mem::take(&mut self.unknown);
+        for (id, file, start, what, n) in &unknown {
+            let uses = if *n > 1 {
+                format!(" ({n} uses; this is the first)")
+            } else {
+                String::new()
+            };
+            self.warn_at(
+                *file,
+                *start,
+                format!("unknown node \"{id}\" has no model in <TreeNodesModel>; treated as {what}{uses}"),
+            );
+        }
+        if let Some((_, file, _, _, _)) = unknown.first() {
+            let ids = match unknown.len() {
+                1 => "1 node ID has".to_string(),
+                n => format!("{n} node IDs have"),
+            };
+            let msg = format!(
+                "{ids} no model: kinds are guessed from the children and ports have no direction; a <TreeNodesModel> (Groot2 writes one; Nav2 ships nav2_tree_nodes.xml) in the file or an <include> gives them"
+            );
+            // Said even past the warnings shown: it is what to do about them.
+            let f = &self.files[*file];
+            self.warnings.push(Warning {
+                location: format!("{}:1:1", f.path.display()),
+                message: msg,
+            });
+        }
+    }
+
     fn err(&self, file: FileId, el: &Element, msg: impl Into<String>) -> Located {
         let f = &self.files[file];
         Located::at(&f.path, &f.text, el.start, el.end, msg)
@@ -500,6 +548,7 @@ impl Loader {
             }
             nodes.push(node);
         }
+        self.say_unknown();
         let tree = Tree {
             version,
             main_tree: main_id,
@@ -633,32 +682,38 @@ impl Loader {
                 1 => (Kind::Decorator, "a Decorator"),
                 _ => (Kind::Control, "a Control"),
             };
-            self.warn(
-                file,
-                el,
-                format!(
-                    "unknown node \"{id}\" has no model in <TreeNodesModel>; treated as {what}"
-                ),
-            );
+            match self.unknown_at.get(&id) {
+                Some(&i) => self.unknown[i].4 += 1,
+                None => {
+                    self.unknown_at.insert(id.clone(), self.unknown.len());
+                    self.unknown.push((id.clone(), file, el.start, what, 1));
+                }
+            }
             (k, None)
         };
 
         if builtin.is_none() {
             if let Some(k) = explicit_kind.filter(|k| *k != kind) {
                 let msg = format!(
-                    "<{}> names \"{id}\", which <TreeNodesModel> declares a {}; read as a {}",
+                    "<{}> names \"{id}\", which <TreeNodesModel> declares {}; read as {}",
                     k.as_str(),
-                    kind.as_str(),
-                    kind.as_str()
+                    a_kind(kind),
+                    a_kind(kind)
                 );
                 self.warn(file, el, msg);
             }
-            let first = *self.kinds.entry(id.clone()).or_insert(kind);
+            let (first, ffile, fstart) = *self
+                .kinds
+                .entry(id.clone())
+                .or_insert((kind, file, el.start));
             if first != kind {
+                let f = &self.files[ffile];
+                let (line, _) = crate::source::line_col(&f.text, fstart);
                 let msg = format!(
-                    "\"{id}\" is used as a {} here and as a {} before; BehaviorTree.CPP registers one kind per ID",
-                    kind.as_str(),
-                    first.as_str()
+                    "\"{id}\" is used as {} here and as {} at {}:{line}; BehaviorTree.CPP registers one kind per ID",
+                    a_kind(kind),
+                    a_kind(first),
+                    f.path.display()
                 );
                 self.warn(file, el, msg);
             }

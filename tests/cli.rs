@@ -456,3 +456,60 @@ fn editor_metadata_is_kept_apart_from_ports_and_written_back() {
         "{xml}"
     );
 }
+
+#[test]
+fn set_with_a_plan_seeds_the_root_blackboard_and_re_runs_start_from_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("t.xml");
+    let plan = dir.path().join("t.plan");
+    std::fs::write(
+        &tree,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><ScriptCondition code="goal == 3"/><a name="a"/><Script code="@mode := 1"/></Sequence></BehaviorTree></root>"#,
+    )
+    .unwrap();
+    std::fs::write(&plan, "a = 1RS\n").unwrap();
+    let out = dir.path().join("s.jsonl");
+    let (ok, _, err) = common::btx(&[
+        "-q",
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--set",
+        "goal=3",
+        "--set",
+        "@mode=0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let s = match btx::input::open(&out, &Default::default()).unwrap() {
+        btx::input::Input::Session(s) => *s,
+        _ => panic!("a session"),
+    };
+    assert!(s
+        .header
+        .blackboard
+        .iter()
+        .any(|(e, v)| e.key == "goal" && *v == serde_json::json!(3)));
+    // Without the seed the script has nothing to read.
+    let out2 = dir.path().join("s2.jsonl");
+    let (ok, _, err) = common::btx(&[
+        "-q",
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out2.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(err.contains("\"goal\" is not on the blackboard"), "{err}");
+    // A re-run reproduces the run from what it started with.
+    let (ok, text, err) = common::btx(&["why", out.to_str().unwrap(), "status(#1)", "--at", "2"]);
+    assert!(ok, "{err}");
+    assert!(
+        text.contains("Checked: running the tree again to tick 2"),
+        "{text}"
+    );
+}

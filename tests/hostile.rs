@@ -629,11 +629,9 @@ fn every_command_reads_every_session_btx_writes() {
 #[test]
 fn silent_cases_now_speak() {
     let dir = tempfile::tempdir().unwrap();
-    // --set without a domain would change nothing.
-    for source in [
-        ["--plan", "trees/plans/kitting-nominal.plan"],
-        ["--world", "kitting"],
-    ] {
+    // --set with a world would change nothing (with a plan it seeds the
+    // blackboard: tests/cli.rs).
+    for source in [["--world", "kitting"], ["--world", "taxi"]] {
         let out = dir.path().join("set.jsonl");
         let mut args = vec!["run", "trees/kitting.xml", "--set", "x=1", "--out"];
         args.push(out.to_str().unwrap());
@@ -641,7 +639,7 @@ fn silent_cases_now_speak() {
         let (code, _, err) = btx_code(&args);
         assert_eq!(code, Some(1), "{err}");
         assert!(
-            err.contains("--set starts a domain's state variable, and this run has no --domain"),
+            err.contains("--set starts a domain's state variable or a plan's blackboard entry, and a world has neither"),
             "{err}"
         );
         assert!(!out.exists());

@@ -17,8 +17,8 @@ pub struct Args {
     /// A built-in world.
     #[arg(long, value_enum, group = "leaves")]
     pub world: Option<World>,
-    /// With --domain: start with a state variable set (repeatable), e.g. UserMemory=0.0.
-    #[arg(long = "set", value_name = "NAME=VALUE", requires = "domain")]
+    /// Start with a value set (repeatable): with --domain a state variable (UserMemory=0.0), with --plan a root blackboard entry (goal=3, @mode="fast").
+    #[arg(long = "set", value_name = "NAME=VALUE")]
     pub set: Vec<String>,
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -80,12 +80,15 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let asked_at = ask.as_ref().map(|(t, _)| *t);
     // A plan's run, from a plan file or a kitting scenario.
     let planned = |source: Source, plan: Plan| -> Result<(), Failure> {
-        let leaves = PlanLeaves::new(plan, &tree);
+        let mut leaves = PlanLeaves::new(plan, &tree);
+        for a in &set {
+            leaves.seed(a).map_err(Failure::Plain)?;
+        }
         warn_all(cli.quiet, &leaves.warnings);
         report_run(&tree, asked_at, record(req(source), leaves))
     };
-    if !set.is_empty() && domain.is_none() {
-        fail!("--set starts a domain's state variable, and this run has no --domain: with a plan or a world it would change nothing");
+    if !set.is_empty() && domain.is_none() && plan.is_none() {
+        fail!("--set starts a domain's state variable or a plan's blackboard entry, and a world has neither: it would change nothing");
     }
     if let Some(p) = &plan {
         let plan = Plan::load(p)?;

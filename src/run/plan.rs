@@ -147,6 +147,8 @@ pub struct PlanLeaves {
     cursors: Vec<usize>,
     running: HashMap<Uid, (u32, Status)>,
     pub warnings: Vec<Warning>,
+    /// Root blackboard entries the run starts with (`btx run --set`).
+    pub seeds: Vec<(super::blackboard::EntryId, serde_json::Value)>,
 }
 
 impl PlanLeaves {
@@ -158,6 +160,7 @@ impl PlanLeaves {
             cursors: Vec::new(),
             running: HashMap::new(),
             warnings: Vec::new(),
+            seeds: Vec::new(),
         };
         let mut used = vec![false; p.plan.entries.len()];
         // Built-in leaves (Script, AlwaysSuccess, SetBlackboard…) run by
@@ -246,7 +249,34 @@ impl PlanLeaves {
     }
 }
 
+impl PlanLeaves {
+    /// `KEY=VALUE` (or `@KEY=VALUE`, the same root entry as `{@KEY}`): the
+    /// root blackboard starts with it. VALUE is JSON, else text.
+    pub fn seed(&mut self, assignment: &str) -> Result<(), String> {
+        let (key, raw) = assignment
+            .split_once('=')
+            .ok_or_else(|| format!("--set {assignment}: write KEY=VALUE"))?;
+        let key = key.trim().trim_start_matches('@');
+        if key.is_empty() {
+            return Err(format!("--set {assignment}: the key is empty"));
+        }
+        let raw = raw.trim();
+        let v = serde_json::from_str(raw).unwrap_or_else(|_| serde_json::Value::from(raw));
+        let e = super::blackboard::EntryId {
+            scope: 0,
+            key: key.to_string(),
+        };
+        self.seeds.retain(|(x, _)| *x != e);
+        self.seeds.push((e, v));
+        Ok(())
+    }
+}
+
 impl Leaves for PlanLeaves {
+    fn initial_entries(&self) -> Vec<(super::blackboard::EntryId, serde_json::Value)> {
+        self.seeds.clone()
+    }
+
     fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {
         let uid = call.uid;
         if !self.assigned.contains_key(&uid) {

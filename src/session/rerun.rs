@@ -127,7 +127,10 @@ pub fn leaves_of(session: &Session) -> Result<SourceLeaves, String> {
         }
         _ => {
             let plan = Plan::parse(&name, text).map_err(|e| e.to_string())?;
-            Ok(SourceLeaves::Plan(PlanLeaves::new(plan, &session.tree)))
+            let mut leaves = PlanLeaves::new(plan, &session.tree);
+            // What the run started with (`btx run --set`).
+            leaves.seeds = session.header.blackboard.clone();
+            Ok(SourceLeaves::Plan(leaves))
         }
     }
 }

@@ -468,20 +468,21 @@ fn set_with_a_plan_seeds_the_root_blackboard_and_re_runs_start_from_it() {
     )
     .unwrap();
     std::fs::write(&plan, "a = 1RS\n").unwrap();
+    let run = |out: &std::path::Path, set: &[&str]| {
+        let mut args = vec![
+            "-q",
+            "run",
+            tree.to_str().unwrap(),
+            "--plan",
+            plan.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(set);
+        common::btx(&args)
+    };
     let out = dir.path().join("s.jsonl");
-    let (ok, _, err) = common::btx(&[
-        "-q",
-        "run",
-        tree.to_str().unwrap(),
-        "--plan",
-        plan.to_str().unwrap(),
-        "--set",
-        "goal=3",
-        "--set",
-        "@mode=0",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (ok, _, err) = run(&out, &["--set", "goal=3", "--set", "@mode=0"]);
     assert!(ok, "{err}");
     let s = match btx::input::open(&out, &Default::default()).unwrap() {
         btx::input::Input::Session(s) => *s,
@@ -493,16 +494,7 @@ fn set_with_a_plan_seeds_the_root_blackboard_and_re_runs_start_from_it() {
         .iter()
         .any(|(e, v)| e.key == "goal" && *v == serde_json::json!(3)));
     // Without the seed the script has nothing to read.
-    let out2 = dir.path().join("s2.jsonl");
-    let (ok, _, err) = common::btx(&[
-        "-q",
-        "run",
-        tree.to_str().unwrap(),
-        "--plan",
-        plan.to_str().unwrap(),
-        "--out",
-        out2.to_str().unwrap(),
-    ]);
+    let (ok, _, err) = run(&dir.path().join("s2.jsonl"), &[]);
     assert!(!ok);
     assert!(err.contains("\"goal\" is not on the blackboard"), "{err}");
     // A re-run reproduces the run from what it started with.

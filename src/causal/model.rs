@@ -830,12 +830,12 @@ impl Model {
     ) -> Result<Model, Located> {
         let session_len = tree.len();
         let super::attempts::Unrolled {
-            tree,
+            tree: unrolled,
             facts,
             copy_of,
             folded,
         } = super::attempts::unroll(tree, facts);
-        let tree = &tree;
+        let tree = &unrolled;
         let n = tree.len();
         let order = tree.preorder();
         let mut pre_pos = vec![0; n];
@@ -870,7 +870,7 @@ impl Model {
             })
             .collect();
         let mut m = Model {
-            tree: tree.clone(),
+            tree: unrolled,
             domain,
             facts,
             vars: b.vars,

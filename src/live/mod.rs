@@ -35,7 +35,10 @@ pub struct Watch {
     pub uuid: [u8; 16],
     /// The server's clock when recording started, µs since the epoch.
     t0: i64,
+    /// Records received and not yet taken (`take_records`), and how many
+    /// were taken before them.
     pub records: Vec<Record>,
+    taken: usize,
     pub gaps: Vec<Gap>,
     /// Per record, µs from the transition on the robot to its arrival here
     /// (both clocks are the robot's and this machine's wall clocks).
@@ -60,9 +63,21 @@ impl Watch {
             xml,
             t0,
             records: Vec::new(),
+            taken: 0,
             gaps: Vec::new(),
             latency_us: Vec::new(),
         })
+    }
+
+    /// Records received so far, taken or not.
+    pub fn received(&self) -> usize {
+        self.taken + self.records.len()
+    }
+
+    /// The records not taken yet.
+    pub fn take_records(&mut self) -> Vec<Record> {
+        self.taken += self.records.len();
+        std::mem::take(&mut self.records)
     }
 
     pub fn connected(&self) -> bool {
@@ -99,7 +114,7 @@ impl Watch {
                     .map_or(0, |d| d.as_micros() as i64);
                 for t in ts.into_iter().filter(|t| t.uid != 0) {
                     self.latency_us.push(now_us - (self.t0 + t.time_us));
-                    let offset = self.records.len();
+                    let offset = self.received();
                     self.records.push(Record {
                         time_us: self.t0 + t.time_us,
                         uid: t.uid,
@@ -118,7 +133,7 @@ impl Watch {
     }
 
     fn gap(&mut self, why: String) {
-        let at = self.records.len();
+        let at = self.received();
         if self.gaps.last().is_none_or(|g| g.at != at) {
             self.gaps.push(Gap { at, why });
         }
@@ -263,7 +278,7 @@ impl Feed {
                         }
                         Err(e) => Some(e.to_string()),
                     };
-                    let n = w.records.len();
+                    let n = w.received();
                     if rate.0.elapsed() >= Duration::from_secs(1) {
                         let dt = rate.0.elapsed().as_secs_f64();
                         rate = (std::time::Instant::now(), n, (n - rate.1) as f64 / dt);
@@ -276,8 +291,9 @@ impl Feed {
                     {
                         last = std::time::Instant::now();
                         let batch = Batch {
-                            records: w.records[sent..].to_vec(),
-                            latency_us: w.latency_us[sent..].to_vec(),
+                            // Handed over, not kept twice.
+                            records: w.take_records(),
+                            latency_us: std::mem::take(&mut w.latency_us),
                             gaps: w.gaps[gaps_sent..].to_vec(),
                             status: w.status(rate.2, error.clone()),
                         };
@@ -425,7 +441,7 @@ impl Watch {
             uuid: uuid_text(&self.uuid),
             connected: self.connected(),
             per_second,
-            transitions: self.records.len(),
+            transitions: self.received(),
             gaps: self.gaps.len(),
             error,
         }

@@ -368,6 +368,57 @@ fn a_growing_log_is_followed() {
 }
 
 #[test]
+fn rows_printed_before_the_tick_period_was_known_are_said_to_change() {
+    // The log's first 10 records span 2 ticks and an empty one, which only
+    // more of the log shows (ticks in which nothing changed are counted
+    // from the time between ticks). Printed after 2 s of waiting for more,
+    // they are renumbered later, and btx says so.
+    use std::io::Read;
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("live.btlog");
+    live_log(&p, 10, 0);
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["log", "--follow", p.to_str().unwrap()])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (out, err) = (child.stdout.take().unwrap(), child.stderr.take().unwrap());
+    let read = |mut r: Box<dyn Read + Send>| {
+        std::thread::spawn(move || {
+            let mut s = String::new();
+            let _ = r.read_to_string(&mut s);
+            s
+        })
+    };
+    let (out, err) = (read(Box::new(out)), read(Box::new(err)));
+    std::thread::sleep(std::time::Duration::from_millis(3000));
+    live_log(&p, 248, 0);
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    child.kill().unwrap();
+    child.wait().unwrap();
+    let (followed, err) = (out.join().unwrap(), err.join().unwrap());
+    assert!(
+        err.contains("note: tick 2 of the rows printed (from row 7) is tick 3 now"),
+        "{err}"
+    );
+    let (ok, whole, _) = btx(&["log", p.to_str().unwrap()]);
+    assert!(ok);
+    let tick_of = |l: &str| l.get(..6).unwrap_or("").trim().to_string();
+    let rest = |l: &str| l.get(6..).unwrap_or("").to_string();
+    let (f, w): (Vec<&str>, Vec<&str>) = (followed.lines().collect(), whole.lines().collect());
+    assert_eq!(f.len(), w.len());
+    assert_eq!(tick_of(f[7]), "2");
+    assert_eq!(tick_of(w[7]), "3");
+    assert_eq!(
+        f[11..],
+        w[11..],
+        "rows printed after the change have the new ticks"
+    );
+    assert!(f.iter().zip(&w).all(|(a, b)| rest(a) == rest(b)));
+}
+
+#[test]
 fn the_explorer_follows_a_log_and_keeps_the_moment() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("live.btlog");

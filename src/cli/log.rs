@@ -34,8 +34,9 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 .and_then(|p| p.strip_suffix(".partial"))
                 .map(std::path::PathBuf::from);
             let mut f = btx::input::Follow::new(&session);
-            let mut printed = 0usize;
-            let mut header = false;
+            let mut grown = Grown::default();
+            let started = std::time::Instant::now();
+            let mut last = None;
             loop {
                 let mut done = false;
                 if let Some(fin) = finished.as_ref().filter(|_| !session.exists()) {
@@ -49,18 +50,29 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     f = btx::input::Follow::new(fin);
                     done = true;
                 }
-                match f.poll() {
+                let fresh = match f.poll() {
                     Ok(Some(s)) => {
-                        let only = match &node {
-                            Some(p) => Some(pick_node(&s.tree, p)?),
-                            None => None,
-                        };
-                        print_grown(&s, only, no_idle, format, &mut printed, &mut header);
+                        last = Some(s);
+                        true
                     }
-                    Ok(None) => {}
+                    Ok(None) => false,
                     // Caught mid-write: read again at the next poll.
-                    Err(e) if printed > 0 => eprintln!("following: {e}"),
+                    Err(e) if grown.printed() > 0 => {
+                        eprintln!("following: {e}");
+                        false
+                    }
                     Err(e) => return Err(located(e)),
+                };
+                // Rows held back (see `Grown`) are printed once the wait is
+                // over, even if the log did not grow since.
+                if let Some(s) = last.as_ref().filter(|_| fresh || grown.printed() == 0) {
+                    let only = match &node {
+                        Some(p) => Some(pick_node(&s.tree, p)?),
+                        None => None,
+                    };
+                    // As `btx watch`: the first rows wait at most 2 s.
+                    let settle = !done && started.elapsed().as_secs() < 2;
+                    grown.print(s, only, no_idle, format, settle);
                 }
                 if done {
                     if let Some(fin) = &finished {
@@ -152,31 +164,70 @@ impl std::io::Write for SafeOut {
     }
 }
 
-/// Prints the rows of a growing run past the `printed` first, the table's
-/// header once (`btx log --follow`, `btx watch`).
-pub(super) fn print_grown(
-    s: &btx::session::Session,
-    only: Option<btx::Uid>,
-    no_idle: bool,
-    format: Format,
-    printed: &mut usize,
-    header: &mut bool,
-) {
-    let rows = btx::export::log_rows(s, only, no_idle);
-    let new = rows.get(*printed..).unwrap_or(&[]);
-    let out = match format {
-        Format::Json => btx::export::log_json_lines(s, new),
-        Format::Text => {
-            let t = btx::export::log_text(s, new);
-            if *header {
-                t.split_once('\n')
-                    .map_or(String::new(), |x| x.1.to_string())
-            } else {
-                *header = true;
-                t
+/// A table printed as its run grows (`btx log --follow`, `btx watch`).
+///
+/// A log or a live run gives no tick for the ticks in which nothing
+/// changed: they are counted from the time between ticks, measured over the
+/// run so far. Early on that measure is poor, so the first rows wait for
+/// `SETTLE_TICKS` ticks (while `settle` holds); and rows already printed
+/// whose ticks come out otherwise later are said to have changed, never
+/// silently.
+#[derive(Default)]
+pub(super) struct Grown {
+    header: bool,
+    /// The tick of each row printed.
+    ticks: Vec<u32>,
+}
+
+/// Ticks a growing table waits for before its first rows.
+const SETTLE_TICKS: usize = 8;
+
+impl Grown {
+    pub fn printed(&self) -> usize {
+        self.ticks.len()
+    }
+
+    pub fn print(
+        &mut self,
+        s: &btx::session::Session,
+        only: Option<btx::Uid>,
+        no_idle: bool,
+        format: Format,
+        settle: bool,
+    ) {
+        let rows = btx::export::log_rows(s, only, no_idle);
+        if settle && self.ticks.is_empty() {
+            let ticks = 1 + rows.windows(2).filter(|w| w[0].tick != w[1].tick).count();
+            if ticks < SETTLE_TICKS {
+                return;
             }
         }
-    };
-    print!("{out}");
-    *printed = (*printed).max(rows.len());
+        if let Some(i) = self.ticks.iter().zip(&rows).position(|(t, r)| *t != r.tick) {
+            eprintln!(
+                "note: tick {} of the rows printed (from row {}) is tick {} now, and so are those after it: ticks in which nothing changed are counted from the time between ticks, measured over more of the run; the session holds the new numbers",
+                self.ticks[i],
+                i + 1,
+                rows[i].tick
+            );
+            for (t, r) in self.ticks.iter_mut().zip(&rows) {
+                *t = r.tick;
+            }
+        }
+        let new = rows.get(self.ticks.len()..).unwrap_or(&[]);
+        let out = match format {
+            Format::Json => btx::export::log_json_lines(s, new),
+            Format::Text => {
+                let t = btx::export::log_text(s, new);
+                if self.header {
+                    t.split_once('\n')
+                        .map_or(String::new(), |x| x.1.to_string())
+                } else {
+                    self.header = true;
+                    t
+                }
+            }
+        };
+        print!("{out}");
+        self.ticks.extend(new.iter().map(|r| r.tick));
+    }
 }

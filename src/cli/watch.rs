@@ -53,16 +53,33 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let deadline = args
         .for_secs
         .map(|s| Instant::now() + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
-    let (mut printed, mut gaps_said) = (0usize, 0usize);
-    let mut header = false;
+    let mut gaps_said = 0usize;
+    let mut grown = super::log::Grown::default();
+    let mut first: Option<Instant> = None;
+    let mut last = None;
     let mut said: Option<String> = None;
     loop {
         let done = stop.load(Ordering::Relaxed) || deadline.is_some_and(|d| Instant::now() >= d);
         if done {
             feed.halt();
         }
-        if let Some(s) = feed.news(if done { Duration::ZERO } else { PRINT }) {
-            super::log::print_grown(&s?, None, false, args.format, &mut printed, &mut header);
+        let fresh = match feed.news(if done { Duration::ZERO } else { PRINT }) {
+            Some(s) => {
+                last = Some(s?);
+                first.get_or_insert_with(Instant::now);
+                true
+            }
+            None => false,
+        };
+        // The first rows wait a little for the robot's tick period (see
+        // `Grown`), never more than 2 s, and are printed then even if the
+        // run did not grow since.
+        if let Some(s) = last
+            .as_ref()
+            .filter(|_| fresh || grown.printed() == 0 || done)
+        {
+            let settle = !done && first.is_some_and(|f| f.elapsed() < Duration::from_secs(2));
+            grown.print(s, None, false, args.format, settle);
         }
         for g in &feed.gaps[gaps_said..] {
             eprintln!("gap after transition {}: {}", g.at, g.why);

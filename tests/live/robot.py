@@ -7,7 +7,8 @@ library's own Groot2Publisher and recording it with its own FileLogger.
 Usage: robot.py TREE.xml PLAN PORT OUT.btlog [TICK_MS] [WAIT_MS] [MAX_TICKS]
 
 It waits WAIT_MS before the first tick (for a client to start recording),
-ticks every TICK_MS until the root completes, then keeps publishing for a
+or, when WAIT_MS is "stdin", until a line comes on its standard input (the
+test says when its client records); then ticks every TICK_MS until the root completes, then keeps publishing for a
 second so that the last transitions can be fetched, and prints "DONE".
 The Python leaves declare no ports, and BehaviorTree.CPP rejects an
 attribute that is not a declared port, so the leaves' port attributes are
@@ -39,7 +40,7 @@ def without_leaf_ports(xml):
 def main():
     xml_path, plan_path, port, out = sys.argv[1:5]
     tick_ms = float(sys.argv[5]) if len(sys.argv) > 5 else 20
-    wait_ms = float(sys.argv[6]) if len(sys.argv) > 6 else 1500
+    wait = sys.argv[6] if len(sys.argv) > 6 else "1500"
     max_ticks = int(sys.argv[7]) if len(sys.argv) > 7 else 1000
     xml = without_leaf_ports(open(xml_path).read())
     factory = bt.BehaviorTreeFactory()
@@ -50,7 +51,10 @@ def main():
     logger = bt.FileLogger(tree, out)
     publisher = bt.Groot2Publisher(tree, int(port))
     print("READY", flush=True)
-    time.sleep(wait_ms / 1000.0)
+    if wait == "stdin":
+        sys.stdin.readline()
+    else:
+        time.sleep(float(wait) / 1000.0)
     for _ in range(max_ticks):
         status = tree.tick_exactly_once()
         time.sleep(tick_ms / 1000.0)

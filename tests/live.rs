@@ -44,13 +44,17 @@ struct Watched {
 /// stdin [MAX_TICKS]`), then `btx watch` on it with `args`; lets the robot
 /// tick only once btx records, and stops btx as Ctrl-C does once the robot
 /// is done and gone: no race with either's start-up time, however loaded
-/// the machine.
+/// the machine. With `late`, the robot starts first and btx attaches that
+/// much later, to a robot in the middle of its run. `during` runs while
+/// the robot ticks, given its port.
 fn watch_robot(
     tree: &Path,
     plan: &Path,
     btlog: &Path,
     robot_args: &[&str],
     args: &[&str],
+    late: Option<Duration>,
+    during: &dyn Fn(u16),
 ) -> Watched {
     use std::io::{Read, Write};
     let port = free_port();
@@ -67,6 +71,10 @@ fn watch_robot(
         .expect("the robot starts");
     let mut said = BufReader::new(robot.stdout.take().unwrap()).lines();
     assert_eq!(said.next().unwrap().unwrap(), "READY");
+    if let Some(d) = late {
+        writeln!(robot.stdin.as_mut().unwrap(), "go").unwrap();
+        std::thread::sleep(d);
+    }
     let mut w = Command::new(env!("CARGO_BIN_EXE_btx"))
         .args(["watch", &format!(":{port}"), "--for", "120"])
         .args(args)
@@ -89,7 +97,10 @@ fn watch_robot(
         s
     });
     if first.starts_with("watching ") {
-        writeln!(robot.stdin.as_mut().unwrap(), "go").unwrap();
+        if late.is_none() {
+            writeln!(robot.stdin.as_mut().unwrap(), "go").unwrap();
+        }
+        during(port);
         while let Some(Ok(l)) = said.next() {
             if l == "DONE" {
                 break;
@@ -123,6 +134,8 @@ fn watch(plan: &str, dir: &Path) -> (Session, Session, String) {
         &btlog,
         &["20", "stdin"],
         &["--out", out.to_str().unwrap()],
+        None,
+        &|_| {},
     );
     assert!(w.ok, "{}", w.stderr);
     // The one case where the rows printed may differ from the session:
@@ -225,6 +238,131 @@ fn a_live_run_is_the_run_the_robot_logged_transition_for_transition() {
 }
 
 #[test]
+fn attached_to_a_robot_already_running_btx_knows_each_node_as_it_was() {
+    // The robot ticks for 0.4 s before btx attaches: the statuses then come
+    // from the server (`S`), so every transition recorded after has the
+    // status it really left (`prev`), as the robot's own log says.
+    let dir = tempfile::tempdir().unwrap();
+    let btlog = dir.path().join("late.btlog");
+    let out = dir.path().join("late.jsonl");
+    let w = watch_robot(
+        &fixture("kitting-tree.v4.xml"),
+        &fixture("plans/kitting_lookat_fails_once.plan"),
+        &btlog,
+        &["20", "stdin"],
+        &["--out", out.to_str().unwrap()],
+        Some(Duration::from_millis(400)),
+        &|_| {},
+    );
+    assert!(w.ok, "{}", w.stderr);
+    assert!(
+        w.stderr
+            .contains("gap after transition 0: btx attached to a robot that had been running"),
+        "{}",
+        w.stderr
+    );
+    let logged = session(&btlog);
+    let watched = session(&out);
+    assert!(!watched.header.before.is_empty());
+    let key = |t: &btx::session::Transition| (t.uid, t.prev, t.status);
+    let (l, n) = (&logged.index.transitions, watched.index.transitions.len());
+    assert!(n > 0 && n < l.len(), "{n} of {}", l.len());
+    assert_eq!(
+        watched
+            .index
+            .transitions
+            .iter()
+            .map(key)
+            .collect::<Vec<_>>(),
+        l[l.len() - n..].iter().map(key).collect::<Vec<_>>()
+    );
+    // The table says where the run was joined.
+    let (ok, table, _) = common::btx(&["log", watched.path.to_str().unwrap()]);
+    assert!(ok);
+    assert!(
+        table
+            .lines()
+            .nth(1)
+            .unwrap()
+            .contains("--- gap: btx attached"),
+        "{table}"
+    );
+}
+
+#[test]
+fn ask_live_answers_about_the_present_and_disturbs_no_recording() {
+    // The robot ticks every 100 ms with look at chuck failing once, while
+    // `btx watch` records it. `btx ask --live` reads only the statuses now
+    // (`S`), so the watched run still equals the robot's own log.
+    let dir = tempfile::tempdir().unwrap();
+    let btlog = dir.path().join("asked.btlog");
+    let out = dir.path().join("asked.jsonl");
+    let asked = std::sync::Mutex::new(Vec::new());
+    let w = watch_robot(
+        &fixture("kitting-tree.v4.xml"),
+        &fixture("plans/kitting_lookat_fails_once.plan"),
+        &btlog,
+        &["100", "stdin"],
+        &["--out", out.to_str().unwrap()],
+        None,
+        &|port| {
+            let ep = format!(":{port}");
+            let start = Instant::now();
+            while start.elapsed() < Duration::from_secs(8) {
+                let (ok, text, err) = common::btx(&["ask", "--live", &ep, "q1", "wrong"]);
+                assert!(ok, "{err}");
+                let failed = text.contains("look at chuck (#18) had last failed");
+                asked.lock().unwrap().push(text);
+                if failed {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+        },
+    );
+    assert!(w.ok, "{}", w.stderr);
+    let asked = asked.into_inner().unwrap();
+    // Right after look at chuck failed (Retry #7 started attempt 2 in the
+    // same tick, resetting it): the statuses say it failed, not when.
+    let last = asked.last().unwrap();
+    let (q1, wrong) = last.split_once('\n').unwrap();
+    assert_eq!(
+        wrong.trim_end(),
+        "I cannot tell: I was already running RetryUntilSuccessful (#7) when btx attached, \
+         and look at chuck (#18) had last failed before that; whether that was in this run \
+         of it, the statuses btx read do not say.",
+        "{asked:#?}"
+    );
+    // Q1 names a leaf the robot's log shows running then: one of attempt
+    // 2's, which starts again from lift torso.
+    assert!(
+        [
+            "I lift torso.",
+            "I look at chuck roughly.",
+            "I detect chuck."
+        ]
+        .contains(&q1),
+        "{q1}"
+    );
+    // Before the failure nothing below the running Retry had failed, and
+    // its attempts before btx asked are not known: said so.
+    assert!(
+        asked[0].contains("whether an attempt of it had failed"),
+        "{asked:#?}"
+    );
+    let (logged, watched) = (session(&btlog), session(&out));
+    assert_eq!(watched.index.transitions, logged.index.transitions);
+    // A word that is a question is not taken for a host; nothing
+    // listening is said at once.
+    let (ok, _, err) = common::btx(&["ask", "--live", "wrong"]);
+    assert!(!ok);
+    assert!(
+        err.contains("127.0.0.1:1667: nothing is listening"),
+        "{err}"
+    );
+}
+
+#[test]
 fn nothing_listening_or_not_groot2_is_said_within_two_seconds() {
     let l = TcpListener::bind("127.0.0.1:0").unwrap();
     let port = l.local_addr().unwrap().port();
@@ -290,6 +428,8 @@ fn ten_thousand_transitions_a_second_for_ten_seconds_lose_nothing() {
         &btlog,
         &["5", "stdin", "2000"],
         &["--out", out.to_str().unwrap()],
+        None,
+        &|_| {},
     );
     let err = w.stderr;
     assert!(w.ok, "{err}");

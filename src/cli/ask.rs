@@ -4,8 +4,12 @@ use super::*;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// A tree file, or a session.
-    pub file: PathBuf,
+    /// A tree file, or a session (with --live: none, every word is a question).
+    #[arg(value_name = "FILE")]
+    pub file: Option<PathBuf>,
+    /// Ask a robot running now, over the Groot2 protocol (default 127.0.0.1:1667), about the present moment: its nodes' statuses, read once (`S`); nothing is recorded, so a client that records is not disturbed.
+    #[arg(long, value_name = "[HOST][:PORT]", num_args = 0..=1, default_missing_value = "", conflicts_with = "at")]
+    pub live: Option<String>,
     #[command(flatten)]
     pub reading: Reading,
     /// The moment of a session: TICK (its end), TICK:STEP, last, end, or -N (-1: the last tick). Default: the end of the run.
@@ -16,7 +20,7 @@ pub struct Args {
     #[arg(long, value_name = "PICK")]
     pub node: Option<String>,
     /// Questions: the paper's wording, "Can you X?", or q1 q2 q3 q4 q5-subgoal q5-goal anything-wrong wrong handled.
-    #[arg(required = true, value_name = "QUESTION")]
+    #[arg(value_name = "QUESTION")]
     pub questions: Vec<String>,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
@@ -25,29 +29,34 @@ pub struct Args {
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let Args {
         file,
+        live,
         reading,
         at,
         node,
         questions,
         format,
     } = args;
-    let input = open_input(&file, &reading, cli.quiet)?;
-    let mut qs = Vec::new();
-    for q in &questions {
-        match Question::parse(q) {
-            Some(q) => qs.push(q),
-            None => {
-                let known: Vec<String> = Question::fixed()
-                    .iter()
-                    .map(|q| format!("\"{}\" ({})", q.wording(), q.short()))
-                    .collect();
-                fail!(
-                    "unknown question \"{q}\"; ask one of: {}, or \"Can you X?\"",
-                    known.join(", ")
-                );
-            }
-        }
+    if let Some(ep) = live {
+        // `--live wrong`: the word is a question, not a host.
+        let (ep, first) = match Question::parse(&ep) {
+            Some(_) if !ep.contains([':', '.']) => (String::new(), Some(ep)),
+            _ => (ep, None),
+        };
+        let words: Vec<String> = first
+            .into_iter()
+            .chain(file.map(|f| f.display().to_string()))
+            .chain(questions)
+            .collect();
+        return live_ask(&ep, node.as_deref(), &words, format);
     }
+    let Some(file) = file else {
+        fail!("name a tree or a session to ask about (or --live to ask a running robot)");
+    };
+    if questions.is_empty() {
+        fail!("ask at least one question, e.g. \"What are you doing?\" or q1");
+    }
+    let input = open_input(&file, &reading, cli.quiet)?;
+    let qs = parse_questions(&questions)?;
     let tree = input.tree();
     let view = match input.session() {
         Some(s) => {
@@ -86,9 +95,41 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             fail!("pick the node to ask about with --node (a tree has no current node)")
         }
     };
+    let moment = view.as_ref().map(|v| v.moment().to_string());
+    print_answers(tree, view.as_ref(), uid, &qs, moment.as_deref(), format)
+}
+
+fn parse_questions(questions: &[String]) -> Result<Vec<Question>, Failure> {
+    let mut qs = Vec::new();
+    for q in questions {
+        match Question::parse(q) {
+            Some(q) => qs.push(q),
+            None => {
+                let known: Vec<String> = Question::fixed()
+                    .iter()
+                    .map(|q| format!("\"{}\" ({})", q.wording(), q.short()))
+                    .collect();
+                fail!(
+                    "unknown question \"{q}\"; ask one of: {}, or \"Can you X?\"",
+                    known.join(", ")
+                );
+            }
+        }
+    }
+    Ok(qs)
+}
+
+fn print_answers(
+    tree: &btx::model::Tree,
+    view: Option<&btx::session::At>,
+    uid: btx::Uid,
+    qs: &[Question],
+    moment: Option<&str>,
+    format: Format,
+) -> Result<(), Failure> {
     let mut answers = Vec::new();
-    for q in &qs {
-        answers.push(explain::answer(tree, view.as_ref(), uid, q).map_err(Failure::Plain)?);
+    for q in qs {
+        answers.push(explain::answer(tree, view, uid, q).map_err(Failure::Plain)?);
     }
     match format {
         Format::Text => {
@@ -96,18 +137,34 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 println!("{}", a.text);
             }
         }
-        Format::Json => {
-            let moment = view.map(|v| v.moment().to_string());
-            print!(
-                "{}",
-                pretty(&export::answers_json(
-                    tree,
-                    uid,
-                    moment.as_deref(),
-                    &answers
-                ))
-            )
-        }
+        Format::Json => print!(
+            "{}",
+            pretty(&export::answers_json(tree, uid, moment, &answers))
+        ),
     }
     Ok(())
+}
+
+/// `--live`: the robot's tree (`T`) and its nodes' states now (`S`), as a
+/// run recorded from this moment with no transition yet: every answer is
+/// about the present, and what came before is unknown, and said so.
+fn live_ask(ep: &str, node: Option<&str>, words: &[String], format: Format) -> Result<(), Failure> {
+    if words.is_empty() {
+        fail!("ask at least one question, e.g. btx ask --live :1667 wrong");
+    }
+    let qs = parse_questions(words)?;
+    let ep = btx::live::groot2::endpoint(ep);
+    let s = btx::live::snapshot(&ep).map_err(|e| Failure::Plain(e.to_string()))?;
+    let view = btx::session::At {
+        index: &s.index,
+        pos: 0,
+    };
+    let uid = match node {
+        Some(p) => pick_node(&s.tree, p)?,
+        None => match view.current() {
+            Some(u) => u,
+            None => fail!("{ep}: nothing is running on the robot now; pick a node with --node"),
+        },
+    };
+    print_answers(&s.tree, Some(&view), uid, &qs, Some("now"), format)
 }

@@ -57,6 +57,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let mut grown = super::log::Grown::default();
     let mut first: Option<Instant> = None;
     let mut last = None;
+    let mut warned = std::collections::HashSet::new();
     let mut said: Option<String> = None;
     loop {
         let done = stop.load(Ordering::Relaxed) || deadline.is_some_and(|d| Instant::now() >= d);
@@ -65,7 +66,19 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         }
         let fresh = match feed.news(if done { Duration::ZERO } else { PRINT }) {
             Some(s) => {
-                last = Some(s?);
+                let s = s?;
+                // Gaps are said below as they come; other warnings (ticks
+                // told apart by timing) once each.
+                for w in s
+                    .warnings
+                    .iter()
+                    .filter(|w| !w.message.starts_with("gap: "))
+                {
+                    if !cli.quiet && warned.insert(w.to_string()) {
+                        eprintln!("{w}");
+                    }
+                }
+                last = Some(s);
                 first.get_or_insert_with(Instant::now);
                 true
             }

@@ -17,6 +17,9 @@ pub struct Diagnosis {
     /// The leaf whose failure is the reason.
     pub failed_leaf: Option<Uid>,
     pub nodes: Vec<Uid>,
+    /// The text says what the run cannot tell (a run recorded from its
+    /// middle), not that something went wrong.
+    pub unknown: bool,
 }
 
 fn is_fallback(tree: &Tree, uid: Uid) -> bool {
@@ -77,8 +80,25 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                     d.failed_leaf = Some(f);
                     d.nodes.push(f);
                 }
-                // The leaf that failed has succeeded since (a later attempt).
-                None => d.text = format!("I could not {} earlier.", tree.description(x)),
+                None => match failed_before(tree, run, children[0])[..] {
+                    // The leaf that failed has succeeded since (a later attempt).
+                    [] => d.text = format!("I could not {} earlier.", tree.description(x)),
+                    [f] => {
+                        d.text.push_str(&format!(
+                            "{} failed, before btx attached.",
+                            tree.description(f)
+                        ));
+                        d.failed_leaf = Some(f);
+                        d.nodes.push(f);
+                    }
+                    ref fs => {
+                        d.text.push_str(&format!(
+                            "one of {} failed, before btx attached (which one, the statuses it read do not say).",
+                            described(tree, fs)
+                        ));
+                        d.nodes.extend(fs);
+                    }
+                },
             }
             let handler = children[1..]
                 .iter()
@@ -138,7 +158,70 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
     if d.text.is_empty() && run.root_outcome() == Some(Status::Failure) {
         root_failure(tree, run, &mut d);
     }
+    if d.text.is_empty() {
+        attached_unknown(tree, run, n, &mut d);
+    }
     d
+}
+
+/// Leaves below `p` whose last completion, FAILURE, came before recording
+/// began (a run recorded from its middle): when, the run does not say.
+fn failed_before(tree: &Tree, run: &At, p: Uid) -> Vec<Uid> {
+    tree.descendants(p)
+        .filter(|&u| tree.node(u).kind.is_leaf())
+        .filter(|&u| run.done_before(u) == Some(Status::Failure))
+        .collect()
+}
+
+fn described(tree: &Tree, nodes: &[Uid]) -> String {
+    let names: Vec<String> = nodes
+        .iter()
+        .map(|&u| format!("{} (#{u})", tree.description(u)))
+        .collect();
+    match names.as_slice() {
+        [init @ .., last] if !init.is_empty() => format!("{} and {last}", init.join(", ")),
+        _ => names.concat(),
+    }
+}
+
+/// Nothing went wrong in what the run recorded, and the statuses read when
+/// recording began show every Fallback's state exactly; but a Retry above
+/// `n` was running then, and how many attempts it had used they do not
+/// say (a failed attempt is reset, and a later success hides it). Say so,
+/// rather than "Nothing went wrong", naming the leaves below it whose last
+/// completion then was FAILURE.
+fn attached_unknown(tree: &Tree, run: &At, n: Uid, d: &mut Diagnosis) {
+    if !run.index.attached() {
+        return;
+    }
+    let mut p = tree.parent(n);
+    let mut retry = None;
+    while let Some(x) = p {
+        if tree.node(x).kind == Kind::SubTree {
+            break;
+        }
+        if is_retry(tree, x) && run.started_at(x) == 0 && run.status(x) == Status::Running {
+            retry = Some(x);
+            break;
+        }
+        p = tree.parent(x);
+    }
+    let Some(r) = retry else { return };
+    let failed = failed_before(tree, run, r);
+    d.text = match failed.as_slice() {
+        [] => format!(
+            "I cannot tell: I was already running {} (#{r}) when btx attached, and whether an attempt of it had failed before that, the statuses btx read do not say.",
+            tree.description(r)
+        ),
+        fs => format!(
+            "I cannot tell: I was already running {} (#{r}) when btx attached, and {} had last failed before that; whether that was in this run of it, the statuses btx read do not say.",
+            tree.description(r),
+            described(tree, fs)
+        ),
+    };
+    d.unknown = true;
+    d.nodes.push(r);
+    d.nodes.extend(failed);
 }
 
 /// Beyond Algorithm 7: the root itself failed (through a Timeout, a
@@ -209,6 +292,8 @@ pub fn anything_wrong(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
     let d = diagnose(tree, run, n);
     if d.text.is_empty() {
         (NOTHING_WRONG.to_string(), vec![n])
+    } else if d.unknown {
+        (d.text, d.nodes)
     } else {
         (format!("Yes. {}", d.text), d.nodes)
     }
@@ -219,6 +304,9 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
     let d = diagnose(tree, run, n);
     if d.text.is_empty() {
         return (NOTHING_WRONG.to_string(), vec![n]);
+    }
+    if d.unknown {
+        return (d.text, d.nodes);
     }
     let mut parts = Vec::new();
     let mut nodes = Vec::new();
@@ -269,4 +357,110 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
         return (format!("{} Nothing handled the failure.", d.text), d.nodes);
     }
     (parts.join(" "), nodes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::logs::btlog::Record;
+    use crate::session::{At, Before};
+
+    /// Root Sequence(1) > Retry(2) > Sequence "insert"(3) > A(4), B(5);
+    /// then C(6). Recording began while B ran in attempt 2, A having
+    /// failed in attempt 1 (reset since: IDLE after FAILURE).
+    const XML: &str = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>
+        <RetryUntilSuccessful num_attempts="3"><Sequence name="insert">
+        <AlwaysFailure name="look"/><AlwaysSuccess name="grasp"/></Sequence></RetryUntilSuccessful>
+        <AlwaysSuccess name="leave"/></Sequence></BehaviorTree></root>"#;
+
+    fn attached(records: &[(u32, Status)]) -> crate::session::Session {
+        let before = [
+            Before {
+                uid: 1,
+                status: Status::Running,
+                done: None,
+            },
+            Before {
+                uid: 2,
+                status: Status::Running,
+                done: None,
+            },
+            Before {
+                uid: 3,
+                status: Status::Running,
+                done: None,
+            },
+            Before {
+                uid: 4,
+                status: Status::Idle,
+                done: Some(Status::Failure),
+            },
+            Before {
+                uid: 5,
+                status: Status::Running,
+                done: None,
+            },
+        ];
+        let recs: Vec<Record> = records
+            .iter()
+            .enumerate()
+            .map(|(i, &(uid, status))| Record {
+                time_us: i as i64 * 1000,
+                uid,
+                status,
+                offset: i,
+            })
+            .collect();
+        crate::logs::open_live(std::path::Path::new("live"), XML, &recs, &before).unwrap()
+    }
+
+    #[test]
+    fn a_failure_from_before_recording_is_named_with_what_is_unknown() {
+        let s = attached(&[]);
+        let at = At {
+            index: &s.index,
+            pos: 0,
+        };
+        assert_eq!(at.status(5), Status::Running);
+        assert_eq!(at.current(), Some(5));
+        assert_eq!(at.done_before(4), Some(Status::Failure));
+        let (text, nodes) = what_went_wrong(&s.tree, &at, 5);
+        assert_eq!(
+            text,
+            "I cannot tell: I was already running RetryUntilSuccessful (#2) when btx attached, and look (#4) had last failed before that; whether that was in this run of it, the statuses btx read do not say."
+        );
+        assert_eq!(nodes, [2, 4]);
+        // Not "Yes.": the run does not say that anything went wrong.
+        assert_eq!(anything_wrong(&s.tree, &at, 5).0, text);
+    }
+
+    #[test]
+    fn what_the_recording_shows_is_said_as_usual() {
+        // B finishes, the insert sequence and the Retry succeed, C runs:
+        // recorded transitions; the first one's `prev` is B's state then.
+        let s = attached(&[
+            (5, Status::Success),
+            (3, Status::Success),
+            (2, Status::Success),
+            (6, Status::Running),
+        ]);
+        assert_eq!(s.index.transitions[0].prev, Status::Running);
+        // The Retry has finished: above leave (#6) no Retry or Fallback
+        // is active, and Algorithm 7 finds nothing, as it would had the
+        // whole run been recorded.
+        let at = At {
+            index: &s.index,
+            pos: 4,
+        };
+        assert_eq!(what_went_wrong(&s.tree, &at, 6).0, NOTHING_WRONG);
+        // Once look completes within the recording, the snapshot's failure
+        // is no longer its last completion.
+        let s = attached(&[(4, Status::Running), (4, Status::Success)]);
+        let at = At {
+            index: &s.index,
+            pos: 2,
+        };
+        assert_eq!(at.done_before(4), None);
+        assert_eq!(at.last_completed(4), Some(Status::Success));
+    }
 }

@@ -106,22 +106,35 @@ pub fn parse_transitions(body: &[u8]) -> Result<Vec<Transition>, String> {
         .collect()
 }
 
-/// The `u16 uid | u8 status` triples of an `S` reply.
-pub fn parse_statuses(body: &[u8]) -> Result<Vec<(u32, Status)>, String> {
+/// The nodes' states of an `S` reply: each node's status, and the status
+/// it last completed with (the server sends IDLE as 10 + the status before
+/// it: 12 is IDLE after SUCCESS). Nodes IDLE and never done are left out.
+pub fn parse_states(body: &[u8]) -> Result<Vec<crate::session::Before>, String> {
     if !body.len().is_multiple_of(3) {
         return Err(format!(
             "a status reply of {} bytes is not whole 3-byte records",
             body.len()
         ));
     }
-    body.chunks_exact(3)
-        .map(|r| {
-            let uid = u32::from(u16::from_le_bytes([r[0], r[1]]));
-            status_of(r[2])
-                .map(|s| (uid, s))
-                .ok_or_else(|| format!("node {uid} has status byte {}, which is no status", r[2]))
-        })
-        .collect()
+    let mut out = Vec::new();
+    for r in body.chunks_exact(3) {
+        let uid = u32::from(u16::from_le_bytes([r[0], r[1]]));
+        let status = status_of(r[2])
+            .ok_or_else(|| format!("node {uid} has status byte {}, which is no status", r[2]))?;
+        let done = match r[2] {
+            // Halted while RUNNING (11), or never done (10): what it last
+            // completed with, if ever, is not said.
+            1 | 10 | 11 => None,
+            12 => Some(Status::Success),
+            13 => Some(Status::Failure),
+            14 => Some(Status::Skipped),
+            _ => Some(status).filter(|s| *s != Status::Idle),
+        };
+        if status != Status::Idle || done.is_some() {
+            out.push(crate::session::Before { uid, status, done });
+        }
+    }
+    Ok(out)
 }
 
 /// A connection to a Groot2 server.
@@ -203,10 +216,10 @@ impl Client {
         parse_transitions(&b).map_err(|m| self.err(m))
     }
 
-    /// `S`: every node's status now.
-    pub fn statuses(&mut self) -> Result<Vec<(u32, Status)>, LiveError> {
+    /// Every node's state now (`S`), as `parse_states` reads it.
+    pub fn states(&mut self) -> Result<Vec<crate::session::Before>, LiveError> {
         let b = self.one(b'S', None, "status")?;
-        parse_statuses(&b).map_err(|m| self.err(m))
+        parse_states(&b).map_err(|m| self.err(m))
     }
 }
 
@@ -239,11 +252,21 @@ mod tests {
         assert!(parse_transitions(&b[..8]).is_err());
         b[8] = 9;
         assert!(parse_transitions(&b).unwrap_err().contains("status byte 9"));
-        // IDLE after SUCCESS is 12 in a status reply.
+        // IDLE after SUCCESS is 12 in a status reply; IDLE never done (10)
+        // and IDLE after a halt (11) say no completion.
+        let b = |uid, status, done| crate::session::Before { uid, status, done };
         assert_eq!(
-            parse_statuses(&[2, 0, 12, 3, 0, 1]).unwrap(),
-            vec![(2, Status::Idle), (3, Status::Running)]
+            parse_states(&[2, 0, 12, 3, 0, 1, 4, 0, 10, 5, 0, 11, 6, 0, 13, 7, 0, 3]).unwrap(),
+            vec![
+                b(2, Status::Idle, Some(Status::Success)),
+                b(3, Status::Running, None),
+                b(6, Status::Idle, Some(Status::Failure)),
+                b(7, Status::Failure, Some(Status::Failure)),
+            ]
         );
+        assert!(parse_states(&[2, 0, 9])
+            .unwrap_err()
+            .contains("status byte 9"));
         assert_eq!(header(b'T', 1), [2, b'T', 1, 0, 0, 0]);
     }
 }

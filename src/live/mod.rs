@@ -9,7 +9,7 @@ pub mod serve;
 pub mod zmtp;
 
 use crate::logs::btlog::Record;
-use crate::session::Session;
+use crate::session::{Before, Session};
 use crate::source::{Located, Warning};
 use groot2::{Client, LiveError, SERVER_BUFFER};
 use std::time::Duration;
@@ -43,6 +43,31 @@ pub struct Watch {
     /// Per record, µs from the transition on the robot to its arrival here
     /// (both clocks are the robot's and this machine's wall clocks).
     pub latency_us: Vec<i64>,
+    /// The nodes' states when recording began (empty: the robot had not
+    /// started).
+    pub before: Vec<Before>,
+}
+
+/// How many times the statuses are read around `r start` before btx takes
+/// them as they are (a robot whose statuses never hold still that long).
+const ATTACH_TRIES: usize = 5;
+
+/// The statuses when recording starts: read before and after `r start`
+/// until both agree, so that no transition falls between the statuses and
+/// the first one recorded; the start time, the states, and whether they
+/// held still.
+fn attach(c: &mut Client) -> Result<(i64, Vec<Before>, bool), LiveError> {
+    let mut states = c.states()?;
+    for _ in 0..ATTACH_TRIES {
+        let t0 = c.start_recording()?;
+        let after = c.states()?;
+        if after == states {
+            return Ok((t0, after, true));
+        }
+        states = after;
+    }
+    let t0 = c.start_recording()?;
+    Ok((t0, states, false))
 }
 
 /// A UUID as text.
@@ -55,7 +80,17 @@ impl Watch {
     pub fn start(endpoint: &str) -> Result<Watch, LiveError> {
         let mut c = Client::connect(endpoint, TIMEOUT)?;
         let xml = c.tree_xml()?;
-        let t0 = c.start_recording()?;
+        let (t0, before, still) = attach(&mut c)?;
+        let mut gaps = Vec::new();
+        if !before.is_empty() {
+            gaps.push(Gap {
+                at: 0,
+                why: format!(
+                    "btx attached to a robot that had been running: before this, each node's state then is known{}, not its transitions",
+                    if still { "" } else { " only roughly (it kept changing while btx read it)" }
+                ),
+            });
+        }
         Ok(Watch {
             endpoint: endpoint.to_string(),
             uuid: c.uuid,
@@ -64,8 +99,9 @@ impl Watch {
             t0,
             records: Vec::new(),
             taken: 0,
-            gaps: Vec::new(),
+            gaps,
             latency_us: Vec::new(),
+            before,
         })
     }
 
@@ -158,6 +194,19 @@ impl Watch {
     }
 }
 
+/// The robot's tree and its nodes' states now, as a session with no
+/// transition (`btx ask --live`). Only `T` and `S` are asked: recording
+/// (`r`, `t`) would take the transitions another client is recording, as
+/// the server keeps one buffer for all.
+pub fn snapshot(endpoint: &str) -> Result<Session, LiveError> {
+    let mut c = Client::connect(endpoint, TIMEOUT)?;
+    let xml = c.tree_xml()?;
+    let before = c.states()?;
+    let name = std::path::PathBuf::from(format!("groot2://{endpoint}"));
+    crate::logs::open_live(&name, &xml, &[], &before)
+        .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))
+}
+
 /// What the explorer shows of a live run besides the run itself.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LiveStatus {
@@ -219,8 +268,10 @@ pub struct Feed {
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
     thread: Option<std::thread::JoinHandle<()>>,
     pub status: LiveStatus,
-    /// The tree's XML and the whole run so far.
+    /// The tree's XML, the nodes' states when recording began, and the
+    /// whole run so far.
     xml: String,
+    before: Vec<Before>,
     pub records: Vec<Record>,
     pub gaps: Vec<Gap>,
     /// Per record, µs from the robot to here (see `Watch::latency_us`).
@@ -251,13 +302,14 @@ impl Feed {
     pub fn start(endpoint: &str, out: Option<std::path::PathBuf>) -> Result<Feed, LiveError> {
         let mut w = Watch::start(endpoint)?;
         // The tree is checked now, not at the first transition.
-        crate::logs::open_live(std::path::Path::new(endpoint), &w.xml, &[])
+        crate::logs::open_live(std::path::Path::new(endpoint), &w.xml, &[], &w.before)
             .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
         let (tx, rx) = std::sync::mpsc::channel();
         let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let halt = std::sync::Arc::clone(&stop);
         let status = w.status(0.0, None);
         let xml = w.xml.clone();
+        let before = w.before.clone();
         let thread = std::thread::Builder::new()
             .name("btx-live".into())
             .spawn(move || {
@@ -316,6 +368,7 @@ impl Feed {
             thread: Some(thread),
             status,
             xml,
+            before,
             records: Vec::new(),
             gaps: Vec::new(),
             latency_us: Vec::new(),
@@ -375,7 +428,7 @@ impl Feed {
     /// with each gap as a warning at its place.
     pub fn session(&self) -> Result<Session, Located> {
         let name = std::path::PathBuf::from(format!("groot2://{}", self.status.endpoint));
-        let mut s = crate::logs::open_live(&name, &self.xml, &self.records)?;
+        let mut s = crate::logs::open_live(&name, &self.xml, &self.records, &self.before)?;
         s.index.gaps = self
             .gaps
             .iter()

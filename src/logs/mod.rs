@@ -24,6 +24,7 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             version: crate::model::Version::V4,
             records: &raw.records,
             kind: "btlog",
+            before: &[],
         },
         &|o| format!("byte offset {o}"),
     )
@@ -32,9 +33,16 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
 /// A run received live over the Groot2 protocol (`crate::live`) as a
 /// session: the tree from the server's XML and ticks reconstructed, by the
 /// same code as a `.btlog`'s. `name` names the endpoint in messages; a
-/// record's `offset` is its place in the run.
-pub fn open_live(name: &Path, xml: &str, records: &[btlog::Record]) -> Result<Session, Located> {
-    session_from(
+/// record's `offset` is its place in the run; `before`, the nodes' states
+/// when recording began (from the server's `S`), when the robot was
+/// running then.
+pub fn open_live(
+    name: &Path,
+    xml: &str,
+    records: &[btlog::Record],
+    before: &[crate::session::Before],
+) -> Result<Session, Located> {
+    let mut s = session_from(
         name,
         LogRun {
             len: records.len(),
@@ -43,9 +51,12 @@ pub fn open_live(name: &Path, xml: &str, records: &[btlog::Record]) -> Result<Se
             version: crate::model::Version::V4,
             records,
             kind: "groot2",
+            before,
         },
         &|o| format!("transition {}", o + 1),
-    )
+    )?;
+    s.header.before = before.to_vec();
+    Ok(s)
 }
 
 /// One session of a SqliteLogger database (`which`, or the last one).
@@ -61,6 +72,7 @@ pub fn open_db3(path: &Path, which: Option<i64>) -> Result<Session, Located> {
             version: crate::model::Version::V4,
             records: &raw.records,
             kind: "db3",
+            before: &[],
         },
         &|o| format!("table Transitions, session {id}, row {o}"),
     )?;
@@ -105,6 +117,7 @@ pub fn open_fbl(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             version: crate::model::Version::V3,
             records: &records,
             kind: "fbl",
+            before: &[],
         },
         &|o| format!("byte offset {o}"),
     )
@@ -119,6 +132,8 @@ struct LogRun<'a> {
     version: crate::model::Version,
     records: &'a [btlog::Record],
     kind: &'a str,
+    /// The nodes' states when recording began (empty: all IDLE).
+    before: &'a [crate::session::Before],
 }
 
 /// A log's run as a session; `place` names where a record is (a byte
@@ -135,6 +150,7 @@ fn session_from(
         version,
         records,
         kind,
+        before,
     } = run;
     let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
     let tree = load_str(
@@ -191,7 +207,10 @@ fn session_from(
         });
     }
     let mut index = Index::new(tree.len());
-    let mut status = vec![Status::Idle; tree.len()];
+    index.set_before(before);
+    let mut status: Vec<Status> = (1..=tree.len() as crate::Uid)
+        .map(|u| index.before(u).0)
+        .collect();
     for (r, &t) in records.iter().zip(&ticks) {
         let prev = status[(r.uid - 1) as usize];
         status[(r.uid - 1) as usize] = r.status;
@@ -285,6 +304,7 @@ pub(crate) fn import_header(
         seed: None,
         tick_ms: 0,
         blackboard,
+        before: Vec::new(),
     }
 }
 

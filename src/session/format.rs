@@ -50,6 +50,20 @@ pub struct Header {
     /// Blackboard entries before the first tick.
     #[serde(default)]
     pub blackboard: Vec<(EntryId, Value)>,
+    /// A run recorded from its middle (a live robot btx attached to): each
+    /// node that was not IDLE-and-never-done when recording began.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub before: Vec<Before>,
+}
+
+/// A node's state when recording began: its status, and the status it had
+/// last completed with (when, the run does not say).
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq, Eq)]
+pub struct Before {
+    pub uid: Uid,
+    pub status: Status,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub done: Option<Status>,
 }
 
 /// One line after the header. `step` is the number of transitions of the

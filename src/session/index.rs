@@ -149,6 +149,9 @@ pub struct Index {
     /// Writes a leaf made during the call whose transition comes next: the
     /// blackboard shows them from that transition on, not before it.
     held: Vec<(Uid, EntryId, Value)>,
+    /// Per node, its status and last completion when recording began (a
+    /// run watched from its middle); empty: every node IDLE, never done.
+    before: Vec<(Status, Option<Status>)>,
 }
 
 /// A blackboard write made by a node during a tick, at a position.
@@ -175,6 +178,42 @@ impl Index {
     pub fn resize(&mut self, nodes: usize) {
         self.by_node.resize(nodes, Vec::new());
         self.completed.resize(nodes, Vec::new());
+        if !self.before.is_empty() {
+            self.before.resize(nodes, (Status::Idle, None));
+        }
+    }
+
+    /// The nodes' states when recording began (a run watched from its
+    /// middle), before any transition is pushed. A uid outside the tree is
+    /// left out.
+    pub fn set_before(&mut self, before: &[crate::session::Before]) {
+        self.before.clear();
+        if before.is_empty() {
+            return;
+        }
+        self.before = vec![(Status::Idle, None); self.by_node.len()];
+        for b in before {
+            if let Some(x) = (b.uid as usize)
+                .checked_sub(1)
+                .and_then(|i| self.before.get_mut(i))
+            {
+                *x = (b.status, b.done);
+            }
+        }
+    }
+
+    /// Whether the run was recorded from its middle: what came before
+    /// recording began is known only as each node's state then.
+    pub fn attached(&self) -> bool {
+        !self.before.is_empty()
+    }
+
+    /// A node's status and last completion when recording began.
+    pub fn before(&self, uid: Uid) -> (Status, Option<Status>) {
+        self.before
+            .get((uid as usize).wrapping_sub(1))
+            .copied()
+            .unwrap_or((Status::Idle, None))
     }
 
     /// A transition, with the decision the leaf took in the same tick call.
@@ -381,14 +420,27 @@ impl At<'_> {
         let list = &self.index.by_node[(uid - 1) as usize];
         match Self::last_before(list, self.pos) {
             Some(&p) => self.index.transitions[p as usize - 1].status,
-            None => Status::Idle,
+            None => self.index.before(uid).0,
         }
     }
 
-    /// The status the node last completed with, even if it was reset since.
+    /// The status the node last completed with, even if it was reset since
+    /// (for a run recorded from its middle, maybe before recording began).
     pub fn last_completed(&self, uid: Uid) -> Option<Status> {
         let list = &self.index.completed[(uid - 1) as usize];
-        Self::last_before(list, self.pos).map(|&p| self.index.transitions[p as usize - 1].status)
+        Self::last_before(list, self.pos)
+            .map(|&p| self.index.transitions[p as usize - 1].status)
+            .or_else(|| self.done_before(uid))
+    }
+
+    /// The completion the node had when recording began, if it has not
+    /// completed since (at this position): known, but not when.
+    pub fn done_before(&self, uid: Uid) -> Option<Status> {
+        let list = &self.index.completed[(uid - 1) as usize];
+        match Self::last_before(list, self.pos) {
+            Some(_) => None,
+            None => self.index.before(uid).1,
+        }
     }
 
     /// Han's `failed`: the last completed status is FAILURE.
@@ -474,8 +526,17 @@ impl At<'_> {
     }
 
     /// The node Han's state listener reports: the leaf ticked most recently.
+    /// Han's current node: that of the last transition. In a run recorded
+    /// from its middle, before its first transition: the last node (in
+    /// tree order, so a deepest one) running when recording began.
     pub fn current(&self) -> Option<Uid> {
-        Some(self.index.current[self.pos as usize]).filter(|&u| u != 0)
+        Some(self.index.current[self.pos as usize])
+            .filter(|&u| u != 0)
+            .or_else(|| {
+                (1..=self.index.before.len() as Uid)
+                    .rev()
+                    .find(|&u| self.index.before(u).0 == Status::Running)
+            })
     }
 
     pub fn entry(&self, e: &EntryId) -> Option<&Value> {

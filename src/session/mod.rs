@@ -6,7 +6,7 @@ pub mod index;
 pub mod record;
 pub mod rerun;
 
-pub use format::{Header, Record, SessionWriter, Source, TreeRef};
+pub use format::{Before, Header, Record, SessionWriter, Source, TreeRef};
 pub use index::{At, Index, Moment, Transition, Write, EMPTY_TICKS_MAX};
 
 use crate::model::{Tree, Uid};
@@ -90,6 +90,7 @@ impl Session {
         };
         let mut tree = load_str(&tree_name, &header.tree.xml, &opts)?.tree;
         let mut index = Index::new(tree.len());
+        index.set_before(&header.before);
         let scopes = tree.scopes.len();
         for (e, v) in &header.blackboard {
             if e.scope >= scopes {

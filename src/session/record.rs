@@ -64,6 +64,7 @@ pub fn header(req: &RunRequest, xml: bool) -> Header {
         seed: req.seed,
         tick_ms: req.options.tick_ms,
         blackboard: Vec::new(),
+        before: Vec::new(),
     }
 }
 

@@ -106,22 +106,47 @@ pub fn parse_transitions(body: &[u8]) -> Result<Vec<Transition>, String> {
         .collect()
 }
 
-/// The nodes' states of an `S` reply: each node's status, and the status
-/// it last completed with (the server sends IDLE as 10 + the status before
-/// it: 12 is IDLE after SUCCESS). Nodes IDLE and never done are left out.
-pub fn parse_states(body: &[u8]) -> Result<Vec<crate::session::Before>, String> {
+/// The `u16 uid | u8 code` records of an `S` reply, each code checked: a
+/// status (0-4), or IDLE after a status (10 + that status).
+pub fn parse_codes(body: &[u8]) -> Result<Vec<(u32, u8)>, String> {
     if !body.len().is_multiple_of(3) {
         return Err(format!(
             "a status reply of {} bytes is not whole 3-byte records",
             body.len()
         ));
     }
+    body.chunks_exact(3)
+        .map(|r| {
+            let uid = u32::from(u16::from_le_bytes([r[0], r[1]]));
+            status_of(r[2])
+                .map(|_| (uid, r[2]))
+                .ok_or_else(|| format!("node {uid} has status byte {}, which is no status", r[2]))
+        })
+        .collect()
+}
+
+/// The code `S` gives a node after a transition to `status` from `code`:
+/// the server keeps IDLE as 10 + the status before it.
+pub fn code_after(code: u8, status: Status) -> u8 {
+    match status {
+        Status::Idle if code >= 10 => code,
+        Status::Idle => 10 + code,
+        Status::Running => 1,
+        Status::Success => 2,
+        Status::Failure => 3,
+        Status::Skipped => 4,
+    }
+}
+
+/// The nodes' states of `S` codes: each node's status, and the status it
+/// last completed with. Nodes IDLE and never done are left out.
+pub fn states_of(codes: &[(u32, u8)]) -> Vec<crate::session::Before> {
     let mut out = Vec::new();
-    for r in body.chunks_exact(3) {
-        let uid = u32::from(u16::from_le_bytes([r[0], r[1]]));
-        let status = status_of(r[2])
-            .ok_or_else(|| format!("node {uid} has status byte {}, which is no status", r[2]))?;
-        let done = match r[2] {
+    for &(uid, code) in codes {
+        let Some(status) = status_of(code) else {
+            continue;
+        };
+        let done = match code {
             // Halted while RUNNING (11), or never done (10): what it last
             // completed with, if ever, is not said.
             1 | 10 | 11 => None,
@@ -134,7 +159,12 @@ pub fn parse_states(body: &[u8]) -> Result<Vec<crate::session::Before>, String> 
             out.push(crate::session::Before { uid, status, done });
         }
     }
-    Ok(out)
+    out
+}
+
+/// The nodes' states of an `S` reply (`parse_codes`, `states_of`).
+pub fn parse_states(body: &[u8]) -> Result<Vec<crate::session::Before>, String> {
+    parse_codes(body).map(|c| states_of(&c))
 }
 
 /// A connection to a Groot2 server.
@@ -218,8 +248,13 @@ impl Client {
 
     /// Every node's state now (`S`), as `parse_states` reads it.
     pub fn states(&mut self) -> Result<Vec<crate::session::Before>, LiveError> {
+        self.codes().map(|c| states_of(&c))
+    }
+
+    /// Every node's `S` code now.
+    pub fn codes(&mut self) -> Result<Vec<(u32, u8)>, LiveError> {
         let b = self.one(b'S', None, "status")?;
-        parse_states(&b).map_err(|m| self.err(m))
+        parse_codes(&b).map_err(|m| self.err(m))
     }
 }
 

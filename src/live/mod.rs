@@ -48,26 +48,56 @@ pub struct Watch {
     pub before: Vec<Before>,
 }
 
-/// How many times the statuses are read around `r start` before btx takes
-/// them as they are (a robot whose statuses never hold still that long).
+/// How many times btx starts recording before it takes the statuses as
+/// they are (a robot whose statuses never hold still that long).
 const ATTACH_TRIES: usize = 5;
 
-/// The statuses when recording starts: read before and after `r start`
-/// until both agree, so that no transition falls between the statuses and
-/// the first one recorded; the start time, the states, and whether they
-/// held still.
-fn attach(c: &mut Client) -> Result<(i64, Vec<Before>, bool), LiveError> {
-    let mut states = c.states()?;
-    for _ in 0..ATTACH_TRIES {
-        let t0 = c.start_recording()?;
-        let after = c.states()?;
-        if after == states {
-            return Ok((t0, after, true));
+/// What `attach` found: the recording's start (the server's epoch µs), the
+/// nodes' states then, the transitions recorded since, and whether the
+/// states are exact.
+struct Attached {
+    t0: i64,
+    before: Vec<Before>,
+    first: Vec<groot2::Transition>,
+    exact: bool,
+}
+
+/// The statuses when recording starts. They are read (`S`) before `r
+/// start` and after it, and the transitions recorded meanwhile taken
+/// (`t`): the states before are those at the start when some first of
+/// those transitions lead from them to the states after. Otherwise a
+/// transition fell between the first read and the start (it is not
+/// recorded), and btx starts again.
+fn attach(c: &mut Client) -> Result<Attached, LiveError> {
+    let mut got = attach_once(c)?;
+    for _ in 1..ATTACH_TRIES {
+        if got.exact {
+            break;
         }
-        states = after;
+        got = attach_once(c)?;
     }
+    Ok(got)
+}
+
+fn attach_once(c: &mut Client) -> Result<Attached, LiveError> {
+    let before = c.codes()?;
     let t0 = c.start_recording()?;
-    Ok((t0, states, false))
+    let after = c.codes()?;
+    let first = c.transitions()?;
+    let mut now = before.clone();
+    let exact = now == after
+        || first.iter().any(|t| {
+            if let Some(x) = now.iter_mut().find(|(u, _)| *u == t.uid) {
+                x.1 = groot2::code_after(x.1, t.status);
+            }
+            now == after
+        });
+    Ok(Attached {
+        t0,
+        before: groot2::states_of(&before),
+        first,
+        exact,
+    })
 }
 
 /// A UUID as text.
@@ -80,18 +110,23 @@ impl Watch {
     pub fn start(endpoint: &str) -> Result<Watch, LiveError> {
         let mut c = Client::connect(endpoint, TIMEOUT)?;
         let xml = c.tree_xml()?;
-        let (t0, before, still) = attach(&mut c)?;
+        let Attached {
+            t0,
+            before,
+            first,
+            exact,
+        } = attach(&mut c)?;
         let mut gaps = Vec::new();
         if !before.is_empty() {
             gaps.push(Gap {
                 at: 0,
                 why: format!(
                     "btx attached to a robot that had been running: before this, each node's state then is known{}, not its transitions",
-                    if still { "" } else { " only roughly (it kept changing while btx read it)" }
+                    if exact { "" } else { " only roughly (it kept changing while btx read it)" }
                 ),
             });
         }
-        Ok(Watch {
+        let mut w = Watch {
             endpoint: endpoint.to_string(),
             uuid: c.uuid,
             client: Some(c),
@@ -102,7 +137,9 @@ impl Watch {
             gaps,
             latency_us: Vec::new(),
             before,
-        })
+        };
+        w.take(first);
+        Ok(w)
     }
 
     /// Records received so far, taken or not.
@@ -134,31 +171,7 @@ impl Watch {
                     self.gap("the robot restarted (its tree UUID changed)".into());
                     self.uuid = uuid;
                 }
-                if ts.len() >= SERVER_BUFFER {
-                    self.gap(format!("the server's buffer of {SERVER_BUFFER} transitions was full: older ones may be lost"));
-                }
-                let n = ts.len();
-                // BehaviorTree.CPP 4.8's publisher sizes its reply before it
-                // locks the buffer: records that arrive meanwhile come out
-                // as zeros (uid 0, which no node has).
-                let zeroed = ts.iter().filter(|t| t.uid == 0).count();
-                if zeroed > 0 {
-                    self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost"));
-                }
-                let now_us = std::time::SystemTime::now()
-                    .duration_since(std::time::UNIX_EPOCH)
-                    .map_or(0, |d| d.as_micros() as i64);
-                for t in ts.into_iter().filter(|t| t.uid != 0) {
-                    self.latency_us.push(now_us - (self.t0 + t.time_us));
-                    let offset = self.received();
-                    self.records.push(Record {
-                        time_us: self.t0 + t.time_us,
-                        uid: t.uid,
-                        status: t.status,
-                        offset,
-                    });
-                }
-                Ok(n)
+                Ok(self.take(ts))
             }
             Err(e) => {
                 self.client = None;
@@ -166,6 +179,35 @@ impl Watch {
                 Err(e)
             }
         }
+    }
+
+    /// Keeps the transitions of a `t` reply; how many came.
+    fn take(&mut self, ts: Vec<groot2::Transition>) -> usize {
+        if ts.len() >= SERVER_BUFFER {
+            self.gap(format!("the server's buffer of {SERVER_BUFFER} transitions was full: older ones may be lost"));
+        }
+        let n = ts.len();
+        // BehaviorTree.CPP 4.8's publisher sizes its reply before it locks
+        // the buffer: records that arrive meanwhile come out as zeros (uid
+        // 0, which no node has).
+        let zeroed = ts.iter().filter(|t| t.uid == 0).count();
+        if zeroed > 0 {
+            self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost"));
+        }
+        let now_us = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_micros() as i64);
+        for t in ts.into_iter().filter(|t| t.uid != 0) {
+            self.latency_us.push(now_us - (self.t0 + t.time_us));
+            let offset = self.received();
+            self.records.push(Record {
+                time_us: self.t0 + t.time_us,
+                uid: t.uid,
+                status: t.status,
+                offset,
+            });
+        }
+        n
     }
 
     fn gap(&mut self, why: String) {

@@ -363,6 +363,94 @@ fn ask_live_answers_about_the_present_and_disturbs_no_recording() {
 }
 
 #[test]
+fn the_robots_blackboards_are_read_by_the_names_btx_gives_its_scopes() {
+    // The real BehaviorTree.CPP: a Script writes the main tree's blackboard
+    // and one in a SubTree instance; `B` asked with btx's names for them.
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("bb.xml");
+    let plan = dir.path().join("bb.plan");
+    std::fs::write(
+        &tree,
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main">
+    <Sequence name="top">
+      <Script code="count := 3; label := 'hello'; ratio := 0.5"/>
+      <SubTree ID="Inner" name="inner one" x="{count}"/>
+      <Sleep msec="2000"/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Inner">
+    <Script code="y := x + 1"/>
+  </BehaviorTree>
+</root>"#,
+    )
+    .unwrap();
+    std::fs::write(&plan, "").unwrap();
+    let port = free_port();
+    let mut robot = Command::new(oracle_python())
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/live/robot.py"))
+        .arg(&tree)
+        .arg(&plan)
+        .arg(port.to_string())
+        .arg(dir.path().join("bb.btlog"))
+        .args(["20", "0"])
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("the robot starts");
+    let mut said = BufReader::new(robot.stdout.take().unwrap()).lines();
+    assert_eq!(said.next().unwrap().unwrap(), "READY");
+    std::thread::sleep(Duration::from_millis(300));
+    let mut w = btx::live::Watch::start(&format!("127.0.0.1:{port}")).unwrap();
+    let s = btx::logs::open_live(Path::new("live"), &w.xml, &[], &[]).unwrap();
+    let names: Vec<String> = (0..s.tree.scopes.len())
+        .map(|i| s.tree.blackboard_name(i))
+        .collect();
+    assert_eq!(names, ["Main", "inner one"]);
+    let main = w.blackboard("Main").unwrap();
+    let inner = w.blackboard("inner one").unwrap();
+    let unknown = w.blackboard("nobody").unwrap();
+    let _ = robot.kill();
+    let _ = robot.wait();
+    assert_eq!(
+        main,
+        serde_json::json!({"count": 3, "label": "hello", "ratio": 0.5})
+    );
+    assert_eq!(inner, serde_json::json!({"y": 4.0}));
+    assert_eq!(unknown, serde_json::json!({}));
+}
+
+#[test]
+fn btx_serve_serves_the_runs_blackboards() {
+    let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "20", "10");
+    // Recording starts the replay; 54 ticks at 20 times 100 ms are over in
+    // 0.3 s.
+    let mut w = btx::live::Watch::start(&format!("127.0.0.1:{port}")).unwrap();
+    std::thread::sleep(Duration::from_millis(1000));
+    let s = session(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/kitting-lookat-fails-once.jsonl"),
+    );
+    let end = s.index.at(s.index.transitions.len() as u32);
+    let mut seen = 0;
+    for scope in 0..s.tree.scopes.len() {
+        let want: serde_json::Map<String, serde_json::Value> = end
+            .entries()
+            .into_iter()
+            .filter(|(e, _)| e.scope == scope)
+            .map(|(e, v)| (e.key.clone(), v.clone()))
+            .collect();
+        seen += want.len();
+        let name = s.tree.blackboard_name(scope);
+        assert_eq!(
+            w.blackboard(&name).unwrap(),
+            serde_json::Value::Object(want),
+            "{name}"
+        );
+    }
+    let _ = server.kill();
+    assert!(seen > 0, "the run writes its blackboard");
+}
+
+#[test]
 fn nothing_listening_or_not_groot2_is_said_within_two_seconds() {
     let l = TcpListener::bind("127.0.0.1:0").unwrap();
     let port = l.local_addr().unwrap().port();

@@ -384,9 +384,26 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
         assert!(start.elapsed() < Duration::from_secs(20), "{s}");
         std::thread::sleep(Duration::from_millis(50));
     }
+    // The details pane shows the robot's blackboard of the selected
+    // node's scope, read from it (`B`); these leaves write none.
+    t.wait_for("(no entries)");
     t.run(&["send-keys", "-t", "btx", "F"]);
     let s = t.wait_for("transitions behind live");
     assert!(s.contains("moment 10 "), "{s}");
+    // Asked there while the robot runs on: the run recorded the failure.
+    t.run(&["send-keys", "-t", "btx", "a"]);
+    t.wait_for("What went wrong?");
+    for _ in 0..7 {
+        t.run(&["send-keys", "-t", "btx", "Down"]);
+    }
+    t.run(&["send-keys", "-t", "btx", "Enter"]);
+    let s = t.wait_for("at chuck failed.");
+    assert!(
+        s.contains("I could not insert large gear because look"),
+        "{s}"
+    );
+    // The ask pane has the focus; Tab gives it to the tree again.
+    t.run(&["send-keys", "-t", "btx", "Tab"]);
     // Back to the present, which follows the robot to the end of its run.
     t.run(&["send-keys", "-t", "btx", "End"]);
     t.wait_for("tick 54 of 54");

@@ -131,10 +131,7 @@ pub fn code_after(code: u8, status: Status) -> u8 {
     match status {
         Status::Idle if code >= 10 => code,
         Status::Idle => 10 + code,
-        Status::Running => 1,
-        Status::Success => 2,
-        Status::Failure => 3,
-        Status::Skipped => 4,
+        s => s.code(),
     }
 }
 
@@ -165,6 +162,19 @@ pub fn states_of(codes: &[(u32, u8)]) -> Vec<crate::session::Before> {
 /// The nodes' states of an `S` reply (`parse_codes`, `states_of`).
 pub fn parse_states(body: &[u8]) -> Result<Vec<crate::session::Before>, String> {
     parse_codes(body).map(|c| states_of(&c))
+}
+
+/// A `B` reply: MessagePack of a map from blackboard name to entries (nil
+/// when none of the names is known).
+pub fn decode_blackboards(body: &[u8]) -> Result<serde_json::Value, String> {
+    match rmp_serde::from_slice::<serde_json::Value>(body) {
+        Ok(serde_json::Value::Null) => Ok(serde_json::Value::Object(Default::default())),
+        Ok(v @ serde_json::Value::Object(_)) => Ok(v),
+        Ok(_) => Err("the blackboard reply is not a map of blackboards".into()),
+        Err(e) => Err(format!(
+            "the blackboard reply is not MessagePack that JSON can hold: {e}"
+        )),
+    }
 }
 
 /// A connection to a Groot2 server.
@@ -249,6 +259,15 @@ impl Client {
     /// Every node's state now (`S`), as `parse_states` reads it.
     pub fn states(&mut self) -> Result<Vec<crate::session::Before>, LiveError> {
         self.codes().map(|c| states_of(&c))
+    }
+
+    /// `B`: the blackboards named (a subtree instance's `_fullpath`, the
+    /// main tree's ID for the root), as JSON: `{name: {key: value}}`. The
+    /// server sends MessagePack; a name it does not know is left out.
+    pub fn blackboards(&mut self, names: &[String]) -> Result<serde_json::Value, LiveError> {
+        let arg = names.join(";");
+        let b = self.one(b'B', Some(arg.as_bytes()), "blackboard")?;
+        decode_blackboards(&b).map_err(|m| self.err(m))
     }
 
     /// Every node's `S` code now.

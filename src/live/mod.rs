@@ -291,6 +291,27 @@ impl LiveStatus {
     }
 }
 
+/// A blackboard of the robot (`B`), as the live thread last fetched it.
+#[derive(Debug, Clone)]
+pub struct LiveBlackboard {
+    /// The blackboard's name (`Tree::blackboard_name`).
+    pub name: String,
+    pub fetched: std::time::Instant,
+    /// Its entries, `{key: value}`, or why they could not be read.
+    pub entries: Result<serde_json::Value, String>,
+}
+
+/// How often the blackboard asked for is fetched again.
+pub const BLACKBOARD_EVERY: Duration = Duration::from_millis(300);
+
+/// The blackboard the explorer wants (only while it shows one) and the
+/// last one fetched, shared with the live thread.
+#[derive(Default)]
+struct Blackboards {
+    want: Option<String>,
+    got: Option<LiveBlackboard>,
+}
+
 /// What the polling thread hands over: the transitions since the last
 /// batch, the gaps among them, the status.
 struct Batch {
@@ -310,6 +331,7 @@ pub struct Feed {
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
     thread: Option<std::thread::JoinHandle<()>>,
     pub status: LiveStatus,
+    blackboards: std::sync::Arc<std::sync::Mutex<Blackboards>>,
     /// The tree's XML, the nodes' states when recording began, and the
     /// whole run so far.
     xml: String,
@@ -352,6 +374,8 @@ impl Feed {
         let status = w.status(0.0, None);
         let xml = w.xml.clone();
         let before = w.before.clone();
+        let blackboards = std::sync::Arc::new(std::sync::Mutex::new(Blackboards::default()));
+        let shared = std::sync::Arc::clone(&blackboards);
         let thread = std::thread::Builder::new()
             .name("btx-live".into())
             .spawn(move || {
@@ -372,6 +396,9 @@ impl Feed {
                         }
                         Err(e) => Some(e.to_string()),
                     };
+                    if error.is_none() {
+                        fetch_blackboard(&mut w, &shared);
+                    }
                     let n = w.received();
                     if rate.0.elapsed() >= Duration::from_secs(1) {
                         let dt = rate.0.elapsed().as_secs_f64();
@@ -409,6 +436,7 @@ impl Feed {
             stop,
             thread: Some(thread),
             status,
+            blackboards,
             xml,
             before,
             records: Vec::new(),
@@ -428,6 +456,20 @@ impl Feed {
         self.gaps.extend(b.gaps);
         self.status = b.status;
         grew
+    }
+
+    /// Asks the live thread to fetch this blackboard (`B`) every
+    /// `BLACKBOARD_EVERY`, or none (the explorer does not show one).
+    pub fn want_blackboard(&self, name: Option<String>) {
+        if let Ok(mut b) = self.blackboards.lock() {
+            b.want = name;
+        }
+    }
+
+    /// The blackboard last fetched, if it is the one wanted.
+    pub fn blackboard(&self) -> Option<LiveBlackboard> {
+        let b = self.blackboards.lock().ok()?;
+        b.got.clone().filter(|g| b.want.as_ref() == Some(&g.name))
     }
 
     /// Takes what the thread received; whether the run grew. With `out`,
@@ -528,7 +570,42 @@ impl Drop for Feed {
     }
 }
 
+/// Fetches the blackboard wanted, if it is due.
+fn fetch_blackboard(w: &mut Watch, shared: &std::sync::Mutex<Blackboards>) {
+    let due = shared.lock().ok().and_then(|b| {
+        b.want.clone().filter(|n| {
+            b.got
+                .as_ref()
+                .is_none_or(|g| g.name != *n || g.fetched.elapsed() >= BLACKBOARD_EVERY)
+        })
+    });
+    let Some(name) = due else { return };
+    let entries = w.blackboard(&name);
+    if let Ok(mut b) = shared.lock() {
+        b.got = Some(LiveBlackboard {
+            name,
+            fetched: std::time::Instant::now(),
+            entries,
+        });
+    }
+}
+
 impl Watch {
+    /// One blackboard's entries (`B`), `{}` when the server has none by
+    /// that name.
+    pub fn blackboard(&mut self, name: &str) -> Result<serde_json::Value, String> {
+        let c = self.client.as_mut().ok_or("not connected")?;
+        let all = c
+            .blackboards(&[name.to_string()])
+            .map_err(|e| e.to_string())?;
+        // BehaviorTree.CPP sends an empty blackboard as nil.
+        Ok(all
+            .get(name)
+            .filter(|v| !v.is_null())
+            .cloned()
+            .unwrap_or_else(|| serde_json::json!({})))
+    }
+
     /// The status line's facts now.
     pub fn status(&self, per_second: f64, error: Option<String>) -> LiveStatus {
         LiveStatus {

@@ -4,7 +4,8 @@
 //! It answers `T` (the instantiated tree with `_uid`s), `S` (every node's
 //! status now, IDLE as 10 + the status before it), `r start|stop`, `t` (the
 //! transitions since the last `t`, as the publisher's 9-byte records, at
-//! most the last 1,000) and `B` (no blackboard: an empty msgpack map).
+//! most the last 1,000) and `B` (the blackboards' entries the run shows
+//! at that moment, as MessagePack).
 //! Hooks and breakpoints are refused, as btx never changes a run. The run
 //! starts playing when the first client starts recording.
 
@@ -114,7 +115,7 @@ impl Replay {
         let body = match h[1] {
             b'T' => self.xml.as_bytes().to_vec(),
             b'S' => self.statuses(pos),
-            b'B' => vec![0x80],
+            b'B' => self.blackboards(pos, parts.get(1).map_or(&[][..], Vec::as_slice)),
             b'r' => match parts.get(1).map(Vec::as_slice) {
                 Some(b"start") => {
                     st.recording = Some((now, if first { 0 } else { pos }));
@@ -143,23 +144,50 @@ impl Replay {
         vec![self.header(h), body]
     }
 
-    /// `u16 uid | u8 status` for every node at position `pos`.
+    /// `u16 uid | u8 code` for every node at position `pos`: its status,
+    /// IDLE as 10 + the status before it (`groot2::code_after`), from the
+    /// states the run was recorded from.
     fn statuses(&self, pos: usize) -> Vec<u8> {
-        let at = self.session.index.at(pos as u32);
-        let tree = &self.session.tree;
-        let mut last = vec![0u8; tree.len()];
-        for t in &self.session.index.transitions[..pos] {
-            last[t.uid as usize - 1] = t.prev.code();
+        let idx = &self.session.index;
+        let mut code: Vec<u8> = (1..=self.session.tree.len() as u32)
+            .map(|u| match idx.before(u) {
+                (Status::Idle, Some(done)) => 10 + done.code(),
+                (s, _) => s.code(),
+            })
+            .collect();
+        for t in &idx.transitions[..pos] {
+            let c = &mut code[t.uid as usize - 1];
+            *c = super::groot2::code_after(*c, t.status);
         }
-        let mut out = Vec::with_capacity(3 * tree.len());
-        for u in 1..=tree.len() as u32 {
-            out.extend_from_slice(&(u as u16).to_le_bytes());
-            out.push(match at.status(u) {
-                Status::Idle if last[u as usize - 1] != 0 => 10 + last[u as usize - 1],
-                s => s.code(),
-            });
+        let mut out = Vec::with_capacity(3 * code.len());
+        for (i, c) in code.iter().enumerate() {
+            out.extend_from_slice(&(i as u16 + 1).to_le_bytes());
+            out.push(*c);
         }
         out
+    }
+
+    /// `B`: MessagePack of `{name: {key: value}}` for the blackboards named
+    /// (`;` apart) that the run has entries in at position `pos`.
+    fn blackboards(&self, pos: usize, names: &[u8]) -> Vec<u8> {
+        let names = String::from_utf8_lossy(names);
+        let tree = &self.session.tree;
+        let at = self.session.index.at(pos as u32);
+        let mut out = serde_json::Map::new();
+        for name in names.split(';').filter(|n| !n.is_empty()) {
+            let Some(scope) = (0..tree.scopes.len()).find(|&s| tree.blackboard_name(s) == name)
+            else {
+                continue;
+            };
+            let entries: serde_json::Map<String, serde_json::Value> = at
+                .entries()
+                .into_iter()
+                .filter(|(e, _)| e.scope == scope)
+                .map(|(e, v)| (e.key.clone(), v.clone()))
+                .collect();
+            out.insert(name.to_string(), serde_json::Value::Object(entries));
+        }
+        rmp_serde::to_vec_named(&serde_json::Value::Object(out)).unwrap_or_else(|_| vec![0x80])
     }
 
     /// The 9-byte records of transitions `from..to`, timed from `t0`; at

@@ -70,6 +70,16 @@ impl Tree {
         }
     }
 
+    /// The name BehaviorTree.CPP's Groot2 publisher gives a scope's
+    /// blackboard (`B`): the main tree's ID for the root, the SubTree
+    /// instance's path (`_fullpath`) otherwise.
+    pub fn blackboard_name(&self, scope: super::ScopeId) -> String {
+        match self.scopes.get(scope).and_then(|s| s.parent) {
+            None => self.main_tree.clone(),
+            Some(_) => self.scope_path(scope),
+        }
+    }
+
     /// BehaviorTree.CPP's `fullPath`: the scope path, `/`, the name, with
     /// `::uid` appended when the name is the ID. Not unique.
     pub fn full_path(&self, uid: Uid) -> String {

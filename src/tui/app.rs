@@ -715,6 +715,14 @@ impl App {
     /// Reads a followed log again: the timeline grows; the moment stays
     /// where the person put it, or keeps to the end if it was there.
     pub fn follow_poll(&mut self) {
+        if let Some(l) = &self.live {
+            // The robot's blackboard is fetched only while details shows it.
+            let shown = !self.zoom || self.focus == Pane::Details;
+            l.want_blackboard(shown.then(|| {
+                self.tree
+                    .blackboard_name(self.tree.node(self.selected).scope)
+            }));
+        }
         match self.live.as_mut().and_then(|l| l.news(super::LIVE_EVERY)) {
             Some(Ok(s)) => self.grow(s),
             Some(Err(e)) => self.message = Some(e.to_string()),

@@ -170,7 +170,38 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             lines.push(Line::from(state.join("  ")));
         }
     }
+    if let Some(l) = &app.live {
+        lines.extend(live_blackboard(l, &app.tree.blackboard_name(n.scope)));
+    }
+    if let Some(l) = &app.live {
+        lines.extend(live_blackboard(l, &app.tree.blackboard_name(n.scope)));
+    }
     let (p, last) = scrolled(lines, app.details.scroll, area);
     note_max(app, true, last);
     f.render_widget(p.block(b), area);
+}
+
+/// The robot's blackboard of the node's scope (`B`), as last fetched.
+fn live_blackboard(l: &crate::live::Feed, name: &str) -> Vec<Line<'static>> {
+    let mut lines = vec![Line::from(Span::styled(
+        format!(
+            "blackboard {} (live, from the robot)",
+            crate::text::visible(name)
+        ),
+        Style::default().add_modifier(Modifier::BOLD),
+    ))];
+    let text = match l.blackboard().filter(|b| b.name == name).map(|b| b.entries) {
+        None => vec!["asking the robot…".to_string()],
+        Some(Err(e)) => vec![e],
+        Some(Ok(serde_json::Value::Object(m))) if m.is_empty() => vec!["(no entries)".to_string()],
+        Some(Ok(serde_json::Value::Object(m))) => {
+            m.iter().map(|(k, v)| format!("{k} = {v}")).collect()
+        }
+        Some(Ok(v)) => vec![v.to_string()],
+    };
+    lines.extend(
+        text.into_iter()
+            .map(|t| Line::from(crate::text::visible(&t).into_owned())),
+    );
+    lines
 }

@@ -288,3 +288,124 @@ fn a_childless_manual_selector_loads_in_v3_as_behaviortree_cpp_3_loads_it() {
     );
     assert!(load_file(&v3, &LoadOptions::default()).is_err());
 }
+
+/// Nav2's navigator tree and Nav2's models file, as shipped (see
+/// tests/fixtures/realworld/SOURCES).
+fn nav2(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/realworld/nav2")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+fn btx(args: &[&str]) -> (bool, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+#[test]
+fn a_models_file_gives_nav2s_nodes_their_kinds_and_port_directions() {
+    let tree = nav2("navigate_to_pose_w_replanning_and_recovery.xml");
+    let (ok, out, err) = btx(&["tree", &tree]);
+    assert!(ok, "{err}");
+    assert_eq!(err.matches("unknown node").count(), 11, "{err}");
+    assert!(
+        err.contains("11 node IDs have no model") && err.contains("--models FILE"),
+        "{err}"
+    );
+    assert!(
+        out.contains("GoalUpdated  [Action GoalUpdated #7]"),
+        "{out}"
+    );
+    let models = nav2("nav2_tree_nodes.xml");
+    let (ok, out, err) = btx(&["tree", &tree, "--models", &models]);
+    assert!(ok, "{err}");
+    assert!(
+        !err.contains("unknown node") && !err.contains("no model"),
+        "{err}"
+    );
+    // Kinds and directions from the models file.
+    assert!(
+        out.contains("GoalUpdated  [Condition GoalUpdated #7]"),
+        "{out}"
+    );
+    assert!(
+        out.contains("[Action ComputePathToPose #5]  in:goal={goal}, out:path={path}"),
+        "{out}"
+    );
+    // Every command that reads a tree takes it.
+    let (ok, _, err) = btx(&["ask", &tree, "--models", &models, "--node", "#10", "q2"]);
+    assert!(ok, "{err}");
+    assert!(!err.contains("unknown node"), "{err}");
+    // A tree file is not a models file.
+    let (ok, _, err) = btx(&["tree", &tree, "--models", &tree]);
+    assert!(!ok);
+    assert!(
+        err.contains("--models: this file has no") && err.contains("with --with"),
+        "{err}"
+    );
+}
+
+#[test]
+fn trees_in_other_files_are_registered_with_with() {
+    let dir = tempfile::tempdir().unwrap();
+    let main = write(
+        dir.path(),
+        "main.xml",
+        r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main"><Sequence><SubTree ID="Pick"/><SubTree ID="Place"/></Sequence></BehaviorTree>
+</root>"#,
+    );
+    let lib = dir.path().join("lib");
+    write(
+        &lib,
+        "pick.xml",
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Pick"><AlwaysSuccess name="grasp"/></BehaviorTree></root>"#,
+    );
+    write(
+        &lib,
+        "place.xml",
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Place"><AlwaysSuccess name="release"/></BehaviorTree></root>"#,
+    );
+    let main = main.to_str().unwrap();
+    let (ok, _, err) = btx(&["tree", main]);
+    assert!(!ok);
+    assert!(err.contains("Pick"), "{err}");
+    // Each file, or the directory: the main tree stays the first file's.
+    let pick = lib.join("pick.xml");
+    let place = lib.join("place.xml");
+    for args in [
+        vec!["--with", pick.to_str().unwrap(), place.to_str().unwrap()],
+        vec!["--with", lib.to_str().unwrap()],
+    ] {
+        let mut a = vec!["tree", main];
+        a.extend(args);
+        let (ok, out, err) = btx(&a);
+        assert!(ok, "{err}");
+        assert!(out.contains("grasp") && out.contains("release"), "{out}");
+        assert!(out.lines().next().unwrap().contains("Sequence"), "{out}");
+    }
+    // Without a main_tree_to_execute, the first file's one tree is the main
+    // one, whatever the other files hold.
+    let lone = write(
+        dir.path(),
+        "lone.xml",
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Lone"><SubTree ID="Pick"/></BehaviorTree></root>"#,
+    );
+    let (ok, out, err) = btx(&[
+        "tree",
+        lone.to_str().unwrap(),
+        "--with",
+        lib.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains("grasp") && !out.contains("release"), "{out}");
+}

@@ -92,18 +92,40 @@ struct Reading {
     /// Read the file by BehaviorTree.CPP 3 or 4 rules (default: its BTCPP_format).
     #[arg(long, value_name = "3|4", value_parser = ["3", "4"])]
     btcpp: Option<String>,
+    /// A models file (<TreeNodesModel>, e.g. Nav2's nav2_tree_nodes.xml): node kinds and port directions. Repeatable.
+    #[arg(long, value_name = "FILE")]
+    models: Vec<PathBuf>,
+    /// More tree files, or directories of them (*.xml): their <BehaviorTree>s are registered for SubTrees to call, as registerBehaviorTreeFromFile does. Repeatable.
+    #[arg(long, value_name = "FILE|DIR", num_args = 1..)]
+    with: Vec<PathBuf>,
 }
 
 impl Reading {
-    fn options(&self) -> LoadOptions {
-        LoadOptions {
+    fn options(&self) -> Result<LoadOptions, Failure> {
+        let mut with = Vec::new();
+        for w in &self.with {
+            if w.is_dir() {
+                let mut files: Vec<PathBuf> = std::fs::read_dir(w)
+                    .map_err(|e| Failure::Plain(format!("{}: {e}", w.display())))?
+                    .filter_map(|e| e.ok().map(|e| e.path()))
+                    .filter(|p| p.extension().is_some_and(|x| x == "xml") && p.is_file())
+                    .collect();
+                files.sort();
+                with.extend(files);
+            } else {
+                with.push(w.clone());
+            }
+        }
+        Ok(LoadOptions {
             version: self
                 .btcpp
                 .as_deref()
                 .map(|v| if v == "3" { Version::V3 } else { Version::V4 }),
             main_tree: self.main_tree.clone(),
             embedded: false,
-        }
+            models: self.models.clone(),
+            with,
+        })
     }
 }
 
@@ -256,7 +278,7 @@ fn warn_all(quiet: bool, warnings: &[btx::Warning]) {
 }
 
 fn open_input(file: &Path, reading: &Reading, quiet: bool) -> Result<Input, Failure> {
-    let input = open(file, &reading.options())?;
+    let input = open(file, &reading.options()?)?;
     warn_all(quiet, input.warnings());
     Ok(input)
 }

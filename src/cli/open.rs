@@ -36,7 +36,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             if files.len() != 2 {
                 fail!("--diff shows two inputs side by side: btx open --diff A B");
             }
-            let mut app = btx::tui::open_diff(&files[0], &files[1], &reading.options())?;
+            let mut app = btx::tui::open_diff(&files[0], &files[1], &reading.options()?)?;
             app.keymap = keymap(cli.keys.as_deref())?;
             btx::tui::run_with(app, cli.ascii)
                 .map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
@@ -51,7 +51,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             let mut app = btx::tui::open(
                 &files[0],
                 files.get(1).map(PathBuf::as_path),
-                &reading.options(),
+                &reading.options()?,
             )?;
             if follow {
                 let log = files.last().expect("one file at least");

@@ -50,7 +50,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         out,
     } = args;
     let text = btx::source::read_text(&path, btx::source::TEXT_SIZE_MAX, "the tree file")?;
-    let loaded = btx::xml::load_str(&path, &text, &reading.options())?;
+    let loaded = btx::xml::load_str(&path, &text, &reading.options()?)?;
     warn_all(cli.quiet, &loaded.warnings);
     let tree = loaded.tree;
     let ask = match ask_at {

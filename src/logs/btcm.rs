@@ -199,6 +199,7 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
             version: Some(crate::model::Version::V4),
             main_tree: None,
             embedded: true,
+            ..Default::default()
         },
     )?
     .tree;

@@ -160,6 +160,7 @@ fn session_from(
             version: Some(version),
             main_tree: None,
             embedded: true,
+            ..Default::default()
         },
     )?
     .tree;

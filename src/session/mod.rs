@@ -87,6 +87,7 @@ impl Session {
             version: Some(crate::model::Version::V4),
             main_tree: None,
             embedded: true,
+            ..Default::default()
         };
         let mut tree = load_str(&tree_name, &header.tree.xml, &opts)?.tree;
         let mut index = Index::new(tree.len());

@@ -18,6 +18,14 @@ pub struct LoadOptions {
     /// file (BehaviorTree.CPP's instantiated XML has no `<include>`, so one
     /// there is an attempt to read `/etc/passwd` or `/dev/zero`).
     pub embedded: bool,
+    /// Models files (`--models`): each gives node kinds and port
+    /// directions in a `<TreeNodesModel>` (Nav2's `nav2_tree_nodes.xml`, a
+    /// Groot2 palette).
+    pub models: Vec<PathBuf>,
+    /// More tree files (`--with`): every `<BehaviorTree>` in them is
+    /// registered, as BehaviorTree.CPP's `registerBehaviorTreeFromFile`
+    /// does, for SubTrees to call; the main tree stays the first file's.
+    pub with: Vec<PathBuf>,
 }
 
 /// The most warnings a load reports one by one.
@@ -53,6 +61,33 @@ pub fn load_str(path: &Path, text: &str, opts: &LoadOptions) -> Result<Loaded, L
         ..Loader::default()
     };
     l.add_document(path.to_path_buf(), text.to_string())?;
+    l.own_files = l.files.len();
+    if !opts.embedded {
+        for m in &opts.models {
+            l.add_extra(m, "models file")?;
+            // The file as read now or before (the tree file itself, say).
+            let key = std::fs::canonicalize(m).unwrap_or_else(|_| m.clone());
+            let read = l.files.iter().position(|f| {
+                std::fs::canonicalize(&f.path).unwrap_or_else(|_| f.path.clone()) == key
+            });
+            let has_models = |r: &Option<Element>| {
+                r.as_ref()
+                    .is_some_and(|r| r.children.iter().any(|c| c.tag == "TreeNodesModel"))
+            };
+            if read
+                .and_then(|i| l.roots.get(i))
+                .is_some_and(|r| !has_models(r))
+            {
+                return Err(
+                    Located::file(m, "--models: this file has no <TreeNodesModel>")
+                        .with_help("give tree files that SubTrees call with --with"),
+                );
+            }
+        }
+        for w in &opts.with {
+            l.add_extra(w, "tree file")?;
+        }
+    }
     l.finish(opts)
 }
 
@@ -96,6 +131,10 @@ struct Loader {
     unknown: Vec<(String, FileId, usize, &'static str, usize)>,
     unknown_at: HashMap<String, usize>,
     warnings: Vec<Warning>,
+    /// Files of the tree itself (the first and its includes); those after
+    /// came with `--models` or `--with`, and their trees are never the main
+    /// one.
+    own_files: usize,
 }
 
 /// "an Action", "a Control".
@@ -132,7 +171,7 @@ impl Loader {
                 n => format!("{n} node IDs have"),
             };
             let msg = format!(
-                "{ids} no model: kinds are guessed from the children and ports have no direction; a <TreeNodesModel> (Groot2 writes one; Nav2 ships nav2_tree_nodes.xml) in the file or an <include> gives them"
+                "{ids} no model: kinds are guessed from the children and ports have no direction; give a models file with --models FILE (Nav2 ships nav2_tree_nodes.xml; Groot2 writes a <TreeNodesModel>), or put one in the file"
             );
             // Said even past the warnings shown: it is what to do about them.
             let f = &self.files[*file];
@@ -239,6 +278,19 @@ impl Loader {
         }
         self.roots[file] = Some(root);
         Ok(())
+    }
+
+    /// A file given with `--models` or `--with`, read as a document of its
+    /// own (a file already read, such as the tree itself, is read once).
+    fn add_extra(&mut self, path: &Path, what: &str) -> Result<(), Located> {
+        if self.files.len() >= INCLUDES_MAX {
+            return Err(Located::file(
+                path,
+                format!("more than {INCLUDES_MAX} files are read; btx stops here"),
+            ));
+        }
+        let text = crate::source::read_text(path, INCLUDE_SIZE_MAX, &format!("the {what}"))?;
+        self.add_document(path.to_path_buf(), text)
     }
 
     fn include(&mut self, file: FileId, el: &Element) -> Result<(), Located> {
@@ -393,8 +445,11 @@ impl Loader {
                     .with_help(format!("the trees are: {}", known()))
             });
         }
-        match self.defs.len() {
-            1 => Ok(0),
+        let own: Vec<usize> = (0..self.defs.len())
+            .filter(|&i| self.defs[i].file < self.own_files.max(1))
+            .collect();
+        match own.len() {
+            1 => Ok(own[0]),
             0 => Err(self.err(*file, root, "no main tree: the file has no <BehaviorTree>")),
             n => Err(self.err(*file, root, format!("no main tree: {n} <BehaviorTree> elements and no main_tree_to_execute"))
                 .with_help(format!("add main_tree_to_execute=\"...\" to <root>, or pass --main-tree; the trees are: {}", known()))),

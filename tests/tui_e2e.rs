@@ -386,7 +386,8 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
     }
     // The details pane shows the robot's blackboard of the selected
     // node's scope, read from it (`B`); these leaves write none.
-    t.wait_for("(no entries)");
+    let s = t.wait_for("(no entries)");
+    assert_eq!(s.matches("(no entries)").count(), 1, "shown once: {s}");
     t.run(&["send-keys", "-t", "btx", "F"]);
     let s = t.wait_for("transitions behind live");
     assert!(s.contains("moment 10 "), "{s}");

@@ -173,9 +173,6 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
     if let Some(l) = &app.live {
         lines.extend(live_blackboard(l, &app.tree.blackboard_name(n.scope)));
     }
-    if let Some(l) = &app.live {
-        lines.extend(live_blackboard(l, &app.tree.blackboard_name(n.scope)));
-    }
     let (p, last) = scrolled(lines, app.details.scroll, area);
     note_max(app, true, last);
     f.render_widget(p.block(b), area);

@@ -497,6 +497,9 @@ fn set_with_a_plan_seeds_the_root_blackboard_and_re_runs_start_from_it() {
     let (ok, _, err) = run(&dir.path().join("s2.jsonl"), &[]);
     assert!(!ok);
     assert!(err.contains("\"goal\" is not on the blackboard"), "{err}");
+    // It says how to supply it (an enum the robot's code registers reads
+    // the same way).
+    assert!(err.contains("--set goal=VALUE"), "{err}");
     // A re-run reproduces the run from what it started with.
     let (ok, text, err) = common::btx(&["why", out.to_str().unwrap(), "status(#1)", "--at", "2"]);
     assert!(ok, "{err}");

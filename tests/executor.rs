@@ -276,3 +276,28 @@ fn errors_name_the_node() {
         "{e}"
     );
 }
+
+#[test]
+fn a_loop_over_a_blackboard_queue_says_what_btx_cannot_make() {
+    let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><LoopDouble queue="{q}" value="{v}"><AlwaysSuccess/></LoopDouble></BehaviorTree></root>"#;
+    let tree = load_str(Path::new("t.xml"), xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    let plan = Plan::parse(Path::new("t.plan"), "").unwrap();
+    let mut ex = Executor::new(&tree, PlanLeaves::new(plan, &tree), RunOptions::default());
+    let e = ex.tick_once().unwrap_err().to_string();
+    assert!(
+        e.contains("reads its queue from the blackboard ({q})") && e.contains("queue=\"1;2;3\""),
+        "{e}"
+    );
+    // A queue item that is not of the loop's type.
+    let xml = xml.replace("{q}", "1;x");
+    let tree = load_str(Path::new("t.xml"), &xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    let plan = Plan::parse(Path::new("t.plan"), "").unwrap();
+    let mut ex = Executor::new(&tree, PlanLeaves::new(plan, &tree), RunOptions::default());
+    assert_eq!(ex.tick_once().unwrap(), Status::Running);
+    let e = ex.tick_once().unwrap_err().to_string();
+    assert!(e.contains("queue item \"x\" is not a double"), "{e}");
+}

@@ -296,3 +296,39 @@ fn timers_fire_in_the_same_ticks_as_behaviortree_cpp() {
         );
     }
 }
+
+#[test]
+fn loops_pop_their_queue_as_behaviortree_cpp_does() {
+    let tree = |body: &str| {
+        format!("<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">{body}</BehaviorTree><TreeNodesModel><Action ID=\"Act\"/><Condition ID=\"Check\"/></TreeNodesModel></root>")
+    };
+    let cases: Vec<Case> = [
+        // Each value in turn, until the child fails on 3.
+        (r#"<Sequence><LoopDouble queue="1.5;2;3" value="{v}"><ScriptCondition code="v &lt; 2.5"/></LoopDouble><Act name="after"/></Sequence>"#, ""),
+        // A child RUNNING across ticks takes no new value meanwhile.
+        (r#"<Sequence><LoopInt queue="1;2;3" value="{n}"><Act name="move"/></LoopInt><Act name="after"/></Sequence>"#, "move = 2RS"),
+        // if_empty, and a fresh copy of the queue each time the node starts.
+        (r#"<Repeat num_cycles="2"><LoopString queue="a;b" value="{s}" if_empty="SUCCESS"><Act name="go"/></LoopString></Repeat>"#, ""),
+        (r#"<Fallback><LoopBool queue="true;false;1" value="{b}" if_empty="FAILURE"><Check name="ok"/></LoopBool><Act name="other"/></Fallback>"#, ""),
+    ]
+    .iter()
+    .map(|(body, plan)| Case {
+        xml: tree(body),
+        plan: format!("@default_action = S\n@default_condition = S\n{plan}\n"),
+        max_ticks: 12,
+        tick_ms: 0,
+    })
+    .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let runs = oracle(&cases, dir.path());
+    for (case, real) in cases.iter().zip(&runs) {
+        let ours = btx_run(case);
+        assert!(real.error.is_none(), "{:?}", real.error);
+        assert!(
+            real.transitions == ours.transitions && real.root == ours.root,
+            "{}\n  tree: {}",
+            first_difference(real, &ours),
+            case.xml
+        );
+    }
+}

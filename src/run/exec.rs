@@ -1135,11 +1135,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 let otherwise = self.port_str(uid, "else").unwrap_or_else(|| "FAILURE".into());
                 Status::parse(&otherwise).ok_or_else(|| self.err(uid, format!("else=\"{otherwise}\" is not a status")))
             }
-            Builtin::LoopInt
-            | Builtin::LoopBool
-            | Builtin::LoopDouble
-            | Builtin::LoopString
-            | Builtin::SkipUnlessUpdated
+            Builtin::LoopInt | Builtin::LoopBool | Builtin::LoopDouble | Builtin::LoopString => self.tick_loop(uid, b),
+            Builtin::SkipUnlessUpdated
             | Builtin::WaitValueUpdate => Err(self.err(
                 uid,
                 format!("{} needs BehaviorTree.CPP scripts or typed queues, which this version of btx does not run", tree.type_name(uid)),
@@ -1549,6 +1546,102 @@ impl<'t, L: Leaves> Executor<'t, L> {
         }
         self.rt(uid).count = 0;
         Ok(Status::Failure)
+    }
+
+    /// BehaviorTree.CPP 4's `LoopNode<T>` (`loop_node.h`): each tick pops
+    /// the next value of `queue` into `value` and ticks the child once,
+    /// RUNNING until the queue is empty, then `if_empty` (SUCCESS by
+    /// default); a child's FAILURE fails it. A queue written in the tree
+    /// (`queue="1;2;3"`) is copied afresh each time the node starts; one on
+    /// the blackboard is a typed `std::deque` the robot's code puts there,
+    /// which btx cannot make.
+    fn tick_loop(&mut self, uid: Uid, b: Builtin) -> R<Status> {
+        let tree = self.tree;
+        let n = tree.node(uid);
+        let child = n.children[0];
+        let queue = match n.ports.iter().find(|p| p.name == "queue").map(|p| &p.value) {
+            Some(PortValue::Literal(q)) => q.clone(),
+            Some(v) => {
+                return Err(self.err(
+                    uid,
+                    format!(
+                        "{} reads its queue from the blackboard ({}): a typed std::deque the robot's code puts there, which btx cannot make; write the values in the tree to run it, queue=\"1;2;3\"",
+                        tree.type_name(uid),
+                        v.to_xml()
+                    ),
+                ))
+            }
+            None => return Err(self.err(uid, "the port queue is missing")),
+        };
+        let items: Vec<&str> = queue.split(';').filter(|x| !x.is_empty()).collect();
+        if self.status(uid) == Status::Idle {
+            let r = self.rt(uid);
+            r.idx = 0;
+            r.started = false;
+        }
+        let child_running = self.rt(uid).started;
+        if !child_running {
+            let Some(raw) = items.get(self.rt(uid).idx).copied() else {
+                let e = self
+                    .port_str(uid, "if_empty")
+                    .unwrap_or_else(|| "SUCCESS".into());
+                return Status::parse(&e)
+                    .ok_or_else(|| self.err(uid, format!("if_empty=\"{e}\" is not a status")));
+            };
+            let v = match b {
+                Builtin::LoopInt => raw.trim().parse::<i64>().map(Value::from).ok(),
+                Builtin::LoopDouble => raw.trim().parse::<f64>().ok().map(Value::from),
+                Builtin::LoopBool => match raw.trim() {
+                    "true" | "TRUE" | "True" | "1" => Some(Value::Bool(true)),
+                    "false" | "FALSE" | "False" | "0" => Some(Value::Bool(false)),
+                    _ => None,
+                },
+                _ => Some(Value::from(raw)),
+            }
+            .ok_or_else(|| {
+                self.err(
+                    uid,
+                    format!(
+                        "queue item \"{raw}\" is not a {}",
+                        tree.type_name(uid)
+                            .trim_start_matches("Loop")
+                            .to_lowercase()
+                    ),
+                )
+            })?;
+            self.rt(uid).idx += 1;
+            self.write_output(uid, "value", v);
+        }
+        self.set_status(uid, Status::Running);
+        let s = self.exec(child)?;
+        self.rt(uid).started = s == Status::Running;
+        if s.is_completed() {
+            self.halt_child(child);
+        }
+        Ok(if s == Status::Failure {
+            Status::Failure
+        } else {
+            Status::Running
+        })
+    }
+
+    /// `setOutput`: writes `v` where output port `port` points (a literal
+    /// port is no entry: nothing is written).
+    fn write_output(&mut self, uid: Uid, port: &str, v: Value) {
+        let tree = self.tree;
+        let n = tree.node(uid);
+        let Some(p) = n.ports.iter().find(|p| p.name == port) else {
+            return;
+        };
+        if let Some(entry) = self.bb.port_entry(tree, n.scope, &p.value) {
+            self.bb.set(&entry, v.clone());
+            self.events.push(Event::Write {
+                tick: self.tick,
+                uid,
+                entry,
+                value: v,
+            });
+        }
     }
 
     fn tick_repeat(&mut self, uid: Uid) -> R<Status> {

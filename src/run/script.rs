@@ -363,10 +363,13 @@ impl<E: Env> P<'_, E> {
             Tok::Str(s) => Ok(Value::from(s)),
             Tok::Id(id) if id == "true" => Ok(Value::Bool(true)),
             Tok::Id(id) if id == "false" => Ok(Value::Bool(false)),
-            Tok::Id(id) => self
-                .env
-                .get(&id)
-                .ok_or_else(|| format!("\"{id}\" is not on the blackboard")),
+            // BehaviorTree.CPP also reads enums the robot's code registers
+            // (registerScriptingEnum), which no tree file declares.
+            Tok::Id(id) => self.env.get(&id).ok_or_else(|| {
+                format!(
+                    "\"{id}\" is not on the blackboard, nor an enum btx knows (BehaviorTree.CPP takes enums the robot registers with registerScriptingEnum): give it its value with --set {id}=VALUE"
+                )
+            }),
             Tok::Op("(") => {
                 let v = self.expr()?;
                 if !self.eat(")") {

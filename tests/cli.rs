@@ -508,3 +508,60 @@ fn set_with_a_plan_seeds_the_root_blackboard_and_re_runs_start_from_it() {
         "{text}"
     );
 }
+
+#[test]
+fn nav2s_navigator_runs_and_its_recovery_is_explained() {
+    // Nav2's own navigator tree and models file (tests/fixtures/realworld).
+    let nav2 = |f: &str| {
+        fixture(&format!("realworld/nav2/{f}"))
+            .display()
+            .to_string()
+    };
+    let (tree, models) = (
+        nav2("navigate_to_pose_w_replanning_and_recovery.xml"),
+        nav2("nav2_tree_nodes.xml"),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let run = |plan: &str, name: &str| {
+        let p = dir.path().join(format!("{name}.plan"));
+        std::fs::write(&p, plan).unwrap();
+        let out = dir.path().join(format!("{name}.jsonl"));
+        let (ok, text, err) = btx(&[
+            "-q",
+            "run",
+            &tree,
+            "--models",
+            &models,
+            "--plan",
+            p.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{err}");
+        (out, format!("{text}{err}"))
+    };
+    let (_, text) = run("@default_action = 1RS\n@default_condition = S\n", "nominal");
+    assert!(text.contains("root SUCCESS (root completed)"), "{text}");
+    // FollowPath fails once; the goal is not updated, so the recovery
+    // clears the local costmap, and FollowPath runs again.
+    let (out, text) = run(
+        "@default_action = 1RS\n@default_condition = S\nFollowPath = 1RF, 1RS\nGoalUpdated = F\n",
+        "follow-path-fails",
+    );
+    assert!(text.contains("root SUCCESS (root completed)"), "{text}");
+    let out = out.to_str().unwrap();
+    let (ok, log, _) = btx(&["log", out]);
+    assert!(ok);
+    assert!(
+        log.contains("FollowPath                               RUNNING  -> FAILURE")
+            && log.contains("ClearLocalCostmap-Context                IDLE     -> RUNNING"),
+        "{log}"
+    );
+    let (ok, said, err) = btx(&["ask", out, "--at", "3", "wrong", "handled"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        said,
+        "I could not FollowPath because FollowPath failed.\n\
+         When FollowPath failed, I fell back to FollowPathRecoveryFallback.\n"
+    );
+}

@@ -301,3 +301,79 @@ fn a_loop_over_a_blackboard_queue_says_what_btx_cannot_make() {
     let e = ex.tick_once().unwrap_err().to_string();
     assert!(e.contains("queue item \"x\" is not a double"), "{e}");
 }
+
+/// Nav2's controls, as their sources (nav2_behavior_tree/plugins/control)
+/// run them, followed by hand. Nav2's own `halt()` inside a tick resets the
+/// node to IDLE before it returns (BehaviorTree.CPP's `ControlNode::halt`).
+#[test]
+fn nav2s_controls_run_as_nav2s_sources_do() {
+    // PipelineSequence: a is ticked again each tick while b runs; no
+    // RUNNING of its own before the children.
+    let (t, roots) = run(
+        r#"<PipelineSequence name="p"><a name="a"/><b name="b"/></PipelineSequence>"#,
+        "a = S\nb = 2RS",
+        5,
+    );
+    assert_eq!(roots, [Status::Running, Status::Running, Status::Success]);
+    assert_eq!(t[0], s(&["a:SUCCESS", "b:RUNNING", "p:RUNNING"]));
+    assert!(t[1].is_empty(), "a ticked again, still SUCCESS: {:?}", t[1]);
+    assert_eq!(
+        t[2],
+        s(&["b:SUCCESS", "a:IDLE", "b:IDLE", "p:SUCCESS", "p:IDLE"])
+    );
+    // RecoveryNode: a fails, the recovery r succeeds, a again.
+    let (t, roots) = run(
+        r#"<RecoveryNode name="n" number_of_retries="2"><a name="a"/><r name="r"/></RecoveryNode>"#,
+        "a = F, F, S\nr = S",
+        5,
+    );
+    assert_eq!(roots, [Status::Success]);
+    assert_eq!(
+        t[0],
+        s(&[
+            "n:RUNNING",
+            "a:FAILURE",
+            "a:IDLE",
+            "r:SUCCESS",
+            "r:IDLE",
+            "a:FAILURE",
+            "a:IDLE",
+            "r:SUCCESS",
+            "r:IDLE",
+            "a:SUCCESS",
+            "a:IDLE",
+            "n:IDLE",
+            "n:SUCCESS",
+            "n:IDLE"
+        ])
+    );
+    // Out of retries: the first child's failure fails the node.
+    let (_, roots) = run(
+        r#"<RecoveryNode name="n" number_of_retries="1"><a name="a"/><r name="r"/></RecoveryNode>"#,
+        "a = F
+r = S",
+        5,
+    );
+    assert_eq!(roots, [Status::Failure]);
+    // RoundRobin: a fails, b succeeds; next time it starts at b.
+    let (t, roots) = ticked(
+        r#"<RoundRobin name="rr"><a name="a"/><b name="b"/></RoundRobin>"#,
+        "a = F\nb = S, F, S",
+        3,
+        false,
+    );
+    assert_eq!(roots, [Status::Success, Status::Failure, Status::Success]);
+    assert_eq!(
+        t[1],
+        s(&[
+            "rr:RUNNING",
+            "b:FAILURE",
+            "a:FAILURE",
+            "a:IDLE",
+            "b:IDLE",
+            "rr:FAILURE",
+            "rr:IDLE"
+        ]),
+        "it starts where it succeeded"
+    );
+}

@@ -60,7 +60,17 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
         }
         let children = &tree.node(x).children;
         // Han's released code tests the first child's current status.
-        if is_fallback(tree, x) && run.status(children[0]) == Status::Failure {
+        // Nav2's RecoveryNode halts its first child before the recovery
+        // runs: its failure within this run of the node is the test.
+        let fell_back = if tree.node(x).builtin == Some(Builtin::RecoveryNode) {
+            run.status(x) == Status::Running
+                && run
+                    .last_failure_since(children[0], run.started_at(x))
+                    .is_some()
+        } else {
+            is_fallback(tree, x) && run.status(children[0]) == Status::Failure
+        };
+        if fell_back {
             fallback = Some(x);
             d.text = format!("I could not {} because ", tree.description(x));
             d.nodes.push(x);

@@ -22,7 +22,14 @@ pub enum Builtin {
     TryCatch,
     Switch(u8),
     ManualSelector,
+    // Nav2's controls (nav2_behavior_tree/plugins/control), which its
+    // bt_navigator registers for every navigator tree
+    PipelineSequence,
+    RecoveryNode,
+    RoundRobin,
     // decorators
+    /// Nav2's (plugins/decorator/rate_controller.cpp).
+    RateController,
     Inverter,
     RetryUntilSuccessful,
     KeepRunningUntilFailure,
@@ -62,6 +69,9 @@ pub enum Availability {
     Both,
     V3Only,
     V4Only,
+    /// Not BehaviorTree.CPP's: Nav2's, registered by its bt_navigator
+    /// (with BehaviorTree.CPP 3 up to Humble, 4 from Jazzy).
+    Nav2,
 }
 
 /// One spelling of a built-in node.
@@ -96,6 +106,34 @@ const ANY: Option<usize> = None;
 /// Every spelling we accept, including v3's and the misspelled retry.
 pub const BUILTINS: &[BuiltinSpec] = &[
     spec!("Sequence", Builtin::Sequence, Control, Both, 1, ANY, []),
+    spec!(
+        "PipelineSequence",
+        Builtin::PipelineSequence,
+        Control,
+        Nav2,
+        1,
+        ANY,
+        []
+    ),
+    spec!(
+        "RecoveryNode",
+        Builtin::RecoveryNode,
+        Control,
+        Nav2,
+        2,
+        Some(2),
+        [("number_of_retries", In, Some("1"))]
+    ),
+    spec!("RoundRobin", Builtin::RoundRobin, Control, Nav2, 1, ANY, []),
+    spec!(
+        "RateController",
+        Builtin::RateController,
+        Decorator,
+        Nav2,
+        1,
+        ONE,
+        [("hz", In, Some("10.0"))]
+    ),
     spec!(
         "AsyncSequence",
         Builtin::AsyncSequence,
@@ -559,6 +597,12 @@ impl Builtin {
             .find(|s| s.builtin == self && s.availability != V3Only)
             .or_else(|| BUILTINS.iter().find(|s| s.builtin == self))
             .expect("every builtin has a spec")
+    }
+
+    /// Registered by BehaviorTree.CPP itself (not by Nav2): a tree file
+    /// needs no model for it.
+    pub fn is_btcpp(self) -> bool {
+        self.spec().availability != Nav2
     }
 
     /// A retry or repeat node, whose attempt counts matter to explanations.

@@ -46,8 +46,10 @@ fn escape(v: &str) -> String {
     out
 }
 
+/// BehaviorTree.CPP's own nodes need no model; Nav2's do, for the library
+/// or Groot2 to read the file without Nav2.
 fn is_builtin(id: &str) -> bool {
-    id == "SubTree" || crate::model::builtins::lookup(id).is_some()
+    id == "SubTree" || crate::model::builtins::lookup(id).is_some_and(|s| s.builtin.is_btcpp())
 }
 
 /// Maps every custom and tree ID to a unique valid v4 name.
@@ -282,7 +284,7 @@ fn write_models(tree: &Tree, names: &Names, out: &mut String) {
     let mut ports: HashMap<&str, BTreeMap<String, Direction>> = HashMap::new();
     let mut kinds: HashMap<&str, Kind> = HashMap::new();
     for n in &tree.nodes {
-        if n.builtin.is_some() {
+        if n.builtin.is_some_and(|b| b.is_btcpp()) {
             continue;
         }
         if !ports.contains_key(n.id.as_str()) {

@@ -260,9 +260,6 @@ fn btx_runs_generated_trees_as_behaviortree_cpp_does() {
 /// two ticks on both sides.
 #[test]
 fn timers_fire_in_the_same_ticks_as_behaviortree_cpp() {
-    let tree = |body: &str| {
-        format!("<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">{body}</BehaviorTree><TreeNodesModel><Action ID=\"Act\"/><Condition ID=\"Check\"/></TreeNodesModel></root>")
-    };
     let cases: Vec<Case> = [
         // The child outlasts the Timeout: halted between ticks 3 and 4.
         (r#"<Sequence><Timeout msec="50"><Act name="move"/></Timeout><Act name="after"/></Sequence>"#, "move = 10RS\nafter = S"),
@@ -277,31 +274,17 @@ fn timers_fire_in_the_same_ticks_as_behaviortree_cpp() {
     ]
     .iter()
     .map(|(body, plan)| Case {
-        xml: tree(body),
+        xml: hand_tree(body),
         plan: format!("@default_action = 1RS\n@default_condition = S\n{plan}\n"),
         max_ticks: 12,
         tick_ms: 20,
     })
     .collect();
-    let dir = tempfile::tempdir().unwrap();
-    let runs = oracle(&cases, dir.path());
-    for (case, real) in cases.iter().zip(&runs) {
-        let ours = btx_run(case);
-        assert!(real.error.is_none(), "{:?}", real.error);
-        assert!(
-            real.transitions == ours.transitions && real.root == ours.root,
-            "{}\n  tree: {}",
-            first_difference(real, &ours),
-            case.xml
-        );
-    }
+    agree_with_btcpp(&cases);
 }
 
 #[test]
 fn loops_pop_their_queue_as_behaviortree_cpp_does() {
-    let tree = |body: &str| {
-        format!("<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">{body}</BehaviorTree><TreeNodesModel><Action ID=\"Act\"/><Condition ID=\"Check\"/></TreeNodesModel></root>")
-    };
     let cases: Vec<Case> = [
         // Each value in turn, until the child fails on 3.
         (r#"<Sequence><LoopDouble queue="1.5;2;3" value="{v}"><ScriptCondition code="v &lt; 2.5"/></LoopDouble><Act name="after"/></Sequence>"#, ""),
@@ -313,14 +296,25 @@ fn loops_pop_their_queue_as_behaviortree_cpp_does() {
     ]
     .iter()
     .map(|(body, plan)| Case {
-        xml: tree(body),
+        xml: hand_tree(body),
         plan: format!("@default_action = S\n@default_condition = S\n{plan}\n"),
         max_ticks: 12,
         tick_ms: 0,
     })
     .collect();
+    agree_with_btcpp(&cases);
+}
+
+/// A hand-written tree over `Act` (an action) and `Check` (a condition).
+fn hand_tree(body: &str) -> String {
+    format!("<root BTCPP_format=\"4\" main_tree_to_execute=\"Main\"><BehaviorTree ID=\"Main\">{body}</BehaviorTree><TreeNodesModel><Action ID=\"Act\"/><Condition ID=\"Check\"/></TreeNodesModel></root>")
+}
+
+/// Hand-written cases run by BehaviorTree.CPP and by btx: the same
+/// transitions, tick for tick, and the same ending.
+fn agree_with_btcpp(cases: &[Case]) {
     let dir = tempfile::tempdir().unwrap();
-    let runs = oracle(&cases, dir.path());
+    let runs = oracle(cases, dir.path());
     for (case, real) in cases.iter().zip(&runs) {
         let ours = btx_run(case);
         assert!(real.error.is_none(), "{:?}", real.error);

@@ -602,7 +602,11 @@ impl Builtin {
     /// Registered by BehaviorTree.CPP itself (not by Nav2): a tree file
     /// needs no model for it.
     pub fn is_btcpp(self) -> bool {
-        self.spec().availability != Nav2
+        // SubTree has no spec: it is the library's.
+        BUILTINS
+            .iter()
+            .find(|s| s.builtin == self)
+            .is_none_or(|s| s.availability != Nav2)
     }
 
     /// A retry or repeat node, whose attempt counts matter to explanations.
@@ -645,6 +649,13 @@ mod tests {
             None
         );
         assert_eq!(Builtin::SequenceWithMemory.v3_name(), Some("SequenceStar"));
+    }
+
+    #[test]
+    fn nav2s_nodes_are_not_the_librarys() {
+        assert!(!Builtin::RecoveryNode.is_btcpp());
+        assert!(Builtin::Sequence.is_btcpp());
+        assert!(Builtin::SubTree.is_btcpp());
     }
 
     #[test]

@@ -561,7 +561,7 @@ fn nav2s_navigator_runs_and_its_recovery_is_explained() {
     assert!(ok, "{err}");
     assert_eq!(
         said,
-        "I could not FollowPath because FollowPath failed.\n\
-         When FollowPath failed, I fell back to FollowPathRecoveryFallback.\n"
+        "I could not follow path because follow path failed.\n\
+         When follow path failed, I fell back to follow path recovery fallback.\n"
     );
 }

@@ -72,7 +72,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
         };
         if fell_back {
             fallback = Some(x);
-            d.text = format!("I could not {} because ", tree.description(x));
+            d.text = format!("I could not {} because ", tree.spoken(x));
             d.nodes.push(x);
             match last_failed_leaf(tree, run, children[0], run.started_at(x)) {
                 Some(f) => {
@@ -83,21 +83,19 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                         .filter(|&fp| tree.description(fp) != tree.description(x))
                     {
                         d.text
-                            .push_str(&format!("I was unable to {} as ", tree.description(fp)));
+                            .push_str(&format!("I was unable to {} as ", tree.spoken(fp)));
                         d.nodes.push(fp);
                     }
-                    d.text.push_str(&format!("{} failed.", tree.description(f)));
+                    d.text.push_str(&format!("{} failed.", tree.spoken(f)));
                     d.failed_leaf = Some(f);
                     d.nodes.push(f);
                 }
                 None => match failed_before(tree, run, children[0])[..] {
                     // The leaf that failed has succeeded since (a later attempt).
-                    [] => d.text = format!("I could not {} earlier.", tree.description(x)),
+                    [] => d.text = format!("I could not {} earlier.", tree.spoken(x)),
                     [f] => {
-                        d.text.push_str(&format!(
-                            "{} failed, before btx attached.",
-                            tree.description(f)
-                        ));
+                        d.text
+                            .push_str(&format!("{} failed, before btx attached.", tree.spoken(f)));
                         d.failed_leaf = Some(f);
                         d.nodes.push(f);
                     }
@@ -124,8 +122,8 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
             d.text = format!(
                 "I am retrying for attempt {a} to {}. ",
                 rp.map_or_else(
-                    || tree.description(x).to_string(),
-                    |r| tree.description(r).to_string()
+                    || tree.spoken(x).to_string(),
+                    |r| tree.spoken(r).to_string()
                 )
             );
             d.nodes.extend(rp);
@@ -133,8 +131,8 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                 let fp = named_ancestor(tree, f).unwrap_or(x);
                 d.text.push_str(&format!(
                     "I could not {} because {} failed.",
-                    tree.description(fp),
-                    tree.description(f)
+                    tree.spoken(fp),
+                    tree.spoken(f)
                 ));
                 d.failed_leaf = Some(f);
                 d.nodes.extend([fp, f]);
@@ -157,7 +155,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                 if let Some(rp) = named_ancestor(tree, x) {
                     d.text.push_str(&format!(
                         " I am retrying for attempt {a} to {}.",
-                        tree.description(rp)
+                        tree.spoken(rp)
                     ));
                     d.nodes.push(rp);
                 }
@@ -186,7 +184,7 @@ fn failed_before(tree: &Tree, run: &At, p: Uid) -> Vec<Uid> {
 fn described(tree: &Tree, nodes: &[Uid]) -> String {
     let names: Vec<String> = nodes
         .iter()
-        .map(|&u| format!("{} (#{u})", tree.description(u)))
+        .map(|&u| format!("{} (#{u})", tree.spoken(u)))
         .collect();
     match names.as_slice() {
         [init @ .., last] if !init.is_empty() => format!("{} and {last}", init.join(", ")),
@@ -221,11 +219,11 @@ fn attached_unknown(tree: &Tree, run: &At, n: Uid, d: &mut Diagnosis) {
     d.text = match failed.as_slice() {
         [] => format!(
             "I cannot tell: I was already running {} (#{r}) when btx attached, and whether an attempt of it had failed before that, the statuses btx read do not say.",
-            tree.description(r)
+            tree.spoken(r)
         ),
         fs => format!(
             "I cannot tell: I was already running {} (#{r}) when btx attached, and {} had last failed before that; whether that was in this run of it, the statuses btx read do not say.",
-            tree.description(r),
+            tree.spoken(r),
             described(tree, fs)
         ),
     };
@@ -253,8 +251,8 @@ fn root_failure(tree: &Tree, run: &At, d: &mut Diagnosis) {
             d.nodes.extend([stopped, leaf]);
             format!(
                 "{} stopped because {} failed.",
-                tree.description(stopped),
-                tree.description(leaf)
+                tree.spoken(stopped),
+                tree.spoken(leaf)
             )
         }
         None => {
@@ -274,11 +272,10 @@ fn root_failure(tree: &Tree, run: &At, d: &mut Diagnosis) {
                 .unwrap_or(Tree::ROOT);
             d.nodes.push(deepest);
             match tree.node(deepest).builtin {
-                Some(Builtin::Timeout) => format!(
-                    "{} stopped because its time ran out.",
-                    tree.description(deepest)
-                ),
-                _ => format!("{} failed.", tree.description(deepest)),
+                Some(Builtin::Timeout) => {
+                    format!("{} stopped because its time ran out.", tree.spoken(deepest))
+                }
+                _ => format!("{} failed.", tree.spoken(deepest)),
             }
         }
     };
@@ -327,14 +324,14 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
                 let first = tree.node(fb).children[0];
                 parts.push(format!(
                     "When {} failed, I fell back to {}.",
-                    tree.description(first),
-                    tree.description(h)
+                    tree.spoken(first),
+                    tree.spoken(h)
                 ));
                 nodes.push(h);
             }
             None => parts.push(format!(
                 "When {} failed, I fell back.",
-                tree.description(tree.node(fb).children[0])
+                tree.spoken(tree.node(fb).children[0])
             )),
         }
     }
@@ -355,7 +352,7 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
         };
         parts.push(format!(
             "I am retrying to {}: {} attempt{} failed, this is attempt {}{of}.",
-            tree.description(rp),
+            tree.spoken(rp),
             a,
             if *a == 1 { "" } else { "s" },
             a + 1
@@ -437,7 +434,7 @@ mod tests {
         let (text, nodes) = what_went_wrong(&s.tree, &at, 5);
         assert_eq!(
             text,
-            "I cannot tell: I was already running RetryUntilSuccessful (#2) when btx attached, and look (#4) had last failed before that; whether that was in this run of it, the statuses btx read do not say."
+            "I cannot tell: I was already running retry until successful (#2) when btx attached, and look (#4) had last failed before that; whether that was in this run of it, the statuses btx read do not say."
         );
         assert_eq!(nodes, [2, 4]);
         // Not "Yes.": the run does not say that anything went wrong.

@@ -36,7 +36,7 @@ const NO_GOAL: &str = "Sorry. I don't have a named goal.";
 
 /// Algorithm 1.
 fn q1(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
-    (format!("I {}.", tree.description(n)), vec![n])
+    (format!("I {}.", tree.spoken(n)), vec![n])
 }
 
 /// Q1 at a moment of a run: what is running then (every RUNNING leaf, as
@@ -45,14 +45,14 @@ fn q1(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
 pub fn doing_at(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
     let running = run.running_leaves(tree);
     if !running.is_empty() {
-        let names: Vec<&str> = running.iter().map(|&u| tree.description(u)).collect();
+        let names: Vec<String> = running.iter().map(|&u| tree.spoken(u)).collect();
         return (format!("I {}.", and_list(&names)), running);
     }
     let last = run.current();
     let last_text = |verb: &str| match last {
         Some(l) => format!(
             " The last thing I {verb} was {}{}.",
-            tree.description(l),
+            tree.spoken(l),
             match (run.halted(l), run.last_completed(l)) {
                 (true, _) => ", which was halted",
                 (_, Some(Status::Success)) => ", which succeeded",
@@ -68,7 +68,7 @@ pub fn doing_at(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
             nodes.push(Tree::ROOT);
             format!(
                 "I have finished: {} {}.{}",
-                tree.description(Tree::ROOT),
+                tree.spoken(Tree::ROOT),
                 match s {
                     Status::Success => "succeeded",
                     _ => "failed",
@@ -84,8 +84,9 @@ pub fn doing_at(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
 }
 
 /// "a", "a and b", "a, b and c".
-fn and_list(items: &[&str]) -> String {
-    match items {
+fn and_list<S: AsRef<str>>(items: &[S]) -> String {
+    let items: Vec<&str> = items.iter().map(AsRef::as_ref).collect();
+    match items.as_slice() {
         [] => String::new(),
         [a] => a.to_string(),
         [init @ .., last] => format!("{} and {last}", init.join(", ")),
@@ -95,7 +96,7 @@ fn and_list(items: &[&str]) -> String {
 /// Algorithm 2: the nearest non-decorator ancestor that has a name different
 /// from the node's.
 pub fn why_ancestor(tree: &Tree, n: Uid) -> Option<Uid> {
-    let d = tree.description(n);
+    let d = tree.spoken(n);
     tree.ancestors(n)
         .find(|&p| !tree.is_decorator(p) && tree.has_name(p) && tree.description(p) != d)
 }
@@ -103,21 +104,17 @@ pub fn why_ancestor(tree: &Tree, n: Uid) -> Option<Uid> {
 fn q2(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
     match why_ancestor(tree, n) {
         Some(p) => (
-            format!(
-                "I {} in order to {}.",
-                tree.description(n),
-                tree.description(p)
-            ),
+            format!("I {} in order to {}.", tree.spoken(n), tree.spoken(p)),
             vec![n, p],
         ),
         None if n == Tree::ROOT => (
-            format!("I {} because it is my goal.", tree.description(n)),
+            format!("I {} because it is my goal.", tree.spoken(n)),
             vec![n],
         ),
         None => (
             format!(
                 "Sorry. I don't know why I {}: no node above it has a name.",
-                tree.description(n)
+                tree.spoken(n)
             ),
             vec![n],
         ),
@@ -132,10 +129,7 @@ pub fn subgoal(tree: &Tree, n: Uid) -> Option<Uid> {
 
 fn q3(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
     match subgoal(tree, n) {
-        Some(p) => (
-            format!("My subgoal is to {}.", tree.description(p)),
-            vec![n, p],
-        ),
+        Some(p) => (format!("My subgoal is to {}.", tree.spoken(p)), vec![n, p]),
         None => (NO_SUBGOAL.to_string(), vec![n]),
     }
 }
@@ -147,7 +141,7 @@ pub fn goal(tree: &Tree) -> Option<Uid> {
 
 fn q4(tree: &Tree) -> (String, Vec<Uid>) {
     match goal(tree) {
-        Some(g) => (format!("My goal is to {}.", tree.description(g)), vec![g]),
+        Some(g) => (format!("My goal is to {}.", tree.spoken(g)), vec![g]),
         None => (NO_GOAL.to_string(), vec![Tree::ROOT]),
     }
 }
@@ -157,12 +151,12 @@ fn q5(tree: &Tree, what: &str, g: Uid) -> (String, Vec<Uid>) {
     let s = steps(tree, g);
     let mut text = format!(
         "To achieve the {what} \"{}\", I need to do {} step{}.",
-        tree.description(g),
+        tree.spoken(g),
         s.len(),
         if s.len() == 1 { "" } else { "s" }
     );
     for (i, &x) in s.iter().enumerate() {
-        text.push_str(&format!(" {}. {}.", i + 1, tree.description(x)));
+        text.push_str(&format!(" {}. {}.", i + 1, tree.spoken(x)));
     }
     let mut nodes = vec![g];
     nodes.extend(s);

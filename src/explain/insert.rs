@@ -43,9 +43,8 @@ fn is_sequence_or_subtree(tree: &Tree, uid: Uid) -> bool {
 /// Every behaviour "X" names: the Sequences and SubTrees of that name in
 /// the whole tree, those in the current subgoal first, then in tree order.
 fn find_named(tree: &Tree, scope: Uid, x: &str) -> Vec<Uid> {
-    let matches = |u: Uid| {
-        is_sequence_or_subtree(tree, u) && tree.description(u).eq_ignore_ascii_case(x.trim())
-    };
+    let matches =
+        |u: Uid| is_sequence_or_subtree(tree, u) && tree.spoken(u).eq_ignore_ascii_case(x.trim());
     let (mut inside, outside): (Vec<Uid>, Vec<Uid>) = tree
         .descendants(Tree::ROOT)
         .filter(|&u| matches(u))
@@ -124,11 +123,7 @@ pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> 
                     named: n,
                     copy_of: ns,
                     after: p,
-                    answer: format!(
-                        "Yes. I will {} after {}.",
-                        tree.description(n),
-                        tree.description(p)
-                    ),
+                    answer: format!("Yes. I will {} after {}.", tree.spoken(n), tree.spoken(p)),
                 })
             }
             Err(why) => {
@@ -165,7 +160,7 @@ fn insertable(tree: &Tree, named: Uid, p: Uid) -> Result<Uid, String> {
     if tree.is_ancestor(ns, p) {
         return Err(format!(
             "it needs all of \"{}\" (#{ns}), which contains what I am doing now",
-            tree.description(ns)
+            tree.spoken(ns)
         ));
     }
     Ok(ns)

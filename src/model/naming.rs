@@ -24,6 +24,14 @@ impl Tree {
         }
     }
 
+    /// The node's description as words for a sentence: a name made of an
+    /// ID (`ComputePathToPose`, `ClearGlobalCostmap-Context`, `go_home`)
+    /// reads "compute path to pose", "clear global costmap (context)", "go
+    /// home"; a name with spaces is kept as written (the papers' trees).
+    pub fn spoken(&self, uid: Uid) -> String {
+        words(self.description(uid))
+    }
+
     /// Han's `has_name`. A SubTree always has one (its name, or its ID). Any
     /// other node has a name when its name is non-empty and is not just its
     /// type: v4 fills a missing name with the registration ID, and a v3 leaf
@@ -172,5 +180,83 @@ mod tests {
         assert!(same_words("Ask", "ask"));
         assert!(!same_words("ask", "asks"));
         assert!(!same_words("lift-torso", "lift torso"));
+    }
+}
+
+/// An identifier as words (see `Tree::spoken`); text with a space, or with
+/// nothing to split, is returned as it is.
+pub fn words(name: &str) -> String {
+    if name.contains(char::is_whitespace) || name.is_empty() {
+        return name.to_string();
+    }
+    let (head, tail) = match name.split_once('-') {
+        Some((h, t)) if !h.is_empty() && !t.is_empty() => (h, Some(t)),
+        _ => (name, None),
+    };
+    let split = |s: &str| -> Vec<String> {
+        let chars: Vec<char> = s.chars().collect();
+        let mut out: Vec<String> = Vec::new();
+        let mut cur = String::new();
+        for (i, &c) in chars.iter().enumerate() {
+            if c == '_' || c == '-' {
+                if !cur.is_empty() {
+                    out.push(std::mem::take(&mut cur));
+                }
+                continue;
+            }
+            let prev = i.checked_sub(1).map(|j| chars[j]);
+            let next = chars.get(i + 1).copied();
+            let boundary = c.is_uppercase()
+                && prev.is_some_and(|p| {
+                    p.is_lowercase()
+                        || p.is_ascii_digit()
+                        || (p.is_uppercase() && next.is_some_and(char::is_lowercase))
+                });
+            if boundary && !cur.is_empty() {
+                out.push(std::mem::take(&mut cur));
+            }
+            cur.push(c);
+        }
+        if !cur.is_empty() {
+            out.push(cur);
+        }
+        out.into_iter()
+            .map(|w| {
+                // An acronym stays as it is written (GPS, AMCL).
+                if w.chars().count() > 1 && w.chars().all(|c| !c.is_lowercase()) {
+                    w
+                } else {
+                    w.to_lowercase()
+                }
+            })
+            .collect()
+    };
+    let head_words = split(head);
+    if head_words.len() <= 1 && tail.is_none() && !name.contains('_') {
+        return name.to_string();
+    }
+    let mut out = head_words.join(" ");
+    if let Some(t) = tail {
+        out.push_str(&format!(" ({})", split(t).join(" ")));
+    }
+    out
+}
+
+#[cfg(test)]
+mod words_tests {
+    use super::words;
+
+    #[test]
+    fn ids_read_as_words() {
+        assert_eq!(words("ComputePathToPose"), "compute path to pose");
+        assert_eq!(
+            words("ClearGlobalCostmap-Context"),
+            "clear global costmap (context)"
+        );
+        assert_eq!(words("go_home"), "go home");
+        assert_eq!(words("IsGPSFixValid"), "is GPS fix valid");
+        assert_eq!(words("look at chuck"), "look at chuck");
+        assert_eq!(words("Sequence"), "Sequence");
+        assert_eq!(words("FollowPath"), "follow path");
     }
 }

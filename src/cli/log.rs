@@ -65,7 +65,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 };
                 // Rows held back (see `Grown`) are printed once the wait is
                 // over, even if the log did not grow since.
-                if let Some(s) = last.as_ref().filter(|_| fresh || grown.printed() == 0) {
+                if let Some(s) = last.as_ref().filter(|_| fresh || grown.held()) {
                     let only = match &node {
                         Some(p) => Some(pick_node(&s.tree, p)?),
                         None => None,
@@ -177,6 +177,8 @@ pub(super) struct Grown {
     header: bool,
     /// The tick of each row printed.
     ticks: Vec<u32>,
+    /// The first rows are waiting for more ticks.
+    held: bool,
 }
 
 /// Ticks a growing table waits for before its first rows.
@@ -185,6 +187,12 @@ const SETTLE_TICKS: usize = 8;
 impl Grown {
     pub fn printed(&self) -> usize {
         self.ticks.len()
+    }
+
+    /// Whether rows wait to be printed though the run did not grow: print
+    /// again once the wait is over.
+    pub fn held(&self) -> bool {
+        self.held
     }
 
     pub fn print(
@@ -196,9 +204,10 @@ impl Grown {
         settle: bool,
     ) {
         let rows = btx::export::log_rows(s, only, no_idle);
-        if settle && self.ticks.is_empty() {
+        if self.ticks.is_empty() && !self.header {
             let ticks = 1 + rows.windows(2).filter(|w| w[0].tick != w[1].tick).count();
-            if ticks < SETTLE_TICKS {
+            self.held = settle && ticks < SETTLE_TICKS;
+            if self.held {
                 return;
             }
         }

@@ -87,10 +87,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         // The first rows wait a little for the robot's tick period (see
         // `Grown`), never more than 2 s, and are printed then even if the
         // run did not grow since.
-        if let Some(s) = last
-            .as_ref()
-            .filter(|_| fresh || grown.printed() == 0 || done)
-        {
+        if let Some(s) = last.as_ref().filter(|_| fresh || grown.held()) {
             let settle = !done && first.is_some_and(|f| f.elapsed() < Duration::from_secs(2));
             grown.print(s, None, false, args.format, settle);
         }

@@ -121,10 +121,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
             let rp = named_ancestor(tree, x);
             d.text = format!(
                 "I am retrying for attempt {a} to {}. ",
-                rp.map_or_else(
-                    || tree.spoken(x).to_string(),
-                    |r| tree.spoken(r).to_string()
-                )
+                tree.spoken(rp.unwrap_or(x))
             );
             d.nodes.extend(rp);
             if let Some(f) = last_failed_leaf(tree, run, x, run.started_at(x)) {
@@ -186,10 +183,7 @@ fn described(tree: &Tree, nodes: &[Uid]) -> String {
         .iter()
         .map(|&u| format!("{} (#{u})", tree.spoken(u)))
         .collect();
-    match names.as_slice() {
-        [init @ .., last] if !init.is_empty() => format!("{} and {last}", init.join(", ")),
-        _ => names.concat(),
-    }
+    super::han::and_list(&names)
 }
 
 /// Nothing went wrong in what the run recorded, and the statuses read when

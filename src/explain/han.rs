@@ -84,7 +84,7 @@ pub fn doing_at(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
 }
 
 /// "a", "a and b", "a, b and c".
-fn and_list<S: AsRef<str>>(items: &[S]) -> String {
+pub(super) fn and_list<S: AsRef<str>>(items: &[S]) -> String {
     let items: Vec<&str> = items.iter().map(AsRef::as_ref).collect();
     match items.as_slice() {
         [] => String::new(),

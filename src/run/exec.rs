@@ -798,14 +798,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
                     PortValue::Literal(k) => self.bb.resolve(self.tree, n.scope, k),
                     v => self.bb.port_entry(self.tree, n.scope, v).expect("a key"),
                 };
-                let v = super::blackboard::typed_literal(&value);
-                self.bb.set(&entry, v.clone());
-                self.events.push(Event::Write {
-                    tick: self.tick,
-                    uid,
-                    entry,
-                    value: v,
-                });
+                self.write_entry(uid, entry, super::blackboard::typed_literal(&value));
                 Ok(Status::Success)
             }
             Builtin::UnsetBlackboard => {
@@ -1829,14 +1822,19 @@ impl<'t, L: Leaves> Executor<'t, L> {
             return;
         };
         if let Some(entry) = self.bb.port_entry(tree, n.scope, &p.value) {
-            self.bb.set(&entry, v.clone());
-            self.events.push(Event::Write {
-                tick: self.tick,
-                uid,
-                entry,
-                value: v,
-            });
+            self.write_entry(uid, entry, v);
         }
+    }
+
+    /// A node writes an entry: the blackboard, and the event of the run.
+    fn write_entry(&mut self, uid: Uid, entry: EntryId, v: Value) {
+        self.bb.set(&entry, v.clone());
+        self.events.push(Event::Write {
+            tick: self.tick,
+            uid,
+            entry,
+            value: v,
+        });
     }
 
     fn tick_repeat(&mut self, uid: Uid) -> R<Status> {

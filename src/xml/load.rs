@@ -4,7 +4,7 @@ use super::parse::{parse_document, Element};
 use crate::model::builtins::{self, Availability};
 use crate::model::*;
 use crate::source::{Located, Warning};
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
 /// How to read a file.
@@ -64,20 +64,12 @@ pub fn load_str(path: &Path, text: &str, opts: &LoadOptions) -> Result<Loaded, L
     l.own_files = l.files.len();
     if !opts.embedded {
         for m in &opts.models {
-            l.add_extra(m, "models file")?;
             // The file as read now or before (the tree file itself, say).
-            let key = std::fs::canonicalize(m).unwrap_or_else(|_| m.clone());
-            let read = l.files.iter().position(|f| {
-                std::fs::canonicalize(&f.path).unwrap_or_else(|_| f.path.clone()) == key
-            });
-            let has_models = |r: &Option<Element>| {
-                r.as_ref()
-                    .is_some_and(|r| r.children.iter().any(|c| c.tag == "TreeNodesModel"))
-            };
-            if read
-                .and_then(|i| l.roots.get(i))
-                .is_some_and(|r| !has_models(r))
-            {
+            let f = l.add_extra(m, "models file")?;
+            let has_models = l.roots[f]
+                .as_ref()
+                .is_some_and(|r| r.children.iter().any(|c| c.tag == "TreeNodesModel"));
+            if !has_models {
                 return Err(
                     Located::file(m, "--models: this file has no <TreeNodesModel>")
                         .with_help("give tree files that SubTrees call with --with"),
@@ -119,7 +111,8 @@ struct Loader {
     /// Warnings counted past `WARNINGS_MAX`.
     more_warnings: usize,
     files: Vec<SourceFile>,
-    seen: HashSet<PathBuf>,
+    /// Each file read, by its canonical path.
+    seen: HashMap<PathBuf, FileId>,
     /// Each file's `<root>` element, by file (file 0 is the one opened first).
     roots: Vec<Option<Element>>,
     defs: Vec<Def>,
@@ -215,13 +208,16 @@ impl Loader {
         });
     }
 
-    fn add_document(&mut self, path: PathBuf, text: String) -> Result<(), Located> {
+    /// Reads a document (once: a file read before is not read again); its
+    /// file id.
+    fn add_document(&mut self, path: PathBuf, text: String) -> Result<FileId, Located> {
         let key = std::fs::canonicalize(&path).unwrap_or_else(|_| path.clone());
-        if !self.seen.insert(key) {
-            return Ok(());
+        if let Some(&f) = self.seen.get(&key) {
+            return Ok(f);
         }
         let root = parse_document(&path, &text)?;
         let file = self.files.len();
+        self.seen.insert(key, file);
         self.files.push(SourceFile { path, text });
         if root.tag != "root" {
             return Err(self.err(
@@ -277,12 +273,12 @@ impl Loader {
             }
         }
         self.roots[file] = Some(root);
-        Ok(())
+        Ok(file)
     }
 
     /// A file given with `--models` or `--with`, read as a document of its
     /// own (a file already read, such as the tree itself, is read once).
-    fn add_extra(&mut self, path: &Path, what: &str) -> Result<(), Located> {
+    fn add_extra(&mut self, path: &Path, what: &str) -> Result<FileId, Located> {
         if self.files.len() >= INCLUDES_MAX {
             return Err(Located::file(
                 path,
@@ -340,7 +336,7 @@ impl Loader {
                 ),
             )
         })?;
-        self.add_document(path, text)
+        self.add_document(path, text).map(|_| ())
     }
 
     fn read_models(&mut self, file: FileId, el: &Element) {

@@ -540,6 +540,14 @@ fn nav2s_navigator_runs_and_its_recovery_is_explained() {
         assert!(ok, "{err}");
         (out, format!("{text}{err}"))
     };
+    // Han's Q2 skips a parent named as the node is (the RecoveryNode around
+    // ComputePathToPose), comparing the names as written.
+    let (ok, said, err) = btx(&["ask", &tree, "--models", &models, "--node", "#5", "q2"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        said,
+        "I compute path to pose in order to navigate with replanning.\n"
+    );
     let (_, text) = run("@default_action = 1RS\n@default_condition = S\n", "nominal");
     assert!(text.contains("root SUCCESS (root completed)"), "{text}");
     // FollowPath fails once; the goal is not updated, so the recovery

@@ -96,7 +96,8 @@ pub(super) fn and_list<S: AsRef<str>>(items: &[S]) -> String {
 /// Algorithm 2: the nearest non-decorator ancestor that has a name different
 /// from the node's.
 pub fn why_ancestor(tree: &Tree, n: Uid) -> Option<Uid> {
-    let d = tree.spoken(n);
+    // Han's rule compares the names as written.
+    let d = tree.description(n);
     tree.ancestors(n)
         .find(|&p| !tree.is_decorator(p) && tree.has_name(p) && tree.description(p) != d)
 }

@@ -43,8 +43,10 @@ fn is_sequence_or_subtree(tree: &Tree, uid: Uid) -> bool {
 /// Every behaviour "X" names: the Sequences and SubTrees of that name in
 /// the whole tree, those in the current subgoal first, then in tree order.
 fn find_named(tree: &Tree, scope: Uid, x: &str) -> Vec<Uid> {
-    let matches =
-        |u: Uid| is_sequence_or_subtree(tree, u) && tree.spoken(u).eq_ignore_ascii_case(x.trim());
+    // The name as written (what Han's rules compare).
+    let matches = |u: Uid| {
+        is_sequence_or_subtree(tree, u) && tree.description(u).eq_ignore_ascii_case(x.trim())
+    };
     let (mut inside, outside): (Vec<Uid>, Vec<Uid>) = tree
         .descendants(Tree::ROOT)
         .filter(|&u| matches(u))

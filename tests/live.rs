@@ -290,6 +290,114 @@ fn attached_to_a_robot_already_running_btx_knows_each_node_as_it_was() {
 }
 
 #[test]
+fn after_a_full_buffer_every_nodes_state_is_read_again() {
+    // btx is stopped (SIGSTOP) for 1 s while a busy robot runs, as a
+    // loaded machine may stop it: the server's buffer of 1,000 transitions
+    // overflows. The first Repeat (#2) ends meanwhile, and nothing of it is
+    // received after. The gap is said, every node's state is read again
+    // (`S`), and from there each node has the status the robot's own log
+    // says, and each transition the status it really left.
+    let leaves = "<AlwaysSuccess/>".repeat(50);
+    let xml = format!(
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><Repeat num_cycles="160"><Sequence>{leaves}</Sequence></Repeat><Repeat num_cycles="-1"><Sequence>{leaves}</Sequence></Repeat></Sequence></BehaviorTree></root>"#
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("busy.xml");
+    let plan = dir.path().join("busy.plan");
+    std::fs::write(&tree, xml).unwrap();
+    std::fs::write(&plan, "").unwrap();
+    let btlog = dir.path().join("busy.btlog");
+    let out = dir.path().join("busy.jsonl");
+    let w = watch_robot(
+        &tree,
+        &plan,
+        &btlog,
+        &["5", "stdin", "400"],
+        &["--out", out.to_str().unwrap()],
+        None,
+        &|port| {
+            std::thread::sleep(Duration::from_millis(300));
+            let pid = Command::new("pgrep")
+                .args(["-f", &format!("watch :{port} ")])
+                .output()
+                .unwrap();
+            let pid = String::from_utf8(pid.stdout).unwrap();
+            let pid = pid.trim();
+            assert!(!pid.is_empty() && !pid.contains('\n'), "btx's pid: {pid:?}");
+            Command::new("kill").args(["-STOP", pid]).status().unwrap();
+            std::thread::sleep(Duration::from_millis(1000));
+            Command::new("kill").args(["-CONT", pid]).status().unwrap();
+        },
+    );
+    let err = w.stderr;
+    assert!(w.ok, "{err}");
+    assert!(err.contains("was full"), "{err}");
+    let (logged, watched) = (session(&btlog), session(&out));
+    let (l, all) = (&logged.index.transitions, &watched.index.transitions);
+    let resyncs = watched.index.resyncs();
+    let &(read, _) = resyncs.iter().find(|r| r.0 > 0).expect("a resync");
+    let read = read as usize;
+    assert!(
+        watched
+            .index
+            .gaps
+            .iter()
+            .any(|g| g.0 as usize == read - 1000
+                && g.1.contains("was full")
+                && g.1.contains("read every node's state again")),
+        "{:?}",
+        watched.index.gaps
+    );
+    // Where the 1,000 received with the full buffer are in the robot's log.
+    let key = |t: &btx::session::Transition| (t.uid, t.status);
+    let got: Vec<_> = all[read - 1000..read].iter().map(key).collect();
+    let j = (0..l.len() - 1000)
+        .find(|&j| l[j..j + 1000].iter().map(key).eq(got.iter().copied()))
+        .expect("the records of the full buffer are in the robot's log");
+    // From the read to the next gap, if any (BehaviorTree.CPP 4.8's race,
+    // see `Watch::take`), every transition is the robot's, its `prev`
+    // included: those of each node's first transition come from the read.
+    let end = watched
+        .index
+        .gaps
+        .iter()
+        .map(|g| g.0 as usize)
+        .find(|&g| g > read)
+        .unwrap_or(all.len());
+    assert!(
+        end - read >= 1000,
+        "{} transitions after the read",
+        end - read
+    );
+    let full = |t: &btx::session::Transition| (t.uid, t.prev, t.status);
+    let there = j + 1000 + end - read;
+    assert_eq!(
+        all[read..end].iter().map(full).collect::<Vec<_>>(),
+        l[j + 1000..there].iter().map(full).collect::<Vec<_>>()
+    );
+    let ended = |ts: &[btx::session::Transition]| {
+        ts.iter()
+            .any(|t| t.uid == 2 && t.status == btx::run::Status::Success)
+    };
+    // It ended among the transitions lost, before those of the full buffer.
+    assert!(
+        !ended(all) && ended(&l[..j]),
+        "the first Repeat ended while btx was stopped"
+    );
+    let (here, there) = (watched.index.at(end as u32), logged.index.at(there as u32));
+    for u in 1..=logged.tree.len() as u32 {
+        assert_eq!(here.status(u), there.status(u), "#{u}");
+    }
+    // The table says so.
+    let (ok, table, _) = common::btx(&["log", watched.path.to_str().unwrap()]);
+    assert!(ok);
+    assert!(
+        table.contains("btx read every node's state again"),
+        "{table}"
+    );
+}
+
+#[test]
 fn ask_live_answers_about_the_present_and_disturbs_no_recording() {
     // The robot ticks every 100 ms with look at chuck failing once, while
     // `btx watch` records it. `btx ask --live` reads only the statuses now

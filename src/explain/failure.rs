@@ -94,15 +94,19 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                     // The leaf that failed has succeeded since (a later attempt).
                     [] => d.text = format!("I could not {} earlier.", tree.spoken(x)),
                     [f] => {
-                        d.text
-                            .push_str(&format!("{} failed, before btx attached.", tree.spoken(f)));
+                        d.text.push_str(&format!(
+                            "{} failed, {}.",
+                            tree.spoken(f),
+                            before_read(run)
+                        ));
                         d.failed_leaf = Some(f);
                         d.nodes.push(f);
                     }
                     ref fs => {
                         d.text.push_str(&format!(
-                            "one of {} failed, before btx attached (which one, the statuses it read do not say).",
-                            described(tree, fs)
+                            "one of {} failed, {} (which one, the statuses it read do not say).",
+                            described(tree, fs),
+                            before_read(run)
                         ));
                         d.nodes.extend(fs);
                     }
@@ -178,6 +182,26 @@ fn failed_before(tree: &Tree, run: &At, p: Uid) -> Vec<Uid> {
         .collect()
 }
 
+/// When btx last read every node's state rather than followed it: when it
+/// attached to a running robot, or after a gap.
+fn when_read(run: &At) -> String {
+    match run.index.resync_at(run.pos) {
+        Some((0, _)) | None => "when btx attached".into(),
+        Some((p, _)) => {
+            format!("when btx read the statuses again after a gap (after transition {p})")
+        }
+    }
+}
+
+fn before_read(run: &At) -> String {
+    match run.index.resync_at(run.pos) {
+        Some((0, _)) | None => "before btx attached".into(),
+        Some((p, _)) => {
+            format!("before btx read the statuses again after a gap (after transition {p})")
+        }
+    }
+}
+
 fn described(tree: &Tree, nodes: &[Uid]) -> String {
     let names: Vec<String> = nodes
         .iter()
@@ -193,16 +217,16 @@ fn described(tree: &Tree, nodes: &[Uid]) -> String {
 /// rather than "Nothing went wrong", naming the leaves below it whose last
 /// completion then was FAILURE.
 fn attached_unknown(tree: &Tree, run: &At, n: Uid, d: &mut Diagnosis) {
-    if !run.index.attached() {
+    let Some((read, _)) = run.index.resync_at(run.pos) else {
         return;
-    }
+    };
     let mut p = tree.parent(n);
     let mut retry = None;
     while let Some(x) = p {
         if tree.node(x).kind == Kind::SubTree {
             break;
         }
-        if is_retry(tree, x) && run.started_at(x) == 0 && run.status(x) == Status::Running {
+        if is_retry(tree, x) && run.started_at(x) <= read && run.status(x) == Status::Running {
             retry = Some(x);
             break;
         }
@@ -212,12 +236,14 @@ fn attached_unknown(tree: &Tree, run: &At, n: Uid, d: &mut Diagnosis) {
     let failed = failed_before(tree, run, r);
     d.text = match failed.as_slice() {
         [] => format!(
-            "I cannot tell: I was already running {} (#{r}) when btx attached, and whether an attempt of it had failed before that, the statuses btx read do not say.",
-            tree.spoken(r)
+            "I cannot tell: I was already running {} (#{r}) {}, and whether an attempt of it had failed before that, the statuses btx read do not say.",
+            tree.spoken(r),
+            when_read(run)
         ),
         fs => format!(
-            "I cannot tell: I was already running {} (#{r}) when btx attached, and {} had last failed before that; whether that was in this run of it, the statuses btx read do not say.",
+            "I cannot tell: I was already running {} (#{r}) {}, and {} had last failed before that; whether that was in this run of it, the statuses btx read do not say.",
             tree.spoken(r),
+            when_read(run),
             described(tree, fs)
         ),
     };
@@ -374,8 +400,9 @@ mod tests {
         <AlwaysFailure name="look"/><AlwaysSuccess name="grasp"/></Sequence></RetryUntilSuccessful>
         <AlwaysSuccess name="leave"/></Sequence></BehaviorTree></root>"#;
 
-    fn attached(records: &[(u32, Status)]) -> crate::session::Session {
-        let before = [
+    /// The states of `attached`'s robot when recording began.
+    fn states() -> Vec<Before> {
+        vec![
             Before {
                 uid: 1,
                 status: Status::Running,
@@ -401,8 +428,11 @@ mod tests {
                 status: Status::Running,
                 done: None,
             },
-        ];
-        let recs: Vec<Record> = records
+        ]
+    }
+
+    fn records(records: &[(u32, Status)]) -> Vec<Record> {
+        records
             .iter()
             .enumerate()
             .map(|(i, &(uid, status))| Record {
@@ -411,8 +441,59 @@ mod tests {
                 status,
                 offset: i,
             })
-            .collect();
-        crate::logs::open_live(std::path::Path::new("live"), XML, &recs, &before).unwrap()
+            .collect()
+    }
+
+    fn attached(recs: &[(u32, Status)]) -> crate::session::Session {
+        crate::logs::open_live(
+            std::path::Path::new("live"),
+            XML,
+            &records(recs),
+            &[(0, states())],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn after_a_gap_the_states_read_again_are_the_runs() {
+        // Recorded from the start until the Retry's first attempt began;
+        // then transitions were lost, and the states read again are those
+        // of `attached` (A failed in attempt 1, B runs in attempt 2); then
+        // B succeeds.
+        let recs = records(&[
+            (1, Status::Running),
+            (2, Status::Running),
+            (3, Status::Running),
+            (4, Status::Running),
+            (5, Status::Running),
+            (5, Status::Success),
+        ]);
+        let s = crate::logs::open_live(std::path::Path::new("live"), XML, &recs, &[(4, states())])
+            .unwrap();
+        let at = |pos| At {
+            index: &s.index,
+            pos,
+        };
+        assert_eq!(at(4).status(4), Status::Idle);
+        assert_eq!(at(4).last_completed(4), Some(Status::Failure));
+        assert_eq!(at(3).last_completed(4), None);
+        let (text, nodes) = what_went_wrong(&s.tree, &at(4), 5);
+        assert_eq!(
+            text,
+            "I cannot tell: I was already running retry until successful (#2) when btx read the statuses again after a gap (after transition 4), and look (#4) had last failed before that; whether that was in this run of it, the statuses btx read do not say."
+        );
+        assert_eq!(nodes, [2, 4]);
+        // B's RUNNING the read already showed left what the records
+        // followed (IDLE); its SUCCESS left RUNNING.
+        let prev: Vec<_> = s.index.transitions[4..].iter().map(|t| t.prev).collect();
+        assert_eq!(prev, [Status::Idle, Status::Running]);
+        // Written and read back, the session keeps the read and its place.
+        let dir = tempfile::tempdir().unwrap();
+        let out = crate::logs::write_session(&s, &dir.path().join("s.jsonl")).unwrap();
+        let back = crate::session::Session::load(&out).unwrap();
+        assert_eq!(back.index.resyncs(), s.index.resyncs());
+        assert_eq!(back.index.resyncs()[0].0, 4);
+        assert_eq!(back.index.at(4).last_completed(4), Some(Status::Failure));
     }
 
     #[test]

@@ -43,9 +43,10 @@ pub struct Watch {
     /// Per record, µs from the transition on the robot to its arrival here
     /// (both clocks are the robot's and this machine's wall clocks).
     pub latency_us: Vec<i64>,
-    /// The nodes' states when recording began (empty: the robot had not
-    /// started).
-    pub before: Vec<Before>,
+    /// The nodes' states read from the robot, and after how many records:
+    /// when recording began (at 0; none when the robot had not started) and
+    /// after each gap.
+    pub resyncs: Vec<(usize, Vec<Before>)>,
 }
 
 /// How many times btx starts recording before it takes the statuses as
@@ -100,6 +101,9 @@ fn attach_once(c: &mut Client) -> Result<Attached, LiveError> {
     })
 }
 
+/// What a gap's reason says when btx read the statuses again after it.
+const RESYNCED: &str = "; btx read every node's state again from the robot";
+
 /// A UUID as text.
 pub fn uuid_text(u: &[u8; 16]) -> String {
     u.iter().map(|b| format!("{b:02x}")).collect()
@@ -136,7 +140,11 @@ impl Watch {
             taken: 0,
             gaps,
             latency_us: Vec::new(),
-            before,
+            resyncs: if before.is_empty() {
+                Vec::new()
+            } else {
+                vec![(0, before)]
+            },
         };
         w.take(first);
         Ok(w)
@@ -166,16 +174,37 @@ impl Watch {
         };
         let got = c.transitions().map(|ts| (ts, c.uuid));
         match got {
-            Ok((ts, uuid)) => {
-                if uuid != self.uuid {
-                    self.gap("the robot restarted (its tree UUID changed)".into());
-                    self.uuid = uuid;
+            Ok((ts, uuid)) if uuid != self.uuid => {
+                // The socket reconnected on its own to a robot that started
+                // again: its recording is not started and its tree may be
+                // another.
+                self.gap(format!(
+                    "the robot restarted (its tree UUID changed){RESYNCED}"
+                ));
+                self.uuid = uuid;
+                let n = self.take(ts);
+                self.rejoin().map(|k| n + k)
+            }
+            Ok((ts, _)) => {
+                let n = self.take(ts);
+                if n >= SERVER_BUFFER {
+                    // The statuses now, as the lost transitions left them.
+                    let states = self.client.as_mut().map(|c| c.states());
+                    match states {
+                        Some(Ok(states)) => self.resyncs.push((self.received(), states)),
+                        Some(Err(e)) => {
+                            self.client = None;
+                            self.gap(format!("the connection dropped ({e})"));
+                            return Err(e);
+                        }
+                        None => {}
+                    }
                 }
-                Ok(self.take(ts))
+                Ok(n)
             }
             Err(e) => {
                 self.client = None;
-                self.gap(format!("the connection dropped ({e})"));
+                self.gap(format!("the connection dropped ({e}); btx reads every node's state again once it reconnects"));
                 Err(e)
             }
         }
@@ -184,7 +213,7 @@ impl Watch {
     /// Keeps the transitions of a `t` reply; how many came.
     fn take(&mut self, ts: Vec<groot2::Transition>) -> usize {
         if ts.len() >= SERVER_BUFFER {
-            self.gap(format!("the server's buffer of {SERVER_BUFFER} transitions was full: older ones may be lost"));
+            self.gap(format!("the server's buffer of {SERVER_BUFFER} transitions was full: older ones may be lost{RESYNCED} after these {SERVER_BUFFER}"));
         }
         let n = ts.len();
         // BehaviorTree.CPP 4.8's publisher sizes its reply before it locks
@@ -219,20 +248,49 @@ impl Watch {
 
     fn reconnect(&mut self) -> Result<(), LiveError> {
         let mut c = Client::connect(&self.endpoint, TIMEOUT)?;
-        let xml = c.tree_xml()?;
-        if xml != self.xml {
-            return Err(LiveError(format!(
-                "{}: the robot now runs another tree; watch it anew",
-                self.endpoint
-            )));
-        }
-        self.t0 = c.start_recording()?;
+        // The reply's header says the tree's UUID.
+        c.tree_xml()?;
         if c.uuid != self.uuid {
-            self.gap("the robot restarted (its tree UUID changed)".into());
+            self.gap(format!(
+                "the robot restarted (its tree UUID changed){RESYNCED}"
+            ));
             self.uuid = c.uuid;
         }
         self.client = Some(c);
-        Ok(())
+        self.rejoin().map(|_| ())
+    }
+
+    /// Joins the run again after a gap, as when watching began: checks the
+    /// tree is the same, starts recording, and reads every node's state
+    /// (`attach`); how many transitions came with it.
+    fn rejoin(&mut self) -> Result<usize, LiveError> {
+        let c = self
+            .client
+            .as_mut()
+            .ok_or_else(|| LiveError("not connected".into()))?;
+        let joined = c.tree_xml().and_then(|xml| {
+            if xml == self.xml {
+                attach(c)
+            } else {
+                Err(LiveError(format!(
+                    "{}: the robot now runs another tree; watch it anew",
+                    self.endpoint
+                )))
+            }
+        });
+        match joined {
+            Ok(Attached {
+                t0, before, first, ..
+            }) => {
+                self.t0 = t0;
+                self.resyncs.push((self.received(), before));
+                Ok(self.take(first))
+            }
+            Err(e) => {
+                self.client = None;
+                Err(e)
+            }
+        }
     }
 }
 
@@ -245,7 +303,7 @@ pub fn snapshot(endpoint: &str) -> Result<Session, LiveError> {
     let xml = c.tree_xml()?;
     let before = c.states()?;
     let name = std::path::PathBuf::from(format!("groot2://{endpoint}"));
-    crate::logs::open_live(&name, &xml, &[], &before)
+    crate::logs::open_live(&name, &xml, &[], &[(0, before)])
         .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))
 }
 
@@ -318,6 +376,7 @@ struct Batch {
     records: Vec<Record>,
     latency_us: Vec<i64>,
     gaps: Vec<Gap>,
+    resyncs: Vec<(usize, Vec<Before>)>,
     status: LiveStatus,
 }
 
@@ -335,7 +394,7 @@ pub struct Feed {
     /// The tree's XML, the nodes' states when recording began, and the
     /// whole run so far.
     xml: String,
-    before: Vec<Before>,
+    resyncs: Vec<(usize, Vec<Before>)>,
     pub records: Vec<Record>,
     pub gaps: Vec<Gap>,
     /// Per record, µs from the robot to here (see `Watch::latency_us`).
@@ -366,14 +425,14 @@ impl Feed {
     pub fn start(endpoint: &str, out: Option<std::path::PathBuf>) -> Result<Feed, LiveError> {
         let mut w = Watch::start(endpoint)?;
         // The tree is checked now, not at the first transition.
-        crate::logs::open_live(std::path::Path::new(endpoint), &w.xml, &[], &w.before)
+        crate::logs::open_live(std::path::Path::new(endpoint), &w.xml, &[], &w.resyncs)
             .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
         let (tx, rx) = std::sync::mpsc::channel();
         let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let halt = std::sync::Arc::clone(&stop);
         let status = w.status(0.0, None);
         let xml = w.xml.clone();
-        let before = w.before.clone();
+        let resyncs = w.resyncs.clone();
         let blackboards = std::sync::Arc::new(std::sync::Mutex::new(Blackboards::default()));
         let shared = std::sync::Arc::clone(&blackboards);
         let thread = std::thread::Builder::new()
@@ -381,6 +440,7 @@ impl Feed {
             .spawn(move || {
                 let mut rate = (std::time::Instant::now(), 0usize, 0.0f64);
                 let (mut sent, mut gaps_sent) = (0usize, 0usize);
+                let mut resyncs_sent = w.resyncs.len();
                 let mut last = std::time::Instant::now();
                 let mut polled = std::time::Instant::now();
                 let mut every = POLL_MIN;
@@ -416,9 +476,11 @@ impl Feed {
                             records: w.take_records(),
                             latency_us: std::mem::take(&mut w.latency_us),
                             gaps: w.gaps[gaps_sent..].to_vec(),
+                            resyncs: w.resyncs[resyncs_sent..].to_vec(),
                             status: w.status(rate.2, error.clone()),
                         };
                         (sent, gaps_sent) = (n, w.gaps.len());
+                        resyncs_sent = w.resyncs.len();
                         if tx.send(batch).is_err() || halting {
                             break;
                         }
@@ -438,7 +500,7 @@ impl Feed {
             status,
             blackboards,
             xml,
-            before,
+            resyncs,
             records: Vec::new(),
             gaps: Vec::new(),
             latency_us: Vec::new(),
@@ -454,6 +516,7 @@ impl Feed {
         self.records.extend(b.records);
         self.latency_us.extend(b.latency_us);
         self.gaps.extend(b.gaps);
+        self.resyncs.extend(b.resyncs);
         self.status = b.status;
         grew
     }
@@ -512,7 +575,7 @@ impl Feed {
     /// with each gap as a warning at its place.
     pub fn session(&self) -> Result<Session, Located> {
         let name = std::path::PathBuf::from(format!("groot2://{}", self.status.endpoint));
-        let mut s = crate::logs::open_live(&name, &self.xml, &self.records, &self.before)?;
+        let mut s = crate::logs::open_live(&name, &self.xml, &self.records, &self.resyncs)?;
         s.index.gaps = self
             .gaps
             .iter()

@@ -149,15 +149,29 @@ impl Replay {
     /// states the run was recorded from.
     fn statuses(&self, pos: usize) -> Vec<u8> {
         let idx = &self.session.index;
-        let mut code: Vec<u8> = (1..=self.session.tree.len() as u32)
-            .map(|u| match idx.before(u) {
-                (Status::Idle, Some(done)) => 10 + done.code(),
-                (s, _) => s.code(),
-            })
-            .collect();
-        for t in &idx.transitions[..pos] {
-            let c = &mut code[t.uid as usize - 1];
-            *c = super::groot2::code_after(*c, t.status);
+        let of = |state: (Status, Option<Status>)| match state {
+            (Status::Idle, Some(done)) => 10 + done.code(),
+            (s, _) => s.code(),
+        };
+        let nodes = self.session.tree.len();
+        let mut code: Vec<u8> = (1..=nodes as u32).map(|u| of(idx.before(u))).collect();
+        let resyncs = idx.resyncs();
+        let mut next = resyncs.iter().filter(|r| r.0 > 0).peekable();
+        let read = |states: &[crate::session::Before]| {
+            let mut code = vec![10; nodes];
+            for b in states {
+                code[b.uid as usize - 1] = of((b.status, b.done));
+            }
+            code
+        };
+        for i in 0..=pos {
+            while let Some((_, states)) = next.next_if(|r| r.0 as usize <= i) {
+                code = read(states);
+            }
+            if let Some(t) = idx.transitions[..pos].get(i) {
+                let c = &mut code[t.uid as usize - 1];
+                *c = super::groot2::code_after(*c, t.status);
+            }
         }
         let mut out = Vec::with_capacity(3 * code.len());
         for (i, c) in code.iter().enumerate() {

@@ -24,7 +24,7 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             version: crate::model::Version::V4,
             records: &raw.records,
             kind: "btlog",
-            before: &[],
+            resyncs: &[],
         },
         &|o| format!("byte offset {o}"),
     )
@@ -33,14 +33,14 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
 /// A run received live over the Groot2 protocol (`crate::live`) as a
 /// session: the tree from the server's XML and ticks reconstructed, by the
 /// same code as a `.btlog`'s. `name` names the endpoint in messages; a
-/// record's `offset` is its place in the run; `before`, the nodes' states
-/// when recording began (from the server's `S`), when the robot was
-/// running then.
+/// record's `offset` is its place in the run; `resyncs`, the nodes' states
+/// read from the server (`S`) and how many records came before each: at 0
+/// when the robot was running when recording began, and after gaps.
 pub fn open_live(
     name: &Path,
     xml: &str,
     records: &[btlog::Record],
-    before: &[crate::session::Before],
+    resyncs: &[(usize, Vec<crate::session::Before>)],
 ) -> Result<Session, Located> {
     let mut s = session_from(
         name,
@@ -51,11 +51,13 @@ pub fn open_live(
             version: crate::model::Version::V4,
             records,
             kind: "groot2",
-            before,
+            resyncs,
         },
         &|o| format!("transition {}", o + 1),
     )?;
-    s.header.before = before.to_vec();
+    if let Some((0, before)) = resyncs.first() {
+        s.header.before = before.clone();
+    }
     Ok(s)
 }
 
@@ -72,7 +74,7 @@ pub fn open_db3(path: &Path, which: Option<i64>) -> Result<Session, Located> {
             version: crate::model::Version::V4,
             records: &raw.records,
             kind: "db3",
-            before: &[],
+            resyncs: &[],
         },
         &|o| format!("table Transitions, session {id}, row {o}"),
     )?;
@@ -117,7 +119,7 @@ pub fn open_fbl(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             version: crate::model::Version::V3,
             records: &records,
             kind: "fbl",
-            before: &[],
+            resyncs: &[],
         },
         &|o| format!("byte offset {o}"),
     )
@@ -132,8 +134,9 @@ struct LogRun<'a> {
     version: crate::model::Version,
     records: &'a [btlog::Record],
     kind: &'a str,
-    /// The nodes' states when recording began (empty: all IDLE).
-    before: &'a [crate::session::Before],
+    /// The nodes' states read from the robot, after how many records (at
+    /// 0: when recording began; none: all IDLE then).
+    resyncs: &'a [(usize, Vec<crate::session::Before>)],
 }
 
 /// A log's run as a session; `place` names where a record is (a byte
@@ -150,7 +153,7 @@ fn session_from(
         version,
         records,
         kind,
-        before,
+        resyncs,
     } = run;
     let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
     let tree = load_str(
@@ -208,13 +211,32 @@ fn session_from(
         });
     }
     let mut index = Index::new(tree.len());
-    index.set_before(before);
-    let mut status: Vec<Status> = (1..=tree.len() as crate::Uid)
-        .map(|u| index.before(u).0)
-        .collect();
-    for (r, &t) in records.iter().zip(&ticks) {
-        let prev = status[(r.uid - 1) as usize];
-        status[(r.uid - 1) as usize] = r.status;
+    // Each node's status as the records follow it, and as last read.
+    let mut followed = vec![Status::Idle; tree.len()];
+    let mut status = followed.clone();
+    let mut next = resyncs.iter().peekable();
+    for (i, (r, &t)) in records.iter().zip(&ticks).enumerate() {
+        while let Some((_, states)) = next.next_if(|(at, _)| *at <= i) {
+            if i == 0 {
+                index.set_before(states);
+            } else {
+                index.push_resync(states);
+            }
+            status.fill(Status::Idle);
+            for b in states.iter().filter(|b| tree.get(b.uid).is_some()) {
+                status[(b.uid - 1) as usize] = b.status;
+            }
+        }
+        let u = (r.uid - 1) as usize;
+        // A status the read already showed: the read came after this
+        // transition, which left the status the records followed.
+        let prev = if status[u] == r.status {
+            followed[u]
+        } else {
+            status[u]
+        };
+        status[u] = r.status;
+        followed[u] = r.status;
         index.push_transition(
             &tree,
             Transition {
@@ -225,6 +247,13 @@ fn session_from(
             },
             None,
         );
+    }
+    for (at, states) in next {
+        if *at == 0 {
+            index.set_before(states);
+        } else {
+            index.push_resync(states);
+        }
     }
     let header = import_header(path, &tree, version, kind, Vec::new());
     Ok(Session {
@@ -379,10 +408,17 @@ pub fn write_final(s: &Session, out: &Path) -> Result<PathBuf, Located> {
 fn write_events(s: &Session, w: &mut crate::session::SessionWriter) -> Result<(), Located> {
     let idx = &s.index;
     let (mut wi, mut di, mut gi) = (0, 0, 0);
+    // The states read when recording began are in the header.
+    let resyncs: Vec<_> = idx.resyncs().into_iter().filter(|r| r.0 > 0).collect();
+    let mut ri = 0;
     for (i, t) in idx.transitions.iter().enumerate() {
         while let Some((_, why)) = idx.gaps.get(gi).filter(|g| g.0 as usize <= i) {
             w.gap(t.tick, why)?;
             gi += 1;
+        }
+        while let Some((_, states)) = resyncs.get(ri).filter(|r| r.0 as usize <= i) {
+            w.resync(idx.transitions[i - 1].tick, states)?;
+            ri += 1;
         }
         while let Some(x) = idx.writes.get(wi).filter(|x| x.pos as usize <= i) {
             w.event(&crate::run::Event::Write {
@@ -412,6 +448,9 @@ fn write_events(s: &Session, w: &mut crate::session::SessionWriter) -> Result<()
     }
     for (_, why) in &idx.gaps[gi..] {
         w.gap(idx.ticks().max(1), why)?;
+    }
+    for (_, states) in &resyncs[ri..] {
+        w.resync(idx.ticks().max(1), states)?;
     }
     Ok(())
 }

@@ -115,6 +115,14 @@ pub enum Record {
         step: u32,
         reason: String,
     },
+    /// Every node's state, read from the robot here (a live run, after a
+    /// gap): each node not IDLE-and-never-done, as `Header::before`.
+    #[serde(rename = "s")]
+    Resync {
+        tick: u32,
+        step: u32,
+        states: Vec<Before>,
+    },
     #[serde(rename = "end")]
     End {
         ticks: u32,
@@ -278,6 +286,16 @@ impl SessionWriter {
         })
     }
 
+    /// Every node's state as read from the robot here (`Record::Resync`).
+    pub fn resync(&mut self, tick: u32, states: &[Before]) -> Result<(), Located> {
+        let step = self.at(tick);
+        self.line(&Record::Resync {
+            tick,
+            step,
+            states: states.to_vec(),
+        })
+    }
+
     pub fn insert(
         &mut self,
         tick: u32,
@@ -363,6 +381,7 @@ struct Flat<'a> {
     after: Option<Uid>,
     first_uid: Option<Uid>,
     question: Option<String>,
+    states: Option<Vec<Before>>,
     ticks: Option<u32>,
     root: Option<Status>,
     transitions: Option<u64>,
@@ -447,6 +466,11 @@ pub fn parse_record(line: &str) -> Result<Record, String> {
             step: need(f.step, k, "step")?,
             reason: need(f.reason, k, "reason")?,
         },
+        "s" => Record::Resync {
+            tick: need(f.tick, k, "tick")?,
+            step: need(f.step, k, "step")?,
+            states: need(f.states, k, "states")?,
+        },
         "end" => Record::End {
             ticks: need(f.ticks, k, "ticks")?,
             root: need(f.root, k, "root")?,
@@ -508,6 +532,15 @@ mod tests {
                 tick: 6,
                 step: 1,
                 reason: "the connection dropped".into(),
+            },
+            Record::Resync {
+                tick: 6,
+                step: 1,
+                states: vec![Before {
+                    uid: 3,
+                    status: Status::Idle,
+                    done: Some(Status::Failure),
+                }],
             },
             Record::End {
                 ticks: 9,

@@ -121,6 +121,9 @@ impl<T> Changes<T> {
     }
 }
 
+/// A node's status and the status it last completed with, if known.
+pub type NodeState = (Status, Option<Status>);
+
 /// Positions count transitions applied: position 0 is before the first
 /// transition, position `k` is after the k-th.
 #[derive(Debug, Clone, Default)]
@@ -149,9 +152,11 @@ pub struct Index {
     /// Writes a leaf made during the call whose transition comes next: the
     /// blackboard shows them from that transition on, not before it.
     held: Vec<(Uid, EntryId, Value)>,
-    /// Per node, its status and last completion when recording began (a
-    /// run watched from its middle); empty: every node IDLE, never done.
-    before: Vec<(Status, Option<Status>)>,
+    /// Places where every node's state was read from the robot rather than
+    /// followed (a run watched from its middle, at position 0; again after
+    /// a gap), as (position, per node its status and last completion).
+    /// Empty: every node IDLE, never done, and followed from there.
+    resyncs: Vec<(u32, Vec<NodeState>)>,
 }
 
 /// A blackboard write made by a node during a tick, at a position.
@@ -178,8 +183,8 @@ impl Index {
     pub fn resize(&mut self, nodes: usize) {
         self.by_node.resize(nodes, Vec::new());
         self.completed.resize(nodes, Vec::new());
-        if !self.before.is_empty() {
-            self.before.resize(nodes, (Status::Idle, None));
+        for (_, states) in &mut self.resyncs {
+            states.resize(nodes, (Status::Idle, None));
         }
     }
 
@@ -187,33 +192,81 @@ impl Index {
     /// middle), before any transition is pushed. A uid outside the tree is
     /// left out.
     pub fn set_before(&mut self, before: &[crate::session::Before]) {
-        self.before.clear();
-        if before.is_empty() {
-            return;
+        self.resyncs.retain(|(p, _)| *p != 0);
+        if !before.is_empty() {
+            let states = self.states_of(before);
+            self.resyncs.insert(0, (0, states));
         }
-        self.before = vec![(Status::Idle, None); self.by_node.len()];
-        for b in before {
-            if let Some(x) = (b.uid as usize)
-                .checked_sub(1)
-                .and_then(|i| self.before.get_mut(i))
-            {
+    }
+
+    /// Every node's state as read from the robot here (after a gap in a
+    /// live run): from this position on, a node with no later transition
+    /// has it.
+    pub fn push_resync(&mut self, states: &[crate::session::Before]) {
+        let pos = self.transitions.len() as u32;
+        let states = self.states_of(states);
+        self.resyncs.retain(|(p, _)| *p != pos);
+        self.resyncs.push((pos, states));
+    }
+
+    fn states_of(&self, states: &[crate::session::Before]) -> Vec<(Status, Option<Status>)> {
+        let mut all = vec![(Status::Idle, None); self.by_node.len()];
+        for b in states {
+            if let Some(x) = (b.uid as usize).checked_sub(1).and_then(|i| all.get_mut(i)) {
                 *x = (b.status, b.done);
             }
         }
+        all
     }
 
     /// Whether the run was recorded from its middle: what came before
     /// recording began is known only as each node's state then.
     pub fn attached(&self) -> bool {
-        !self.before.is_empty()
+        self.resyncs.first().is_some_and(|(p, _)| *p == 0)
     }
 
     /// A node's status and last completion when recording began.
     pub fn before(&self, uid: Uid) -> (Status, Option<Status>) {
-        self.before
+        match self.resyncs.first() {
+            Some((0, states)) => Self::state_in(states, uid),
+            _ => (Status::Idle, None),
+        }
+    }
+
+    fn state_in(states: &[(Status, Option<Status>)], uid: Uid) -> (Status, Option<Status>) {
+        states
             .get((uid as usize).wrapping_sub(1))
             .copied()
             .unwrap_or((Status::Idle, None))
+    }
+
+    /// The last place at or before `pos` where the nodes' states were read
+    /// from the robot (`push_resync`), if any.
+    pub fn resync_at(&self, pos: u32) -> Option<(u32, &[NodeState])> {
+        let i = self.resyncs.partition_point(|(p, _)| *p <= pos);
+        i.checked_sub(1)
+            .map(|i| (self.resyncs[i].0, self.resyncs[i].1.as_slice()))
+    }
+
+    /// Every place where the nodes' states were read from the robot, with
+    /// the states read (as `Before`s: each node not IDLE-and-never-done).
+    pub fn resyncs(&self) -> Vec<(u32, Vec<crate::session::Before>)> {
+        self.resyncs
+            .iter()
+            .map(|(p, states)| {
+                let list = states
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, s)| **s != (Status::Idle, None))
+                    .map(|(i, &(status, done))| crate::session::Before {
+                        uid: i as Uid + 1,
+                        status,
+                        done,
+                    })
+                    .collect();
+                (*p, list)
+            })
+            .collect()
     }
 
     /// A transition, with the decision the leaf took in the same tick call.
@@ -416,11 +469,24 @@ impl At<'_> {
         i.checked_sub(1).map(|i| &list[i])
     }
 
+    /// The node's state read from the robot at the last resync, if no
+    /// transition of the node (among `list`, its transitions or its
+    /// completions) came after it up to this position.
+    fn resynced(&self, list: &[u32], uid: Uid) -> Option<(Status, Option<Status>)> {
+        let (at, states) = self.index.resync_at(self.pos)?;
+        Self::last_before(list, self.pos)
+            .is_none_or(|&p| p <= at)
+            .then(|| Index::state_in(states, uid))
+    }
+
     pub fn status(&self, uid: Uid) -> Status {
         let list = &self.index.by_node[(uid - 1) as usize];
+        if let Some((s, _)) = self.resynced(list, uid) {
+            return s;
+        }
         match Self::last_before(list, self.pos) {
             Some(&p) => self.index.transitions[p as usize - 1].status,
-            None => self.index.before(uid).0,
+            None => Status::Idle,
         }
     }
 
@@ -428,19 +494,18 @@ impl At<'_> {
     /// (for a run recorded from its middle, maybe before recording began).
     pub fn last_completed(&self, uid: Uid) -> Option<Status> {
         let list = &self.index.completed[(uid - 1) as usize];
-        Self::last_before(list, self.pos)
-            .map(|&p| self.index.transitions[p as usize - 1].status)
-            .or_else(|| self.done_before(uid))
+        if let Some((_, done)) = self.resynced(list, uid) {
+            return done;
+        }
+        Self::last_before(list, self.pos).map(|&p| self.index.transitions[p as usize - 1].status)
     }
 
-    /// The completion the node had when recording began, if it has not
-    /// completed since (at this position): known, but not when.
+    /// The completion the node had when its state was last read from the
+    /// robot (recording began, or a gap), if it has not completed since
+    /// (at this position): known, but not when.
     pub fn done_before(&self, uid: Uid) -> Option<Status> {
         let list = &self.index.completed[(uid - 1) as usize];
-        match Self::last_before(list, self.pos) {
-            Some(_) => None,
-            None => self.index.before(uid).1,
-        }
+        self.resynced(list, uid).and_then(|(_, done)| done)
     }
 
     /// Han's `failed`: the last completed status is FAILURE.
@@ -533,7 +598,7 @@ impl At<'_> {
         Some(self.index.current[self.pos as usize])
             .filter(|&u| u != 0)
             .or_else(|| {
-                (1..=self.index.before.len() as Uid)
+                (1..=self.index.by_node.len() as Uid)
                     .rev()
                     .find(|&u| self.index.before(u).0 == Status::Running)
             })

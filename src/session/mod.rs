@@ -272,6 +272,12 @@ impl Session {
                     });
                     index.gaps.push((at as u32, reason));
                 }
+                Record::Resync { states, .. } => {
+                    for b in &states {
+                        bad_uid(b.uid, &tree)?;
+                    }
+                    index.push_resync(&states);
+                }
                 Record::End {
                     ticks,
                     root,

@@ -398,6 +398,47 @@ fn after_a_full_buffer_every_nodes_state_is_read_again() {
 }
 
 #[test]
+fn the_partial_session_grows_tick_by_tick() {
+    // The kitting robot ticks every 50 ms (54 ticks); `SESSION.partial`,
+    // read every 25 ms while it runs, is a whole session each time and
+    // is seen at many lengths: it is written as the run grows, not once
+    // a second.
+    let dir = tempfile::tempdir().unwrap();
+    let btlog = dir.path().join("k.btlog");
+    let out = dir.path().join("k.jsonl");
+    let partial = btx::session::SessionWriter::partial_path(&out);
+    let seen = std::sync::Mutex::new(std::collections::BTreeSet::new());
+    let w = watch_robot(
+        &fixture("kitting-tree.v4.xml"),
+        &fixture("plans/kitting_nominal.plan"),
+        &btlog,
+        &["50", "stdin"],
+        &["--out", out.to_str().unwrap()],
+        None,
+        &|_| {
+            let start = Instant::now();
+            while start.elapsed() < Duration::from_millis(2500) {
+                if let Ok(s) = Session::load(&partial) {
+                    seen.lock().unwrap().insert(s.index.transitions.len());
+                }
+                std::thread::sleep(Duration::from_millis(25));
+            }
+        },
+    );
+    assert!(w.ok, "{}", w.stderr);
+    let seen = seen.into_inner().unwrap();
+    assert!(
+        seen.len() >= 20,
+        "the partial session had {} lengths: {seen:?}",
+        seen.len()
+    );
+    assert_eq!(
+        session(&out).index.transitions.len(),
+        session(&btlog).index.transitions.len()
+    );
+}
+
+#[test]
 fn ask_live_answers_about_the_present_and_disturbs_no_recording() {
     // The robot ticks every 100 ms with look at chuck failing once, while
     // `btx watch` records it. `btx ask --live` reads only the statuses now

@@ -11,7 +11,7 @@ pub struct Args {
     /// The robot's Groot2 server, `[HOST][:PORT]` (default 127.0.0.1:1667).
     #[arg(value_name = "[HOST][:PORT]")]
     pub endpoint: Option<String>,
-    /// Also keep the run as a session file: `SESSION.partial` holds the run so far (rewritten each second), SESSION the whole run once watching ends (Ctrl-C, or --for).
+    /// Also keep the run as a session file: `SESSION.partial` holds the run so far (rewritten as the run grows, at most every 20 ms), SESSION the whole run once watching ends (Ctrl-C, or --for).
     #[arg(long, value_name = "SESSION")]
     pub out: Option<PathBuf>,
     /// Stop after this many seconds.

@@ -400,7 +400,11 @@ pub struct Feed {
     /// Per record, µs from the robot to here (see `Watch::latency_us`).
     pub latency_us: Vec<i64>,
     out: Option<std::path::PathBuf>,
+    /// When `OUT.partial` was last written, how long writing it took, and
+    /// whether the run grew since.
     saved: std::time::Instant,
+    save_took: Duration,
+    unsaved: bool,
     /// Whether the run grew since the last session built, and when that was.
     dirty: bool,
     built: std::time::Instant,
@@ -415,12 +419,16 @@ pub struct Feed {
 pub const POLL_MIN: Duration = Duration::from_millis(5);
 pub const POLL_MAX: Duration = Duration::from_millis(25);
 const POLL_TARGET: f64 = 250.0;
-/// How often `OUT.partial` is written while the run grows.
-pub const SAVE: Duration = Duration::from_secs(1);
+/// `OUT.partial` is written again once the run grew and `SAVE_MIN` has
+/// passed since the last write (so after about every tick of a robot that
+/// ticks every 20 ms or slower), and ten times what that write took (it is
+/// written whole, as ticks may be counted anew: writing takes at most a
+/// tenth of the time however long the run grows).
+pub const SAVE_MIN: Duration = Duration::from_millis(20);
 
 impl Feed {
     /// Connects (an error is returned at once), then watches from a thread;
-    /// with `out`, the run is kept as `OUT.partial` (each second, by `poll`)
+    /// with `out`, the run is kept as `OUT.partial` (as it grows, by `poll`)
     /// and as `OUT` when the feed stops.
     pub fn start(endpoint: &str, out: Option<std::path::PathBuf>) -> Result<Feed, LiveError> {
         let mut w = Watch::start(endpoint)?;
@@ -506,6 +514,8 @@ impl Feed {
             latency_us: Vec::new(),
             out,
             saved: std::time::Instant::now(),
+            save_took: Duration::ZERO,
+            unsaved: false,
             dirty: false,
             built: std::time::Instant::now(),
         })
@@ -536,25 +546,26 @@ impl Feed {
     }
 
     /// Takes what the thread received; whether the run grew. With `out`,
-    /// writes `OUT.partial` at most each second (an error is said in the
-    /// status and tried again).
+    /// writes `OUT.partial` when it is due (`SAVE_MIN`; an error is said in
+    /// the status and tried again).
     pub fn poll(&mut self) -> bool {
         let mut grew = false;
         while let Ok(b) = self.rx.try_recv() {
             grew |= self.take(b);
         }
-        if let Some(out) = self
-            .out
-            .clone()
-            .filter(|_| self.saved.elapsed() >= SAVE && grew)
-        {
-            self.saved = std::time::Instant::now();
-            if let Err(e) = self
+        self.unsaved |= grew;
+        let due = self.unsaved && self.saved.elapsed() >= SAVE_MIN.max(self.save_took * 10);
+        if let Some(out) = self.out.clone().filter(|_| due) {
+            let started = std::time::Instant::now();
+            match self
                 .session()
                 .and_then(|s| crate::logs::write_partial(&s, &out))
             {
-                self.status.error = Some(e.to_string());
+                Ok(_) => self.unsaved = false,
+                Err(e) => self.status.error = Some(e.to_string()),
             }
+            self.saved = std::time::Instant::now();
+            self.save_took = started.elapsed();
         }
         grew
     }

@@ -573,3 +573,103 @@ fn nav2s_navigator_runs_and_its_recovery_is_explained() {
          When follow path failed, I fell back to follow path recovery fallback.\n"
     );
 }
+
+/// Every Nav2 navigator of the corpus (tests/fixtures/realworld/SOURCES),
+/// with Nav2's models file, runs to completion under default outcomes; the
+/// one that follows a point forever ends when FollowPath fails; where
+/// FollowPath has its own recovery, a failure of it runs the recovery, and
+/// "What went wrong?" names it.
+#[test]
+fn every_nav2_navigator_of_the_corpus_runs_and_explains_its_recovery() {
+    let dir = fixture("realworld/nav2");
+    let models = dir.join("nav2_tree_nodes.f875f62.xml");
+    let models = models.to_str().unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| !p.to_string_lossy().contains("tree_nodes"))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 10, "{names:?}");
+    let run = |tree: &std::path::Path, plan: &str, name: &str| {
+        let p = tmp.path().join(format!("{name}.plan"));
+        std::fs::write(&p, plan).unwrap();
+        let out = tmp.path().join(format!("{name}.jsonl"));
+        let (ok, text, err) = btx(&[
+            "run",
+            tree.to_str().unwrap(),
+            "--models",
+            models,
+            "--plan",
+            p.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{}: {err}", tree.display());
+        (out, format!("{text}{err}"))
+    };
+    let mut recovered = 0;
+    for (i, tree) in names.iter().enumerate() {
+        let name = tree.file_name().unwrap().to_string_lossy().to_string();
+        let xml = std::fs::read_to_string(tree).unwrap();
+        let defaults = "@default_action = 1RS\n@default_condition = S\n";
+        let (_, text) = if name == "follow_point.xml" {
+            // KeepRunningUntilFailure over FollowPath: it ends only then.
+            let (out, text) = run(
+                tree,
+                &format!("{defaults}FollowPath = 1RS, 1RS, 1RF\n"),
+                &format!("n{i}"),
+            );
+            assert!(
+                text.contains("root FAILURE (root completed)"),
+                "{name}: {text}"
+            );
+            (out, text)
+        } else {
+            let (out, text) = run(tree, defaults, &format!("n{i}"));
+            assert!(
+                text.contains("root SUCCESS (root completed)"),
+                "{name}: {text}"
+            );
+            (out, text)
+        };
+        // With the models, nothing is unknown; a v3 file is said to be one.
+        let warnings: Vec<_> = text
+            .lines()
+            .filter(|l| l.starts_with("warning:") && !l.contains("no BTCPP_format attribute"))
+            .collect();
+        assert!(warnings.is_empty(), "{name}: {warnings:?}");
+        if !xml.contains(r#"<RecoveryNode number_of_retries="1" name="FollowPath">"#) {
+            continue;
+        }
+        recovered += 1;
+        let (out, _) = run(
+            tree,
+            &format!("{defaults}FollowPath = 1RF, 1RS\nGoalUpdated = F\n"),
+            &format!("f{i}"),
+        );
+        let out = out.to_str().unwrap();
+        let (ok, log, _) = btx(&["log", out, "--format", "json"]);
+        assert!(ok);
+        let log: serde_json::Value = serde_json::from_str(&log).unwrap();
+        let rows = log["transitions"].as_array().unwrap();
+        let failed = rows
+            .iter()
+            .find(|r| r["node"] == "FollowPath" && r["status"] == "FAILURE")
+            .unwrap_or_else(|| panic!("{name}: FollowPath never failed"));
+        let tick = failed["tick"].as_u64().unwrap();
+        assert!(
+            rows.iter()
+                .any(|r| r["node"] == "ClearLocalCostmap-Context" && r["status"] == "RUNNING"),
+            "{name}: the recovery did not run"
+        );
+        let (ok, said, err) = btx(&["ask", out, "--at", &tick.to_string(), "wrong"]);
+        assert!(ok, "{err}");
+        assert_eq!(
+            said, "I could not follow path because follow path failed.\n",
+            "{name}"
+        );
+    }
+    assert!(recovered >= 2);
+}

@@ -377,3 +377,115 @@ r = S",
         "it starts where it succeeded"
     );
 }
+
+/// Nav2's decorators and later controls (nav2_behavior_tree/plugins/
+/// decorator and /control), followed by hand through their sources. What
+/// they read from the robot is a blackboard entry (`btx::run::exec::
+/// ROBOT_READINGS`), written here by scripts; time is the simulated clock
+/// (10 ms a tick).
+#[test]
+fn nav2s_decorators_run_as_nav2s_sources_do() {
+    // DistanceController: the child runs at the start, then once the
+    // robot has moved 1 m since it last succeeded (0.6 m a tick here): it
+    // is ticked again in tick 3, not 2, and fails then. (The children are
+    // conditions: an action that completed keeps its status when ticked
+    // again, as a StatefulActionNode does, and Nav2's decorators do not
+    // reset it.)
+    let moving = |inner: &str| {
+        format!(
+            r#"<Sequence><Script code="distance_travelled := 0.0; speed := 0.5"/><PipelineSequence name="p"><Script code="distance_travelled := distance_travelled + 0.6"/>{inner}<b name="b"/></PipelineSequence></Sequence>"#
+        )
+    };
+    let (t, roots) = run(
+        &moving(
+            r#"<DistanceController name="d" distance="1.0"><c name="a"/></DistanceController>"#,
+        ),
+        "c = S, F\nb = 9RS",
+        10,
+    );
+    assert_eq!(roots.len(), 3, "{t:?}");
+    assert_eq!(roots[2], Status::Failure);
+    assert!(t[1].contains(&"d:RUNNING".to_string()), "{:?}", t[1]);
+    // SpeedController: the first period is 2 / (min_rate + max_rate) =
+    // 50 ms; then 1 / rate, the rate scaled by the speed (0.5 m/s, the top
+    // of the range: 30 Hz, 33 ms). The child runs at 0, 50 and 90 ms.
+    let speed = r#"<SpeedController name="v" min_rate="10" max_rate="30" min_speed="0.0" max_speed="0.5"><c name="a"/></SpeedController>"#;
+    let (_, roots) = run(&moving(speed), "c = S, S, F\nb = 30RS", 30);
+    assert_eq!(roots.len(), 10, "fails in tick 10 (90 ms)");
+    // At rest the rate is min_rate (10 Hz): after 50 ms, 100 ms more.
+    let resting = moving(speed).replace("speed := 0.5", "speed := 0.0");
+    let (_, roots) = run(&resting, "c = S, S, F\nb = 30RS", 30);
+    assert_eq!(roots.len(), 16, "fails in tick 16 (150 ms)");
+    // GoalUpdatedController: the child runs at the start, then only when
+    // the blackboard's goal changes (in tick 3).
+    let (_, roots) = run(
+        r#"<Sequence><Script code="goal := 'A'; n := 0"/><PipelineSequence><Script code="n := n + 1"/><ForceSuccess><ScriptCondition code="n == 3" _onSuccess="goal := 'B'"/></ForceSuccess><GoalUpdatedController><c name="a"/></GoalUpdatedController><b name="b"/></PipelineSequence></Sequence>"#,
+        "c = S, F\nb = 9RS",
+        10,
+    );
+    assert_eq!(roots.len(), 3);
+    assert_eq!(roots[2], Status::Failure);
+    // GoalUpdater: output_goal is the goal update when one came, else
+    // input_goal; then the child's result.
+    let (t, _) = run(
+        r#"<Sequence><Script code="goal := 'A'"/><GoalUpdater input_goal="{goal}" output_goal="{g}"><ScriptCondition code="g == 'A'"/></GoalUpdater><Script code="goal_update := 'B'"/><GoalUpdater input_goal="{goal}" output_goal="{g}"><ScriptCondition name="is b" code="g == 'B'"/></GoalUpdater></Sequence>"#,
+        "",
+        1,
+    );
+    assert!(t[0].contains(&"is b:SUCCESS".to_string()), "{:?}", t[0]);
+    // PathLongerOnApproach: SUCCESS without its child until the new path
+    // is longer on the approach, and never on its first tick.
+    let (t, roots) = run(
+        r#"<Sequence><Script code="path_longer_on_approach := true"/><PipelineSequence><PathLongerOnApproach name="l" path="{path}"><c name="a"/></PathLongerOnApproach><b name="b"/></PipelineSequence></Sequence>"#,
+        "c = F\nb = 5RS",
+        10,
+    );
+    assert_eq!(roots.len(), 2, "{t:?}");
+    assert_eq!(roots[1], Status::Failure);
+    assert!(t[0].contains(&"l:SUCCESS".to_string()), "{:?}", t[0]);
+    // SingleTrigger: its child once while the node stays active (here a
+    // PipelineSequence ticks it again without a reset); then FAILURE. A
+    // parent that resets it to IDLE arms it again.
+    let (t, roots) = run(
+        r#"<PipelineSequence><SingleTrigger name="once"><a name="a"/></SingleTrigger><b name="b"/></PipelineSequence>"#,
+        "a = S\nb = 3RS",
+        10,
+    );
+    assert_eq!(roots, [Status::Running, Status::Failure]);
+    assert!(t[1].contains(&"once:FAILURE".to_string()), "{:?}", t[1]);
+    let (t, _) = run(
+        r#"<Repeat num_cycles="2"><SingleTrigger><c name="again"/></SingleTrigger></Repeat>"#,
+        "c = S, F",
+        10,
+    );
+    assert!(t.concat().contains(&"again:FAILURE".to_string()), "{t:?}");
+}
+
+#[test]
+fn nav2s_later_controls_run_as_nav2s_sources_do() {
+    // PersistentSequence: its current child is a blackboard entry, so it
+    // starts where the entry says, and writes where it is.
+    let (t, roots) = run(
+        r#"<Sequence><Script code="i := 1"/><PersistentSequence name="ps" current_child_idx="{i}"><a name="a"/><b name="b"/><ScriptCondition name="at 2" code="i == 2"/></PersistentSequence></Sequence>"#,
+        "a = F\nb = 1RS",
+        5,
+    );
+    assert_eq!(roots, [Status::Running, Status::Success], "{t:?}");
+    assert!(!t.concat().iter().any(|x| x.starts_with("a:")));
+    // NonblockingSequence: every child each tick; SUCCESS once all succeed
+    // in one tick; a failure halts them all.
+    let (t, roots) = run(
+        r#"<NonblockingSequence name="n"><a name="a"/><b name="b"/></NonblockingSequence>"#,
+        "a = 1RS\nb = 2RF",
+        5,
+    );
+    assert_eq!(roots, [Status::Running, Status::Running, Status::Failure]);
+    assert_eq!(t[0], s(&["a:RUNNING", "b:RUNNING", "n:RUNNING"]));
+    // PauseResumeController, with no pause requested: its first child.
+    let (_, roots) = run(
+        r#"<PauseResumeController><a name="a"/><b name="b"/></PauseResumeController>"#,
+        "a = 1RS\nb = F",
+        5,
+    );
+    assert_eq!(roots, [Status::Running, Status::Success]);
+}

@@ -27,9 +27,18 @@ pub enum Builtin {
     PipelineSequence,
     RecoveryNode,
     RoundRobin,
+    PersistentSequence,
+    NonblockingSequence,
+    PauseResumeController,
     // decorators
-    /// Nav2's (plugins/decorator/rate_controller.cpp).
+    // Nav2's (nav2_behavior_tree/plugins/decorator)
     RateController,
+    DistanceController,
+    SpeedController,
+    GoalUpdatedController,
+    GoalUpdater,
+    PathLongerOnApproach,
+    SingleTrigger,
     Inverter,
     RetryUntilSuccessful,
     KeepRunningUntilFailure,
@@ -125,6 +134,109 @@ pub const BUILTINS: &[BuiltinSpec] = &[
         [("number_of_retries", In, Some("1"))]
     ),
     spec!("RoundRobin", Builtin::RoundRobin, Control, Nav2, 1, ANY, []),
+    spec!(
+        "PersistentSequence",
+        Builtin::PersistentSequence,
+        Control,
+        Nav2,
+        1,
+        ANY,
+        [("current_child_idx", InOut, None)]
+    ),
+    spec!(
+        "NonblockingSequence",
+        Builtin::NonblockingSequence,
+        Control,
+        Nav2,
+        1,
+        ANY,
+        []
+    ),
+    spec!(
+        "PauseResumeController",
+        Builtin::PauseResumeController,
+        Control,
+        Nav2,
+        1,
+        Some(4),
+        [
+            ("pause_service_name", In, None),
+            ("resume_service_name", In, None)
+        ]
+    ),
+    spec!(
+        "DistanceController",
+        Builtin::DistanceController,
+        Decorator,
+        Nav2,
+        1,
+        ONE,
+        [
+            ("distance", In, Some("1.0")),
+            ("global_frame", In, None),
+            ("robot_base_frame", In, None)
+        ]
+    ),
+    spec!(
+        "SpeedController",
+        Builtin::SpeedController,
+        Decorator,
+        Nav2,
+        1,
+        ONE,
+        [
+            ("min_rate", In, Some("0.1")),
+            ("max_rate", In, Some("1.0")),
+            ("min_speed", In, Some("0.0")),
+            ("max_speed", In, Some("0.5")),
+            ("filter_duration", In, Some("0.3"))
+        ]
+    ),
+    spec!(
+        "GoalUpdatedController",
+        Builtin::GoalUpdatedController,
+        Decorator,
+        Nav2,
+        1,
+        ONE,
+        [("goal", In, None), ("goals", In, None)]
+    ),
+    spec!(
+        "GoalUpdater",
+        Builtin::GoalUpdater,
+        Decorator,
+        Nav2,
+        1,
+        ONE,
+        [
+            ("input_goal", In, None),
+            ("output_goal", Out, None),
+            ("input_goals", In, None),
+            ("output_goals", Out, None)
+        ]
+    ),
+    spec!(
+        "PathLongerOnApproach",
+        Builtin::PathLongerOnApproach,
+        Decorator,
+        Nav2,
+        1,
+        ONE,
+        [
+            ("path", In, None),
+            ("prox_len", In, Some("3.0")),
+            ("length_factor", In, Some("2.0"))
+        ]
+    ),
+    spec!(
+        "SingleTrigger",
+        Builtin::SingleTrigger,
+        Decorator,
+        Nav2,
+        1,
+        ONE,
+        [("is_global", In, Some("false"))]
+    ),
     spec!(
         "RateController",
         Builtin::RateController,

@@ -2,6 +2,10 @@
 //! (`tickExactlyOnce`), and reports every status change as the library's
 //! `StatusChangeLogger` sees it, halts and resets (→ IDLE) included.
 
+mod nav2;
+
+pub use nav2::ROBOT_READINGS;
+
 use super::blackboard::{Blackboard, EntryId};
 use super::status::Status;
 use crate::model::{Builtin, Kind, PortValue, Tree, Uid};
@@ -186,8 +190,16 @@ struct NodeRt {
     fired: bool,
     cached: Status,
     deadline: Option<u64>,
-    /// Nav2's RateController: when its period began (simulated ms).
+    /// Nav2's RateController and SpeedController: when its period began
+    /// (simulated ms); SpeedController's period (s).
     since_ms: u64,
+    period_s: f64,
+    /// Nav2's DistanceController: the distance travelled when its distance
+    /// began.
+    origin: f64,
+    /// What a Nav2 decorator last saw: GoalUpdatedController's goals,
+    /// SingleTrigger's run id.
+    seen: Vec<Option<Value>>,
     /// The tick the node was last ticked in, and what it returned then.
     ticked: u32,
     returned: Status,
@@ -1002,6 +1014,9 @@ impl<'t, L: Leaves> Executor<'t, L> {
             Builtin::PipelineSequence => self.tick_pipeline(uid),
             Builtin::RecoveryNode => self.tick_recovery(uid),
             Builtin::RoundRobin => self.tick_round_robin(uid),
+            Builtin::PersistentSequence => self.tick_persistent_sequence(uid),
+            Builtin::NonblockingSequence => self.tick_nonblocking_sequence(uid),
+            Builtin::PauseResumeController => self.tick_pause_resume(uid),
             Builtin::Switch(k) => self.tick_switch(uid, k as usize),
             Builtin::ManualSelector => Err(self.err(uid, "ManualSelector asks a person at the terminal; btx cannot run it")),
             Builtin::Inverter => {
@@ -1029,6 +1044,12 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 Ok(s)
             }
             Builtin::RateController => self.tick_rate_controller(uid),
+            Builtin::DistanceController => self.tick_distance_controller(uid),
+            Builtin::SpeedController => self.tick_speed_controller(uid),
+            Builtin::GoalUpdatedController => self.tick_goal_updated_controller(uid),
+            Builtin::GoalUpdater => self.tick_goal_updater(uid),
+            Builtin::PathLongerOnApproach => self.tick_path_longer_on_approach(uid),
+            Builtin::SingleTrigger => self.tick_single_trigger(uid),
             Builtin::RetryUntilSuccessful => self.tick_retry(uid),
             Builtin::Repeat => self.tick_repeat(uid),
             Builtin::KeepRunningUntilFailure => {
@@ -1551,189 +1572,6 @@ impl<'t, L: Leaves> Executor<'t, L> {
         }
         self.rt(uid).count = 0;
         Ok(Status::Failure)
-    }
-
-    /// Nav2's `PipelineSequence` (nav2_behavior_tree/plugins/control/
-    /// pipeline_sequence.cpp): every child from the first is ticked again
-    /// each tick; a child RUNNING at or past the furthest one reached
-    /// returns RUNNING, one before it lets the next be ticked. It sets no
-    /// RUNNING of its own before its children (unlike Sequence).
-    fn tick_pipeline(&mut self, uid: Uid) -> R<Status> {
-        let tree = self.tree;
-        let kids = &tree.node(uid).children;
-        for (i, &c) in kids.iter().enumerate() {
-            match self.exec(c)? {
-                Status::Failure => {
-                    self.reset_children(uid);
-                    self.rt(uid).idx = 0;
-                    return Ok(Status::Failure);
-                }
-                Status::Success => {}
-                Status::Running if i >= self.rt(uid).idx => {
-                    self.rt(uid).idx = i;
-                    return Ok(Status::Running);
-                }
-                Status::Running => {}
-                s => {
-                    return Err(self.err(
-                        uid,
-                        format!("a child returned {s}, which Nav2's PipelineSequence refuses"),
-                    ))
-                }
-            }
-        }
-        self.reset_children(uid);
-        self.rt(uid).idx = 0;
-        Ok(Status::Success)
-    }
-
-    /// Nav2's `halt()` of its controls inside their own tick: BehaviorTree.
-    /// CPP's `ControlNode::halt()` (children reset, the node IDLE) and their
-    /// counters back to 0.
-    fn nav2_halt(&mut self, uid: Uid) {
-        self.reset_children(uid);
-        self.reset_status(uid);
-        let r = self.rt(uid);
-        r.idx = 0;
-        r.count = 0;
-        r.failures = 0;
-    }
-
-    /// Nav2's `RecoveryNode` (plugins/control/recovery_node.cpp): the first
-    /// child; when it fails, the second (the recovery), and when that
-    /// succeeds the first again, up to `number_of_retries` recoveries.
-    fn tick_recovery(&mut self, uid: Uid) -> R<Status> {
-        let tree = self.tree;
-        let kids = tree.node(uid).children.clone();
-        let retries = self.port_int(uid, &["number_of_retries"], Some(1))?;
-        self.set_status(uid, Status::Running);
-        while self.rt(uid).idx < 2 && self.rt(uid).count <= retries {
-            let idx = self.rt(uid).idx;
-            self.check_progress(uid, kids[idx])?;
-            let s = self.exec(kids[idx])?;
-            if idx == 0 {
-                match s {
-                    Status::Skipped | Status::Success => {
-                        self.nav2_halt(uid);
-                        return Ok(s);
-                    }
-                    Status::Running => return Ok(Status::Running),
-                    Status::Failure if self.rt(uid).count < retries => {
-                        self.halt_child(kids[0]);
-                        self.rt(uid).idx = 1;
-                    }
-                    Status::Failure => {
-                        self.nav2_halt(uid);
-                        return Ok(Status::Failure);
-                    }
-                    Status::Idle => unreachable!("exec rejects IDLE"),
-                }
-            } else {
-                match s {
-                    // No recovery possible; not counted as a retry.
-                    Status::Skipped => {
-                        self.rt(uid).idx = 0;
-                        self.halt_child(kids[1]);
-                        return Ok(Status::Failure);
-                    }
-                    Status::Running => return Ok(Status::Running),
-                    Status::Success => {
-                        self.halt_child(kids[1]);
-                        let r = self.rt(uid);
-                        r.count += 1;
-                        r.idx = 0;
-                    }
-                    Status::Failure => {
-                        self.nav2_halt(uid);
-                        return Ok(Status::Failure);
-                    }
-                    Status::Idle => unreachable!("exec rejects IDLE"),
-                }
-            }
-        }
-        self.nav2_halt(uid);
-        Ok(Status::Failure)
-    }
-
-    /// Nav2's `RoundRobin` (plugins/control/round_robin_node.cpp at
-    /// 00639cf1): from the child where it stopped, the first to succeed
-    /// succeeds it (the next tick starts from that child again); a failure
-    /// moves on, wrapping around, until every child has failed once.
-    fn tick_round_robin(&mut self, uid: Uid) -> R<Status> {
-        let tree = self.tree;
-        let kids = tree.node(uid).children.clone();
-        self.set_status(uid, Status::Running);
-        while self.rt(uid).failures < kids.len() {
-            let c = kids[self.rt(uid).idx];
-            self.check_progress(uid, c)?;
-            match self.exec(c)? {
-                Status::Success => {
-                    self.rt(uid).failures = 0;
-                    self.reset_children(uid);
-                    return Ok(Status::Success);
-                }
-                Status::Failure => {
-                    let r = self.rt(uid);
-                    r.idx = (r.idx + 1) % kids.len();
-                    r.failures += 1;
-                }
-                Status::Running => return Ok(Status::Running),
-                s => {
-                    return Err(self.err(
-                        uid,
-                        format!("a child returned {s}, which Nav2's RoundRobin refuses"),
-                    ))
-                }
-            }
-        }
-        self.reset_children(uid);
-        let r = self.rt(uid);
-        r.idx = 0;
-        r.failures = 0;
-        Ok(Status::Failure)
-    }
-
-    /// Nav2's `RateController` (plugins/decorator/rate_controller.cpp):
-    /// the child is ticked when the node starts, while it is RUNNING, and
-    /// once `1/hz` seconds of the simulated clock have passed since it last
-    /// succeeded; otherwise the node stays RUNNING without ticking it. A
-    /// completed child is set IDLE at once.
-    fn tick_rate_controller(&mut self, uid: Uid) -> R<Status> {
-        let child = self.tree.node(uid).children[0];
-        let hz = match self.port_str(uid, "hz") {
-            Some(h) => h
-                .trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|h| *h > 0.0)
-                .ok_or_else(|| self.err(uid, format!("port hz=\"{h}\" is not a rate above 0")))?,
-            None => 10.0,
-        };
-        let now = self.now_ms;
-        if self.status(uid) == Status::Idle {
-            let r = self.rt(uid);
-            r.since_ms = now;
-            r.started = true;
-        }
-        self.set_status(uid, Status::Running);
-        let elapsed = now.saturating_sub(self.rt(uid).since_ms) as f64;
-        if self.rt(uid).started || self.status(child) == Status::Running || elapsed >= 1000.0 / hz {
-            self.rt(uid).started = false;
-            let s = self.exec(child)?;
-            match s {
-                Status::Running => return Ok(Status::Running),
-                Status::Success => {
-                    self.reset_status(child);
-                    self.rt(uid).since_ms = now;
-                    return Ok(Status::Success);
-                }
-                _ => {
-                    self.reset_status(child);
-                    return Ok(Status::Failure);
-                }
-            }
-        }
-        Ok(Status::Running)
     }
 
     /// BehaviorTree.CPP 4's `LoopNode<T>` (`loop_node.h`): each tick pops

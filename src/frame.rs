@@ -97,17 +97,60 @@ impl Framed {
 
 /// Han's Algorithm 5: the steps of a goal or subgoal `g`, found depth-first;
 /// a named, non-decorator node whose name differs from `g`'s is a step, and
-/// the search does not go below it.
+/// the search does not go below it. Beyond the paper: the later children of
+/// a Fallback or a Nav2 RecoveryNode the search goes through are what is
+/// done when the first fails, not steps to do; those with a name are
+/// `recoveries`, the others are left out.
 pub fn steps(tree: &Tree, g: Uid) -> Vec<Uid> {
+    walk(tree, g).0
+}
+
+/// The named recoveries met by `steps`: (the branch that may fail, the
+/// recovery), in tree order.
+pub fn recoveries(tree: &Tree, g: Uid) -> Vec<(Uid, Uid)> {
+    walk(tree, g).1
+}
+
+/// Whether a node's later children recover from its first one's failure.
+pub fn recovers(tree: &Tree, uid: Uid) -> bool {
+    use crate::model::Builtin;
+    matches!(
+        tree.node(uid).builtin,
+        Some(
+            Builtin::Fallback
+                | Builtin::ReactiveFallback
+                | Builtin::AsyncFallback
+                | Builtin::RecoveryNode
+        )
+    ) && tree.node(uid).children.len() > 1
+}
+
+fn walk(tree: &Tree, g: Uid) -> (Vec<Uid>, Vec<(Uid, Uid)>) {
     let g_desc = tree.description(g);
     let mut out = Vec::new();
-    let mut stack: Vec<Uid> = tree.node(g).children.iter().rev().copied().collect();
+    let mut recovered = Vec::new();
+    let below = |x: Uid, stack: &mut Vec<Uid>, recovered: &mut Vec<(Uid, Uid)>| {
+        let kids = &tree.node(x).children;
+        if recovers(tree, x) {
+            recovered.extend(
+                kids[1..]
+                    .iter()
+                    .filter(|&&c| tree.has_name(c))
+                    .map(|&c| (kids[0], c)),
+            );
+            stack.push(kids[0]);
+        } else {
+            stack.extend(kids.iter().rev().copied());
+        }
+    };
+    let mut stack = Vec::new();
+    below(g, &mut stack, &mut recovered);
     while let Some(x) = stack.pop() {
         if !tree.is_decorator(x) && tree.has_name(x) && tree.description(x) != g_desc {
             out.push(x);
         } else {
-            stack.extend(tree.node(x).children.iter().rev().copied());
+            below(x, &mut stack, &mut recovered);
         }
     }
-    out
+    (out, recovered)
 }

@@ -87,11 +87,18 @@ fn matches(tree: &Tree, uid: Uid, segment: &str, tier: Tier) -> bool {
 /// outermost is meant; otherwise a path written out in full (from the root
 /// or any named ancestor) means the node it spells.
 pub fn pick(tree: &Tree, query: &str) -> Result<Uid, PickError> {
+    pick_among(tree, query).map(|(u, _)| u)
+}
+
+/// `pick`, and the other nodes the query matched when it resolved among
+/// several (the outermost of nested same-named nodes): an answer about the
+/// node chosen should say which it is.
+pub fn pick_among(tree: &Tree, query: &str) -> Result<(Uid, Vec<Uid>), PickError> {
     let q = query.trim();
     if let Some(num) = q.strip_prefix('#') {
         if let Ok(uid) = num.trim().parse::<Uid>() {
             if tree.get(uid).is_some() {
-                return Ok(uid);
+                return Ok((uid, Vec::new()));
             }
             // A uid is exact: nodes "close" to it mean nothing.
             return Err(PickError::NoUid {
@@ -137,7 +144,7 @@ pub fn pick(tree: &Tree, query: &str) -> Result<Uid, PickError> {
             _ => None,
         };
         return match outermost.or(spelled_one) {
-            Some(uid) => Ok(uid),
+            Some(uid) => Ok((uid, found.iter().copied().filter(|&u| u != uid).collect())),
             None => Err(PickError::Ambiguous {
                 query: q.to_string(),
                 candidates: found.iter().map(|&u| candidate(tree, u)).collect(),

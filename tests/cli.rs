@@ -673,3 +673,29 @@ fn every_nav2_navigator_of_the_corpus_runs_and_explains_its_recovery() {
     }
     assert!(recovered >= 2);
 }
+
+#[test]
+fn a_name_several_nodes_answer_to_is_said_to_mean_the_outermost() {
+    // Nav2 names the RecoveryNode around ComputePathToPose after it.
+    let nav2 = fixture("realworld/nav2");
+    let (ok, text, err) = btx(&[
+        "ask",
+        nav2.join("navigate_to_pose_w_replanning_goal_patience_and_recovery.xml")
+            .to_str()
+            .unwrap(),
+        "--models",
+        nav2.join("nav2_tree_nodes.f875f62.xml").to_str().unwrap(),
+        "--node",
+        "ComputePathToPose",
+        "q1",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        text,
+        "About #6 NavigateRecovery/NavigateWithReplanning/ComputePathToPose (\"ComputePathToPose\" also names #7):\nI compute path to pose.\n"
+    );
+    // A uid is exact: nothing to say.
+    let (ok, text, _) = btx(&["ask", "trees/kitting.xml", "--node", "#2", "q1"]);
+    assert!(ok);
+    assert_eq!(text, "I go insert large gear.\n");
+}

@@ -236,3 +236,150 @@ fn answers_name_the_nodes_they_used() {
     let a = han::answer(&t, 11, TreeQuestion::HowSubgoal);
     assert_eq!(a.nodes, vec![2, 6, 9, 13]);
 }
+
+/// Han's questions on real trees (#14): every question about every node of
+/// the Nav2 navigators of the corpus (tests/fixtures/realworld), with
+/// Nav2's models file. Under a fifth of the answers begin "Sorry", and no
+/// name made of an ID is used as a verb. `cargo test --test han_questions
+/// real_trees -- --nocapture` prints the figure.
+#[test]
+fn real_trees_are_answered_in_english() {
+    let dir = fixture("realworld/nav2");
+    let models = dir.join("nav2_tree_nodes.f875f62.xml");
+    let opts = btx::xml::LoadOptions {
+        models: vec![models],
+        ..Default::default()
+    };
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| !p.to_string_lossy().contains("tree_nodes"))
+        .collect();
+    files.sort();
+    let qs = [
+        TreeQuestion::Doing,
+        TreeQuestion::Why,
+        TreeQuestion::Subgoal,
+        TreeQuestion::Goal,
+        TreeQuestion::HowSubgoal,
+        TreeQuestion::HowGoal,
+    ];
+    let (mut total, mut sorry) = (0, 0);
+    let mut verbs_of_ids = Vec::new();
+    for f in &files {
+        let t = btx::xml::load_file(f, &opts).unwrap().tree;
+        for u in 1..=t.len() as u32 {
+            for q in qs {
+                let a = han::answer(&t, u, q).text;
+                total += 1;
+                sorry += usize::from(a.starts_with("Sorry"));
+                // The word after "I" or "to" where a deed goes: never an ID
+                // (CamelCase, or a capital inside a sentence).
+                for lead in ["I ", "in order to ", "is to ", "recover by "] {
+                    for (i, _) in a.match_indices(lead) {
+                        let w = a[i + lead.len()..].split([' ', '.', ',']).next().unwrap();
+                        let camel = w.chars().skip(1).any(char::is_uppercase);
+                        let capital = w.chars().next().is_some_and(char::is_uppercase)
+                            && w.chars().skip(1).all(char::is_lowercase)
+                            && w.len() > 1;
+                        if camel || capital {
+                            verbs_of_ids.push(format!("{}: {a}", f.display()));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let share = sorry as f64 / total as f64;
+    eprintln!(
+        "{} trees: {total} answers, {sorry} begin \"Sorry\" ({:.1} %)",
+        files.len(),
+        100.0 * share
+    );
+    assert!(total > 500, "{total}");
+    assert!(share < 0.2, "{sorry} of {total}");
+    assert!(verbs_of_ids.is_empty(), "{verbs_of_ids:#?}");
+}
+
+/// The rules beyond the paper for real trees (README, "Han's questions on
+/// real trees"), on Nav2's goal-patience navigator and small trees.
+#[test]
+fn real_trees_read_as_the_readme_says() {
+    let nav2 = fixture("realworld/nav2");
+    let opts = btx::xml::LoadOptions {
+        models: vec![nav2.join("nav2_tree_nodes.f875f62.xml")],
+        ..Default::default()
+    };
+    let t = btx::xml::load_file(
+        &nav2.join("navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"),
+        &opts,
+    )
+    .unwrap()
+    .tree;
+    // A recovery branch is not a step: Q5 says what it does on failure.
+    assert_eq!(
+        ask(&t, "#7", TreeQuestion::HowGoal),
+        "To achieve the goal \"navigate recovery\", I need to do 1 step. 1. navigate with replanning. If navigate with replanning fails, I recover by running the recovery fallback."
+    );
+    // No SubTree: the goal's step (or named recovery) holding the node is
+    // its subgoal.
+    assert_eq!(
+        ask(&t, "#7", TreeQuestion::Subgoal),
+        "My subgoal is to navigate with replanning."
+    );
+    assert_eq!(
+        ask(&t, "#7", TreeQuestion::HowSubgoal),
+        "To achieve the subgoal \"navigate with replanning\", I need to do 2 steps. 1. compute path to pose. 2. monitor and follow path."
+    );
+    // A condition is a check; an ID that is no verb is a thing run.
+    let updated = uid_of(&t, "RecoveryFallback/GoalUpdated");
+    let said = han::answer(&t, updated, TreeQuestion::Why).text;
+    assert_eq!(
+        said,
+        "I check whether the goal was updated in order to run the recovery fallback."
+    );
+    assert_eq!(
+        han::answer(&t, updated, TreeQuestion::Subgoal).text,
+        "My subgoal is to run the recovery fallback."
+    );
+    assert_eq!(
+        ask(&t, "#3", TreeQuestion::Doing),
+        "I run the controller selector."
+    );
+    // An Inverter turns a check around.
+    let small = |body: &str, id: &str| {
+        btx::xml::load_str(
+            std::path::Path::new("mem.xml"),
+            &format!(r#"<root BTCPP_format="4"><BehaviorTree ID="{id}">{body}</BehaviorTree><TreeNodesModel><Condition ID="GoalUpdated"/></TreeNodesModel></root>"#),
+            &Default::default(),
+        )
+        .unwrap()
+        .tree
+    };
+    let t = small(
+        r#"<Sequence><Inverter><GoalUpdated/></Inverter><Action ID="FollowPath"/></Sequence>"#,
+        "NavigateToPose",
+    );
+    assert_eq!(
+        ask(&t, "#3", TreeQuestion::Doing),
+        "I check that the goal was not updated."
+    );
+    // An unnamed root: the goal is the tree's ID in words.
+    assert_eq!(
+        ask(&t, "#4", TreeQuestion::Goal),
+        "My goal is to navigate to pose."
+    );
+    assert_eq!(
+        ask(&t, "#4", TreeQuestion::Why),
+        "I follow path in order to navigate to pose."
+    );
+    // A named decorator is a named ancestor.
+    let t = small(
+        r#"<Sequence name="tidy up"><ForceFailure name="reset arm"><Action ID="retreat_arm"/></ForceFailure></Sequence>"#,
+        "MainTree",
+    );
+    assert_eq!(
+        ask(&t, "#3", TreeQuestion::Why),
+        "I retreat arm in order to reset arm."
+    );
+}

@@ -810,7 +810,7 @@ fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
         "ask", &session, "--node", "#9987", "q1", "q2", "q3", "wrong",
     ]);
     assert_eq!(r.code, Some(0), "{}", r.err);
-    assert!(r.out.contains("My subgoal is to T23."), "{}", r.out);
+    assert!(r.out.contains("My subgoal is to run the T23."), "{}", r.out);
     // 100,000 levels: refused, with the limit.
     let deeper = write(dir.path(), "deeper.xml", &chain(250, 400));
     let r = btx_run(&["tree", &deeper]);

@@ -83,7 +83,21 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         }
     };
     let uid = match (&node, &view) {
-        (Some(p), _) => pick_node(tree, p)?,
+        (Some(p), _) => {
+            let (uid, others) =
+                btx::pick::pick_among(tree, p).map_err(|e| Failure::Plain(e.to_string()))?;
+            // Several nodes answer to the name: say which one is meant.
+            if !others.is_empty() && matches!(format, Format::Text) {
+                let also: Vec<String> = others.iter().map(|u| format!("#{u}")).collect();
+                println!(
+                    "About #{uid} {} (\"{}\" also names {}):",
+                    btx::text::visible(&tree.display_path(uid)),
+                    btx::text::visible(p.trim()),
+                    btx::explain::han::and_list(&also)
+                );
+            }
+            uid
+        }
         (None, Some(v)) => match v.current() {
             Some(u) => u,
             None => fail!(

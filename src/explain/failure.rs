@@ -72,7 +72,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
         };
         if fell_back {
             fallback = Some(x);
-            d.text = format!("I could not {} because ", tree.spoken(x));
+            d.text = format!("I could not {} because ", tree.deed(x));
             d.nodes.push(x);
             match last_failed_leaf(tree, run, children[0], run.started_at(x)) {
                 Some(f) => {
@@ -83,7 +83,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                         .filter(|&fp| tree.description(fp) != tree.description(x))
                     {
                         d.text
-                            .push_str(&format!("I was unable to {} as ", tree.spoken(fp)));
+                            .push_str(&format!("I was unable to {} as ", tree.deed(fp)));
                         d.nodes.push(fp);
                     }
                     d.text.push_str(&format!("{} failed.", tree.spoken(f)));
@@ -92,7 +92,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                 }
                 None => match failed_before(tree, run, children[0])[..] {
                     // The leaf that failed has succeeded since (a later attempt).
-                    [] => d.text = format!("I could not {} earlier.", tree.spoken(x)),
+                    [] => d.text = format!("I could not {} earlier.", tree.deed(x)),
                     [f] => {
                         d.text.push_str(&format!(
                             "{} failed, {}.",
@@ -125,14 +125,14 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
             let rp = named_ancestor(tree, x);
             d.text = format!(
                 "I am retrying for attempt {a} to {}. ",
-                tree.spoken(rp.unwrap_or(x))
+                tree.deed(rp.unwrap_or(x))
             );
             d.nodes.extend(rp);
             if let Some(f) = last_failed_leaf(tree, run, x, run.started_at(x)) {
                 let fp = named_ancestor(tree, f).unwrap_or(x);
                 d.text.push_str(&format!(
                     "I could not {} because {} failed.",
-                    tree.spoken(fp),
+                    tree.deed(fp),
                     tree.spoken(f)
                 ));
                 d.failed_leaf = Some(f);
@@ -156,7 +156,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                 if let Some(rp) = named_ancestor(tree, x) {
                     d.text.push_str(&format!(
                         " I am retrying for attempt {a} to {}.",
-                        tree.spoken(rp)
+                        tree.deed(rp)
                     ));
                     d.nodes.push(rp);
                 }
@@ -345,7 +345,7 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
                 parts.push(format!(
                     "When {} failed, I fell back to {}.",
                     tree.spoken(first),
-                    tree.spoken(h)
+                    tree.deed(h)
                 ));
                 nodes.push(h);
             }
@@ -372,7 +372,7 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
         };
         parts.push(format!(
             "I am retrying to {}: {} attempt{} failed, this is attempt {}{of}.",
-            tree.spoken(rp),
+            tree.deed(rp),
             a,
             if *a == 1 { "" } else { "s" },
             a + 1

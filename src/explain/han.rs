@@ -14,12 +14,12 @@ pub fn answer(tree: &Tree, n: Uid, q: TreeQuestion) -> Answer {
         TreeQuestion::Why => q2(tree, n),
         TreeQuestion::Subgoal => q3(tree, n),
         TreeQuestion::Goal => q4(tree),
-        TreeQuestion::HowSubgoal => match subgoal(tree, n) {
-            Some(g) => q5(tree, "subgoal", g),
+        TreeQuestion::HowSubgoal => match answered_subgoal(tree, n) {
+            Some(g) => q5(tree, "subgoal", g, &tree.spoken(g)),
             None => (NO_SUBGOAL.to_string(), vec![n]),
         },
-        TreeQuestion::HowGoal => match goal(tree) {
-            Some(g) => q5(tree, "goal", g),
+        TreeQuestion::HowGoal => match goal_words(tree) {
+            Some(w) => q5(tree, "goal", Tree::ROOT, &w.name),
             None => (NO_GOAL.to_string(), vec![Tree::ROOT]),
         },
     };
@@ -36,7 +36,7 @@ const NO_GOAL: &str = "Sorry. I don't have a named goal.";
 
 /// Algorithm 1.
 fn q1(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
-    (format!("I {}.", tree.spoken(n)), vec![n])
+    (format!("I {}.", tree.deed(n)), vec![n])
 }
 
 /// Q1 at a moment of a run: what is running then (every RUNNING leaf, as
@@ -45,7 +45,7 @@ fn q1(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
 pub fn doing_at(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
     let running = run.running_leaves(tree);
     if !running.is_empty() {
-        let names: Vec<String> = running.iter().map(|&u| tree.spoken(u)).collect();
+        let names: Vec<String> = running.iter().map(|&u| tree.deed(u)).collect();
         return (format!("I {}.", and_list(&names)), running);
     }
     let last = run.current();
@@ -84,7 +84,7 @@ pub fn doing_at(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
 }
 
 /// "a", "a and b", "a, b and c".
-pub(super) fn and_list<S: AsRef<str>>(items: &[S]) -> String {
+pub fn and_list<S: AsRef<str>>(items: &[S]) -> String {
     let items: Vec<&str> = items.iter().map(AsRef::as_ref).collect();
     match items.as_slice() {
         [] => String::new(),
@@ -93,33 +93,89 @@ pub(super) fn and_list<S: AsRef<str>>(items: &[S]) -> String {
     }
 }
 
-/// Algorithm 2: the nearest non-decorator ancestor that has a name different
-/// from the node's.
+/// Algorithm 2: the nearest ancestor that has a name different from the
+/// node's. Beyond the paper, whose decorators have no names, a decorator
+/// someone named (`<ForceFailure name="reset arm">`) counts.
 pub fn why_ancestor(tree: &Tree, n: Uid) -> Option<Uid> {
     // Han's rule compares the names as written.
     let d = tree.description(n);
     tree.ancestors(n)
-        .find(|&p| !tree.is_decorator(p) && tree.has_name(p) && tree.description(p) != d)
+        .find(|&p| tree.has_name(p) && tree.description(p) != d)
 }
 
 fn q2(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
     match why_ancestor(tree, n) {
         Some(p) => (
-            format!("I {} in order to {}.", tree.spoken(n), tree.spoken(p)),
+            format!("I {} in order to {}.", tree.deed(n), tree.deed(p)),
             vec![n, p],
         ),
         None if n == Tree::ROOT => (
-            format!("I {} because it is my goal.", tree.spoken(n)),
+            format!("I {} because it is my goal.", tree.deed(n)),
             vec![n],
         ),
-        None => (
-            format!(
-                "Sorry. I don't know why I {}: no node above it has a name.",
-                tree.spoken(n)
+        // An unnamed root: the goal is the tree's ID (`goal_words`).
+        None => match goal_words(tree) {
+            Some(w) => (
+                format!("I {} in order to {}.", tree.deed(n), w.deed),
+                vec![n, Tree::ROOT],
             ),
-            vec![n],
-        ),
+            None => (
+                format!(
+                    "Sorry. I don't know why I {}: no node above it has a name.",
+                    tree.deed(n)
+                ),
+                vec![n],
+            ),
+        },
     }
+}
+
+/// The goal's name and deed: the root's, or with an unnamed root the main
+/// `<BehaviorTree>`'s ID as words (`NavigateToPose` → "navigate to pose"),
+/// unless that ID names nothing (`MainTree`, one or two letters).
+pub struct GoalWords {
+    pub name: String,
+    pub deed: String,
+}
+
+pub fn goal_words(tree: &Tree) -> Option<GoalWords> {
+    if let Some(g) = goal(tree) {
+        return Some(GoalWords {
+            name: tree.spoken(g),
+            deed: tree.deed(g),
+        });
+    }
+    let id = &tree.main_tree;
+    let plain: String = id
+        .chars()
+        .filter(|c| c.is_alphanumeric())
+        .collect::<String>()
+        .to_lowercase();
+    let generic = plain.len() <= 2
+        || [
+            "maintree",
+            "main",
+            "behaviortree",
+            "tree",
+            "untitled",
+            "root",
+            "defaulttree",
+            "mainbt",
+        ]
+        .contains(&plain.as_str());
+    if generic {
+        return None;
+    }
+    let name = crate::model::words(id);
+    let name = if name == *id && !name.contains(' ') {
+        name.to_lowercase()
+    } else {
+        name
+    };
+    Some(GoalWords {
+        deed: crate::model::as_deed(&name),
+        name,
+    })
 }
 
 /// Algorithm 3: the nearest SubTree ancestor.
@@ -128,9 +184,31 @@ pub fn subgoal(tree: &Tree, n: Uid) -> Option<Uid> {
         .find(|&p| tree.node(p).kind == Kind::SubTree)
 }
 
+/// The subgoal Q3 and Q5 answer with: Algorithm 3's; beyond the paper, in
+/// a tree with no SubTree at all (most of Nav2's), the goal's step or named
+/// recovery that contains the node: such trees name their sub-objectives
+/// as composites, not SubTrees.
+pub fn answered_subgoal(tree: &Tree, n: Uid) -> Option<Uid> {
+    if let Some(g) = subgoal(tree, n) {
+        return Some(g);
+    }
+    if tree.nodes.iter().any(|x| x.kind == Kind::SubTree) {
+        return None;
+    }
+    let mut parts = steps(tree, Tree::ROOT);
+    parts.extend(
+        crate::frame::recoveries(tree, Tree::ROOT)
+            .into_iter()
+            .map(|(_, r)| r),
+    );
+    parts
+        .into_iter()
+        .find(|&p| p != n && tree.is_ancestor(p, n))
+}
+
 fn q3(tree: &Tree, n: Uid) -> (String, Vec<Uid>) {
-    match subgoal(tree, n) {
-        Some(p) => (format!("My subgoal is to {}.", tree.spoken(p)), vec![n, p]),
+    match answered_subgoal(tree, n) {
+        Some(p) => (format!("My subgoal is to {}.", tree.deed(p)), vec![n, p]),
         None => (NO_SUBGOAL.to_string(), vec![n]),
     }
 }
@@ -141,25 +219,44 @@ pub fn goal(tree: &Tree) -> Option<Uid> {
 }
 
 fn q4(tree: &Tree) -> (String, Vec<Uid>) {
-    match goal(tree) {
-        Some(g) => (format!("My goal is to {}.", tree.spoken(g)), vec![g]),
+    match goal_words(tree) {
+        Some(w) => (format!("My goal is to {}.", w.deed), vec![Tree::ROOT]),
         None => (NO_GOAL.to_string(), vec![Tree::ROOT]),
     }
 }
 
-/// Algorithm 6 over Algorithm 5's steps.
-fn q5(tree: &Tree, what: &str, g: Uid) -> (String, Vec<Uid>) {
+/// Algorithm 6 over Algorithm 5's steps; beyond the paper, then what the
+/// named recoveries do ("If navigate with replanning fails, I recover by
+/// running the recovery fallback.").
+fn q5(tree: &Tree, what: &str, g: Uid, name: &str) -> (String, Vec<Uid>) {
     let s = steps(tree, g);
     let mut text = format!(
-        "To achieve the {what} \"{}\", I need to do {} step{}.",
-        tree.spoken(g),
+        "To achieve the {what} \"{name}\", I need to do {} step{}.",
         s.len(),
         if s.len() == 1 { "" } else { "s" }
     );
     for (i, &x) in s.iter().enumerate() {
-        text.push_str(&format!(" {}. {}.", i + 1, tree.spoken(x)));
+        text.push_str(&format!(" {}. {}.", i + 1, tree.deed(x)));
     }
     let mut nodes = vec![g];
-    nodes.extend(s);
+    nodes.extend(&s);
+    for (fails, r) in crate::frame::recoveries(tree, g) {
+        // What fails: the branch by its name, else the steps in it.
+        let branch = if tree.has_name(fails) {
+            tree.spoken(fails)
+        } else {
+            let inner: Vec<String> = steps(tree, fails).iter().map(|&x| tree.spoken(x)).collect();
+            if inner.is_empty() {
+                tree.spoken(fails)
+            } else {
+                and_list(&inner)
+            }
+        };
+        text.push_str(&format!(
+            " If {branch} fails, I recover by {}.",
+            crate::model::gerund(&tree.deed(r))
+        ));
+        nodes.push(r);
+    }
     (text, nodes)
 }

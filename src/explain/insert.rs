@@ -125,7 +125,7 @@ pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> 
                     named: n,
                     copy_of: ns,
                     after: p,
-                    answer: format!("Yes. I will {} after {}.", tree.spoken(n), tree.spoken(p)),
+                    answer: format!("Yes. I will {} after {}.", tree.deed(n), tree.deed(p)),
                 })
             }
             Err(why) => {

@@ -6,6 +6,8 @@ pub mod builtins;
 mod edit;
 mod naming;
 
+pub use naming::{as_deed, gerund, words};
+
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 

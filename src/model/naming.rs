@@ -32,6 +32,37 @@ impl Tree {
         words(self.description(uid))
     }
 
+    /// What Han's answers say the node does, after "I" or "to". A name a
+    /// person wrote as words is kept as written (the papers' trees); a name
+    /// made of an ID reads as English: a condition is a check ("check
+    /// whether the goal was updated", under an Inverter "check that the goal
+    /// was not updated"), and a name that does not start with a verb is a
+    /// thing run ("run the controller selector"), so that no ID is used as a
+    /// verb.
+    pub fn deed(&self, uid: Uid) -> String {
+        let d = self.description(uid);
+        let s = self.spoken(uid);
+        if d.contains(char::is_whitespace) || d.is_empty() {
+            return lower_first(&s);
+        }
+        let n = self.node(uid);
+        // One word that is the node's ID, as BehaviorTree.CPP registers it
+        // (`Spin`, `Wait`): a word, not a proper name. A lowercase word is
+        // kept as written (a paper's `ask`).
+        let one_id_word = !s.contains(' ') && d == n.id;
+        let s = if one_id_word { lower_first(&s) } else { s };
+        if s == d && !one_id_word {
+            return s;
+        }
+        if n.kind == super::Kind::Condition {
+            let negated = n
+                .parent
+                .is_some_and(|p| self.node(p).builtin == Some(super::Builtin::Inverter));
+            return check(&s, negated);
+        }
+        as_deed(&s)
+    }
+
     /// Han's `has_name`. A SubTree always has one (its name, or its ID). Any
     /// other node has a name when its name is non-empty and is not just its
     /// type: v4 fills a missing name with the registration ID, and a v3 leaf
@@ -183,6 +214,326 @@ mod tests {
     }
 }
 
+/// Verbs that names made of IDs start with, in robots' trees (Nav2's,
+/// BehaviorTree.CPP's examples, MoveIt Pro's): such a name is read as what
+/// the robot does.
+const VERBS: &[&str] = &[
+    "abort",
+    "accept",
+    "activate",
+    "add",
+    "adjust",
+    "align",
+    "append",
+    "apply",
+    "approach",
+    "ask",
+    "assign",
+    "assist",
+    "attach",
+    "avoid",
+    "back",
+    "backup",
+    "bring",
+    "build",
+    "calibrate",
+    "call",
+    "cancel",
+    "capture",
+    "carry",
+    "change",
+    "charge",
+    "check",
+    "choose",
+    "clean",
+    "clear",
+    "close",
+    "collect",
+    "compute",
+    "concatenate",
+    "connect",
+    "convert",
+    "count",
+    "create",
+    "deactivate",
+    "decrement",
+    "deliver",
+    "deploy",
+    "detach",
+    "detect",
+    "disable",
+    "disconnect",
+    "dock",
+    "do",
+    "drive",
+    "drop",
+    "enable",
+    "estimate",
+    "execute",
+    "explore",
+    "extract",
+    "fetch",
+    "fill",
+    "find",
+    "finish",
+    "follow",
+    "get",
+    "give",
+    "go",
+    "grab",
+    "grasp",
+    "handle",
+    "hold",
+    "home",
+    "increment",
+    "initialize",
+    "insert",
+    "inspect",
+    "keep",
+    "land",
+    "launch",
+    "lift",
+    "load",
+    "localize",
+    "lock",
+    "log",
+    "look",
+    "lower",
+    "make",
+    "map",
+    "measure",
+    "monitor",
+    "mount",
+    "move",
+    "navigate",
+    "notify",
+    "open",
+    "patrol",
+    "pause",
+    "pick",
+    "place",
+    "plan",
+    "play",
+    "point",
+    "pop",
+    "pour",
+    "prepare",
+    "press",
+    "print",
+    "publish",
+    "pull",
+    "push",
+    "put",
+    "raise",
+    "reach",
+    "read",
+    "recalibrate",
+    "receive",
+    "record",
+    "recover",
+    "refine",
+    "reinitialize",
+    "release",
+    "reload",
+    "remove",
+    "replan",
+    "report",
+    "request",
+    "reset",
+    "resume",
+    "retreat",
+    "retry",
+    "return",
+    "rotate",
+    "run",
+    "save",
+    "say",
+    "scan",
+    "search",
+    "select",
+    "send",
+    "set",
+    "shut",
+    "sleep",
+    "slow",
+    "smooth",
+    "speak",
+    "spin",
+    "stack",
+    "start",
+    "stop",
+    "store",
+    "switch",
+    "take",
+    "takeoff",
+    "teleop",
+    "tell",
+    "toggle",
+    "track",
+    "transform",
+    "travel",
+    "trigger",
+    "truncate",
+    "try",
+    "turn",
+    "undock",
+    "unload",
+    "unlock",
+    "update",
+    "upload",
+    "use",
+    "validate",
+    "visit",
+    "wait",
+    "walk",
+    "wander",
+    "wave",
+    "write",
+];
+
+/// Condition words that begin a question ("is path valid").
+const AUX: &[&str] = &[
+    "is", "are", "was", "were", "has", "have", "had", "can", "could", "would", "will", "should",
+    "does", "do", "did",
+];
+
+/// Words that, after an auxiliary, say where the robot is ("is within
+/// bounds"): the robot is the subject.
+const PLACES: &[&str] = &[
+    "at", "in", "inside", "near", "on", "within", "outside", "under",
+];
+
+/// Last words that say a state ("transform available").
+const STATES: &[&str] = &[
+    "active",
+    "available",
+    "blocked",
+    "busy",
+    "clear",
+    "closed",
+    "empty",
+    "enabled",
+    "free",
+    "full",
+    "high",
+    "idle",
+    "low",
+    "nearby",
+    "ok",
+    "open",
+    "present",
+    "ready",
+    "reachable",
+    "safe",
+    "stuck",
+    "valid",
+    "visible",
+];
+
+/// A sentence's first word as it reads inside a sentence ("Drive in a
+/// square" → "drive in a square"); an acronym ("GPS fix") is kept.
+fn lower_first(s: &str) -> String {
+    let first = s.split(' ').next().unwrap_or("");
+    let mut cs = first.chars();
+    match (cs.next(), cs.clone().all(|c| c.is_lowercase())) {
+        (Some(c), true) if c.is_uppercase() && first.chars().count() > 1 => {
+            format!("{}{}", c.to_lowercase(), &s[c.len_utf8()..])
+        }
+        _ => s.to_string(),
+    }
+}
+
+/// Words made of an ID as what the robot does: as they are when they start
+/// with a verb, else "run the …" (see `Tree::deed`).
+pub fn as_deed(s: &str) -> String {
+    let first = s.split(' ').next().unwrap_or("");
+    if VERBS.contains(&first) {
+        s.to_string()
+    } else {
+        format!("run the {s}")
+    }
+}
+
+/// A deed's first word as its -ing form ("clear local costmap" → "clearing
+/// local costmap", "run the …" → "running the …").
+pub fn gerund(deed: &str) -> String {
+    let (first, rest) = deed.split_once(' ').unwrap_or((deed, ""));
+    let chars: Vec<char> = first.chars().collect();
+    let vowel = |c: char| "aeiou".contains(c);
+    let ing = match chars.as_slice() {
+        [.., 'i', 'e'] => format!("{}ying", &first[..first.len() - 2]),
+        [.., a, 'e'] if *a != 'e' && first.len() > 2 => format!("{}ing", &first[..first.len() - 1]),
+        // One syllable ending consonant-vowel-consonant doubles it (run,
+        // stop, spin, drop); w, x and y never double.
+        [.., c1, v, c2]
+            if !vowel(*c1)
+                && vowel(*v)
+                && !vowel(*c2)
+                && !"wxy".contains(*c2)
+                && chars.iter().filter(|c| vowel(**c)).count() == 1 =>
+        {
+            format!("{first}{c2}ing")
+        }
+        _ => format!("{first}ing"),
+    };
+    if rest.is_empty() {
+        ing
+    } else {
+        format!("{ing} {rest}")
+    }
+}
+
+/// A condition's words as a check; see `Tree::deed`.
+fn check(s: &str, negated: bool) -> String {
+    let (core, tail) = match s.find(" (") {
+        Some(i) if s.ends_with(')') => (&s[..i], &s[i..]),
+        _ => (s, ""),
+    };
+    let w: Vec<&str> = core.split(' ').collect();
+    let not = if negated { " not" } else { "" };
+    let the = |subject: &[&str]| {
+        let det = if matches!(
+            subject.first(),
+            Some(&("a" | "an" | "the" | "my" | "any" | "some"))
+        ) {
+            ""
+        } else {
+            "the "
+        };
+        format!("{det}{}", subject.join(" "))
+    };
+    let clause = match w.as_slice() {
+        [aux, rest @ ..] if AUX.contains(aux) && !rest.is_empty() => {
+            if rest.len() == 1 || PLACES.contains(&rest[0]) {
+                let aux = match *aux {
+                    "is" | "are" => "am",
+                    "has" => "have",
+                    "does" => "do",
+                    "were" => "was",
+                    a => a,
+                };
+                Some(format!("I {aux}{not} {}", rest.join(" ")))
+            } else {
+                let (subject, pred) = rest.split_at(rest.len() - 1);
+                Some(format!("{} {aux}{not} {}", the(subject), pred[0]))
+            }
+        }
+        [subject @ .., last] if !subject.is_empty() && last.len() > 3 && last.ends_with("ed") => {
+            Some(format!("{} was{not} {last}", the(subject)))
+        }
+        [subject @ .., last] if !subject.is_empty() && STATES.contains(last) => {
+            Some(format!("{} is{not} {last}", the(subject)))
+        }
+        _ => None,
+    };
+    match (clause, negated) {
+        (Some(c), false) => format!("check whether {c}{tail}"),
+        (Some(c), true) => format!("check that {c}{tail}"),
+        (None, false) => format!("check {s}"),
+        (None, true) => format!("check that {s} does not hold"),
+    }
+}
+
 /// An identifier as words (see `Tree::spoken`); text with a space, or with
 /// nothing to split, is returned as it is.
 pub fn words(name: &str) -> String {
@@ -240,6 +591,75 @@ pub fn words(name: &str) -> String {
         out.push_str(&format!(" ({})", split(t).join(" ")));
     }
     out
+}
+
+#[cfg(test)]
+mod deed_tests {
+    fn tree(body: &str) -> crate::model::Tree {
+        let xml = format!(
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M">{body}</BehaviorTree><TreeNodesModel><Condition ID="GoalUpdated"/><Condition ID="IsPathValid"/><Condition ID="IsStuck"/><Condition ID="WouldAControllerRecoveryHelp"/><Condition ID="TransformAvailable"/><Condition ID="PathExpiringTimer"/><Condition ID="IsWithinPathTrackingBounds"/></TreeNodesModel></root>"#
+        );
+        crate::xml::load_str(std::path::Path::new("t.xml"), &xml, &Default::default())
+            .unwrap()
+            .tree
+    }
+
+    #[test]
+    fn names_made_of_ids_read_as_deeds_and_checks() {
+        let t = tree(
+            r#"<Sequence name="go home"><ComputePathToPose/><ControllerSelector/><Spin/><GoalUpdated/><Inverter><GoalUpdated/></Inverter><IsPathValid/><IsStuck/><WouldAControllerRecoveryHelp/><TransformAvailable/><Inverter><PathExpiringTimer/></Inverter><IsWithinPathTrackingBounds/><PathExpiringTimer/><Action ID="ask" name="ask"/></Sequence>"#,
+        );
+        let deeds: Vec<String> = (1..=t.len() as u32)
+            .filter(|&u| t.node(u).kind.is_leaf())
+            .map(|u| t.deed(u))
+            .collect();
+        assert_eq!(
+            deeds,
+            [
+                "compute path to pose",
+                "run the controller selector",
+                "spin",
+                "check whether the goal was updated",
+                "check that the goal was not updated",
+                "check whether the path is valid",
+                "check whether I am stuck",
+                "check whether a controller recovery would help",
+                "check whether the transform is available",
+                "check that path expiring timer does not hold",
+                "check whether I am within path tracking bounds",
+                "check path expiring timer",
+                "ask",
+            ]
+        );
+        // A name written as words is the person's, inside a sentence.
+        assert_eq!(t.deed(1), "go home");
+        let t = tree(r#"<Sequence name="Drive in a square"><Action ID="GPS fix"/></Sequence>"#);
+        assert_eq!(t.deed(1), "drive in a square");
+        assert_eq!(t.deed(2), "GPS fix");
+    }
+
+    #[test]
+    fn deeds_take_ing() {
+        use super::gerund;
+        assert_eq!(
+            gerund("run the recovery fallback"),
+            "running the recovery fallback"
+        );
+        assert_eq!(
+            gerund("clear local costmap (context)"),
+            "clearing local costmap (context)"
+        );
+        assert_eq!(gerund("spin"), "spinning");
+        assert_eq!(gerund("wait"), "waiting");
+        assert_eq!(gerund("back up"), "backing up");
+        assert_eq!(gerund("retreat arm"), "retreating arm");
+        assert_eq!(gerund("compute path"), "computing path");
+        assert_eq!(gerund("tie knot"), "tying knot");
+        assert_eq!(
+            gerund("check whether I am stuck"),
+            "checking whether I am stuck"
+        );
+    }
 }
 
 #[cfg(test)]

@@ -267,3 +267,24 @@ fn the_format_expresses_serial_recall_rules() {
         vec![(d.var("RepeatSequence").unwrap(), Value::Bool(true))]
     );
 }
+
+#[test]
+fn a_domain_declares_the_scripting_enums_the_robot_registers() {
+    let d = Arc::new(
+        Domain::parse(
+            Path::new("e.toml"),
+            "btx_domain = 1\n[enums]\nRED = 0\nGREEN = 1\n",
+        )
+        .unwrap(),
+    );
+    let tree = btx::xml::load_str(
+        Path::new("e.xml"),
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><ScriptCondition code="GREEN == 1 &amp;&amp; RED == 0"/></BehaviorTree></root>"#,
+        &Default::default(),
+    )
+    .unwrap()
+    .tree;
+    let leaves = DomainLeaves::new(d, &tree).unwrap();
+    let mut ex = btx::run::Executor::new(&tree, leaves, RunOptions::default());
+    assert_eq!(ex.tick_once().unwrap(), btx::run::Status::Success);
+}

@@ -489,3 +489,33 @@ fn nav2s_later_controls_run_as_nav2s_sources_do() {
     );
     assert_eq!(roots, [Status::Running, Status::Success]);
 }
+
+/// Scripting as BehaviorTree.CPP 4.10 does it (#14 item 4).
+#[test]
+fn scripts_join_strings_assign_declared_entries_and_read_enums() {
+    // `+` joins two strings; `=` assigns an entry a `{key}` port declared
+    // when the tree was built; an enum is declared in the plan.
+    let (t, roots) = run(
+        r#"<Sequence><Script code="x := 'a' + 'b'"/><ScriptCondition name="ab" code="x == 'ab'"/><Script code="target = 5"/><SetBlackboard value="{target}" output_key="copy"/><ScriptCondition name="five" code="copy == 5"/><ScriptCondition name="green" code="GREEN == 1 &amp;&amp; RED == 0 &amp;&amp; MAX == 9"/></Sequence>"#,
+        "@enum Color = RED, GREEN\n@enum MAX = 9",
+        1,
+    );
+    assert_eq!(roots, [Status::Success], "{t:?}");
+    // `=` on an entry nothing declared is still refused, as the library does.
+    let xml = r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Script code="nowhere = 5"/></BehaviorTree></root>"#;
+    let tree = load_str(Path::new("t.xml"), xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    let plan = Plan::parse(Path::new("t.plan"), "").unwrap();
+    let mut ex = Executor::new(&tree, PlanLeaves::new(plan, &tree), RunOptions::default());
+    let e = ex.tick_once().unwrap_err().to_string();
+    assert!(e.contains("create it with :="), "{e}");
+    // A SubTree port the instance does not remap takes its model's default.
+    let xml = r#"<root BTCPP_format="4" main_tree_to_execute="M"><BehaviorTree ID="M"><SubTree ID="Sub"/></BehaviorTree><BehaviorTree ID="Sub"><ScriptCondition code="speed == 2"/></BehaviorTree><TreeNodesModel><SubTree ID="Sub"><input_port name="speed" default="2"/></SubTree></TreeNodesModel></root>"#;
+    let tree = load_str(Path::new("t.xml"), xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    let plan = Plan::parse(Path::new("t.plan"), "").unwrap();
+    let mut ex = Executor::new(&tree, PlanLeaves::new(plan, &tree), RunOptions::default());
+    assert_eq!(ex.tick_once().unwrap(), Status::Success);
+}

@@ -410,3 +410,21 @@ fn trees_in_other_files_are_registered_with_with() {
     assert!(ok, "{err}");
     assert!(out.contains("grasp") && !out.contains("release"), "{out}");
 }
+
+#[test]
+fn a_subtree_models_port_without_default_must_be_remapped() {
+    // BehaviorTree.CPP 4 reads the SubTree models: a port the instance does
+    // not remap takes the model's default, and with none the tree is
+    // refused (xml_parsing.cpp, loadSubtreeModel).
+    let m = error_at(
+        "<root BTCPP_format=\"4\" main_tree_to_execute=\"M\">\n<BehaviorTree ID=\"M\">\n  <SubTree ID=\"Sub\"/>\n</BehaviorTree>\n<BehaviorTree ID=\"Sub\"><AlwaysSuccess/></BehaviorTree>\n<TreeNodesModel><SubTree ID=\"Sub\"><input_port name=\"speed\"/></SubTree></TreeNodesModel>\n</root>",
+        3,
+        3,
+    );
+    assert!(
+        m.contains(
+            "declares the port \"speed\" with no default, and this SubTree does not remap it"
+        ),
+        "{m}"
+    );
+}

@@ -125,6 +125,8 @@ pub struct Domain {
     /// Leaves after whose tick the run ends; with none, a run ends when the
     /// root completes, with some, the tree is ticked again until one runs.
     pub end_after: Vec<String>,
+    /// Scripting enums the tree's scripts may name (`[enums]`).
+    pub enums: Vec<(String, i64)>,
     pub vars: Vec<Var>,
     pub leaves: Vec<LeafDef>,
     index: HashMap<String, usize>,
@@ -222,6 +224,10 @@ struct File {
     name: String,
     #[serde(default)]
     end_after: Vec<String>,
+    /// Scripting enums, as the robot registers them
+    /// (`registerScriptingEnum`): name → value.
+    #[serde(default)]
+    enums: BTreeMap<String, i64>,
     #[serde(default)]
     functions: Option<Spanned<String>>,
     #[serde(default)]
@@ -401,6 +407,7 @@ impl Domain {
             text: text.to_string(),
             name: file.name.clone(),
             end_after: file.end_after.clone(),
+            enums: file.enums.iter().map(|(k, v)| (k.clone(), *v)).collect(),
             vars: Vec::new(),
             leaves: Vec::new(),
             index: HashMap::new(),
@@ -1402,6 +1409,10 @@ impl DomainLeaves {
 }
 
 impl Leaves for DomainLeaves {
+    fn enums(&self) -> &[(String, i64)] {
+        &self.domain.enums
+    }
+
     fn initial_entries(&self) -> Vec<(EntryId, Value)> {
         self.entries()
     }

@@ -17,6 +17,7 @@ struct NodeEnv<'a> {
     bb: &'a mut Blackboard,
     scope: crate::model::ScopeId,
     writes: &'a mut Vec<(EntryId, Value)>,
+    enums: &'a [(String, i64)],
 }
 
 impl NodeEnv<'_> {
@@ -39,6 +40,20 @@ impl super::script::Env for NodeEnv<'_> {
         let e = self.entry(name);
         self.bb.set(&e, v.clone());
         self.writes.push((e, v));
+    }
+    fn enum_value(&self, name: &str) -> Option<Value> {
+        self.enums
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| Value::from(*v))
+    }
+    fn declared(&self, name: &str) -> bool {
+        let e = self.entry(name);
+        self.tree.nodes.iter().any(|n| {
+            n.ports
+                .iter()
+                .any(|p| self.bb.port_entry(self.tree, n.scope, &p.value).as_ref() == Some(&e))
+        })
     }
 }
 
@@ -118,6 +133,11 @@ pub trait Leaves {
     /// Blackboard entries the leaves start with (a domain's state).
     fn initial_entries(&self) -> Vec<(EntryId, Value)> {
         Vec::new()
+    }
+    /// Scripting enums the robot would register (`registerScriptingEnum`),
+    /// declared by a plan or a domain: name → value.
+    fn enums(&self) -> &[(String, i64)] {
+        &[]
     }
     /// Sees every status transition, as a logger would (a replay of a log
     /// follows its position this way).
@@ -855,6 +875,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 bb: &mut self.bb,
                 scope: tree.node(uid).scope,
                 writes: &mut writes,
+                enums: self.leaves.enums(),
             };
             super::script::run(code, &mut env)
         };

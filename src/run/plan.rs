@@ -45,6 +45,8 @@ pub struct Plan {
     pub path: PathBuf,
     pub text: String,
     pub entries: Vec<PlanEntry>,
+    /// Scripting enums (`@enum RED = 0`, `@enum Color = RED, GREEN`).
+    pub enums: Vec<(String, i64)>,
 }
 
 fn parse_outcome(s: &str) -> Option<Outcome> {
@@ -68,6 +70,7 @@ fn parse_outcome(s: &str) -> Option<Outcome> {
 impl Plan {
     pub fn parse(path: &Path, text: &str) -> Result<Plan, Located> {
         let mut entries: Vec<PlanEntry> = Vec::new();
+        let mut enums: Vec<(String, i64)> = Vec::new();
         let mut offset = 0;
         for (i, raw) in text.split_inclusive('\n').enumerate() {
             let start = offset;
@@ -85,6 +88,36 @@ impl Plan {
             // A `#` after the `=` starts a comment, as in a domain file (no
             // outcome has one; a key may, being a node's name).
             let list = list.split_once('#').map_or(list, |(l, _)| l);
+            if let Some(name) = key.trim().strip_prefix("@enum ") {
+                // `@enum RED = 0`, or a C++ enum's names numbered from 0:
+                // `@enum Color = RED, GREEN, BLUE`.
+                let name = name.trim();
+                let declared: Vec<(String, i64)> = match list.trim().parse::<i64>() {
+                    Ok(v) => vec![(name.to_string(), v)],
+                    Err(_) => list
+                        .split(',')
+                        .map(str::trim)
+                        .enumerate()
+                        .map(|(i, n)| (n.to_string(), i as i64))
+                        .collect(),
+                };
+                for (n, _) in &declared {
+                    let ok = n
+                        .chars()
+                        .next()
+                        .is_some_and(|c| c.is_alphabetic() || c == '_')
+                        && n.chars().all(|c| c.is_alphanumeric() || c == '_');
+                    if !ok {
+                        return Err(at(format!("\"{n}\" is not an enum name"))
+                            .with_help("`@enum NAME = 3`, or `@enum Color = RED, GREEN, BLUE` (numbered from 0)"));
+                    }
+                    if enums.iter().any(|(m, _)| m == n) {
+                        return Err(at(format!("the enum \"{n}\" is declared twice")));
+                    }
+                }
+                enums.extend(declared);
+                continue;
+            }
             let key = key.trim().to_string();
             if key.is_empty() {
                 return Err(at("a plan line needs a key before `=`".into()));
@@ -100,8 +133,9 @@ impl Plan {
                 }
             }
             if key.starts_with('@') && key != "@default_action" && key != "@default_condition" {
-                return Err(at(format!("\"{key}\" is not a plan directive"))
-                    .with_help("the directives are @default_action and @default_condition"));
+                return Err(at(format!("\"{key}\" is not a plan directive")).with_help(
+                    "the directives are @default_action, @default_condition and @enum",
+                ));
             }
             if let Some(prev) = entries.iter().find(|e| e.key == key) {
                 return Err(at(format!(
@@ -119,6 +153,7 @@ impl Plan {
             path: path.to_path_buf(),
             text: text.to_string(),
             entries,
+            enums,
         })
     }
 
@@ -273,6 +308,10 @@ impl PlanLeaves {
 }
 
 impl Leaves for PlanLeaves {
+    fn enums(&self) -> &[(String, i64)] {
+        &self.plan.enums
+    }
+
     fn initial_entries(&self) -> Vec<(super::blackboard::EntryId, serde_json::Value)> {
         self.seeds.clone()
     }

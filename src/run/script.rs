@@ -9,6 +9,17 @@ use serde_json::Value;
 pub trait Env {
     fn get(&self, name: &str) -> Option<Value>;
     fn set(&mut self, name: &str, v: Value);
+    /// Whether the entry exists with no value yet: BehaviorTree.CPP
+    /// creates the entry of every `{key}` port when it builds the tree, so
+    /// `key = …` may assign it.
+    fn declared(&self, _name: &str) -> bool {
+        false
+    }
+    /// A scripting enum's value (registerScriptingEnum): BehaviorTree.CPP
+    /// looks a name up there before the blackboard.
+    fn enum_value(&self, _name: &str) -> Option<Value> {
+        None
+    }
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -226,7 +237,7 @@ impl<E: Env> P<'_, E> {
                         }
                     }
                 };
-                if op == "=" && self.env.get(&name).is_none() {
+                if op == "=" && self.env.get(&name).is_none() && !self.env.declared(&name) {
                     return Err(format!(
                         "\"{name}\" is not on the blackboard (create it with :=)"
                     ));
@@ -302,7 +313,17 @@ impl<E: Env> P<'_, E> {
         loop {
             if self.eat("+") {
                 let r = self.product()?;
-                l = number(num(&l)? + num(&r)?);
+                // BehaviorTree.CPP 4 joins two strings with `+`
+                // (ExprBinaryArithmetic); a string that reads as a number
+                // (a port's text) stays a number, as btx reads it.
+                l = match (&l, &r) {
+                    (Value::String(a), Value::String(b))
+                        if num(&l).is_err() || num(&r).is_err() =>
+                    {
+                        Value::from(joined(a, b)?)
+                    }
+                    _ => number(num(&l)? + num(&r)?),
+                };
             } else if self.eat("-") {
                 let r = self.product()?;
                 l = number(num(&l)? - num(&r)?);
@@ -365,9 +386,9 @@ impl<E: Env> P<'_, E> {
             Tok::Id(id) if id == "false" => Ok(Value::Bool(false)),
             // BehaviorTree.CPP also reads enums the robot's code registers
             // (registerScriptingEnum), which no tree file declares.
-            Tok::Id(id) => self.env.get(&id).ok_or_else(|| {
+            Tok::Id(id) => self.env.enum_value(&id).or_else(|| self.env.get(&id)).ok_or_else(|| {
                 format!(
-                    "\"{id}\" is not on the blackboard, nor an enum btx knows (BehaviorTree.CPP takes enums the robot registers with registerScriptingEnum): give it its value with --set {id}=VALUE"
+                    "\"{id}\" is not on the blackboard, nor an enum btx knows (BehaviorTree.CPP takes enums the robot registers with registerScriptingEnum): declare it in the plan (@enum {id} = VALUE) or the domain ([enums] {id} = VALUE), or give it with --set {id}=VALUE"
                 )
             }),
             Tok::Op("(") => {

@@ -49,6 +49,14 @@ impl Leaves for SourceLeaves {
         }
     }
 
+    fn enums(&self) -> &[(String, i64)] {
+        match self {
+            SourceLeaves::Plan(l) => l.enums(),
+            SourceLeaves::Domain(l) => l.enums(),
+            SourceLeaves::Taxi(l) => l.enums(),
+        }
+    }
+
     fn initial_entries(&self) -> Vec<(EntryId, Value)> {
         match self {
             SourceLeaves::Plan(l) => l.initial_entries(),

@@ -892,6 +892,36 @@ impl Loader {
                 direction,
             });
         }
+        // A SubTree's model (the only models BehaviorTree.CPP 4's executor
+        // reads): a port the instance does not remap takes the model's
+        // default, and without one the tree is refused (`loadSubtreeModel`
+        // and the check in `recursivelyCreateSubtree`, xml_parsing.cpp).
+        if let Some(m) = self
+            .models
+            .get(&id)
+            .filter(|m| kind == Kind::SubTree && m.kind == Kind::SubTree)
+        {
+            for pm in &m.ports {
+                if ports.iter().any(|p| p.name == pm.name) {
+                    continue;
+                }
+                let Some(d) = &pm.default else {
+                    return Err(self.err(
+                        file,
+                        el,
+                        format!(
+                            "the <TreeNodesModel> of SubTree \"{id}\" declares the port \"{}\" with no default, and this SubTree does not remap it; BehaviorTree.CPP refuses the tree",
+                            pm.name
+                        ),
+                    ).with_help(format!("give it: {}=\"{{{}}}\" or a value, or a default in the model", pm.name, pm.name)));
+                };
+                ports.push(Port {
+                    name: pm.name.clone(),
+                    value: PortValue::parse(&pm.name, d),
+                    direction: Some(pm.direction),
+                });
+            }
+        }
         Ok(Node {
             uid,
             kind,

@@ -22,6 +22,7 @@ struct View {
     description: Option<String>,
     ports: Vec<(String, String, Direction)>,
     scripts: Vec<(String, String)>,
+    metadata: Vec<(String, String)>,
     scope: Option<(Vec<String>, bool)>,
 }
 
@@ -88,6 +89,7 @@ fn view(t: &Tree) -> Vec<View> {
                     .then(|| t.description(u).to_string()),
                 ports,
                 scripts: n.scripts.clone(),
+                metadata: n.metadata.clone(),
                 scope,
             }
         })
@@ -151,6 +153,68 @@ fn released_trees_convert_without_loss() {
     for f in ["kitting.xml", "taxi.xml"] {
         check_roundtrip(&load(&shipped(f)));
     }
+}
+
+/// The corpus of public trees (tests/fixtures/realworld/SOURCES), read with
+/// Nav2's models file: every attribute and node kind survives.
+#[test]
+fn the_corpus_converts_without_loss() {
+    let dir = fixture("realworld/nav2");
+    let opts = LoadOptions {
+        models: vec![dir.join("nav2_tree_nodes.f875f62.xml")],
+        ..Default::default()
+    };
+    let mut n = 0;
+    for e in std::fs::read_dir(&dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.to_string_lossy().contains("tree_nodes") {
+            continue;
+        }
+        let t = btx::xml::load_file(&p, &opts).unwrap().tree;
+        check_roundtrip(&t);
+        n += 1;
+    }
+    assert!(n >= 10);
+}
+
+/// What the writer declares and what it leaves alone: scripts on a
+/// SubTree, editors' metadata, a kind the file declared (an ID used as two
+/// kinds in v3 keeps each), and no model for a kind btx guessed.
+#[test]
+fn conversion_keeps_what_the_file_said_and_adds_no_guess() {
+    let t = load_text(
+        r#"<root main_tree_to_execute="M">
+  <BehaviorTree ID="M">
+    <Sequence _collapsed="true">
+      <SubTree ID="Sub" _skipIf="done" _onSuccess="n := 1"/>
+      <Condition ID="Ready"/>
+      <Action ID="Ready"/>
+      <Action ID="Declared"/>
+      <Guessed/>
+    </Sequence>
+  </BehaviorTree>
+  <BehaviorTree ID="Sub"><AlwaysSuccess/></BehaviorTree>
+  <BehaviorTree ID="Unused"><Sequence name="spare"><Action ID="Declared"/></Sequence></BehaviorTree>
+</root>"#,
+    );
+    check_roundtrip(&t);
+    let x = to_v4_xml(&t);
+    assert!(
+        x.contains(r#"<SubTree ID="Sub" name="Sub" _skipIf="done" _onSuccess="n := 1"/>"#),
+        "{x}"
+    );
+    assert!(x.contains(r#"<Sequence _collapsed="true">"#), "{x}");
+    assert!(
+        x.contains(r#"<Condition ID="Ready"/>"#) && x.contains(r#"<Action ID="Ready"/>"#),
+        "{x}"
+    );
+    assert!(x.contains(r#"<Action ID="Declared"/>"#), "{x}");
+    assert!(!x.contains(r#"ID="Guessed""#), "{x}");
+    // Every <BehaviorTree> of the file, run or not.
+    assert!(
+        x.contains("<BehaviorTree ID=\"Unused\">\n    <Sequence name=\"spare\">"),
+        "{x}"
+    );
 }
 
 #[test]

@@ -209,6 +209,10 @@ pub struct Node {
     /// BehaviorTree.CPP's own (`_collapsed`, `_description`, as editors
     /// write them): not ports, kept as written.
     pub metadata: Vec<(String, String)>,
+    /// Whether the file said the node's kind (a built-in, a model, or the
+    /// explicit form `<Condition ID="…"/>`), rather than btx guessing it
+    /// from the children: a written file declares only what was said.
+    pub kind_declared: bool,
     pub parent: Option<Uid>,
     pub children: Vec<Uid>,
     /// The blackboard scope the node's ports resolve in.
@@ -253,6 +257,9 @@ pub struct Tree {
     /// Models from `<TreeNodesModel>` (custom nodes).
     pub models: BTreeMap<String, NodeModel>,
     pub files: Vec<SourceFile>,
+    /// `<BehaviorTree>`s of the file that the main tree does not run, as
+    /// (ID, their v4 XML): kept so that writing the tree loses none.
+    pub unused: Vec<(String, String)>,
 }
 
 impl Tree {

@@ -478,6 +478,48 @@ impl Loader {
             .filter_map(|(i, d)| d.id.clone().map(|id| (id, i)))
             .collect();
 
+        let defs = std::mem::take(&mut self.defs);
+        let roots = std::mem::take(&mut self.roots);
+        let (nodes, scopes) = self.expand(version, &defs, &roots, &by_id, main, &main_id)?;
+        let unused = self.unused_definitions(version, &defs, &roots, &by_id, &nodes, main);
+        self.say_unknown();
+        let tree = Tree {
+            version,
+            main_tree: main_id,
+            nodes,
+            scopes,
+            models: self.models,
+            files: self.files,
+            unused,
+        };
+        let mut warnings = self.warnings;
+        if self.more_warnings > 0 {
+            warnings.push(Warning {
+                location: tree
+                    .files
+                    .first()
+                    .map_or_else(String::new, |f| f.path.display().to_string()),
+                message: format!(
+                    "{} more warnings are not shown (the first {WARNINGS_MAX} are)",
+                    self.more_warnings
+                ),
+            });
+        }
+        Ok(Loaded { tree, warnings })
+    }
+
+    /// Expands the `<BehaviorTree>` `defs[main]` into nodes numbered as
+    /// BehaviorTree.CPP numbers them, each SubTree instance expanded in
+    /// place, and the blackboard scopes they open.
+    fn expand(
+        &mut self,
+        version: Version,
+        defs: &[Def],
+        roots: &[Option<Element>],
+        by_id: &HashMap<String, usize>,
+        main: usize,
+        main_id: &str,
+    ) -> Result<(Vec<Node>, Vec<Scope>), Located> {
         let mut nodes: Vec<Node> = Vec::new();
         let mut scopes = vec![Scope {
             parent: None,
@@ -494,8 +536,6 @@ impl Loader {
             depth: u32,
             chain: std::rc::Rc<Vec<String>>,
         }
-        let defs = std::mem::take(&mut self.defs);
-        let roots = std::mem::take(&mut self.roots);
         let def_el = |d: &Def| {
             &roots[d.file]
                 .as_ref()
@@ -509,7 +549,7 @@ impl Loader {
             parent: None,
             scope: 0,
             depth: 0,
-            chain: std::rc::Rc::new(vec![main_id.clone()]),
+            chain: std::rc::Rc::new(vec![main_id.to_string()]),
         }];
         while let Some(w) = stack.pop() {
             // SubTrees that call others twice double the tree at each
@@ -599,29 +639,89 @@ impl Loader {
             }
             nodes.push(node);
         }
-        self.say_unknown();
-        let tree = Tree {
-            version,
-            main_tree: main_id,
-            nodes,
-            scopes,
-            models: self.models,
-            files: self.files,
-        };
-        let mut warnings = self.warnings;
-        if self.more_warnings > 0 {
-            warnings.push(Warning {
-                location: tree
-                    .files
-                    .first()
-                    .map_or_else(String::new, |f| f.path.display().to_string()),
-                message: format!(
-                    "{} more warnings are not shown (the first {WARNINGS_MAX} are)",
-                    self.more_warnings
-                ),
-            });
+        Ok((nodes, scopes))
+    }
+
+    /// Every `<BehaviorTree>` of the files given (not those of `--with`)
+    /// that the main tree does not instantiate, each written as BehaviorTree
+    /// .CPP 4 XML by expanding it on its own, so that writing the tree loses
+    /// none (`registerBehaviorTreeFromFile` registers them all). One that
+    /// does not expand (it is not run, so BehaviorTree.CPP would not check
+    /// it either) is kept out, with a warning.
+    fn unused_definitions(
+        &mut self,
+        version: Version,
+        defs: &[Def],
+        roots: &[Option<Element>],
+        by_id: &HashMap<String, usize>,
+        nodes: &[Node],
+        main: usize,
+    ) -> Vec<(String, String)> {
+        let used: std::collections::HashSet<&str> = nodes
+            .iter()
+            .filter(|n| n.kind == Kind::SubTree)
+            .map(|n| n.id.as_str())
+            .collect();
+        let mut out = Vec::new();
+        for (i, d) in defs.iter().enumerate() {
+            let Some(id) = d.id.as_deref() else { continue };
+            if i == main
+                || used.contains(id)
+                || d.fullpath.is_some()
+                || d.file >= self.own_files.max(1)
+            {
+                continue;
+            }
+            // Its warnings were said when it was read; expanding it again
+            // must not count its unknown nodes twice.
+            let saved = (
+                self.warnings.len(),
+                self.more_warnings,
+                self.unknown.clone(),
+                self.unknown_at.clone(),
+                self.kinds.clone(),
+            );
+            let expanded = self.expand(version, defs, roots, by_id, i, id);
+            self.warnings.truncate(saved.0);
+            self.more_warnings = saved.1;
+            self.unknown = saved.2;
+            self.unknown_at = saved.3;
+            self.kinds = saved.4;
+            match expanded {
+                Ok((nodes, scopes)) => {
+                    let t = Tree {
+                        version,
+                        main_tree: id.to_string(),
+                        nodes,
+                        scopes,
+                        models: self.models.clone(),
+                        files: Vec::new(),
+                        unused: Vec::new(),
+                    };
+                    let xml = super::write::to_v4_xml(&t);
+                    let block = xml.find("  <BehaviorTree ").and_then(|s| {
+                        xml[s..]
+                            .find("  </BehaviorTree>\n")
+                            .map(|e| xml[s..s + e + 18].to_string())
+                    });
+                    if let Some(b) = block {
+                        out.push((id.to_string(), b));
+                    }
+                }
+                Err(e) => {
+                    let el = &roots[d.file]
+                        .as_ref()
+                        .expect("every file has a root")
+                        .children[d.idx];
+                    let msg = format!(
+                        "<BehaviorTree ID=\"{id}\"> is not run and is not written back: {}",
+                        e.message
+                    );
+                    self.warn(d.file, el, msg);
+                }
+            }
         }
-        Ok(Loaded { tree, warnings })
+        out
     }
 }
 
@@ -702,6 +802,7 @@ impl Loader {
         let old_style_subtree = tag == "SubTree" && version == Version::V3;
 
         // What kind of node, and which built-in behaviour.
+        let mut guessed = false;
         let (kind, builtin) = if explicit_kind == Some(Kind::SubTree) {
             (Kind::SubTree, Some(Builtin::SubTree))
         } else if let Some(spec) = builtins::lookup(&id) {
@@ -728,6 +829,7 @@ impl Loader {
         } else if let Some(k) = explicit_kind {
             (k, None)
         } else {
+            guessed = true;
             let (k, what) = match el.children.len() {
                 0 => (Kind::Action, "an Action"),
                 1 => (Kind::Decorator, "a Decorator"),
@@ -931,6 +1033,7 @@ impl Loader {
             ports,
             scripts,
             metadata,
+            kind_declared: !guessed,
             parent,
             children: Vec::with_capacity(n),
             scope,

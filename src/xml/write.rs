@@ -4,7 +4,7 @@
 //! the library's own script (IDs with spaces, the retry typo, SubTree names).
 
 use crate::model::*;
-use std::collections::{BTreeMap, HashMap, HashSet};
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write;
 
 /// A v4 model name: BehaviorTree.CPP ≥ 4.8.4 forbids spaces and
@@ -55,12 +55,18 @@ fn is_builtin(id: &str) -> bool {
 /// Maps every custom and tree ID to a unique valid v4 name.
 struct Names {
     map: HashMap<String, String>,
+    /// Custom IDs the file uses as two kinds (a v3 `<Condition ID="x"/>`
+    /// and `<Action ID="x"/>`): written in the explicit form, which keeps
+    /// each node's kind, with no model.
+    two_kinds: HashSet<String>,
 }
 
 impl Names {
     fn new(tree: &Tree) -> Names {
+        // Nav2's spellings are free: its models keep their own names.
         let mut taken: HashSet<String> = crate::model::builtins::BUILTINS
             .iter()
+            .filter(|s| s.builtin.is_btcpp())
             .map(|s| s.spelling.to_string())
             .collect();
         taken.insert("SubTree".into());
@@ -91,7 +97,14 @@ impl Names {
             taken.insert(cand.clone());
             map.insert(id.to_string(), cand);
         }
-        Names { map }
+        let mut kinds: HashMap<&str, Kind> = HashMap::new();
+        let mut two_kinds = HashSet::new();
+        for n in tree.nodes.iter().filter(|n| n.builtin.is_none()) {
+            if *kinds.entry(&n.id).or_insert(n.kind) != n.kind {
+                two_kinds.insert(n.id.clone());
+            }
+        }
+        Names { map, two_kinds }
     }
 
     fn get<'a>(&'a self, id: &'a str) -> &'a str {
@@ -124,6 +137,9 @@ pub fn to_v4_xml(tree: &Tree) -> String {
         let _ = writeln!(out, "  <BehaviorTree ID=\"{}\">", escape(names.get(id)));
         write_node(tree, &names, *root, false, &mut out);
         out.push_str("  </BehaviorTree>\n");
+    }
+    for (_, block) in &tree.unused {
+        out.push_str(block);
     }
     write_models(tree, &names, &mut out);
     out.push_str("</root>\n");
@@ -214,7 +230,7 @@ fn element_of(tree: &Tree, names: &Names, uid: Uid) -> (String, Vec<(String, Str
                 attrs.push(("_autoremap".into(), "true".into()));
             }
         }
-        attrs.extend(n.metadata.iter().cloned());
+        attrs.extend(n.scripts.iter().chain(&n.metadata).cloned());
         return (String::from("SubTree"), attrs);
     }
     let tag = match n.builtin {
@@ -222,10 +238,16 @@ fn element_of(tree: &Tree, names: &Names, uid: Uid) -> (String, Vec<(String, Str
             Some(t) => t.to_string(),
             None => return blackboard_check(tree, uid),
         },
+        None if names.two_kinds.contains(&n.id) => {
+            attrs.push(("ID".into(), names.get(&n.id).to_string()));
+            n.kind.as_str().to_string()
+        }
         None => names.get(&n.id).to_string(),
     };
     let keep_name = if n.builtin.is_some() && !n.kind.is_leaf() {
         tree.has_name(uid)
+    } else if n.builtin.is_none() {
+        tree.description(uid) != names.get(&n.id)
     } else {
         tree.description(uid) != tag
     };
@@ -278,49 +300,69 @@ fn blackboard_check(tree: &Tree, uid: Uid) -> (String, Vec<(String, String)>) {
     (String::from("Precondition"), attrs)
 }
 
+/// A port as the model writes it: name, direction, its model (type,
+/// default, description), or a built-in's default.
+type PortOut<'a> = (
+    String,
+    Direction,
+    Option<&'a PortModel>,
+    Option<&'static str>,
+);
+
+/// The `<TreeNodesModel>`: only what was declared, never a guess. A model
+/// of the file or of `--models` as it was written; a Nav2 node btx knows,
+/// from its spec (BehaviorTree.CPP does not register it); an ID the file
+/// only wrote in the explicit form (`<Condition ID="x"/>`), its kind alone.
+/// An ID whose kind btx guessed from its children gets none, and one used
+/// as two kinds is written in the explicit form instead.
 fn write_models(tree: &Tree, names: &Names, out: &mut String) {
-    // Custom node IDs in first-use order, with every port they are given.
     let mut order: Vec<&str> = Vec::new();
-    let mut ports: HashMap<&str, BTreeMap<String, Direction>> = HashMap::new();
-    let mut kinds: HashMap<&str, Kind> = HashMap::new();
+    let mut first: HashMap<&str, &Node> = HashMap::new();
+    let mut guessed: HashSet<&str> = HashSet::new();
     for n in &tree.nodes {
-        if n.builtin.is_some_and(|b| b.is_btcpp()) {
+        if n.kind == Kind::SubTree || n.builtin.is_some_and(|b| b.is_btcpp()) {
             continue;
         }
-        if !ports.contains_key(n.id.as_str()) {
+        if !first.contains_key(n.id.as_str()) {
             order.push(&n.id);
-            kinds.insert(&n.id, n.kind);
+            first.insert(&n.id, n);
         }
-        let e = ports.entry(&n.id).or_default();
-        for p in &n.ports {
-            e.entry(p.name.clone()).or_insert(p.assumed_direction());
-        }
-    }
-    for (id, m) in &tree.models {
-        if !is_builtin(id) && !ports.contains_key(id.as_str()) {
-            order.push(id);
-            kinds.insert(id, m.kind);
-            ports.insert(id, BTreeMap::new());
+        if !n.kind_declared {
+            guessed.insert(&n.id);
         }
     }
-    if order.is_empty() {
+    order.extend(
+        tree.models
+            .keys()
+            .map(String::as_str)
+            .filter(|id| !is_builtin(id) && !first.contains_key(id)),
+    );
+    let mut models: Vec<(Kind, &str, Vec<PortOut>)> = Vec::new();
+    for id in order {
+        if let Some(m) = tree.models.get(id) {
+            let ports = m
+                .ports
+                .iter()
+                .map(|p| (p.name.clone(), p.direction, Some(p), None))
+                .collect();
+            models.push((m.kind, id, ports));
+        } else if let Some(b) = first.get(id).and_then(|n| n.builtin) {
+            let spec = b.spec();
+            let ports = spec
+                .ports
+                .iter()
+                .map(|&(name, dir, default)| (name.to_string(), dir, None, default))
+                .collect();
+            models.push((spec.kind, id, ports));
+        } else if !guessed.contains(id) && !names.two_kinds.contains(id) {
+            models.push((first[id].kind, id, Vec::new()));
+        }
+    }
+    if models.is_empty() {
         return;
     }
     out.push_str("  <TreeNodesModel>\n");
-    for id in order {
-        let kind = kinds[id];
-        let model = tree.models.get(id);
-        let mut declared: Vec<(String, Direction, Option<&PortModel>)> = Vec::new();
-        if let Some(m) = model {
-            for p in &m.ports {
-                declared.push((p.name.clone(), p.direction, Some(p)));
-            }
-        }
-        for (name, dir) in &ports[id] {
-            if !declared.iter().any(|d| &d.0 == name) {
-                declared.push((name.clone(), *dir, None));
-            }
-        }
+    for (kind, id, declared) in models {
         let _ = write!(
             out,
             "    <{} ID=\"{}\"",
@@ -332,13 +374,16 @@ fn write_models(tree: &Tree, names: &Names, out: &mut String) {
             continue;
         }
         out.push_str(">\n");
-        for (name, dir, pm) in declared {
+        for (name, dir, pm, spec_default) in declared {
             let tag = match dir {
                 Direction::In => "input_port",
                 Direction::Out => "output_port",
                 Direction::InOut => "inout_port",
             };
             let _ = write!(out, "      <{tag} name=\"{}\"", escape(&name));
+            if let Some(d) = spec_default {
+                let _ = write!(out, " default=\"{}\"", escape(d));
+            }
             if let Some(pm) = pm {
                 if let Some(t) = &pm.type_name {
                     let _ = write!(out, " type=\"{}\"", escape(t));

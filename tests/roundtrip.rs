@@ -175,6 +175,25 @@ fn the_corpus_converts_without_loss() {
         n += 1;
     }
     assert!(n >= 10);
+    // BehaviorTree.CPP's own example files: a bare <CheckStatus/> calls the
+    // tree of that ID (its factory looks at the tree roots when no node is
+    // registered under the name), through <include>s.
+    let btcpp = fixture("realworld/btcpp");
+    for f in ["test_files/subtree_test.xml", "fuzzing_corpus2.xml"] {
+        let t = btx::xml::load_file(&btcpp.join(f), &LoadOptions::default())
+            .unwrap()
+            .tree;
+        check_roundtrip(&t);
+    }
+    let t = btx::xml::load_file(
+        &btcpp.join("test_files/subtree_test.xml"),
+        &LoadOptions::default(),
+    )
+    .unwrap()
+    .tree;
+    assert_eq!(t.node(2).kind, Kind::SubTree);
+    assert_eq!(t.node(8).id, "SayStuff");
+    assert_eq!(t.node(8).kind, Kind::SubTree);
 }
 
 /// What the writer declares and what it leaves alone: scripts on a

@@ -116,6 +116,8 @@ struct Loader {
     /// Each file's `<root>` element, by file (file 0 is the one opened first).
     roots: Vec<Option<Element>>,
     defs: Vec<Def>,
+    /// The IDs of every `<BehaviorTree>` read (a bare `<ID/>` calls one).
+    tree_ids: std::collections::HashSet<String>,
     models: BTreeMap<String, NodeModel>,
     /// The kind each custom ID was first used as, and where.
     kinds: HashMap<String, (Kind, FileId, usize)>,
@@ -480,6 +482,7 @@ impl Loader {
 
         let defs = std::mem::take(&mut self.defs);
         let roots = std::mem::take(&mut self.roots);
+        self.tree_ids = by_id.keys().cloned().collect();
         let (nodes, scopes) = self.expand(version, &defs, &roots, &by_id, main, &main_id)?;
         let unused = self.unused_definitions(version, &defs, &roots, &by_id, &nodes, main);
         self.say_unknown();
@@ -800,10 +803,17 @@ impl Loader {
             }
         };
         let old_style_subtree = tag == "SubTree" && version == Version::V3;
+        // A bare element named after a <BehaviorTree> calls it as a SubTree
+        // when no node is registered under that name (createNodeFromXML
+        // looks at the factory's builders before the tree roots).
+        let called = explicit_kind.is_none()
+            && builtins::lookup(&id).is_none()
+            && !self.models.contains_key(&id)
+            && self.tree_ids.contains(&id);
 
         // What kind of node, and which built-in behaviour.
         let mut guessed = false;
-        let (kind, builtin) = if explicit_kind == Some(Kind::SubTree) {
+        let (kind, builtin) = if explicit_kind == Some(Kind::SubTree) || called {
             (Kind::SubTree, Some(Builtin::SubTree))
         } else if let Some(spec) = builtins::lookup(&id) {
             match (spec.availability, version) {

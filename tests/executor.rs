@@ -490,6 +490,66 @@ fn nav2s_later_controls_run_as_nav2s_sources_do() {
     assert_eq!(roots, [Status::Running, Status::Success]);
 }
 
+/// Nav2's actions that finish in the tick that starts them (a selector is
+/// a SyncActionNode; GetCurrentPose an ActionNodeBase that sets RUNNING,
+/// then returns): a plan's RUNNING ticks do not apply, so a
+/// ReactiveSequence over two of them ends, as on the robot.
+#[test]
+fn nav2s_actions_that_finish_at_once_take_no_running_ticks() {
+    let (t, roots) = run(
+        r#"<ReactiveSequence name="r"><ControllerSelector name="c"/><GetCurrentPose name="g"/><GetPoseFromPath name="p"/><FollowPath name="f"/></ReactiveSequence>"#,
+        "@default_action = 2RS",
+        5,
+    );
+    assert_eq!(
+        roots,
+        [Status::Running, Status::Running, Status::Success],
+        "{t:?}"
+    );
+    assert_eq!(
+        t[0],
+        s(&[
+            "r:RUNNING",
+            "c:SUCCESS",
+            "g:RUNNING",
+            "g:SUCCESS",
+            "p:RUNNING",
+            "p:SUCCESS",
+            "f:RUNNING",
+            // ReactiveSequence resets the others while one runs.
+            "c:IDLE",
+            "g:IDLE",
+            "p:IDLE",
+        ])
+    );
+    // Without the rule, the ReactiveSequence would restart GetCurrentPose
+    // each tick and halt the one after it for ever.
+    let (_, roots) = run(
+        r#"<ReactiveSequence name="r"><Mine name="g"/><Other name="p"/></ReactiveSequence>"#,
+        "@default_action = 1RS",
+        6,
+    );
+    assert!(roots.iter().all(|&r| r == Status::Running), "{roots:?}");
+    // A plan that gives one RUNNING ticks is told they are dropped.
+    let xml =
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><GetCurrentPose/></BehaviorTree></root>"#;
+    let tree = load_str(Path::new("t.xml"), xml, &LoadOptions::default())
+        .unwrap()
+        .tree;
+    let plan = Plan::parse(Path::new("t.plan"), "GetCurrentPose = 2RF").unwrap();
+    let leaves = PlanLeaves::new(plan, &tree);
+    assert!(
+        leaves
+            .warnings
+            .iter()
+            .any(|w| w.location == "t.plan:1:1" && w.message.contains("never returns RUNNING")),
+        "{:?}",
+        leaves.warnings
+    );
+    let mut ex = Executor::new(&tree, leaves, RunOptions::default());
+    assert_eq!(ex.tick_once().unwrap(), Status::Failure);
+}
+
 /// Scripting as BehaviorTree.CPP 4.10 does it (#14 item 4).
 #[test]
 fn scripts_join_strings_assign_declared_entries_and_read_enums() {

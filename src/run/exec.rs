@@ -4,7 +4,7 @@
 
 mod nav2;
 
-pub use nav2::ROBOT_READINGS;
+pub use nav2::{at_once, ROBOT_READINGS};
 
 use super::blackboard::{Blackboard, EntryId};
 use super::status::Status;
@@ -70,6 +70,12 @@ pub struct LeafCall<'a> {
 }
 
 impl LeafCall<'_> {
+    /// Whether this leaf is one of Nav2's actions that complete in the tick
+    /// they start (`AT_ONCE`): it takes no RUNNING outcome.
+    pub fn completes_at_once(&self) -> bool {
+        self.kind == Kind::Action && at_once(&self.tree.node(self.uid).id).is_some()
+    }
+
     /// A port's value: its literal, or the blackboard entry it names.
     pub fn input(&self, port: &str) -> Option<Value> {
         let n = self.tree.node(self.uid);
@@ -754,6 +760,14 @@ impl<'t, L: Leaves> Executor<'t, L> {
             // A StatefulActionNode ticked again before a reset keeps its status.
             return Ok(prev);
         }
+        let at_once = if n.kind == Kind::Action {
+            at_once(&n.id)
+        } else {
+            None
+        };
+        if at_once == Some(true) && prev == Status::Idle {
+            self.set_status(uid, Status::Running);
+        }
         let mut writes = Vec::new();
         let out = {
             let mut call = LeafCall {
@@ -788,6 +802,15 @@ impl<'t, L: Leaves> Executor<'t, L> {
         }
         if out.status == Status::Idle {
             return Err(self.err(uid, "the leaf returned IDLE"));
+        }
+        if at_once.is_some() && out.status == Status::Running {
+            return Err(self.err(
+                uid,
+                format!(
+                    "the leaf returned RUNNING, but Nav2's {} completes in the tick it starts (nav2_behavior_tree/plugins/action); give it SUCCESS or FAILURE",
+                    n.id
+                ),
+            ));
         }
         Ok(out.status)
     }

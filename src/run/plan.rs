@@ -223,6 +223,30 @@ impl PlanLeaves {
                 ),
             });
         }
+        let mut at_once: Vec<(usize, &str)> = p
+            .assigned
+            .iter()
+            .filter_map(|(&u, &(e, _))| {
+                let n = tree.node(u);
+                let e = e?;
+                let entry = &p.plan.entries[e];
+                (n.kind == Kind::Action
+                    && super::exec::at_once(&n.id).is_some()
+                    && !entry.key.starts_with('@')
+                    && entry.outcomes.iter().any(|o| o.running > 0))
+                .then_some((entry.line, n.id.as_str()))
+            })
+            .collect();
+        at_once.sort();
+        at_once.dedup();
+        for (line, id) in at_once {
+            p.warnings.push(Warning {
+                location: format!("{}:{line}:1", p.plan.path.display()),
+                message: format!(
+                    "Nav2's {id} completes in the tick it starts and never returns RUNNING; its RUNNING ticks here are dropped"
+                ),
+            });
+        }
         for (e, u) in p.plan.entries.iter().zip(&used) {
             if !u && !e.key.starts_with('@') {
                 p.warnings.push(Warning {
@@ -322,7 +346,9 @@ impl Leaves for PlanLeaves {
             // A leaf inserted during the run ("Can you X?").
             self.assign(call.tree, uid);
         }
-        let status = if call.kind == Kind::Condition {
+        // A condition, or a Nav2 action that completes at once, takes the
+        // completed part of each outcome.
+        let status = if call.kind == Kind::Condition || call.completes_at_once() {
             self.next(uid).0.then
         } else if let Some((left, then)) = self.running.get_mut(&uid) {
             if *left > 0 {

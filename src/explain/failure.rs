@@ -74,8 +74,12 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
             fallback = Some(x);
             d.text = format!("I could not {} because ", tree.deed(x));
             d.nodes.push(x);
-            match last_failed_leaf(tree, run, children[0], run.started_at(x)) {
-                Some(f) => {
+            let since = run.started_at(x);
+            match (
+                last_failed_leaf(tree, run, children[0], since),
+                inverted_failure(tree, run, children[0], since),
+            ) {
+                (Some(f), _) => {
                     // The paper's line 9 compares with `=`; its own examples
                     // only come out when the parent is named if it differs.
                     if let Some(fp) = tree
@@ -90,7 +94,12 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                     d.failed_leaf = Some(f);
                     d.nodes.push(f);
                 }
-                None => match failed_before(tree, run, children[0])[..] {
+                (None, Some((inv, child))) => {
+                    d.text.push_str(&inverted_text(tree, inv, child));
+                    d.failed_leaf = Some(child);
+                    d.nodes.extend([inv, child]);
+                }
+                (None, None) => match failed_before(tree, run, children[0])[..] {
                     // The leaf that failed has succeeded since (a later attempt).
                     [] => d.text = format!("I could not {} earlier.", tree.deed(x)),
                     [f] => {
@@ -259,14 +268,7 @@ fn root_failure(tree: &Tree, run: &At, d: &mut Diagnosis) {
     let since = run.run_start();
     let ended = match last_failed_leaf(tree, run, Tree::ROOT, since) {
         Some(leaf) => {
-            let stopped = tree
-                .ancestors(leaf)
-                .find(|&a| {
-                    !tree.is_decorator(a)
-                        && tree.has_name(a)
-                        && tree.description(a) != tree.description(leaf)
-                })
-                .unwrap_or(Tree::ROOT);
+            let stopped = stopped_above(tree, leaf);
             d.failed_leaf = Some(leaf);
             d.nodes.extend([stopped, leaf]);
             format!(
@@ -290,16 +292,71 @@ fn root_failure(tree: &Tree, run: &At, d: &mut Diagnosis) {
                 })
                 .last()
                 .unwrap_or(Tree::ROOT);
-            d.nodes.push(deepest);
-            match tree.node(deepest).builtin {
+            let node = tree.node(deepest);
+            match node.builtin {
                 Some(Builtin::Timeout) => {
+                    d.nodes.push(deepest);
                     format!("{} stopped because its time ran out.", tree.spoken(deepest))
                 }
-                _ => format!("{} failed.", tree.spoken(deepest)),
+                Some(Builtin::Inverter) if node.children.len() == 1 => {
+                    let child = node.children[0];
+                    let stopped = stopped_above(tree, deepest);
+                    d.failed_leaf = Some(child);
+                    d.nodes.extend([stopped, deepest, child]);
+                    format!(
+                        "{} stopped because {}",
+                        tree.spoken(stopped),
+                        inverted_text(tree, deepest, child)
+                    )
+                }
+                _ => {
+                    d.nodes.push(deepest);
+                    format!("{} failed.", tree.spoken(deepest))
+                }
             }
         }
     };
     d.text = format!("The task failed: {ended}");
+}
+
+/// A check that came out the wrong way round below `p` since `since`: the
+/// last Inverter (in tree order) that failed while its child did not, with
+/// that child. No leaf failed, yet `p` did.
+fn inverted_failure(tree: &Tree, run: &At, p: Uid, since: u32) -> Option<(Uid, Uid)> {
+    tree.descendants(p)
+        .filter(|&u| {
+            let n = tree.node(u);
+            n.builtin == Some(Builtin::Inverter)
+                && n.children.len() == 1
+                && run.last_failure_since(u, since).is_some()
+                && run.last_failure_since(n.children[0], since).is_none()
+        })
+        .last()
+        .map(|u| (u, tree.node(u).children[0]))
+}
+
+fn inverted_text(tree: &Tree, inverter: Uid, child: Uid) -> String {
+    let inverter = if tree.has_name(inverter) {
+        tree.spoken(inverter)
+    } else {
+        "the inverter above it".to_string()
+    };
+    format!(
+        "{} succeeded and {inverter} turned that into a failure.",
+        tree.spoken(child)
+    )
+}
+
+/// The nearest named ancestor, not a decorator and not named like `uid`,
+/// that stopped because `uid` failed (the root if none).
+fn stopped_above(tree: &Tree, uid: Uid) -> Uid {
+    tree.ancestors(uid)
+        .find(|&a| {
+            !tree.is_decorator(a)
+                && tree.has_name(a)
+                && tree.description(a) != tree.description(uid)
+        })
+        .unwrap_or(Tree::ROOT)
 }
 
 pub const NOTHING_WRONG: &str = "Nothing went wrong.";
@@ -342,10 +399,12 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
         match handler {
             Some(h) => {
                 let first = tree.node(fb).children[0];
+                // "fell back to run the X" reads as "fell back to the X".
+                let deed = tree.deed(h);
+                let to = deed.strip_prefix("run ").unwrap_or(&deed);
                 parts.push(format!(
-                    "When {} failed, I fell back to {}.",
+                    "When {} failed, I fell back to {to}.",
                     tree.spoken(first),
-                    tree.deed(h)
                 ));
                 nodes.push(h);
             }

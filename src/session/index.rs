@@ -531,15 +531,25 @@ impl At<'_> {
     }
 
     /// The position just before the node's last start from IDLE at or
-    /// before this position (0 before any).
+    /// before this position (0 before any). A node that halts itself and
+    /// completes in the same call (Nav2's RecoveryNode when its retries run
+    /// out: RUNNING → IDLE, then at once IDLE → FAILURE) has not started
+    /// again.
     pub fn started_at(&self, uid: Uid) -> u32 {
         let list = &self.index.by_node[(uid - 1) as usize];
         let i = list.partition_point(|&p| p <= self.pos);
-        list[..i]
-            .iter()
+        let t = |k: usize| &self.index.transitions[list[k] as usize - 1];
+        (0..i)
             .rev()
-            .find(|&&p| self.index.transitions[p as usize - 1].prev == Status::Idle)
-            .map_or(0, |&p| p - 1)
+            .find(|&k| {
+                let here = t(k);
+                let halted_just_before = k > 0 && list[k - 1] + 1 == list[k] && {
+                    let h = t(k - 1);
+                    h.prev == Status::Running && h.status == Status::Idle
+                };
+                here.prev == Status::Idle && !(here.status.is_completed() && halted_just_before)
+            })
+            .map_or(0, |k| list[k] - 1)
     }
 
     /// The position of the node's last FAILURE after position `since`, at

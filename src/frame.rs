@@ -105,9 +105,10 @@ pub fn steps(tree: &Tree, g: Uid) -> Vec<Uid> {
     walk(tree, g).0
 }
 
-/// The named recoveries met by `steps`: (the branch that may fail, the
-/// recovery), in tree order.
-pub fn recoveries(tree: &Tree, g: Uid) -> Vec<(Uid, Uid)> {
+/// The recoveries met by `steps`: (the branch that may fail, the named
+/// recovery, or the named steps in turn of a recovery that has no name), in
+/// tree order.
+pub fn recoveries(tree: &Tree, g: Uid) -> Vec<(Uid, Vec<Uid>)> {
     walk(tree, g).1
 }
 
@@ -125,19 +126,25 @@ pub fn recovers(tree: &Tree, uid: Uid) -> bool {
     ) && tree.node(uid).children.len() > 1
 }
 
-fn walk(tree: &Tree, g: Uid) -> (Vec<Uid>, Vec<(Uid, Uid)>) {
+fn walk(tree: &Tree, g: Uid) -> (Vec<Uid>, Vec<(Uid, Vec<Uid>)>) {
     let g_desc = tree.description(g);
     let mut out = Vec::new();
     let mut recovered = Vec::new();
-    let below = |x: Uid, stack: &mut Vec<Uid>, recovered: &mut Vec<(Uid, Uid)>| {
+    let below = |x: Uid, stack: &mut Vec<Uid>, recovered: &mut Vec<(Uid, Vec<Uid>)>| {
         let kids = &tree.node(x).children;
         if recovers(tree, x) {
-            recovered.extend(
-                kids[1..]
-                    .iter()
-                    .filter(|&&c| tree.has_name(c))
-                    .map(|&c| (kids[0], c)),
-            );
+            // A recovery without a name (Nav2's Sequence of a check and a
+            // named ReactiveFallback) recovers by the steps inside it.
+            for &c in &kids[1..] {
+                if tree.has_name(c) {
+                    recovered.push((kids[0], vec![c]));
+                } else {
+                    let inner = walk(tree, c).0;
+                    if !inner.is_empty() {
+                        recovered.push((kids[0], inner));
+                    }
+                }
+            }
             stack.push(kids[0]);
         } else {
             stack.extend(kids.iter().rev().copied());

@@ -199,7 +199,7 @@ pub fn answered_subgoal(tree: &Tree, n: Uid) -> Option<Uid> {
     parts.extend(
         crate::frame::recoveries(tree, Tree::ROOT)
             .into_iter()
-            .map(|(_, r)| r),
+            .flat_map(|(_, rs)| rs),
     );
     parts
         .into_iter()
@@ -240,7 +240,7 @@ fn q5(tree: &Tree, what: &str, g: Uid, name: &str) -> (String, Vec<Uid>) {
     }
     let mut nodes = vec![g];
     nodes.extend(&s);
-    for (fails, r) in crate::frame::recoveries(tree, g) {
+    for (fails, rs) in crate::frame::recoveries(tree, g) {
         // What fails: the branch by its name, else the steps in it.
         let branch = if tree.has_name(fails) {
             tree.spoken(fails)
@@ -252,11 +252,15 @@ fn q5(tree: &Tree, what: &str, g: Uid, name: &str) -> (String, Vec<Uid>) {
                 and_list(&inner)
             }
         };
+        let by: Vec<String> = rs
+            .iter()
+            .map(|&r| crate::model::gerund(&tree.deed(r)))
+            .collect();
         text.push_str(&format!(
             " If {branch} fails, I recover by {}.",
-            crate::model::gerund(&tree.deed(r))
+            by.join(", then ")
         ));
-        nodes.push(r);
+        nodes.extend(rs);
     }
     (text, nodes)
 }

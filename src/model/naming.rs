@@ -447,7 +447,15 @@ fn lower_first(s: &str) -> String {
 /// with a verb, else "run the …" (see `Tree::deed`).
 pub fn as_deed(s: &str) -> String {
     let first = s.split(' ').next().unwrap_or("");
-    if VERBS.contains(&first) {
+    // A name that ends in a kind of node names the node, not a deed
+    // (Nav2's `ComputeRouteRateController`).
+    let last = s.rsplit(' ').next().unwrap_or("");
+    let names_a_node = s.contains(' ')
+        && matches!(
+            last,
+            "controller" | "sequence" | "fallback" | "selector" | "decorator"
+        );
+    if VERBS.contains(&first) && !names_a_node {
         s.to_string()
     } else {
         format!("run the {s}")
@@ -636,6 +644,12 @@ mod deed_tests {
         let t = tree(r#"<Sequence name="Drive in a square"><Action ID="GPS fix"/></Sequence>"#);
         assert_eq!(t.deed(1), "drive in a square");
         assert_eq!(t.deed(2), "GPS fix");
+        // A name that ends in a kind of node names the node.
+        let t = tree(
+            r#"<RateController name="ComputeRouteRateController" hz="1"><ComputeRoute name="ComputeRoute"/></RateController>"#,
+        );
+        assert_eq!(t.deed(1), "run the compute route rate controller");
+        assert_eq!(t.deed(2), "compute route");
     }
 
     #[test]

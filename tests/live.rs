@@ -38,6 +38,8 @@ struct Watched {
     ok: bool,
     stdout: String,
     stderr: String,
+    /// The robot ran its course (it said DONE) rather than died.
+    robot_done: bool,
 }
 
 /// Starts the robot (`tests/live/robot.py TREE PLAN PORT BTLOG TICK_MS
@@ -96,6 +98,7 @@ fn watch_robot(
         err.read_to_string(&mut s).unwrap();
         s
     });
+    let mut robot_done = false;
     if first.starts_with("watching ") {
         if late.is_none() {
             writeln!(robot.stdin.as_mut().unwrap(), "go").unwrap();
@@ -103,6 +106,7 @@ fn watch_robot(
         during(port);
         while let Some(Ok(l)) = said.next() {
             if l == "DONE" {
+                robot_done = true;
                 break;
             }
         }
@@ -119,6 +123,7 @@ fn watch_robot(
         ok: status.success(),
         stdout: stdout.join().unwrap(),
         stderr: first + stderr.join().unwrap().as_str(),
+        robot_done,
     }
 }
 
@@ -658,16 +663,33 @@ fn ten_thousand_transitions_a_second_for_ten_seconds_lose_nothing() {
     std::fs::write(&plan, "").unwrap();
     let btlog = dir.path().join("busy.btlog");
     let out = dir.path().join("busy.jsonl");
-    let start = Instant::now();
-    let w = watch_robot(
-        &tree,
-        &plan,
-        &btlog,
-        &["5", "stdin", "2000"],
-        &["--out", out.to_str().unwrap()],
-        None,
-        &|_| {},
-    );
+    let mut start = Instant::now();
+    // BehaviorTree.CPP 4.8's publisher race (below) can also corrupt the
+    // robot's heap: glibc aborts it ("malloc(): corrupted top size"). That
+    // robot's run says nothing of btx; run another, up to three.
+    let mut w = None;
+    for attempt in 1..=3 {
+        let _ = std::fs::remove_file(&btlog);
+        let _ = std::fs::remove_file(&out);
+        let _ = std::fs::remove_file(btx::session::SessionWriter::partial_path(&out));
+        start = Instant::now();
+        let this = watch_robot(
+            &tree,
+            &plan,
+            &btlog,
+            &["5", "stdin", "2000"],
+            &["--out", out.to_str().unwrap()],
+            None,
+            &|_| {},
+        );
+        // A btx that did not start is the failure to report, not a retry.
+        if this.robot_done || !this.stderr.starts_with("watching ") {
+            w = Some(this);
+            break;
+        }
+        eprintln!("attempt {attempt}: the robot died before its run ended; again");
+    }
+    let w = w.expect("the robot died in each of three runs");
     let err = w.stderr;
     assert!(w.ok, "{err}");
     // btx's polling never lets the server's buffer fill. What it cannot

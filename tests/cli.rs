@@ -581,28 +581,16 @@ fn nav2s_navigator_runs_and_its_recovery_is_explained() {
 /// "What went wrong?" names it.
 #[test]
 fn every_nav2_navigator_of_the_corpus_runs_and_explains_its_recovery() {
-    let dir = fixture("realworld/nav2");
-    // Each navigator with the model file of its release (SOURCES): the
-    // BehaviorTree.CPP 3 files of humble's era with f875f62's, the v4 ones
-    // of jazzy and main with main's.
-    let humble = dir.join("nav2_tree_nodes.f875f62.xml");
-    let main = dir.join("nav2_tree_nodes.main.xml");
+    // Each navigator with the model file of its release (SOURCES).
     let tmp = tempfile::tempdir().unwrap();
-    let mut names: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| !p.to_string_lossy().contains("tree_nodes"))
-        .collect();
-    names.sort();
+    let names = common::nav2_navigators();
     assert!(names.len() >= 15, "{names:?}");
     let run = |tree: &std::path::Path, plan: &str, name: &str| {
         let p = tmp.path().join(format!("{name}.plan"));
         std::fs::write(&p, plan).unwrap();
         let out = tmp.path().join(format!("{name}.jsonl"));
-        let v4 = std::fs::read_to_string(tree)
-            .unwrap()
-            .contains(r#"BTCPP_format="4""#);
-        let models = if v4 { &main } else { &humble }.to_str().unwrap();
+        let models = common::nav2_models_for(tree);
+        let models = models.to_str().unwrap();
         let (ok, text, err) = btx(&[
             "run",
             tree.to_str().unwrap(),

@@ -244,29 +244,12 @@ fn answers_name_the_nodes_they_used() {
 /// real_trees -- --nocapture` prints the figure.
 #[test]
 fn real_trees_are_answered_in_english() {
-    let dir = fixture("realworld/nav2");
-    // Each file with a model file of its era, as tests/fixtures/realworld/
-    // SOURCES says.
-    let opts = |f: &std::path::Path| {
-        let v4 = std::fs::read_to_string(f)
-            .unwrap()
-            .contains(r#"BTCPP_format="4""#);
-        let models = if v4 {
-            "nav2_tree_nodes.main.xml"
-        } else {
-            "nav2_tree_nodes.f875f62.xml"
-        };
-        btx::xml::LoadOptions {
-            models: vec![dir.join(models)],
-            ..Default::default()
-        }
+    // Each file with a model file of its era (SOURCES).
+    let opts = |f: &std::path::Path| btx::xml::LoadOptions {
+        models: vec![common::nav2_models_for(f)],
+        ..Default::default()
     };
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| !p.to_string_lossy().contains("tree_nodes"))
-        .collect();
-    files.sort();
+    let files = common::nav2_navigators();
     let qs = [
         TreeQuestion::Doing,
         TreeQuestion::Why,

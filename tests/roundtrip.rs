@@ -156,25 +156,20 @@ fn released_trees_convert_without_loss() {
 }
 
 /// The corpus of public trees (tests/fixtures/realworld/SOURCES), read with
-/// Nav2's models file: every attribute and node kind survives.
+/// Nav2's model files: every attribute and node kind survives.
 #[test]
 fn the_corpus_converts_without_loss() {
-    let dir = fixture("realworld/nav2");
-    let opts = LoadOptions {
-        models: vec![dir.join("nav2_tree_nodes.f875f62.xml")],
-        ..Default::default()
-    };
     let mut n = 0;
-    for e in std::fs::read_dir(&dir).unwrap() {
-        let p = e.unwrap().path();
-        if p.to_string_lossy().contains("tree_nodes") {
-            continue;
-        }
+    for p in common::nav2_navigators() {
+        let opts = LoadOptions {
+            models: vec![common::nav2_models_for(&p)],
+            ..Default::default()
+        };
         let t = btx::xml::load_file(&p, &opts).unwrap().tree;
         check_roundtrip(&t);
         n += 1;
     }
-    assert!(n >= 10);
+    assert!(n >= 15);
     // BehaviorTree.CPP's own example files: a bare <CheckStatus/> calls the
     // tree of that ID (its factory looks at the tree roots when no node is
     // registered under the name), through <include>s.

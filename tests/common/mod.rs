@@ -16,6 +16,31 @@ pub fn shipped(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// The Nav2 navigators of the corpus (tests/fixtures/realworld/nav2), in
+/// name order, without the model files.
+pub fn nav2_navigators() -> Vec<PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(fixture("realworld/nav2"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| !p.to_string_lossy().contains("tree_nodes"))
+        .collect();
+    files.sort();
+    files
+}
+
+/// The model file of a Nav2 navigator's era, as the corpus's SOURCES says:
+/// humble's for a file without BTCPP_format="4", main's for the others.
+pub fn nav2_models_for(navigator: &Path) -> PathBuf {
+    let v4 = std::fs::read_to_string(navigator)
+        .unwrap()
+        .contains(r#"BTCPP_format="4""#);
+    fixture("realworld/nav2").join(if v4 {
+        "nav2_tree_nodes.main.xml"
+    } else {
+        "nav2_tree_nodes.f875f62.xml"
+    })
+}
+
 pub fn load(path: &Path) -> Tree {
     match load_file(path, &LoadOptions::default()) {
         Ok(l) => l.tree,

@@ -723,6 +723,94 @@ fn every_nav2_navigator_of_the_corpus_runs_and_explains_its_recovery() {
     assert!(recovered >= 2);
 }
 
+/// BehaviorTree.CPP's own include tests (tests/trees of the library): an
+/// `<include path>` is read relative to the file that holds it, through a
+/// child directory, back up to the parent's and beside itself, as the
+/// library's parser does; each parent runs to SUCCESS through every level.
+/// Its example log_test.xml has two trees and no main_tree_to_execute: btx
+/// asks which, as the library's createTree(ID) does.
+#[test]
+fn behaviortree_cpps_include_tests_load_and_run() {
+    let dir = fixture("realworld/btcpp/tests/trees");
+    let tmp = tempfile::tempdir().unwrap();
+    let plan = tmp.path().join("empty.plan");
+    std::fs::write(&plan, "").unwrap();
+    for (file, deepest) in [
+        ("parent_no_include.xml", "[Action AlwaysSuccess #1]"),
+        ("parent_include_child.xml", "[SubTree ChildNoInclude #2]"),
+        (
+            "parent_include_child_include_child.xml",
+            "[SubTree ChildChildNoInclude #4]",
+        ),
+        (
+            "parent_include_child_include_parent.xml",
+            "[SubTree ParentNoInclude #4]",
+        ),
+        (
+            "parent_include_child_include_sibling.xml",
+            "[SubTree ChildNoInclude #4]",
+        ),
+    ] {
+        let tree = dir.join(file);
+        let tree = tree.to_str().unwrap();
+        let (ok, shown, err) = btx(&["tree", tree]);
+        assert!(ok, "{file}: {err}");
+        assert!(err.is_empty(), "{file}: {err}");
+        assert!(shown.contains(deepest), "{file}: {shown}");
+        let out = tmp.path().join(format!("{file}.jsonl"));
+        let (ok, text, err) = btx(&[
+            "run",
+            tree,
+            "--plan",
+            plan.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{file}: {err}");
+        assert!(
+            format!("{text}{err}").contains("root SUCCESS (root completed)"),
+            "{file}: {text}{err}"
+        );
+    }
+    let log_test = fixture("realworld/btcpp/test_files/log_test.xml");
+    let log_test = log_test.to_str().unwrap();
+    let (ok, _, err) = btx(&["tree", log_test]);
+    assert!(!ok);
+    // The report wraps to the terminal's width.
+    let flat = err
+        .split_whitespace()
+        .filter(|w| *w != "│")
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(
+        flat.contains("no main_tree_to_execute") && flat.contains("the trees are: Main, Subtree"),
+        "{err}"
+    );
+    let out = tmp.path().join("log_test.jsonl");
+    let (ok, text, err) = btx(&[
+        "run",
+        log_test,
+        "--main-tree",
+        "Main",
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        format!("{text}{err}").contains("root SUCCESS (root completed)"),
+        "{text}{err}"
+    );
+    let (ok, log, _) = btx(&["log", out.to_str().unwrap()]);
+    assert!(ok);
+    assert!(
+        log.contains("FirstSubtree                             RUNNING  -> SUCCESS")
+            && log.contains("SecondSubtree                            RUNNING  -> SUCCESS"),
+        "{log}"
+    );
+}
+
 #[test]
 fn a_name_several_nodes_answer_to_is_said_to_mean_the_outermost() {
     // Nav2 names the RecoveryNode around ComputePathToPose after it.

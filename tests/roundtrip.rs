@@ -174,7 +174,13 @@ fn the_corpus_converts_without_loss() {
     // tree of that ID (its factory looks at the tree roots when no node is
     // registered under the name), through <include>s.
     let btcpp = fixture("realworld/btcpp");
-    for f in ["test_files/subtree_test.xml", "fuzzing_corpus2.xml"] {
+    for f in [
+        "test_files/subtree_test.xml",
+        "fuzzing_corpus2.xml",
+        "tests/trees/parent_include_child_include_child.xml",
+        "tests/trees/parent_include_child_include_parent.xml",
+        "tests/trees/parent_include_child_include_sibling.xml",
+    ] {
         let t = btx::xml::load_file(&btcpp.join(f), &LoadOptions::default())
             .unwrap()
             .tree;

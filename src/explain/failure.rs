@@ -106,7 +106,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                         d.text.push_str(&format!(
                             "{} failed, {}.",
                             tree.spoken(f),
-                            before_read(run)
+                            read_at(run, "before")
                         ));
                         d.failed_leaf = Some(f);
                         d.nodes.push(f);
@@ -115,7 +115,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                         d.text.push_str(&format!(
                             "one of {} failed, {} (which one, the statuses it read do not say).",
                             described(tree, fs),
-                            before_read(run)
+                            read_at(run, "before")
                         ));
                         d.nodes.extend(fs);
                     }
@@ -191,22 +191,13 @@ fn failed_before(tree: &Tree, run: &At, p: Uid) -> Vec<Uid> {
         .collect()
 }
 
-/// When btx last read every node's state rather than followed it: when it
-/// attached to a running robot, or after a gap.
-fn when_read(run: &At) -> String {
+/// When btx last read every node's state rather than followed it ("when
+/// btx attached", or after a gap), with `at` ("when", "before") first.
+fn read_at(run: &At, at: &str) -> String {
     match run.index.resync_at(run.pos) {
-        Some((0, _)) | None => "when btx attached".into(),
+        Some((0, _)) | None => format!("{at} btx attached"),
         Some((p, _)) => {
-            format!("when btx read the statuses again after a gap (after transition {p})")
-        }
-    }
-}
-
-fn before_read(run: &At) -> String {
-    match run.index.resync_at(run.pos) {
-        Some((0, _)) | None => "before btx attached".into(),
-        Some((p, _)) => {
-            format!("before btx read the statuses again after a gap (after transition {p})")
+            format!("{at} btx read the statuses again after a gap (after transition {p})")
         }
     }
 }
@@ -247,12 +238,12 @@ fn attached_unknown(tree: &Tree, run: &At, n: Uid, d: &mut Diagnosis) {
         [] => format!(
             "I cannot tell: I was already running {} (#{r}) {}, and whether an attempt of it had failed before that, the statuses btx read do not say.",
             tree.spoken(r),
-            when_read(run)
+            read_at(run, "when")
         ),
         fs => format!(
             "I cannot tell: I was already running {} (#{r}) {}, and {} had last failed before that; whether that was in this run of it, the statuses btx read do not say.",
             tree.spoken(r),
-            when_read(run),
+            read_at(run, "when"),
             described(tree, fs)
         ),
     };

@@ -187,6 +187,16 @@ fn the_corpus_converts_without_loss() {
         check_roundtrip(&t);
     }
     let t = btx::xml::load_file(
+        &btcpp.join("test_files/log_test.xml"),
+        &LoadOptions {
+            main_tree: Some("Main".into()),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    .tree;
+    check_roundtrip(&t);
+    let t = btx::xml::load_file(
         &btcpp.join("test_files/subtree_test.xml"),
         &LoadOptions::default(),
     )

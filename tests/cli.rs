@@ -811,6 +811,76 @@ fn behaviortree_cpps_include_tests_load_and_run() {
     );
 }
 
+/// A PlanSys2 action tree and an auto-apms mission (the corpus,
+/// SOURCES): they load, run and read as English. PlanSys2 names its leaves
+/// after their IDs in lower case (`<Move name="move">`): a name a person
+/// wrote, so a step. auto-apms declares a SubTree's ports in its
+/// `<TreeNodesModel>` and sets one with a script from another.
+#[test]
+fn plansys2_and_auto_apms_trees_load_run_and_read_as_english() {
+    let tmp = tempfile::tempdir().unwrap();
+    let plan = |text: &str, name: &str| {
+        let p = tmp.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let transport = fixture("realworld/plansys2/transport.xml");
+    let transport = transport.to_str().unwrap();
+    let (ok, said, err) = btx(&["ask", transport, "--node", "move", "q5-goal"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        said,
+        "To achieve the goal \"root sequence\", I need to do 5 steps. 1. open gripper. 2. approach object. 3. close gripper. 4. move. 5. open gripper.\n"
+    );
+    // Its leaves are the robot's own: said once per ID, and one hint.
+    assert_eq!(err.matches("unknown node").count(), 4, "{err}");
+    assert_eq!(err.matches("--models FILE").count(), 1, "{err}");
+    let out = tmp.path().join("transport.jsonl");
+    let (ok, text, err) = btx(&[
+        "run",
+        transport,
+        "--plan",
+        &plan("@default_action = 1RS\n", "t.plan"),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        format!("{text}{err}").contains("root SUCCESS (root completed)"),
+        "{text}{err}"
+    );
+
+    let hogwarts = fixture("realworld/auto-apms/hogwarts.xml");
+    let out = tmp.path().join("hogwarts.jsonl");
+    let (ok, text, err) = btx(&[
+        "run",
+        hogwarts.to_str().unwrap(),
+        "--plan",
+        &plan(
+            "HasParameter = F\nPlaceObject = S, F\n@default_action = 1RS\n",
+            "h.plan",
+        ),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(!err.contains("warning"), "{err}");
+    assert!(
+        format!("{text}{err}").contains("root FAILURE (root completed)"),
+        "{text}{err}"
+    );
+    // With no parameter, the script in the SubTree writes the default its
+    // caller gave to the caller's `student`, which the actions read.
+    let session = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        session.contains(r#""entry":{"scope":0,"key":"student"},"value":"potter""#),
+        "{session}"
+    );
+    let (ok, said, err) = btx(&["ask", out.to_str().unwrap(), "--at", "last", "wrong"]);
+    assert!(ok, "{err}");
+    assert_eq!(said, "The task failed: place object failed.\n");
+}
+
 #[test]
 fn a_name_several_nodes_answer_to_is_said_to_mean_the_outermost() {
     // Nav2 names the RecoveryNode around ComputePathToPose after it.

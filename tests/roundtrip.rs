@@ -186,6 +186,12 @@ fn the_corpus_converts_without_loss() {
             .tree;
         check_roundtrip(&t);
     }
+    for f in ["plansys2/transport.xml", "auto-apms/hogwarts.xml"] {
+        let t = btx::xml::load_file(&fixture("realworld").join(f), &LoadOptions::default())
+            .unwrap()
+            .tree;
+        check_roundtrip(&t);
+    }
     let t = btx::xml::load_file(
         &btcpp.join("test_files/log_test.xml"),
         &LoadOptions {

@@ -262,11 +262,16 @@ fn root_failure(tree: &Tree, run: &At, d: &mut Diagnosis) {
             let stopped = stopped_above(tree, leaf);
             d.failed_leaf = Some(leaf);
             d.nodes.extend([stopped, leaf]);
-            format!(
-                "{} stopped because {} failed.",
-                tree.spoken(stopped),
-                tree.spoken(leaf)
-            )
+            // An unnamed root is the task itself, not a "Sequence".
+            if stopped == Tree::ROOT && !tree.has_name(stopped) {
+                format!("{} failed.", tree.spoken(leaf))
+            } else {
+                format!(
+                    "{} stopped because {} failed.",
+                    tree.spoken(stopped),
+                    tree.spoken(leaf)
+                )
+            }
         }
         None => {
             // No leaf failed: a node failed of its own accord (a Timeout

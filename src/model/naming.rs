@@ -75,7 +75,12 @@ impl Tree {
         if n.name.is_empty() {
             return false;
         }
-        if same_words(&n.name, &n.id) {
+        // A control named after its kind in another case (`<Sequence
+        // name="sequence">`) has no name of its own; a leaf named so was
+        // named by a person (PlanSys2's `<Move name="move">`), since v4 fills
+        // a missing name with the ID as written.
+        let case_only = n.name != n.id && n.name.to_lowercase() == n.id.to_lowercase();
+        if same_words(&n.name, &n.id) && !(n.kind.is_leaf() && case_only) {
             return false;
         }
         // A built-in's other spellings (a v3 `SequenceStar` named "SequenceWithMemory").
@@ -650,6 +655,14 @@ mod deed_tests {
         );
         assert_eq!(t.deed(1), "run the compute route rate controller");
         assert_eq!(t.deed(2), "compute route");
+    }
+
+    #[test]
+    fn a_leaf_named_after_its_id_in_another_case_has_a_name() {
+        let t = tree(r#"<Sequence name="sequence"><Move name="move"/><Move/></Sequence>"#);
+        assert!(!t.has_name(1), "a control named after its kind");
+        assert!(t.has_name(2), "PlanSys2's <Move name=\"move\">");
+        assert!(!t.has_name(3), "v4 names it after its ID");
     }
 
     #[test]

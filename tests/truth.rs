@@ -290,17 +290,31 @@ fn targets(m: &Model) -> Vec<String> {
 /// A generated tree's run from its plan (the trees of the differential
 /// tests: every built-in node kind, scripts and the blackboard).
 fn planned(seed: u64) -> Option<Session> {
-    let case = trees::generate(seed);
+    run_case(&trees::generate(seed), false)
+}
+
+/// A generated case's run from its plan; `as_log`: recorded as a log
+/// records it, with nothing to run it again from.
+fn run_case(case: &trees::Case, as_log: bool) -> Option<Session> {
     let tree = load_str(Path::new("case.xml"), &case.xml, &LoadOptions::default())
         .ok()?
         .tree;
     let plan = btx::run::plan::Plan::parse(Path::new("case.plan"), &case.plan).unwrap();
     let leaves = btx::run::plan::PlanLeaves::new(plan.clone(), &tree);
-    let source = Source {
-        kind: "plan".into(),
-        path: None,
-        text: Some(plan.text),
-        name: None,
+    let source = if as_log {
+        Source {
+            kind: "btlog".into(),
+            path: Some("case.btlog".into()),
+            text: None,
+            name: None,
+        }
+    } else {
+        Source {
+            kind: "plan".into(),
+            path: None,
+            text: Some(plan.text),
+            name: None,
+        }
     };
     simulate(
         &tree,
@@ -329,8 +343,114 @@ fn only_confirmed_shown(w: &causal::Why) -> Result<(), TestCaseError> {
     Ok(())
 }
 
+/// A random status or executed question at a random tick of a run.
+fn question(s: &Session, pick: u64) -> (String, btx::session::Moment) {
+    let mut rng = Rng::new(pick);
+    let tick = rng.range(1, s.index.ticks() as usize) as u32;
+    let uid = rng.range(1, s.tree.len()) as btx::Uid;
+    let target = if rng.coin() {
+        format!("status(#{uid})")
+    } else {
+        format!("executed(#{uid})")
+    };
+    (target, btx::session::Moment { tick, step: None })
+}
+
+/// Asked of the run as a log, whatever `why` states outright (not what the
+/// tree would have gone on to, nor what rests on a node btx does not
+/// follow) is what running the plan again with the change gives.
+fn log_claims_hold(case: &trees::Case, pick: u64) -> Result<usize, TestCaseError> {
+    let (Some(s), Some(log)) = (run_case(case, false), run_case(case, true)) else {
+        return Ok(0);
+    };
+    let (target, at) = question(&s, pick);
+    let Ok(w) = causal::why(&log, None, &target, &[], Some(at), 2) else {
+        return Ok(0);
+    };
+    let r = Rerunner::new(&s, at.tick).unwrap();
+    let mut checked = 0;
+    for e in w.answer.explanations.iter().filter(|e| e.next.is_none()) {
+        let c = r.check(&w.model, &w.query, e, None);
+        prop_assert!(
+            !matches!(c, Check::Refuted { .. }),
+            "{}\n{}\nat {at}: {}: {c:?}",
+            case.xml,
+            case.plan,
+            causal::english::sentence(&w.model, &w.query, e)
+        );
+        checked += usize::from(matches!(c, Check::Confirmed { .. }));
+    }
+    Ok(checked)
+}
+
+/// The property above over fixed seeds, counted: the claims it checks are
+/// many, so that it cannot pass by checking none.
+#[test]
+fn log_answers_of_generated_runs_are_confirmed_by_re_running() {
+    let (mut plain, mut nav2) = (0, 0);
+    for seed in 0..300u64 {
+        let pick = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+        plain += log_claims_hold(&trees::generate(seed), pick).unwrap();
+        nav2 += log_claims_hold(&trees::generate_nav2(seed), pick).unwrap();
+    }
+    eprintln!("claims of log answers confirmed by a re-run: {plain} (BehaviorTree.CPP's nodes), {nav2} (with Nav2's controls)");
+    assert!(plain >= 100 && nav2 >= 100, "{plain} {nav2}");
+}
+
+#[test]
+fn nav2_runs_are_reproduced_by_their_model_at_every_tick() {
+    let (mut runs, mut recovered) = (0, 0);
+    for seed in 0..300 {
+        let case = trees::generate_nav2(seed);
+        let Some(s) = run_case(&case, false) else {
+            continue;
+        };
+        runs += 1;
+        for tick in 1..=s.index.ticks() {
+            let m = causal::model_at(&s, None, tick).unwrap();
+            assert!(
+                m.unfaithful().is_empty(),
+                "{}\n{}\ntick {tick}: {:?}",
+                case.xml,
+                case.plan,
+                m.unfaithful()
+            );
+        }
+        // A RecoveryNode whose recovery ran.
+        let recovery_ran = s.tree.nodes.iter().any(|n| {
+            n.id == "RecoveryNode"
+                && s.index
+                    .transitions
+                    .iter()
+                    .any(|t| t.uid == n.children[1] && t.status == btx::run::Status::Running)
+        });
+        recovered += usize::from(recovery_ran);
+    }
+    assert!(runs >= 250, "{runs}");
+    assert!(recovered >= 10, "{recovered}");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 32, .. ProptestConfig::default() })]
+
+    /// Runs of trees with Nav2's controls: what `why` shows has been
+    /// confirmed by running the plan again, or says why it could not be.
+    #[test]
+    fn nav2_runs_show_only_confirmed_explanations(seed in any::<u64>(), pick in any::<u64>()) {
+        let Some(s) = run_case(&trees::generate_nav2(seed), false) else { return Ok(()) };
+        let (target, at) = question(&s, pick);
+        let Ok(w) = causal::why(&s, None, &target, &[], Some(at), 2) else { return Ok(()) };
+        only_confirmed_shown(&w)?;
+    }
+
+    /// A log's answers, which btx cannot re-run, are true where they
+    /// claim a consequence: checked against a re-run of the plan that made
+    /// the log, for generated trees with and without Nav2's controls.
+    #[test]
+    fn what_a_log_s_answer_claims_a_re_run_confirms(seed in any::<u64>(), pick in any::<u64>()) {
+        log_claims_hold(&trees::generate(seed), pick)?;
+        log_claims_hold(&trees::generate_nav2(seed), pick)?;
+    }
 
     /// Runs of generated trees from plans: asked why a node had its status
     /// or ran at a random moment, every explanation shown has been

@@ -417,6 +417,22 @@ pub fn sentence(m: &Model, q: &Query, e: &Explanation) -> String {
                 format!("I would have retried to {what}: attempt {attempt}{of}")
             }]
         }
+        // Never a consequence the model only guesses: which node it rests
+        // on, and why btx cannot follow it.
+        Some(Next::Opaque(node)) => {
+            let id = &m.tree.node(node).id;
+            let how = if m.tree.node(node).builtin.is_none() {
+                format!("btx does not know how a {id} decides")
+            } else if m.tree.node(node).builtin == Some(crate::model::Builtin::RecoveryNode) {
+                format!("a {id} goes back to its first child within the tick, which btx's model does not follow")
+            } else {
+                format!("btx's model does not follow how a {id} decides")
+            };
+            vec![format!(
+                "what followed would have rested on how {} went on, which the run does not give ({how})",
+                m.node_name(node)
+            )]
+        }
         None => q
             .targets
             .iter()

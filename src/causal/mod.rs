@@ -115,8 +115,10 @@ fn verified(
             let dos: Vec<(VarId, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
             // A log's leaves not ticked come first: what they would have
             // returned decides whether a Retry is reached at all.
-            let mut next = None;
-            if rerunner.is_err() {
+            // A consequence the model only guesses is said as what it rests
+            // on, unless a re-run settles it (below).
+            let mut next = verify::opaque_next(model, query, &dos);
+            if rerunner.is_err() && next.is_none() {
                 let one = Explanation {
                     values: vec![values.clone()],
                     next: None,
@@ -140,9 +142,22 @@ fn verified(
     }
     let checks: Vec<verify::Check> = match &rerunner {
         Ok(r) => split
-            .iter()
+            .iter_mut()
             .map(|e| match e.next {
                 Some(search::Next::Retry { node, .. }) => r.check_retry(model, query, e, node),
+                Some(search::Next::Opaque(_)) => {
+                    // The model's guess stands where a re-run confirms it,
+                    // and is dropped where a re-run disproves it.
+                    let guess = Explanation {
+                        next: None,
+                        ..e.clone()
+                    };
+                    let c = r.check(model, query, &guess, watch);
+                    if !matches!(c, verify::Check::NotRerun(_)) {
+                        e.next = None;
+                    }
+                    c
+                }
                 _ => r.check(model, query, e, watch),
             })
             .collect(),
@@ -552,8 +567,13 @@ pub fn why(
     let pos = session.index.position(moment).map_err(fail)?;
     let model = model_at(session, domain, moment.tick)?;
     if let Some(first) = model.unfaithful().first() {
+        let hint = if model.domain.is_some() {
+            "was the domain file changed since the run?"
+        } else {
+            "btx's model of a node differs from how it ran: a bug of btx's, please report it with the session"
+        };
         return Err(fail(format!(
-            "the model of tick {} does not reproduce the run, so it cannot explain it: {first} (was the domain file changed since the run?)",
+            "the model of tick {} does not reproduce the run, so it cannot explain it: {first} ({hint})",
             moment.tick
         )));
     }

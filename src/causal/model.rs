@@ -119,6 +119,27 @@ enum Flow {
     },
     /// A decorator that maps its child's status.
     Map(Mapping),
+    /// Nav2's PipelineSequence: every child from the first each tick; a
+    /// child RUNNING before `last` (the furthest reached) lets the next run.
+    Pipeline {
+        last: usize,
+    },
+    /// Nav2's RoundRobin: from child `start`, each in turn (wrapping round)
+    /// until one does not fail, `failed` of them having failed before.
+    RoundRobin {
+        start: usize,
+        failed: usize,
+    },
+    /// Nav2's RecoveryNode in a tick where it ticks each child at most
+    /// once: from child `start`, the recovery after a failure while fewer
+    /// than `retries` recoveries (`count` spent) have run. A recovery that
+    /// succeeds sends it back to its first child within the tick, which the
+    /// model does not follow (`Model::opaque`).
+    Recovery {
+        start: usize,
+        count: i64,
+        retries: i64,
+    },
     /// Children ticked or not by what the executor saw (timers, scripts,
     /// blackboard values): the recorded choice is exogenous.
     Gated,
@@ -275,6 +296,45 @@ fn literal_int(tree: &Tree, uid: Uid, names: &[&str], default: i64) -> i64 {
         .unwrap_or(default)
 }
 
+/// A port's integer as written in the tree: `Ok(None)` when absent,
+/// `Err` when it is a blackboard entry or not a number (the model cannot
+/// know its value).
+fn literal_port(tree: &Tree, uid: Uid, name: &str) -> Result<Option<i64>, ()> {
+    match tree.node(uid).ports.iter().find(|p| p.name == name) {
+        None => Ok(None),
+        Some(p) => match &p.value {
+            PortValue::Literal(s) => s.trim().parse().map(Some).map_err(|_| ()),
+            _ => Err(()),
+        },
+    }
+}
+
+/// Nav2's RecoveryNode in the tick: a `Flow::Recovery` when it ticked each
+/// child at most once and never went back from its recovery to its first
+/// child; otherwise its choices are the recorded ones (`Flow::Gated`).
+fn recovery_flow(tree: &Tree, uid: Uid, facts: &TickFacts) -> Flow {
+    let kids = &tree.node(uid).children;
+    let f = &facts.flows[uid as usize - 1];
+    let Ok(retries) = literal_port(tree, uid, "number_of_retries") else {
+        return Flow::Gated;
+    };
+    if kids.len() != 2 || f.idx > 1 {
+        return Flow::Gated;
+    }
+    let calls = |c: Uid| facts.calls[c as usize - 1];
+    let looped = calls(kids[0]) > 1
+        || calls(kids[1]) > 1
+        || (f.idx == 1 && facts.ticked[kids[0] as usize - 1]);
+    if looped {
+        return Flow::Gated;
+    }
+    Flow::Recovery {
+        start: f.idx,
+        count: f.count,
+        retries: retries.unwrap_or(1),
+    }
+}
+
 fn flow_of(tree: &Tree, uid: Uid, f: &crate::run::Flow) -> Flow {
     let n = tree.node(uid);
     let seq = |cont, asynch| Flow::Sequential {
@@ -332,8 +392,56 @@ fn flow_of(tree: &Tree, uid: Uid, f: &crate::run::Flow) -> Flow {
         Some(Builtin::ForceFailure) => Flow::Map(Mapping::ForceFailure),
         Some(Builtin::KeepRunningUntilFailure) => Flow::Map(Mapping::KeepRunning),
         Some(Builtin::RetryUntilSuccessful | Builtin::Repeat) => Flow::Map(Mapping::Same),
+        Some(Builtin::PipelineSequence) => Flow::Pipeline { last: f.idx },
+        Some(Builtin::RoundRobin) if f.idx < n.children.len() => Flow::RoundRobin {
+            start: f.idx,
+            failed: f.failures.min(n.children.len()),
+        },
         _ => Flow::Gated,
     }
+}
+
+/// A decorator the model gates (which child it ticks is the recorded
+/// choice) whose status is then its ticked child's, as each source has it.
+fn passes_ticked_child(b: Option<Builtin>) -> bool {
+    matches!(
+        b,
+        Some(
+            Builtin::Timeout
+                | Builtin::Delay
+                | Builtin::RunOnce
+                | Builtin::Precondition
+                | Builtin::Switch(_)
+                | Builtin::SkipUnlessUpdated
+                | Builtin::WaitValueUpdate
+                | Builtin::BlackboardCheckInt
+                | Builtin::BlackboardCheckDouble
+                | Builtin::BlackboardCheckString
+                | Builtin::BlackboardCheckBool
+                | Builtin::RateController
+                | Builtin::DistanceController
+                | Builtin::SpeedController
+                | Builtin::GoalUpdatedController
+                | Builtin::GoalUpdater
+                | Builtin::SingleTrigger
+        )
+    )
+}
+
+/// A gated decorator that ticks its child in the tick it starts (Timeout
+/// arms its timer, Nav2's controllers take their first reading), so that
+/// the model follows it when a change starts it.
+fn starts_its_child(b: Option<Builtin>) -> bool {
+    matches!(
+        b,
+        Some(
+            Builtin::Timeout
+                | Builtin::RateController
+                | Builtin::DistanceController
+                | Builtin::SpeedController
+                | Builtin::GoalUpdater
+        )
+    )
 }
 
 /// A RetryUntilSuccessful's or Repeat's control flow.
@@ -420,6 +528,9 @@ fn control_flows(tree: &Tree, facts: &TickFacts) -> Vec<Flow> {
         .map(|u| {
             if decided_by_precondition(tree, facts, u) {
                 return Flow::Gated;
+            }
+            if tree.node(u).builtin == Some(Builtin::RecoveryNode) {
+                return recovery_flow(tree, u, facts);
             }
             loop_of(tree, u).unwrap_or_else(|| flow_of(tree, u, &facts.flows[u as usize - 1]))
         })
@@ -531,6 +642,23 @@ fn structure(
         let siblings = &tree.node(p).children;
         let k = siblings.iter().position(|&c| c == u).unwrap_or(0);
         let ep = e_of[p as usize - 1];
+        // A RoundRobin ticks its children in turn from where it stopped:
+        // each depends on those before it in that turn, not in the tree.
+        if let Flow::RoundRobin { start, .. } = flows[p as usize - 1] {
+            let n = siblings.len();
+            let pos = (k + n - start) % n;
+            let at = |j: usize| r_of[siblings[(start + j) % n] as usize - 1];
+            if pos == 0 {
+                b.edge(ep, e_of[i]);
+            } else {
+                b.edge(at(pos - 1), e_of[i]);
+                b.extra(ep, e_of[i]);
+                for j in 0..pos - 1 {
+                    b.extra(at(j), e_of[i]);
+                }
+            }
+            continue;
+        }
         if k == 0 {
             b.edge(ep, e_of[i]);
         } else {
@@ -547,7 +675,9 @@ fn structure(
                 }
             }
             Flow::Branch { .. } if k == 2 => b.extra(r_of[siblings[0] as usize - 1], e_of[i]),
-            Flow::Gated | Flow::Map(_) if k > 0 => b.extra(ep, e_of[i]),
+            Flow::Gated | Flow::Map(_) | Flow::Pipeline { .. } | Flow::Recovery { .. } if k > 0 => {
+                b.extra(ep, e_of[i])
+            }
             _ => {}
         }
     }
@@ -1232,6 +1362,31 @@ impl Model {
                 ep && left(k - 1) == again && (spent < max || max == -1) && !self.wakes(kids[k - 1])
             }
             Flow::Map(_) => ep,
+            Flow::Pipeline { last } => {
+                ep && (k == 0
+                    || match left(k - 1) {
+                        Status::Success => true,
+                        Status::Running => k - 1 < last,
+                        _ => false,
+                    })
+            }
+            Flow::RoundRobin { start, failed } => {
+                let n = kids.len();
+                let pos = (k + n - start) % n;
+                ep && pos < n - failed && (0..pos).all(|j| left((start + j) % n) == Status::Failure)
+            }
+            Flow::Recovery {
+                start,
+                count,
+                retries,
+            } => {
+                ep && match (start, k) {
+                    (0, 0) | (1, 1) => true,
+                    (0, 1) => left(0) == Status::Failure && count < retries,
+                    // Back to the first child after a recovery: not followed.
+                    _ => false,
+                }
+            }
             Flow::Gated => {
                 ep && if self.facts.ticked[fi] {
                     self.facts.ticked[kids[k] as usize - 1]
@@ -1413,9 +1568,52 @@ impl Model {
                     _ => s,
                 }
             }
+            Flow::Pipeline { last } => {
+                for k in 0..kids.len() {
+                    match r(k) {
+                        Status::Success => {}
+                        Status::Running if k < last => {}
+                        s => return s,
+                    }
+                }
+                Status::Success
+            }
+            Flow::RoundRobin { start, failed } => {
+                let n = kids.len();
+                for j in 0..n - failed {
+                    match r((start + j) % n) {
+                        Status::Failure => {}
+                        s => return s,
+                    }
+                }
+                Status::Failure
+            }
+            Flow::Recovery {
+                start,
+                count,
+                retries,
+            } => {
+                let main = if start == 0 { r(0) } else { Status::Failure };
+                match main {
+                    Status::Failure if start == 1 || count < retries => match r(1) {
+                        // Back to the first child (`Model::opaque`).
+                        Status::Success | Status::Running => Status::Running,
+                        _ => Status::Failure,
+                    },
+                    s => s,
+                }
+            }
             Flow::Gated => {
-                // The child that is ticked decides, else what the node
-                // returned without ticking one.
+                // As recorded while its children are; otherwise the child
+                // that is ticked decides, else what the node returned
+                // without ticking one (`Model::opaque` says where that is
+                // a guess).
+                if self.facts.ticked[fi] && self.children_as_recorded(uid, vals) {
+                    return match self.facts.returned[fi] {
+                        Status::Idle => Status::Failure,
+                        s => s,
+                    };
+                }
                 for (k, &c) in kids.iter().enumerate() {
                     let s = r(k);
                     if s != Status::Idle
@@ -1430,6 +1628,45 @@ impl Model {
                 }
             }
         }
+    }
+
+    /// Whether every child of `uid` has, in `vals`, the status it returned
+    /// in the run (IDLE: not ticked).
+    fn children_as_recorded(&self, uid: Uid, vals: &[Val]) -> bool {
+        self.tree
+            .node(uid)
+            .children
+            .iter()
+            .all(|&c| self.r_val(c, vals) == self.facts.returned[c as usize - 1])
+    }
+
+    /// The nodes whose way on, under the values `vals`, the model does not
+    /// follow, so that what it says follows from them is a guess: a control
+    /// node it does not model (a custom one, Nav2's PersistentSequence, a
+    /// RecoveryNode that went back to its first child in the tick, …) whose
+    /// children now do otherwise than in the run, or that now runs and did
+    /// not; and a RecoveryNode whose recovery now succeeds, after which it
+    /// ticks its first child again within the tick. Decorators that pass up
+    /// the status of the child they tick (Timeout, Delay, RateController,
+    /// …) are followed: which child they tick is the recorded choice.
+    pub fn opaque(&self, vals: &[Val]) -> Vec<Uid> {
+        (1..=self.tree.len() as Uid)
+            .filter(|&u| {
+                let i = u as usize - 1;
+                let n = self.tree.node(u);
+                if n.children.is_empty() || !vals[self.e(u)].is_true() {
+                    return false;
+                }
+                match self.flows[i] {
+                    Flow::Recovery { .. } => self.r_val(n.children[1], vals) == Status::Success,
+                    Flow::Gated if !self.facts.ticked[i] => !starts_its_child(n.builtin),
+                    Flow::Gated => {
+                        !passes_ticked_child(n.builtin) && !self.children_as_recorded(u, vals)
+                    }
+                    _ => false,
+                }
+            })
+            .collect()
     }
 
     /// A float variable's value moved to the nearest value of its grid (ties
@@ -1884,5 +2121,83 @@ mod tests {
             let m = Model::build(&tree, None, TickFacts::of(&s, t).unwrap()).unwrap();
             assert!(m.unfaithful().is_empty(), "tick {t}: {:?}", m.unfaithful());
         }
+    }
+    fn nav2_model(body: &str, plan: &str, tick: u32) -> Model {
+        let xml =
+            format!(r#"<root BTCPP_format="4"><BehaviorTree ID="M">{body}</BehaviorTree></root>"#);
+        let (tree, s) = crate::causal::attempts::testing::planned(&xml, plan, 10);
+        let m = Model::build(&tree, None, TickFacts::of(&s, tick).unwrap()).unwrap();
+        assert!(m.unfaithful().is_empty(), "{:?}", m.unfaithful());
+        m
+    }
+
+    fn executed(m: &Model, dos: &[(VarId, Val)], u: Uid) -> bool {
+        m.evaluate_with(dos).unwrap()[m.e(u)].is_true()
+    }
+
+    #[test]
+    fn a_pipeline_lets_a_child_before_the_furthest_run_on() {
+        let body = r#"<PipelineSequence><a name="a"/><b name="b"/></PipelineSequence>"#;
+        let plan = "a = 1RS, 1RS\nb = 3RS";
+        // Tick 2: a succeeds and b starts (the furthest child reached).
+        let m = nav2_model(body, plan, 2);
+        assert_eq!(m.flows[0], Flow::Pipeline { last: 0 });
+        let running = Val::Status(Status::Running);
+        assert!(!executed(&m, &[(m.r(2), running.clone())], 3));
+        // Tick 3: a, ticked again, runs while b is the furthest: b is
+        // still ticked, and the pipeline's status is b's.
+        let m = nav2_model(body, plan, 3);
+        assert_eq!(m.flows[0], Flow::Pipeline { last: 1 });
+        assert!(executed(&m, &[], 3));
+        let failed = m
+            .evaluate_with(&[(m.r(3), Val::Status(Status::Failure))])
+            .unwrap();
+        assert_eq!(failed[m.r(1)], Val::Status(Status::Failure));
+        assert!(m.opaque(&m.fact).is_empty());
+    }
+
+    #[test]
+    fn a_round_robin_goes_on_from_where_it_stopped() {
+        let body = r#"<RoundRobin><a name="a"/><b name="b"/><c name="c"/></RoundRobin>"#;
+        // Tick 1: a fails, b runs; tick 2 starts at b with one failure.
+        let m = nav2_model(body, "a = F\nb = 2RS\nc = S", 2);
+        assert_eq!(
+            m.flows[0],
+            Flow::RoundRobin {
+                start: 1,
+                failed: 1
+            }
+        );
+        assert!(!executed(&m, &[], 2) && executed(&m, &[], 3));
+        // Were b to fail, c would run, and a not again (it failed already).
+        let dos = [(m.r(3), Val::Status(Status::Failure))];
+        assert!(executed(&m, &dos, 4) && !executed(&m, &dos, 2));
+    }
+
+    #[test]
+    fn a_recovery_node_is_followed_until_it_would_go_back_to_its_first_child() {
+        let body =
+            r#"<RecoveryNode number_of_retries="1"><a name="a"/><b name="b"/></RecoveryNode>"#;
+        let m = nav2_model(body, "a = 2RS\nb = S", 1);
+        assert_eq!(
+            m.flows[0],
+            Flow::Recovery {
+                start: 0,
+                count: 0,
+                retries: 1
+            }
+        );
+        let fail = (m.r(2), Val::Status(Status::Failure));
+        assert!(executed(&m, &[fail.clone()], 3));
+        let recovering = [fail.clone(), (m.r(3), Val::Status(Status::Running))];
+        assert!(m.opaque(&m.evaluate_with(&recovering).unwrap()).is_empty());
+        // A recovery that succeeds sends it back to a within the tick.
+        let back = [fail, (m.r(3), Val::Status(Status::Success))];
+        assert_eq!(m.opaque(&m.evaluate_with(&back).unwrap()), vec![1]);
+        // In a tick where it went back, its choices are the recorded ones.
+        let m = nav2_model(body, "a = F, 1RS\nb = S", 1);
+        assert_eq!(m.flows[0], Flow::Gated);
+        let stop = [(m.r(3), Val::Status(Status::Failure))];
+        assert_eq!(m.opaque(&m.evaluate_with(&stop).unwrap()), vec![1]);
     }
 }

@@ -41,6 +41,9 @@ pub enum Next {
         of: i64,
         repeat: bool,
     },
+    /// What followed would have rested on this control node, whose way on
+    /// the model does not follow (`Model::opaque`).
+    Opaque(crate::model::Uid),
 }
 
 #[derive(Debug, Clone)]

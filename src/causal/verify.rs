@@ -509,6 +509,33 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
     None
 }
 
+/// Under the change `dos`: the control node, nearest the target, whose
+/// way on the model does not follow (`Model::opaque`) and on which the
+/// target rests (its status, or whether one of its children runs, reaches
+/// the target). What the model says follows from there is a guess.
+pub fn opaque_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
+    let vals = model.evaluate_with(dos).ok()?;
+    let opaque = model.opaque(&vals);
+    if opaque.is_empty() {
+        return None;
+    }
+    let matters = model.ancestors(&query.targets);
+    let dist = model.distances_to(&query.targets);
+    opaque
+        .into_iter()
+        .filter_map(|u| {
+            let kids = &model.tree.node(u).children;
+            std::iter::once(model.r(u))
+                .chain(kids.iter().map(|&c| model.e(c)))
+                .filter(|v| matters.contains(v))
+                .map(|v| dist[v])
+                .min()
+                .map(|d| (d, u))
+        })
+        .min()
+        .map(|(_, u)| Next::Opaque(u))
+}
+
 /// A leaf nothing recorded, as what the tree would do next: a leaf of an
 /// attempt that did not happen is that attempt ("I would have retried").
 fn unknown_or_retry(model: &Model, leaf: Uid) -> Next {

@@ -25,6 +25,9 @@ struct Gen<'a> {
     /// scripts share `k`), with their definitions.
     with_subtrees: bool,
     subtrees: Vec<String>,
+    /// Nav2's controls and a RateController among the nodes (btx only:
+    /// the library does not register them).
+    nav2: bool,
 }
 
 impl Gen<'_> {
@@ -159,7 +162,17 @@ impl Gen<'_> {
                 }
             };
         }
-        let kind = kinds[self.rng.range(0, kinds.len() - 1)];
+        let nav2 = [
+            "PipelineSequence",
+            "RecoveryNode",
+            "RoundRobin",
+            "RateController",
+        ];
+        let kind = if self.nav2 && self.rng.range(0, 2) == 0 {
+            nav2[self.rng.range(0, nav2.len() - 1)]
+        } else {
+            kinds[self.rng.range(0, kinds.len() - 1)]
+        };
         let attrs = self.attributes();
         let node = self.composite(kind, depth);
         // The attributes go on the element's opening tag.
@@ -203,6 +216,15 @@ impl Gen<'_> {
                 let skip = self.rng.coin();
                 format!("<RunOnce then_skip=\"{skip}\">{body}</RunOnce>")
             }
+            "RecoveryNode" => {
+                let body = self.children(depth, 2, 2);
+                let n = self.rng.range(1, 2);
+                format!("<RecoveryNode number_of_retries=\"{n}\">{body}</RecoveryNode>")
+            }
+            "RateController" => {
+                let body = self.node(depth + 1);
+                format!("<RateController hz=\"20\">{body}</RateController>")
+            }
             "Inverter" | "ForceSuccess" | "ForceFailure" | "KeepRunningUntilFailure" => {
                 let body = self.node(depth + 1);
                 format!("<{kind}>{body}</{kind}>")
@@ -223,6 +245,17 @@ fn xml_escape(s: &str) -> String {
 }
 
 pub fn generate(seed: u64) -> Case {
+    generate_with(seed, false)
+}
+
+/// A generated case with Nav2's PipelineSequence, RecoveryNode, RoundRobin
+/// and RateController among its nodes, and no scripts (Nav2's controls
+/// refuse a SKIPPED child).
+pub fn generate_nav2(seed: u64) -> Case {
+    generate_with(seed & !1, true)
+}
+
+fn generate_with(seed: u64, nav2: bool) -> Case {
     let mut rng = Rng::new(seed);
     // Every other case uses scripts and the blackboard, starting from k = 0.
     let scripted = seed % 2 == 1;
@@ -232,6 +265,7 @@ pub fn generate(seed: u64) -> Case {
         scripted,
         with_subtrees: seed % 4 >= 2,
         subtrees: Vec::new(),
+        nav2,
     };
     let mut body = g.node(0);
     if scripted {

@@ -2188,7 +2188,7 @@ mod tests {
             }
         );
         let fail = (m.r(2), Val::Status(Status::Failure));
-        assert!(executed(&m, &[fail.clone()], 3));
+        assert!(executed(&m, std::slice::from_ref(&fail), 3));
         let recovering = [fail.clone(), (m.r(3), Val::Status(Status::Running))];
         assert!(m.opaque(&m.evaluate_with(&recovering).unwrap()).is_empty());
         // A recovery that succeeds sends it back to a within the tick.

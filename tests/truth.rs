@@ -398,6 +398,56 @@ fn log_answers_of_generated_runs_are_confirmed_by_re_running() {
 }
 
 #[test]
+fn what_rests_on_a_node_the_model_does_not_follow_is_not_claimed() {
+    // Found by the property above: asked of a log, "If n0 had failed,
+    // AsyncSequence would have failed." The RecoveryNode would then have
+    // run its recovery n2, which succeeds, and ticked the AsyncSequence
+    // again: re-run, it is RUNNING at its last call.
+    let case = trees::Case {
+        xml: r#"<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><RecoveryNode number_of_retries="1"><AsyncSequence><Check name="n0"/><ForceSuccess><Act name="n1"/></ForceSuccess></AsyncSequence><Check name="n2"/></RecoveryNode></BehaviorTree><TreeNodesModel><Action ID="Act"/><Condition ID="Check"/></TreeNodesModel></root>"#.into(),
+        plan: "@default_action = 1RS\n@default_condition = S\nn0 = S\nn1 = 1RF, 1RF\nn2 = S, F\n".into(),
+        max_ticks: 24,
+        tick_ms: 0,
+    };
+    let log = run_case(&case, true).unwrap();
+    let at = btx::session::Moment {
+        tick: 1,
+        step: None,
+    };
+    let w = causal::why(&log, None, "status(#2)", &[], Some(at), 2).unwrap();
+    let text = w.text();
+    assert!(!text.contains("AsyncSequence would have failed"), "{text}");
+    assert!(
+        text.contains("If n0 had failed, what followed would have rested on how RecoveryNode went on, which the run does not give (a RecoveryNode goes back to its first child within the tick, which btx's model does not follow)."),
+        "{text}"
+    );
+    let j = w.json();
+    let rests = j["explanations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|x| x["next"]["kind"] == "not_followed")
+        .unwrap_or_else(|| panic!("{j:#}"));
+    assert_eq!(rests["next"]["node"]["uid"], 1);
+    assert_eq!(rests["next"]["id"], "RecoveryNode");
+    assert!(rests["C"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|c| c["K"].as_array().unwrap().is_empty()));
+    // Run from its plan, the same question is settled by running it again.
+    let s = run_case(&case, false).unwrap();
+    let w = causal::why(&s, None, "status(#2)", &[], Some(at), 2).unwrap();
+    assert!(w.sentences().is_empty(), "{}", w.text());
+    assert!(
+        w.text()
+            .contains("dropped, as running the tree again disproved it"),
+        "{}",
+        w.text()
+    );
+}
+
+#[test]
 fn nav2_runs_are_reproduced_by_their_model_at_every_tick() {
     let (mut runs, mut recovered) = (0, 0);
     for seed in 0..300 {

@@ -457,6 +457,30 @@ fn capitalise(s: &str) -> String {
     }
 }
 
+/// What an explanation says instead of a consequence (JSON `next`; null
+/// when it states one, in each C's K).
+fn next_json(m: &Model, next: Option<Next>) -> Value {
+    let node = |u: crate::model::Uid| json!({"uid": m.origin(u), "name": m.node_name(u)});
+    match next {
+        None => Value::Null,
+        Some(Next::Unknown(l)) => json!({"kind": "unknown_outcome", "node": node(l)}),
+        Some(Next::Retry {
+            node: u,
+            attempt,
+            of,
+            repeat,
+        }) => json!({
+            "kind": if repeat { "repeat" } else { "retry" },
+            "node": node(u),
+            "attempt": attempt,
+            "of": of,
+        }),
+        Some(Next::Opaque(u)) => {
+            json!({"kind": "not_followed", "node": node(u), "id": m.tree.node(u).id})
+        }
+    }
+}
+
 /// The formal statement of one explanation: R and C.
 fn formal(m: &Model, q: &Query, e: &Explanation) -> (Vec<Value>, Vec<Value>) {
     let r = e
@@ -464,10 +488,12 @@ fn formal(m: &Model, q: &Query, e: &Explanation) -> (Vec<Value>, Vec<Value>) {
         .iter()
         .map(|&v| json!({"variable": m.var_name(v), "value": value_json(&m.fact[v])}))
         .collect();
+    // A consequence the answer does not claim (`next`) has no K.
     let k: Vec<Value> = q
         .targets
         .iter()
         .zip(&e.outcome)
+        .filter(|_| e.next.is_none())
         .map(|(&t, x)| json!({"variable": m.var_name(t), "value": value_json(x)}))
         .collect();
     let c = e
@@ -515,6 +541,7 @@ pub fn to_json(m: &Model, q: &Query, a: &Answer, moment: &str) -> Value {
                 "text": sentence(m, q, &a.explanations[g[0]]),
                 "R": rs,
                 "C": cs,
+                "next": next_json(m, a.explanations[g[0]].next),
             })
         })
         .collect();

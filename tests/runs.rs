@@ -533,6 +533,48 @@ fn what_went_wrong_looks_at_the_current_run_only() {
         );
     }
     assert_eq!(ask(&s, "26", "wrong"), "Nothing went wrong.");
+    // At every step in between: the Fallback resets insert large gear, then
+    // fails and is reset itself, before the Retry starts attempt 2 (tick
+    // 11's steps 4 to 10, which said "Nothing went wrong.").
+    for step in 1..=13 {
+        let said = ask(&s, &format!("11:{step}"), "wrong");
+        assert!(
+            said.contains("I could not insert large gear because look at chuck failed."),
+            "11:{step}: {said}"
+        );
+    }
+}
+
+#[test]
+fn what_went_wrong_under_a_control_node_btx_does_not_know() {
+    // The look-at-chuck log with its Fallback renamed MyFallback, a custom
+    // control node: the failure below it is said, and that what it did
+    // about it btx cannot tell (it said "Nothing went wrong.").
+    let dir = tempfile::tempdir().unwrap();
+    let log =
+        std::fs::read(root().join("tests/fixtures/logs/kitting_lookat_fails_once.btlog")).unwrap();
+    let n = i32::from_le_bytes(log[19..23].try_into().unwrap()) as usize;
+    let xml = std::str::from_utf8(&log[23..23 + n]).unwrap();
+    let open = xml.find("<Fallback name=\"insert large gear\"").unwrap();
+    let close = open + xml[open..].find("</Fallback>").unwrap();
+    let xml = format!(
+        "{}<MyFallback{}</MyFallback>{}",
+        &xml[..open],
+        &xml[open + "<Fallback".len()..close],
+        &xml[close + "</Fallback>".len()..]
+    );
+    let mut bytes = log[..19].to_vec();
+    bytes.extend((xml.len() as i32).to_le_bytes());
+    bytes.extend(xml.as_bytes());
+    bytes.extend(&log[23 + n..]);
+    let path = dir.path().join("custom.btlog");
+    let s = btx::logs::open_btlog(&path, &bytes).unwrap();
+    let at = s.at(Moment::parse("10").unwrap()).unwrap();
+    let n = at.current().unwrap();
+    assert_eq!(
+        answer(&s.tree, Some(&at), n, &Question::parse("wrong").unwrap()).unwrap().text,
+        "I could not insert large gear because look at chuck failed. What insert large gear (#13) did about it, btx cannot tell: it does not know how a MyFallback handles a failure."
+    );
 }
 
 #[test]

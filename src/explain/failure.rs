@@ -44,6 +44,29 @@ fn last_failed_leaf(tree: &Tree, run: &At, p: Uid, since: u32) -> Option<Uid> {
         .map(|(_, u)| u)
 }
 
+/// Han's Fallback test: the first child's current status is FAILURE. A
+/// recorded run also has the moments, within the tick, after a Fallback
+/// that completes reset that child to IDLE and before anything ticked it
+/// again: there its last completion, in this run of the Fallback (and of
+/// the root, which has not completed), is the failure the Fallback fell
+/// back from. (A
+/// ReactiveFallback resets a failed first child while a later one runs, and
+/// ticks it again each tick: for it, the current status is the test.)
+fn first_child_failed(tree: &Tree, run: &At, x: Uid, first: Uid) -> bool {
+    let reactive = tree.node(x).builtin == Some(Builtin::ReactiveFallback);
+    match run.status(first) {
+        Status::Failure => true,
+        Status::Idle if !reactive && run.root_outcome().is_none() => {
+            let since = run.started_at(x);
+            since >= run.run_start()
+                && run
+                    .last_completion(first)
+                    .is_some_and(|(p, s)| s == Status::Failure && p > since)
+        }
+        _ => false,
+    }
+}
+
 /// The nearest ancestor that has a name (Han's `find_non_null_parent`).
 fn named_ancestor(tree: &Tree, uid: Uid) -> Option<Uid> {
     tree.ancestors(uid).find(|&a| tree.has_name(a))
@@ -68,7 +91,7 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
                     .last_failure_since(children[0], run.started_at(x))
                     .is_some()
         } else {
-            is_fallback(tree, x) && run.status(children[0]) == Status::Failure
+            is_fallback(tree, x) && first_child_failed(tree, run, x, children[0])
         };
         if fell_back {
             fallback = Some(x);
@@ -128,6 +151,10 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
             d.fell_back = Some((x, handler));
             break;
         }
+        if let Some(c) = handled_elsewhere(tree, run, x) {
+            failed_under(tree, run, x, c, &mut d);
+            break;
+        }
         if is_retry(tree, x) && run.attempts(x) > 0 {
             let a = run.attempts(x);
             d.retrying.push((x, a));
@@ -177,6 +204,9 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
         root_failure(tree, run, &mut d);
     }
     if d.text.is_empty() {
+        failing_now(tree, run, n, &mut d);
+    }
+    if d.text.is_empty() {
         attached_unknown(tree, run, n, &mut d);
     }
     d
@@ -208,6 +238,100 @@ fn described(tree: &Tree, nodes: &[Uid]) -> String {
         .map(|&u| format!("{} (#{u})", tree.spoken(u)))
         .collect();
     super::han::and_list(&names)
+}
+
+/// Beyond Algorithm 7, which knows Fallbacks and Retries: a control node
+/// or decorator whose handling of a failure btx does not know (a custom
+/// one) or that Algorithm 7 leaves out (TryCatch), with a child that failed
+/// in its current run: the first such child, as Algorithm 7 tests a
+/// Fallback's first child. Its failure went somewhere other than up, or the
+/// node would have completed.
+fn handled_elsewhere(tree: &Tree, run: &At, x: Uid) -> Option<Uid> {
+    let n = tree.node(x);
+    let unknown = n.builtin.is_none() && matches!(n.kind, Kind::Control | Kind::Decorator);
+    if !(unknown || n.builtin == Some(Builtin::TryCatch)) || !run.status(x).is_active() {
+        return None;
+    }
+    let since = run.started_at(x);
+    n.children
+        .iter()
+        .copied()
+        .find(|&c| run.last_failure_since(c, since).is_some())
+}
+
+/// What went wrong below `x` (see `handled_elsewhere`): child `c` failed,
+/// and why; for a node btx does not know, that what it did about it btx
+/// cannot tell.
+fn failed_under(tree: &Tree, run: &At, x: Uid, c: Uid, d: &mut Diagnosis) {
+    let since = run.started_at(x);
+    let what = if tree.has_name(c) {
+        c
+    } else {
+        named_ancestor(tree, c).unwrap_or(x)
+    };
+    d.nodes.push(what);
+    d.text = match last_failed_leaf(tree, run, c, since) {
+        Some(f) if f != c => {
+            d.failed_leaf = Some(f);
+            d.nodes.push(f);
+            format!(
+                "I could not {} because {} failed.",
+                tree.deed(what),
+                tree.spoken(f)
+            )
+        }
+        _ => {
+            d.failed_leaf = tree.node(c).kind.is_leaf().then_some(c);
+            format!("{} failed.", capitalised(&tree.spoken(c)))
+        }
+    };
+    if tree.node(x).builtin.is_none() {
+        d.nodes.push(x);
+        d.text.push_str(&format!(
+            " What {} (#{x}) did about it, btx cannot tell: it does not know how a {} handles a failure.",
+            tree.spoken(x),
+            tree.node(x).id
+        ));
+    }
+}
+
+/// Beyond Algorithm 7: between a failure and what handles it. Within a
+/// tick, a node above the current one has failed and its parent has not
+/// yet done anything about it (a Fallback whose last child failed, before
+/// the Retry above it starts again): the highest such node, and the leaf
+/// whose failure it was. Nothing has gone right again yet.
+fn failing_now(tree: &Tree, run: &At, n: Uid, d: &mut Diagnosis) {
+    let Some(x) = std::iter::once(n)
+        .chain(tree.ancestors(n))
+        .filter(|&a| run.status(a) == Status::Failure)
+        .last()
+    else {
+        return;
+    };
+    let what = if tree.has_name(x) {
+        x
+    } else {
+        named_ancestor(tree, x).unwrap_or(x)
+    };
+    d.nodes.push(what);
+    d.text = match last_failed_leaf(tree, run, x, run.started_at(x)).filter(|&f| f != x) {
+        Some(f) => {
+            d.failed_leaf = Some(f);
+            d.nodes.push(f);
+            format!(
+                "I could not {} because {} failed.",
+                tree.deed(what),
+                tree.spoken(f)
+            )
+        }
+        None => format!("{} failed.", capitalised(&tree.spoken(x))),
+    };
+}
+
+fn capitalised(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map_or_else(String::new, |f| f.to_uppercase().chain(c).collect())
 }
 
 /// Nothing went wrong in what the run recorded, and the statuses read when

@@ -111,7 +111,11 @@ pub fn unroll(tree: &Tree, facts: TickFacts) -> Unrolled {
         };
         let child = tree.node(l).children[0];
         if inside[li] || !u.facts.ticked[li] {
-            u.folded[li] = i64::from(u.facts.calls[child as usize - 1].saturating_sub(1));
+            // Its attempts within its last call, which its facts stand for
+            // (a loop inside another's child is ticked afresh by each
+            // attempt of the outer one: not the child's calls in the tick).
+            let within = calls_within(&log, l, child).len();
+            u.folded[li] = within.saturating_sub(1) as i64;
             continue;
         }
         let calls = calls_within(&log, l, child);

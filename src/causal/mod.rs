@@ -113,6 +113,13 @@ fn verified(
         let mut parts: Vec<Explanation> = Vec::new();
         for values in &e.values {
             let dos: Vec<(VarId, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
+            // The question is about the node's last call in the tick: a
+            // change that leaves it as it was, only in another attempt,
+            // explains nothing (a later attempt is said as a retry below).
+            let later = verify::later_attempt_next(model, query, &dos);
+            if later.is_none() && !same_in_tick(model, query, &dos) {
+                continue;
+            }
             // A log's leaves not ticked come first: what they would have
             // returned decides whether a Retry is reached at all.
             // A consequence the model only guesses is said as what it rests
@@ -125,6 +132,9 @@ fn verified(
                     ..e.clone()
                 };
                 next = verify::unknown_next(model, query, &one);
+            }
+            if next.is_none() {
+                next = later;
             }
             if next.is_none() {
                 next = verify::retry_next(model, query, &dos);
@@ -176,6 +186,19 @@ fn verified(
     }
     answer.explanations = kept;
     (answer, kept_checks, dropped)
+}
+
+/// Whether, under the change `dos`, each target's value in the tick (its
+/// node's last call) is the value the model's variable takes.
+fn same_in_tick(model: &Model, query: &Query, dos: &[(VarId, Val)]) -> bool {
+    let Ok(vals) = model.evaluate_with(dos) else {
+        return true;
+    };
+    query.targets.iter().all(|&t| {
+        model
+            .in_tick(t, &vals)
+            .is_some_and(|x| model.snap(t, &x) == model.snap(t, &vals[t]))
+    })
 }
 
 impl Why {

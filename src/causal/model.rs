@@ -428,9 +428,60 @@ fn passes_ticked_child(b: Option<Builtin>) -> bool {
     )
 }
 
-/// A gated decorator that ticks its child in the tick it starts (Timeout
-/// arms its timer, Nav2's controllers take their first reading), so that
-/// the model follows it when a change starts it.
+/// A node whose status or choice of child a script or a blackboard entry
+/// decides.
+fn reads_blackboard(n: &crate::model::Node) -> bool {
+    n.scripts.iter().any(|(k, _)| {
+        matches!(
+            k.as_str(),
+            "_skipIf" | "_successIf" | "_failureIf" | "_while"
+        )
+    }) || matches!(
+        n.builtin,
+        Some(
+            Builtin::ScriptCondition
+                | Builtin::Precondition
+                | Builtin::Switch(_)
+                | Builtin::BlackboardCheckInt
+                | Builtin::BlackboardCheckDouble
+                | Builtin::BlackboardCheckString
+                | Builtin::BlackboardCheckBool
+                | Builtin::WasEntryUpdated
+                | Builtin::SkipUnlessUpdated
+                | Builtin::WaitValueUpdate
+                | Builtin::DistanceController
+                | Builtin::SpeedController
+                | Builtin::GoalUpdatedController
+                | Builtin::PathLongerOnApproach
+        )
+    )
+}
+
+/// A node that writes the blackboard when it runs or completes.
+fn writes_blackboard(n: &crate::model::Node) -> bool {
+    n.scripts.iter().any(|(k, _)| {
+        matches!(
+            k.as_str(),
+            "_onSuccess" | "_onFailure" | "_post" | "_onHalted"
+        )
+    }) || matches!(
+        n.builtin,
+        Some(
+            Builtin::Script
+                | Builtin::SetBlackboard
+                | Builtin::UnsetBlackboard
+                | Builtin::LoopInt
+                | Builtin::LoopDouble
+                | Builtin::LoopString
+                | Builtin::LoopBool
+                | Builtin::GoalUpdater
+        )
+    )
+}
+
+/// A gated decorator that ticks its child in the tick it starts from IDLE
+/// (Timeout arms its timer, Nav2's controllers take their first reading),
+/// so that the model follows it when a change starts it.
 fn starts_its_child(b: Option<Builtin>) -> bool {
     matches!(
         b,
@@ -709,8 +760,12 @@ fn attempt_counts(
         };
         let u = i as Uid + 1;
         let spent = facts.flows[i].count + folded[i];
-        // Every count the node can resume with, when there are few.
-        let (range, intervene) = if (1..=ATTEMPTS_RANGE_MAX).contains(&max) {
+        // Every count the node can resume with, when there are few. A loop
+        // that started afresh in the tick (or whose last call did: inside
+        // another loop's child) used none before: that is not a cause
+        // anything could have changed.
+        let resumed = facts.start[i] == Status::Running && facts.calls[i] == 1;
+        let (range, intervene) = if resumed && (1..=ATTEMPTS_RANGE_MAX).contains(&max) {
             ((0..max).map(|k| Val::Data(Value::from(k))).collect(), true)
         } else {
             (vec![Val::Data(Value::from(spent))], false)
@@ -1649,17 +1704,38 @@ impl Model {
     /// ticks its first child again within the tick. Decorators that pass up
     /// the status of the child they tick (Timeout, Delay, RateController,
     /// …) are followed: which child they tick is the recorded choice.
+    ///
+    /// And the blackboard, which the model does not hold: a node whose
+    /// status a script or a blackboard entry decides (a pre-condition, a
+    /// ScriptCondition, a Switch, …) is followed only as recorded, so it is
+    /// opaque where it now runs and did not, or where a node that writes the
+    /// blackboard (a Script, a post-condition, …) now does otherwise.
     pub fn opaque(&self, vals: &[Val]) -> Vec<Uid> {
+        let differs = |u: Uid| {
+            let i = u as usize - 1;
+            vals[self.e(u)].is_true() != self.facts.ticked[i]
+                || (self.facts.ticked[i] && self.r_val(u, vals) != self.facts.returned[i])
+        };
+        let written_otherwise = (1..=self.tree.len() as Uid)
+            .any(|u| writes_blackboard(self.tree.node(u)) && differs(u));
         (1..=self.tree.len() as Uid)
             .filter(|&u| {
                 let i = u as usize - 1;
                 let n = self.tree.node(u);
-                if n.children.is_empty() || !vals[self.e(u)].is_true() {
+                if !vals[self.e(u)].is_true() {
+                    return false;
+                }
+                if reads_blackboard(n) && (!self.facts.ticked[i] || written_otherwise) {
+                    return true;
+                }
+                if n.children.is_empty() {
                     return false;
                 }
                 match self.flows[i] {
                     Flow::Recovery { .. } => self.r_val(n.children[1], vals) == Status::Success,
-                    Flow::Gated if !self.facts.ticked[i] => !starts_its_child(n.builtin),
+                    Flow::Gated if !self.facts.ticked[i] => {
+                        !(starts_its_child(n.builtin) && self.facts.start[i] == Status::Idle)
+                    }
                     Flow::Gated => {
                         !passes_ticked_child(n.builtin) && !self.children_as_recorded(u, vals)
                     }
@@ -1667,6 +1743,17 @@ impl Model {
                 }
             })
             .collect()
+    }
+
+    /// Whether some change could make `u` one of `opaque`'s nodes.
+    pub fn may_be_opaque(&self, u: Uid) -> bool {
+        let n = self.tree.node(u);
+        reads_blackboard(n)
+            || (!n.children.is_empty()
+                && matches!(
+                    self.flows[u as usize - 1],
+                    Flow::Recovery { .. } | Flow::Gated
+                ))
     }
 
     /// A float variable's value moved to the nearest value of its grid (ties
@@ -1713,6 +1800,67 @@ impl Model {
             }
             _ => None,
         }
+    }
+
+    /// Whether, under `vals`, loop `u` ticks its child again within the
+    /// tick after its last copy: the attempt the model has no copy for,
+    /// as the attempt it would be (from 1).
+    pub fn loop_goes_on(&self, u: Uid, vals: &[Val]) -> Option<i64> {
+        let Flow::Map(Mapping::Loop { again, max }) = self.flows[u as usize - 1] else {
+            return None;
+        };
+        let kids = &self.tree.node(u).children;
+        let &last = kids.last()?;
+        let spent = self.attempts_val(u, vals) + kids.len() as i64 - 1;
+        let goes_on = vals[self.e(u)].is_true()
+            && self.r_val(last, vals) == again
+            && (max == -1 || spent + 1 < max)
+            && !self.wakes(last);
+        goes_on.then_some(spent + 2)
+    }
+
+    /// The value, under `vals`, of what a question about variable `t` asks
+    /// of the tick: for a node with copies (attempts of a loop above it),
+    /// the node's last call in the tick, which may be another attempt's
+    /// copy than the one `t` is of (a change can end the tick's attempts
+    /// sooner, or later); otherwise `vals[t]`.
+    ///
+    /// `None` where that is unknown: the node was ticked more often in the
+    /// tick than the model has copies of it (under a RecoveryNode that went
+    /// back to its first child, or in attempts folded into a count), and
+    /// under `vals` none of its modelled calls happens, so its last call is
+    /// one the model does not hold.
+    pub fn in_tick(&self, t: VarId, vals: &[Val]) -> Option<Val> {
+        let u = match self.vars[t].kind {
+            VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u) => u,
+            _ => return Some(vals[t].clone()),
+        };
+        let origin = self.origin(u);
+        let attempt = |c: Uid| self.attempt_of(c).unwrap_or(0);
+        let mine: Vec<Uid> = (1..=self.tree.len() as Uid)
+            .filter(|&c| self.origin(c) == origin)
+            .collect();
+        let modelled = mine
+            .iter()
+            .filter(|&&c| self.facts.ticked[c as usize - 1])
+            .count() as u32;
+        let last = mine
+            .iter()
+            .copied()
+            .filter(|&c| vals[self.e(c)].is_true())
+            .max_by_key(|&c| attempt(c));
+        if last.is_none() && self.facts.calls[origin as usize - 1] > modelled {
+            return None;
+        }
+        Some(match (self.vars[t].kind, last) {
+            (VarKind::Executed(_), l) => Val::Bool(l.is_some()),
+            (VarKind::Status(_), Some(c)) => vals[self.r(c)].clone(),
+            (VarKind::Status(_), None) => Val::Status(Status::Idle),
+            (VarKind::Decision(_), Some(c)) => {
+                self.d(c).map_or(Val::Action(None), |d| vals[d].clone())
+            }
+            _ => Val::Action(None),
+        })
     }
 
     /// A loop's attempts variable.

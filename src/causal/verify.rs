@@ -226,7 +226,9 @@ impl<'s> Rerunner<'s> {
                     if model.folded(u) != 0 {
                         return Err(format!("{} ticked its child more often in tick {tick} than the model has attempts for", model.tree.description(u)));
                     }
-                    ex.set_count.push((tick, u, n.as_i64().unwrap_or(0)));
+                    // Set as the tick starts: the count its first call
+                    // resumes with (only such a call's count is a cause).
+                    ex.set_count.push((tick, model.origin(u), n.as_i64().unwrap_or(0)));
                 }
                 (VarKind::State { var, copy }, Val::Data(d)) => match copy_place(model, var, copy) {
                     None => before.push((var, d.clone())),
@@ -317,7 +319,7 @@ impl<'s> Rerunner<'s> {
             VarKind::Attempts(u) => Val::Data(serde_json::Value::from(
                 ex.call_log()
                     .iter()
-                    .find(|r| r.uid == u)
+                    .find(|r| r.uid == model.origin(u))
                     .map_or(0, |r| r.entry.count),
             )),
             VarKind::Status(u) => {
@@ -458,8 +460,21 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
     }
     let t = query.targets[0];
     let unknown = |u: Uid| model.tree.node(u).kind.is_leaf() && !model.facts.ticked[u as usize - 1];
-    // Only leaves whose status can reach the target matter.
-    let matters = model.ancestors(&[t]);
+    // Only leaves whose status can reach the target matter, or reach a
+    // node the target rests on whose way on the model may not follow (a
+    // RecoveryNode going back to its first child reaches the target through
+    // no edge of the model).
+    let near = model.ancestors(&[t]);
+    let mut ends = vec![t];
+    for u in 1..=model.tree.len() as Uid {
+        let kids = &model.tree.node(u).children;
+        if model.may_be_opaque(u)
+            && (near.contains(&model.r(u)) || kids.iter().any(|&c| near.contains(&model.e(c))))
+        {
+            ends.push(model.r(u));
+        }
+    }
+    let matters = model.ancestors(&ends);
     let unknown = |u: Uid| unknown(u) && matters.contains(&model.r(u));
     let order = model.tree.preorder();
     let mut budget = UNKNOWN_EVALUATIONS_MAX;
@@ -488,8 +503,13 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
                     && !dos.iter().any(|(v, _)| *v == model.r(u))
             });
             match open {
+                // Each outcome is one the run could have had: where the
+                // target then differs, or rests on a node the model does
+                // not follow, the answer hangs on the first leaf.
                 None => {
-                    if model.snap(t, &vals[t]) != claimed {
+                    if model.snap(t, &vals[t]) != claimed
+                        || opaque_in(model, query, &vals).is_some()
+                    {
                         return first.map(|u| unknown_or_retry(model, u));
                     }
                 }
@@ -515,7 +535,13 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
 /// the target). What the model says follows from there is a guess.
 pub fn opaque_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
     let vals = model.evaluate_with(dos).ok()?;
-    let opaque = model.opaque(&vals);
+    opaque_in(model, query, &vals).map(Next::Opaque)
+}
+
+/// Under the values `vals`: the node of `Model::opaque`, nearest the
+/// target, that the target rests on.
+fn opaque_in(model: &Model, query: &Query, vals: &[Val]) -> Option<Uid> {
+    let opaque = model.opaque(vals);
     if opaque.is_empty() {
         return None;
     }
@@ -533,7 +559,43 @@ pub fn opaque_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option
                 .map(|d| (d, u))
         })
         .min()
-        .map(|(_, u)| Next::Opaque(u))
+        .map(|(_, u)| u)
+}
+
+/// Under the change `dos`, a loop above the node asked about goes on to a
+/// later attempt than the run's, in which a copy of that node runs: the
+/// node's last call in the tick, which the question is about, is then in an
+/// attempt the run does not give. Said as the retry.
+pub fn later_attempt_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
+    let t = *query.targets.first()?;
+    let (VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u)) = model.vars[t].kind
+    else {
+        return None;
+    };
+    let origin = model.origin(u);
+    let asked = model.attempt_of(u)?;
+    let vals = model.evaluate_with(dos).ok()?;
+    let later = (1..=model.tree.len() as Uid)
+        .filter(|&c| {
+            model.copy_of(c).is_some_and(|k| {
+                k.origin == origin
+                    && k.attempt > asked
+                    && vals[model.e(c)] == Val::Bool(true)
+                    && model.fact[model.e(c)] == Val::Bool(false)
+            })
+        })
+        .min_by_key(|&c| model.copy_of(c).map(|k| k.attempt))?;
+    let attempt = model.copy_of(later)?.attempt;
+    let (node, l) = model
+        .tree
+        .ancestors(later)
+        .find_map(|a| model.attempt_loop(a).map(|l| (a, l)))?;
+    Some(Next::Retry {
+        node,
+        attempt,
+        of: l.max,
+        repeat: l.again == Status::Success,
+    })
 }
 
 /// A leaf nothing recorded, as what the tree would do next: a leaf of an
@@ -574,25 +636,24 @@ pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<
     let dist = model.distances_to(&query.targets);
     let mut found: Option<(usize, Next)> = None;
     for (u, l) in loops {
-        let (again, spent, max, wakes, c) = (l.again, l.spent, l.max, l.wakes, l.last);
-        if vals[model.e(u)] != Val::Bool(true) || !matters.contains(&model.r(u)) {
-            continue;
-        }
-        let again = Val::Status(again);
-        if vals[model.r(c)] != again || model.fact[model.r(c)] == again {
+        if !matters.contains(&model.r(u)) {
             continue;
         }
         // A child that this tick started takes the wake-up path, which the
         // model follows (the node returns RUNNING): only a child already
-        // running is ticked again within the tick.
-        if wakes || (max != -1 && spent + 1 >= max) {
+        // running is ticked again within the tick. The change may get there
+        // through the child's status or through the attempts left.
+        let Some(attempt) = model.loop_goes_on(u, &vals) else {
+            continue;
+        };
+        if model.loop_goes_on(u, &model.fact).is_some() {
             continue;
         }
         let next = Next::Retry {
             node: u,
-            attempt: spent + 2,
-            of: max,
-            repeat: again == Val::Status(Status::Success),
+            attempt,
+            of: l.max,
+            repeat: l.again == Status::Success,
         };
         let d = dist[model.r(u)];
         if found.as_ref().is_none_or(|(best, _)| d < *best) {

@@ -69,6 +69,7 @@ fn replay_of(session: &Session) -> Replay {
     let tree = &session.tree;
     let idx = &session.index;
     let mut r = Replay::new(session.header.blackboard.clone());
+    r.writes_recorded = !idx.writes.is_empty();
     let mut pending: HashMap<(u32, Uid), Vec<(EntryId, Value)>> = HashMap::new();
     let (mut w, mut d) = (0, 0);
     for i in 0..=idx.transitions.len() {

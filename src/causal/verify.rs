@@ -464,8 +464,18 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
     // node the target rests on whose way on the model may not follow (a
     // RecoveryNode going back to its first child reaches the target through
     // no edge of the model).
-    let near = model.ancestors(&[t]);
+    // The question is about the node's last call in the tick: every
+    // attempt's copy of it counts (`Model::in_tick`).
     let mut ends = vec![t];
+    if let VarKind::Executed(n) | VarKind::Status(n) | VarKind::Decision(n) = model.vars[t].kind {
+        let origin = model.origin(n);
+        for c in 1..=model.tree.len() as Uid {
+            if c != n && model.origin(c) == origin {
+                ends.extend([model.e(c), model.r(c)]);
+            }
+        }
+    }
+    let near = model.ancestors(&ends);
     for u in 1..=model.tree.len() as Uid {
         let kids = &model.tree.node(u).children;
         if model.may_be_opaque(u)
@@ -507,7 +517,9 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
                 // target then differs, or rests on a node the model does
                 // not follow, the answer hangs on the first leaf.
                 None => {
+                    let in_tick = model.in_tick(t, &vals).map(|x| model.snap(t, &x));
                     if model.snap(t, &vals[t]) != claimed
+                        || in_tick.as_ref() != Some(&claimed)
                         || opaque_in(model, query, &vals).is_some()
                     {
                         return first.map(|u| unknown_or_retry(model, u));
@@ -634,28 +646,62 @@ pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<
     let vals = model.evaluate_with(dos).ok()?;
     let matters = model.ancestors(&query.targets);
     let dist = model.distances_to(&query.targets);
+    // A node asked about inside the loop's child is ticked again too: its
+    // last call in the tick would be in that attempt.
+    let asked: Vec<Uid> = query
+        .targets
+        .iter()
+        .filter_map(|&t| match model.vars[t].kind {
+            VarKind::Executed(n) | VarKind::Status(n) | VarKind::Decision(n) => Some(n),
+            _ => None,
+        })
+        .collect();
     let mut found: Option<(usize, Next)> = None;
     for (u, l) in loops {
-        if !matters.contains(&model.r(u)) {
+        let inside = asked.iter().any(|&n| model.tree.is_ancestor(u, n));
+        if !inside && !matters.contains(&model.r(u)) {
             continue;
         }
         // A child that this tick started takes the wake-up path, which the
         // model follows (the node returns RUNNING): only a child already
         // running is ticked again within the tick. The change may get there
         // through the child's status or through the attempts left.
-        let Some(attempt) = model.loop_goes_on(u, &vals) else {
-            continue;
+        // The attempt a copy stands for that the run did not make: the
+        // model starts it afresh, but a node below may keep its place
+        // across the failure (a SequenceWithMemory does): what it gives is
+        // not known either.
+        let unmade = model
+            .tree
+            .node(u)
+            .children
+            .iter()
+            .copied()
+            .find(|&c| {
+                model.copy_of(c).is_some_and(|k| k.call == 0)
+                    && vals[model.e(c)] == Val::Bool(true)
+                    && model.fact[model.e(c)] == Val::Bool(false)
+            })
+            .and_then(|c| model.copy_of(c))
+            .map(|k| k.attempt);
+        let attempt = match unmade {
+            Some(a) => a,
+            None => {
+                let Some(a) = model.loop_goes_on(u, &vals) else {
+                    continue;
+                };
+                if model.loop_goes_on(u, &model.fact).is_some() {
+                    continue;
+                }
+                a
+            }
         };
-        if model.loop_goes_on(u, &model.fact).is_some() {
-            continue;
-        }
         let next = Next::Retry {
             node: u,
             attempt,
             of: l.max,
             repeat: l.again == Status::Success,
         };
-        let d = dist[model.r(u)];
+        let d = if inside { 0 } else { dist[model.r(u)] };
         if found.as_ref().is_none_or(|(best, _)| d < *best) {
             found = Some((d, next));
         }

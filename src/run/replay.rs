@@ -29,6 +29,13 @@ pub struct Replay {
     /// Calls the record did not hold and that were not resumptions: the
     /// replay guessed them (tick, uid).
     pub guessed: Vec<(u32, Uid)>,
+    /// The record holds the writes of each call, its post-condition
+    /// scripts' included (a session btx wrote, not a log).
+    pub writes_recorded: bool,
+    /// Whether each leaf's last call came from the record.
+    from_record: HashMap<Uid, bool>,
+    /// Each node's status now, as the executor set it.
+    now: HashMap<Uid, Status>,
 }
 
 impl Replay {
@@ -56,6 +63,7 @@ impl Leaves for Replay {
             .calls
             .get_mut(&(call.tick, call.uid))
             .and_then(VecDeque::pop_front);
+        self.from_record.insert(call.uid, next.is_some());
         let (status, decision) = match next {
             Some(c) => {
                 for (e, v) in c.writes {
@@ -63,8 +71,14 @@ impl Leaves for Replay {
                 }
                 (c.status, c.decision)
             }
-            // A RUNNING leaf ticked again without a change leaves no record.
+            // A RUNNING leaf ticked again without a change leaves no record;
+            // so does a leaf that returns the status it has (a FAILURE
+            // ticked again, as a reactive node or a pre-condition that no
+            // longer holds for a node not IDLE leaves it).
             None if call.resumed => (Status::Running, None),
+            None if self.now.get(&call.uid).is_some_and(|s| s.is_completed()) => {
+                (self.now[&call.uid], None)
+            }
             None => {
                 self.guessed.push((call.tick, call.uid));
                 (
@@ -75,6 +89,14 @@ impl Leaves for Replay {
         };
         self.last.insert(call.uid, status);
         LeafOutcome { status, decision }
+    }
+
+    fn observe(&mut self, uid: Uid, _prev: Status, status: Status) {
+        self.now.insert(uid, status);
+    }
+
+    fn post_scripts_recorded(&self, uid: Uid) -> bool {
+        self.writes_recorded && self.from_record.get(&uid).copied().unwrap_or(false)
     }
 
     fn initial_entries(&self) -> Vec<(EntryId, Value)> {

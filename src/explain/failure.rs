@@ -263,28 +263,7 @@ fn handled_elsewhere(tree: &Tree, run: &At, x: Uid) -> Option<Uid> {
 /// and why; for a node btx does not know, that what it did about it btx
 /// cannot tell.
 fn failed_under(tree: &Tree, run: &At, x: Uid, c: Uid, d: &mut Diagnosis) {
-    let since = run.started_at(x);
-    let what = if tree.has_name(c) {
-        c
-    } else {
-        named_ancestor(tree, c).unwrap_or(x)
-    };
-    d.nodes.push(what);
-    d.text = match last_failed_leaf(tree, run, c, since) {
-        Some(f) if f != c => {
-            d.failed_leaf = Some(f);
-            d.nodes.push(f);
-            format!(
-                "I could not {} because {} failed.",
-                tree.deed(what),
-                tree.spoken(f)
-            )
-        }
-        _ => {
-            d.failed_leaf = tree.node(c).kind.is_leaf().then_some(c);
-            format!("{} failed.", capitalised(&tree.spoken(c)))
-        }
-    };
+    d.text = failed_because(tree, run, c, run.started_at(x), x, d);
     if tree.node(x).builtin.is_none() {
         d.nodes.push(x);
         d.text.push_str(&format!(
@@ -308,13 +287,21 @@ fn failing_now(tree: &Tree, run: &At, n: Uid, d: &mut Diagnosis) {
     else {
         return;
     };
-    let what = if tree.has_name(x) {
-        x
+    d.text = failed_because(tree, run, x, run.started_at(x), x, d);
+}
+
+/// "I could not X because L failed.", for node `c` that failed in its run
+/// since `since`: X is `c` if it has a name, else its nearest named
+/// ancestor (else `or`), and L the leaf below it that failed last; or "C
+/// failed." when no other leaf did.
+fn failed_because(tree: &Tree, run: &At, c: Uid, since: u32, or: Uid, d: &mut Diagnosis) -> String {
+    let what = if tree.has_name(c) {
+        c
     } else {
-        named_ancestor(tree, x).unwrap_or(x)
+        named_ancestor(tree, c).unwrap_or(or)
     };
     d.nodes.push(what);
-    d.text = match last_failed_leaf(tree, run, x, run.started_at(x)).filter(|&f| f != x) {
+    match last_failed_leaf(tree, run, c, since).filter(|&f| f != c) {
         Some(f) => {
             d.failed_leaf = Some(f);
             d.nodes.push(f);
@@ -324,8 +311,11 @@ fn failing_now(tree: &Tree, run: &At, n: Uid, d: &mut Diagnosis) {
                 tree.spoken(f)
             )
         }
-        None => format!("{} failed.", capitalised(&tree.spoken(x))),
-    };
+        None => {
+            d.failed_leaf = tree.node(c).kind.is_leaf().then_some(c);
+            format!("{} failed.", capitalised(&tree.spoken(c)))
+        }
+    }
 }
 
 fn capitalised(s: &str) -> String {

@@ -298,6 +298,9 @@ pub struct Executor<'t, L: Leaves> {
     /// Interventions of a counterfactual re-run on Love's attempt count:
     /// at the start of tick `.0`, Retry or Repeat `.1` has spent `.2`.
     pub set_count: Vec<(u32, Uid, i64)>,
+    /// The leaf being ticked was called (a completed action ticked again
+    /// before a reset keeps its status without a call).
+    leaf_called: bool,
 }
 
 /// One tick of a node within the current tick: the causal model gives each
@@ -366,6 +369,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
             call_log: Vec::new(),
             tick_transitions: 0,
             set_count: Vec::new(),
+            leaf_called: false,
         }
     }
 
@@ -391,6 +395,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
             call_log: Vec::new(),
             tick_transitions: 0,
             set_count: self.set_count,
+            leaf_called: false,
         }
     }
 
@@ -686,8 +691,10 @@ impl<'t, L: Leaves> Executor<'t, L> {
                 s = f.status;
             }
         }
-        let replayed =
-            n.kind.is_leaf() && n.builtin.is_none() && self.leaves.post_scripts_recorded(uid);
+        let replayed = n.kind.is_leaf()
+            && n.builtin.is_none()
+            && self.leaf_called
+            && self.leaves.post_scripts_recorded(uid);
         if !n.scripts.is_empty() && !replayed {
             self.post_conditions(uid, s)?;
         }
@@ -765,6 +772,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
     fn tick_leaf(&mut self, uid: Uid) -> R<Status> {
         let n = self.tree.node(uid);
         let prev = self.status(uid);
+        self.leaf_called = false;
         if n.kind == Kind::Action && prev.is_completed() {
             // A StatefulActionNode ticked again before a reset keeps its status.
             return Ok(prev);
@@ -778,6 +786,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
             self.set_status(uid, Status::Running);
         }
         let mut writes = Vec::new();
+        self.leaf_called = true;
         let out = {
             let mut call = LeafCall {
                 tree: self.tree,

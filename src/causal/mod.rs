@@ -108,36 +108,41 @@ fn verified(
     watch: Option<usize>,
 ) -> (Answer, Vec<verify::Check>, Vec<(String, verify::Check)>) {
     let rerunner = verify::Rerunner::new(session, model.facts.tick);
+    let reach = verify::Reach::of(model, query);
     let mut split: Vec<Explanation> = Vec::new();
     for e in answer.explanations.drain(..) {
         let mut parts: Vec<Explanation> = Vec::new();
         for values in &e.values {
             let dos: Vec<(VarId, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
+            // One evaluation of the change serves every test below (the
+            // search evaluated it already, so it does not fail here).
+            let vals = model.evaluate_with(&dos).ok();
+            let vals = vals.as_deref();
             // The question is about the node's last call in the tick: a
             // change that leaves it as it was, only in another attempt,
             // explains nothing (a later attempt is said as a retry below).
-            let later = verify::later_attempt_next(model, query, &dos);
-            if later.is_none() && !same_in_tick(model, query, &dos) {
+            let later = vals.and_then(|v| verify::later_attempt_next(model, query, v));
+            if later.is_none() && vals.is_some_and(|v| !same_in_tick(model, query, v)) {
                 continue;
             }
-            // A log's leaves not ticked come first: what they would have
-            // returned decides whether a Retry is reached at all.
             // A consequence the model only guesses is said as what it rests
-            // on, unless a re-run settles it (below).
-            let mut next = verify::opaque_next(model, query, &dos);
+            // on, unless a re-run settles it (below). Then a log's leaves
+            // not ticked: what they would have returned decides whether a
+            // Retry is reached at all.
+            let mut next = vals.and_then(|v| verify::opaque_next(model, &reach, v));
             if rerunner.is_err() && next.is_none() {
                 let one = Explanation {
                     values: vec![values.clone()],
                     next: None,
                     ..e.clone()
                 };
-                next = verify::unknown_next(model, query, &one);
+                next = verify::unknown_next(model, query, &reach, &one);
             }
             if next.is_none() {
                 next = later;
             }
             if next.is_none() {
-                next = verify::retry_next(model, query, &dos);
+                next = vals.and_then(|v| verify::retry_next(model, query, &reach, v));
             }
             match parts.iter_mut().find(|p| p.next == next) {
                 Some(p) => p.values.push(values.clone()),
@@ -188,15 +193,12 @@ fn verified(
     (answer, kept_checks, dropped)
 }
 
-/// Whether, under the change `dos`, each target's value in the tick (its
-/// node's last call) is the value the model's variable takes.
-fn same_in_tick(model: &Model, query: &Query, dos: &[(VarId, Val)]) -> bool {
-    let Ok(vals) = model.evaluate_with(dos) else {
-        return true;
-    };
+/// Whether, under the values `vals` of a change, each target's value in
+/// the tick (its node's last call) is the value the model's variable takes.
+fn same_in_tick(model: &Model, query: &Query, vals: &[Val]) -> bool {
     query.targets.iter().all(|&t| {
         model
-            .in_tick(t, &vals)
+            .in_tick(t, vals)
             .is_some_and(|x| model.snap(t, &x) == model.snap(t, &vals[t]))
     })
 }

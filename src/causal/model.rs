@@ -281,18 +281,9 @@ fn state_range(ty: &VarType) -> Vec<Val> {
 }
 
 fn literal_int(tree: &Tree, uid: Uid, names: &[&str], default: i64) -> i64 {
-    let n = tree.node(uid);
     names
         .iter()
-        .find_map(|name| {
-            n.ports
-                .iter()
-                .find(|p| p.name == *name)
-                .and_then(|p| match &p.value {
-                    PortValue::Literal(s) => s.trim().parse().ok(),
-                    _ => None,
-                })
-        })
+        .find_map(|name| literal_port(tree, uid, name).ok().flatten())
         .unwrap_or(default)
 }
 
@@ -428,55 +419,57 @@ fn passes_ticked_child(b: Option<Builtin>) -> bool {
     )
 }
 
+/// The script attributes that can decide a node's status before it runs.
+const PRE_CONDITIONS: [&str; 4] = ["_skipIf", "_successIf", "_failureIf", "_while"];
+
+/// The script attributes that write the blackboard after a node runs.
+const POST_CONDITIONS: [&str; 4] = ["_onSuccess", "_onFailure", "_post", "_onHalted"];
+
+fn has_script(n: &crate::model::Node, attrs: &[&str]) -> bool {
+    n.scripts.iter().any(|(k, _)| attrs.contains(&k.as_str()))
+}
+
 /// A node whose status or choice of child a script or a blackboard entry
 /// decides.
 fn reads_blackboard(n: &crate::model::Node) -> bool {
-    n.scripts.iter().any(|(k, _)| {
-        matches!(
-            k.as_str(),
-            "_skipIf" | "_successIf" | "_failureIf" | "_while"
+    has_script(n, &PRE_CONDITIONS)
+        || matches!(
+            n.builtin,
+            Some(
+                Builtin::ScriptCondition
+                    | Builtin::Precondition
+                    | Builtin::Switch(_)
+                    | Builtin::BlackboardCheckInt
+                    | Builtin::BlackboardCheckDouble
+                    | Builtin::BlackboardCheckString
+                    | Builtin::BlackboardCheckBool
+                    | Builtin::WasEntryUpdated
+                    | Builtin::SkipUnlessUpdated
+                    | Builtin::WaitValueUpdate
+                    | Builtin::DistanceController
+                    | Builtin::SpeedController
+                    | Builtin::GoalUpdatedController
+                    | Builtin::PathLongerOnApproach
+            )
         )
-    }) || matches!(
-        n.builtin,
-        Some(
-            Builtin::ScriptCondition
-                | Builtin::Precondition
-                | Builtin::Switch(_)
-                | Builtin::BlackboardCheckInt
-                | Builtin::BlackboardCheckDouble
-                | Builtin::BlackboardCheckString
-                | Builtin::BlackboardCheckBool
-                | Builtin::WasEntryUpdated
-                | Builtin::SkipUnlessUpdated
-                | Builtin::WaitValueUpdate
-                | Builtin::DistanceController
-                | Builtin::SpeedController
-                | Builtin::GoalUpdatedController
-                | Builtin::PathLongerOnApproach
-        )
-    )
 }
 
 /// A node that writes the blackboard when it runs or completes.
 fn writes_blackboard(n: &crate::model::Node) -> bool {
-    n.scripts.iter().any(|(k, _)| {
-        matches!(
-            k.as_str(),
-            "_onSuccess" | "_onFailure" | "_post" | "_onHalted"
+    has_script(n, &POST_CONDITIONS)
+        || matches!(
+            n.builtin,
+            Some(
+                Builtin::Script
+                    | Builtin::SetBlackboard
+                    | Builtin::UnsetBlackboard
+                    | Builtin::LoopInt
+                    | Builtin::LoopDouble
+                    | Builtin::LoopString
+                    | Builtin::LoopBool
+                    | Builtin::GoalUpdater
+            )
         )
-    }) || matches!(
-        n.builtin,
-        Some(
-            Builtin::Script
-                | Builtin::SetBlackboard
-                | Builtin::UnsetBlackboard
-                | Builtin::LoopInt
-                | Builtin::LoopDouble
-                | Builtin::LoopString
-                | Builtin::LoopBool
-                | Builtin::GoalUpdater
-        )
-    )
 }
 
 /// A gated decorator that ticks its child in the tick it starts from IDLE
@@ -595,12 +588,7 @@ fn control_flows(tree: &Tree, facts: &TickFacts) -> Vec<Flow> {
 fn decided_by_precondition(tree: &Tree, facts: &TickFacts, u: Uid) -> bool {
     let n = tree.node(u);
     !n.children.is_empty()
-        && n.scripts.iter().any(|(k, _)| {
-            matches!(
-                k.as_str(),
-                "_skipIf" | "_successIf" | "_failureIf" | "_while"
-            )
-        })
+        && has_script(n, &PRE_CONDITIONS)
         && facts.ticked[u as usize - 1]
         && n.children.iter().all(|&c| !facts.ticked[c as usize - 1])
 }

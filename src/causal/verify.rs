@@ -3,7 +3,7 @@
 //! tick asked about, the explanation's change is made within that tick, and
 //! the target must come out as the explanation says. The model only proposes.
 
-use super::model::{AttemptLoop, Model, Val, VarKind};
+use super::model::{AttemptLoop, Model, Val, VarId, VarKind};
 use super::search::{Explanation, Next, Query};
 use crate::model::Uid;
 use crate::run::blackboard::EntryId;
@@ -454,7 +454,7 @@ const UNKNOWN_EVALUATIONS_MAX: usize = 512;
 /// such leaf its change makes the tree tick is given every outcome in turn
 /// (leaves in tree order, each given its own); if the target does not
 /// always come out as claimed, the first leaf is returned.
-pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Next> {
+pub fn unknown_next(model: &Model, query: &Query, reach: &Reach, e: &Explanation) -> Option<Next> {
     if model.domain.is_some() {
         return None;
     }
@@ -520,7 +520,7 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
                     let in_tick = model.in_tick(t, &vals).map(|x| model.snap(t, &x));
                     if model.snap(t, &vals[t]) != claimed
                         || in_tick.as_ref() != Some(&claimed)
-                        || opaque_in(model, query, &vals).is_some()
+                        || opaque_in(model, reach, &vals).is_some()
                     {
                         return first.map(|u| unknown_or_retry(model, u));
                     }
@@ -541,32 +541,42 @@ pub fn unknown_next(model: &Model, query: &Query, e: &Explanation) -> Option<Nex
     None
 }
 
-/// Under the change `dos`: the control node, nearest the target, whose
-/// way on the model does not follow (`Model::opaque`) and on which the
-/// target rests (its status, or whether one of its children runs, reaches
-/// the target). What the model says follows from there is a guess.
-pub fn opaque_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
-    let vals = model.evaluate_with(dos).ok()?;
-    opaque_in(model, query, &vals).map(Next::Opaque)
+/// What reaches the targets of a question in the model: the variables
+/// they depend on, and each variable's distance to them. The same for
+/// every explanation of an answer, so taken once.
+pub struct Reach {
+    matters: Vec<VarId>,
+    dist: Vec<usize>,
 }
 
-/// Under the values `vals`: the node of `Model::opaque`, nearest the
-/// target, that the target rests on.
-fn opaque_in(model: &Model, query: &Query, vals: &[Val]) -> Option<Uid> {
-    let opaque = model.opaque(vals);
-    if opaque.is_empty() {
-        return None;
+impl Reach {
+    pub fn of(model: &Model, query: &Query) -> Reach {
+        Reach {
+            matters: model.ancestors(&query.targets),
+            dist: model.distances_to(&query.targets),
+        }
     }
-    let matters = model.ancestors(&query.targets);
-    let dist = model.distances_to(&query.targets);
-    opaque
+}
+
+/// Under the values `vals` (of a change): the control node, nearest the
+/// target, whose way on the model does not follow (`Model::opaque`) and on
+/// which the target rests (its status, or whether one of its children
+/// runs, reaches the target). What the model says follows from there is a
+/// guess.
+pub fn opaque_next(model: &Model, reach: &Reach, vals: &[Val]) -> Option<Next> {
+    opaque_in(model, reach, vals).map(Next::Opaque)
+}
+
+fn opaque_in(model: &Model, reach: &Reach, vals: &[Val]) -> Option<Uid> {
+    model
+        .opaque(vals)
         .into_iter()
         .filter_map(|u| {
             let kids = &model.tree.node(u).children;
             std::iter::once(model.r(u))
                 .chain(kids.iter().map(|&c| model.e(c)))
-                .filter(|v| matters.contains(v))
-                .map(|v| dist[v])
+                .filter(|v| reach.matters.contains(v))
+                .map(|v| reach.dist[v])
                 .min()
                 .map(|d| (d, u))
         })
@@ -574,11 +584,11 @@ fn opaque_in(model: &Model, query: &Query, vals: &[Val]) -> Option<Uid> {
         .map(|(_, u)| u)
 }
 
-/// Under the change `dos`, a loop above the node asked about goes on to a
-/// later attempt than the run's, in which a copy of that node runs: the
-/// node's last call in the tick, which the question is about, is then in an
-/// attempt the run does not give. Said as the retry.
-pub fn later_attempt_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
+/// Under the values `vals` (of a change), a loop above the node asked
+/// about goes on to a later attempt than the run's, in which a copy of that
+/// node runs: the node's last call in the tick, which the question is
+/// about, is then in an attempt the run does not give. Said as the retry.
+pub fn later_attempt_next(model: &Model, query: &Query, vals: &[Val]) -> Option<Next> {
     let t = *query.targets.first()?;
     let (VarKind::Executed(u) | VarKind::Status(u) | VarKind::Decision(u)) = model.vars[t].kind
     else {
@@ -586,7 +596,6 @@ pub fn later_attempt_next(model: &Model, query: &Query, dos: &[(usize, Val)]) ->
     };
     let origin = model.origin(u);
     let asked = model.attempt_of(u)?;
-    let vals = model.evaluate_with(dos).ok()?;
     let later = (1..=model.tree.len() as Uid)
         .filter(|&c| {
             model.copy_of(c).is_some_and(|k| {
@@ -636,16 +645,13 @@ fn unknown_or_retry(model: &Model, leaf: Uid) -> Next {
 /// tick: under the change `dos`, a child that did not fail (succeed) in the
 /// run now does, with attempts (cycles) left. The model cannot say what the
 /// next attempt gives; the run would have retried. Nearest the target first.
-pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<Next> {
+pub fn retry_next(model: &Model, query: &Query, reach: &Reach, vals: &[Val]) -> Option<Next> {
     let loops: Vec<(Uid, AttemptLoop)> = (1..=model.tree.len() as Uid)
         .filter_map(|u| model.attempt_loop(u).map(|l| (u, l)))
         .collect();
     if loops.is_empty() {
         return None;
     }
-    let vals = model.evaluate_with(dos).ok()?;
-    let matters = model.ancestors(&query.targets);
-    let dist = model.distances_to(&query.targets);
     // A node asked about inside the loop's child is ticked again too: its
     // last call in the tick would be in that attempt.
     let asked: Vec<Uid> = query
@@ -659,13 +665,9 @@ pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<
     let mut found: Option<(usize, Next)> = None;
     for (u, l) in loops {
         let inside = asked.iter().any(|&n| model.tree.is_ancestor(u, n));
-        if !inside && !matters.contains(&model.r(u)) {
+        if !inside && !reach.matters.contains(&model.r(u)) {
             continue;
         }
-        // A child that this tick started takes the wake-up path, which the
-        // model follows (the node returns RUNNING): only a child already
-        // running is ticked again within the tick. The change may get there
-        // through the child's status or through the attempts left.
         // The attempt a copy stands for that the run did not make: the
         // model starts it afresh, but a node below may keep its place
         // across the failure (a SequenceWithMemory does): what it gives is
@@ -685,8 +687,13 @@ pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<
             .map(|k| k.attempt);
         let attempt = match unmade {
             Some(a) => a,
+            // Past the last copy: a child that this tick started takes the
+            // wake-up path, which the model follows (the node returns
+            // RUNNING); only a child already running is ticked again within
+            // the tick. The change may get there through the child's status
+            // or through the attempts left.
             None => {
-                let Some(a) = model.loop_goes_on(u, &vals) else {
+                let Some(a) = model.loop_goes_on(u, vals) else {
                     continue;
                 };
                 if model.loop_goes_on(u, &model.fact).is_some() {
@@ -701,7 +708,7 @@ pub fn retry_next(model: &Model, query: &Query, dos: &[(usize, Val)]) -> Option<
             of: l.max,
             repeat: l.again == Status::Success,
         };
-        let d = if inside { 0 } else { dist[model.r(u)] };
+        let d = if inside { 0 } else { reach.dist[model.r(u)] };
         if found.as_ref().is_none_or(|(best, _)| d < *best) {
             found = Some((d, next));
         }
@@ -735,7 +742,7 @@ mod tests {
             next: None,
         };
         assert_eq!(
-            unknown_next(&m, &q, &e),
+            unknown_next(&m, &q, &Reach::of(&m, &q), &e),
             Some(Next::Retry {
                 node: 1,
                 attempt: 2,

@@ -49,9 +49,9 @@ fn last_failed_leaf(tree: &Tree, run: &At, p: Uid, since: u32) -> Option<Uid> {
 /// that completes reset that child to IDLE and before anything ticked it
 /// again: there its last completion, in this run of the Fallback (and of
 /// the root, which has not completed), is the failure the Fallback fell
-/// back from. (A
-/// ReactiveFallback resets a failed first child while a later one runs, and
-/// ticks it again each tick: for it, the current status is the test.)
+/// back from. (A ReactiveFallback resets a failed first child while a
+/// later one runs, and ticks it again each tick: for it, the current
+/// status is the test.)
 fn first_child_failed(tree: &Tree, run: &At, x: Uid, first: Uid) -> bool {
     let reactive = tree.node(x).builtin == Some(Builtin::ReactiveFallback);
     match run.status(first) {

@@ -524,7 +524,7 @@ fn the_shipped_serial_recall_session_is_what_the_domain_gives() {
     let shipped = session(&root("sessions/serial-recall.jsonl"));
     assert_eq!(
         fresh.index.transitions, shipped.index.transitions,
-        "regenerate sessions/serial-recall.jsonl (see README)"
+        "regenerate sessions/serial-recall.jsonl (see docs/formats.md)"
     );
 }
 

@@ -333,7 +333,7 @@ fn the_shipped_comparison_sessions_are_what_their_worlds_give() {
         .unwrap();
         assert_eq!(
             fresh.index.transitions, old.index.transitions,
-            "regenerate {shipped} (see README)"
+            "regenerate {shipped} (see docs/formats.md)"
         );
     }
 }

@@ -352,7 +352,7 @@ fn real_trees_are_answered_in_english() {
     assert!(other_sorry.is_empty(), "{other_sorry:#?}");
 }
 
-/// The rules beyond the paper for real trees (README, "Han's questions on
+/// The rules beyond the paper for real trees (docs/answers.md, "Han's questions on
 /// real trees"), on Nav2's goal-patience navigator and small trees.
 #[test]
 fn real_trees_read_as_the_readme_says() {

@@ -803,7 +803,7 @@ fn btview_sees_what_btx_serves() {
             "--no-legend",
         ])
         .output()
-        .expect("btview runs (tests/oracle/setup.sh installs it)");
+        .expect("btview runs (installed beside the oracle's Python)");
     let _ = server.kill();
     let text = String::from_utf8_lossy(&out.stdout).into_owned();
     assert!(

@@ -6,9 +6,10 @@
 //! transition and tick for tick. The library is the oracle of every re-run
 //! btx makes to check its answers.
 //!
-//! The package is installed by `tests/oracle/setup.sh` (CI runs it); set
-//! BTX_ORACLE_PYTHON to use another interpreter. Without it the test fails:
-//! it never passes by skipping. BTX_ORACLE_CASES sets the number of cases
+//! The first test that needs the package makes a virtual environment for it
+//! under the target directory (`common::oracle_python`); set
+//! BTX_ORACLE_PYTHON to use another interpreter. Where it cannot be made the
+//! test fails, saying what to install: it never passes by skipping. BTX_ORACLE_CASES sets the number of cases
 //! (default 240; `tests/oracle/sweep.sh` runs 10^4).
 
 use btx::logs::btlog;

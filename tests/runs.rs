@@ -272,7 +272,7 @@ fn shipped_sessions_are_what_their_plans_give() {
         );
         assert_eq!(
             fresh.index.transitions, shipped.index.transitions,
-            "{plan}: regenerate sessions/ (see README)"
+            "{plan}: regenerate sessions/ (see docs/formats.md)"
         );
         assert_eq!(fresh.tree.len(), shipped.tree.len());
     }

@@ -36,7 +36,7 @@ fn sentences(w: &causal::Why) -> Vec<String> {
 
 #[test]
 fn a_retry_is_not_passed_through_a_counterfactual() {
-    // The README's own example: with the Sequence under the Retry failing at
+    // docs/commands.md's own example: with the Sequence under the Retry failing at
     // tick 13, RetryUntilSuccessful starts attempt 2 and ask never runs. The
     // model has that attempt, so no change through the Retry claims ask.
     let s = session("sessions/kitting-nominal.jsonl");

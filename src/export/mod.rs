@@ -1,5 +1,5 @@
 //! Renderings of trees, framed trees and answers: indented text, Graphviz DOT
-//! and JSON (schemas in the README).
+//! and JSON (schemas in docs/formats.md).
 
 mod dot;
 mod json;

@@ -1,5 +1,5 @@
 //! Naming rules that make Han et al.'s algorithms answer alike on v3 and v4
-//! files (see the README, "Naming rules").
+//! files (see docs/trees-and-runs.md, "Naming rules").
 
 use super::{Kind, Tree, Uid};
 

@@ -1,7 +1,7 @@
 //! Domain files: Love et al.'s domain knowledge in TOML, with the functions
 //! written in rhai (sandboxed). These are the functions the simulator runs
 //! and the causal model re-evaluates: one source of truth for both.
-//! The format is documented in the README ("Domain files").
+//! The format is documented in docs/trees-and-runs.md ("Domain files").
 
 use super::exec::{LeafCall, LeafOutcome, Leaves};
 use super::status::Status;

@@ -420,15 +420,15 @@ mod tests {
     }
 
     #[test]
-    fn a_comment_may_end_a_line_as_in_the_readme() {
-        let readme = include_str!("../../README.md");
+    fn a_comment_may_end_a_line_as_in_the_guide() {
+        let readme = include_str!("../../docs/trees-and-runs.md");
         let block = readme
             .split("## Plans")
             .nth(1)
             .and_then(|s| s.split("```text\n").nth(1))
             .and_then(|s| s.split("```").next())
             .unwrap();
-        let p = Plan::parse(Path::new("README.md"), block).unwrap();
+        let p = Plan::parse(Path::new("docs/trees-and-runs.md"), block).unwrap();
         assert_eq!(p.entries.len(), 3);
         assert_eq!(p.entries[0].outcomes[0].to_string(), "1RS");
         assert_eq!(p.entries[2].outcomes[1].to_string(), "1RS");

@@ -1,6 +1,6 @@
 //! The session file: JSON Lines, version 1. A header line, then one record
 //! per status transition (and per decision, blackboard write or inserted
-//! subgoal), then an end record. See the README, "Session files".
+//! subgoal), then an end record. See docs/formats.md, "Session files".
 
 use crate::model::Uid;
 use crate::run::blackboard::EntryId;

@@ -108,16 +108,100 @@ pub fn run_planned(
     (ok, err, out)
 }
 
-/// The Python that has BehaviorTree.CPP (the PyPI package behaviortreepy):
-/// `tests/oracle/setup.sh` installs it; a missing one fails the test.
+/// The packages the differential and live tests run: the real
+/// BehaviorTree.CPP (Python bindings of 4.8) and btview, a Groot2 client
+/// nobody here wrote.
+const ORACLE_PACKAGES: [&str; 2] = ["behaviortreepy==0.1.4", "btview==0.2.0"];
+
+/// The Python that has BehaviorTree.CPP (the PyPI package behaviortreepy)
+/// and btview: `BTX_ORACLE_PYTHON`, or a virtual environment this makes the
+/// first time a test needs it, once per target directory. A machine that
+/// cannot make it fails the test with what to install; nothing skips.
 pub fn oracle_python() -> PathBuf {
     if let Some(p) = std::env::var_os("BTX_ORACLE_PYTHON") {
         return PathBuf::from(p);
     }
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/oracle-venv/bin/python");
-    assert!(
-        p.exists(),
-        "the BehaviorTree.CPP oracle is not installed: run tests/oracle/setup.sh (or set BTX_ORACLE_PYTHON)"
+    static VENV: std::sync::OnceLock<Result<PathBuf, String>> = std::sync::OnceLock::new();
+    match VENV.get_or_init(oracle_venv) {
+        Ok(python) => python.clone(),
+        Err(why) => panic!("{why}"),
+    }
+}
+
+/// `target/oracle-venv`, made under an exclusive lock: test binaries run
+/// at once, and the second must wait for the first's venv, not race it.
+fn oracle_venv() -> Result<PathBuf, String> {
+    use std::io::Write;
+    use std::os::fd::AsRawFd;
+    let target = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .parent()
+        .expect("CARGO_TARGET_TMPDIR is inside the target directory");
+    let venv = target.join("oracle-venv");
+    let python = venv.join("bin/python");
+    let marker = venv.join("btx-packages.txt");
+    let wanted = ORACLE_PACKAGES.join("\n");
+    let lock = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(target.join("oracle-venv.lock"))
+        .map_err(|e| format!("cannot open {}/oracle-venv.lock: {e}", target.display()))?;
+    // SAFETY: flock on a descriptor this function owns; it is released when
+    // `lock` is dropped.
+    if unsafe { libc::flock(lock.as_raw_fd(), libc::LOCK_EX) } != 0 {
+        return Err(format!("cannot lock {}/oracle-venv.lock", target.display()));
+    }
+    if python.exists() && std::fs::read_to_string(&marker).is_ok_and(|m| m == wanted) {
+        return Ok(python);
+    }
+    // Written past the test harness's capture: a first run pauses here for
+    // a minute, and should say why.
+    let _ = writeln!(
+        std::io::stderr(),
+        "btx tests: setting up the BehaviorTree.CPP oracle in {} (python3 -m venv, then pip install {}); once per target directory",
+        venv.display(),
+        ORACLE_PACKAGES.join(" ")
     );
-    p
+    let _ = std::fs::remove_dir_all(&venv);
+    let made = std::process::Command::new("python3")
+        .args(["-m", "venv"])
+        .arg(&venv)
+        .output();
+    match made {
+        Ok(o) if o.status.success() => {}
+        Ok(o) => {
+            return Err(format!(
+                "the tests that run the real BehaviorTree.CPP need Python 3 with venv: `python3 -m venv` failed ({}). On Debian or Ubuntu: apt-get install python3-venv. Or set BTX_ORACLE_PYTHON to a Python that has {}.",
+                String::from_utf8_lossy(&o.stderr).trim(),
+                ORACLE_PACKAGES.join(" and ")
+            ))
+        }
+        Err(e) => {
+            return Err(format!(
+                "the tests that run the real BehaviorTree.CPP need Python 3 (python3 on PATH: {e}). On Debian or Ubuntu: apt-get install python3 python3-venv."
+            ))
+        }
+    }
+    let pip = std::process::Command::new(&python)
+        .args([
+            "-m",
+            "pip",
+            "install",
+            "--quiet",
+            "--disable-pip-version-check",
+        ])
+        .args(ORACLE_PACKAGES)
+        .output()
+        .map_err(|e| format!("cannot run {}: {e}", python.display()))?;
+    if !pip.status.success() {
+        return Err(format!(
+            "pip could not install {} into {}: the tests that run the real BehaviorTree.CPP need access to PyPI (or BTX_ORACLE_PYTHON naming a Python that has them).\n{}",
+            ORACLE_PACKAGES.join(" "),
+            venv.display(),
+            String::from_utf8_lossy(&pip.stderr).trim()
+        ));
+    }
+    std::fs::write(&marker, &wanted).map_err(|e| format!("{}: {e}", marker.display()))?;
+    let _ = writeln!(std::io::stderr(), "btx tests: the oracle is ready");
+    Ok(python)
 }

@@ -3,6 +3,5 @@
 # $CASES, from seed $SEED), btx's executor against the real library.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-bash tests/oracle/setup.sh
 BTX_ORACLE_CASES="${CASES:-10000}" BTX_ORACLE_SEED="${SEED:-0}" \
   cargo test --release --test oracle -- --nocapture

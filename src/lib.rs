@@ -28,6 +28,8 @@ pub mod explain;
 
 pub mod causal;
 
+pub mod ask;
+
 pub mod diff;
 
 pub mod export;

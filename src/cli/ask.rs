@@ -19,7 +19,7 @@ pub struct Args {
     /// Default for a session: the current node at the moment.
     #[arg(long, value_name = "PICK")]
     pub node: Option<String>,
-    /// Questions: the paper's wording, "Can you X?", or q1 q2 q3 q4 q5-subgoal q5-goal anything-wrong wrong handled.
+    /// Questions, in your own words ("why did look at chuck fail?", "what happened at tick 10?", "did the recovery work?") or the paper's wording, "Can you X?", or q1 q2 q3 q4 q5 q5-goal anything-wrong wrong handled.
     #[arg(value_name = "QUESTION")]
     pub questions: Vec<String>,
     #[arg(long, value_enum, default_value = "text")]
@@ -38,7 +38,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     } = args;
     if let Some(ep) = live {
         // `--live wrong`: the word is a question, not a host.
-        let (ep, first) = match Question::parse(&ep) {
+        let (ep, first) = match btx::ask::parse::parse(&ep) {
             Some(_) if !ep.contains([':', '.']) => (String::new(), Some(ep)),
             _ => (ep, None),
         };
@@ -56,7 +56,6 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         fail!("ask at least one question, e.g. \"What are you doing?\" or q1");
     }
     let input = open_input(&file, &reading, cli.quiet)?;
-    let qs = parse_questions(&questions)?;
     let tree = input.tree();
     let view = match input.session() {
         Some(s) => {
@@ -82,8 +81,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             None
         }
     };
-    let uid = match (&node, &view) {
-        (Some(p), _) => {
+    let uid = match &node {
+        Some(p) => {
             let (uid, others) =
                 btx::pick::pick_among(tree, p).map_err(|e| Failure::Plain(e.to_string()))?;
             // Several nodes answer to the name: say which one is meant.
@@ -96,65 +95,55 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     btx::explain::han::and_list(&also)
                 );
             }
-            uid
+            Some(uid)
         }
-        (None, Some(v)) => match v.current() {
-            Some(u) => u,
-            None => fail!(
-                "nothing has been ticked yet at moment {}; pick a node with --node",
-                v.moment()
-            ),
-        },
-        (None, None) => {
-            fail!("pick the node to ask about with --node (a tree has no current node)")
-        }
+        None => None,
     };
-    let moment = view.as_ref().map(|v| v.moment().to_string());
-    print_answers(tree, view.as_ref(), uid, &qs, moment.as_deref(), format)
+    let cx = btx::ask::Context {
+        tree,
+        session: input.session(),
+        at: view,
+        node: uid,
+    };
+    print_replies(&cx, &questions, format)
 }
 
-fn parse_questions(questions: &[String]) -> Result<Vec<Question>, Failure> {
-    let mut qs = Vec::new();
-    for q in questions {
-        match Question::parse(q) {
-            Some(q) => qs.push(q),
-            None => {
-                let known: Vec<String> = Question::fixed()
-                    .iter()
-                    .map(|q| format!("\"{}\" ({})", q.wording(), q.short()))
-                    .collect();
-                fail!(
-                    "unknown question \"{q}\"; ask one of: {}, or \"Can you X?\"",
-                    known.join(", ")
-                );
-            }
-        }
-    }
-    Ok(qs)
-}
-
-fn print_answers(
-    tree: &btx::model::Tree,
-    view: Option<&btx::session::At>,
-    uid: btx::Uid,
-    qs: &[Question],
-    moment: Option<&str>,
+/// Asks each question in turn and prints the answers; exit status 1 when
+/// one was not answered (not understood, no such node, a run question of
+/// a tree), after printing them all.
+fn print_replies(
+    cx: &btx::ask::Context,
+    questions: &[String],
     format: Format,
 ) -> Result<(), Failure> {
-    let mut answers = Vec::new();
-    for q in qs {
-        answers.push(explain::answer(tree, view, uid, q).map_err(Failure::Plain)?);
-    }
+    let replies: Vec<btx::ask::Reply> = questions.iter().map(|q| btx::ask::ask(cx, q)).collect();
     match format {
         Format::Text => {
-            for a in &answers {
-                println!("{}", a.text);
+            for r in &replies {
+                println!("{}", r.text());
             }
         }
-        Format::Json => print!(
-            "{}",
-            pretty(&export::answers_json(tree, uid, moment, &answers))
-        ),
+        Format::Json => {
+            let node = cx
+                .node
+                .or_else(|| cx.at.as_ref().and_then(|a| a.current()))
+                .map(|u| serde_json::json!({"uid": u, "description": cx.tree.description(u)}));
+            let j = serde_json::json!({
+                "schema": "btx.answers/1",
+                "moment": cx.at.as_ref().map(|a| a.moment().to_string()),
+                "node": node,
+                "answers": replies.iter().map(|r| r.json(cx.tree)).collect::<Vec<_>>(),
+            });
+            print!("{}", pretty(&j));
+        }
+    }
+    let unanswered = replies.iter().filter(|r| !r.answered).count();
+    if unanswered > 0 {
+        fail!(
+            "{unanswered} of {} question{} not answered",
+            replies.len(),
+            if replies.len() == 1 { " was" } else { "s were" }
+        );
     }
     Ok(())
 }
@@ -166,7 +155,6 @@ fn live_ask(ep: &str, node: Option<&str>, words: &[String], format: Format) -> R
     if words.is_empty() {
         fail!("ask at least one question, e.g. btx ask --live :1667 wrong");
     }
-    let qs = parse_questions(words)?;
     let ep = btx::live::groot2::endpoint(ep);
     let s = btx::live::snapshot(&ep).map_err(|e| Failure::Plain(e.to_string()))?;
     let view = btx::session::At {
@@ -174,11 +162,17 @@ fn live_ask(ep: &str, node: Option<&str>, words: &[String], format: Format) -> R
         pos: 0,
     };
     let uid = match node {
-        Some(p) => pick_node(&s.tree, p)?,
+        Some(p) => Some(pick_node(&s.tree, p)?),
         None => match view.current() {
-            Some(u) => u,
+            Some(u) => Some(u),
             None => fail!("{ep}: nothing is running on the robot now; pick a node with --node"),
         },
     };
-    print_answers(&s.tree, Some(&view), uid, &qs, Some("now"), format)
+    let cx = btx::ask::Context {
+        tree: &s.tree,
+        session: None,
+        at: Some(view),
+        node: uid,
+    };
+    print_replies(&cx, words, format)
 }

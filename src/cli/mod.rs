@@ -2,7 +2,7 @@
 //! takes (clap), how it prints (every text output through the sanitiser),
 //! and one module a command.
 
-use btx::explain::{self, Question};
+use btx::explain::Question;
 use btx::frame::Framed;
 use btx::input::{open, Input};
 use btx::run::domain::{Domain, DomainLeaves};

@@ -1,4 +1,3 @@
-use crate::explain::Answer;
 use crate::frame::{steps, Framed};
 use crate::model::{Tree, Uid};
 use serde_json::{json, Value};
@@ -100,24 +99,5 @@ pub fn framed_json(tree: &Tree, framed: &Framed) -> Value {
         "subgoals": framed.subgoals.iter().map(|&g| set(g)).collect::<Vec<_>>(),
         "actions": framed.actions.iter().map(|&a| node_ref(tree, a)).collect::<Vec<_>>(),
         "nodes": nodes,
-    })
-}
-
-/// Answers as `btx.answers/1`.
-pub fn answers_json(tree: &Tree, node: Uid, moment: Option<&str>, answers: &[Answer]) -> Value {
-    json!({
-        "schema": "btx.answers/1",
-        "moment": moment,
-        "node": node_ref(tree, node),
-        "answers": answers.iter().map(|a| json!({
-            "question": a.question.wording(),
-            "short": a.question.short(),
-            "answer": a.text,
-            "nodes": a.nodes.iter().map(|&u| node_ref(tree, u)).collect::<Vec<_>>(),
-            "insert": a.insertion.as_ref().map(|i| json!({
-                "copy_of": node_ref(tree, i.copy_of),
-                "after": node_ref(tree, i.after),
-            })),
-        })).collect::<Vec<_>>(),
     })
 }

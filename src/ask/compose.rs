@@ -1,0 +1,510 @@
+//! Query → answer: each intent answered from the run's record (when,
+//! how often, what happened at a tick, did the recovery work), from the
+//! tree (what next, what if), by Han's algorithms (`explain`) or by the
+//! counterfactual search (`causal`). Each answer restates what it
+//! answers, so that a misreading shows.
+
+use super::nodes::{resolve, Unresolved};
+use super::parse::{Event, Intent, Subject, Which};
+use super::Reply;
+use crate::explain::han::and_list;
+use crate::model::{Builtin, Tree, Uid};
+use crate::run::Status;
+use crate::session::{At, Index, Moment, Session};
+
+/// What a question is asked of: a tree, or a moment of a run.
+pub struct Context<'a> {
+    pub tree: &'a Tree,
+    /// The run, when it can be re-run or searched (`btx why`'s input).
+    pub session: Option<&'a Session>,
+    pub at: Option<At<'a>>,
+    /// The node picked with `--node`, if any.
+    pub node: Option<Uid>,
+}
+
+impl Context<'_> {
+    fn name(&self, uid: Uid) -> String {
+        format!("{} (#{uid})", self.tree.spoken(uid))
+    }
+
+    /// "by the end of the run (tick 54)" or "by moment 10:3".
+    fn by(&self, at: &At) -> String {
+        let m = at.moment();
+        if at.pos as usize == at.index.transitions.len() {
+            format!("by the end of the run at tick {}", m.tick)
+        } else {
+            format!("by moment {m}")
+        }
+    }
+}
+
+/// The answer to a question btx understood.
+pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
+    let mut r = Reply::new(question, Some(intent.short()));
+    r.moment = cx.at.as_ref().map(|a| a.moment().to_string());
+    let done = match intent {
+        Intent::Fixed(q) => super::fixed::answer(cx, q, &mut r),
+        Intent::Why { node, event, foil } => with_node(cx, node, &mut r, |u, r| {
+            super::why::answer(cx, u, *event, *foil, r)
+        }),
+        Intent::WhyNot { done, instead } => with_node(cx, done, &mut r, |d, r| {
+            with_node(cx, instead, r, |i, r| super::why::instead(cx, d, i, r))
+        }),
+        Intent::When { node, event, which } => {
+            with_node(cx, node, &mut r, |u, r| when(cx, u, *event, *which, r))
+        }
+        Intent::HowOften { node, event } => {
+            with_node(cx, node, &mut r, |u, r| how_often(cx, u, *event, r))
+        }
+        Intent::Tick(n) => tick(cx, *n, &mut r),
+        Intent::Recovered => recovered(cx, &mut r),
+        Intent::Next => match cx.node.or_else(|| cx.at.as_ref().and_then(|a| a.current())) {
+            Some(u) => next(cx, u, Status::Success, &mut r, true),
+            None => Err(
+                "nothing runs at this moment, so nothing comes next; pick a node with --node"
+                    .into(),
+            ),
+        },
+        Intent::WhatIf { node, event } => with_node(cx, node, &mut r, |u, r| {
+            let s = if *event == Event::Fail {
+                Status::Failure
+            } else {
+                Status::Success
+            };
+            next(cx, u, s, r, false)
+        }),
+    };
+    if let Err(e) = done {
+        r.answer = e;
+        r.answered = false;
+    }
+    r
+}
+
+/// Runs `f` on the node a subject names, or answers with the names it
+/// could mean.
+fn with_node(
+    cx: &Context,
+    who: &Subject,
+    r: &mut Reply,
+    f: impl FnOnce(Uid, &mut Reply) -> Result<(), String>,
+) -> Result<(), String> {
+    match resolve(cx.tree, who, cx.at.as_ref()) {
+        Ok(u) => {
+            r.about.get_or_insert(u);
+            f(u, r)
+        }
+        Err(Unresolved::Several(us)) => {
+            let Subject::Named(p) = who else {
+                unreachable!("the task is one node")
+            };
+            let list: Vec<String> = us
+                .iter()
+                .map(|&u| format!("  #{u}  {}", cx.tree.display_path(u)))
+                .collect();
+            Err(format!(
+                "\"{p}\" names {} nodes; ask again with the one you mean (its #uid or path):\n{}",
+                us.len(),
+                list.join("\n")
+            ))
+        }
+        Err(Unresolved::Unknown(close)) => {
+            let Subject::Named(p) = who else {
+                unreachable!("the task is one node")
+            };
+            let names: Vec<String> = close.iter().map(|&u| cx.name(u)).collect();
+            Err(format!(
+                "No node of the tree is called \"{p}\". The closest: {}.",
+                and_list(&names)
+            ))
+        }
+    }
+}
+
+/// The run at the question's moment, or why there is none.
+pub(super) fn run_of<'a>(cx: &'a Context, what: &str) -> Result<&'a At<'a>, String> {
+    cx.at.as_ref().ok_or_else(|| {
+        format!("\"{what}\" is about a run: ask it of a session or a log, at a moment")
+    })
+}
+
+/// Whether transition `t` is an occurrence of `e`.
+pub(super) fn is_event(prev: Status, status: Status, e: Event) -> bool {
+    let done = |s: Status| matches!(s, Status::Success | Status::Failure);
+    match e {
+        Event::Fail => status == Status::Failure,
+        Event::Succeed => status == Status::Success,
+        Event::Finish => done(status),
+        Event::Run => prev != Status::Running && status != Status::Idle && prev != status,
+        Event::KeepRunning => status == Status::Running,
+        Event::Halted => prev == Status::Running && status == Status::Idle,
+        Event::NotRun => false,
+    }
+}
+
+/// Positions, up to the moment, after each occurrence of `e` at `uid`.
+pub(super) fn events(at: &At, uid: Uid, e: Event) -> Vec<u32> {
+    at.index
+        .changes_of(uid)
+        .iter()
+        .copied()
+        .filter(|&p| p <= at.pos)
+        .filter(|&p| {
+            let t = at.index.transitions[p as usize - 1];
+            is_event(t.prev, t.status, e)
+        })
+        .collect()
+}
+
+/// The moment right after the transition that ends at position `pos`,
+/// always as `TICK:STEP`.
+pub(super) fn step_moment(index: &Index, pos: u32) -> Moment {
+    let t = index.transitions[pos as usize - 1].tick;
+    let start = index.tick_range(t).start as u32;
+    Moment {
+        tick: t,
+        step: Some(pos - start),
+    }
+}
+
+pub(super) fn past(e: Event) -> &'static str {
+    match e {
+        Event::Fail => "failed",
+        Event::Succeed => "succeeded",
+        Event::Run => "started",
+        Event::NotRun => "did not run",
+        Event::Halted => "was halted",
+        Event::KeepRunning => "was running",
+        Event::Finish => "finished",
+    }
+}
+
+/// "never failed", "was never halted".
+fn never(e: Event) -> String {
+    match past(e).strip_prefix("was ") {
+        Some(rest) => format!("was never {rest}"),
+        None => format!("never {}", past(e)),
+    }
+}
+
+pub(super) fn verb(e: Event) -> &'static str {
+    match e {
+        Event::Fail => "fail",
+        Event::Succeed => "succeed",
+        Event::Run => "start",
+        Event::NotRun => "not run",
+        Event::Halted => "get halted",
+        Event::KeepRunning => "keep running",
+        Event::Finish => "finish",
+    }
+}
+
+pub(super) fn times(n: usize) -> String {
+    match n {
+        1 => "once".into(),
+        2 => "twice".into(),
+        n => format!("{n} times"),
+    }
+}
+
+pub(super) fn moments(index: &Index, ps: &[u32]) -> String {
+    let ms: Vec<String> = ps
+        .iter()
+        .map(|&p| step_moment(index, p).to_string())
+        .collect();
+    if ms.len() > 12 {
+        format!("{}, … and {}", ms[..10].join(", "), ms[ms.len() - 1])
+    } else {
+        and_list(&ms)
+    }
+}
+
+fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(), String> {
+    let at = run_of(cx, &r.question)?;
+    let ev = events(at, u, e);
+    let (name, by) = (cx.name(u), cx.by(at));
+    let what = match which {
+        Which::First => "first ",
+        Which::Last => "last ",
+        Which::Every => "",
+    };
+    r.understood = format!("When did {name} {what}{}?", verb(e));
+    r.answer = match (ev.first(), ev.last(), which) {
+        (None, _, _) => format!("{} {} {by}.", upper(&name), never(e)),
+        (Some(&p), _, Which::First) => format!(
+            "{} first {} at {} ({} in all {by}).",
+            upper(&name),
+            past(e),
+            step_moment(at.index, p),
+            times(ev.len())
+        ),
+        (_, Some(&p), Which::Last) => format!(
+            "{} last {} at {} ({} in all {by}).",
+            upper(&name),
+            past(e),
+            step_moment(at.index, p),
+            times(ev.len())
+        ),
+        _ => format!(
+            "{} {} {} {by}: at {}.",
+            upper(&name),
+            past(e),
+            times(ev.len()),
+            moments(at.index, &ev)
+        ),
+    };
+    r.nodes = vec![u];
+    Ok(())
+}
+
+fn how_often(cx: &Context, u: Uid, e: Event, r: &mut Reply) -> Result<(), String> {
+    let at = run_of(cx, &r.question)?;
+    let ev = events(at, u, e);
+    let name = cx.name(u);
+    r.understood = format!("How often did {name} {}?", verb(e));
+    let started = events(at, u, Event::Run).len();
+    r.answer = if ev.is_empty() {
+        format!("{} {} {}.", upper(&name), never(e), cx.by(at))
+    } else {
+        let started = if e == Event::Run {
+            String::new()
+        } else {
+            format!("; it started {}", times(started))
+        };
+        format!(
+            "{} {} {} {} (at {}){started}.",
+            upper(&name),
+            past(e),
+            times(ev.len()),
+            cx.by(at),
+            moments(at.index, &ev),
+        )
+    };
+    r.nodes = vec![u];
+    Ok(())
+}
+
+fn tick(cx: &Context, n: u32, r: &mut Reply) -> Result<(), String> {
+    let at = run_of(cx, &r.question)?;
+    let ticks = at.index.ticks();
+    r.understood = format!("What happened at tick {n}?");
+    if n > ticks {
+        return Err(format!(
+            "The run has ticks 1 to {ticks}: there is no tick {n}."
+        ));
+    }
+    let range = at.index.tick_range(n);
+    let mut said = Vec::new();
+    for t in &at.index.transitions[range.clone()] {
+        let e = [Event::Fail, Event::Succeed, Event::Halted, Event::Run]
+            .into_iter()
+            .find(|&e| is_event(t.prev, t.status, e));
+        if let Some(e) = e {
+            said.push(format!("{} {}", cx.name(t.uid), past(e)));
+        }
+    }
+    r.moment = Some(n.to_string());
+    r.answer = match said.len() {
+        0 if range.is_empty() => {
+            format!("Nothing changed at tick {n}: every node that was running kept running.")
+        }
+        0 => format!("At tick {n} only resets happened (nodes going back to IDLE)."),
+        k if k > 12 => format!(
+            "At tick {n}: {}, and {} more (btx log shows every transition).",
+            said[..12].join(", "),
+            k - 12
+        ),
+        _ => format!("At tick {n}: {}.", said.join(", ")),
+    };
+    Ok(())
+}
+
+/// A node that handles its children's failures: a Fallback tries the next
+/// child, a Retry tries again, a RecoveryNode runs its recovery.
+fn handles_failure(tree: &Tree, uid: Uid) -> bool {
+    matches!(
+        tree.node(uid).builtin,
+        Some(
+            Builtin::Fallback
+                | Builtin::ReactiveFallback
+                | Builtin::AsyncFallback
+                | Builtin::RetryUntilSuccessful
+                | Builtin::RecoveryNode
+        )
+    )
+}
+
+fn recovered(cx: &Context, r: &mut Reply) -> Result<(), String> {
+    let at = run_of(cx, &r.question)?;
+    let tree = cx.tree;
+    r.understood = "Did the recovery work?".into();
+    let failed = (1..=at.pos).rev().find(|&p| {
+        let t = at.index.transitions[p as usize - 1];
+        t.status == Status::Failure && tree.node(t.uid).kind.is_leaf()
+    });
+    let Some(p) = failed else {
+        r.answer = format!(
+            "Nothing failed {}, so nothing needed recovering.",
+            cx.by(at)
+        );
+        return Ok(());
+    };
+    let leaf = at.index.transitions[p as usize - 1].uid;
+    let when = step_moment(at.index, p);
+    let handlers: Vec<Uid> = tree
+        .ancestors(leaf)
+        .filter(|&a| handles_failure(tree, a))
+        .collect();
+    if handlers.is_empty() {
+        r.answer = format!(
+            "Nothing recovered from the last failure: {} failed at {when}, and no fallback, retry or recovery is above it.",
+            cx.name(leaf)
+        );
+        return Ok(());
+    }
+    r.nodes = vec![leaf];
+    let mut said = vec![format!("{} failed at {when}", cx.name(leaf))];
+    for h in handlers {
+        r.about = Some(h);
+        r.nodes.push(h);
+        let end = at
+            .index
+            .changes_of(h)
+            .iter()
+            .copied()
+            .filter(|&q| q > p && q <= at.pos)
+            .map(|q| (q, at.index.transitions[q as usize - 1].status))
+            .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
+        let h_n = cx.name(h);
+        match end {
+            Some((q, Status::Success)) => {
+                said.push(format!(
+                    "{h_n}, which handles it, succeeded at {}",
+                    step_moment(at.index, q)
+                ));
+                r.answer = format!("Yes. {}.", upper(&said.join("; ")));
+                return Ok(());
+            }
+            Some((q, _)) => said.push(format!("{h_n} failed too, at {}", step_moment(at.index, q))),
+            None => {
+                said.push(format!(
+                    "{h_n}, which handles it, had not finished {}",
+                    cx.by(at)
+                ));
+                r.answer = format!("Not yet. {}.", upper(&said.join("; ")));
+                return Ok(());
+            }
+        }
+    }
+    r.answer = format!("No. {}: nothing above recovered.", upper(&said.join("; ")));
+    Ok(())
+}
+
+/// What the tree ticks after `u` ends with `s`, read from the tree: up
+/// through the parents that pass the outcome on, to the next child a
+/// Sequence or Fallback goes on to.
+fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Result<(), String> {
+    let tree = cx.tree;
+    let name = cx.name(u);
+    let word = if s == Status::Success {
+        "succeeds"
+    } else {
+        "fails"
+    };
+    r.about = Some(u);
+    r.understood = if asked_next {
+        format!("What will I do next, once {name} succeeds?")
+    } else {
+        format!("What happens if {name} {word}?")
+    };
+    let (mut child, mut status) = (u, s);
+    while let Some(p) = tree.parent(child) {
+        let n = tree.node(p);
+        let at = n.children.iter().position(|&c| c == child).unwrap_or(0);
+        let go_on = match n.builtin {
+            Some(
+                Builtin::Sequence
+                | Builtin::SequenceWithMemory
+                | Builtin::ReactiveSequence
+                | Builtin::AsyncSequence,
+            ) => status == Status::Success,
+            Some(Builtin::Fallback | Builtin::ReactiveFallback | Builtin::AsyncFallback) => {
+                status == Status::Failure
+            }
+            Some(Builtin::Inverter) => {
+                status = if status == Status::Success {
+                    Status::Failure
+                } else {
+                    Status::Success
+                };
+                child = p;
+                continue;
+            }
+            Some(Builtin::ForceSuccess) => {
+                status = Status::Success;
+                child = p;
+                continue;
+            }
+            Some(Builtin::ForceFailure) => {
+                status = Status::Failure;
+                child = p;
+                continue;
+            }
+            Some(Builtin::SubTree) => {
+                child = p;
+                continue;
+            }
+            Some(Builtin::RetryUntilSuccessful) if status == Status::Failure => {
+                r.answer = format!(
+                    "If {name} {word}, {} tries again (while it has attempts left).",
+                    cx.name(p)
+                );
+                r.nodes = vec![u, p];
+                return Ok(());
+            }
+            Some(Builtin::RetryUntilSuccessful | Builtin::Repeat) => {
+                child = p;
+                continue;
+            }
+            _ if n.kind == crate::model::Kind::SubTree => {
+                child = p;
+                continue;
+            }
+            _ => {
+                r.answer = format!(
+                    "If {name} {word}, what comes next is up to {}, a {} that the tree alone does not decide; ask a run.",
+                    cx.name(p), n.id
+                );
+                return Ok(());
+            }
+        };
+        match n.children.get(at + 1) {
+            Some(&c) if go_on => {
+                let first = tree.leaves_below(c).next().unwrap_or(c);
+                r.answer = format!("If {name} {word}, I will {} next.", tree.deed(first));
+                r.nodes = vec![u, first];
+                return Ok(());
+            }
+            _ => child = p,
+        }
+    }
+    let ends = if status == Status::Success {
+        "succeeds"
+    } else {
+        "fails"
+    };
+    r.answer = format!(
+        "If {name} {word}, the task {ends}: {} is its last step.",
+        tree.spoken(u)
+    );
+    r.nodes = vec![u];
+    Ok(())
+}
+
+pub(super) fn upper(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_uppercase().collect::<String>() + c.as_str(),
+        None => String::new(),
+    }
+}

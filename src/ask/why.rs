@@ -1,0 +1,225 @@
+//! "Why did X fail?" in the user's words, as `btx why` asks it: the tense
+//! picks the moment (X's latest failure at or before the one asked at),
+//! and the counterfactual search answers at that moment.
+
+use super::compose::{events, past, run_of, step_moment, times, upper, verb, Context};
+use super::parse::Event;
+use super::Reply;
+use crate::model::Uid;
+use crate::run::Status;
+use crate::session::Moment;
+
+fn status_word(e: Event) -> Option<&'static str> {
+    match e {
+        Event::Fail => Some("FAILURE"),
+        Event::Succeed => Some("SUCCESS"),
+        Event::KeepRunning => Some("RUNNING"),
+        _ => None,
+    }
+}
+
+pub fn answer(
+    cx: &Context,
+    u: Uid,
+    e: Event,
+    foil: Option<Event>,
+    r: &mut Reply,
+) -> Result<(), String> {
+    let at = run_of(cx, &r.question)?;
+    let name = cx_name(cx, u);
+    r.nodes = vec![u];
+    r.short_event = Some(e);
+    let (target, moment) = match e {
+        Event::NotRun => {
+            let tick = at.moment().tick;
+            r.understood = format!("Why did {name} not run in tick {tick}?");
+            let range = at.index.tick_range(tick);
+            if let Some(&p) = at
+                .index
+                .changes_of(u)
+                .iter()
+                .find(|&&p| (p as usize) > range.start && (p as usize) <= range.end)
+            {
+                r.answer = format!(
+                    "{} did run in tick {tick}: it changed status at {}.",
+                    upper(&name),
+                    step_moment(at.index, p)
+                );
+                return Ok(());
+            }
+            (format!("executed(#{u})"), Moment { tick, step: None })
+        }
+        Event::KeepRunning if at.status(u) == Status::Running => {
+            let m = at.moment();
+            r.understood = format!("Why was {name} still running at {m}?");
+            (format!("status(#{u})"), m)
+        }
+        _ => {
+            let ev = events(at, u, e);
+            let Some(&p) = ev.last() else {
+                r.understood = format!("Why did {name} {}?", verb(e));
+                r.answer = never(cx, u, e);
+                return Ok(());
+            };
+            let m = step_moment(at.index, p);
+            r.understood = format!("Why did {name} {} at {m}?", verb(e));
+            if e == Event::Halted {
+                r.answer = halted_by(cx, u, p);
+                return Ok(());
+            }
+            if ev.len() > 1 {
+                r.history = Some(format!(
+                    "{} {} {} by then: at {}.",
+                    upper(&name),
+                    past(e),
+                    times(ev.len()),
+                    super::compose::moments(at.index, &ev)
+                ));
+            }
+            let t = if e == Event::Run {
+                "executed"
+            } else {
+                "status"
+            };
+            (format!("{t}(#{u})"), m)
+        }
+    };
+    let not: Vec<String> = foil
+        .and_then(status_word)
+        .map(String::from)
+        .into_iter()
+        .collect();
+    search(cx, &target, &not, moment, r)
+}
+
+/// "Why did you do X instead of Y?": why Y did not run, in the tick where
+/// X last ran.
+pub fn instead(cx: &Context, done: Uid, other: Uid, r: &mut Reply) -> Result<(), String> {
+    let at = run_of(cx, &r.question)?;
+    let (d, o) = (cx_name(cx, done), cx_name(cx, other));
+    let Some(&p) = events(at, done, Event::Run).last() else {
+        r.understood = format!("Why did I do {d} and not {o}?");
+        r.answer = format!("{} had not run {}.", upper(&d), by(cx));
+        return Ok(());
+    };
+    let tick = step_moment(at.index, p).tick;
+    r.understood = format!("Why did I do {d} and not {o} in tick {tick}?");
+    r.short_event = Some(Event::NotRun);
+    r.about = Some(other);
+    r.nodes = vec![done, other];
+    search(
+        cx,
+        &format!("executed(#{other})"),
+        &[],
+        Moment { tick, step: None },
+        r,
+    )
+}
+
+fn by(cx: &Context) -> String {
+    match &cx.at {
+        Some(a) => format!("by moment {}", a.moment()),
+        None => String::new(),
+    }
+}
+
+fn cx_name(cx: &Context, u: Uid) -> String {
+    format!("{} (#{u})", cx.tree.spoken(u))
+}
+
+/// X never did what was asked by then: say so, and how it last ended.
+fn never(cx: &Context, u: Uid, e: Event) -> String {
+    let at = cx.at.as_ref().expect("a run");
+    let name = upper(&cx_name(cx, u));
+    let by = by(cx);
+    match at.last_completion(u) {
+        _ if events(at, u, Event::Run).is_empty() => format!("{name} had not run {by}."),
+        Some((p, s)) => format!(
+            "{name} did not {} {by}: it last ended with {} at {}.",
+            verb(e),
+            s.as_str(),
+            step_moment(at.index, p)
+        ),
+        None => format!("{name} did not {} {by}: it has not finished.", verb(e)),
+    }
+}
+
+/// A halt comes from above: the last change of an ancestor before it in
+/// the same tick.
+fn halted_by(cx: &Context, u: Uid, p: u32) -> String {
+    let at = cx.at.as_ref().expect("a run");
+    let idx = at.index;
+    let tick = idx.transitions[p as usize - 1].tick;
+    let start = idx.tick_range(tick).start as u32;
+    let cause = (start + 1..p).rev().find(|&q| {
+        let t = idx.transitions[q as usize - 1];
+        cx.tree.is_ancestor(t.uid, u) && t.status != Status::Running
+    });
+    let name = upper(&cx_name(cx, u));
+    match cause {
+        Some(q) => {
+            let t = idx.transitions[q as usize - 1];
+            format!(
+                "{name} was halted at {} after {} became {} at {}: a node stops the children it no longer ticks.",
+                step_moment(idx, p),
+                cx_name(cx, t.uid),
+                t.status.as_str(),
+                step_moment(idx, q)
+            )
+        }
+        None => format!(
+            "{name} was halted at {}: a node above it stopped ticking it (a reactive check or a parent that finished); the transitions of that tick show which.",
+            step_moment(idx, p)
+        ),
+    }
+}
+
+/// Asks the counterfactual search, and keeps its explanations (its own
+/// restatement, the first line, is replaced by ours).
+fn search(
+    cx: &Context,
+    target: &str,
+    not: &[String],
+    at: Moment,
+    r: &mut Reply,
+) -> Result<(), String> {
+    let s = cx.session.ok_or_else(|| {
+        "a why needs a recorded run; a live robot's statuses cannot be re-run".to_string()
+    })?;
+    let d = crate::causal::session_domain(s, None).map_err(|e| e.to_string())?;
+    r.target = Some(target.to_string());
+    r.not = not.to_vec();
+    r.moment = Some(at.to_string());
+    let w = crate::causal::why(s, d, target, not, Some(at), 2).map_err(|e| e.to_string())?;
+    let text = w.text();
+    let (asked, body) = text.split_once('\n').unwrap_or((text.as_str(), ""));
+    // The search explains the node's last call in the tick; where that is
+    // not the call asked about (a node ticked again in the same tick), its
+    // answer is to another question, and is not passed off as this one's.
+    if !says(asked, r.short_event) {
+        r.answer = format!(
+            "btx cannot answer this yet: the node was ticked again later in tick {}, and btx's causal model explains its last call there, which asks another question (\"{}\"). Ask at the end of a tick where it was called once, or see btx log for its calls.",
+            at.tick,
+            asked.split("  (").next().unwrap_or(asked).trim()
+        );
+        r.answered = false;
+        return Ok(());
+    }
+    r.answer = body.trim_end().to_string();
+    Ok(())
+}
+
+/// Whether the search's own question asks about `e`.
+fn says(asked: &str, e: Option<Event>) -> bool {
+    let words: &[&str] = match e {
+        Some(Event::Fail) => &["fail"],
+        Some(Event::Succeed) => &["succeed"],
+        Some(Event::KeepRunning) => &["running"],
+        Some(Event::NotRun) => &["not execute", "not ticked"],
+        Some(Event::Run) => &["execute"],
+        _ => return true,
+    };
+    let q = asked.to_lowercase();
+    let negated = q.contains("not execute") || q.contains("not ticked");
+    words.iter().any(|w| q.contains(w)) && (e == Some(Event::NotRun) || !negated)
+}

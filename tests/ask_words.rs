@@ -1,0 +1,233 @@
+//! Questions in the user's own words (`btx ask FILE "TEXT"`): a corpus of
+//! phrasings, each with the query and node it must be understood as, on
+//! the kitting run where look at chuck fails once; and what is not
+//! understood is said so, with suggestions, and never answered as another
+//! question.
+
+mod common;
+
+use btx::ask::{ask, Context};
+use btx::input::open;
+use btx::session::Moment;
+use btx::xml::LoadOptions;
+use common::btx;
+
+/// (question, short, node uid) that the kitting run must read so.
+fn corpus() -> Vec<(String, &'static str, Option<u32>)> {
+    let mut out: Vec<(String, &'static str, Option<u32>)> = Vec::new();
+    let fixed: &[(&str, &str)] = &[
+        ("What are you doing?", "q1"),
+        ("what are you doing now", "q1"),
+        ("What is the robot doing?", "q1"),
+        ("what's happening?", "q1"),
+        ("what is running", "q1"),
+        ("Why are you doing this?", "q2"),
+        ("why are you doing that", "q2"),
+        ("What is your subgoal?", "q3"),
+        ("what's the subgoal", "q3"),
+        ("What is your goal?", "q4"),
+        ("what's the mission?", "q4"),
+        ("what are you trying to do", "q4"),
+        ("q5", "q5-subgoal"),
+        ("How do you achieve your subgoal?", "q5-subgoal"),
+        ("what are the steps", "q5-subgoal"),
+        ("How do you achieve your goal?", "q5-goal"),
+        ("What went wrong?", "wrong"),
+        ("what's wrong", "wrong"),
+        ("What failed?", "wrong"),
+        ("Was there anything wrong?", "anything-wrong"),
+        ("did anything go wrong?", "anything-wrong"),
+        ("is something wrong", "anything-wrong"),
+        ("How was the failure handled?", "handled"),
+        ("how did you handle it?", "handled"),
+        ("How did you recover?", "handled"),
+        ("did the recovery work?", "recovered"),
+        ("Did it recover?", "recovered"),
+        ("did the retry work", "recovered"),
+        ("what happened at tick 10?", "tick"),
+        ("What happened in tick 3", "tick"),
+        ("tick 7", "tick"),
+        ("What will you do next?", "next"),
+        ("what's next?", "next"),
+        ("what comes next", "next"),
+    ];
+    for (q, s) in fixed {
+        out.push((q.to_string(), s, None));
+    }
+    // Nodes as people name them: the description, another case, with an
+    // article, a path, a uid.
+    let nodes: &[(&str, u32)] = &[
+        ("look at chuck", 18),
+        ("Look At Chuck", 18),
+        ("the look at chuck", 18),
+        ("#18", 18),
+        ("go insert large gear/look at chuck", 18),
+        ("retreat arm", 27),
+        ("reset arm", 26),
+        ("move to see chuck", 6),
+        ("detect chuck/lift torso", 10),
+        ("the insert large gear", 13),
+        ("#12", 12),
+        ("convert to insertion pose", 15),
+    ];
+    let templates: &[(&str, &str)] = &[
+        ("Why did {} fail?", "why"),
+        ("why did {} succeed", "why"),
+        ("Why did {} run?", "why"),
+        ("why didn't {} run?", "why"),
+        ("Why was {} skipped?", "why"),
+        ("why was {} halted", "why"),
+        ("Why did {} fail instead of succeeding?", "why"),
+        ("why did {} fail rather than succeed", "why"),
+        ("When did {} fail?", "when"),
+        ("when did {} first fail?", "when"),
+        ("When did {} last succeed?", "when"),
+        ("When did {} start?", "when"),
+        ("when was {} halted", "when"),
+        ("when did {} finish?", "when"),
+        ("How often did {} fail?", "how-often"),
+        ("how many times did {} fail?", "how-often"),
+        ("How many times was {} run?", "how-often"),
+        ("how often did {} succeed", "how-often"),
+        ("What if {} fails?", "next"),
+        ("what happens if {} succeeds?", "next"),
+        ("what would happen if {} failed", "next"),
+        ("Can you {}?", "can-you"),
+        ("could you {}", "can-you"),
+        ("how often has {} started?", "how-often"),
+    ];
+    for (t, s) in templates {
+        for (n, u) in nodes {
+            // "Can you #18?" is no one's question.
+            if *s == "can-you" && (n.starts_with('#') || n.contains('/')) {
+                continue;
+            }
+            let node = (*s != "can-you").then_some(*u);
+            out.push((t.replace("{}", n), s, node));
+        }
+    }
+    out
+}
+
+#[test]
+fn a_corpus_of_phrasings_is_understood_as_expected() {
+    let input = open(
+        &common::fixture("../../sessions/kitting-lookat-fails-once.jsonl"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let s = input.session().unwrap();
+    let at = s
+        .at(Moment {
+            tick: 12,
+            step: None,
+        })
+        .unwrap();
+    let cx = Context {
+        tree: input.tree(),
+        session: Some(s),
+        at: Some(at),
+        node: None,
+    };
+    let all = corpus();
+    assert!(all.len() >= 300, "{} questions", all.len());
+    let mut wrong = Vec::new();
+    for (q, short, node) in &all {
+        let r = ask(&cx, q);
+        let about_ok = node.is_none() || r.about == *node;
+        if r.short != Some(*short) || !about_ok {
+            wrong.push(format!(
+                "{q:?}: read as {:?} about {:?}, expected {short} about {node:?}: {}",
+                r.short, r.about, r.answer
+            ));
+        }
+        // Every answer says what it understood before answering.
+        assert!(!r.understood.is_empty() || !r.answered, "{q:?}");
+    }
+    assert!(
+        wrong.is_empty(),
+        "{} of {} misread:\n{}",
+        wrong.len(),
+        all.len(),
+        wrong.join("\n")
+    );
+}
+
+#[test]
+fn what_is_not_understood_is_said_with_suggestions_and_exit_status_1() {
+    let run = "sessions/kitting-lookat-fails-once.jsonl";
+    for q in ["make me a sandwich", "why", "fail look at chuck why"] {
+        let (ok, out, err) = btx(&["ask", run, "--at", "12", q]);
+        assert!(!ok, "{q}: {out}");
+        assert!(
+            out.starts_with("I don't know how to answer that.\n"),
+            "{out}"
+        );
+        assert!(
+            out.contains("Questions I can answer that come closest:"),
+            "{out}"
+        );
+        assert!(err.contains("1 of 1 question was not answered"), "{err}");
+    }
+    let (ok, out, _) = btx(&[
+        "ask",
+        run,
+        "--at",
+        "12",
+        "make me a sandwich",
+        "--format",
+        "json",
+    ]);
+    assert!(!ok);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let a = &j["answers"][0];
+    assert!(a["short"].is_null());
+    assert_eq!(a["suggestions"].as_array().unwrap().len(), 3);
+}
+
+#[test]
+fn the_tense_picks_the_moment_and_the_answer_restates_the_question() {
+    let run = "sessions/kitting-lookat-fails-once.jsonl";
+    let (ok, out, err) = btx(&["ask", run, "--at", "12", "why did look at chuck fail?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with("Why did look at chuck (#18) fail at 10:1?\n"),
+        "{out}"
+    );
+    let (ok, out, _) = btx(&[
+        "ask",
+        run,
+        "--format",
+        "json",
+        "when did look at chuck fail",
+    ]);
+    assert!(ok);
+    let j: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let a = &j["answers"][0];
+    assert_eq!(a["short"], "when");
+    assert_eq!(a["about"]["uid"], 18);
+    assert_eq!(a["understood"], "When did look at chuck (#18) fail?");
+    assert_eq!(
+        a["answer"],
+        "Look at chuck (#18) failed once by the end of the run at tick 54: at 10:1."
+    );
+    // The search's answer is to the question asked, or btx says it cannot
+    // answer: insert large gear failed at 11:6 and was ticked again.
+    let (ok, out, _) = btx(&["ask", run, "why did insert large gear fail"]);
+    assert!(!ok);
+    assert!(out.contains("btx cannot answer this yet"), "{out}");
+    assert!(!out.contains("1. "), "{out}");
+}
+
+#[test]
+fn did_the_recovery_work_is_answered_from_the_ticks_that_followed() {
+    let run = "sessions/kitting-lookat-fails-once.jsonl";
+    let (_, at12, _) = btx(&["ask", run, "--at", "12", "did the recovery work?"]);
+    assert!(at12.contains("Not yet."), "{at12}");
+    let (_, end, _) = btx(&["ask", run, "did the recovery work?"]);
+    assert!(
+        end.contains("Yes.")
+            && end.contains("retry until successful (#7), which handles it, succeeded at 26:20"),
+        "{end}"
+    );
+}

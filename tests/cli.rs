@@ -65,7 +65,9 @@ fn ask_json_names_question_answer_and_nodes() {
     assert_eq!(v["schema"], "btx.answers/1");
     assert_eq!(v["node"]["uid"], 21);
     let a = &v["answers"][0];
-    assert_eq!(a["question"], "Why are you doing this?");
+    // The question as typed, and what btx understood it to ask.
+    assert_eq!(a["question"], "q2");
+    assert_eq!(a["understood"], "Why are you doing this?");
     assert_eq!(a["short"], "q2");
     assert_eq!(
         a["answer"],

@@ -190,7 +190,8 @@ fn search(
     r.target = Some(target.to_string());
     r.not = not.to_vec();
     r.moment = Some(at.to_string());
-    let w = crate::causal::why(s, d, target, not, Some(at), 2).map_err(|e| e.to_string())?;
+    let mut w = crate::causal::why(s, d, target, not, Some(at), 2).map_err(|e| e.to_string())?;
+    w.shown = Some(3);
     let text = w.text();
     let (asked, body) = text.split_once('\n').unwrap_or((text.as_str(), ""));
     // The search explains the node's last call in the tick; where that is

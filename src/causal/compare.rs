@@ -193,15 +193,14 @@ pub fn why_diverged(
                 super::VarKind::State { var, copy } => super::verify::watch_copy(&model, var, copy),
                 _ => None,
             };
-            let (answer, checks, dropped) = super::verified(b, &model, &query, answer, watch);
-            Some(super::Why {
+            Some(super::checked(
+                b,
                 model,
                 query,
                 answer,
-                moment: difference.moment.to_string(),
-                checks,
-                dropped,
-            })
+                watch,
+                difference.moment.to_string(),
+            ))
         }
         None => None,
     };

@@ -611,7 +611,7 @@ fn short_count(n: u128) -> String {
     }
 }
 
-pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str) -> String {
+pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str, shown: Option<usize>) -> String {
     let mut out = format!(
         "{}  (tick {}, moment {moment})\n",
         question(m, q),
@@ -631,12 +631,20 @@ pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str) -> String {
             out.push_str(&exogenous_note(m, q));
         }
         Some(_) => {
-            for (n, g) in groups.iter().enumerate() {
+            let limit = shown.unwrap_or(usize::MAX);
+            for (n, g) in groups.iter().enumerate().take(limit) {
                 out.push_str(&format!(
                     "{}. {}\n   formally: {}\n",
                     n + 1,
                     sentence(m, q, &a.explanations[g[0]]),
                     formal_line(m, a, g)
+                ));
+            }
+            if groups.len() > limit {
+                let more = groups.len() - limit;
+                out.push_str(&format!(
+                    "… and {more} more explanation{} (--all shows every one).\n",
+                    if more == 1 { "" } else { "s" }
                 ));
             }
             if a.omitted > 0 {

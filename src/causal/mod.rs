@@ -15,6 +15,7 @@ pub mod facts;
 pub mod graph;
 pub mod model;
 pub mod query;
+pub mod relevance;
 pub mod search;
 pub mod truth;
 pub mod verify;
@@ -93,6 +94,9 @@ pub struct Why {
     /// Explanations the search found and re-running disproved: their
     /// sentence and what the re-run gave.
     pub dropped: Vec<(String, verify::Check)>,
+    /// How many explanations the text shows (`None`: every one); the rest
+    /// are counted.
+    pub shown: Option<usize>,
 }
 
 /// Checks every explanation of `answer` by re-running the session, and
@@ -346,7 +350,13 @@ impl Why {
     }
 
     pub fn text(&self) -> String {
-        let mut out = english::to_text(&self.model, &self.query, &self.answer, &self.moment);
+        let mut out = english::to_text(
+            &self.model,
+            &self.query,
+            &self.answer,
+            &self.moment,
+            self.shown,
+        );
         out.push_str(&self.checks_text());
         out
     }
@@ -356,7 +366,9 @@ impl Why {
     pub fn checks_text(&self) -> String {
         let mut out = String::new();
         let tick = self.model.facts.tick;
-        let groups = self.groups();
+        let mut groups = self.groups();
+        // Only the explanations shown are numbered.
+        groups.truncate(self.shown.unwrap_or(usize::MAX));
         let mut confirmed = Vec::new();
         let mut unchecked: Vec<(String, Vec<usize>)> = Vec::new();
         for (n, g) in groups.iter().enumerate() {
@@ -668,13 +680,35 @@ pub fn why(
         (VarKind::State { var, copy }, ..) => verify::watch_copy(&model, *var, *copy),
         _ => None,
     };
-    let (answer, checks, dropped) = verified(session, &model, &query, answer, watch);
-    Ok(Why {
+    Ok(checked(
+        session,
         model,
         query,
         answer,
-        moment: moment.to_string(),
+        watch,
+        moment.to_string(),
+    ))
+}
+
+/// The search's answer checked by re-running (`verified`) and put in
+/// order, the cause first (`relevance`).
+fn checked(
+    session: &Session,
+    model: Model,
+    query: Query,
+    answer: Answer,
+    watch: Option<usize>,
+    moment: String,
+) -> Why {
+    let (mut answer, mut checks, dropped) = verified(session, &model, &query, answer, watch);
+    relevance::order(&model, &query, &mut answer, &mut checks);
+    Why {
+        model,
+        query,
+        answer,
+        moment,
         checks,
         dropped,
-    })
+        shown: None,
+    }
 }

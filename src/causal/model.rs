@@ -256,6 +256,29 @@ fn status_range(kind: Kind) -> Vec<Val> {
     r
 }
 
+/// The statuses a built-in node can return, where they are fewer than
+/// its kind allows: no explanation may suppose a Script failing, a
+/// ForceSuccess failing or an AlwaysFailure succeeding. A node with
+/// pre- or post-condition scripts may be made to return anything.
+fn returns(node: &crate::model::Node) -> Option<&'static [Status]> {
+    use Status::{Failure, Running, Success};
+    if !node.scripts.is_empty() {
+        return None;
+    }
+    Some(match node.builtin? {
+        Builtin::AlwaysSuccess
+        | Builtin::Script
+        | Builtin::SetBlackboard
+        | Builtin::UnsetBlackboard => &[Success],
+        Builtin::AlwaysFailure => &[Failure],
+        Builtin::Sleep => &[Running, Success],
+        Builtin::ForceSuccess => &[Running, Success],
+        Builtin::ForceFailure => &[Running, Failure],
+        Builtin::KeepRunningUntilFailure => &[Running, Failure],
+        _ => return None,
+    })
+}
+
 fn state_range(ty: &VarType) -> Vec<Val> {
     match ty {
         VarType::Bool => vec![Val::Data(Value::Bool(true)), Val::Data(Value::Bool(false))],
@@ -648,6 +671,9 @@ fn structure(
         let mut range = status_range(node.kind);
         if is_leaf && node.builtin.is_some_and(|b| b != Builtin::Sleep) {
             range.retain(|x| *x != Val::Status(Status::Running));
+        }
+        if let Some(can) = returns(node) {
+            range.retain(|x| matches!(x, Val::Status(s) if *s == Status::Idle || can.contains(s)));
         }
         r_of[i] = b.var(VarKind::Status(u), range, true, r_func);
         if let (Some(l), Kind::Action) = (leaf, node.kind) {

@@ -17,6 +17,9 @@ pub struct Args {
     /// The largest number of variables changed together.
     #[arg(long, value_name = "N", default_value_t = 2)]
     pub max_depth: usize,
+    /// Show every explanation (default: the first three, the cause first, and how many more).
+    #[arg(long)]
+    pub all: bool,
     /// A domain file instead of the one the session recorded.
     #[arg(long, value_name = "FILE")]
     pub domain: Option<PathBuf>,
@@ -31,6 +34,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         not,
         at,
         max_depth,
+        all,
         domain,
         format,
     } = args;
@@ -42,7 +46,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         .transpose()
         .map_err(Failure::Plain)?;
     let d = btx::causal::session_domain(s, domain.as_deref()).map_err(located)?;
-    let w = btx::causal::why(s, d, &target, &not, at, max_depth).map_err(located)?;
+    let mut w = btx::causal::why(s, d, &target, &not, at, max_depth).map_err(located)?;
+    w.shown = (!all).then_some(3);
     match format {
         Format::Text => print!("{}", w.text()),
         Format::Json => print!("{}", pretty(&w.json())),

@@ -231,3 +231,39 @@ fn did_the_recovery_work_is_answered_from_the_ticks_that_followed() {
         "{end}"
     );
 }
+
+#[test]
+fn what_went_wrong_after_a_recovery_tells_the_history() {
+    // Nav2's navigator where FollowPath fails twice (issue #32): it said
+    // "Nothing went wrong." at the end.
+    let dir = tempfile::tempdir().unwrap();
+    let session = dir.path().join("nav.jsonl");
+    let nav2 = common::fixture("realworld/nav2");
+    let (ok, _, err) = btx(&[
+        "-q",
+        "run",
+        nav2.join("navigate_to_pose_w_replanning_and_recovery.xml")
+            .to_str()
+            .unwrap(),
+        "--models",
+        nav2.join("nav2_tree_nodes.f875f62.xml").to_str().unwrap(),
+        "--plan",
+        common::fixture("plans/nav2_followpath_fails_twice.plan")
+            .to_str()
+            .unwrap(),
+        "--out",
+        session.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, out, err) = btx(&[
+        "ask",
+        session.to_str().unwrap(),
+        "what went wrong?",
+        "did the recovery work?",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out,
+        "Nothing is wrong now. Follow path failed at ticks 4 and 6; navigate recovery (#1) recovered (check whether the goal was updated) and succeeded at tick 10.\nDid the recovery work?\nYes. Follow path (#10) failed at 6:1; follow path (#9) failed too, at 6:4; navigate recovery (#1), which handles it, succeeded at 10:10.\n"
+    );
+}

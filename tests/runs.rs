@@ -532,7 +532,12 @@ fn what_went_wrong_looks_at_the_current_run_only() {
             "tick {t}"
         );
     }
-    assert_eq!(ask(&s, "26", "wrong"), "Nothing went wrong.");
+    // Once the Retry has succeeded nothing is wrong, and the failure it
+    // recovered from is told as history.
+    assert_eq!(
+        ask(&s, "26", "wrong"),
+        "Nothing is wrong now. Look at chuck failed at tick 10; retry until successful (#7) tried again and succeeded at tick 26."
+    );
     // At every step in between: the Fallback resets insert large gear, then
     // fails and is reset itself, before the Retry starts attempt 2 (tick
     // 11's steps 4 to 10, which said "Nothing went wrong.").

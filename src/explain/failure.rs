@@ -1,6 +1,7 @@
 //! Han et al.'s Algorithm 7: "Was there anything wrong?", "What went
 //! wrong?", "How was the failure handled?", at a moment of a run.
 
+use super::han::and_list;
 use crate::model::{Builtin, Kind, Tree, Uid};
 use crate::run::Status;
 use crate::session::At;
@@ -471,11 +472,166 @@ fn stopped_above(tree: &Tree, uid: Uid) -> Uid {
 
 pub const NOTHING_WRONG: &str = "Nothing went wrong.";
 
+/// Nothing is failing now: "Nothing went wrong.", or, when leaves failed
+/// earlier in the root's current run and were recovered from, that
+/// history ("Nothing is wrong now. Follow path failed at ticks 6 and 8;
+/// navigate recovery (#1) ran clear local costmap and succeeded at tick
+/// 10."): a person who saw the failure asks about it.
+fn nothing_now(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
+    match history(tree, run) {
+        Some((text, nodes)) => (format!("Nothing is wrong now. {text}"), nodes),
+        None => (NOTHING_WRONG.to_string(), vec![n]),
+    }
+}
+
+/// The leaves that failed in the root's current run, by the ticks they
+/// failed in, and what recovered from the last of them.
+pub fn history(tree: &Tree, run: &At) -> Option<(String, Vec<Uid>)> {
+    let since = run.run_start();
+    let mut failed: Vec<(Uid, Vec<u32>)> = Vec::new();
+    let mut last = None;
+    let mut first = None;
+    for p in since + 1..=run.pos {
+        let t = run.index.transitions[p as usize - 1];
+        if t.status != Status::Failure || !tree.node(t.uid).kind.is_leaf() {
+            continue;
+        }
+        last = Some((t.uid, p));
+        first.get_or_insert(p);
+        match failed.iter_mut().find(|(u, _)| *u == t.uid) {
+            Some((_, ticks)) if ticks.last() == Some(&t.tick) => {}
+            Some((_, ticks)) => ticks.push(t.tick),
+            None => failed.push((t.uid, vec![t.tick])),
+        }
+    }
+    let (leaf, at) = last?;
+    let said: Vec<String> = failed
+        .iter()
+        .map(|(u, ticks)| {
+            let ts: Vec<String> = ticks.iter().map(u32::to_string).collect();
+            let which = if ticks.len() == 1 { "tick" } else { "ticks" };
+            format!("{} failed at {which} {}", tree.spoken(*u), and_list(&ts))
+        })
+        .collect();
+    let mut nodes: Vec<Uid> = failed.iter().map(|(u, _)| *u).collect();
+    let mut text = capitalise(&said.join("; "));
+    let from = first.unwrap_or(at);
+    if let Some((h, done, ran)) = recovered_by(tree, run, leaf, at, from) {
+        let mut deeds: Vec<String> = Vec::new();
+        for d in ran.iter().map(|&u| tree.deed(u)) {
+            if !deeds.contains(&d) {
+                deeds.push(d);
+            }
+        }
+        let how = match tree.node(h).builtin {
+            Some(Builtin::RetryUntilSuccessful) => "tried again and".to_string(),
+            _ if deeds.is_empty() => "went on and".to_string(),
+            _ => format!("recovered ({}) and", and_list(&deeds)),
+        };
+        text.push_str(&format!(
+            "; {} (#{h}) {how} succeeded at tick {}",
+            tree.spoken(h),
+            run.index.transitions[done as usize - 1].tick
+        ));
+        nodes.push(h);
+        nodes.extend(ran);
+    }
+    Some((format!("{text}."), nodes))
+}
+
+/// The node above `leaf` that handled its failure at position `at` and
+/// succeeded afterwards (by this moment): a Fallback, a Retry or a
+/// RecoveryNode. With the position of its success and the recovery
+/// actions that succeeded from position `from` (the first failure) on.
+pub fn recovered_by(
+    tree: &Tree,
+    run: &At,
+    leaf: Uid,
+    at: u32,
+    from: u32,
+) -> Option<(Uid, u32, Vec<Uid>)> {
+    let handles = |u: Uid| {
+        matches!(
+            tree.node(u).builtin,
+            Some(
+                Builtin::Fallback
+                    | Builtin::ReactiveFallback
+                    | Builtin::AsyncFallback
+                    | Builtin::RetryUntilSuccessful
+                    | Builtin::RecoveryNode
+            )
+        )
+    };
+    for h in tree.ancestors(leaf).filter(|&a| handles(a)) {
+        let end = run
+            .index
+            .changes_of(h)
+            .iter()
+            .copied()
+            .filter(|&q| q > at && q <= run.pos)
+            .find(|&q| {
+                matches!(
+                    run.index.transitions[q as usize - 1].status,
+                    Status::Success | Status::Failure
+                )
+            })?;
+        if run.index.transitions[end as usize - 1].status == Status::Failure {
+            continue;
+        }
+        // What ran to recover: leaves in the later children of a Fallback
+        // or RecoveryNode between `h` and them (the nominal steps that
+        // went on are not a recovery).
+        let recovery = |u: Uid| {
+            let mut c = u;
+            while let Some(p) = tree.parent(c) {
+                let fallback = matches!(
+                    tree.node(p).builtin,
+                    Some(
+                        Builtin::Fallback
+                            | Builtin::ReactiveFallback
+                            | Builtin::AsyncFallback
+                            | Builtin::RecoveryNode
+                    )
+                );
+                if fallback && tree.node(p).children.first() != Some(&c) {
+                    return true;
+                }
+                if p == h {
+                    return false;
+                }
+                c = p;
+            }
+            false
+        };
+        let mut ran: Vec<Uid> = Vec::new();
+        for q in from + 1..end {
+            let t = run.index.transitions[q as usize - 1];
+            if t.status == Status::Success
+                && tree.node(t.uid).kind.is_leaf()
+                && tree.is_ancestor(h, t.uid)
+                && recovery(t.uid)
+                && !ran.contains(&t.uid)
+            {
+                ran.push(t.uid);
+            }
+        }
+        return Some((h, end, ran));
+    }
+    None
+}
+
+fn capitalise(s: &str) -> String {
+    let mut c = s.chars();
+    c.next().map_or(String::new(), |f| {
+        f.to_uppercase().collect::<String>() + c.as_str()
+    })
+}
+
 /// "What went wrong?"
 pub fn what_went_wrong(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
     let d = diagnose(tree, run, n);
     if d.text.is_empty() {
-        (NOTHING_WRONG.to_string(), vec![n])
+        nothing_now(tree, run, n)
     } else {
         (d.text, d.nodes)
     }
@@ -485,7 +641,7 @@ pub fn what_went_wrong(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
 pub fn anything_wrong(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
     let d = diagnose(tree, run, n);
     if d.text.is_empty() {
-        (NOTHING_WRONG.to_string(), vec![n])
+        nothing_now(tree, run, n)
     } else if d.unknown {
         (d.text, d.nodes)
     } else {
@@ -497,7 +653,7 @@ pub fn anything_wrong(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
 pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
     let d = diagnose(tree, run, n);
     if d.text.is_empty() {
-        return (NOTHING_WRONG.to_string(), vec![n]);
+        return nothing_now(tree, run, n);
     }
     if d.unknown {
         return (d.text, d.nodes);

@@ -39,6 +39,9 @@ pub struct Reply {
     pub suggestions: Vec<String>,
     /// For a why: the event asked about, to check the search answered it.
     pub short_event: Option<parse::Event>,
+    /// For a why: whether the foil came from the words' tense ("why did X
+    /// fail?" → rather than succeed), not from the question.
+    pub foil_implied: bool,
     pub nodes: Vec<Uid>,
     pub insertion: Option<Insertion>,
     /// False when btx could not answer (not understood, no such node, a
@@ -61,6 +64,7 @@ impl Reply {
             history: None,
             suggestions: Vec::new(),
             short_event: None,
+            foil_implied: false,
             nodes: Vec::new(),
             insertion: None,
             answered: true,

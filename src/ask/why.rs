@@ -84,6 +84,16 @@ pub fn answer(
             (format!("{t}(#{u})"), m)
         }
     };
+    let asked_foil = foil.is_some();
+    // "Why did X fail?" contrasts with succeeding, and the other way round,
+    // unless the question names its own contrast (`search` widens it
+    // when nothing would have made it so).
+    let foil = foil.or(match e {
+        Event::Fail => Some(Event::Succeed),
+        Event::Succeed => Some(Event::Fail),
+        _ => None,
+    });
+    r.foil_implied = foil.is_some() && !asked_foil;
     let not: Vec<String> = foil
         .and_then(status_word)
         .map(String::from)
@@ -190,7 +200,22 @@ fn search(
     r.target = Some(target.to_string());
     r.not = not.to_vec();
     r.moment = Some(at.to_string());
-    let mut w = crate::causal::why(s, d, target, not, Some(at), 2).map_err(|e| e.to_string())?;
+    let mut w =
+        crate::causal::why(s, d.clone(), target, not, Some(at), 2).map_err(|e| e.to_string())?;
+    let mut widened = String::new();
+    // Nothing would have made it the contrast the words imply: say so, and
+    // what would have changed it at all.
+    if w.answer.explanations.is_empty() && !not.is_empty() && r.foil_implied {
+        let any = crate::causal::why(s, d, target, &[], Some(at), 2).map_err(|e| e.to_string())?;
+        if !any.answer.explanations.is_empty() {
+            widened = format!(
+                "No change of up to 2 things would have made it {}; what would have changed it:\n",
+                not.join(" or ")
+            );
+            r.not.clear();
+            w = any;
+        }
+    }
     w.shown = Some(3);
     let text = w.text();
     let (asked, body) = text.split_once('\n').unwrap_or((text.as_str(), ""));
@@ -199,14 +224,14 @@ fn search(
     // answer is to another question, and is not passed off as this one's.
     if !says(asked, r.short_event) {
         r.answer = format!(
-            "btx cannot answer this yet: the node was ticked again later in tick {}, and btx's causal model explains its last call there, which asks another question (\"{}\"). Ask at the end of a tick where it was called once, or see btx log for its calls.",
+            "btx cannot answer this yet: its causal model of tick {} does not hold the call asked about (it would answer another question: \"{}\"), as where a node is called again within a tick under a Nav2 RecoveryNode. The transitions are in btx log; ask at the end of a tick where the node was called once.",
             at.tick,
             asked.split("  (").next().unwrap_or(asked).trim()
         );
         r.answered = false;
         return Ok(());
     }
-    r.answer = body.trim_end().to_string();
+    r.answer = format!("{widened}{}", body.trim_end());
     Ok(())
 }
 

@@ -467,6 +467,14 @@ impl Why {
 /// run, once it was first ticked.
 fn fact_from(session: &Session, model: &Model, v: VarId, tick: u32) -> Option<u32> {
     let range = session.index.tick_range(tick);
+    // A copy stands for a call that had ended by the moment (`call_at`).
+    if let VarKind::Status(u) | VarKind::Executed(u) | VarKind::Decision(u) | VarKind::Attempts(u) =
+        model.vars[v].kind
+    {
+        if model.copy_of(u).is_some() {
+            return None;
+        }
+    }
     let in_tick = |u: crate::model::Uid| {
         session
             .index
@@ -615,6 +623,19 @@ pub fn why(
         )));
     }
     let t = query::parse_target(&model, target).map_err(fail)?;
+    // At a step, a node's facts are those of its call at or before it.
+    let t = match (t, moment.step) {
+        (query::Target::Status(u), Some(step)) if u as usize <= model.session_len() => {
+            query::Target::Status(query::call_at(&model, u, step).map_err(fail)?)
+        }
+        (query::Target::Executed(u), Some(step)) if u as usize <= model.session_len() => {
+            query::Target::Executed(query::call_at(&model, u, step).map_err(fail)?)
+        }
+        (query::Target::Decision(u), Some(step)) if u as usize <= model.session_len() => {
+            query::Target::Decision(query::call_at(&model, u, step).map_err(fail)?)
+        }
+        (t, _) => t,
+    };
     let v = query::target_var(&model, &t, pos).map_err(fail)?;
     if let Some(when) = fact_from(session, &model, v, moment.tick).filter(|&p| p > pos) {
         let then = session.index.moment(when);

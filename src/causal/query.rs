@@ -99,6 +99,44 @@ pub fn parse_target(model: &Model, s: &str) -> Result<Target, String> {
     }
 }
 
+/// At `step` of the tick, the node that stands for `u`'s call then: the
+/// last call of `u` that had ended by that step (its first, if none had),
+/// which is `u` itself for its last call in the tick and a copy of the
+/// model's for an earlier attempt of a Retry or Repeat. A call the model
+/// holds no copy of (a Nav2 RecoveryNode going back to its first child,
+/// attempts folded into a count) is said, not replaced by another.
+pub fn call_at(model: &Model, u: Uid, step: u32) -> Result<Uid, String> {
+    let calls: Vec<_> = model.facts.call_log.iter().filter(|r| r.uid == u).collect();
+    let last = model.facts.calls[u as usize - 1];
+    let Some(first) = calls.first() else {
+        return Ok(u);
+    };
+    let call = calls
+        .iter()
+        .filter(|r| r.transitions_after <= step)
+        .map(|r| r.call)
+        .max()
+        .unwrap_or(first.call);
+    // The session's node stands for the loop's last attempt; a call in an
+    // earlier attempt is a copy's, even the node's last call of the tick.
+    let copy = (model.session_len() as Uid + 1..=model.tree.len() as Uid).find(|&w| {
+        model
+            .copy_of(w)
+            .is_some_and(|c| c.origin == u && c.call == call)
+    });
+    if let Some(w) = copy {
+        return Ok(w);
+    }
+    (call >= last).then_some(u).ok_or_else(|| {
+            format!(
+                "at step {step} of tick {}, {} is in its call {call} of {last} in that tick, and btx's model of the tick holds only its last call there (a node called again in the tick by a Nav2 RecoveryNode, or an attempt past the {} the model copies); ask at the end of the tick, or at a step of its last call",
+                model.facts.tick,
+                model.tree.description(u),
+                super::attempts::COPIES_MAX
+            )
+        })
+}
+
 /// The model variable of a target, at position `pos` of the run.
 pub fn target_var(model: &Model, t: &Target, pos: u32) -> Result<VarId, String> {
     Ok(match *t {

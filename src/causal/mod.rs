@@ -495,6 +495,42 @@ fn fact_from(session: &Session, model: &Model, v: VarId, tick: u32) -> Option<u3
     }
 }
 
+/// At a step, the node asked about has just completed, as the log shows,
+/// but the model's variable stands for another of its calls in the tick
+/// (one it does not follow): the question would be another's.
+fn another_call(
+    session: &Session,
+    model: &Model,
+    v: VarId,
+    moment: Moment,
+    pos: u32,
+) -> Option<String> {
+    let (VarKind::Status(u), Some(_)) = (model.vars[v].kind, moment.step) else {
+        return None;
+    };
+    let origin = model.origin(u);
+    let range = session.index.tick_range(moment.tick);
+    let logged = session
+        .index
+        .changes_of(origin)
+        .iter()
+        .copied()
+        .filter(|&p| range.contains(&(p as usize - 1)) && p <= pos)
+        .map(|p| session.index.transitions[p as usize - 1].status)
+        .filter(|s| matches!(s, crate::run::Status::Success | crate::run::Status::Failure))
+        .next_back()?;
+    (model.fact[v] != Val::Status(logged)).then(|| {
+        format!(
+            "at {moment} {} (#{origin}) has just {}, as the run shows, but btx's model of tick {} does not hold that call (in the model, {}): it does not follow the tick's control flow around it (a node called again within the tick, as by a Nav2 RecoveryNode going back to its first child); ask at the end of tick {}, or about the nodes below it",
+            model.tree.description(origin),
+            if logged == crate::run::Status::Success { "succeeded" } else { "failed" },
+            moment.tick,
+            english::fact(model, v, &model.fact[v]),
+            moment.tick
+        )
+    })
+}
+
 /// The last tick of a run: the tick of its last transition when the root
 /// had completed by then, else the last tick the session counts.
 pub fn last_tick(session: &Session) -> u32 {
@@ -637,6 +673,9 @@ pub fn why(
         (t, _) => t,
     };
     let v = query::target_var(&model, &t, pos).map_err(fail)?;
+    if let Some(e) = another_call(session, &model, v, moment, pos) {
+        return Err(fail(e));
+    }
     if let Some(when) = fact_from(session, &model, v, moment.tick).filter(|&p| p > pos) {
         let then = session.index.moment(when);
         return Err(fail(format!(

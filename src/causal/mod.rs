@@ -517,8 +517,7 @@ fn another_call(
         .copied()
         .filter(|&p| range.contains(&(p as usize - 1)) && p <= pos)
         .map(|p| session.index.transitions[p as usize - 1].status)
-        .filter(|s| matches!(s, crate::run::Status::Success | crate::run::Status::Failure))
-        .next_back()?;
+        .rfind(|s| matches!(s, crate::run::Status::Success | crate::run::Status::Failure))?;
     (model.fact[v] != Val::Status(logged)).then(|| {
         format!(
             "at {moment} {} (#{origin}) has just {}, as the run shows, but btx's model of tick {} does not hold that call (in the model, {}): it does not follow the tick's control flow around it (a node called again within the tick, as by a Nav2 RecoveryNode going back to its first child); ask at the end of tick {}, or about the nodes below it",

@@ -128,6 +128,7 @@ fn a_corpus_of_phrasings_is_understood_as_expected() {
         session: Some(s),
         at: Some(at),
         node: None,
+        detail: Default::default(),
     };
     let all = corpus();
     assert!(all.len() >= 300, "{} questions", all.len());
@@ -271,4 +272,36 @@ fn what_went_wrong_after_a_recovery_tells_the_history() {
         out,
         "Nothing is wrong now. Follow path failed at ticks 4 and 6; navigate recovery (#1) recovered (check whether the goal was updated) and succeeded at tick 10.\nDid the recovery work?\nYes. Follow path (#10) failed at 6:1; follow path (#9) failed too, at 6:4; navigate recovery (#1), which handles it, succeeded at 10:10.\n"
     );
+}
+
+#[test]
+fn three_levels_of_detail() {
+    let run = "sessions/kitting-lookat-fails-once.jsonl";
+    let q = "why did insert large gear fail";
+    let (_, brief, _) = btx(&["ask", run, "--detail", "brief", q]);
+    assert_eq!(
+        brief,
+        "Why did insert large gear (#13) fail at 11:6?\nInsert large gear (#13, attempt 1) failed because reset arm (#26, attempt 1) failed.\n"
+    );
+    let (_, normal, _) = btx(&["ask", run, q]);
+    assert!(
+        normal.contains("\n1. ") && normal.contains("Checked:"),
+        "{normal}"
+    );
+    assert!(!normal.contains("What the run shows"), "{normal}");
+    let (_, full, _) = btx(&["ask", run, "--detail", "full", q]);
+    assert!(full.starts_with(&normal.trim_end().to_string()), "{full}");
+    assert!(
+        full.contains("What the run shows of the nodes these rest on:\n  reset arm (#26): RUNNING → FAILURE at 11:3"),
+        "{full}"
+    );
+    // Brief keeps the cause of a failure answer, not its first clause.
+    let (_, wrong, _) = btx(&["ask", run, "--at", "11", "--detail", "brief", "wrong"]);
+    assert_eq!(
+        wrong,
+        "I could not insert large gear because look at chuck failed.\n"
+    );
+    // btx why takes the same levels.
+    let (_, why, _) = btx(&["why", run, "status(#7)", "--at", "11", "--detail", "brief"]);
+    assert_eq!(why.lines().count(), 2, "{why}");
 }

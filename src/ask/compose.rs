@@ -20,6 +20,7 @@ pub struct Context<'a> {
     pub at: Option<At<'a>>,
     /// The node picked with `--node`, if any.
     pub node: Option<Uid>,
+    pub detail: super::detail::Detail,
 }
 
 impl Context<'_> {

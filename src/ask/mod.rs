@@ -3,12 +3,14 @@
 //! `causal`. The CLI and the explorer both ask here, and never each other.
 
 pub mod compose;
+pub mod detail;
 pub mod fixed;
 pub mod nodes;
 pub mod parse;
 pub mod why;
 
 pub use compose::Context;
+pub use detail::Detail;
 
 use crate::explain::insert::Insertion;
 use crate::explain::Question;
@@ -115,6 +117,11 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         Some(intent) => {
             let mut r = compose::compose(cx, question, &intent);
             r.restate = Question::parse(question).is_none();
+            // A why is put at its level of detail by the search's own
+            // rendering (`detail::why_text`); the others here.
+            if r.target.is_none() && r.answered {
+                at_detail(cx, &mut r);
+            }
             r
         }
         None => {
@@ -123,6 +130,27 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
             r.answer = "I don't know how to answer that.".into();
             r.suggestions = suggestions(cx, question);
             r
+        }
+    }
+}
+
+fn at_detail(cx: &Context, r: &mut Reply) {
+    match cx.detail {
+        // Q5's steps are its answer, not detail.
+        Detail::Brief if !matches!(r.short, Some("q5-subgoal" | "q5-goal")) => {
+            r.answer = detail::first_sentence(&r.answer);
+            r.history = None;
+        }
+        Detail::Brief => {}
+        Detail::Normal => {}
+        Detail::Full => {
+            if let (Some(at), false) = (&cx.at, r.nodes.is_empty()) {
+                let facts = detail::facts(cx.tree, at, &r.nodes);
+                r.answer.push_str("\nWhat the run shows of these nodes:");
+                for f in facts {
+                    r.answer.push_str(&format!("\n  {f}"));
+                }
+            }
         }
     }
 }

@@ -216,8 +216,7 @@ fn search(
             w = any;
         }
     }
-    w.shown = Some(3);
-    let text = w.text();
+    let text = super::detail::why_text(&mut w, s, cx.detail);
     let (asked, body) = text.split_once('\n').unwrap_or((text.as_str(), ""));
     // The search explains the node's last call in the tick; where that is
     // not the call asked about (a node ticked again in the same tick), its
@@ -230,6 +229,9 @@ fn search(
         );
         r.answered = false;
         return Ok(());
+    }
+    if cx.detail == super::Detail::Brief {
+        widened.clear();
     }
     r.answer = format!("{widened}{}", body.trim_end());
     Ok(())

@@ -22,6 +22,9 @@ pub struct Args {
     /// Questions, in your own words ("why did look at chuck fail?", "what happened at tick 10?", "did the recovery work?") or the paper's wording, "Can you X?", or q1 q2 q3 q4 q5 q5-goal anything-wrong wrong handled.
     #[arg(value_name = "QUESTION")]
     pub questions: Vec<String>,
+    /// How much to say: brief (the restated question and the cause), normal, or full (every explanation, and what the run shows of each node it rests on).
+    #[arg(long, value_enum, default_value = "normal")]
+    pub detail: DetailArg,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
 }
@@ -34,8 +37,10 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         at,
         node,
         questions,
+        detail,
         format,
     } = args;
+    let detail = detail.into();
     if let Some(ep) = live {
         // `--live wrong`: the word is a question, not a host.
         let (ep, first) = match btx::ask::parse::parse(&ep) {
@@ -47,7 +52,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             .chain(file.map(|f| f.display().to_string()))
             .chain(questions)
             .collect();
-        return live_ask(&ep, node.as_deref(), &words, format);
+        return live_ask(&ep, node.as_deref(), &words, format, detail);
     }
     let Some(file) = file else {
         fail!("name a tree or a session to ask about (or --live to ask a running robot)");
@@ -104,6 +109,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         session: input.session(),
         at: view,
         node: uid,
+        detail,
     };
     print_replies(&cx, &questions, format)
 }
@@ -151,7 +157,13 @@ fn print_replies(
 /// `--live`: the robot's tree (`T`) and its nodes' states now (`S`), as a
 /// run recorded from this moment with no transition yet: every answer is
 /// about the present, and what came before is unknown, and said so.
-fn live_ask(ep: &str, node: Option<&str>, words: &[String], format: Format) -> Result<(), Failure> {
+fn live_ask(
+    ep: &str,
+    node: Option<&str>,
+    words: &[String],
+    format: Format,
+    detail: btx::ask::Detail,
+) -> Result<(), Failure> {
     if words.is_empty() {
         fail!("ask at least one question, e.g. btx ask --live :1667 wrong");
     }
@@ -173,6 +185,7 @@ fn live_ask(ep: &str, node: Option<&str>, words: &[String], format: Format) -> R
         session: None,
         at: Some(view),
         node: uid,
+        detail,
     };
     print_replies(&cx, words, format)
 }

@@ -245,6 +245,24 @@ macro_rules! fail {
     ($($t:tt)*) => { return Err(Failure::Plain(format!($($t)*))) };
 }
 
+/// `--detail`: how much an answer says.
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum DetailArg {
+    Brief,
+    Normal,
+    Full,
+}
+
+impl From<DetailArg> for btx::ask::Detail {
+    fn from(d: DetailArg) -> Self {
+        match d {
+            DetailArg::Brief => btx::ask::Detail::Brief,
+            DetailArg::Normal => btx::ask::Detail::Normal,
+            DetailArg::Full => btx::ask::Detail::Full,
+        }
+    }
+}
+
 /// The options every command takes.
 pub struct Globals {
     pub quiet: bool,

@@ -20,6 +20,9 @@ pub struct Args {
     /// Show every explanation (default: the first three, the cause first, and how many more).
     #[arg(long)]
     pub all: bool,
+    /// How much to say: brief (the question and the cause), normal, or full (every explanation, and what the run shows of each node it rests on).
+    #[arg(long, value_enum, default_value = "normal")]
+    pub detail: DetailArg,
     /// A domain file instead of the one the session recorded.
     #[arg(long, value_name = "FILE")]
     pub domain: Option<PathBuf>,
@@ -35,6 +38,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         at,
         max_depth,
         all,
+        detail,
         domain,
         format,
     } = args;
@@ -47,9 +51,10 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         .map_err(Failure::Plain)?;
     let d = btx::causal::session_domain(s, domain.as_deref()).map_err(located)?;
     let mut w = btx::causal::why(s, d, &target, &not, at, max_depth).map_err(located)?;
-    w.shown = (!all).then_some(3);
+    let detail: btx::ask::Detail = detail.into();
     match format {
-        Format::Text => print!("{}", w.text()),
+        Format::Text if all && detail == btx::ask::Detail::Normal => print!("{}", w.text()),
+        Format::Text => print!("{}", btx::ask::detail::why_text(&mut w, s, detail)),
         Format::Json => print!("{}", pretty(&w.json())),
     }
     Ok(())

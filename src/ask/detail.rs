@@ -113,26 +113,6 @@ pub fn facts(tree: &Tree, at: &At, nodes: &[Uid]) -> Vec<String> {
     out
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_first_sentence_leaves_out_numbering_and_what_follows() {
-        assert_eq!(
-            first_sentence("1. L0 failed because X_a was false. If X_a had been true, L0 would have succeeded.\n   formally: X_a^0 = false"),
-            "L0 failed because X_a was false."
-        );
-        assert_eq!(first_sentence("I lift torso."), "I lift torso.");
-        assert_eq!(
-            first_sentence("I am retrying for attempt 1 to go insert large gear. I could not insert large gear because look at chuck failed."),
-            "I could not insert large gear because look at chuck failed."
-        );
-        assert_eq!(Detail::parse("full"), Some(Detail::Full));
-        assert_eq!(Detail::parse("loud"), None);
-    }
-}
-
 /// A `why` answer at a level of detail, its question line first: brief,
 /// the first explanation's sentence; normal, three explanations and how
 /// many more; full, every one and the facts of the nodes they rest on.
@@ -173,5 +153,25 @@ pub fn why_text(
             }
             text
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_first_sentence_leaves_out_numbering_and_what_follows() {
+        assert_eq!(
+            first_sentence("1. L0 failed because X_a was false. If X_a had been true, L0 would have succeeded.\n   formally: X_a^0 = false"),
+            "L0 failed because X_a was false."
+        );
+        assert_eq!(first_sentence("I lift torso."), "I lift torso.");
+        assert_eq!(
+            first_sentence("I am retrying for attempt 1 to go insert large gear. I could not insert large gear because look at chuck failed."),
+            "I could not insert large gear because look at chuck failed."
+        );
+        assert_eq!(Detail::parse("full"), Some(Detail::Full));
+        assert_eq!(Detail::parse("loud"), None);
     }
 }

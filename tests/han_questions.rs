@@ -244,8 +244,9 @@ fn answers_name_the_nodes_they_used() {
 /// answers begin "Sorry", and no name made of an ID is used as a verb.
 /// `cargo test --test han_questions real_trees -- --nocapture` prints the
 /// figures.
-#[test]
-fn real_trees_are_answered_in_english() {
+/// The main trees of the real-tree corpus: each Nav2 navigator with a
+/// model file of its era (SOURCES), then the other trees as they are.
+fn corpus() -> Vec<(std::path::PathBuf, btx::xml::LoadOptions)> {
     // Each Nav2 navigator with a model file of its era (SOURCES); the
     // other trees of the corpus as they are.
     let mut files: Vec<(std::path::PathBuf, btx::xml::LoadOptions)> = common::nav2_navigators()
@@ -261,7 +262,6 @@ fn real_trees_are_answered_in_english() {
             )
         })
         .collect();
-    let nav2 = files.len();
     let realworld = fixture("realworld");
     for f in [
         "btcpp/test_files/subtree_test.xml",
@@ -283,6 +283,13 @@ fn real_trees_are_answered_in_english() {
             ..Default::default()
         },
     ));
+    files
+}
+
+#[test]
+fn real_trees_are_answered_in_english() {
+    let files = corpus();
+    let nav2 = common::nav2_navigators().len();
     let qs = [
         TreeQuestion::Doing,
         TreeQuestion::Why,
@@ -456,5 +463,50 @@ fn real_trees_read_as_the_readme_says() {
     assert_eq!(
         ask(&t, "#3", TreeQuestion::Why),
         "I retreat arm in order to reset arm."
+    );
+}
+
+/// "Can you X?" on real trees (#32 item 7): every named sequence, step and
+/// leaf of each main tree of the corpus, asked while the tree runs its
+/// first leaf. Refused for under a fifth, each refusal naming the node and
+/// its reason.
+#[test]
+fn can_you_on_real_trees_is_refused_for_under_a_fifth() {
+    use btx::explain::insert::can_you;
+    let (mut asked, mut refused) = (0, 0);
+    let mut reasons: std::collections::BTreeMap<String, usize> = Default::default();
+    for (f, opts) in corpus() {
+        let t = btx::xml::load_file(&f, &opts).unwrap().tree;
+        let Some(current) = t.preorder().into_iter().find(|&u| t.node(u).kind.is_leaf()) else {
+            continue;
+        };
+        for x in t.preorder().into_iter().skip(1) {
+            if !t.node(x).kind.is_leaf() && !t.has_name(x) {
+                continue;
+            }
+            asked += 1;
+            if let Err(why) = can_you(&t, current, &t.spoken(x)) {
+                refused += 1;
+                assert!(why.starts_with("Sorry. I cannot redo"), "{why}");
+                let reason = why
+                    .split(": ")
+                    .nth(1)
+                    .unwrap_or("")
+                    .split(" (")
+                    .next()
+                    .unwrap_or("")
+                    .to_string();
+                *reasons.entry(reason).or_default() += 1;
+            }
+        }
+    }
+    eprintln!(
+        "Can you X? on the real-tree corpus: {refused} of {asked} refused ({:.1} %): {reasons:?}",
+        100.0 * refused as f64 / asked as f64
+    );
+    assert!(asked > 250, "{asked}");
+    assert!(
+        refused * 5 < asked,
+        "{refused} of {asked} refused: {reasons:?}"
     );
 }

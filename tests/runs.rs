@@ -186,7 +186,7 @@ fn can_you_insert_large_gear_inserts_the_unnamed_sequence() {
     .unwrap();
     assert_eq!(
         refusal.text,
-        "Sorry. I cannot redo \"fly\": no sequence or subtree of mine is called that."
+        "Sorry. I cannot redo \"fly\": no subgoal, sequence or step of mine is called that."
     );
 }
 

@@ -40,19 +40,60 @@ fn is_sequence_or_subtree(tree: &Tree, uid: Uid) -> bool {
         )
 }
 
-/// Every behaviour "X" names: the Sequences and SubTrees of that name in
-/// the whole tree, those in the current subgoal first, then in tree order.
+/// Every behaviour "X" names, those in `scope` first, then in tree order:
+/// the Sequences and SubTrees of that name (Han's), else any step or leaf
+/// of that name, written or read as words ("back up" for `BackUp`), else
+/// the named nodes whose name has every word of X.
 fn find_named(tree: &Tree, scope: Uid, x: &str) -> Vec<Uid> {
-    // The name as written (what Han's rules compare).
-    let matches = |u: Uid| {
-        is_sequence_or_subtree(tree, u) && tree.description(u).eq_ignore_ascii_case(x.trim())
-    };
-    let (mut inside, outside): (Vec<Uid>, Vec<Uid>) = tree
-        .descendants(Tree::ROOT)
-        .filter(|&u| matches(u))
+    let want = x.trim().to_lowercase();
+    let words_of = |u: Uid| tree.spoken(u).to_lowercase();
+    let exact = |u: Uid| tree.description(u).to_lowercase() == want || words_of(u) == want;
+    let all: Vec<Uid> = tree.descendants(Tree::ROOT).collect();
+    let mut found: Vec<Uid> = all
+        .iter()
+        .copied()
+        .filter(|&u| is_sequence_or_subtree(tree, u) && exact(u))
+        .collect();
+    if found.is_empty() {
+        found = all.iter().copied().filter(|&u| exact(u)).collect();
+    }
+    if found.is_empty() {
+        let wanted: Vec<&str> = want
+            .split_whitespace()
+            .filter(|w| !["the", "a", "an", "my", "your", "some"].contains(w))
+            .collect();
+        found = all
+            .iter()
+            .copied()
+            .filter(|&u| {
+                let name = words_of(u);
+                let have: Vec<&str> = name.split_whitespace().collect();
+                tree.has_name(u) && !wanted.is_empty() && wanted.iter().all(|w| have.contains(w))
+            })
+            .collect();
+    }
+    let (mut inside, outside): (Vec<Uid>, Vec<Uid>) = found
+        .into_iter()
         .partition(|&u| u == scope || tree.is_ancestor(scope, u));
     inside.extend(outside);
     inside
+}
+
+/// Where a tree with no subgoal to insert after (no SubTree above the
+/// current node, or only the whole tree) takes a new behaviour: after the
+/// current step of the nearest sequence above the current node.
+fn step_of_sequence(tree: &Tree, current: Uid) -> Option<(Uid, Uid)> {
+    let mut child = current;
+    for a in tree.ancestors(current) {
+        if matches!(
+            tree.node(a).builtin,
+            Some(Builtin::Sequence | Builtin::SequenceWithMemory | Builtin::PipelineSequence)
+        ) {
+            return Some((a, child));
+        }
+        child = a;
+    }
+    None
 }
 
 /// Entries read and written by the leaves below `uid`.
@@ -82,12 +123,27 @@ fn leaf_io(tree: &Tree, bb: &Blackboard, uid: Uid) -> (BTreeSet<EntryId>, BTreeS
 }
 
 /// Algorithm 8: the nearest node at or above `n` whose leaves write every
-/// entry that the leaves below `n` read.
+/// entry that the leaves below `n` read. Beyond the paper, an entry no leaf
+/// of the tree writes is the tree's input (Nav2's `goal`, set by the
+/// navigator before the first tick): it is there wherever the behaviour
+/// goes, and `available` are entries written before the place it goes.
 pub fn self_contained(tree: &Tree, n: Uid) -> Result<Uid, EntryId> {
+    self_contained_given(tree, n, &BTreeSet::new())
+}
+
+fn self_contained_given(
+    tree: &Tree,
+    n: Uid,
+    available: &BTreeSet<EntryId>,
+) -> Result<Uid, EntryId> {
     let bb = Blackboard::new(tree);
     let (needed, _) = leaf_io(tree, &bb, n);
+    let (_, written) = leaf_io(tree, &bb, Tree::ROOT);
     let mut ns = n;
-    for e in &needed {
+    for e in needed
+        .iter()
+        .filter(|e| written.contains(*e) && !available.contains(*e))
+    {
         loop {
             let (_, provided) = leaf_io(tree, &bb, ns);
             if provided.contains(e) {
@@ -107,26 +163,69 @@ pub fn self_contained(tree: &Tree, n: Uid) -> Result<Uid, EntryId> {
 /// (Han §7.2 inserts even the subgoal being done, after itself); when none
 /// can, the reason for the first, naming it by uid.
 pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> {
-    let Some(p) = subgoal(tree, current) else {
-        return Err(refuse(x, "I don't have a subgoal to do it after"));
+    // Han's place: after the current subgoal. Beyond the paper, where
+    // there is none to go after, after the current step of the nearest
+    // sequence, said with where.
+    let (p, within) = match subgoal(tree, current).filter(|&g| tree.parent(g).is_some()) {
+        Some(g) => (g, None),
+        None => match step_of_sequence(tree, current) {
+            Some((seq, step)) => (step, Some(seq)),
+            None => {
+                return Err(refuse(
+                    x,
+                    &format!(
+                        "nothing above {} (#{current}) is a sequence or subgoal to do it after",
+                        tree.spoken(current)
+                    ),
+                ))
+            }
+        },
     };
     let named = find_named(tree, p, x);
     if named.is_empty() {
-        return Err(refuse(x, "no sequence or subtree of mine is called that"));
-    }
-    if tree.parent(p).is_none() {
-        return Err(refuse(x, "my subgoal is the whole tree"));
+        let items: Vec<(String, Uid)> = tree
+            .descendants(Tree::ROOT)
+            .filter(|&u| tree.has_name(u))
+            .map(|u| (tree.spoken(u), u))
+            .collect();
+        // Names that hold X's letters in order, as the finder matches.
+        let matcher = fuzzy_matcher::skim::SkimMatcherV2::default().ignore_case();
+        let close: Vec<String> = crate::rank::rank(x, &items, 3)
+            .into_iter()
+            .filter(|&u| {
+                fuzzy_matcher::FuzzyMatcher::fuzzy_match(&matcher, &tree.spoken(u), x).is_some()
+            })
+            .map(|u| format!("\"{}\" (#{u})", tree.spoken(u)))
+            .collect();
+        let none = "no subgoal, sequence or step of mine is called that";
+        return Err(refuse(
+            x,
+            &if close.is_empty() {
+                none.to_string()
+            } else {
+                format!("{none} (the closest: {})", super::han::and_list(&close))
+            },
+        ));
     }
     let mut first_refusal = None;
     for &n in &named {
-        match insertable(tree, n, p) {
+        match insertable(tree, n, p, within) {
             Ok(ns) => {
+                let answer = match within {
+                    None => format!("Yes. I will {} after {}.", tree.deed(n), tree.deed(p)),
+                    Some(seq) => format!(
+                        "Yes. I will {} after {}, the step of {} (#{seq}) I am on.",
+                        tree.deed(n),
+                        tree.deed(p),
+                        tree.spoken(seq)
+                    ),
+                };
                 return Ok(Insertion {
                     named: n,
                     copy_of: ns,
                     after: p,
-                    answer: format!("Yes. I will {} after {}.", tree.deed(n), tree.deed(p)),
-                })
+                    answer,
+                });
             }
             Err(why) => {
                 first_refusal.get_or_insert((n, why));
@@ -149,8 +248,14 @@ pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> 
 
 /// Algorithm 8 for `named`, and whether its self-contained node can go
 /// after the subgoal `p`: not when it contains `p` (it would contain itself).
-fn insertable(tree: &Tree, named: Uid, p: Uid) -> Result<Uid, String> {
-    let ns = self_contained(tree, named).map_err(|e| {
+fn insertable(tree: &Tree, named: Uid, p: Uid, within: Option<Uid>) -> Result<Uid, String> {
+    // After the current step of a sequence (beyond the paper), what the
+    // steps up to it wrote is there already.
+    let available = match within {
+        Some(_) => written_up_to(tree, p),
+        None => BTreeSet::new(),
+    };
+    let ns = self_contained_given(tree, named, &available).map_err(|e| {
         format!(
             "nothing I can do provides \"{}\", which it needs",
             e.display(tree)
@@ -166,4 +271,21 @@ fn insertable(tree: &Tree, named: Uid, p: Uid) -> Result<Uid, String> {
         ));
     }
     Ok(ns)
+}
+
+/// Entries written by the leaves that come, in tree order, no later than
+/// the last leaf of `p`: those a behaviour inserted right after `p` finds.
+fn written_up_to(tree: &Tree, p: Uid) -> BTreeSet<EntryId> {
+    let bb = Blackboard::new(tree);
+    let last = tree.leaves_below(p).last().unwrap_or(p);
+    let mut out = BTreeSet::new();
+    for u in tree.preorder() {
+        if tree.node(u).kind.is_leaf() {
+            out.extend(leaf_io(tree, &bb, u).1);
+        }
+        if u == last {
+            break;
+        }
+    }
+    out
 }

@@ -510,3 +510,117 @@ fn can_you_on_real_trees_is_refused_for_under_a_fifth() {
         "{refused} of {asked} refused: {reasons:?}"
     );
 }
+
+/// Readable on real trees (#32 item 8): every sentence template Han's
+/// answers and "Can you X?" use, over every node of the real-tree corpus,
+/// against a few rules of English.
+#[test]
+fn every_answer_on_real_trees_follows_rules_of_english() {
+    use btx::explain::insert::can_you;
+    let mut bad = Vec::new();
+    let mut checked = 0;
+    let rules = |a: &str| -> Option<&'static str> {
+        let words: Vec<&str> = a.split_whitespace().collect();
+        if words.windows(3).any(|w| w[0] == "did" && w[2] == "be") {
+            return Some("did X be");
+        }
+        if a.contains(" 0 step") || a.contains(" 0 action") {
+            return Some("0 steps");
+        }
+        for w in words.windows(2) {
+            let first = w[0].to_lowercase();
+            let second = w[1].to_lowercase();
+            if ["the", "a", "an"].contains(&first.as_str())
+                && ["the", "a", "an"].contains(&second.as_str())
+            {
+                return Some("a doubled article");
+            }
+            if first == "run" && second == "the" {
+                continue;
+            }
+        }
+        // An ID as a verb: after "I" or "to", a CamelCase word or a
+        // capitalised one.
+        for lead in ["I ", "in order to ", "is to ", "will "] {
+            for (i, _) in a.match_indices(lead) {
+                let w = a[i + lead.len()..]
+                    .split([' ', '.', ','])
+                    .next()
+                    .unwrap_or("");
+                if w.chars().skip(1).any(char::is_uppercase) {
+                    return Some("an ID as a verb");
+                }
+            }
+        }
+        if a.contains("I run the is ")
+            || a.contains("I run the are ")
+            || a.contains("I run the has ")
+        {
+            return Some("a check run as a thing");
+        }
+        None
+    };
+    for (f, opts) in corpus() {
+        let t = btx::xml::load_file(&f, &opts).unwrap().tree;
+        let first_leaf = t.preorder().into_iter().find(|&u| t.node(u).kind.is_leaf());
+        for u in t.preorder() {
+            let mut answers: Vec<String> = [
+                TreeQuestion::Doing,
+                TreeQuestion::Why,
+                TreeQuestion::Subgoal,
+                TreeQuestion::Goal,
+                TreeQuestion::HowSubgoal,
+                TreeQuestion::HowGoal,
+            ]
+            .into_iter()
+            .map(|q| han::answer(&t, u, q).text)
+            .collect();
+            if let Some(c) = first_leaf {
+                answers.push(match can_you(&t, c, &t.spoken(u)) {
+                    Ok(i) => i.answer,
+                    Err(e) => e,
+                });
+            }
+            for a in answers {
+                checked += 1;
+                if let Some(rule) = rules(&a) {
+                    bad.push(format!("{} #{u}: {rule}: {a}", f.display()));
+                }
+            }
+        }
+    }
+    assert!(checked > 2000, "{checked}");
+    assert!(
+        bad.is_empty(),
+        "{} of {checked}:\n{}",
+        bad.len(),
+        bad[..bad.len().min(20)].join("\n")
+    );
+}
+
+/// The sentences #32 found on real trees, on small trees that have them.
+#[test]
+fn no_recovery_as_a_verb_no_zero_steps_no_check_run_as_a_thing() {
+    let t = btx::xml::load_str(
+        std::path::Path::new("t.xml"),
+        r#"<root BTCPP_format="4"><BehaviorTree ID="Navigate">
+             <Sequence><SpinRecovery/><IsDoorClosed/><Sequence><BackUp/></Sequence></Sequence>
+           </BehaviorTree></root>"#,
+        &Default::default(),
+    )
+    .unwrap()
+    .tree;
+    assert_eq!(
+        ask(&t, "#2", TreeQuestion::Doing),
+        "I run the spin recovery."
+    );
+    assert_eq!(
+        ask(&t, "#3", TreeQuestion::Doing),
+        "I check whether the door is closed."
+    );
+    // No named step: Q5 counts the actions, never "0 steps".
+    assert_eq!(
+        ask(&t, "#3", TreeQuestion::HowGoal),
+        "To achieve the goal \"navigate\", I need to do 3 actions. 1. run the spin recovery. 2. check whether the door is closed. 3. back up."
+    );
+}

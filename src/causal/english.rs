@@ -260,6 +260,7 @@ pub fn question(m: &Model, q: &Query) -> String {
             }
         }
         (VarKind::Status(_), Val::Status(Status::Idle)) => format!("Why was {s} not ticked?"),
+        (VarKind::Status(_), Val::Status(Status::Skipped)) => format!("Why was {s} skipped?"),
         (VarKind::Status(_), Val::Status(st)) => {
             let alts: Vec<String> = foils
                 .iter()

@@ -229,12 +229,26 @@ fn q4(tree: &Tree) -> (String, Vec<Uid>) {
 /// named recoveries do ("If navigate with replanning fails, I recover by
 /// running the recovery fallback.").
 fn q5(tree: &Tree, what: &str, g: Uid, name: &str) -> (String, Vec<Uid>) {
-    let s = steps(tree, g);
-    let mut text = format!(
-        "To achieve the {what} \"{name}\", I need to do {} step{}.",
-        s.len(),
-        if s.len() == 1 { "" } else { "s" }
-    );
+    let mut s = steps(tree, g);
+    // No named step (beyond the paper, whose trees always have some): its
+    // actions are what it does.
+    let unit = if s.is_empty() {
+        s = tree.leaves_below(g).filter(|&l| l != g).collect();
+        "action"
+    } else {
+        "step"
+    };
+    let mut text = if s.is_empty() {
+        format!(
+            "To achieve the {what} \"{name}\", I have nothing to do: it has no steps or actions."
+        )
+    } else {
+        format!(
+            "To achieve the {what} \"{name}\", I need to do {} {unit}{}.",
+            s.len(),
+            if s.len() == 1 { "" } else { "s" }
+        )
+    };
     for (i, &x) in s.iter().enumerate() {
         text.push_str(&format!(" {}. {}.", i + 1, tree.deed(x)));
     }

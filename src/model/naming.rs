@@ -54,7 +54,10 @@ impl Tree {
         if s == d && !one_id_word {
             return s;
         }
-        if n.kind == super::Kind::Condition {
+        // A check written as an action ("IsDoorClosed" without a model
+        // saying it is a condition) is still a check.
+        let asks = AUX.contains(&s.split(' ').next().unwrap_or("")) && s.contains(' ');
+        if n.kind == super::Kind::Condition || (n.kind.is_leaf() && asks) {
             let negated = n
                 .parent
                 .is_some_and(|p| self.node(p).builtin == Some(super::Builtin::Inverter));
@@ -458,7 +461,20 @@ pub fn as_deed(s: &str) -> String {
     let names_a_node = s.contains(' ')
         && matches!(
             last,
-            "controller" | "sequence" | "fallback" | "selector" | "decorator"
+            "controller"
+                | "sequence"
+                | "fallback"
+                | "selector"
+                | "decorator"
+                | "recovery"
+                | "recoveries"
+                | "server"
+                | "client"
+                | "node"
+                | "tree"
+                | "subtree"
+                | "behavior"
+                | "behaviour"
         );
     if VERBS.contains(&first) && !names_a_node {
         s.to_string()

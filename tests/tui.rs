@@ -746,3 +746,106 @@ fn home_and_end_reach_the_ends_of_a_pane_and_scrolling_stops_there() {
     app.update(Action::Start);
     assert_eq!(screen(&app, 80, 24), top);
 }
+
+/// Keys as the terminal sends them, through the explorer's event handler.
+fn press(app: &mut btx::tui::app::App, keys: &str) {
+    use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
+    for c in keys.chars() {
+        let code = match c {
+            '\n' => KeyCode::Enter,
+            c => KeyCode::Char(c),
+        };
+        let mods = if c.is_uppercase() {
+            KeyModifiers::SHIFT
+        } else {
+            KeyModifiers::NONE
+        };
+        btx::tui::handle(app, Event::Key(KeyEvent::new(code, mods)), (110, 34));
+    }
+}
+
+#[test]
+fn a_question_typed_in_words_is_answered_as_btx_ask_answers_it() {
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    // `A`, then the words, typed as keys: letters are text, not actions
+    // (`f` would jump to a failure, `a` open the questions).
+    press(&mut app, "Awhy did look at chuck fail");
+    let s = screen(&app, 110, 34);
+    assert!(
+        s.contains("ask in your own words: why did look at chuck fail▏"),
+        "{s}"
+    );
+    assert!(s.contains("│why did look at chuck fail"), "{s}");
+    press(&mut app, "\n");
+    let r = app.reply.as_ref().expect("an answer");
+    assert_eq!(r.understood, "Why did look at chuck (#18) fail at 10:1?");
+    let s = screen(&app, 110, 34);
+    assert!(
+        s.contains("Why did look at chuck (#18) fail at 10:1?"),
+        "{s}"
+    );
+    // Word for word the CLI's answer, the sentence about the plan included.
+    let (_, out, _) = common::btx(&[
+        "ask",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "--at",
+        "10",
+        "why did look at chuck fail?",
+    ]);
+    assert_eq!(out.trim_end(), r.text().trim_end());
+    assert!(
+        r.text()
+            .contains("what look at chuck returns is given by the run"),
+        "{}",
+        r.text()
+    );
+}
+
+#[test]
+fn every_prompt_takes_typed_text() {
+    use btx::tui::app::Overlay;
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    app.update(Action::Ask);
+    for _ in 0..app.questions().len() - 1 {
+        app.update(Action::Down);
+    }
+    app.update(Action::Toggle);
+    assert!(matches!(app.overlay, Overlay::CanYou { .. }));
+    press(&mut app, "pick");
+    assert!(screen(&app, 110, 34).contains("Can you pick▏?"));
+    app.update(Action::Back);
+    // The timeline's name filter.
+    app.focus = btx::tui::app::Pane::Timeline;
+    app.update(Action::Find);
+    press(&mut app, "look");
+    assert!(
+        matches!(&app.overlay, Overlay::Filter { text } if text == "look"),
+        "{:?}",
+        app.overlay
+    );
+}
+
+#[test]
+fn plus_and_minus_say_more_or_less_of_a_why_answer() {
+    // Why did the kitting task succeed? (ten explanations)
+    let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
+    app.update(Action::End);
+    app.selected = 1;
+    app.update(Action::Why);
+    app.update(Action::Toggle);
+    let all = app.why.as_ref().unwrap().why.groups().len();
+    assert!(all > 3, "{all}");
+    assert_eq!(app.why.as_ref().unwrap().why.shown, Some(3));
+    let s = screen(&app, 200, 70);
+    assert!(
+        s.contains(&format!("… and {} more (+ shows more)", all - 3)),
+        "{s}"
+    );
+    app.update(Action::Faster);
+    assert_eq!(app.why.as_ref().unwrap().why.shown, None);
+    app.update(Action::Slower);
+    app.update(Action::Slower);
+    assert_eq!(app.why.as_ref().unwrap().why.shown, Some(1));
+}

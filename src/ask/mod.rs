@@ -2,6 +2,7 @@
 //! composed answer (`compose`, `fixed`, `why`), calling `explain` and
 //! `causal`. The CLI and the explorer both ask here, and never each other.
 
+pub mod complete;
 pub mod compose;
 pub mod detail;
 pub mod fixed;
@@ -76,11 +77,18 @@ impl Reply {
     /// The answer as printed: the restatement first when btx read the
     /// question, then the answer, then what came before.
     pub fn text(&self) -> String {
-        let mut out = Vec::new();
+        let body = self.body();
         if self.restate && !self.understood.is_empty() {
-            out.push(self.understood.clone());
+            format!("{}\n{body}", self.understood)
+        } else {
+            body
         }
-        out.push(self.answer.clone());
+    }
+
+    /// The answer without its restatement: the answer, what came before,
+    /// and suggestions.
+    pub fn body(&self) -> String {
+        let mut out = vec![self.answer.clone()];
         if let Some(h) = &self.history {
             out.push(h.clone());
         }

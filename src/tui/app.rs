@@ -43,6 +43,12 @@ pub enum Overlay {
     Running {
         selected: usize,
     },
+    /// A question in the user's own words being typed: the text and the
+    /// completion picked (`A`).
+    Words {
+        text: String,
+        selected: usize,
+    },
     /// "Can you X?" being typed: the text and the completion picked.
     CanYou {
         text: String,
@@ -101,6 +107,10 @@ pub struct App {
     pub focus: Pane,
     pub overlay: Overlay,
     pub answer: Option<Answer>,
+    /// The answer to a question typed in the user's own words.
+    pub reply: Option<crate::ask::Reply>,
+    /// How much answers say (`+`/`-` on the answers pane).
+    pub detail: crate::ask::Detail,
     pub why: Option<WhyView>,
     /// The node and moment the answer or why-answer on screen is about:
     /// the pane keeps saying so when the selection or the moment moves.
@@ -169,6 +179,8 @@ impl App {
             timeline: Default::default(),
             details: Default::default(),
             answers: Default::default(),
+            reply: None,
+            detail: crate::ask::Detail::Normal,
             zoom: false,
             scroll_max: std::cell::Cell::new((usize::MAX, usize::MAX)),
             finder_labels: std::cell::OnceCell::new(),
@@ -409,10 +421,38 @@ impl App {
             .collect()
     }
 
+    /// Asks a question typed in the user's own words, as `btx ask` does:
+    /// the library reads it and answers; the explorer shows the reply.
+    pub fn ask_words(&mut self, text: &str) {
+        self.remember_answer();
+        self.why = None;
+        self.answer = None;
+        let node = self.asked_node();
+        let at = self.at();
+        let cx = crate::ask::Context {
+            tree: &self.tree,
+            session: self.session.as_ref(),
+            at,
+            node: Some(node),
+            detail: self.detail,
+        };
+        let r = crate::ask::ask(&cx, text);
+        self.asked = Some((node, self.moment().map(|m| m.to_string())));
+        self.answers.scroll = 0;
+        for &u in &r.nodes {
+            self.reveal(u);
+        }
+        self.reply = Some(r);
+        self.focus = Pane::Ask;
+    }
+
     /// The answer on screen as plain text (what `y` copies).
     pub fn answer_text(&self) -> Option<String> {
         if let Some(w) = &self.why {
             return Some(w.why.text());
+        }
+        if let Some(r) = &self.reply {
+            return Some(format!("{}\n{}\n", r.understood, r.text()));
         }
         let a = self.answer.as_ref()?;
         Some(format!("{}\n{}\n", a.question.wording(), a.text))
@@ -571,6 +611,7 @@ impl App {
     pub fn ask(&mut self, q: &Question) {
         self.remember_answer();
         self.why = None;
+        self.reply = None;
         let at = self.at();
         let node = self.asked_node();
         self.answer = answer(&self.tree, at.as_ref(), node, q).ok();
@@ -620,7 +661,8 @@ impl App {
         let r = crate::causal::session_domain(s, None)
             .and_then(|d| crate::causal::why(s, d, &target, &foils, Some(at), 2));
         match r {
-            Ok(w) => {
+            Ok(mut w) => {
+                w.shown = super::panes::answers::shown(self.detail);
                 self.remember_answer();
                 let s = self.session.as_ref().expect("a why-answer is about a run");
                 if let Ok(p) = s.index.position(at) {
@@ -635,6 +677,7 @@ impl App {
                 }
                 self.asked = Some((self.selected, Some(w.moment.clone())));
                 self.answers.scroll = 0;
+                self.reply = None;
                 self.why = Some(WhyView {
                     why: w,
                     selected: 0,
@@ -696,9 +739,10 @@ impl App {
 
     /// Nodes shown as used by the answer on screen.
     pub fn highlighted(&self) -> Vec<Uid> {
-        match (&self.why, &self.answer) {
-            (Some(w), _) => w.why.reason_nodes(w.selected),
-            (None, Some(a)) => a.nodes.clone(),
+        match (&self.why, &self.answer, &self.reply) {
+            (Some(w), _, _) => w.why.reason_nodes(w.selected),
+            (None, Some(a), _) => a.nodes.clone(),
+            (None, None, Some(r)) => r.nodes.clone(),
             _ => Vec::new(),
         }
     }

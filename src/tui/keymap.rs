@@ -23,6 +23,8 @@ pub enum Action {
     NextChange,
     PrevChange,
     Ask,
+    /// A question typed in the user's own words.
+    AskWords,
     /// A why-question (counterfactual) about the selected node.
     Why,
     /// Show the why-answer's causal model in the details pane.
@@ -172,6 +174,12 @@ pub const KEYMAP: &[Binding] = &[
         action: Action::Ask,
         help: "ask about the selected node",
         hint: "ask",
+    },
+    Binding {
+        keys: &["A"],
+        action: Action::AskWords,
+        help: "ask in your own words, with completion",
+        hint: "",
     },
     Binding {
         keys: &["w"],

@@ -1,6 +1,7 @@
 //! The answers pane: Han's questions, why-answers with their explanations
 //! to pick and follow up, the earlier answers, and copying.
 
+use crate::ask::Reply;
 use crate::tui::app::{App, Overlay, Pane};
 use crate::tui::keymap::Action;
 use crate::tui::view::*;
@@ -31,8 +32,15 @@ impl App {
     /// explanation and Enter asks why its reason holds; otherwise the pane
     /// scrolls.
     pub(crate) fn answers_focused_key(&mut self, a: Action) -> bool {
+        // + and - say more or less of the answer on screen.
+        if matches!(a, Action::Faster | Action::Slower)
+            && (self.why.is_some() || self.reply.is_some())
+        {
+            self.change_detail(a == Action::Faster);
+            return true;
+        }
         if let Some(w) = &mut self.why {
-            let n = w.why.groups().len();
+            let n = w.why.groups().len().min(w.why.shown.unwrap_or(usize::MAX));
             match a {
                 Action::Up => w.selected = w.selected.saturating_sub(1),
                 Action::Down => w.selected = (w.selected + 1).min(n.saturating_sub(1)),
@@ -44,10 +52,38 @@ impl App {
         self.answers.scroll(a, self.scroll_max.get().1)
     }
 
+    /// More (`+`) or less (`-`) detail: a why-answer shows one
+    /// explanation, three, or every one; a question typed in words is
+    /// asked again at the new level.
+    fn change_detail(&mut self, more: bool) {
+        use crate::ask::Detail;
+        self.detail = match (self.detail, more) {
+            (Detail::Brief, true) | (Detail::Full, false) => Detail::Normal,
+            (Detail::Normal, true) | (Detail::Full, true) => Detail::Full,
+            (Detail::Normal, false) | (Detail::Brief, false) => Detail::Brief,
+        };
+        if let Some(w) = &mut self.why {
+            w.why.shown = shown(self.detail);
+            w.selected = w
+                .selected
+                .min(w.why.shown.unwrap_or(usize::MAX).saturating_sub(1));
+        }
+        if let Some(q) = self.reply.as_ref().map(|r| r.question.clone()) {
+            self.ask_words(&q);
+        }
+        self.message = Some(format!("detail: {:?}", self.detail).to_lowercase());
+    }
+
     /// Asking, whichever pane has the focus.
     pub(crate) fn answers_key(&mut self, a: Action) -> bool {
         match a {
             Action::Ask => self.overlay = Overlay::Ask { selected: 0 },
+            Action::AskWords => {
+                self.overlay = Overlay::Words {
+                    text: String::new(),
+                    selected: 0,
+                }
+            }
             Action::Why => self.open_why(),
             Action::Graph => match &mut self.why {
                 Some(w) => w.graph = !w.graph,
@@ -60,6 +96,7 @@ impl App {
             Action::Back => {
                 self.answer = None;
                 self.why = None;
+                self.reply = None;
             }
             Action::Running => {
                 if self.running_nodes().is_empty() {
@@ -72,6 +109,16 @@ impl App {
             _ => return false,
         }
         true
+    }
+}
+
+/// How many explanations a why-answer shows at a level of detail, as
+/// `btx why --detail` does.
+pub(crate) fn shown(d: crate::ask::Detail) -> Option<usize> {
+    match d {
+        crate::ask::Detail::Brief => Some(1),
+        crate::ask::Detail::Normal => Some(3),
+        crate::ask::Detail::Full => None,
     }
 }
 
@@ -101,12 +148,14 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
     // An answer on screen names what it was asked about, wherever the
     // selection has gone since.
     let about = match &app.asked {
-        Some((u, at)) if app.answer.is_some() || app.why.is_some() => format!(
-            "about {} #{u}{}",
-            app.tree.description(*u),
-            at.as_ref()
-                .map_or(String::new(), |m| format!(" at moment {m}"))
-        ),
+        Some((u, at)) if app.answer.is_some() || app.why.is_some() || app.reply.is_some() => {
+            format!(
+                "about {} #{u}{}",
+                app.tree.description(*u),
+                at.as_ref()
+                    .map_or(String::new(), |m| format!(" at moment {m}"))
+            )
+        }
         _ => format!(
             "about {} #{}",
             app.tree.description(app.asked_node()),
@@ -128,18 +177,25 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             let text = crate::causal::english::stopped_text(&q.answer);
             lines.push(Line::from(text.trim_end().to_string()));
         } else if sentences.is_empty() {
-            lines.push(Line::from(format!(
-                "No explanation up to depth {}.",
-                q.answer.max_depth
-            )));
+            // The CLI's words, word for word (the reason nothing explains
+            // it, and what re-running said).
+            let text = q.text();
+            lines.extend(text.lines().skip(1).map(|l| Line::from(l.to_string())));
         }
-        for (i, s) in sentences.iter().enumerate() {
+        let limit = q.shown.unwrap_or(usize::MAX);
+        for (i, s) in sentences.iter().enumerate().take(limit) {
             let st = if i == w.selected {
                 Style::default().add_modifier(Modifier::REVERSED)
             } else {
                 Style::default()
             };
             lines.push(Line::from(Span::styled(format!("{}. {s}", i + 1), st)));
+        }
+        if sentences.len() > limit {
+            lines.push(Line::from(Span::styled(
+                format!("… and {} more (+ shows more)", sentences.len() - limit),
+                Style::default().fg(Color::DarkGray),
+            )));
         }
         lines.push(Line::from(Span::styled(
             "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file · y: copy",
@@ -154,6 +210,33 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             },
             area,
         );
+        return;
+    }
+    if let Some(r) = &app.reply {
+        lines.push(Line::from(Span::styled(
+            if r.understood.is_empty() {
+                r.question.clone()
+            } else {
+                r.understood.clone()
+            },
+            Style::default().add_modifier(Modifier::BOLD),
+        )));
+        let body = Reply::body(r);
+        lines.extend(
+            body.lines()
+                .map(|l| Line::from(crate::text::visible(l).into_owned())),
+        );
+        if !r.nodes.is_empty() {
+            let used: Vec<String> = r.nodes.iter().map(|u| format!("#{u}")).collect();
+            lines.push(Line::from(Span::styled(
+                format!("from {}", used.join(" ")),
+                Style::default().fg(Color::Cyan),
+            )));
+        }
+        push_history(app, &mut lines);
+        let (p, last) = scrolled(lines, app.answers.scroll, area);
+        note_max(app, false, last);
+        f.render_widget(p.block(b), area);
         return;
     }
     match &app.answer {

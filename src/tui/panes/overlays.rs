@@ -23,6 +23,7 @@ impl App {
             | Overlay::Why { .. }
             | Overlay::Running { .. } => self.update_list(a),
             Overlay::CanYou { .. } => self.can_you_key(a),
+            Overlay::Words { .. } => self.words_key(a),
             Overlay::Filter { .. } => self.filter_key(a),
             Overlay::Export { .. } => self.export_key(a),
             Overlay::None => {}
@@ -76,6 +77,32 @@ impl App {
         }
     }
 
+    /// A question in the user's own words: ↑↓ pick a completion, Enter
+    /// asks it (what was typed when nothing completes it).
+    fn words_key(&mut self, a: Action) {
+        let Overlay::Words { text, selected } = &self.overlay else {
+            return;
+        };
+        let (text, i) = (text.clone(), *selected);
+        let completions = crate::ask::complete::complete(&self.tree, &text, 8);
+        let Overlay::Words { selected, .. } = &mut self.overlay else {
+            return;
+        };
+        match a {
+            Action::Back | Action::Quit => self.overlay = Overlay::None,
+            Action::Up => *selected = selected.saturating_sub(1),
+            Action::Down => *selected = (*selected + 1).min(completions.len().saturating_sub(1)),
+            Action::Toggle => {
+                let q = completions.get(i).cloned().unwrap_or(text);
+                self.overlay = Overlay::None;
+                if !q.trim().is_empty() {
+                    self.ask_words(&q);
+                }
+            }
+            _ => {}
+        }
+    }
+
     /// The transition filter's text: Enter applies it.
     fn filter_key(&mut self, a: Action) {
         let Overlay::Filter { text } = &mut self.overlay else {
@@ -119,7 +146,7 @@ impl App {
                 *replace = false;
             }
             Overlay::Filter { text } => text.push(c),
-            Overlay::CanYou { text, selected } => {
+            Overlay::CanYou { text, selected } | Overlay::Words { text, selected } => {
                 text.push(c);
                 *selected = 0;
             }
@@ -140,7 +167,7 @@ impl App {
             Overlay::Filter { text } => {
                 text.pop();
             }
-            Overlay::CanYou { text, selected } => {
+            Overlay::CanYou { text, selected } | Overlay::Words { text, selected } => {
                 text.pop();
                 *selected = 0;
             }
@@ -148,11 +175,16 @@ impl App {
         }
     }
 
-    /// Whether keys type text (the finder, the export prompt).
+    /// Whether keys type text: the finder and every prompt (a letter there
+    /// is text, not a key's action).
     pub fn typing(&self) -> bool {
         matches!(
             self.overlay,
-            Overlay::Finder { .. } | Overlay::Export { .. }
+            Overlay::Finder { .. }
+                | Overlay::Export { .. }
+                | Overlay::CanYou { .. }
+                | Overlay::Words { .. }
+                | Overlay::Filter { .. }
         )
     }
 
@@ -360,6 +392,34 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                         Style::default()
                     };
                     Line::from(Span::styled(crate::text::visible(&d).into_owned(), st))
+                })
+                .collect();
+            f.render_widget(Paragraph::new(lines), inner);
+        }
+        Overlay::Words { text, selected } => {
+            let r = centered(
+                area,
+                area.width.saturating_sub(8).min(80),
+                area.height.saturating_sub(4).min(12),
+            );
+            f.render_widget(Clear, r);
+            let b = Block::default().borders(Borders::ALL).title(format!(
+                " ask in your own words: {}▏ ",
+                crate::text::visible(text)
+            ));
+            let inner = b.inner(r);
+            f.render_widget(b, r);
+            let lines: Vec<Line> = crate::ask::complete::complete(&app.tree, text, 8)
+                .into_iter()
+                .enumerate()
+                .take(inner.height as usize)
+                .map(|(i, q)| {
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    Line::from(Span::styled(crate::text::visible(&q).into_owned(), st))
                 })
                 .collect();
             f.render_widget(Paragraph::new(lines), inner);

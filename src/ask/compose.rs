@@ -401,6 +401,51 @@ fn recovered(cx: &Context, r: &mut Reply) -> Result<(), String> {
     Ok(())
 }
 
+/// What a parent does when a child ends with a status.
+enum Flow {
+    /// It ends the same way (a decorator maps the status).
+    Up(Status),
+    /// It goes on to its next child when true, else ends with the status.
+    Next(bool),
+    /// It ticks the child again (a Retry after a failure, a Repeat after a
+    /// success).
+    Again,
+    /// The tree alone does not say (reactive, parallel, custom nodes).
+    Unknown,
+}
+
+fn flow(n: &crate::model::Node, status: Status) -> Flow {
+    let flip = |s: Status| {
+        if s == Status::Success {
+            Status::Failure
+        } else {
+            Status::Success
+        }
+    };
+    match n.builtin {
+        // A reactive one goes on the same way within the tick.
+        Some(
+            Builtin::Sequence
+            | Builtin::SequenceWithMemory
+            | Builtin::ReactiveSequence
+            | Builtin::AsyncSequence,
+        ) => Flow::Next(status == Status::Success),
+        Some(Builtin::Fallback | Builtin::ReactiveFallback | Builtin::AsyncFallback) => {
+            Flow::Next(status == Status::Failure)
+        }
+        Some(Builtin::Inverter) => Flow::Up(flip(status)),
+        Some(Builtin::ForceSuccess) => Flow::Up(Status::Success),
+        Some(Builtin::ForceFailure) => Flow::Up(Status::Failure),
+        Some(Builtin::RetryUntilSuccessful) if status == Status::Failure => Flow::Again,
+        Some(Builtin::Repeat) if status == Status::Success => Flow::Again,
+        Some(Builtin::RetryUntilSuccessful | Builtin::Repeat | Builtin::SubTree) => {
+            Flow::Up(status)
+        }
+        _ if n.kind == crate::model::Kind::SubTree => Flow::Up(status),
+        _ => Flow::Unknown,
+    }
+}
+
 /// What the tree ticks after `u` ends with `s`, read from the tree: up
 /// through the parents that pass the outcome on, to the next child a
 /// Sequence or Fallback goes on to.
@@ -421,72 +466,39 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
     let (mut child, mut status) = (u, s);
     while let Some(p) = tree.parent(child) {
         let n = tree.node(p);
-        let at = n.children.iter().position(|&c| c == child).unwrap_or(0);
-        let go_on = match n.builtin {
-            Some(
-                Builtin::Sequence
-                | Builtin::SequenceWithMemory
-                | Builtin::ReactiveSequence
-                | Builtin::AsyncSequence,
-            ) => status == Status::Success,
-            Some(Builtin::Fallback | Builtin::ReactiveFallback | Builtin::AsyncFallback) => {
-                status == Status::Failure
-            }
-            Some(Builtin::Inverter) => {
-                status = if status == Status::Success {
-                    Status::Failure
-                } else {
-                    Status::Success
-                };
+        match flow(n, status) {
+            Flow::Up(st) => {
+                status = st;
                 child = p;
-                continue;
             }
-            Some(Builtin::ForceSuccess) => {
-                status = Status::Success;
-                child = p;
-                continue;
-            }
-            Some(Builtin::ForceFailure) => {
-                status = Status::Failure;
-                child = p;
-                continue;
-            }
-            Some(Builtin::SubTree) => {
-                child = p;
-                continue;
-            }
-            Some(Builtin::RetryUntilSuccessful) if status == Status::Failure => {
+            Flow::Again => {
                 r.answer = format!(
-                    "If {name} {word}, {} tries again (while it has attempts left).",
+                    "If {name} {word}, {} ticks it again (while it has attempts or cycles left).",
                     cx.name(p)
                 );
                 r.nodes = vec![u, p];
                 return Ok(());
             }
-            Some(Builtin::RetryUntilSuccessful | Builtin::Repeat) => {
-                child = p;
-                continue;
-            }
-            _ if n.kind == crate::model::Kind::SubTree => {
-                child = p;
-                continue;
-            }
-            _ => {
+            Flow::Unknown => {
                 r.answer = format!(
                     "If {name} {word}, what comes next is up to {}, a {} that the tree alone does not decide; ask a run.",
-                    cx.name(p), n.id
+                    cx.name(p),
+                    n.id
                 );
                 return Ok(());
             }
-        };
-        match n.children.get(at + 1) {
-            Some(&c) if go_on => {
-                let first = tree.leaves_below(c).next().unwrap_or(c);
-                r.answer = format!("If {name} {word}, I will {} next.", tree.deed(first));
-                r.nodes = vec![u, first];
-                return Ok(());
+            Flow::Next(go_on) => {
+                let at = n.children.iter().position(|&c| c == child).unwrap_or(0);
+                match n.children.get(at + 1) {
+                    Some(&c) if go_on => {
+                        let first = tree.leaves_below(c).next().unwrap_or(c);
+                        r.answer = format!("If {name} {word}, I will {} next.", tree.deed(first));
+                        r.nodes = vec![u, first];
+                        return Ok(());
+                    }
+                    _ => child = p,
+                }
             }
-            _ => child = p,
         }
     }
     let ends = if status == Status::Success {

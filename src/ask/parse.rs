@@ -140,95 +140,176 @@ pub fn normalize(text: &str) -> String {
     w.join(" ").trim_end_matches('.').trim().to_string()
 }
 
+/// Han's questions and the failure questions in other words.
 fn fixed(s: &str) -> Option<Question> {
-    use RunQuestion as R;
-    use TreeQuestion as T;
-    const TABLE: &[(&str, Question)] = &[
-        ("what are you doing", Question::Tree(T::Doing)),
-        ("what are you doing now", Question::Tree(T::Doing)),
-        ("what are you doing right now", Question::Tree(T::Doing)),
-        ("what is the robot doing", Question::Tree(T::Doing)),
-        ("what is it doing", Question::Tree(T::Doing)),
-        ("what is happening", Question::Tree(T::Doing)),
-        ("what is running", Question::Tree(T::Doing)),
-        ("what is running now", Question::Tree(T::Doing)),
-        ("what is the tree doing", Question::Tree(T::Doing)),
-        ("what are you up to", Question::Tree(T::Doing)),
-        ("doing", Question::Tree(T::Doing)),
-        ("why are you doing this", Question::Tree(T::Why)),
-        ("why are you doing that", Question::Tree(T::Why)),
-        ("why are you doing it", Question::Tree(T::Why)),
-        ("why do you do this", Question::Tree(T::Why)),
-        ("why this", Question::Tree(T::Why)),
-        ("what for", Question::Tree(T::Why)),
-        ("what is your subgoal", Question::Tree(T::Subgoal)),
-        ("what is the subgoal", Question::Tree(T::Subgoal)),
-        ("what is your current subgoal", Question::Tree(T::Subgoal)),
-        ("which subgoal are you on", Question::Tree(T::Subgoal)),
-        ("subgoal", Question::Tree(T::Subgoal)),
-        ("what is your goal", Question::Tree(T::Goal)),
-        ("what is the goal", Question::Tree(T::Goal)),
-        ("what is the task", Question::Tree(T::Goal)),
-        ("what is your task", Question::Tree(T::Goal)),
-        ("what is the mission", Question::Tree(T::Goal)),
-        ("what are you trying to do", Question::Tree(T::Goal)),
-        ("goal", Question::Tree(T::Goal)),
-        ("q5", Question::Tree(T::HowSubgoal)),
-        (
-            "how do you achieve your subgoal",
-            Question::Tree(T::HowSubgoal),
-        ),
-        (
-            "how do you achieve the subgoal",
-            Question::Tree(T::HowSubgoal),
-        ),
-        (
-            "how do you achieve this subgoal",
-            Question::Tree(T::HowSubgoal),
-        ),
-        (
-            "what are the steps of your subgoal",
-            Question::Tree(T::HowSubgoal),
-        ),
-        ("what are the steps", Question::Tree(T::HowSubgoal)),
-        ("how do you do that", Question::Tree(T::HowSubgoal)),
-        ("how do you achieve your goal", Question::Tree(T::HowGoal)),
-        ("how do you achieve the goal", Question::Tree(T::HowGoal)),
-        (
-            "what are the steps of your goal",
-            Question::Tree(T::HowGoal),
-        ),
-        ("how do you do the task", Question::Tree(T::HowGoal)),
-        ("what went wrong", Question::Run(R::WhatWentWrong)),
-        ("what is wrong", Question::Run(R::WhatWentWrong)),
-        ("what failed", Question::Run(R::WhatWentWrong)),
-        ("what broke", Question::Run(R::WhatWentWrong)),
-        ("what is the problem", Question::Run(R::WhatWentWrong)),
-        ("what was the problem", Question::Run(R::WhatWentWrong)),
-        ("was there anything wrong", Question::Run(R::AnythingWrong)),
-        ("was anything wrong", Question::Run(R::AnythingWrong)),
-        ("is anything wrong", Question::Run(R::AnythingWrong)),
-        ("is something wrong", Question::Run(R::AnythingWrong)),
-        ("did anything go wrong", Question::Run(R::AnythingWrong)),
-        ("did something go wrong", Question::Run(R::AnythingWrong)),
-        ("did anything fail", Question::Run(R::AnythingWrong)),
-        ("any problems", Question::Run(R::AnythingWrong)),
-        ("any errors", Question::Run(R::AnythingWrong)),
-        ("is everything ok", Question::Run(R::AnythingWrong)),
-        ("how was the failure handled", Question::Run(R::Handled)),
-        ("how was it handled", Question::Run(R::Handled)),
-        ("how did you handle the failure", Question::Run(R::Handled)),
-        ("how did you handle it", Question::Run(R::Handled)),
-        ("how did you recover", Question::Run(R::Handled)),
-        ("how did you deal with it", Question::Run(R::Handled)),
-        ("what did you do about it", Question::Run(R::Handled)),
-        (
-            "what did you do about the failure",
-            Question::Run(R::Handled),
-        ),
-    ];
-    TABLE.iter().find(|(w, _)| *w == s).map(|(_, q)| q.clone())
+    FIXED.iter().find(|(w, _)| *w == s).map(|(_, q)| q.clone())
 }
+
+const FIXED: &[(&str, Question)] = &[
+    ("what are you doing", Question::Tree(TreeQuestion::Doing)),
+    (
+        "what are you doing now",
+        Question::Tree(TreeQuestion::Doing),
+    ),
+    (
+        "what are you doing right now",
+        Question::Tree(TreeQuestion::Doing),
+    ),
+    (
+        "what is the robot doing",
+        Question::Tree(TreeQuestion::Doing),
+    ),
+    ("what is it doing", Question::Tree(TreeQuestion::Doing)),
+    ("what is happening", Question::Tree(TreeQuestion::Doing)),
+    ("what is running", Question::Tree(TreeQuestion::Doing)),
+    ("what is running now", Question::Tree(TreeQuestion::Doing)),
+    (
+        "what is the tree doing",
+        Question::Tree(TreeQuestion::Doing),
+    ),
+    ("what are you up to", Question::Tree(TreeQuestion::Doing)),
+    ("doing", Question::Tree(TreeQuestion::Doing)),
+    ("why are you doing this", Question::Tree(TreeQuestion::Why)),
+    ("why are you doing that", Question::Tree(TreeQuestion::Why)),
+    ("why are you doing it", Question::Tree(TreeQuestion::Why)),
+    ("why do you do this", Question::Tree(TreeQuestion::Why)),
+    ("why this", Question::Tree(TreeQuestion::Why)),
+    ("what for", Question::Tree(TreeQuestion::Why)),
+    (
+        "what is your subgoal",
+        Question::Tree(TreeQuestion::Subgoal),
+    ),
+    ("what is the subgoal", Question::Tree(TreeQuestion::Subgoal)),
+    (
+        "what is your current subgoal",
+        Question::Tree(TreeQuestion::Subgoal),
+    ),
+    (
+        "which subgoal are you on",
+        Question::Tree(TreeQuestion::Subgoal),
+    ),
+    ("subgoal", Question::Tree(TreeQuestion::Subgoal)),
+    ("what is your goal", Question::Tree(TreeQuestion::Goal)),
+    ("what is the goal", Question::Tree(TreeQuestion::Goal)),
+    ("what is the task", Question::Tree(TreeQuestion::Goal)),
+    ("what is your task", Question::Tree(TreeQuestion::Goal)),
+    ("what is the mission", Question::Tree(TreeQuestion::Goal)),
+    (
+        "what are you trying to do",
+        Question::Tree(TreeQuestion::Goal),
+    ),
+    ("goal", Question::Tree(TreeQuestion::Goal)),
+    ("q5", Question::Tree(TreeQuestion::HowSubgoal)),
+    (
+        "how do you achieve your subgoal",
+        Question::Tree(TreeQuestion::HowSubgoal),
+    ),
+    (
+        "how do you achieve the subgoal",
+        Question::Tree(TreeQuestion::HowSubgoal),
+    ),
+    (
+        "how do you achieve this subgoal",
+        Question::Tree(TreeQuestion::HowSubgoal),
+    ),
+    (
+        "what are the steps of your subgoal",
+        Question::Tree(TreeQuestion::HowSubgoal),
+    ),
+    (
+        "what are the steps",
+        Question::Tree(TreeQuestion::HowSubgoal),
+    ),
+    (
+        "how do you do that",
+        Question::Tree(TreeQuestion::HowSubgoal),
+    ),
+    (
+        "how do you achieve your goal",
+        Question::Tree(TreeQuestion::HowGoal),
+    ),
+    (
+        "how do you achieve the goal",
+        Question::Tree(TreeQuestion::HowGoal),
+    ),
+    (
+        "what are the steps of your goal",
+        Question::Tree(TreeQuestion::HowGoal),
+    ),
+    (
+        "how do you do the task",
+        Question::Tree(TreeQuestion::HowGoal),
+    ),
+    ("what went wrong", Question::Run(RunQuestion::WhatWentWrong)),
+    ("what is wrong", Question::Run(RunQuestion::WhatWentWrong)),
+    ("what failed", Question::Run(RunQuestion::WhatWentWrong)),
+    ("what broke", Question::Run(RunQuestion::WhatWentWrong)),
+    (
+        "what is the problem",
+        Question::Run(RunQuestion::WhatWentWrong),
+    ),
+    (
+        "what was the problem",
+        Question::Run(RunQuestion::WhatWentWrong),
+    ),
+    (
+        "was there anything wrong",
+        Question::Run(RunQuestion::AnythingWrong),
+    ),
+    (
+        "was anything wrong",
+        Question::Run(RunQuestion::AnythingWrong),
+    ),
+    (
+        "is anything wrong",
+        Question::Run(RunQuestion::AnythingWrong),
+    ),
+    (
+        "is something wrong",
+        Question::Run(RunQuestion::AnythingWrong),
+    ),
+    (
+        "did anything go wrong",
+        Question::Run(RunQuestion::AnythingWrong),
+    ),
+    (
+        "did something go wrong",
+        Question::Run(RunQuestion::AnythingWrong),
+    ),
+    (
+        "did anything fail",
+        Question::Run(RunQuestion::AnythingWrong),
+    ),
+    ("any problems", Question::Run(RunQuestion::AnythingWrong)),
+    ("any errors", Question::Run(RunQuestion::AnythingWrong)),
+    (
+        "is everything ok",
+        Question::Run(RunQuestion::AnythingWrong),
+    ),
+    (
+        "how was the failure handled",
+        Question::Run(RunQuestion::Handled),
+    ),
+    ("how was it handled", Question::Run(RunQuestion::Handled)),
+    (
+        "how did you handle the failure",
+        Question::Run(RunQuestion::Handled),
+    ),
+    ("how did you handle it", Question::Run(RunQuestion::Handled)),
+    ("how did you recover", Question::Run(RunQuestion::Handled)),
+    (
+        "how did you deal with it",
+        Question::Run(RunQuestion::Handled),
+    ),
+    (
+        "what did you do about it",
+        Question::Run(RunQuestion::Handled),
+    ),
+    (
+        "what did you do about the failure",
+        Question::Run(RunQuestion::Handled),
+    ),
+];
 
 fn can_you(s: &str) -> Option<Intent> {
     for p in [
@@ -437,6 +518,102 @@ fn subject_event(clause: &str) -> Option<(Subject, Event)> {
     None
 }
 
+/// The verb phrases of each event.
+const EVENTS: &[(&[&str], Event)] = &[
+    (
+        &["fail", "failed", "fails", "failing", "abort", "aborted"],
+        Event::Fail,
+    ),
+    (
+        &[
+            "succeed",
+            "succeeded",
+            "succeeds",
+            "succeeding",
+            "success",
+            "work",
+            "worked",
+            "pass",
+            "passed",
+        ],
+        Event::Succeed,
+    ),
+    (
+        &[
+            "run",
+            "ran",
+            "runs",
+            "start",
+            "started",
+            "starts",
+            "execute",
+            "executed",
+            "ticked",
+            "tick",
+            "called",
+            "triggered",
+            "begin",
+            "began",
+        ],
+        Event::Run,
+    ),
+    (
+        &[
+            "not run",
+            "not start",
+            "not execute",
+            "not executed",
+            "not ticked",
+            "not tick",
+            "not called",
+            "never run",
+            "never ran",
+            "skipped",
+            "skip",
+            "not get ticked",
+            "not triggered",
+        ],
+        Event::NotRun,
+    ),
+    (
+        &[
+            "halted",
+            "halt",
+            "stopped",
+            "stop",
+            "interrupted",
+            "cancelled",
+            "canceled",
+            "preempted",
+        ],
+        Event::Halted,
+    ),
+    (
+        &[
+            "keep running",
+            "kept running",
+            "still running",
+            "running",
+            "take so long",
+            "take long",
+            "taking so long",
+        ],
+        Event::KeepRunning,
+    ),
+    (
+        &[
+            "finish",
+            "finished",
+            "end",
+            "ended",
+            "complete",
+            "completed",
+            "done",
+        ],
+        Event::Finish,
+    ),
+];
+
 /// A verb phrase as an event: "fail", "not run", "get halted", "keep
 /// running", "succeeding", …
 fn event_word(verb: &str) -> Option<Event> {
@@ -451,101 +628,7 @@ fn event_word(verb: &str) -> Option<Event> {
         .or_else(|| v.strip_suffix(" so often"))
         .or_else(|| v.strip_suffix(" again"))
         .unwrap_or(v);
-    const TABLE: &[(&[&str], Event)] = &[
-        (
-            &["fail", "failed", "fails", "failing", "abort", "aborted"],
-            Event::Fail,
-        ),
-        (
-            &[
-                "succeed",
-                "succeeded",
-                "succeeds",
-                "succeeding",
-                "success",
-                "work",
-                "worked",
-                "pass",
-                "passed",
-            ],
-            Event::Succeed,
-        ),
-        (
-            &[
-                "run",
-                "ran",
-                "runs",
-                "start",
-                "started",
-                "starts",
-                "execute",
-                "executed",
-                "ticked",
-                "tick",
-                "called",
-                "triggered",
-                "begin",
-                "began",
-            ],
-            Event::Run,
-        ),
-        (
-            &[
-                "not run",
-                "not start",
-                "not execute",
-                "not executed",
-                "not ticked",
-                "not tick",
-                "not called",
-                "never run",
-                "never ran",
-                "skipped",
-                "skip",
-                "not get ticked",
-                "not triggered",
-            ],
-            Event::NotRun,
-        ),
-        (
-            &[
-                "halted",
-                "halt",
-                "stopped",
-                "stop",
-                "interrupted",
-                "cancelled",
-                "canceled",
-                "preempted",
-            ],
-            Event::Halted,
-        ),
-        (
-            &[
-                "keep running",
-                "kept running",
-                "still running",
-                "running",
-                "take so long",
-                "take long",
-                "taking so long",
-            ],
-            Event::KeepRunning,
-        ),
-        (
-            &[
-                "finish",
-                "finished",
-                "end",
-                "ended",
-                "complete",
-                "completed",
-                "done",
-            ],
-            Event::Finish,
-        ),
-    ];
-    TABLE
+    EVENTS
         .iter()
         .find(|(words, _)| words.contains(&v))
         .map(|(_, e)| *e)

@@ -30,25 +30,10 @@ pub fn answer(
     r.nodes = vec![u];
     r.short_event = Some(e);
     let (target, moment) = match e {
-        Event::NotRun => {
-            let tick = at.moment().tick;
-            r.understood = format!("Why did {name} not run in tick {tick}?");
-            let range = at.index.tick_range(tick);
-            if let Some(&p) = at
-                .index
-                .changes_of(u)
-                .iter()
-                .find(|&&p| (p as usize) > range.start && (p as usize) <= range.end)
-            {
-                r.answer = format!(
-                    "{} did run in tick {tick}: it changed status at {}.",
-                    upper(&name),
-                    step_moment(at.index, p)
-                );
-                return Ok(());
-            }
-            (format!("executed(#{u})"), Moment { tick, step: None })
-        }
+        Event::NotRun => match not_run(cx, u, r) {
+            Some(asked) => asked,
+            None => return Ok(()),
+        },
         Event::KeepRunning if at.status(u) == Status::Running => {
             let m = at.moment();
             r.understood = format!("Why was {name} still running at {m}?");
@@ -100,6 +85,30 @@ pub fn answer(
         .into_iter()
         .collect();
     search(cx, &target, &not, moment, r)
+}
+
+/// "Why did X not run?" in the tick of the moment: the target and moment
+/// to search, or `None` when X did run then (and the answer says so).
+fn not_run(cx: &Context, u: Uid, r: &mut Reply) -> Option<(String, Moment)> {
+    let at = cx.at.as_ref()?;
+    let name = cx_name(cx, u);
+    let tick = at.moment().tick;
+    r.understood = format!("Why did {name} not run in tick {tick}?");
+    let range = at.index.tick_range(tick);
+    if let Some(&p) = at
+        .index
+        .changes_of(u)
+        .iter()
+        .find(|&&p| (p as usize) > range.start && (p as usize) <= range.end)
+    {
+        r.answer = format!(
+            "{} did run in tick {tick}: it changed status at {}.",
+            upper(&name),
+            step_moment(at.index, p)
+        );
+        return None;
+    }
+    Some((format!("executed(#{u})"), Moment { tick, step: None }))
 }
 
 /// "Why did you do X instead of Y?": why Y did not run, in the tick where

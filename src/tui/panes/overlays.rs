@@ -396,34 +396,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                 .collect();
             f.render_widget(Paragraph::new(lines), inner);
         }
-        Overlay::Words { text, selected } => {
-            let r = centered(
-                area,
-                area.width.saturating_sub(8).min(80),
-                area.height.saturating_sub(4).min(12),
-            );
-            f.render_widget(Clear, r);
-            let b = Block::default().borders(Borders::ALL).title(format!(
-                " ask in your own words: {}▏ ",
-                crate::text::visible(text)
-            ));
-            let inner = b.inner(r);
-            f.render_widget(b, r);
-            let lines: Vec<Line> = crate::ask::complete::complete(&app.tree, text, 8)
-                .into_iter()
-                .enumerate()
-                .take(inner.height as usize)
-                .map(|(i, q)| {
-                    let st = if i == *selected {
-                        Style::default().add_modifier(Modifier::REVERSED)
-                    } else {
-                        Style::default()
-                    };
-                    Line::from(Span::styled(crate::text::visible(&q).into_owned(), st))
-                })
-                .collect();
-            f.render_widget(Paragraph::new(lines), inner);
-        }
+        Overlay::Words { text, selected } => draw_words(app, f, area, text, *selected),
         Overlay::Filter { text } => {
             let r = centered(area, area.width.saturating_sub(8).min(70), 3);
             f.render_widget(Clear, r);
@@ -504,4 +477,34 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             );
         }
     }
+}
+
+/// The prompt of a question in the user's own words, with its completions.
+fn draw_words(app: &App, f: &mut Frame, area: Rect, text: &str, selected: usize) {
+    let r = centered(
+        area,
+        area.width.saturating_sub(8).min(80),
+        area.height.saturating_sub(4).min(12),
+    );
+    f.render_widget(Clear, r);
+    let b = Block::default().borders(Borders::ALL).title(format!(
+        " ask in your own words: {}▏ ",
+        crate::text::visible(text)
+    ));
+    let inner = b.inner(r);
+    f.render_widget(b, r);
+    let lines: Vec<Line> = crate::ask::complete::complete(&app.tree, text, 8)
+        .into_iter()
+        .enumerate()
+        .take(inner.height as usize)
+        .map(|(i, q)| {
+            let st = if i == selected {
+                Style::default().add_modifier(Modifier::REVERSED)
+            } else {
+                Style::default()
+            };
+            Line::from(Span::styled(crate::text::visible(&q).into_owned(), st))
+        })
+        .collect();
+    f.render_widget(Paragraph::new(lines), inner);
 }

@@ -472,10 +472,12 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
                 child = p;
             }
             Flow::Again => {
-                r.answer = format!(
-                    "If {name} {word}, {} ticks it again (while it has attempts or cycles left).",
-                    cx.name(p)
-                );
+                let again = if n.builtin == Some(Builtin::Repeat) {
+                    "repeats it (while it has cycles left)"
+                } else {
+                    "tries again (while it has attempts left)"
+                };
+                r.answer = format!("If {name} {word}, {} {again}.", cx.name(p));
                 r.nodes = vec![u, p];
                 return Ok(());
             }

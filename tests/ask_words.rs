@@ -305,3 +305,101 @@ fn three_levels_of_detail() {
     let (_, why, _) = btx(&["why", run, "status(#7)", "--at", "11", "--detail", "brief"]);
     assert_eq!(why.lines().count(), 2, "{why}");
 }
+
+/// Questions as people write them in BehaviorTree.CPP, Nav2 and Groot2
+/// issues and forums, and in the papers, each with the query it must be
+/// read as (`None`: btx must say it cannot read it, with suggestions).
+/// None may be answered as another question.
+#[test]
+fn questions_in_users_words_are_read_as_meant_or_refused() {
+    let people: &[(&str, Option<&str>)] = &[
+        ("What is the robot doing right now?", Some("q1")),
+        ("why is the robot doing this", Some("q2")),
+        ("what's the current subgoal?", Some("q3")),
+        ("What is the goal of this tree?", None),
+        ("How do you achieve your goal?", Some("q5-goal")),
+        ("what went wrong??", Some("wrong")),
+        ("Why did my behavior tree fail?", Some("why")),
+        ("why did the robot fail", Some("why")),
+        ("Why did the task fail?", Some("why")),
+        ("why did look at chuck fail", Some("why")),
+        ("Why did look_at fail?", Some("why")),
+        ("why does look at chuck keep failing", Some("why")),
+        ("why was retreat arm halted?", Some("why")),
+        ("Why wasn't ask ticked?", Some("why")),
+        ("why did the fallback run reset arm", None),
+        ("when did lift torso start", Some("when")),
+        (
+            "When did look at chuck fail for the first time?",
+            Some("when"),
+        ),
+        ("how many times did the retry fail?", Some("how-often")),
+        ("How often did look at chuck fail?", Some("how-often")),
+        ("what happened in tick 10", Some("tick")),
+        ("What happened at tick 11?", Some("tick")),
+        ("did the recovery work?", Some("recovered")),
+        ("Did the robot recover?", Some("recovered")),
+        ("is everything ok?", Some("anything-wrong")),
+        ("Was there anything wrong?", Some("anything-wrong")),
+        ("how was the failure handled", Some("handled")),
+        ("what will you do next", Some("next")),
+        ("What happens if detect chuck fails?", Some("next")),
+        ("Can you insert large gear?", Some("can-you")),
+        ("could you go pick screw", Some("can-you")),
+        ("why is my robot stuck?", None),
+        ("show me the blackboard", None),
+        ("what is the value of pose", None),
+        ("print the tree", None),
+        ("help", None),
+        ("why", None),
+        ("tick", None),
+        (
+            "why did you do reset arm instead of approach door?",
+            Some("why"),
+        ),
+        (
+            "Why did insert large gear fail instead of succeeding?",
+            Some("why"),
+        ),
+        ("q1", Some("q1")),
+        ("q5", Some("q5-subgoal")),
+        ("Q4", Some("q4")),
+    ];
+    let input = open(
+        &common::fixture("../../sessions/kitting-lookat-fails-once.jsonl"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let s = input.session().unwrap();
+    let cx = Context {
+        tree: input.tree(),
+        session: Some(s),
+        at: Some(
+            s.at(Moment {
+                tick: 12,
+                step: None,
+            })
+            .unwrap(),
+        ),
+        node: None,
+        detail: Default::default(),
+    };
+    let (mut as_meant, mut refused, mut other) = (0, 0, Vec::new());
+    for (q, want) in people {
+        let r = ask(&cx, q);
+        match (r.short, want) {
+            (got, want) if got == *want && got.is_some() => as_meant += 1,
+            (None, None) => {
+                refused += 1;
+                assert_eq!(r.suggestions.len(), 3, "{q}");
+            }
+            (got, want) => other.push(format!("{q:?}: read as {got:?}, meant {want:?}")),
+        }
+    }
+    eprintln!(
+        "{} questions in people's words: {as_meant} read as meant, {refused} refused with suggestions, {} read otherwise",
+        people.len(),
+        other.len()
+    );
+    assert!(other.is_empty(), "{other:#?}");
+}

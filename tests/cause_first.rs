@@ -175,3 +175,77 @@ fn interventions_that_cannot_happen_are_never_offered() {
         "{out}"
     );
 }
+
+/// How many explanations a Nav2 user reads (#32 item 9): every Nav2
+/// navigator of the corpus, run with its actions taking a tick and its
+/// checks succeeding, and "why did X end as it did?" about every control
+/// node and decorator at the end of the tick it last completed in. The figures are printed
+/// (`cargo test --test cause_first -- --nocapture`); by default no more
+/// than three are shown.
+#[test]
+fn on_real_trees_a_few_explanations_are_shown() {
+    use btx::causal::{session_domain, why};
+    use btx::session::{Moment, Session};
+    let dir = tempfile::tempdir().unwrap();
+    let plan = dir.path().join("p.plan");
+    std::fs::write(&plan, "@default_action = 1RS\n@default_condition = S\n").unwrap();
+    let (mut found, mut shown) = (Vec::new(), Vec::new());
+    for (i, nav) in common::nav2_navigators().iter().enumerate() {
+        let out = dir.path().join(format!("{i}.jsonl"));
+        let models = common::nav2_models_for(nav);
+        let (ok, _, err) = btx(&[
+            "-q",
+            "run",
+            nav.to_str().unwrap(),
+            "--models",
+            models.to_str().unwrap(),
+            "--plan",
+            plan.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{}: {err}", nav.display());
+        let s = Session::load(&out).unwrap();
+        let d = session_domain(&s, None).unwrap();
+        let end = s.index.at(s.index.transitions.len() as u32);
+        // A leaf's outcome comes from the plan (no domain): only the
+        // control nodes and decorators have causes in the tree.
+        for u in 1..=s.tree.len() as u32 {
+            if s.tree.node(u).kind.is_leaf() {
+                continue;
+            }
+            let Some((p, _)) = end.last_completion(u) else {
+                continue;
+            };
+            let tick = s.index.transitions[p as usize - 1].tick;
+            let at = Moment { tick, step: None };
+            if let Ok(mut w) = why(&s, d.clone(), &format!("status(#{u})"), &[], Some(at), 2) {
+                let n = w.groups().len();
+                w.shown = Some(3);
+                found.push(n);
+                shown.push(
+                    w.text()
+                        .lines()
+                        .filter(|l| l.starts_with(char::is_numeric))
+                        .count(),
+                );
+            }
+        }
+    }
+    let pct = |v: &mut Vec<usize>, q: f64| {
+        v.sort_unstable();
+        v[((v.len() - 1) as f64 * q).round() as usize]
+    };
+    let asked = found.len();
+    eprintln!(
+        "Nav2 navigators: {asked} questions; explanations found: median {}, 90th percentile {}, most {}; shown by default: median {}, 90th percentile {}",
+        pct(&mut found, 0.5),
+        pct(&mut found, 0.9),
+        found.last().copied().unwrap_or(0),
+        pct(&mut shown, 0.5),
+        pct(&mut shown, 0.9)
+    );
+    assert!(asked > 50, "{asked}");
+    assert!(pct(&mut shown, 0.5) <= 3);
+    assert!(shown.iter().all(|&n| n <= 3));
+}

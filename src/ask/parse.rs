@@ -142,7 +142,24 @@ pub fn normalize(text: &str) -> String {
 
 /// Han's questions and the failure questions in other words.
 fn fixed(s: &str) -> Option<Question> {
-    FIXED.iter().find(|(w, _)| *w == s).map(|(_, q)| q.clone())
+    // The robot, the tree and "it" are "you"; "current" adds nothing.
+    let mut t = format!(" {s} ");
+    for (from, to) in [
+        (" is the robot ", " are you "),
+        (" is the tree ", " are you "),
+        (" is it ", " are you "),
+        (" the robot's ", " your "),
+        (" the robot ", " you "),
+        (" current ", " "),
+        (" right now ", " now "),
+    ] {
+        t = t.replace(from, to);
+    }
+    let t = t.trim();
+    FIXED
+        .iter()
+        .find(|(w, _)| *w == s || *w == t)
+        .map(|(_, q)| q.clone())
 }
 
 const FIXED: &[(&str, Question)] = &[
@@ -521,7 +538,16 @@ fn subject_event(clause: &str) -> Option<(Subject, Event)> {
 /// The verb phrases of each event.
 const EVENTS: &[(&[&str], Event)] = &[
     (
-        &["fail", "failed", "fails", "failing", "abort", "aborted"],
+        &[
+            "fail",
+            "failed",
+            "fails",
+            "failing",
+            "keep failing",
+            "kept failing",
+            "abort",
+            "aborted",
+        ],
         Event::Fail,
     ),
     (

@@ -139,7 +139,7 @@ pub(super) fn is_event(prev: Status, status: Status, e: Event) -> bool {
         Event::Run => prev != Status::Running && status != Status::Idle && prev != status,
         Event::KeepRunning => status == Status::Running,
         Event::Halted => prev == Status::Running && status == Status::Idle,
-        Event::NotRun => false,
+        Event::NotRun | Event::Skipped => false,
     }
 }
 
@@ -174,6 +174,7 @@ pub(super) fn past(e: Event) -> &'static str {
         Event::Succeed => "succeeded",
         Event::Run => "started",
         Event::NotRun => "did not run",
+        Event::Skipped => "was skipped",
         Event::Halted => "was halted",
         Event::KeepRunning => "was running",
         Event::Finish => "finished",
@@ -194,6 +195,7 @@ pub(super) fn verb(e: Event) -> &'static str {
         Event::Succeed => "succeed",
         Event::Run => "start",
         Event::NotRun => "not run",
+        Event::Skipped => "be skipped",
         Event::Halted => "get halted",
         Event::KeepRunning => "keep running",
         Event::Finish => "finish",

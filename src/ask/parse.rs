@@ -12,6 +12,8 @@ pub enum Event {
     /// Started: left IDLE (or a completed status) for another.
     Run,
     NotRun,
+    /// Skipped by a pre-condition (`_skipIf`): ticked, and not run.
+    Skipped,
     Halted,
     KeepRunning,
     /// Completed, either way.
@@ -472,7 +474,11 @@ fn when(s: &str) -> Option<Intent> {
         .find_map(|p| s.strip_prefix(p))?;
     let (rest, which) = which_of(rest);
     let (node, event) = subject_event(&rest)?;
-    (event != Event::NotRun).then_some(Intent::When { node, event, which })
+    (!matches!(event, Event::NotRun | Event::Skipped)).then_some(Intent::When {
+        node,
+        event,
+        which,
+    })
 }
 
 /// Takes "first", "last", "every time" out of a "when" clause.
@@ -518,7 +524,7 @@ fn how_often(s: &str) -> Option<Intent> {
     .iter()
     .find_map(|p| s.strip_prefix(p))?;
     let (node, event) = subject_event(rest)?;
-    (event != Event::NotRun).then_some(Intent::HowOften { node, event })
+    (!matches!(event, Event::NotRun | Event::Skipped)).then_some(Intent::HowOften { node, event })
 }
 
 /// "look at chuck fail" → (look at chuck, Fail): the longest verb phrase
@@ -594,13 +600,12 @@ const EVENTS: &[(&[&str], Event)] = &[
             "not called",
             "never run",
             "never ran",
-            "skipped",
-            "skip",
             "not get ticked",
             "not triggered",
         ],
         Event::NotRun,
     ),
+    (&["skipped", "skip"], Event::Skipped),
     (
         &[
             "halted",
@@ -722,7 +727,7 @@ mod tests {
             parse("why was lift arm skipped"),
             Some(Intent::Why {
                 node: named("lift arm"),
-                event: Event::NotRun,
+                event: Event::Skipped,
                 foil: None
             })
         );

@@ -30,6 +30,11 @@ pub fn answer(
     r.nodes = vec![u];
     r.short_event = Some(e);
     let (target, moment) = match e {
+        Event::Skipped => {
+            let tick = at.moment().tick;
+            r.understood = format!("Why was {name} skipped in tick {tick}?");
+            (format!("status(#{u})"), Moment { tick, step: None })
+        }
         Event::NotRun => match not_run(cx, u, r) {
             Some(asked) => asked,
             None => return Ok(()),
@@ -232,7 +237,7 @@ fn search(
     // answer is to another question, and is not passed off as this one's.
     if !says(asked, r.short_event) {
         r.answer = format!(
-            "btx cannot answer this yet: its causal model of tick {} does not hold the call asked about (it would answer another question: \"{}\"), as where a node is called again within a tick under a Nav2 RecoveryNode. The transitions are in btx log; ask at the end of a tick where the node was called once.",
+            "btx cannot answer this as asked: its causal model of tick {} holds the node otherwise (it would answer another question: \"{}\"), as where a node is called again within a tick under a Nav2 RecoveryNode. The transitions are in btx log.",
             at.tick,
             asked.split("  (").next().unwrap_or(asked).trim()
         );
@@ -253,6 +258,7 @@ fn says(asked: &str, e: Option<Event>) -> bool {
         Some(Event::Succeed) => &["succeed"],
         Some(Event::KeepRunning) => &["running"],
         Some(Event::NotRun) => &["not execute", "not ticked"],
+        Some(Event::Skipped) => &["skipped"],
         Some(Event::Run) => &["execute"],
         _ => return true,
     };

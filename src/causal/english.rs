@@ -557,11 +557,45 @@ pub fn to_json(m: &Model, q: &Query, a: &Answer, moment: &str) -> Value {
         "candidates": a.candidates,
         "evaluated": a.evaluated,
         "omitted": a.omitted,
+        "held": a.held,
         "stopped": a.stopped.map(|(depth, n)| json!({"depth": depth, "interventions": n.to_string()})),
         "model": {"nodes": m.vars.len(), "edges": m.edge_count()},
         "explanations": explanations,
         "unfaithful": m.unfaithful(),
     })
+}
+
+/// What the search could not follow: nodes that decide by the blackboard,
+/// held as recorded, through which a change might reach the target.
+fn held_note(m: &Model, a: &Answer) -> String {
+    if a.held.is_empty() {
+        return String::new();
+    }
+    let names: Vec<String> = a
+        .held
+        .iter()
+        .take(3)
+        .map(|&u| format!("{} (#{u})", m.tree.description(u)))
+        .collect();
+    let more = if a.held.len() > 3 {
+        format!(" and {} more", a.held.len() - 3)
+    } else {
+        String::new()
+    };
+    let (verb, it) = if a.held.len() == 1 {
+        ("decides", "it")
+    } else {
+        ("decide", "them")
+    };
+    let tried = if a.held_tried {
+        format!("each single change of a leaf's outcome was run again through {it} and none gives the foil, but larger changes were not tried")
+    } else {
+        "changes through them were not tried (the run cannot be run again: it holds no plan, domain or world)".replace("them", it)
+    };
+    format!(
+        "Not searched by the model: {}{more} {verb} by the blackboard or a script, which btx's model holds as recorded; {tried}. Whether an explanation reaches the target that way is unknown.\n",
+        and_list(&names),
+    )
 }
 
 /// Why nothing can explain a leaf's own outcome in a structure-only model:
@@ -630,6 +664,7 @@ pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str, shown: Option<usi
                 or_list(&q.foils[0].iter().map(value_text).collect::<Vec<_>>())
             ));
             out.push_str(&exogenous_note(m, q));
+            out.push_str(&held_note(m, a));
         }
         Some(_) => {
             let limit = shown.unwrap_or(usize::MAX);

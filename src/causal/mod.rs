@@ -739,14 +739,97 @@ pub fn why(
         (VarKind::State { var, copy }, ..) => verify::watch_copy(&model, *var, *copy),
         _ => None,
     };
-    Ok(checked(
-        session,
-        model,
-        query,
-        answer,
-        watch,
-        moment.to_string(),
-    ))
+    let mut w = checked(session, model, query, answer, watch, moment.to_string());
+    through_the_blackboard(session, &mut w, watch);
+    Ok(w)
+}
+
+/// The most changes tried by running the tree again when the search found
+/// nothing and a change could act through the blackboard.
+const BLACKBOARD_RERUNS_MAX: usize = 64;
+
+/// Love's search covers the changes the model follows; a node that decides
+/// by the blackboard (a pre-condition script, a Switch, a BlackboardCheck,
+/// …) is held as recorded, so a leaf whose writes (its output ports, its
+/// post-condition scripts) reach it is not followed there. Where the search
+/// found nothing and such a node ran, each leaf's other outcomes are tried
+/// by running the tree again: one that gives a foil is an explanation,
+/// confirmed by the re-run itself. Without a re-run (a log), or with more
+/// changes than are tried, the answer says what was not searched.
+fn through_the_blackboard(session: &Session, w: &mut Why, watch: Option<usize>) {
+    let m = &w.model;
+    if !w.answer.explanations.is_empty() || w.answer.stopped.is_some() {
+        return;
+    }
+    let held: Vec<crate::model::Uid> = (1..=m.session_len() as crate::model::Uid)
+        .filter(|&u| m.facts.ticked[u as usize - 1] && model::reads_blackboard(m.tree.node(u)))
+        .collect();
+    if held.is_empty() {
+        return;
+    }
+    let t = w.query.targets[0];
+    let changes: Vec<(VarId, Val)> = (1..=m.session_len() as crate::model::Uid)
+        .filter(|&u| m.tree.node(u).kind.is_leaf() && m.facts.ticked[u as usize - 1])
+        .map(|u| m.r(u))
+        .filter(|&v| v != t)
+        .flat_map(|v| {
+            m.vars[v]
+                .range
+                .iter()
+                .filter(|x| **x != m.fact[v] && **x != Val::Status(crate::run::Status::Idle))
+                .map(move |x| (v, x.clone()))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let rerunner = match verify::Rerunner::new(session, m.facts.tick) {
+        Ok(r) if changes.len() <= BLACKBOARD_RERUNS_MAX => r,
+        _ => {
+            w.answer.held = held;
+            return;
+        }
+    };
+    let mut found: Vec<Explanation> = Vec::new();
+    for (v, x) in changes {
+        let Ok(got) = rerunner.outcome(m, &[(v, x.clone())], t, watch) else {
+            continue;
+        };
+        let got = m.snap(t, &got);
+        if !w.query.foils[0].contains(&got) {
+            continue;
+        }
+        match found
+            .iter_mut()
+            .find(|e| e.vars == [v] && e.outcome == [got.clone()])
+        {
+            Some(e) => e.values.push(vec![x]),
+            None => found.push(Explanation {
+                vars: vec![v],
+                values: vec![vec![x]],
+                outcome: vec![got],
+                next: None,
+            }),
+        }
+    }
+    if found.is_empty() {
+        // Every leaf's other outcomes were run: nothing at depth 1 gives a
+        // foil through the blackboard either; deeper was not tried.
+        w.answer.held = if w.answer.max_depth > 1 {
+            held
+        } else {
+            Vec::new()
+        };
+        w.answer.held_tried = true;
+        return;
+    }
+    w.checks = found
+        .iter()
+        .map(|e| verify::Check::Confirmed {
+            checked: e.values.len(),
+            of: e.values.len(),
+        })
+        .collect();
+    w.answer.depth = Some(1);
+    w.answer.explanations = found;
 }
 
 /// The search's answer checked by re-running (`verified`) and put in

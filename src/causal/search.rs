@@ -62,6 +62,14 @@ pub struct Answer {
     /// Explanations found past the first `EXPLANATIONS_MAX` (the nearest
     /// causes), left out: not checked, merged or shown.
     pub omitted: usize,
+    /// Nodes that decide by the blackboard (a pre-condition script, a
+    /// Switch, …), which the model holds as recorded and which a change
+    /// could reach through a script: where none could be re-run, whether
+    /// an explanation exists through them is unknown.
+    pub held: Vec<crate::model::Uid>,
+    /// Whether each single change of a leaf's outcome was tried through
+    /// them by running the tree again (and none gave a foil).
+    pub held_tried: bool,
 }
 
 /// The most explanations of one size kept. A chain of 10,000 decorators has
@@ -150,6 +158,8 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
                 evaluated,
                 stopped: Some((depth, n)),
                 omitted: 0,
+                held: Vec::new(),
+                held_tried: false,
             });
         }
         let sets = subsets(candidates.len(), depth);
@@ -243,6 +253,8 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
                 candidates: candidates.len(),
                 evaluated,
                 stopped: None,
+                held: Vec::new(),
+                held_tried: false,
             });
         }
     }
@@ -254,6 +266,8 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
         evaluated,
         stopped: None,
         omitted: 0,
+        held: Vec::new(),
+        held_tried: false,
     })
 }
 

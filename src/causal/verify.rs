@@ -183,6 +183,17 @@ impl<'s> Rerunner<'s> {
         }
     }
 
+    /// The target's value when the tick is run again with `dos`.
+    pub fn outcome(
+        &self,
+        model: &Model,
+        dos: &[(usize, Val)],
+        target: usize,
+        watch: Option<usize>,
+    ) -> Result<Val, String> {
+        self.run_with(model, dos, target, watch).map(|(v, _)| v)
+    }
+
     /// Runs ticks 1 to the tick again with `dos` made within the tick, and
     /// returns the target's value then.
     fn run_with(

@@ -127,6 +127,25 @@ fn watch_robot(
     }
 }
 
+/// Watches a robot, again when the robot died before its run ended (up to
+/// three runs): BehaviorTree.CPP 4.8's publisher race can corrupt the
+/// robot's heap and glibc aborts it ("malloc(): corrupted top size"), or
+/// it closes the connection; that robot's run says nothing of btx. A btx
+/// that did not start is the failure to report, not a retry.
+fn while_the_robot_lives(btlog: &Path, out: &Path, mut run: impl FnMut() -> Watched) -> Watched {
+    for attempt in 1..=3 {
+        let _ = std::fs::remove_file(btlog);
+        let _ = std::fs::remove_file(out);
+        let _ = std::fs::remove_file(btx::session::SessionWriter::partial_path(out));
+        let this = run();
+        if this.robot_done || !this.stderr.starts_with("watching ") || attempt == 3 {
+            return this;
+        }
+        eprintln!("attempt {attempt}: the robot died before its run ended; again");
+    }
+    unreachable!("the third run is returned")
+}
+
 /// Runs the robot with `plan` and watches it; (the btlog the robot wrote,
 /// the session btx wrote, btx's stdout with its rows renumbered as btx said
 /// on stderr).
@@ -313,27 +332,29 @@ fn after_a_full_buffer_every_nodes_state_is_read_again() {
     std::fs::write(&plan, "").unwrap();
     let btlog = dir.path().join("busy.btlog");
     let out = dir.path().join("busy.jsonl");
-    let w = watch_robot(
-        &tree,
-        &plan,
-        &btlog,
-        &["5", "stdin", "400"],
-        &["--out", out.to_str().unwrap()],
-        None,
-        &|port| {
-            std::thread::sleep(Duration::from_millis(300));
-            let pid = Command::new("pgrep")
-                .args(["-f", &format!("watch :{port} ")])
-                .output()
-                .unwrap();
-            let pid = String::from_utf8(pid.stdout).unwrap();
-            let pid = pid.trim();
-            assert!(!pid.is_empty() && !pid.contains('\n'), "btx's pid: {pid:?}");
-            Command::new("kill").args(["-STOP", pid]).status().unwrap();
-            std::thread::sleep(Duration::from_millis(1000));
-            Command::new("kill").args(["-CONT", pid]).status().unwrap();
-        },
-    );
+    let w = while_the_robot_lives(&btlog, &out, || {
+        watch_robot(
+            &tree,
+            &plan,
+            &btlog,
+            &["5", "stdin", "400"],
+            &["--out", out.to_str().unwrap()],
+            None,
+            &|port| {
+                std::thread::sleep(Duration::from_millis(300));
+                let pid = Command::new("pgrep")
+                    .args(["-f", &format!("watch :{port} ")])
+                    .output()
+                    .unwrap();
+                let pid = String::from_utf8(pid.stdout).unwrap();
+                let pid = pid.trim();
+                assert!(!pid.is_empty() && !pid.contains('\n'), "btx's pid: {pid:?}");
+                Command::new("kill").args(["-STOP", pid]).status().unwrap();
+                std::thread::sleep(Duration::from_millis(1000));
+                Command::new("kill").args(["-CONT", pid]).status().unwrap();
+            },
+        )
+    });
     let err = w.stderr;
     assert!(w.ok, "{err}");
     assert!(err.contains("was full"), "{err}");
@@ -664,16 +685,9 @@ fn ten_thousand_transitions_a_second_for_ten_seconds_lose_nothing() {
     let btlog = dir.path().join("busy.btlog");
     let out = dir.path().join("busy.jsonl");
     let mut start = Instant::now();
-    // BehaviorTree.CPP 4.8's publisher race (below) can also corrupt the
-    // robot's heap: glibc aborts it ("malloc(): corrupted top size"). That
-    // robot's run says nothing of btx; run another, up to three.
-    let mut w = None;
-    for attempt in 1..=3 {
-        let _ = std::fs::remove_file(&btlog);
-        let _ = std::fs::remove_file(&out);
-        let _ = std::fs::remove_file(btx::session::SessionWriter::partial_path(&out));
+    let w = while_the_robot_lives(&btlog, &out, || {
         start = Instant::now();
-        let this = watch_robot(
+        watch_robot(
             &tree,
             &plan,
             &btlog,
@@ -681,15 +695,8 @@ fn ten_thousand_transitions_a_second_for_ten_seconds_lose_nothing() {
             &["--out", out.to_str().unwrap()],
             None,
             &|_| {},
-        );
-        // A btx that did not start is the failure to report, not a retry.
-        if this.robot_done || !this.stderr.starts_with("watching ") {
-            w = Some(this);
-            break;
-        }
-        eprintln!("attempt {attempt}: the robot died before its run ended; again");
-    }
-    let w = w.expect("the robot died in each of three runs");
+        )
+    });
     let err = w.stderr;
     assert!(w.ok, "{err}");
     // btx's polling never lets the server's buffer fill. What it cannot

@@ -489,6 +489,15 @@ fn ask_live_answers_about_the_present_and_disturbs_no_recording() {
                 let failed = text.contains("look at chuck (#18) had last failed");
                 asked.lock().unwrap().push(text);
                 if failed {
+                    // What happened before now is not read from the
+                    // robot's statuses: said, not answered from nothing.
+                    let (ok, text, _) =
+                        common::btx(&["ask", "--live", &ep, "did the recovery work?"]);
+                    assert!(!ok, "{text}");
+                    assert!(
+                        text.contains("btx read the robot's statuses at this moment only"),
+                        "{text}"
+                    );
                     break;
                 }
                 std::thread::sleep(Duration::from_millis(50));

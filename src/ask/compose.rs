@@ -123,10 +123,19 @@ fn with_node(
 }
 
 /// The run at the question's moment, or why there is none.
+/// A live robot's statuses are read at one moment: what happened before
+/// it (when, how often, a tick, a recovery, a why) is not known, and is
+/// said so rather than answered from an empty history.
 pub(super) fn run_of<'a>(cx: &'a Context, what: &str) -> Result<&'a At<'a>, String> {
-    cx.at.as_ref().ok_or_else(|| {
+    let at = cx.at.as_ref().ok_or_else(|| {
         format!("\"{what}\" is about a run: ask it of a session or a log, at a moment")
-    })
+    })?;
+    if cx.session.is_none() {
+        return Err(format!(
+            "\"{what}\" is about what happened before now, and btx read the robot's statuses at this moment only: keep the run with btx watch --out RUN.jsonl (or btx open --live --out) and ask the run"
+        ));
+    }
+    Ok(at)
 }
 
 /// Whether transition `t` is an occurrence of `e`.

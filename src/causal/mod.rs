@@ -740,31 +740,42 @@ pub fn why(
         _ => None,
     };
     let mut w = checked(session, model, query, answer, watch, moment.to_string());
-    through_the_blackboard(session, &mut w, watch);
+    through_what_the_model_holds(session, &mut w, watch);
     Ok(w)
 }
 
-/// The most changes tried by running the tree again when the search found
-/// nothing and a change could act through the blackboard.
-const BLACKBOARD_RERUNS_MAX: usize = 64;
+/// The most changes tried by running the tree again through what the
+/// model holds as recorded, and the most ticks replayed for them in all.
+const HELD_RERUNS_MAX: usize = 64;
+const HELD_RERUN_TICKS_MAX: usize = 200_000;
 
-/// Love's search covers the changes the model follows; a node that decides
-/// by the blackboard (a pre-condition script, a Switch, a BlackboardCheck,
-/// …) is held as recorded, so a leaf whose writes (its output ports, its
-/// post-condition scripts) reach it is not followed there. Where the search
-/// found nothing and such a node ran, each leaf's other outcomes are tried
-/// by running the tree again: one that gives a foil is an explanation,
-/// confirmed by the re-run itself. Without a re-run (a log), or with more
-/// changes than are tried, the answer says what was not searched.
-fn through_the_blackboard(session: &Session, w: &mut Why, watch: Option<usize>) {
+/// Love's search covers the changes the model follows; a node the model
+/// holds as recorded is not followed: one that decides by the blackboard
+/// (a pre-condition script, a Switch, a BlackboardCheck, …), whose input a
+/// leaf's writes may set, or a control node it does not follow in this
+/// tick (a Nav2 RecoveryNode going back to its first child). Where such a
+/// node ran and the search found nothing, or nothing about a leaf (only
+/// that a parent ran), each leaf's other outcomes are tried by running the
+/// tree again: one that gives a foil is an explanation, confirmed by the
+/// re-run itself. Where nothing can be run again, "No explanation" says
+/// what was not searched.
+fn through_what_the_model_holds(session: &Session, w: &mut Why, watch: Option<usize>) {
     let m = &w.model;
-    if !w.answer.explanations.is_empty() || w.answer.stopped.is_some() {
+    if w.answer.stopped.is_some() {
         return;
     }
     let held: Vec<crate::model::Uid> = (1..=m.session_len() as crate::model::Uid)
-        .filter(|&u| m.facts.ticked[u as usize - 1] && model::reads_blackboard(m.tree.node(u)))
+        .filter(|&u| m.facts.ticked[u as usize - 1] && m.may_be_opaque(u))
         .collect();
-    if held.is_empty() {
+    let none = w.answer.explanations.is_empty();
+    let about_a_leaf = |e: &Explanation| {
+        e.vars.iter().all(|&v| match m.vars[v].kind {
+            VarKind::Status(u) => m.tree.node(m.origin(u)).kind.is_leaf(),
+            VarKind::Executed(_) | VarKind::Attempts(_) => false,
+            _ => true,
+        })
+    };
+    if held.is_empty() || w.answer.explanations.iter().any(about_a_leaf) {
         return;
     }
     let t = w.query.targets[0];
@@ -781,20 +792,60 @@ fn through_the_blackboard(session: &Session, w: &mut Why, watch: Option<usize>) 
                 .collect::<Vec<_>>()
         })
         .collect();
+    let affordable = changes.len() <= HELD_RERUNS_MAX
+        && changes.len() * m.facts.tick as usize <= HELD_RERUN_TICKS_MAX;
     let rerunner = match verify::Rerunner::new(session, m.facts.tick) {
-        Ok(r) if changes.len() <= BLACKBOARD_RERUNS_MAX => r,
+        Ok(r) if affordable => r,
         _ => {
-            w.answer.held = held;
+            if none {
+                w.answer.held = held;
+            }
             return;
         }
     };
+    let found = rerun_changes(&rerunner, m, &w.query, changes, watch);
+    if found.is_empty() {
+        // Every leaf's other outcomes were run: nothing at depth 1 gives a
+        // foil through them either; deeper was not tried.
+        if none && w.answer.max_depth > 1 {
+            w.answer.held = held;
+            w.answer.held_tried = true;
+        }
+        return;
+    }
+    // They are of size 1: smaller than what the model found, if larger.
+    if w.answer.depth.is_some_and(|d| d > 1) {
+        w.answer.explanations.clear();
+        w.checks.clear();
+    }
+    for e in found {
+        w.checks.push(verify::Check::Confirmed {
+            checked: e.values.len(),
+            of: e.values.len(),
+        });
+        w.answer.explanations.push(e);
+    }
+    w.answer.depth = Some(1);
+    relevance::order(&w.model, &w.query, &mut w.answer, &mut w.checks);
+}
+
+/// The changes that give a foil when the tick is run again with them, as
+/// explanations (one per variable and outcome).
+fn rerun_changes(
+    rerunner: &verify::Rerunner,
+    m: &Model,
+    query: &Query,
+    changes: Vec<(VarId, Val)>,
+    watch: Option<usize>,
+) -> Vec<Explanation> {
+    let t = query.targets[0];
     let mut found: Vec<Explanation> = Vec::new();
     for (v, x) in changes {
         let Ok(got) = rerunner.outcome(m, &[(v, x.clone())], t, watch) else {
             continue;
         };
         let got = m.snap(t, &got);
-        if !w.query.foils[0].contains(&got) {
+        if !query.foils[0].contains(&got) {
             continue;
         }
         match found
@@ -810,26 +861,7 @@ fn through_the_blackboard(session: &Session, w: &mut Why, watch: Option<usize>) 
             }),
         }
     }
-    if found.is_empty() {
-        // Every leaf's other outcomes were run: nothing at depth 1 gives a
-        // foil through the blackboard either; deeper was not tried.
-        w.answer.held = if w.answer.max_depth > 1 {
-            held
-        } else {
-            Vec::new()
-        };
-        w.answer.held_tried = true;
-        return;
-    }
-    w.checks = found
-        .iter()
-        .map(|e| verify::Check::Confirmed {
-            checked: e.values.len(),
-            of: e.values.len(),
-        })
-        .collect();
-    w.answer.depth = Some(1);
-    w.answer.explanations = found;
+    found
 }
 
 /// The search's answer checked by re-running (`verified`) and put in

@@ -210,7 +210,7 @@ pub(super) fn has_script(n: &crate::model::Node, attrs: &[&str]) -> bool {
 
 /// A node whose status or choice of child a script or a blackboard entry
 /// decides.
-pub(crate) fn reads_blackboard(n: &crate::model::Node) -> bool {
+pub(super) fn reads_blackboard(n: &crate::model::Node) -> bool {
     has_script(n, &PRE_CONDITIONS)
         || matches!(
             n.builtin,

@@ -24,7 +24,6 @@ mod faithful;
 mod flows;
 
 pub use eval::{Evaluator, Memo};
-pub(crate) use flows::reads_blackboard;
 
 pub type VarId = usize;
 

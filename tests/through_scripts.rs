@@ -90,3 +90,42 @@ fn a_log_says_what_it_could_not_search() {
     );
     assert_eq!(w.json()["held"][0], 6);
 }
+
+/// Issue #32's Nav2 example: why did the recovery run? FollowPath failed,
+/// at a call the model of the tick does not hold (the RecoveryNode sends
+/// the pipeline round again within the tick): found by running the tree
+/// again, and said first.
+#[test]
+fn why_the_recovery_ran_is_that_follow_path_failed() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let nav2 = root.join("tests/fixtures/realworld/nav2");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("gp.jsonl");
+    let bin = env!("CARGO_BIN_EXE_btx");
+    let run = std::process::Command::new(bin)
+        .args(["-q", "run"])
+        .arg(nav2.join("navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"))
+        .arg("--models")
+        .arg(nav2.join("nav2_tree_nodes.main.xml"))
+        .arg("--plan")
+        .arg(root.join("tests/fixtures/plans/nav2_followpath_fails_twice.plan"))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    let s = Session::load(&out).unwrap();
+    let d = session_domain(&s, None).unwrap();
+    let at = btx::session::Moment {
+        tick: 7,
+        step: None,
+    };
+    let w = why(&s, d, "executed(RecoveryFallback)", &[], Some(at), 2).unwrap();
+    let text = w.text();
+    let second = text.lines().nth(1).unwrap_or("");
+    assert_eq!(
+        second,
+        "• RecoveryFallback executed because FollowPath (#16) failed at 7:3. If it had succeeded then, RecoveryFallback would not have executed.",
+        "{text}"
+    );
+}

@@ -126,7 +126,13 @@ pub fn why_text(
         Detail::Brief => {
             let text = w.text();
             let (asked, body) = text.split_once('\n').unwrap_or((text.as_str(), ""));
-            let first = first_sentence(w.sentences().first().map_or(body, String::as_str));
+            // A cause found at a call the model does not hold comes first.
+            let sentences: Vec<String> = w
+                .call_sentences()
+                .into_iter()
+                .chain(w.sentences())
+                .collect();
+            let first = first_sentence(sentences.first().map_or(body, String::as_str));
             format!("{asked}\n{first}\n")
         }
         Detail::Normal => {

@@ -218,7 +218,7 @@ fn supposed(m: &Model, v: VarId, xs: &[Val], copy: bool) -> String {
 }
 
 /// "L0 would have succeeded", "X_c would have been true".
-fn would(m: &Model, v: VarId, x: &Val) -> String {
+pub fn would(m: &Model, v: VarId, x: &Val) -> String {
     let s = subject(m, v);
     match (m.vars[v].kind, x) {
         (VarKind::Executed(_), Val::Bool(true)) => format!("{s} would have executed"),
@@ -448,6 +448,10 @@ pub fn sentence(m: &Model, q: &Query, e: &Explanation) -> String {
         cond,
         and_list(&outcome)
     )
+}
+
+pub fn capitalised(s: &str) -> String {
+    capitalise(s)
 }
 
 fn capitalise(s: &str) -> String {

@@ -97,6 +97,24 @@ pub struct Why {
     /// How many explanations the text shows (`None`: every one); the rest
     /// are counted.
     pub shown: Option<usize>,
+    /// Causes found only by running the tree again with a leaf's outcome
+    /// changed at a call the model's variables do not stand for (an
+    /// earlier call of a node called again within the tick).
+    pub call_changes: Vec<CallChange>,
+}
+
+/// A leaf's outcome at one of its calls in the tick, which running the
+/// tree again with the other outcome shows to be a cause of the target.
+#[derive(Debug, Clone)]
+pub struct CallChange {
+    pub uid: crate::model::Uid,
+    pub call: u32,
+    /// The moment its outcome was recorded (`TICK:STEP`).
+    pub at: Moment,
+    pub was: crate::run::Status,
+    pub to: crate::run::Status,
+    /// The target's value in the re-run.
+    pub outcome: Val,
 }
 
 /// Checks every explanation of `answer` by re-running the session, and
@@ -349,7 +367,49 @@ impl Why {
         layers
     }
 
+    /// The causes found at calls the model does not hold, as sentences.
+    pub fn call_sentences(&self) -> Vec<String> {
+        let m = &self.model;
+        let t = self.query.targets[0];
+        self.call_changes
+            .iter()
+            .map(|c| {
+                let past = |s: crate::run::Status| {
+                    if s == crate::run::Status::Success {
+                        "succeeded"
+                    } else {
+                        "failed"
+                    }
+                };
+                format!(
+                    "{} because {} (#{}) {} at {}. If it had {} then, {}.",
+                    english::capitalised(&english::fact(m, t, &m.fact[t])),
+                    m.tree.description(c.uid),
+                    c.uid,
+                    past(c.was),
+                    c.at,
+                    past(c.to),
+                    english::would(m, t, &c.outcome)
+                )
+            })
+            .collect()
+    }
+
     pub fn text(&self) -> String {
+        if !self.call_changes.is_empty() {
+            let text = self.model_text();
+            let (asked, rest) = text.split_once('\n').unwrap_or((text.as_str(), ""));
+            let mut out = format!("{asked}\n");
+            for c in self.call_sentences() {
+                out.push_str(&format!("• {c}\n  Found by running the tree again with that call's outcome changed (btx's model of the tick does not hold that call).\n"));
+            }
+            out.push_str(rest);
+            return out;
+        }
+        self.model_text()
+    }
+
+    fn model_text(&self) -> String {
         let mut out = english::to_text(
             &self.model,
             &self.query,
@@ -447,6 +507,24 @@ impl Why {
                 x["checks"] = g.iter().map(|&i| self.checks[i].json()).collect();
             }
         }
+        j["call_changes"] = self
+            .call_changes
+            .iter()
+            .zip(self.call_sentences())
+            .map(|(c, text)| {
+                serde_json::json!({
+                    "text": text,
+                    "uid": c.uid,
+                    "call": c.call,
+                    "at": c.at.to_string(),
+                    "was": c.was.as_str(),
+                    "to": c.to.as_str(),
+                    "outcome": english::value_json(&c.outcome),
+                    "rerun": true,
+                    "confirmed": true,
+                })
+            })
+            .collect();
         j["dropped"] = self
             .dropped
             .iter()
@@ -805,6 +883,9 @@ fn through_what_the_model_holds(session: &Session, w: &mut Why, watch: Option<us
     };
     let found = rerun_changes(&rerunner, m, &w.query, changes, watch);
     if found.is_empty() {
+        w.call_changes = rerun_calls(&rerunner, m, &w.query, watch);
+    }
+    if found.is_empty() && w.call_changes.is_empty() {
         // Every leaf's other outcomes were run: nothing at depth 1 gives a
         // foil through them either; deeper was not tried.
         if none && w.answer.max_depth > 1 {
@@ -827,6 +908,71 @@ fn through_what_the_model_holds(session: &Session, w: &mut Why, watch: Option<us
     }
     w.answer.depth = Some(1);
     relevance::order(&w.model, &w.query, &mut w.answer, &mut w.checks);
+}
+
+/// Each plain leaf's other outcome (success for a failure, and the other
+/// way round) at each of its calls in the tick that the model's variables
+/// do not stand for, run again: those that give a foil.
+fn rerun_calls(
+    rerunner: &verify::Rerunner,
+    m: &Model,
+    query: &Query,
+    watch: Option<usize>,
+) -> Vec<CallChange> {
+    use crate::run::Status;
+    let t = query.targets[0];
+    let tick = m.facts.tick;
+    let mut out = Vec::new();
+    let calls: Vec<_> = m
+        .facts
+        .call_log
+        .iter()
+        .filter(|r| {
+            r.uid as usize <= m.session_len()
+                && m.tree.node(r.uid).kind.is_leaf()
+                && m.tree.node(r.uid).builtin.is_none()
+                && matches!(r.returned, Status::Success | Status::Failure)
+                // The model's variable stands for this call only if the
+                // model has the leaf ticked in the tick.
+                && !(rerunner.modelled_call(m, r.uid, r.call) && m.facts.ticked[r.uid as usize - 1])
+        })
+        .take(HELD_RERUNS_MAX)
+        .collect();
+    if calls.len() * tick as usize > HELD_RERUN_TICKS_MAX {
+        return out;
+    }
+    for r in calls {
+        let to = if r.returned == Status::Success {
+            Status::Failure
+        } else {
+            Status::Success
+        };
+        let forced = crate::run::Forced {
+            tick,
+            uid: r.uid,
+            call: r.call,
+            status: to,
+        };
+        let Ok(got) = rerunner.outcome_forced(m, forced, t, watch) else {
+            continue;
+        };
+        let got = m.snap(t, &got);
+        if !query.foils[0].contains(&got) {
+            continue;
+        }
+        // The step at which that call's outcome was recorded: the tick's
+        // transitions when the call ended.
+        let step = Some(r.transitions_after);
+        out.push(CallChange {
+            uid: r.uid,
+            call: r.call,
+            at: Moment { tick, step },
+            was: r.returned,
+            to,
+            outcome: got,
+        });
+    }
+    out
 }
 
 /// The changes that give a foil when the tick is run again with them, as
@@ -884,5 +1030,6 @@ fn checked(
         checks,
         dropped,
         shown: None,
+        call_changes: Vec::new(),
     }
 }

@@ -161,7 +161,7 @@ impl<'s> Rerunner<'s> {
                 Ok(v) => v,
                 Err(err) => return Check::NotRerun(format!("the model cannot evaluate it: {err}")),
             };
-            let got = match self.run_with(model, &dos, query.targets[0], watch) {
+            let got = match self.run_with(model, &dos, &[], query.targets[0], watch) {
                 Ok((v, _)) => v,
                 Err(why) => return Check::NotRerun(why),
             };
@@ -191,7 +191,27 @@ impl<'s> Rerunner<'s> {
         target: usize,
         watch: Option<usize>,
     ) -> Result<Val, String> {
-        self.run_with(model, dos, target, watch).map(|(v, _)| v)
+        self.run_with(model, dos, &[], target, watch)
+            .map(|(v, _)| v)
+    }
+
+    /// The target's value when the tick is run again with a node's status
+    /// forced at one of its calls, any call, not only the one the model's
+    /// variable stands for.
+    pub fn outcome_forced(
+        &self,
+        model: &Model,
+        forced: Forced,
+        target: usize,
+        watch: Option<usize>,
+    ) -> Result<Val, String> {
+        self.run_with(model, &[], &[forced], target, watch)
+            .map(|(v, _)| v)
+    }
+
+    /// Whether the model's variables stand for a node's call `call`.
+    pub fn modelled_call(&self, model: &Model, u: Uid, call: u32) -> bool {
+        self.call_of(model, u) == call
     }
 
     /// Runs ticks 1 to the tick again with `dos` made within the tick, and
@@ -200,11 +220,13 @@ impl<'s> Rerunner<'s> {
         &self,
         model: &Model,
         dos: &[(usize, Val)],
+        forced: &[Forced],
         target: usize,
         watch: Option<usize>,
     ) -> Result<(Val, Vec<u32>), String> {
         let tick = self.tick;
         let mut ex = new_executor(self.session)?;
+        ex.forced.extend_from_slice(forced);
         let mut before: Vec<(usize, serde_json::Value)> = Vec::new();
         let mut iv = Intervention::default();
         iv.tick = tick;
@@ -396,7 +418,7 @@ impl<'s> Rerunner<'s> {
         let before = self.calls[child as usize - 1];
         for values in e.values.iter().take(ASSIGNMENTS_MAX) {
             let dos: Vec<(usize, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
-            match self.run_with(model, &dos, query.targets[0], None) {
+            match self.run_with(model, &dos, &[], query.targets[0], None) {
                 Ok((_, calls)) if calls[child as usize - 1] > before => {}
                 Ok(_) => {
                     return Check::Refuted {

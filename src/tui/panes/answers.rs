@@ -172,6 +172,11 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             crate::causal::english::question(&q.model, &q.query),
             Style::default().add_modifier(Modifier::BOLD),
         )));
+        // Causes found by running the tree again at calls the model does
+        // not hold come first, as in `btx why`.
+        for c in q.call_sentences() {
+            lines.push(Line::from(format!("• {c}")));
+        }
         let sentences = q.sentences();
         if sentences.is_empty() && q.answer.stopped.is_some() {
             let text = crate::causal::english::stopped_text(&q.answer);

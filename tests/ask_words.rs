@@ -244,23 +244,11 @@ fn what_went_wrong_after_a_recovery_tells_the_history() {
     // "Nothing went wrong." at the end.
     let dir = tempfile::tempdir().unwrap();
     let session = dir.path().join("nav.jsonl");
-    let nav2 = common::fixture("realworld/nav2");
-    let (ok, _, err) = btx(&[
-        "-q",
-        "run",
-        nav2.join("navigate_to_pose_w_replanning_and_recovery.xml")
-            .to_str()
-            .unwrap(),
-        "--models",
-        nav2.join("nav2_tree_nodes.f875f62.xml").to_str().unwrap(),
-        "--plan",
-        common::fixture("plans/nav2_followpath_fails_twice.plan")
-            .to_str()
-            .unwrap(),
-        "--out",
-        session.to_str().unwrap(),
-    ]);
-    assert!(ok, "{err}");
+    common::run_nav2(
+        "navigate_to_pose_w_replanning_and_recovery.xml",
+        "nav2_followpath_fails_twice.plan",
+        &session,
+    );
     let (ok, out, err) = btx(&[
         "ask",
         session.to_str().unwrap(),

@@ -192,19 +192,8 @@ fn on_real_trees_a_few_explanations_are_shown() {
     let (mut found, mut shown) = (Vec::new(), Vec::new());
     for (i, nav) in common::nav2_navigators().iter().enumerate() {
         let out = dir.path().join(format!("{i}.jsonl"));
-        let models = common::nav2_models_for(nav);
-        let (ok, _, err) = btx(&[
-            "-q",
-            "run",
-            nav.to_str().unwrap(),
-            "--models",
-            models.to_str().unwrap(),
-            "--plan",
-            plan.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(ok, "{}: {err}", nav.display());
+        // Joined to an absolute path, each stays as it is.
+        common::run_nav2(nav, &plan, &out);
         let s = Session::load(&out).unwrap();
         let d = session_domain(&s, None).unwrap();
         let end = s.index.at(s.index.transitions.len() as u32);

@@ -11,6 +11,7 @@ use btx::session::{Moment, Session, Source};
 use btx::xml::{load_str, LoadOptions};
 use std::path::Path;
 
+mod common;
 #[path = "common/trees.rs"]
 mod trees;
 
@@ -177,47 +178,11 @@ fn at_every_step_the_question_states_what_the_log_shows() {
         ),
     ] {
         let s = session(name);
-        let d = session_domain(&s, None).unwrap();
         for tick in ticks {
-            let range = s.index.tick_range(tick);
-            for step in 1..=(range.end - range.start) as u32 {
-                let upto = &s.index.transitions[range.start..range.start + step as usize];
-                let mut done: Vec<(u32, Status)> = Vec::new();
-                for t in upto {
-                    done.retain(|(u, _)| *u != t.uid);
-                    if matches!(t.status, Status::Success | Status::Failure) {
-                        done.push((t.uid, t.status));
-                    }
-                }
-                for (uid, status) in done {
-                    asked += 1;
-                    let at = Moment {
-                        tick,
-                        step: Some(step),
-                    };
-                    match why(&s, d.clone(), &format!("status(#{uid})"), &[], Some(at), 1) {
-                        Ok(w) => {
-                            answered += 1;
-                            let v = w.query.targets[0];
-                            assert_eq!(
-                                w.model.fact[v],
-                                Val::Status(status),
-                                "{name} #{uid} at {at}: the log shows {status:?}, the question says {}",
-                                w.text().lines().next().unwrap_or("")
-                            );
-                        }
-                        Err(e) => {
-                            said += 1;
-                            let e = e.to_string();
-                            assert!(
-                                e.contains("holds only its last call")
-                                    || e.contains("not true yet"),
-                                "{name} #{uid} at {at}: {e}"
-                            );
-                        }
-                    }
-                }
-            }
+            let (a, b, c) = check_tick(&s, name, tick);
+            asked += a;
+            answered += b;
+            said += c;
         }
     }
     eprintln!("{asked} questions at steps: {answered} answered about the call at the step, {said} said btx's model does not hold it");
@@ -232,21 +197,12 @@ fn a_call_the_model_does_not_follow_is_refused_not_answered_as_another() {
     // itself.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("nav.jsonl");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let nav2 = root.join("tests/fixtures/realworld/nav2");
+    common::run_nav2(
+        "navigate_to_pose_w_replanning_and_recovery.xml",
+        "nav2_followpath_fails_twice.plan",
+        &out,
+    );
     let bin = env!("CARGO_BIN_EXE_btx");
-    let run = std::process::Command::new(bin)
-        .args(["-q", "run"])
-        .arg(nav2.join("navigate_to_pose_w_replanning_and_recovery.xml"))
-        .arg("--models")
-        .arg(nav2.join("nav2_tree_nodes.f875f62.xml"))
-        .arg("--plan")
-        .arg(root.join("tests/fixtures/plans/nav2_followpath_fails_twice.plan"))
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(run.status.success());
     let why = std::process::Command::new(bin)
         .arg("why")
         .arg(&out)

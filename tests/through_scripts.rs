@@ -4,6 +4,8 @@
 //! found by running the tree again, and where nothing can be run again
 //! "No explanation" says what was not searched.
 
+mod common;
+
 use btx::causal::{session_domain, why};
 use btx::run::plan::{Plan, PlanLeaves};
 use btx::run::RunOptions;
@@ -97,23 +99,13 @@ fn a_log_says_what_it_could_not_search() {
 /// again, and said first.
 #[test]
 fn why_the_recovery_ran_is_that_follow_path_failed() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let nav2 = root.join("tests/fixtures/realworld/nav2");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("gp.jsonl");
-    let bin = env!("CARGO_BIN_EXE_btx");
-    let run = std::process::Command::new(bin)
-        .args(["-q", "run"])
-        .arg(nav2.join("navigate_to_pose_w_replanning_goal_patience_and_recovery.xml"))
-        .arg("--models")
-        .arg(nav2.join("nav2_tree_nodes.main.xml"))
-        .arg("--plan")
-        .arg(root.join("tests/fixtures/plans/nav2_followpath_fails_twice.plan"))
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(run.status.success());
+    common::run_nav2(
+        "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml",
+        "nav2_followpath_fails_twice.plan",
+        &out,
+    );
     let s = Session::load(&out).unwrap();
     let d = session_domain(&s, None).unwrap();
     let at = btx::session::Moment {

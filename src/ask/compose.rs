@@ -331,21 +331,6 @@ fn tick(cx: &Context, n: u32, r: &mut Reply) -> Result<(), String> {
     Ok(())
 }
 
-/// A node that handles its children's failures: a Fallback tries the next
-/// child, a Retry tries again, a RecoveryNode runs its recovery.
-fn handles_failure(tree: &Tree, uid: Uid) -> bool {
-    matches!(
-        tree.node(uid).builtin,
-        Some(
-            Builtin::Fallback
-                | Builtin::ReactiveFallback
-                | Builtin::AsyncFallback
-                | Builtin::RetryUntilSuccessful
-                | Builtin::RecoveryNode
-        )
-    )
-}
-
 fn recovered(cx: &Context, r: &mut Reply) -> Result<(), String> {
     let at = run_of(cx, &r.question)?;
     let tree = cx.tree;
@@ -365,7 +350,7 @@ fn recovered(cx: &Context, r: &mut Reply) -> Result<(), String> {
     let when = step_moment(at.index, p);
     let handlers: Vec<Uid> = tree
         .ancestors(leaf)
-        .filter(|&a| handles_failure(tree, a))
+        .filter(|&a| crate::explain::failure::handles_failure(tree, a))
         .collect();
     if handlers.is_empty() {
         r.answer = format!(

@@ -550,19 +550,7 @@ pub fn recovered_by(
     at: u32,
     from: u32,
 ) -> Option<(Uid, u32, Vec<Uid>)> {
-    let handles = |u: Uid| {
-        matches!(
-            tree.node(u).builtin,
-            Some(
-                Builtin::Fallback
-                    | Builtin::ReactiveFallback
-                    | Builtin::AsyncFallback
-                    | Builtin::RetryUntilSuccessful
-                    | Builtin::RecoveryNode
-            )
-        )
-    };
-    for h in tree.ancestors(leaf).filter(|&a| handles(a)) {
+    for h in tree.ancestors(leaf).filter(|&a| handles_failure(tree, a)) {
         let end = run
             .index
             .changes_of(h)
@@ -618,6 +606,21 @@ pub fn recovered_by(
         return Some((h, end, ran));
     }
     None
+}
+
+/// A node that handles its children's failures: a Fallback tries the next
+/// child, a Retry tries again, a RecoveryNode runs its recovery.
+pub fn handles_failure(tree: &Tree, uid: Uid) -> bool {
+    matches!(
+        tree.node(uid).builtin,
+        Some(
+            Builtin::Fallback
+                | Builtin::ReactiveFallback
+                | Builtin::AsyncFallback
+                | Builtin::RetryUntilSuccessful
+                | Builtin::RecoveryNode
+        )
+    )
 }
 
 fn capitalise(s: &str) -> String {

@@ -205,3 +205,24 @@ fn oracle_venv() -> Result<PathBuf, String> {
     let _ = writeln!(std::io::stderr(), "btx tests: the oracle is ready");
     Ok(python)
 }
+
+/// Runs a Nav2 navigator (a path, or a name in the corpus) with its era's
+/// models file and a plan (a path, or a name in `tests/fixtures/plans`),
+/// into `out`.
+pub fn run_nav2(navigator: impl AsRef<Path>, plan: impl AsRef<Path>, out: &Path) {
+    let nav = fixture("realworld/nav2").join(navigator.as_ref());
+    let plan = fixture("plans").join(plan.as_ref());
+    let models = nav2_models_for(&nav);
+    let (ok, _, err) = btx(&[
+        "-q",
+        "run",
+        nav.to_str().unwrap(),
+        "--models",
+        models.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{}: {err}", nav.display());
+}

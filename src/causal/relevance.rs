@@ -52,6 +52,7 @@ pub fn order(model: &Model, query: &Query, answer: &mut Answer, checks: &mut Vec
                 .filter(|&&v| !alike(model, v, query.targets[0]))
                 .count() as u32,
             kind: e.vars.iter().map(|&v| kind_rank(model, v)).sum(),
+            earlier: e.vars.iter().map(|&v| earlier(model, v)).max().unwrap_or(0),
             steps: e.vars.iter().map(|&v| dist[v].min(1 << 16)).sum(),
             tree: e
                 .vars
@@ -63,10 +64,11 @@ pub fn order(model: &Model, query: &Query, answer: &mut Answer, checks: &mut Vec
         kept.push((key, e, c));
     }
     // A group keeps together, at the place of its best member.
-    let mut best: std::collections::HashMap<usize, (u32, u32, usize, u32)> = Default::default();
+    let mut best: std::collections::HashMap<usize, (u32, u32, u32, usize, u32)> =
+        Default::default();
     for (k, _, _) in &kept {
         let g = group_of[k.index];
-        let mine = (k.unlike, k.kind, k.steps, k.tree);
+        let mine = (k.unlike, k.kind, k.earlier, k.steps, k.tree);
         let b = best.entry(g).or_insert(mine);
         *b = (*b).min(mine);
     }
@@ -81,6 +83,9 @@ struct Key {
     /// Reasons unlike the fact: a failure is explained by a failure first.
     unlike: u32,
     kind: u32,
+    /// A leaf whose call changed nothing in the tick (Nav2's selectors,
+    /// succeeding every tick) after one that changed.
+    earlier: u32,
     steps: usize,
     tree: u32,
     index: usize,
@@ -94,6 +99,20 @@ fn alike(m: &Model, reason: VarId, target: VarId) -> bool {
         (VarKind::Status(_), VarKind::Status(_)) => m.fact[reason] == m.fact[target],
         (VarKind::Executed(_), VarKind::Executed(_)) => m.fact[reason] == m.fact[target],
         _ => true,
+    }
+}
+
+/// For a leaf's status or decision: 1 when its call in the tick changed
+/// nothing (no transition: it did again what it did before, as Nav2's
+/// selectors succeed every tick), else 0; such a reason is said after the
+/// ones that changed.
+fn earlier(m: &Model, v: VarId) -> u32 {
+    match m.vars[v].kind {
+        VarKind::Status(u) | VarKind::Decision(u) if m.tree.node(m.origin(u)).kind.is_leaf() => {
+            let o = m.origin(u);
+            u32::from(!m.facts.done_at.contains_key(&u) && !m.facts.done_at.contains_key(&o))
+        }
+        _ => 0,
     }
 }
 

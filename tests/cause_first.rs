@@ -241,3 +241,32 @@ fn on_real_trees_a_few_explanations_are_shown() {
     assert!(pct(&mut shown, 0.5) <= 3);
     assert!(shown.iter().all(|&n| n <= 3));
 }
+
+/// Nav2's selectors succeed every tick: a reason each, said after what
+/// changed, and folded into one ("likewise for …").
+#[test]
+fn routine_siblings_fold_into_one_after_what_changed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("gp.jsonl");
+    common::run_nav2(
+        "navigate_to_pose_w_replanning_goal_patience_and_recovery.xml",
+        "nav2_followpath_fails_twice.plan",
+        &out,
+    );
+    let (ok, text, err) = btx(&["why", out.to_str().unwrap(), "status(#1)"]);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = text.lines().collect();
+    assert!(
+        lines[1].starts_with("1. NavigateRecovery succeeded because FollowPath (#16) succeeded."),
+        "{text}"
+    );
+    assert!(
+        text.contains("because ControllerSelector succeeded. If ControllerSelector had failed, NavigateRecovery would have been running. Likewise for PlannerSelector, which also did as in every tick."),
+        "{text}"
+    );
+    assert_eq!(
+        text.matches("because PlannerSelector succeeded").count(),
+        0,
+        "{text}"
+    );
+}

@@ -330,6 +330,69 @@ pub fn merge(m: &Model, a: &Answer) -> Vec<Vec<usize>> {
     groups
 }
 
+/// The merged explanations, with the siblings that only did again what they
+/// do every tick (Nav2's selectors, each alone a reason, with the same
+/// outcome) folded into one: "…; likewise PlannerSelector".
+pub fn folded(m: &Model, a: &Answer) -> Vec<Vec<usize>> {
+    let routine = |i: usize| -> Option<(crate::model::Uid, &Explanation)> {
+        let e = &a.explanations[i];
+        let [v] = e.vars[..] else { return None };
+        let VarKind::Status(u) = m.vars[v].kind else {
+            return None;
+        };
+        let o = m.origin(u);
+        let quiet = !m.facts.done_at.contains_key(&u) && !m.facts.done_at.contains_key(&o);
+        (m.tree.node(o).kind.is_leaf() && quiet).then_some((o, e))
+    };
+    let mut out: Vec<Vec<usize>> = Vec::new();
+    for g in merge(m, a) {
+        let fold_into = routine(g[0]).and_then(|(o, e)| {
+            out.iter().position(|h| {
+                routine(h[0]).is_some_and(|(p, f)| {
+                    m.tree.parent(p) == m.tree.parent(o)
+                        && m.fact[f.vars[0]] == m.fact[e.vars[0]]
+                        && f.values == e.values
+                        && f.outcome == e.outcome
+                        && f.next == e.next
+                })
+            })
+        });
+        match fold_into {
+            Some(h) => out[h].extend(g),
+            None => out.push(g),
+        }
+    }
+    out
+}
+
+/// A folded explanation as sentences: its first member's, and the
+/// siblings folded into it.
+pub fn group_sentence(m: &Model, q: &Query, a: &Answer, g: &[usize]) -> String {
+    let first = &a.explanations[g[0]];
+    let mut text = sentence(m, q, first);
+    let mut others: Vec<String> = Vec::new();
+    for &i in &g[1..] {
+        for &v in &a.explanations[i].vars {
+            if !first.vars.contains(&v) {
+                let VarKind::Status(u) = m.vars[v].kind else {
+                    continue;
+                };
+                let name = m.node_name(u);
+                if !others.contains(&name) {
+                    others.push(name);
+                }
+            }
+        }
+    }
+    if !others.is_empty() {
+        text.push_str(&format!(
+            " Likewise for {}, which also did as in every tick.",
+            and_list(&others)
+        ));
+    }
+    text
+}
+
 /// The values each variable takes over an explanation's assignments, if
 /// they form a full product (so they can be read one variable at a time).
 fn per_variable(e: &Explanation) -> Option<Vec<Vec<Val>>> {
@@ -531,7 +594,7 @@ pub fn formal_line(m: &Model, a: &Answer, group: &[usize]) -> String {
 }
 
 pub fn to_json(m: &Model, q: &Query, a: &Answer, moment: &str) -> Value {
-    let groups = merge(m, a);
+    let groups = folded(m, a);
     let explanations: Vec<Value> = groups
         .iter()
         .map(|g| {
@@ -543,7 +606,7 @@ pub fn to_json(m: &Model, q: &Query, a: &Answer, moment: &str) -> Value {
                 cs.extend(c);
             }
             json!({
-                "text": sentence(m, q, &a.explanations[g[0]]),
+                "text": group_sentence(m, q, a, g),
                 "R": rs,
                 "C": cs,
                 "next": next_json(m, a.explanations[g[0]].next),
@@ -656,7 +719,7 @@ pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str, shown: Option<usi
         question(m, q),
         m.facts.tick
     );
-    let groups = merge(m, a);
+    let groups = folded(m, a);
     match a.depth {
         None if a.stopped.is_some() => out.push_str(&stopped_text(a)),
         None => {
@@ -676,7 +739,7 @@ pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str, shown: Option<usi
                 out.push_str(&format!(
                     "{}. {}\n   formally: {}\n",
                     n + 1,
-                    sentence(m, q, &a.explanations[g[0]]),
+                    group_sentence(m, q, a, g),
                     formal_line(m, a, g)
                 ));
             }

@@ -228,13 +228,13 @@ fn same_in_tick(model: &Model, query: &Query, vals: &[Val]) -> bool {
 impl Why {
     /// The explanations as they read: merged copies, in order.
     pub fn groups(&self) -> Vec<Vec<usize>> {
-        english::merge(&self.model, &self.answer)
+        english::folded(&self.model, &self.answer)
     }
 
     pub fn sentences(&self) -> Vec<String> {
         self.groups()
             .iter()
-            .map(|g| english::sentence(&self.model, &self.query, &self.answer.explanations[g[0]]))
+            .map(|g| english::group_sentence(&self.model, &self.query, &self.answer, g))
             .collect()
     }
 

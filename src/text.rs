@@ -5,10 +5,22 @@
 
 use std::borrow::Cow;
 
-/// A control character a terminal would act on: C0 but newline and tab,
-/// DEL, and C1.
+/// A character a terminal would act on, or that would make a name read
+/// as another: C0 but newline and tab, DEL, C1, and Unicode's format
+/// characters that reorder or hide text (bidi embeddings, overrides and
+/// isolates, zero-width spaces and joiners, the word joiner, the byte order
+/// mark, the line and paragraph separators): `as\u{200b}k` is not `ask`.
 fn is_hostile(c: char) -> bool {
-    (c < ' ' && c != '\n' && c != '\t') || c == '\u{7f}' || ('\u{80}'..='\u{9f}').contains(&c)
+    (c < ' ' && c != '\n' && c != '\t')
+        || c == '\u{7f}'
+        || ('\u{80}'..='\u{9f}').contains(&c)
+        || ('\u{200b}'..='\u{200f}').contains(&c)
+        || ('\u{202a}'..='\u{202e}').contains(&c)
+        || ('\u{2060}'..='\u{2064}').contains(&c)
+        || ('\u{2066}'..='\u{2069}').contains(&c)
+        || c == '\u{2028}'
+        || c == '\u{2029}'
+        || c == '\u{feff}'
 }
 
 /// `s` with every control character shown as an escape: ESC as `\x1b`,
@@ -72,6 +84,13 @@ mod tests {
         assert_eq!(visible("a\u{1b}]0;title\u{7}b"), "a\\x1b]0;title\\x07b");
         assert_eq!(visible("\u{9b}2J\u{7f}"), "\\u{9b}2J\\x7f");
         assert_eq!(visible("é ✓ 中"), "é ✓ 中");
+        // Format characters that reorder or hide text.
+        assert_eq!(visible("as\u{200b}k"), "as\\u{200b}k");
+        assert_eq!(visible("\u{202e}evil"), "\\u{202e}evil");
+        assert_eq!(
+            visible("a\u{2066}b\u{2069}\u{2028}"),
+            "a\\u{2066}b\\u{2069}\\u{2028}"
+        );
     }
 
     #[test]

@@ -897,3 +897,55 @@ fn a_second_btcm_root_and_a_corrupt_fbl_size_are_named() {
         r.err
     );
 }
+
+#[test]
+fn format_characters_never_make_a_name_read_as_another() {
+    // A zero-width space inside "ask", a right-to-left override, an isolate
+    // and a line separator: each is shown as an escape, on the command line
+    // and in the explorer (#26 item 7).
+    let dir = tempfile::tempdir().unwrap();
+    let tree = write(
+        dir.path(),
+        "fmt.xml",
+        "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><Sequence name=\"go\u{2066}home\u{2069}\"><AlwaysSuccess name=\"as\u{200b}k\"/><AlwaysSuccess name=\"\u{202e}evil\u{2028}\"/></Sequence></BehaviorTree></root>",
+    );
+    let (code, out, err) = btx_code(&["tree", &tree]);
+    assert_eq!(code, Some(0), "{err}");
+    for c in ['\u{200b}', '\u{202e}', '\u{2066}', '\u{2069}', '\u{2028}'] {
+        assert!(!out.contains(c), "{c:?} reached the terminal: {out:?}");
+    }
+    assert!(out.contains("as\\u{200b}k"), "{out}");
+    assert!(out.contains("\\u{202e}evil"), "{out}");
+    // The explorer's screen: tests/tui.rs (it would swell this binary's
+    // memory, which the children's measured peaks here inherit).
+}
+
+#[test]
+fn number_options_refuse_nan_infinities_and_negatives() {
+    // `--for nan` panicked watch and serve (#26 item 6).
+    for args in [
+        vec!["watch", ":1", "--for", "nan"],
+        vec!["watch", ":1", "--for", "inf"],
+        vec!["watch", ":1", "--for=-1"],
+        vec!["serve", "sessions/taxi.jsonl", "--for", "nan"],
+        vec!["serve", "sessions/taxi.jsonl", "--speed", "inf"],
+        vec!["serve", "sessions/taxi.jsonl", "--speed", "0"],
+    ] {
+        let (code, _, err) = btx_code(&args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains("invalid value"), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+    // With --port 0 the system picks the port, and btx says which.
+    let (code, _, err) = btx_code(&[
+        "serve",
+        "sessions/taxi.jsonl",
+        "--port",
+        "0",
+        "--for",
+        "0.2",
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(!err.contains(":0 with"), "{err}");
+    assert!(err.contains("on 127.0.0.1:"), "{err}");
+}

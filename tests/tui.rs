@@ -849,3 +849,24 @@ fn plus_and_minus_say_more_or_less_of_a_why_answer() {
     app.update(Action::Slower);
     assert_eq!(app.why.as_ref().unwrap().why.shown, Some(1));
 }
+
+#[test]
+fn format_characters_never_make_a_name_read_as_another_on_screen() {
+    // A zero-width space inside "ask" and a right-to-left override: shown
+    // as escapes in the tree and the details (#26 item 7).
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("fmt.xml");
+    std::fs::write(
+        &tree,
+        "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><Sequence name=\"go\u{2066}home\u{2069}\"><AlwaysSuccess name=\"as\u{200b}k\"/><AlwaysSuccess name=\"\u{202e}evil\"/></Sequence></BehaviorTree></root>",
+    )
+    .unwrap();
+    let app = btx::tui::open(&tree, None, &btx::xml::LoadOptions::default()).unwrap();
+    let s = screen(&app, 100, 30);
+    assert!(
+        !s.contains('\u{200b}') && !s.contains('\u{202e}') && !s.contains('\u{2066}'),
+        "{s}"
+    );
+    assert!(s.contains("as\\u{200b}k"), "{s}");
+    assert!(s.contains("go\\u{2066}home\\u{2069}"), "{s}");
+}

@@ -245,6 +245,25 @@ macro_rules! fail {
     ($($t:tt)*) => { return Err(Failure::Plain(format!($($t)*))) };
 }
 
+/// A number of seconds an option takes: finite, 0 or more (clap refuses
+/// the rest with this message, naming the option).
+pub fn seconds(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 => Ok(x),
+        _ => Err(format!(
+            "\"{s}\" is not a number of seconds: give 0 or more, e.g. 2.5"
+        )),
+    }
+}
+
+/// A factor an option takes: finite and more than 0.
+pub fn positive(s: &str) -> Result<f64, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+        _ => Err(format!("\"{s}\" is not a positive number, e.g. 2 or 0.5")),
+    }
+}
+
 /// `--detail`: how much an answer says.
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum DetailArg {

@@ -16,10 +16,10 @@ pub struct Args {
     #[arg(long, default_value = "127.0.0.1")]
     pub host: String,
     /// How many times faster than the run's tick period (100 ms a tick for a log).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = positive)]
     pub speed: f64,
     /// Stop after this many seconds (default: at Ctrl-C).
-    #[arg(long = "for", value_name = "SECONDS")]
+    #[arg(long = "for", value_name = "SECONDS", value_parser = seconds)]
     pub for_secs: Option<f64>,
 }
 
@@ -37,6 +37,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     }
     let listener = std::net::TcpListener::bind((args.host.as_str(), args.port))
         .map_err(|e| Failure::Plain(format!("{}:{}: cannot listen: {e}", args.host, args.port)))?;
+    // With --port 0 the system picks the port: say the one it gave.
+    let port = listener.local_addr().map_or(args.port, |a| a.port());
     let replay = Arc::new(btx::live::serve::Replay::new(s, args.speed));
     if !cli.quiet {
         let s = replay.session();
@@ -46,7 +48,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             s.index.transitions.len(),
             s.index.ticks(),
             args.host,
-            args.port
+            port
         );
     }
     let stop = Arc::new(AtomicBool::new(false));

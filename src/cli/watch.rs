@@ -15,7 +15,7 @@ pub struct Args {
     #[arg(long, value_name = "SESSION")]
     pub out: Option<PathBuf>,
     /// Stop after this many seconds.
-    #[arg(long = "for", value_name = "SECONDS")]
+    #[arg(long = "for", value_name = "SECONDS", value_parser = seconds)]
     pub for_secs: Option<f64>,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,

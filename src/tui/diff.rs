@@ -184,7 +184,11 @@ impl DiffApp {
                     None => format!("{side}#{u}"),
                 };
             }
-            format!("{d} {} {}", t.type_name(u), t.description(u))
+            format!(
+                "{d} {} {}",
+                t.type_name(u),
+                crate::text::visible(t.description(u))
+            )
         };
         let ka: Vec<String> = ra.iter().map(|&r| key(0, &a.tree, r)).collect();
         let kb: Vec<String> = rb.iter().map(|&r| key(1, &b.tree, r)).collect();

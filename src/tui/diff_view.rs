@@ -88,7 +88,10 @@ fn tree_pane(app: &DiffApp, side: usize, f: &mut Frame, area: Rect) {
                 format!("{} ", tree_glyph(&p.tree, uid)),
                 Style::default().fg(Color::Blue),
             ),
-            Span::styled(p.tree.description(uid).to_string(), name),
+            Span::styled(
+                crate::text::visible(p.tree.description(uid)).into_owned(),
+                name,
+            ),
             Span::styled(format!(" #{uid}"), Style::default().fg(Color::DarkGray)),
         ]));
     }
@@ -175,7 +178,7 @@ fn timeline_line(p: &Pane, letter: &str) -> Line<'static> {
         spans.push(Span::raw(format!(
             "  #{} {} → ",
             t.uid,
-            s.tree.description(t.uid)
+            crate::text::visible(s.tree.description(t.uid))
         )));
         spans.push(Span::styled(
             t.status.as_str(),

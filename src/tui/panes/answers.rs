@@ -151,14 +151,14 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         Some((u, at)) if app.answer.is_some() || app.why.is_some() || app.reply.is_some() => {
             format!(
                 "about {} #{u}{}",
-                app.tree.description(*u),
+                crate::text::visible(app.tree.description(*u)),
                 at.as_ref()
                     .map_or(String::new(), |m| format!(" at moment {m}"))
             )
         }
         _ => format!(
             "about {} #{}",
-            app.tree.description(app.asked_node()),
+            crate::text::visible(app.tree.description(app.asked_node())),
             app.asked_node()
         ),
     };

@@ -105,7 +105,11 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
     let n = app.tree.node(u);
     let at = app.at();
     let mut lines = vec![
-        Line::from(format!("{}  #{}", app.tree.description(u), u)),
+        Line::from(format!(
+            "{}  #{}",
+            crate::text::visible(app.tree.description(u)),
+            u
+        )),
         Line::from(format!(
             "{} {}  name {:?}",
             n.kind.as_str(),

@@ -349,7 +349,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                     Line::from(Span::styled(
                         format!(
                             "{} #{u}  {}",
-                            app.tree.description(u),
+                            crate::text::visible(app.tree.description(u)),
                             app.tree.type_name(u)
                         ),
                         st,
@@ -442,7 +442,10 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                     Line::from(Span::styled(q.clone(), st))
                 })
                 .collect();
-            let title = format!(" why? about {} ", app.tree.description(app.asked_node()));
+            let title = format!(
+                " why? about {} ",
+                crate::text::visible(app.tree.description(app.asked_node()))
+            );
             f.render_widget(
                 Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
                 r,
@@ -470,7 +473,10 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                     Line::from(Span::styled(text, st))
                 })
                 .collect();
-            let title = format!(" ask about {} ", app.tree.description(app.asked_node()));
+            let title = format!(
+                " ask about {} ",
+                crate::text::visible(app.tree.description(app.asked_node()))
+            );
             f.render_widget(
                 Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
                 r,

@@ -165,7 +165,7 @@ impl App {
         } else {
             self.message = Some(format!(
                 "{} does not change {} this moment",
-                self.tree.description(self.selected),
+                crate::text::visible(self.tree.description(self.selected)),
                 if next { "after" } else { "before" }
             ));
         }
@@ -338,7 +338,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                     "{:>5} #{:<4} {:<32} ",
                     t.tick,
                     t.uid,
-                    truncate(s.tree.description(t.uid), 32)
+                    truncate(&crate::text::visible(s.tree.description(t.uid)), 32)
                 ),
                 style,
             ),

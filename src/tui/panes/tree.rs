@@ -187,7 +187,10 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         // The name gives way, with an ellipsis, so the uid always shows.
         let used: usize = head.iter().chain(&tail[..1]).map(Span::width).sum();
         let name = fit(
-            &format!("{role}{}", app.tree.description(r.uid)),
+            &format!(
+                "{role}{}",
+                crate::text::visible(app.tree.description(r.uid))
+            ),
             width.saturating_sub(used),
         );
         let mut spans = head;

@@ -800,6 +800,46 @@ fn btx_serve_replays_a_run_that_btx_watch_keeps_tick_for_tick() {
 }
 
 #[test]
+fn watching_removes_no_file_it_did_not_create() {
+    // A user's W.jsonl.next and W.jsonl.partial.next.partial were removed
+    // by btx watch --out W.jsonl (#26 item 1, in part).
+    let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "2", "8");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("W.jsonl");
+    let theirs = [
+        dir.path().join("W.jsonl.next"),
+        dir.path().join("W.jsonl.partial.next.partial"),
+        dir.path().join("W.jsonl.partial.next"),
+    ];
+    for t in &theirs {
+        std::fs::write(t, "someone else's").unwrap();
+    }
+    let w = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["-q", "watch", &format!(":{port}"), "--for", "1.5", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let _ = server.kill();
+    assert!(w.status.success(), "{}", String::from_utf8_lossy(&w.stderr));
+    assert!(out.exists());
+    for t in &theirs {
+        assert_eq!(
+            std::fs::read_to_string(t).unwrap(),
+            "someone else's",
+            "{}",
+            t.display()
+        );
+    }
+    // And nothing of btx's own is left beside it.
+    let left: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains(".next-"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+#[test]
 fn btview_sees_what_btx_serves() {
     // A client nobody here wrote: btview (PyPI) reads the tree (T) and the
     // statuses (S) of the run btx serves, once it has played.

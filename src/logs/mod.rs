@@ -357,11 +357,10 @@ pub fn write_session(s: &Session, out: &Path) -> Result<PathBuf, Located> {
 /// whole beside it, then renamed over it, so a reader never sees half.
 pub fn write_partial(s: &Session, out: &Path) -> Result<PathBuf, Located> {
     let partial = crate::session::SessionWriter::partial_path(out);
-    let mut tmp = partial.as_os_str().to_owned();
-    tmp.push(".next");
-    let tmp = PathBuf::from(tmp);
+    let tmp = ours(&partial);
     let tmp_partial = crate::session::SessionWriter::partial_path(&tmp);
-    // Our own leftover from a write that failed half-way.
+    // Our own leftover from a write that failed half-way: the name is this
+    // process's, so no file of anyone else's is removed.
     let _ = std::fs::remove_file(&tmp_partial);
     let mut w = crate::session::SessionWriter::create(&tmp, &s.header)?;
     write_events(s, &mut w)?;
@@ -377,9 +376,7 @@ pub fn write_partial(s: &Session, out: &Path) -> Result<PathBuf, Located> {
 /// the whole time: the partial goes only once the whole is there).
 pub fn write_final(s: &Session, out: &Path) -> Result<PathBuf, Located> {
     let partial = crate::session::SessionWriter::partial_path(out);
-    let mut next = out.as_os_str().to_owned();
-    next.push(".next");
-    let next = PathBuf::from(next);
+    let next = ours(out);
     let _ = std::fs::remove_file(crate::session::SessionWriter::partial_path(&next));
     let _ = std::fs::remove_file(&next);
     write_session(s, &next)?;
@@ -403,6 +400,15 @@ pub fn write_final(s: &Session, out: &Path) -> Result<PathBuf, Located> {
     })?;
     let _ = std::fs::remove_file(&partial);
     Ok(out.to_path_buf())
+}
+
+/// A name beside `path` for a file this process writes before it renames
+/// it into place: `PATH.next-PID`, so that btx never removes or renames a
+/// file it did not create (a `W.jsonl.next` of the user's is left alone).
+fn ours(path: &Path) -> PathBuf {
+    let mut p = path.as_os_str().to_owned();
+    p.push(format!(".next-{}", std::process::id()));
+    PathBuf::from(p)
 }
 
 fn write_events(s: &Session, w: &mut crate::session::SessionWriter) -> Result<(), Located> {

@@ -281,7 +281,30 @@ fn timers_fire_in_the_same_ticks_as_behaviortree_cpp() {
         tick_ms: 20,
     })
     .collect();
-    agree_with_btcpp(&cases);
+    // The library runs on the wall clock: on a loaded machine a tick can be
+    // late enough to move a timer into the next tick, which says nothing
+    // of btx. A case is run in the library again (up to three times) before
+    // a difference counts; btx's simulated clock gives the same every time.
+    for case in &cases {
+        let dir = tempfile::tempdir().unwrap();
+        let ours = btx_run(case);
+        let mut last = None;
+        for _ in 0..3 {
+            let real = oracle(std::slice::from_ref(case), dir.path()).remove(0);
+            assert!(real.error.is_none(), "{:?}", real.error);
+            if real.transitions == ours.transitions && real.root == ours.root {
+                last = None;
+                break;
+            }
+            last = Some(first_difference(&real, &ours));
+        }
+        assert!(
+            last.is_none(),
+            "{}\n  tree: {}",
+            last.unwrap_or_default(),
+            case.xml
+        );
+    }
 }
 
 #[test]

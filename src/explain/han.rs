@@ -261,7 +261,9 @@ fn q5(tree: &Tree, what: &str, g: Uid, name: &str) -> (String, Vec<Uid>) {
         } else {
             let inner: Vec<String> = steps(tree, fails).iter().map(|&x| tree.spoken(x)).collect();
             if inner.is_empty() {
-                tree.spoken(fails)
+                // An unnamed built-in by its v4 name, so that a v3 file and
+                // its conversion read alike (v3's RetryUntilSuccesful).
+                crate::model::words(tree.type_name(fails))
             } else {
                 and_list(&inner)
             }

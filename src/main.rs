@@ -12,6 +12,13 @@ use std::process::ExitCode;
 const STACK_SIZE: usize = 256 << 20;
 
 fn main() -> ExitCode {
+    // Past `ulimit -f` a write raises SIGXFSZ, which kills silently; caught,
+    // the write fails with EFBIG instead, and btx says which file and what
+    // it kept.
+    let _ = signal_hook::flag::register(
+        signal_hook::consts::SIGXFSZ,
+        std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false)),
+    );
     let cli = cli::Cli::parse();
     let worker = std::thread::Builder::new()
         .name("btx".into())

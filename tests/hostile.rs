@@ -567,6 +567,9 @@ fn long_runs_with_little_in_common_align_in_bounded_time() {
 #[path = "common/trees.rs"]
 mod trees;
 
+#[path = "hostile/outputs.rs"]
+mod outputs;
+
 /// Nothing btx writes is unreadable by btx: generated trees (every
 /// built-in node kind, scripts, the blackboard, SubTrees) run from random
 /// plans, and every command reads the session the run wrote.

@@ -21,6 +21,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         reading,
         out,
     } = args;
+    let _claim = btx::session::OutputLock::take(&out, "btx import")?;
     let mut s = match btx::input::open(&log, &LoadOptions::default())? {
         Input::Session(s) => *s,
         Input::Tree { .. } => fail!("{} is a tree, not a log", log.display()),

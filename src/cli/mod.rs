@@ -224,11 +224,25 @@ fn out(s: &str) {
     written(o.write_all(s.as_bytes()).and_then(|()| o.flush()));
 }
 
+/// Set by a command that records (`btx watch`): a closed standard output
+/// then no longer ends btx, which finishes its recording (`stdout_closed`).
+static RECORDING: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+static STDOUT_CLOSED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Whether standard output was closed while recording.
+fn stdout_closed() -> bool {
+    STDOUT_CLOSED.load(std::sync::atomic::Ordering::Relaxed)
+}
+
 /// The end of a write to standard output: a closed pipe ends btx quietly
-/// (exit 0), any other failure with a message (exit 1).
+/// (exit 0), unless it records, any other failure with a message (exit 1).
 fn written(r: std::io::Result<()>) {
     if let Err(e) = r {
         if e.kind() == std::io::ErrorKind::BrokenPipe {
+            if RECORDING.load(std::sync::atomic::Ordering::Relaxed) {
+                STDOUT_CLOSED.store(true, std::sync::atomic::Ordering::Relaxed);
+                return;
+            }
             std::process::exit(0);
         }
         err_out(&format!("error: cannot write the output: {e}\n"));

@@ -79,15 +79,10 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
 /// `btx open --live`: the explorer on a robot running now.
 fn live(spec: &str, out: Option<&Path>, cli: &Globals) -> Result<(), Failure> {
     let ep = btx::live::groot2::endpoint(spec);
-    if let Some(out) = out {
-        let partial = btx::session::SessionWriter::partial_path(out);
-        if out.exists() || partial.exists() {
-            fail!(
-                "{}: a session is here already; --out names a new session file",
-                out.display()
-            );
-        }
-    }
+    let _claim = match out {
+        Some(out) => Some(btx::session::OutputLock::take(out, "btx open --live")?),
+        None => None,
+    };
     let feed = btx::live::Feed::start(&ep, out.map(Path::to_path_buf))
         .map_err(|e| Failure::Plain(e.to_string()))?;
     let first = feed.session()?;

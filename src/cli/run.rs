@@ -49,6 +49,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         ask_at,
         out,
     } = args;
+    let _claim = btx::session::OutputLock::take(&out, "btx run")?;
     let text = btx::source::read_text(&path, btx::source::TEXT_SIZE_MAX, "the tree file")?;
     let loaded = btx::xml::load_str(&path, &text, &reading.options()?)?;
     warn_all(cli.quiet, &loaded.warnings);

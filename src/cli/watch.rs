@@ -26,25 +26,15 @@ const PRINT: Duration = Duration::from_millis(100);
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let ep = groot2::endpoint(args.endpoint.as_deref().unwrap_or(""));
-    if let Some(out) = &args.out {
-        if out.exists() {
-            fail!(
-                "{}: a file is here already; --out names a new session file",
-                out.display()
-            );
-        }
-        let partial = btx::session::SessionWriter::partial_path(out);
-        if partial.exists() {
-            fail!(
-                "{}: the run of an earlier watch or run that did not finish is here; choose another --out",
-                partial.display()
-            );
-        }
-    }
+    let _claim = match &args.out {
+        Some(out) => Some(btx::session::OutputLock::take(out, "btx watch")?),
+        None => None,
+    };
     let mut feed = Feed::start(&ep, args.out.clone()).map_err(|e| Failure::Plain(e.to_string()))?;
     if !cli.quiet {
         eprintln!("watching {ep}: tree {} (Ctrl-C stops)", feed.status.uuid);
     }
+    super::RECORDING.store(true, Ordering::Relaxed);
     let stop = Arc::new(AtomicBool::new(false));
     for sig in [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM] {
         signal_hook::flag::register(sig, Arc::clone(&stop))
@@ -59,8 +49,28 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let mut last = None;
     let mut warned = std::collections::HashSet::new();
     let mut said: Option<String> = None;
+    let mut closed_said = false;
     loop {
-        let done = stop.load(Ordering::Relaxed) || deadline.is_some_and(|d| Instant::now() >= d);
+        // A closed standard output (`| head`) ends the printing, never the
+        // recording: with --out the watch goes on as it would have.
+        let closed = super::stdout_closed();
+        if closed && !closed_said {
+            closed_said = true;
+            if let (Some(out), false) = (&args.out, cli.quiet) {
+                eprintln!(
+                    "standard output was closed; still recording to {} ({})",
+                    out.display(),
+                    if deadline.is_some() {
+                        "until --for ends"
+                    } else {
+                        "Ctrl-C stops"
+                    }
+                );
+            }
+        }
+        let done = stop.load(Ordering::Relaxed)
+            || deadline.is_some_and(|d| Instant::now() >= d)
+            || (closed && args.out.is_none());
         if done {
             feed.halt();
         }
@@ -87,9 +97,14 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         // The first rows wait a little for the robot's tick period (see
         // `Grown`), never more than 2 s, and are printed then even if the
         // run did not grow since.
-        if let Some(s) = last.as_ref().filter(|_| fresh || grown.held()) {
+        if let Some(s) = last.as_ref().filter(|_| !closed && (fresh || grown.held())) {
             let settle = !done && first.is_some_and(|f| f.elapsed() < Duration::from_secs(2));
             grown.print(s, None, false, args.format, settle);
+        }
+        if let Some(e) = feed.write_error.take() {
+            feed.halt();
+            eprintln!("watching stopped: the run cannot be written");
+            return Err(e.into());
         }
         for g in &feed.gaps[gaps_said..] {
             eprintln!("gap after transition {}: {}", g.at, g.why);

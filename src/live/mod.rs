@@ -405,6 +405,11 @@ pub struct Feed {
     saved: std::time::Instant,
     save_took: Duration,
     unsaved: bool,
+    /// Transitions in `OUT.partial` as last written whole.
+    pub kept: usize,
+    /// Why `OUT.partial` could not be written (a full disk, `ulimit -f`):
+    /// saving stops, and the caller stops watching and says it.
+    pub write_error: Option<Located>,
     /// Whether the run grew since the last session built, and when that was.
     dirty: bool,
     built: std::time::Instant,
@@ -516,6 +521,8 @@ impl Feed {
             saved: std::time::Instant::now(),
             save_took: Duration::ZERO,
             unsaved: false,
+            kept: 0,
+            write_error: None,
             dirty: false,
             built: std::time::Instant::now(),
         })
@@ -554,15 +561,36 @@ impl Feed {
             grew |= self.take(b);
         }
         self.unsaved |= grew;
-        let due = self.unsaved && self.saved.elapsed() >= SAVE_MIN.max(self.save_took * 10);
+        let due = self.unsaved
+            && self.write_error.is_none()
+            && self.saved.elapsed() >= SAVE_MIN.max(self.save_took * 10);
         if let Some(out) = self.out.clone().filter(|_| due) {
             let started = std::time::Instant::now();
             match self
                 .session()
                 .and_then(|s| crate::logs::write_partial(&s, &out))
             {
-                Ok(_) => self.unsaved = false,
-                Err(e) => self.status.error = Some(e.to_string()),
+                Ok(_) => {
+                    self.unsaved = false;
+                    self.kept = self.records.len();
+                }
+                Err(e) => {
+                    // Nothing more is written: not the whole run either.
+                    self.out = None;
+                    let partial = crate::session::SessionWriter::partial_path(&out);
+                    self.write_error = Some(Located::file(
+                        &partial,
+                        format!(
+                            "{}; {}",
+                            e.message,
+                            if self.kept == 0 {
+                                "nothing of the run could be kept".to_string()
+                            } else {
+                                format!("this file keeps the first {} transitions", self.kept)
+                            }
+                        ),
+                    ));
+                }
             }
             self.saved = std::time::Instant::now();
             self.save_took = started.elapsed();

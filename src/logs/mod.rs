@@ -363,8 +363,11 @@ pub fn write_partial(s: &Session, out: &Path) -> Result<PathBuf, Located> {
     // process's, so no file of anyone else's is removed.
     let _ = std::fs::remove_file(&tmp_partial);
     let mut w = crate::session::SessionWriter::create(&tmp, &s.header)?;
-    write_events(s, &mut w)?;
-    w.flush()?;
+    if let Err(e) = write_events(s, &mut w).and_then(|()| w.flush()) {
+        drop(w);
+        let _ = std::fs::remove_file(&tmp_partial);
+        return Err(e);
+    }
     drop(w);
     std::fs::rename(&tmp_partial, &partial)
         .map_err(|e| Located::file(&partial, format!("cannot write the session so far: {e}")))?;

@@ -152,6 +152,9 @@ pub struct SessionWriter {
     tick: u32,
     step: u32,
     transitions: u64,
+    /// What the last flush made durable: the tick it ended, and the
+    /// transitions up to it (said when a later write fails).
+    kept: (u32, u64),
 }
 
 fn io_err(path: &Path, what: &str, e: std::io::Error) -> Located {
@@ -165,25 +168,34 @@ impl SessionWriter {
         PathBuf::from(p)
     }
 
+    /// Why `path` cannot be a new session file, if something is there:
+    /// btx overwrites nothing, but a directory or a device is not an old
+    /// session, and saying which helps.
+    pub fn refuse_existing(path: &Path) -> Result<(), Located> {
+        let Ok(meta) = std::fs::symlink_metadata(path) else {
+            return Ok(());
+        };
+        let what = if meta.is_dir() {
+            "a directory is here; --out names the session file to write"
+        } else if !meta.is_file() {
+            "this is a device, a FIFO or a link, not a file; --out names a new session file"
+        } else if std::fs::File::open(path)
+            .and_then(|mut f| {
+                let mut head = [0u8; 14];
+                std::io::Read::read_exact(&mut f, &mut head).map(|()| head)
+            })
+            .is_ok_and(|h| &h == b"{\"btx_session\"")
+        {
+            "a session already exists here; btx does not overwrite sessions"
+        } else {
+            "a file that is not a btx session is here; btx overwrites no file"
+        };
+        Err(Located::file(path, what)
+            .with_help("choose another --out, or remove what is there first"))
+    }
+
     pub fn create(path: &Path, header: &Header) -> Result<SessionWriter, Located> {
-        if let Ok(meta) = std::fs::symlink_metadata(path) {
-            // Say what is there: btx overwrites nothing, but a directory or
-            // a device is not an old session.
-            let what = if meta.is_dir() {
-                "a directory is here; --out names the session file to write"
-            } else if !meta.is_file() {
-                "this is a device, a FIFO or a link, not a file; --out names a new session file"
-            } else if std::fs::read(path)
-                .map(|b| b.starts_with(b"{\"btx_session\""))
-                .unwrap_or(false)
-            {
-                "a session already exists here; btx does not overwrite sessions"
-            } else {
-                "a file that is not a btx session is here; btx overwrites no file"
-            };
-            return Err(Located::file(path, what)
-                .with_help("choose another --out, or remove what is there first"));
-        }
+        Self::refuse_existing(path)?;
         let partial = Self::partial_path(path);
         let file = std::fs::OpenOptions::new()
             .write(true)
@@ -207,6 +219,7 @@ impl SessionWriter {
             tick: 0,
             step: 0,
             transitions: 0,
+            kept: (0, 0),
         };
         w.line(&serde_json::to_value(header).expect("headers serialise"))?;
         w.flush()?;
@@ -216,9 +229,19 @@ impl SessionWriter {
     fn line(&mut self, v: &impl Serialize) -> Result<(), Located> {
         let mut s = serde_json::to_string(v).expect("records serialise");
         s.push('\n');
-        self.out
-            .write_all(s.as_bytes())
-            .map_err(|e| io_err(&self.partial, "cannot write the session", e))
+        self.out.write_all(s.as_bytes()).map_err(|e| self.failed(e))
+    }
+
+    /// A write that failed mid-run: which file, why, and what it keeps.
+    fn failed(&self, e: std::io::Error) -> Located {
+        let (tick, n) = self.kept;
+        Located::file(
+            &self.partial,
+            format!(
+                "cannot write the session: {}; this file keeps the run up to tick {tick} ({n} transitions)",
+                super::output::why(&e)
+            ),
+        )
     }
 
     fn at(&mut self, tick: u32) -> u32 {
@@ -317,9 +340,9 @@ impl SessionWriter {
 
     /// Makes everything written so far readable by another process.
     pub fn flush(&mut self) -> Result<(), Located> {
-        self.out
-            .flush()
-            .map_err(|e| io_err(&self.partial, "cannot write the session", e))
+        self.out.flush().map_err(|e| self.failed(e))?;
+        self.kept = (self.tick, self.transitions);
+        Ok(())
     }
 
     pub fn finish(mut self, ticks: u32, root: Status, reason: &str) -> Result<PathBuf, Located> {

@@ -3,11 +3,13 @@
 
 pub mod format;
 pub mod index;
+pub mod output;
 pub mod record;
 pub mod rerun;
 
 pub use format::{Before, Header, Record, SessionWriter, Source, TreeRef};
 pub use index::{At, Index, Moment, Transition, Write, EMPTY_TICKS_MAX};
+pub use output::OutputLock;
 
 use crate::model::{Tree, Uid};
 use crate::source::{Located, Warning};

@@ -1,0 +1,313 @@
+//! The files btx writes under races and faults (#26 items 1 and 2): one
+//! writer per output, a destination checked before the work, write errors
+//! said with the file and what was kept.
+
+use super::*;
+use btx::session::Session;
+use std::io::BufRead;
+use std::time::{Duration, Instant};
+
+/// `btx serve RUN` on a port the system picks, for `secs`: the port it
+/// says, and the server.
+pub fn served(run: &str, speed: &str, secs: &str) -> (u16, std::process::Child) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["serve", run, "--port", "0", "--speed", speed, "--for", secs])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufReader::new(child.stderr.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let port = line
+        .rsplit_once("127.0.0.1:")
+        .and_then(|(_, p)| p.split_whitespace().next())
+        .and_then(|p| p.parse().ok())
+        .unwrap_or_else(|| panic!("btx serve said no port: {line}"));
+    (port, child)
+}
+
+/// What is in a directory, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn run_and_watch_racing_on_one_output_never_lose_a_run() {
+    // The run printed "1350001 transitions" and exited 0 while the file
+    // held the watch's partial (#26 item 1).
+    let (port, mut server) = served("sessions/kitting-nominal.jsonl", "50", "600");
+    let dir = tempfile::tempdir().unwrap();
+    let tree = fixture("kitting-tree.v4.xml");
+    let plan = fixture("plans/kitting_nominal.plan");
+    let (mut runs_won, mut watches_won) = (0, 0);
+    for i in 0..100 {
+        let out = dir.path().join(format!("race{i}.jsonl"));
+        let spawn = |args: Vec<String>| {
+            Command::new(env!("CARGO_BIN_EXE_btx"))
+                .args(args)
+                .stdout(Stdio::null())
+                .stderr(Stdio::piped())
+                .spawn()
+                .unwrap()
+        };
+        let o = out.display().to_string();
+        let watch = spawn(
+            ["watch", &format!(":{port}"), "--for", "0.05", "--out", &o]
+                .map(String::from)
+                .to_vec(),
+        );
+        let run = spawn(
+            [
+                "run",
+                tree.to_str().unwrap(),
+                "--plan",
+                plan.to_str().unwrap(),
+                "--out",
+                &o,
+            ]
+            .map(String::from)
+            .to_vec(),
+        );
+        let (w, r) = (
+            watch.wait_with_output().unwrap(),
+            run.wait_with_output().unwrap(),
+        );
+        let (werr, rerr) = (
+            String::from_utf8_lossy(&w.stderr).into_owned(),
+            String::from_utf8_lossy(&r.stderr).into_owned(),
+        );
+        let refused = |err: &str| {
+            let e = one_line(err);
+            e.contains("another btx is writing this session")
+                || e.contains("a session already exists here")
+        };
+        assert!(
+            w.status.success() != r.status.success(),
+            "race {i}: exactly one writes the session\nwatch: {werr}\nrun: {rerr}"
+        );
+        let kind = if w.status.success() {
+            assert!(
+                refused(&rerr),
+                "race {i}: the run is refused, saying why: {rerr}"
+            );
+            watches_won += 1;
+            "groot2"
+        } else {
+            assert!(
+                refused(&werr),
+                "race {i}: the watch is refused, saying why: {werr}"
+            );
+            runs_won += 1;
+            "plan"
+        };
+        let text = std::fs::read_to_string(&out).unwrap();
+        let header: serde_json::Value = serde_json::from_str(text.lines().next().unwrap()).unwrap();
+        let src = &header["source"];
+        let wrote = if src["kind"] == "plan" {
+            "plan"
+        } else {
+            src["name"].as_str().unwrap_or("")
+        };
+        assert_eq!(
+            wrote, kind,
+            "race {i}: the file holds the run of the one that said it wrote it"
+        );
+        assert!(
+            text.lines().last().unwrap().contains("\"end\""),
+            "race {i}: whole"
+        );
+        let mut want: Vec<String> = (0..=i).map(|k| format!("race{k}.jsonl")).collect();
+        want.sort();
+        assert_eq!(
+            listing(dir.path()),
+            want,
+            "race {i}: no partial, lock or temporary file is left"
+        );
+    }
+    let _ = server.kill();
+    // Both orders happened (else the race was not run).
+    assert!(
+        runs_won > 0 && watches_won > 0,
+        "run {runs_won}, watch {watches_won}"
+    );
+}
+
+#[test]
+fn an_output_that_cannot_be_written_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let ro = dir.path().join("ro");
+    std::fs::create_dir(&ro).unwrap();
+    let mut perm = std::fs::metadata(&ro).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut perm, 0o555);
+    std::fs::set_permissions(&ro, perm).unwrap();
+    // Root writes anywhere: the read-only case is then a missing directory's.
+    let root = std::fs::write(ro.join("probe"), "").is_ok();
+    let tree = fixture("kitting-tree.v4.xml");
+    let plan = fixture("plans/kitting_nominal.plan");
+    let log = fixture("logs/kitting_lookat_fails_once.btlog");
+    let targets = [
+        (dir.path().join("missing/s.jsonl"), "does not exist"),
+        (
+            ro.join("s.jsonl"),
+            if root { "" } else { "permission denied" },
+        ),
+    ];
+    for (out, says) in &targets {
+        if says.is_empty() {
+            continue;
+        }
+        let o = out.to_str().unwrap();
+        for args in [
+            vec![
+                "run",
+                tree.to_str().unwrap(),
+                "--plan",
+                plan.to_str().unwrap(),
+                "--out",
+                o,
+            ],
+            vec!["import", log.to_str().unwrap(), "--out", o],
+            vec!["watch", ":1", "--out", o],
+        ] {
+            let started = Instant::now();
+            let (code, _, err) = btx_code(&args);
+            assert_eq!(code, Some(1), "{args:?}: {err}");
+            let e = one_line(&err);
+            assert!(
+                e.contains("cannot write here") && e.contains(says),
+                "{args:?}: {e}"
+            );
+            // The watch is refused before it tries the robot (none is at :1).
+            assert!(!e.contains("connect"), "{args:?}: {e}");
+            assert!(started.elapsed() < Duration::from_secs(5));
+        }
+    }
+}
+
+#[test]
+fn a_write_past_the_file_size_limit_is_said_with_what_was_kept() {
+    // `ulimit -f` killed run and import by SIGXFSZ without a word (#26).
+    let dir = tempfile::tempdir().unwrap();
+    let tree = fixture("kitting-tree.v4.xml");
+    let plan = fixture("plans/kitting_nominal.plan");
+    let log = fixture("logs/kitting_lookat_fails_once.btlog");
+    let whole = dir.path().join("whole.jsonl");
+    let (ok, _, err) = btx(&[
+        "import",
+        log.to_str().unwrap(),
+        "--out",
+        whole.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let limit = std::fs::metadata(&whole).unwrap().len() * 2 / 3;
+    for (name, args) in [
+        (
+            "run",
+            vec![
+                "run",
+                tree.to_str().unwrap(),
+                "--plan",
+                plan.to_str().unwrap(),
+            ],
+        ),
+        ("import", vec!["import", log.to_str().unwrap()]),
+    ] {
+        let out = dir.path().join(format!("{name}.jsonl"));
+        let r = Command::new("prlimit")
+            .arg(format!("--fsize={limit}"))
+            .arg("--")
+            .arg(env!("CARGO_BIN_EXE_btx"))
+            .args(&args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = one_line(&String::from_utf8_lossy(&r.stderr));
+        assert_eq!(
+            r.status.code(),
+            Some(1),
+            "{name}: not killed by SIGXFSZ: {err}"
+        );
+        assert!(
+            err.contains("the file size limit (ulimit -f) is reached")
+                && err.contains("this file keeps the run up to tick"),
+            "{name}: {err}"
+        );
+        assert!(err.contains(".partial"), "{name}: names the file: {err}");
+        assert!(!out.exists(), "{name}: no whole session is claimed");
+    }
+}
+
+#[test]
+fn a_watch_that_cannot_write_stops_saying_so_and_a_closed_stdout_keeps_recording() {
+    // It said "connecting again" at every save and exited having written
+    // nothing; `| head -2` stopped the recording without a word (#26 item 2).
+    let run = "sessions/kitting-nominal.jsonl";
+    let whole = std::fs::metadata(Path::new(env!("CARGO_MANIFEST_DIR")).join(run))
+        .unwrap()
+        .len();
+    let dir = tempfile::tempdir().unwrap();
+    let (port, mut server) = served(run, "10", "60");
+    let out = dir.path().join("w.jsonl");
+    let r = Command::new("prlimit")
+        .arg(format!("--fsize={}", whole / 2))
+        .arg("--")
+        .arg(env!("CARGO_BIN_EXE_btx"))
+        .args(["watch", &format!(":{port}"), "--for", "20", "--out"])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .output()
+        .unwrap();
+    let err = one_line(&String::from_utf8_lossy(&r.stderr));
+    assert_eq!(r.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("the file size limit (ulimit -f) is reached")
+            && err.contains("w.jsonl.partial")
+            && err.contains("keeps the first"),
+        "{err}"
+    );
+    assert!(!err.contains("connecting again"), "{err}");
+    let _ = server.kill();
+
+    // Slow enough that rows come after the pipe is closed.
+    let (port, mut server) = served(run, "2", "60");
+    let out = dir.path().join("piped.jsonl");
+    let mut w = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["watch", &format!(":{port}"), "--for", "3", "--out"])
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // `| head -2`: two lines read, then the pipe closed.
+    let mut lines = std::io::BufReader::new(w.stdout.take().unwrap()).lines();
+    for _ in 0..2 {
+        lines.next().unwrap().unwrap();
+    }
+    drop(lines);
+    let done = w.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&done.stderr);
+    assert!(done.status.success(), "{err}");
+    assert!(
+        err.contains("standard output was closed; still recording to"),
+        "{err}"
+    );
+    let _ = server.kill();
+    let said: usize = err
+        .split(" transitions written to")
+        .next()
+        .and_then(|l| l.rsplit('\n').next())
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap_or_else(|| panic!("{err}"));
+    let kept = Session::load(&out).unwrap();
+    assert!(kept.end.is_some(), "finished as on Ctrl-C");
+    assert_eq!(kept.index.transitions.len(), said);
+    assert!(said > 20, "recording went on after the pipe closed: {err}");
+}

@@ -569,6 +569,8 @@ mod trees;
 
 #[path = "hostile/outputs.rs"]
 mod outputs;
+#[path = "hostile/peers.rs"]
+mod peers;
 
 /// Nothing btx writes is unreadable by btx: generated trees (every
 /// built-in node kind, scripts, the blackboard, SubTrees) run from random

@@ -177,6 +177,14 @@ pub fn decode_blackboards(body: &[u8]) -> Result<serde_json::Value, String> {
     }
 }
 
+/// The most transitions btx reads from one `t` reply: a hundred times the
+/// publisher's buffer. A server that sends more in one reply loses them
+/// (`Client::dropped`), and btx bounds what a peer makes it hold.
+pub const TRANSITIONS_REPLY_MAX: usize = 100 * SERVER_BUFFER;
+/// The most bytes of one blackboard reply (`B`) btx reads; a larger one is
+/// not shown, and the explorer says so with its size.
+pub const BLACKBOARD_REPLY_MAX: u64 = 1 << 20;
+
 /// A connection to a Groot2 server.
 pub struct Client {
     req: Req,
@@ -184,6 +192,9 @@ pub struct Client {
     next_id: u32,
     /// The tree's UUID as of the last reply.
     pub uuid: [u8; 16],
+    /// A `t` reply larger than `TRANSITIONS_REPLY_MAX` records was dropped:
+    /// its size in bytes (taken by the caller, who says the gap).
+    pub dropped: Option<u64>,
 }
 
 impl Client {
@@ -193,6 +204,7 @@ impl Client {
             endpoint: endpoint.to_string(),
             next_id: std::process::id().wrapping_mul(2_654_435_761),
             uuid: [0; 16],
+            dropped: None,
         })
     }
 
@@ -200,15 +212,24 @@ impl Client {
         LiveError(format!("{}: {m}", self.endpoint))
     }
 
-    /// One request; the reply's parts after the header.
-    fn call(&mut self, kind: u8, arg: Option<&[u8]>) -> Result<Vec<Vec<u8>>, LiveError> {
+    /// One request; the reply's parts after the header, or the size of a
+    /// reply over `max` bytes (read through and dropped).
+    fn call_max(
+        &mut self,
+        kind: u8,
+        arg: Option<&[u8]>,
+        max: u64,
+    ) -> Result<Result<Vec<Vec<u8>>, super::zmtp::Oversize>, LiveError> {
         self.next_id = self.next_id.wrapping_add(1);
         let h = header(kind, self.next_id);
         let mut parts: Vec<&[u8]> = vec![&h];
         if let Some(a) = arg {
             parts.push(a);
         }
-        let mut reply = self.req.request(&parts)?;
+        let mut reply = match self.req.request_max(&parts, max)? {
+            Ok(r) => r,
+            Err(over) => return Ok(Err(over)),
+        };
         let first = reply.first().cloned().unwrap_or_default();
         if first == b"error" {
             let msg = reply
@@ -224,15 +245,34 @@ impl Client {
         }
         self.uuid.copy_from_slice(&first[6..22]);
         reply.remove(0);
-        Ok(reply)
+        Ok(Ok(reply))
     }
 
     fn one(&mut self, kind: u8, arg: Option<&[u8]>, what: &str) -> Result<Vec<u8>, LiveError> {
-        let mut r = self.call(kind, arg)?;
+        self.one_max(kind, arg, what, super::zmtp::MESSAGE_MAX)?
+            .map_err(|super::zmtp::Oversize(n)| {
+                self.err(format!(
+                    "the {what} reply is {n} bytes, more than btx reads ({})",
+                    super::zmtp::MESSAGE_MAX
+                ))
+            })
+    }
+
+    fn one_max(
+        &mut self,
+        kind: u8,
+        arg: Option<&[u8]>,
+        what: &str,
+        max: u64,
+    ) -> Result<Result<Vec<u8>, super::zmtp::Oversize>, LiveError> {
+        let mut r = match self.call_max(kind, arg, max)? {
+            Ok(r) => r,
+            Err(over) => return Ok(Err(over)),
+        };
         if r.is_empty() {
             return Err(self.err(format!("the {what} reply has no body")));
         }
-        Ok(r.swap_remove(0))
+        Ok(Ok(r.swap_remove(0)))
     }
 
     /// `T`: the tree as XML, with `_uid` attributes.
@@ -252,8 +292,15 @@ impl Client {
 
     /// `t`: the transitions since the last `t`.
     pub fn transitions(&mut self) -> Result<Vec<Transition>, LiveError> {
-        let b = self.one(b't', None, "transitions")?;
-        parse_transitions(&b).map_err(|m| self.err(m))
+        // The reply's header (22 bytes) and the records.
+        let max = 64 + 9 * TRANSITIONS_REPLY_MAX as u64;
+        match self.one_max(b't', None, "transitions", max)? {
+            Ok(b) => parse_transitions(&b).map_err(|m| self.err(m)),
+            Err(super::zmtp::Oversize(n)) => {
+                self.dropped = Some(n);
+                Ok(Vec::new())
+            }
+        }
     }
 
     /// Every node's state now (`S`), as `parse_states` reads it.
@@ -266,8 +313,19 @@ impl Client {
     /// server sends MessagePack; a name it does not know is left out.
     pub fn blackboards(&mut self, names: &[String]) -> Result<serde_json::Value, LiveError> {
         let arg = names.join(";");
-        let b = self.one(b'B', Some(arg.as_bytes()), "blackboard")?;
-        decode_blackboards(&b).map_err(|m| self.err(m))
+        match self.one_max(
+            b'B',
+            Some(arg.as_bytes()),
+            "blackboard",
+            BLACKBOARD_REPLY_MAX,
+        )? {
+            Ok(b) => decode_blackboards(&b).map_err(|m| self.err(m)),
+            Err(super::zmtp::Oversize(n)) => Err(self.err(format!(
+                "the blackboard is {} KiB, more than the {} KiB btx reads of one; not shown",
+                n >> 10,
+                BLACKBOARD_REPLY_MAX >> 10
+            ))),
+        }
     }
 
     /// Every node's `S` code now.

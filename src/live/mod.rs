@@ -39,7 +39,11 @@ pub struct Watch {
     /// were taken before them.
     pub records: Vec<Record>,
     taken: usize,
+    /// Gaps not yet taken (the live thread hands them over), and the last
+    /// one's place and reason (a gap said again there is kept once).
     pub gaps: Vec<Gap>,
+    last_gap: Option<(usize, u64)>,
+    gap_count: usize,
     /// Per record, µs from the transition on the robot to its arrival here
     /// (both clocks are the robot's and this machine's wall clocks).
     pub latency_us: Vec<i64>,
@@ -47,6 +51,8 @@ pub struct Watch {
     /// when recording began (at 0; none when the robot had not started) and
     /// after each gap.
     pub resyncs: Vec<(usize, Vec<Before>)>,
+    /// What the server said that cannot be right, not yet taken.
+    pub notes: Vec<String>,
 }
 
 /// How many times btx starts recording before it takes the statuses as
@@ -58,6 +64,8 @@ const ATTACH_TRIES: usize = 5;
 /// states are exact.
 struct Attached {
     t0: i64,
+    /// Why the server's start time was not taken.
+    note: Option<String>,
     before: Vec<Before>,
     first: Vec<groot2::Transition>,
     exact: bool,
@@ -72,7 +80,8 @@ struct Attached {
 fn attach(c: &mut Client) -> Result<Attached, LiveError> {
     let mut got = attach_once(c)?;
     for _ in 1..ATTACH_TRIES {
-        if got.exact {
+        // Starting again would drop what the full buffer still holds.
+        if got.exact || got.first.len() >= SERVER_BUFFER {
             break;
         }
         got = attach_once(c)?;
@@ -80,9 +89,33 @@ fn attach(c: &mut Client) -> Result<Attached, LiveError> {
     Ok(got)
 }
 
+/// This machine's clock, µs since the epoch.
+fn now_us() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_micros() as i64)
+}
+
+/// The recording's start as the server says it, or, when that cannot be
+/// right (before 1970, or more than a day ahead of this machine's clock),
+/// this machine's clock now, with a note saying so.
+fn start_time(said: i64) -> (i64, Option<String>) {
+    let now = now_us();
+    if said < 0 || said > now.saturating_add(86_400_000_000) {
+        (
+            now,
+            Some(format!(
+                "the server said recording started at {said} µs since 1970, which cannot be right; transitions are timed from this machine's clock when recording started"
+            )),
+        )
+    } else {
+        (said, None)
+    }
+}
+
 fn attach_once(c: &mut Client) -> Result<Attached, LiveError> {
     let before = c.codes()?;
-    let t0 = c.start_recording()?;
+    let (t0, note) = start_time(c.start_recording()?);
     let after = c.codes()?;
     let first = c.transitions()?;
     let mut now = before.clone();
@@ -95,9 +128,17 @@ fn attach_once(c: &mut Client) -> Result<Attached, LiveError> {
         });
     Ok(Attached {
         t0,
+        note,
         before: groot2::states_of(&before),
         first,
         exact,
+    })
+}
+
+/// A reason's fingerprint (gaps repeat; one is kept).
+fn fnv(why: &str) -> u64 {
+    why.bytes().fold(0xcbf29ce484222325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100000001b3)
     })
 }
 
@@ -116,12 +157,26 @@ impl Watch {
         let xml = c.tree_xml()?;
         let Attached {
             t0,
+            note,
             before,
             first,
             exact,
         } = attach(&mut c)?;
         let mut gaps = Vec::new();
-        if !before.is_empty() {
+        let overflowed = first.len() >= SERVER_BUFFER;
+        if overflowed {
+            gaps.push(Gap {
+                at: 0,
+                why: format!(
+                    "the robot made more transitions than the server's buffer holds ({SERVER_BUFFER}) before btx's first read: the ones before these {SERVER_BUFFER} are lost; {}",
+                    if before.is_empty() {
+                        "every node was IDLE when recording started"
+                    } else {
+                        "each node's state when recording started is known"
+                    }
+                ),
+            });
+        } else if !before.is_empty() {
             gaps.push(Gap {
                 at: 0,
                 why: format!(
@@ -138,6 +193,8 @@ impl Watch {
             t0,
             records: Vec::new(),
             taken: 0,
+            last_gap: gaps.last().map(|g: &Gap| (g.at, fnv(&g.why))),
+            gap_count: gaps.len(),
             gaps,
             latency_us: Vec::new(),
             resyncs: if before.is_empty() {
@@ -145,8 +202,16 @@ impl Watch {
             } else {
                 vec![(0, before)]
             },
+            notes: note.into_iter().collect(),
         };
         w.take(first);
+        if overflowed {
+            // Where the lost transitions left the nodes.
+            let states = w.client.as_mut().map(|c| c.states()).transpose()?;
+            if let Some(states) = states {
+                w.resyncs.push((w.received(), states));
+            }
+        }
         Ok(w)
     }
 
@@ -186,8 +251,15 @@ impl Watch {
                 self.rejoin().map(|k| n + k)
             }
             Ok((ts, _)) => {
+                let dropped = self.client.as_mut().and_then(|c| c.dropped.take());
+                if let Some(bytes) = dropped {
+                    self.gap(format!(
+                        "the server sent {bytes} bytes of transitions in one reply, more than the {} btx reads at once (BehaviorTree.CPP's publisher sends at most {SERVER_BUFFER}): they are lost{RESYNCED}",
+                        groot2::TRANSITIONS_REPLY_MAX
+                    ));
+                }
                 let n = self.take(ts);
-                if n >= SERVER_BUFFER {
+                if n >= SERVER_BUFFER || dropped.is_some() {
                     // The statuses now, as the lost transitions left them.
                     let states = self.client.as_mut().map(|c| c.states());
                     match states {
@@ -223,14 +295,13 @@ impl Watch {
         if zeroed > 0 {
             self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost"));
         }
-        let now_us = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_micros() as i64);
+        let now_us = now_us();
         for t in ts.into_iter().filter(|t| t.uid != 0) {
-            self.latency_us.push(now_us - (self.t0 + t.time_us));
+            let time_us = self.t0.saturating_add(t.time_us);
+            self.latency_us.push(now_us.saturating_sub(time_us));
             let offset = self.received();
             self.records.push(Record {
-                time_us: self.t0 + t.time_us,
+                time_us,
                 uid: t.uid,
                 status: t.status,
                 offset,
@@ -239,9 +310,13 @@ impl Watch {
         n
     }
 
+    /// A gap here, unless the last one was the same at the same place.
     fn gap(&mut self, why: String) {
         let at = self.received();
-        if self.gaps.last().is_none_or(|g| g.at != at) {
+        let here = Some((at, fnv(&why)));
+        if self.last_gap != here {
+            self.last_gap = here;
+            self.gap_count += 1;
             self.gaps.push(Gap { at, why });
         }
     }
@@ -280,9 +355,14 @@ impl Watch {
         });
         match joined {
             Ok(Attached {
-                t0, before, first, ..
+                t0,
+                note,
+                before,
+                first,
+                ..
             }) => {
                 self.t0 = t0;
+                self.notes.extend(note);
                 self.resyncs.push((self.received(), before));
                 Ok(self.take(first))
             }
@@ -377,6 +457,7 @@ struct Batch {
     latency_us: Vec<i64>,
     gaps: Vec<Gap>,
     resyncs: Vec<(usize, Vec<Before>)>,
+    notes: Vec<String>,
     status: LiveStatus,
 }
 
@@ -397,6 +478,8 @@ pub struct Feed {
     resyncs: Vec<(usize, Vec<Before>)>,
     pub records: Vec<Record>,
     pub gaps: Vec<Gap>,
+    /// What the server said that cannot be right (`start_time`).
+    pub notes: Vec<String>,
     /// Per record, µs from the robot to here (see `Watch::latency_us`).
     pub latency_us: Vec<i64>,
     out: Option<std::path::PathBuf>,
@@ -452,8 +535,10 @@ impl Feed {
             .name("btx-live".into())
             .spawn(move || {
                 let mut rate = (std::time::Instant::now(), 0usize, 0.0f64);
-                let (mut sent, mut gaps_sent) = (0usize, 0usize);
-                let mut resyncs_sent = w.resyncs.len();
+                let mut sent = 0usize;
+                // Handed over as they come, so that the thread holds none
+                // for long (a resync holds every node's state).
+                w.resyncs.clear();
                 let mut last = std::time::Instant::now();
                 let mut polled = std::time::Instant::now();
                 let mut every = POLL_MIN;
@@ -477,7 +562,7 @@ impl Feed {
                         let dt = rate.0.elapsed().as_secs_f64();
                         rate = (std::time::Instant::now(), n, (n - rate.1) as f64 / dt);
                     }
-                    let news = n > sent || w.gaps.len() > gaps_sent;
+                    let news = n > sent || !w.gaps.is_empty() || !w.notes.is_empty();
                     if news
                         || error.is_some()
                         || last.elapsed() >= Duration::from_millis(500)
@@ -488,12 +573,12 @@ impl Feed {
                             // Handed over, not kept twice.
                             records: w.take_records(),
                             latency_us: std::mem::take(&mut w.latency_us),
-                            gaps: w.gaps[gaps_sent..].to_vec(),
-                            resyncs: w.resyncs[resyncs_sent..].to_vec(),
+                            gaps: std::mem::take(&mut w.gaps),
+                            resyncs: std::mem::take(&mut w.resyncs),
+                            notes: std::mem::take(&mut w.notes),
                             status: w.status(rate.2, error.clone()),
                         };
-                        (sent, gaps_sent) = (n, w.gaps.len());
-                        resyncs_sent = w.resyncs.len();
+                        sent = n;
                         if tx.send(batch).is_err() || halting {
                             break;
                         }
@@ -516,6 +601,7 @@ impl Feed {
             resyncs,
             records: Vec::new(),
             gaps: Vec::new(),
+            notes: Vec::new(),
             latency_us: Vec::new(),
             out,
             saved: std::time::Instant::now(),
@@ -529,7 +615,8 @@ impl Feed {
     }
 
     fn take(&mut self, b: Batch) -> bool {
-        let grew = !b.records.is_empty() || !b.gaps.is_empty();
+        let grew = !b.records.is_empty() || !b.gaps.is_empty() || !b.notes.is_empty();
+        self.notes.extend(b.notes);
         self.records.extend(b.records);
         self.latency_us.extend(b.latency_us);
         self.gaps.extend(b.gaps);
@@ -620,6 +707,12 @@ impl Feed {
             .iter()
             .map(|g| (g.at as u32, g.why.clone()))
             .collect();
+        for n in &self.notes {
+            s.warnings.push(Warning {
+                location: name.display().to_string(),
+                message: n.clone(),
+            });
+        }
         for g in &self.gaps {
             s.warnings.push(Warning {
                 location: format!("{}: transition {}", name.display(), g.at + 1),
@@ -716,7 +809,7 @@ impl Watch {
             connected: self.connected(),
             per_second,
             transitions: self.received(),
-            gaps: self.gaps.len(),
+            gaps: self.gap_count,
             error,
         }
     }

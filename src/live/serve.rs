@@ -34,6 +34,9 @@ pub struct Replay {
     state: Mutex<State>,
 }
 
+/// The part of a tick period over which its transitions are played.
+const PLAYING: f64 = 0.5;
+
 /// The tick period of a session that records none (an imported log).
 pub const DEFAULT_TICK: Duration = Duration::from_millis(100);
 
@@ -65,18 +68,22 @@ impl Replay {
         &self.session
     }
 
-    /// Transitions played by `now`: those of every tick begun.
+    /// Transitions played by `now`: those of every tick over, and of the
+    /// tick going on, as many as its first half has played. A robot takes
+    /// time to tick, and so does the replay: a tick of thousands of
+    /// transitions reaches a client over several `t` requests, never more
+    /// than the publisher's buffer at once (were it played at once, the
+    /// client could keep only its last 1,000).
     fn position(&self, started: Instant, now: Instant) -> usize {
         let idx = &self.session.index;
-        let ticks = (now.saturating_duration_since(started).as_secs_f64() / self.tick.as_secs_f64())
-            as u64
-            + 1;
-        let t = ticks.min(u64::from(idx.ticks())) as u32;
-        if t == 0 {
-            0
-        } else {
-            idx.tick_range(t).end
+        let x = now.saturating_duration_since(started).as_secs_f64() / self.tick.as_secs_f64();
+        let over = x.floor();
+        if over >= f64::from(idx.ticks()) {
+            return idx.transitions.len();
         }
+        let r = idx.tick_range(over as u32 + 1);
+        let played = ((x - over) / PLAYING).min(1.0);
+        r.start + (r.len() as f64 * played).ceil() as usize
     }
 
     /// When tick `t` began.

@@ -16,6 +16,22 @@ use std::time::{Duration, Instant};
 
 /// The largest frame btx accepts (a tree's XML, a blackboard dump).
 pub const FRAME_MAX: u64 = 64 << 20;
+/// The most bytes a message may hold across its parts, unless the caller
+/// bounds it lower (`Req::request_max`).
+pub const MESSAGE_MAX: u64 = FRAME_MAX;
+/// The most bytes a request to `serve_rep` may hold: a Groot2 request is
+/// a header and at most a list of blackboard names.
+pub const REQUEST_MAX: u64 = 64 << 10;
+/// The most clients `serve_rep` serves at once; more are refused.
+pub const CONNECTIONS_MAX: usize = 64;
+/// A client of `serve_rep` that sends no request for this long is
+/// disconnected (Groot2's heartbeat: its publisher drops hooks after it).
+pub const IDLE_MAX: Duration = Duration::from_secs(5);
+
+/// A message larger than its bound: read through and dropped, so that the
+/// connection stays usable; how many bytes it had.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Oversize(pub u64);
 /// The most frames in one reply.
 pub const PARTS_MAX: usize = 16;
 
@@ -192,7 +208,36 @@ impl Req {
         Ok(())
     }
 
+    /// A frame; past `budget` bytes its body is read and dropped (`None`).
+    fn read_frame_within(
+        &mut self,
+        deadline: Instant,
+        what: &str,
+        budget: u64,
+    ) -> Result<(u8, u64, Option<Vec<u8>>), ZmtpError> {
+        let (flags, size) = self.read_frame_head(deadline, what)?;
+        if size > budget {
+            let mut sink = [0u8; 1 << 16];
+            let mut left = size;
+            while left > 0 {
+                let n = left.min(sink.len() as u64) as usize;
+                self.read_exact(&mut sink[..n], deadline, what)?;
+                left -= n as u64;
+            }
+            return Ok((flags, size, None));
+        }
+        let mut body = vec![0u8; size as usize];
+        self.read_exact(&mut body, deadline, what)?;
+        Ok((flags, size, Some(body)))
+    }
+
     fn read_frame(&mut self, deadline: Instant, what: &str) -> Result<(u8, Vec<u8>), ZmtpError> {
+        let (flags, _, body) = self.read_frame_within(deadline, what, FRAME_MAX)?;
+        Ok((flags, body.unwrap_or_default()))
+    }
+
+    /// A frame's flags and size, checked.
+    fn read_frame_head(&mut self, deadline: Instant, what: &str) -> Result<(u8, u64), ZmtpError> {
         let mut flags = [0u8; 1];
         self.read_exact(&mut flags, deadline, what)?;
         let flags = flags[0];
@@ -213,9 +258,7 @@ impl Req {
                 "a frame of {size} bytes is more than btx accepts ({FRAME_MAX}) ({what})"
             )));
         }
-        let mut body = vec![0u8; size as usize];
-        self.read_exact(&mut body, deadline, what)?;
-        Ok((flags, body))
+        Ok((flags, size))
     }
 
     /// Sends an empty delimiter frame (as REQ and REP put before every
@@ -238,21 +281,54 @@ impl Req {
 
     /// Sends a multipart request and returns the reply's parts.
     pub fn request(&mut self, parts: &[&[u8]]) -> Result<Vec<Vec<u8>>, ZmtpError> {
-        self.send(parts)?;
-        let deadline = Instant::now() + self.timeout;
-        self.receive(deadline)
+        self.request_max(parts, MESSAGE_MAX).and_then(|r| {
+            r.map_err(|Oversize(n)| {
+                self.err(format!(
+                    "a reply of {n} bytes is more than btx accepts ({MESSAGE_MAX})"
+                ))
+            })
+        })
     }
 
-    /// A message's parts after its empty delimiter, read before `deadline`.
-    fn receive(&mut self, deadline: Instant) -> Result<Vec<Vec<u8>>, ZmtpError> {
+    /// Sends a multipart request; the reply's parts, or how big it was
+    /// when it held more than `max` bytes (read through and dropped).
+    pub fn request_max(
+        &mut self,
+        parts: &[&[u8]],
+        max: u64,
+    ) -> Result<Result<Vec<Vec<u8>>, Oversize>, ZmtpError> {
+        self.send(parts)?;
+        let deadline = Instant::now() + self.timeout;
+        self.receive(deadline, max)
+    }
+
+    /// A message's parts after its empty delimiter, read before `deadline`;
+    /// past `max` bytes across its parts, the rest is read and dropped.
+    fn receive(
+        &mut self,
+        deadline: Instant,
+        max: u64,
+    ) -> Result<Result<Vec<Vec<u8>>, Oversize>, ZmtpError> {
         let mut reply = Vec::new();
         let mut delimited = false;
+        let mut total = 0u64;
+        let mut over = false;
         loop {
-            let (flags, body) = self.read_frame(deadline, "the reply")?;
+            let budget = if over { 0 } else { max - total };
+            let (flags, size, body) = self.read_frame_within(deadline, "the reply", budget)?;
             if flags & COMMAND != 0 {
                 // PING and the like carry no reply: skip them.
                 continue;
             }
+            total = total.saturating_add(size);
+            let Some(body) = body.filter(|_| !over) else {
+                over = true;
+                reply.clear();
+                if flags & MORE == 0 {
+                    return Ok(Err(Oversize(total)));
+                }
+                continue;
+            };
             if !delimited {
                 if !body.is_empty() {
                     return Err(self.err("the message does not start with the empty delimiter"));
@@ -268,35 +344,60 @@ impl Req {
                 break;
             }
         }
-        Ok(reply)
+        Ok(Ok(reply))
     }
 }
 
 /// What a server does with a request's parts: the reply's parts.
 pub type Answer = std::sync::Arc<dyn Fn(&[Vec<u8>]) -> Vec<Vec<u8>> + Send + Sync>;
 
-/// Serves REQ clients on `listener`, a thread per connection, until
-/// `stop`: each request's parts go to `answer`, and its parts are the reply.
-/// A client that breaks the protocol loses its connection, not the server.
+/// Serves REQ clients on `listener`, at most `CONNECTIONS_MAX` at once
+/// (a thread each; more are refused with a line on stderr), until `stop`:
+/// each request's parts go to `answer`, and its parts are the reply. A
+/// client that breaks the protocol, sends a request over `REQUEST_MAX`
+/// bytes or stays silent `IDLE_MAX` loses its connection, not the server.
 pub fn serve_rep(
     listener: std::net::TcpListener,
     answer: Answer,
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
 ) -> std::io::Result<()> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
     listener.set_nonblocking(true)?;
     let endpoint = listener.local_addr()?.to_string();
+    let open = std::sync::Arc::new(AtomicUsize::new(0));
+    let mut refused_said = Instant::now() - Duration::from_secs(60);
     while !stop.load(std::sync::atomic::Ordering::Relaxed) {
         match listener.accept() {
             Ok((stream, peer)) => {
+                if open.load(Ordering::Relaxed) >= CONNECTIONS_MAX {
+                    drop(stream);
+                    // Said at most once a second, however many knock.
+                    if refused_said.elapsed() >= Duration::from_secs(1) {
+                        refused_said = Instant::now();
+                        eprintln!("{endpoint}: refused a client ({peer}): {CONNECTIONS_MAX} are connected, the most btx serves at once");
+                    }
+                    continue;
+                }
                 let answer = std::sync::Arc::clone(&answer);
                 let stop = std::sync::Arc::clone(&stop);
-                let endpoint = format!("{endpoint} (client {peer})");
-                std::thread::spawn(move || {
+                let client = format!("{endpoint} (client {peer})");
+                // Counted out however the connection ends, or if its
+                // thread cannot start.
+                struct Leaving(std::sync::Arc<AtomicUsize>);
+                impl Drop for Leaving {
+                    fn drop(&mut self) {
+                        self.0.fetch_sub(1, Ordering::Relaxed);
+                    }
+                }
+                open.fetch_add(1, Ordering::Relaxed);
+                let leaving = Leaving(std::sync::Arc::clone(&open));
+                let spawned = std::thread::Builder::new().spawn(move || {
+                    let _leaving = leaving;
                     let _ = stream.set_nonblocking(false);
                     let _ = stream.set_nodelay(true);
                     let mut conn = Req {
                         stream,
-                        endpoint,
+                        endpoint: client,
                         timeout: Duration::from_secs(5),
                     };
                     if conn.handshake(b"REP", &[b"REQ", b"DEALER"]).is_err() {
@@ -305,10 +406,9 @@ pub fn serve_rep(
                     while !stop.load(std::sync::atomic::Ordering::Relaxed) {
                         // A client may stay quiet for long: wait in slices so
                         // that the server can stop.
-                        let request = match conn.receive(Instant::now() + Duration::from_secs(3600))
-                        {
-                            Ok(r) => r,
-                            Err(_) => return,
+                        let request = match conn.receive(Instant::now() + IDLE_MAX, REQUEST_MAX) {
+                            Ok(Ok(r)) => r,
+                            _ => return,
                         };
                         let reply = answer(&request);
                         let parts: Vec<&[u8]> = reply.iter().map(Vec::as_slice).collect();
@@ -317,6 +417,9 @@ pub fn serve_rep(
                         }
                     }
                 });
+                if let Err(e) = spawned {
+                    eprintln!("{endpoint}: cannot serve a client: {e}");
+                }
             }
             Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                 std::thread::sleep(Duration::from_millis(20))

@@ -221,7 +221,23 @@ impl SessionWriter {
             transitions: 0,
             kept: (0, 0),
         };
-        w.line(&serde_json::to_value(header).expect("headers serialise"))?;
+        let line = serde_json::to_string(header).expect("headers serialise");
+        if line.len() > HEADER_MAX {
+            drop(w);
+            let _ = std::fs::remove_file(Self::partial_path(path));
+            return Err(Located::file(
+                path,
+                format!(
+                    "the session's header would be {} bytes, more than btx reads back ({} MiB): the tree is too large to record",
+                    line.len(),
+                    HEADER_MAX >> 20
+                ),
+            ));
+        }
+        w.out
+            .write_all(line.as_bytes())
+            .and_then(|()| w.out.write_all(b"\n"))
+            .map_err(|e| w.failed(e))?;
         w.flush()?;
         Ok(w)
     }
@@ -443,6 +459,10 @@ fn fast_transition(line: &str) -> Option<Record> {
 /// than a 1 MiB script string escaped (at most 6 bytes a byte); a longer line
 /// would cost up to 60 times its size once parsed into values.
 pub const RECORD_MAX: usize = 8 << 20;
+/// The longest header line (the tree's XML, the blackboard and the nodes'
+/// states when the run began): btx writes no longer one, and refuses to
+/// read one, before parsing it.
+pub const HEADER_MAX: usize = 16 << 20;
 
 /// Reads one record line.
 pub fn parse_record(line: &str) -> Result<Record, String> {

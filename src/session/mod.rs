@@ -66,6 +66,16 @@ impl Session {
         let Some(&(_, first)) = lines.first() else {
             return Err(Located::at(path, text, 0, 0, "the session is empty"));
         };
+        if first.len() > format::HEADER_MAX {
+            return Err(Located::file(
+                path,
+                format!(
+                    "line 1: a session header of {} bytes: a header (the tree, its blackboard and the nodes' states) is at most {} MiB",
+                    first.len(),
+                    format::HEADER_MAX >> 20
+                ),
+            ));
+        }
         let header: Header = serde_json::from_str(first.trim_end()).map_err(|e| {
             err_at(
                 0,

@@ -311,3 +311,22 @@ fn a_watch_that_cannot_write_stops_saying_so_and_a_closed_stdout_keeps_recording
     assert_eq!(kept.index.transitions.len(), said);
     assert!(said > 20, "recording went on after the pipe closed: {err}");
 }
+
+#[test]
+fn a_session_header_past_its_bound_is_refused_before_it_is_parsed() {
+    // A 40 MB header line aborted `btx log` (#26 item 5).
+    let (mut header, rest) = case_study_header();
+    let xml = header["tree"]["xml"].as_str().unwrap().to_string();
+    header["tree"]["xml"] = format!("{xml}<!--{}-->", "x".repeat(40 << 20)).into();
+    let dir = tempfile::tempdir().unwrap();
+    let f = write(dir.path(), "big.jsonl", &format!("{header}\n{rest}"));
+    let r = btx_run(&["log", &f]);
+    assert_eq!(r.code, Some(1), "{}", r.err);
+    assert!(
+        one_line(&r.err).contains(
+            "a header (the tree, its blackboard and the nodes' states) is at most 16 MiB"
+        ),
+        "{}",
+        r.err
+    );
+}

@@ -1,0 +1,232 @@
+//! Hostile Groot2 peers (#26 items 3 and 4): a server of this test's own,
+//! speaking the protocol through btx's ZMTP layer but answering what no
+//! publisher would (a start time of i64::MIN, millions of transitions in
+//! one reply, a blackboard of megabytes), and clients that knock too often.
+
+use super::outputs::served;
+use super::*;
+use btx::live::{groot2, serve::Replay, zmtp};
+use btx::session::Session;
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// A Groot2 server on a free port that answers as `btx serve` would play
+/// `run`, except where `odd` answers otherwise (given the request's parts
+/// and the reply's header); stopped when the returned flag is set.
+fn hostile(
+    run: &str,
+    odd: impl Fn(&[Vec<u8>], Vec<u8>) -> Option<Vec<Vec<u8>>> + Send + Sync + 'static,
+) -> (u16, Arc<AtomicBool>) {
+    let s = Session::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join(run)).unwrap();
+    let replay = Replay::new(s, 50.0);
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let stop = Arc::new(AtomicBool::new(false));
+    let answer: zmtp::Answer = Arc::new(move |parts: &[Vec<u8>]| {
+        let normal = replay.answer(parts);
+        odd(parts, normal[0].clone()).unwrap_or(normal)
+    });
+    let halt = Arc::clone(&stop);
+    std::thread::spawn(move || zmtp::serve_rep(listener, answer, halt));
+    (port, stop)
+}
+
+fn kind(parts: &[Vec<u8>]) -> u8 {
+    parts.first().and_then(|h| h.get(1)).copied().unwrap_or(0)
+}
+
+#[test]
+fn a_first_tick_larger_than_the_publishers_buffer_is_kept_whole() {
+    // 4,005 transitions in tick 1: "0 transitions written" and a gap
+    // claiming btx attached to a robot already running (#26 item 3).
+    let dir = tempfile::tempdir().unwrap();
+    let leaves: String = (0..2001).map(|_| "<AlwaysSuccess/>").collect();
+    let tree = write(
+        dir.path(),
+        "wide.xml",
+        &format!(
+            "<root BTCPP_format=\"4\"><BehaviorTree ID=\"Main\"><Sequence>{leaves}</Sequence></BehaviorTree></root>"
+        ),
+    );
+    let plan = write(dir.path(), "empty.plan", "");
+    let run = dir.path().join("wide.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        &tree,
+        "--plan",
+        &plan,
+        "--max-ticks",
+        "1",
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let original = Session::load(&run).unwrap();
+    assert!(original.index.tick_range(1).len() > 4000);
+    let (port, mut server) = served(run.to_str().unwrap(), "0.1", "60");
+    let out = dir.path().join("w.jsonl");
+    let (ok, _, err) = btx(&[
+        "watch",
+        &format!(":{port}"),
+        "--for",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let _ = server.kill();
+    assert!(ok, "{err}");
+    let kept = Session::load(&out).unwrap();
+    assert_eq!(kept.index.transitions, original.index.transitions, "{err}");
+    assert!(kept.index.gaps.is_empty(), "{:?}", kept.index.gaps);
+}
+
+#[test]
+fn a_start_time_that_cannot_be_right_is_said_and_the_transitions_kept() {
+    // `r start` answered i64::MIN: "0 transitions written", no warning.
+    let (port, stop) = hostile("sessions/kitting-nominal.jsonl", |parts, head| {
+        (kind(parts) == b'r' && parts.get(1).map(Vec::as_slice) == Some(b"start"))
+            .then(|| vec![head, i64::MIN.to_string().into_bytes()])
+    });
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("w.jsonl");
+    let (ok, _, err) = btx(&[
+        "watch",
+        &format!(":{port}"),
+        "--for",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    assert!(ok, "{err}");
+    assert!(err.contains("which cannot be right"), "{err}");
+    let kept = Session::load(&out).unwrap();
+    let original = Session::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/kitting-nominal.jsonl"),
+    )
+    .unwrap();
+    assert_eq!(
+        kept.index.transitions.len(),
+        original.index.transitions.len(),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_server_flooding_transitions_is_read_in_bounded_memory() {
+    // 7·10^6 transitions in `t` replies aborted watch at 1.29 GB (#26 item 4).
+    let flood: Arc<Vec<u8>> = Arc::new({
+        let mut b = Vec::with_capacity(9 * 7_000_000);
+        for i in 0..7_000_000u64 {
+            b.extend_from_slice(&i.to_le_bytes()[..6]);
+            b.extend_from_slice(&1u16.to_le_bytes());
+            b.push(if i % 2 == 0 { 1 } else { 2 });
+        }
+        b
+    });
+    let (port, stop) = hostile("sessions/kitting-nominal.jsonl", move |parts, head| {
+        (kind(parts) == b't').then(|| vec![head, flood.to_vec()])
+    });
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("w.jsonl");
+    let r = btx_run(&[
+        "watch",
+        &format!(":{port}"),
+        "--for",
+        "3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(
+        r.err.contains("more than the 100000 btx reads at once"),
+        "{}",
+        r.err
+    );
+    assert!(r.peak_kib < 400 << 10, "peak {} MiB", r.peak_kib >> 10);
+    assert!(Session::load(&out).is_ok());
+}
+
+#[test]
+fn a_blackboard_past_the_cap_is_refused_with_its_size() {
+    let big = Arc::new(
+        rmp_serde::to_vec_named(&serde_json::json!({
+            "MainTree": {"junk": "x".repeat(3 << 20)}
+        }))
+        .unwrap(),
+    );
+    let (port, stop) = hostile("sessions/kitting-nominal.jsonl", move |parts, head| {
+        (kind(parts) == b'B').then(|| vec![head, big.to_vec()])
+    });
+    let mut c =
+        groot2::Client::connect(&format!("127.0.0.1:{port}"), Duration::from_secs(2)).unwrap();
+    let e = c.blackboards(&["MainTree".into()]).unwrap_err().to_string();
+    assert!(
+        e.contains("3072 KiB, more than the 1024 KiB btx reads of one; not shown"),
+        "{e}"
+    );
+    // The connection is still in step: the next request is answered.
+    assert!(c.tree_xml().is_ok());
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+}
+
+#[test]
+fn btx_serve_bounds_its_clients_and_closes_idle_ones() {
+    // 355 idle connections panicked it: "failed to spawn thread" (#26 item 4).
+    let mut server = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args([
+            "serve",
+            "sessions/kitting-nominal.jsonl",
+            "--port",
+            "0",
+            "--for",
+            "30",
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = std::io::BufReader::new(server.stderr.take().unwrap());
+    let mut line = String::new();
+    std::io::BufRead::read_line(&mut err, &mut line).unwrap();
+    let port: u16 = line
+        .rsplit_once("127.0.0.1:")
+        .and_then(|(_, p)| p.split_whitespace().next())
+        .and_then(|p| p.parse().ok())
+        .unwrap();
+    // Fewer than the listen backlog (128), so that none waits to connect.
+    let knocked = Instant::now();
+    let idle: Vec<_> = (0..100)
+        .filter_map(|_| std::net::TcpStream::connect(("127.0.0.1", port)).ok())
+        .collect();
+    std::thread::sleep(Duration::from_millis(300));
+    line.clear();
+    std::io::BufRead::read_line(&mut err, &mut line).unwrap();
+    assert!(
+        line.contains("refused a client") && line.contains("64 are connected"),
+        "{line}"
+    );
+    // Idle past the heartbeat, they are let go, and a client is served.
+    loop {
+        let ok = groot2::Client::connect(&format!("127.0.0.1:{port}"), Duration::from_secs(1))
+            .and_then(|mut c| c.tree_xml())
+            .is_ok();
+        if ok {
+            break;
+        }
+        assert!(
+            knocked.elapsed() < Duration::from_secs(12),
+            "never served again"
+        );
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    assert!(
+        knocked.elapsed() >= Duration::from_secs(4),
+        "the idle ones held their places until the heartbeat time"
+    );
+    drop(idle);
+    let _ = server.kill();
+    assert!(server.wait().unwrap().code().is_none_or(|c| c != 101));
+}

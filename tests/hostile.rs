@@ -954,3 +954,59 @@ fn number_options_refuse_nan_infinities_and_negatives() {
     assert!(!err.contains(":0 with"), "{err}");
     assert!(err.contains("on 127.0.0.1:"), "{err}");
 }
+
+#[test]
+fn domain_ranges_are_finite_and_domain_comparisons_exact() {
+    // `min = -inf, max = inf` gave "If X had been null, …" ten times, and
+    // `1e-30 > 0.0` was false in a domain script (#26 item 8).
+    let dir = tempfile::tempdir().unwrap();
+    let tree = write(
+        dir.path(),
+        "t.xml",
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence><L0/></Sequence></BehaviorTree>
+<TreeNodesModel><Condition ID="L0"/></TreeNodesModel></root>"#,
+    );
+    let domain = |range: &str, test: &str| {
+        format!(
+            "btx_domain = 1\nname = \"tiny\"\n[state.X]\ntype = \"float\"\n{range}\ninitial = 1e-30\n[leaf.L0]\ninputs = [\"X\"]\nstatus = \"if {test} {{ SUCCESS }} else {{ FAILURE }}\"\n"
+        )
+    };
+    let d = write(
+        dir.path(),
+        "inf.toml",
+        &domain("min = -inf\nmax = inf", "X > 0.0"),
+    );
+    let out = dir.path().join("inf.jsonl");
+    let (code, _, err) = btx_code(&["run", &tree, "--domain", &d, "--out", out.to_str().unwrap()]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        one_line(&err).contains("X: min is -inf; a range's bounds are finite numbers"),
+        "{err}"
+    );
+    for (i, test) in ["X > 0.0", "1e-30 > 0.0", "X != 0.0", "X > 0", "0.0 < X"]
+        .iter()
+        .enumerate()
+    {
+        let d = write(
+            dir.path(),
+            &format!("d{i}.toml"),
+            &domain("min = 0.0\nmax = 1.0", test),
+        );
+        let out = dir.path().join(format!("s{i}.jsonl"));
+        let (code, _, err) = btx_code(&[
+            "run",
+            &tree,
+            "--domain",
+            &d,
+            "--max-ticks",
+            "1",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(0), "{test}: {err}");
+        assert!(
+            err.contains("root SUCCESS"),
+            "{test} is true of 1e-30: {err}"
+        );
+    }
+}

@@ -345,7 +345,28 @@ fn new_engine() -> Engine {
     });
     e.register_fn("next_seed", |seed: i64| (splitmix(seed as u64) >> 1) as i64);
     e.register_fn("clamp", |x: f64, lo: f64, hi: f64| x.max(lo).min(hi));
+    exact_comparisons(&mut e);
     e
+}
+
+/// Rhai compares floats within an epsilon (`1e-30 > 0.0` is false there);
+/// a domain's rules compare as IEEE 754 does, as the robot's code would.
+/// Registered operators are seen only with fast operators off.
+fn exact_comparisons(e: &mut Engine) {
+    e.set_fast_operators(false);
+    macro_rules! ops {
+        ($a:ty, $b:ty) => {
+            e.register_fn("==", |x: $a, y: $b| x as f64 == y as f64);
+            e.register_fn("!=", |x: $a, y: $b| x as f64 != y as f64);
+            e.register_fn("<", |x: $a, y: $b| (x as f64) < (y as f64));
+            e.register_fn("<=", |x: $a, y: $b| x as f64 <= y as f64);
+            e.register_fn(">", |x: $a, y: $b| x as f64 > y as f64);
+            e.register_fn(">=", |x: $a, y: $b| x as f64 >= y as f64);
+        };
+    }
+    ops!(f64, f64);
+    ops!(f64, i64);
+    ops!(i64, f64);
 }
 
 /// Where a script's text starts, inside its TOML string.
@@ -449,6 +470,12 @@ impl Domain {
                 match x {
                     None => Ok(None),
                     Some(toml::Value::Integer(i)) => Ok(Some(*i as f64)),
+                    // A search tries values between min and max: an
+                    // infinite bound has no values to try.
+                    Some(toml::Value::Float(f)) if !f.is_finite() => Err(d.err(
+                        span.clone(),
+                        format!("{name}: {what} is {f}; a range's bounds are finite numbers (the search tries values between them)"),
+                    )),
                     Some(toml::Value::Float(f)) => Ok(Some(*f)),
                     Some(_) => Err(d.err(span.clone(), format!("{name}: {what} must be a number"))),
                 }

@@ -125,7 +125,9 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
 /// record is left out until it is whole.
 pub struct Follow {
     path: std::path::PathBuf,
-    seen: Option<(u64, Option<std::time::SystemTime>)>,
+    /// The file (inode), its length and time when last read: a file
+    /// replaced by another of the same length and time is read again too.
+    seen: Option<(u64, u64, Option<std::time::SystemTime>)>,
 }
 
 impl Follow {
@@ -140,7 +142,11 @@ impl Follow {
     pub fn poll(&mut self) -> Result<Option<Session>, Located> {
         let meta = std::fs::metadata(&self.path)
             .map_err(|e| Located::file(&self.path, format!("cannot read: {e}")))?;
-        let stamp = (meta.len(), meta.modified().ok());
+        let stamp = (
+            std::os::unix::fs::MetadataExt::ino(&meta),
+            meta.len(),
+            meta.modified().ok(),
+        );
         if self.seen == Some(stamp) {
             return Ok(None);
         }

@@ -177,6 +177,9 @@ pub(super) struct Grown {
     header: bool,
     /// The tick of each row printed.
     ticks: Vec<u32>,
+    /// The node and status of each row printed: a file that no longer
+    /// starts with them was truncated or replaced.
+    rows: Vec<(btx::Uid, btx::run::Status)>,
     /// The first rows are waiting for more ticks.
     held: bool,
 }
@@ -204,6 +207,26 @@ impl Grown {
         settle: bool,
     ) {
         let rows = btx::export::log_rows(s, only, no_idle);
+        let changed = if self
+            .rows
+            .iter()
+            .zip(&rows)
+            .any(|(p, r)| *p != (r.uid, r.status))
+        {
+            Some("replaced by another run")
+        } else if rows.len() < self.rows.len() {
+            Some("truncated or shrunk")
+        } else {
+            None
+        };
+        if let Some(why) = changed {
+            eprintln!(
+                "note: {} was {why}: its {} rows printed are not the start of what it holds now; following it again from its start",
+                s.path.display(),
+                self.rows.len()
+            );
+            *self = Grown::default();
+        }
         if self.ticks.is_empty() && !self.header {
             let ticks = 1 + rows.windows(2).filter(|w| w[0].tick != w[1].tick).count();
             self.held = settle && ticks < SETTLE_TICKS;
@@ -238,5 +261,6 @@ impl Grown {
         };
         print!("{out}");
         self.ticks.extend(new.iter().map(|r| r.tick));
+        self.rows.extend(new.iter().map(|r| (r.uid, r.status)));
     }
 }

@@ -317,10 +317,25 @@ fn a_session_header_past_its_bound_is_refused_before_it_is_parsed() {
     // A 40 MB header line aborted `btx log` (#26 item 5).
     let (mut header, rest) = case_study_header();
     let xml = header["tree"]["xml"].as_str().unwrap().to_string();
-    header["tree"]["xml"] = format!("{xml}<!--{}-->", "x".repeat(40 << 20)).into();
+    header["tree"]["xml"] = format!("{xml}<!--PAD-->").into();
+    let text = header.to_string();
+    let (before, after) = text.split_once("PAD").unwrap();
+    // Written in pieces: this process's memory counts in the peaks
+    // measured here.
     let dir = tempfile::tempdir().unwrap();
-    let f = write(dir.path(), "big.jsonl", &format!("{header}\n{rest}"));
-    let r = btx_run(&["log", &f]);
+    let f = dir.path().join("big.jsonl");
+    let mut w = std::io::BufWriter::new(std::fs::File::create(&f).unwrap());
+    use std::io::Write;
+    w.write_all(before.as_bytes()).unwrap();
+    let piece = [b'x'; 1 << 16];
+    for _ in 0..(40 << 20) / piece.len() {
+        w.write_all(&piece).unwrap();
+    }
+    w.write_all(after.as_bytes()).unwrap();
+    writeln!(w).unwrap();
+    w.write_all(rest.as_bytes()).unwrap();
+    drop(w);
+    let r = btx_run(&["log", f.to_str().unwrap()]);
     assert_eq!(r.code, Some(1), "{}", r.err);
     assert!(
         one_line(&r.err).contains(
@@ -329,4 +344,64 @@ fn a_session_header_past_its_bound_is_refused_before_it_is_parsed() {
         "{}",
         r.err
     );
+    assert!(r.peak_kib < 200 << 10, "{} KiB", r.peak_kib);
+}
+
+#[test]
+fn follow_says_when_its_file_is_truncated_or_replaced_and_starts_again() {
+    // `log --follow` went silent or showed wrong rows (#26 item 9).
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let failing =
+        std::fs::read_to_string(root.join("sessions/kitting-lookat-fails-once.jsonl")).unwrap();
+    let nominal = std::fs::read_to_string(root.join("sessions/kitting-nominal.jsonl")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("followed.jsonl");
+    std::fs::write(&f, &failing).unwrap();
+    let (out, err) = (dir.path().join("out"), dir.path().join("err"));
+    let mut child = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["log", "--follow"])
+        .arg(&f)
+        .stdout(std::fs::File::create(&out).unwrap())
+        .stderr(std::fs::File::create(&err).unwrap())
+        .spawn()
+        .unwrap();
+    let wait_for = |what: &dyn Fn(&str, &str) -> bool| {
+        let started = Instant::now();
+        loop {
+            let (o, e) = (
+                std::fs::read_to_string(&out).unwrap_or_default(),
+                std::fs::read_to_string(&err).unwrap_or_default(),
+            );
+            if what(&o, &e) {
+                return (o, e);
+            }
+            assert!(
+                started.elapsed() < Duration::from_secs(15),
+                "stdout:\n{o}\nstderr:\n{e}"
+            );
+            std::thread::sleep(Duration::from_millis(100));
+        }
+    };
+    let rows = |o: &str| o.lines().filter(|l| l.contains("->")).count();
+    let whole = Session::load(&f).unwrap().index.transitions.len();
+    let (o, _) = wait_for(&|o, _| rows(o) == whole);
+    // Replaced (renamed over) by another run of the same tree.
+    let tmp = dir.path().join("next.jsonl");
+    std::fs::write(&tmp, &nominal).unwrap();
+    std::fs::rename(&tmp, &f).unwrap();
+    let (o2, e) = wait_for(&|_, e| e.contains("was replaced by another run"));
+    assert!(e.contains("following it again from its start"), "{e}");
+    let (o2, _) = wait_for(&|o2, _| rows(o2) >= rows(&o) + 20);
+    // Truncated to its header and a few records.
+    let cut: String = nominal.lines().take(6).map(|l| format!("{l}\n")).collect();
+    std::fs::write(&f, &cut).unwrap();
+    wait_for(&|_, e| e.contains("was truncated or shrunk"));
+    let (o3, e) = wait_for(&|o3, _| rows(o3) > rows(&o2));
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(
+        rows(&o3) > rows(&o2),
+        "the rows it holds now are printed again: {o3}"
+    );
+    assert!(!e.contains("panicked"), "{e}");
 }

@@ -389,7 +389,7 @@ fn follow_says_when_its_file_is_truncated_or_replaced_and_starts_again() {
     let tmp = dir.path().join("next.jsonl");
     std::fs::write(&tmp, &nominal).unwrap();
     std::fs::rename(&tmp, &f).unwrap();
-    let (o2, e) = wait_for(&|_, e| e.contains("was replaced by another run"));
+    let (_, e) = wait_for(&|_, e| e.contains("was replaced by another run"));
     assert!(e.contains("following it again from its start"), "{e}");
     let (o2, _) = wait_for(&|o2, _| rows(o2) >= rows(&o) + 20);
     // Truncated to its header and a few records.

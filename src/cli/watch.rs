@@ -21,9 +21,6 @@ pub struct Args {
     pub format: Format,
 }
 
-/// How often the table grows on screen.
-const PRINT: Duration = Duration::from_millis(100);
-
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let ep = groot2::endpoint(args.endpoint.as_deref().unwrap_or(""));
     let _claim = match &args.out {
@@ -43,11 +40,12 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let deadline = args
         .for_secs
         .map(|s| Instant::now() + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+    feed.print_rows();
+    // Names the nodes of the rows printed.
+    let shell = feed.session()?;
+    let mut header = false;
     let mut gaps_said = 0usize;
-    let mut grown = super::log::Grown::default();
-    let mut first: Option<Instant> = None;
-    let mut last = None;
-    let mut warned = std::collections::HashSet::new();
+    let mut notes_said = 0usize;
     let mut said: Option<String> = None;
     let mut closed_said = false;
     loop {
@@ -73,33 +71,32 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             || (closed && args.out.is_none());
         if done {
             feed.halt();
+        } else {
+            feed.poll();
         }
-        let fresh = match feed.news(if done { Duration::ZERO } else { PRINT }) {
-            Some(s) => {
-                let s = s?;
-                // Gaps are said below as they come; other warnings (ticks
-                // told apart by timing) once each.
-                for w in s
-                    .warnings
-                    .iter()
-                    .filter(|w| !w.message.starts_with("gap: "))
-                {
-                    if !cli.quiet && warned.insert(w.to_string()) {
-                        eprintln!("{w}");
+        for n in &feed.notes[notes_said..] {
+            if !cli.quiet {
+                eprintln!("warning: {ep}: {n}");
+            }
+        }
+        notes_said = feed.notes.len();
+        // Each tick is printed once numbered: the numbers are final.
+        let rows = feed.take_rows();
+        if !closed && !rows.is_empty() {
+            let out = match args.format {
+                Format::Json => btx::export::log_json_lines(&shell, &rows),
+                Format::Text => {
+                    let t = btx::export::log_text(&shell, &rows);
+                    if header {
+                        t.split_once('\n')
+                            .map_or(String::new(), |x| x.1.to_string())
+                    } else {
+                        header = true;
+                        t
                     }
                 }
-                last = Some(s);
-                first.get_or_insert_with(Instant::now);
-                true
-            }
-            None => false,
-        };
-        // The first rows wait a little for the robot's tick period (see
-        // `Grown`), never more than 2 s, and are printed then even if the
-        // run did not grow since.
-        if let Some(s) = last.as_ref().filter(|_| !closed && (fresh || grown.held())) {
-            let settle = !done && first.is_some_and(|f| f.elapsed() < Duration::from_secs(2));
-            grown.print(s, None, false, args.format, settle);
+            };
+            print!("{out}");
         }
         if let Some(e) = feed.write_error.take() {
             feed.halt();
@@ -121,7 +118,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-    let n = feed.records.len();
+    let n = feed.transitions();
     if let (false, Some((median, p99))) = (cli.quiet, feed.latency_ms()) {
         eprintln!("{n} transitions; from the robot to here: median {median:.1} ms, 99th percentile {p99:.1} ms");
     }

@@ -5,6 +5,7 @@
 //! far is a session built by the same code as a `.btlog`'s.
 
 pub mod groot2;
+pub mod recorder;
 pub mod serve;
 pub mod zmtp;
 
@@ -450,10 +451,10 @@ struct Blackboards {
     got: Option<LiveBlackboard>,
 }
 
-/// What the polling thread hands over: the transitions since the last
-/// batch, the gaps among them, the status.
+/// What the polling thread hands over: the transitions numbered since the
+/// last batch, the gaps and resyncs among them, the status.
 struct Batch {
-    records: Vec<Record>,
+    numbered: Vec<(Record, u32)>,
     latency_us: Vec<i64>,
     gaps: Vec<Gap>,
     resyncs: Vec<(usize, Vec<Before>)>,
@@ -462,36 +463,32 @@ struct Batch {
 }
 
 /// A live run watched from a thread of its own, which does nothing but
-/// empty the server's buffer every 10 ms, so that however long the run
-/// takes to turn into a session (its ticks reconstructed, `OUT.partial`
-/// written), no transition is lost. The run and the session are built on
-/// the caller's side, at its pace.
+/// empty the server's buffer every 5 to 25 ms and number the ticks as
+/// transitions arrive (`logs::ticks::Stream`), so that however long the
+/// caller takes, no transition is lost. The caller keeps the run
+/// (`recorder::Recorder`): streamed to `OUT.partial`, and a bounded view.
 pub struct Feed {
     rx: std::sync::mpsc::Receiver<Batch>,
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
     thread: Option<std::thread::JoinHandle<()>>,
     pub status: LiveStatus,
     blackboards: std::sync::Arc<std::sync::Mutex<Blackboards>>,
-    /// The tree's XML, the nodes' states when recording began, and the
-    /// whole run so far.
+    /// The tree's XML, the nodes' states when recording began.
     xml: String,
-    resyncs: Vec<(usize, Vec<Before>)>,
-    pub records: Vec<Record>,
+    before: Vec<(usize, Vec<Before>)>,
+    recorder: recorder::Recorder,
+    /// Every gap, as said (`btx watch` prints them as they come); bounded
+    /// as the view is.
     pub gaps: Vec<Gap>,
-    /// What the server said that cannot be right (`start_time`).
+    /// What the server said that cannot be right, or how ticks were told.
     pub notes: Vec<String>,
-    /// Per record, µs from the robot to here (see `Watch::latency_us`).
-    pub latency_us: Vec<i64>,
-    out: Option<std::path::PathBuf>,
-    /// When `OUT.partial` was last written, how long writing it took, and
-    /// whether the run grew since.
-    saved: std::time::Instant,
-    save_took: Duration,
-    unsaved: bool,
-    /// Transitions in `OUT.partial` as last written whole.
-    pub kept: usize,
-    /// Why `OUT.partial` could not be written (a full disk, `ulimit -f`):
-    /// saving stops, and the caller stops watching and says it.
+    /// A sample of the latency, µs from the robot to here (see
+    /// `Watch::latency_us`): every `latency_every`-th, at most `LATENCY_KEPT`.
+    latency_us: Vec<i64>,
+    latency_every: usize,
+    latency_seen: usize,
+    /// Why the run could not be written (a full disk, `ulimit -f`): the
+    /// caller stops watching and says it.
     pub write_error: Option<Located>,
     /// Whether the run grew since the last session built, and when that was.
     dirty: bool,
@@ -507,89 +504,36 @@ pub struct Feed {
 pub const POLL_MIN: Duration = Duration::from_millis(5);
 pub const POLL_MAX: Duration = Duration::from_millis(25);
 const POLL_TARGET: f64 = 250.0;
-/// `OUT.partial` is written again once the run grew and `SAVE_MIN` has
-/// passed since the last write (so after about every tick of a robot that
-/// ticks every 20 ms or slower), and ten times what that write took (it is
-/// written whole, as ticks may be counted anew: writing takes at most a
-/// tenth of the time however long the run grows).
-pub const SAVE_MIN: Duration = Duration::from_millis(20);
+/// Latency samples kept (for the median and the 99th percentile).
+const LATENCY_KEPT: usize = 1 << 16;
 
 impl Feed {
     /// Connects (an error is returned at once), then watches from a thread;
-    /// with `out`, the run is kept as `OUT.partial` (as it grows, by `poll`)
-    /// and as `OUT` when the feed stops.
+    /// with `out`, the run streams to `OUT.partial` as its ticks are
+    /// numbered, and is `OUT` once the feed stops.
     pub fn start(endpoint: &str, out: Option<std::path::PathBuf>) -> Result<Feed, LiveError> {
         let mut w = Watch::start(endpoint)?;
         // The tree is checked now, not at the first transition.
-        crate::logs::open_live(std::path::Path::new(endpoint), &w.xml, &[], &w.resyncs)
+        let shell = crate::logs::open_live(std::path::Path::new(endpoint), &w.xml, &[], &w.resyncs)
             .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
+        let name = std::path::PathBuf::from(format!("groot2://{endpoint}"));
+        let mut header = shell.header.clone();
+        header.tree.path = Some(name.display().to_string());
+        header.source.path = Some(name.display().to_string());
+        let recorder = recorder::Recorder::new(&shell.tree, out.as_deref(), &header)
+            .map_err(|e| LiveError(e.to_string()))?;
         let (tx, rx) = std::sync::mpsc::channel();
         let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let halt = std::sync::Arc::clone(&stop);
         let status = w.status(0.0, None);
         let xml = w.xml.clone();
-        let resyncs = w.resyncs.clone();
+        let before = w.resyncs.clone();
         let blackboards = std::sync::Arc::new(std::sync::Mutex::new(Blackboards::default()));
         let shared = std::sync::Arc::clone(&blackboards);
+        let tree = shell.tree;
         let thread = std::thread::Builder::new()
             .name("btx-live".into())
-            .spawn(move || {
-                let mut rate = (std::time::Instant::now(), 0usize, 0.0f64);
-                let mut sent = 0usize;
-                // Handed over as they come, so that the thread holds none
-                // for long (a resync holds every node's state).
-                w.resyncs.clear();
-                let mut last = std::time::Instant::now();
-                let mut polled = std::time::Instant::now();
-                let mut every = POLL_MIN;
-                loop {
-                    let halting = halt.load(std::sync::atomic::Ordering::Relaxed);
-                    let since = polled.elapsed();
-                    polled = std::time::Instant::now();
-                    let error = match w.poll() {
-                        Ok(got) => {
-                            let want = since.as_secs_f64() * POLL_TARGET / got.max(1) as f64;
-                            every = Duration::from_secs_f64(want).clamp(POLL_MIN, POLL_MAX);
-                            None
-                        }
-                        Err(e) => Some(e.to_string()),
-                    };
-                    if error.is_none() {
-                        fetch_blackboard(&mut w, &shared);
-                    }
-                    let n = w.received();
-                    if rate.0.elapsed() >= Duration::from_secs(1) {
-                        let dt = rate.0.elapsed().as_secs_f64();
-                        rate = (std::time::Instant::now(), n, (n - rate.1) as f64 / dt);
-                    }
-                    let news = n > sent || !w.gaps.is_empty() || !w.notes.is_empty();
-                    if news
-                        || error.is_some()
-                        || last.elapsed() >= Duration::from_millis(500)
-                        || halting
-                    {
-                        last = std::time::Instant::now();
-                        let batch = Batch {
-                            // Handed over, not kept twice.
-                            records: w.take_records(),
-                            latency_us: std::mem::take(&mut w.latency_us),
-                            gaps: std::mem::take(&mut w.gaps),
-                            resyncs: std::mem::take(&mut w.resyncs),
-                            notes: std::mem::take(&mut w.notes),
-                            status: w.status(rate.2, error.clone()),
-                        };
-                        sent = n;
-                        if tx.send(batch).is_err() || halting {
-                            break;
-                        }
-                    }
-                    std::thread::sleep(if error.is_some() {
-                        Duration::from_millis(500)
-                    } else {
-                        every.saturating_sub(polled.elapsed())
-                    });
-                }
-            })
+            .spawn(move || watching(&mut w, &tree, &tx, &halt, &shared))
             .map_err(|e| LiveError(format!("cannot start watching: {e}")))?;
         Ok(Feed {
             rx,
@@ -598,30 +542,76 @@ impl Feed {
             status,
             blackboards,
             xml,
-            resyncs,
-            records: Vec::new(),
+            before,
+            recorder,
             gaps: Vec::new(),
             notes: Vec::new(),
             latency_us: Vec::new(),
-            out,
-            saved: std::time::Instant::now(),
-            save_took: Duration::ZERO,
-            unsaved: false,
-            kept: 0,
+            latency_every: 1,
+            latency_seen: 0,
             write_error: None,
             dirty: false,
             built: std::time::Instant::now(),
         })
     }
 
+    /// Keeps the rows of transitions as they are taken, for a caller that
+    /// prints them (`take_rows`).
+    pub fn print_rows(&mut self) {
+        self.recorder.rows.get_or_insert_with(Vec::new);
+    }
+
+    /// The rows taken since the last call (see `print_rows`).
+    pub fn take_rows(&mut self) -> Vec<crate::export::LogRow> {
+        self.recorder
+            .rows
+            .as_mut()
+            .map(std::mem::take)
+            .unwrap_or_default()
+    }
+
+    /// Transitions received so far.
+    pub fn transitions(&self) -> usize {
+        self.recorder.written
+    }
+
     fn take(&mut self, b: Batch) -> bool {
-        let grew = !b.records.is_empty() || !b.gaps.is_empty() || !b.notes.is_empty();
+        let grew = !b.numbered.is_empty() || !b.gaps.is_empty() || !b.notes.is_empty();
+        for g in &b.gaps {
+            if self.gaps.len() < recorder::VIEW_MARKS_MAX {
+                self.gaps.push(g.clone());
+            }
+        }
+        for g in b.gaps {
+            self.recorder.gap(g);
+        }
+        for (at, states) in b.resyncs {
+            self.recorder.resync(at, states);
+        }
         self.notes.extend(b.notes);
-        self.records.extend(b.records);
-        self.latency_us.extend(b.latency_us);
-        self.gaps.extend(b.gaps);
-        self.resyncs.extend(b.resyncs);
+        for l in b.latency_us {
+            self.latency_seen += 1;
+            if self.latency_seen.is_multiple_of(self.latency_every) {
+                self.latency_us.push(l);
+                if self.latency_us.len() >= LATENCY_KEPT {
+                    // Every other one goes, and from now on one in twice as many is kept.
+                    let mut i = 0;
+                    self.latency_us.retain(|_| {
+                        i += 1;
+                        i % 2 == 0
+                    });
+                    self.latency_every *= 2;
+                }
+            }
+        }
         self.status = b.status;
+        if !self.recorder.abandoned() {
+            if let Err(e) = self.recorder.take(&b.numbered) {
+                // Nothing more is written: not the whole run either.
+                self.recorder.abandon();
+                self.write_error = Some(e);
+            }
+        }
         grew
     }
 
@@ -639,48 +629,12 @@ impl Feed {
         b.got.clone().filter(|g| b.want.as_ref() == Some(&g.name))
     }
 
-    /// Takes what the thread received; whether the run grew. With `out`,
-    /// writes `OUT.partial` when it is due (`SAVE_MIN`; an error is said in
-    /// the status and tried again).
+    /// Takes what the thread handed over (written to `OUT.partial` as it
+    /// comes); whether the run grew.
     pub fn poll(&mut self) -> bool {
         let mut grew = false;
         while let Ok(b) = self.rx.try_recv() {
             grew |= self.take(b);
-        }
-        self.unsaved |= grew;
-        let due = self.unsaved
-            && self.write_error.is_none()
-            && self.saved.elapsed() >= SAVE_MIN.max(self.save_took * 10);
-        if let Some(out) = self.out.clone().filter(|_| due) {
-            let started = std::time::Instant::now();
-            match self
-                .session()
-                .and_then(|s| crate::logs::write_partial(&s, &out))
-            {
-                Ok(_) => {
-                    self.unsaved = false;
-                    self.kept = self.records.len();
-                }
-                Err(e) => {
-                    // Nothing more is written: not the whole run either.
-                    self.out = None;
-                    let partial = crate::session::SessionWriter::partial_path(&out);
-                    self.write_error = Some(Located::file(
-                        &partial,
-                        format!(
-                            "{}; {}",
-                            e.message,
-                            if self.kept == 0 {
-                                "nothing of the run could be kept".to_string()
-                            } else {
-                                format!("this file keeps the first {} transitions", self.kept)
-                            }
-                        ),
-                    ));
-                }
-            }
-            self.saved = std::time::Instant::now();
-            self.save_took = started.elapsed();
         }
         grew
     }
@@ -697,12 +651,16 @@ impl Feed {
         Some(self.session())
     }
 
-    /// The run so far as a session (ticks reconstructed as for a `.btlog`),
-    /// with each gap as a warning at its place.
+    /// The run so far as a session (at most `recorder::VIEW_MAX`
+    /// transitions), with each gap as a warning at its place.
     pub fn session(&self) -> Result<Session, Located> {
+        let r = &self.recorder;
         let name = std::path::PathBuf::from(format!("groot2://{}", self.status.endpoint));
-        let mut s = crate::logs::open_live(&name, &self.xml, &self.records, &self.resyncs)?;
-        s.index.gaps = self
+        let mut resyncs = self.before.clone();
+        resyncs.extend(r.resyncs.iter().cloned());
+        let mut s =
+            crate::logs::open_live_numbered(&name, &self.xml, &r.kept, &r.numbers, &resyncs)?;
+        s.index.gaps = r
             .gaps
             .iter()
             .map(|g| (g.at as u32, g.why.clone()))
@@ -713,17 +671,31 @@ impl Feed {
                 message: n.clone(),
             });
         }
-        for g in &self.gaps {
+        for g in &r.gaps {
             s.warnings.push(Warning {
                 location: format!("{}: transition {}", name.display(), g.at + 1),
                 message: format!("gap: {}", g.why),
             });
         }
+        if r.unviewed > 0 {
+            s.warnings.push(Warning {
+                location: name.display().to_string(),
+                message: format!(
+                    "the explorer holds the first {} transitions of a live run; the {} after them are {}",
+                    recorder::VIEW_MAX,
+                    r.unviewed,
+                    match r.out() {
+                        Some(o) => format!("in {} (open it once the run is over)", o.display()),
+                        None => "not kept (watch with --out to keep them)".to_string(),
+                    }
+                ),
+            });
+        }
         Ok(s)
     }
 
-    /// Stops watching, takes the last transitions, and with `out` writes
-    /// the whole run there; where it was written.
+    /// Stops watching, takes the last transitions, and with `out` finishes
+    /// the session there; where it was written.
     pub fn stop(mut self) -> Result<Option<std::path::PathBuf>, Located> {
         self.finish()
     }
@@ -739,7 +711,8 @@ impl Feed {
         Some((at(0.5), at(0.99)))
     }
 
-    /// Stops the thread and takes what it still had.
+    /// Stops the thread and takes what it still had (its ticks numbered to
+    /// the end).
     pub fn halt(&mut self) {
         self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
         if let Some(t) = self.thread.take() {
@@ -752,16 +725,115 @@ impl Feed {
 
     fn finish(&mut self) -> Result<Option<std::path::PathBuf>, Located> {
         self.halt();
-        match self.out.take() {
-            Some(out) => crate::logs::write_final(&self.session()?, &out).map(Some),
-            None => Ok(None),
+        if let Some(e) = self.write_error.take() {
+            return Err(e);
         }
+        self.recorder.finish()
     }
 }
 
 impl Drop for Feed {
     fn drop(&mut self) {
         let _ = self.finish();
+    }
+}
+
+/// The live thread: polls, numbers the ticks, hands batches over, until
+/// told to halt (then numbers what is left) or the caller is gone.
+fn watching(
+    w: &mut Watch,
+    tree: &crate::model::Tree,
+    tx: &std::sync::mpsc::Sender<Batch>,
+    halt: &std::sync::atomic::AtomicBool,
+    shared: &std::sync::Mutex<Blackboards>,
+) {
+    let mut ticks = crate::logs::ticks::Stream::new(tree);
+    let mut rate = (std::time::Instant::now(), 0usize, 0.0f64);
+    let mut sent = 0usize;
+    // Handed over as they come, so that the thread holds none for long (a
+    // resync holds every node's state); those at the start are the Feed's.
+    w.resyncs.clear();
+    let (mut fell_back_said, mut capped_said) = (false, false);
+    let mut last = std::time::Instant::now();
+    let mut polled = std::time::Instant::now();
+    let mut every = POLL_MIN;
+    loop {
+        let halting = halt.load(std::sync::atomic::Ordering::Relaxed);
+        let since = polled.elapsed();
+        polled = std::time::Instant::now();
+        let error = match w.poll() {
+            Ok(got) => {
+                let want = since.as_secs_f64() * POLL_TARGET / got.max(1) as f64;
+                every = Duration::from_secs_f64(want).clamp(POLL_MIN, POLL_MAX);
+                None
+            }
+            Err(e) => Some(e.to_string()),
+        };
+        if error.is_none() {
+            fetch_blackboard(w, shared);
+        }
+        let n = w.received();
+        if rate.0.elapsed() >= Duration::from_secs(1) {
+            let dt = rate.0.elapsed().as_secs_f64();
+            rate = (std::time::Instant::now(), n, (n - rate.1) as f64 / dt);
+        }
+        let news = n > sent || !w.gaps.is_empty() || !w.notes.is_empty();
+        if news || error.is_some() || last.elapsed() >= Duration::from_millis(500) || halting {
+            last = std::time::Instant::now();
+            let records = w.take_records();
+            let gaps = std::mem::take(&mut w.gaps);
+            let mut notes = std::mem::take(&mut w.notes);
+            // Each gap's records before it are numbered as they are, and
+            // ticks go by timing after it.
+            let mut numbered = Vec::new();
+            let mut from = 0;
+            for g in &gaps {
+                let upto = records
+                    .iter()
+                    .position(|r| r.offset >= g.at)
+                    .unwrap_or(records.len())
+                    .max(from);
+                numbered.extend(ticks.push(&records[from..upto]));
+                numbered.extend(ticks.gap());
+                from = upto;
+            }
+            numbered.extend(ticks.push(&records[from..]));
+            if halting {
+                numbered.extend(ticks.finish());
+            }
+            if let (Some(at), false) = (ticks.fell_back, fell_back_said) {
+                fell_back_said = true;
+                notes.push(format!(
+                    "from transition {}, the replay could not follow the robot's run; ticks are told apart by timing",
+                    at + 1
+                ));
+            }
+            if let (Some(at), false) = (ticks.capped, capped_said) {
+                capped_said = true;
+                notes.push(format!(
+                    "from transition {}, the timestamps claim more than {} ticks in which nothing changed; a gap counts as one tick",
+                    at + 1,
+                    crate::session::EMPTY_TICKS_MAX
+                ));
+            }
+            let batch = Batch {
+                numbered,
+                latency_us: std::mem::take(&mut w.latency_us),
+                gaps,
+                resyncs: std::mem::take(&mut w.resyncs),
+                notes,
+                status: w.status(rate.2, error.clone()),
+            };
+            sent = n;
+            if tx.send(batch).is_err() || halting {
+                break;
+            }
+        }
+        std::thread::sleep(if error.is_some() {
+            Duration::from_millis(500)
+        } else {
+            every.saturating_sub(polled.elapsed())
+        });
     }
 }
 

@@ -25,6 +25,7 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             records: &raw.records,
             kind: "btlog",
             resyncs: &[],
+            ticks: None,
         },
         &|o| format!("byte offset {o}"),
     )
@@ -42,6 +43,28 @@ pub fn open_live(
     records: &[btlog::Record],
     resyncs: &[(usize, Vec<crate::session::Before>)],
 ) -> Result<Session, Located> {
+    live_session(name, xml, records, None, resyncs)
+}
+
+/// `open_live` for records whose ticks are numbered already, as a live
+/// run's are as they arrive (`ticks::Stream`).
+pub fn open_live_numbered(
+    name: &Path,
+    xml: &str,
+    records: &[btlog::Record],
+    ticks: &[u32],
+    resyncs: &[(usize, Vec<crate::session::Before>)],
+) -> Result<Session, Located> {
+    live_session(name, xml, records, Some(ticks), resyncs)
+}
+
+fn live_session(
+    name: &Path,
+    xml: &str,
+    records: &[btlog::Record],
+    ticks: Option<&[u32]>,
+    resyncs: &[(usize, Vec<crate::session::Before>)],
+) -> Result<Session, Located> {
     let mut s = session_from(
         name,
         LogRun {
@@ -52,6 +75,7 @@ pub fn open_live(
             records,
             kind: "groot2",
             resyncs,
+            ticks,
         },
         &|o| format!("transition {}", o + 1),
     )?;
@@ -75,6 +99,7 @@ pub fn open_db3(path: &Path, which: Option<i64>) -> Result<Session, Located> {
             records: &raw.records,
             kind: "db3",
             resyncs: &[],
+            ticks: None,
         },
         &|o| format!("table Transitions, session {id}, row {o}"),
     )?;
@@ -120,6 +145,7 @@ pub fn open_fbl(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             records: &records,
             kind: "fbl",
             resyncs: &[],
+            ticks: None,
         },
         &|o| format!("byte offset {o}"),
     )
@@ -137,6 +163,8 @@ struct LogRun<'a> {
     /// The nodes' states read from the robot, after how many records (at
     /// 0: when recording began; none: all IDLE then).
     resyncs: &'a [(usize, Vec<crate::session::Before>)],
+    /// The records' ticks when they are numbered already.
+    ticks: Option<&'a [u32]>,
 }
 
 /// A log's run as a session; `place` names where a record is (a byte
@@ -154,6 +182,7 @@ fn session_from(
         records,
         kind,
         resyncs,
+        ticks: numbered,
     } = run;
     let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
     let tree = load_str(
@@ -191,7 +220,14 @@ fn session_from(
         numbers: ticks,
         fell_back,
         capped,
-    } = ticks::reconstruct(&tree, records);
+    } = match numbered {
+        Some(n) => ticks::Ticks {
+            numbers: n.to_vec(),
+            fell_back: None,
+            capped: None,
+        },
+        None => ticks::reconstruct(&tree, records),
+    };
     let at = |i: usize| place(records.get(i).map_or(len, |r| r.offset));
     if let Some(i) = capped {
         warnings.push(Warning {

@@ -16,23 +16,30 @@ use crate::model::{Tree, Uid};
 use crate::run::{Executor, LeafCall, LeafOutcome, Leaves, RunOptions, Status};
 use crate::session::EMPTY_TICKS_MAX;
 
-struct Replay<'a> {
-    recs: &'a [Record],
+#[derive(Clone)]
+struct Replay<R> {
+    recs: R,
     cursor: usize,
     diverged: bool,
+    /// The replay asked for a record past the last one: the tick it was in
+    /// is not whole yet (a live run still arriving).
+    ran_out: bool,
 }
 
-impl Leaves for Replay<'_> {
+impl<R: AsRef<[Record]>> Leaves for Replay<R> {
     fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {
         let now = if call.resumed {
             Status::Running
         } else {
             Status::Idle
         };
-        let status = match self.recs.get(self.cursor) {
+        let status = match self.recs.as_ref().get(self.cursor) {
             // The log ends inside this tick (it is still being written, or
             // the logger lost its queue): what follows is unknown, not wrong.
-            None => Status::Running,
+            None => {
+                self.ran_out = true;
+                Status::Running
+            }
             Some(r) if r.uid == call.uid && r.status != now => r.status,
             _ if now == Status::Running => Status::Running,
             _ => {
@@ -47,9 +54,9 @@ impl Leaves for Replay<'_> {
     }
 
     fn observe(&mut self, uid: Uid, _prev: Status, status: Status) {
-        match self.recs.get(self.cursor) {
+        match self.recs.as_ref().get(self.cursor) {
             Some(r) if r.uid == uid && r.status == status => self.cursor += 1,
-            None => {}
+            None => self.ran_out = true,
             _ => self.diverged = true,
         }
     }
@@ -64,6 +71,7 @@ fn by_structure(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
             recs,
             cursor: 0,
             diverged: false,
+            ran_out: false,
         },
         RunOptions::default(),
     );
@@ -191,6 +199,287 @@ pub fn reconstruct(tree: &Tree, recs: &[Record]) -> Ticks {
     }
 }
 
+/// Tick numbers given as records arrive (a live run), by the rule of
+/// `reconstruct`, with one difference: a number once given is final, so
+/// that the run streams to its file and nothing of it need be held. The
+/// tick period is measured over the ticks so far (the first `SETTLE`
+/// ticks wait for it), where `reconstruct` measures it over the whole log;
+/// after a gap (records lost) ticks are told apart by timing, as
+/// `reconstruct` does from where its replay cannot follow.
+pub struct Stream<'t> {
+    /// The replay at the last whole tick (its leaves hold the records not
+    /// numbered yet); `None` once ticks go by timing.
+    replay: Option<Executor<'t, Replay<Vec<Record>>>>,
+    /// Records not numbered yet, when ticks go by timing.
+    waiting: Vec<Record>,
+    /// Whole ticks not numbered yet: the first ones wait for the period.
+    held: Vec<Vec<Record>>,
+    /// The last tick numbered: its first record's time and its number.
+    last: Option<(i64, u32)>,
+    /// The last record's time, when ticks go by timing.
+    timing_last: Option<i64>,
+    /// The time between ticks' first records, as counts by value (bounded:
+    /// past `GAP_VALUES_MAX` values, they are rounded coarser).
+    gaps: std::collections::BTreeMap<i64, u64>,
+    gap_count: u64,
+    coarse: u32,
+    empty: u32,
+    /// Records given a number so far, and taken in all.
+    pub numbered: usize,
+    received: usize,
+    pub fell_back: Option<usize>,
+    pub capped: Option<usize>,
+}
+
+/// Ticks numbered only once the period is measured over this many.
+const SETTLE: usize = 8;
+/// Distinct gap values kept to measure the period.
+const GAP_VALUES_MAX: usize = 1 << 16;
+
+impl<'t> Stream<'t> {
+    pub fn new(tree: &'t Tree) -> Stream<'t> {
+        let replay = Executor::new(
+            tree,
+            Replay {
+                recs: Vec::new(),
+                cursor: 0,
+                diverged: false,
+                ran_out: false,
+            },
+            RunOptions::default(),
+        );
+        Stream {
+            replay: Some(replay),
+            waiting: Vec::new(),
+            held: Vec::new(),
+            last: None,
+            timing_last: None,
+            gaps: Default::default(),
+            gap_count: 0,
+            coarse: 0,
+            empty: 0,
+            numbered: 0,
+            received: 0,
+            fell_back: None,
+            capped: None,
+        }
+    }
+
+    /// Takes records as they arrive; the records now numbered, in order.
+    pub fn push(&mut self, recs: &[Record]) -> Vec<(Record, u32)> {
+        self.received += recs.len();
+        let whole = match self.replay.as_mut() {
+            Some(ex) => {
+                ex.leaves.recs.extend_from_slice(recs);
+                match whole_ticks(ex) {
+                    Ok(ticks) => ticks,
+                    Err(mut ticks) => {
+                        // The replay cannot follow: what it held goes by
+                        // timing, and so does the rest of the run.
+                        let rest = std::mem::take(&mut ex.leaves.recs);
+                        self.replay = None;
+                        self.fell_back.get_or_insert(self.received - rest.len());
+                        ticks.extend(self.by_timing(&rest));
+                        ticks
+                    }
+                }
+            }
+            None => self.by_timing(recs),
+        };
+        self.number(whole, false)
+    }
+
+    /// Records may be missing here: what arrived is numbered as it is, and
+    /// from here ticks go by timing.
+    pub fn gap(&mut self) -> Vec<(Record, u32)> {
+        let mut whole = Vec::new();
+        if let Some(mut ex) = self.replay.take() {
+            self.fell_back.get_or_insert(self.received);
+            let mut t = whole_ticks(&mut ex).unwrap_or_else(|t| t);
+            let rest = std::mem::take(&mut ex.leaves.recs);
+            if !rest.is_empty() {
+                t.push(rest);
+            }
+            whole = t;
+        }
+        whole.extend(self.waiting_tick());
+        self.timing_last = None;
+        self.number(whole, true)
+    }
+
+    /// The run is over: everything is numbered.
+    pub fn finish(&mut self) -> Vec<(Record, u32)> {
+        let mut whole = Vec::new();
+        if let Some(ex) = self.replay.as_mut() {
+            whole = whole_ticks(ex).unwrap_or_else(|t| t);
+            let rest = std::mem::take(&mut ex.leaves.recs);
+            ex.leaves.cursor = 0;
+            if !rest.is_empty() {
+                whole.push(rest);
+            }
+        }
+        whole.extend(self.waiting_tick());
+        self.number(whole, true)
+    }
+
+    /// Ticks by timing: a new one after 1 ms or more. The last one waits
+    /// for the next record (or `finish`).
+    fn by_timing(&mut self, recs: &[Record]) -> Vec<Vec<Record>> {
+        let mut out = Vec::new();
+        for r in recs {
+            if self
+                .timing_last
+                .is_some_and(|p| r.time_us.saturating_sub(p) >= 1000)
+            {
+                out.push(std::mem::take(&mut self.waiting));
+            }
+            self.timing_last = Some(r.time_us);
+            self.waiting.push(*r);
+        }
+        out
+    }
+
+    fn waiting_tick(&mut self) -> Option<Vec<Record>> {
+        (!self.waiting.is_empty()).then(|| std::mem::take(&mut self.waiting))
+    }
+
+    /// Numbers whole ticks (the first `SETTLE` wait, unless `now`).
+    fn number(&mut self, ticks: Vec<Vec<Record>>, now: bool) -> Vec<(Record, u32)> {
+        let mut out = Vec::new();
+        for t in ticks.into_iter().filter(|t| !t.is_empty()) {
+            let prev = self
+                .held
+                .last()
+                .map(|h| h[0].time_us)
+                .or(self.last.map(|l| l.0));
+            if let Some(g) = prev.map(|p| t[0].time_us.saturating_sub(p)) {
+                if g > 0 {
+                    self.count_gap(g);
+                }
+            }
+            self.held.push(t);
+        }
+        if now || self.held.len() > SETTLE || (self.last.is_some() && !self.held.is_empty()) {
+            self.release(&mut out);
+        }
+        out
+    }
+
+    fn count_gap(&mut self, g: i64) {
+        *self.gaps.entry(g >> self.coarse).or_default() += 1;
+        self.gap_count += 1;
+        if self.gaps.len() > GAP_VALUES_MAX {
+            self.coarse += 1;
+            let old = std::mem::take(&mut self.gaps);
+            for (k, n) in old {
+                *self.gaps.entry(k >> 1).or_default() += n;
+            }
+        }
+    }
+
+    /// The period as `reconstruct` measures it: the gap a tenth of the way
+    /// up the sorted gaps.
+    fn period(&self) -> Option<i64> {
+        let want = self.gap_count / 10;
+        let mut seen = 0;
+        for (&k, &n) in &self.gaps {
+            seen += n;
+            if seen > want {
+                return Some(k << self.coarse);
+            }
+        }
+        None
+    }
+
+    fn release(&mut self, out: &mut Vec<(Record, u32)>) {
+        let period = self.period();
+        for t in std::mem::take(&mut self.held) {
+            let first = t[0].time_us;
+            let n = match self.last {
+                None => 1,
+                Some((prev, n)) => {
+                    let steps = match period {
+                        Some(p) => ((first.saturating_sub(prev)) as f64 / p.max(1) as f64 + 0.1)
+                            .floor()
+                            .clamp(1.0, EMPTY_PER_GAP) as u32,
+                        None => 1,
+                    };
+                    let extra = (steps - 1).min(EMPTY_TICKS_MAX - self.empty);
+                    if extra < steps - 1 && self.capped.is_none() {
+                        self.capped = Some(self.numbered);
+                    }
+                    self.empty += extra;
+                    n + 1 + extra
+                }
+            };
+            self.last = Some((first, n));
+            self.numbered += t.len();
+            out.extend(t.into_iter().map(|r| (r, n)));
+        }
+    }
+}
+
+/// Runs the replay over the records it holds, tick by tick, as far as
+/// whole ticks go; their records, taken out of it. A tick that asks past
+/// the last record is not whole: the replay goes back to before it. An
+/// error: the replay cannot follow (with the whole ticks before).
+fn whole_ticks(
+    ex: &mut Executor<'_, Replay<Vec<Record>>>,
+) -> Result<Vec<Vec<Record>>, Vec<Vec<Record>>> {
+    let mut ticks = Vec::new();
+    let mut stuck = 0;
+    loop {
+        let before = ex.leaves.cursor;
+        if before == ex.leaves.recs.len() {
+            break;
+        }
+        ex.leaves.ran_out = false;
+        let saved = ex.clone();
+        let r = ex.tick_once();
+        ex.take_events();
+        let after = ex.leaves.cursor;
+        if ex.leaves.ran_out && !ex.leaves.diverged && r.is_ok() {
+            *ex = saved;
+            break;
+        }
+        if r.is_err() || ex.leaves.diverged {
+            *ex = saved;
+            let done = take_ticks(ex, &mut ticks);
+            return Err(done);
+        }
+        if after == before {
+            stuck += 1;
+            if stuck > 2 {
+                *ex = saved;
+                let done = take_ticks(ex, &mut ticks);
+                return Err(done);
+            }
+        } else {
+            stuck = 0;
+            ticks.push(after);
+        }
+    }
+    Ok(take_ticks(ex, &mut ticks))
+}
+
+/// The records of the whole ticks that end at `ends`, taken out of the
+/// replay's leaves.
+fn take_ticks(
+    ex: &mut Executor<'_, Replay<Vec<Record>>>,
+    ends: &mut Vec<usize>,
+) -> Vec<Vec<Record>> {
+    let mut out = Vec::new();
+    let mut start = 0;
+    for &end in ends.iter() {
+        out.push(ex.leaves.recs[start..end].to_vec());
+        start = end;
+    }
+    ex.leaves.recs.drain(..start);
+    ex.leaves.cursor -= start;
+    ends.clear();
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,6 +520,73 @@ mod tests {
             assert_eq!(part.fell_back, None, "cut at {cut}");
             assert_eq!(part.numbers[..], full.numbers[..cut], "cut at {cut}");
         }
+    }
+
+    #[test]
+    fn records_numbered_as_they_arrive_get_the_numbers_of_the_whole_log() {
+        for log in [
+            "kitting_lookat_fails_once.btlog",
+            "kitting_nominal.btlog",
+            "kitting_detect_chuck_always_fails.btlog",
+        ] {
+            let bytes = std::fs::read(format!(
+                "{}/tests/fixtures/logs/{log}",
+                env!("CARGO_MANIFEST_DIR")
+            ))
+            .unwrap();
+            let path = std::path::Path::new("log.btlog");
+            let raw = crate::logs::btlog::parse(path, &bytes).unwrap();
+            let tree = crate::xml::load_str(
+                path,
+                &raw.xml,
+                &crate::xml::LoadOptions {
+                    embedded: true,
+                    ..Default::default()
+                },
+            )
+            .unwrap()
+            .tree;
+            let whole = reconstruct(&tree, &raw.records);
+            for chunk in [1, 2, 7, 64, raw.records.len()] {
+                let mut s = Stream::new(&tree);
+                let mut got = Vec::new();
+                for c in raw.records.chunks(chunk) {
+                    got.extend(s.push(c));
+                }
+                got.extend(s.finish());
+                let numbers: Vec<u32> = got.iter().map(|x| x.1).collect();
+                let order: Vec<usize> = got.iter().map(|x| x.0.offset).collect();
+                let want: Vec<usize> = raw.records.iter().map(|r| r.offset).collect();
+                assert_eq!(
+                    order, want,
+                    "{log} in chunks of {chunk}: every record, in order"
+                );
+                assert_eq!(numbers, whole.numbers, "{log} in chunks of {chunk}");
+                assert_eq!(s.fell_back, whole.fell_back, "{log} in chunks of {chunk}");
+            }
+        }
+    }
+
+    #[test]
+    fn after_a_gap_ticks_go_by_timing_and_every_record_is_kept() {
+        let recs: Vec<Record> = [0, 10_000, 10_100, 20_000, 30_000]
+            .into_iter()
+            .map(rec)
+            .collect();
+        let tree = crate::xml::load_str(
+            std::path::Path::new("t.xml"),
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#,
+            &Default::default(),
+        )
+        .unwrap()
+        .tree;
+        let mut s = Stream::new(&tree);
+        let mut got = s.gap();
+        got.extend(s.push(&recs));
+        got.extend(s.finish());
+        assert_eq!(got.len(), recs.len());
+        let numbers: Vec<u32> = got.iter().map(|x| x.1).collect();
+        assert_eq!(numbers, by_timing(&recs));
     }
 
     #[test]

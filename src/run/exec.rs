@@ -273,6 +273,9 @@ impl Default for RunOptions {
     }
 }
 
+// Clone: a live run's tick replay goes on from a copy, kept at the last
+// whole tick, when a tick's records have not all arrived (`logs::ticks`).
+#[derive(Clone)]
 pub struct Executor<'t, L: Leaves> {
     tree: &'t Tree,
     pub leaves: L,

@@ -270,7 +270,7 @@ fn a_watch_that_cannot_write_stops_saying_so_and_a_closed_stdout_keeps_recording
     assert!(
         err.contains("the file size limit (ulimit -f) is reached")
             && err.contains("w.jsonl.partial")
-            && err.contains("keeps the first"),
+            && err.contains("this file keeps the run up to tick"),
         "{err}"
     );
     assert!(!err.contains("connecting again"), "{err}");

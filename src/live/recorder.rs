@@ -1,0 +1,243 @@
+//! A live run as it is kept: each transition, once its tick is numbered
+//! (`logs::ticks::Stream`), is appended to `OUT.partial` and let go, so
+//! that memory stays bounded however long the robot runs; the explorer's
+//! view keeps at most `VIEW_MAX` transitions.
+
+use super::Gap;
+use crate::export::LogRow;
+use crate::logs::btlog::Record;
+use crate::model::{Tree, Uid};
+use crate::run::{Event, Status};
+use crate::session::{Before, Header, SessionWriter};
+use crate::source::Located;
+use std::collections::VecDeque;
+use std::path::{Path, PathBuf};
+
+/// The most transitions of a live run the explorer holds; past them the
+/// run goes on to the file (`--out`) and the view says it stopped growing.
+pub const VIEW_MAX: usize = 1_000_000;
+/// The most gaps and resyncs the explorer's view holds (each resync is
+/// every node's state); the file holds them all.
+pub const VIEW_MARKS_MAX: usize = 1_000;
+
+/// Something said at a place in the run: a gap, or the states read again.
+enum Mark {
+    Gap(Gap),
+    Resync(usize, Vec<Before>),
+}
+
+impl Mark {
+    fn at(&self) -> usize {
+        match self {
+            Mark::Gap(g) => g.at,
+            Mark::Resync(at, _) => *at,
+        }
+    }
+}
+
+pub struct Recorder {
+    out: Option<PathBuf>,
+    writer: Option<SessionWriter>,
+    /// Each node's status as the records follow it, and as last read.
+    followed: Vec<Status>,
+    status: Vec<Status>,
+    /// Marks waiting for the first transition at or after their place.
+    marks: VecDeque<Mark>,
+    tick: u32,
+    step: u32,
+    last_tick: u32,
+    root: Status,
+    /// Rows for a caller that prints them (`btx watch`), if it asked, and
+    /// the gap to say with the next one.
+    pub rows: Option<Vec<LogRow>>,
+    pending_gap: Option<String>,
+    /// The view: numbered records, gaps, resyncs after 0, within bounds.
+    pub kept: Vec<Record>,
+    pub numbers: Vec<u32>,
+    pub gaps: Vec<Gap>,
+    pub resyncs: Vec<(usize, Vec<Before>)>,
+    /// Transitions past the view's bound (on file only).
+    pub unviewed: usize,
+    /// Transitions written (or, without a file, taken).
+    pub written: usize,
+    abandoned: bool,
+}
+
+impl Recorder {
+    /// With `out`, the run streams to `OUT.partial` from the header on.
+    pub fn new(tree: &Tree, out: Option<&Path>, header: &Header) -> Result<Recorder, Located> {
+        let mut status = vec![Status::Idle; tree.len()];
+        for b in header.before.iter().filter(|b| tree.get(b.uid).is_some()) {
+            status[(b.uid - 1) as usize] = b.status;
+        }
+        let writer = match out {
+            Some(o) => Some(SessionWriter::create(o, header)?),
+            None => None,
+        };
+        Ok(Recorder {
+            out: out.map(Path::to_path_buf),
+            writer,
+            followed: vec![Status::Idle; tree.len()],
+            status,
+            marks: VecDeque::new(),
+            tick: 0,
+            step: 0,
+            last_tick: 0,
+            root: Status::Idle,
+            rows: None,
+            pending_gap: None,
+            kept: Vec::new(),
+            numbers: Vec::new(),
+            gaps: Vec::new(),
+            resyncs: Vec::new(),
+            unviewed: 0,
+            written: 0,
+            abandoned: false,
+        })
+    }
+
+    pub fn gap(&mut self, g: Gap) {
+        self.marks.push_back(Mark::Gap(g));
+    }
+
+    pub fn resync(&mut self, at: usize, states: Vec<Before>) {
+        self.marks.push_back(Mark::Resync(at, states));
+    }
+
+    /// Writes numbered records, each after the marks at or before its
+    /// place; flushed, so that a reader of `OUT.partial` sees them.
+    pub fn take(&mut self, numbered: &[(Record, u32)]) -> Result<(), Located> {
+        for &(r, tick) in numbered {
+            self.marks_before(r.offset, tick)?;
+            let u = (r.uid - 1) as usize;
+            // A status the read already showed: the read came after this
+            // transition, which left the status the records followed.
+            let prev = if self.status[u] == r.status {
+                self.followed[u]
+            } else {
+                self.status[u]
+            };
+            self.status[u] = r.status;
+            self.followed[u] = r.status;
+            if tick != self.tick {
+                self.tick = tick;
+                self.step = 0;
+            }
+            self.step += 1;
+            self.last_tick = tick;
+            if r.uid == Tree::ROOT && r.status.is_completed() {
+                self.root = r.status;
+            }
+            if let Some(w) = self.writer.as_mut() {
+                w.event(&Event::Transition {
+                    tick,
+                    uid: r.uid,
+                    prev,
+                    status: r.status,
+                    decision: None,
+                })?;
+            }
+            if let Some(rows) = self.rows.as_mut() {
+                rows.push(LogRow {
+                    tick,
+                    step: self.step,
+                    uid: r.uid,
+                    prev,
+                    status: r.status,
+                    decision: None,
+                    gap: self.pending_gap.take(),
+                });
+            }
+            if self.kept.len() < VIEW_MAX {
+                self.kept.push(r);
+                self.numbers.push(tick);
+            } else {
+                self.unviewed += 1;
+            }
+            self.written += 1;
+        }
+        if let Some(w) = self.writer.as_mut() {
+            w.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Writes the marks placed at or before record `at` (of tick `tick`).
+    fn marks_before(&mut self, at: usize, tick: u32) -> Result<(), Located> {
+        while self.marks.front().is_some_and(|m| m.at() <= at) {
+            let m = self.marks.pop_front().expect("front");
+            self.mark(m, tick)?;
+        }
+        Ok(())
+    }
+
+    fn mark(&mut self, m: Mark, tick: u32) -> Result<(), Located> {
+        let viewed = self.kept.len() < VIEW_MAX;
+        match m {
+            Mark::Gap(g) => {
+                if let Some(w) = self.writer.as_mut() {
+                    w.gap(tick.max(1), &g.why)?;
+                }
+                if self.rows.is_some() {
+                    // Said with the next row printed.
+                    self.pending_gap = Some(g.why.clone());
+                }
+                if viewed && self.gaps.len() < VIEW_MARKS_MAX {
+                    self.gaps.push(Gap {
+                        at: self.kept.len(),
+                        why: g.why,
+                    });
+                }
+            }
+            Mark::Resync(at, states) => {
+                if let Some(w) = self.writer.as_mut() {
+                    // After the transition before it, in that one's tick.
+                    w.resync(self.last_tick.max(1), &states)?;
+                }
+                self.status.fill(Status::Idle);
+                let len = self.status.len();
+                for b in states.iter().filter(|b| is_node(b.uid, len)) {
+                    self.status[(b.uid - 1) as usize] = b.status;
+                }
+                if viewed && at > 0 && self.resyncs.len() < VIEW_MARKS_MAX {
+                    self.resyncs.push((self.kept.len(), states));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The run is over: the marks left are written at its end, and with a
+    /// file, the session is finished (`OUT`); where it was written.
+    pub fn finish(&mut self) -> Result<Option<PathBuf>, Located> {
+        let tick = self.last_tick.max(1);
+        while let Some(m) = self.marks.pop_front() {
+            self.mark(m, tick)?;
+        }
+        match self.writer.take() {
+            Some(w) => w.finish(self.last_tick, self.root, "imported").map(Some),
+            None => Ok(None),
+        }
+    }
+
+    /// Stops writing after an error: the file keeps what it had, and is
+    /// not finished as a whole run.
+    pub fn abandon(&mut self) {
+        self.writer = None;
+        self.abandoned = true;
+    }
+
+    pub fn abandoned(&self) -> bool {
+        self.abandoned
+    }
+
+    /// Where the run is written, if it is.
+    pub fn out(&self) -> Option<&Path> {
+        self.out.as_deref()
+    }
+}
+
+/// Whether `uid` names a node of a tree of `len` nodes.
+pub fn is_node(uid: Uid, len: usize) -> bool {
+    uid >= 1 && (uid as usize) <= len
+}

@@ -41,6 +41,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         .for_secs
         .map(|s| Instant::now() + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
     feed.print_rows();
+    feed.without_view();
     // Names the nodes of the rows printed.
     let shell = feed.session()?;
     let mut header = false;

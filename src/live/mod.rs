@@ -463,14 +463,15 @@ struct Batch {
 }
 
 /// A live run watched from a thread of its own, which does nothing but
-/// empty the server's buffer every 5 to 25 ms and number the ticks as
-/// transitions arrive (`logs::ticks::Stream`), so that however long the
-/// caller takes, no transition is lost. The caller keeps the run
+/// empty the server's buffer every 2 to 25 ms, so that however long the
+/// rest takes, no transition is lost; a second thread numbers the ticks as
+/// transitions arrive (`logs::ticks::Stream`). The caller keeps the run
 /// (`recorder::Recorder`): streamed to `OUT.partial`, and a bounded view.
 pub struct Feed {
     rx: std::sync::mpsc::Receiver<Batch>,
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
-    thread: Option<std::thread::JoinHandle<()>>,
+    /// The polling thread, then the numbering thread.
+    threads: Vec<std::thread::JoinHandle<()>>,
     pub status: LiveStatus,
     blackboards: std::sync::Arc<std::sync::Mutex<Blackboards>>,
     /// The tree's XML, the nodes' states when recording began.
@@ -498,10 +499,10 @@ pub struct Feed {
 /// How often the server's buffer is emptied: as often as takes about
 /// `POLL_TARGET` transitions each time (a quarter of the server's 1,000),
 /// between `POLL_MIN` and `POLL_MAX` apart. At 10,000 transitions a second
-/// that is every 25 ms; the buffer fills only past 200,000 a second. Fewer
+/// that is every 25 ms; the buffer fills only past 500,000 a second. Fewer
 /// requests also meet less often a race of BehaviorTree.CPP 4.8's publisher
 /// (see `Watch::poll`).
-pub const POLL_MIN: Duration = Duration::from_millis(5);
+pub const POLL_MIN: Duration = Duration::from_millis(2);
 pub const POLL_MAX: Duration = Duration::from_millis(25);
 const POLL_TARGET: f64 = 250.0;
 /// Latency samples kept (for the median and the 99th percentile).
@@ -531,14 +532,19 @@ impl Feed {
         let blackboards = std::sync::Arc::new(std::sync::Mutex::new(Blackboards::default()));
         let shared = std::sync::Arc::clone(&blackboards);
         let tree = shell.tree;
-        let thread = std::thread::Builder::new()
+        let (raw_tx, raw_rx) = std::sync::mpsc::channel();
+        let numberer = std::thread::Builder::new()
+            .name("btx-ticks".into())
+            .spawn(move || numbering(&tree, &raw_rx, &tx))
+            .map_err(|e| LiveError(format!("cannot start watching: {e}")))?;
+        let poller = std::thread::Builder::new()
             .name("btx-live".into())
-            .spawn(move || watching(&mut w, &tree, &tx, &halt, &shared))
+            .spawn(move || polling(&mut w, &raw_tx, &halt, &shared))
             .map_err(|e| LiveError(format!("cannot start watching: {e}")))?;
         Ok(Feed {
             rx,
             stop,
-            thread: Some(thread),
+            threads: vec![poller, numberer],
             status,
             blackboards,
             xml,
@@ -559,6 +565,12 @@ impl Feed {
     /// prints them (`take_rows`).
     pub fn print_rows(&mut self) {
         self.recorder.rows.get_or_insert_with(Vec::new);
+    }
+
+    /// Keeps no view of the run (`session` shows the tree only): a caller
+    /// that prints the rows as they come needs none.
+    pub fn without_view(&mut self) {
+        self.recorder.view = false;
     }
 
     /// The rows taken since the last call (see `print_rows`).
@@ -715,7 +727,7 @@ impl Feed {
     /// the end).
     pub fn halt(&mut self) {
         self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
-        if let Some(t) = self.thread.take() {
+        for t in self.threads.drain(..) {
             let _ = t.join();
         }
         while let Ok(b) = self.rx.try_recv() {
@@ -738,33 +750,55 @@ impl Drop for Feed {
     }
 }
 
-/// The live thread: polls, numbers the ticks, hands batches over, until
-/// told to halt (then numbers what is left) or the caller is gone.
-fn watching(
+/// What the polling thread hands to the numbering thread.
+struct Raw {
+    records: Vec<Record>,
+    latency_us: Vec<i64>,
+    gaps: Vec<Gap>,
+    resyncs: Vec<(usize, Vec<Before>)>,
+    notes: Vec<String>,
+    status: LiveStatus,
+    /// The last batch: the run is over, number everything.
+    last: bool,
+}
+
+/// The polling thread: empties the server's buffer and hands over what
+/// came, nothing else (a poll held up longer than the buffer lasts loses
+/// transitions), until told to halt or the numbering thread is gone.
+fn polling(
     w: &mut Watch,
-    tree: &crate::model::Tree,
-    tx: &std::sync::mpsc::Sender<Batch>,
+    tx: &std::sync::mpsc::Sender<Raw>,
     halt: &std::sync::atomic::AtomicBool,
     shared: &std::sync::Mutex<Blackboards>,
 ) {
-    let mut ticks = crate::logs::ticks::Stream::new(tree);
     let mut rate = (std::time::Instant::now(), 0usize, 0.0f64);
     let mut sent = 0usize;
     // Handed over as they come, so that the thread holds none for long (a
     // resync holds every node's state); those at the start are the Feed's.
     w.resyncs.clear();
-    let (mut fell_back_said, mut capped_said) = (false, false);
     let mut last = std::time::Instant::now();
     let mut polled = std::time::Instant::now();
     let mut every = POLL_MIN;
+    // Transitions a second, smoothed: a robot ticks in bursts, and a poll
+    // that falls between two must not set the next one 25 ms away (at
+    // 100,000 a second the buffer lasts 10 ms).
+    let mut per_s = 0.0f64;
     loop {
         let halting = halt.load(std::sync::atomic::Ordering::Relaxed);
         let since = polled.elapsed();
         polled = std::time::Instant::now();
         let error = match w.poll() {
             Ok(got) => {
-                let want = since.as_secs_f64() * POLL_TARGET / got.max(1) as f64;
-                every = Duration::from_secs_f64(want).clamp(POLL_MIN, POLL_MAX);
+                let now = got as f64 / since.as_secs_f64().max(1e-4);
+                per_s = if now > per_s {
+                    now
+                } else {
+                    0.9 * per_s + 0.1 * now
+                };
+                let want = POLL_TARGET / per_s.max(1.0);
+                every = Duration::from_secs_f64(want)
+                    .min(every.mul_f64(1.5))
+                    .clamp(POLL_MIN, POLL_MAX);
                 None
             }
             Err(e) => Some(e.to_string()),
@@ -780,52 +814,17 @@ fn watching(
         let news = n > sent || !w.gaps.is_empty() || !w.notes.is_empty();
         if news || error.is_some() || last.elapsed() >= Duration::from_millis(500) || halting {
             last = std::time::Instant::now();
-            let records = w.take_records();
-            let gaps = std::mem::take(&mut w.gaps);
-            let mut notes = std::mem::take(&mut w.notes);
-            // Each gap's records before it are numbered as they are, and
-            // ticks go by timing after it.
-            let mut numbered = Vec::new();
-            let mut from = 0;
-            for g in &gaps {
-                let upto = records
-                    .iter()
-                    .position(|r| r.offset >= g.at)
-                    .unwrap_or(records.len())
-                    .max(from);
-                numbered.extend(ticks.push(&records[from..upto]));
-                numbered.extend(ticks.gap());
-                from = upto;
-            }
-            numbered.extend(ticks.push(&records[from..]));
-            if halting {
-                numbered.extend(ticks.finish());
-            }
-            if let (Some(at), false) = (ticks.fell_back, fell_back_said) {
-                fell_back_said = true;
-                notes.push(format!(
-                    "from transition {}, the replay could not follow the robot's run; ticks are told apart by timing",
-                    at + 1
-                ));
-            }
-            if let (Some(at), false) = (ticks.capped, capped_said) {
-                capped_said = true;
-                notes.push(format!(
-                    "from transition {}, the timestamps claim more than {} ticks in which nothing changed; a gap counts as one tick",
-                    at + 1,
-                    crate::session::EMPTY_TICKS_MAX
-                ));
-            }
-            let batch = Batch {
-                numbered,
+            let raw = Raw {
+                records: w.take_records(),
                 latency_us: std::mem::take(&mut w.latency_us),
-                gaps,
+                gaps: std::mem::take(&mut w.gaps),
                 resyncs: std::mem::take(&mut w.resyncs),
-                notes,
+                notes: std::mem::take(&mut w.notes),
                 status: w.status(rate.2, error.clone()),
+                last: halting,
             };
             sent = n;
-            if tx.send(batch).is_err() || halting {
+            if tx.send(raw).is_err() || halting {
                 break;
             }
         }
@@ -834,6 +833,72 @@ fn watching(
         } else {
             every.saturating_sub(polled.elapsed())
         });
+    }
+}
+
+/// The numbering thread: numbers the ticks as transitions arrive
+/// (`logs::ticks::Stream`) and hands them over, until the last batch.
+fn numbering(
+    tree: &crate::model::Tree,
+    rx: &std::sync::mpsc::Receiver<Raw>,
+    tx: &std::sync::mpsc::Sender<Batch>,
+) {
+    let mut ticks = crate::logs::ticks::Stream::new(tree);
+    let (mut fell_back_said, mut capped_said) = (false, false);
+    while let Ok(raw) = rx.recv() {
+        let Raw {
+            records,
+            latency_us,
+            gaps,
+            resyncs,
+            mut notes,
+            status,
+            last,
+        } = raw;
+        // Each gap's records before it are numbered as they are, and
+        // ticks go by timing after it.
+        let mut numbered = Vec::new();
+        let mut from = 0;
+        for g in &gaps {
+            let upto = records
+                .iter()
+                .position(|r| r.offset >= g.at)
+                .unwrap_or(records.len())
+                .max(from);
+            numbered.extend(ticks.push(&records[from..upto]));
+            numbered.extend(ticks.gap());
+            from = upto;
+        }
+        numbered.extend(ticks.push(&records[from..]));
+        if last {
+            numbered.extend(ticks.finish());
+        }
+        if let (Some(at), false) = (ticks.fell_back, fell_back_said) {
+            fell_back_said = true;
+            notes.push(format!(
+                "from transition {}, the replay could not follow the robot's run; ticks are told apart by timing",
+                at + 1
+            ));
+        }
+        if let (Some(at), false) = (ticks.capped, capped_said) {
+            capped_said = true;
+            notes.push(format!(
+                "from transition {}, the timestamps claim more than {} ticks in which nothing changed; a gap counts as one tick",
+                at + 1,
+                crate::session::EMPTY_TICKS_MAX
+            ));
+        }
+        let batch = Batch {
+            numbered,
+            latency_us,
+            gaps,
+            resyncs,
+            notes,
+            status,
+        };
+        if tx.send(batch).is_err() || last {
+            break;
+        }
     }
 }
 

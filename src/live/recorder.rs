@@ -51,7 +51,9 @@ pub struct Recorder {
     /// the gap to say with the next one.
     pub rows: Option<Vec<LogRow>>,
     pending_gap: Option<String>,
-    /// The view: numbered records, gaps, resyncs after 0, within bounds.
+    /// The view (unless `view` is off: `btx watch` shows none): numbered
+    /// records, gaps, resyncs after 0, within bounds.
+    pub view: bool,
     pub kept: Vec<Record>,
     pub numbers: Vec<u32>,
     pub gaps: Vec<Gap>,
@@ -86,6 +88,7 @@ impl Recorder {
             root: Status::Idle,
             rows: None,
             pending_gap: None,
+            view: true,
             kept: Vec::new(),
             numbers: Vec::new(),
             gaps: Vec::new(),
@@ -97,11 +100,18 @@ impl Recorder {
     }
 
     pub fn gap(&mut self, g: Gap) {
-        self.marks.push_back(Mark::Gap(g));
+        self.place(Mark::Gap(g));
     }
 
     pub fn resync(&mut self, at: usize, states: Vec<Before>) {
-        self.marks.push_back(Mark::Resync(at, states));
+        self.place(Mark::Resync(at, states));
+    }
+
+    /// Keeps the marks in the order of their places (a batch brings its
+    /// gaps and its resyncs apart), after those already at the same place.
+    fn place(&mut self, m: Mark) {
+        let i = self.marks.partition_point(|x| x.at() <= m.at());
+        self.marks.insert(i, m);
     }
 
     /// Writes numbered records, each after the marks at or before its
@@ -148,10 +158,10 @@ impl Recorder {
                     gap: self.pending_gap.take(),
                 });
             }
-            if self.kept.len() < VIEW_MAX {
+            if self.view && self.kept.len() < VIEW_MAX {
                 self.kept.push(r);
                 self.numbers.push(tick);
-            } else {
+            } else if self.view {
                 self.unviewed += 1;
             }
             self.written += 1;
@@ -172,7 +182,7 @@ impl Recorder {
     }
 
     fn mark(&mut self, m: Mark, tick: u32) -> Result<(), Located> {
-        let viewed = self.kept.len() < VIEW_MAX;
+        let viewed = self.view && self.kept.len() < VIEW_MAX;
         match m {
             Mark::Gap(g) => {
                 if let Some(w) = self.writer.as_mut() {

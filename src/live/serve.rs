@@ -22,6 +22,10 @@ struct State {
     started: Option<Instant>,
     /// When recording started, and the position handed out by `t` so far.
     recording: Option<(Instant, usize)>,
+    /// The last `S` codes worked out: at which position, after how many
+    /// of the run's resyncs (a client asks again and again as the run goes
+    /// on, and each answer goes on from the last).
+    codes: Option<(usize, usize, Vec<u8>)>,
 }
 
 /// A recorded run served as a robot that is running now.
@@ -60,6 +64,7 @@ impl Replay {
             state: Mutex::new(State {
                 started: None,
                 recording: None,
+                codes: None,
             }),
         }
     }
@@ -121,7 +126,7 @@ impl Replay {
         };
         let body = match h[1] {
             b'T' => self.xml.as_bytes().to_vec(),
-            b'S' => self.statuses(pos),
+            b'S' => self.statuses(&mut st.codes, pos),
             b'B' => self.blackboards(pos, parts.get(1).map_or(&[][..], Vec::as_slice)),
             b'r' => match parts.get(1).map(Vec::as_slice) {
                 Some(b"start") => {
@@ -154,16 +159,14 @@ impl Replay {
     /// `u16 uid | u8 code` for every node at position `pos`: its status,
     /// IDLE as 10 + the status before it (`groot2::code_after`), from the
     /// states the run was recorded from.
-    fn statuses(&self, pos: usize) -> Vec<u8> {
+    fn statuses(&self, cache: &mut Option<(usize, usize, Vec<u8>)>, pos: usize) -> Vec<u8> {
         let idx = &self.session.index;
         let of = |state: (Status, Option<Status>)| match state {
             (Status::Idle, Some(done)) => 10 + done.code(),
             (s, _) => s.code(),
         };
         let nodes = self.session.tree.len();
-        let mut code: Vec<u8> = (1..=nodes as u32).map(|u| of(idx.before(u))).collect();
-        let resyncs = idx.resyncs();
-        let mut next = resyncs.iter().filter(|r| r.0 > 0).peekable();
+        let resyncs: Vec<_> = idx.resyncs().into_iter().filter(|r| r.0 > 0).collect();
         let read = |states: &[crate::session::Before]| {
             let mut code = vec![10; nodes];
             for b in states {
@@ -171,15 +174,26 @@ impl Replay {
             }
             code
         };
-        for i in 0..=pos {
-            while let Some((_, states)) = next.next_if(|r| r.0 as usize <= i) {
+        // From the last answer when it is not past `pos`, else from the start.
+        let (from, mut applied, mut code) = match cache.take() {
+            Some((p, a, c)) if p <= pos => (p, a, c),
+            _ => (
+                0,
+                0,
+                (1..=nodes as u32).map(|u| of(idx.before(u))).collect(),
+            ),
+        };
+        for i in from..=pos {
+            while let Some((_, states)) = resyncs.get(applied).filter(|r| r.0 as usize <= i) {
                 code = read(states);
+                applied += 1;
             }
             if let Some(t) = idx.transitions[..pos].get(i) {
                 let c = &mut code[t.uid as usize - 1];
                 *c = super::groot2::code_after(*c, t.status);
             }
         }
+        *cache = Some((pos, applied, code.clone()));
         let mut out = Vec::with_capacity(3 * code.len());
         for (i, c) in code.iter().enumerate() {
             out.extend_from_slice(&(i as u16 + 1).to_le_bytes());

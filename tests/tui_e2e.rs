@@ -239,6 +239,31 @@ fn a_panic_gives_the_terminal_back_and_says_why() {
 }
 
 #[test]
+fn an_abort_gives_the_terminal_back() {
+    // An abort (exhausted memory) runs no panic hook: `open --live` left
+    // the terminal in the alternate screen and raw mode (#26 item 4).
+    if !tmux_here() {
+        return;
+    }
+    let t = Tmux(format!("btx-abort-{}", std::process::id()));
+    let cmd = format!(
+        "BTX_ABORT_AFTER_DRAW=1 {}; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx")
+    );
+    t.start(&cmd);
+    let s = t.wait_for("EXITED:");
+    assert!(
+        s.contains("EXITED:134"),
+        "killed by SIGABRT, as before: {s}"
+    );
+    assert!(
+        !s.contains("full tree"),
+        "the alternate screen was left: {s}"
+    );
+    assert_eq!(t.terminal(), "0 0 1", "the terminal after: {s}");
+}
+
+#[test]
 fn why_on_a_run_stopped_by_an_unknown_control_node_answers_in_the_terminal() {
     // Was a panic (src/session/index.rs:278) that left mouse reporting on.
     if !tmux_here() {

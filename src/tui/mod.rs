@@ -1,6 +1,7 @@
 //! The explorer: a terminal UI over trees and runs. State and `update` are
 //! in `app`, drawing in `view`, keys in `keymap`; this module runs the loop.
 
+mod abort;
 pub mod app;
 pub mod diff;
 pub mod diff_view;
@@ -321,6 +322,7 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
             std::process::exit(128 + sig);
         }
     });
+    abort::guard();
     let mut terminal = ratatui::try_init()?;
     // ratatui's panic hook leaves the alternate screen and raw mode; mouse
     // reporting, which btx turned on, is turned off first.
@@ -337,6 +339,7 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
     // The end-to-end tests crash the explorer on purpose, to see the panic
     // path give the terminal back; nothing else sets this.
     let crash = std::env::var_os(CRASH_ENV).is_some();
+    let abort = std::env::var_os(ABORT_ENV).is_some();
     let result = (|| -> std::io::Result<()> {
         let mut dirty = true;
         while !app.done() {
@@ -350,6 +353,9 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
                 dirty = false;
                 if crash {
                     panic!("{CRASH_ENV} is set: crashing on purpose after the first frame");
+                }
+                if abort {
+                    std::process::abort();
                 }
             }
             // Block until input; wake on a timer only while playing.
@@ -397,6 +403,9 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
 /// Set, the explorer panics once it has drawn its first frame (a test hook
 /// for the panic path).
 pub const CRASH_ENV: &str = "BTX_CRASH_AFTER_DRAW";
+/// Set, the explorer aborts (as on exhausted memory) once it has drawn its
+/// first frame (a test hook for the abort path).
+pub const ABORT_ENV: &str = "BTX_ABORT_AFTER_DRAW";
 
 /// The scripted scenes of `btx screenshot --demo SCENE`.
 pub const SCENES: [&str; 7] = [

@@ -6,6 +6,7 @@
 
 pub mod groot2;
 pub mod recorder;
+mod rep;
 pub mod serve;
 pub mod zmtp;
 

@@ -57,10 +57,10 @@ pub struct Req {
     timeout: Duration,
 }
 
-const SIGNATURE_END: u8 = 0x7F;
-const MORE: u8 = 0x01;
-const LONG: u8 = 0x02;
-const COMMAND: u8 = 0x04;
+pub(super) const SIGNATURE_END: u8 = 0x7F;
+pub(super) const MORE: u8 = 0x01;
+pub(super) const LONG: u8 = 0x02;
+pub(super) const COMMAND: u8 = 0x04;
 
 impl Req {
     /// Connects to `host:port` and does the ZMTP handshake, each step
@@ -351,87 +351,10 @@ impl Req {
 /// What a server does with a request's parts: the reply's parts.
 pub type Answer = std::sync::Arc<dyn Fn(&[Vec<u8>]) -> Vec<Vec<u8>> + Send + Sync>;
 
-/// Serves REQ clients on `listener`, at most `CONNECTIONS_MAX` at once
-/// (a thread each; more are refused with a line on stderr), until `stop`:
-/// each request's parts go to `answer`, and its parts are the reply. A
-/// client that breaks the protocol, sends a request over `REQUEST_MAX`
-/// bytes or stays silent `IDLE_MAX` loses its connection, not the server.
-pub fn serve_rep(
-    listener: std::net::TcpListener,
-    answer: Answer,
-    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
-) -> std::io::Result<()> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    listener.set_nonblocking(true)?;
-    let endpoint = listener.local_addr()?.to_string();
-    let open = std::sync::Arc::new(AtomicUsize::new(0));
-    let mut refused_said = Instant::now() - Duration::from_secs(60);
-    while !stop.load(std::sync::atomic::Ordering::Relaxed) {
-        match listener.accept() {
-            Ok((stream, peer)) => {
-                if open.load(Ordering::Relaxed) >= CONNECTIONS_MAX {
-                    drop(stream);
-                    // Said at most once a second, however many knock.
-                    if refused_said.elapsed() >= Duration::from_secs(1) {
-                        refused_said = Instant::now();
-                        eprintln!("{endpoint}: refused a client ({peer}): {CONNECTIONS_MAX} are connected, the most btx serves at once");
-                    }
-                    continue;
-                }
-                let answer = std::sync::Arc::clone(&answer);
-                let stop = std::sync::Arc::clone(&stop);
-                let client = format!("{endpoint} (client {peer})");
-                // Counted out however the connection ends, or if its
-                // thread cannot start.
-                struct Leaving(std::sync::Arc<AtomicUsize>);
-                impl Drop for Leaving {
-                    fn drop(&mut self) {
-                        self.0.fetch_sub(1, Ordering::Relaxed);
-                    }
-                }
-                open.fetch_add(1, Ordering::Relaxed);
-                let leaving = Leaving(std::sync::Arc::clone(&open));
-                let spawned = std::thread::Builder::new().spawn(move || {
-                    let _leaving = leaving;
-                    let _ = stream.set_nonblocking(false);
-                    let _ = stream.set_nodelay(true);
-                    let mut conn = Req {
-                        stream,
-                        endpoint: client,
-                        timeout: Duration::from_secs(5),
-                    };
-                    if conn.handshake(b"REP", &[b"REQ", b"DEALER"]).is_err() {
-                        return;
-                    }
-                    while !stop.load(std::sync::atomic::Ordering::Relaxed) {
-                        // A client may stay quiet for long: wait in slices so
-                        // that the server can stop.
-                        let request = match conn.receive(Instant::now() + IDLE_MAX, REQUEST_MAX) {
-                            Ok(Ok(r)) => r,
-                            _ => return,
-                        };
-                        let reply = answer(&request);
-                        let parts: Vec<&[u8]> = reply.iter().map(Vec::as_slice).collect();
-                        if conn.send(&parts).is_err() {
-                            return;
-                        }
-                    }
-                });
-                if let Err(e) = spawned {
-                    eprintln!("{endpoint}: cannot serve a client: {e}");
-                }
-            }
-            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
-                std::thread::sleep(Duration::from_millis(20))
-            }
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(())
-}
+pub use super::rep::serve_rep;
 
 /// A property's value in a READY command's metadata.
-fn property<'a>(mut meta: &'a [u8], name: &[u8]) -> Option<&'a [u8]> {
+pub(super) fn property<'a>(mut meta: &'a [u8], name: &[u8]) -> Option<&'a [u8]> {
     while let Some((&n, rest)) = meta.split_first() {
         let (key, rest) = rest.split_at_checked(n as usize)?;
         let (len, rest) = rest.split_at_checked(4)?;

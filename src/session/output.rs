@@ -22,8 +22,6 @@ const MAGIC: &str = "btx lock";
 pub struct OutputLock {
     file: File,
     path: PathBuf,
-    /// Whether this process made the lock file (only then is it removed).
-    created: bool,
 }
 
 /// The lock file of an output.
@@ -57,7 +55,7 @@ impl OutputLock {
         // `path`: a holder removes it as it finishes, and a lock taken on
         // the removed file would claim nothing.
         for _ in 0..100 {
-            let (mut file, created) = open_lock(&path, out)?;
+            let mut file = open_lock(&path, out)?;
             match file.try_lock() {
                 Ok(()) => {}
                 Err(TryLockError::WouldBlock) => {
@@ -84,12 +82,7 @@ impl OutputLock {
             if !same_file(&file, &path) {
                 continue;
             }
-            let lock = OutputLock {
-                file,
-                path,
-                created,
-            };
-            let mut lock = lock;
+            let mut lock = OutputLock { file, path };
             lock.say(command)?;
             refuse_existing(out)?;
             return Ok(lock);
@@ -115,23 +108,25 @@ impl OutputLock {
 impl Drop for OutputLock {
     fn drop(&mut self) {
         // Removed while still locked, so a process that opened it meanwhile
-        // finds it gone (`same_file`) and makes a new one.
-        if self.created && same_file(&self.file, &self.path) {
+        // finds it gone (`same_file`) and makes a new one. Whoever made it,
+        // it holds this process's line: two btx starting together may each
+        // make or open it, and the one that locks it last removes it.
+        if same_file(&self.file, &self.path) {
             let _ = std::fs::remove_file(&self.path);
         }
         let _ = self.file.unlock();
     }
 }
 
-/// Opens the lock file, making it if need be; whether it was made here.
-fn open_lock(path: &Path, out: &Path) -> Result<(File, bool), Located> {
+/// Opens the lock file, making it if need be.
+fn open_lock(path: &Path, out: &Path) -> Result<File, Located> {
     match OpenOptions::new()
         .read(true)
         .write(true)
         .create_new(true)
         .open(path)
     {
-        Ok(f) => return Ok((f, true)),
+        Ok(f) => return Ok(f),
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
         Err(e) => return Err(unwritable(out, e)),
     }
@@ -151,7 +146,7 @@ fn open_lock(path: &Path, out: &Path) -> Result<(File, bool), Located> {
         .with_help("choose another --out, or move that file away"));
     }
     f.rewind().map_err(|e| unwritable(path, e))?;
-    Ok((f, false))
+    Ok(f)
 }
 
 /// Whether `path` still names the open file `f`.
@@ -232,14 +227,17 @@ mod tests {
     }
 
     #[test]
-    fn a_stale_lock_is_taken_and_left() {
+    fn a_lock_left_by_a_killed_btx_is_taken_over() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("s.jsonl");
         std::fs::write(lock_path(&out), "btx lock btx run (pid 1)\n").unwrap();
-        drop(OutputLock::take(&out, "btx run").unwrap());
+        let lock = OutputLock::take(&out, "btx watch").unwrap();
+        let said = std::fs::read_to_string(lock_path(&out)).unwrap();
+        assert!(said.starts_with("btx lock btx watch (pid "), "{said}");
+        drop(lock);
         assert!(
-            lock_path(&out).exists(),
-            "not made in this run: not removed"
+            !lock_path(&out).exists(),
+            "btx's own lock holds no one's data"
         );
     }
 

@@ -301,6 +301,14 @@ fn btx_serve_bounds_its_clients_and_closes_idle_ones() {
         line.contains("refused a client") && line.contains("64 are connected"),
         "{line}"
     );
+    // No thread per connection: 64 clients cost buffers, not threads.
+    let status = std::fs::read_to_string(format!("/proc/{}/status", server.id())).unwrap();
+    let threads: usize = status
+        .lines()
+        .find_map(|l| l.strip_prefix("Threads:"))
+        .and_then(|n| n.trim().parse().ok())
+        .unwrap();
+    assert!(threads < 10, "{threads} threads for 64 clients");
     // Idle past the heartbeat, they are let go, and a client is served.
     loop {
         let ok = groot2::Client::connect(&format!("127.0.0.1:{port}"), Duration::from_secs(1))

@@ -494,11 +494,11 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_log_cut_inside_a_tick_keeps_its_structural_ticks() {
-        let bytes = std::fs::read(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/tests/fixtures/logs/kitting_lookat_fails_once.btlog"
+    /// A fixture log's tree and records.
+    fn fixture_log(name: &str) -> (Tree, Vec<Record>) {
+        let bytes = std::fs::read(format!(
+            "{}/tests/fixtures/logs/{name}",
+            env!("CARGO_MANIFEST_DIR")
         ))
         .unwrap();
         let path = std::path::Path::new("log.btlog");
@@ -513,10 +513,16 @@ mod tests {
         )
         .unwrap()
         .tree;
-        let full = reconstruct(&tree, &raw.records);
+        (tree, raw.records)
+    }
+
+    #[test]
+    fn a_log_cut_inside_a_tick_keeps_its_structural_ticks() {
+        let (tree, records) = fixture_log("kitting_lookat_fails_once.btlog");
+        let full = reconstruct(&tree, &records);
         assert_eq!((full.fell_back, full.capped), (None, None));
-        for cut in [1, 5, 40, 100, raw.records.len() - 1] {
-            let part = reconstruct(&tree, &raw.records[..cut]);
+        for cut in [1, 5, 40, 100, records.len() - 1] {
+            let part = reconstruct(&tree, &records[..cut]);
             assert_eq!(part.fell_back, None, "cut at {cut}");
             assert_eq!(part.numbers[..], full.numbers[..cut], "cut at {cut}");
         }
@@ -529,34 +535,18 @@ mod tests {
             "kitting_nominal.btlog",
             "kitting_detect_chuck_always_fails.btlog",
         ] {
-            let bytes = std::fs::read(format!(
-                "{}/tests/fixtures/logs/{log}",
-                env!("CARGO_MANIFEST_DIR")
-            ))
-            .unwrap();
-            let path = std::path::Path::new("log.btlog");
-            let raw = crate::logs::btlog::parse(path, &bytes).unwrap();
-            let tree = crate::xml::load_str(
-                path,
-                &raw.xml,
-                &crate::xml::LoadOptions {
-                    embedded: true,
-                    ..Default::default()
-                },
-            )
-            .unwrap()
-            .tree;
-            let whole = reconstruct(&tree, &raw.records);
-            for chunk in [1, 2, 7, 64, raw.records.len()] {
+            let (tree, records) = fixture_log(log);
+            let whole = reconstruct(&tree, &records);
+            for chunk in [1, 2, 7, 64, records.len()] {
                 let mut s = Stream::new(&tree);
                 let mut got = Vec::new();
-                for c in raw.records.chunks(chunk) {
+                for c in records.chunks(chunk) {
                     got.extend(s.push(c));
                 }
                 got.extend(s.finish());
                 let numbers: Vec<u32> = got.iter().map(|x| x.1).collect();
                 let order: Vec<usize> = got.iter().map(|x| x.0.offset).collect();
-                let want: Vec<usize> = raw.records.iter().map(|r| r.offset).collect();
+                let want: Vec<usize> = records.iter().map(|r| r.offset).collect();
                 assert_eq!(
                     order, want,
                     "{log} in chunks of {chunk}: every record, in order"

@@ -405,3 +405,52 @@ fn follow_says_when_its_file_is_truncated_or_replaced_and_starts_again() {
     );
     assert!(!e.contains("panicked"), "{e}");
 }
+
+/// Runs `btx ARGS` in a mount namespace of its own where `DIR` is a
+/// `KIB`-KiB tmpfs, first filled with `fill` KiB: a full disk made
+/// without privileges (`unshare --user --map-root-user --mount`).
+fn on_a_small_disk(dir: &Path, kib: u32, fill: u32, args: &str) -> (Option<i32>, String) {
+    let script = format!(
+        "mount -t tmpfs -o size={kib}k none {d} && \
+         {{ [ {fill} -eq 0 ] || dd if=/dev/zero of={d}/filler bs=1k count={fill} 2>/dev/null; true; }} && \
+         cd {root} && exec {btx} {args}",
+        d = dir.display(),
+        root = env!("CARGO_MANIFEST_DIR"),
+        btx = env!("CARGO_BIN_EXE_btx"),
+    );
+    let r = Command::new("unshare")
+        .args(["--user", "--map-root-user", "--mount", "sh", "-c", &script])
+        .output()
+        .expect("unshare (util-linux) makes a small disk for the test");
+    let err = one_line(&String::from_utf8_lossy(&r.stderr));
+    assert!(
+        !err.contains("unshare:"),
+        "user namespaces are needed here: {err}"
+    );
+    (r.status.code(), err)
+}
+
+#[test]
+fn a_full_disk_is_refused_at_once_and_a_disk_that_fills_is_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().display().to_string();
+    let tree = fixture("kitting-tree.v4.xml");
+    let plan = fixture("plans/kitting_nominal.plan");
+    let run = format!(
+        "run {} --plan {} --out {d}/s.jsonl",
+        tree.display(),
+        plan.display()
+    );
+    // Full before the work: refused at once, nothing run.
+    let (code, err) = on_a_small_disk(dir.path(), 64, 64, &run);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("cannot write here: the disk is full"), "{err}");
+    assert!(!err.contains("ticks"), "nothing was run: {err}");
+    // Filling during the work: said with the file and what it keeps.
+    let (code, err) = on_a_small_disk(dir.path(), 16, 0, &run);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("s.jsonl.partial: cannot write the session: the disk is full; this file keeps the run up to tick"),
+        "{err}"
+    );
+}

@@ -848,14 +848,30 @@ fn numbering(
     let (mut fell_back_said, mut capped_said) = (false, false);
     while let Ok(raw) = rx.recv() {
         let Raw {
-            records,
+            mut records,
             latency_us,
-            gaps,
+            mut gaps,
             resyncs,
             mut notes,
             status,
             last,
         } = raw;
+        // A uid the tree does not have names no node: the record is left
+        // out, as a transition lost at its place.
+        let nodes = tree.len();
+        if records.iter().any(|r| !recorder::is_node(r.uid, nodes)) {
+            for r in records.iter().filter(|r| !recorder::is_node(r.uid, nodes)) {
+                gaps.push(Gap {
+                    at: r.offset,
+                    why: format!(
+                        "the server sent a transition of uid {}, which is no node of its tree ({nodes} nodes): it is left out",
+                        r.uid
+                    ),
+                });
+            }
+            gaps.sort_by_key(|g| g.at);
+            records.retain(|r| recorder::is_node(r.uid, nodes));
+        }
         // Each gap's records before it are numbered as they are, and
         // ticks go by timing after it.
         let mut numbered = Vec::new();

@@ -173,7 +173,7 @@ impl std::io::Write for SafeOut {
 /// whose ticks come out otherwise later are said to have changed, never
 /// silently.
 #[derive(Default)]
-pub(super) struct Grown {
+struct Grown {
     header: bool,
     /// The tick of each row printed.
     ticks: Vec<u32>,

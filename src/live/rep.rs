@@ -7,8 +7,8 @@
 //! `CONNECTIONS_MAX` clients, none silent for longer than `IDLE_MAX`.
 
 use super::zmtp::{
-    property, Answer, COMMAND, CONNECTIONS_MAX, IDLE_MAX, LONG, MORE, PARTS_MAX, REQUEST_MAX,
-    SIGNATURE_END,
+    greeting, message, property, ready, Answer, COMMAND, CONNECTIONS_MAX, IDLE_MAX, LONG, MORE,
+    PARTS_MAX, REQUEST_MAX,
 };
 use mio::net::{TcpListener, TcpStream};
 use mio::{Events, Interest, Poll, Token};
@@ -46,16 +46,11 @@ type Closed = ();
 
 impl Conn {
     fn new(stream: TcpStream) -> Conn {
-        let mut greeting = [0u8; 64];
-        greeting[0] = 0xFF;
-        greeting[9] = SIGNATURE_END;
-        greeting[10] = 3;
-        greeting[12..16].copy_from_slice(b"NULL");
         Conn {
             stream,
             phase: Phase::Greeting,
             input: Vec::new(),
-            output: greeting.to_vec(),
+            output: greeting().to_vec(),
             parts: Vec::new(),
             delimited: false,
             size: 0,
@@ -111,14 +106,7 @@ impl Conn {
                     if g[0] != 0xFF || g[9] & 1 != 1 || g[10] < 3 || &g[12..16] != b"NULL" {
                         return Err(());
                     }
-                    let mut body = vec![5];
-                    body.extend_from_slice(b"READY");
-                    body.push(11);
-                    body.extend_from_slice(b"Socket-Type");
-                    body.extend_from_slice(&3u32.to_be_bytes());
-                    body.extend_from_slice(b"REP");
-                    self.output.extend_from_slice(&[COMMAND, body.len() as u8]);
-                    self.output.extend_from_slice(&body);
+                    self.output.extend_from_slice(&ready(b"REP"));
                     self.phase = Phase::Ready;
                 }
                 _ => {
@@ -204,18 +192,8 @@ impl Conn {
         (self.delimited, self.size) = (false, 0);
         self.heard = Instant::now();
         let reply = answer(&request);
-        self.output.extend_from_slice(&[MORE, 0]);
-        for (i, p) in reply.iter().enumerate() {
-            let more = if i + 1 < reply.len() { MORE } else { 0 };
-            if p.len() > 255 {
-                self.output.push(more | LONG);
-                self.output
-                    .extend_from_slice(&(p.len() as u64).to_be_bytes());
-            } else {
-                self.output.extend_from_slice(&[more, p.len() as u8]);
-            }
-            self.output.extend_from_slice(p);
-        }
+        let parts: Vec<&[u8]> = reply.iter().map(Vec::as_slice).collect();
+        self.output = message(&parts);
         Ok(())
     }
 }

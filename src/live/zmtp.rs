@@ -154,13 +154,7 @@ impl Req {
 
     /// The greeting and READY, as `ours`; the peer must be one of `peers`.
     fn handshake(&mut self, ours: &[u8], peers: &[&[u8]]) -> Result<(), ZmtpError> {
-        let mut greeting = [0u8; 64];
-        greeting[0] = 0xFF;
-        greeting[9] = SIGNATURE_END;
-        greeting[10] = 3;
-        greeting[11] = 0;
-        greeting[12..16].copy_from_slice(b"NULL");
-        self.write_all(&greeting)?;
+        self.write_all(&greeting())?;
         let deadline = Instant::now() + self.timeout;
         let mut peer = [0u8; 64];
         self.read_exact(&mut peer[..10], deadline, "the ZMTP greeting")?;
@@ -182,15 +176,7 @@ impl Req {
             );
         }
         // READY, with our socket type.
-        let mut body = Vec::new();
-        body.push(5);
-        body.extend_from_slice(b"READY");
-        body.push(11);
-        body.extend_from_slice(b"Socket-Type");
-        body.extend_from_slice(&(ours.len() as u32).to_be_bytes());
-        body.extend_from_slice(ours);
-        let mut frame = vec![COMMAND, body.len() as u8];
-        frame.extend_from_slice(&body);
+        let frame = ready(ours);
         self.write_all(&frame)?;
         let (flags, body) = self.read_frame(deadline, "the READY command")?;
         if flags & COMMAND == 0 || !body.starts_with(b"\x05READY") {
@@ -264,19 +250,7 @@ impl Req {
     /// Sends an empty delimiter frame (as REQ and REP put before every
     /// message), then the parts.
     fn send(&mut self, parts: &[&[u8]]) -> Result<(), ZmtpError> {
-        let mut out = vec![MORE, 0];
-        for (i, p) in parts.iter().enumerate() {
-            let more = if i + 1 < parts.len() { MORE } else { 0 };
-            if p.len() > 255 {
-                out.push(more | LONG);
-                out.extend_from_slice(&(p.len() as u64).to_be_bytes());
-            } else {
-                out.push(more);
-                out.push(p.len() as u8);
-            }
-            out.extend_from_slice(p);
-        }
-        self.write_all(&out)
+        self.write_all(&message(parts))
     }
 
     /// Sends a multipart request and returns the reply's parts.
@@ -352,6 +326,46 @@ impl Req {
 pub type Answer = std::sync::Arc<dyn Fn(&[Vec<u8>]) -> Vec<Vec<u8>> + Send + Sync>;
 
 pub use super::rep::serve_rep;
+
+/// Our ZMTP 3.0 greeting, with the NULL mechanism.
+pub(super) fn greeting() -> [u8; 64] {
+    let mut g = [0u8; 64];
+    g[0] = 0xFF;
+    g[9] = SIGNATURE_END;
+    g[10] = 3;
+    g[12..16].copy_from_slice(b"NULL");
+    g
+}
+
+/// The READY command frame, naming our socket type.
+pub(super) fn ready(socket_type: &[u8]) -> Vec<u8> {
+    let mut body = vec![5];
+    body.extend_from_slice(b"READY");
+    body.push(11);
+    body.extend_from_slice(b"Socket-Type");
+    body.extend_from_slice(&(socket_type.len() as u32).to_be_bytes());
+    body.extend_from_slice(socket_type);
+    let mut frame = vec![COMMAND, body.len() as u8];
+    frame.extend_from_slice(&body);
+    frame
+}
+
+/// A message as REQ and REP frame it: an empty delimiter, then the parts.
+pub(super) fn message(parts: &[&[u8]]) -> Vec<u8> {
+    let mut out = vec![MORE, 0];
+    for (i, p) in parts.iter().enumerate() {
+        let more = if i + 1 < parts.len() { MORE } else { 0 };
+        if p.len() > 255 {
+            out.push(more | LONG);
+            out.extend_from_slice(&(p.len() as u64).to_be_bytes());
+        } else {
+            out.push(more);
+            out.push(p.len() as u8);
+        }
+        out.extend_from_slice(p);
+    }
+    out
+}
 
 /// A property's value in a READY command's metadata.
 pub(super) fn property<'a>(mut meta: &'a [u8], name: &[u8]) -> Option<&'a [u8]> {

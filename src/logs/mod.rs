@@ -388,68 +388,6 @@ pub fn write_session(s: &Session, out: &Path) -> Result<PathBuf, Located> {
     w.finish(s.index.ticks(), root, "imported")
 }
 
-/// Writes a run still going on as `OUT.partial`, as `btx run` leaves its
-/// session while it runs (`btx log --follow OUT.partial` reads it): written
-/// whole beside it, then renamed over it, so a reader never sees half.
-pub fn write_partial(s: &Session, out: &Path) -> Result<PathBuf, Located> {
-    let partial = crate::session::SessionWriter::partial_path(out);
-    let tmp = ours(&partial);
-    let tmp_partial = crate::session::SessionWriter::partial_path(&tmp);
-    // Our own leftover from a write that failed half-way: the name is this
-    // process's, so no file of anyone else's is removed.
-    let _ = std::fs::remove_file(&tmp_partial);
-    let mut w = crate::session::SessionWriter::create(&tmp, &s.header)?;
-    if let Err(e) = write_events(s, &mut w).and_then(|()| w.flush()) {
-        drop(w);
-        let _ = std::fs::remove_file(&tmp_partial);
-        return Err(e);
-    }
-    drop(w);
-    std::fs::rename(&tmp_partial, &partial)
-        .map_err(|e| Located::file(&partial, format!("cannot write the session so far: {e}")))?;
-    Ok(partial)
-}
-
-/// Writes the whole run as `OUT` once it is over, then removes the
-/// `OUT.partial` that `write_partial` kept while it ran (the run is on disk
-/// the whole time: the partial goes only once the whole is there).
-pub fn write_final(s: &Session, out: &Path) -> Result<PathBuf, Located> {
-    let partial = crate::session::SessionWriter::partial_path(out);
-    let next = ours(out);
-    let _ = std::fs::remove_file(crate::session::SessionWriter::partial_path(&next));
-    let _ = std::fs::remove_file(&next);
-    write_session(s, &next)?;
-    if out.exists() {
-        return Err(Located::file(
-            out,
-            format!(
-                "a file appeared here meanwhile; the run is in {}",
-                next.display()
-            ),
-        ));
-    }
-    std::fs::rename(&next, out).map_err(|e| {
-        Located::file(
-            out,
-            format!(
-                "cannot write the session: {e}; the run is in {}",
-                next.display()
-            ),
-        )
-    })?;
-    let _ = std::fs::remove_file(&partial);
-    Ok(out.to_path_buf())
-}
-
-/// A name beside `path` for a file this process writes before it renames
-/// it into place: `PATH.next-PID`, so that btx never removes or renames a
-/// file it did not create (a `W.jsonl.next` of the user's is left alone).
-fn ours(path: &Path) -> PathBuf {
-    let mut p = path.as_os_str().to_owned();
-    p.push(format!(".next-{}", std::process::id()));
-    PathBuf::from(p)
-}
-
 fn write_events(s: &Session, w: &mut crate::session::SessionWriter) -> Result<(), Located> {
     let idx = &s.index;
     let (mut wi, mut di, mut gi) = (0, 0, 0);

@@ -32,6 +32,21 @@ fn hostile(
     (port, stop)
 }
 
+/// `btx watch :PORT --for SECS --out DIR/w.jsonl`: the session file,
+/// whether it succeeded, its stderr.
+fn watch_into(dir: &Path, port: u16, secs: &str) -> (std::path::PathBuf, bool, String) {
+    let out = dir.join("w.jsonl");
+    let (ok, _, err) = btx(&[
+        "watch",
+        &format!(":{port}"),
+        "--for",
+        secs,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    (out, ok, err)
+}
+
 fn kind(parts: &[Vec<u8>]) -> u8 {
     parts.first().and_then(|h| h.get(1)).copied().unwrap_or(0)
 }
@@ -67,15 +82,7 @@ fn a_first_tick_larger_than_the_publishers_buffer_is_kept_whole() {
     // One tick in 2 s, played over 1 s: 4,000 transitions a second, which
     // a watch polling every 25 ms or less keeps even on a loaded machine.
     let (port, mut server) = served(run.to_str().unwrap(), "0.005", "60");
-    let out = dir.path().join("w.jsonl");
-    let (ok, _, err) = btx(&[
-        "watch",
-        &format!(":{port}"),
-        "--for",
-        "3",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (out, ok, err) = watch_into(dir.path(), port, "3");
     let _ = server.kill();
     assert!(ok, "{err}");
     let kept = Session::load(&out).unwrap();
@@ -93,15 +100,7 @@ fn a_start_time_that_cannot_be_right_is_said_and_the_transitions_kept() {
             .then(|| vec![head, i64::MIN.to_string().into_bytes()])
     });
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("w.jsonl");
-    let (ok, _, err) = btx(&[
-        "watch",
-        &format!(":{port}"),
-        "--for",
-        "2",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (out, ok, err) = watch_into(dir.path(), port, "2");
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     assert!(ok, "{err}");
     assert!(err.contains("which cannot be right"), "{err}");
@@ -347,15 +346,7 @@ fn a_transition_of_no_node_is_left_out_and_said_and_the_watch_goes_on() {
         Some(vec![head, body])
     });
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("w.jsonl");
-    let (ok, _, err) = btx(&[
-        "watch",
-        &format!(":{port}"),
-        "--for",
-        "2",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (out, ok, err) = watch_into(dir.path(), port, "2");
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
     assert!(ok, "{err}");
     assert!(

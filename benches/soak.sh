@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
-# Soak (#26): `btx watch --out` against `btx serve` sending about 10^5
+# Soak (#26): `btx watch --out` against `btx serve --buffer BUFFER` sending about 10^5
 # transitions a second for SECONDS (default 60). Prints watch's resident
 # memory each second (it must stay flat: the run streams to its file), then
 # checks that every transition served was kept, in order, with no gap.
 #
-#   benches/soak.sh [SECONDS]
+#   benches/soak.sh [SECONDS] [BUFFER]   (60 s; 10,000 kept between two reads; BehaviorTree.CPP keeps 1,000)
 set -euo pipefail
 secs=${1:-60}
+buffer=${2:-10000}
 cd "$(dirname "$0")/.."
 cargo build --release --quiet
 btx=$PWD/target/release/btx
@@ -21,7 +22,7 @@ printf '<root BTCPP_format="4"><BehaviorTree ID="Soak"><Repeat num_cycles="-1"><
 ticks=$(( (secs + 5) * 500 ))
 "$btx" -q run "$dir/soak.xml" --plan "$dir/empty.plan" --max-ticks "$ticks" --tick-ms 10 --out "$dir/served.jsonl"
 
-"$btx" serve "$dir/served.jsonl" --port 0 --speed 5 --for $((secs + 30)) 2> "$dir/serve.err" &
+"$btx" serve "$dir/served.jsonl" --port 0 --speed 5 --for $((secs + 30)) --buffer "$buffer" 2> "$dir/serve.err" &
 for _ in $(seq 50); do grep -q 'on 127.0.0.1:' "$dir/serve.err" 2>/dev/null && break; sleep 0.1; done
 port=$(sed -n 's/.* on 127\.0\.0\.1:\([0-9]*\) .*/\1/p' "$dir/serve.err" | head -1)
 

@@ -510,3 +510,76 @@ fn fuzzer_findings_are_errors() {
         assert!(e.contains(expect), "{file}: {e}");
     }
 }
+
+#[test]
+fn a_log_whose_root_completed_is_a_finished_run_everywhere() {
+    // The explorer called a robot's whole `.btlog` "no end recorded … cut
+    // off or is still going", while `ask` said the task finished (#30
+    // item 5). Every log kind of every recorded run ends with its root.
+    for run in RUNS {
+        for s in [open(run), open_db3(run), open_fbl(&format!("{run}_v3"))] {
+            let (_, root, _) = s.end.clone().unwrap_or_else(|| panic!("{run}: no end"));
+            let last = s
+                .index
+                .transitions
+                .iter()
+                .rev()
+                .find(|t| t.uid == 1)
+                .unwrap();
+            assert_eq!(root, last.prev, "{run}: completed, then reset to IDLE");
+            assert_eq!(
+                s.ending(),
+                format!(
+                    "ended at tick {}: root {} (root completed)",
+                    s.index.ticks(),
+                    root.as_str()
+                )
+            );
+        }
+    }
+    // Imported, the session says the same, and so does what reads it.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.jsonl");
+    let log = fixture("logs/kitting_nominal.btlog");
+    let (ok, _, err) = btx(&[
+        "import",
+        log.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let imported = btx::session::Session::load(&out).unwrap();
+    assert_eq!(imported.ending(), open("kitting_nominal").ending());
+}
+
+#[test]
+fn only_a_log_that_stops_while_the_root_runs_is_cut_off() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("cut.btlog");
+    live_log(&p, 100, 0);
+    let s = btx::logs::open_btlog(&p, &std::fs::read(&p).unwrap()).unwrap();
+    assert_eq!(s.end, None);
+    assert_eq!(
+        s.ending(),
+        format!(
+            "no end recorded after tick {}: the run was cut off or is still going",
+            s.index.ticks()
+        )
+    );
+    // Imported, it is not made to end: the session has no end record,
+    // where it had one saying "root SUCCESS" from an earlier completion.
+    let out = dir.path().join("cut.jsonl");
+    let (ok, _, err) = btx(&[
+        "import",
+        p.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let imported = btx::session::Session::load(&out).unwrap();
+    assert_eq!(imported.end, None);
+    assert_eq!(imported.index.transitions, s.index.transitions);
+    assert!(!std::fs::read_to_string(&out)
+        .unwrap()
+        .contains("\"k\":\"end\""));
+}

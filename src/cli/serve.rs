@@ -21,6 +21,21 @@ pub struct Args {
     /// Stop after this many seconds (default: at Ctrl-C).
     #[arg(long = "for", value_name = "SECONDS", value_parser = seconds)]
     pub for_secs: Option<f64>,
+    /// Transitions kept between two reads of a client (BehaviorTree.CPP's publisher keeps 1000;
+    /// btx clients are told a larger number, other clients see longer replies). At most 100000.
+    #[arg(long, value_name = "N", default_value_t = btx::live::groot2::SERVER_BUFFER, value_parser = buffer)]
+    pub buffer: usize,
+}
+
+/// `--buffer`: a count of transitions a client can read in one reply.
+fn buffer(s: &str) -> Result<usize, String> {
+    let max = btx::live::groot2::TRANSITIONS_REPLY_MAX;
+    match s.trim().parse::<usize>() {
+        Ok(n) if (1..=max).contains(&n) => Ok(n),
+        _ => Err(format!(
+            "\"{s}\" is not a number of transitions from 1 to {max}"
+        )),
+    }
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
@@ -39,7 +54,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         .map_err(|e| Failure::Plain(format!("{}:{}: cannot listen: {e}", args.host, args.port)))?;
     // With --port 0 the system picks the port: say the one it gave.
     let port = listener.local_addr().map_or(args.port, |a| a.port());
-    let replay = Arc::new(btx::live::serve::Replay::new(s, args.speed));
+    let replay = Arc::new(btx::live::serve::Replay::new(s, args.speed).with_buffer(args.buffer));
     if !cli.quiet {
         let s = replay.session();
         eprintln!(
@@ -70,7 +85,14 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         let replay = Arc::clone(&replay);
         Arc::new(move |parts: &[Vec<u8>]| replay.answer(parts))
     };
-    btx::live::zmtp::serve_rep(listener, answer, stop)
+    // Said only when it is not BehaviorTree.CPP's, which clients assume.
+    let said = args.buffer.to_string();
+    let properties: Vec<(&[u8], &[u8])> = if args.buffer == btx::live::groot2::SERVER_BUFFER {
+        Vec::new()
+    } else {
+        vec![(btx::live::groot2::BUFFER_PROPERTY, said.as_bytes())]
+    };
+    btx::live::zmtp::serve_rep(listener, answer, &properties, stop)
         .map_err(|e| Failure::Plain(format!("{}:{}: {e}", args.host, args.port)))?;
     Ok(())
 }

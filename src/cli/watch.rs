@@ -68,6 +68,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             }
         }
         let done = stop.load(Ordering::Relaxed)
+            || feed.status.finished.is_some()
             || deadline.is_some_and(|d| Instant::now() >= d)
             || (closed && args.out.is_none());
         if done {
@@ -118,6 +119,9 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             break;
         }
         std::thread::sleep(Duration::from_millis(20));
+    }
+    if let (false, Some(f)) = (cli.quiet, &feed.status.finished) {
+        eprintln!("{f}");
     }
     let n = feed.transitions();
     if let (false, Some((median, p99))) = (cli.quiet, feed.latency_ms()) {

@@ -12,8 +12,11 @@ pub const PROTOCOL: u8 = 2;
 /// Groot2's port (`Groot2Publisher`'s default, Nav2's `groot_server_port`).
 pub const DEFAULT_PORT: u16 = 1667;
 /// The transitions the server keeps between two `t` requests; a reply this
-/// long may have lost older ones.
+/// long may have lost older ones. BehaviorTree.CPP's publisher keeps 1,000.
 pub const SERVER_BUFFER: usize = 1000;
+/// The READY property in which a server says it keeps another number of
+/// transitions (`btx serve --buffer`); BehaviorTree.CPP's says none.
+pub const BUFFER_PROPERTY: &[u8] = b"X-Transitions-Buffer";
 
 /// One transition as the server records it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -195,16 +198,31 @@ pub struct Client {
     /// A `t` reply larger than `TRANSITIONS_REPLY_MAX` records was dropped:
     /// its size in bytes (taken by the caller, who says the gap).
     pub dropped: Option<u64>,
+    /// The transitions the server keeps between two `t`: a reply this long
+    /// may have lost older ones.
+    pub buffer: usize,
+}
+
+/// The buffer a server says it keeps: BehaviorTree.CPP's when it says
+/// none, or nothing btx can use (not a number, 0, or more than a reply
+/// btx reads).
+fn buffer_of(said: Option<&[u8]>) -> usize {
+    said.and_then(|v| std::str::from_utf8(v).ok()?.trim().parse::<usize>().ok())
+        .filter(|n| (1..=TRANSITIONS_REPLY_MAX).contains(n))
+        .unwrap_or(SERVER_BUFFER)
 }
 
 impl Client {
     pub fn connect(endpoint: &str, timeout: Duration) -> Result<Client, LiveError> {
+        let req = Req::connect(endpoint, timeout)?;
+        let buffer = buffer_of(req.property(BUFFER_PROPERTY));
         Ok(Client {
-            req: Req::connect(endpoint, timeout)?,
+            req,
             endpoint: endpoint.to_string(),
             next_id: std::process::id().wrapping_mul(2_654_435_761),
             uuid: [0; 16],
             dropped: None,
+            buffer,
         })
     }
 
@@ -337,6 +355,16 @@ impl Client {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_buffer_a_server_says_is_taken_when_btx_can_read_it() {
+        assert_eq!(buffer_of(None), SERVER_BUFFER);
+        assert_eq!(buffer_of(Some(b"20000")), 20_000);
+        assert_eq!(buffer_of(Some(b"100000")), TRANSITIONS_REPLY_MAX);
+        for odd in [&b"0"[..], b"100001", b"-5", b"lots", b"\xff"] {
+            assert_eq!(buffer_of(Some(odd)), SERVER_BUFFER, "{odd:?}");
+        }
+    }
+
     use super::*;
 
     #[test]

@@ -11,6 +11,7 @@ pub mod serve;
 pub mod zmtp;
 
 use crate::logs::btlog::Record;
+use crate::run::Status;
 use crate::session::{Before, Session};
 use crate::source::{Located, Warning};
 use groot2::{Client, LiveError, SERVER_BUFFER};
@@ -55,6 +56,11 @@ pub struct Watch {
     pub resyncs: Vec<(usize, Vec<Before>)>,
     /// What the server said that cannot be right, not yet taken.
     pub notes: Vec<String>,
+    /// The root's last transition received (its status before and after).
+    root: Option<(Status, Status)>,
+    /// How the robot's run ended, when the robot went away after its root
+    /// completed: the run is over, not cut off.
+    pub finished: Option<String>,
 }
 
 /// How many times btx starts recording before it takes the statuses as
@@ -83,7 +89,7 @@ fn attach(c: &mut Client) -> Result<Attached, LiveError> {
     let mut got = attach_once(c)?;
     for _ in 1..ATTACH_TRIES {
         // Starting again would drop what the full buffer still holds.
-        if got.exact || got.first.len() >= SERVER_BUFFER {
+        if got.exact || got.first.len() >= c.buffer {
             break;
         }
         got = attach_once(c)?;
@@ -165,12 +171,13 @@ impl Watch {
             exact,
         } = attach(&mut c)?;
         let mut gaps = Vec::new();
-        let overflowed = first.len() >= SERVER_BUFFER;
+        let buffer = c.buffer;
+        let overflowed = first.len() >= buffer;
         if overflowed {
             gaps.push(Gap {
                 at: 0,
                 why: format!(
-                    "the robot made more transitions than the server's buffer holds ({SERVER_BUFFER}) before btx's first read: the ones before these {SERVER_BUFFER} are lost; {}",
+                    "the robot made more transitions than the server's buffer holds ({buffer}) before btx's first read: the ones before these {buffer} are lost; {}",
                     if before.is_empty() {
                         "every node was IDLE when recording started"
                     } else {
@@ -205,6 +212,8 @@ impl Watch {
                 vec![(0, before)]
             },
             notes: note.into_iter().collect(),
+            root: None,
+            finished: None,
         };
         w.take(first);
         if overflowed {
@@ -261,7 +270,8 @@ impl Watch {
                     ));
                 }
                 let n = self.take(ts);
-                if n >= SERVER_BUFFER || dropped.is_some() {
+                let buffer = self.client.as_ref().map_or(SERVER_BUFFER, |c| c.buffer);
+                if n >= buffer || dropped.is_some() {
                     // The statuses now, as the lost transitions left them.
                     let states = self.client.as_mut().map(|c| c.states());
                     match states {
@@ -278,16 +288,36 @@ impl Watch {
             }
             Err(e) => {
                 self.client = None;
+                if let Some(done) = self.completed() {
+                    // A robot that exits once its tree is done: the end of
+                    // the run, not a gap in it.
+                    self.finished = Some(format!(
+                        "the robot's run finished (root {}), then the robot closed the connection",
+                        done.as_str()
+                    ));
+                    return Ok(0);
+                }
                 self.gap(format!("the connection dropped ({e}); btx reads every node's state again once it reconnects"));
                 Err(e)
             }
         }
     }
 
+    /// The root's completion, when its last transition completed it (or
+    /// reset it to IDLE after, as BehaviorTree.CPP does to a finished tree).
+    fn completed(&self) -> Option<Status> {
+        match self.root? {
+            (_, s) if s.is_completed() => Some(s),
+            (p, Status::Idle) if p.is_completed() => Some(p),
+            _ => None,
+        }
+    }
+
     /// Keeps the transitions of a `t` reply; how many came.
     fn take(&mut self, ts: Vec<groot2::Transition>) -> usize {
-        if ts.len() >= SERVER_BUFFER {
-            self.gap(format!("the server's buffer of {SERVER_BUFFER} transitions was full: older ones may be lost{RESYNCED} after these {SERVER_BUFFER}"));
+        let buffer = self.client.as_ref().map_or(SERVER_BUFFER, |c| c.buffer);
+        if ts.len() >= buffer {
+            self.gap(format!("the server's buffer of {buffer} transitions was full: older ones may be lost{RESYNCED} after these {buffer}"));
         }
         let n = ts.len();
         // BehaviorTree.CPP 4.8's publisher sizes its reply before it locks
@@ -299,6 +329,10 @@ impl Watch {
         }
         let now_us = now_us();
         for t in ts.into_iter().filter(|t| t.uid != 0) {
+            if t.uid == crate::model::Tree::ROOT {
+                let prev = self.root.map_or(Status::Idle, |r| r.1);
+                self.root = Some((prev, t.status));
+            }
             let time_us = self.t0.saturating_add(t.time_us);
             self.latency_us.push(now_us.saturating_sub(time_us));
             let offset = self.received();
@@ -401,6 +435,9 @@ pub struct LiveStatus {
     pub gaps: usize,
     /// The last error, while not connected.
     pub error: Option<String>,
+    /// How the robot's run ended, once it went away after its root
+    /// completed (watching is over).
+    pub finished: Option<String>,
 }
 
 impl LiveStatus {
@@ -410,7 +447,9 @@ impl LiveStatus {
             "live {} · tree {}… · {} · {:.0}/s · {} transitions · {}",
             self.endpoint,
             self.uuid.get(..8).unwrap_or(&self.uuid),
-            if self.connected {
+            if let Some(f) = &self.finished {
+                f.clone()
+            } else if self.connected {
                 "connected".to_string()
             } else {
                 format!(
@@ -804,7 +843,9 @@ fn polling(
             }
             Err(e) => Some(e.to_string()),
         };
-        if error.is_none() {
+        // A robot gone after its run finished: nothing more will come.
+        let halting = halting || w.finished.is_some();
+        if error.is_none() && !halting {
             fetch_blackboard(w, shared);
         }
         let n = w.received();
@@ -965,6 +1006,7 @@ impl Watch {
             transitions: self.received(),
             gaps: self.gap_count,
             error,
+            finished: self.finished.clone(),
         }
     }
 }

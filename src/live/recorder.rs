@@ -46,7 +46,8 @@ pub struct Recorder {
     tick: u32,
     step: u32,
     last_tick: u32,
-    root: Status,
+    /// The root's last transition: its status before and after.
+    root: (Status, Status),
     /// Rows for a caller that prints them (`btx watch`), if it asked, and
     /// the gap to say with the next one.
     pub rows: Option<Vec<LogRow>>,
@@ -85,7 +86,7 @@ impl Recorder {
             tick: 0,
             step: 0,
             last_tick: 0,
-            root: Status::Idle,
+            root: (Status::Idle, Status::Idle),
             rows: None,
             pending_gap: None,
             view: true,
@@ -135,8 +136,8 @@ impl Recorder {
             }
             self.step += 1;
             self.last_tick = tick;
-            if r.uid == Tree::ROOT && r.status.is_completed() {
-                self.root = r.status;
+            if r.uid == Tree::ROOT {
+                self.root = (prev, r.status);
             }
             if let Some(w) = self.writer.as_mut() {
                 w.event(&Event::Transition {
@@ -224,8 +225,15 @@ impl Recorder {
         while let Some(m) = self.marks.pop_front() {
             self.mark(m, tick)?;
         }
+        // The run finished when the root's last transition completed it
+        // (or reset it to IDLE right after, as BehaviorTree.CPP does).
+        let (root, why) = match self.root {
+            (_, s) if s.is_completed() => (s, "the robot's run finished"),
+            (p, Status::Idle) if p.is_completed() => (p, "the robot's run finished"),
+            (_, s) => (s, "watching stopped"),
+        };
         match self.writer.take() {
-            Some(w) => w.finish(self.last_tick, self.root, "imported").map(Some),
+            Some(w) => w.finish(self.last_tick, root, why).map(Some),
             None => Ok(None),
         }
     }

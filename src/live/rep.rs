@@ -39,13 +39,15 @@ struct Conn {
     size: u64,
     /// When the client last sent a whole request (or connected).
     heard: Instant,
+    /// Our READY command, sent after the client's greeting.
+    ready: std::rc::Rc<[u8]>,
 }
 
 /// Why a connection is closed.
 type Closed = ();
 
 impl Conn {
-    fn new(stream: TcpStream) -> Conn {
+    fn new(stream: TcpStream, ready: std::rc::Rc<[u8]>) -> Conn {
         Conn {
             stream,
             phase: Phase::Greeting,
@@ -55,6 +57,7 @@ impl Conn {
             delimited: false,
             size: 0,
             heard: Instant::now(),
+            ready,
         }
     }
 
@@ -106,7 +109,7 @@ impl Conn {
                     if g[0] != 0xFF || g[9] & 1 != 1 || g[10] < 3 || &g[12..16] != b"NULL" {
                         return Err(());
                     }
-                    self.output.extend_from_slice(&ready(b"REP"));
+                    self.output.extend_from_slice(&self.ready);
                     self.phase = Phase::Ready;
                 }
                 _ => {
@@ -203,12 +206,15 @@ impl Conn {
 /// `CONNECTIONS_MAX` clients at once (more are refused, with a line on
 /// stderr at most once a second); a client that breaks the protocol, sends
 /// a request over `REQUEST_MAX` bytes or stays silent `IDLE_MAX` loses its
-/// connection, not the server.
+/// connection, not the server. `properties` go in our READY, after the
+/// socket type.
 pub fn serve_rep(
     listener: std::net::TcpListener,
     answer: Answer,
+    properties: &[(&[u8], &[u8])],
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
 ) -> std::io::Result<()> {
+    let ready: std::rc::Rc<[u8]> = ready(b"REP", properties).into();
     listener.set_nonblocking(true)?;
     let endpoint = listener.local_addr()?.to_string();
     let mut listener = TcpListener::from_std(listener);
@@ -255,7 +261,7 @@ pub fn serve_rep(
                         .register(&mut stream, Token(slot), interest)
                         .is_ok()
                     {
-                        let mut c = Conn::new(stream);
+                        let mut c = Conn::new(stream, std::rc::Rc::clone(&ready));
                         // The greeting goes at once.
                         if c.write().is_ok() {
                             conns[slot] = Some(c);

@@ -4,7 +4,8 @@
 //! It answers `T` (the instantiated tree with `_uid`s), `S` (every node's
 //! status now, IDLE as 10 + the status before it), `r start|stop`, `t` (the
 //! transitions since the last `t`, as the publisher's 9-byte records, at
-//! most the last 1,000) and `B` (the blackboards' entries the run shows
+//! most the last 1,000 as BehaviorTree.CPP keeps, or as many as `--buffer`
+//! says, which the READY command tells the client) and `B` (the blackboards' entries the run shows
 //! at that moment, as MessagePack).
 //! Hooks and breakpoints are refused, as btx never changes a run. The run
 //! starts playing when the first client starts recording.
@@ -35,6 +36,8 @@ pub struct Replay {
     /// Simulated time of one tick.
     tick: Duration,
     uuid: [u8; 16],
+    /// The most transitions one `t` hands out (the last ones).
+    buffer: usize,
     state: Mutex<State>,
 }
 
@@ -61,12 +64,25 @@ impl Replay {
             xml,
             tick,
             uuid,
+            buffer: SERVER_BUFFER,
             state: Mutex::new(State {
                 started: None,
                 recording: None,
                 codes: None,
             }),
         }
+    }
+
+    /// Keeping the last `n` transitions between two `t`, not 1,000 (at
+    /// least 1, at most what a client reads of one reply).
+    pub fn with_buffer(mut self, n: usize) -> Replay {
+        self.buffer = n.clamp(1, super::groot2::TRANSITIONS_REPLY_MAX);
+        self
+    }
+
+    /// The transitions kept between two `t`.
+    pub fn buffer(&self) -> usize {
+        self.buffer
     }
 
     pub fn session(&self) -> &Session {
@@ -226,9 +242,9 @@ impl Replay {
     }
 
     /// The 9-byte records of transitions `from..to`, timed from `t0`; at
-    /// most the last `SERVER_BUFFER`, as the publisher keeps.
+    /// most the last `buffer`, as the publisher keeps.
     fn records(&self, started: Instant, t0: Instant, from: usize, to: usize) -> Vec<u8> {
-        let from = from.max(to.saturating_sub(SERVER_BUFFER));
+        let from = from.max(to.saturating_sub(self.buffer));
         let mut out = Vec::with_capacity(9 * (to - from));
         for t in &self.session.index.transitions[from..to] {
             let at = self.tick_start(started, t.tick);

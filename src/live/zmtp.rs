@@ -55,6 +55,8 @@ pub struct Req {
     stream: TcpStream,
     endpoint: String,
     timeout: Duration,
+    /// The metadata of the server's READY (its properties).
+    ready: Vec<u8>,
 }
 
 pub(super) const SIGNATURE_END: u8 = 0x7F;
@@ -99,9 +101,15 @@ impl Req {
             stream,
             endpoint: endpoint.to_string(),
             timeout,
+            ready: Vec::new(),
         };
         req.handshake(b"REQ", &[b"REP", b"ROUTER"])?;
         Ok(req)
+    }
+
+    /// A property the server's READY carried.
+    pub fn property(&self, name: &[u8]) -> Option<&[u8]> {
+        property(&self.ready, name)
     }
 
     fn err(&self, m: impl Into<String>) -> ZmtpError {
@@ -176,12 +184,13 @@ impl Req {
             );
         }
         // READY, with our socket type.
-        let frame = ready(ours);
+        let frame = ready(ours, &[]);
         self.write_all(&frame)?;
         let (flags, body) = self.read_frame(deadline, "the READY command")?;
         if flags & COMMAND == 0 || !body.starts_with(b"\x05READY") {
             return Err(self.err("the server did not send READY after the greeting"));
         }
+        self.ready = body[6..].to_vec();
         if let Some(t) = property(&body[6..], b"Socket-Type") {
             if !peers.contains(&t) {
                 return Err(self.err(format!(
@@ -337,15 +346,27 @@ pub(super) fn greeting() -> [u8; 64] {
     g
 }
 
-/// The READY command frame, naming our socket type.
-pub(super) fn ready(socket_type: &[u8]) -> Vec<u8> {
+/// The READY command frame, naming our socket type, then `extra`
+/// properties (ZMTP 3.0 lets a peer add its own, named `X-…`; libzmq and
+/// other peers pass over names they do not know).
+pub(super) fn ready(socket_type: &[u8], extra: &[(&[u8], &[u8])]) -> Vec<u8> {
     let mut body = vec![5];
     body.extend_from_slice(b"READY");
-    body.push(11);
-    body.extend_from_slice(b"Socket-Type");
-    body.extend_from_slice(&(socket_type.len() as u32).to_be_bytes());
-    body.extend_from_slice(socket_type);
-    let mut frame = vec![COMMAND, body.len() as u8];
+    for (name, value) in
+        std::iter::once((&b"Socket-Type"[..], socket_type)).chain(extra.iter().copied())
+    {
+        body.push(name.len() as u8);
+        body.extend_from_slice(name);
+        body.extend_from_slice(&(value.len() as u32).to_be_bytes());
+        body.extend_from_slice(value);
+    }
+    let mut frame = if body.len() > 255 {
+        let mut f = vec![COMMAND | LONG];
+        f.extend_from_slice(&(body.len() as u64).to_be_bytes());
+        f
+    } else {
+        vec![COMMAND, body.len() as u8]
+    };
     frame.extend_from_slice(&body);
     frame
 }
@@ -440,5 +461,11 @@ mod tests {
         m.extend_from_slice(b"REP");
         assert_eq!(property(&m, b"socket-type"), Some(&b"REP"[..]));
         assert_eq!(property(&m[..5], b"Socket-Type"), None);
+        let r = ready(b"REP", &[(b"X-Transitions-Buffer", b"20000")]);
+        assert_eq!(property(&r[8..], b"Socket-Type"), Some(&b"REP"[..]));
+        assert_eq!(
+            property(&r[8..], b"x-transitions-buffer"),
+            Some(&b"20000"[..])
+        );
     }
 }

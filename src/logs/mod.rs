@@ -292,12 +292,13 @@ fn session_from(
         }
     }
     let header = import_header(path, &tree, version, kind, Vec::new());
+    let end = ending(&index);
     Ok(Session {
         path: path.to_path_buf(),
         header,
         tree,
         index,
-        end: None,
+        end,
         inserts: Vec::new(),
         warnings,
     })
@@ -374,18 +375,36 @@ pub(crate) fn import_header(
     }
 }
 
-/// Writes a session read from a log as a btx session file.
-pub fn write_session(s: &Session, out: &Path) -> Result<PathBuf, Located> {
-    let mut w = crate::session::SessionWriter::create(out, &s.header)?;
-    write_events(s, &mut w)?;
-    let root = s
-        .index
+/// How a log's run ended, by the root's last transition: completed
+/// (SUCCESS or FAILURE, or IDLE right after it, as BehaviorTree.CPP resets
+/// a finished tree), or halted while RUNNING. A log that stops while the
+/// root runs has no end: the run was cut off or is still going.
+pub fn ending(index: &crate::session::Index) -> Option<(u32, Status, String)> {
+    let last = index
         .transitions
         .iter()
         .rev()
-        .find(|t| t.uid == crate::model::Tree::ROOT && t.status.is_completed())
-        .map_or(Status::Idle, |t| t.status);
-    w.finish(s.index.ticks(), root, "imported")
+        .find(|t| t.uid == crate::model::Tree::ROOT)?;
+    let ticks = index.ticks();
+    match (last.prev, last.status) {
+        (_, s) if s.is_completed() => Some((ticks, s, "root completed".into())),
+        (p, Status::Idle) if p.is_completed() => Some((ticks, p, "root completed".into())),
+        (Status::Running, Status::Idle) => {
+            Some((ticks, Status::Idle, "root halted while RUNNING".into()))
+        }
+        _ => None,
+    }
+}
+
+/// Writes a session read from a log as a btx session file; a log that
+/// stops while the root runs is written without an end.
+pub fn write_session(s: &Session, out: &Path) -> Result<PathBuf, Located> {
+    let mut w = crate::session::SessionWriter::create(out, &s.header)?;
+    write_events(s, &mut w)?;
+    match &s.end {
+        Some((ticks, root, why)) => w.finish(*ticks, *root, why),
+        None => w.finish_cut_off(),
+    }
 }
 
 fn write_events(s: &Session, w: &mut crate::session::SessionWriter) -> Result<(), Located> {

@@ -369,6 +369,17 @@ impl SessionWriter {
             reason: reason.to_string(),
         };
         self.line(&end)?;
+        self.close()
+    }
+
+    /// Finishes a session with no end record: a run that stops while its
+    /// root runs (a log cut off), which every reader says as such.
+    pub fn finish_cut_off(self) -> Result<PathBuf, Located> {
+        self.close()
+    }
+
+    /// Flushes and syncs the partial file, then gives it its name.
+    fn close(mut self) -> Result<PathBuf, Located> {
         self.flush()?;
         let file = self
             .out

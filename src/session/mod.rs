@@ -38,9 +38,13 @@ impl Session {
             Some((ticks, _, reason)) if reason.starts_with("error: ") => {
                 format!("stopped at tick {ticks} by an {reason}")
             }
-            Some((ticks, root, reason)) => {
+            Some((ticks, root, reason)) if root.is_completed() => {
                 format!("ended at tick {ticks}: root {} ({reason})", root.as_str())
             }
+            Some((ticks, root, reason)) => format!(
+                "stopped at tick {ticks} with the root {} ({reason})",
+                root.as_str()
+            ),
             None => format!(
                 "no end recorded after tick {}: the run was cut off or is still going",
                 self.index.ticks()

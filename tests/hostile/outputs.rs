@@ -10,8 +10,19 @@ use std::time::{Duration, Instant};
 /// `btx serve RUN` on a port the system picks, for `secs`: the port it
 /// says, and the server.
 pub fn served(run: &str, speed: &str, secs: &str) -> (u16, std::process::Child) {
+    served_with(run, speed, secs, &[])
+}
+
+/// `served`, with more arguments to `btx serve`.
+pub fn served_with(
+    run: &str,
+    speed: &str,
+    secs: &str,
+    more: &[&str],
+) -> (u16, std::process::Child) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_btx"))
         .args(["serve", run, "--port", "0", "--speed", speed, "--for", secs])
+        .args(more)
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .stderr(Stdio::piped())
         .spawn()

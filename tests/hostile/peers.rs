@@ -3,7 +3,7 @@
 //! publisher would (a start time of i64::MIN, millions of transitions in
 //! one reply, a blackboard of megabytes), and clients that knock too often.
 
-use super::outputs::served;
+use super::outputs::{served, served_with};
 use super::*;
 use btx::live::{groot2, serve::Replay, zmtp};
 use btx::session::Session;
@@ -28,7 +28,7 @@ fn hostile(
         odd(parts, normal[0].clone()).unwrap_or(normal)
     });
     let halt = Arc::clone(&stop);
-    std::thread::spawn(move || zmtp::serve_rep(listener, answer, halt));
+    std::thread::spawn(move || zmtp::serve_rep(listener, answer, &[], halt));
     (port, stop)
 }
 
@@ -90,6 +90,96 @@ fn a_first_tick_larger_than_the_publishers_buffer_is_kept_whole() {
     assert_eq!(k.len(), o.len(), "{err}");
     assert!(k == o, "the same transitions: {err}");
     assert!(kept.index.gaps.is_empty(), "{:?}", kept.index.gaps);
+}
+
+/// Three ticks of 4,005 transitions served 100 ms apart (with `more`
+/// arguments to `btx serve`), and a watch stopped (SIGSTOP) for 1 s from
+/// its first tick: the original run, and what the watch kept and said.
+fn watched_through_a_stop(more: &[&str]) -> (Session, Session, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let leaves: String = (0..2001).map(|_| "<AlwaysSuccess/>").collect();
+    let tree = write(
+        dir.path(),
+        "wide.xml",
+        &format!(
+            "<root BTCPP_format=\"4\"><BehaviorTree ID=\"Main\"><Sequence>{leaves}</Sequence></BehaviorTree></root>"
+        ),
+    );
+    let plan = write(dir.path(), "empty.plan", "");
+    let run = dir.path().join("wide.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        &tree,
+        "--plan",
+        &plan,
+        "--max-ticks",
+        "3",
+        "--tick-ms",
+        "100",
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let (port, mut server) = served_with(run.to_str().unwrap(), "1", "60", more);
+    let out = dir.path().join("w.jsonl");
+    let mut watch = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["watch", &format!(":{port}"), "--for", "3", "--out"])
+        .arg(&out)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = std::io::BufReader::new(watch.stderr.take().unwrap());
+    let mut said = String::new();
+    std::io::BufRead::read_line(&mut stderr, &mut said).unwrap();
+    let pid = watch.id().to_string();
+    Command::new("kill").args(["-STOP", &pid]).status().unwrap();
+    std::thread::sleep(Duration::from_secs(1));
+    Command::new("kill").args(["-CONT", &pid]).status().unwrap();
+    std::io::Read::read_to_string(&mut stderr, &mut said).unwrap();
+    assert!(watch.wait().unwrap().success(), "{said}");
+    let _ = server.kill();
+    (
+        Session::load(&run).unwrap(),
+        Session::load(&out).unwrap(),
+        said,
+    )
+}
+
+#[test]
+fn a_server_that_keeps_more_than_1000_transitions_says_so_and_loses_none() {
+    // `btx serve --buffer 20000` says its buffer in its READY: the watch
+    // reads replies of thousands as whole, not as a full buffer.
+    let (original, kept, said) = watched_through_a_stop(&["--buffer", "20000"]);
+    assert!(kept.index.gaps.is_empty(), "{said}");
+    assert!(
+        kept.index.transitions == original.index.transitions,
+        "{said}"
+    );
+    // BehaviorTree.CPP's 1,000 (the default): the same stop loses
+    // transitions, and the watch says where and why.
+    let (original, kept, said) = watched_through_a_stop(&[]);
+    assert!(
+        said.contains("the server's buffer of 1000 transitions was full"),
+        "{said}"
+    );
+    assert!(!kept.index.gaps.is_empty(), "{said}");
+    assert!(kept.index.transitions.len() < original.index.transitions.len());
+}
+
+#[test]
+fn serve_refuses_a_buffer_it_cannot_serve() {
+    for bad in ["0", "-1", "100001", "lots"] {
+        let (ok, _, err) = btx(&[
+            "serve",
+            "sessions/kitting-nominal.jsonl",
+            &format!("--buffer={bad}"),
+        ]);
+        assert!(!ok);
+        assert!(
+            err.contains("is not a number of transitions from 1 to 100000"),
+            "{err}"
+        );
+    }
 }
 
 #[test]

@@ -48,20 +48,49 @@ fn db3_session(path: &Path) -> Option<(&Path, i64)> {
     file.is_file().then_some((file, n))
 }
 
+/// Opens a tree, a session or a log. With `opts.run_tree` (`--tree FILE`),
+/// a run (a log or a session) has the tree the robot ran in place of the
+/// one it embeds, after checking that the two are the same node for node;
+/// a tree file is refused then, having no tree to replace.
 pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
+    let Some(file) = &opts.run_tree else {
+        return open_as(path, opts, None);
+    };
+    let tree = crate::xml::load_file(file, opts)?.tree;
+    let given = crate::logs::GivenTree {
+        tree: &tree,
+        path: file,
+    };
+    match open_as(path, opts, Some(given))? {
+        Input::Tree { .. } => Err(Located::file(
+            path,
+            "--tree replaces the tree a log or a session embeds; this is a tree file",
+        )),
+        run => Ok(run),
+    }
+}
+
+fn open_as(
+    path: &Path,
+    opts: &LoadOptions,
+    given: Option<crate::logs::GivenTree>,
+) -> Result<Input, Located> {
     if let Some((file, n)) = db3_session(path) {
-        return Ok(Input::Session(Box::new(crate::logs::open_db3(
+        return Ok(Input::Session(Box::new(crate::logs::open_db3_as(
             file,
             Some(n),
+            given,
         )?)));
     }
     let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the file")?;
     if crate::logs::db3::is_db3(&bytes) {
-        return Ok(Input::Session(Box::new(crate::logs::open_db3(path, None)?)));
+        return Ok(Input::Session(Box::new(crate::logs::open_db3_as(
+            path, None, given,
+        )?)));
     }
     if crate::logs::btlog::is_btlog(&bytes) {
-        return Ok(Input::Session(Box::new(crate::logs::open_btlog(
-            path, &bytes,
+        return Ok(Input::Session(Box::new(crate::logs::open_btlog_as(
+            path, &bytes, given,
         )?)));
     }
     if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
@@ -74,8 +103,8 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
     if !matches!(first.map(|i| bytes[i]), Some(b'{' | b'<' | 0xEF))
         && crate::logs::fbl::is_fbl(&bytes)
     {
-        return Ok(Input::Session(Box::new(crate::logs::open_fbl(
-            path, &bytes,
+        return Ok(Input::Session(Box::new(crate::logs::open_fbl_as(
+            path, &bytes, given,
         )?)));
     }
     let kind = first.map(|i| bytes[i]);
@@ -86,12 +115,18 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
         return Err(Located::file(path, crate::logs::fbl::not_fbl(&bytes)));
     }
     if let Some(b) = kind.filter(|b| !matches!(b, b'{' | b'<' | 0xEF)) {
+        let what = std::str::from_utf8(&bytes)
+            .ok()
+            .and_then(|text| what_file(path, text));
         return Err(Located::file(
             path,
-            format!(
-                "not a BehaviorTree.CPP XML tree nor a btx session (byte offset {} is 0x{b:02x})",
-                first.unwrap_or(0)
-            ),
+            match what {
+                Some(w) => format!("not a tree or a session: {w}"),
+                None => format!(
+                    "not a BehaviorTree.CPP XML tree nor a btx session (byte offset {} is 0x{b:02x})",
+                    first.unwrap_or(0)
+                ),
+            },
         ));
     }
     let text = String::from_utf8(bytes).map_err(|e| {
@@ -103,11 +138,19 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
             ),
         )
     })?;
+    // btx's own sessions and btcm's logs: their index does not rest on the
+    // tree's scripts, so a given tree is put in after.
+    let with_given = |mut s: Session| -> Result<Input, Located> {
+        if let Some(g) = given {
+            g.put_in(&mut s)?;
+        }
+        Ok(Input::Session(Box::new(s)))
+    };
     match kind {
-        Some(b'{') if crate::logs::btcm::is_btcm(&text) => Ok(Input::Session(Box::new(
-            crate::logs::btcm::open_btcm(path, &text)?,
-        ))),
-        Some(b'{') => Ok(Input::Session(Box::new(Session::parse(path, &text)?))),
+        Some(b'{') if crate::logs::btcm::is_btcm(&text) => {
+            with_given(crate::logs::btcm::open_btcm(path, &text)?)
+        }
+        Some(b'{') => with_given(Session::parse(path, &text)?),
         Some(_) => {
             let l = load_str(path, &text, opts)?;
             Ok(Input::Tree {
@@ -128,13 +171,21 @@ pub struct Follow {
     /// The file (inode), its length and time when last read: a file
     /// replaced by another of the same length and time is read again too.
     seen: Option<(u64, u64, Option<std::time::SystemTime>)>,
+    /// How the run is read (`--tree` among them).
+    opts: LoadOptions,
 }
 
 impl Follow {
     pub fn new(path: &Path) -> Follow {
+        Follow::with(path, LoadOptions::default())
+    }
+
+    /// Following a run read with these options.
+    pub fn with(path: &Path, opts: LoadOptions) -> Follow {
         Follow {
             path: path.to_path_buf(),
             seen: None,
+            opts,
         }
     }
 
@@ -150,7 +201,7 @@ impl Follow {
         if self.seen == Some(stamp) {
             return Ok(None);
         }
-        match open(&self.path, &LoadOptions::default())? {
+        match open(&self.path, &self.opts)? {
             Input::Session(s) => {
                 self.seen = Some(stamp);
                 Ok(Some(*s))
@@ -161,4 +212,25 @@ impl Follow {
             )),
         }
     }
+}
+
+/// What a text file given where a tree or a session is expected is, and
+/// where it goes: a domain file, another TOML file (a keymap), or a plan.
+fn what_file(path: &Path, text: &str) -> Option<String> {
+    if let Ok(table) = text.parse::<toml::Table>() {
+        if table.contains_key("btx_domain") {
+            return Some("this is a domain file; give it with --domain FILE".into());
+        }
+        let keys = !table.is_empty() && table.values().all(|v| v.is_array());
+        if keys {
+            return Some(
+                "this is a TOML file of key lists, a keymap; give it to the explorer with --keys FILE"
+                    .into(),
+            );
+        }
+    }
+    let plan = crate::run::plan::Plan::parse(path, text).ok()?;
+    (!plan.entries.is_empty()).then(|| {
+        "this is a plan (leaf = outcomes); give it with --plan FILE, with the tree it drives".into()
+    })
 }

@@ -25,6 +25,23 @@ pub fn rank<T: Clone>(query: &str, items: &[(String, T)], limit: usize) -> Vec<T
         .collect()
 }
 
+/// The one of `known` that `id` misspells: the same but for case, or one
+/// letter added, dropped or changed (in a name of 4 letters or more, so
+/// that a short ID is not taken for another). The closest wins.
+pub fn misspelt<'a>(id: &str, known: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let lower = id.to_lowercase();
+    known
+        .into_iter()
+        .filter(|k| *k != id)
+        .filter_map(|k| {
+            let d = edit_distance(&lower, &k.to_lowercase());
+            let close = d == 0 || (d == 1 && id.chars().count() >= 4);
+            close.then_some((d, k))
+        })
+        .min_by_key(|(d, _)| *d)
+        .map(|(_, k)| k)
+}
+
 fn edit_distance(a: &str, b: &str) -> usize {
     let a: Vec<char> = a.chars().collect();
     let b: Vec<char> = b.chars().collect();
@@ -43,6 +60,18 @@ fn edit_distance(a: &str, b: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_misspelt_id_is_found_by_case_or_one_letter() {
+        let known = ["Inverter", "Sequence", "Fallback", "FollowPath"];
+        assert_eq!(misspelt("inverter", known), Some("Inverter"));
+        assert_eq!(misspelt("Followpath", known), Some("FollowPath"));
+        assert_eq!(misspelt("Sequense", known), Some("Sequence"));
+        assert_eq!(misspelt("Fallbak", known), Some("Fallback"));
+        assert_eq!(misspelt("Inverter", known), None);
+        assert_eq!(misspelt("MyFallback", known), None);
+        assert_eq!(misspelt("Seq", ["Sea"]), None);
+    }
 
     #[test]
     fn fuzzy_matches_rank_first_and_typos_still_rank() {

@@ -211,7 +211,13 @@ fn on_real_trees_a_few_explanations_are_shown() {
             };
             let tick = s.index.transitions[p as usize - 1].tick;
             let at = Moment { tick, step: None };
-            if let Ok(mut w) = why(&s, d.clone(), &format!("status(#{u})"), &[], Some(at), 2) {
+            // Every one is answered: a refusal here hid that the replay took
+            // a Nav2 action's own RUNNING (TruncatePath, GetCurrentPose) for
+            // its result, on 30 of 84 questions.
+            let r = why(&s, d.clone(), &format!("status(#{u})"), &[], Some(at), 2);
+            let r = r.map_err(|e| format!("{}: #{u}: {e}", nav.display()));
+            {
+                let mut w = r.unwrap();
                 let n = w.groups().len();
                 w.shown = Some(3);
                 found.push(n);
@@ -237,7 +243,7 @@ fn on_real_trees_a_few_explanations_are_shown() {
         pct(&mut shown, 0.5),
         pct(&mut shown, 0.9)
     );
-    assert!(asked > 50, "{asked}");
+    assert!(asked >= 84, "{asked}");
     assert!(pct(&mut shown, 0.5) <= 3);
     assert!(shown.iter().all(|&n| n <= 3));
 }

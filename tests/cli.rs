@@ -909,3 +909,133 @@ fn a_name_several_nodes_answer_to_is_said_to_mean_the_outermost() {
     assert!(ok);
     assert_eq!(text, "I go insert large gear.\n");
 }
+
+#[test]
+fn a_misspelt_name_or_the_wrong_file_is_said_with_what_to_do() {
+    // #30 item 7: `inverter` stopped the run at tick 1 with no hint; a plan
+    // key `Followpath` "matches no leaf" with no suggestion; a plan opened
+    // as a tree said "byte offset 0 is 0x40".
+    let dir = tempfile::tempdir().unwrap();
+    let tree = dir.path().join("t.xml");
+    std::fs::write(&tree, "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><Sequence><inverter><AlwaysFailure/></inverter><Action ID=\"FollowPath\"/></Sequence></BehaviorTree></root>").unwrap();
+    let plan = dir.path().join("p.plan");
+    std::fs::write(&plan, "@default_action = S\nFollowpath = S\n").unwrap();
+    let out = dir.path().join("s.jsonl");
+    let (ok, _, err) = common::btx(&[
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains(
+            "p.plan:2:1: \"Followpath\" matches no leaf of the tree; did you mean \"FollowPath\"?"
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains(
+            "custom decorator \"inverter\" has no behaviour in btx; did you mean \"Inverter\"?"
+        ),
+        "{err}"
+    );
+    for (file, says) in [
+        (
+            plan.clone(),
+            "not a tree or a session: this is a plan (leaf = outcomes); give it with --plan FILE",
+        ),
+        (
+            common::fixture("serial-recall-excerpt.domain.toml"),
+            "not a tree or a session: this is a domain file; give it with --domain FILE",
+        ),
+    ] {
+        let (ok, _, err) = common::btx(&["tree", file.to_str().unwrap()]);
+        assert!(!ok);
+        assert!(err.replace("\n  │ ", " ").contains(says), "{err}");
+    }
+    let keys = dir.path().join("keys.toml");
+    std::fs::write(&keys, "step_forward = [\"Z\", \"Right\"]\n").unwrap();
+    let (ok, _, err) = common::btx(&["log", keys.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(
+        err.replace("\n  │ ", " ")
+            .contains("a keymap; give it to the explorer with --keys FILE"),
+        "{err}"
+    );
+}
+
+#[test]
+fn main_s_current_replanning_navigator_runs_to_completion() {
+    // Under @default_action = 1RS its ReactiveSequence restarted
+    // TruncatePathLocal every tick, and the run never finished (#30 item 6):
+    // TruncatePathLocal is a BT::ActionNodeBase that completes in its tick.
+    let dir = common::fixture("realworld/nav2-a3a9704");
+    let tmp = tempfile::tempdir().unwrap();
+    let plan = tmp.path().join("default.plan");
+    std::fs::write(&plan, "@default_action = 1RS\n@default_condition = S\n").unwrap();
+    let out = tmp.path().join("s.jsonl");
+    let tree = dir.join("nav_to_pose_with_consistent_replanning_and_if_path_becomes_invalid.xml");
+    let models = dir.join("nav2_tree_nodes.xml");
+    let (ok, text, err) = btx(&[
+        "run",
+        tree.to_str().unwrap(),
+        "--models",
+        models.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--max-ticks",
+        "100",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let said = format!("{text}{err}");
+    assert!(said.contains("root SUCCESS (root completed)"), "{said}");
+    let s = btx::session::Session::load(&out).unwrap();
+    // TruncatePathLocal: IDLE → RUNNING → SUCCESS within each tick it runs.
+    let uid = common::uid_of(&s.tree, "TruncatePathLocal");
+    let mine: Vec<_> = s
+        .index
+        .transitions
+        .iter()
+        .filter(|t| t.uid == uid)
+        .collect();
+    assert!(!mine.is_empty());
+    for t in &mine {
+        let same_tick: Vec<_> = mine.iter().filter(|u| u.tick == t.tick).collect();
+        assert!(
+            same_tick.iter().any(|u| u.status.is_completed()),
+            "tick {}",
+            t.tick
+        );
+    }
+}
+
+#[test]
+fn the_readme_s_nav2_table_is_the_code_s() {
+    // #30 item 6: one table, in the code and in the README (grouped; each
+    // node with its releases and source file in docs/nav2.md).
+    let table = |file: &str, head: &str| -> Vec<String> {
+        let text =
+            std::fs::read_to_string(format!("{}/{file}", env!("CARGO_MANIFEST_DIR"))).unwrap();
+        text.lines()
+            .skip_while(|l| !l.starts_with(head))
+            .skip(2)
+            .take_while(|l| l.starts_with('|'))
+            .map(str::to_string)
+            .collect()
+    };
+    let rows: Vec<String> = btx::model::nav2::NODES
+        .iter()
+        .map(btx::model::nav2::readme_row)
+        .collect();
+    assert_eq!(table("docs/nav2.md", "| Nav2 node "), rows);
+    assert_eq!(
+        table("README.md", "| base class | finishes |"),
+        btx::model::nav2::readme_groups()
+    );
+    assert_eq!(rows.len(), 80);
+}

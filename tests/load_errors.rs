@@ -48,7 +48,41 @@ fn unknown_subtree_id_suggests_the_closest() {
     let dir = tempfile::tempdir().unwrap();
     let p = write(dir.path(), "t.xml", "<root BTCPP_format=\"4\" main_tree_to_execute=\"M\"><BehaviorTree ID=\"M\"><SubTree ID=\"GoPick\"/></BehaviorTree><BehaviorTree ID=\"GoPickScrew\"><AlwaysSuccess/></BehaviorTree></root>");
     let e = load_file(&p, &LoadOptions::default()).unwrap_err();
-    assert!(e.help.as_deref().unwrap_or("").contains("GoPickScrew"));
+    let help = e.help.as_deref().unwrap_or("");
+    assert!(help.contains("GoPickScrew"), "{help}");
+    // A MoveIt Pro objective calling another file's SubTree: the help
+    // points at --with (#30 item 7), and a case slip is named.
+    assert!(help.contains("--with FILE|DIR"), "{help}");
+    let p = write(dir.path(), "c.xml", "<root BTCPP_format=\"4\" main_tree_to_execute=\"M\"><BehaviorTree ID=\"M\"><SubTree ID=\"gopickscrew\"/></BehaviorTree><BehaviorTree ID=\"GoPickScrew\"><AlwaysSuccess/></BehaviorTree></root>");
+    let e = load_file(&p, &LoadOptions::default()).unwrap_err();
+    let help = e.help.as_deref().unwrap_or("");
+    assert!(help.starts_with("did you mean \"GoPickScrew\"? Else a tree defined in another file is read with --with FILE|DIR"), "{help}");
+}
+
+#[test]
+fn an_id_off_by_case_or_a_letter_is_named() {
+    // Nav2's docking example has <inverter>: BehaviorTree.CPP refuses it;
+    // btx took it for a custom decorator and stopped at tick 1 (#30 item 7).
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(dir.path(), "t.xml", "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><Sequence><inverter><AlwaysFailure/></inverter><Sequense/></Sequence></BehaviorTree></root>");
+    let l = load_file(&p, &LoadOptions::default()).unwrap();
+    let said: Vec<String> = l.warnings.iter().map(|w| w.message.clone()).collect();
+    assert!(said.iter().any(|w| w.contains("unknown node \"inverter\"") && w.ends_with("; did you mean \"Inverter\"? BehaviorTree.CPP has no \"inverter\" (IDs are case-sensitive) and refuses to load the tree unless your code registers it")), "{said:?}");
+    assert!(
+        said.iter()
+            .any(|w| w.contains("did you mean \"Sequence\"?")),
+        "{said:?}"
+    );
+    // A custom node far from every known one is not taken for a typo.
+    let p = write(dir.path(), "u.xml", "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><MyFallback><AlwaysFailure/></MyFallback></BehaviorTree></root>");
+    let l = load_file(&p, &LoadOptions::default()).unwrap();
+    assert!(
+        l.warnings
+            .iter()
+            .all(|w| !w.message.contains("did you mean")),
+        "{:?}",
+        l.warnings
+    );
 }
 
 #[test]

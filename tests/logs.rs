@@ -458,7 +458,10 @@ fn a_tree_file_that_is_not_the_logs_tree_is_reported() {
         out.to_str().unwrap(),
     ]);
     assert!(!ok);
-    assert!(err.contains("is not a log of trees/kitting.xml:"), "{err}");
+    assert!(
+        err.contains("kitting_nominal.btlog: not a log of trees/kitting.xml (--tree):"),
+        "{err}"
+    );
     assert!(
         err.contains("#29: trees/kitting.xml:17:7 has SubTree \"go pick screw\", the log SubTree \"go pick first screw\""),
         "{err}"

@@ -350,3 +350,78 @@ fn agree_with_btcpp(cases: &[Case]) {
         );
     }
 }
+
+#[test]
+fn a_log_of_an_autoremapped_subtree_is_explained_with_the_robot_s_tree() {
+    // BehaviorTree.CPP writes the tree back into its .btlog without
+    // `_autoremap`: `btx why X.btlog` failed with `"a" is not on the
+    // blackboard` and no way to give btx the tree the robot ran (#30 item 4).
+    let xml = r#"<root BTCPP_format="4" main_tree_to_execute="Main">
+  <BehaviorTree ID="Main"><Sequence><Script code="a:=1"/><SubTree ID="Sub" _autoremap="true"/></Sequence></BehaviorTree>
+  <BehaviorTree ID="Sub"><Sequence><ScriptCondition code="a==1"/><Act name="go"/></Sequence></BehaviorTree>
+  <TreeNodesModel><Action ID="Act"/><Condition ID="Check"/></TreeNodesModel>
+</root>"#;
+    let dir = tempfile::tempdir().unwrap();
+    let case = Case {
+        xml: xml.to_string(),
+        plan: "go = 1RS\n".to_string(),
+        max_ticks: 10,
+        tick_ms: 0,
+    };
+    let real = oracle(std::slice::from_ref(&case), dir.path());
+    assert_eq!(real[0].root, Some(Status::Success), "{:?}", real[0].error);
+    let log = dir.path().join("0.btlog");
+    let tree = dir.path().join("robot.xml");
+    std::fs::write(&tree, xml).unwrap();
+    let (log, tree) = (log.to_str().unwrap(), tree.to_str().unwrap());
+    let (ok, _, err) = common::btx(&["why", log, "go"]);
+    assert!(
+        !ok && err.contains("\"a\" is not on the blackboard"),
+        "{err}"
+    );
+    // With the robot's tree: the ticks are the library's, the answer given.
+    let (ok, out, err) = common::btx(&["why", log, "go", "--tree", tree]);
+    assert!(ok, "{err}");
+    assert!(out.starts_with("Why did go succeed"), "{out}");
+    assert!(!err.contains("told apart by timing"), "{err}");
+    let (ok, table, err) = common::btx(&["log", log, "--tree", tree]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        table.lines().filter(|l| l.contains("->")).count(),
+        real[0].transitions.len()
+    );
+    let ours: Vec<u32> = table
+        .lines()
+        .filter(|l| l.contains("->"))
+        .map(|l| l.split_whitespace().next().unwrap().parse().unwrap())
+        .collect();
+    let theirs: Vec<u32> = real[0].transitions.iter().map(|t| t.0).collect();
+    assert_eq!(ours, theirs, "each transition in the library's tick");
+    // A tree that is not the log's is refused, naming what differs.
+    let other = dir.path().join("other.xml");
+    std::fs::write(
+        &other,
+        xml.replace("<Act name=\"go\"/>", "<Act name=\"went\"/>"),
+    )
+    .unwrap();
+    let (ok, _, err) = common::btx(&["why", log, "go", "--tree", other.to_str().unwrap()]);
+    assert!(!ok);
+    assert!(err.contains("--tree"), "{err}");
+    assert!(
+        err.contains("has Act \"went\", the log Act \"go\""),
+        "{err}"
+    );
+    // Imported with it, the session keeps the robot's tree.
+    let out = dir.path().join("s.jsonl");
+    let (ok, _, err) = common::btx(&[
+        "import",
+        log,
+        "--tree",
+        tree,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, _, err) = common::btx(&["why", out.to_str().unwrap(), "go"]);
+    assert!(ok, "{err}");
+}

@@ -99,7 +99,11 @@ fn replay_of(session: &Session) -> Replay {
         let Some(t) = idx.transitions.get(i) else {
             break;
         };
-        if t.status != Status::Idle && plain_leaf(tree, t.uid) {
+        // A Nav2 action that completes in its tick sets RUNNING itself
+        // before it returns: that transition is the executor's, not a call.
+        let set_by_itself = t.status == Status::Running
+            && crate::model::nav2::at_once(&tree.node(t.uid).id, tree.release) == Some(true);
+        if t.status != Status::Idle && plain_leaf(tree, t.uid) && !set_by_itself {
             r.push(
                 t.tick,
                 t.uid,

@@ -5,6 +5,8 @@ use super::*;
 #[derive(clap::Args)]
 pub struct Args {
     pub session: PathBuf,
+    #[command(flatten)]
+    pub reading: Reading,
     /// The moment: TICK, TICK:STEP, last, end, or -N (-1: the last tick). Default: the last tick.
     #[arg(long, value_name = "MOMENT", allow_hyphen_values = true)]
     pub at: Option<String>,
@@ -18,11 +20,12 @@ pub struct Args {
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let Args {
         session,
+        reading,
         at,
         domain,
         format,
     } = args;
-    let input = open_input(&session, &Reading::default(), cli.quiet)?;
+    let input = open_input(&session, &reading, cli.quiet)?;
     let s = session_of(&input, &session)?;
     let tick = match at.as_deref() {
         Some(a) => {

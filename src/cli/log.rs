@@ -5,6 +5,8 @@ use super::*;
 #[derive(clap::Args)]
 pub struct Args {
     pub session: PathBuf,
+    #[command(flatten)]
+    pub reading: Reading,
     /// Only this node's transitions.
     #[arg(long, value_name = "PICK")]
     pub node: Option<String>,
@@ -22,18 +24,20 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     match args {
         Args {
             session,
+            reading,
             node,
             no_idle,
             follow: true,
             format,
         } => {
+            let opts = reading.options()?;
             // A session being recorded is `SESSION.partial` until the run
             // ends and it is renamed: follow it to its final name, then stop.
             let finished = session
                 .to_str()
                 .and_then(|p| p.strip_suffix(".partial"))
                 .map(std::path::PathBuf::from);
-            let mut f = btx::input::Follow::new(&session);
+            let mut f = btx::input::Follow::with(&session, opts.clone());
             let mut grown = Grown::default();
             let started = std::time::Instant::now();
             let mut last = None;
@@ -47,7 +51,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                             fin.display()
                         );
                     }
-                    f = btx::input::Follow::new(fin);
+                    f = btx::input::Follow::with(fin, opts.clone());
                     done = true;
                 }
                 let fresh = match f.poll() {
@@ -85,12 +89,13 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         }
         Args {
             session,
+            reading,
             node,
             no_idle,
             follow: false,
             format,
         } => {
-            let s = match btx::input::open(&session, &LoadOptions::default())? {
+            let s = match btx::input::open(&session, &reading.options()?)? {
                 Input::Session(s) => *s,
                 Input::Tree { .. } => fail!(
                     "{} is a tree; btx log reads sessions and logs",

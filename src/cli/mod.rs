@@ -98,6 +98,9 @@ struct Reading {
     /// More tree files, or directories of them (*.xml): their <BehaviorTree>s are registered for SubTrees to call, as registerBehaviorTreeFromFile does. Repeatable.
     #[arg(long, value_name = "FILE|DIR", num_args = 1..)]
     with: Vec<PathBuf>,
+    /// For a log: the tree file the robot ran, used instead of the tree the log embeds (which BehaviorTree.CPP writes back without _autoremap and its models), after checking that the two match node for node.
+    #[arg(long = "tree", id = "run_tree", value_name = "FILE")]
+    run_tree: Option<PathBuf>,
 }
 
 impl Reading {
@@ -125,6 +128,7 @@ impl Reading {
             embedded: false,
             models: self.models.clone(),
             with,
+            run_tree: self.run_tree.clone(),
         })
     }
 }
@@ -329,7 +333,7 @@ fn warn_all(quiet: bool, warnings: &[btx::Warning]) {
 }
 
 fn open_input(file: &Path, reading: &Reading, quiet: bool) -> Result<Input, Failure> {
-    let input = open(file, &reading.options()?)?;
+    let input = open(file, &reading.options()?).map_err(located)?;
     warn_all(quiet, input.warnings());
     Ok(input)
 }
@@ -337,7 +341,10 @@ fn open_input(file: &Path, reading: &Reading, quiet: bool) -> Result<Input, Fail
 /// An error without a position reads best as one plain message.
 fn located(e: btx::Located) -> Failure {
     if e.source_code.is_none() {
-        Failure::Plain(e.to_string())
+        Failure::Plain(match &e.help {
+            Some(h) => format!("{e}\n  help: {h}"),
+            None => e.to_string(),
+        })
     } else {
         Failure::from(e)
     }

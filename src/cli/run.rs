@@ -49,6 +49,13 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         ask_at,
         out,
     } = args;
+    if let Some(t) = &reading.run_tree {
+        fail!(
+            "--tree {} is for reading a log with the tree its robot ran; btx run runs the tree file it is given ({})",
+            t.display(),
+            path.display()
+        );
+    }
     let _claim = btx::session::OutputLock::take(&out, "btx run")?;
     let text = btx::source::read_text(&path, btx::source::TEXT_SIZE_MAX, "the tree file")?;
     let loaded = btx::xml::load_str(&path, &text, &reading.options()?)?;

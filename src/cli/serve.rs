@@ -9,6 +9,8 @@ use std::time::{Duration, Instant};
 pub struct Args {
     /// A session or a log (.btlog, .fbl, .db3, btcm).
     pub run: PathBuf,
+    #[command(flatten)]
+    pub reading: Reading,
     /// The port to serve on (Groot2's is 1667); on 127.0.0.1 unless --host says otherwise.
     #[arg(long, default_value_t = btx::live::groot2::DEFAULT_PORT)]
     pub port: u16,
@@ -39,7 +41,7 @@ fn buffer(s: &str) -> Result<usize, String> {
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
-    let s = match btx::input::open(&args.run, &LoadOptions::default())? {
+    let s = match btx::input::open(&args.run, &args.reading.options()?)? {
         Input::Session(s) => *s,
         Input::Tree { .. } => fail!(
             "{} is a tree; btx serve replays a session or a log",

@@ -6,6 +6,8 @@ use super::*;
 pub struct Args {
     /// A session (or a log btx reads as one).
     pub session: PathBuf,
+    #[command(flatten)]
+    pub reading: Reading,
     /// status(NODE), executed(NODE), decision(NODE) or a state variable VAR (VAR^K: its copy K in the tick).
     pub target: String,
     /// A value the target did not have (repeatable). Default: every other value.
@@ -33,6 +35,7 @@ pub struct Args {
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let Args {
         session,
+        reading,
         target,
         not,
         at,
@@ -42,7 +45,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         domain,
         format,
     } = args;
-    let input = open_input(&session, &Reading::default(), cli.quiet)?;
+    let input = open_input(&session, &reading, cli.quiet)?;
     let s = session_of(&input, &session)?;
     let at = at
         .as_deref()

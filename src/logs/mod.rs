@@ -12,8 +12,60 @@ use crate::source::{Located, Warning};
 use crate::xml::{load_str, LoadOptions};
 use std::path::{Path, PathBuf};
 
+/// The tree file a robot ran, given for a log whose embedded tree lost
+/// what BehaviorTree.CPP does not write back (`_autoremap`, the
+/// `<TreeNodesModel>`): checked against the log's tree, then used in its
+/// place.
+#[derive(Clone, Copy)]
+pub struct GivenTree<'a> {
+    pub tree: &'a crate::model::Tree,
+    pub path: &'a Path,
+}
+
+impl GivenTree<'_> {
+    /// The given tree, when it is the log's node for node, else an error
+    /// naming the first nodes that differ.
+    fn checked(
+        &self,
+        log: &Path,
+        embedded: &crate::model::Tree,
+    ) -> Result<crate::model::Tree, Located> {
+        let diff = tree_mismatch(self.tree, embedded, 8);
+        if diff.is_empty() {
+            Ok(self.tree.clone())
+        } else {
+            Err(Located::file(
+                log,
+                format!(
+                    "not a log of {} (--tree):\n  {}",
+                    self.path.display(),
+                    diff.join("\n  ")
+                ),
+            ))
+        }
+    }
+
+    /// A session (btx's own, or read from a log) with the given tree in
+    /// place of its own.
+    pub fn put_in(&self, s: &mut Session) -> Result<(), Located> {
+        s.tree = self.checked(&s.path, &s.tree)?;
+        s.header.tree.path = Some(self.path.display().to_string());
+        s.header.tree.xml = crate::xml::to_v4_xml(&s.tree);
+        Ok(())
+    }
+}
+
 /// A `.btlog` as a session: the tree from its XML, ticks reconstructed.
 pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
+    open_btlog_as(path, bytes, None)
+}
+
+/// `open_btlog`, with the tree the robot ran in place of the log's.
+pub fn open_btlog_as(
+    path: &Path,
+    bytes: &[u8],
+    given: Option<GivenTree>,
+) -> Result<Session, Located> {
     let raw = btlog::parse(path, bytes)?;
     session_from(
         path,
@@ -26,6 +78,7 @@ pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             kind: "btlog",
             resyncs: &[],
             ticks: None,
+            given,
         },
         &|o| format!("byte offset {o}"),
     )
@@ -76,6 +129,7 @@ fn live_session(
             kind: "groot2",
             resyncs,
             ticks,
+            given: None,
         },
         &|o| format!("transition {}", o + 1),
     )?;
@@ -87,6 +141,15 @@ fn live_session(
 
 /// One session of a SqliteLogger database (`which`, or the last one).
 pub fn open_db3(path: &Path, which: Option<i64>) -> Result<Session, Located> {
+    open_db3_as(path, which, None)
+}
+
+/// `open_db3`, with the tree the robot ran in place of the log's.
+pub fn open_db3_as(
+    path: &Path,
+    which: Option<i64>,
+    given: Option<GivenTree>,
+) -> Result<Session, Located> {
     let (ids, raw) = db3::read(path, which)?;
     let id = raw.id;
     let mut s = session_from(
@@ -100,6 +163,7 @@ pub fn open_db3(path: &Path, which: Option<i64>) -> Result<Session, Located> {
             kind: "db3",
             resyncs: &[],
             ticks: None,
+            given,
         },
         &|o| format!("table Transitions, session {id}, row {o}"),
     )?;
@@ -133,6 +197,15 @@ pub fn open_db3(path: &Path, which: Option<i64>) -> Result<Session, Located> {
 
 /// A v3 `.fbl` as a session: the tree from its flatbuffer, ticks reconstructed.
 pub fn open_fbl(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
+    open_fbl_as(path, bytes, None)
+}
+
+/// `open_fbl`, with the tree the robot ran in place of the log's.
+pub fn open_fbl_as(
+    path: &Path,
+    bytes: &[u8],
+    given: Option<GivenTree>,
+) -> Result<Session, Located> {
     let raw = fbl::parse(path, bytes)?;
     let records: Vec<btlog::Record> = raw.records.iter().map(|(r, _)| *r).collect();
     session_from(
@@ -146,6 +219,7 @@ pub fn open_fbl(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
             kind: "fbl",
             resyncs: &[],
             ticks: None,
+            given,
         },
         &|o| format!("byte offset {o}"),
     )
@@ -165,6 +239,8 @@ struct LogRun<'a> {
     resyncs: &'a [(usize, Vec<crate::session::Before>)],
     /// The records' ticks when they are numbered already.
     ticks: Option<&'a [u32]>,
+    /// The tree the robot ran, in place of the log's.
+    given: Option<GivenTree<'a>>,
 }
 
 /// A log's run as a session; `place` names where a record is (a byte
@@ -183,6 +259,7 @@ fn session_from(
         kind,
         resyncs,
         ticks: numbered,
+        given,
     } = run;
     let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
     let tree = load_str(
@@ -196,6 +273,10 @@ fn session_from(
         },
     )?
     .tree;
+    let tree = match given {
+        Some(g) => g.checked(path, &tree)?,
+        None => tree,
+    };
     let mut warnings = Vec::new();
     for r in records {
         if tree.get(r.uid).is_none() {
@@ -291,7 +372,10 @@ fn session_from(
             index.push_resync(states);
         }
     }
-    let header = import_header(path, &tree, version, kind, Vec::new());
+    let mut header = import_header(path, &tree, version, kind, Vec::new());
+    if let Some(g) = given {
+        header.tree.path = Some(g.path.display().to_string());
+    }
     let end = ending(&index);
     Ok(Session {
         path: path.to_path_buf(),

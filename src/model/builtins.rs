@@ -685,6 +685,11 @@ pub fn lookup(spelling: &str) -> Option<&'static BuiltinSpec> {
     BUILTINS.iter().find(|s| s.spelling == spelling)
 }
 
+/// Every spelling btx knows, of either version.
+pub fn spellings() -> impl Iterator<Item = &'static str> {
+    BUILTINS.iter().map(|s| s.spelling)
+}
+
 impl Builtin {
     /// The spelling BehaviorTree.CPP 4 registers for this node, if it has one.
     pub fn v4_name(self) -> Option<&'static str> {

@@ -5,6 +5,7 @@
 pub mod builtins;
 mod edit;
 mod naming;
+pub mod nav2;
 
 pub use naming::{as_deed, gerund, words};
 
@@ -249,6 +250,10 @@ pub struct NodeModel {
 #[derive(Debug, Clone)]
 pub struct Tree {
     pub version: Version,
+    /// The BehaviorTree.CPP major the tree ran on: a session's tree is read
+    /// back from v4 XML, and what a node did (Nav2's Humble against Jazzy)
+    /// depends on the release it ran on.
+    pub release: Version,
     /// The ID of the `<BehaviorTree>` that was executed.
     pub main_tree: String,
     /// Nodes indexed by `uid - 1`.

@@ -4,7 +4,7 @@
 
 mod nav2;
 
-pub use nav2::{at_once, ROBOT_READINGS};
+pub use nav2::ROBOT_READINGS;
 
 use super::blackboard::{Blackboard, EntryId};
 use super::status::Status;
@@ -71,9 +71,11 @@ pub struct LeafCall<'a> {
 
 impl LeafCall<'_> {
     /// Whether this leaf is one of Nav2's actions that complete in the tick
-    /// they start (`AT_ONCE`): it takes no RUNNING outcome.
+    /// they start (`model::nav2`): it takes no RUNNING outcome.
     pub fn completes_at_once(&self) -> bool {
-        self.kind == Kind::Action && at_once(&self.tree.node(self.uid).id).is_some()
+        self.kind == Kind::Action
+            && crate::model::nav2::at_once(&self.tree.node(self.uid).id, self.tree.release)
+                .is_some()
     }
 
     /// A port's value: its literal, or the blackboard entry it names.
@@ -763,11 +765,19 @@ impl<'t, L: Leaves> Executor<'t, L> {
             (_, Some(b)) => self.tick_builtin(uid, b),
             (Kind::Control, None) => Err(self.err(
                 uid,
-                format!("custom control node \"{}\" has no behaviour in btx", n.id),
+                format!(
+                    "custom control node \"{}\" has no behaviour in btx{}",
+                    n.id,
+                    did_you_mean(&n.id)
+                ),
             )),
             (Kind::Decorator, None) => Err(self.err(
                 uid,
-                format!("custom decorator \"{}\" has no behaviour in btx", n.id),
+                format!(
+                    "custom decorator \"{}\" has no behaviour in btx{}",
+                    n.id,
+                    did_you_mean(&n.id)
+                ),
             )),
         }
     }
@@ -781,7 +791,7 @@ impl<'t, L: Leaves> Executor<'t, L> {
             return Ok(prev);
         }
         let at_once = if n.kind == Kind::Action {
-            at_once(&n.id)
+            crate::model::nav2::at_once(&n.id, self.tree.release)
         } else {
             None
         };
@@ -1781,4 +1791,10 @@ impl<'t, L: Leaves> Executor<'t, L> {
             Status::Success
         })
     }
+}
+
+/// `; did you mean "Inverter"?` when `id` misspells a node btx knows.
+fn did_you_mean(id: &str) -> String {
+    crate::rank::misspelt(id, crate::model::builtins::spellings())
+        .map_or(String::new(), |k| format!("; did you mean \"{k}\"?"))
 }

@@ -231,7 +231,7 @@ impl PlanLeaves {
                 let e = e?;
                 let entry = &p.plan.entries[e];
                 (n.kind == Kind::Action
-                    && super::exec::at_once(&n.id).is_some()
+                    && crate::model::nav2::at_once(&n.id, tree.release).is_some()
                     && !entry.key.starts_with('@')
                     && entry.outcomes.iter().any(|o| o.running > 0))
                 .then_some((entry.line, n.id.as_str()))
@@ -247,11 +247,23 @@ impl PlanLeaves {
                 ),
             });
         }
+        let mut keys: Vec<(String, String)> = Vec::new();
+        for n in tree.nodes.iter().filter(|n| n.kind.is_leaf()) {
+            for k in super::leaf_keys(tree, n.uid) {
+                if !k.starts_with('@') && !keys.iter().any(|(x, _)| *x == k) {
+                    keys.push((k.clone(), k));
+                }
+            }
+        }
         for (e, u) in p.plan.entries.iter().zip(&used) {
             if !u && !e.key.starts_with('@') {
                 p.warnings.push(Warning {
                     location: format!("{}:{}:1", p.plan.path.display(), e.line),
-                    message: format!("\"{}\" matches no leaf of the tree", e.key),
+                    message: format!(
+                        "\"{}\" matches no leaf of the tree{}",
+                        e.key,
+                        closest(&e.key, &keys)
+                    ),
                 });
             }
         }
@@ -386,6 +398,20 @@ impl Leaves for PlanLeaves {
     fn halt(&mut self, uid: Uid) {
         self.running.remove(&uid);
     }
+}
+
+/// `; did you mean "FollowPath"?` for a key that misspells a leaf's, else
+/// the three leaf keys closest to it.
+fn closest(key: &str, keys: &[(String, String)]) -> String {
+    if let Some(k) = crate::rank::misspelt(key, keys.iter().map(|(k, _)| k.as_str())) {
+        return format!("; did you mean \"{k}\"?");
+    }
+    let near = crate::rank::rank(key, keys, 3);
+    if near.is_empty() {
+        return String::new();
+    }
+    let quoted: Vec<String> = near.iter().map(|k| format!("\"{k}\"")).collect();
+    format!("; the closest: {}", quoted.join(", "))
 }
 
 #[cfg(test)]

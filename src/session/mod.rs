@@ -106,6 +106,9 @@ impl Session {
             ..Default::default()
         };
         let mut tree = load_str(&tree_name, &header.tree.xml, &opts)?.tree;
+        if header.tree.btcpp_format == 3 {
+            tree.release = crate::model::Version::V3;
+        }
         let mut index = Index::new(tree.len());
         index.set_before(&header.before);
         let scopes = tree.scopes.len();

@@ -26,6 +26,9 @@ pub struct LoadOptions {
     /// registered, as BehaviorTree.CPP's `registerBehaviorTreeFromFile`
     /// does, for SubTrees to call; the main tree stays the first file's.
     pub with: Vec<PathBuf>,
+    /// The tree file a log's robot ran (`--tree`), read with these options,
+    /// in place of the tree the log embeds (`crate::input::open`).
+    pub run_tree: Option<PathBuf>,
 }
 
 /// The most warnings a load reports one by one.
@@ -154,10 +157,20 @@ impl Loader {
             } else {
                 String::new()
             };
+            let mut known: Vec<&str> = crate::model::builtins::spellings().collect();
+            known.extend(self.models.keys().map(String::as_str));
+            known.extend(crate::model::nav2::NODES.iter().map(|n| n.id));
+            let nav2 = crate::model::nav2::lookup(id).is_some();
+            let near = match crate::rank::misspelt(id, known).filter(|_| !nav2) {
+                Some(k) => format!(
+                    "; did you mean \"{k}\"? BehaviorTree.CPP has no \"{id}\" (IDs are case-sensitive) and refuses to load the tree unless your code registers it"
+                ),
+                None => String::new(),
+            };
             self.warn_at(
                 *file,
                 *start,
-                format!("unknown node \"{id}\" has no model in <TreeNodesModel>; treated as {what}{uses}"),
+                format!("unknown node \"{id}\" has no model in <TreeNodesModel>; treated as {what}{uses}{near}"),
             );
         }
         if let Some((_, file, _, _, _)) = unknown.first() {
@@ -488,6 +501,7 @@ impl Loader {
         self.say_unknown();
         let tree = Tree {
             version,
+            release: version,
             main_tree: main_id,
             nodes,
             scopes,
@@ -584,17 +598,25 @@ impl Loader {
                 let Some(di) = by_path.or_else(|| by_id.get(&node.id).copied()) else {
                     let items: Vec<(String, String)> =
                         by_id.keys().map(|k| (k.clone(), k.clone())).collect();
-                    let near = crate::rank::rank(&node.id, &items, 5);
+                    const ELSEWHERE: &str = "tree defined in another file is read with --with FILE|DIR (a directory: every .xml in it)";
+                    let help =
+                        match crate::rank::misspelt(&node.id, by_id.keys().map(String::as_str)) {
+                            Some(k) => format!("did you mean \"{k}\"? Else a {ELSEWHERE}"),
+                            None => {
+                                let near = crate::rank::rank(&node.id, &items, 5);
+                                format!("A {ELSEWHERE}; the trees read are: {}", near.join(", "))
+                            }
+                        };
                     return Err(self
                         .err(
                             w.file,
                             w.el,
                             format!(
-                                "unknown SubTree ID \"{}\": no <BehaviorTree> has it",
+                                "unknown SubTree ID \"{}\": no <BehaviorTree> read has it",
                                 node.id
                             ),
                         )
-                        .with_help(format!("did you mean: {}", near.join(", "))));
+                        .with_help(help));
                 };
                 if w.chain.contains(&node.id) {
                     let mut cycle: Vec<String> = w
@@ -694,6 +716,7 @@ impl Loader {
                 Ok((nodes, scopes)) => {
                     let t = Tree {
                         version,
+                        release: version,
                         main_tree: id.to_string(),
                         nodes,
                         scopes,

@@ -41,41 +41,6 @@ pub const SPEED: &str = "speed";
 pub const GOAL_UPDATE: &str = "goal_update";
 pub const PATH_LONGER: &str = "path_longer_on_approach";
 
-/// Nav2 actions that finish their work in the tick that starts them, read
-/// from `nav2_behavior_tree/plugins/action/*.cpp` on main: the selectors
-/// are `BT::SyncActionNode`s; the others are `BT::ActionNodeBase`s whose
-/// `tick()` returns SUCCESS or FAILURE at once, most after
-/// `setStatus(RUNNING)` (the flag), which observers and logs see as
-/// IDLE → RUNNING → SUCCESS within the tick. None can return RUNNING, so a
-/// plan's RUNNING ticks (`@default_action = 1RS`) do not apply to them.
-pub const AT_ONCE: &[(&str, bool)] = &[
-    // controller_selector_node.cpp and its siblings: SyncActionNode.
-    ("ControllerSelector", false),
-    ("PlannerSelector", false),
-    ("SmootherSelector", false),
-    ("GoalCheckerSelector", false),
-    ("ProgressCheckerSelector", false),
-    // remove_passed_goals_action.cpp (066b3be): no setStatus(RUNNING).
-    ("RemovePassedGoals", false),
-    // get_current_pose_action.cpp, get_pose_from_path_action.cpp,
-    // concatenate_paths_action.cpp, truncate_path_action.cpp,
-    // extract_route_nodes_as_goals_action.cpp,
-    // append_goal_pose_to_goals_action.cpp, get_next_few_goals_action.cpp.
-    ("GetCurrentPose", true),
-    ("GetPoseFromPath", true),
-    ("ConcatenatePaths", true),
-    ("TruncatePath", true),
-    ("ExtractRouteNodesAsGoals", true),
-    ("AppendGoalPoseToGoals", true),
-    ("GetNextFewGoals", true),
-];
-
-/// Whether a Nav2 action completes in the tick it starts, and if so
-/// whether it sets RUNNING first.
-pub fn at_once(id: &str) -> Option<bool> {
-    AT_ONCE.iter().find(|(i, _)| *i == id).map(|(_, r)| *r)
-}
-
 impl<L: Leaves> Executor<'_, L> {
     /// Nav2's `PipelineSequence` (nav2_behavior_tree/plugins/control/
     /// pipeline_sequence.cpp): every child from the first is ticked again

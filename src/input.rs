@@ -70,11 +70,73 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
     }
 }
 
+/// Every run a log holds: a rosbag's goals, one each; any other log or
+/// session is one run.
+pub fn open_runs(path: &Path, opts: &LoadOptions) -> Result<Vec<Session>, Located> {
+    if crate::logs::rosbag::is_bag(path) {
+        let tree = match &opts.run_tree {
+            Some(file) => Some(crate::xml::load_file(file, opts)?.tree),
+            None => None,
+        };
+        let given = tree
+            .as_ref()
+            .zip(opts.run_tree.as_deref())
+            .map(|(tree, path)| crate::logs::GivenTree { tree, path });
+        return crate::logs::open_rosbag_runs(path, given);
+    }
+    match open(path, opts)? {
+        Input::Session(s) => Ok(vec![*s]),
+        Input::Tree { .. } => Err(Located::file(path, "a tree file holds no run")),
+    }
+}
+
+/// A UTC time of µs since the epoch, as `2026-11-25 22:11:20.123`.
+pub fn utc(us: i64) -> String {
+    let secs = us.div_euclid(1_000_000);
+    let ms = us.rem_euclid(1_000_000) / 1000;
+    let (days, rest) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    // Civil date from days since 1970-01-01 (Howard Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02}.{ms:03}",
+        rest / 3600,
+        rest % 3600 / 60,
+        rest % 60
+    )
+}
+
+/// `BAG#N`: run N of a rosbag, when no file has that very name.
+fn bag_run(path: &Path) -> Option<(&Path, usize)> {
+    if path.exists() {
+        return None;
+    }
+    let (file, n) = path.to_str()?.rsplit_once('#')?;
+    let n: usize = n.parse().ok()?;
+    let file = Path::new(file);
+    crate::logs::rosbag::is_bag(file).then_some((file, n))
+}
+
 fn open_as(
     path: &Path,
     opts: &LoadOptions,
     given: Option<crate::logs::GivenTree>,
 ) -> Result<Input, Located> {
+    if let Some((bag, n)) = bag_run(path) {
+        let s = crate::logs::open_rosbag(bag, Some(n), given)?;
+        return Ok(Input::Session(Box::new(s)));
+    }
+    if crate::logs::rosbag::is_bag(path) {
+        let s = crate::logs::open_rosbag(path, opts.run, given)?;
+        return Ok(Input::Session(Box::new(s)));
+    }
     if let Some((file, n)) = db3_session(path) {
         return Ok(Input::Session(Box::new(crate::logs::open_db3_as(
             file,
@@ -233,4 +295,14 @@ fn what_file(path: &Path, text: &str) -> Option<String> {
     (!plan.entries.is_empty()).then(|| {
         "this is a plan (leaf = outcomes); give it with --plan FILE, with the tree it drives".into()
     })
+}
+
+#[cfg(test)]
+mod utc_tests {
+    #[test]
+    fn utc_times_are_civil_dates() {
+        assert_eq!(super::utc(0), "1970-01-01 00:00:00.000");
+        assert_eq!(super::utc(1_795_646_839_875_037), "2026-11-25 22:47:19.875");
+        assert_eq!(super::utc(951_782_400_000_000), "2000-02-29 00:00:00.000");
+    }
 }

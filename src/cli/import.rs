@@ -14,6 +14,9 @@ pub struct Args {
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let Args { log, reading, out } = args;
     let _claim = btx::session::OutputLock::take(&out, "btx import")?;
+    if btx::logs::rosbag::is_bag(&log) && reading.run.is_none() {
+        return import_runs(&log, &reading, &out, cli);
+    }
     let s = match open_input(&log, &reading, cli.quiet)? {
         Input::Session(s) => *s,
         Input::Tree { .. } => fail!("{} is a tree, not a log", log.display()),
@@ -25,5 +28,27 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         s.index.ticks(),
         s.index.transitions.len()
     );
+    Ok(())
+}
+
+/// A rosbag: one session a run (goal), `OUT/run-N.jsonl`.
+fn import_runs(log: &Path, reading: &Reading, out: &Path, cli: &Globals) -> Result<(), Failure> {
+    let runs = btx::input::open_runs(log, &reading.options()?)?;
+    if let Some(s) = runs.first() {
+        warn_all(cli.quiet, &s.warnings);
+    }
+    std::fs::create_dir_all(out).map_err(|e| {
+        Failure::Plain(format!("{}: cannot make the directory: {e}", out.display()))
+    })?;
+    for (i, s) in runs.iter().enumerate() {
+        let path = btx::logs::write_session(s, &out.join(format!("run-{}.jsonl", i + 1)))?;
+        eprintln!(
+            "{}: {} ticks, {} transitions, {}",
+            path.display(),
+            s.index.ticks(),
+            s.index.transitions.len(),
+            s.ending()
+        );
+    }
     Ok(())
 }

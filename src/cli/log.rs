@@ -16,11 +16,17 @@ pub struct Args {
     /// Keep printing transitions as the log grows (until interrupted); with --format json, one object a line.
     #[arg(long)]
     pub follow: bool,
+    /// List the runs the log holds (a rosbag's goals: each the root starting again), with their times and how each ended; --run N picks one.
+    #[arg(long, conflicts_with_all = ["follow", "node"])]
+    pub runs: bool,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
+    if args.runs {
+        return list_runs(&args, cli);
+    }
     match args {
         Args {
             session,
@@ -29,6 +35,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             no_idle,
             follow: true,
             format,
+            ..
         } => {
             let opts = reading.options()?;
             // A session being recorded is `SESSION.partial` until the run
@@ -94,8 +101,9 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             no_idle,
             follow: false,
             format,
+            ..
         } => {
-            let s = match btx::input::open(&session, &reading.options()?)? {
+            let s = match btx::input::open(&session, &reading.options()?).map_err(located)? {
                 Input::Session(s) => *s,
                 Input::Tree { .. } => fail!(
                     "{} is a tree; btx log reads sessions and logs",
@@ -268,4 +276,55 @@ impl Grown {
         self.ticks.extend(new.iter().map(|r| r.tick));
         self.rows.extend(new.iter().map(|r| (r.uid, r.status)));
     }
+}
+
+/// `--runs`: one line (or JSON object) a run: its number, first and last
+/// transition (UTC), ticks, transitions and how it ended.
+fn list_runs(args: &Args, cli: &Globals) -> Result<(), Failure> {
+    let runs = btx::input::open_runs(&args.session, &args.reading.options()?)?;
+    if let Some(s) = runs.first() {
+        // Said once: the warnings every run shares.
+        let shared: Vec<_> = s
+            .warnings
+            .iter()
+            .filter(|w| !w.message.starts_with("the bag holds"))
+            .cloned()
+            .collect();
+        warn_all(cli.quiet, &shared);
+    }
+    let mut out = String::new();
+    if matches!(args.format, Format::Text) {
+        out.push_str(" run  first transition (UTC)      last transition (UTC)       ticks  transitions  ended\n");
+    }
+    for (i, s) in runs.iter().enumerate() {
+        let t = &s.index.transitions;
+        let (first, last) = match s.span_us {
+            Some((a, b)) => (btx::input::utc(a), btx::input::utc(b)),
+            None => ("-".to_string(), "-".to_string()),
+        };
+        let ended = s.ending();
+        match args.format {
+            Format::Text => out.push_str(&format!(
+                "{:>4}  {first:<26}  {last:<26}  {:>5}  {:>11}  {}\n",
+                i + 1,
+                s.index.ticks(),
+                t.len(),
+                btx::text::visible(&ended)
+            )),
+            Format::Json => {
+                let j = serde_json::json!({
+                    "run": i + 1,
+                    "first": first,
+                    "last": last,
+                    "ticks": s.index.ticks(),
+                    "transitions": t.len(),
+                    "root": s.end.as_ref().map(|e| e.1.as_str()),
+                    "ended": ended,
+                });
+                out.push_str(&format!("{j}\n"));
+            }
+        }
+    }
+    print!("{out}");
+    Ok(())
 }

@@ -101,6 +101,9 @@ struct Reading {
     /// For a log: the tree file the robot ran, used instead of the tree the log embeds (which BehaviorTree.CPP writes back without _autoremap and its models), after checking that the two match node for node.
     #[arg(long = "tree", id = "run_tree", value_name = "FILE")]
     run_tree: Option<PathBuf>,
+    /// For a log of several runs (a rosbag's goals): the run to read, from 1 (default: the last). `btx log BAG --runs` lists them.
+    #[arg(long = "run", id = "run_number", value_name = "N")]
+    run: Option<usize>,
 }
 
 impl Reading {
@@ -129,6 +132,7 @@ impl Reading {
             models: self.models.clone(),
             with,
             run_tree: self.run_tree.clone(),
+            run: self.run,
         })
     }
 }

@@ -41,7 +41,7 @@ fn buffer(s: &str) -> Result<usize, String> {
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
-    let s = match btx::input::open(&args.run, &args.reading.options()?)? {
+    let s = match btx::input::open(&args.run, &args.reading.options()?).map_err(located)? {
         Input::Session(s) => *s,
         Input::Tree { .. } => fail!(
             "{} is a tree; btx serve replays a session or a log",

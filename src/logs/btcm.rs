@@ -355,6 +355,7 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         index,
         end: Some((ticks, root_status, "imported".into())),
         inserts: Vec::new(),
+        span_us: None,
         warnings,
     })
 }

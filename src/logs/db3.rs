@@ -32,7 +32,7 @@ fn is_wal(path: &Path) -> bool {
 }
 
 /// A copy of a WAL-mode database and its `-wal` file, removed when dropped.
-struct WalCopy {
+pub(crate) struct WalCopy {
     dir: std::path::PathBuf,
     db: std::path::PathBuf,
 }
@@ -80,9 +80,10 @@ pub struct Db3Session {
     pub nodes: Vec<(u32, String)>,
 }
 
-/// Every session id in the file, oldest first, and the one asked for (the
-/// last if `which` is `None`), read.
-pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), Located> {
+/// A database opened to read, never to lock or change (a rosbag's too): a
+/// copy of it and its WAL file when it is in WAL mode, which lives as long
+/// as the connection is used.
+pub(crate) fn open_read_only(path: &Path) -> Result<(Connection, Option<WalCopy>), Located> {
     let fail = |m: String| Located::file(path, m);
     let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
     // A database in WAL mode keeps recent rows in `FILE-wal` and needs a
@@ -90,7 +91,7 @@ pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), L
     // cannot make: read a copy of the two files instead (SQLite checks each
     // WAL frame's checksum, so a frame the robot is still writing is left
     // out), and never touch the originals.
-    let _copy;
+    let mut copy = None;
     let conn = if is_wal(path) {
         let c = WalCopy::of(path)
             .map_err(|e| fail(format!("cannot copy the WAL-mode database to read it: {e}")))?;
@@ -98,7 +99,7 @@ pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), L
             &c.db,
             OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX,
         );
-        _copy = c;
+        copy = Some(c);
         conn
     } else {
         let flags = OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX;
@@ -109,6 +110,15 @@ pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), L
         conn
     };
     let conn = conn.map_err(|e| sql("cannot open the database", e))?;
+    Ok((conn, copy))
+}
+
+/// Every session id in the file, oldest first, and the one asked for (the
+/// last if `which` is `None`), read.
+pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), Located> {
+    let fail = |m: String| Located::file(path, m);
+    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
+    let (conn, _copy) = open_read_only(path)?;
     for table in ["Definitions", "Nodes", "Transitions"] {
         let n: i64 = conn
             .query_row(

@@ -2,8 +2,10 @@
 
 pub mod btcm;
 pub mod btlog;
+mod cdr;
 pub mod db3;
 pub mod fbl;
+pub mod rosbag;
 pub mod ticks;
 
 use crate::run::Status;
@@ -188,6 +190,82 @@ pub fn open_db3_as(
                     .collect::<Vec<_>>()
                     .join(", "),
                 raw.date,
+                path.display()
+            ),
+        });
+    }
+    Ok(s)
+}
+
+/// Every run (goal) of Nav2's `behavior_tree_log` in a rosbag2 bag, each
+/// as a session of the tree the robot ran (a bag holds none).
+pub fn open_rosbag_runs(path: &Path, given: Option<GivenTree>) -> Result<Vec<Session>, Located> {
+    let Some(given) = given else {
+        return Err(Located::file(
+            path,
+            "a rosbag holds no tree: give the tree the robot ran with --tree FILE (Nav2: the navigator's XML, bt_navigator's default_nav_to_pose_bt_xml, e.g. navigate_to_pose_w_replanning_and_recovery.xml)",
+        ));
+    };
+    let bag = rosbag::read(path)?;
+    let (records, ambiguous) = rosbag::records(path, given.tree, &bag.changes)?;
+    if records.is_empty() {
+        return Err(Located::file(
+            path,
+            format!("{}: the topic holds no status change", bag.topic),
+        ));
+    }
+    let xml = crate::xml::to_v4_xml(given.tree);
+    let starts = rosbag::run_starts(&records);
+    let mut runs = Vec::with_capacity(starts.len());
+    for (n, &start) in starts.iter().enumerate() {
+        let end = starts.get(n + 1).copied().unwrap_or(records.len());
+        let mut s = session_from(
+            path,
+            LogRun {
+                len: end - start,
+                partial_tail: 0,
+                xml: &xml,
+                version: given.tree.release,
+                records: &records[start..end],
+                kind: "rosbag",
+                resyncs: &[],
+                ticks: None,
+                given: Some(given),
+            },
+            &|o| format!("{}, status change {}", bag.topic, o + 1),
+        )?;
+        if let Some(a) = &ambiguous {
+            s.warnings.push(Warning {
+                location: path.display().to_string(),
+                message: a.clone(),
+            });
+        }
+        runs.push(s);
+    }
+    Ok(runs)
+}
+
+/// Run `which` (from 1; the last when `None`) of a bag, saying the others.
+pub fn open_rosbag(
+    path: &Path,
+    which: Option<usize>,
+    given: Option<GivenTree>,
+) -> Result<Session, Located> {
+    let mut runs = open_rosbag_runs(path, given)?;
+    let n = runs.len();
+    let k = which.unwrap_or(n);
+    if k == 0 || k > n {
+        return Err(Located::file(
+            path,
+            format!("the bag holds runs 1 to {n}; there is no run {k} (`btx log BAG --runs --tree FILE` lists them)"),
+        ));
+    }
+    let mut s = runs.swap_remove(k - 1);
+    if n > 1 {
+        s.warnings.push(Warning {
+            location: path.display().to_string(),
+            message: format!(
+                "the bag holds {n} runs (goals); this is run {k}; open another with --run N or {}#N",
                 path.display()
             ),
         });
@@ -384,6 +462,10 @@ fn session_from(
         index,
         end,
         inserts: Vec::new(),
+        span_us: records
+            .first()
+            .zip(records.last())
+            .map(|(a, b)| (a.time_us, b.time_us)),
         warnings,
     })
 }

@@ -27,6 +27,9 @@ pub struct Session {
     pub end: Option<(u32, crate::run::Status, String)>,
     /// Subgoals inserted during the run: (position, copy of, after, first uid, question).
     pub inserts: Vec<(u32, Uid, Uid, Uid, String)>,
+    /// When the first and the last transition happened (µs since the
+    /// epoch), as a log says; a session keeps no times.
+    pub span_us: Option<(i64, i64)>,
     pub warnings: Vec<Warning>,
 }
 
@@ -327,6 +330,7 @@ impl Session {
             index,
             end,
             inserts,
+            span_us: None,
             warnings,
         })
     }

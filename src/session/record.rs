@@ -153,6 +153,7 @@ pub fn simulate<L: Leaves>(
         index,
         end: Some((ex.ticks(), root, reason)),
         inserts: Vec::new(),
+        span_us: None,
         warnings: Vec::new(),
     })
 }

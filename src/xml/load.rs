@@ -29,6 +29,8 @@ pub struct LoadOptions {
     /// The tree file a log's robot ran (`--tree`), read with these options,
     /// in place of the tree the log embeds (`crate::input::open`).
     pub run_tree: Option<PathBuf>,
+    /// Which run of a log that holds several (a rosbag's goals), from 1.
+    pub run: Option<usize>,
 }
 
 /// The most warnings a load reports one by one.

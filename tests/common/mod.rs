@@ -111,7 +111,7 @@ pub fn run_planned(
 /// The packages the differential and live tests run: the real
 /// BehaviorTree.CPP (Python bindings of 4.8) and btview, a Groot2 client
 /// nobody here wrote.
-const ORACLE_PACKAGES: [&str; 2] = ["behaviortreepy==0.1.4", "btview==0.2.0"];
+const ORACLE_PACKAGES: [&str; 3] = ["behaviortreepy==0.1.4", "btview==0.2.0", "rosbags==0.11.9"];
 
 /// The Python that has BehaviorTree.CPP (the PyPI package behaviortreepy)
 /// and btview: `BTX_ORACLE_PYTHON`, or a virtual environment this makes the

@@ -70,24 +70,32 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
     }
 }
 
-/// Every run a log holds: a rosbag's goals, one each; any other log or
-/// session is one run.
-pub fn open_runs(path: &Path, opts: &LoadOptions) -> Result<Vec<Session>, Located> {
-    if crate::logs::rosbag::is_bag(path) {
-        let tree = match &opts.run_tree {
-            Some(file) => Some(crate::xml::load_file(file, opts)?.tree),
-            None => None,
+/// Every run a log holds, one at a time, to `f` with its number and the
+/// count: a rosbag's goals; any other log or session is one run.
+pub fn each_run(
+    path: &Path,
+    opts: &LoadOptions,
+    mut f: impl FnMut(usize, usize, Session) -> Result<(), Located>,
+) -> Result<(), Located> {
+    if !crate::logs::rosbag::is_bag(path) {
+        return match open(path, opts)? {
+            Input::Session(s) => f(1, 1, *s),
+            Input::Tree { .. } => Err(Located::file(path, "a tree file holds no run")),
         };
-        let given = tree
-            .as_ref()
-            .zip(opts.run_tree.as_deref())
-            .map(|(tree, path)| crate::logs::GivenTree { tree, path });
-        return crate::logs::open_rosbag_runs(path, given);
     }
-    match open(path, opts)? {
-        Input::Session(s) => Ok(vec![*s]),
-        Input::Tree { .. } => Err(Located::file(path, "a tree file holds no run")),
+    let tree = match &opts.run_tree {
+        Some(file) => Some(crate::xml::load_file(file, opts)?.tree),
+        None => None,
+    };
+    let given = tree
+        .as_ref()
+        .zip(opts.run_tree.as_deref())
+        .map(|(tree, path)| crate::logs::GivenTree { tree, path });
+    let runs = crate::logs::BagRuns::read(path, given)?;
+    for k in 1..=runs.len() {
+        f(k, runs.len(), runs.session(k)?)?;
     }
+    Ok(())
 }
 
 /// A UTC time of µs since the epoch, as `2026-11-25 22:11:20.123`.

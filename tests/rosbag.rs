@@ -110,7 +110,14 @@ fn a_bag_s_runs_are_the_robot_s_own_logs() {
     let jazzy = bag(dir.path(), "jazzy", "mcap", "jazzy", &runs);
     let humble = bag(dir.path(), "humble", "sqlite3", "humble", &runs);
     let humble_db3 = humble.join("humble.db3");
-    for (b, ambiguous) in [(&jazzy, false), (&humble, true), (&humble_db3, true)] {
+    // Jazzy's messages and no definition: read by Jazzy's, with uids.
+    let bare = bag(dir.path(), "bare", "sqlite3", "jazzy-nodef", &runs);
+    for (b, ambiguous) in [
+        (&jazzy, false),
+        (&humble, true),
+        (&humble_db3, true),
+        (&bare, false),
+    ] {
         let b = b.to_str().unwrap();
         let (ok, list, err) = common::btx(&["log", b, "--runs", "--tree", tree_s]);
         assert!(ok, "{err}");
@@ -152,7 +159,7 @@ fn a_bag_s_runs_are_the_robot_s_own_logs() {
         "--tree",
         tree_s,
         "--at",
-        "3",
+        "end",
         "What went wrong?",
     ]);
     assert!(ok, "{err}");
@@ -162,17 +169,18 @@ fn a_bag_s_runs_are_the_robot_s_own_logs() {
         "--tree",
         tree_s,
         "--at",
-        "3",
+        "end",
         "What went wrong?",
     ]);
     assert!(ok, "{err}");
     assert_eq!(a, b);
+    // The ticks in which nothing changed are told by timing, which the
+    // library's fast ticks make vary: the failures are asserted, not when.
     assert!(
-        a.contains(
-            "Follow path failed at tick 3; follow path (#2) recovered (clear local costmap)"
-        ),
+        a.starts_with("Nothing is wrong now. Follow path failed at tick "),
         "{a}"
     );
+    assert!(a.contains("; Spin failed at tick "), "{a}");
     // The bag holds no tree.
     let (ok, _, err) = common::btx(&["log", j]);
     assert!(!ok);
@@ -203,8 +211,9 @@ fn a_run_whose_end_never_reached_the_bag_is_cut_off() {
     ]);
     assert!(ok, "{err}");
     let last = list.lines().last().unwrap();
+    assert!(last.contains("no end recorded after tick "), "{list}");
     assert!(
-        last.ends_with("no end recorded after tick 1: the run was cut off or is still going"),
+        last.ends_with("the run was cut off or is still going"),
         "{list}"
     );
     assert!(!last.contains("root SUCCESS"), "{list}");

@@ -33,15 +33,14 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
 
 /// A rosbag: one session a run (goal), `OUT/run-N.jsonl`.
 fn import_runs(log: &Path, reading: &Reading, out: &Path, cli: &Globals) -> Result<(), Failure> {
-    let runs = btx::input::open_runs(log, &reading.options()?)?;
-    if let Some(s) = runs.first() {
-        warn_all(cli.quiet, &s.warnings);
-    }
     std::fs::create_dir_all(out).map_err(|e| {
         Failure::Plain(format!("{}: cannot make the directory: {e}", out.display()))
     })?;
-    for (i, s) in runs.iter().enumerate() {
-        let path = btx::logs::write_session(s, &out.join(format!("run-{}.jsonl", i + 1)))?;
+    btx::input::each_run(log, &reading.options()?, |k, _, s| {
+        if k == 1 {
+            warn_all(cli.quiet, &s.warnings);
+        }
+        let path = btx::logs::write_session(&s, &out.join(format!("run-{k}.jsonl")))?;
         eprintln!(
             "{}: {} ticks, {} transitions, {}",
             path.display(),
@@ -49,6 +48,7 @@ fn import_runs(log: &Path, reading: &Reading, out: &Path, cli: &Globals) -> Resu
             s.index.transitions.len(),
             s.ending()
         );
-    }
+        Ok(())
+    })?;
     Ok(())
 }

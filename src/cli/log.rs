@@ -281,50 +281,47 @@ impl Grown {
 /// `--runs`: one line (or JSON object) a run: its number, first and last
 /// transition (UTC), ticks, transitions and how it ended.
 fn list_runs(args: &Args, cli: &Globals) -> Result<(), Failure> {
-    let runs = btx::input::open_runs(&args.session, &args.reading.options()?)?;
-    if let Some(s) = runs.first() {
-        // Said once: the warnings every run shares.
-        let shared: Vec<_> = s
-            .warnings
-            .iter()
-            .filter(|w| !w.message.starts_with("the bag holds"))
-            .cloned()
-            .collect();
-        warn_all(cli.quiet, &shared);
-    }
-    let mut out = String::new();
+    let mut w = SafeOut::new();
     if matches!(args.format, Format::Text) {
-        out.push_str(" run  first transition (UTC)      last transition (UTC)       ticks  transitions  ended\n");
+        use std::io::Write;
+        let _ = w.write_all(
+            b" run  first transition (UTC)      last transition (UTC)       ticks  transitions  ended\n",
+        );
     }
-    for (i, s) in runs.iter().enumerate() {
-        let t = &s.index.transitions;
+    btx::input::each_run(&args.session, &args.reading.options()?, |k, _, s| {
+        use std::io::Write;
+        if k == 1 {
+            // Said once: the warnings every run shares.
+            warn_all(cli.quiet, &s.warnings);
+        }
+        let t = s.index.transitions.len();
         let (first, last) = match s.span_us {
             Some((a, b)) => (btx::input::utc(a), btx::input::utc(b)),
             None => ("-".to_string(), "-".to_string()),
         };
         let ended = s.ending();
-        match args.format {
-            Format::Text => out.push_str(&format!(
-                "{:>4}  {first:<26}  {last:<26}  {:>5}  {:>11}  {}\n",
-                i + 1,
+        let line = match args.format {
+            Format::Text => format!(
+                "{k:>4}  {first:<26}  {last:<26}  {:>5}  {t:>11}  {}\n",
                 s.index.ticks(),
-                t.len(),
                 btx::text::visible(&ended)
-            )),
-            Format::Json => {
-                let j = serde_json::json!({
-                    "run": i + 1,
+            ),
+            Format::Json => format!(
+                "{}\n",
+                serde_json::json!({
+                    "run": k,
                     "first": first,
                     "last": last,
                     "ticks": s.index.ticks(),
-                    "transitions": t.len(),
+                    "transitions": t,
                     "root": s.end.as_ref().map(|e| e.1.as_str()),
                     "ended": ended,
-                });
-                out.push_str(&format!("{j}\n"));
-            }
-        }
-    }
-    print!("{out}");
+                })
+            ),
+        };
+        // A closed standard output stops the listing, quietly.
+        let _ = w.write_all(line.as_bytes());
+        Ok(())
+    })?;
     Ok(())
 }

@@ -197,52 +197,88 @@ pub fn open_db3_as(
     Ok(s)
 }
 
-/// Every run (goal) of Nav2's `behavior_tree_log` in a rosbag2 bag, each
-/// as a session of the tree the robot ran (a bag holds none).
-pub fn open_rosbag_runs(path: &Path, given: Option<GivenTree>) -> Result<Vec<Session>, Located> {
-    let Some(given) = given else {
-        return Err(Located::file(
-            path,
-            "a rosbag holds no tree: give the tree the robot ran with --tree FILE (Nav2: the navigator's XML, bt_navigator's default_nav_to_pose_bt_xml, e.g. navigate_to_pose_w_replanning_and_recovery.xml)",
-        ));
-    };
-    let bag = rosbag::read(path)?;
-    let (records, ambiguous) = rosbag::records(path, given.tree, &bag.changes)?;
-    if records.is_empty() {
-        return Err(Located::file(
-            path,
-            format!("{}: the topic holds no status change", bag.topic),
-        ));
+/// Nav2's `behavior_tree_log` in a rosbag2 bag, as the records of the
+/// tree the robot ran (a bag holds none), and where each run (goal)
+/// starts: a run becomes a session only when asked for.
+pub struct BagRuns<'a> {
+    path: PathBuf,
+    given: GivenTree<'a>,
+    log: rosbag::BagRecords,
+    starts: Vec<usize>,
+}
+
+impl<'a> BagRuns<'a> {
+    pub fn read(path: &Path, given: Option<GivenTree<'a>>) -> Result<BagRuns<'a>, Located> {
+        let Some(given) = given else {
+            return Err(Located::file(
+                path,
+                "a rosbag holds no tree: give the tree the robot ran with --tree FILE (Nav2: the navigator's XML, bt_navigator's default_nav_to_pose_bt_xml, e.g. navigate_to_pose_w_replanning_and_recovery.xml)",
+            ));
+        };
+        let log = rosbag::read(path, given.tree)?;
+        if log.records.is_empty() {
+            return Err(Located::file(
+                path,
+                format!("{}: the topic holds no status change", log.topic),
+            ));
+        }
+        let starts = rosbag::run_starts(&log.records);
+        Ok(BagRuns {
+            path: path.to_path_buf(),
+            given,
+            log,
+            starts,
+        })
     }
-    let xml = crate::xml::to_v4_xml(given.tree);
-    let starts = rosbag::run_starts(&records);
-    let mut runs = Vec::with_capacity(starts.len());
-    for (n, &start) in starts.iter().enumerate() {
-        let end = starts.get(n + 1).copied().unwrap_or(records.len());
+
+    /// How many runs the bag holds.
+    pub fn len(&self) -> usize {
+        self.starts.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.starts.is_empty()
+    }
+
+    /// Run `k` (from 1) as a session.
+    pub fn session(&self, k: usize) -> Result<Session, Located> {
+        let n = self.len();
+        if k == 0 || k > n {
+            return Err(Located::file(
+                &self.path,
+                format!("the bag holds runs 1 to {n}; there is no run {k} (`btx log BAG --runs --tree FILE` lists them)"),
+            ));
+        }
+        let start = self.starts[k - 1];
+        let end = self
+            .starts
+            .get(k)
+            .copied()
+            .unwrap_or(self.log.records.len());
+        let topic = &self.log.topic;
         let mut s = session_from(
-            path,
+            &self.path,
             LogRun {
                 len: end - start,
                 partial_tail: 0,
-                xml: &xml,
-                version: given.tree.release,
-                records: &records[start..end],
+                xml: "",
+                version: self.given.tree.release,
+                records: &self.log.records[start..end],
                 kind: "rosbag",
                 resyncs: &[],
                 ticks: None,
-                given: Some(given),
+                given: Some(self.given),
             },
-            &|o| format!("{}, status change {}", bag.topic, o + 1),
+            &|o| format!("{topic}, status change {}", o + 1),
         )?;
-        if let Some(a) = &ambiguous {
+        if let Some(a) = &self.log.ambiguous {
             s.warnings.push(Warning {
-                location: path.display().to_string(),
+                location: self.path.display().to_string(),
                 message: a.clone(),
             });
         }
-        runs.push(s);
+        Ok(s)
     }
-    Ok(runs)
 }
 
 /// Run `which` (from 1; the last when `None`) of a bag, saying the others.
@@ -251,16 +287,10 @@ pub fn open_rosbag(
     which: Option<usize>,
     given: Option<GivenTree>,
 ) -> Result<Session, Located> {
-    let mut runs = open_rosbag_runs(path, given)?;
+    let runs = BagRuns::read(path, given)?;
     let n = runs.len();
     let k = which.unwrap_or(n);
-    if k == 0 || k > n {
-        return Err(Located::file(
-            path,
-            format!("the bag holds runs 1 to {n}; there is no run {k} (`btx log BAG --runs --tree FILE` lists them)"),
-        ));
-    }
-    let mut s = runs.swap_remove(k - 1);
+    let mut s = runs.session(k)?;
     if n > 1 {
         s.warnings.push(Warning {
             location: path.display().to_string(),
@@ -340,20 +370,26 @@ fn session_from(
         given,
     } = run;
     let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
-    let tree = load_str(
-        &name,
-        xml,
-        &LoadOptions {
-            version: Some(version),
-            main_tree: None,
-            embedded: true,
-            ..Default::default()
-        },
-    )?
-    .tree;
     let tree = match given {
-        Some(g) => g.checked(path, &tree)?,
-        None => tree,
+        // A log that embeds no tree (a rosbag) has only the one given.
+        Some(g) if xml.is_empty() => g.tree.clone(),
+        _ => {
+            let embedded = load_str(
+                &name,
+                xml,
+                &LoadOptions {
+                    version: Some(version),
+                    main_tree: None,
+                    embedded: true,
+                    ..Default::default()
+                },
+            )?
+            .tree;
+            match given {
+                Some(g) => g.checked(path, &embedded)?,
+                None => embedded,
+            }
+        }
     };
     let mut warnings = Vec::new();
     for r in records {

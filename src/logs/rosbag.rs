@@ -27,23 +27,22 @@ const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
 
 /// One status change as Nav2 published it.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Change {
-    pub time_us: i64,
-    pub name: String,
-    pub uid: Option<u32>,
-    pub prev: String,
-    pub now: String,
-    /// Which message of the topic it came in (from 1).
-    pub message: usize,
+struct Change<'a> {
+    time_us: i64,
+    name: &'a str,
+    uid: Option<u32>,
+    prev: &'a str,
+    now: &'a str,
 }
 
-/// What a bag holds of the tree's run.
+/// What a bag holds of the tree's run: its records, read as they come.
 #[derive(Debug, Clone)]
-pub struct BagLog {
+pub struct BagRecords {
     pub topic: String,
-    pub changes: Vec<Change>,
-    /// How the messages were read (their definition, or the one assumed).
-    pub definition: String,
+    pub records: Vec<Record>,
+    /// Several nodes have a name a change gave (a bag without uids): said
+    /// once.
+    pub ambiguous: Option<String>,
 }
 
 /// Whether `path` is a bag: a directory with `metadata.yaml`, an MCAP
@@ -120,33 +119,29 @@ fn storage_files(path: &Path) -> Result<Vec<PathBuf>, Located> {
     Ok(files)
 }
 
-/// The `behavior_tree_log` topic's status changes, in the bag's order.
-pub fn read(path: &Path) -> Result<BagLog, Located> {
-    let mut out: Option<BagLog> = None;
+/// The `behavior_tree_log` topic as records of `tree`, in the bag's order.
+pub fn read(path: &Path, tree: &Tree) -> Result<BagRecords, Located> {
+    let mut m = Matcher::new(path, tree);
+    let mut topic = None;
     for file in storage_files(path)? {
-        let part = if std::fs::File::open(&file)
+        let mcap = std::fs::File::open(&file)
             .and_then(|mut f| {
                 let mut h = [0u8; 8];
                 std::io::Read::read_exact(&mut f, &mut h).map(|()| h)
             })
-            .is_ok_and(|h| h == MCAP_MAGIC)
-        {
-            read_mcap(&file)?
+            .is_ok_and(|h| h == MCAP_MAGIC);
+        let t = if mcap {
+            read_mcap(&file, &mut m)?
         } else {
-            read_db3(&file)?
+            read_db3(&file, &mut m)?
         };
-        match out.as_mut() {
-            None => out = Some(part),
-            Some(o) => {
-                let base = o.changes.last().map_or(0, |c| c.message);
-                o.changes.extend(part.changes.into_iter().map(|mut c| {
-                    c.message += base;
-                    c
-                }));
-            }
-        }
+        topic.get_or_insert(t);
     }
-    out.ok_or_else(|| Located::file(path, "the bag has no storage file"))
+    Ok(BagRecords {
+        topic: topic.unwrap_or_default(),
+        ambiguous: m.said(),
+        records: m.records,
+    })
 }
 
 /// The topic of Nav2's log among `(name, type)`: `behavior_tree_log`,
@@ -197,43 +192,60 @@ fn definitions(given: Option<&str>, first: Option<&[u8]>) -> Result<(Definitions
         (JAZZY, "Jazzy's (the bag carries none)"),
     ] {
         let d = Definitions::parse(LOG_TYPE, text)?;
-        if first.is_none_or(|b| d.decode(b).is_ok()) {
+        // The one that reads the first message whole, with statuses that
+        // are statuses (a wrong one reads other bytes as strings).
+        let fits = |b: &[u8]| {
+            d.decode(b).is_ok_and(|v| {
+                v.get("event_log").and_then(Value::list).is_some_and(|log| {
+                    log.iter().all(|c| {
+                        ["previous_status", "current_status"].iter().all(|f| {
+                            c.get(f)
+                                .and_then(Value::text)
+                                .and_then(Status::parse)
+                                .is_some()
+                        })
+                    })
+                })
+            })
+        };
+        if first.is_none_or(fits) {
             return Ok((d, which.into()));
         }
     }
     Err("the messages fit neither Humble's nor Jazzy's BehaviorTreeLog, and the bag carries no definition".into())
 }
 
-/// The status changes of one message.
-fn changes_of(v: &Value, message: usize) -> Result<Vec<Change>, String> {
+/// Each status change of one message, to `m`.
+fn take_message(v: &Value, message: usize, m: &mut Matcher) -> Result<(), Located> {
     let log = v
         .get("event_log")
         .and_then(Value::list)
-        .ok_or("the message has no event_log")?;
-    log.iter()
-        .map(|c| {
-            let t = c.get("timestamp").ok_or("a change without a timestamp")?;
-            let sec = t.get("sec").and_then(Value::int).unwrap_or(0);
-            let nsec = t.get("nanosec").and_then(Value::int).unwrap_or(0);
-            let text = |f: &str| {
-                c.get(f)
-                    .and_then(Value::text)
-                    .map(str::to_string)
-                    .ok_or(format!("a change without {f}"))
-            };
-            Ok(Change {
-                time_us: sec.saturating_mul(1_000_000).saturating_add(nsec / 1000),
-                name: text("node_name")?,
-                uid: c.get("uid").and_then(Value::int).map(|u| u as u32),
-                prev: text("previous_status")?,
-                now: text("current_status")?,
-                message,
-            })
-        })
-        .collect()
+        .ok_or_else(|| m.at(message, "the message has no event_log".into()))?;
+    for c in log {
+        let missing = |f: &str| format!("a change without {f}");
+        let t = c
+            .get("timestamp")
+            .ok_or_else(|| m.at(message, missing("timestamp")))?;
+        let sec = t.get("sec").and_then(Value::int).unwrap_or(0);
+        let nsec = t.get("nanosec").and_then(Value::int).unwrap_or(0);
+        let text = |f: &str| {
+            c.get(f)
+                .and_then(Value::text)
+                .ok_or_else(|| m.at(message, missing(f)))
+        };
+        let change = Change {
+            time_us: sec.saturating_mul(1_000_000).saturating_add(nsec / 1000),
+            name: text("node_name")?,
+            uid: c.get("uid").and_then(Value::int).map(|u| u as u32),
+            prev: text("previous_status")?,
+            now: text("current_status")?,
+        };
+        m.take(&change, message)?;
+    }
+    Ok(())
 }
 
-fn read_db3(file: &Path) -> Result<BagLog, Located> {
+fn read_db3(file: &Path, m: &mut Matcher) -> Result<String, Located> {
     let fail = |m: String| Located::file(file, m);
     let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
     let (conn, _copy) = super::db3::open_read_only(file)?;
@@ -263,88 +275,61 @@ fn read_db3(file: &Path) -> Result<BagLog, Located> {
     let mut st = conn
         .prepare("SELECT data FROM messages WHERE topic_id = ?1 ORDER BY timestamp, id")
         .map_err(|e| sql("table messages", e))?;
-    let rows = st
+    let mut rows = st
         .query_map([id], |r| r.get::<_, Vec<u8>>(0))
-        .map_err(|e| sql("table messages", e))?;
-    let mut data = Vec::new();
+        .map_err(|e| sql("table messages", e))?
+        .peekable();
+    let first = match rows.peek() {
+        Some(Ok(b)) => Some(b.clone()),
+        _ => None,
+    };
+    let defs = m.definitions(file, &topic, definition.as_deref(), first.as_deref())?;
     for r in rows {
-        data.push(r.map_err(|e| sql("table messages", e))?);
+        let data = r.map_err(|e| sql("table messages", e))?;
+        m.message(&defs, &data)?;
     }
-    decode_all(
-        file,
-        topic,
-        definition.as_deref(),
-        &data,
-        "table messages, row",
-    )
+    Ok(topic)
 }
 
-fn read_mcap(file: &Path) -> Result<BagLog, Located> {
+fn read_mcap(file: &Path, m: &mut Matcher) -> Result<String, Located> {
     let bytes = crate::source::read_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
     let stream = mcap::MessageStream::new(&bytes)
         .map_err(|e| Located::file(file, format!("not a readable MCAP file: {e}")))?;
     let mut topic: Option<String> = None;
-    let mut definition: Option<String> = None;
-    let mut data = Vec::new();
+    let mut defs: Option<Definitions> = None;
     let mut topics: Vec<(String, String)> = Vec::new();
-    for m in stream {
-        let m = m.map_err(|e| Located::file(file, format!("MCAP: {e}")))?;
-        let ty = m
+    for msg in stream {
+        let msg = msg.map_err(|e| Located::file(file, format!("MCAP: {e}")))?;
+        let ty = msg
             .channel
             .schema
             .as_ref()
             .map_or(String::new(), |s| s.name.clone());
-        if !topics.iter().any(|(n, _)| *n == m.channel.topic) {
-            topics.push((m.channel.topic.clone(), ty.clone()));
+        if !topics.iter().any(|(n, _)| *n == msg.channel.topic) {
+            topics.push((msg.channel.topic.clone(), ty.clone()));
         }
-        let is_log = ty == LOG_TYPE || m.channel.topic.ends_with("/behavior_tree_log");
-        if !is_log {
-            continue;
-        }
-        if topic.is_none() {
-            topic = Some(m.channel.topic.clone());
-            definition = m
+        let is_log = ty == LOG_TYPE || msg.channel.topic.ends_with("/behavior_tree_log");
+        if topic.is_none() && is_log {
+            topic = Some(msg.channel.topic.clone());
+            let text = msg
                 .channel
                 .schema
                 .as_ref()
                 .filter(|s| s.encoding == "ros2msg")
                 .map(|s| String::from_utf8_lossy(&s.data).into_owned());
+            let first: &[u8] = &msg.data;
+            defs = Some(m.definitions(file, &msg.channel.topic, text.as_deref(), Some(first))?);
         }
-        if topic.as_deref() == Some(m.channel.topic.as_str()) {
-            data.push(m.data.into_owned());
+        if let (Some(t), Some(d)) = (&topic, &defs) {
+            if *t == msg.channel.topic {
+                m.message(d, &msg.data)?;
+            }
         }
     }
-    let topic = match topic {
-        Some(t) => t,
-        None => log_topic(file, topics.iter().map(|(n, t)| (n.as_str(), t.as_str())))?,
-    };
-    decode_all(file, topic, definition.as_deref(), &data, "message")
-}
-
-fn decode_all(
-    file: &Path,
-    topic: String,
-    definition: Option<&str>,
-    data: &[Vec<u8>],
-    place: &str,
-) -> Result<BagLog, Located> {
-    let (defs, which) = definitions(definition, data.first().map(Vec::as_slice))
-        .map_err(|e| Located::file(file, format!("{topic}: {e}")))?;
-    let mut changes = Vec::new();
-    for (i, d) in data.iter().enumerate() {
-        let v = defs
-            .decode(d)
-            .map_err(|e| Located::file(file, format!("{topic}: {place} {}: {e}", i + 1)))?;
-        changes.extend(
-            changes_of(&v, i + 1)
-                .map_err(|e| Located::file(file, format!("{topic}: {place} {}: {e}", i + 1)))?,
-        );
+    match topic {
+        Some(t) => Ok(t),
+        None => log_topic(file, topics.iter().map(|(n, t)| (n.as_str(), t.as_str()))),
     }
-    Ok(BagLog {
-        topic,
-        changes,
-        definition: which,
-    })
 }
 
 /// The name BehaviorTree.CPP gives a node: its instance name, else its ID.
@@ -357,88 +342,136 @@ fn bt_name(tree: &Tree, uid: Uid) -> &str {
     }
 }
 
-/// The changes as the tree's records: by uid when the bag has them, else
-/// by name. A name several nodes have is placed by their statuses (the one
-/// whose status is the change's previous one) and then by the tree's
-/// order: the first for a start (parents start before their children),
-/// the last otherwise (children finish and halt before their parents).
-/// The second value says the ambiguity, once.
-pub fn records(
-    path: &Path,
-    tree: &Tree,
-    changes: &[Change],
-) -> Result<(Vec<Record>, Option<String>), Located> {
-    let mut status = vec![Status::Idle; tree.len()];
-    let mut out = Vec::with_capacity(changes.len());
-    let mut ambiguous: Option<(String, usize)> = None;
-    let by_name = |name: &str| -> Vec<Uid> {
-        (1..=tree.len() as Uid)
-            .filter(|&u| bt_name(tree, u) == name)
-            .collect()
-    };
-    let mut names: std::collections::HashMap<&str, Vec<Uid>> = std::collections::HashMap::new();
-    for c in changes {
-        let at = |m: String| {
-            Located::file(
-                path,
-                format!("behavior_tree_log message {}: {m}", c.message),
+/// Turns changes into the tree's records: by uid when the bag has them,
+/// else by name. A name several nodes have is placed by their statuses
+/// (the one whose status is the change's previous one) and then by the
+/// tree's order: the first for a start (parents start before their
+/// children), the last otherwise (children finish and halt before their
+/// parents). The ambiguity is said once.
+struct Matcher<'a> {
+    path: &'a Path,
+    tree: &'a Tree,
+    status: Vec<Status>,
+    names: std::collections::HashMap<String, Vec<Uid>>,
+    records: Vec<Record>,
+    /// Messages read so far, and the first ambiguous name and its message.
+    messages: usize,
+    ambiguous: Option<(String, usize)>,
+}
+
+impl<'a> Matcher<'a> {
+    fn new(path: &'a Path, tree: &'a Tree) -> Matcher<'a> {
+        let mut names: std::collections::HashMap<String, Vec<Uid>> = Default::default();
+        for u in 1..=tree.len() as Uid {
+            names
+                .entry(bt_name(tree, u).to_string())
+                .or_default()
+                .push(u);
+        }
+        Matcher {
+            path,
+            tree,
+            status: vec![Status::Idle; tree.len()],
+            names,
+            records: Vec::new(),
+            messages: 0,
+            ambiguous: None,
+        }
+    }
+
+    fn at(&self, message: usize, m: String) -> Located {
+        Located::file(
+            self.path,
+            format!("behavior_tree_log message {message}: {m}"),
+        )
+    }
+
+    /// The definition to read a topic's messages by (see `definitions`).
+    fn definitions(
+        &self,
+        file: &Path,
+        topic: &str,
+        text: Option<&str>,
+        first: Option<&[u8]>,
+    ) -> Result<Definitions, Located> {
+        definitions(text, first)
+            .map(|(d, _)| d)
+            .map_err(|e| Located::file(file, format!("{topic}: {e}")))
+    }
+
+    /// One message's changes.
+    fn message(&mut self, defs: &Definitions, data: &[u8]) -> Result<(), Located> {
+        self.messages += 1;
+        let n = self.messages;
+        let v = defs.decode(data).map_err(|e| self.at(n, e))?;
+        take_message(&v, n, self)
+    }
+
+    fn take(&mut self, c: &Change, message: usize) -> Result<(), Located> {
+        let now = Status::parse(c.now).ok_or_else(|| {
+            self.at(
+                message,
+                format!("the status \"{}\" is none BehaviorTree.CPP has", c.now),
             )
-        };
-        let now = Status::parse(&c.now).ok_or_else(|| {
-            at(format!(
-                "the status \"{}\" is none BehaviorTree.CPP has",
-                c.now
-            ))
         })?;
-        let prev = Status::parse(&c.prev).unwrap_or(Status::Idle);
+        let prev = Status::parse(c.prev).unwrap_or(Status::Idle);
         let uid = match c.uid {
-            Some(u) if tree.get(u).is_some() => u,
+            Some(u) if self.tree.get(u).is_some() => u,
             Some(u) => {
-                return Err(at(format!(
-                    "uid {u} ({}) is not a node of the tree given ({} nodes): is it the tree the robot ran?",
-                    c.name,
-                    tree.len()
-                )))
+                return Err(self.at(
+                    message,
+                    format!(
+                        "uid {u} ({}) is not a node of the tree given ({} nodes): is it the tree the robot ran?",
+                        c.name,
+                        self.tree.len()
+                    ),
+                ))
             }
             None => {
-                let all = names.entry(c.name.as_str()).or_insert_with(|| by_name(&c.name));
+                let all = self.names.get(c.name).map_or(&[][..], Vec::as_slice);
                 let fits: Vec<Uid> = all
                     .iter()
                     .copied()
-                    .filter(|&u| status[u as usize - 1] == prev)
+                    .filter(|&u| self.status[u as usize - 1] == prev)
                     .collect();
-                let pool = if fits.is_empty() { all.clone() } else { fits };
+                let pool = if fits.is_empty() { all.to_vec() } else { fits };
                 let pick = if now == Status::Running {
                     pool.first()
                 } else {
                     pool.last()
                 };
                 let Some(&u) = pick else {
-                    return Err(at(format!(
-                        "no node of the tree given is named \"{}\": is it the tree the robot ran?",
-                        c.name
-                    )));
+                    return Err(self.at(
+                        message,
+                        format!(
+                            "no node of the tree given is named \"{}\": is it the tree the robot ran?",
+                            c.name
+                        ),
+                    ));
                 };
-                if pool.len() > 1 && ambiguous.is_none() {
-                    ambiguous = Some((c.name.clone(), c.message));
+                if pool.len() > 1 && self.ambiguous.is_none() {
+                    self.ambiguous = Some((c.name.to_string(), message));
                 }
                 u
             }
         };
-        status[uid as usize - 1] = now;
-        out.push(Record {
+        self.status[uid as usize - 1] = now;
+        self.records.push(Record {
             time_us: c.time_us,
             uid,
             status: now,
-            offset: out.len(),
+            offset: self.records.len(),
         });
+        Ok(())
     }
-    let said = ambiguous.map(|(name, message)| {
-        format!(
-            "the bag names nodes, not uids (Humble), and several nodes are named \"{name}\" (first at message {message}): each change is placed by the nodes' statuses and the tree's order"
-        )
-    });
-    Ok((out, said))
+
+    fn said(&self) -> Option<String> {
+        self.ambiguous.as_ref().map(|(name, message)| {
+            format!(
+                "the bag names nodes, not uids (Humble), and several nodes are named \"{name}\" (first at message {message}): each change is placed by the nodes' statuses and the tree's order"
+            )
+        })
+    }
 }
 
 /// Where each run starts among the records: at the first, and wherever

@@ -6,12 +6,12 @@ per tick (as Nav2's RosTopicLogger flushes once per tick), written by the
 PyPI package `rosbags`, an implementation of rosbag2 and CDR btx's
 developers did not write.
 
-Usage: write_bag.py OUT sqlite3|mcap humble|jazzy[-cut] RUN.btlog:RUN.json [...]
+Usage: write_bag.py OUT sqlite3|mcap humble|jazzy[-cut|-nodef] RUN.btlog[:RUN.json] [...]
 RUN.json is tests/oracle/btcpp_run.py's: {"ticks": [[start_us, end_us], ...]}.
 Runs follow each other in the bag, as goals do. With humble, the bag keeps
 no message definition, as Humble's rosbag2 keeps none. With -cut, the last
 run's last message never reaches the bag (some Nav2 versions do not flush
-the tick that ends the run).
+the tick that ends the run); with -nodef, a SQLite bag keeps no definition.
 
 The message definitions are nav2_msgs/msg/BehaviorTreeStatusChange.msg and
 BehaviorTreeLog.msg of ros-navigation/navigation2, humble (19402664a) and
@@ -59,8 +59,10 @@ def read_btlog(path):
 def main():
     out, storage, release = sys.argv[1:4]
     cut = release.endswith("-cut")
-    release = release.removesuffix("-cut")
-    runs = [a.split(":") for a in sys.argv[4:]]
+    nodef = release.endswith("-nodef")
+    release = release.removesuffix("-cut").removesuffix("-nodef")
+    # RUN.btlog alone (no tick file): a message every 40 records.
+    runs = [a.split(":") if ":" in a else [a, None] for a in sys.argv[4:]]
     store = get_typestore(Stores.ROS2_HUMBLE)
     types = {}
     types.update(get_types_from_msg(CHANGE[release], "nav2_msgs/msg/BehaviorTreeStatusChange"))
@@ -74,17 +76,24 @@ def main():
     shift = 0
     with Writer(out, version=8, storage_plugin=plugin) as w:
         conn = w.add_connection("/behavior_tree_log", "nav2_msgs/msg/BehaviorTreeLog", typestore=store)
+        # Each node's status as the logger saw it, across goals.
+        status = {}
         for btlog, meta in runs:
             names, recs = read_btlog(btlog)
-            ticks = json.load(open(meta))["ticks"]
-            status = {}
-            # A record belongs to the tick whose interval holds it, or the
-            # next one (a timer between ticks); one message a tick.
-            by_tick = [[] for _ in ticks]
-            for t, uid, s in recs:
-                k = next((i for i, (a, e) in enumerate(ticks) if t <= e + 200), len(ticks) - 1)
-                by_tick[k].append((t, uid, s))
-            last = (btlog, meta) == tuple(runs[-1])
+            if meta is None:
+                by_tick = [recs[i:i + 40] for i in range(0, len(recs), 40)]
+                ticks = [(b[0][0], b[-1][0]) for b in by_tick]
+            else:
+                ticks = json.load(open(meta))["ticks"]
+                # A record belongs to the tick whose interval holds it, or
+                # the next one (a timer between ticks); one message a tick.
+                by_tick = [[] for _ in ticks]
+                k = 0
+                for t, uid, s in recs:
+                    while k < len(ticks) - 1 and t > ticks[k][1] + 200:
+                        k += 1
+                    by_tick[k].append((t, uid, s))
+            last = [btlog, meta] == list(runs[-1])
             for k, ((a, e), tick) in enumerate(zip(ticks, by_tick)):
                 if not tick or (cut and last and k == max(i for i, t in enumerate(by_tick) if t)):
                     continue
@@ -105,7 +114,7 @@ def main():
                 sent = e + shift + 100
                 msg = Log(timestamp=Time(sec=sent // 1_000_000, nanosec=(sent % 1_000_000) * 1000), event_log=events)
                 w.write(conn, sent * 1000, store.serialize_cdr(msg, "nav2_msgs/msg/BehaviorTreeLog"))
-    if release == "humble" and storage == "sqlite3":
+    if (release == "humble" or nodef) and storage == "sqlite3":
         import glob
         for db in glob.glob(out + "/*.db3"):
             c = sqlite3.connect(db)

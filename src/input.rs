@@ -75,11 +75,11 @@ pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
 pub fn each_run(
     path: &Path,
     opts: &LoadOptions,
-    mut f: impl FnMut(usize, usize, Session) -> Result<(), Located>,
+    mut f: impl FnMut(usize, usize, Session) -> Result<(), Box<Located>>,
 ) -> Result<(), Located> {
     if !crate::logs::rosbag::is_bag(path) {
         return match open(path, opts)? {
-            Input::Session(s) => f(1, 1, *s),
+            Input::Session(s) => f(1, 1, *s).map_err(|e| *e),
             Input::Tree { .. } => Err(Located::file(path, "a tree file holds no run")),
         };
     }
@@ -93,7 +93,7 @@ pub fn each_run(
         .map(|(tree, path)| crate::logs::GivenTree { tree, path });
     let runs = crate::logs::BagRuns::read(path, given)?;
     for k in 1..=runs.len() {
-        f(k, runs.len(), runs.session(k)?)?;
+        f(k, runs.len(), runs.session(k)?).map_err(|e| *e)?;
     }
     Ok(())
 }

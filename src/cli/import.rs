@@ -40,7 +40,8 @@ fn import_runs(log: &Path, reading: &Reading, out: &Path, cli: &Globals) -> Resu
         if k == 1 {
             warn_all(cli.quiet, &s.warnings);
         }
-        let path = btx::logs::write_session(&s, &out.join(format!("run-{k}.jsonl")))?;
+        let path =
+            btx::logs::write_session(&s, &out.join(format!("run-{k}.jsonl"))).map_err(Box::new)?;
         eprintln!(
             "{}: {} ticks, {} transitions, {}",
             path.display(),

@@ -939,3 +939,108 @@ fn btview_sees_what_btx_serves() {
         "only {checked} nodes read from btview:\n{text}"
     );
 }
+
+#[test]
+fn three_robots_are_watched_at_once_each_into_its_own_session() {
+    // #30 item 3: one robot at a time only. Three robots of the real
+    // library, each with its plan, watched by one `btx watch A B C --out
+    // DIR`: each session is that robot's own .btlog, and the watch ends
+    // by itself once every robot's run finished and the robot left.
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let plans = [
+        "kitting_nominal",
+        "kitting_lookat_fails_once",
+        "kitting_detect_chuck_always_fails",
+    ];
+    let mut robots = Vec::new();
+    for plan in plans {
+        let port = free_port();
+        let btlog = dir.path().join(format!("{plan}.btlog"));
+        let mut robot = Command::new(oracle_python())
+            .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/live/robot.py"))
+            .arg(fixture("kitting-tree.v4.xml"))
+            .arg(fixture(&format!("plans/{plan}.plan")))
+            .arg(port.to_string())
+            .arg(&btlog)
+            .args(["20", "stdin"])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .spawn()
+            .expect("the robot starts");
+        let mut said = BufReader::new(robot.stdout.take().unwrap()).lines();
+        assert_eq!(said.next().unwrap().unwrap(), "READY");
+        robots.push((port, btlog, robot, said));
+    }
+    let out = dir.path().join("fleet");
+    let mut w = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .arg("watch")
+        .args(robots.iter().map(|r| format!(":{}", r.0)))
+        .args(["--for", "120", "--out", out.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Read as it comes: three robots' rows fill a pipe.
+    let mut stdout = w.stdout.take().unwrap();
+    let printed = std::thread::spawn(move || {
+        let mut s = String::new();
+        std::io::Read::read_to_string(&mut stdout, &mut s).unwrap();
+        s
+    });
+    let mut err = BufReader::new(w.stderr.take().unwrap());
+    let mut started = 0;
+    let mut first = String::new();
+    while started < 3 && err.read_line(&mut first).unwrap() > 0 {
+        started = first.matches("watching 127.0.0.1:").count();
+    }
+    assert_eq!(started, 3, "{first}");
+    for r in &mut robots {
+        writeln!(r.2.stdin.as_mut().unwrap(), "go").unwrap();
+    }
+    for r in &mut robots {
+        assert!(r.3.any(|l| l.is_ok_and(|l| l == "DONE")), "a robot died");
+    }
+    // Each robot closed its connection once done: the watch ends by itself.
+    let t0 = Instant::now();
+    let status = loop {
+        if let Some(s) = w.try_wait().unwrap() {
+            break s;
+        }
+        if t0.elapsed() > Duration::from_secs(20) {
+            let _ = w.kill();
+            panic!("btx watch did not end once the robots' runs finished");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut err, &mut rest).unwrap();
+    let printed = printed.join().unwrap();
+    assert!(status.success(), "{first}{rest}");
+    for (port, btlog, mut robot, _) in robots {
+        let _ = robot.wait();
+        let logged = session(&btlog);
+        let watched = session(&out.join(format!("127.0.0.1_{port}.jsonl")));
+        assert_eq!(
+            watched.index.transitions, logged.index.transitions,
+            "robot :{port}"
+        );
+        assert!(watched.index.gaps.is_empty(), "robot :{port}");
+        assert!(
+            watched.ending().starts_with("ended at tick"),
+            "{}",
+            watched.ending()
+        );
+        let prefix = format!("[127.0.0.1:{port}] ");
+        assert!(
+            rest.contains(&format!("{prefix}the robot's run finished")),
+            "{rest}"
+        );
+        // Its rows printed with its prefix, one per transition.
+        let rows = printed
+            .lines()
+            .filter(|l| l.starts_with(&prefix) && l.contains("->"))
+            .count();
+        assert_eq!(rows, logged.index.transitions.len(), "robot :{port}");
+    }
+}

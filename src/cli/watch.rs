@@ -1,4 +1,4 @@
-//! `btx watch`: Watch a running robot over the Groot2 protocol and print its transitions as they happen.
+//! `btx watch`: Watch running robots over the Groot2 protocol and print their transitions as they happen.
 
 use super::*;
 use btx::live::{groot2, Feed};
@@ -8,11 +8,11 @@ use std::time::{Duration, Instant};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The robot's Groot2 server, `[HOST][:PORT]` (default 127.0.0.1:1667).
+    /// The robots' Groot2 servers, each `[HOST][:PORT]` (default 127.0.0.1:1667). Several are watched at once, each line prefixed with its robot.
     #[arg(value_name = "[HOST][:PORT]")]
-    pub endpoint: Option<String>,
-    /// Also keep the run as a session file: `SESSION.partial` holds the run so far (rewritten as the run grows, at most every 20 ms), SESSION the whole run once watching ends (Ctrl-C, or --for).
-    #[arg(long, value_name = "SESSION")]
+    pub endpoints: Vec<String>,
+    /// Also keep the run as a session file: `SESSION.partial` holds the run so far, SESSION the whole run once watching ends (Ctrl-C, --for, or the robot's run finished). With several robots, a directory: one session a robot, `HOST_PORT.jsonl`.
+    #[arg(long, value_name = "SESSION|DIR")]
     pub out: Option<PathBuf>,
     /// Stop after this many seconds.
     #[arg(long = "for", value_name = "SECONDS", value_parser = seconds)]
@@ -21,15 +21,196 @@ pub struct Args {
     pub format: Format,
 }
 
+/// One robot watched: its feed, and what was said of it so far.
+struct Robot {
+    ep: String,
+    /// `[HOST:PORT] ` before each line when several robots are watched.
+    prefix: String,
+    feed: Feed,
+    shell: btx::session::Session,
+    header: bool,
+    gaps_said: usize,
+    notes_said: usize,
+    said: Option<String>,
+}
+
+impl Robot {
+    fn start(ep: String, out: Option<PathBuf>, several: bool) -> Result<Robot, String> {
+        let mut feed = Feed::start(&ep, out).map_err(|e| e.to_string())?;
+        feed.print_rows();
+        feed.without_view();
+        // Names the nodes of the rows printed.
+        let shell = feed.session().map_err(|e| e.to_string())?;
+        Ok(Robot {
+            prefix: if several {
+                format!("[{ep}] ")
+            } else {
+                String::new()
+            },
+            ep,
+            feed,
+            shell,
+            header: false,
+            gaps_said: 0,
+            notes_said: 0,
+            said: None,
+        })
+    }
+
+    /// Takes what came, prints its rows (unless standard output is
+    /// closed) and says its gaps and notes; `done` halts the feed.
+    fn step(
+        &mut self,
+        done: bool,
+        closed: bool,
+        format: Format,
+        quiet: bool,
+    ) -> Result<(), Failure> {
+        if done {
+            self.feed.halt();
+        } else {
+            self.feed.poll();
+        }
+        let p = &self.prefix;
+        for n in &self.feed.notes[self.notes_said..] {
+            if !quiet {
+                eprintln!("{p}warning: {}: {n}", self.ep);
+            }
+        }
+        self.notes_said = self.feed.notes.len();
+        // Each tick is printed once numbered: the numbers are final.
+        let rows = self.feed.take_rows();
+        if !closed && !rows.is_empty() {
+            let out = match format {
+                Format::Json => {
+                    let lines = btx::export::log_json_lines(&self.shell, &rows);
+                    if p.is_empty() {
+                        lines
+                    } else {
+                        let robot = serde_json::to_string(&self.ep).unwrap_or_default();
+                        lines
+                            .lines()
+                            .map(|l| format!("{{\"robot\":{robot},{}\n", &l[1..]))
+                            .collect()
+                    }
+                }
+                Format::Text => {
+                    let t = btx::export::log_text(&self.shell, &rows);
+                    let body = if self.header {
+                        t.split_once('\n')
+                            .map_or(String::new(), |x| x.1.to_string())
+                    } else {
+                        self.header = true;
+                        t
+                    };
+                    body.lines().map(|l| format!("{p}{l}\n")).collect()
+                }
+            };
+            print!("{out}");
+        }
+        if let Some(e) = self.feed.write_error.take() {
+            self.feed.halt();
+            eprintln!("{p}watching stopped: the run cannot be written");
+            return Err(e.into());
+        }
+        for g in &self.feed.gaps[self.gaps_said..] {
+            eprintln!("{p}gap after transition {}: {}", g.at, g.why);
+        }
+        self.gaps_said = self.feed.gaps.len();
+        if self.feed.status.error != self.said {
+            if let Some(e) = &self.feed.status.error {
+                eprintln!("{p}{e}; connecting again");
+            }
+            self.said = self.feed.status.error.clone();
+        }
+        Ok(())
+    }
+
+    /// The session finished (with --out) and what is said of the run.
+    fn finish(mut self, quiet: bool) -> Result<(), Failure> {
+        self.feed.halt();
+        let p = &self.prefix;
+        if let (false, Some(f)) = (quiet, &self.feed.status.finished) {
+            eprintln!("{p}{f}");
+        }
+        let n = self.feed.transitions();
+        if let (false, Some((median, p99))) = (quiet, self.feed.latency_ms()) {
+            eprintln!("{p}{n} transitions; from the robot to here: median {median:.1} ms, 99th percentile {p99:.1} ms");
+        }
+        if let Some(path) = self.feed.stop()? {
+            if !quiet {
+                eprintln!("{p}{n} transitions written to {}", path.display());
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A file name for a robot's session: `HOST_PORT.jsonl`.
+fn session_name(ep: &str) -> String {
+    let safe: String = ep
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '.' || c == '-' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    format!("{safe}.jsonl")
+}
+
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
-    let ep = groot2::endpoint(args.endpoint.as_deref().unwrap_or(""));
-    let _claim = match &args.out {
-        Some(out) => Some(btx::session::OutputLock::take(out, "btx watch")?),
-        None => None,
+    let mut eps: Vec<String> = args.endpoints.iter().map(|e| groot2::endpoint(e)).collect();
+    if eps.is_empty() {
+        eps.push(groot2::endpoint(""));
+    }
+    let mut seen = std::collections::HashSet::new();
+    eps.retain(|e| seen.insert(e.clone()));
+    let several = eps.len() > 1;
+    // Several robots: --out is a directory, a session a robot.
+    let outs: Vec<Option<PathBuf>> = match (&args.out, several) {
+        (None, _) => vec![None; eps.len()],
+        (Some(o), false) => vec![Some(o.clone())],
+        (Some(dir), true) => {
+            if dir.extension().is_some_and(|x| x == "jsonl") {
+                fail!(
+                    "with several robots --out names a directory (a session a robot), not {}",
+                    dir.display()
+                );
+            }
+            std::fs::create_dir_all(dir).map_err(|e| {
+                Failure::Plain(format!("{}: cannot make the directory: {e}", dir.display()))
+            })?;
+            eps.iter()
+                .map(|e| Some(dir.join(session_name(e))))
+                .collect()
+        }
     };
-    let mut feed = Feed::start(&ep, args.out.clone()).map_err(|e| Failure::Plain(e.to_string()))?;
-    if !cli.quiet {
-        eprintln!("watching {ep}: tree {} (Ctrl-C stops)", feed.status.uuid);
+    let mut claims = Vec::new();
+    for o in outs.iter().flatten() {
+        claims.push(btx::session::OutputLock::take(o, "btx watch")?);
+    }
+    let mut robots = Vec::new();
+    for (ep, out) in eps.iter().zip(outs) {
+        match Robot::start(ep.clone(), out, several) {
+            Ok(r) => {
+                if !cli.quiet {
+                    eprintln!(
+                        "{}watching {ep}: tree {} (Ctrl-C stops)",
+                        r.prefix, r.feed.status.uuid
+                    );
+                }
+                robots.push(r);
+            }
+            // One robot that cannot be reached does not stop the others.
+            Err(e) if several => eprintln!("[{ep}] unreachable: {e}"),
+            Err(e) => return Err(Failure::Plain(e)),
+        }
+    }
+    if robots.is_empty() {
+        fail!("no robot could be reached");
     }
     super::RECORDING.store(true, Ordering::Relaxed);
     let stop = Arc::new(AtomicBool::new(false));
@@ -40,16 +221,9 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let deadline = args
         .for_secs
         .map(|s| Instant::now() + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
-    feed.print_rows();
-    feed.without_view();
-    // Names the nodes of the rows printed.
-    let shell = feed.session()?;
-    let mut header = false;
-    let mut gaps_said = 0usize;
-    let mut notes_said = 0usize;
-    let mut said: Option<String> = None;
     let mut closed_said = false;
-    loop {
+    let mut failed = None;
+    while !robots.is_empty() {
         // A closed standard output (`| head`) ends the printing, never the
         // recording: with --out the watch goes on as it would have.
         let closed = super::stdout_closed();
@@ -67,70 +241,33 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 );
             }
         }
-        let done = stop.load(Ordering::Relaxed)
-            || feed.status.finished.is_some()
+        let all_done = stop.load(Ordering::Relaxed)
             || deadline.is_some_and(|d| Instant::now() >= d)
             || (closed && args.out.is_none());
-        if done {
-            feed.halt();
-        } else {
-            feed.poll();
-        }
-        for n in &feed.notes[notes_said..] {
-            if !cli.quiet {
-                eprintln!("warning: {ep}: {n}");
+        let mut still = Vec::with_capacity(robots.len());
+        for mut r in robots {
+            // A robot whose run finished ends its session; the others go on.
+            let done = all_done || r.feed.status.finished.is_some();
+            if let Err(e) = r.step(done, closed, args.format, cli.quiet) {
+                failed.get_or_insert(e);
+                continue;
             }
-        }
-        notes_said = feed.notes.len();
-        // Each tick is printed once numbered: the numbers are final.
-        let rows = feed.take_rows();
-        if !closed && !rows.is_empty() {
-            let out = match args.format {
-                Format::Json => btx::export::log_json_lines(&shell, &rows),
-                Format::Text => {
-                    let t = btx::export::log_text(&shell, &rows);
-                    if header {
-                        t.split_once('\n')
-                            .map_or(String::new(), |x| x.1.to_string())
-                    } else {
-                        header = true;
-                        t
-                    }
+            if done {
+                if let Err(e) = r.finish(cli.quiet) {
+                    failed.get_or_insert(e);
                 }
-            };
-            print!("{out}");
-        }
-        if let Some(e) = feed.write_error.take() {
-            feed.halt();
-            eprintln!("watching stopped: the run cannot be written");
-            return Err(e.into());
-        }
-        for g in &feed.gaps[gaps_said..] {
-            eprintln!("gap after transition {}: {}", g.at, g.why);
-        }
-        gaps_said = feed.gaps.len();
-        if feed.status.error != said {
-            if let Some(e) = &feed.status.error {
-                eprintln!("{e}; connecting again");
+            } else {
+                still.push(r);
             }
-            said = feed.status.error.clone();
         }
-        if done {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-    if let (false, Some(f)) = (cli.quiet, &feed.status.finished) {
-        eprintln!("{f}");
-    }
-    let n = feed.transitions();
-    if let (false, Some((median, p99))) = (cli.quiet, feed.latency_ms()) {
-        eprintln!("{n} transitions; from the robot to here: median {median:.1} ms, 99th percentile {p99:.1} ms");
-    }
-    if let Some(path) = feed.stop()? {
-        if !cli.quiet {
-            eprintln!("{n} transitions written to {}", path.display());
+        robots = still;
+        if !robots.is_empty() {
+            std::thread::sleep(Duration::from_millis(20));
         }
     }
-    Ok(())
+    drop(claims);
+    match failed {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
 }

@@ -51,6 +51,11 @@ pub fn is_bag(path: &Path) -> bool {
     if path.is_dir() {
         return path.join("metadata.yaml").is_file();
     }
+    // Never opened when not a regular file: opening a FIFO waits for a
+    // writer (the reader says what such a file is).
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return false;
+    }
     let mut head = [0u8; 16];
     let n = std::fs::File::open(path)
         .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
@@ -124,6 +129,12 @@ pub fn read(path: &Path, tree: &Tree) -> Result<BagRecords, Located> {
     let mut m = Matcher::new(path, tree);
     let mut topic = None;
     for file in storage_files(path)? {
+        if !std::fs::metadata(&file).is_ok_and(|m| m.is_file()) {
+            return Err(Located::file(
+                &file,
+                "a storage file of the bag that is not a regular file",
+            ));
+        }
         let mcap = std::fs::File::open(&file)
             .and_then(|mut f| {
                 let mut h = [0u8; 8];

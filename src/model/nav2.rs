@@ -96,14 +96,7 @@ const fn node(
     releases: u8,
     sets_running: u8,
 ) -> Nav2Node {
-    Nav2Node {
-        id,
-        base,
-        file,
-        releases,
-        sets_running,
-        returns_running: false,
-    }
+    node_running(id, base, file, releases, sets_running, false)
 }
 
 const fn node_running(

@@ -51,32 +51,41 @@ fn kind(parts: &[Vec<u8>]) -> u8 {
     parts.first().and_then(|h| h.get(1)).copied().unwrap_or(0)
 }
 
-#[test]
-fn a_first_tick_larger_than_the_publishers_buffer_is_kept_whole() {
-    // 4,005 transitions in tick 1: "0 transitions written" and a gap
-    // claiming btx attached to a robot already running (#26 item 3).
-    let dir = tempfile::tempdir().unwrap();
+/// A run of `ticks` ticks of 2,001 leaves in one Sequence (4,005
+/// transitions a tick), `tick_ms` apart, written by `btx run` into `dir`.
+fn wide_run(dir: &Path, ticks: &str, tick_ms: &str) -> std::path::PathBuf {
     let leaves: String = (0..2001).map(|_| "<AlwaysSuccess/>").collect();
     let tree = write(
-        dir.path(),
+        dir,
         "wide.xml",
         &format!(
             "<root BTCPP_format=\"4\"><BehaviorTree ID=\"Main\"><Sequence>{leaves}</Sequence></BehaviorTree></root>"
         ),
     );
-    let plan = write(dir.path(), "empty.plan", "");
-    let run = dir.path().join("wide.jsonl");
+    let plan = write(dir, "empty.plan", "");
+    let run = dir.join("wide.jsonl");
     let (ok, _, err) = btx(&[
         "run",
         &tree,
         "--plan",
         &plan,
         "--max-ticks",
-        "1",
+        ticks,
+        "--tick-ms",
+        tick_ms,
         "--out",
         run.to_str().unwrap(),
     ]);
     assert!(ok, "{err}");
+    run
+}
+
+#[test]
+fn a_first_tick_larger_than_the_publishers_buffer_is_kept_whole() {
+    // 4,005 transitions in tick 1: "0 transitions written" and a gap
+    // claiming btx attached to a robot already running (#26 item 3).
+    let dir = tempfile::tempdir().unwrap();
+    let run = wide_run(dir.path(), "1", "10");
     let original = Session::load(&run).unwrap();
     assert!(original.index.tick_range(1).len() > 4000);
     // One tick in 2 s, played over 1 s: 4,000 transitions a second, which
@@ -97,29 +106,7 @@ fn a_first_tick_larger_than_the_publishers_buffer_is_kept_whole() {
 /// its first tick: the original run, and what the watch kept and said.
 fn watched_through_a_stop(more: &[&str]) -> (Session, Session, String) {
     let dir = tempfile::tempdir().unwrap();
-    let leaves: String = (0..2001).map(|_| "<AlwaysSuccess/>").collect();
-    let tree = write(
-        dir.path(),
-        "wide.xml",
-        &format!(
-            "<root BTCPP_format=\"4\"><BehaviorTree ID=\"Main\"><Sequence>{leaves}</Sequence></BehaviorTree></root>"
-        ),
-    );
-    let plan = write(dir.path(), "empty.plan", "");
-    let run = dir.path().join("wide.jsonl");
-    let (ok, _, err) = btx(&[
-        "run",
-        &tree,
-        "--plan",
-        &plan,
-        "--max-ticks",
-        "3",
-        "--tick-ms",
-        "100",
-        "--out",
-        run.to_str().unwrap(),
-    ]);
-    assert!(ok, "{err}");
+    let run = wide_run(dir.path(), "3", "100");
     let (port, mut server) = served_with(run.to_str().unwrap(), "1", "60", more);
     let out = dir.path().join("w.jsonl");
     let mut watch = Command::new(env!("CARGO_BIN_EXE_btx"))

@@ -53,13 +53,9 @@ fn db3_session(path: &Path) -> Option<(&Path, i64)> {
 /// one it embeds, after checking that the two are the same node for node;
 /// a tree file is refused then, having no tree to replace.
 pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
-    let Some(file) = &opts.run_tree else {
+    let tree = run_tree(opts)?;
+    let Some(given) = given(&tree, opts) else {
         return open_as(path, opts, None);
-    };
-    let tree = crate::xml::load_file(file, opts)?.tree;
-    let given = crate::logs::GivenTree {
-        tree: &tree,
-        path: file,
     };
     match open_as(path, opts, Some(given))? {
         Input::Tree { .. } => Err(Located::file(
@@ -83,19 +79,27 @@ pub fn each_run(
             Input::Tree { .. } => Err(Located::file(path, "a tree file holds no run")),
         };
     }
-    let tree = match &opts.run_tree {
-        Some(file) => Some(crate::xml::load_file(file, opts)?.tree),
-        None => None,
-    };
-    let given = tree
-        .as_ref()
-        .zip(opts.run_tree.as_deref())
-        .map(|(tree, path)| crate::logs::GivenTree { tree, path });
-    let runs = crate::logs::BagRuns::read(path, given)?;
+    let tree = run_tree(opts)?;
+    let runs = crate::logs::BagRuns::read(path, given(&tree, opts))?;
     for k in 1..=runs.len() {
         f(k, runs.len(), runs.session(k)?).map_err(|e| *e)?;
     }
     Ok(())
+}
+
+/// The tree file `--tree` names, read.
+fn run_tree(opts: &LoadOptions) -> Result<Option<Tree>, Located> {
+    opts.run_tree
+        .as_deref()
+        .map(|file| crate::xml::load_file(file, opts).map(|l| l.tree))
+        .transpose()
+}
+
+/// The `--tree` tree as a log's given tree.
+fn given<'a>(tree: &'a Option<Tree>, opts: &'a LoadOptions) -> Option<crate::logs::GivenTree<'a>> {
+    tree.as_ref()
+        .zip(opts.run_tree.as_deref())
+        .map(|(tree, path)| crate::logs::GivenTree { tree, path })
 }
 
 /// A UTC time of µs since the epoch, as `2026-11-25 22:11:20.123`.

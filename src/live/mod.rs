@@ -306,11 +306,7 @@ impl Watch {
     /// The root's completion, when its last transition completed it (or
     /// reset it to IDLE after, as BehaviorTree.CPP does to a finished tree).
     fn completed(&self) -> Option<Status> {
-        match self.root? {
-            (_, s) if s.is_completed() => Some(s),
-            (p, Status::Idle) if p.is_completed() => Some(p),
-            _ => None,
-        }
+        self.root.and_then(|(prev, now)| now.ended(prev))
     }
 
     /// Keeps the transitions of a `t` reply; how many came.

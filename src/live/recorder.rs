@@ -227,10 +227,10 @@ impl Recorder {
         }
         // The run finished when the root's last transition completed it
         // (or reset it to IDLE right after, as BehaviorTree.CPP does).
-        let (root, why) = match self.root {
-            (_, s) if s.is_completed() => (s, "the robot's run finished"),
-            (p, Status::Idle) if p.is_completed() => (p, "the robot's run finished"),
-            (_, s) => (s, "watching stopped"),
+        let (prev, now) = self.root;
+        let (root, why) = match now.ended(prev) {
+            Some(done) => (done, "the robot's run finished"),
+            None => (now, "watching stopped"),
         };
         match self.writer.take() {
             Some(w) => w.finish(self.last_tick, root, why).map(Some),

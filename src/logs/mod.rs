@@ -588,14 +588,11 @@ pub fn ending(index: &crate::session::Index) -> Option<(u32, Status, String)> {
         .rev()
         .find(|t| t.uid == crate::model::Tree::ROOT)?;
     let ticks = index.ticks();
-    match (last.prev, last.status) {
-        (_, s) if s.is_completed() => Some((ticks, s, "root completed".into())),
-        (p, Status::Idle) if p.is_completed() => Some((ticks, p, "root completed".into())),
-        (Status::Running, Status::Idle) => {
-            Some((ticks, Status::Idle, "root halted while RUNNING".into()))
-        }
-        _ => None,
+    if let Some(done) = last.status.ended(last.prev) {
+        return Some((ticks, done, "root completed".into()));
     }
+    (last.prev == Status::Running && last.status == Status::Idle)
+        .then(|| (ticks, Status::Idle, "root halted while RUNNING".into()))
 }
 
 /// Writes a session read from a log as a btx session file; a log that

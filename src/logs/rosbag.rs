@@ -56,14 +56,26 @@ pub fn is_bag(path: &Path) -> bool {
     if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         return false;
     }
-    let mut head = [0u8; 16];
-    let n = std::fs::File::open(path)
-        .and_then(|mut f| std::io::Read::read(&mut f, &mut head))
-        .unwrap_or(0);
-    if head[..n].starts_with(MCAP_MAGIC) {
+    // SQLite keeps its schema on the first page: a database whose first
+    // 64 KiB never name rosbag2's tables is not opened to ask (a
+    // SqliteLogger's, followed, is read again and again).
+    let mut head = Vec::with_capacity(1 << 16);
+    let read = std::fs::File::open(path)
+        .and_then(|f| std::io::Read::read_to_end(&mut std::io::Read::take(f, 1 << 16), &mut head));
+    if read.is_err() {
+        return false;
+    }
+    if head.starts_with(MCAP_MAGIC) {
         return true;
     }
-    head[..n].starts_with(super::db3::MAGIC) && is_rosbag_db3(path)
+    let names = |word: &[u8]| {
+        head.windows(word.len())
+            .any(|w| w.eq_ignore_ascii_case(word))
+    };
+    head.starts_with(super::db3::MAGIC)
+        && names(b"topics")
+        && names(b"messages")
+        && is_rosbag_db3(path)
 }
 
 /// A SQLite file with rosbag2's `topics` and `messages` tables (a

@@ -52,6 +52,17 @@ impl Status {
             .find(|x| x.as_str().eq_ignore_ascii_case(s.trim()))
     }
 
+    /// How a node ended, by its last transition (`prev` to `self`): its
+    /// completion, also when it was reset to IDLE right after, as
+    /// BehaviorTree.CPP resets a finished tree.
+    pub fn ended(self, prev: Status) -> Option<Status> {
+        match (prev, self) {
+            (_, s) if s.is_completed() => Some(s),
+            (p, Status::Idle) if p.is_completed() => Some(p),
+            _ => None,
+        }
+    }
+
     /// SUCCESS or FAILURE.
     pub fn is_completed(self) -> bool {
         matches!(self, Status::Success | Status::Failure)

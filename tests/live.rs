@@ -635,8 +635,8 @@ fn the_robots_blackboards_are_read_by_the_names_btx_gives_its_scopes() {
     let mut said = BufReader::new(robot.stdout.take().unwrap()).lines();
     assert_eq!(said.next().unwrap().unwrap(), "READY");
     std::thread::sleep(Duration::from_millis(300));
-    let mut w = btx::live::Watch::start(&format!("127.0.0.1:{port}")).unwrap();
-    let s = btx::logs::open_live(Path::new("live"), &w.xml, &[], &[]).unwrap();
+    let mut w = btx::live::Watch::start(&format!("127.0.0.1:{port}"), None).unwrap();
+    let s = btx::logs::open_live(w.protocol, Path::new("live"), &w.xml, &[], &[]).unwrap();
     let names: Vec<String> = (0..s.tree.scopes.len())
         .map(|i| s.tree.blackboard_name(i))
         .collect();
@@ -659,7 +659,7 @@ fn btx_serve_serves_the_runs_blackboards() {
     let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "20", "10");
     // Recording starts the replay; 54 ticks at 20 times 100 ms are over in
     // 0.3 s.
-    let mut w = btx::live::Watch::start(&format!("127.0.0.1:{port}")).unwrap();
+    let mut w = btx::live::Watch::start(&format!("127.0.0.1:{port}"), None).unwrap();
     std::thread::sleep(Duration::from_millis(1000));
     let s = session(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/kitting-lookat-fails-once.jsonl"),

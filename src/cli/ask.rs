@@ -7,9 +7,12 @@ pub struct Args {
     /// A tree file, or a session (with --live: none, every word is a question).
     #[arg(value_name = "FILE")]
     pub file: Option<PathBuf>,
-    /// Ask a robot running now, over the Groot2 protocol (default 127.0.0.1:1667), about the present moment: its nodes' statuses, read once (`S`); nothing is recorded, so a client that records is not disturbed.
+    /// Ask a robot running now (default 127.0.0.1:1667; BehaviorTree.CPP 4's Groot2 or 3's Groot 1 protocol) about the present moment: its nodes' statuses, read once; nothing is recorded, so a client that records is not disturbed.
     #[arg(long, value_name = "[HOST][:PORT]", num_args = 0..=1, default_missing_value = "", conflicts_with = "at")]
     pub live: Option<String>,
+    /// A BehaviorTree.CPP 3 robot's publisher port (Groot 1's protocol; Nav2 Humble's groot_zmq_publisher_port), when it is not the one below the server's.
+    #[arg(long, value_name = "PORT", requires = "live")]
+    pub publisher_port: Option<u16>,
     #[command(flatten)]
     pub reading: Reading,
     /// The moment of a session: TICK (its end), TICK:STEP, last, end, or -N (-1: the last tick). Default: the end of the run.
@@ -33,6 +36,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let Args {
         file,
         live,
+        publisher_port,
         reading,
         at,
         node,
@@ -52,7 +56,14 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             .chain(file.map(|f| f.display().to_string()))
             .chain(questions)
             .collect();
-        return live_ask(&ep, node.as_deref(), &words, format, detail);
+        return live_ask(
+            &ep,
+            publisher_port,
+            node.as_deref(),
+            &words,
+            (format, detail),
+            cli.quiet,
+        );
     }
     let Some(file) = file else {
         fail!("name a tree or a session to ask about (or --live to ask a running robot)");
@@ -159,16 +170,18 @@ fn print_replies(
 /// about the present, and what came before is unknown, and said so.
 fn live_ask(
     ep: &str,
+    publisher: Option<u16>,
     node: Option<&str>,
     words: &[String],
-    format: Format,
-    detail: btx::ask::Detail,
+    (format, detail): (Format, btx::ask::Detail),
+    quiet: bool,
 ) -> Result<(), Failure> {
     if words.is_empty() {
         fail!("ask at least one question, e.g. btx ask --live :1667 wrong");
     }
     let ep = btx::live::groot2::endpoint(ep);
-    let s = btx::live::snapshot(&ep).map_err(|e| Failure::Plain(e.to_string()))?;
+    let s = btx::live::snapshot(&ep, publisher).map_err(|e| Failure::Plain(e.to_string()))?;
+    warn_all(quiet, &s.warnings);
     let view = btx::session::At {
         index: &s.index,
         pos: 0,

@@ -167,7 +167,7 @@ enum Command {
     Log(log::Args),
     /// Serve a recorded run (session or log) over the Groot2 protocol, as a robot that is running now, for Groot2, btview or btx watch.
     Serve(serve::Args),
-    /// Watch a running robot over the Groot2 protocol (BehaviorTree.CPP 4, Nav2): print its transitions as they happen, and keep the run as a session.
+    /// Watch running robots (BehaviorTree.CPP 4 over Groot2, BehaviorTree.CPP 3 and Nav2 Humble over Groot 1): print their transitions as they happen, and keep each run as a session.
     Watch(watch::Args),
 }
 

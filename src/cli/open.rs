@@ -12,19 +12,22 @@ pub struct Args {
     /// Keep reading a log (or session) that is still being written; the timeline grows.
     #[arg(long)]
     pub follow: bool,
-    /// Open a robot that is running now, over the Groot2 protocol: `[HOST][:PORT]` (default 127.0.0.1:1667).
+    /// Open a robot that is running now: `[HOST][:PORT]` (default 127.0.0.1:1667), its Groot2 server (BehaviorTree.CPP 4) or its Groot 1 server (BehaviorTree.CPP 3, Nav2 Humble).
     #[arg(long, value_name = "[HOST][:PORT]", num_args = 0..=1, default_missing_value = "", conflicts_with_all = ["files", "diff", "follow"])]
     pub live: Option<String>,
     /// With --live: keep the run as a session (`SESSION.partial` while it runs, SESSION when the explorer closes).
     #[arg(long, value_name = "SESSION", requires = "live")]
     pub out: Option<PathBuf>,
+    /// A BehaviorTree.CPP 3 robot's publisher port (Groot 1's protocol; Nav2 Humble's groot_zmq_publisher_port), when it is not the one below the server's.
+    #[arg(long, value_name = "PORT", requires = "live")]
+    pub publisher_port: Option<u16>,
     #[command(flatten)]
     pub reading: Reading,
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     if let Some(spec) = &args.live {
-        return live(spec, args.out.as_deref(), cli);
+        return live(spec, args.publisher_port, args.out.as_deref(), cli);
     }
     match args {
         Args {
@@ -77,13 +80,18 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
 }
 
 /// `btx open --live`: the explorer on a robot running now.
-fn live(spec: &str, out: Option<&Path>, cli: &Globals) -> Result<(), Failure> {
+fn live(
+    spec: &str,
+    publisher: Option<u16>,
+    out: Option<&Path>,
+    cli: &Globals,
+) -> Result<(), Failure> {
     let ep = btx::live::groot2::endpoint(spec);
     let _claim = match out {
         Some(out) => Some(btx::session::OutputLock::take(out, "btx open --live")?),
         None => None,
     };
-    let feed = btx::live::Feed::start(&ep, out.map(Path::to_path_buf))
+    let feed = btx::live::Feed::start(&ep, publisher, out.map(Path::to_path_buf))
         .map_err(|e| Failure::Plain(e.to_string()))?;
     let first = feed.session()?;
     let mut app = btx::tui::App::new(first.tree.clone(), Some(first), format!("live {ep}"));

@@ -1,4 +1,4 @@
-//! `btx watch`: Watch running robots over the Groot2 protocol and print their transitions as they happen.
+//! `btx watch`: Watch running robots (Groot2 or Groot 1 protocol) and print their transitions as they happen.
 
 use super::*;
 use btx::live::{groot2, Feed};
@@ -8,12 +8,15 @@ use std::time::{Duration, Instant};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The robots' Groot2 servers, each `[HOST][:PORT]` (default 127.0.0.1:1667). Several are watched at once, each line prefixed with its robot.
+    /// The robots' servers, each `[HOST][:PORT]` (default 127.0.0.1:1667): a BehaviorTree.CPP 4 Groot2 server, or a BehaviorTree.CPP 3 robot's Groot 1 server (its publisher on the port below). Several are watched at once, each line prefixed with its robot.
     #[arg(value_name = "[HOST][:PORT]")]
     pub endpoints: Vec<String>,
     /// Also keep the run as a session file: `SESSION.partial` holds the run so far, SESSION the whole run once watching ends (Ctrl-C, --for, or the robot's run finished). With several robots, a directory: one session a robot, `HOST_PORT.jsonl`.
     #[arg(long, value_name = "SESSION|DIR")]
     pub out: Option<PathBuf>,
+    /// A BehaviorTree.CPP 3 robot's publisher port (Groot 1's protocol; Nav2 Humble's groot_zmq_publisher_port), when it is not the one below the server's.
+    #[arg(long, value_name = "PORT")]
+    pub publisher_port: Option<u16>,
     /// Stop after this many seconds.
     #[arg(long = "for", value_name = "SECONDS", value_parser = seconds)]
     pub for_secs: Option<f64>,
@@ -35,8 +38,13 @@ struct Robot {
 }
 
 impl Robot {
-    fn start(ep: String, out: Option<PathBuf>, several: bool) -> Result<Robot, String> {
-        let mut feed = Feed::start(&ep, out).map_err(|e| e.to_string())?;
+    fn start(
+        ep: String,
+        publisher: Option<u16>,
+        out: Option<PathBuf>,
+        several: bool,
+    ) -> Result<Robot, String> {
+        let mut feed = Feed::start(&ep, publisher, out).map_err(|e| e.to_string())?;
         feed.print_rows();
         feed.without_view();
         // Names the nodes of the rows printed.
@@ -169,6 +177,9 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let mut seen = std::collections::HashSet::new();
     eps.retain(|e| seen.insert(e.clone()));
     let several = eps.len() > 1;
+    if several && args.publisher_port.is_some() {
+        fail!("--publisher-port names one robot's publisher; with several robots, each BehaviorTree.CPP 3 robot's publisher is the port below its server's");
+    }
     // Several robots: --out is a directory, a session a robot.
     let outs: Vec<Option<PathBuf>> = match (&args.out, several) {
         (None, _) => vec![None; eps.len()],
@@ -194,7 +205,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     }
     let mut robots = Vec::new();
     for (ep, out) in eps.iter().zip(outs) {
-        match Robot::start(ep.clone(), out, several) {
+        match Robot::start(ep.clone(), args.publisher_port, out, several) {
             Ok(r) => {
                 if !cli.quiet {
                     eprintln!(

@@ -774,6 +774,7 @@ mod tests {
 
     fn attached(recs: &[(u32, Status)]) -> crate::session::Session {
         crate::logs::open_live(
+            crate::logs::Protocol::Groot2,
             std::path::Path::new("live"),
             XML,
             &records(recs),
@@ -796,8 +797,14 @@ mod tests {
             (5, Status::Running),
             (5, Status::Success),
         ]);
-        let s = crate::logs::open_live(std::path::Path::new("live"), XML, &recs, &[(4, states())])
-            .unwrap();
+        let s = crate::logs::open_live(
+            crate::logs::Protocol::Groot2,
+            std::path::Path::new("live"),
+            XML,
+            &recs,
+            &[(4, states())],
+        )
+        .unwrap();
         let at = |pos| At {
             index: &s.index,
             pos,

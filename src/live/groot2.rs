@@ -188,6 +188,14 @@ pub const TRANSITIONS_REPLY_MAX: usize = 100 * SERVER_BUFFER;
 /// not shown, and the explorer says so with its size.
 pub const BLACKBOARD_REPLY_MAX: u64 = 1 << 20;
 
+/// What a server answered when asked for its tree.
+pub enum Served {
+    /// A Groot2 server's XML, with `_uid` attributes.
+    Xml(String),
+    /// BehaviorTree.CPP 3's tree flatbuffer (Groot 1's protocol).
+    Groot1(Vec<u8>),
+}
+
 /// A connection to a Groot2 server.
 pub struct Client {
     req: Req,
@@ -244,10 +252,19 @@ impl Client {
         if let Some(a) = arg {
             parts.push(a);
         }
-        let mut reply = match self.req.request_max(&parts, max)? {
+        let reply = match self.req.request_max(&parts, max)? {
             Ok(r) => r,
             Err(over) => return Ok(Err(over)),
         };
+        self.groot2_reply(&h, reply).map(Ok)
+    }
+
+    /// A reply's parts after its header, which must echo the request's `h`.
+    fn groot2_reply(
+        &mut self,
+        h: &[u8; 6],
+        mut reply: Vec<Vec<u8>>,
+    ) -> Result<Vec<Vec<u8>>, LiveError> {
         let first = reply.first().cloned().unwrap_or_default();
         if first == b"error" {
             let msg = reply
@@ -256,14 +273,33 @@ impl Client {
                 .unwrap_or_default();
             return Err(self.err(format!("the server refused the request: {msg}")));
         }
-        if first.len() != 22 || first[..6] != h {
+        if first.len() != 22 || first[..6] != h[..] {
             return Err(self.err(
                 "the reply is not a Groot2 reply (its header does not echo the request): is this a BehaviorTree.CPP 4 Groot2Publisher?",
             ));
         }
         self.uuid.copy_from_slice(&first[6..22]);
         reply.remove(0);
-        Ok(Ok(reply))
+        Ok(reply)
+    }
+
+    /// `T`, asked of a server that may speak either protocol: a Groot2
+    /// server answers the tree's XML; BehaviorTree.CPP 3's `PublisherZMQ`
+    /// answers any request with its tree's flatbuffer, in one part.
+    pub fn tree(&mut self) -> Result<Served, LiveError> {
+        self.next_id = self.next_id.wrapping_add(1);
+        let h = header(b'T', self.next_id);
+        let mut reply = self.req.request(&[&h])?;
+        if reply.len() == 1 && !reply[0].starts_with(&h) && reply[0] != b"error" {
+            return Ok(Served::Groot1(reply.swap_remove(0)));
+        }
+        let mut parts = self.groot2_reply(&h, reply)?;
+        if parts.is_empty() {
+            return Err(self.err("the tree reply has no body"));
+        }
+        String::from_utf8(parts.swap_remove(0))
+            .map(Served::Xml)
+            .map_err(|_| self.err("the tree's XML is not UTF-8"))
     }
 
     fn one(&mut self, kind: u8, arg: Option<&[u8]>, what: &str) -> Result<Vec<u8>, LiveError> {
@@ -295,8 +331,12 @@ impl Client {
 
     /// `T`: the tree as XML, with `_uid` attributes.
     pub fn tree_xml(&mut self) -> Result<String, LiveError> {
-        let b = self.one(b'T', None, "tree")?;
-        String::from_utf8(b).map_err(|_| self.err("the tree's XML is not UTF-8"))
+        match self.tree()? {
+            Served::Xml(xml) => Ok(xml),
+            Served::Groot1(_) => Err(self.err(
+                "the server now answers as BehaviorTree.CPP 3 (Groot 1), not Groot2: watch it anew",
+            )),
+        }
     }
 
     /// `r start`: starts recording; the server's clock then, in µs since the epoch.

@@ -4,13 +4,16 @@
 //! server's recording buffer often enough that it never fills; the run so
 //! far is a session built by the same code as a `.btlog`'s.
 
+pub mod groot1;
 pub mod groot2;
 pub mod recorder;
 mod rep;
 pub mod serve;
+pub mod sub;
 pub mod zmtp;
 
 use crate::logs::btlog::Record;
+use crate::logs::Protocol;
 use crate::run::Status;
 use crate::session::{Before, Session};
 use crate::source::{Located, Warning};
@@ -32,7 +35,13 @@ pub struct Gap {
 /// A live run being watched.
 pub struct Watch {
     pub endpoint: String,
+    pub protocol: Protocol,
+    /// A Groot2 robot's server.
     client: Option<Client>,
+    /// A BehaviorTree.CPP 3 robot's publisher, and the publisher's port
+    /// the user gave.
+    groot1: Option<groot1::Link>,
+    publisher: Option<u16>,
     /// The tree as the server sent it (XML with `_uid`s).
     pub xml: String,
     pub uuid: [u8; 16],
@@ -159,10 +168,39 @@ pub fn uuid_text(u: &[u8; 16]) -> String {
 }
 
 impl Watch {
-    /// Connects, reads the tree and starts recording.
-    pub fn start(endpoint: &str) -> Result<Watch, LiveError> {
+    /// A watch with nothing received yet.
+    fn new(endpoint: &str, protocol: Protocol, xml: String, uuid: [u8; 16], t0: i64) -> Watch {
+        Watch {
+            endpoint: endpoint.to_string(),
+            protocol,
+            client: None,
+            groot1: None,
+            publisher: None,
+            xml,
+            uuid,
+            t0,
+            records: Vec::new(),
+            taken: 0,
+            gaps: Vec::new(),
+            last_gap: None,
+            gap_count: 0,
+            latency_us: Vec::new(),
+            resyncs: Vec::new(),
+            notes: Vec::new(),
+            root: None,
+            finished: None,
+        }
+    }
+
+    /// Connects, reads the tree and starts recording. The server tells
+    /// which protocol it speaks: a BehaviorTree.CPP 3 robot publishes on
+    /// `publisher`, or on the port below the server's.
+    pub fn start(endpoint: &str, publisher: Option<u16>) -> Result<Watch, LiveError> {
         let mut c = Client::connect(endpoint, TIMEOUT)?;
-        let xml = c.tree_xml()?;
+        let xml = match c.tree()? {
+            groot2::Served::Xml(xml) => xml,
+            groot2::Served::Groot1(tree) => return Watch::start_groot1(endpoint, publisher, &tree),
+        };
         let Attached {
             t0,
             note,
@@ -194,27 +232,18 @@ impl Watch {
                 ),
             });
         }
-        let mut w = Watch {
-            endpoint: endpoint.to_string(),
-            uuid: c.uuid,
-            client: Some(c),
-            xml,
-            t0,
-            records: Vec::new(),
-            taken: 0,
-            last_gap: gaps.last().map(|g: &Gap| (g.at, fnv(&g.why))),
-            gap_count: gaps.len(),
-            gaps,
-            latency_us: Vec::new(),
-            resyncs: if before.is_empty() {
-                Vec::new()
-            } else {
-                vec![(0, before)]
-            },
-            notes: note.into_iter().collect(),
-            root: None,
-            finished: None,
-        };
+        let mut w = Watch::new(endpoint, Protocol::Groot2, xml, c.uuid, t0);
+        w.client = Some(c);
+        w.last_gap = gaps.last().map(|g: &Gap| (g.at, fnv(&g.why)));
+        w.gap_count = gaps.len();
+        w.gaps = gaps;
+        if !before.is_empty() {
+            w.resyncs.push((0, before));
+        }
+        w.notes.extend(note);
+        if publisher.is_some() {
+            w.notes.push("--publisher-port is for a BehaviorTree.CPP 3 robot; this one speaks Groot2, on one port: it is not used".into());
+        }
         w.take(first);
         if overflowed {
             // Where the lost transitions left the nodes.
@@ -238,13 +267,16 @@ impl Watch {
     }
 
     pub fn connected(&self) -> bool {
-        self.client.is_some()
+        self.client.is_some() || self.groot1.as_ref().is_some_and(|l| l.sub.is_some())
     }
 
     /// Takes the transitions recorded since the last poll; how many. When
     /// the connection is gone, tries once to connect again (a robot that
     /// restarted has another tree UUID): either way the place is a gap.
     pub fn poll(&mut self) -> Result<usize, LiveError> {
+        if self.protocol == Protocol::Groot1 {
+            return self.poll_groot1(groot1::POLL_WAIT);
+        }
         let Some(c) = self.client.as_mut() else {
             return self.reconnect().map(|()| 0);
         };
@@ -288,19 +320,26 @@ impl Watch {
             }
             Err(e) => {
                 self.client = None;
-                if let Some(done) = self.completed() {
-                    // A robot that exits once its tree is done: the end of
-                    // the run, not a gap in it.
-                    self.finished = Some(format!(
-                        "the robot's run finished (root {}), then the robot closed the connection",
-                        done.as_str()
-                    ));
+                if self.end_of_run() {
                     return Ok(0);
                 }
                 self.gap(format!("the connection dropped ({e}); btx reads every node's state again once it reconnects"));
                 Err(e)
             }
         }
+    }
+
+    /// Whether the robot went away once its run finished: the end of the
+    /// run, not a gap in it (said in `finished`).
+    fn end_of_run(&mut self) -> bool {
+        let Some(done) = self.completed() else {
+            return false;
+        };
+        self.finished = Some(format!(
+            "the robot's run finished (root {}), then the robot closed the connection",
+            done.as_str()
+        ));
+        true
     }
 
     /// The root's completion, when its last transition completed it (or
@@ -323,8 +362,16 @@ impl Watch {
         if zeroed > 0 {
             self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost"));
         }
+        self.keep(ts.into_iter().filter(|t| t.uid != 0));
+        n
+    }
+
+    /// Keeps transitions as records; how many.
+    fn keep(&mut self, ts: impl Iterator<Item = groot2::Transition>) -> usize {
         let now_us = now_us();
-        for t in ts.into_iter().filter(|t| t.uid != 0) {
+        let mut n = 0;
+        for t in ts {
+            n += 1;
             if t.uid == crate::model::Tree::ROOT {
                 let prev = self.root.map_or(Status::Idle, |r| r.1);
                 self.root = Some((prev, t.status));
@@ -407,22 +454,45 @@ impl Watch {
 }
 
 /// The robot's tree and its nodes' states now, as a session with no
-/// transition (`btx ask --live`). Only `T` and `S` are asked: recording
-/// (`r`, `t`) would take the transitions another client is recording, as
-/// the server keeps one buffer for all.
-pub fn snapshot(endpoint: &str) -> Result<Session, LiveError> {
+/// transition (`btx ask --live`). Only `T` and `S` are asked of a Groot2
+/// robot: recording (`r`, `t`) would take the transitions another client
+/// is recording, as the server keeps one buffer for all. A BehaviorTree.CPP
+/// 3 robot's states come with its publisher's next message.
+pub fn snapshot(endpoint: &str, publisher: Option<u16>) -> Result<Session, LiveError> {
     let mut c = Client::connect(endpoint, TIMEOUT)?;
-    let xml = c.tree_xml()?;
-    let before = c.states()?;
-    let name = std::path::PathBuf::from(format!("groot2://{endpoint}"));
-    crate::logs::open_live(&name, &xml, &[], &[(0, before)])
-        .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))
+    let (protocol, xml, before, notes) = match c.tree()? {
+        groot2::Served::Xml(xml) => (Protocol::Groot2, xml, c.states()?, Vec::new()),
+        groot2::Served::Groot1(tree) => {
+            let mut w = Watch::start_groot1(endpoint, publisher, &tree)?;
+            let before = w.groot1_now();
+            // Nothing asked of the present reads a blackboard.
+            let mut notes: Vec<String> = std::mem::take(&mut w.notes)
+                .into_iter()
+                .filter(|n| n != groot1::NO_BLACKBOARD)
+                .collect();
+            if before.is_none() {
+                notes.push(groot1::NO_MESSAGE.to_string());
+            }
+            (Protocol::Groot1, w.xml, before.unwrap_or_default(), notes)
+        }
+    };
+    let name = protocol.source(endpoint);
+    let mut s = crate::logs::open_live(protocol, &name, &xml, &[], &[(0, before)])
+        .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
+    for n in notes {
+        s.warnings.push(Warning {
+            location: name.display().to_string(),
+            message: n,
+        });
+    }
+    Ok(s)
 }
 
 /// What the explorer shows of a live run besides the run itself.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LiveStatus {
     pub endpoint: String,
+    pub protocol: Protocol,
     pub uuid: String,
     pub connected: bool,
     /// Transitions a second over the last second.
@@ -437,11 +507,16 @@ pub struct LiveStatus {
 }
 
 impl LiveStatus {
-    /// One line: `live 127.0.0.1:1667 · tree 5cbb91d0… · connected · 812/s · 248 transitions · no gap`.
+    /// One line: `live 127.0.0.1:1667 · tree 5cbb91d0… · connected · 812/s · 248 transitions · no gap`
+    /// (`live 127.0.0.1:1667 (BehaviorTree.CPP 3) · …` for Groot 1's protocol).
     pub fn line(&self) -> String {
         format!(
-            "live {} · tree {}… · {} · {:.0}/s · {} transitions · {}",
+            "live {}{} · tree {}… · {} · {:.0}/s · {} transitions · {}",
             self.endpoint,
+            match self.protocol {
+                Protocol::Groot2 => "",
+                Protocol::Groot1 => " (BehaviorTree.CPP 3)",
+            },
             self.uuid.get(..8).unwrap_or(&self.uuid),
             if let Some(f) = &self.finished {
                 f.clone()
@@ -504,6 +579,7 @@ struct Batch {
 /// transitions arrive (`logs::ticks::Stream`). The caller keeps the run
 /// (`recorder::Recorder`): streamed to `OUT.partial`, and a bounded view.
 pub struct Feed {
+    pub protocol: Protocol,
     rx: std::sync::mpsc::Receiver<Batch>,
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
     /// The polling thread, then the numbering thread.
@@ -548,12 +624,23 @@ impl Feed {
     /// Connects (an error is returned at once), then watches from a thread;
     /// with `out`, the run streams to `OUT.partial` as its ticks are
     /// numbered, and is `OUT` once the feed stops.
-    pub fn start(endpoint: &str, out: Option<std::path::PathBuf>) -> Result<Feed, LiveError> {
-        let mut w = Watch::start(endpoint)?;
+    pub fn start(
+        endpoint: &str,
+        publisher: Option<u16>,
+        out: Option<std::path::PathBuf>,
+    ) -> Result<Feed, LiveError> {
+        let mut w = Watch::start(endpoint, publisher)?;
+        let protocol = w.protocol;
         // The tree is checked now, not at the first transition.
-        let shell = crate::logs::open_live(std::path::Path::new(endpoint), &w.xml, &[], &w.resyncs)
-            .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
-        let name = std::path::PathBuf::from(format!("groot2://{endpoint}"));
+        let shell = crate::logs::open_live(
+            protocol,
+            std::path::Path::new(endpoint),
+            &w.xml,
+            &[],
+            &w.resyncs,
+        )
+        .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
+        let name = protocol.source(endpoint);
         let mut header = shell.header.clone();
         header.tree.path = Some(name.display().to_string());
         header.source.path = Some(name.display().to_string());
@@ -578,6 +665,7 @@ impl Feed {
             .spawn(move || polling(&mut w, &raw_tx, &halt, &shared))
             .map_err(|e| LiveError(format!("cannot start watching: {e}")))?;
         Ok(Feed {
+            protocol,
             rx,
             stop,
             threads: vec![poller, numberer],
@@ -703,11 +791,17 @@ impl Feed {
     /// transitions), with each gap as a warning at its place.
     pub fn session(&self) -> Result<Session, Located> {
         let r = &self.recorder;
-        let name = std::path::PathBuf::from(format!("groot2://{}", self.status.endpoint));
+        let name = self.protocol.source(&self.status.endpoint);
         let mut resyncs = self.before.clone();
         resyncs.extend(r.resyncs.iter().cloned());
-        let mut s =
-            crate::logs::open_live_numbered(&name, &self.xml, &r.kept, &r.numbers, &resyncs)?;
+        let mut s = crate::logs::open_live_numbered(
+            self.protocol,
+            &name,
+            &self.xml,
+            &r.kept,
+            &r.numbers,
+            &resyncs,
+        )?;
         s.index.gaps = r
             .gaps
             .iter()
@@ -980,6 +1074,9 @@ impl Watch {
     /// One blackboard's entries (`B`), `{}` when the server has none by
     /// that name.
     pub fn blackboard(&mut self, name: &str) -> Result<serde_json::Value, String> {
+        if self.protocol == Protocol::Groot1 {
+            return Err(groot1::NO_BLACKBOARD.into());
+        }
         let c = self.client.as_mut().ok_or("not connected")?;
         let all = c
             .blackboards(&[name.to_string()])
@@ -996,6 +1093,7 @@ impl Watch {
     pub fn status(&self, per_second: f64, error: Option<String>) -> LiveStatus {
         LiveStatus {
             endpoint: self.endpoint.clone(),
+            protocol: self.protocol,
             uuid: uuid_text(&self.uuid),
             connected: self.connected(),
             per_second,

@@ -52,7 +52,7 @@ impl std::error::Error for ZmtpError {}
 
 /// A connected REQ socket.
 pub struct Req {
-    stream: TcpStream,
+    pub(super) stream: TcpStream,
     endpoint: String,
     timeout: Duration,
     /// The metadata of the server's READY (its properties).
@@ -68,6 +68,17 @@ impl Req {
     /// Connects to `host:port` and does the ZMTP handshake, each step
     /// within `timeout`.
     pub fn connect(endpoint: &str, timeout: Duration) -> Result<Req, ZmtpError> {
+        Req::open(endpoint, timeout, b"REQ", &[b"REP", b"ROUTER"])
+    }
+
+    /// Connects and does the handshake as a socket of type `ours`, to a
+    /// peer of one of the types `peers`.
+    pub(super) fn open(
+        endpoint: &str,
+        timeout: Duration,
+        ours: &[u8],
+        peers: &[&[u8]],
+    ) -> Result<Req, ZmtpError> {
         let err = |m: String| ZmtpError {
             endpoint: endpoint.to_string(),
             message: m,
@@ -103,7 +114,7 @@ impl Req {
             timeout,
             ready: Vec::new(),
         };
-        req.handshake(b"REQ", &[b"REP", b"ROUTER"])?;
+        req.handshake(ours, peers)?;
         Ok(req)
     }
 
@@ -112,14 +123,14 @@ impl Req {
         property(&self.ready, name)
     }
 
-    fn err(&self, m: impl Into<String>) -> ZmtpError {
+    pub(super) fn err(&self, m: impl Into<String>) -> ZmtpError {
         ZmtpError {
             endpoint: self.endpoint.clone(),
             message: m.into(),
         }
     }
 
-    fn write_all(&mut self, bytes: &[u8]) -> Result<(), ZmtpError> {
+    pub(super) fn write_all(&mut self, bytes: &[u8]) -> Result<(), ZmtpError> {
         self.stream
             .set_write_timeout(Some(self.timeout))
             .and_then(|()| self.stream.write_all(bytes))

@@ -11,13 +11,15 @@ use std::path::Path;
 struct Fb<'a> {
     b: &'a [u8],
     path: &'a Path,
+    /// Where the flatbuffer starts in what the user has (4 in an `.fbl`).
+    base: usize,
 }
 
 impl<'a> Fb<'a> {
     fn err(&self, at: usize, msg: &str) -> Located {
         Located::file(
             self.path,
-            format!("byte offset {}: {msg}", at.saturating_add(4)),
+            format!("byte offset {}: {msg}", at.saturating_add(self.base)),
         )
     }
     fn bytes<const N: usize>(&self, at: usize) -> Result<[u8; N], Located> {
@@ -136,9 +138,57 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawFbl, Located> {
         return Err(Located::file(path, not_fbl(bytes)));
     }
     let n = i32::from_le_bytes(bytes[..4].try_into().expect("4 bytes")) as usize;
+    let xml = tree_xml(path, &bytes[4..4 + n], 4, ".fbl's tree")?;
+    let mut records = Vec::new();
+    let mut off = 4 + n;
+    while off + 12 <= bytes.len() {
+        let r: &[u8; 12] = bytes[off..off + 12].try_into().expect("12 bytes");
+        records.push(
+            record(r, off)
+                .map_err(|m| Located::file(path, format!("byte offset {}: {m}", off + 10)))?,
+        );
+        off += 12;
+    }
+    Ok(RawFbl {
+        xml,
+        records,
+        partial_tail: bytes.len() - off,
+    })
+}
+
+/// One 12-byte transition record, as BehaviorTree.CPP 3 writes it to an
+/// `.fbl` and publishes it (`PublisherZMQ`): the record and the status
+/// before it.
+pub fn record(r: &[u8; 12], offset: usize) -> Result<(Record, Status), String> {
+    let sec = u32::from_le_bytes(r[0..4].try_into().expect("4")) as i64;
+    let usec = u32::from_le_bytes(r[4..8].try_into().expect("4")) as i64;
+    let uid = u16::from_le_bytes([r[8], r[9]]) as u32;
+    let prev = Status::from_code(r[10]).filter(|s| *s != Status::Skipped);
+    let status = Status::from_code(r[11]).filter(|s| *s != Status::Skipped);
+    let (Some(prev), Some(status)) = (prev, status) else {
+        return Err("a status byte is not 0 to 3".into());
+    };
+    Ok((
+        Record {
+            time_us: sec * 1_000_000 + usec,
+            uid,
+            status,
+            offset,
+        },
+        prev,
+    ))
+}
+
+/// BehaviorTree.CPP 3's tree flatbuffer (`Serialization::BehaviorTree`,
+/// in an `.fbl` after its size, and the reply of a Groot 1 server) as the
+/// instantiated XML btx reads; `base` is where it starts in what the user
+/// has, for the byte offsets of errors, `what` names it.
+pub fn tree_xml(path: &Path, tree: &[u8], base: usize, what: &str) -> Result<String, Located> {
+    let n = tree.len();
     let fb = Fb {
-        b: &bytes[4..4 + n],
+        b: tree,
         path,
+        base,
     };
     let root = fb.indirect(0)?;
     let root_uid = fb
@@ -264,7 +314,7 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawFbl, Located> {
     .map_err(|m| {
         Located::file(
             path,
-            format!("byte offset 4: the .fbl's tree (a flatbuffer of {n} bytes there): {m}"),
+            format!("byte offset {base}: the {what} (a flatbuffer of {n} bytes there): {m}"),
         )
     })?;
     let mut xml =
@@ -273,35 +323,5 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawFbl, Located> {
         xml.push_str(&t);
     }
     xml.push_str("</root>");
-    let mut records = Vec::new();
-    let mut off = 4 + n;
-    while off + 12 <= bytes.len() {
-        let r = &bytes[off..off + 12];
-        let sec = u32::from_le_bytes(r[0..4].try_into().expect("4")) as i64;
-        let usec = u32::from_le_bytes(r[4..8].try_into().expect("4")) as i64;
-        let uid = u16::from_le_bytes([r[8], r[9]]) as u32;
-        let prev = Status::from_code(r[10]).filter(|s| *s != Status::Skipped);
-        let status = Status::from_code(r[11]).filter(|s| *s != Status::Skipped);
-        let (Some(prev), Some(status)) = (prev, status) else {
-            return Err(Located::file(
-                path,
-                format!("byte offset {}: a status byte is not 0 to 3", off + 10),
-            ));
-        };
-        records.push((
-            Record {
-                time_us: sec * 1_000_000 + usec,
-                uid,
-                status,
-                offset: off,
-            },
-            prev,
-        ));
-        off += 12;
-    }
-    Ok(RawFbl {
-        xml,
-        records,
-        partial_tail: bytes.len() - off,
-    })
+    Ok(xml)
 }

@@ -86,34 +86,68 @@ pub fn open_btlog_as(
     )
 }
 
-/// A run received live over the Groot2 protocol (`crate::live`) as a
-/// session: the tree from the server's XML and ticks reconstructed, by the
-/// same code as a `.btlog`'s. `name` names the endpoint in messages; a
-/// record's `offset` is its place in the run; `resyncs`, the nodes' states
-/// read from the server (`S`) and how many records came before each: at 0
-/// when the robot was running when recording began, and after gaps.
+/// What a robot watched live speaks: BehaviorTree.CPP 4's Groot2
+/// protocol, or BehaviorTree.CPP 3's `PublisherZMQ`, which Groot 1 watched.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Protocol {
+    Groot2,
+    Groot1,
+}
+
+impl Protocol {
+    /// The format of the trees its robots run.
+    pub fn version(self) -> crate::model::Version {
+        match self {
+            Protocol::Groot2 => crate::model::Version::V4,
+            Protocol::Groot1 => crate::model::Version::V3,
+        }
+    }
+
+    /// Its name, as a session's source names it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Protocol::Groot2 => "groot2",
+            Protocol::Groot1 => "groot1",
+        }
+    }
+
+    /// A robot at `endpoint` named as a source: `groot2://host:port`.
+    pub fn source(self, endpoint: &str) -> PathBuf {
+        PathBuf::from(format!("{}://{endpoint}", self.name()))
+    }
+}
+
+/// A run received live (`crate::live`) as a session: the tree from the
+/// server and ticks reconstructed, by the same code as a `.btlog`'s.
+/// `name` names the endpoint in messages; a record's `offset` is its place
+/// in the run; `resyncs`, the nodes' states read from the server and how
+/// many records came before each: at 0 when the robot was running when
+/// recording began, and after gaps.
 pub fn open_live(
+    protocol: Protocol,
     name: &Path,
     xml: &str,
     records: &[btlog::Record],
     resyncs: &[(usize, Vec<crate::session::Before>)],
 ) -> Result<Session, Located> {
-    live_session(name, xml, records, None, resyncs)
+    live_session(protocol, name, xml, records, None, resyncs)
 }
 
 /// `open_live` for records whose ticks are numbered already, as a live
 /// run's are as they arrive (`ticks::Stream`).
 pub fn open_live_numbered(
+    protocol: Protocol,
     name: &Path,
     xml: &str,
     records: &[btlog::Record],
     ticks: &[u32],
     resyncs: &[(usize, Vec<crate::session::Before>)],
 ) -> Result<Session, Located> {
-    live_session(name, xml, records, Some(ticks), resyncs)
+    live_session(protocol, name, xml, records, Some(ticks), resyncs)
 }
 
 fn live_session(
+    protocol: Protocol,
     name: &Path,
     xml: &str,
     records: &[btlog::Record],
@@ -126,9 +160,9 @@ fn live_session(
             len: records.len(),
             partial_tail: 0,
             xml,
-            version: crate::model::Version::V4,
+            version: protocol.version(),
             records,
-            kind: "groot2",
+            kind: protocol.name(),
             resyncs,
             ticks,
             given: None,

@@ -66,6 +66,19 @@ impl Publisher {
         Publisher { child, said }
     }
 
+    /// `groot1_robot.py`: the `.fbl` fixture `run` replayed with its server
+    /// on `server`, its publisher on `publisher`, batches `gap_ms` apart.
+    fn replaying(run: &str, server: u16, publisher: u16, gap_ms: u32) -> Publisher {
+        let fbl = fixture(&format!("logs/{run}"));
+        Publisher::start(&[
+            script("groot1_robot.py").as_os_str(),
+            fbl.as_os_str(),
+            server.to_string().as_ref(),
+            publisher.to_string().as_ref(),
+            gap_ms.to_string().as_ref(),
+        ])
+    }
+
     fn go(&mut self) {
         writeln!(self.child.stdin.as_mut().unwrap(), "go").unwrap();
     }
@@ -106,12 +119,7 @@ fn a_recorded_run_is_watched_whole(run: &str) {
     let port = free_pair();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("watched.jsonl");
-    let mut robot = Publisher::start(&[
-        script("groot1_robot.py").as_os_str(),
-        fbl.as_os_str(),
-        port.to_string().as_ref(),
-        (port - 1).to_string().as_ref(),
-    ]);
+    let mut robot = Publisher::replaying(run, port, port - 1, 5);
     let (ok, err) = watch(
         &[&format!(":{port}"), "--out", out.to_str().unwrap()],
         || robot.go(),
@@ -160,12 +168,12 @@ fn a_publisher_on_another_port_is_given_or_named() {
     let (server, publisher) = (free_port(), free_port());
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("watched.jsonl");
-    let mut robot = Publisher::start(&[
-        script("groot1_robot.py").as_os_str(),
-        fbl.as_os_str(),
-        server.to_string().as_ref(),
-        publisher.to_string().as_ref(),
-    ]);
+    let mut robot = Publisher::replaying(
+        "kitting_grasp_check_fails_first_v3.fbl",
+        server,
+        publisher,
+        5,
+    );
     // Not the port below: said within two seconds, naming the option
     // (unless that port happens to serve something else).
     if publisher != server - 1 && TcpListener::bind(("127.0.0.1", server - 1)).is_ok() {
@@ -211,13 +219,7 @@ fn attached_to_a_running_robot_btx_takes_each_nodes_state_from_its_message() {
     let port = free_pair();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("late.jsonl");
-    let mut robot = Publisher::start(&[
-        script("groot1_robot.py").as_os_str(),
-        fbl.as_os_str(),
-        port.to_string().as_ref(),
-        (port - 1).to_string().as_ref(),
-        "400".as_ref(),
-    ]);
+    let mut robot = Publisher::replaying("kitting_lookat_fails_once_v3.fbl", port, port - 1, 400);
     robot.go();
     std::thread::sleep(Duration::from_millis(600));
     let (ok, err) = watch(
@@ -299,15 +301,8 @@ fn btviews_v3_mock_is_watched_with_every_transition_it_sent() {
 
 #[test]
 fn ask_live_reads_a_groot1_robot_at_this_moment() {
-    let fbl = fixture("logs/kitting_lookat_fails_once_v3.fbl");
     let port = free_pair();
-    let mut robot = Publisher::start(&[
-        script("groot1_robot.py").as_os_str(),
-        fbl.as_os_str(),
-        port.to_string().as_ref(),
-        (port - 1).to_string().as_ref(),
-        "400".as_ref(),
-    ]);
+    let mut robot = Publisher::replaying("kitting_lookat_fails_once_v3.fbl", port, port - 1, 400);
     let ep = format!(":{port}");
     // Before it ticks the robot publishes nothing: its states are not
     // known, and that is said.

@@ -870,3 +870,39 @@ fn format_characters_never_make_a_name_read_as_another_on_screen() {
     assert!(s.contains("as\\u{200b}k"), "{s}");
     assert!(s.contains("go\\u{2066}home\\u{2069}"), "{s}");
 }
+
+#[test]
+fn a_rosbags_runs_are_picked_with_r() {
+    // tests/fixtures/rosbag/two_goals: two goals of the real
+    // BehaviorTree.CPP, written by PyPI rosbags (see tests/rosbag.rs).
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tree = root.join("tests/fixtures/rosbag/navigator.xml");
+    let opts = btx::xml::LoadOptions {
+        run_tree: Some(tree),
+        ..Default::default()
+    };
+    let mut app =
+        btx::tui::open(&root.join("tests/fixtures/rosbag/two_goals"), None, &opts).unwrap();
+    // The last run is shown first, as every command reads it.
+    assert_eq!(app.title, "two_goals · run 2 of 2");
+    assert_eq!(app.session.as_ref().unwrap().index.transitions.len(), 14);
+    app.update(Action::Pick);
+    insta::assert_snapshot!("run_picker", screen(&app, 110, 20));
+    app.update(Action::Up);
+    app.update(Action::Toggle);
+    assert_eq!(app.title, "two_goals · run 1 of 2");
+    assert_eq!(app.session.as_ref().unwrap().index.transitions.len(), 20);
+    // The keys and the other run are kept: back to run 2.
+    app.update(Action::Pick);
+    app.update(Action::Down);
+    app.update(Action::Toggle);
+    assert_eq!(app.title, "two_goals · run 2 of 2");
+    // One run: R says why it cannot act.
+    let mut one = opened("sessions/kitting-lookat-fails-once.jsonl");
+    one.update(Action::Pick);
+    assert!(
+        one.message.as_deref().unwrap().contains("one run here"),
+        "{:?}",
+        one.message
+    );
+}

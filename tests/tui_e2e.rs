@@ -453,3 +453,93 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
         );
     }
 }
+
+/// `btx serve RUN` on a free port, once it listens: the child and the port.
+fn serving(run: &str, speed: &str) -> (std::process::Child, u16) {
+    let port = {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        l.local_addr().unwrap().port()
+    };
+    let child = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["-q", "serve", run, "--port", &port.to_string()])
+        .args(["--speed", speed, "--for", "60"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .spawn()
+        .unwrap();
+    let start = Instant::now();
+    while std::net::TcpStream::connect(("127.0.0.1", port)).is_err() {
+        assert!(start.elapsed() < Duration::from_secs(10), "never listened");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    (child, port)
+}
+
+#[test]
+fn several_robots_in_the_explorer_are_picked_with_r_and_each_kept() {
+    if !tmux_here() {
+        return;
+    }
+    let (mut a, pa) = serving("sessions/kitting-lookat-fails-once.jsonl", "1");
+    let (mut b, pb) = serving("sessions/serial-recall.jsonl", "1");
+    // A third that nothing serves: said, and the others watched.
+    let pc = {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        l.local_addr().unwrap().port()
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("fleet");
+    let t = Tmux(format!("btx-robots-{}", std::process::id()));
+    t.start(&format!(
+        "{} open --live :{pa} :{pb} :{pc} --out {}; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx"),
+        out.display()
+    ));
+    t.wait_for(&format!("full tree · live 127.0.0.1:{pa}"));
+    t.run(&["send-keys", "-t", "btx", "R"]);
+    let s = t.wait_for("robots · Enter shows one");
+    assert!(s.contains(&format!("▸ 127.0.0.1:{pa}  ")), "{s}");
+    assert!(s.contains(&format!("  127.0.0.1:{pb}  ")), "{s}");
+    assert!(s.contains(&format!("127.0.0.1:{pc}  unreachable (")), "{s}");
+    // Each robot's state at a glance, and how much of its run came.
+    assert!(s.contains(" transitions · no gap"), "{s}");
+    t.run(&["send-keys", "-t", "btx", "Down", "Enter"]);
+    t.wait_for(&format!("full tree · live 127.0.0.1:{pb}"));
+    // The unreachable one cannot be shown: said.
+    t.run(&["send-keys", "-t", "btx", "R", "Down", "Enter"]);
+    t.wait_for("could not be reached when the explorer opened");
+    // Both runs are watched to their end while one is shown (`btx serve`
+    // stays up after its run: the root is IDLE after succeeding).
+    let start = Instant::now();
+    loop {
+        t.run(&["send-keys", "-t", "btx", "R"]);
+        let s = t.wait_for("robots · Enter shows one");
+        if s.matches("idle after succeeding").count() == 2 {
+            break;
+        }
+        assert!(start.elapsed() < Duration::from_secs(20), "{s}");
+        t.run(&["send-keys", "-t", "btx", "Escape"]);
+        std::thread::sleep(Duration::from_millis(300));
+    }
+    // Esc then q apart: together a terminal reads them as Alt-q.
+    t.run(&["send-keys", "-t", "btx", "Escape"]);
+    std::thread::sleep(Duration::from_millis(300));
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    let s = t.wait_for("EXITED:");
+    assert!(s.contains("EXITED:0"), "{s}");
+    let _ = (a.kill(), b.kill());
+    for (port, run) in [
+        (pa, "sessions/kitting-lookat-fails-once.jsonl"),
+        (pb, "sessions/serial-recall.jsonl"),
+    ] {
+        // Transition for transition, tick for tick (the protocol carries
+        // no decisions, so `btx log`'s last column differs).
+        let kept = btx::session::Session::load(&out.join(format!("127.0.0.1_{port}.jsonl")));
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let served = btx::session::Session::load(&root.join(run)).unwrap();
+        assert_eq!(
+            kept.unwrap().index.transitions,
+            served.index.transitions,
+            "{run}"
+        );
+    }
+}

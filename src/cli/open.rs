@@ -12,11 +12,11 @@ pub struct Args {
     /// Keep reading a log (or session) that is still being written; the timeline grows.
     #[arg(long)]
     pub follow: bool,
-    /// Open a robot that is running now: `[HOST][:PORT]` (default 127.0.0.1:1667), its Groot2 server (BehaviorTree.CPP 4) or its Groot 1 server (BehaviorTree.CPP 3, Nav2 Humble).
-    #[arg(long, value_name = "[HOST][:PORT]", num_args = 0..=1, default_missing_value = "", conflicts_with_all = ["files", "diff", "follow"])]
-    pub live: Option<String>,
-    /// With --live: keep the run as a session (`SESSION.partial` while it runs, SESSION when the explorer closes).
-    #[arg(long, value_name = "SESSION", requires = "live")]
+    /// Open robots that are running now: `[HOST][:PORT]` each (default 127.0.0.1:1667), a Groot2 server (BehaviorTree.CPP 4) or a Groot 1 server (BehaviorTree.CPP 3, Nav2 Humble). With several, `R` picks the one shown; all are watched.
+    #[arg(long, value_name = "[HOST][:PORT]", num_args = 0.., conflicts_with_all = ["files", "diff", "follow"])]
+    pub live: Option<Vec<String>>,
+    /// With --live: keep the run as a session (`SESSION.partial` while it runs, SESSION when the explorer closes); with several robots, a directory of one session a robot.
+    #[arg(long, value_name = "SESSION|DIR", requires = "live")]
     pub out: Option<PathBuf>,
     /// A BehaviorTree.CPP 3 robot's publisher port (Groot 1's protocol; Nav2 Humble's groot_zmq_publisher_port), when it is not the one below the server's.
     #[arg(long, value_name = "PORT", requires = "live")]
@@ -26,8 +26,8 @@ pub struct Args {
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
-    if let Some(spec) = &args.live {
-        return live(spec, args.publisher_port, args.out.as_deref(), cli);
+    if let Some(specs) = &args.live {
+        return live(specs, args.publisher_port, args.out.as_deref(), cli);
     }
     match args {
         Args {
@@ -79,28 +79,53 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     Ok(())
 }
 
-/// `btx open --live`: the explorer on a robot running now.
+/// `btx open --live`: the explorer on robots running now, each watched
+/// into its session, one shown at a time (`R` picks).
 fn live(
-    spec: &str,
+    specs: &[String],
     publisher: Option<u16>,
     out: Option<&Path>,
     cli: &Globals,
 ) -> Result<(), Failure> {
-    let ep = btx::live::groot2::endpoint(spec);
-    let _claim = match out {
-        Some(out) => Some(btx::session::OutputLock::take(out, "btx open --live")?),
-        None => None,
+    use btx::tui::choices::{Choices, RobotChoice};
+    let robots = super::watch::Robots::new(specs, publisher, out, "btx open --live")?;
+    let mut choices = Vec::new();
+    for (ep, out) in robots.eps.iter().zip(robots.outs.clone()) {
+        let (feed, unreachable) = match btx::live::Feed::start(ep, publisher, out) {
+            Ok(f) => (Some(f), None),
+            // One robot that cannot be reached does not stop the others.
+            Err(e) if robots.eps.len() > 1 => (None, Some(e.to_string())),
+            Err(e) => return Err(Failure::Plain(e.to_string())),
+        };
+        choices.push(RobotChoice {
+            endpoint: ep.clone(),
+            feed,
+            unreachable,
+        });
+    }
+    let Some(current) = choices.iter().position(|c| c.feed.is_some()) else {
+        let why: Vec<String> = choices
+            .iter()
+            .filter_map(|c| c.unreachable.clone())
+            .collect();
+        fail!("no robot could be reached:\n  {}", why.join("\n  "));
     };
-    let feed = btx::live::Feed::start(&ep, publisher, out.map(Path::to_path_buf))
-        .map_err(|e| Failure::Plain(e.to_string()))?;
+    let feed = choices[current].feed.take().expect("reachable");
     let first = feed.session()?;
+    let ep = &robots.eps[current];
     let mut app = btx::tui::App::new(first.tree.clone(), Some(first), format!("live {ep}"));
     app.live = Some(feed);
+    if choices.len() > 1 {
+        app.choices = Some(Choices::Robots {
+            robots: choices,
+            current,
+        });
+    }
     app.keymap = keymap(cli.keys.as_deref())?;
     btx::tui::run_with(app, cli.ascii).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
-    if let Some(out) = out.filter(|o| o.exists()) {
-        if !cli.quiet {
-            eprintln!("the run is in {}", out.display());
+    if !cli.quiet {
+        for o in robots.outs.iter().flatten().filter(|o| o.exists()) {
+            eprintln!("the run is in {}", o.display());
         }
     }
     Ok(())

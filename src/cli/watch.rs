@@ -169,21 +169,48 @@ fn session_name(ep: &str) -> String {
     format!("{safe}.jsonl")
 }
 
-pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
-    let mut eps: Vec<String> = args.endpoints.iter().map(|e| groot2::endpoint(e)).collect();
-    if eps.is_empty() {
-        eps.push(groot2::endpoint(""));
+/// The robots' endpoints as given (`[HOST][:PORT]`, none: the default),
+/// each once, and `--out` for each: with several robots a directory of
+/// one session a robot, made and claimed (`command` names the claimer).
+pub(super) struct Robots {
+    pub eps: Vec<String>,
+    pub outs: Vec<Option<PathBuf>>,
+    pub claims: Vec<btx::session::OutputLock>,
+}
+
+impl Robots {
+    pub(super) fn new(
+        specs: &[String],
+        publisher: Option<u16>,
+        out: Option<&Path>,
+        command: &str,
+    ) -> Result<Robots, Failure> {
+        let mut eps: Vec<String> = specs.iter().map(|e| groot2::endpoint(e)).collect();
+        if eps.is_empty() {
+            eps.push(groot2::endpoint(""));
+        }
+        let mut seen = std::collections::HashSet::new();
+        eps.retain(|e| seen.insert(e.clone()));
+        let several = eps.len() > 1;
+        if several && publisher.is_some() {
+            fail!("--publisher-port names one robot's publisher; with several robots, each BehaviorTree.CPP 3 robot's publisher is the port below its server's");
+        }
+        let outs = outputs(&eps, out)?;
+        let mut claims = Vec::new();
+        for o in outs.iter().flatten() {
+            claims.push(btx::session::OutputLock::take(o, command)?);
+        }
+        Ok(Robots { eps, outs, claims })
     }
-    let mut seen = std::collections::HashSet::new();
-    eps.retain(|e| seen.insert(e.clone()));
+}
+
+/// Where each robot's session goes: `out` itself for one robot; for
+/// several, `out` is a directory (made) of `HOST_PORT.jsonl`.
+fn outputs(eps: &[String], out: Option<&Path>) -> Result<Vec<Option<PathBuf>>, Failure> {
     let several = eps.len() > 1;
-    if several && args.publisher_port.is_some() {
-        fail!("--publisher-port names one robot's publisher; with several robots, each BehaviorTree.CPP 3 robot's publisher is the port below its server's");
-    }
-    // Several robots: --out is a directory, a session a robot.
-    let outs: Vec<Option<PathBuf>> = match (&args.out, several) {
+    Ok(match (out, several) {
         (None, _) => vec![None; eps.len()],
-        (Some(o), false) => vec![Some(o.clone())],
+        (Some(o), false) => vec![Some(o.to_path_buf())],
         (Some(dir), true) => {
             if dir.extension().is_some_and(|x| x == "jsonl") {
                 fail!(
@@ -198,11 +225,17 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 .map(|e| Some(dir.join(session_name(e))))
                 .collect()
         }
-    };
-    let mut claims = Vec::new();
-    for o in outs.iter().flatten() {
-        claims.push(btx::session::OutputLock::take(o, "btx watch")?);
-    }
+    })
+}
+
+pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
+    let Robots { eps, outs, claims } = Robots::new(
+        &args.endpoints,
+        args.publisher_port,
+        args.out.as_deref(),
+        "btx watch",
+    )?;
+    let several = eps.len() > 1;
     let mut robots = Vec::new();
     for (ep, out) in eps.iter().zip(outs) {
         match Robot::start(ep.clone(), args.publisher_port, out, several) {

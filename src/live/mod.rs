@@ -706,6 +706,35 @@ impl Feed {
             .unwrap_or_default()
     }
 
+    /// How the robot stands, in a few words (a robot picker's line):
+    /// `finished (root SUCCESS)`, `running`, `failed`, `succeeded`, `idle`,
+    /// or `unreachable (why)` while the connection is down.
+    pub fn glance(&self) -> String {
+        let (prev, now) = self.recorder.root();
+        if self.status.finished.is_some() {
+            return match now.ended(prev) {
+                Some(done) => format!("finished (root {})", done.as_str()),
+                None => "finished".into(),
+            };
+        }
+        if !self.status.connected {
+            return match &self.status.error {
+                Some(e) => format!("unreachable ({e})"),
+                None => "unreachable".into(),
+            };
+        }
+        match now {
+            Status::Running => "running".into(),
+            Status::Failure => "failed".into(),
+            Status::Success => "succeeded".into(),
+            _ => match now.ended(prev) {
+                Some(Status::Failure) => "idle after failing".into(),
+                Some(_) => "idle after succeeding".into(),
+                None => "idle".into(),
+            },
+        }
+    }
+
     /// Transitions received so far.
     pub fn transitions(&self) -> usize {
         self.recorder.written
@@ -1017,9 +1046,14 @@ fn numbering(
             numbered.extend(ticks.gap());
             from = upto;
         }
+        let quiet = records.is_empty();
         numbered.extend(ticks.push(&records[from..]));
         if last {
             numbered.extend(ticks.finish());
+        } else if quiet {
+            // No transition for half a second (the polling thread hands a
+            // batch over at least that often).
+            numbered.extend(ticks.settle());
         }
         if let (Some(at), false) = (ticks.fell_back, fell_back_said) {
             fell_back_said = true;

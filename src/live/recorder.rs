@@ -245,6 +245,11 @@ impl Recorder {
         self.abandoned = true;
     }
 
+    /// The root's last transition written: its status before and after.
+    pub fn root(&self) -> (Status, Status) {
+        self.root
+    }
+
     pub fn abandoned(&self) -> bool {
         self.abandoned
     }

@@ -307,6 +307,16 @@ impl<'t> Stream<'t> {
         self.number(whole, true)
     }
 
+    /// The robot has gone quiet: the whole ticks held for the period are
+    /// numbered now, by the period measured so far (a run of fewer than
+    /// `SETTLE` ticks would otherwise wait for its end to be shown).
+    pub fn settle(&mut self) -> Vec<(Record, u32)> {
+        if self.held.is_empty() {
+            return Vec::new();
+        }
+        self.number(Vec::new(), true)
+    }
+
     /// The run is over: everything is numbered.
     pub fn finish(&mut self) -> Vec<(Record, u32)> {
         let mut whole = Vec::new();
@@ -526,6 +536,33 @@ mod tests {
             assert_eq!(part.fell_back, None, "cut at {cut}");
             assert_eq!(part.numbers[..], full.numbers[..cut], "cut at {cut}");
         }
+    }
+
+    #[test]
+    fn a_short_run_that_goes_quiet_is_numbered_without_waiting_for_its_end() {
+        let (tree, records) = fixture_log("kitting_nominal.btlog");
+        let whole = reconstruct(&tree, &records);
+        // The first 5 ticks, then nothing: they wait for the period...
+        let five = whole.numbers.iter().take_while(|&&n| n <= 5).count();
+        let mut s = Stream::new(&tree);
+        assert!(s.push(&records[..five]).is_empty());
+        // ...until the robot goes quiet: every whole tick is numbered then,
+        // as the whole log numbers it.
+        let got = s.settle();
+        let numbers: Vec<u32> = got.iter().map(|x| x.1).collect();
+        assert!(!numbers.is_empty() && numbers.len() <= five);
+        assert_eq!(numbers[..], whole.numbers[..numbers.len()]);
+        assert!(s.settle().is_empty(), "nothing is numbered twice");
+        let rest: Vec<(Record, u32)> = s
+            .push(&records[five..])
+            .into_iter()
+            .chain(s.finish())
+            .collect();
+        assert_eq!(
+            numbers.len() + rest.len(),
+            records.len(),
+            "every record, once"
+        );
     }
 
     #[test]

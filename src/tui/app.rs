@@ -58,6 +58,10 @@ pub enum Overlay {
     Filter {
         text: String,
     },
+    /// The runs or robots to pick from (`R`).
+    Pick {
+        selected: usize,
+    },
     /// Where to write the why-answer's causal model (DOT): a path to edit,
     /// and whether the file there is to be replaced on the next Enter.
     Export {
@@ -146,6 +150,8 @@ pub struct App {
     pub follow: Option<crate::input::Follow>,
     /// A robot running now (`btx open --live`): the run grows from it.
     pub live: Option<crate::live::Feed>,
+    /// The other runs of the log, or the other robots watched (`R`).
+    pub choices: Option<super::choices::Choices>,
     pub(crate) rows: Vec<Row>,
 }
 
@@ -193,6 +199,7 @@ impl App {
             split: 58,
             follow: None,
             live: None,
+            choices: None,
             rows: Vec::new(),
         };
         app.follow_current();
@@ -382,6 +389,7 @@ impl App {
                 self.message = Some("divergences are shown by btx open --diff A B".into())
             }
             Action::Zoom => self.zoom = !self.zoom,
+            Action::Pick => self.open_picker(),
             Action::Wider => self.split = (self.split + 5).min(85),
             Action::Narrower => self.split = self.split.saturating_sub(5).max(25),
             _ => {}
@@ -759,6 +767,9 @@ impl App {
     /// Reads a followed log again: the timeline grows; the moment stays
     /// where the person put it, or keeps to the end if it was there.
     pub fn follow_poll(&mut self) {
+        if let Some(c) = self.choices.as_mut() {
+            c.poll();
+        }
         if let Some(l) = &self.live {
             // The robot's blackboard is fetched only while details shows it.
             let shown = !self.zoom || self.focus == Pane::Details;

@@ -61,6 +61,8 @@ pub enum Action {
     Running,
     /// Copy the answer on screen to the clipboard (OSC 52).
     Copy,
+    /// Pick another run of the log, or another robot watched.
+    Pick,
 }
 
 /// One binding: the keys, the action, what the help says, and a short hint
@@ -233,6 +235,12 @@ pub const KEYMAP: &[Binding] = &[
         keys: &["r"],
         action: Action::Running,
         help: "pick from the nodes RUNNING at this moment",
+        hint: "",
+    },
+    Binding {
+        keys: &["R"],
+        action: Action::Pick,
+        help: "another run of a rosbag, or another robot watched",
         hint: "",
     },
     Binding {

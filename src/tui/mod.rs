@@ -3,6 +3,7 @@
 
 mod abort;
 pub mod app;
+pub mod choices;
 pub mod diff;
 pub mod diff_view;
 pub mod graph_view;
@@ -41,6 +42,9 @@ pub fn demo() -> App {
 /// Opens a tree, a session, or a tree with a session of it.
 pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<App, Located> {
     use crate::input::{open as open_input, Input};
+    if second.is_none() && opts.run.is_none() && crate::logs::rosbag::is_bag(first) {
+        return open_runs(first, opts);
+    }
     let a = open_input(first, opts)?;
     let b = match second {
         Some(p) => Some(open_input(p, opts)?),
@@ -71,6 +75,45 @@ pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<A
             "give a tree and then a session of it, or just one of them",
         )),
     }
+}
+
+/// A log of several runs (a rosbag's goals), showing the last, with the
+/// others to pick from (`R`).
+fn open_runs(path: &Path, opts: &LoadOptions) -> Result<App, Located> {
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let mut runs = Vec::new();
+    crate::input::each_run(path, opts, |k, n, s| {
+        let span = s.span_us.map_or(String::new(), |(a, b)| {
+            format!(
+                "  {} UTC, {:.3} s",
+                crate::input::utc(a),
+                (b - a) as f64 / 1e6
+            )
+        });
+        let label = format!(
+            "run {k}{span} · {} ticks · {} transitions · {}",
+            s.index.ticks(),
+            s.index.transitions.len(),
+            s.ending()
+        );
+        runs.push((label, format!("{name} · run {k} of {n}"), s));
+        Ok(())
+    })?;
+    let last = runs.len().saturating_sub(1);
+    let mut choices = choices::Choices::runs(runs, last);
+    let choices::Choices::Runs { runs, .. } = &mut choices else {
+        unreachable!("made as runs")
+    };
+    let shown = &mut runs[last];
+    let s = shown.session.take().expect("each run is a session");
+    let mut app = App::new(s.tree.clone(), Some(s), shown.title.clone());
+    if choices.len() > 1 {
+        app.choices = Some(choices);
+    }
+    Ok(app)
 }
 
 /// How often a followed log is read again, in milliseconds.

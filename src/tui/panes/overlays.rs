@@ -21,7 +21,8 @@ impl App {
             Overlay::Finder { .. }
             | Overlay::Ask { .. }
             | Overlay::Why { .. }
-            | Overlay::Running { .. } => self.update_list(a),
+            | Overlay::Running { .. }
+            | Overlay::Pick { .. } => self.update_list(a),
             Overlay::CanYou { .. } => self.can_you_key(a),
             Overlay::Words { .. } => self.words_key(a),
             Overlay::Filter { .. } => self.filter_key(a),
@@ -194,13 +195,15 @@ impl App {
             Overlay::Ask { .. } => self.questions().len(),
             Overlay::Why { targets, .. } => targets.len(),
             Overlay::Running { .. } => self.running_nodes().len(),
+            Overlay::Pick { .. } => self.choices.as_ref().map_or(0, |c| c.len()),
             _ => 0,
         };
         let choice = match &mut self.overlay {
             Overlay::Finder { selected, .. }
             | Overlay::Ask { selected }
             | Overlay::Why { selected, .. }
-            | Overlay::Running { selected } => selected,
+            | Overlay::Running { selected }
+            | Overlay::Pick { selected } => selected,
             _ => return,
         };
         match a {
@@ -233,6 +236,7 @@ impl App {
                             self.ask_why(t.clone(), Vec::new(), m);
                         }
                     }
+                    Overlay::Pick { .. } => self.pick(i),
                     Overlay::Running { .. } => {
                         if let Some(&u) = self.running_nodes().get(i) {
                             self.reveal(u);
@@ -362,6 +366,42 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                         .borders(Borders::ALL)
                         .title(" RUNNING now: Enter selects "),
                 ),
+                r,
+            );
+        }
+        Overlay::Pick { selected } => {
+            let Some(c) = &app.choices else { return };
+            let rows = c.lines(app.live.as_ref());
+            let r = centered(
+                area,
+                area.width.saturating_sub(4).min(110),
+                (rows.len() as u16 + 2).min(area.height.saturating_sub(2)),
+            );
+            f.render_widget(Clear, r);
+            let h = r.height.saturating_sub(2) as usize;
+            let first = selected.saturating_sub(h.saturating_sub(1));
+            let lines: Vec<Line> = rows
+                .iter()
+                .enumerate()
+                .skip(first)
+                .take(h)
+                .map(|(i, row)| {
+                    let mark = if i == c.current() { "▸ " } else { "  " };
+                    let st = if i == *selected {
+                        Style::default().add_modifier(Modifier::REVERSED)
+                    } else {
+                        Style::default()
+                    };
+                    let text = format!("{mark}{}", crate::text::visible(row));
+                    Line::from(Span::styled(
+                        fit(&text, r.width.saturating_sub(2) as usize),
+                        st,
+                    ))
+                })
+                .collect();
+            f.render_widget(
+                Paragraph::new(lines)
+                    .block(Block::default().borders(Borders::ALL).title(c.title())),
                 r,
             );
         }

@@ -445,6 +445,30 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
     assert!(ok);
     let (ok, b, _) = common::btx(&["log", btlog.to_str().unwrap()]);
     assert!(ok);
+    // BehaviorTree.CPP 4.8's publisher can zero records it is sent while
+    // it answers (a race a loaded machine meets); btx says each such gap
+    // with its count. What it kept is then the logged run less exactly
+    // those, in order.
+    let kept = btx::session::Session::load(&out).unwrap();
+    let lost: usize = kept
+        .index
+        .gaps
+        .iter()
+        .filter_map(|(_, why)| why.split("the server sent ").nth(1))
+        .filter_map(|w| w.split(' ').next()?.parse::<usize>().ok())
+        .sum();
+    if lost > 0 {
+        let logged = match btx::input::open(&btlog, &Default::default()).unwrap() {
+            btx::input::Input::Session(s) => s,
+            _ => panic!("the robot's log is a run"),
+        };
+        let key = |t: &btx::session::Transition| (t.uid, t.status);
+        let (l, k) = (&logged.index.transitions, &kept.index.transitions);
+        assert_eq!(k.len() + lost, l.len(), "{a}");
+        let mut it = l.iter().map(key);
+        assert!(k.iter().map(key).all(|t| it.any(|x| x == t)), "{a}");
+        return;
+    }
     if a != b {
         let d = similar::TextDiff::from_lines(&b, &a);
         panic!(

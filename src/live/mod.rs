@@ -360,9 +360,18 @@ impl Watch {
         // 0, which no node has).
         let zeroed = ts.iter().filter(|t| t.uid == 0).count();
         if zeroed > 0 {
-            self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost"));
+            self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost{RESYNCED}"));
         }
         self.keep(ts.into_iter().filter(|t| t.uid != 0));
+        if zeroed > 0 {
+            // Where the lost transitions left the nodes: without it a node
+            // whose completion was lost would show RUNNING until its next
+            // transition, and that one as a halt. A failed read leaves the
+            // connection to the next poll.
+            if let Some(Ok(states)) = self.client.as_mut().map(|c| c.states()) {
+                self.resyncs.push((self.received(), states));
+            }
+        }
         n
     }
 
@@ -1136,5 +1145,71 @@ impl Watch {
             error,
             finished: self.finished.clone(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    use std::sync::Arc;
+
+    /// A Groot2 server of a two-node tree whose second `t` reply holds a
+    /// zeroed record between two whole ones, as BehaviorTree.CPP 4.8's
+    /// publisher sends when its buffer grows while it answers; `S` then
+    /// says where the lost transition left the nodes.
+    fn racing_server() -> (String, Arc<AtomicBool>) {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let addr = l.local_addr().unwrap().to_string();
+        let stop = Arc::new(AtomicBool::new(false));
+        let ts = Arc::new(AtomicUsize::new(0));
+        let answer: zmtp::Answer = Arc::new(move |parts: &[Vec<u8>]| {
+            let mut h = parts[0].clone();
+            h.extend_from_slice(&[7; 16]);
+            let rec = |uid: u16, status: u8| {
+                let mut r = 1_000u64.to_le_bytes()[..6].to_vec();
+                r.extend_from_slice(&uid.to_le_bytes());
+                r.push(status);
+                r
+            };
+            let body = match parts[0][1] {
+                b'T' => b"<root/>".to_vec(),
+                b'r' => b"1700000000000000".to_vec(),
+                b'S' if ts.load(Ordering::SeqCst) < 2 => vec![1, 0, 10, 2, 0, 10],
+                // The root RUNNING, the leaf SUCCESS (its record was zeroed).
+                b'S' => vec![1, 0, 1, 2, 0, 2],
+                b't' => match ts.fetch_add(1, Ordering::SeqCst) {
+                    1 => [rec(1, 1), vec![0; 9], rec(2, 1)].concat(),
+                    _ => Vec::new(),
+                },
+                _ => Vec::new(),
+            };
+            vec![h, body]
+        });
+        let halt = Arc::clone(&stop);
+        std::thread::spawn(move || zmtp::serve_rep(l, answer, &[], halt));
+        (addr, stop)
+    }
+
+    #[test]
+    fn zeroed_records_are_a_gap_after_which_every_nodes_state_is_read_again() {
+        let (addr, stop) = racing_server();
+        let mut w = Watch::start(&addr, None).unwrap();
+        assert_eq!(w.poll().unwrap(), 3);
+        let uids: Vec<u32> = w.records.iter().map(|r| r.uid).collect();
+        assert_eq!(uids, vec![1, 2]);
+        assert_eq!(w.gaps.len(), 1, "{:?}", w.gaps);
+        assert!(
+            w.gaps[0].why.contains("1 zeroed records") && w.gaps[0].why.ends_with(RESYNCED),
+            "{:?}",
+            w.gaps
+        );
+        // After the batch, the states the lost transition left.
+        let (at, states) = w.resyncs.last().unwrap();
+        assert_eq!(*at, 2);
+        assert!(states
+            .iter()
+            .any(|b| b.uid == 2 && b.status == Status::Success));
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
     }
 }

@@ -437,7 +437,8 @@ fn the_help_scrolls_to_a_legend_of_every_sign() {
     for sign in [
         "halted: was RUNNING",
         "IDLE now, and its last completion was FAILURE",
-        "running, failed, succeeded, idle",
+        "a tick it ran: running, failed, succeeded, halted",
+        "not ticked that tick (blank: not run yet)",
         "side-by-side diff: a divergent leaf, its parent",
     ] {
         assert!(end.contains(sign), "{sign}: {end}");
@@ -905,4 +906,81 @@ fn a_rosbags_runs_are_picked_with_r() {
         "{:?}",
         one.message
     );
+}
+
+#[test]
+fn the_strip_shows_a_status_only_in_the_ticks_a_node_ran() {
+    // Nav2's navigator with FollowPath failing twice: the strip said `F`
+    // at ticks where FollowPath was IDLE all tick (#27 item 3).
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("nav.jsonl");
+    common::run_nav2(
+        "navigate_to_pose_w_replanning_and_recovery.xml",
+        "nav2_followpath_fails_twice.plan",
+        &run,
+    );
+    let s = btx::session::Session::load(&run).unwrap();
+    // The action (a RecoveryNode is named FollowPath too).
+    let follow = (1..=s.tree.len() as u32)
+        .find(|&u| s.tree.description(u) == "FollowPath" && s.tree.node(u).children.is_empty())
+        .unwrap();
+    // What `btx log --node` says FollowPath did, tick by tick.
+    let (ok, log, err) = common::btx(&[
+        "log",
+        run.to_str().unwrap(),
+        "--node",
+        &format!("#{follow}"),
+    ]);
+    assert!(ok, "{err}");
+    let mut rows: std::collections::BTreeMap<u32, Vec<String>> = Default::default();
+    for l in log.lines().skip(1) {
+        let cols: Vec<&str> = l.split_whitespace().collect();
+        let tick: u32 = cols[0].parse().unwrap();
+        rows.entry(tick)
+            .or_default()
+            .push(cols[cols.len() - 1].to_string());
+    }
+    let mut expected = String::new();
+    let mut ran = false;
+    let mut running = false;
+    for t in 1..=s.index.ticks() {
+        let c = match rows.get(&t) {
+            Some(st) => {
+                ran = true;
+                running = st.last().unwrap() == "RUNNING";
+                if running {
+                    'R'
+                } else if let Some(done) =
+                    st.iter().rev().find(|x| *x == "SUCCESS" || *x == "FAILURE")
+                {
+                    done.chars().next().unwrap()
+                } else {
+                    'H'
+                }
+            }
+            None if running => 'R',
+            None if ran => '.',
+            None => ' ',
+        };
+        expected.push(c);
+    }
+    let strip: String = (1..=s.index.ticks())
+        .map(|t| match s.index.tick_mark(follow, t) {
+            btx::session::TickMark::Running => 'R',
+            btx::session::TickMark::Done(st) => st.as_str().chars().next().unwrap(),
+            btx::session::TickMark::Halted => 'H',
+            btx::session::TickMark::NotTicked => '.',
+            btx::session::TickMark::NotYet => ' ',
+        })
+        .collect();
+    assert_eq!(strip, expected, "{log}");
+    // Not run at tick 1; at tick 4 it failed and was started again in the
+    // same tick, so it ended the tick RUNNING; at tick 6 it ended failed.
+    assert_eq!(strip, " RRRRFRRRS");
+    // On screen, in ASCII: the same marks.
+    let mut app = btx::tui::App::new(s.tree.clone(), Some(s), "nav".into());
+    app.selected = follow;
+    app.update(Action::End);
+    let screen = screen(&app, 120, 40);
+    assert!(screen.contains("⊘ halted · not ticked"), "{screen}");
 }

@@ -454,6 +454,59 @@ impl Index {
     pub fn changes_of(&self, uid: Uid) -> &[u32] {
         &self.by_node[(uid - 1) as usize]
     }
+
+    /// What a node did in tick `tick`, as the timeline's strip shows it: a
+    /// status only where the node ran in that tick (Groot2's log replay
+    /// shows a status only where a node ran).
+    pub fn tick_mark(&self, uid: Uid, tick: u32) -> TickMark {
+        let r = self.tick_range(tick);
+        let list = self.changes_of(uid);
+        // Positions are 1-based: transition i is position i + 1.
+        let lo = list.partition_point(|&p| (p as usize) <= r.start);
+        let hi = list.partition_point(|&p| (p as usize) <= r.end);
+        if self.at(r.end as u32).status(uid) == Status::Running {
+            // Ticked and still RUNNING (a leaf kept RUNNING changes nothing).
+            return TickMark::Running;
+        }
+        if lo == hi {
+            let ran_before = lo > 0 || self.before(uid) != (Status::Idle, None);
+            return if ran_before {
+                TickMark::NotTicked
+            } else {
+                TickMark::NotYet
+            };
+        }
+        let here = || {
+            list[lo..hi]
+                .iter()
+                .map(|&p| self.transitions[p as usize - 1])
+        };
+        if let Some(done) = here().map(|t| t.status).filter(|s| s.is_completed()).last() {
+            return TickMark::Done(done);
+        }
+        // No completion: halted while RUNNING, or only reset to IDLE after
+        // completing in an earlier tick (not ticked in this one).
+        if here().any(|t| t.prev == Status::Running && t.status == Status::Idle) {
+            TickMark::Halted
+        } else {
+            TickMark::NotTicked
+        }
+    }
+}
+
+/// What a node did in one tick (`Index::tick_mark`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TickMark {
+    /// It has not run yet in this run.
+    NotYet,
+    /// It ran before, not in this tick (at most reset to IDLE in it).
+    NotTicked,
+    /// RUNNING at the tick's end.
+    Running,
+    /// It completed in this tick: its last completion in it.
+    Done(Status),
+    /// It was halted in this tick, with no completion.
+    Halted,
 }
 
 /// The run as it was at one position.

@@ -8,7 +8,7 @@ pub mod record;
 pub mod rerun;
 
 pub use format::{Before, Header, Record, SessionWriter, Source, TreeRef};
-pub use index::{At, Index, Moment, Transition, Write, EMPTY_TICKS_MAX};
+pub use index::{At, Index, Moment, TickMark, Transition, Write, EMPTY_TICKS_MAX};
 pub use output::OutputLock;
 
 use crate::model::{Tree, Uid};

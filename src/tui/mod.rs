@@ -328,6 +328,7 @@ pub fn ascii_of(sym: &str) -> Option<&'static str> {
         "▃" => "F",
         "▂" => "S",
         "×" => "x",
+        "⊘" => "H",
         "╵" => "'",
         "←" => "<",
         _ => return None,

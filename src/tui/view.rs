@@ -78,9 +78,10 @@ pub(crate) const LEGEND: &[(&str, &str)] = &[
     ("◀ now", "the current node (the leaf last ticked)"),
     ("‹", "a row that begins left of the view (deep trees)"),
     (
-        "▆ ▃ ▂ ·",
-        "strip, per tick: running, failed, succeeded, idle",
+        "▆ ▃ ▂ ⊘",
+        "strip, a tick it ran: running, failed, succeeded, halted",
     ),
+    ("·", "strip: not ticked that tick (blank: not run yet)"),
     ("★", "causal model: a reason of the picked explanation"),
     ("≠ ›", "side-by-side diff: a divergent leaf, its parent"),
     (

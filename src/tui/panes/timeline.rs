@@ -260,42 +260,41 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         "moment {m}  ·  tick {} of {ticks}  ·  transition {} of {total}{play}",
         m.tick, app.pos
     );
-    let legend = "strip: ▆ running ▃ failed ▂ succeeded · idle";
     let room = (inner.width as usize).saturating_sub(head.chars().count() + 4);
+    // The strip's legend, shorter where the long one does not fit.
+    let legend = [
+        "strip: ▆ running ▃ failed ▂ succeeded ⊘ halted · not ticked",
+        "▆ running ▃ failed ▂ succeeded ⊘ halted · not run",
+        "▆ run ▃ fail ▂ ok ⊘ halt · not run",
+    ]
+    .into_iter()
+    .find(|l| l.chars().count() <= room)
+    .unwrap_or("");
     let mut lines = vec![Line::from(vec![
         Span::raw(head),
         Span::styled(
-            if room >= legend.chars().count() {
-                format!("    {legend}")
-            } else {
+            if legend.is_empty() {
                 String::new()
+            } else {
+                format!("    {legend}")
             },
             Style::default().fg(Color::DarkGray),
         ),
     ])];
-    // A strip of the selected node's status at the end of each tick around now.
+    // A strip of what the selected node did in each tick around now: a
+    // status only where it ran, `·` where it did not, blank before it first ran.
     let width = inner.width.saturating_sub(10) as u32;
     let start = m.tick.saturating_sub(width / 2).max(1);
     let mut strip = vec![Span::raw(format!("#{:<4} ", app.selected))];
     for t in start..=(start + width).min(ticks) {
-        let p = s
-            .index
-            .position(crate::session::Moment {
-                tick: t,
-                step: None,
-            })
-            .unwrap_or(0);
-        let st = s.index.at(p).status(app.selected);
-        let done = s.index.at(p).last_completed(app.selected);
-        let c = match (st, done) {
-            (Status::Running, _) => '▆',
-            (Status::Idle, Some(Status::Failure)) | (Status::Failure, _) => '▃',
-            (Status::Success, _) | (Status::Idle, Some(Status::Success)) => '▂',
-            _ => '·',
-        };
-        let color = match (st, done) {
-            (Status::Idle, Some(x)) => status_color(x),
-            (x, _) => status_color(x),
+        use crate::session::TickMark;
+        let (c, color) = match s.index.tick_mark(app.selected, t) {
+            TickMark::Running => ('▆', status_color(Status::Running)),
+            TickMark::Done(Status::Failure) => ('▃', status_color(Status::Failure)),
+            TickMark::Done(_) => ('▂', status_color(Status::Success)),
+            TickMark::Halted => ('⊘', status_color(Status::Idle)),
+            TickMark::NotTicked => ('·', status_color(Status::Idle)),
+            TickMark::NotYet => (' ', status_color(Status::Idle)),
         };
         let mut style = Style::default().fg(color);
         if t == m.tick {

@@ -481,7 +481,7 @@ impl Index {
                 .iter()
                 .map(|&p| self.transitions[p as usize - 1])
         };
-        if let Some(done) = here().map(|t| t.status).filter(|s| s.is_completed()).last() {
+        if let Some(done) = here().map(|t| t.status).rfind(|s| s.is_completed()) {
             return TickMark::Done(done);
         }
         // No completion: halted while RUNNING, or only reset to IDLE after

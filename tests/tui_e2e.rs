@@ -380,7 +380,8 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
         .arg(common::fixture("plans/kitting_lookat_fails_once.plan"))
         .arg(port.to_string())
         .arg(&btlog)
-        .args(["100", "1000"])
+        .args(["100", "stdin"])
+        .stdin(std::process::Stdio::piped())
         .stdout(std::process::Stdio::piped())
         .spawn()
         .expect("the robot starts");
@@ -394,6 +395,13 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
     ));
     t.wait_for(&format!("live 127.0.0.1:{port}"));
     t.wait_for("connected");
+    // Before the robot's first tick: said, not "tick 1 of 0".
+    let s = t.wait_for("waiting for the robot's first tick");
+    assert!(!s.contains("tick 1 of 0"), "{s}");
+    {
+        use std::io::Write;
+        writeln!(robot.stdin.as_mut().unwrap(), "go").unwrap();
+    }
     // The failure at tick 10 has happened: step back to it while it runs.
     let start = Instant::now();
     loop {
@@ -435,7 +443,12 @@ fn the_explorer_on_a_live_robot_grows_steps_back_and_keeps_the_run() {
     t.wait_for("tick 54 of 54");
     // Quitting at tick 54's first transition would keep a run stopped
     // there (a busy machine showed it); the robot says when it is done.
-    t.wait_for("run finished");
+    let s = t.wait_for("run finished");
+    // The robot is gone: nobody is being asked.
+    if s.contains("the robot closed the connection") {
+        std::thread::sleep(Duration::from_millis(500));
+        assert!(!t.screen().contains("asking the robot"), "{}", t.screen());
+    }
     t.run(&["send-keys", "-t", "btx", "q"]);
     let s = t.wait_for("EXITED:");
     assert!(s.contains("EXITED:0"), "{s}");

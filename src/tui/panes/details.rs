@@ -191,8 +191,18 @@ fn live_blackboard(l: &crate::live::Feed, name: &str) -> Vec<Line<'static>> {
         ),
         Style::default().add_modifier(Modifier::BOLD),
     ))];
-    let text = match l.blackboard().filter(|b| b.name == name).map(|b| b.entries) {
-        None => vec!["asking the robot…".to_string()],
+    // A robot gone, or not connected now, is not being asked.
+    let gone = match (&l.status.finished, l.status.connected) {
+        (Some(f), _) => Some(format!("{f}: its blackboard is no longer read")),
+        (None, false) => Some("not connected: read again once btx reconnects".to_string()),
+        _ => None,
+    };
+    let got = l.blackboard().filter(|b| b.name == name).map(|b| b.entries);
+    let had = got.is_some();
+    let mut text = match got {
+        None => vec![gone
+            .clone()
+            .unwrap_or_else(|| "asking the robot…".to_string())],
         Some(Err(e)) => vec![e],
         Some(Ok(serde_json::Value::Object(m))) if m.is_empty() => vec!["(no entries)".to_string()],
         Some(Ok(serde_json::Value::Object(m))) => {
@@ -200,6 +210,9 @@ fn live_blackboard(l: &crate::live::Feed, name: &str) -> Vec<Line<'static>> {
         }
         Some(Ok(v)) => vec![v.to_string()],
     };
+    if let (true, Some(g)) = (had, gone) {
+        text.push(format!("(as last read; {g})"));
+    }
     lines.extend(
         text.into_iter()
             .map(|t| Line::from(crate::text::visible(&t).into_owned())),

@@ -256,10 +256,24 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
     if app.follow.is_some() {
         play.push_str("  · following the log");
     }
-    let head = format!(
-        "moment {m}  ·  tick {} of {ticks}  ·  transition {} of {total}{play}",
-        m.tick, app.pos
-    );
+    let head = match &app.live {
+        // A robot watched before its first tick is numbered: "tick 1 of 0"
+        // says nothing true.
+        Some(l) if ticks == 0 => match &l.status.finished {
+            Some(f) => format!("no tick came: {f}"),
+            None if l.status.transitions > 0 => {
+                format!(
+                    "{} transitions came; their first tick is not over yet",
+                    l.status.transitions
+                )
+            }
+            None => "waiting for the robot's first tick".to_string(),
+        },
+        _ => format!(
+            "moment {m}  ·  tick {} of {ticks}  ·  transition {} of {total}{play}",
+            m.tick, app.pos
+        ),
+    };
     let room = (inner.width as usize).saturating_sub(head.chars().count() + 4);
     // The strip's legend, shorter where the long one does not fit.
     let legend = [

@@ -410,7 +410,19 @@ fn the_status_bar_fits_and_always_says_how_to_quit() {
     for width in [30, 60, 80, 120, 250] {
         let h = km.hints_within(&[(Action::Down, "move")], width);
         assert!(h.chars().count() <= width.max(16), "{width}: {h}");
-        assert!(h.ends_with("? help  q quit"), "{width}: {h}");
+        // `?` last (#27 item 5).
+        assert!(h.ends_with("q quit  ? help"), "{width}: {h}");
+    }
+    // At 80 columns the tree pane's bar keeps the two headline questions
+    // and drops lesser hints first (#27 item 5: they were dropped first).
+    let tree = [
+        (Action::Down, "move"),
+        (Action::Expand, "open"),
+        (Action::Collapse, "close"),
+    ];
+    for width in [60, 78] {
+        let h = km.hints_within(&tree, width);
+        assert!(h.contains("a ask") && h.contains("w why"), "{width}: {h}");
     }
     assert!(km
         .hints_within(&[(Action::Down, "move")], 250)

@@ -525,9 +525,20 @@ impl Keymap {
     /// `first` hints: hints are dropped from the end, but help and quit stay.
     pub fn hints_within(&self, first: &[(Action, &str)], width: usize) -> String {
         let key = |a: Action| self.key_of(a).map(str::to_string);
-        let mut all: Vec<String> = first
+        // What a narrow bar drops first: the arrows (they say themselves),
+        // then play, framed, find, stepping; the headline questions last.
+        let weight = |a: Action| match a {
+            Action::Ask | Action::Why => 6,
+            Action::Down | Action::Expand | Action::Collapse => 1,
+            _ if first.iter().any(|(f, _)| *f == a) => 5,
+            Action::NextFailure => 4,
+            Action::StepForward | Action::TickForward => 3,
+            Action::Find => 2,
+            _ => 1,
+        };
+        let mut all: Vec<(String, u8)> = first
             .iter()
-            .filter_map(|&(a, what)| key(a).map(|k| format!("{k} {what}")))
+            .filter_map(|&(a, what)| key(a).map(|k| (format!("{k} {what}"), weight(a))))
             .collect();
         all.extend(
             self.keys
@@ -535,23 +546,29 @@ impl Keymap {
                 .filter(|b| !b.3.is_empty() && !b.0.is_empty())
                 .filter(|b| !matches!(b.1, Action::Help | Action::Quit))
                 .filter(|b| !first.iter().any(|(a, _)| *a == b.1))
-                .map(|b| format!("{} {}", b.0[0], b.3)),
+                .map(|b| (format!("{} {}", b.0[0], b.3), weight(b.1))),
         );
-        let end: Vec<String> = [(Action::Help, "help"), (Action::Quit, "quit")]
+        // `?` always last.
+        let end: Vec<String> = [(Action::Quit, "quit"), (Action::Help, "help")]
             .iter()
             .filter_map(|&(a, what)| key(a).map(|k| format!("{k} {what}")))
             .collect();
-        let cols = |v: &[String]| {
-            v.iter()
-                .map(|s| s.chars().count() + 2)
+        let cols = |v: &mut dyn Iterator<Item = &String>| {
+            v.map(|s| s.chars().count() + 2)
                 .sum::<usize>()
                 .saturating_sub(2)
         };
-        while !all.is_empty() && cols(&all) + 2 + cols(&end) > width {
-            all.pop();
+        while !all.is_empty()
+            && cols(&mut all.iter().map(|x| &x.0)) + 2 + cols(&mut end.iter()) > width
+        {
+            // The last of the lightest goes.
+            let lightest = all.iter().map(|x| x.1).min().unwrap_or(0);
+            let at = all.iter().rposition(|x| x.1 == lightest).unwrap_or(0);
+            all.remove(at);
         }
-        all.extend(end);
-        all.join("  ")
+        let mut out: Vec<String> = all.into_iter().map(|x| x.0).collect();
+        out.extend(end);
+        out.join("  ")
     }
 
     /// The status bar's hints: `n step  N tick  f failure ...`.

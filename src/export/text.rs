@@ -83,13 +83,19 @@ pub fn framed_text(tree: &Tree, framed: &Framed) -> String {
     };
     out.push('\n');
     out.push_str(&format!("goal: {}\n", tree.description(framed.goal)));
-    out.push_str(&format!("subgoals: {}\n", names(&framed.subgoals)));
+    // Empty sets are left out (a subgoal whose steps are all subgoals).
+    if !framed.subgoals.is_empty() {
+        out.push_str(&format!("subgoals: {}\n", names(&framed.subgoals)));
+    }
     for &g in std::iter::once(&framed.goal).chain(&framed.subgoals) {
-        out.push_str(&format!(
-            "steps of \"{}\": {}\n",
-            tree.description(g),
-            names(&steps(tree, g))
-        ));
+        let s = steps(tree, g);
+        if !s.is_empty() {
+            out.push_str(&format!(
+                "steps of \"{}\": {}\n",
+                tree.description(g),
+                names(&s)
+            ));
+        }
     }
     out.push_str(&format!("actions: {}\n", framed.actions.len()));
     out

@@ -220,8 +220,17 @@ pub fn draw(n: &Neighbourhood, pick: Option<usize>, width: usize) -> Vec<Line<'s
         format!("{what}: {} = {}", x.name, x.value),
         Style::default().add_modifier(Modifier::BOLD),
     )));
+    // The hint whole, or a shorter one whole: never cut mid-word.
+    let hint = [
+        "←→ pick a cause or effect · Enter: centre on it · Esc: back to the variable asked about",
+        "←→ pick · Enter: centre on it · Esc: back",
+        "Esc: back",
+    ]
+    .into_iter()
+    .find(|h| h.chars().count() <= width)
+    .unwrap_or("");
     lines.push(Line::from(Span::styled(
-        "←→ pick a cause or effect · Enter: centre on it · Esc: back to the question's",
+        hint,
         Style::default().fg(Color::DarkGray),
     )));
     lines

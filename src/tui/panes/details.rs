@@ -116,8 +116,14 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             app.tree.type_name(u),
             n.name
         )),
-        Line::from(format!("path {}", app.tree.display_path(u))),
     ];
+    // The path breaks after a `/`, not inside a name.
+    let width = area.width.saturating_sub(2) as usize;
+    lines.extend(
+        wrap_path(&app.tree.display_path(u), width)
+            .into_iter()
+            .map(Line::from),
+    );
     if let Some(a) = &at {
         let last = a
             .last_completed(u)
@@ -141,7 +147,17 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         }
     }
     if let Some(s) = &app.session {
-        lines.push(Line::from(format!("run {}", s.ending())));
+        let e = s.ending();
+        let going = app
+            .live
+            .as_ref()
+            .is_some_and(|l| l.status.finished.is_none() && s.end.is_none());
+        lines.push(Line::from(match e.strip_prefix("no end recorded") {
+            // A robot watched now: its run is not cut off, it goes on.
+            Some(_) if going => format!("The run goes on (tick {}).", s.index.ticks()),
+            Some(rest) => format!("The run has no end recorded{rest}."),
+            None => format!("The run {e}."),
+        }));
     }
     for (k, v) in &n.metadata {
         lines.push(Line::from(Span::styled(
@@ -185,10 +201,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
 /// The robot's blackboard of the node's scope (`B`), as last fetched.
 fn live_blackboard(l: &crate::live::Feed, name: &str) -> Vec<Line<'static>> {
     let mut lines = vec![Line::from(Span::styled(
-        format!(
-            "blackboard {} (live, from the robot)",
-            crate::text::visible(name)
-        ),
+        format!("blackboard {} (live)", crate::text::visible(name)),
         Style::default().add_modifier(Modifier::BOLD),
     ))];
     // A robot gone, or not connected now, is not being asked.
@@ -218,4 +231,37 @@ fn live_blackboard(l: &crate::live::Feed, name: &str) -> Vec<Line<'static>> {
             .map(|t| Line::from(crate::text::visible(&t).into_owned())),
     );
     lines
+}
+
+/// `path a/b/c` in lines of at most `width` columns, each broken after a
+/// `/` (a name longer than a line is left to the paragraph's wrapping).
+fn wrap_path(path: &str, width: usize) -> Vec<String> {
+    let mut lines = vec![String::from("path ")];
+    for seg in path.split_inclusive('/') {
+        let last = lines.last_mut().expect("one line at least");
+        let used = last.chars().count();
+        if used > 5 && used + seg.chars().count() > width {
+            lines.push(format!("     {seg}"));
+        } else {
+            last.push_str(seg);
+        }
+    }
+    lines
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_path_breaks_after_a_slash() {
+        let p = "NavigateRecovery/NavigateWithReplanning/FollowPath/FollowPath";
+        assert_eq!(
+            super::wrap_path(p, 44),
+            vec![
+                "path NavigateRecovery/",
+                "     NavigateWithReplanning/FollowPath/",
+                "     FollowPath"
+            ]
+        );
+        assert_eq!(super::wrap_path("a/b", 80), vec!["path a/b"]);
+    }
 }

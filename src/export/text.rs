@@ -100,3 +100,30 @@ pub fn framed_text(tree: &Tree, framed: &Framed) -> String {
     out.push_str(&format!("actions: {}\n", framed.actions.len()));
     out
 }
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_framed_tree_leaves_out_empty_sets() {
+        // The goal's only children are subgoals: it has no steps of its
+        // own, and a tree of one leaf has no subgoals.
+        let xml = r#"<root BTCPP_format="4" main_tree_to_execute="Main"><BehaviorTree ID="Main"><Sequence name="goal">
+            <SubTree ID="A" name="a"/><SubTree ID="B" name="b"/></Sequence></BehaviorTree>
+            <BehaviorTree ID="A"><Action ID="x"/></BehaviorTree>
+            <BehaviorTree ID="B"><Action ID="y"/></BehaviorTree></root>"#;
+        let p = std::path::Path::new("t.xml");
+        let tree = crate::xml::load_str(p, xml, &Default::default())
+            .unwrap()
+            .tree;
+        let text = super::framed_text(&tree, &crate::frame::Framed::new(&tree));
+        assert!(!text.lines().any(|l| l.ends_with(": ")), "{text}");
+        assert!(text.contains("subgoals: "), "{text}");
+        let one =
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Action ID="x"/></BehaviorTree></root>"#;
+        let one = crate::xml::load_str(p, one, &Default::default())
+            .unwrap()
+            .tree;
+        let text = super::framed_text(&one, &crate::frame::Framed::new(&one));
+        assert!(!text.contains("subgoals"), "{text}");
+    }
+}

@@ -996,3 +996,99 @@ fn the_strip_shows_a_status_only_in_the_ticks_a_node_ran() {
     let screen = screen(&app, 120, 40);
     assert!(screen.contains("⊘ halted · not ticked"), "{screen}");
 }
+
+#[test]
+fn the_finder_ranks_a_nodes_own_name_above_letters_spread_over_its_path() {
+    let app = opened("sessions/kitting-lookat-fails-once.jsonl");
+    let found = app.finder_results("chuck");
+    let own = |u: u32| {
+        let d = app.tree.description(u).to_lowercase();
+        let id = app.tree.node(u).id.to_lowercase();
+        d.contains("chuck") || id.contains("chuck")
+    };
+    let first_other = found.iter().position(|(u, _)| !own(*u));
+    // Every node named for the chuck comes before any other.
+    if let Some(k) = first_other {
+        assert!(found[k..].iter().all(|(u, _)| !own(*u)), "{found:?}");
+    }
+    assert!(own(found[0].0));
+    // "back to approach pose" matched by letters of its path's segments
+    // comes after every node whose one path segment holds them.
+    let back = (1..=app.tree.len() as u32)
+        .find(|&u| app.tree.description(u) == "back to approach pose")
+        .unwrap();
+    let at = |u: u32| found.iter().position(|(x, _)| *x == u);
+    if let (Some(b), Some(k)) = (at(back), first_other) {
+        assert!(b >= k);
+        let label = app.finder_label(found[b].0);
+        let idx = &found[b].1;
+        // Its matched letters are where they are in the label.
+        let chars: Vec<char> = label.chars().collect();
+        let got: String = idx.iter().map(|&i| chars[i].to_ascii_lowercase()).collect();
+        assert_eq!(got, "chuck");
+    }
+}
+
+#[test]
+fn every_prompt_edits_as_a_line_editor() {
+    use btx::tui::app::Overlay;
+    use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
+    let press = |app: &mut btx::tui::app::App, code: KeyCode, m: KeyModifiers| {
+        btx::tui::handle(app, Event::Key(KeyEvent::new(code, m)), (120, 40))
+    };
+    let typed = |app: &mut btx::tui::app::App, s: &str| {
+        for c in s.chars() {
+            press(app, KeyCode::Char(c), KeyModifiers::NONE);
+        }
+    };
+    let text = |app: &btx::tui::app::App| match &app.overlay {
+        Overlay::Finder { query, .. } => query.clone(),
+        Overlay::CanYou { text, .. } | Overlay::Words { text, .. } | Overlay::Filter { text } => {
+            text.clone()
+        }
+        Overlay::Export { path, .. } => path.clone(),
+        o => panic!("no prompt: {o:?}"),
+    };
+    let none = KeyModifiers::NONE;
+    let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
+    // The finder: typing, ←, Home, End, Backspace, Ctrl-w, Ctrl-u.
+    app.update(Action::Find);
+    typed(&mut app, "chuk");
+    press(&mut app, KeyCode::Left, none);
+    typed(&mut app, "c");
+    assert_eq!(text(&app), "chuck");
+    assert!(screen(&app, 120, 40).contains("find: chuc▏k"));
+    press(&mut app, KeyCode::Home, none);
+    typed(&mut app, "look ");
+    press(&mut app, KeyCode::End, none);
+    press(&mut app, KeyCode::Backspace, none);
+    assert_eq!(text(&app), "look chuc");
+    press(&mut app, KeyCode::Char('w'), KeyModifiers::CONTROL);
+    assert_eq!(text(&app), "look ");
+    press(&mut app, KeyCode::Char('u'), KeyModifiers::CONTROL);
+    assert_eq!(text(&app), "");
+    // A paste goes in whole, control characters left out.
+    btx::tui::handle(&mut app, Event::Paste("pick\nscrew".into()), (120, 40));
+    assert_eq!(text(&app), "pickscrew");
+    press(&mut app, KeyCode::Esc, none);
+    // "Can you …?" and the timeline's filter take text the same way.
+    app.overlay = Overlay::CanYou {
+        text: String::new(),
+        selected: 0,
+    };
+    typed(&mut app, "pick");
+    press(&mut app, KeyCode::Left, none);
+    press(&mut app, KeyCode::Backspace, none);
+    assert_eq!(text(&app), "pik");
+    assert!(screen(&app, 120, 40).contains("Can you pi▏k?"));
+    press(&mut app, KeyCode::Esc, none);
+    app.update(Action::NextPane);
+    app.update(Action::Find);
+    assert!(
+        matches!(app.overlay, Overlay::Filter { .. }),
+        "{:?}",
+        app.overlay
+    );
+    typed(&mut app, "look");
+    assert_eq!(text(&app), "look");
+}

@@ -152,6 +152,9 @@ pub struct App {
     pub live: Option<crate::live::Feed>,
     /// The other runs of the log, or the other robots watched (`R`).
     pub choices: Option<super::choices::Choices>,
+    /// Where the open prompt's cursor is (characters from the start);
+    /// `None`: at its end.
+    pub cursor: Option<usize>,
     pub(crate) rows: Vec<Row>,
 }
 
@@ -200,6 +203,7 @@ impl App {
             follow: None,
             live: None,
             choices: None,
+            cursor: None,
             rows: Vec::new(),
         };
         app.follow_current();
@@ -351,6 +355,8 @@ impl App {
         if self.overlay != Overlay::None {
             return self.overlay_key(a);
         }
+        // A prompt opened by this key starts with its cursor at the end.
+        self.cursor = None;
         self.message = None;
         if self.session.is_none() && super::panes::timeline::needs_run(a) {
             self.message = Some(
@@ -594,23 +600,44 @@ impl App {
         all.get(u as usize - 1).map_or("", String::as_str)
     }
 
-    /// Finder results: (uid, score, matched character positions in the label).
+    /// Finder results: (uid, matched character positions in the label).
+    /// A match in the node's own `#uid`, description or ID comes first;
+    /// then one within one segment of its path; one whose letters are
+    /// spread over several segments last (`/chuck` found "back to approach
+    /// pose" by letters of "build a gearbox kit/…").
     pub fn finder_results(&self, query: &str) -> Vec<(Uid, Vec<usize>)> {
         let m = SkimMatcherV2::default().ignore_case();
-        let mut scored: Vec<(i64, Uid, Vec<usize>)> = (1..=self.tree.len() as Uid)
+        let mut scored: Vec<(u8, i64, Uid, Vec<usize>)> = (1..=self.tree.len() as Uid)
             .filter_map(|u| {
                 let label = self.finder_label(u);
                 if query.is_empty() {
-                    return Some((0, u, Vec::new()));
+                    return Some((0, 0, u, Vec::new()));
                 }
-                m.fuzzy_indices(label, query).map(|(s, idx)| (s, u, idx))
+                // The label is `#uid description  [ID]  path`.
+                let own = label.find("]  ").map_or(label.len(), |i| i + 1);
+                if let Some((s, idx)) = m.fuzzy_indices(&label[..own], query) {
+                    return Some((0, s, u, idx));
+                }
+                let (s, idx) = m.fuzzy_indices(label, query)?;
+                let own_chars = label[..own].chars().count();
+                let segment = |i: usize| {
+                    label
+                        .chars()
+                        .take(i)
+                        .skip(own_chars)
+                        .filter(|&c| c == '/')
+                        .count()
+                };
+                let first = idx.first().map_or(0, |&i| segment(i));
+                let one = idx.iter().all(|&i| i >= own_chars && segment(i) == first);
+                Some((if one { 1 } else { 2 }, s, u, idx))
             })
             .collect();
-        scored.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+        scored.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.cmp(&a.1)).then(a.2.cmp(&b.2)));
         scored
             .into_iter()
             .take(200)
-            .map(|(_, u, i)| (u, i))
+            .map(|(_, _, u, i)| (u, i))
             .collect()
     }
 

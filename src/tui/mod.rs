@@ -218,18 +218,30 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
     match ev {
         Event::Key(k) if k.kind == KeyEventKind::Press => {
             if app.typing() {
-                match k.code {
-                    KeyCode::Char(c) if !k.modifiers.contains(event::KeyModifiers::CONTROL) => {
-                        return app.type_char(c)
-                    }
-                    KeyCode::Backspace => return app.backspace(),
-                    _ => {}
+                use panes::overlays::Edit;
+                let ctrl = k.modifiers.contains(event::KeyModifiers::CONTROL);
+                // Every prompt edits as a line editor does.
+                let e = match k.code {
+                    KeyCode::Char(c) if !ctrl => Some(Edit::Insert(c.to_string())),
+                    KeyCode::Char('w') if ctrl => Some(Edit::WordBack),
+                    KeyCode::Char('u') if ctrl => Some(Edit::ToStart),
+                    KeyCode::Backspace => Some(Edit::Backspace),
+                    KeyCode::Left => Some(Edit::Left),
+                    KeyCode::Right => Some(Edit::Right),
+                    KeyCode::Home => Some(Edit::Home),
+                    KeyCode::End => Some(Edit::End),
+                    _ => None,
+                };
+                if let Some(e) = e {
+                    return app.edit(e);
                 }
             }
             if let Some(a) = app.keymap.action_for(&k) {
                 app.update(a);
             }
         }
+        // A paste, where the terminal marks one, goes into the prompt whole.
+        Event::Paste(text) if app.typing() => app.edit(panes::overlays::Edit::Insert(text)),
         Event::Mouse(m) => {
             let areas = view::layout(ratatui::layout::Rect::new(0, 0, size.0, size.1), app.split);
             let t = areas.tree;

@@ -13,6 +13,32 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 use ratatui::Frame;
 
+/// One edit of a prompt's text (`App::edit`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Edit {
+    /// Typed or pasted text (control characters left out).
+    Insert(String),
+    Backspace,
+    /// Ctrl-w: the word before the cursor.
+    WordBack,
+    /// Ctrl-u: everything before the cursor.
+    ToStart,
+    Left,
+    Right,
+    Home,
+    End,
+}
+
+/// The text of a prompt with the cursor `▏` where it is.
+pub(crate) fn with_cursor(text: &str, cursor: Option<usize>) -> String {
+    let text = crate::text::visible(text);
+    let n = text.chars().count();
+    let at = cursor.unwrap_or(n).min(n);
+    let before: String = text.chars().take(at).collect();
+    let after: String = text.chars().skip(at).collect();
+    format!("{before}▏{after}")
+}
+
 impl App {
     /// A key while an overlay is open: the overlay takes it.
     pub(crate) fn overlay_key(&mut self, a: Action) {
@@ -135,45 +161,74 @@ impl App {
         }
     }
 
-    /// Typing into the finder or the export prompt.
+    /// Typing into the finder or a prompt.
     pub fn type_char(&mut self, c: char) {
-        match &mut self.overlay {
-            Overlay::Finder { query, selected } => {
-                query.push(c);
-                *selected = 0;
-            }
-            Overlay::Export { path, replace } => {
-                path.push(c);
-                *replace = false;
-            }
-            Overlay::Filter { text } => text.push(c),
-            Overlay::CanYou { text, selected } | Overlay::Words { text, selected } => {
-                text.push(c);
-                *selected = 0;
-            }
-            _ => {}
-        }
+        self.edit(Edit::Insert(c.to_string()));
     }
 
     pub fn backspace(&mut self) {
-        match &mut self.overlay {
-            Overlay::Finder { query, selected } => {
-                query.pop();
-                *selected = 0;
-            }
-            Overlay::Export { path, replace } => {
-                path.pop();
-                *replace = false;
-            }
-            Overlay::Filter { text } => {
-                text.pop();
-            }
+        self.edit(Edit::Backspace);
+    }
+
+    /// One edit of the open prompt's text, every prompt alike (the finder,
+    /// "Can you …?", your own words, the timeline's filter, the export
+    /// path): at the cursor, which `Left`/`Right`/`Home`/`End` move.
+    pub fn edit(&mut self, e: Edit) {
+        let cursor = self.cursor;
+        let (text, selected, replace) = match &mut self.overlay {
+            Overlay::Finder { query, selected } => (query, Some(selected), None),
+            Overlay::Export { path, replace } => (path, None, Some(replace)),
+            Overlay::Filter { text } => (text, None, None),
             Overlay::CanYou { text, selected } | Overlay::Words { text, selected } => {
-                text.pop();
-                *selected = 0;
+                (text, Some(selected), None)
             }
-            _ => {}
+            _ => return,
+        };
+        let n = text.chars().count();
+        let at = cursor.unwrap_or(n).min(n);
+        let byte = |s: &str, i: usize| s.char_indices().nth(i).map_or(s.len(), |(b, _)| b);
+        let (changed, to) = match e {
+            Edit::Insert(s) => {
+                let s: String = s.chars().filter(|c| !c.is_control()).collect();
+                text.insert_str(byte(text, at), &s);
+                (true, at + s.chars().count())
+            }
+            Edit::Backspace if at > 0 => {
+                text.remove(byte(text, at - 1));
+                (true, at - 1)
+            }
+            Edit::WordBack => {
+                let chars: Vec<char> = text.chars().collect();
+                let mut from = at;
+                while from > 0 && chars[from - 1] == ' ' {
+                    from -= 1;
+                }
+                while from > 0 && chars[from - 1] != ' ' {
+                    from -= 1;
+                }
+                text.replace_range(byte(text, from)..byte(text, at), "");
+                (from != at, from)
+            }
+            Edit::ToStart => {
+                text.replace_range(..byte(text, at), "");
+                (at > 0, 0)
+            }
+            Edit::Left => (false, at.saturating_sub(1)),
+            Edit::Right => (false, (at + 1).min(n)),
+            Edit::Home => (false, 0),
+            Edit::Backspace => (false, at),
+            Edit::End => (false, n),
+        };
+        let end = text.chars().count();
+        if changed {
+            if let Some(s) = selected {
+                *s = 0;
+            }
+            if let Some(r) = replace {
+                *r = false;
+            }
         }
+        self.cursor = (to < end).then_some(to);
     }
 
     /// Whether keys type text: the finder and every prompt (a letter there
@@ -305,7 +360,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             f.render_widget(Clear, r);
             let b = Block::default()
                 .borders(Borders::ALL)
-                .title(format!(" find: {query}▏ "));
+                .title(format!(" find: {} ", with_cursor(query, app.cursor)));
             let inner = b.inner(r);
             f.render_widget(b, r);
             let results = app.finder_results(query);
@@ -414,7 +469,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             f.render_widget(Clear, r);
             let b = Block::default()
                 .borders(Borders::ALL)
-                .title(format!(" Can you {}▏? ", crate::text::visible(text)));
+                .title(format!(" Can you {}? ", with_cursor(text, app.cursor)));
             let inner = b.inner(r);
             f.render_widget(b, r);
             let h = inner.height as usize;
@@ -441,7 +496,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             let r = centered(area, area.width.saturating_sub(8).min(70), 3);
             f.render_widget(Clear, r);
             f.render_widget(
-                Paragraph::new(format!("{}▏", crate::text::visible(text))).block(
+                Paragraph::new(with_cursor(text, app.cursor)).block(
                     Block::default()
                         .borders(Borders::ALL)
                         .title(" show transitions of nodes named: Enter applies, empty for all "),
@@ -460,7 +515,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             let note = app.message.clone().unwrap_or_default();
             f.render_widget(
                 Paragraph::new(vec![
-                    Line::from(format!("{}▏", crate::text::visible(path))),
+                    Line::from(with_cursor(path, app.cursor)),
                     Line::from(crate::text::visible(&note).into_owned()),
                 ])
                 .block(Block::default().borders(Borders::ALL).title(title)),
@@ -534,8 +589,8 @@ fn draw_words(app: &App, f: &mut Frame, area: Rect, text: &str, selected: usize)
     );
     f.render_widget(Clear, r);
     let b = Block::default().borders(Borders::ALL).title(format!(
-        " ask in your own words: {}▏ ",
-        crate::text::visible(text)
+        " ask in your own words: {} ",
+        with_cursor(text, app.cursor)
     ));
     let inner = b.inner(r);
     f.render_widget(b, r);

@@ -1092,3 +1092,31 @@ fn every_prompt_edits_as_a_line_editor() {
     typed(&mut app, "look");
     assert_eq!(text(&app), "look");
 }
+
+#[test]
+fn fixed_screens_at_80x24_and_120x40() {
+    // #27 item 10: the strip of a node that failed and ran again, the
+    // status bar's hints, a prompt's cursor, the details' path and run.
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("nav.jsonl");
+    common::run_nav2(
+        "navigate_to_pose_w_replanning_and_recovery.xml",
+        "nav2_followpath_fails_twice.plan",
+        &run,
+    );
+    let s = btx::session::Session::load(&run).unwrap();
+    let mut app = btx::tui::App::new(s.tree.clone(), Some(s), "nav.jsonl".into());
+    app.update(Action::End);
+    app.selected = 10;
+    for (w, h) in [(80, 24), (120, 40)] {
+        insta::assert_snapshot!(format!("nav2_strip_{w}x{h}"), screen(&app, w, h));
+    }
+    app.overlay = btx::tui::app::Overlay::CanYou {
+        text: "pick screw".into(),
+        selected: 0,
+    };
+    app.cursor = Some(4);
+    for (w, h) in [(80, 24), (120, 40)] {
+        insta::assert_snapshot!(format!("can_you_cursor_{w}x{h}"), screen(&app, w, h));
+    }
+}

@@ -580,3 +580,51 @@ fn several_robots_in_the_explorer_are_picked_with_r_and_each_kept() {
         );
     }
 }
+
+#[test]
+fn every_prompt_takes_text_in_a_real_terminal() {
+    if !tmux_here() {
+        return;
+    }
+    let t = Tmux(format!("btx-prompts-{}", std::process::id()));
+    t.start(&format!(
+        "cd {} && {} open sessions/kitting-lookat-fails-once.jsonl; echo EXITED:$?; sleep 30",
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_BIN_EXE_btx")
+    ));
+    t.wait_for("full tree");
+    let keys = |ks: &[&str]| {
+        t.run(&[&["send-keys", "-t", "btx"][..], ks].concat());
+        std::thread::sleep(Duration::from_millis(150));
+    };
+    // The finder: typing, ← and a letter where the cursor is.
+    keys(&["/"]);
+    keys(&["-l", "chuk"]);
+    keys(&["Left"]);
+    keys(&["-l", "c"]);
+    t.wait_for("find: chuc▏k");
+    keys(&["C-u"]);
+    t.wait_for("find: ▏k");
+    keys(&["Escape"]);
+    // "Can you …?", the last of the questions.
+    keys(&["a"]);
+    t.wait_for("Can you …?");
+    for _ in 0..30 {
+        keys(&["Down"]);
+    }
+    keys(&["Enter"]);
+    keys(&["-l", "pick"]);
+    t.wait_for("Can you pick▏?");
+    keys(&["C-w"]);
+    t.wait_for("Can you ▏?");
+    keys(&["Escape"]);
+    // The timeline's filter.
+    keys(&["Tab"]);
+    keys(&["/"]);
+    keys(&["-l", "look"]);
+    t.wait_for("look▏");
+    keys(&["Enter"]);
+    keys(&["q"]);
+    let s = t.wait_for("EXITED:");
+    assert!(s.contains("EXITED:0"), "{s}");
+}

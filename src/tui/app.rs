@@ -357,6 +357,14 @@ impl App {
         }
         // A prompt opened by this key starts with its cursor at the end.
         self.cursor = None;
+        // On a live robot, End (G) is "back to live" from any pane, not a
+        // scroll of the pane that has the focus (#27 item 2).
+        if a == Action::End && self.live.is_some() && self.session.is_some() {
+            self.goto(self.positions());
+            self.follow_node = true;
+            self.follow_current();
+            return;
+        }
         self.message = None;
         if self.session.is_none() && super::panes::timeline::needs_run(a) {
             self.message = Some(

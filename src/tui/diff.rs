@@ -254,7 +254,13 @@ impl DiffApp {
                 self.a.go_to_pos(self.a.len());
                 self.b.go_to_pos(self.b.len());
             }
-            _ => {}
+            // No key is silent (#27 item 2): what the diff does instead.
+            other => {
+                self.message = Some(format!(
+                    "{} is not in the side-by-side diff: d/D divergences, n/p step, w why, ? keys",
+                    super::keymap::Action::name(other).replace('_', " ")
+                ))
+            }
         }
     }
 

@@ -1120,3 +1120,28 @@ fn fixed_screens_at_80x24_and_120x40() {
         insta::assert_snapshot!(format!("can_you_cursor_{w}x{h}"), screen(&app, w, h));
     }
 }
+
+#[test]
+fn at_80_columns_the_diff_cuts_names_with_an_ellipsis_and_keeps_each_uid() {
+    let app = diff_app("trees/taxi-expected.xml", "trees/taxi.xml");
+    let s = screen(&app, 80, 24);
+    insta::assert_snapshot!("diff_taxi_80x24", s);
+    // Every row of each tree pane ends its name with its whole `#uid`:
+    // the uids shown are those of the tree, in order, none cut.
+    let uids: Vec<u32> = s
+        .lines()
+        .filter_map(|l| {
+            let left: String = l.chars().take(40).collect();
+            let at = left.rfind(" #")?;
+            left[at + 2..]
+                .trim_end_matches(|c: char| !c.is_ascii_digit())
+                .split(|c: char| !c.is_ascii_digit())
+                .next()?
+                .parse()
+                .ok()
+        })
+        .collect();
+    assert!(uids.len() > 5, "{s}");
+    assert!(uids.windows(2).all(|w| w[1] == w[0] + 1), "{uids:?}\n{s}");
+    assert!(s.contains('…'), "{s}");
+}

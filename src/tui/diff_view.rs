@@ -88,8 +88,13 @@ fn tree_pane(app: &DiffApp, side: usize, f: &mut Frame, area: Rect) {
                 format!("{} ", tree_glyph(&p.tree, uid)),
                 Style::default().fg(Color::Blue),
             ),
+            // A long name ends in `…` and keeps its whole `#uid`.
             Span::styled(
-                crate::text::visible(p.tree.description(uid)).into_owned(),
+                crate::tui::view::fit(
+                    &crate::text::visible(p.tree.description(uid)),
+                    (inner.width as usize)
+                        .saturating_sub(6 + 2 * depth + format!(" #{uid}").chars().count()),
+                ),
                 name,
             ),
             Span::styled(format!(" #{uid}"), Style::default().fg(Color::DarkGray)),

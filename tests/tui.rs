@@ -1145,3 +1145,19 @@ fn at_80_columns_the_diff_cuts_names_with_an_ellipsis_and_keeps_each_uid() {
     assert!(uids.windows(2).all(|w| w[1] == w[0] + 1), "{uids:?}\n{s}");
     assert!(s.contains('…'), "{s}");
 }
+
+#[test]
+fn faster_and_slower_while_paused_say_the_speed() {
+    let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
+    assert!(!app.playing);
+    app.update(Action::Faster);
+    assert_eq!(
+        app.message.as_deref(),
+        Some("play speed: a step every 100 ms (s plays)")
+    );
+    app.update(Action::Slower);
+    assert_eq!(
+        app.message.as_deref(),
+        Some("play speed: a step every 200 ms (s plays)")
+    );
+}

@@ -101,8 +101,20 @@ impl App {
             }
             Action::NextChange | Action::PrevChange => self.goto_change(a == Action::NextChange),
             Action::Play => self.playing = !self.playing && self.session.is_some(),
-            Action::Faster => self.play_ms = (self.play_ms / 2).max(10),
-            Action::Slower => self.play_ms = (self.play_ms * 2).min(5000),
+            Action::Faster | Action::Slower => {
+                self.play_ms = if a == Action::Faster {
+                    (self.play_ms / 2).max(10)
+                } else {
+                    (self.play_ms * 2).min(5000)
+                };
+                // While paused the speed is shown nowhere else (#27 item 2).
+                if !self.playing {
+                    self.message = Some(format!(
+                        "play speed: a step every {} ms (s plays)",
+                        self.play_ms
+                    ));
+                }
+            }
             Action::HideResets => self.timeline.filter.no_idle = !self.timeline.filter.no_idle,
             Action::OnlyBelow => {
                 self.timeline.filter.below = match self.timeline.filter.below {

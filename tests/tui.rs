@@ -920,10 +920,9 @@ fn a_rosbags_runs_are_picked_with_r() {
     );
 }
 
-#[test]
-fn the_strip_shows_a_status_only_in_the_ticks_a_node_ran() {
-    // Nav2's navigator with FollowPath failing twice: the strip said `F`
-    // at ticks where FollowPath was IDLE all tick (#27 item 3).
+/// Nav2's navigator run with FollowPath failing twice: the session, its
+/// file, and the directory that holds it (kept while it is read).
+fn nav2_followpath_fails_twice() -> (btx::session::Session, std::path::PathBuf, tempfile::TempDir) {
     let dir = tempfile::tempdir().unwrap();
     let run = dir.path().join("nav.jsonl");
     common::run_nav2(
@@ -932,6 +931,14 @@ fn the_strip_shows_a_status_only_in_the_ticks_a_node_ran() {
         &run,
     );
     let s = btx::session::Session::load(&run).unwrap();
+    (s, run, dir)
+}
+
+#[test]
+fn the_strip_shows_a_status_only_in_the_ticks_a_node_ran() {
+    // Nav2's navigator with FollowPath failing twice: the strip said `F`
+    // at ticks where FollowPath was IDLE all tick (#27 item 3).
+    let (s, run, _dir) = nav2_followpath_fails_twice();
     // The action (a RecoveryNode is named FollowPath too).
     let follow = (1..=s.tree.len() as u32)
         .find(|&u| s.tree.description(u) == "FollowPath" && s.tree.node(u).children.is_empty())
@@ -1097,14 +1104,7 @@ fn every_prompt_edits_as_a_line_editor() {
 fn fixed_screens_at_80x24_and_120x40() {
     // #27 item 10: the strip of a node that failed and ran again, the
     // status bar's hints, a prompt's cursor, the details' path and run.
-    let dir = tempfile::tempdir().unwrap();
-    let run = dir.path().join("nav.jsonl");
-    common::run_nav2(
-        "navigate_to_pose_w_replanning_and_recovery.xml",
-        "nav2_followpath_fails_twice.plan",
-        &run,
-    );
-    let s = btx::session::Session::load(&run).unwrap();
+    let (s, _, _dir) = nav2_followpath_fails_twice();
     let mut app = btx::tui::App::new(s.tree.clone(), Some(s), "nav.jsonl".into());
     app.update(Action::End);
     app.selected = 10;

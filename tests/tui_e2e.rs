@@ -211,6 +211,14 @@ fn ctrl_z_suspends_and_fg_redraws() {
     t.wait_for("moment 1 ");
     assert!(t.terminal().starts_with("1 1"), "{}", t.terminal());
     t.run(&["send-keys", "-t", "btx", "q"]);
+    // The shell has the terminal once btx is gone: keys sent before that
+    // are btx's (a loaded CI read "echo …" as keys of the explorer).
+    let start = Instant::now();
+    while t.terminal() != "0 0 1" {
+        assert!(start.elapsed() < Duration::from_secs(20), "{}", t.screen());
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    std::thread::sleep(Duration::from_millis(200));
     // fg's status is btx's.
     t.run(&["send-keys", "-t", "btx", "echo EXITED:$?", "Enter"]);
     let s = t.wait_for("EXITED:0");

@@ -385,80 +385,39 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             f.render_widget(Paragraph::new(lines), inner);
         }
         Overlay::Running { selected } => {
-            let nodes = app.running_nodes();
-            let r = centered(
-                area,
-                70,
-                (nodes.len() as u16 + 2).min(area.height.saturating_sub(2)),
-            );
-            f.render_widget(Clear, r);
-            let h = r.height.saturating_sub(2) as usize;
-            let first = selected.saturating_sub(h.saturating_sub(1));
-            let lines: Vec<Line> = nodes
+            let rows: Vec<String> = app
+                .running_nodes()
                 .iter()
-                .enumerate()
-                .skip(first)
-                .take(h)
-                .map(|(i, &u)| {
-                    let st = if i == *selected {
-                        Style::default().add_modifier(Modifier::REVERSED)
-                    } else {
-                        Style::default()
-                    };
-                    Line::from(Span::styled(
-                        format!(
-                            "{} #{u}  {}",
-                            crate::text::visible(app.tree.description(u)),
-                            app.tree.type_name(u)
-                        ),
-                        st,
-                    ))
+                .map(|&u| {
+                    format!(
+                        "{} #{u}  {}",
+                        crate::text::visible(app.tree.description(u)),
+                        app.tree.type_name(u)
+                    )
                 })
                 .collect();
-            f.render_widget(
-                Paragraph::new(lines).block(
-                    Block::default()
-                        .borders(Borders::ALL)
-                        .title(" RUNNING now: Enter selects "),
-                ),
-                r,
+            list(
+                f,
+                area,
+                70,
+                &rows,
+                *selected,
+                " RUNNING now: Enter selects ",
             );
         }
         Overlay::Pick { selected } => {
             let Some(c) = &app.choices else { return };
-            let rows = c.lines(app.live.as_ref());
-            let r = centered(
-                area,
-                area.width.saturating_sub(4).min(110),
-                (rows.len() as u16 + 2).min(area.height.saturating_sub(2)),
-            );
-            f.render_widget(Clear, r);
-            let h = r.height.saturating_sub(2) as usize;
-            let first = selected.saturating_sub(h.saturating_sub(1));
-            let lines: Vec<Line> = rows
+            let rows: Vec<String> = c
+                .lines(app.live.as_ref())
                 .iter()
                 .enumerate()
-                .skip(first)
-                .take(h)
                 .map(|(i, row)| {
                     let mark = if i == c.current() { "▸ " } else { "  " };
-                    let st = if i == *selected {
-                        Style::default().add_modifier(Modifier::REVERSED)
-                    } else {
-                        Style::default()
-                    };
-                    let text = format!("{mark}{}", crate::text::visible(row));
-                    Line::from(Span::styled(
-                        fit(&text, r.width.saturating_sub(2) as usize),
-                        st,
-                    ))
+                    format!("{mark}{}", crate::text::visible(row))
                 })
                 .collect();
-            f.render_widget(
-                Paragraph::new(lines)
-                    .block(Block::default().borders(Borders::ALL).title(c.title())),
-                r,
-            );
+            let width = area.width.saturating_sub(4).min(110);
+            list(f, area, width, &rows, *selected, c.title());
         }
         Overlay::CanYou { text, selected } => {
             let r = centered(
@@ -608,4 +567,42 @@ fn draw_words(app: &App, f: &mut Frame, area: Rect, text: &str, selected: usize)
         })
         .collect();
     f.render_widget(Paragraph::new(lines), inner);
+}
+
+/// A list to pick from, centred, `width` wide, scrolled to `selected`
+/// (reversed); each row cut with `…` where it does not fit.
+fn list(f: &mut Frame, area: Rect, width: u16, rows: &[String], selected: usize, title: &str) {
+    let r = centered(
+        area,
+        width,
+        (rows.len() as u16 + 2).min(area.height.saturating_sub(2)),
+    );
+    f.render_widget(Clear, r);
+    let h = r.height.saturating_sub(2) as usize;
+    let first = selected.saturating_sub(h.saturating_sub(1));
+    let lines: Vec<Line> = rows
+        .iter()
+        .enumerate()
+        .skip(first)
+        .take(h)
+        .map(|(i, row)| {
+            let st = if i == selected {
+                Style::default().add_modifier(Modifier::REVERSED)
+            } else {
+                Style::default()
+            };
+            Line::from(Span::styled(
+                fit(row, r.width.saturating_sub(2) as usize),
+                st,
+            ))
+        })
+        .collect();
+    f.render_widget(
+        Paragraph::new(lines).block(
+            Block::default()
+                .borders(Borders::ALL)
+                .title(title.to_string()),
+        ),
+        r,
+    );
 }

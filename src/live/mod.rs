@@ -541,12 +541,17 @@ impl LiveStatus {
             },
             self.per_second,
             self.transitions,
-            match self.gaps {
-                0 => "no gap".to_string(),
-                1 => "1 gap".to_string(),
-                n => format!("{n} gaps"),
-            }
+            self.gaps_text()
         )
+    }
+
+    /// `no gap`, `1 gap`, `N gaps`.
+    pub fn gaps_text(&self) -> String {
+        match self.gaps {
+            0 => "no gap".to_string(),
+            1 => "1 gap".to_string(),
+            n => format!("{n} gaps"),
+        }
     }
 }
 

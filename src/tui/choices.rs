@@ -96,11 +96,7 @@ impl Choices {
                             r.endpoint,
                             f.glance(),
                             f.status.transitions,
-                            match f.status.gaps {
-                                0 => "no gap".to_string(),
-                                1 => "1 gap".to_string(),
-                                n => format!("{n} gaps"),
-                            }
+                            f.status.gaps_text()
                         ),
                         (None, Some(e)) => format!("{}  unreachable ({e})", r.endpoint),
                         (None, None) => r.endpoint.clone(),

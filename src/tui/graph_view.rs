@@ -221,14 +221,14 @@ pub fn draw(n: &Neighbourhood, pick: Option<usize>, width: usize) -> Vec<Line<'s
         Style::default().add_modifier(Modifier::BOLD),
     )));
     // The hint whole, or a shorter one whole: never cut mid-word.
-    let hint = [
-        "←→ pick a cause or effect · Enter: centre on it · Esc: back to the variable asked about",
-        "←→ pick · Enter: centre on it · Esc: back",
-        "Esc: back",
-    ]
-    .into_iter()
-    .find(|h| h.chars().count() <= width)
-    .unwrap_or("");
+    let hint = crate::tui::view::first_fitting(
+        &[
+            "←→ pick a cause or effect · Enter: centre on it · Esc: back to the variable asked about",
+            "←→ pick · Enter: centre on it · Esc: back",
+            "Esc: back",
+        ],
+        width,
+    );
     lines.push(Line::from(Span::styled(
         hint,
         Style::default().fg(Color::DarkGray),

@@ -136,6 +136,16 @@ pub fn first_row(app: &App, height: usize) -> usize {
     }
 }
 
+/// The first of `texts` (longest first) that fits in `cols` columns, or
+/// none: a hint is shown whole or shorter, never cut mid-word.
+pub fn first_fitting<'a>(texts: &[&'a str], cols: usize) -> &'a str {
+    texts
+        .iter()
+        .copied()
+        .find(|t| t.chars().count() <= cols)
+        .unwrap_or("")
+}
+
 /// `text` in at most `cols` columns: cut with `…` when it does not fit.
 pub fn fit(text: &str, cols: usize) -> String {
     if Span::raw(text).width() <= cols {

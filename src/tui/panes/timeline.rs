@@ -288,14 +288,14 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
     };
     let room = (inner.width as usize).saturating_sub(head.chars().count() + 4);
     // The strip's legend, shorter where the long one does not fit.
-    let legend = [
-        "strip: ▆ running ▃ failed ▂ succeeded ⊘ halted · not ticked",
-        "▆ running ▃ failed ▂ succeeded ⊘ halted · not run",
-        "▆ run ▃ fail ▂ ok ⊘ halt · not run",
-    ]
-    .into_iter()
-    .find(|l| l.chars().count() <= room)
-    .unwrap_or("");
+    let legend = first_fitting(
+        &[
+            "strip: ▆ running ▃ failed ▂ succeeded ⊘ halted · not ticked",
+            "▆ running ▃ failed ▂ succeeded ⊘ halted · not run",
+            "▆ run ▃ fail ▂ ok ⊘ halt · not run",
+        ],
+        room,
+    );
     let mut lines = vec![Line::from(vec![
         Span::raw(head),
         Span::styled(

@@ -162,20 +162,35 @@ fn until_it_happens(
     unreachable!("the third run is returned")
 }
 
+/// Whether the run met no race of BehaviorTree.CPP 4.8's publisher: under
+/// load it zeroes records (btx says so; tests that compare a run whole
+/// with the robot's log run again, and the ten-thousand-a-second test
+/// checks that what is lost is exactly what btx said).
+fn no_race(w: &Watched) -> bool {
+    !w.stderr.contains("zeroed records")
+}
+
 /// Runs the robot with `plan` and watches it; (the btlog the robot wrote,
 /// the session btx wrote, btx's stdout with its rows renumbered as btx said
-/// on stderr).
-fn watch(plan: &str, dir: &Path) -> (Session, Session, String) {
+/// on stderr, btx's stderr).
+fn watch(plan: &str, dir: &Path) -> (Session, Session, String, String) {
     let btlog = dir.join(format!("{plan}.btlog"));
     let out = dir.join(format!("{plan}.jsonl"));
-    let w = watch_robot(
-        &fixture("kitting-tree.v4.xml"),
-        &fixture(&format!("plans/{plan}.plan")),
+    let w = until_it_happens(
         &btlog,
-        &["20", "stdin"],
-        &["--out", out.to_str().unwrap()],
-        None,
-        &|_| {},
+        &out,
+        || {
+            watch_robot(
+                &fixture("kitting-tree.v4.xml"),
+                &fixture(&format!("plans/{plan}.plan")),
+                &btlog,
+                &["20", "stdin"],
+                &["--out", out.to_str().unwrap()],
+                None,
+                &|_| {},
+            )
+        },
+        no_race,
     );
     assert!(w.ok, "{}", w.stderr);
     // The one case where the rows printed may differ from the session:
@@ -195,7 +210,7 @@ fn watch(plan: &str, dir: &Path) -> (Session, Session, String) {
         );
         stdout = rows.iter().map(|l| format!("{l}\n")).collect();
     }
-    (session(&btlog), watched, stdout)
+    (session(&btlog), watched, stdout, w.stderr)
 }
 
 #[test]
@@ -207,7 +222,7 @@ fn a_live_run_is_the_run_the_robot_logged_transition_for_transition() {
         "kitting_grasp_check_fails_first",
         "kitting_detect_chuck_always_fails",
     ] {
-        let (logged, watched, stdout) = watch(plan, dir.path());
+        let (logged, watched, stdout, stderr) = watch(plan, dir.path());
         assert!(!logged.index.transitions.is_empty(), "{plan}");
         if watched.index.transitions != logged.index.transitions {
             let (w, l) = (&watched.index.transitions, &logged.index.transitions);
@@ -215,7 +230,7 @@ fn a_live_run_is_the_run_the_robot_logged_transition_for_transition() {
             let at = at.unwrap_or(w.len().min(l.len()));
             panic!(
                 "{plan}: btx watch kept {} transitions, the robot's FileLogger {}; \
-                 from #{at}:\n watch {:?}\n log   {:?}\n{}",
+                 from #{at}:\n watch {:?}\n log   {:?}\nbtx said: {stderr}\n{}",
                 w.len(),
                 l.len(),
                 &w[at.min(w.len())..(at + 4).min(w.len())],
@@ -296,14 +311,21 @@ fn attached_to_a_robot_already_running_btx_knows_each_node_as_it_was() {
     let dir = tempfile::tempdir().unwrap();
     let btlog = dir.path().join("late.btlog");
     let out = dir.path().join("late.jsonl");
-    let w = watch_robot(
-        &fixture("kitting-tree.v4.xml"),
-        &fixture("plans/kitting_lookat_fails_once.plan"),
+    let w = until_it_happens(
         &btlog,
-        &["20", "stdin"],
-        &["--out", out.to_str().unwrap()],
-        Some(Duration::from_millis(400)),
-        &|_| {},
+        &out,
+        || {
+            watch_robot(
+                &fixture("kitting-tree.v4.xml"),
+                &fixture("plans/kitting_lookat_fails_once.plan"),
+                &btlog,
+                &["20", "stdin"],
+                &["--out", out.to_str().unwrap()],
+                Some(Duration::from_millis(400)),
+                &|_| {},
+            )
+        },
+        no_race,
     );
     assert!(w.ok, "{}", w.stderr);
     assert!(
@@ -794,7 +816,7 @@ fn the_run_less_what_btx_said_it_lost(logged: &Session, watched: &Session, err: 
     let lost: usize = err
         .lines()
         .filter_map(|l| l.split("the server sent ").nth(1))
-        .filter_map(|l| l.split(' ').next()?.parse::<usize>().ok())
+        .filter_map(|l| l.split_once(" zeroed records")?.0.parse::<usize>().ok())
         .sum();
     let (l, w) = (&logged.index.transitions, &watched.index.transitions);
     assert_eq!(w.len() + lost, l.len(), "{err}");
@@ -1049,17 +1071,22 @@ fn three_robots_are_watched_at_once_each_into_its_own_session() {
         let _ = robot.wait();
         let logged = session(&btlog);
         let watched = session(&out.join(format!("127.0.0.1_{port}.jsonl")));
-        assert_eq!(
-            watched.index.transitions, logged.index.transitions,
-            "robot :{port}"
-        );
-        assert!(watched.index.gaps.is_empty(), "robot :{port}");
+        let prefix = format!("[127.0.0.1:{port}] ");
+        let said: String = rest
+            .lines()
+            .filter(|l| l.starts_with(&prefix))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        // Three robots load the machine: BehaviorTree.CPP's race may zero
+        // records of one, which must then be exactly what btx said it lost.
+        if the_run_less_what_btx_said_it_lost(&logged, &watched, &said) == 0 {
+            assert!(watched.index.gaps.is_empty(), "robot :{port}");
+        }
         assert!(
             watched.ending().starts_with("ended at tick"),
             "{}",
             watched.ending()
         );
-        let prefix = format!("[127.0.0.1:{port}] ");
         assert!(
             rest.contains(&format!("{prefix}the robot's run finished")),
             "{rest}"

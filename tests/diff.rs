@@ -170,7 +170,7 @@ fn why_two_runs_diverged_is_asked_in_the_second_run() {
     ]);
     assert!(ok, "{err}");
     assert!(out.contains(
-        "The runs part ways at transition 35 (moment 1:35), RepeatOrEnd (#24) chose EndThisSequence in B and RepeatThisSequence in A."
+        "The runs part ways at transition 35 (moment 1:35): RepeatOrEnd (#24) chose EndThisSequence in B and RepeatThisSequence in A."
     ), "{out}");
     assert!(out.contains(
         "RepeatOrEnd chose EndThisSequence because UserMemory was 0.0. If UserMemory had been between 0.1 and 0.9, RepeatOrEnd would have chosen RepeatThisSequence."
@@ -448,7 +448,160 @@ fn a_robots_log_and_our_run_of_its_plan_do_the_same() {
     ]);
     assert!(ok, "{err}");
     assert!(
-        out.contains("at transition 32 (moment 10:1), look at chuck (#18) became FAILURE in B and SUCCESS in A"),
+        out.contains("at transition 32 (moment 10:1): look at chuck (#18) became FAILURE in B and SUCCESS in A"),
         "{out}"
     );
+}
+
+/// The runs of the kitting plans, recorded by BehaviorTree.CPP 4.10
+/// (tests/fixtures/logs, from ../shared/fixtures/btcpp).
+const KITTING: [&str; 4] = [
+    "tests/fixtures/logs/kitting_nominal.btlog",
+    "tests/fixtures/logs/kitting_lookat_fails_once.btlog",
+    "tests/fixtures/logs/kitting_grasp_check_fails_first.btlog",
+    "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog",
+];
+
+/// A run's transitions as `btx log` gives them: (uid, prev, status).
+fn transitions(run: &str) -> Vec<(u64, String, String)> {
+    let v = json(&["log", run, "--format", "json"]);
+    v["transitions"]
+        .as_array()
+        .expect("a list of transitions")
+        .iter()
+        .map(|t| {
+            (
+                t["uid"].as_u64().unwrap(),
+                t["prev"].as_str().unwrap().to_string(),
+                t["status"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn every_pair_of_runs_parts_at_one_place_in_diff_why_and_the_side_by_side() {
+    // #27 item 4: `btx diff` named one first divergence, `--why` another.
+    // For every ordered pair of the kitting runs: where they part is the
+    // first transition the two logs differ at (read with `btx log`, apart
+    // from btx diff); the step marked as the parting holds it; `--why`
+    // names that transition; the side-by-side view's first `d` selects
+    // that step; and no "changed" pair is two different leaves.
+    for a in KITTING {
+        for b in KITTING {
+            let (ta, tb) = (transitions(a), transitions(b));
+            let first = ta.iter().zip(&tb).position(|(x, y)| x != y);
+            let first = first.or((ta.len() != tb.len()).then(|| ta.len().min(tb.len())));
+            let v = json(&["diff", a, b, "--format", "json"]);
+            let Some(at) = first else {
+                assert!(v["parting"].is_null(), "{a} {b}");
+                assert_eq!(v["identical"], true);
+                continue;
+            };
+            let p = &v["parting"];
+            assert_eq!(p["transition"].as_u64(), Some(at as u64 + 1), "{a} {b}");
+            let mut parting = Vec::new();
+            for s in v["sections"].as_array().unwrap() {
+                for e in s["edits"].as_array().unwrap() {
+                    if e["role"] == "parting" {
+                        parting.push(e.clone());
+                    }
+                    if e["op"] == "changed" {
+                        assert_eq!(e["a"]["uid"], e["b"]["uid"], "{a} {b}: {e}");
+                    }
+                    if e["op"] == "same" {
+                        assert_eq!(e["role"], "same");
+                    }
+                }
+            }
+            assert_eq!(parting.len(), 1, "{a} {b}");
+            // Its step started at or before the transition where they
+            // part, in the tick of it or before (a leaf RUNNING over ticks).
+            let step = if parting[0]["b"].is_null() {
+                &parting[0]["a"]
+            } else {
+                &parting[0]["b"]
+            };
+            let moment_tick: u64 = p["moment"]
+                .as_str()
+                .unwrap()
+                .split(':')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!(
+                step["tick"].as_u64().unwrap() <= moment_tick,
+                "{a} {b}: {step}"
+            );
+            let text = format!("The runs part ways {}.", p["text"].as_str().unwrap());
+            assert!(
+                v["first_divergence"]["text"].is_string(),
+                "{a} {b}: the first divergence is the parting step"
+            );
+            // --why asks at that same transition.
+            let w = json(&["diff", a, b, "--why", "--format", "json"]);
+            assert_eq!(w["why"]["transition"], p["transition"], "{a} {b}");
+            let (ok, out, _) = btx(&["diff", a, b, "--why"]);
+            assert!(ok);
+            assert!(out.contains(&text), "{a} {b}: {out}");
+            assert_eq!(out.matches("part ways at transition").count(), 1, "{out}");
+            // The side-by-side view's first divergence is that step.
+            let mut app = btx::tui::open_diff(
+                std::path::Path::new(a),
+                std::path::Path::new(b),
+                &Default::default(),
+            )
+            .unwrap();
+            app.update(btx::tui::keymap::Action::NextDivergence);
+            let said = app.message.clone().unwrap();
+            assert!(
+                said.contains(" (the runs part ways here")
+                    || said.contains(" (the first to differ after"),
+                "{said}"
+            );
+            assert!(
+                said.ends_with(v["first_divergence"]["text"].as_str().unwrap()),
+                "{said}"
+            );
+        }
+    }
+}
+
+#[test]
+fn steps_made_only_because_the_runs_parted_follow_from_it() {
+    // Nominal against "look at chuck fails once": look at chuck's failure
+    // is where they part; the retry it caused (reset arm, then the detect
+    // and insert steps again) follows from it, and is no divergence of
+    // its own: the side-by-side view marks ≠ only look at chuck.
+    let (a, b) = (KITTING[0], KITTING[1]);
+    let (ok, out, _) = btx(&["diff", a, b]);
+    assert!(ok);
+    let marked: Vec<&str> = out
+        .lines()
+        .filter(|l| l.starts_with("> +") || l.starts_with("· "))
+        .collect();
+    assert_eq!(marked.len(), 8, "{out}");
+    assert!(marked[0].starts_with("> +") && marked[0].ends_with("t9 #18 look at chuck (FAILURE)"));
+    assert!(marked[1].ends_with("t10 #27 retreat arm"), "{out}");
+    assert!(marked[1..].iter().all(|l| l.starts_with("· +")));
+    assert!(
+        out.contains(
+            "After it, 7 steps follow from where they part, and none diverges of its own."
+        ),
+        "{out}"
+    );
+    let app = btx::tui::open_diff(
+        std::path::Path::new(a),
+        std::path::Path::new(b),
+        &Default::default(),
+    )
+    .unwrap();
+    let mut divergent: Vec<_> = app.b.divergent.iter().copied().collect();
+    divergent.sort();
+    assert_eq!(divergent, [18]);
+    let mut following: Vec<_> = app.b.following.iter().copied().collect();
+    following.sort();
+    assert_eq!(following, [10, 11, 12, 15, 16, 17, 27]);
+    assert_eq!(app.diff.divergences().len(), 1);
 }

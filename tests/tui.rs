@@ -373,7 +373,7 @@ fn side_by_side_runs_move_together_and_say_why_they_diverged() {
     app.update(Action::Why);
     let text = app.answer.clone().unwrap();
     assert!(
-        text.starts_with("The runs part ways at transition 32 (moment 10:1), look at chuck (#18) became FAILURE in B and SUCCESS in A."),
+        text.starts_with("The runs part ways at transition 32 (moment 10:1): look at chuck (#18) became FAILURE in B and SUCCESS in A."),
         "{text}"
     );
     assert_eq!(app.b.moment().unwrap().to_string(), "10:1");

@@ -85,7 +85,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 match &diverged {
                     Some(None) => println!("\n{}", Diverged::SAME),
                     Some(Some(x)) => {
-                        print!("\n{}", x.text(inputs[1].tree(), "Why, in B: "))
+                        print!("\n{}", x.why_text("Why, in B: "))
                     }
                     None => {}
                 }
@@ -98,7 +98,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                         Some(x) => serde_json::json!({
                             "transition": x.difference.index + 1,
                             "moment": x.difference.moment.to_string(),
-                            "text": x.difference.text(inputs[1].tree(), "A", "B"),
+                            "text": x.difference.text(inputs[0].tree(), inputs[1].tree(), "A", "B"),
                             "answer": x.why.as_ref().map(|w| w.json()),
                         }),
                     };

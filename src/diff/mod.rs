@@ -10,6 +10,7 @@
 
 pub mod align;
 pub mod fleet;
+pub mod parting;
 
 pub use align::{Edit, Op};
 
@@ -62,6 +63,9 @@ pub struct Step {
     /// at the end of the run; IDLE: halted).
     pub tick: Option<u32>,
     pub outcome: Option<Status>,
+    /// For runs: the transitions it spans, from its start to its outcome
+    /// (0-based indices into the run's transitions).
+    pub span: Option<(usize, usize)>,
 }
 
 impl Step {
@@ -142,18 +146,19 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
             });
         }
     }
-    let step = |uid: Uid, tick, outcome| Step {
+    let step = |uid: Uid, tick, outcome, span| Step {
         uid,
         name: tree.description(uid).to_string(),
         tick,
         outcome,
+        span,
     };
     match side.session {
         None => {
             for uid in tree.leaves_below(Tree::ROOT) {
                 seqs[slot[owner(tree, uid) as usize]]
                     .steps
-                    .push(step(uid, None, None));
+                    .push(step(uid, None, None, None));
             }
         }
         Some(s) => {
@@ -162,7 +167,7 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
             // transition ends it. Re-ticks that do not change the status
             // leave no record in any log, so they cannot be counted.
             let mut open: Vec<Option<(usize, usize)>> = vec![None; tree.len() + 1];
-            for t in &s.index.transitions {
+            for (k, t) in s.index.transitions.iter().enumerate() {
                 let Some(node) = tree.get(t.uid) else {
                     continue;
                 };
@@ -170,7 +175,9 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
                     continue;
                 }
                 if let Some((q, i)) = open[t.uid as usize].take() {
-                    seqs[q].steps[i].outcome = Some(t.status);
+                    let st = &mut seqs[q].steps[i];
+                    st.outcome = Some(t.status);
+                    st.span = st.span.map(|(from, _)| (from, k));
                     if t.status == Status::Running {
                         open[t.uid as usize] = Some((q, i));
                     }
@@ -185,7 +192,7 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
                     let q = slot[owner(tree, t.uid) as usize];
                     seqs[q]
                         .steps
-                        .push(step(t.uid, Some(t.tick), Some(t.status)));
+                        .push(step(t.uid, Some(t.tick), Some(t.status), Some((k, k))));
                     if t.status == Status::Running {
                         open[t.uid as usize] = Some((q, seqs[q].steps.len() - 1));
                     }
@@ -209,6 +216,24 @@ pub struct Section {
     /// The edit script is a shortest one (`false`: the alignment's time
     /// bound was reached, and the distance is an upper bound).
     pub exact: bool,
+    /// What each edit is to the comparison of two runs (parallel to `edits`).
+    pub roles: Vec<Role>,
+}
+
+/// What a divergent edit is, between two runs: where they part ways, a
+/// step that only ran (or did not) because they had parted, or a
+/// difference of its own after that (a leaf both ran, ending otherwise).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Role {
+    Same,
+    /// The edit whose step holds the first transition where the runs differ.
+    Parting,
+    /// Inserted or deleted after the parting: the runs took other paths.
+    Follows,
+    /// A divergence of its own: a step both runs made, ending otherwise
+    /// (or any divergence between two trees).
+    Own,
 }
 
 impl Section {
@@ -242,10 +267,20 @@ impl Section {
         })
         .collect();
         if parts.is_empty() {
-            "the same".into()
-        } else {
-            parts.join(", ")
+            return "the same".into();
         }
+        let mut out = parts.join(", ");
+        let follow = self.roles.iter().filter(|r| **r == Role::Follows).count();
+        if self.roles.contains(&Role::Parting) {
+            out.push_str("; the first divergence (>)");
+        }
+        if follow > 0 {
+            out.push_str(&format!(
+                "; {follow} {} from where they part (·)",
+                if follow == 1 { "follows" } else { "follow" }
+            ));
+        }
+        out
     }
 
     fn json(&self) -> Value {
@@ -273,8 +308,9 @@ impl Section {
             "inserted": pick(Op::Inserted),
             "deleted": pick(Op::Deleted),
             "changed": pick(Op::Changed),
-            "edits": self.edits.iter().map(|e| json!({
+            "edits": self.edits.iter().zip(&self.roles).map(|(e, r)| json!({
                 "op": e.op,
+                "role": r,
                 "a": side(&self.a, e.a),
                 "b": side(&self.b, e.b),
             })).collect::<Vec<_>>(),
@@ -291,6 +327,92 @@ pub struct Diff {
     pub a_run: bool,
     pub b_run: bool,
     pub sections: Vec<Section>,
+    /// Two runs: the first transition where they differ, and that in
+    /// words ("at transition 32 (moment 10:1): … became FAILURE in B …").
+    pub parting: Option<parting::Difference>,
+    pub parting_text: Option<String>,
+    /// Whether the step marked as the parting holds that transition (else
+    /// it is the first divergent step after it: the transition was in a
+    /// step both runs made alike, as a leaf RUNNING one tick longer).
+    pub parting_held: bool,
+}
+
+/// Between two runs, a changed pair of two different leaves says nothing
+/// true ("A's stop is B's scan"): it is one step deleted and one inserted.
+fn unlike_apart(edits: Vec<Edit>, a: &[Step], b: &[Step]) -> Vec<Edit> {
+    let mut out = Vec::with_capacity(edits.len());
+    for e in edits {
+        match (e.op, e.a, e.b) {
+            (Op::Changed, Some(i), Some(j)) if a[i].name != b[j].name => {
+                out.push(Edit {
+                    op: Op::Deleted,
+                    a: Some(i),
+                    b: None,
+                });
+                out.push(Edit {
+                    op: Op::Inserted,
+                    a: None,
+                    b: Some(j),
+                });
+            }
+            _ => out.push(e),
+        }
+    }
+    out
+}
+
+/// Gives each divergent edit its role, the runs parting at transition
+/// `at`: the edit whose step holds that transition (or, when none does,
+/// the first to start after it) is the parting; after it, steps only one
+/// run made follow from it, and a step both made that ended otherwise is
+/// a divergence of its own.
+fn mark_parting(sections: &mut [Section], at: usize) -> bool {
+    let when = |st: &Step| match st.span {
+        Some((from, to)) if from <= at && at <= to => at,
+        Some((from, _)) => from,
+        None => usize::MAX,
+    };
+    let whens: Vec<Vec<usize>> = sections
+        .iter()
+        .map(|sec| {
+            sec.edits
+                .iter()
+                .map(|e| {
+                    let a = e.a.map(|k| when(&sec.a[k]));
+                    a.into_iter()
+                        .chain(e.b.map(|k| when(&sec.b[k])))
+                        .min()
+                        .unwrap_or(usize::MAX)
+                })
+                .collect()
+        })
+        .collect();
+    let mut first: Option<(usize, usize, usize)> = None;
+    for (s, sec) in sections.iter().enumerate() {
+        for (i, e) in sec.edits.iter().enumerate() {
+            let w = whens[s][i];
+            if e.op != Op::Same && w >= at && first.is_none_or(|f| w < f.0) {
+                first = Some((w, s, i));
+            }
+        }
+    }
+    let Some((held, ps, pi)) = first else {
+        return false;
+    };
+    for (s, sec) in sections.iter_mut().enumerate() {
+        for (i, e) in sec.edits.iter().enumerate() {
+            sec.roles[i] = match e.op {
+                Op::Same => Role::Same,
+                _ if (s, i) == (ps, pi) => Role::Parting,
+                // Before the parting the runs are one: an alignment that
+                // says otherwise (past its time bound) is shown as it is.
+                _ if whens[s][i] < at => Role::Own,
+                Op::Changed => Role::Own,
+                _ => Role::Follows,
+            };
+        }
+    }
+    held == at
 }
 
 impl Diff {
@@ -308,7 +430,20 @@ impl Diff {
             let ys = y.map_or(&empty, |s| &s.steps);
             let kx: Vec<String> = xs.iter().map(|s| s.key(outcomes)).collect();
             let ky: Vec<String> = ys.iter().map(|s| s.key(outcomes)).collect();
-            let (edits, exact) = align::edits_bounded(&kx, &ky);
+            let (mut edits, exact) = align::edits_bounded(&kx, &ky);
+            if outcomes {
+                edits = unlike_apart(edits, xs, ys);
+            }
+            let roles = edits
+                .iter()
+                .map(|e| {
+                    if e.op == Op::Same {
+                        Role::Same
+                    } else {
+                        Role::Own
+                    }
+                })
+                .collect();
             sections.push(Section {
                 name,
                 a_subgoal: x.map(|s| s.subgoal),
@@ -317,6 +452,7 @@ impl Diff {
                 b: ys.clone(),
                 edits,
                 exact,
+                roles,
             });
         };
         // The goals always pair; subgoals pair by name, in order, and a
@@ -338,13 +474,39 @@ impl Diff {
                 }
             }
         }
+        let parting = match (a.session, b.session) {
+            (Some(x), Some(y)) => parting::first_difference(x, y),
+            _ => None,
+        };
+        let parting_held = parting
+            .as_ref()
+            .is_some_and(|p| mark_parting(&mut sections, p.index));
+        let parting_text = parting.as_ref().map(|p| p.text(a.tree, b.tree, "A", "B"));
         Diff {
             a_name: a.name.clone(),
             b_name: b.name.clone(),
             a_run: a.session.is_some(),
             b_run: b.session.is_some(),
             sections,
+            parting,
+            parting_text,
+            parting_held,
         }
+    }
+
+    /// The edit where the runs part ways: (section, edit).
+    pub fn parting_edit(&self) -> Option<(usize, usize)> {
+        self.edits_with(Role::Parting).next()
+    }
+
+    fn edits_with(&self, role: Role) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.sections.iter().enumerate().flat_map(move |(s, sec)| {
+            sec.roles
+                .iter()
+                .enumerate()
+                .filter(move |(_, r)| **r == role)
+                .map(move |(i, _)| (s, i))
+        })
     }
 
     /// Whether outcomes are compared too (both sides are runs): a leaf that
@@ -365,27 +527,37 @@ impl Diff {
         !self.sections.iter().any(Section::diverges)
     }
 
-    /// Every divergent edit, in report order: (section, edit index).
+    /// The divergences, (section, edit index): where two runs part ways
+    /// first, then each divergence of its own in report order (steps that
+    /// only follow from the parting are not divergences of their own).
     pub fn divergences(&self) -> Vec<(usize, usize)> {
-        let mut out = Vec::new();
-        for (s, sec) in self.sections.iter().enumerate() {
-            for (i, e) in sec.edits.iter().enumerate() {
-                if e.op != Op::Same {
-                    out.push((s, i));
-                }
-            }
-        }
-        out
+        self.parting_edit()
+            .into_iter()
+            .chain(self.edits_with(Role::Own))
+            .collect()
+    }
+
+    /// The edits that follow from where the runs part ways.
+    pub fn following(&self) -> Vec<(usize, usize)> {
+        self.edits_with(Role::Follows).collect()
     }
 
     /// The nodes of either side that diverge: (uids in a, uids in b).
     pub fn divergent_nodes(&self) -> (Vec<Uid>, Vec<Uid>) {
+        self.nodes_of(&self.divergences())
+    }
+
+    /// The nodes of either side whose steps follow from the parting.
+    pub fn following_nodes(&self) -> (Vec<Uid>, Vec<Uid>) {
+        self.nodes_of(&self.following())
+    }
+
+    fn nodes_of(&self, edits: &[(usize, usize)]) -> (Vec<Uid>, Vec<Uid>) {
         let (mut a, mut b) = (Vec::new(), Vec::new());
-        for sec in &self.sections {
-            for e in sec.edits.iter().filter(|e| e.op != Op::Same) {
-                a.extend(e.a.map(|i| sec.a[i].uid));
-                b.extend(e.b.map(|i| sec.b[i].uid));
-            }
+        for &(s, i) in edits {
+            let (sec, e) = (&self.sections[s], self.sections[s].edits[i]);
+            a.extend(e.a.map(|k| sec.a[k].uid));
+            b.extend(e.b.map(|k| sec.b[k].uid));
         }
         (a, b)
     }
@@ -434,6 +606,14 @@ impl Diff {
             self.b_name,
             what(self.b_run)
         );
+        if self.parting_edit().is_some() {
+            out.push_str(if self.parting_held {
+                "> where the runs part ways"
+            } else {
+                "> the first step to differ after the runs part ways"
+            });
+            out.push_str("   · a step made (or not) only because they had parted\n");
+        }
         let width = self
             .sections
             .iter()
@@ -465,30 +645,59 @@ impl Diff {
                 plural(sec.b.len(), "action"),
                 sec.summary()
             ));
-            for e in &sec.edits {
+            for (e, role) in sec.edits.iter().zip(&sec.roles) {
                 let mark = match e.op {
                     Op::Same => ' ',
                     Op::Inserted => '+',
                     Op::Deleted => '-',
                     Op::Changed => '~',
                 };
+                let lead = match role {
+                    Role::Parting => '>',
+                    Role::Follows => '·',
+                    _ => ' ',
+                };
                 let left = e.a.map(|i| sec.a[i].label()).unwrap_or_default();
                 let right = e.b.map(|i| sec.b[i].label()).unwrap_or_default();
-                let line = format!("  {mark} {left:<width$}   {right}");
+                let line = format!("{lead} {mark} {left:<width$}   {right}");
                 out.push_str(line.trim_end());
                 out.push('\n');
             }
         }
         let steps: usize = self.sections.iter().map(|s| s.a.len()).sum();
+        let parted = self
+            .parting_text
+            .as_ref()
+            .map(|p| format!(" The runs part ways {p}."))
+            .unwrap_or_default();
         if self.is_empty() {
+            let but = if parted.is_empty() { "" } else { " Yet" };
             out.push_str(&format!(
-                "\nNo divergence: every subgoal has the same {} in A and B.\n",
-                plural(steps, "action")
+                "\nNo divergence: every subgoal has the same {} in A and B.{}\n",
+                plural(steps, "action"),
+                parted.replacen(" The", &format!("{but} the"), 1)
             ));
         } else {
             let (s, i) = self.divergences()[0];
+            let follow = self.following().len();
+            let others = self.divergences().len() - 1;
+            let after = if self.parting_edit().is_some() {
+                let follow = match follow {
+                    0 => "no step follows from where they part".to_string(),
+                    1 => "1 step follows from where they part".to_string(),
+                    n => format!("{n} steps follow from where they part"),
+                };
+                let others = match others {
+                    0 => "none diverges of its own".to_string(),
+                    1 => "1 more diverges of its own".to_string(),
+                    n => format!("{n} more diverge of their own"),
+                };
+                format!(" After it, {follow}, and {others}.")
+            } else {
+                String::new()
+            };
             out.push_str(&format!(
-                "\nIn all: edit distance {}{}, LCS {}. First divergence: {}.\n",
+                "\nIn all: edit distance {}{}, LCS {}.{parted} First divergence: {}.{after}\n",
                 self.distance(),
                 if self.sections.iter().all(|s| s.exact) {
                     ""
@@ -510,6 +719,14 @@ impl Diff {
                 "text": self.describe(s, i),
             })
         });
+        let parting = self.parting.as_ref().map(|p| {
+            json!({
+                "transition": p.index + 1,
+                "moment": p.moment.to_string(),
+                "text": self.parting_text,
+                "following": self.following().len(),
+            })
+        });
         json!({
             "a": {"name": self.a_name, "kind": kind(self.a_run)},
             "b": {"name": self.b_name, "kind": kind(self.b_run)},
@@ -518,6 +735,7 @@ impl Diff {
             "distance": self.distance(),
             "lcs": self.lcs(),
             "first_divergence": first,
+            "parting": parting,
             "sections": self.sections.iter().map(Section::json).collect::<Vec<_>>(),
         })
     }

@@ -23,6 +23,8 @@ pub struct Pane {
     /// Leaves that diverge, and their parents (Fig. 14's two colours).
     pub divergent: HashSet<Uid>,
     pub parents: HashSet<Uid>,
+    /// Leaves that only ran (or did not) because the runs had parted.
+    pub following: HashSet<Uid>,
 }
 
 impl Pane {
@@ -124,6 +126,7 @@ impl DiffApp {
                 tick: 1,
                 divergent: HashSet::new(),
                 parents: HashSet::new(),
+                following: HashSet::new(),
             }
         };
         let (mut a, mut b) = (pane(a), pane(b));
@@ -136,6 +139,11 @@ impl DiffApp {
                     p.parents.insert(parent);
                 }
             }
+        }
+        let (fa, fb) = diff.following_nodes();
+        for (p, nodes) in [(&mut a, fa), (&mut b, fb)] {
+            let only = nodes.into_iter().filter(|u| !p.divergent.contains(u));
+            p.following.extend(only.collect::<Vec<_>>());
         }
         let rows = Self::align(&a, &b, &diff);
         DiffApp {
@@ -303,8 +311,22 @@ impl DiffApp {
             self.a.go_to_tick(t);
             self.b.go_to_tick(t);
         }
+        let parting = if self.diff.parting_edit() == Some((s, i)) {
+            let here = if self.diff.parting_held {
+                "the runs part ways here"
+            } else {
+                "the first to differ after the runs part"
+            };
+            match self.diff.following().len() {
+                0 => format!(" ({here})"),
+                1 => format!(" ({here}; 1 step follows, ·)"),
+                k => format!(" ({here}; {k} steps follow, ·)"),
+            }
+        } else {
+            String::new()
+        };
         self.message = Some(format!(
-            "divergence {} of {n}: {}",
+            "divergence {} of {n}{parting}: {}",
             next + 1,
             self.diff.describe(s, i)
         ));

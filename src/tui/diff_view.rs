@@ -61,6 +61,8 @@ fn tree_pane(app: &DiffApp, side: usize, f: &mut Frame, area: Rect) {
             "≠ "
         } else if p.parents.contains(&uid) {
             "› "
+        } else if p.following.contains(&uid) {
+            "· "
         } else {
             "  "
         };
@@ -71,6 +73,8 @@ fn tree_pane(app: &DiffApp, side: usize, f: &mut Frame, area: Rect) {
                 .add_modifier(Modifier::BOLD);
         } else if p.parents.contains(&uid) {
             name = name.bg(PARENT).fg(Color::White);
+        } else if p.following.contains(&uid) {
+            name = name.add_modifier(Modifier::ITALIC);
         }
         if selected {
             name = name.add_modifier(Modifier::REVERSED);
@@ -202,7 +206,9 @@ fn help(app: &DiffApp, f: &mut Frame, area: Rect) {
         Span::styled("≠ leaf ", Style::default().bg(DIVERGENT).fg(Color::White)),
         Span::raw(" a divergent action   "),
         Span::styled("› parent ", Style::default().bg(PARENT).fg(Color::White)),
-        Span::raw(" its parent"),
+        Span::raw(" its parent   "),
+        Span::styled("· leaf", Style::default().add_modifier(Modifier::ITALIC)),
+        Span::raw(" ran (or not) only because the runs had parted"),
     ]));
     lines.push(Line::from(""));
     for (keys, action, help, _) in &app.keymap.keys {

@@ -83,7 +83,10 @@ pub(crate) const LEGEND: &[(&str, &str)] = &[
     ),
     ("·", "strip: not ticked that tick (blank: not run yet)"),
     ("★", "causal model: a reason of the picked explanation"),
-    ("≠ ›", "side-by-side diff: a divergent leaf, its parent"),
+    (
+        "≠ › ·",
+        "side-by-side diff: a divergent leaf, its parent, a leaf that only follows",
+    ),
     (
         "⋯ gap",
         "live run: transitions may be missing before this one",

@@ -1161,3 +1161,130 @@ fn faster_and_slower_while_paused_say_the_speed() {
         Some("play speed: a step every 200 ms (s plays)")
     );
 }
+
+/// A key press as a terminal sends it, from its name in the keymap.
+fn key_event(name: &str) -> ratatui::crossterm::event::KeyEvent {
+    use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyModifiers};
+    let (mods, base) = match name.strip_prefix("Ctrl-") {
+        Some(b) => (KeyModifiers::CONTROL, b),
+        None => (KeyModifiers::NONE, name),
+    };
+    let code = match base {
+        "Up" => KeyCode::Up,
+        "Down" => KeyCode::Down,
+        "Left" => KeyCode::Left,
+        "Right" => KeyCode::Right,
+        "Enter" => KeyCode::Enter,
+        "Tab" => KeyCode::Tab,
+        "Esc" => KeyCode::Esc,
+        "Home" => KeyCode::Home,
+        "End" => KeyCode::End,
+        "PageUp" => KeyCode::PageUp,
+        "PageDown" => KeyCode::PageDown,
+        "Backspace" => KeyCode::Backspace,
+        "Space" => KeyCode::Char(' '),
+        c => KeyCode::Char(c.chars().next().unwrap()),
+    };
+    let shift = matches!(code, KeyCode::Char(c) if c.is_ascii_uppercase());
+    KeyEvent::new(
+        code,
+        if shift {
+            mods | KeyModifiers::SHIFT
+        } else {
+            mods
+        },
+    )
+}
+
+#[test]
+fn every_key_in_every_pane_and_mode_acts_or_says_why_not() {
+    // #27 item 2: "a key that cannot act says why". Every key of the
+    // keymap, pressed through the terminal's event path in each pane and
+    // mode of a recorded run, changes the screen (what it did, or the
+    // status bar saying why it could not); quitting quits.
+    use btx::tui::app::{Overlay, Pane};
+    use ratatui::crossterm::event::Event;
+    type Setup = fn(&mut btx::tui::app::App);
+    let modes: [(&str, Setup); 11] = [
+        ("tree", |_| {}),
+        ("timeline", |a| a.focus = Pane::Timeline),
+        ("details", |a| a.focus = Pane::Details),
+        ("answer", |a| {
+            a.update(Action::Ask);
+            a.update(Action::Toggle);
+            a.focus = Pane::Ask;
+        }),
+        ("help", |a| a.update(Action::Help)),
+        ("finder", |a| a.update(Action::Find)),
+        ("timeline filter", |a| {
+            a.focus = Pane::Timeline;
+            a.update(Action::Find);
+        }),
+        ("can you", |a| {
+            a.overlay = Overlay::CanYou {
+                text: String::new(),
+                selected: 0,
+            };
+            a.cursor = Some(0);
+        }),
+        ("questions", |a| a.update(Action::Ask)),
+        ("playing", |a| a.update(Action::Play)),
+        ("at the end", |a| a.update(Action::End)),
+    ];
+    let mut silent = Vec::new();
+    for (mode, setup) in modes {
+        for b in KEYMAP {
+            for &k in b.keys {
+                let mut app = opened("tests/fixtures/logs/kitting_lookat_fails_once.btlog");
+                app.update(Action::NextFailure);
+                setup(&mut app);
+                app.message = None;
+                // Styles count: a list's selection is drawn reversed.
+                let before = render(&app, 120, 40);
+                btx::tui::handle(&mut app, Event::Key(key_event(k)), (120, 40));
+                if app.quit {
+                    assert_eq!(b.action, Action::Quit, "{mode}: {k} quit");
+                    continue;
+                }
+                if render(&app, 120, 40) == before {
+                    silent.push(format!("{mode}: {k} ({})", b.help));
+                }
+            }
+        }
+    }
+    // The side-by-side diff of two runs: its own keys act, the others say
+    // they are not in it.
+    type DiffSetup = fn(&mut btx::tui::diff::DiffApp);
+    let diff_modes: [(&str, DiffSetup); 3] = [
+        ("diff", |_| {}),
+        ("diff help", |d| d.update(Action::Help)),
+        ("diff answer", |d| d.update(Action::Why)),
+    ];
+    for (mode, setup) in diff_modes {
+        for b in KEYMAP {
+            for &k in b.keys {
+                let mut d = diff_app(
+                    "tests/fixtures/logs/kitting_nominal.btlog",
+                    "tests/fixtures/logs/kitting_lookat_fails_once.btlog",
+                );
+                setup(&mut d);
+                d.message = None;
+                let before = render(&d, 120, 40);
+                btx::tui::Screen::event(&mut d, Event::Key(key_event(k)), (120, 40));
+                if d.quit {
+                    assert_eq!(b.action, Action::Quit, "{mode}: {k} quit");
+                    continue;
+                }
+                if render(&d, 120, 40) == before {
+                    silent.push(format!("{mode}: {k} ({})", b.help));
+                }
+            }
+        }
+    }
+    assert!(
+        silent.is_empty(),
+        "{} silent keys:\n{}",
+        silent.len(),
+        silent.join("\n")
+    );
+}

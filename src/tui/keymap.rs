@@ -380,6 +380,14 @@ pub fn key_name(k: &KeyEvent) -> Option<String> {
 }
 
 impl Action {
+    /// What the help says the action does.
+    pub fn help(self) -> &'static str {
+        KEYMAP
+            .iter()
+            .find(|b| b.action == self)
+            .map_or("", |b| b.help)
+    }
+
     /// The name a keymap file uses: `step_forward`, `next_failure`, ...
     pub fn name(self) -> String {
         let dbg = format!("{self:?}");

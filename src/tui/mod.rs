@@ -10,6 +10,7 @@ pub mod graph_view;
 pub mod keymap;
 pub mod panes;
 pub mod svg;
+mod unmoved;
 pub mod view;
 
 pub use app::App;
@@ -182,7 +183,7 @@ impl Screen for diff::DiffApp {
     fn draw(&self, f: &mut ratatui::Frame) {
         diff_view::view(self, f)
     }
-    fn event(&mut self, ev: Event, _size: (u16, u16)) {
+    fn event(&mut self, ev: Event, size: (u16, u16)) {
         let act = match ev {
             Event::Key(k) if k.kind == KeyEventKind::Press => self.keymap.action_for(&k),
             Event::Mouse(m) => match m.kind {
@@ -193,7 +194,16 @@ impl Screen for diff::DiffApp {
             _ => None,
         };
         if let Some(a) = act {
+            self.message = None;
+            let before = render(self, size.0, size.1);
             self.update(a);
+            if !self.quit && self.message.is_none() && render(self, size.0, size.1) == before {
+                let key = match ev {
+                    Event::Key(k) => keymap::key_name(&k).unwrap_or_default(),
+                    _ => "the wheel".into(),
+                };
+                self.message = Some(unmoved::diff_reason(self, a, &key));
+            }
         }
     }
     fn done(&self) -> bool {
@@ -233,11 +243,24 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
                     _ => None,
                 };
                 if let Some(e) = e {
-                    return app.edit(e);
+                    app.message = None;
+                    let before = render(app, size.0, size.1);
+                    app.edit(e.clone());
+                    if app.message.is_none() && render(app, size.0, size.1) == before {
+                        app.message = Some(unmoved::edit_reason(app, &e));
+                    }
+                    return;
                 }
             }
             if let Some(a) = app.keymap.action_for(&k) {
+                // A key that changes nothing on screen says why (#27 item 2).
+                app.message = None;
+                let before = render(app, size.0, size.1);
                 app.update(a);
+                if !app.quit && app.message.is_none() && render(app, size.0, size.1) == before {
+                    let key = keymap::key_name(&k).unwrap_or_default();
+                    app.message = Some(unmoved::reason(app, a, &key));
+                }
             }
         }
         // A paste, where the terminal marks one, goes into the prompt whole.

@@ -231,6 +231,18 @@ impl App {
         self.cursor = (to < end).then_some(to);
     }
 
+    /// The text of the prompt being typed, if one is.
+    pub fn prompt_text(&self) -> Option<&str> {
+        match &self.overlay {
+            Overlay::Finder { query: t, .. }
+            | Overlay::Export { path: t, .. }
+            | Overlay::Filter { text: t }
+            | Overlay::CanYou { text: t, .. }
+            | Overlay::Words { text: t, .. } => Some(t),
+            _ => None,
+        }
+    }
+
     /// Whether keys type text: the finder and every prompt (a letter there
     /// is text, not a key's action).
     pub fn typing(&self) -> bool {

@@ -168,7 +168,7 @@ fn side_by_side_diff_in_a_real_terminal() {
     t.wait_for("edit distance 4, LCS 10 in all");
     t.wait_for("A: moment 1 ");
     t.run(&["send-keys", "-t", "btx", "d"]);
-    t.wait_for("divergence 1 of 4: go pick up passenger");
+    t.wait_for("divergence 1 of 4 (the runs part ways here): go pick up passenger");
     t.run(&["send-keys", "-t", "btx", "N"]);
     t.wait_for("A: moment 4 ");
     // A key the diff has no use for says so.
@@ -365,6 +365,10 @@ fn every_key_of_the_keymap_in_a_real_terminal() {
         }
     }
     assert!(pressed >= 30, "{pressed}");
+    // A key that cannot act says why in the real terminal's status bar
+    // (every key in every mode: tests/tui.rs, through the same event path).
+    t.run(&["send-keys", "-t", "btx", "Escape"]);
+    t.wait_for("nothing to close (q quits)");
     // Still drawing, and it gives the terminal back on quit.
     t.run(&["send-keys", "-t", "btx", "q"]);
     let s = t.wait_for("EXITED:");

@@ -364,9 +364,11 @@ fn unlike_apart(edits: Vec<Edit>, a: &[Step], b: &[Step]) -> Vec<Edit> {
 /// Gives each divergent edit its role, the runs parting at transition
 /// `at`: the edit whose step holds that transition (or, when none does,
 /// the first to start after it) is the parting; after it, steps only one
-/// run made follow from it, and a step both made that ended otherwise is
-/// a divergence of its own.
-fn mark_parting(sections: &mut [Section], at: usize) -> bool {
+/// run made follow from it (`follow`: runs of one tree, whose paths part
+/// only through what happened; runs of two trees also differ where the
+/// trees do), and a step both made that ended otherwise is a divergence
+/// of its own.
+fn mark_parting(sections: &mut [Section], at: usize, follow: bool) -> bool {
     let when = |st: &Step| match st.span {
         Some((from, to)) if from <= at && at <= to => at,
         Some((from, _)) => from,
@@ -408,7 +410,8 @@ fn mark_parting(sections: &mut [Section], at: usize) -> bool {
                 // says otherwise (past its time bound) is shown as it is.
                 _ if whens[s][i] < at => Role::Own,
                 Op::Changed => Role::Own,
-                _ => Role::Follows,
+                _ if follow => Role::Follows,
+                _ => Role::Own,
             };
         }
     }
@@ -480,7 +483,7 @@ impl Diff {
         };
         let parting_held = parting
             .as_ref()
-            .is_some_and(|p| mark_parting(&mut sections, p.index));
+            .is_some_and(|p| mark_parting(&mut sections, p.index, same_shape(a.tree, b.tree)));
         let parting_text = parting.as_ref().map(|p| p.text(a.tree, b.tree, "A", "B"));
         Diff {
             a_name: a.name.clone(),

@@ -1119,6 +1119,32 @@ fn fixed_screens_at_80x24_and_120x40() {
     for (w, h) in [(80, 24), (120, 40)] {
         insta::assert_snapshot!(format!("can_you_cursor_{w}x{h}"), screen(&app, w, h));
     }
+    // The finder: a match in a node's own name first (item 6).
+    use ratatui::crossterm::event::Event;
+    let mut app = opened("tests/fixtures/logs/kitting_lookat_fails_once.btlog");
+    app.update(Action::Find);
+    for c in "chuck".chars() {
+        btx::tui::handle(&mut app, Event::Key(key_event(&c.to_string())), (120, 40));
+    }
+    for (w, h) in [(80, 24), (120, 40)] {
+        insta::assert_snapshot!(format!("finder_chuck_{w}x{h}"), screen(&app, w, h));
+    }
+    // A key that cannot act says why (item 2): Right on a leaf.
+    let mut app = opened("tests/fixtures/logs/kitting_lookat_fails_once.btlog");
+    app.update(Action::NextFailure);
+    for (w, h) in [(80, 24), (120, 40)] {
+        btx::tui::handle(&mut app, Event::Key(key_event("Right")), (w, h));
+        insta::assert_snapshot!(format!("a_leaf_says_why_{w}x{h}"), screen(&app, w, h));
+    }
+    // Two runs of one tree part ways once (item 4): ≠ where, · what follows.
+    let mut d = diff_app(
+        "tests/fixtures/logs/kitting_nominal.btlog",
+        "tests/fixtures/logs/kitting_lookat_fails_once.btlog",
+    );
+    d.update(Action::NextDivergence);
+    for (w, h) in [(80, 24), (120, 40)] {
+        insta::assert_snapshot!(format!("diff_parting_{w}x{h}"), screen(&d, w, h));
+    }
 }
 
 #[test]

@@ -275,7 +275,10 @@ pub fn view(app: &DiffApp, f: &mut Frame) {
         );
     }
     let status = match &app.message {
-        Some(m) => Span::styled(m.clone(), Style::default().fg(Color::Yellow)),
+        Some(m) => Span::styled(
+            super::view::fit(m, v[3].width as usize),
+            Style::default().fg(Color::Yellow),
+        ),
         None => Span::styled(app.hints(), Style::default().fg(Color::DarkGray)),
     };
     f.render_widget(Paragraph::new(status), v[3]);

@@ -1,7 +1,7 @@
 //! `view(&App)`: draws the panes from the state, building widgets only for
 //! what is visible. It computes nothing that explains.
 
-use super::app::{App, Pane};
+use super::app::{App, Overlay, Pane};
 use crate::model::{Kind, Uid};
 use crate::run::Status;
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
@@ -233,9 +233,22 @@ pub fn view(app: &App, f: &mut Frame) {
         super::panes::answers::draw(app, f, a.ask);
         super::panes::timeline::draw(app, f, a.timeline);
     }
-    let status = match &app.message {
-        Some(m) => Span::styled(m.clone(), Style::default().fg(Color::Yellow)),
-        None => {
+    let cols = a.status.width as usize;
+    let window = match &app.overlay {
+        Overlay::None => None,
+        Overlay::Help { .. } => Some("↑↓ scroll  Esc or ? close"),
+        Overlay::Export { .. } => Some("type a file name  Enter write  Esc cancel"),
+        Overlay::CanYou { .. } | Overlay::Words { .. } | Overlay::Filter { .. } => {
+            Some("type  ←→ move  Ctrl-w word  Ctrl-u clear  Enter take  Esc cancel")
+        }
+        Overlay::Finder { .. } => Some("type to find  ↑↓ choose  Enter go  Esc close"),
+        _ => Some("↑↓ choose  Enter pick  Esc close"),
+    };
+    let status = match (&app.message, window) {
+        (Some(m), _) => Span::styled(fit(m, cols), Style::default().fg(Color::Yellow)),
+        // The keys of the window open, not the panes' under it.
+        (None, Some(keys)) => Span::styled(fit(keys, cols), Style::default().fg(Color::DarkGray)),
+        (None, None) => {
             use super::keymap::Action as A;
             let first: &[(A, &str)] = match app.focus {
                 Pane::Ask if app.why.is_some() => &[

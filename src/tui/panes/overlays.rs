@@ -381,8 +381,11 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             let mut lines = Vec::new();
             for (i, (u, idx)) in results.iter().enumerate().skip(first).take(h) {
                 let label = app.finder_label(*u);
+                // A row too long ends in … (its path, usually), never cut bare.
+                let (n, w) = (label.chars().count(), inner.width as usize);
+                let keep = if n > w { w.saturating_sub(1) } else { n };
                 let mut spans = Vec::new();
-                for (ci, ch) in label.chars().enumerate() {
+                for (ci, ch) in label.chars().enumerate().take(keep) {
                     let mut st = Style::default();
                     if idx.contains(&ci) {
                         st = st.fg(Color::Yellow).add_modifier(Modifier::BOLD);
@@ -391,6 +394,9 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                         st = st.add_modifier(Modifier::REVERSED);
                     }
                     spans.push(Span::styled(ch.to_string(), st));
+                }
+                if keep < n {
+                    spans.push(Span::raw("…"));
                 }
                 lines.push(Line::from(spans));
             }

@@ -32,6 +32,8 @@ pub mod ask;
 
 pub mod diff;
 
+pub mod fleet;
+
 pub mod export;
 
 pub mod tui;

@@ -74,8 +74,37 @@ pub fn clip(s: &str, max: usize) -> Cow<'_, str> {
     Cow::Owned(format!("{}… ({} bytes in all)", &s[..end], s.len()))
 }
 
+/// "1 run", "1,234 transitions": a count of things, its digits grouped.
+pub fn counted(n: usize, what: &str) -> String {
+    let digits = n.to_string();
+    let mut grouped = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            grouped.push(',');
+        }
+        grouped.push(c);
+    }
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{grouped} {what}s")
+    }
+}
+
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn counts_group_their_digits_and_agree_in_number() {
+        assert_eq!(super::counted(1, "run"), "1 run");
+        assert_eq!(super::counted(0, "run"), "0 runs");
+        assert_eq!(super::counted(999, "tick"), "999 ticks");
+        assert_eq!(
+            super::counted(1_234_567, "transition"),
+            "1,234,567 transitions"
+        );
+    }
+
     use super::*;
 
     #[test]

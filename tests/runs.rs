@@ -253,6 +253,7 @@ fn shipped_sessions_are_what_their_plans_give() {
         ("kitting.xml", "kitting-grasp-check-fails-first"),
         ("kitting.xml", "kitting-navigation-fails-once"),
         ("kitting.xml", "kitting-lift-torso-fails-once"),
+        ("kitting.xml", "kitting-help-fails"),
         ("taxi.xml", "taxi-nominal"),
     ] {
         let dir = tempfile::tempdir().unwrap();

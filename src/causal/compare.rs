@@ -1,10 +1,10 @@
 //! Why two runs of one tree part ways: the first differing node update
-//! (`diff::parting`), asked about in the second run with the first run's
+//! (`session::parting`), asked about in the second run with the first run's
 //! value as the foil.
 
 use super::model::{Model, Val, VarId};
-pub use crate::diff::parting::{first_difference, Difference, Divergence};
 use crate::run::Status;
+pub use crate::session::parting::{first_difference, Difference, Divergence};
 use crate::session::Session;
 
 /// The contrastive query about a difference, in the second run's model of

@@ -163,6 +163,8 @@ enum Command {
     /// Compare two trees or runs subgoal by subgoal (Han et al.'s expected vs
     /// actual policy), or one reference with several runs.
     Diff(diff::Args),
+    /// A fleet's runs at once: per node, the runs it failed in, what recovered it and how long it kept RUNNING; per run, how it ended and what went wrong; the failures grouped by cause.
+    Fleet(fleet::Args),
     /// List the status transitions of a session, like Groot's table.
     Log(log::Args),
     /// Serve a recorded run (session or log) over the Groot2 protocol, as a robot that is running now, for Groot2, btview or btx watch.
@@ -316,6 +318,7 @@ pub struct Globals {
 mod ask;
 mod diff;
 mod eval;
+mod fleet;
 mod graph;
 mod import;
 mod log;
@@ -394,6 +397,7 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
         Command::Eval(a) => eval::run(a),
         Command::Graph(a) => graph::run(a, &globals),
         Command::Diff(a) => diff::run(a, &globals),
+        Command::Fleet(a) => fleet::run(a, &globals),
         Command::Log(a) => log::run(a, &globals),
         Command::Watch(a) => watch::run(a, &globals),
         Command::Serve(a) => serve::run(a, &globals),

@@ -15,6 +15,11 @@ pub struct Fleet {
 impl Fleet {
     pub fn new(reference: &Side, runs: &[Side]) -> Fleet {
         let diffs: Vec<Diff> = runs.iter().map(|r| Diff::new(reference, r)).collect();
+        Fleet::of(reference.name.clone(), diffs)
+    }
+
+    /// The table of runs already compared with `reference`.
+    pub fn of(reference: String, diffs: Vec<Diff>) -> Fleet {
         let mut subgoals: Vec<String> = Vec::new();
         for d in &diffs {
             for s in &d.sections {
@@ -32,7 +37,7 @@ impl Fleet {
             })
         });
         Fleet {
-            reference: reference.name.clone(),
+            reference,
             diffs,
             subgoals,
         }

@@ -10,7 +10,6 @@
 
 pub mod align;
 pub mod fleet;
-pub mod parting;
 
 pub use align::{Edit, Op};
 
@@ -329,7 +328,7 @@ pub struct Diff {
     pub sections: Vec<Section>,
     /// Two runs: the first transition where they differ, and that in
     /// words ("at transition 32 (moment 10:1): … became FAILURE in B …").
-    pub parting: Option<parting::Difference>,
+    pub parting: Option<crate::session::parting::Difference>,
     pub parting_text: Option<String>,
     /// Whether the step marked as the parting holds that transition (else
     /// it is the first divergent step after it: the transition was in a
@@ -478,7 +477,7 @@ impl Diff {
             }
         }
         let parting = match (a.session, b.session) {
-            (Some(x), Some(y)) => parting::first_difference(x, y),
+            (Some(x), Some(y)) => crate::session::parting::first_difference(x, y),
             _ => None,
         };
         let parting_held = parting
@@ -786,16 +785,7 @@ fn ordinal(n: usize) -> String {
     format!("{n}{suffix}")
 }
 
-/// Whether two trees have the same shape under the same uids (kinds and
-/// parents; names may differ, as between a tree file and a log of it):
-/// runs of such trees can be compared transition by transition.
-pub fn same_shape(a: &Tree, b: &Tree) -> bool {
-    a.len() == b.len()
-        && a.nodes
-            .iter()
-            .zip(&b.nodes)
-            .all(|(x, y)| x.kind == y.kind && x.parent == y.parent && x.builtin == y.builtin)
-}
+pub use crate::model::same_shape;
 
 #[cfg(test)]
 mod tests {

@@ -550,60 +550,68 @@ pub fn recovered_by(
     at: u32,
     from: u32,
 ) -> Option<(Uid, u32, Vec<Uid>)> {
-    for h in tree.ancestors(leaf).filter(|&a| handles_failure(tree, a)) {
-        let end = run
-            .index
-            .changes_of(h)
+    let (h, end) = recovery(tree, run, leaf, at)?;
+    // What ran to recover: leaves in the later children of a Fallback
+    // or RecoveryNode between `h` and them (the nominal steps that
+    // went on are not a recovery).
+    let in_recovery = |u: Uid| {
+        let mut c = u;
+        while let Some(p) = tree.parent(c) {
+            let fallback = matches!(
+                tree.node(p).builtin,
+                Some(
+                    Builtin::Fallback
+                        | Builtin::ReactiveFallback
+                        | Builtin::AsyncFallback
+                        | Builtin::RecoveryNode
+                )
+            );
+            if fallback && tree.node(p).children.first() != Some(&c) {
+                return true;
+            }
+            if p == h {
+                return false;
+            }
+            c = p;
+        }
+        false
+    };
+    let mut ran: Vec<Uid> = Vec::new();
+    for q in from + 1..end {
+        let t = run.index.transitions[q as usize - 1];
+        if t.status == Status::Success
+            && tree.node(t.uid).kind.is_leaf()
+            && tree.is_ancestor(h, t.uid)
+            && in_recovery(t.uid)
+            && !ran.contains(&t.uid)
+        {
+            ran.push(t.uid);
+        }
+    }
+    Some((h, end, ran))
+}
+
+/// The handler above `node` (a Fallback, a Retry or a RecoveryNode) that
+/// succeeded after its failure at position `at` (by this moment), and the
+/// position of that success; `None` when every handler failed too, or had
+/// not completed yet.
+pub fn recovery(tree: &Tree, run: &At, node: Uid, at: u32) -> Option<(Uid, u32)> {
+    for h in tree.ancestors(node).filter(|&a| handles_failure(tree, a)) {
+        let changes = run.index.changes_of(h);
+        let after = changes.partition_point(|&q| q <= at);
+        let end = changes[after..]
             .iter()
             .copied()
-            .filter(|&q| q > at && q <= run.pos)
+            .take_while(|&q| q <= run.pos)
             .find(|&q| {
                 matches!(
                     run.index.transitions[q as usize - 1].status,
                     Status::Success | Status::Failure
                 )
             })?;
-        if run.index.transitions[end as usize - 1].status == Status::Failure {
-            continue;
+        if run.index.transitions[end as usize - 1].status == Status::Success {
+            return Some((h, end));
         }
-        // What ran to recover: leaves in the later children of a Fallback
-        // or RecoveryNode between `h` and them (the nominal steps that
-        // went on are not a recovery).
-        let recovery = |u: Uid| {
-            let mut c = u;
-            while let Some(p) = tree.parent(c) {
-                let fallback = matches!(
-                    tree.node(p).builtin,
-                    Some(
-                        Builtin::Fallback
-                            | Builtin::ReactiveFallback
-                            | Builtin::AsyncFallback
-                            | Builtin::RecoveryNode
-                    )
-                );
-                if fallback && tree.node(p).children.first() != Some(&c) {
-                    return true;
-                }
-                if p == h {
-                    return false;
-                }
-                c = p;
-            }
-            false
-        };
-        let mut ran: Vec<Uid> = Vec::new();
-        for q in from + 1..end {
-            let t = run.index.transitions[q as usize - 1];
-            if t.status == Status::Success
-                && tree.node(t.uid).kind.is_leaf()
-                && tree.is_ancestor(h, t.uid)
-                && recovery(t.uid)
-                && !ran.contains(&t.uid)
-            {
-                ran.push(t.uid);
-            }
-        }
-        return Some((h, end, ran));
     }
     None
 }

@@ -348,3 +348,14 @@ impl Tree {
         n.builtin.and_then(|b| b.v4_name()).unwrap_or(&n.id)
     }
 }
+
+/// Whether two trees have the same shape under the same uids (kinds and
+/// parents; names may differ, as between a tree file and a log of it):
+/// runs of such trees can be compared transition by transition.
+pub fn same_shape(a: &Tree, b: &Tree) -> bool {
+    a.len() == b.len()
+        && a.nodes
+            .iter()
+            .zip(&b.nodes)
+            .all(|(x, y)| x.kind == y.kind && x.parent == y.parent && x.builtin == y.builtin)
+}

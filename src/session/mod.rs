@@ -4,6 +4,7 @@
 pub mod format;
 pub mod index;
 pub mod output;
+pub mod parting;
 pub mod record;
 pub mod rerun;
 

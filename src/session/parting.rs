@@ -2,9 +2,9 @@
 //! counterpart in the other. `btx diff`, its `--why` and `open --diff` all
 //! start from it, so that they name the same place.
 
+use super::{Moment, Session};
 use crate::model::{Tree, Uid};
 use crate::run::Status;
-use crate::session::{Moment, Session};
 
 #[derive(Debug, Clone, PartialEq)]
 pub enum Divergence {
@@ -41,7 +41,7 @@ pub struct Difference {
 pub fn first_difference(a: &Session, b: &Session) -> Option<Difference> {
     let (ta, tb) = (&a.index.transitions, &b.index.transitions);
     let moment_b = |i: usize| b.index.moment((i as u32 + 1).min(tb.len() as u32));
-    let by_uid = super::same_shape(&a.tree, &b.tree);
+    let by_uid = crate::model::same_shape(&a.tree, &b.tree);
     let paired = |x: Uid, y: Uid| {
         if by_uid {
             x == y

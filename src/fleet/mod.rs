@@ -1,0 +1,456 @@
+//! A fleet's runs answered at once (#31): per node, in how many runs it ran
+//! and failed, how long it kept RUNNING, and what recovered its failures;
+//! per run, how it ended and, when it failed, what went wrong; the failed
+//! runs grouped by that answer. Each run is summarised as it is read
+//! (`summary`), on every core, and only the summaries are kept.
+
+pub mod summary;
+
+use crate::model::Uid;
+use crate::run::Status;
+use crate::session::Session;
+use crate::text::counted as count;
+use rayon::prelude::*;
+use serde_json::{json, Value};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use summary::{summarise, RunSummary};
+
+/// The files of a fleet: each path as given, a directory's run files
+/// (`.jsonl`, `.btlog`, `.fbl`, `.db3`, `.mcap`, recursively, in name
+/// order).
+pub fn files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, crate::Located> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            walk(p, &mut out)?;
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// The extensions of the files a directory is searched for.
+pub const RUN_EXTENSIONS: [&str; 5] = ["jsonl", "btlog", "fbl", "db3", "mcap"];
+
+fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), crate::Located> {
+    let read = std::fs::read_dir(dir)
+        .map_err(|e| crate::Located::file(dir, format!("cannot read the directory: {e}")))?;
+    let mut entries: Vec<PathBuf> = read.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            walk(&p, out)?;
+        } else if p
+            .extension()
+            .and_then(|e| e.to_str())
+            .is_some_and(|e| RUN_EXTENSIONS.contains(&e))
+        {
+            out.push(p);
+        }
+    }
+    Ok(())
+}
+
+/// The runs of many files, summarised.
+pub struct Fleet {
+    pub runs: Vec<RunSummary>,
+    /// Files that could not be read, with why.
+    pub errors: Vec<(String, String)>,
+}
+
+/// A node across the runs, paired by its path.
+#[derive(Debug, Clone, Default)]
+pub struct NodeStats {
+    pub path: String,
+    pub name: String,
+    pub leaf: bool,
+    /// Runs in which it ran, and in which it failed.
+    pub ran_in: usize,
+    pub failed_in: usize,
+    pub failures: u64,
+    /// Every RUNNING spell's length in ticks, sorted.
+    pub running: Vec<u32>,
+    /// Failures recovered, by the handler that recovered them.
+    pub recovered: BTreeMap<String, u64>,
+    /// Failures no handler recovered by the run's end.
+    pub unrecovered: u64,
+}
+
+impl NodeStats {
+    /// The spell length below which `q` of them are (nearest rank).
+    pub fn running_quantile(&self, q: f64) -> Option<u32> {
+        let n = self.running.len();
+        (n > 0).then(|| self.running[((q * n as f64).ceil() as usize).clamp(1, n) - 1])
+    }
+}
+
+impl Fleet {
+    /// Reads and summarises every run of `files` on every core, each
+    /// compared with `reference` if given, calling `done` after each file.
+    pub fn read(
+        files: &[PathBuf],
+        opts: &crate::xml::LoadOptions,
+        reference: Option<&Session>,
+        done: &(dyn Fn() + Sync),
+    ) -> Fleet {
+        let read: Vec<Result<Vec<RunSummary>, (String, String)>> = files
+            .par_iter()
+            .map(|f| {
+                let mut runs = Vec::new();
+                let r = crate::input::each_run(f, opts, |k, n, s: Session| {
+                    let name = if n > 1 {
+                        format!("{}#{k}", f.display())
+                    } else {
+                        f.display().to_string()
+                    };
+                    runs.push(summarise(name, &s, reference));
+                    Ok(())
+                });
+                done();
+                r.map(|()| runs)
+                    .map_err(|e| (f.display().to_string(), e.to_string()))
+            })
+            .collect();
+        let mut fleet = Fleet {
+            runs: Vec::new(),
+            errors: Vec::new(),
+        };
+        for r in read {
+            match r {
+                Ok(runs) => fleet.runs.extend(runs),
+                Err(e) => fleet.errors.push(e),
+            }
+        }
+        fleet
+    }
+
+    /// Every node that ran in some run, most failed first (by the runs it
+    /// failed in, then its failures), then by path.
+    pub fn nodes(&self) -> Vec<NodeStats> {
+        let trees = self.trees().len();
+        let mut by: BTreeMap<(&str, Uid), NodeStats> = BTreeMap::new();
+        for r in &self.runs {
+            for n in &r.nodes {
+                let s = by.entry((&r.tree_key, n.uid)).or_insert_with(|| NodeStats {
+                    path: n.path.clone(),
+                    // Nodes of several trees say whose they are.
+                    name: if trees > 1 {
+                        format!("{} (in {})", n.name, r.tree)
+                    } else {
+                        n.name.clone()
+                    },
+                    leaf: n.leaf,
+                    ..Default::default()
+                });
+                s.ran_in += 1;
+                s.failed_in += usize::from(n.failures > 0);
+                s.failures += u64::from(n.failures);
+                s.running.extend(&n.running);
+                for rec in &n.recoveries {
+                    match rec {
+                        Some(h) => *s.recovered.entry(h.clone()).or_default() += 1,
+                        None => s.unrecovered += 1,
+                    }
+                }
+            }
+        }
+        let mut out: Vec<NodeStats> = by.into_values().collect();
+        for s in &mut out {
+            s.running.sort_unstable();
+        }
+        out.sort_by(|a, b| {
+            (b.failed_in, b.failures)
+                .cmp(&(a.failed_in, a.failures))
+                .then_with(|| a.path.cmp(&b.path))
+        });
+        out
+    }
+
+    /// The failed runs grouped by what went wrong, the largest group first:
+    /// (the answer, the runs).
+    pub fn causes(&self) -> Vec<(String, Vec<&str>)> {
+        let mut by: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
+        for r in &self.runs {
+            if let Some(w) = &r.wrong {
+                by.entry(w).or_default().push(&r.name);
+            }
+        }
+        let mut out: Vec<(String, Vec<&str>)> =
+            by.into_iter().map(|(w, r)| (w.to_string(), r)).collect();
+        out.sort_by(|a, b| b.1.len().cmp(&a.1.len()).then_with(|| a.0.cmp(&b.0)));
+        out
+    }
+
+    /// The trees run, by name, each once.
+    pub fn trees(&self) -> Vec<&str> {
+        let mut seen: Vec<(&str, &str)> = self
+            .runs
+            .iter()
+            .map(|r| (r.tree_key.as_str(), r.tree.as_str()))
+            .collect();
+        seen.sort_unstable();
+        seen.dedup();
+        let mut names: Vec<&str> = seen.into_iter().map(|(_, n)| n).collect();
+        names.sort_unstable();
+        names
+    }
+
+    fn count(&self, outcome: Option<Status>) -> usize {
+        self.runs.iter().filter(|r| r.outcome == outcome).count()
+    }
+
+    /// How the runs ended, as a clause: "3 SUCCESS, 1 FAILURE".
+    fn outcomes(&self) -> String {
+        let mut parts = Vec::new();
+        for (o, w) in [
+            (Some(Status::Success), "SUCCESS"),
+            (Some(Status::Failure), "FAILURE"),
+            (None, "unfinished"),
+        ] {
+            let n = self.count(o);
+            if n > 0 {
+                parts.push(format!("{n} {w}"));
+            }
+        }
+        parts.join(", ")
+    }
+
+    pub fn text(&self) -> String {
+        let transitions: usize = self.runs.iter().map(|r| r.transitions).sum();
+        let ticks: u64 = self.runs.iter().map(|r| u64::from(r.ticks)).sum();
+        let trees = self.trees();
+        let mut out = format!(
+            "{} of {} ({}): {}; {} in {}\n",
+            count(self.runs.len(), "run"),
+            count(trees.len(), "tree"),
+            trees.join(", "),
+            self.outcomes(),
+            count(transitions, "transition"),
+            count(ticks as usize, "tick"),
+        );
+        for (f, e) in &self.errors {
+            out.push_str(&format!("not read: {f}: {e}\n"));
+        }
+        let nodes = self.nodes();
+        // The actions and conditions: a control node fails as its
+        // children do, and says nothing more (the JSON lists it).
+        let failed: Vec<&NodeStats> = nodes.iter().filter(|n| n.failures > 0).collect();
+        let (leaves, controls): (Vec<&NodeStats>, Vec<&NodeStats>) =
+            failed.iter().partition(|n| n.leaf);
+        if !leaves.is_empty() {
+            out.push_str("\nActions and conditions that failed, in the most runs first:\n");
+            for n in &leaves {
+                let runs = match n.ran_in {
+                    1 => "the one run it ran in".to_string(),
+                    k => format!("{} of the {k} runs it ran in", n.failed_in),
+                };
+                out.push_str(&format!(
+                    "  {} failed in {runs} ({}){}.\n",
+                    n.name,
+                    count(n.failures as usize, "failure"),
+                    recoveries(n)
+                ));
+            }
+        }
+        if !controls.is_empty() {
+            out.push_str(&format!(
+                "  ({} failed as their children did; --format json lists every node.)\n",
+                count(controls.len(), "control node")
+            ));
+        }
+        // The actions' times: a control node RUNNING is its children's.
+        let mut slow: Vec<&NodeStats> = nodes
+            .iter()
+            .filter(|n| n.leaf && n.running.last().is_some_and(|&m| m > 0))
+            .collect();
+        slow.sort_by(|a, b| {
+            (b.running_quantile(0.95), b.running_quantile(0.5))
+                .cmp(&(a.running_quantile(0.95), a.running_quantile(0.5)))
+                .then_with(|| a.path.cmp(&b.path))
+        });
+        if !slow.is_empty() {
+            let shown = slow.len().min(LEAVES_SHOWN);
+            out.push_str(&format!(
+                "\nTicks actions kept RUNNING (median, 95th percentile, longest, and the spells by length; {}):\n",
+                if shown < slow.len() {
+                    format!("{shown} longest of {}", slow.len())
+                } else {
+                    count(shown, "action")
+                }
+            ));
+            let width = slow[..shown]
+                .iter()
+                .map(|n| n.name.chars().count())
+                .max()
+                .unwrap_or(0);
+            for n in &slow[..shown] {
+                out.push_str(&format!(
+                    "  {:<width$}  {:>5} {:>5} {:>5}  {}\n",
+                    n.name,
+                    n.running_quantile(0.5).unwrap_or(0),
+                    n.running_quantile(0.95).unwrap_or(0),
+                    n.running.last().copied().unwrap_or(0),
+                    sparkline(&n.running),
+                ));
+            }
+        }
+        let causes = self.causes();
+        if !causes.is_empty() {
+            out.push_str("\nFailed runs, by what went wrong:\n");
+            for (why, runs) in &causes {
+                out.push_str(&format!("  {}: {why}\n", count(runs.len(), "run")));
+                out.push_str(&format!("    {}\n", names(runs)));
+            }
+        }
+        if let Some(f) = self.against_reference() {
+            out.push('\n');
+            out.push_str(&f.text());
+        }
+        out
+    }
+
+    /// With a reference: each run compared with it (`btx diff REF RUN...`).
+    pub fn against_reference(&self) -> Option<crate::diff::fleet::Fleet> {
+        let diffs: Option<Vec<crate::diff::Diff>> =
+            self.runs.iter().map(|r| r.diff.clone()).collect();
+        let diffs = diffs.filter(|d| !d.is_empty())?;
+        Some(crate::diff::fleet::Fleet::of(
+            diffs[0].a_name.clone(),
+            diffs,
+        ))
+    }
+
+    pub fn json(&self) -> Value {
+        let nodes = self.nodes();
+        json!({
+            "schema": "btx.fleet/1",
+            "runs": self.runs.len(),
+            "outcomes": {
+                "SUCCESS": self.count(Some(Status::Success)),
+                "FAILURE": self.count(Some(Status::Failure)),
+                "unfinished": self.count(None),
+            },
+            "transitions": self.runs.iter().map(|r| r.transitions).sum::<usize>(),
+            "nodes": nodes.iter().map(|n| json!({
+                "path": n.path,
+                "name": n.name,
+                "leaf": n.leaf,
+                "ran_in": n.ran_in,
+                "failed_in": n.failed_in,
+                "failures": n.failures,
+                "running_ticks": {
+                    "spells": n.running.len(),
+                    "median": n.running_quantile(0.5),
+                    "p95": n.running_quantile(0.95),
+                    "max": n.running.last(),
+                },
+                "recovered": n.recovered.iter().map(|(by, k)| json!({"by": by, "failures": k})).collect::<Vec<_>>(),
+                "unrecovered": n.unrecovered,
+            })).collect::<Vec<_>>(),
+            "causes": self.causes().iter().map(|(why, runs)| json!({"what_went_wrong": why, "runs": runs})).collect::<Vec<_>>(),
+            "each_run": self.runs.iter().map(|r| json!({
+                "name": r.name,
+                "tree": r.tree,
+                "ticks": r.ticks,
+                "transitions": r.transitions,
+                "outcome": r.outcome.map(|o| o.as_str()),
+                "ending": r.ending,
+                "what_went_wrong": r.wrong,
+                "gaps": r.gaps,
+            })).collect::<Vec<_>>(),
+            "errors": self.errors.iter().map(|(f, e)| json!({"file": f, "error": e})).collect::<Vec<_>>(),
+            "reference": self.against_reference().map(|f| f.json()),
+        })
+    }
+}
+
+/// Nodes listed with their RUNNING times, at most.
+const LEAVES_SHOWN: usize = 15;
+
+/// "; 29 recovered by RetryUntilSuccessful #7, 2 not recovered".
+fn recoveries(n: &NodeStats) -> String {
+    if !n.leaf || (n.recovered.is_empty() && n.unrecovered == 0) {
+        return String::new();
+    }
+    let mut parts: Vec<(u64, String)> = n
+        .recovered
+        .iter()
+        .map(|(by, k)| (*k, format!("{k} recovered by {by}")))
+        .collect();
+    parts.sort_by(|a, b| b.0.cmp(&a.0).then_with(|| a.1.cmp(&b.1)));
+    let mut parts: Vec<String> = parts.into_iter().map(|p| p.1).collect();
+    if n.unrecovered > 0 {
+        parts.push(format!("{} not recovered", n.unrecovered));
+    }
+    format!("; {}", parts.join(", "))
+}
+
+/// Up to three names, then how many more.
+fn names(runs: &[&str]) -> String {
+    let shown: Vec<&str> = runs.iter().take(3).copied().collect();
+    match runs.len() {
+        n if n > 3 => format!("{}, and {} more", shown.join(", "), n - 3),
+        _ => shown.join(", "),
+    }
+}
+
+/// How many spells lasted how long, as eight bars from none to longest.
+fn sparkline(sorted: &[u32]) -> String {
+    const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
+    let Some(&max) = sorted.last() else {
+        return String::new();
+    };
+    let buckets = 8usize;
+    let mut counts = vec![0usize; buckets];
+    for &d in sorted {
+        let b = if max == 0 {
+            0
+        } else {
+            (d as usize * (buckets - 1)) / max as usize
+        };
+        counts[b] += 1;
+    }
+    let top = counts.iter().copied().max().unwrap_or(1).max(1);
+    counts
+        .iter()
+        .map(|&c| {
+            if c == 0 {
+                ' '
+            } else {
+                BARS[(c * (BARS.len() - 1)).div_ceil(top)]
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_are_nearest_rank() {
+        let n = NodeStats {
+            running: (1..=20).collect(),
+            ..Default::default()
+        };
+        assert_eq!(n.running_quantile(0.5), Some(10));
+        assert_eq!(n.running_quantile(0.95), Some(19));
+        assert_eq!(n.running_quantile(1.0), Some(20));
+        assert_eq!(NodeStats::default().running_quantile(0.5), None);
+    }
+
+    #[test]
+    fn a_sparkline_has_a_bar_for_each_length_that_occurred() {
+        assert_eq!(sparkline(&[]), "");
+        assert_eq!(sparkline(&[0, 0]), "█       ");
+        // Lengths 0..=7, one each, then seven more of the longest.
+        let mut s: Vec<u32> = (0..=7).collect();
+        s.extend([7; 7]);
+        let line: Vec<char> = sparkline(&s).chars().collect();
+        assert_eq!(line.len(), 8);
+        assert_eq!(line[7], '█');
+        assert!(line[..7].iter().all(|&c| c == '▂'), "{line:?}");
+    }
+}

@@ -1,0 +1,249 @@
+//! `btx fleet`: a fleet's runs answered at once (#31 item 4). Each figure
+//! is checked against what the commands about one run say of each run
+//! (`btx log`, `btx ask`), not against sentences written here.
+
+mod common;
+
+use common::btx;
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+fn json(args: &[&str]) -> Value {
+    let (ok, out, err) = btx(args);
+    assert!(ok, "{err}");
+    serde_json::from_str(&out).unwrap()
+}
+
+/// A fleet of ten kitting runs in a directory: three nominal, two where
+/// look at chuck fails once, two where detect chuck always fails (the
+/// fallback asks for help), two where asking fails too (the run fails),
+/// and under `robot/` the real BehaviorTree.CPP 4.10 log of look at chuck
+/// failing once (tests/fixtures/logs, from ../shared/fixtures/btcpp). A
+/// notes file is not a run; a broken log is said and the rest read.
+fn fleet() -> (tempfile::TempDir, Vec<PathBuf>) {
+    let dir = tempfile::tempdir().unwrap();
+    let failing = dir.path().join("ask-fails.plan");
+    std::fs::write(
+        &failing,
+        "@default_action = 1RS\n@default_condition = S\ndetect chuck = 1RF\nask = 1RF\n",
+    )
+    .unwrap();
+    let mut runs = Vec::new();
+    for (plan, copies) in [
+        ("trees/plans/kitting-nominal.plan", 3),
+        ("trees/plans/kitting-lookat-fails-once.plan", 2),
+        ("trees/plans/kitting-detect-chuck-always-fails.plan", 2),
+        (failing.to_str().unwrap(), 2),
+    ] {
+        let stem = Path::new(plan).file_stem().unwrap().to_str().unwrap();
+        for k in 1..=copies {
+            let out = dir.path().join(format!("{stem}-{k}.jsonl"));
+            let (ok, _, err) = btx(&[
+                "-q",
+                "run",
+                "trees/kitting.xml",
+                "--plan",
+                plan,
+                "--out",
+                out.to_str().unwrap(),
+            ]);
+            assert!(ok, "{err}");
+            runs.push(out);
+        }
+    }
+    std::fs::create_dir(dir.path().join("robot")).unwrap();
+    let log = dir.path().join("robot/kitting_lookat_fails_once.btlog");
+    std::fs::copy(
+        common::fixture("logs/kitting_lookat_fails_once.btlog"),
+        &log,
+    )
+    .unwrap();
+    runs.push(log);
+    std::fs::write(dir.path().join("notes.txt"), "not a run").unwrap();
+    std::fs::write(dir.path().join("broken.btlog"), b"BTX\0not a log").unwrap();
+    (dir, runs)
+}
+
+/// A run's transitions as `btx log` gives them: (tick, uid, prev, status).
+fn transitions(run: &Path) -> Vec<(u64, u64, String, String)> {
+    let v = json(&["log", run.to_str().unwrap(), "--format", "json"]);
+    v["transitions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| {
+            (
+                t["tick"].as_u64().unwrap(),
+                t["uid"].as_u64().unwrap(),
+                t["prev"].as_str().unwrap().to_string(),
+                t["status"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect()
+}
+
+fn node<'a>(v: &'a Value, name: &str) -> &'a Value {
+    v["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["name"] == name)
+        .unwrap_or_else(|| panic!("no node {name}"))
+}
+
+#[test]
+fn a_fleets_figures_are_what_each_run_says() {
+    let (dir, runs) = fleet();
+    let d = dir.path().to_str().unwrap();
+    let v = json(&["fleet", d, "--format", "json"]);
+    assert_eq!(v["runs"], runs.len(), "{v}");
+    assert_eq!(v["errors"].as_array().unwrap().len(), 1, "{v}");
+    assert!(v["errors"][0]["file"]
+        .as_str()
+        .unwrap()
+        .ends_with("broken.btlog"));
+    // How each run ended is the root's last completion in `btx log`.
+    for r in v["each_run"].as_array().unwrap() {
+        let name = r["name"].as_str().unwrap();
+        let ts = transitions(Path::new(name));
+        let root = ts
+            .iter()
+            .rev()
+            .find(|t| t.1 == 1 && (t.3 == "SUCCESS" || t.3 == "FAILURE"))
+            .unwrap();
+        assert_eq!(r["outcome"], root.3.as_str(), "{name}");
+    }
+    assert_eq!(v["outcomes"]["FAILURE"], 2);
+    assert_eq!(v["outcomes"]["SUCCESS"], runs.len() - 2);
+    // The failed runs, grouped by what `btx ask RUN "What went wrong?"`
+    // answers for each.
+    let causes = v["causes"].as_array().unwrap();
+    assert_eq!(causes.len(), 1, "{v}");
+    for r in causes[0]["runs"].as_array().unwrap() {
+        let (ok, out, _) = btx(&["ask", r.as_str().unwrap(), "What went wrong?"]);
+        assert!(ok);
+        assert_eq!(out.trim_end(), causes[0]["what_went_wrong"], "{r}");
+    }
+    // A leaf's failures and RUNNING spells, counted from each run's log.
+    for (name, uid) in [
+        ("look at chuck #18", 18),
+        ("detect chuck #12", 12),
+        ("move to see chuck #6", 6),
+    ] {
+        let n = node(&v, name);
+        let (mut ran_in, mut failed_in, mut failures, mut spells) = (0, 0, 0, Vec::new());
+        for r in &runs {
+            let ts = transitions(r);
+            let mine: Vec<_> = ts.iter().filter(|t| t.1 == uid).collect();
+            ran_in += usize::from(mine.iter().any(|t| t.3 != "IDLE"));
+            let f = mine.iter().filter(|t| t.3 == "FAILURE").count();
+            failed_in += usize::from(f > 0);
+            failures += f;
+            let mut since = None;
+            for t in &mine {
+                match (t.3.as_str(), since) {
+                    ("RUNNING", None) => since = Some(t.0),
+                    ("RUNNING", Some(_)) => {}
+                    (_, Some(s)) => {
+                        spells.push(t.0 - s);
+                        since = None;
+                    }
+                    _ => {}
+                }
+            }
+        }
+        assert_eq!(n["ran_in"], ran_in, "{name}");
+        assert_eq!(n["failed_in"], failed_in, "{name}");
+        assert_eq!(n["failures"], failures, "{name}");
+        spells.sort_unstable();
+        assert_eq!(n["running_ticks"]["spells"], spells.len(), "{name}");
+        assert_eq!(
+            n["running_ticks"]["max"],
+            spells.last().copied().unwrap_or(0),
+            "{name}"
+        );
+    }
+    // Look at chuck's failures were each recovered by the retry above it,
+    // as `btx ask … "How was the failure handled?"` says of one of them at
+    // the run's end.
+    let look = node(&v, "look at chuck #18");
+    assert_eq!(look["recovered"][0]["by"], "retry until successful #7");
+    assert_eq!(look["recovered"][0]["failures"], look["failures"]);
+    let (ok, out, _) = btx(&[
+        "ask",
+        runs[3].to_str().unwrap(),
+        "--node",
+        "#18",
+        "How was the failure handled?",
+    ]);
+    assert!(ok);
+    assert!(
+        out.contains("retry until successful (#7) tried again and succeeded"),
+        "{out}"
+    );
+    // Detect chuck's: by the fallback asking for help where asking
+    // worked, not at all where it failed too.
+    let detect = node(&v, "detect chuck #12");
+    assert_eq!(detect["recovered"][0]["by"], "go insert large gear #3");
+    assert_eq!(detect["recovered"][0]["failures"], 6);
+    assert_eq!(detect["unrecovered"], 6);
+}
+
+#[test]
+fn a_fleet_reads_as_text_with_its_causes_first_in_words() {
+    let (dir, runs) = fleet();
+    let d = dir.path().to_str().unwrap();
+    let (ok, out, err) = btx(&["fleet", d]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with(&format!(
+            "{} runs of 1 tree (build a gearbox kit): {} SUCCESS, 2 FAILURE;",
+            runs.len(),
+            runs.len() - 2
+        )),
+        "{out}"
+    );
+    assert!(out.contains("not read: "), "{out}");
+    let v = json(&["fleet", d, "--format", "json"]);
+    let look = node(&v, "look at chuck #18");
+    assert!(
+        out.contains(&format!(
+            "  look at chuck #18 failed in 3 of the {} runs it ran in (3 failures); 3 recovered by retry until successful #7.\n",
+            look["ran_in"]
+        )),
+        "{out}"
+    );
+    assert!(
+        out.contains("Failed runs, by what went wrong:\n  2 runs: The task failed: go insert large gear stopped because ask failed.\n"),
+        "{out}"
+    );
+    // A pattern the shell did not expand is expanded as it would be.
+    let pattern = format!("{d}/*.jsonl");
+    let v = json(&["fleet", &pattern, "--format", "json"]);
+    assert_eq!(v["runs"], runs.len() - 1);
+    let (ok, _, err) = btx(&["fleet", &format!("{d}/*.nothing")]);
+    assert!(!ok);
+    assert!(err.contains("no file matches this pattern"), "{err}");
+}
+
+#[test]
+fn a_fleet_against_a_reference_says_where_each_run_diverges() {
+    let (dir, runs) = fleet();
+    let reference = runs[0].to_str().unwrap();
+    let v = json(&[
+        "fleet",
+        dir.path().to_str().unwrap(),
+        "--reference",
+        reference,
+        "--format",
+        "json",
+    ]);
+    let table = &v["reference"]["runs"];
+    assert_eq!(table.as_array().unwrap().len(), runs.len());
+    // Each run's verdict is `btx diff REF RUN`'s.
+    for r in table.as_array().unwrap() {
+        let name = r["name"].as_str().unwrap();
+        let d = json(&["diff", reference, name, "--format", "json"]);
+        assert_eq!(r["identical"], d["identical"], "{name}");
+    }
+}

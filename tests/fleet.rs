@@ -247,3 +247,94 @@ fn a_fleet_against_a_reference_says_where_each_run_diverges() {
         assert_eq!(r["identical"], d["identical"], "{name}");
     }
 }
+
+#[test]
+fn duckdb_reads_the_export_of_a_thousand_runs_to_the_same_figures() {
+    // #31 item 5: ten robots of a hundred runs each (the shipped kitting
+    // sessions and a real BehaviorTree.CPP log, in turn), exported as
+    // Parquet; DuckDB (the PyPI package, not btx) reads the tables as
+    // they are, and its figures are `btx fleet`'s.
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut sources: Vec<PathBuf> = std::fs::read_dir(root.join("sessions"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("kitting-")
+        })
+        .collect();
+    sources.sort();
+    sources.push(common::fixture("logs/kitting_lookat_fails_once.btlog"));
+    let fleet = dir.path().join("fleet");
+    for i in 0..1000 {
+        let robot = fleet.join(format!("robot-{}", i / 100));
+        std::fs::create_dir_all(&robot).unwrap();
+        let src = &sources[i % sources.len()];
+        let ext = src.extension().unwrap().to_str().unwrap();
+        std::fs::copy(src, robot.join(format!("run-{i:04}.{ext}"))).unwrap();
+    }
+    let out = dir.path().join("export");
+    let v = json(&[
+        "fleet",
+        fleet.to_str().unwrap(),
+        "--export",
+        out.to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(v["runs"], 1000);
+    let py = std::process::Command::new(common::oracle_python())
+        .arg(root.join("tests/fleet/duckdb_figures.py"))
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        py.status.success(),
+        "{}",
+        String::from_utf8_lossy(&py.stderr)
+    );
+    let d: Value = serde_json::from_slice(&py.stdout).unwrap();
+    assert_eq!(d["runs"], 1000);
+    assert_eq!(d["robots"], 10);
+    assert_eq!(d["transitions"], v["transitions"]);
+    for o in ["SUCCESS", "FAILURE"] {
+        assert_eq!(d["outcomes"][o], v["outcomes"][o], "{o}");
+    }
+    for n in v["nodes"].as_array().unwrap() {
+        let uid = n["uid"].to_string();
+        let q = &d["nodes"][&uid];
+        for k in ["ran_in", "failed_in", "failures", "unrecovered"] {
+            assert_eq!(q[k], n[k], "#{uid} {k}");
+        }
+        let recovered: u64 = n["recovered"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["failures"].as_u64().unwrap())
+            .sum();
+        assert_eq!(q["recovered"], recovered, "#{uid}");
+        let from_transitions = d["failed_in_from_transitions"][&uid].as_u64().unwrap_or(0);
+        assert_eq!(n["failed_in"], from_transitions, "#{uid}");
+    }
+    for c in v["causes"].as_array().unwrap() {
+        let why = c["what_went_wrong"].as_str().unwrap();
+        assert_eq!(
+            d["causes"][why],
+            c["runs"].as_array().unwrap().len(),
+            "{why}"
+        );
+    }
+    // The export is refused where one already is.
+    let (ok, _, err) = btx(&[
+        "fleet",
+        fleet.to_str().unwrap(),
+        "--export",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(err.contains("already holds files"), "{err}");
+}

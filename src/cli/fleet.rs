@@ -13,6 +13,9 @@ pub struct Args {
     /// Also compare each run with this one, subgoal by subgoal (as `btx diff REF RUN...`).
     #[arg(long, value_name = "RUN")]
     pub reference: Option<PathBuf>,
+    /// Also write the runs, their nodes and their transitions as Parquet tables under DIR (runs/, nodes/, transitions/, partitioned by robot and day), for DuckDB, Spark, Trino or DataFusion. DIR must be new or empty.
+    #[arg(long, value_name = "DIR")]
+    pub export: Option<PathBuf>,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
 }
@@ -30,9 +33,21 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         },
         None => None,
     };
+    if let Some(dir) = &args.export {
+        btx::fleet::export::create(dir).map_err(located)?;
+    }
     let bar = Progress::new(files.len() as u64, cli.quiet);
-    let fleet = btx::fleet::Fleet::read(&files, &opts, reference.as_deref(), &|| bar.tick());
+    let fleet = btx::fleet::Fleet::read(
+        &files,
+        &opts,
+        reference.as_deref(),
+        args.export.as_deref(),
+        &|| bar.tick(),
+    );
     bar.finish();
+    if !fleet.unwritten.is_empty() {
+        fail!("the export is incomplete:\n{}", fleet.unwritten.join("\n"));
+    }
     if fleet.runs.is_empty() {
         let why: Vec<String> = fleet
             .errors

@@ -4,6 +4,7 @@
 //! runs grouped by that answer. Each run is summarised as it is read
 //! (`summary`), on every core, and only the summaries are kept.
 
+pub mod export;
 pub mod summary;
 
 use crate::model::Uid;
@@ -16,16 +17,32 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use summary::{summarise, RunSummary};
 
+/// A run file, and the path given that named it (itself, or a directory
+/// it was found in).
+#[derive(Debug, Clone)]
+pub struct Source {
+    pub file: PathBuf,
+    pub given: PathBuf,
+}
+
 /// The files of a fleet: each path as given, a directory's run files
 /// (`.jsonl`, `.btlog`, `.fbl`, `.db3`, `.mcap`, recursively, in name
 /// order).
-pub fn files(paths: &[PathBuf]) -> Result<Vec<PathBuf>, crate::Located> {
+pub fn files(paths: &[PathBuf]) -> Result<Vec<Source>, crate::Located> {
     let mut out = Vec::new();
     for p in paths {
         if p.is_dir() {
-            walk(p, &mut out)?;
+            let mut found = Vec::new();
+            walk(p, &mut found)?;
+            out.extend(found.into_iter().map(|file| Source {
+                file,
+                given: p.clone(),
+            }));
         } else {
-            out.push(p.clone());
+            out.push(Source {
+                file: p.clone(),
+                given: p.clone(),
+            });
         }
     }
     Ok(out)
@@ -58,11 +75,14 @@ pub struct Fleet {
     pub runs: Vec<RunSummary>,
     /// Files that could not be read, with why.
     pub errors: Vec<(String, String)>,
+    /// Tables that could not be written (`--export`), with why.
+    pub unwritten: Vec<String>,
 }
 
 /// A node across the runs, paired by its path.
 #[derive(Debug, Clone, Default)]
 pub struct NodeStats {
+    pub uid: Uid,
     pub path: String,
     pub name: String,
     pub leaf: bool,
@@ -88,39 +108,62 @@ impl NodeStats {
 
 impl Fleet {
     /// Reads and summarises every run of `files` on every core, each
-    /// compared with `reference` if given, calling `done` after each file.
+    /// compared with `reference` if given and its transitions written
+    /// under `export` if given, calling `done` after each file.
     pub fn read(
-        files: &[PathBuf],
+        files: &[Source],
         opts: &crate::xml::LoadOptions,
         reference: Option<&Session>,
+        export: Option<&Path>,
         done: &(dyn Fn() + Sync),
     ) -> Fleet {
-        let read: Vec<Result<Vec<RunSummary>, (String, String)>> = files
+        type Read = (Result<Vec<RunSummary>, (String, String)>, Vec<String>);
+        let read: Vec<Read> = files
             .par_iter()
-            .map(|f| {
+            .enumerate()
+            .map(|(i, src)| {
+                let f = &src.file;
                 let mut runs = Vec::new();
+                let mut unwritten = Vec::new();
                 let r = crate::input::each_run(f, opts, |k, n, s: Session| {
-                    let name = if n > 1 {
-                        format!("{}#{k}", f.display())
+                    let (name, id) = if n > 1 {
+                        (format!("{}#{k}", f.display()), format!("f{i:06}-{k}"))
                     } else {
-                        f.display().to_string()
+                        (f.display().to_string(), format!("f{i:06}"))
                     };
-                    runs.push(summarise(name, &s, reference));
+                    let mut run = summarise(name, &s, reference);
+                    if let Some(root) = export {
+                        let at = export::Partition::of(f, &src.given, &s);
+                        if let Err(e) = export::transitions(root, &at, &id, &run.name, &s) {
+                            unwritten.push(e.to_string());
+                        }
+                        run.partition = Some(at);
+                    }
+                    runs.push(run);
                     Ok(())
                 });
                 done();
-                r.map(|()| runs)
-                    .map_err(|e| (f.display().to_string(), e.to_string()))
+                let r = r
+                    .map(|()| runs)
+                    .map_err(|e| (f.display().to_string(), e.to_string()));
+                (r, unwritten)
             })
             .collect();
         let mut fleet = Fleet {
             runs: Vec::new(),
             errors: Vec::new(),
+            unwritten: Vec::new(),
         };
-        for r in read {
+        for (r, unwritten) in read {
             match r {
                 Ok(runs) => fleet.runs.extend(runs),
                 Err(e) => fleet.errors.push(e),
+            }
+            fleet.unwritten.extend(unwritten);
+        }
+        if let Some(root) = export {
+            if let Err(e) = export::tables(root, &fleet) {
+                fleet.unwritten.push(e.to_string());
             }
         }
         fleet
@@ -134,6 +177,7 @@ impl Fleet {
         for r in &self.runs {
             for n in &r.nodes {
                 let s = by.entry((&r.tree_key, n.uid)).or_insert_with(|| NodeStats {
+                    uid: n.uid,
                     path: n.path.clone(),
                     // Nodes of several trees say whose they are.
                     name: if trees > 1 {
@@ -334,6 +378,7 @@ impl Fleet {
             },
             "transitions": self.runs.iter().map(|r| r.transitions).sum::<usize>(),
             "nodes": nodes.iter().map(|n| json!({
+                "uid": n.uid,
                 "path": n.path,
                 "name": n.name,
                 "leaf": n.leaf,

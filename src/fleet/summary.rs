@@ -33,6 +33,10 @@ pub struct RunSummary {
     pub nodes: Vec<NodeRun>,
     /// Compared with the reference run, subgoal by subgoal (`--reference`).
     pub diff: Option<crate::diff::Diff>,
+    /// When the first and the last transition happened, as a log says.
+    pub span_us: Option<(i64, i64)>,
+    /// Its robot and day, when the fleet is exported.
+    pub partition: Option<super::export::Partition>,
 }
 
 /// A node in one run.
@@ -42,6 +46,8 @@ pub struct NodeRun {
     pub path: String,
     /// As answers name it: `look at chuck #18`.
     pub name: String,
+    /// Its name alone: `look at chuck`.
+    pub spoken: String,
     pub uid: Uid,
     pub leaf: bool,
     pub failures: u32,
@@ -73,6 +79,7 @@ pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunS
             nodes[k] = Some(NodeRun {
                 path: tree.full_path(t.uid),
                 name: format!("{} #{}", tree.spoken(t.uid), t.uid),
+                spoken: tree.spoken(t.uid),
                 uid: t.uid,
                 leaf: node.kind.is_leaf(),
                 failures: 0,
@@ -115,6 +122,8 @@ pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunS
         ending: s.ending(),
         wrong,
         gaps: s.index.gaps.len(),
+        span_us: s.span_us,
+        partition: None,
         nodes: nodes.into_iter().flatten().collect(),
         diff: reference.map(|r| {
             use crate::diff::{Diff, Side};

@@ -356,6 +356,7 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         end: Some((ticks, root_status, "imported".into())),
         inserts: Vec::new(),
         span_us: None,
+        times_us: Vec::new(),
         warnings,
     })
 }

@@ -536,6 +536,7 @@ fn session_from(
             .first()
             .zip(records.last())
             .map(|(a, b)| (a.time_us, b.time_us)),
+        times_us: records.iter().map(|r| r.time_us).collect(),
         warnings,
     })
 }

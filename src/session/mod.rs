@@ -31,6 +31,9 @@ pub struct Session {
     /// When the first and the last transition happened (µs since the
     /// epoch), as a log says; a session keeps no times.
     pub span_us: Option<(i64, i64)>,
+    /// When each transition happened (µs since the epoch), as a log says;
+    /// empty for a session, which keeps no times.
+    pub times_us: Vec<i64>,
     pub warnings: Vec<Warning>,
 }
 
@@ -332,6 +335,7 @@ impl Session {
             end,
             inserts,
             span_us: None,
+            times_us: Vec::new(),
             warnings,
         })
     }

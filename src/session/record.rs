@@ -154,6 +154,7 @@ pub fn simulate<L: Leaves>(
         end: Some((ex.ticks(), root, reason)),
         inserts: Vec::new(),
         span_us: None,
+        times_us: Vec::new(),
         warnings: Vec::new(),
     })
 }

@@ -110,8 +110,14 @@ pub fn run_planned(
 
 /// The packages the differential and live tests run: the real
 /// BehaviorTree.CPP (Python bindings of 4.8) and btview, a Groot2 client
-/// nobody here wrote.
-const ORACLE_PACKAGES: [&str; 3] = ["behaviortreepy==0.1.4", "btview==0.2.0", "rosbags==0.11.9"];
+/// nobody here wrote; rosbags, which writes Nav2's bags; DuckDB, which
+/// reads the fleet's Parquet export.
+const ORACLE_PACKAGES: [&str; 4] = [
+    "behaviortreepy==0.1.4",
+    "btview==0.2.0",
+    "rosbags==0.11.9",
+    "duckdb==2.0.1",
+];
 
 /// The Python that has BehaviorTree.CPP (the PyPI package behaviortreepy)
 /// and btview: `BTX_ORACLE_PYTHON`, or a virtual environment this makes the

@@ -1,0 +1,318 @@
+//! A fleet as Parquet tables that DuckDB, Spark, Trino and DataFusion read
+//! as they are (#31 item 5): `runs/`, `nodes/` and `transitions/`, each
+//! partitioned Hive-style by robot and day (`robot=R/day=YYYY-MM-DD/`), so
+//! that the partition columns come from the paths and a query of one robot
+//! or one day reads only its files. A run's transitions are written while
+//! the run is read; the two small tables once every run is summarised.
+
+use super::summary::RunSummary;
+use super::Fleet;
+use crate::session::Session;
+use crate::source::Located;
+use parquet::basic::Compression;
+use parquet::data_type::{BoolType, ByteArray, ByteArrayType, Int32Type, Int64Type};
+use parquet::file::properties::WriterProperties;
+use parquet::file::writer::SerializedFileWriter;
+use parquet::schema::parser::parse_message_type;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// The tables' schemas, as the Parquet files declare them.
+pub const TRANSITIONS: &str = "message transition {
+  REQUIRED BYTE_ARRAY run (UTF8);
+  REQUIRED INT32 tick;
+  REQUIRED INT32 step;
+  OPTIONAL INT64 time_us;
+  REQUIRED INT32 uid;
+  REQUIRED BYTE_ARRAY node (UTF8);
+  REQUIRED BYTE_ARRAY prev (UTF8);
+  REQUIRED BYTE_ARRAY status (UTF8);
+}";
+
+pub const RUNS: &str = "message run {
+  REQUIRED BYTE_ARRAY run (UTF8);
+  REQUIRED BYTE_ARRAY tree (UTF8);
+  REQUIRED INT32 ticks;
+  REQUIRED INT64 transitions;
+  OPTIONAL BYTE_ARRAY outcome (UTF8);
+  REQUIRED BYTE_ARRAY ending (UTF8);
+  OPTIONAL BYTE_ARRAY what_went_wrong (UTF8);
+  REQUIRED INT32 gaps;
+  OPTIONAL INT64 first_us;
+  OPTIONAL INT64 last_us;
+}";
+
+pub const NODES: &str = "message node {
+  REQUIRED BYTE_ARRAY run (UTF8);
+  REQUIRED BYTE_ARRAY tree (UTF8);
+  REQUIRED INT32 uid;
+  REQUIRED BYTE_ARRAY node (UTF8);
+  REQUIRED BYTE_ARRAY path (UTF8);
+  REQUIRED BOOLEAN leaf;
+  REQUIRED INT32 failures;
+  REQUIRED INT32 recovered;
+  REQUIRED INT32 unrecovered;
+  REQUIRED INT32 running_spells;
+  REQUIRED INT64 running_ticks;
+}";
+
+/// Where a run's rows go: its robot and day.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+pub struct Partition {
+    pub robot: String,
+    pub day: String,
+}
+
+impl Partition {
+    /// The robot is the first directory below the one given that holds the
+    /// file (`fleet/robot-7/run.btlog`), else the file's name without its
+    /// extension (`fleet/127.0.0.1_1667.jsonl`, as `btx watch --out`
+    /// names its robots); the day is the run's first transition's (UTC),
+    /// else the file's last change.
+    pub fn of(file: &Path, given: &Path, s: &Session) -> Partition {
+        let below = file
+            .strip_prefix(given)
+            .ok()
+            .filter(|rest| rest.components().count() > 1)
+            .and_then(|rest| rest.components().next())
+            .map(|c| c.as_os_str().to_string_lossy().into_owned());
+        let robot = below.unwrap_or_else(|| {
+            file.file_stem()
+                .map_or("robot".into(), |s| s.to_string_lossy().into_owned())
+        });
+        let us = s.span_us.map(|(first, _)| first).or_else(|| {
+            let t = std::fs::metadata(file).and_then(|m| m.modified()).ok()?;
+            let d = t.duration_since(std::time::UNIX_EPOCH).ok()?;
+            Some(d.as_micros() as i64)
+        });
+        Partition {
+            robot: safe(&robot),
+            day: us.map_or("unknown".into(), |us| {
+                crate::input::utc(us)[..10].to_string()
+            }),
+        }
+    }
+
+    fn dir(&self, root: &Path, table: &str) -> PathBuf {
+        root.join(table)
+            .join(format!("robot={}", self.robot))
+            .join(format!("day={}", self.day))
+    }
+}
+
+/// A name safe in a path and a Hive partition value.
+fn safe(s: &str) -> String {
+    let out: String = s
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "._-".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    if out.is_empty() || out.starts_with('.') {
+        format!("_{out}")
+    } else {
+        out
+    }
+}
+
+/// Makes the export's directory: a new one, or an empty one (tables of
+/// another export would be read with these as one).
+pub fn create(dir: &Path) -> Result<(), Located> {
+    if dir.exists() {
+        let empty = std::fs::read_dir(dir)
+            .map_err(|e| Located::file(dir, format!("cannot read the directory: {e}")))?
+            .next()
+            .is_none();
+        if !empty {
+            return Err(Located::file(
+                dir,
+                "already holds files: give a new or empty directory (DuckDB and Spark would read both exports as one)",
+            ));
+        }
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Located::file(dir, format!("cannot create the directory: {e}")))
+}
+
+fn failed(path: &Path, e: impl std::fmt::Display) -> Located {
+    Located::file(path, format!("cannot write the Parquet file: {e}"))
+}
+
+/// One Parquet file of one row group, its columns written by `columns` in
+/// the schema's order.
+fn write(
+    path: &Path,
+    schema: &str,
+    columns: impl FnOnce(&mut Columns) -> parquet::errors::Result<()>,
+) -> Result<(), Located> {
+    if let Some(d) = path.parent() {
+        std::fs::create_dir_all(d).map_err(|e| failed(path, e))?;
+    }
+    let schema = Arc::new(parse_message_type(schema).expect("the schemas above parse"));
+    let props = Arc::new(
+        WriterProperties::builder()
+            .set_compression(Compression::SNAPPY)
+            .build(),
+    );
+    // Written beside, then renamed: a reader never sees half a file.
+    let part = path.with_extension("parquet.part");
+    let file = std::fs::File::create(&part).map_err(|e| failed(path, e))?;
+    let mut w = SerializedFileWriter::new(file, schema, props).map_err(|e| failed(path, e))?;
+    let mut rg = w.next_row_group().map_err(|e| failed(path, e))?;
+    columns(&mut Columns { rg: &mut rg }).map_err(|e| failed(path, e))?;
+    rg.close().map_err(|e| failed(path, e))?;
+    w.close().map_err(|e| failed(path, e))?;
+    std::fs::rename(&part, path).map_err(|e| failed(path, e))
+}
+
+/// The next columns of a row group, by type.
+struct Columns<'a, 'b> {
+    rg: &'a mut parquet::file::writer::SerializedRowGroupWriter<'b, std::fs::File>,
+}
+
+impl Columns<'_, '_> {
+    fn strings<'s>(
+        &mut self,
+        values: impl Iterator<Item = Option<&'s str>>,
+    ) -> parquet::errors::Result<()> {
+        let (vals, defs) = split(values.map(|v| v.map(|s| ByteArray::from(s.as_bytes().to_vec()))));
+        let mut c = self.rg.next_column()?.expect("a column of the schema");
+        let w = c.typed::<ByteArrayType>();
+        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
+        w.write_batch(&vals, defs.as_deref(), None)?;
+        c.close()
+    }
+
+    fn ints(&mut self, values: impl Iterator<Item = Option<i32>>) -> parquet::errors::Result<()> {
+        let (vals, defs) = split(values);
+        let mut c = self.rg.next_column()?.expect("a column of the schema");
+        let w = c.typed::<Int32Type>();
+        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
+        w.write_batch(&vals, defs.as_deref(), None)?;
+        c.close()
+    }
+
+    fn longs(&mut self, values: impl Iterator<Item = Option<i64>>) -> parquet::errors::Result<()> {
+        let (vals, defs) = split(values);
+        let mut c = self.rg.next_column()?.expect("a column of the schema");
+        let w = c.typed::<Int64Type>();
+        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
+        w.write_batch(&vals, defs.as_deref(), None)?;
+        c.close()
+    }
+
+    fn bools(&mut self, values: impl Iterator<Item = bool>) -> parquet::errors::Result<()> {
+        let vals: Vec<bool> = values.collect();
+        let mut c = self.rg.next_column()?.expect("a column of the schema");
+        c.typed::<BoolType>().write_batch(&vals, None, None)?;
+        c.close()
+    }
+}
+
+/// A column's values present, and the definition levels an OPTIONAL
+/// column marks each row with (1 present, 0 missing).
+fn split<T>(values: impl Iterator<Item = Option<T>>) -> (Vec<T>, Vec<i16>) {
+    let mut vals = Vec::new();
+    let mut defs = Vec::new();
+    for v in values {
+        defs.push(i16::from(v.is_some()));
+        vals.extend(v);
+    }
+    (vals, defs)
+}
+
+/// Writes a run's transitions, as `file` (a name unique in the export).
+pub fn transitions(
+    root: &Path,
+    at: &Partition,
+    file: &str,
+    run: &str,
+    s: &Session,
+) -> Result<(), Located> {
+    let path = at.dir(root, "transitions").join(format!("{file}.parquet"));
+    let ts = &s.index.transitions;
+    let mut steps = Vec::with_capacity(ts.len());
+    let mut last = (0, 0);
+    for t in ts {
+        last = if t.tick == last.0 {
+            (t.tick, last.1 + 1)
+        } else {
+            (t.tick, 1)
+        };
+        steps.push(last.1);
+    }
+    let names: Vec<String> = (1..=s.tree.len() as u32)
+        .map(|u| s.tree.spoken(u))
+        .collect();
+    let timed = s.times_us.len() == ts.len();
+    write(&path, TRANSITIONS, |c| {
+        c.strings(ts.iter().map(|_| Some(run)))?;
+        c.ints(ts.iter().map(|t| Some(t.tick as i32)))?;
+        c.ints(steps.iter().map(|&k| Some(k)))?;
+        c.longs((0..ts.len()).map(|i| timed.then(|| s.times_us[i])))?;
+        c.ints(ts.iter().map(|t| Some(t.uid as i32)))?;
+        c.strings(
+            ts.iter()
+                .map(|t| Some(names.get((t.uid - 1) as usize).map_or("", String::as_str))),
+        )?;
+        c.strings(ts.iter().map(|t| Some(t.prev.as_str())))?;
+        c.strings(ts.iter().map(|t| Some(t.status.as_str())))
+    })
+}
+
+/// Writes the runs and nodes tables, one file a partition.
+pub fn tables(root: &Path, fleet: &Fleet) -> Result<(), Located> {
+    let mut parts: std::collections::BTreeMap<&Partition, Vec<&RunSummary>> = Default::default();
+    for r in &fleet.runs {
+        if let Some(p) = &r.partition {
+            parts.entry(p).or_default().push(r);
+        }
+    }
+    for (p, runs) in parts {
+        let path = p.dir(root, "runs").join("runs.parquet");
+        write(&path, RUNS, |c| {
+            c.strings(runs.iter().map(|r| Some(r.name.as_str())))?;
+            c.strings(runs.iter().map(|r| Some(r.tree.as_str())))?;
+            c.ints(runs.iter().map(|r| Some(r.ticks as i32)))?;
+            c.longs(runs.iter().map(|r| Some(r.transitions as i64)))?;
+            c.strings(runs.iter().map(|r| r.outcome.map(|o| o.as_str())))?;
+            c.strings(runs.iter().map(|r| Some(r.ending.as_str())))?;
+            c.strings(runs.iter().map(|r| r.wrong.as_deref()))?;
+            c.ints(runs.iter().map(|r| Some(r.gaps as i32)))?;
+            c.longs(runs.iter().map(|r| r.span_us.map(|s| s.0)))?;
+            c.longs(runs.iter().map(|r| r.span_us.map(|s| s.1)))
+        })?;
+        let rows: Vec<(&RunSummary, &super::summary::NodeRun)> = runs
+            .iter()
+            .flat_map(|r| r.nodes.iter().map(move |n| (*r, n)))
+            .collect();
+        let path = p.dir(root, "nodes").join("nodes.parquet");
+        write(&path, NODES, |c| {
+            c.strings(rows.iter().map(|(r, _)| Some(r.name.as_str())))?;
+            c.strings(rows.iter().map(|(r, _)| Some(r.tree.as_str())))?;
+            c.ints(rows.iter().map(|(_, n)| Some(n.uid as i32)))?;
+            c.strings(rows.iter().map(|(_, n)| Some(n.spoken.as_str())))?;
+            c.strings(rows.iter().map(|(_, n)| Some(n.path.as_str())))?;
+            c.bools(rows.iter().map(|(_, n)| n.leaf))?;
+            c.ints(rows.iter().map(|(_, n)| Some(n.failures as i32)))?;
+            c.ints(
+                rows.iter()
+                    .map(|(_, n)| Some(n.recoveries.iter().filter(|r| r.is_some()).count() as i32)),
+            )?;
+            c.ints(
+                rows.iter()
+                    .map(|(_, n)| Some(n.recoveries.iter().filter(|r| r.is_none()).count() as i32)),
+            )?;
+            c.ints(rows.iter().map(|(_, n)| Some(n.running.len() as i32)))?;
+            c.longs(
+                rows.iter()
+                    .map(|(_, n)| Some(n.running.iter().map(|&d| i64::from(d)).sum())),
+            )
+        })?;
+    }
+    Ok(())
+}

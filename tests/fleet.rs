@@ -338,3 +338,11 @@ fn duckdb_reads_the_export_of_a_thousand_runs_to_the_same_figures() {
     assert!(!ok);
     assert!(err.contains("already holds files"), "{err}");
 }
+
+#[test]
+fn a_directory_that_links_back_to_itself_is_read_once() {
+    let (dir, runs) = fleet();
+    std::os::unix::fs::symlink(dir.path(), dir.path().join("robot/loop")).unwrap();
+    let v = json(&["fleet", dir.path().to_str().unwrap(), "--format", "json"]);
+    assert_eq!(v["runs"], runs.len());
+}

@@ -51,15 +51,23 @@ pub fn files(paths: &[PathBuf]) -> Result<Vec<Source>, crate::Located> {
 /// The extensions of the files a directory is searched for.
 pub const RUN_EXTENSIONS: [&str; 5] = ["jsonl", "btlog", "fbl", "db3", "mcap"];
 
+/// A directory's run files, its subdirectories' too; a link to a
+/// directory is not followed (a link back up would never end).
 fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), crate::Located> {
     let read = std::fs::read_dir(dir)
         .map_err(|e| crate::Located::file(dir, format!("cannot read the directory: {e}")))?;
-    let mut entries: Vec<PathBuf> = read.filter_map(|e| e.ok().map(|e| e.path())).collect();
+    let mut entries: Vec<(PathBuf, bool)> = read
+        .filter_map(|e| {
+            let e = e.ok()?;
+            Some((e.path(), e.file_type().ok()?.is_dir()))
+        })
+        .collect();
     entries.sort();
-    for p in entries {
-        if p.is_dir() {
+    for (p, is_dir) in entries {
+        if is_dir {
             walk(&p, out)?;
-        } else if p
+        } else if p.is_file()
+            && p
             .extension()
             .and_then(|e| e.to_str())
             .is_some_and(|e| RUN_EXTENSIONS.contains(&e))

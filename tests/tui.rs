@@ -1314,3 +1314,75 @@ fn every_key_in_every_pane_and_mode_acts_or_says_why_not() {
         silent.join("\n")
     );
 }
+
+/// The fleet view on the shipped kitting sessions.
+fn fleet_app() -> btx::tui::fleet::FleetApp {
+    // Names as a person gives them, relative to the project.
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).unwrap();
+    let mut paths: Vec<std::path::PathBuf> = std::fs::read_dir("sessions")
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("kitting-")
+        })
+        .collect();
+    paths.sort();
+    paths.push("tests/fixtures/logs/kitting_lookat_fails_once.btlog".into());
+    let files = btx::fleet::files(&paths).unwrap();
+    let opts = btx::xml::LoadOptions::default();
+    let fleet = btx::fleet::Fleet::read(&files, &opts, None, None, &|| {});
+    btx::tui::fleet::FleetApp::new(fleet, opts)
+}
+
+#[test]
+fn the_fleet_view_shows_failures_as_bars_and_opens_a_run() {
+    // #31 item 4: the fleet in the explorer; Enter on an action lists the
+    // runs it failed in, Enter on a run opens it, and quitting the run
+    // comes back to the fleet.
+    use ratatui::crossterm::event::Event;
+    let mut app = fleet_app();
+    for (w, h) in [(80, 24), (120, 40)] {
+        insta::assert_snapshot!(format!("fleet_{w}x{h}"), screen(&app, w, h));
+    }
+    // Look at chuck: the runs it failed in are the two that say so.
+    let look = app
+        .nodes
+        .iter()
+        .position(|n| n.name == "look at chuck #18")
+        .unwrap();
+    app.node = look;
+    app.update(Action::Toggle);
+    let names: Vec<&str> = app
+        .shown
+        .iter()
+        .map(|&i| app.fleet.runs[i].name.as_str())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+    assert!(names.iter().all(|n| n.contains("lookat")), "{names:?}");
+    insta::assert_snapshot!("fleet_only_look_at_chuck", screen(&app, 120, 40));
+    // Enter opens the run at its end; q there comes back here.
+    btx::tui::Screen::event(&mut app, Event::Key(key_event("Enter")), (120, 40));
+    let run = app.opened.as_ref().expect("the run opened");
+    assert_eq!(
+        run.pos as usize,
+        run.session.as_ref().unwrap().index.transitions.len()
+    );
+    assert!(screen(&app, 120, 40).contains("full tree"));
+    btx::tui::Screen::event(&mut app, Event::Key(key_event("q")), (120, 40));
+    assert!(app.opened.is_none() && !app.quit);
+    // Esc lists every run again; a key the view has no use for says so.
+    app.update(Action::Back);
+    assert_eq!(app.shown.len(), app.fleet.runs.len());
+    app.update(Action::Why);
+    assert!(app
+        .message
+        .as_deref()
+        .unwrap()
+        .contains("is not in the fleet view"));
+    btx::tui::Screen::event(&mut app, Event::Key(key_event("q")), (120, 40));
+    assert!(app.quit);
+}

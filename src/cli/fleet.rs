@@ -16,6 +16,9 @@ pub struct Args {
     /// Also write the runs, their nodes and their transitions as Parquet tables under DIR (runs/, nodes/, transitions/, partitioned by robot and day), for DuckDB, Spark, Trino or DataFusion. DIR must be new or empty.
     #[arg(long, value_name = "DIR")]
     pub export: Option<PathBuf>,
+    /// Show the fleet in the terminal: the failures as bars, RUNNING times, the runs on a time axis; Enter on a run opens it in the explorer.
+    #[arg(long, conflicts_with = "format")]
+    pub open: bool,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
 }
@@ -55,6 +58,12 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             .map(|(f, e)| format!("{f}: {e}"))
             .collect();
         fail!("no run could be read:\n{}", why.join("\n"));
+    }
+    if args.open {
+        let mut app = btx::tui::fleet::FleetApp::new(fleet, opts);
+        app.keymap = keymap(cli.keys.as_deref())?;
+        return btx::tui::run_with(app, cli.ascii)
+            .map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     }
     match args.format {
         Format::Text => print!("{}", btx::text::visible(&fleet.text())),

@@ -67,10 +67,9 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), crate::Located> {
         if is_dir {
             walk(&p, out)?;
         } else if p.is_file()
-            && p
-            .extension()
-            .and_then(|e| e.to_str())
-            .is_some_and(|e| RUN_EXTENSIONS.contains(&e))
+            && p.extension()
+                .and_then(|e| e.to_str())
+                .is_some_and(|e| RUN_EXTENSIONS.contains(&e))
         {
             out.push(p);
         }
@@ -140,6 +139,8 @@ impl Fleet {
                         (f.display().to_string(), format!("f{i:06}"))
                     };
                     let mut run = summarise(name, &s, reference);
+                    run.file = f.clone();
+                    run.run = (n > 1).then_some(k);
                     if let Some(root) = export {
                         let at = export::Partition::of(f, &src.given, &s);
                         if let Err(e) = export::transitions(root, &at, &id, &run.name, &s) {
@@ -450,7 +451,7 @@ fn names(runs: &[&str]) -> String {
 }
 
 /// How many spells lasted how long, as eight bars from none to longest.
-fn sparkline(sorted: &[u32]) -> String {
+pub fn sparkline(sorted: &[u32]) -> String {
     const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
     let Some(&max) = sorted.last() else {
         return String::new();

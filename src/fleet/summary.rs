@@ -14,6 +14,9 @@ use crate::session::Session;
 pub struct RunSummary {
     /// The file, with `#k` for the k-th run of a log holding several.
     pub name: String,
+    /// The file, and which of its runs when it holds several: to open it.
+    pub file: std::path::PathBuf,
+    pub run: Option<usize>,
     /// The tree, as its root's name says it.
     pub tree: String,
     /// Which tree, by its shape: nodes of runs of one tree pair by uid,
@@ -124,6 +127,8 @@ pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunS
         gaps: s.index.gaps.len(),
         span_us: s.span_us,
         partition: None,
+        file: s.path.clone(),
+        run: None,
         nodes: nodes.into_iter().flatten().collect(),
         diff: reference.map(|r| {
             use crate::diff::{Diff, Side};

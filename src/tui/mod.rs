@@ -6,6 +6,8 @@ pub mod app;
 pub mod choices;
 pub mod diff;
 pub mod diff_view;
+pub mod fleet;
+pub mod fleet_view;
 pub mod graph_view;
 pub mod keymap;
 pub mod panes;
@@ -208,6 +210,44 @@ impl Screen for diff::DiffApp {
     }
     fn done(&self) -> bool {
         self.quit
+    }
+}
+
+impl Screen for fleet::FleetApp {
+    fn draw(&self, f: &mut ratatui::Frame) {
+        fleet_view::view(self, f)
+    }
+    fn event(&mut self, ev: Event, size: (u16, u16)) {
+        // A run opened from the fleet has the keys until it quits, which
+        // comes back to the fleet.
+        if let Some(run) = self.opened.as_mut() {
+            handle(run, ev, size);
+            if run.quit {
+                self.opened = None;
+            }
+            return;
+        }
+        if let Event::Key(k) = ev {
+            if k.kind == KeyEventKind::Press {
+                if let Some(a) = self.keymap.action_for(&k) {
+                    self.update(a);
+                }
+            }
+        }
+    }
+    fn done(&self) -> bool {
+        self.quit
+    }
+    fn play_every(&self) -> Option<Duration> {
+        self.opened.as_ref().and_then(|r| r.play_every())
+    }
+    fn play_step(&mut self) {
+        if let Some(r) = self.opened.as_mut() {
+            Screen::play_step(r.as_mut());
+        }
+    }
+    fn take_clipboard(&mut self) -> Option<String> {
+        self.opened.as_mut().and_then(|r| r.take_clipboard())
     }
 }
 

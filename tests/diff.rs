@@ -398,6 +398,42 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(400))]
 
     #[test]
+    fn runs_aligned_unit_by_unit_give_a_valid_script_exact_when_short(
+        a in prop::collection::vec(0u8..4, 0..60),
+        b in prop::collection::vec(0u8..4, 0..60),
+        ua in 1usize..9,
+        ub in 1usize..9,
+        max in 0usize..130,
+    ) {
+        // #31 item 2: long runs are aligned run of the root by run of the
+        // root (here: units of `ua` and `ub` items), then item by item; up
+        // to `max` items together, exactly.
+        let unit = move |first: bool, i: usize| (i / if first { ua } else { ub }) as u64;
+        let e = btx::diff::align::edits_by_units_within(&a, &b, &[&unit], max);
+        let left: Vec<u8> = e.iter().filter_map(|x| x.a.map(|i| a[i])).collect();
+        let right: Vec<u8> = e.iter().filter_map(|x| x.b.map(|i| b[i])).collect();
+        prop_assert_eq!(&left, &a);
+        prop_assert_eq!(&right, &b);
+        for x in &e {
+            match x.op {
+                Op::Same => prop_assert_eq!(a[x.a.unwrap()], b[x.b.unwrap()]),
+                Op::Changed => prop_assert_ne!(a[x.a.unwrap()], b[x.b.unwrap()]),
+                Op::Inserted => prop_assert!(x.a.is_none() && x.b.is_some()),
+                Op::Deleted => prop_assert!(x.a.is_some() && x.b.is_none()),
+            }
+        }
+        let exact = dp_distance(&a, &b);
+        prop_assert!(distance(&e) >= exact);
+        if a.len() + b.len() <= max {
+            prop_assert_eq!(distance(&e), exact);
+        }
+        // A run against itself (the same units) is the same throughout.
+        let own = move |_: bool, i: usize| (i / ua) as u64;
+        let same = btx::diff::align::edits_by_units_within(&a, &a, &[&own], max);
+        prop_assert!(same.iter().all(|x| x.op == Op::Same));
+    }
+
+    #[test]
     fn the_edit_distance_is_the_dynamic_programmes(
         a in prop::collection::vec(0u8..4, 0..40),
         b in prop::collection::vec(0u8..4, 0..40),

@@ -77,6 +77,172 @@ pub fn edits_bounded<T: Eq + std::hash::Hash + Ord>(a: &[T], b: &[T]) -> (Vec<Ed
     (script(&ops), exact)
 }
 
+/// Sequences up to this long (both together) are aligned exactly, with no
+/// time bound: Myers' worst case is then some 10^7 steps.
+pub const EXACT_MAX: usize = 4_000;
+
+/// The edit script of two long sequences cut into units (the runs of the
+/// root, then ticks): the units are aligned first, by their contents, and
+/// the items within each pair of units that differ, the same way down to
+/// sequences short enough to align exactly. Deterministic and close to
+/// linear when the runs repeat a task, where Myers' algorithm on the whole
+/// is quadratic and a time bound would change the answer with the load.
+/// `levels[k](i)` is item i's unit at level k (non-decreasing in i).
+pub fn edits_by_units<T: Eq + std::hash::Hash + Ord>(
+    a: &[T],
+    b: &[T],
+    levels: &[&dyn Fn(bool, usize) -> u64],
+) -> Vec<Edit> {
+    edits_by_units_within(a, b, levels, EXACT_MAX)
+}
+
+/// The same, aligning exactly up to `max` items (the tests make it small).
+pub fn edits_by_units_within<T: Eq + std::hash::Hash + Ord>(
+    a: &[T],
+    b: &[T],
+    levels: &[&dyn Fn(bool, usize) -> u64],
+    max: usize,
+) -> Vec<Edit> {
+    let mut out = Vec::new();
+    units(a, b, (0, 0), levels, max, &mut out);
+    out
+}
+
+fn units<T: Eq + std::hash::Hash + Ord>(
+    a: &[T],
+    b: &[T],
+    (a0, b0): (usize, usize),
+    levels: &[&dyn Fn(bool, usize) -> u64],
+    max: usize,
+    out: &mut Vec<Edit>,
+) {
+    let shift = |e: Edit| Edit {
+        op: e.op,
+        a: e.a.map(|i| i + a0),
+        b: e.b.map(|j| j + b0),
+    };
+    if a.len() + b.len() <= max || levels.is_empty() {
+        let edits = if a.len() + b.len() <= max {
+            script(&similar::capture_diff_slices(Algorithm::Myers, a, b))
+        } else {
+            // Past every level: what is left is paired in place.
+            in_place(a, b)
+        };
+        out.extend(edits.into_iter().map(shift));
+        return;
+    }
+    let (level, rest) = (levels[0], &levels[1..]);
+    let cut = |first: bool, xs: &[T], x0: usize| -> Vec<std::ops::Range<usize>> {
+        let mut spans = Vec::new();
+        let mut start = 0;
+        for i in 1..=xs.len() {
+            if i == xs.len() || level(first, x0 + i) != level(first, x0 + start) {
+                spans.push(start..i);
+                start = i;
+            }
+        }
+        spans
+    };
+    let (ua, ub) = (cut(true, a, a0), cut(false, b, b0));
+    let digest = |xs: &[T], r: &std::ops::Range<usize>| {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        xs[r.clone()].hash(&mut h);
+        h.finish()
+    };
+    let ka: Vec<u64> = ua.iter().map(|r| digest(a, r)).collect();
+    let kb: Vec<u64> = ub.iter().map(|r| digest(b, r)).collect();
+    for e in align_units(&ka, &kb, max) {
+        match (e.op, e.a, e.b) {
+            // Units whose digests agree are compared whole, so that a
+            // collision cannot pair two different ones.
+            (Op::Same, Some(i), Some(j)) if a[ua[i].clone()] == b[ub[j].clone()] => {
+                out.extend(ua[i].clone().zip(ub[j].clone()).map(|(x, y)| Edit {
+                    op: Op::Same,
+                    a: Some(x + a0),
+                    b: Some(y + b0),
+                }))
+            }
+            (Op::Same | Op::Changed, Some(i), Some(j)) => {
+                let (ra, rb) = (ua[i].clone(), ub[j].clone());
+                units(
+                    &a[ra.clone()],
+                    &b[rb.clone()],
+                    (a0 + ra.start, b0 + rb.start),
+                    rest,
+                    max,
+                    out,
+                )
+            }
+            (_, Some(i), None) => out.extend(ua[i].clone().map(|x| Edit {
+                op: Op::Deleted,
+                a: Some(x + a0),
+                b: None,
+            })),
+            (_, None, Some(j)) => out.extend(ub[j].clone().map(|y| Edit {
+                op: Op::Inserted,
+                a: None,
+                b: Some(y + b0),
+            })),
+            _ => {}
+        }
+    }
+}
+
+/// The units' alignment by their digests: exact when there are few; past
+/// that, the common start and end kept and the middle paired in place (a
+/// pair that is the same inside comes out the same, one item at a time).
+fn align_units(ka: &[u64], kb: &[u64], max: usize) -> Vec<Edit> {
+    if ka.len() + kb.len() <= max {
+        return script(&similar::capture_diff_slices(Algorithm::Myers, ka, kb));
+    }
+    let head = ka.iter().zip(kb).take_while(|(x, y)| x == y).count();
+    let tail = ka[head..]
+        .iter()
+        .rev()
+        .zip(kb[head..].iter().rev())
+        .take_while(|(x, y)| x == y)
+        .count();
+    let same = |i: usize, j: usize| Edit {
+        op: Op::Same,
+        a: Some(i),
+        b: Some(j),
+    };
+    let mut out: Vec<Edit> = (0..head).map(|i| same(i, i)).collect();
+    let mid = |k: &[u64]| k[head..k.len() - tail].to_vec();
+    out.extend(in_place(&mid(ka), &mid(kb)).into_iter().map(|e| Edit {
+        op: e.op,
+        a: e.a.map(|i| i + head),
+        b: e.b.map(|j| j + head),
+    }));
+    out.extend((0..tail).map(|k| same(ka.len() - tail + k, kb.len() - tail + k)));
+    out
+}
+
+/// Two stretches paired item by item (the same, or changed), the longer
+/// one's rest inserted or deleted.
+fn in_place<T: Eq>(a: &[T], b: &[T]) -> Vec<Edit> {
+    let paired = a.len().min(b.len());
+    let mut out: Vec<Edit> = (0..paired)
+        .map(|k| Edit {
+            op: if a[k] == b[k] { Op::Same } else { Op::Changed },
+            a: Some(k),
+            b: Some(k),
+        })
+        .collect();
+    out.extend((paired..a.len()).map(|k| Edit {
+        op: Op::Deleted,
+        a: Some(k),
+        b: None,
+    }));
+    out.extend((paired..b.len()).map(|k| Edit {
+        op: Op::Inserted,
+        a: None,
+        b: Some(k),
+    }));
+    out
+}
+
 fn script(ops: &[DiffOp]) -> Vec<Edit> {
     let mut out = Vec::new();
     for &op in ops {

@@ -65,6 +65,9 @@ pub struct Step {
     /// For runs: the transitions it spans, from its start to its outcome
     /// (0-based indices into the run's transitions).
     pub span: Option<(usize, usize)>,
+    /// For runs: which run of the root it started in (from 0: the root's
+    /// completions before it).
+    pub episode: u32,
 }
 
 impl Step {
@@ -145,19 +148,20 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
             });
         }
     }
-    let step = |uid: Uid, tick, outcome, span| Step {
+    let step = |uid: Uid, tick, outcome, span, episode| Step {
         uid,
         name: tree.description(uid).to_string(),
         tick,
         outcome,
         span,
+        episode,
     };
     match side.session {
         None => {
             for uid in tree.leaves_below(Tree::ROOT) {
                 seqs[slot[owner(tree, uid) as usize]]
                     .steps
-                    .push(step(uid, None, None, None));
+                    .push(step(uid, None, None, None, 0));
             }
         }
         Some(s) => {
@@ -166,7 +170,11 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
             // transition ends it. Re-ticks that do not change the status
             // leave no record in any log, so they cannot be counted.
             let mut open: Vec<Option<(usize, usize)>> = vec![None; tree.len() + 1];
+            let mut episode = 0;
             for (k, t) in s.index.transitions.iter().enumerate() {
+                if t.uid == Tree::ROOT && t.status.is_completed() {
+                    episode += 1;
+                }
                 let Some(node) = tree.get(t.uid) else {
                     continue;
                 };
@@ -189,9 +197,13 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
                     );
                 if starts {
                     let q = slot[owner(tree, t.uid) as usize];
-                    seqs[q]
-                        .steps
-                        .push(step(t.uid, Some(t.tick), Some(t.status), Some((k, k))));
+                    seqs[q].steps.push(step(
+                        t.uid,
+                        Some(t.tick),
+                        Some(t.status),
+                        Some((k, k)),
+                        episode,
+                    ));
                     if t.status == Status::Running {
                         open[t.uid as usize] = Some((q, seqs[q].steps.len() - 1));
                     }
@@ -432,7 +444,20 @@ impl Diff {
             let ys = y.map_or(&empty, |s| &s.steps);
             let kx: Vec<String> = xs.iter().map(|s| s.key(outcomes)).collect();
             let ky: Vec<String> = ys.iter().map(|s| s.key(outcomes)).collect();
-            let (mut edits, exact) = align::edits_bounded(&kx, &ky);
+            let (mut edits, exact) = if outcomes && kx.len() + ky.len() > align::EXACT_MAX {
+                // Two long runs: run of the root by run of the root, then
+                // tick by tick, so that the answer does not hang on a
+                // time bound (and so on the machine's load).
+                let episode = |first: bool, i: usize| {
+                    u64::from(if first { xs[i].episode } else { ys[i].episode })
+                };
+                let tick = |first: bool, i: usize| {
+                    u64::from(if first { xs[i].tick } else { ys[i].tick }.unwrap_or(0))
+                };
+                (align::edits_by_units(&kx, &ky, &[&episode, &tick]), false)
+            } else {
+                align::edits_bounded(&kx, &ky)
+            };
             if outcomes {
                 edits = unlike_apart(edits, xs, ys);
             }
@@ -640,7 +665,11 @@ impl Diff {
                 if sec.exact {
                     ""
                 } else {
-                    " at most (aligning took longer than 2 s)"
+                    if self.outcomes() {
+                        " at most (aligned run of the root by run of the root, then tick by tick)"
+                    } else {
+                        " at most (aligning took longer than 2 s)"
+                    }
                 },
                 sec.lcs(),
                 plural(sec.a.len(), "action"),

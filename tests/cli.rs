@@ -148,7 +148,7 @@ fn tree_json_is_a_flat_node_list() {
     ]);
     assert!(ok);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
-    assert_eq!(v["schema"], "btx.tree/1");
+    assert_eq!(v["schema"], "btx.tree/2");
     assert_eq!(v["btcpp_format"], 3);
     assert_eq!(v["node_count"], 79);
     let n6 = &v["nodes"][5];

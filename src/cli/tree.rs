@@ -29,7 +29,10 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             export::write_tree_text(tree, &mut |l| print!("{l}"));
             return Ok(());
         }
-        (false, TreeFormat::Json) => pretty(&export::tree_json(tree)),
+        (false, TreeFormat::Json) => {
+            export::write_tree_json(tree, &mut |s| print!("{s}"));
+            return Ok(());
+        }
         (false, TreeFormat::Dot) => export::tree_dot(tree),
         (false, TreeFormat::Mermaid) => export::tree_mermaid(tree),
         (true, TreeFormat::Xml) => {

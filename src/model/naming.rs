@@ -99,22 +99,21 @@ impl Tree {
     /// BehaviorTree.CPP's path of a blackboard scope: its SubTree's name (or
     /// `ID::uid` when it has none) under its parent's path; `""` for the main tree.
     pub fn scope_path(&self, scope: super::ScopeId) -> String {
-        let s = &self.scopes[scope];
-        let (Some(parent), Some(st)) = (s.parent, s.subtree) else {
-            return String::new();
-        };
-        let n = self.node(st);
-        let seg = if n.name != n.id {
-            n.name.clone()
-        } else {
-            format!("{}::{}", n.id, st)
-        };
-        let p = self.scope_path(parent);
-        if p.is_empty() {
-            seg
-        } else {
-            format!("{p}/{seg}")
+        // Walked up once and joined once: building it parent by parent
+        // copied the path at every level, cubic on a deep chain of SubTrees.
+        let mut segs: Vec<std::borrow::Cow<str>> = Vec::new();
+        let mut at = scope;
+        while let (Some(parent), Some(st)) = (self.scopes[at].parent, self.scopes[at].subtree) {
+            let n = self.node(st);
+            segs.push(if n.name != n.id {
+                n.name.as_str().into()
+            } else {
+                format!("{}::{}", n.id, st).into()
+            });
+            at = parent;
         }
+        segs.reverse();
+        segs.join("/")
     }
 
     /// The name BehaviorTree.CPP's Groot2 publisher gives a scope's

@@ -116,5 +116,28 @@ fn sessions(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, executor, sessions);
+/// #31 item 1: `btx run` on a deep chain of SubTrees within 2× of loading
+/// it (a scope's path rebuilt level by level made it cubic: 11.6 s).
+fn deep_chain(c: &mut Criterion) {
+    let xml = generated::subtree_chain(3_332);
+    let load = || {
+        load_str(Path::new("chain.xml"), &xml, &LoadOptions::default())
+            .unwrap()
+            .tree
+    };
+    let mut g = c.benchmark_group("a chain of 3,332 SubTrees");
+    g.sample_size(10);
+    g.bench_function("load", |b| b.iter(|| load().len()));
+    g.bench_function("load, then run one tick", |b| {
+        b.iter(|| {
+            let t = load();
+            let mut ex = Executor::new(&t, PlanLeaves::new(plan(""), &t), RunOptions::default());
+            ex.tick_once().unwrap();
+            ex.take_events().len()
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, executor, sessions, deep_chain);
 criterion_main!(benches);

@@ -103,3 +103,21 @@ pub fn big_session() -> std::path::PathBuf {
     record(req, PlanLeaves::new(plan, &tree)).unwrap();
     out
 }
+
+/// A chain of `n` SubTrees, each a Sequence of a leaf and the next SubTree
+/// (3n nodes, about 2n levels): the deep tree of #31 item 1.
+pub fn subtree_chain(n: usize) -> String {
+    let mut x = String::from("<root BTCPP_format=\"4\" main_tree_to_execute=\"T0\">\n");
+    for k in 0..n {
+        let inner = if k + 1 < n {
+            format!("<SubTree ID=\"T{}\"/>", k + 1)
+        } else {
+            "<AlwaysSuccess/>".to_string()
+        };
+        x.push_str(&format!(
+            "<BehaviorTree ID=\"T{k}\"><Sequence><AlwaysSuccess/>{inner}</Sequence></BehaviorTree>\n"
+        ));
+    }
+    x.push_str("</root>\n");
+    x
+}

@@ -375,6 +375,24 @@ fn set_names_what_it_cannot_set() {
     );
 }
 
+/// An edit script that walks both sequences in order, keeps equal items
+/// and changes only different ones.
+fn valid_script(e: &[btx::diff::Edit], a: &[u8], b: &[u8]) -> Result<(), TestCaseError> {
+    let left: Vec<u8> = e.iter().filter_map(|x| x.a.map(|i| a[i])).collect();
+    let right: Vec<u8> = e.iter().filter_map(|x| x.b.map(|i| b[i])).collect();
+    prop_assert_eq!(&left, &a);
+    prop_assert_eq!(&right, &b);
+    for x in e {
+        match x.op {
+            Op::Same => prop_assert_eq!(a[x.a.unwrap()], b[x.b.unwrap()]),
+            Op::Changed => prop_assert_ne!(a[x.a.unwrap()], b[x.b.unwrap()]),
+            Op::Inserted => prop_assert!(x.a.is_none() && x.b.is_some()),
+            Op::Deleted => prop_assert!(x.a.is_some() && x.b.is_none()),
+        }
+    }
+    Ok(())
+}
+
 /// Insertions plus deletions, by the textbook table.
 fn dp_distance(a: &[u8], b: &[u8]) -> usize {
     let mut d = vec![vec![0usize; b.len() + 1]; a.len() + 1];
@@ -410,18 +428,7 @@ proptest! {
         // to `max` items together, exactly.
         let unit = move |first: bool, i: usize| (i / if first { ua } else { ub }) as u64;
         let e = btx::diff::align::edits_by_units_within(&a, &b, &[&unit], max);
-        let left: Vec<u8> = e.iter().filter_map(|x| x.a.map(|i| a[i])).collect();
-        let right: Vec<u8> = e.iter().filter_map(|x| x.b.map(|i| b[i])).collect();
-        prop_assert_eq!(&left, &a);
-        prop_assert_eq!(&right, &b);
-        for x in &e {
-            match x.op {
-                Op::Same => prop_assert_eq!(a[x.a.unwrap()], b[x.b.unwrap()]),
-                Op::Changed => prop_assert_ne!(a[x.a.unwrap()], b[x.b.unwrap()]),
-                Op::Inserted => prop_assert!(x.a.is_none() && x.b.is_some()),
-                Op::Deleted => prop_assert!(x.a.is_some() && x.b.is_none()),
-            }
-        }
+        valid_script(&e, &a, &b)?;
         let exact = dp_distance(&a, &b);
         prop_assert!(distance(&e) >= exact);
         if a.len() + b.len() <= max {
@@ -441,20 +448,7 @@ proptest! {
         let e = edits(&a, &b);
         prop_assert_eq!(distance(&e), dp_distance(&a, &b));
         prop_assert_eq!(lcs(&e), (a.len() + b.len() - dp_distance(&a, &b)) / 2);
-        // The script is a valid one: it walks both sequences in order, keeps
-        // equal items and changes only different ones.
-        let left: Vec<u8> = e.iter().filter_map(|x| x.a.map(|i| a[i])).collect();
-        let right: Vec<u8> = e.iter().filter_map(|x| x.b.map(|i| b[i])).collect();
-        prop_assert_eq!(&left, &a);
-        prop_assert_eq!(&right, &b);
-        for x in &e {
-            match x.op {
-                Op::Same => prop_assert_eq!(a[x.a.unwrap()], b[x.b.unwrap()]),
-                Op::Changed => prop_assert_ne!(a[x.a.unwrap()], b[x.b.unwrap()]),
-                Op::Inserted => prop_assert!(x.a.is_none() && x.b.is_some()),
-                Op::Deleted => prop_assert!(x.a.is_some() && x.b.is_none()),
-            }
-        }
+        valid_script(&e, &a, &b)?;
     }
 }
 

@@ -256,19 +256,10 @@ fn duckdb_reads_the_export_of_a_thousand_runs_to_the_same_figures() {
     // they are, and its figures are `btx fleet`'s.
     let dir = tempfile::tempdir().unwrap();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let mut sources: Vec<PathBuf> = std::fs::read_dir(root.join("sessions"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.file_name()
-                .unwrap()
-                .to_str()
-                .unwrap()
-                .starts_with("kitting-")
-        })
+    let sources: Vec<PathBuf> = common::kitting_fleet()
+        .iter()
+        .map(|p| root.join(p))
         .collect();
-    sources.sort();
-    sources.push(common::fixture("logs/kitting_lookat_fails_once.btlog"));
     let fleet = dir.path().join("fleet");
     for i in 0..1000 {
         let robot = fleet.join(format!("robot-{}", i / 100));

@@ -1319,19 +1319,7 @@ fn every_key_in_every_pane_and_mode_acts_or_says_why_not() {
 fn fleet_app() -> btx::tui::fleet::FleetApp {
     // Names as a person gives them, relative to the project.
     std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).unwrap();
-    let mut paths: Vec<std::path::PathBuf> = std::fs::read_dir("sessions")
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.file_name()
-                .unwrap()
-                .to_str()
-                .unwrap()
-                .starts_with("kitting-")
-        })
-        .collect();
-    paths.sort();
-    paths.push("tests/fixtures/logs/kitting_lookat_fails_once.btlog".into());
+    let paths = common::kitting_fleet();
     let files = btx::fleet::files(&paths).unwrap();
     let opts = btx::xml::LoadOptions::default();
     let fleet = btx::fleet::Fleet::read(&files, &opts, None, None, &|| {});

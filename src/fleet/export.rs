@@ -10,7 +10,7 @@ use super::Fleet;
 use crate::session::Session;
 use crate::source::Located;
 use parquet::basic::Compression;
-use parquet::data_type::{BoolType, ByteArray, ByteArrayType, Int32Type, Int64Type};
+use parquet::data_type::{BoolType, ByteArray, ByteArrayType, DataType, Int32Type, Int64Type};
 use parquet::file::properties::WriterProperties;
 use parquet::file::writer::SerializedFileWriter;
 use parquet::schema::parser::parse_message_type;
@@ -175,41 +175,39 @@ struct Columns<'a, 'b> {
 }
 
 impl Columns<'_, '_> {
+    /// The next column, of Parquet type `P`; `None` is a missing value (the
+    /// column is OPTIONAL).
+    fn column<P: DataType>(
+        &mut self,
+        values: impl Iterator<Item = Option<P::T>>,
+    ) -> parquet::errors::Result<()> {
+        let (vals, defs) = split(values);
+        let mut c = self.rg.next_column()?.expect("a column of the schema");
+        let w = c.typed::<P>();
+        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
+        w.write_batch(&vals, defs.as_deref(), None)?;
+        c.close()
+    }
+
     fn strings<'s>(
         &mut self,
         values: impl Iterator<Item = Option<&'s str>>,
     ) -> parquet::errors::Result<()> {
-        let (vals, defs) = split(values.map(|v| v.map(|s| ByteArray::from(s.as_bytes().to_vec()))));
-        let mut c = self.rg.next_column()?.expect("a column of the schema");
-        let w = c.typed::<ByteArrayType>();
-        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
-        w.write_batch(&vals, defs.as_deref(), None)?;
-        c.close()
+        self.column::<ByteArrayType>(
+            values.map(|v| v.map(|s| ByteArray::from(s.as_bytes().to_vec()))),
+        )
     }
 
     fn ints(&mut self, values: impl Iterator<Item = Option<i32>>) -> parquet::errors::Result<()> {
-        let (vals, defs) = split(values);
-        let mut c = self.rg.next_column()?.expect("a column of the schema");
-        let w = c.typed::<Int32Type>();
-        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
-        w.write_batch(&vals, defs.as_deref(), None)?;
-        c.close()
+        self.column::<Int32Type>(values)
     }
 
     fn longs(&mut self, values: impl Iterator<Item = Option<i64>>) -> parquet::errors::Result<()> {
-        let (vals, defs) = split(values);
-        let mut c = self.rg.next_column()?.expect("a column of the schema");
-        let w = c.typed::<Int64Type>();
-        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
-        w.write_batch(&vals, defs.as_deref(), None)?;
-        c.close()
+        self.column::<Int64Type>(values)
     }
 
     fn bools(&mut self, values: impl Iterator<Item = bool>) -> parquet::errors::Result<()> {
-        let vals: Vec<bool> = values.collect();
-        let mut c = self.rg.next_column()?.expect("a column of the schema");
-        c.typed::<BoolType>().write_batch(&vals, None, None)?;
-        c.close()
+        self.column::<BoolType>(values.map(Some))
     }
 }
 

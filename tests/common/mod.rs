@@ -232,3 +232,24 @@ pub fn run_nav2(navigator: impl AsRef<Path>, plan: impl AsRef<Path>, out: &Path)
     ]);
     assert!(ok, "{}: {err}", nav.display());
 }
+
+/// The shipped kitting sessions (`sessions/kitting-*.jsonl`, relative to the
+/// project, in name order), then the real BehaviorTree.CPP 4.10 log of
+/// look at chuck failing once: a small fleet.
+pub fn kitting_fleet() -> Vec<PathBuf> {
+    let mut paths: Vec<PathBuf> =
+        std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions"))
+            .unwrap()
+            .map(|e| Path::new("sessions").join(e.unwrap().file_name()))
+            .filter(|p| {
+                p.file_name()
+                    .unwrap()
+                    .to_str()
+                    .unwrap()
+                    .starts_with("kitting-")
+            })
+            .collect();
+    paths.sort();
+    paths.push("tests/fixtures/logs/kitting_lookat_fails_once.btlog".into());
+    paths
+}

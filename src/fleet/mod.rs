@@ -84,6 +84,8 @@ pub struct Fleet {
     pub errors: Vec<(String, String)>,
     /// Tables that could not be written (`--export`), with why.
     pub unwritten: Vec<String>,
+    /// With a reference run: each run compared with it (`btx diff REF RUN...`).
+    pub reference: Option<crate::diff::fleet::Fleet>,
 }
 
 /// A node across the runs, paired by its path.
@@ -162,6 +164,7 @@ impl Fleet {
             runs: Vec::new(),
             errors: Vec::new(),
             unwritten: Vec::new(),
+            reference: None,
         };
         for (r, unwritten) in read {
             match r {
@@ -174,6 +177,15 @@ impl Fleet {
             if let Err(e) = export::tables(root, &fleet) {
                 fleet.unwritten.push(e.to_string());
             }
+        }
+        let diffs: Vec<crate::diff::Diff> = fleet
+            .runs
+            .iter_mut()
+            .filter_map(|r| r.diff.take())
+            .collect();
+        if let Some(first) = diffs.first() {
+            let name = first.a_name.clone();
+            fleet.reference = Some(crate::diff::fleet::Fleet::of(name, diffs));
         }
         fleet
     }
@@ -357,22 +369,11 @@ impl Fleet {
                 out.push_str(&format!("    {}\n", names(runs)));
             }
         }
-        if let Some(f) = self.against_reference() {
+        if let Some(f) = &self.reference {
             out.push('\n');
             out.push_str(&f.text());
         }
         out
-    }
-
-    /// With a reference: each run compared with it (`btx diff REF RUN...`).
-    pub fn against_reference(&self) -> Option<crate::diff::fleet::Fleet> {
-        let diffs: Option<Vec<crate::diff::Diff>> =
-            self.runs.iter().map(|r| r.diff.clone()).collect();
-        let diffs = diffs.filter(|d| !d.is_empty())?;
-        Some(crate::diff::fleet::Fleet::of(
-            diffs[0].a_name.clone(),
-            diffs,
-        ))
     }
 
     pub fn json(&self) -> Value {
@@ -415,7 +416,7 @@ impl Fleet {
                 "gaps": r.gaps,
             })).collect::<Vec<_>>(),
             "errors": self.errors.iter().map(|(f, e)| json!({"file": f, "error": e})).collect::<Vec<_>>(),
-            "reference": self.against_reference().map(|f| f.json()),
+            "reference": self.reference.as_ref().map(|f| f.json()),
         })
     }
 }

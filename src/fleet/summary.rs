@@ -156,9 +156,10 @@ fn went_wrong(tree: &Tree, s: &Session, end: u32) -> String {
 /// The tree's shape as `model::same_shape` compares it (each node's kind,
 /// parent and built-in type), as a key.
 fn shape(tree: &Tree) -> String {
-    let mut text = String::new();
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
     for n in &tree.nodes {
-        text.push_str(&format!("{:?}/{:?}/{:?};", n.kind, n.parent, n.builtin));
+        (n.kind, n.parent, n.builtin).hash(&mut h);
     }
-    crate::session::format::fnv64(&text)
+    format!("{:016x}", h.finish())
 }

@@ -16,12 +16,7 @@ pub const PARENT: Color = Color::Rgb(96, 125, 139);
 
 /// The first row shown so that the selection stays in view.
 fn first_row(app: &DiffApp, height: usize) -> usize {
-    let h = height.max(1);
-    if app.selected < h / 2 {
-        0
-    } else {
-        (app.selected - h / 2).min(app.rows.len().saturating_sub(h))
-    }
+    super::view::first_shown(app.selected, app.rows.len(), height)
 }
 
 fn tree_pane(app: &DiffApp, side: usize, f: &mut Frame, area: Rect) {

@@ -3,7 +3,7 @@
 //! runs' list and the selected run's ending.
 
 use super::fleet::{FleetApp, Focus};
-use super::view::{block, centered, fit, status_color};
+use super::view::{block, centered, first_shown as first, fit, status_color};
 use crate::run::Status;
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -54,16 +54,6 @@ fn halves(area: Rect) -> std::rc::Rc<[Rect]> {
         .direction(Direction::Horizontal)
         .constraints([Constraint::Percentage(60), Constraint::Percentage(40)])
         .split(area)
-}
-
-/// The first row shown so that `selected` stays in view.
-fn first(selected: usize, len: usize, height: usize) -> usize {
-    let h = height.max(1);
-    if selected < h / 2 {
-        0
-    } else {
-        (selected - h / 2).min(len.saturating_sub(h))
-    }
 }
 
 /// Each failing action's runs failed in, as a bar out of every run.
@@ -265,19 +255,15 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
             r.name.clone(),
             Style::default().add_modifier(Modifier::BOLD),
         )));
-        lines.push(Line::from(format!("{}.", capitalised(&r.ending))));
+        lines.push(Line::from(format!(
+            "{}.",
+            crate::causal::english::capitalised(&r.ending)
+        )));
         if let Some(w) = &r.wrong {
             lines.push(Line::from(w.clone()));
         }
     }
     f.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), inner);
-}
-
-fn capitalised(s: &str) -> String {
-    let mut c = s.chars();
-    c.next().map_or(String::new(), |f| {
-        f.to_uppercase().collect::<String>() + c.as_str()
-    })
 }
 
 fn help(f: &mut Frame) {

@@ -130,12 +130,21 @@ pub(super) fn block(title: String, focused: bool) -> Block<'static> {
 
 /// The first row shown so that the selection stays in view.
 pub fn first_row(app: &App, height: usize) -> usize {
-    let sel = app.row_of(app.selected).unwrap_or(0);
+    first_shown(
+        app.row_of(app.selected).unwrap_or(0),
+        app.rows().len(),
+        height,
+    )
+}
+
+/// The first of `len` rows shown in `height` so that row `selected` stays
+/// in view, in the middle when it can.
+pub fn first_shown(selected: usize, len: usize, height: usize) -> usize {
     let h = height.max(1);
-    if sel < h / 2 {
+    if selected < h / 2 {
         0
     } else {
-        (sel - h / 2).min(app.rows().len().saturating_sub(h))
+        (selected - h / 2).min(len.saturating_sub(h))
     }
 }
 

@@ -13,25 +13,7 @@ cargo build --release --quiet
 btx=$PWD/target/release/btx
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-python3 - "$dir/fleet" "$runs" "$records" <<'PY'
-import os, struct, sys
-out, runs, records = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-src = open("tests/fixtures/logs/kitting_nominal.btlog", "rb").read()
-n = struct.unpack("<i", src[19:23])[0]
-head, body = src[:31 + n], src[31 + n:]
-recs = [(int.from_bytes(body[i:i + 6], "little"), body[i + 6:i + 9]) for i in range(0, len(body), 9)]
-span = recs[-1][0] + 10_000
-data = bytearray(head)
-k = 0
-while k < records:
-    rep, (dt, rest) = divmod(k, len(recs))[0], recs[k % len(recs)]
-    data += (dt + rep * span).to_bytes(8, "little")[:6] + rest
-    k += 1
-for i in range(runs):
-    d = os.path.join(out, f"robot-{i % 10}")
-    os.makedirs(d, exist_ok=True)
-    open(os.path.join(d, f"run-{i:05}.btlog"), "wb").write(data)
-PY
+python3 benches/repeat_btlog.py "$records" "$dir/fleet" "$runs"
 echo "$runs files of $records transitions: $(du -sh "$dir/fleet" | cut -f1)"
 t() { local s; s=$(date +%s.%N); "$@" > /dev/null; python3 -c "print(f'{$(date +%s.%N) - $s:.2f}')"; }
 cat_s=$(t sh -c "cat $dir/fleet/*/*.btlog")

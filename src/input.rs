@@ -162,6 +162,13 @@ fn open_as(
             path, None, given,
         )?)));
     }
+    if crate::session::columnar::is_parquet(&bytes) {
+        let mut s = Session::from_bytes(path, bytes)?;
+        if let Some(g) = given {
+            g.put_in(&mut s)?;
+        }
+        return Ok(Input::Session(Box::new(s)));
+    }
     if crate::logs::btlog::is_btlog(&bytes) {
         return Ok(Input::Session(Box::new(crate::logs::open_btlog_as(
             path, &bytes, given,

@@ -11,6 +11,7 @@
 pub mod model;
 pub mod rank;
 pub mod source;
+pub mod table;
 pub mod text;
 pub mod xml;
 

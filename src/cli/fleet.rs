@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// The runs: sessions, logs and rosbags, directories of them (searched for .jsonl, .btlog, .fbl, .db3 and .mcap files), or glob patterns ('runs/*.btlog').
+    /// The runs: sessions, logs and rosbags, directories of them (searched for .jsonl and .parquet sessions, .btlog, .fbl, .db3 and .mcap files), or glob patterns ('runs/*.btlog').
     #[arg(required = true, value_name = "PATH")]
     pub paths: Vec<PathBuf>,
     #[command(flatten)]

@@ -1,4 +1,4 @@
-//! `btx import`: Convert a log (BehaviorTree.CPP .btlog, .db3 or .fbl, or a btcm log) into a btx session file.
+//! `btx import`: a log into a btx session file, or a session into the other format.
 
 use super::*;
 
@@ -7,6 +7,7 @@ pub struct Args {
     pub log: PathBuf,
     #[command(flatten)]
     pub reading: Reading,
+    /// The session file to write (never overwritten): JSON lines, or Parquet if it ends in .parquet. A btx session given as LOG is converted record for record.
     #[arg(long, value_name = "SESSION")]
     pub out: PathBuf,
 }
@@ -17,11 +18,23 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     if btx::logs::rosbag::is_bag(&log) && reading.run.is_none() {
         return import_runs(&log, &reading, &out, cli);
     }
+    if reading.run_tree.is_none() {
+        let bytes = btx::source::read_input(&log, btx::source::INPUT_SIZE_MAX, "the file")?;
+        if btx::session::copy::is_session(&bytes) {
+            let (path, s) = btx::session::copy::copy(&log, bytes, &out).map_err(located)?;
+            warn_all(cli.quiet, &s.warnings);
+            return say_written(&path, &s);
+        }
+    }
     let s = match open_input(&log, &reading, cli.quiet)? {
         Input::Session(s) => *s,
         Input::Tree { .. } => fail!("{} is a tree, not a log", log.display()),
     };
     let path = btx::logs::write_session(&s, &out)?;
+    say_written(&path, &s)
+}
+
+fn say_written(path: &Path, s: &btx::session::Session) -> Result<(), Failure> {
     eprintln!(
         "{}: {} ticks, {} transitions",
         path.display(),

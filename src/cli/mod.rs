@@ -145,7 +145,7 @@ enum Command {
     Ask(ask::Args),
     /// Run a tree tick by tick and record the run as a session.
     Run(run::Args),
-    /// Convert a log (BehaviorTree.CPP .btlog, .db3 or .fbl, or a btcm log) into a btx session file.
+    /// Convert a log (BehaviorTree.CPP .btlog, .db3 or .fbl, a rosbag, or a btcm log) into a btx session file, or a session from JSON lines to Parquet and back.
     Import(import::Args),
     /// Show a built-in world: the taxi grid, its optimal policy and the tree generated from it.
     World(world::Args),

@@ -15,7 +15,7 @@ pub struct Args {
     /// Open robots that are running now: `[HOST][:PORT]` each (default 127.0.0.1:1667), a Groot2 server (BehaviorTree.CPP 4) or a Groot 1 server (BehaviorTree.CPP 3, Nav2 Humble). With several, `R` picks the one shown; all are watched.
     #[arg(long, value_name = "[HOST][:PORT]", num_args = 0.., conflicts_with_all = ["files", "diff", "follow"])]
     pub live: Option<Vec<String>>,
-    /// With --live: keep the run as a session (`SESSION.partial` while it runs, SESSION when the explorer closes); with several robots, a directory of one session a robot.
+    /// With --live: keep the run as a session (`SESSION.partial` while it runs, SESSION when the explorer closes, as Parquet if it ends in .parquet); with several robots, a directory of one session a robot.
     #[arg(long, value_name = "SESSION|DIR", requires = "live")]
     pub out: Option<PathBuf>,
     /// A BehaviorTree.CPP 3 robot's publisher port (Groot 1's protocol; Nav2 Humble's groot_zmq_publisher_port), when it is not the one below the server's.

@@ -30,7 +30,7 @@ pub struct Args {
     /// Ask "Can you X?" at the end of tick MOMENT; a yes inserts the subgoal and the run goes on with it.
     #[arg(long, num_args = 2, value_names = ["MOMENT", "QUESTION"])]
     pub ask_at: Option<Vec<String>>,
-    /// The session file to write (never overwritten).
+    /// The session file to write (never overwritten): JSON lines, or Parquet if it ends in .parquet.
     #[arg(long, value_name = "SESSION")]
     pub out: PathBuf,
 }

@@ -11,7 +11,7 @@ pub struct Args {
     /// The robots' servers, each `[HOST][:PORT]` (default 127.0.0.1:1667): a BehaviorTree.CPP 4 Groot2 server, or a BehaviorTree.CPP 3 robot's Groot 1 server (its publisher on the port below). Several are watched at once, each line prefixed with its robot.
     #[arg(value_name = "[HOST][:PORT]")]
     pub endpoints: Vec<String>,
-    /// Also keep the run as a session file: `SESSION.partial` holds the run so far, SESSION the whole run once watching ends (Ctrl-C, --for, or the robot's run finished). With several robots, a directory: one session a robot, `HOST_PORT.jsonl`.
+    /// Also keep the run as a session file: `SESSION.partial` holds the run so far, SESSION the whole run once watching ends (Ctrl-C, --for, or the robot's run finished), as Parquet if it ends in .parquet. With several robots, a directory: one session a robot, `HOST_PORT.jsonl`.
     #[arg(long, value_name = "SESSION|DIR")]
     pub out: Option<PathBuf>,
     /// A BehaviorTree.CPP 3 robot's publisher port (Groot 1's protocol; Nav2 Humble's groot_zmq_publisher_port), when it is not the one below the server's.

@@ -9,13 +9,10 @@ use super::summary::RunSummary;
 use super::Fleet;
 use crate::session::Session;
 use crate::source::Located;
+use crate::table::Columns;
 use parquet::basic::Compression;
-use parquet::data_type::{BoolType, ByteArray, ByteArrayType, DataType, Int32Type, Int64Type};
 use parquet::file::properties::WriterProperties;
-use parquet::file::writer::SerializedFileWriter;
-use parquet::schema::parser::parse_message_type;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 /// The tables' schemas, as the Parquet files declare them.
 pub const TRANSITIONS: &str = "message transition {
@@ -138,89 +135,27 @@ pub fn create(dir: &Path) -> Result<(), Located> {
         .map_err(|e| Located::file(dir, format!("cannot create the directory: {e}")))
 }
 
-fn failed(path: &Path, e: impl std::fmt::Display) -> Located {
-    Located::file(path, format!("cannot write the Parquet file: {e}"))
-}
-
 /// One Parquet file of one row group, its columns written by `columns` in
-/// the schema's order.
+/// the schema's order; written beside, then renamed, so that a reader never
+/// sees half a file.
 fn write(
     path: &Path,
     schema: &str,
     columns: impl FnOnce(&mut Columns) -> parquet::errors::Result<()>,
 ) -> Result<(), Located> {
+    let failed =
+        |e: std::io::Error| Located::file(path, format!("cannot write the Parquet file: {e}"));
     if let Some(d) = path.parent() {
-        std::fs::create_dir_all(d).map_err(|e| failed(path, e))?;
+        std::fs::create_dir_all(d).map_err(failed)?;
     }
-    let schema = Arc::new(parse_message_type(schema).expect("the schemas above parse"));
-    let props = Arc::new(
-        WriterProperties::builder()
-            .set_compression(Compression::SNAPPY)
-            .build(),
-    );
-    // Written beside, then renamed: a reader never sees half a file.
+    let props = WriterProperties::builder()
+        .set_compression(Compression::SNAPPY)
+        .build();
     let part = path.with_extension("parquet.part");
-    let file = std::fs::File::create(&part).map_err(|e| failed(path, e))?;
-    let mut w = SerializedFileWriter::new(file, schema, props).map_err(|e| failed(path, e))?;
-    let mut rg = w.next_row_group().map_err(|e| failed(path, e))?;
-    columns(&mut Columns { rg: &mut rg }).map_err(|e| failed(path, e))?;
-    rg.close().map_err(|e| failed(path, e))?;
-    w.close().map_err(|e| failed(path, e))?;
-    std::fs::rename(&part, path).map_err(|e| failed(path, e))
-}
-
-/// The next columns of a row group, by type.
-struct Columns<'a, 'b> {
-    rg: &'a mut parquet::file::writer::SerializedRowGroupWriter<'b, std::fs::File>,
-}
-
-impl Columns<'_, '_> {
-    /// The next column, of Parquet type `P`; `None` is a missing value (the
-    /// column is OPTIONAL).
-    fn column<P: DataType>(
-        &mut self,
-        values: impl Iterator<Item = Option<P::T>>,
-    ) -> parquet::errors::Result<()> {
-        let (vals, defs) = split(values);
-        let mut c = self.rg.next_column()?.expect("a column of the schema");
-        let w = c.typed::<P>();
-        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
-        w.write_batch(&vals, defs.as_deref(), None)?;
-        c.close()
-    }
-
-    fn strings<'s>(
-        &mut self,
-        values: impl Iterator<Item = Option<&'s str>>,
-    ) -> parquet::errors::Result<()> {
-        self.column::<ByteArrayType>(
-            values.map(|v| v.map(|s| ByteArray::from(s.as_bytes().to_vec()))),
-        )
-    }
-
-    fn ints(&mut self, values: impl Iterator<Item = Option<i32>>) -> parquet::errors::Result<()> {
-        self.column::<Int32Type>(values)
-    }
-
-    fn longs(&mut self, values: impl Iterator<Item = Option<i64>>) -> parquet::errors::Result<()> {
-        self.column::<Int64Type>(values)
-    }
-
-    fn bools(&mut self, values: impl Iterator<Item = bool>) -> parquet::errors::Result<()> {
-        self.column::<BoolType>(values.map(Some))
-    }
-}
-
-/// A column's values present, and the definition levels an OPTIONAL
-/// column marks each row with (1 present, 0 missing).
-fn split<T>(values: impl Iterator<Item = Option<T>>) -> (Vec<T>, Vec<i16>) {
-    let mut vals = Vec::new();
-    let mut defs = Vec::new();
-    for v in values {
-        defs.push(i16::from(v.is_some()));
-        vals.extend(v);
-    }
-    (vals, defs)
+    let mut w = crate::table::Writer::create(path, &part, schema, props)?;
+    w.row_group(columns)?;
+    w.close()?;
+    std::fs::rename(&part, path).map_err(failed)
 }
 
 /// Writes a run's transitions, as `file` (a name unique in the export).

@@ -26,8 +26,8 @@ pub struct Source {
 }
 
 /// The files of a fleet: each path as given, a directory's run files
-/// (`.jsonl`, `.btlog`, `.fbl`, `.db3`, `.mcap`, recursively, in name
-/// order).
+/// (`.jsonl`, `.parquet` sessions, `.btlog`, `.fbl`, `.db3`, `.mcap`,
+/// recursively, in name order).
 pub fn files(paths: &[PathBuf]) -> Result<Vec<Source>, crate::Located> {
     let mut out = Vec::new();
     for p in paths {
@@ -49,7 +49,17 @@ pub fn files(paths: &[PathBuf]) -> Result<Vec<Source>, crate::Located> {
 }
 
 /// The extensions of the files a directory is searched for.
-pub const RUN_EXTENSIONS: [&str; 5] = ["jsonl", "btlog", "fbl", "db3", "mcap"];
+pub const RUN_EXTENSIONS: [&str; 6] = ["jsonl", "parquet", "btlog", "fbl", "db3", "mcap"];
+
+/// A run file by its extension; a Parquet file only if it is a session
+/// (a fleet's own `--export` tables may lie among its runs).
+fn is_run_file(p: &Path) -> bool {
+    match p.extension().and_then(|e| e.to_str()) {
+        Some("parquet") => crate::session::columnar::is_session_file(p),
+        Some(e) => RUN_EXTENSIONS.contains(&e),
+        None => false,
+    }
+}
 
 /// A directory's run files, its subdirectories' too; a link to a
 /// directory is not followed (a link back up would never end).
@@ -66,11 +76,7 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), crate::Located> {
     for (p, is_dir) in entries {
         if is_dir {
             walk(&p, out)?;
-        } else if p.is_file()
-            && p.extension()
-                .and_then(|e| e.to_str())
-                .is_some_and(|e| RUN_EXTENSIONS.contains(&e))
-        {
+        } else if p.is_file() && is_run_file(&p) {
             out.push(p);
         }
     }

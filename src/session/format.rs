@@ -185,6 +185,7 @@ impl SessionWriter {
                 std::io::Read::read_exact(&mut f, &mut head).map(|()| head)
             })
             .is_ok_and(|h| &h == b"{\"btx_session\"")
+            || super::columnar::is_session_file(path)
         {
             "a session already exists here; btx does not overwrite sessions"
         } else {
@@ -195,6 +196,13 @@ impl SessionWriter {
     }
 
     pub fn create(path: &Path, header: &Header) -> Result<SessionWriter, Located> {
+        let line = serde_json::to_string(header).expect("headers serialise");
+        Self::create_as(path, &line)
+    }
+
+    /// A new session file with this header text as it is (a copy of
+    /// another session keeps its header to the byte).
+    pub fn create_as(path: &Path, line: &str) -> Result<SessionWriter, Located> {
         Self::refuse_existing(path)?;
         let partial = Self::partial_path(path);
         let file = std::fs::OpenOptions::new()
@@ -221,7 +229,6 @@ impl SessionWriter {
             transitions: 0,
             kept: (0, 0),
         };
-        let line = serde_json::to_string(header).expect("headers serialise");
         if line.len() > HEADER_MAX {
             drop(w);
             let _ = std::fs::remove_file(Self::partial_path(path));
@@ -381,15 +388,17 @@ impl SessionWriter {
     /// Flushes and syncs the partial file, then gives it its name.
     fn close(mut self) -> Result<PathBuf, Located> {
         self.flush()?;
-        let file = self
-            .out
-            .into_inner()
-            .map_err(|e| io_err(&self.partial, "cannot write the session", e.into_error()))?;
-        file.sync_all()
+        self.out
+            .get_ref()
+            .sync_all()
             .map_err(|e| io_err(&self.partial, "cannot write the session", e))?;
-        drop(file);
+        let whole = if super::columnar::wanted(&self.path) {
+            self.as_parquet()?
+        } else {
+            self.partial.clone()
+        };
         // A hard link fails rather than replace a session created meanwhile.
-        std::fs::hard_link(&self.partial, &self.path)
+        std::fs::hard_link(&whole, &self.path)
             .or_else(|e| {
                 if e.kind() == std::io::ErrorKind::AlreadyExists {
                     Err(e)
@@ -398,7 +407,7 @@ impl SessionWriter {
                     if self.path.exists() {
                         Err(std::io::Error::from(std::io::ErrorKind::AlreadyExists))
                     } else {
-                        std::fs::rename(&self.partial, &self.path)
+                        std::fs::rename(&whole, &self.path)
                     }
                 }
             })
@@ -409,8 +418,60 @@ impl SessionWriter {
                     e,
                 )
             })?;
+        let _ = std::fs::remove_file(&whole);
         let _ = std::fs::remove_file(&self.partial);
         Ok(self.path)
+    }
+
+    /// The run written so far as JSON lines, written again as Parquet beside
+    /// it (`--out RUN.parquet`): the JSON lines keep a killed run readable
+    /// until the end, when the Parquet file is made whole at once.
+    fn as_parquet(&self) -> Result<PathBuf, Located> {
+        let mut part = self.path.as_os_str().to_owned();
+        part.push(format!(".next-{}", std::process::id()));
+        let part = PathBuf::from(part);
+        super::columnar::write_from_jsonl(&self.partial, &self.path, &part).map_err(|e| {
+            let _ = std::fs::remove_file(&part);
+            Located::file(
+                &self.path,
+                format!(
+                    "{e}; the run is kept as JSON lines in {}",
+                    self.partial.display()
+                ),
+            )
+        })?;
+        Ok(part)
+    }
+
+    /// A record as it is (a copy of another session's).
+    pub fn record(&mut self, rec: &Record) -> Result<(), Located> {
+        match rec {
+            Record::Transition { tick, step, .. } => {
+                self.tick = *tick;
+                self.step = *step;
+                self.transitions += 1;
+            }
+            Record::End { .. } => {}
+            Record::Decision { tick, step, .. }
+            | Record::Write { tick, step, .. }
+            | Record::Insert { tick, step, .. }
+            | Record::Gap { tick, step, .. }
+            | Record::Resync { tick, step, .. } => {
+                self.tick = *tick;
+                self.step = *step;
+            }
+        }
+        self.line(rec)
+    }
+
+    /// Gives up the session: its partial file is removed.
+    pub fn discard(self) {
+        let _ = std::fs::remove_file(&self.partial);
+    }
+
+    /// Finishes a copy: its end record, if any, was copied as a record.
+    pub fn finish_copy(self) -> Result<PathBuf, Located> {
+        self.close()
     }
 }
 

@@ -1,0 +1,270 @@
+//! A session built record by record from whichever file holds it (JSON
+//! lines or Parquet), so both are read under one set of checks.
+
+use super::format::{self, Header, Record};
+use super::index::{Index, Transition, EMPTY_TICKS_MAX};
+use super::Session;
+use crate::model::{Tree, Uid};
+use crate::source::{Located, Warning};
+use crate::xml::{load_str, LoadOptions};
+use std::path::{Path, PathBuf};
+
+/// An error about the record being read, located in its file.
+pub(super) type Locate<'a> = &'a dyn Fn(String) -> Located;
+
+pub(super) struct Builder {
+    path: PathBuf,
+    header: Header,
+    tree: Tree,
+    index: Index,
+    end: Option<(u32, crate::run::Status, String)>,
+    inserts: Vec<(u32, Uid, Uid, Uid, String)>,
+    warnings: Vec<Warning>,
+}
+
+impl Builder {
+    /// Checks the header and loads the tree it embeds; `err` locates an
+    /// error in the header.
+    pub fn new(path: &Path, header: Header, err: Locate) -> Result<Builder, Located> {
+        if header.btx_session != format::FORMAT_VERSION {
+            return Err(err(format!(
+                "session format {} is not one this btx reads (it reads {})",
+                header.btx_session,
+                format::FORMAT_VERSION
+            )));
+        }
+        let tree_name = PathBuf::from(format!("{} (embedded tree)", path.display()));
+        let opts = LoadOptions {
+            version: Some(crate::model::Version::V4),
+            main_tree: None,
+            embedded: true,
+            ..Default::default()
+        };
+        let mut tree = load_str(&tree_name, &header.tree.xml, &opts)?.tree;
+        if header.tree.btcpp_format == 3 {
+            tree.release = crate::model::Version::V3;
+        }
+        let mut index = Index::new(tree.len());
+        index.set_before(&header.before);
+        let scopes = tree.scopes.len();
+        for (e, v) in &header.blackboard {
+            if e.scope >= scopes {
+                return Err(err(format!(
+                    "the blackboard names scope {}, and the session's tree has {scopes} scopes",
+                    e.scope
+                )));
+            }
+            index.push_write(e.clone(), v.clone());
+        }
+        Ok(Builder {
+            path: path.to_path_buf(),
+            header,
+            tree,
+            index,
+            end: None,
+            inserts: Vec::new(),
+            warnings: Vec::new(),
+        })
+    }
+
+    /// A warning about the file, at `location`.
+    pub fn warn(&mut self, location: String, message: String) {
+        self.warnings.push(Warning { location, message });
+    }
+
+    fn known(&self, uid: Uid, err: Locate) -> Result<(), Located> {
+        if self.tree.get(uid).is_none() {
+            return Err(err(format!(
+                "uid {uid} is not a node of the session's tree ({} nodes)",
+                self.tree.len()
+            )));
+        }
+        Ok(())
+    }
+
+    /// Record number `nth` (counting the header as the first): a tick number
+    /// may run ahead of the records by the empty ticks a session may hold,
+    /// since every tick costs the index a little.
+    fn near(nth: usize, tick: u32, err: Locate) -> Result<(), Located> {
+        if tick as u64 > nth as u64 + EMPTY_TICKS_MAX as u64 {
+            return Err(err(format!(
+                "tick {tick} leaves more than {EMPTY_TICKS_MAX} ticks in which nothing happened (at most that many are kept)"
+            )));
+        }
+        Ok(())
+    }
+
+    /// Adds record number `nth` (the header is the first).
+    pub fn record(&mut self, nth: usize, rec: Record, err: Locate) -> Result<(), Located> {
+        if self.end.is_some() {
+            return Err(err("a record after the end record".into()));
+        }
+        match rec {
+            Record::Transition {
+                tick,
+                uid,
+                from,
+                to,
+                decision,
+                ..
+            } => {
+                self.known(uid, err)?;
+                Self::near(nth, tick, err)?;
+                if tick < self.index.ticks() || tick == 0 {
+                    return Err(err(format!(
+                        "tick {tick} comes after tick {}",
+                        self.index.ticks()
+                    )));
+                }
+                self.index.push_transition(
+                    &self.tree,
+                    Transition {
+                        tick,
+                        uid,
+                        prev: from,
+                        status: to,
+                    },
+                    decision,
+                );
+            }
+            Record::Decision {
+                tick,
+                uid,
+                decision,
+                ..
+            } => {
+                self.known(uid, err)?;
+                self.index.push_decision_call(tick, uid, decision);
+            }
+            Record::Write {
+                tick,
+                uid,
+                entry,
+                value,
+                ..
+            } => {
+                if entry.scope >= self.tree.scopes.len() {
+                    return Err(err(format!(
+                        "a write to scope {}, and the session's tree has {} scopes",
+                        entry.scope,
+                        self.tree.scopes.len()
+                    )));
+                }
+                self.index.push_write_by(tick, uid, entry, value)
+            }
+            Record::Insert {
+                copy_of,
+                after,
+                first_uid,
+                question,
+                ..
+            } => {
+                self.known(copy_of, err)?;
+                self.known(after, err)?;
+                let (t2, first) = self.tree.with_copy_after(copy_of, after).map_err(err)?;
+                if first != first_uid {
+                    return Err(err(format!(
+                        "the inserted nodes were numbered from {first_uid}, btx numbers them from {first}"
+                    )));
+                }
+                self.tree = t2;
+                self.index.resize(self.tree.len());
+                self.inserts.push((
+                    self.index.transitions.len() as u32,
+                    copy_of,
+                    after,
+                    first_uid,
+                    question,
+                ));
+            }
+            Record::Gap { reason, .. } => {
+                let at = self.index.transitions.len();
+                self.warn(
+                    format!("{}: transition {}", self.path.display(), at + 1),
+                    format!("gap: {reason}"),
+                );
+                self.index.gaps.push((at as u32, reason));
+            }
+            Record::Resync { states, .. } => {
+                for b in &states {
+                    self.known(b.uid, err)?;
+                }
+                self.index.push_resync(&states);
+            }
+            Record::End {
+                ticks,
+                root,
+                reason,
+                ..
+            } => {
+                Self::near(nth, ticks, err)?;
+                self.index.end_tick(ticks);
+                self.end = Some((ticks, root, reason));
+            }
+        }
+        Ok(())
+    }
+
+    pub fn finish(mut self) -> Session {
+        // Writes of a last call whose transition never came are shown.
+        self.index.end_tick(self.index.ticks());
+        if self.end.is_none() {
+            let location = self.path.display().to_string();
+            let message = format!(
+                "the session has no end record: the run stopped after tick {}",
+                self.index.ticks()
+            );
+            self.warn(location, message);
+        }
+        Session {
+            path: self.path,
+            header: self.header,
+            tree: self.tree,
+            index: self.index,
+            end: self.end,
+            inserts: self.inserts,
+            span_us: None,
+            times_us: Vec::new(),
+            warnings: self.warnings,
+        }
+    }
+}
+
+/// A session being read: the builder once the header has come.
+#[derive(Default)]
+pub(super) struct Building(Option<Builder>);
+
+impl Building {
+    /// The session read; a reader gives every file a header or an error.
+    pub fn session(self) -> Session {
+        self.0
+            .expect("a session file's header is read first")
+            .finish()
+    }
+}
+
+impl super::read::Sink for Building {
+    fn header(
+        &mut self,
+        path: &Path,
+        _text: &str,
+        header: Header,
+        err: Locate,
+    ) -> Result<(), Located> {
+        self.0 = Some(Builder::new(path, header, err)?);
+        Ok(())
+    }
+
+    fn record(&mut self, nth: usize, rec: Record, err: Locate) -> Result<(), Located> {
+        match &mut self.0 {
+            Some(b) => b.record(nth, rec, err),
+            None => Err(err("a record before the session's header".into())),
+        }
+    }
+
+    fn warn(&mut self, location: String, message: String) {
+        if let Some(b) = &mut self.0 {
+            b.warn(location, message);
+        }
+    }
+}

@@ -1,0 +1,74 @@
+//! A session written again in the other format (`btx import RUN.jsonl
+//! --out RUN.parquet`, and back): record for record, the header to the
+//! byte, each record checked as any reader checks it before the copy is
+//! given its name.
+
+use super::build::{Building, Locate};
+use super::format::{Header, Record, SessionWriter};
+use super::read::Sink;
+use super::Session;
+use crate::source::Located;
+use std::path::{Path, PathBuf};
+
+/// Whether these bytes are a btx session (JSON lines or Parquet), which a
+/// copy keeps as it is rather than reads as a log.
+pub fn is_session(bytes: &[u8]) -> bool {
+    if super::columnar::is_parquet(bytes) {
+        return true;
+    }
+    let start = bytes.iter().position(|b| !b.is_ascii_whitespace());
+    start.is_some_and(|i| bytes[i..].starts_with(b"{\"btx_session\""))
+}
+
+/// Copies the session at `from` (its bytes) to `out`, in the format
+/// `out`'s name asks for; gives the copy's path and the session read.
+pub fn copy(from: &Path, bytes: Vec<u8>, out: &Path) -> Result<(PathBuf, Session), Located> {
+    let mut c = Copying {
+        out,
+        check: Building::default(),
+        writer: None,
+    };
+    let read = super::read::any(from, bytes, &mut c);
+    let Copying { check, writer, .. } = c;
+    match (read, writer) {
+        (Ok(()), Some(w)) => Ok((w.finish_copy()?, check.session())),
+        (Err(e), w) => {
+            if let Some(w) = w {
+                w.discard();
+            }
+            Err(e)
+        }
+        (Ok(()), None) => Err(Located::file(from, "the session has no header")),
+    }
+}
+
+/// Reads into a session (every check a reader makes) and into the copy.
+struct Copying<'a> {
+    out: &'a Path,
+    check: Building,
+    writer: Option<SessionWriter>,
+}
+
+impl Sink for Copying<'_> {
+    fn header(
+        &mut self,
+        path: &Path,
+        text: &str,
+        header: Header,
+        err: Locate,
+    ) -> Result<(), Located> {
+        self.check.header(path, text, header, err)?;
+        self.writer = Some(SessionWriter::create_as(self.out, text)?);
+        Ok(())
+    }
+
+    fn record(&mut self, nth: usize, rec: Record, err: Locate) -> Result<(), Located> {
+        let w = self.writer.as_mut().expect("the header came first");
+        w.record(&rec)?;
+        self.check.record(nth, rec, err)
+    }
+
+    fn warn(&mut self, location: String, message: String) {
+        self.check.warn(location, message);
+    }
+}

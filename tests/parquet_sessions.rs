@@ -269,3 +269,54 @@ fn a_broken_parquet_session_is_an_error_naming_the_file_never_a_panic() {
     assert!(ok, "{err}");
     assert!(out.contains("2 runs"), "{out}");
 }
+
+#[test]
+fn duckdb_reads_a_parquet_session_as_it_is() {
+    // The PyPI package, not btx: every transition as `btx log` gives it.
+    let dir = tempfile::tempdir().unwrap();
+    let pq = dir.path().join("s.parquet");
+    import(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/serial-recall.jsonl"),
+        &pq,
+    );
+    let py = std::process::Command::new(common::oracle_python())
+        .args([
+            "-c",
+            "import duckdb, json, sys
+codes = ['IDLE', 'RUNNING', 'SUCCESS', 'FAILURE', 'SKIPPED']
+rows = duckdb.sql(f\"select tick, step, uid, prev, status, decision from '{sys.argv[1]}' where uid is not null\").fetchall()
+header = duckdb.sql(f\"select record from '{sys.argv[1]}' limit 1\").fetchall()[0][0]
+print(json.dumps({'header': json.loads(header)['btx_session'],
+  'rows': [[t, s, u, codes[p], codes[q], d] for t, s, u, p, q, d in rows]}))",
+        ])
+        .arg(&pq)
+        .output()
+        .unwrap();
+    assert!(
+        py.status.success(),
+        "{}",
+        String::from_utf8_lossy(&py.stderr)
+    );
+    let d: serde_json::Value = serde_json::from_slice(&py.stdout).unwrap();
+    assert_eq!(d["header"], 1);
+    let (ok, log, _) = btx(&["log", pq.to_str().unwrap(), "--format", "json"]);
+    assert!(ok);
+    let log: serde_json::Value = serde_json::from_str(&log).unwrap();
+    let want: Vec<serde_json::Value> = log["transitions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| {
+            serde_json::json!([
+                t["tick"],
+                t["step"],
+                t["uid"],
+                t["prev"],
+                t["status"],
+                t["decision"]
+            ])
+        })
+        .collect();
+    assert!(want.len() > 400);
+    assert_eq!(d["rows"].as_array().unwrap(), &want);
+}

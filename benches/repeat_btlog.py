@@ -3,6 +3,8 @@ repetition later than the last, as benches/logs.rs makes its big log.
 
     python3 benches/repeat_btlog.py RECORDS OUT           one file
     python3 benches/repeat_btlog.py RECORDS DIR RUNS      RUNS files in ten robots' directories
+
+BTLOG names another recorded run to repeat.
 """
 import os
 import struct
@@ -10,7 +12,7 @@ import sys
 
 records, out = int(sys.argv[1]), sys.argv[2]
 runs = int(sys.argv[3]) if len(sys.argv) > 3 else None
-src = open("tests/fixtures/logs/kitting_nominal.btlog", "rb").read()
+src = open(os.environ.get("BTLOG", "tests/fixtures/logs/kitting_nominal.btlog"), "rb").read()
 n = struct.unpack("<i", src[19:23])[0]
 head, body = src[:31 + n], src[31 + n:]
 recs = [(int.from_bytes(body[i:i + 6], "little"), body[i + 6:i + 9]) for i in range(0, len(body), 9)]

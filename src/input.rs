@@ -156,18 +156,23 @@ fn open_as(
             given,
         )?)));
     }
-    let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the file")?;
-    if crate::logs::db3::is_db3(&bytes) {
-        return Ok(Input::Session(Box::new(crate::logs::open_db3_as(
-            path, None, given,
-        )?)));
-    }
-    if crate::session::columnar::is_parquet(&bytes) {
-        let mut s = Session::from_bytes(path, bytes)?;
+    // A btx session is read as it is read anywhere (a line at a time).
+    if crate::session::read::format_of(path).is_some() {
+        let mut s = Session::load(path)?;
         if let Some(g) = given {
             g.put_in(&mut s)?;
         }
         return Ok(Input::Session(Box::new(s)));
+    }
+    let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the file")?;
+    if crate::session::columnar::is_parquet(&bytes) {
+        // Not a session (that was seen above): its reader says what it is.
+        return Ok(Input::Session(Box::new(Session::from_bytes(path, bytes)?)));
+    }
+    if crate::logs::db3::is_db3(&bytes) {
+        return Ok(Input::Session(Box::new(crate::logs::open_db3_as(
+            path, None, given,
+        )?)));
     }
     if crate::logs::btlog::is_btlog(&bytes) {
         return Ok(Input::Session(Box::new(crate::logs::open_btlog_as(

@@ -93,6 +93,24 @@ pub const TEXT_SIZE_MAX: u64 = 64 << 20;
 /// Reads an input file: a regular file (not a FIFO that blocks forever,
 /// not `/dev/zero` read until memory runs out), of at most `max` bytes.
 pub fn read_input(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, Located> {
+    let len = check_input(path, max, what)?;
+    use std::io::Read;
+    let mut bytes = Vec::with_capacity(len as usize);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(max + 1).read_to_end(&mut bytes))
+        .map_err(|e| Located::file(path, format!("cannot read {what}: {e}")))?;
+    if bytes.len() as u64 > max {
+        return Err(Located::file(
+            path,
+            format!("{what} grew past the {max} bytes btx reads while it was read"),
+        ));
+    }
+    Ok(bytes)
+}
+
+/// Checks an input file before it is opened: a regular file (opening a
+/// FIFO would block) of at most `max` bytes; gives its length.
+pub fn check_input(path: &Path, max: u64, what: &str) -> Result<u64, Located> {
     let meta = std::fs::metadata(path)
         .map_err(|e| Located::file(path, format!("cannot read {what}: {e}")))?;
     if !meta.is_file() {
@@ -110,18 +128,7 @@ pub fn read_input(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, Located>
             ),
         ));
     }
-    use std::io::Read;
-    let mut bytes = Vec::with_capacity(meta.len() as usize);
-    std::fs::File::open(path)
-        .and_then(|f| f.take(max + 1).read_to_end(&mut bytes))
-        .map_err(|e| Located::file(path, format!("cannot read {what}: {e}")))?;
-    if bytes.len() as u64 > max {
-        return Err(Located::file(
-            path,
-            format!("{what} grew past the {max} bytes btx reads while it was read"),
-        ));
-    }
-    Ok(bytes)
+    Ok(meta.len())
 }
 
 /// Reads a text input: a regular file of at most `max` bytes, UTF-8.

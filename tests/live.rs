@@ -866,33 +866,26 @@ fn serve(run: &str, speed: &str, secs: &str) -> (u16, std::process::Child) {
 
 #[test]
 fn btx_serve_replays_a_run_that_btx_watch_keeps_tick_for_tick() {
-    // As JSON lines and as Parquet (#31 item 3), watched at once.
-    let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "0.5", "8");
+    // As JSON lines and as Parquet (#31 item 3). One server each: a
+    // server's transitions go to whichever client reads them first.
     let dir = tempfile::tempdir().unwrap();
-    let watches: Vec<_> = ["served.jsonl", "served.parquet"]
-        .map(|name| {
-            let out = dir.path().join(name);
-            let w = Command::new(env!("CARGO_BIN_EXE_btx"))
-                .args(["-q", "watch", &format!(":{port}"), "--for", "3", "--out"])
-                .arg(&out)
-                .stderr(std::process::Stdio::piped())
-                .spawn()
-                .unwrap();
-            (out, w)
-        })
-        .into_iter()
-        .collect();
     let original = session(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/kitting-lookat-fails-once.jsonl"),
     );
-    for (out, w) in watches {
-        let w = w.wait_with_output().unwrap();
+    for name in ["served.jsonl", "served.parquet"] {
+        let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "0.5", "8");
+        let out = dir.path().join(name);
+        let w = Command::new(env!("CARGO_BIN_EXE_btx"))
+            .args(["-q", "watch", &format!(":{port}"), "--for", "3", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        let _ = server.kill();
         assert!(w.status.success(), "{}", String::from_utf8_lossy(&w.stderr));
         let served = session(&out);
         assert_eq!(served.index.transitions, original.index.transitions);
         assert_eq!(served.index.ticks(), original.index.ticks());
     }
-    let _ = server.kill();
 }
 
 #[test]

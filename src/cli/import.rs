@@ -18,13 +18,10 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     if btx::logs::rosbag::is_bag(&log) && reading.run.is_none() {
         return import_runs(&log, &reading, &out, cli);
     }
-    if reading.run_tree.is_none() {
-        let bytes = btx::source::read_input(&log, btx::source::INPUT_SIZE_MAX, "the file")?;
-        if btx::session::copy::is_session(&bytes) {
-            let (path, s) = btx::session::copy::copy(&log, bytes, &out).map_err(located)?;
-            warn_all(cli.quiet, &s.warnings);
-            return say_written(&path, &s);
-        }
+    if reading.run_tree.is_none() && btx::session::read::format_of(&log).is_some() {
+        let (path, s) = btx::session::copy::copy(&log, &out).map_err(located)?;
+        warn_all(cli.quiet, &s.warnings);
+        return say_written(&path, &s);
     }
     let s = match open_input(&log, &reading, cli.quiet)? {
         Input::Session(s) => *s,

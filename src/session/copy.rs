@@ -10,25 +10,15 @@ use super::Session;
 use crate::source::Located;
 use std::path::{Path, PathBuf};
 
-/// Whether these bytes are a btx session (JSON lines or Parquet), which a
-/// copy keeps as it is rather than reads as a log.
-pub fn is_session(bytes: &[u8]) -> bool {
-    if super::columnar::is_parquet(bytes) {
-        return true;
-    }
-    let start = bytes.iter().position(|b| !b.is_ascii_whitespace());
-    start.is_some_and(|i| bytes[i..].starts_with(b"{\"btx_session\""))
-}
-
-/// Copies the session at `from` (its bytes) to `out`, in the format
-/// `out`'s name asks for; gives the copy's path and the session read.
-pub fn copy(from: &Path, bytes: Vec<u8>, out: &Path) -> Result<(PathBuf, Session), Located> {
+/// Copies the session at `from` to `out`, in the format `out`'s name asks
+/// for; gives the copy's path and the session read.
+pub fn copy(from: &Path, out: &Path) -> Result<(PathBuf, Session), Located> {
     let mut c = Copying {
         out,
         check: Building::default(),
         writer: None,
     };
-    let read = super::read::any(from, bytes, &mut c);
+    let read = super::read::file(from, &mut c);
     let Copying { check, writer, .. } = c;
     match (read, writer) {
         (Ok(()), Some(w)) => Ok((w.finish_copy()?, check.session())),

@@ -62,9 +62,12 @@ impl Session {
         }
     }
 
+    /// The session file at `path`, JSON lines (read a line at a time) or
+    /// Parquet.
     pub fn load(path: &Path) -> Result<Session, Located> {
-        let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the session")?;
-        Session::from_bytes(path, bytes)
+        let mut b = build::Building::default();
+        read::file(path, &mut b)?;
+        Ok(b.session())
     }
 
     /// A session from its JSON lines.

@@ -64,58 +64,79 @@ fn plain_leaf(tree: &Tree, uid: Uid) -> bool {
     n.kind.is_leaf() && n.builtin.is_none()
 }
 
-/// The leaf calls of a session, for the replay.
-fn replay_of(session: &Session) -> Replay {
-    let tree = &session.tree;
-    let idx = &session.index;
-    let mut r = Replay::new(session.header.blackboard.clone());
-    r.writes_recorded = !idx.writes.is_empty();
-    let mut pending: HashMap<(u32, Uid), Vec<(EntryId, Value)>> = HashMap::new();
-    let (mut w, mut d) = (0, 0);
-    for i in 0..=idx.transitions.len() {
-        while let Some(x) = idx.writes.get(w).filter(|x| x.pos as usize <= i) {
-            if tree.get(x.uid).is_some() && plain_leaf(tree, x.uid) {
-                pending
-                    .entry((x.tick, x.uid))
-                    .or_default()
-                    .push((x.entry.clone(), x.value.clone()));
+/// The leaf calls of a session, handed to the replay a tick at a time:
+/// holding every call of a long run at once cost about 110 bytes a
+/// transition (#31 item 1).
+#[derive(Default)]
+struct Feed {
+    /// The next transition, write and decision to hand over.
+    next: (usize, usize, usize),
+    /// Writes of a call whose transition has not come yet.
+    pending: HashMap<(u32, Uid), Vec<(EntryId, Value)>>,
+}
+
+impl Feed {
+    /// Hands `r` every recorded call of the ticks up to `tick`, and drops
+    /// what is left of the ticks before it (calls the replay did not take).
+    fn fill(&mut self, session: &Session, r: &mut Replay, tick: u32) {
+        let tree = &session.tree;
+        let idx = &session.index;
+        r.forget_before(tick);
+        let (mut i, mut w, mut d) = self.next;
+        while i <= idx.transitions.len() {
+            while let Some(x) = idx
+                .writes
+                .get(w)
+                .filter(|x| x.pos as usize <= i && x.tick <= tick)
+            {
+                if tree.get(x.uid).is_some() && plain_leaf(tree, x.uid) {
+                    self.pending
+                        .entry((x.tick, x.uid))
+                        .or_default()
+                        .push((x.entry.clone(), x.value.clone()));
+                }
+                w += 1;
             }
-            w += 1;
+            while let Some((_, t, uid, dec)) = idx
+                .decision_calls
+                .get(d)
+                .filter(|x| x.0 as usize <= i && x.1 <= tick)
+            {
+                let writes = self.pending.remove(&(*t, *uid)).unwrap_or_default();
+                r.push(
+                    *t,
+                    *uid,
+                    Call {
+                        status: Status::Running,
+                        decision: Some(dec.clone()),
+                        writes,
+                    },
+                );
+                d += 1;
+            }
+            let Some(t) = idx.transitions.get(i).filter(|t| t.tick <= tick) else {
+                break;
+            };
+            // A Nav2 action that completes in its tick sets RUNNING itself
+            // before it returns: that transition is the executor's, not a call.
+            let set_by_itself = t.status == Status::Running
+                && crate::model::nav2::at_once(&tree.node(t.uid).id, tree.release) == Some(true);
+            if t.status != Status::Idle && plain_leaf(tree, t.uid) && !set_by_itself {
+                let writes = self.pending.remove(&(t.tick, t.uid)).unwrap_or_default();
+                r.push(
+                    t.tick,
+                    t.uid,
+                    Call {
+                        status: t.status,
+                        decision: idx.transition_decision(i).map(str::to_string),
+                        writes,
+                    },
+                );
+            }
+            i += 1;
         }
-        while let Some((_, tick, uid, dec)) =
-            idx.decision_calls.get(d).filter(|x| x.0 as usize <= i)
-        {
-            r.push(
-                *tick,
-                *uid,
-                Call {
-                    status: Status::Running,
-                    decision: Some(dec.clone()),
-                    writes: pending.remove(&(*tick, *uid)).unwrap_or_default(),
-                },
-            );
-            d += 1;
-        }
-        let Some(t) = idx.transitions.get(i) else {
-            break;
-        };
-        // A Nav2 action that completes in its tick sets RUNNING itself
-        // before it returns: that transition is the executor's, not a call.
-        let set_by_itself = t.status == Status::Running
-            && crate::model::nav2::at_once(&tree.node(t.uid).id, tree.release) == Some(true);
-        if t.status != Status::Idle && plain_leaf(tree, t.uid) && !set_by_itself {
-            r.push(
-                t.tick,
-                t.uid,
-                Call {
-                    status: t.status,
-                    decision: idx.transition_decision(i).map(str::to_string),
-                    writes: pending.remove(&(t.tick, t.uid)).unwrap_or_default(),
-                },
-            );
-        }
+        self.next = (i, w, d);
     }
-    r
 }
 
 impl TickFacts {
@@ -130,14 +151,18 @@ impl TickFacts {
             ));
         }
         let n = tree.len();
+        let mut replay = Replay::new(session.header.blackboard.clone());
+        replay.writes_recorded = !idx.writes.is_empty();
         let mut ex = Executor::new(
             tree,
-            replay_of(session),
+            replay,
             RunOptions {
                 tick_ms: session.header.tick_ms.max(1),
             },
         );
+        let mut feed = Feed::default();
         for t in 1..tick {
+            feed.fill(session, &mut ex.leaves, t);
             ex.tick_once()
                 .map_err(|e| format!("replaying tick {t}: {e}"))?;
             ex.take_events();
@@ -146,6 +171,7 @@ impl TickFacts {
         let mut flows: Vec<Flow> = uids.clone().map(|u| ex.flow(u)).collect();
         let mut start: Vec<Status> = uids.clone().map(|u| ex.status(u)).collect();
         ex.record_calls = true;
+        feed.fill(session, &mut ex.leaves, tick);
         ex.tick_once()
             .map_err(|e| format!("replaying tick {tick}: {e}"))?;
         let call_log = ex.call_log().to_vec();

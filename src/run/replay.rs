@@ -51,6 +51,11 @@ impl Replay {
         self.calls.entry((tick, uid)).or_default().push_back(call);
     }
 
+    /// Drops the calls of the ticks before `tick` that were not replayed.
+    pub fn forget_before(&mut self, tick: u32) {
+        self.calls.retain(|&(t, _), _| t >= tick);
+    }
+
     /// Whether every recorded call was replayed.
     pub fn exhausted(&self) -> bool {
         self.calls.values().all(VecDeque::is_empty)

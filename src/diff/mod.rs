@@ -57,25 +57,29 @@ fn what(run: bool) -> &'static str {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Step {
     pub uid: Uid,
-    pub name: String,
+    /// Shared by every step of its node: a long run has millions of steps.
+    pub name: std::sync::Arc<str>,
     /// For runs: the tick it started in, and how it ended (RUNNING: not yet
     /// at the end of the run; IDLE: halted).
     pub tick: Option<u32>,
     pub outcome: Option<Status>,
     /// For runs: the transitions it spans, from its start to its outcome
     /// (0-based indices into the run's transitions).
-    pub span: Option<(usize, usize)>,
+    pub span: Option<(u32, u32)>,
     /// For runs: which run of the root it started in (from 0: the root's
     /// completions before it).
     pub episode: u32,
 }
 
 impl Step {
-    fn key(&self, with_outcome: bool) -> String {
-        match self.outcome {
-            Some(o) if with_outcome => format!("{}\u{0}{}", self.name, o.as_str()),
-            _ => self.name.clone(),
-        }
+    /// What the alignment compares: the name, and the outcome too.
+    fn key(&self, with_outcome: bool) -> (&str, Option<Status>) {
+        (&self.name, self.outcome.filter(|_| with_outcome))
+    }
+
+    /// The transitions it spans, as indices.
+    pub fn span(&self) -> Option<(usize, usize)> {
+        self.span.map(|(a, b)| (a as usize, b as usize))
     }
 
     /// The step as a report shows it: `#7 move right`, with the tick and any
@@ -98,7 +102,7 @@ impl Step {
     }
 
     fn json(&self, index: usize) -> Value {
-        let mut v = json!({"index": index, "uid": self.uid, "name": self.name});
+        let mut v = json!({"index": index, "uid": self.uid, "name": &*self.name});
         if let Some(t) = self.tick {
             v["tick"] = json!(t);
         }
@@ -148,9 +152,15 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
             });
         }
     }
+    let names: Vec<std::sync::Arc<str>> = (0..=tree.len() as Uid)
+        .map(|u| {
+            tree.get(u)
+                .map_or("".into(), |_| tree.description(u).into())
+        })
+        .collect();
     let step = |uid: Uid, tick, outcome, span, episode| Step {
         uid,
-        name: tree.description(uid).to_string(),
+        name: names[uid as usize].clone(),
         tick,
         outcome,
         span,
@@ -184,7 +194,7 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
                 if let Some((q, i)) = open[t.uid as usize].take() {
                     let st = &mut seqs[q].steps[i];
                     st.outcome = Some(t.status);
-                    st.span = st.span.map(|(from, _)| (from, k));
+                    st.span = st.span.map(|(from, _)| (from, k as u32));
                     if t.status == Status::Running {
                         open[t.uid as usize] = Some((q, i));
                     }
@@ -201,7 +211,7 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
                         t.uid,
                         Some(t.tick),
                         Some(t.status),
-                        Some((k, k)),
+                        Some((k as u32, k as u32)),
                         episode,
                     ));
                     if t.status == Status::Running {
@@ -380,7 +390,7 @@ fn unlike_apart(edits: Vec<Edit>, a: &[Step], b: &[Step]) -> Vec<Edit> {
 /// trees do), and a step both made that ended otherwise is a divergence
 /// of its own.
 fn mark_parting(sections: &mut [Section], at: usize, follow: bool) -> bool {
-    let when = |st: &Step| match st.span {
+    let when = |st: &Step| match st.span() {
         Some((from, to)) if from <= at && at <= to => at,
         Some((from, _)) => from,
         None => usize::MAX,
@@ -433,17 +443,35 @@ impl Diff {
     pub fn new(a: &Side, b: &Side) -> Diff {
         let outcomes = a.session.is_some() && b.session.is_some();
         let (sa, sb) = (sequences(a), sequences(b));
+        // The subgoals pair by name, in order, and a subgoal renamed in
+        // place pairs with its new name (which never costs more than
+        // deleting one and inserting the other).
+        let subgoals = {
+            let na: Vec<&str> = sa[1..].iter().map(|s| s.name.as_str()).collect();
+            let nb: Vec<&str> = sb[1..].iter().map(|s| s.name.as_str()).collect();
+            align::edits(&na, &nb)
+        };
+        // Each sequence goes into one section, moved, not copied.
+        let (mut sa, mut sb): (Vec<_>, Vec<_>) = (
+            sa.into_iter().map(Some).collect(),
+            sb.into_iter().map(Some).collect(),
+        );
         let mut sections = Vec::new();
-        let mut pair = |x: Option<&Sequence>, y: Option<&Sequence>| {
-            let name = match (x, y) {
+        let mut pair = |x: Option<Sequence>, y: Option<Sequence>| {
+            let name = match (&x, &y) {
                 (Some(x), Some(y)) if x.name != y.name => format!("{} → {}", x.name, y.name),
-                _ => x.or(y).map(|s| s.name.clone()).unwrap_or_default(),
+                _ => x
+                    .as_ref()
+                    .or(y.as_ref())
+                    .map(|s| s.name.clone())
+                    .unwrap_or_default(),
             };
-            let empty = Vec::new();
-            let xs = x.map_or(&empty, |s| &s.steps);
-            let ys = y.map_or(&empty, |s| &s.steps);
-            let kx: Vec<String> = xs.iter().map(|s| s.key(outcomes)).collect();
-            let ky: Vec<String> = ys.iter().map(|s| s.key(outcomes)).collect();
+            let (a_subgoal, b_subgoal) =
+                (x.as_ref().map(|s| s.subgoal), y.as_ref().map(|s| s.subgoal));
+            let xs = x.map(|s| s.steps).unwrap_or_default();
+            let ys = y.map(|s| s.steps).unwrap_or_default();
+            let kx: Vec<_> = xs.iter().map(|s| s.key(outcomes)).collect();
+            let ky: Vec<_> = ys.iter().map(|s| s.key(outcomes)).collect();
             let (mut edits, exact) = if outcomes && kx.len() + ky.len() > align::EXACT_MAX {
                 // Two long runs: run of the root by run of the root, then
                 // tick by tick, so that the answer does not hang on a
@@ -459,7 +487,7 @@ impl Diff {
                 align::edits_bounded(&kx, &ky)
             };
             if outcomes {
-                edits = unlike_apart(edits, xs, ys);
+                edits = unlike_apart(edits, &xs, &ys);
             }
             let roles = edits
                 .iter()
@@ -473,30 +501,28 @@ impl Diff {
                 .collect();
             sections.push(Section {
                 name,
-                a_subgoal: x.map(|s| s.subgoal),
-                b_subgoal: y.map(|s| s.subgoal),
-                a: xs.clone(),
-                b: ys.clone(),
+                a_subgoal,
+                b_subgoal,
+                a: xs,
+                b: ys,
                 edits,
                 exact,
                 roles,
             });
         };
-        // The goals always pair; subgoals pair by name, in order, and a
-        // subgoal renamed in place pairs with its new name (which never
-        // costs more than deleting one and inserting the other).
-        pair(Some(&sa[0]), Some(&sb[0]));
-        let na: Vec<&str> = sa[1..].iter().map(|s| s.name.as_str()).collect();
-        let nb: Vec<&str> = sb[1..].iter().map(|s| s.name.as_str()).collect();
-        for e in align::edits(&na, &nb) {
+        // The goals always pair.
+        pair(sa[0].take(), sb[0].take());
+        for e in subgoals {
+            let x = e.a.and_then(|i| sa[i + 1].take());
+            let y = e.b.and_then(|i| sb[i + 1].take());
             match e.op {
-                Op::Same | Op::Changed => pair(e.a.map(|i| &sa[i + 1]), e.b.map(|i| &sb[i + 1])),
+                Op::Same | Op::Changed => pair(x, y),
                 _ => {
-                    if let Some(i) = e.a {
-                        pair(Some(&sa[i + 1]), None);
+                    if x.is_some() {
+                        pair(x, None);
                     }
-                    if let Some(i) = e.b {
-                        pair(None, Some(&sb[i + 1]));
+                    if y.is_some() {
+                        pair(None, y);
                     }
                 }
             }

@@ -33,6 +33,16 @@ fn records(path: &Path) -> (String, Vec<Record>) {
     (header, lines.map(|l| parse_record(l).unwrap()).collect())
 }
 
+/// `btx run` of the kitting world (`args` after the world's): whether it
+/// succeeded, and its stderr.
+fn run_kitting(args: &[&str], out: &Path) -> (bool, String) {
+    let mut all = vec!["-q", "run", "trees/kitting.xml", "--world", "kitting"];
+    all.extend_from_slice(args);
+    all.extend(["--out", out.to_str().unwrap()]);
+    let (ok, _, err) = btx(&all);
+    (ok, err)
+}
+
 fn shipped_sessions() -> Vec<PathBuf> {
     let mut all: Vec<PathBuf> =
         std::fs::read_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions"))
@@ -50,20 +60,16 @@ fn shipped_sessions() -> Vec<PathBuf> {
 /// (`btx run --ask-at`) put in.
 fn every_record_kind(dir: &Path) -> PathBuf {
     let out = dir.join("asked.jsonl");
-    let (ok, _, err) = btx(&[
-        "-q",
-        "run",
-        "trees/kitting.xml",
-        "--world",
-        "kitting",
-        "--seed",
-        "1",
-        "--ask-at",
-        "10",
-        "Can you insert large gear?",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (ok, err) = run_kitting(
+        &[
+            "--seed",
+            "1",
+            "--ask-at",
+            "10",
+            "Can you insert large gear?",
+        ],
+        &out,
+    );
     assert!(ok, "{err}");
     let text = std::fs::read_to_string(&out).unwrap();
     let mut lines: Vec<&str> = text.lines().collect();
@@ -173,17 +179,7 @@ fn run_writes_the_same_session_as_parquet() {
     let dir = tempfile::tempdir().unwrap();
     let [pq, jsonl, back] = ["r.parquet", "r.jsonl", "back.jsonl"].map(|n| dir.path().join(n));
     for out in [&pq, &jsonl] {
-        let (ok, _, err) = btx(&[
-            "-q",
-            "run",
-            "trees/kitting.xml",
-            "--world",
-            "kitting",
-            "--seed",
-            "3",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (ok, err) = run_kitting(&["--seed", "3"], out);
         assert!(ok, "{err}");
     }
     import(&pq, &back);
@@ -196,15 +192,7 @@ fn run_writes_the_same_session_as_parquet() {
     left.sort();
     assert_eq!(left, ["back.jsonl", "r.jsonl", "r.parquet"]);
     // A second run to the same name is refused: a session is there.
-    let (ok, _, err) = btx(&[
-        "-q",
-        "run",
-        "trees/kitting.xml",
-        "--world",
-        "kitting",
-        "--out",
-        pq.to_str().unwrap(),
-    ]);
+    let (ok, err) = run_kitting(&[], &pq);
     assert!(!ok);
     assert!(err.contains("a session already exists here"), "{err}");
 }

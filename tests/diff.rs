@@ -434,6 +434,10 @@ proptest! {
         if a.len() + b.len() <= max {
             prop_assert_eq!(distance(&e), exact);
         }
+        // The first divergence is a plain LCS's: where the runs stop
+        // being the same, item for item.
+        let first = |e: &[btx::diff::Edit]| e.iter().position(|x| x.op != Op::Same);
+        prop_assert_eq!(first(&e), first(&edits(&a, &b)));
         // A run against itself (the same units) is the same throughout.
         let own = move |_: bool, i: usize| (i / ua) as u64;
         let same = btx::diff::align::edits_by_units_within(&a, &a, &[&own], max);

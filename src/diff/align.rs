@@ -103,8 +103,25 @@ pub fn edits_by_units_within<T: Eq + std::hash::Hash + Ord>(
     levels: &[&dyn Fn(bool, usize) -> u64],
     max: usize,
 ) -> Vec<Edit> {
-    let mut out = Vec::new();
-    units(a, b, (0, 0), levels, max, &mut out);
+    // The common start and end are the same, item by item, whatever the
+    // units: so the first divergence is a plain LCS's, and a unit whose
+    // first items the other run also begins with is not cut there.
+    let head = a.iter().zip(b).take_while(|(x, y)| x == y).count();
+    let tail = a[head..]
+        .iter()
+        .rev()
+        .zip(b[head..].iter().rev())
+        .take_while(|(x, y)| x == y)
+        .count();
+    let same = |i: usize, j: usize| Edit {
+        op: Op::Same,
+        a: Some(i),
+        b: Some(j),
+    };
+    let mut out: Vec<Edit> = (0..head).map(|i| same(i, i)).collect();
+    let (ea, eb) = (a.len() - tail, b.len() - tail);
+    units(&a[head..ea], &b[head..eb], (head, head), levels, max, &mut out);
+    out.extend((0..tail).map(|k| same(ea + k, eb + k)));
     out
 }
 

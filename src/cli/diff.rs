@@ -81,7 +81,12 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         use btx::causal::compare::Diverged;
         match format {
             Format::Text => {
-                print!("{}", d.text());
+                let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+                written(
+                    d.write_text(&mut out)
+                        .and_then(|()| std::io::Write::flush(&mut out)),
+                );
+                drop(out);
                 match &diverged {
                     Some(None) => println!("\n{}", Diverged::SAME),
                     Some(Some(x)) => {

@@ -120,7 +120,14 @@ pub fn edits_by_units_within<T: Eq + std::hash::Hash + Ord>(
     };
     let mut out: Vec<Edit> = (0..head).map(|i| same(i, i)).collect();
     let (ea, eb) = (a.len() - tail, b.len() - tail);
-    units(&a[head..ea], &b[head..eb], (head, head), levels, max, &mut out);
+    units(
+        &a[head..ea],
+        &b[head..eb],
+        (head, head),
+        levels,
+        max,
+        &mut out,
+    );
     out.extend((0..tail).map(|k| same(ea + k, eb + k)));
     out
 }

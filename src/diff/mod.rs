@@ -651,21 +651,31 @@ impl Diff {
         }
     }
 
+    /// The report as text.
     pub fn text(&self) -> String {
-        let mut out = format!(
+        let mut out = Vec::new();
+        self.write_text(&mut out).expect("writing to memory");
+        String::from_utf8(out).expect("the report is text")
+    }
+
+    /// Writes the report as text a line at a time: a long run's report
+    /// is not held whole.
+    pub fn write_text(&self, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+        write!(
+            out,
             "A  {}  ({})\nB  {}  ({})\n",
             self.a_name,
             what(self.a_run),
             self.b_name,
             what(self.b_run)
-        );
+        )?;
         if self.parting_edit().is_some() {
-            out.push_str(if self.parting_held {
-                "> where the runs part ways"
+            out.write_all(if self.parting_held {
+                b"> where the runs part ways"
             } else {
-                "> the first step to differ after the runs part ways"
-            });
-            out.push_str("   · a step made (or not) only because they had parted\n");
+                b"> the first step to differ after the runs part ways"
+            })?;
+            out.write_all("   · a step made (or not) only because they had parted\n".as_bytes())?;
         }
         let width = self
             .sections
@@ -684,7 +694,8 @@ impl Diff {
                 (None, Some(_)) => " (only in B)",
                 _ => "",
             };
-            out.push_str(&format!(
+            write!(
+                out,
                 "\n{}{only}: edit distance {}{}, LCS {} (A {}, B {}): {}\n",
                 sec.name,
                 sec.distance(),
@@ -701,7 +712,7 @@ impl Diff {
                 plural(sec.a.len(), "action"),
                 plural(sec.b.len(), "action"),
                 sec.summary()
-            ));
+            )?;
             for (e, role) in sec.edits.iter().zip(&sec.roles) {
                 let mark = match e.op {
                     Op::Same => ' ',
@@ -717,8 +728,7 @@ impl Diff {
                 let left = e.a.map(|i| sec.a[i].label()).unwrap_or_default();
                 let right = e.b.map(|i| sec.b[i].label()).unwrap_or_default();
                 let line = format!("{lead} {mark} {left:<width$}   {right}");
-                out.push_str(line.trim_end());
-                out.push('\n');
+                writeln!(out, "{}", line.trim_end())?;
             }
         }
         let steps: usize = self.sections.iter().map(|s| s.a.len()).sum();
@@ -729,11 +739,12 @@ impl Diff {
             .unwrap_or_default();
         if self.is_empty() {
             let but = if parted.is_empty() { "" } else { " Yet" };
-            out.push_str(&format!(
+            write!(
+                out,
                 "\nNo divergence: every subgoal has the same {} in A and B.{}\n",
                 plural(steps, "action"),
                 parted.replacen(" The", &format!("{but} the"), 1)
-            ));
+            )?;
         } else {
             let (s, i) = self.divergences()[0];
             let follow = self.following().len();
@@ -753,7 +764,8 @@ impl Diff {
             } else {
                 String::new()
             };
-            out.push_str(&format!(
+            write!(
+                out,
                 "\nIn all: edit distance {}{}, LCS {}.{parted} First divergence: {}.{after}\n",
                 self.distance(),
                 if self.sections.iter().all(|s| s.exact) {
@@ -763,9 +775,9 @@ impl Diff {
                 },
                 self.lcs(),
                 self.describe(s, i)
-            ));
+            )?;
         }
-        out
+        Ok(())
     }
 
     pub fn json(&self) -> Value {

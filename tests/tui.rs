@@ -1359,7 +1359,13 @@ fn the_fleet_view_shows_failures_as_bars_and_opens_a_run() {
         run.pos as usize,
         run.session.as_ref().unwrap().index.transitions.len()
     );
-    assert!(screen(&app, 120, 40).contains("full tree"));
+    let shown = screen(&app, 120, 40);
+    assert!(shown.contains("full tree"));
+    // Its status bar says where q goes (it said "q quit").
+    assert!(
+        shown.contains("q back") && !shown.contains("q quit"),
+        "{shown}"
+    );
     btx::tui::Screen::event(&mut app, Event::Key(key_event("q")), (120, 40));
     assert!(app.opened.is_none() && !app.quit);
     // Esc lists every run again; a key the view has no use for says so.

@@ -173,7 +173,10 @@ impl FleetApp {
         opts.run = r.run.or(opts.run);
         match super::open(&r.file, None, &opts) {
             Ok(mut app) => {
-                app.keymap = self.keymap.clone();
+                app.keymap = self
+                    .keymap
+                    .clone()
+                    .saying(Action::Quit, "back", "back to the fleet");
                 app.update(Action::End);
                 self.opened = Some(Box::new(app));
             }

@@ -529,6 +529,21 @@ impl Keymap {
             .map(String::as_str)
     }
 
+    /// The status bar's word for an action, as its first binding says it.
+    fn hint_of(&self, a: Action) -> Option<&'static str> {
+        self.keys.iter().find(|b| b.1 == a).map(|b| b.3)
+    }
+
+    /// The same keys, with an action said otherwise (in the status bar and
+    /// the help): q in a run opened from the fleet goes back to the fleet.
+    pub fn saying(mut self, a: Action, hint: &'static str, help: &'static str) -> Keymap {
+        for b in self.keys.iter_mut().filter(|b| b.1 == a) {
+            b.2 = help;
+            b.3 = hint;
+        }
+        self
+    }
+
     /// `hints` in at most `width` columns, after the focused pane's own
     /// `first` hints: hints are dropped from the end, but help and quit stay.
     pub fn hints_within(&self, first: &[(Action, &str)], width: usize) -> String {
@@ -557,9 +572,9 @@ impl Keymap {
                 .map(|b| (format!("{} {}", b.0[0], b.3), weight(b.1))),
         );
         // `?` always last.
-        let end: Vec<String> = [(Action::Quit, "quit"), (Action::Help, "help")]
+        let end: Vec<String> = [Action::Quit, Action::Help]
             .iter()
-            .filter_map(|&(a, what)| key(a).map(|k| format!("{k} {what}")))
+            .filter_map(|&a| Some(format!("{} {}", key(a)?, self.hint_of(a)?)))
             .collect();
         let cols = |v: &mut dyn Iterator<Item = &String>| {
             v.map(|s| s.chars().count() + 2)

@@ -308,3 +308,75 @@ print(json.dumps({'header': json.loads(header)['btx_session'],
     assert!(want.len() > 400);
     assert_eq!(d["rows"].as_array().unwrap(), &want);
 }
+
+#[test]
+fn a_long_session_spans_row_groups_and_comes_back_whole() {
+    // 65,536 rows a row group: the kitting run 330 times over is about
+    // 70,000 records, so two row groups and a boundary inside a tick.
+    let dir = tempfile::tempdir().unwrap();
+    let (header, recs) =
+        records(&Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/kitting-nominal.jsonl"));
+    let ticks = match recs.last() {
+        Some(Record::End { ticks, .. }) => *ticks,
+        other => panic!("{other:?}"),
+    };
+    let mut lines = vec![header];
+    let mut transitions = 0;
+    for k in 0..330 {
+        for r in &recs {
+            let r = match r.clone() {
+                Record::Transition {
+                    tick,
+                    step,
+                    uid,
+                    from,
+                    to,
+                    decision,
+                } => {
+                    transitions += 1;
+                    Record::Transition {
+                        tick: tick + k * ticks,
+                        step,
+                        uid,
+                        from,
+                        to,
+                        decision,
+                    }
+                }
+                Record::Write {
+                    tick,
+                    step,
+                    uid,
+                    entry,
+                    value,
+                } => Record::Write {
+                    tick: tick + k * ticks,
+                    step,
+                    uid,
+                    entry,
+                    value,
+                },
+                Record::End { .. } => continue,
+                other => panic!("{other:?}"),
+            };
+            lines.push(serde_json::to_string(&r).unwrap());
+        }
+    }
+    let end = Record::End {
+        ticks: 330 * ticks,
+        root: btx::run::Status::Success,
+        transitions,
+        reason: "root completed".into(),
+    };
+    lines.push(serde_json::to_string(&end).unwrap());
+    assert!(lines.len() > 65_536 + 1000, "{}", lines.len());
+    let long = dir.path().join("long.jsonl");
+    std::fs::write(&long, lines.join("\n") + "\n").unwrap();
+    let [pq, back] = ["long.parquet", "back.jsonl"].map(|n| dir.path().join(n));
+    import(&long, &pq);
+    import(&pq, &back);
+    assert_eq!(std::fs::read(&long).unwrap(), std::fs::read(&back).unwrap());
+    let (a, b) = (Session::load(&long).unwrap(), Session::load(&pq).unwrap());
+    assert_eq!(a.index.transitions, b.index.transitions);
+    assert_eq!(b.index.ticks(), 330 * ticks);
+}

@@ -18,7 +18,6 @@ use parquet::file::metadata::KeyValue;
 use parquet::file::properties::WriterProperties;
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::schema::types::ColumnPath;
-use std::io::BufRead;
 use std::path::Path;
 
 pub const SCHEMA: &str = "message btx_session {
@@ -174,40 +173,54 @@ fn properties() -> WriterProperties {
         .build()
 }
 
-/// Writes the JSON-lines session at `jsonl` as Parquet at `part`: its
-/// header line as it is, then each record; a line that is not a record
-/// is an error naming it.
+/// Writes the JSON-lines session at `jsonl` as Parquet at `part` (which
+/// becomes `out`), as the JSON-lines reader hands it each record.
 pub fn write_from_jsonl(jsonl: &Path, out: &Path, part: &Path) -> Result<(), Located> {
-    let failed = |e: std::io::Error| Located::file(jsonl, format!("cannot read the session: {e}"));
-    let mut lines = std::io::BufReader::new(std::fs::File::open(jsonl).map_err(failed)?);
-    let mut w = crate::table::Writer::create(out, part, SCHEMA, properties())?;
-    let mut rows = Rows::default();
-    let mut line = String::new();
-    let mut n = 0;
-    while {
-        line.clear();
-        lines.read_line(&mut line).map_err(failed)? > 0
-    } {
-        n += 1;
-        let body = line.trim_end();
-        if n == 1 {
-            rows.other(0, 0, body.to_string());
-            continue;
-        }
-        if body.is_empty() {
-            continue;
-        }
-        let rec = format::parse_record(body)
-            .map_err(|e| Located::file(jsonl, format!("line {n}: not a session record: {e}")))?;
-        rows.push(&rec);
-        if rows.len() == ROWS {
-            rows.write(&mut w)?;
-        }
+    let mut w = Writing {
+        table: crate::table::Writer::create(out, part, SCHEMA, properties())?,
+        rows: Rows::default(),
+    };
+    super::read::jsonl_file(jsonl, &mut w)?;
+    if w.rows.len() > 0 {
+        w.rows.write(&mut w.table)?;
     }
-    if rows.len() > 0 || n == 0 {
-        rows.write(&mut w)?;
+    w.table.close()
+}
+
+/// A Parquet session being written, a row group at a time.
+struct Writing {
+    table: crate::table::Writer,
+    rows: Rows,
+}
+
+impl Sink for Writing {
+    fn header(
+        &mut self,
+        _path: &Path,
+        text: &str,
+        _header: format::Header,
+        _err: super::build::Locate,
+    ) -> Result<(), Located> {
+        self.rows.other(0, 0, text.to_string());
+        Ok(())
     }
-    w.close()
+
+    fn record(
+        &mut self,
+        _nth: usize,
+        rec: Record,
+        _err: super::build::Locate,
+    ) -> Result<(), Located> {
+        self.rows.push(&rec);
+        if self.rows.len() == ROWS {
+            self.rows.write(&mut self.table)?;
+        }
+        Ok(())
+    }
+
+    // What the reader warns of (a record cut off half way) is left out
+    // of the copy as it is of the session.
+    fn warn(&mut self, _location: String, _message: String) {}
 }
 
 /// Reads a Parquet session into `sink`, row by row: the header, then the

@@ -176,7 +176,7 @@ fn open_as(
     }
     if crate::logs::btlog::is_btlog(&bytes) {
         return Ok(Input::Session(Box::new(crate::logs::open_btlog_as(
-            path, &bytes, given,
+            path, bytes, given,
         )?)));
     }
     if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {

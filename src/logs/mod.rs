@@ -59,24 +59,36 @@ impl GivenTree<'_> {
 
 /// A `.btlog` as a session: the tree from its XML, ticks reconstructed.
 pub fn open_btlog(path: &Path, bytes: &[u8]) -> Result<Session, Located> {
-    open_btlog_as(path, bytes, None)
+    btlog_session(path, bytes.len(), btlog::parse(path, bytes)?, None)
 }
 
-/// `open_btlog`, with the tree the robot ran in place of the log's.
+/// `open_btlog`, with the tree the robot ran in place of the log's; the
+/// file's bytes are let go once parsed.
 pub fn open_btlog_as(
     path: &Path,
-    bytes: &[u8],
+    bytes: Vec<u8>,
     given: Option<GivenTree>,
 ) -> Result<Session, Located> {
-    let raw = btlog::parse(path, bytes)?;
+    let raw = btlog::parse(path, &bytes)?;
+    let len = bytes.len();
+    drop(bytes);
+    btlog_session(path, len, raw, given)
+}
+
+fn btlog_session(
+    path: &Path,
+    len: usize,
+    raw: btlog::RawLog,
+    given: Option<GivenTree>,
+) -> Result<Session, Located> {
     session_from(
         path,
         LogRun {
-            len: bytes.len(),
+            len,
             partial_tail: raw.partial_tail,
             xml: &raw.xml,
             version: crate::model::Version::V4,
-            records: &raw.records,
+            records: raw.records.into(),
             kind: "btlog",
             resyncs: &[],
             ticks: None,
@@ -161,7 +173,7 @@ fn live_session(
             partial_tail: 0,
             xml,
             version: protocol.version(),
-            records,
+            records: records.into(),
             kind: protocol.name(),
             resyncs,
             ticks,
@@ -186,7 +198,7 @@ pub fn open_db3_as(
     which: Option<i64>,
     given: Option<GivenTree>,
 ) -> Result<Session, Located> {
-    let (ids, raw) = db3::read(path, which)?;
+    let (ids, mut raw) = db3::read(path, which)?;
     let id = raw.id;
     let mut s = session_from(
         path,
@@ -195,7 +207,7 @@ pub fn open_db3_as(
             partial_tail: 0,
             xml: &raw.xml,
             version: crate::model::Version::V4,
-            records: &raw.records,
+            records: std::mem::take(&mut raw.records).into(),
             kind: "db3",
             resyncs: &[],
             ticks: None,
@@ -297,7 +309,7 @@ impl<'a> BagRuns<'a> {
                 partial_tail: 0,
                 xml: "",
                 version: self.given.tree.release,
-                records: &self.log.records[start..end],
+                records: self.log.records[start..end].into(),
                 kind: "rosbag",
                 resyncs: &[],
                 ticks: None,
@@ -357,7 +369,7 @@ pub fn open_fbl_as(
             partial_tail: raw.partial_tail,
             xml: &raw.xml,
             version: crate::model::Version::V3,
-            records: &records,
+            records: records.into(),
             kind: "fbl",
             resyncs: &[],
             ticks: None,
@@ -374,7 +386,9 @@ struct LogRun<'a> {
     partial_tail: usize,
     xml: &'a str,
     version: crate::model::Version,
-    records: &'a [btlog::Record],
+    /// Owned where the caller gives them up: they are let go before the
+    /// session is built (#31 item 1: 24 bytes a transition).
+    records: std::borrow::Cow<'a, [btlog::Record]>,
     kind: &'a str,
     /// The nodes' states read from the robot, after how many records (at
     /// 0: when recording began; none: all IDLE then).
@@ -426,7 +440,7 @@ fn session_from(
         }
     };
     let mut warnings = Vec::new();
-    for r in records {
+    for r in records.iter() {
         if tree.get(r.uid).is_none() {
             return Err(Located::file(
                 path,
@@ -455,7 +469,7 @@ fn session_from(
             fell_back: None,
             capped: None,
         },
-        None => ticks::reconstruct(&tree, records),
+        None => ticks::reconstruct(&tree, &records),
     };
     let at = |i: usize| place(records.get(i).map_or(len, |r| r.offset));
     if let Some(i) = capped {
@@ -475,12 +489,22 @@ fn session_from(
                     .into(),
         });
     }
+    // What the session keeps of the records: their times, and each one's
+    // node and status; the records themselves are let go (when owned).
+    let span_us = records
+        .first()
+        .zip(records.last())
+        .map(|(a, b)| (a.time_us, b.time_us));
+    let times_us: Vec<i64> = records.iter().map(|r| r.time_us).collect();
+    let moves: Vec<(crate::Uid, Status)> = records.iter().map(|r| (r.uid, r.status)).collect();
+    drop(records);
     let mut index = Index::new(tree.len());
+    index.reserve(moves.iter().map(|m| m.0));
     // Each node's status as the records follow it, and as last read.
     let mut followed = vec![Status::Idle; tree.len()];
     let mut status = followed.clone();
     let mut next = resyncs.iter().peekable();
-    for (i, (r, &t)) in records.iter().zip(&ticks).enumerate() {
+    for (i, (&(uid, to), &t)) in moves.iter().zip(&ticks).enumerate() {
         while let Some((_, states)) = next.next_if(|(at, _)| *at <= i) {
             if i == 0 {
                 index.set_before(states);
@@ -492,23 +516,23 @@ fn session_from(
                 status[(b.uid - 1) as usize] = b.status;
             }
         }
-        let u = (r.uid - 1) as usize;
+        let u = (uid - 1) as usize;
         // A status the read already showed: the read came after this
         // transition, which left the status the records followed.
-        let prev = if status[u] == r.status {
+        let prev = if status[u] == to {
             followed[u]
         } else {
             status[u]
         };
-        status[u] = r.status;
-        followed[u] = r.status;
+        status[u] = to;
+        followed[u] = to;
         index.push_transition(
             &tree,
             Transition {
                 tick: t,
-                uid: r.uid,
+                uid,
                 prev,
-                status: r.status,
+                status: to,
             },
             None,
         );
@@ -532,11 +556,8 @@ fn session_from(
         index,
         end,
         inserts: Vec::new(),
-        span_us: records
-            .first()
-            .zip(records.last())
-            .map(|(a, b)| (a.time_us, b.time_us)),
-        times_us: records.iter().map(|r| r.time_us).collect(),
+        span_us,
+        times_us,
         warnings,
     })
 }

@@ -277,6 +277,24 @@ impl Index {
         }
     }
 
+    /// Room for `n` more transitions of these nodes, reserved at once: a
+    /// run read whole knows its length, and growing by doubling would hold
+    /// up to twice that while copying.
+    pub fn reserve(&mut self, uids: impl Iterator<Item = Uid> + Clone) {
+        let n = uids.clone().count();
+        self.transitions.reserve_exact(n);
+        self.current.reserve_exact(n);
+        let mut per = vec![0usize; self.by_node.len()];
+        for u in uids {
+            if let Some(c) = per.get_mut((u as usize).wrapping_sub(1)) {
+                *c += 1;
+            }
+        }
+        for (list, n) in self.by_node.iter_mut().zip(per) {
+            list.reserve_exact(n);
+        }
+    }
+
     pub fn push_transition(&mut self, tree: &Tree, t: Transition, decision: Option<String>) {
         if self.held.iter().any(|(u, _, _)| *u != t.uid) {
             self.release_writes();

@@ -496,15 +496,25 @@ fn session_from(
         .zip(records.last())
         .map(|(a, b)| (a.time_us, b.time_us));
     let times_us: Vec<i64> = records.iter().map(|r| r.time_us).collect();
-    let moves: Vec<(crate::Uid, Status)> = records.iter().map(|r| (r.uid, r.status)).collect();
+    // A uid and a status in 4 bytes: a log's uids are BehaviorTree.CPP's
+    // 16-bit ones, checked against the tree above.
+    let moves: Vec<u32> = records
+        .iter()
+        .map(|r| r.uid | u32::from(r.status.code()) << 29)
+        .collect();
     drop(records);
+    let unpack = |m: u32| {
+        let status = Status::from_code((m >> 29) as u8).expect("a status packed above");
+        (m & ((1 << 29) - 1), status)
+    };
     let mut index = Index::new(tree.len());
-    index.reserve(moves.iter().map(|m| m.0));
+    index.reserve(moves.iter().map(|&m| unpack(m).0));
     // Each node's status as the records follow it, and as last read.
     let mut followed = vec![Status::Idle; tree.len()];
     let mut status = followed.clone();
     let mut next = resyncs.iter().peekable();
-    for (i, (&(uid, to), &t)) in moves.iter().zip(&ticks).enumerate() {
+    for (i, (&m, &t)) in moves.iter().zip(&ticks).enumerate() {
+        let (uid, to) = unpack(m);
         while let Some((_, states)) = next.next_if(|(at, _)| *at <= i) {
             if i == 0 {
                 index.set_before(states);

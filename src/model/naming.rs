@@ -103,17 +103,50 @@ impl Tree {
         // copied the path at every level, cubic on a deep chain of SubTrees.
         let mut segs: Vec<std::borrow::Cow<str>> = Vec::new();
         let mut at = scope;
-        while let (Some(parent), Some(st)) = (self.scopes[at].parent, self.scopes[at].subtree) {
-            let n = self.node(st);
-            segs.push(if n.name != n.id {
-                n.name.as_str().into()
-            } else {
-                format!("{}::{}", n.id, st).into()
-            });
+        while let Some((parent, seg)) = self.scope_step(at) {
+            segs.push(seg);
             at = parent;
         }
         segs.reverse();
         segs.join("/")
+    }
+
+    /// A scope's parent and what the scope adds to its path (its SubTree's
+    /// name, or `ID::uid` when the name is the ID); none for the root.
+    fn scope_step(
+        &self,
+        scope: super::ScopeId,
+    ) -> Option<(super::ScopeId, std::borrow::Cow<'_, str>)> {
+        let (parent, st) = (self.scopes[scope].parent?, self.scopes[scope].subtree?);
+        let n = self.node(st);
+        Some((
+            parent,
+            if n.name != n.id {
+                n.name.as_str().into()
+            } else {
+                format!("{}::{}", n.id, st).into()
+            },
+        ))
+    }
+
+    /// Every scope's path, each made from its parent's (for what asks for
+    /// the paths of all the leaves: a walk up for each is quadratic in
+    /// formatting on a deep chain).
+    pub fn scope_paths(&self) -> Vec<String> {
+        let mut paths: Vec<Option<String>> = vec![None; self.scopes.len()];
+        for s in 0..self.scopes.len() {
+            let path = match self.scope_step(s) {
+                None => String::new(),
+                Some((parent, seg)) => match &paths[parent] {
+                    Some(p) if p.is_empty() => seg.into_owned(),
+                    Some(p) => format!("{p}/{seg}"),
+                    // A parent numbered after its child: walked up instead.
+                    None => self.scope_path(s),
+                },
+            };
+            paths[s] = Some(path);
+        }
+        paths.into_iter().map(Option::unwrap_or_default).collect()
     }
 
     /// The name BehaviorTree.CPP's Groot2 publisher gives a scope's
@@ -129,13 +162,17 @@ impl Tree {
     /// BehaviorTree.CPP's `fullPath`: the scope path, `/`, the name, with
     /// `::uid` appended when the name is the ID. Not unique.
     pub fn full_path(&self, uid: Uid) -> String {
+        self.full_path_in(&self.scope_path(self.node(uid).scope), uid)
+    }
+
+    /// `full_path`, given the path of the node's scope.
+    pub fn full_path_in(&self, p: &str, uid: Uid) -> String {
         let n = self.node(uid);
         let name = if n.name == n.id {
             format!("{}::{}", n.name, uid)
         } else {
             n.name.clone()
         };
-        let p = self.scope_path(n.scope);
         if p.is_empty() {
             name
         } else {

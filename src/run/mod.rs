@@ -20,10 +20,18 @@ use crate::model::{Kind, Tree, Uid, Version};
 /// The keys a leaf is matched by in plans and domain files, in order: its
 /// fullPath (v4 only), its instance name, its registration ID, the default.
 pub fn leaf_keys(tree: &Tree, uid: Uid) -> Vec<String> {
+    leaf_keys_under(tree, None, uid)
+}
+
+/// `leaf_keys`, given the path of the leaf's scope when it is known.
+pub fn leaf_keys_under(tree: &Tree, scope_path: Option<&str>, uid: Uid) -> Vec<String> {
     let n = tree.node(uid);
     let mut keys = Vec::with_capacity(4);
     if tree.version == Version::V4 {
-        keys.push(tree.full_path(uid));
+        keys.push(match scope_path {
+            Some(p) => tree.full_path_in(p, uid),
+            None => tree.full_path(uid),
+        });
     }
     if !n.name.is_empty() {
         keys.push(n.name.clone());

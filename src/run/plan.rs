@@ -200,9 +200,10 @@ impl PlanLeaves {
         let mut used = vec![false; p.plan.entries.len()];
         // Built-in leaves (Script, AlwaysSuccess, SetBlackboard…) run by
         // their own rules and take no plan entry.
+        let scope_paths = tree.scope_paths();
         for n in &tree.nodes {
             if n.kind.is_leaf() && n.builtin.is_none() {
-                if let Some(e) = p.assign(tree, n.uid) {
+                if let Some(e) = p.assign(tree, Some(&scope_paths), n.uid) {
                     used[e] = true;
                 }
             }
@@ -247,10 +248,19 @@ impl PlanLeaves {
                 ),
             });
         }
+        // The names a key might have meant, made only when one matches none.
+        let unused = p
+            .plan
+            .entries
+            .iter()
+            .zip(&used)
+            .any(|(e, u)| !u && !e.key.starts_with('@'));
         let mut keys: Vec<(String, String)> = Vec::new();
-        for n in tree.nodes.iter().filter(|n| n.kind.is_leaf()) {
-            for k in super::leaf_keys(tree, n.uid) {
-                if !k.starts_with('@') && !keys.iter().any(|(x, _)| *x == k) {
+        let mut seen = std::collections::HashSet::new();
+        for n in tree.nodes.iter().filter(|n| unused && n.kind.is_leaf()) {
+            let scope = scope_paths.get(n.scope).map(String::as_str);
+            for k in super::leaf_keys_under(tree, scope, n.uid) {
+                if !k.starts_with('@') && seen.insert(k.clone()) {
                     keys.push((k.clone(), k));
                 }
             }
@@ -272,15 +282,15 @@ impl PlanLeaves {
 
     /// Which plan entry drives a leaf: its fullPath (v4 only), then its
     /// instance name, then its registration ID, then the default.
-    fn assign(&mut self, tree: &Tree, uid: Uid) -> Option<usize> {
-        let entry = super::leaf_keys(tree, uid)
-            .iter()
-            .find_map(|k| self.plan.entry(k));
-        let full = tree.full_path(uid);
+    /// `scope_paths`: every scope's path, when the caller has them.
+    fn assign(&mut self, tree: &Tree, scope_paths: Option<&[String]>, uid: Uid) -> Option<usize> {
+        let scope = scope_paths.and_then(|p| p.get(tree.node(uid).scope));
+        let keys = super::leaf_keys_under(tree, scope.map(String::as_str), uid);
+        let entry = keys.iter().find_map(|k| self.plan.entry(k));
         // Each node steps through its own copy of its list: keyed by fullPath
-        // in v4, by uid in v3, as the fixture runner did.
+        // in v4 (the first key), by uid in v3, as the fixture runner did.
         let cursor = match tree.version {
-            Version::V4 => full,
+            Version::V4 => keys.into_iter().next().expect("a v4 leaf's fullPath"),
             Version::V3 => format!("#{uid}"),
         };
         let next = self.cursors.len();
@@ -356,7 +366,7 @@ impl Leaves for PlanLeaves {
         let uid = call.uid;
         if !self.assigned.contains_key(&uid) {
             // A leaf inserted during the run ("Can you X?").
-            self.assign(call.tree, uid);
+            self.assign(call.tree, None, uid);
         }
         // A condition, or a Nav2 action that completes at once, takes the
         // completed part of each outcome.

@@ -106,18 +106,7 @@ pub fn edits_by_units_within<T: Eq + std::hash::Hash + Ord>(
     // The common start and end are the same, item by item, whatever the
     // units: so the first divergence is a plain LCS's, and a unit whose
     // first items the other run also begins with is not cut there.
-    let head = a.iter().zip(b).take_while(|(x, y)| x == y).count();
-    let tail = a[head..]
-        .iter()
-        .rev()
-        .zip(b[head..].iter().rev())
-        .take_while(|(x, y)| x == y)
-        .count();
-    let same = |i: usize, j: usize| Edit {
-        op: Op::Same,
-        a: Some(i),
-        b: Some(j),
-    };
+    let (head, tail) = common_ends(a, b);
     let mut out: Vec<Edit> = (0..head).map(|i| same(i, i)).collect();
     let (ea, eb) = (a.len() - tail, b.len() - tail);
     units(
@@ -213,6 +202,27 @@ fn units<T: Eq + std::hash::Hash + Ord>(
     }
 }
 
+/// How many items two sequences share at their start, and then at their end.
+fn common_ends<T: Eq>(a: &[T], b: &[T]) -> (usize, usize) {
+    let head = a.iter().zip(b).take_while(|(x, y)| x == y).count();
+    let tail = a[head..]
+        .iter()
+        .rev()
+        .zip(b[head..].iter().rev())
+        .take_while(|(x, y)| x == y)
+        .count();
+    (head, tail)
+}
+
+/// Item `i` of the first sequence is item `j` of the second.
+fn same(i: usize, j: usize) -> Edit {
+    Edit {
+        op: Op::Same,
+        a: Some(i),
+        b: Some(j),
+    }
+}
+
 /// The units' alignment by their digests: exact when there are few; past
 /// that, the common start and end kept and the middle paired in place (a
 /// pair that is the same inside comes out the same, one item at a time).
@@ -220,18 +230,7 @@ fn align_units(ka: &[u64], kb: &[u64], max: usize) -> Vec<Edit> {
     if ka.len() + kb.len() <= max {
         return script(&similar::capture_diff_slices(Algorithm::Myers, ka, kb));
     }
-    let head = ka.iter().zip(kb).take_while(|(x, y)| x == y).count();
-    let tail = ka[head..]
-        .iter()
-        .rev()
-        .zip(kb[head..].iter().rev())
-        .take_while(|(x, y)| x == y)
-        .count();
-    let same = |i: usize, j: usize| Edit {
-        op: Op::Same,
-        a: Some(i),
-        b: Some(j),
-    };
+    let (head, tail) = common_ends(ka, kb);
     let mut out: Vec<Edit> = (0..head).map(|i| same(i, i)).collect();
     let mid = |k: &[u64]| k[head..k.len() - tail].to_vec();
     out.extend(in_place(&mid(ka), &mid(kb)).into_iter().map(|e| Edit {

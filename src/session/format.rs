@@ -179,14 +179,7 @@ impl SessionWriter {
             "a directory is here; --out names the session file to write"
         } else if !meta.is_file() {
             "this is a device, a FIFO or a link, not a file; --out names a new session file"
-        } else if std::fs::File::open(path)
-            .and_then(|mut f| {
-                let mut head = [0u8; 14];
-                std::io::Read::read_exact(&mut f, &mut head).map(|()| head)
-            })
-            .is_ok_and(|h| &h == b"{\"btx_session\"")
-            || super::columnar::is_session_file(path)
-        {
+        } else if super::read::format_of(path).is_some() {
             "a session already exists here; btx does not overwrite sessions"
         } else {
             "a file that is not a btx session is here; btx overwrites no file"

@@ -129,6 +129,7 @@ fn a_corpus_of_phrasings_is_understood_as_expected() {
         at: Some(at),
         node: None,
         detail: Default::default(),
+        last: Default::default(),
     };
     let all = corpus();
     assert!(all.len() >= 300, "{} questions", all.len());
@@ -157,7 +158,7 @@ fn a_corpus_of_phrasings_is_understood_as_expected() {
 #[test]
 fn what_is_not_understood_is_said_with_suggestions_and_exit_status_1() {
     let run = "sessions/kitting-lookat-fails-once.jsonl";
-    for q in ["make me a sandwich", "why", "fail look at chuck why"] {
+    for q in ["make me a sandwich", "why", "tick"] {
         let (ok, out, err) = btx(&["ask", run, "--at", "12", q]);
         assert!(!ok, "{q}: {out}");
         assert!(
@@ -304,7 +305,7 @@ fn questions_in_users_words_are_read_as_meant_or_refused() {
         ("What is the robot doing right now?", Some("q1")),
         ("why is the robot doing this", Some("q2")),
         ("what's the current subgoal?", Some("q3")),
-        ("What is the goal of this tree?", None),
+        ("What is the goal of this tree?", Some("q4")),
         ("How do you achieve your goal?", Some("q5-goal")),
         ("what went wrong??", Some("wrong")),
         ("Why did my behavior tree fail?", Some("why")),
@@ -315,7 +316,7 @@ fn questions_in_users_words_are_read_as_meant_or_refused() {
         ("why does look at chuck keep failing", Some("why")),
         ("why was retreat arm halted?", Some("why")),
         ("Why wasn't ask ticked?", Some("why")),
-        ("why did the fallback run reset arm", None),
+        ("why did the fallback run reset arm", Some("why")),
         ("when did lift torso start", Some("when")),
         (
             "When did look at chuck fail for the first time?",
@@ -334,7 +335,7 @@ fn questions_in_users_words_are_read_as_meant_or_refused() {
         ("What happens if detect chuck fails?", Some("next")),
         ("Can you insert large gear?", Some("can-you")),
         ("could you go pick screw", Some("can-you")),
-        ("why is my robot stuck?", None),
+        ("why is my robot stuck?", Some("why")),
         ("show me the blackboard", None),
         ("what is the value of pose", None),
         ("print the tree", None),
@@ -371,6 +372,7 @@ fn questions_in_users_words_are_read_as_meant_or_refused() {
         ),
         node: None,
         detail: Default::default(),
+        last: Default::default(),
     };
     let (mut as_meant, mut refused, mut other) = (0, 0, Vec::new());
     for (q, want) in people {

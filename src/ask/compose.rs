@@ -21,9 +21,20 @@ pub struct Context<'a> {
     /// The node picked with `--node`, if any.
     pub node: Option<Uid>,
     pub detail: super::detail::Detail,
+    /// The node the previous question was about: what "it" means next.
+    pub last: std::cell::Cell<Option<Uid>>,
 }
 
 impl Context<'_> {
+    /// "it": the node of the previous question, else the selected one,
+    /// else the task.
+    pub fn it(&self) -> Uid {
+        self.last
+            .get()
+            .or(self.node)
+            .unwrap_or(self.tree.root().uid)
+    }
+
     fn name(&self, uid: Uid) -> String {
         format!("{} (#{uid})", self.tree.spoken(uid))
     }
@@ -45,19 +56,28 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
     r.moment = cx.at.as_ref().map(|a| a.moment().to_string());
     let done = match intent {
         Intent::Fixed(q) => super::fixed::answer(cx, q, &mut r),
-        Intent::Why { node, event, foil } => with_node(cx, node, &mut r, |u, r| {
+        Intent::Why { node, event, foil } => with_node(cx, node, Some(*event), &mut r, |u, r| {
             super::why::answer(cx, u, *event, *foil, r)
         }),
-        Intent::WhyNot { done, instead } => with_node(cx, done, &mut r, |d, r| {
-            with_node(cx, instead, r, |i, r| super::why::instead(cx, d, i, r))
+        Intent::WhyNot { done, instead } => with_node(cx, done, None, &mut r, |d, r| {
+            with_node(cx, instead, Some(Event::NotRun), r, |i, r| {
+                super::why::instead(cx, d, i, r)
+            })
         }),
-        Intent::When { node, event, which } => {
-            with_node(cx, node, &mut r, |u, r| when(cx, u, *event, *which, r))
+        Intent::When { node, event, which } => with_node(cx, node, Some(*event), &mut r, |u, r| {
+            when(cx, u, *event, *which, r)
+        }),
+        Intent::HowOften { node, event } => with_node(cx, node, Some(*event), &mut r, |u, r| {
+            how_often(cx, u, *event, r)
+        }),
+        Intent::Tick(n) => {
+            // 0: the tick of the moment the question named ("the last tick").
+            let n = match (*n, cx.at.as_ref()) {
+                (0, Some(at)) => at.moment().tick,
+                (n, _) => n,
+            };
+            tick(cx, n, &mut r)
         }
-        Intent::HowOften { node, event } => {
-            with_node(cx, node, &mut r, |u, r| how_often(cx, u, *event, r))
-        }
-        Intent::Tick(n) => tick(cx, *n, &mut r),
         Intent::Recovered => recovered(cx, &mut r),
         Intent::Next => match cx.node.or_else(|| cx.at.as_ref().and_then(|a| a.current())) {
             Some(u) => next(cx, u, Status::Success, &mut r, true),
@@ -66,7 +86,7 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
                     .into(),
             ),
         },
-        Intent::WhatIf { node, event } => with_node(cx, node, &mut r, |u, r| {
+        Intent::WhatIf { node, event } => with_node(cx, node, None, &mut r, |u, r| {
             let s = if *event == Event::Fail {
                 Status::Failure
             } else {
@@ -82,36 +102,67 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
     r
 }
 
-/// Runs `f` on the node a subject names, or answers with the names it
-/// could mean.
+/// Runs `f` on the node a subject names. Nodes that share the words are
+/// told apart by what the run shows at the moment (the one that failed
+/// then, for a why about a failure); otherwise each is answered in a line
+/// of its own, never one of them picked silently.
 fn with_node(
     cx: &Context,
     who: &Subject,
+    event: Option<Event>,
     r: &mut Reply,
-    f: impl FnOnce(Uid, &mut Reply) -> Result<(), String>,
+    f: impl Fn(Uid, &mut Reply) -> Result<(), String>,
 ) -> Result<(), String> {
-    match resolve(cx.tree, who, cx.at.as_ref()) {
+    let who = match (who, event, cx.at.as_ref()) {
+        (Subject::It, _, _) => Subject::Nodes(vec![cx.it()], "it".into()),
+        (Subject::Nodes(us, p), Some(e), Some(at)) if us.len() > 1 => {
+            Subject::Nodes(by_event(at, us, e), p.clone())
+        }
+        (w, _, _) => w.clone(),
+    };
+    match resolve(cx.tree, &who, cx.at.as_ref()) {
         Ok(u) => {
             r.about.get_or_insert(u);
             f(u, r)
         }
         Err(Unresolved::Several(us)) => {
-            let Subject::Named(p) = who else {
-                unreachable!("the task is one node")
+            let phrase = match &who {
+                Subject::Named(p) | Subject::Nodes(_, p) => p.clone(),
+                _ => unreachable!("the task is one node"),
             };
-            let list: Vec<String> = us
-                .iter()
-                .map(|&u| format!("  #{u}  {}", cx.tree.display_path(u)))
-                .collect();
-            Err(format!(
-                "\"{p}\" names {} nodes; ask again with the one you mean (its #uid or path):\n{}",
-                us.len(),
-                list.join("\n")
-            ))
+            let kinds: Vec<String> = us.iter().map(|&u| kind_name(cx.tree, u)).collect();
+            let mut lines = vec![format!(
+                "{} names {}.",
+                crate::causal::english::capitalised(&phrase),
+                and_list(&kinds)
+            )];
+            for (&u, kind) in us.iter().zip(&kinds) {
+                let mut sub = Reply::new(&r.question, r.short);
+                let said = match f(u, &mut sub) {
+                    Ok(()) => sub.answer.clone(),
+                    Err(e) => e,
+                };
+                let first = super::detail::first_sentence(&said);
+                lines.push(format!(
+                    "{}: {first}",
+                    crate::causal::english::capitalised(kind)
+                ));
+                if r.understood.is_empty() {
+                    r.understood = sub
+                        .understood
+                        .replace(&cx.name(u), &format!("{phrase} ({})", hashes(&us)));
+                }
+                r.nodes.extend(sub.nodes);
+                r.nodes.push(u);
+            }
+            r.about = us.first().copied();
+            r.answer = lines.join("\n");
+            Ok(())
         }
         Err(Unresolved::Unknown(close)) => {
-            let Subject::Named(p) = who else {
-                unreachable!("the task is one node")
+            let p = match &who {
+                Subject::Named(p) | Subject::Nodes(_, p) => p.clone(),
+                _ => unreachable!("the task is one node"),
             };
             let names: Vec<String> = close.iter().map(|&u| cx.name(u)).collect();
             Err(format!(
@@ -119,6 +170,47 @@ fn with_node(
                 and_list(&names)
             ))
         }
+    }
+}
+
+fn hashes(us: &[Uid]) -> String {
+    us.iter()
+        .map(|u| format!("#{u}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// "the action (#10)", "the RecoveryNode (#9)": a node told apart from
+/// others of its name by its kind.
+pub(super) fn kind_name(tree: &Tree, u: Uid) -> String {
+    let n = tree.node(u);
+    match n.kind {
+        crate::model::Kind::Action => format!("the action (#{u})"),
+        crate::model::Kind::Condition => format!("the condition (#{u})"),
+        crate::model::Kind::SubTree => format!("the subtree (#{u})"),
+        _ => format!("the {} (#{u})", n.id),
+    }
+}
+
+/// Among nodes that share a name, those the event happened to: the one
+/// whose transition is the moment itself, else the ones it happened to by
+/// then; all of them when it happened to none.
+fn by_event(at: &At, us: &[Uid], e: Event) -> Vec<Uid> {
+    if at.pos > 0 {
+        let t = at.index.transitions[at.pos as usize - 1];
+        if us.contains(&t.uid) && is_event(t.prev, t.status, e) {
+            return vec![t.uid];
+        }
+    }
+    let had: Vec<Uid> = us
+        .iter()
+        .copied()
+        .filter(|&u| !events(at, u, e).is_empty())
+        .collect();
+    if had.is_empty() {
+        us.to_vec()
+    } else {
+        had
     }
 }
 

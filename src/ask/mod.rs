@@ -8,6 +8,7 @@ pub mod detail;
 pub mod fixed;
 pub mod nodes;
 pub mod parse;
+pub mod read;
 pub mod why;
 
 pub use compose::Context;
@@ -47,6 +48,12 @@ pub struct Reply {
     pub foil_implied: bool,
     pub nodes: Vec<Uid>,
     pub insertion: Option<Insertion>,
+    /// How sure btx is of its reading (1 for a question in its own words).
+    pub confidence: f32,
+    /// Other readings, said back, when btx was not sure of this one.
+    pub alternatives: Vec<String>,
+    /// The moment the question itself named ("at tick 9"), as it says it.
+    pub named_moment: Option<String>,
     /// False when btx could not answer (not understood, no such node, a
     /// run question about a tree): the CLI then exits with 1.
     pub answered: bool,
@@ -70,6 +77,9 @@ impl Reply {
             foil_implied: false,
             nodes: Vec::new(),
             insertion: None,
+            confidence: 1.0,
+            alternatives: Vec::new(),
+            named_moment: None,
             answered: true,
         }
     }
@@ -78,11 +88,33 @@ impl Reply {
     /// question, then the answer, then what came before.
     pub fn text(&self) -> String {
         let body = self.body();
+        if self.unsure() {
+            return format!("{}\n{body}", self.read_as());
+        }
         if self.restate && !self.understood.is_empty() {
             format!("{}\n{body}", self.understood)
         } else {
             body
         }
+    }
+
+    /// Whether btx says what it read and offers other readings.
+    pub fn unsure(&self) -> bool {
+        self.answered && self.confidence < read::SURE && !self.understood.is_empty()
+    }
+
+    /// "I read this as "…". Did you mean: "…" or "…"?"
+    pub fn read_as(&self) -> String {
+        let mut s = format!("I read this as \"{}\".", self.understood);
+        if !self.alternatives.is_empty() {
+            let quoted: Vec<String> = self
+                .alternatives
+                .iter()
+                .map(|a| format!("\"{a}\""))
+                .collect();
+            s.push_str(&format!(" Did you mean: {}?", or_list(&quoted)));
+        }
+        s
     }
 
     /// The answer without its restatement: the answer, what came before,
@@ -113,31 +145,147 @@ impl Reply {
             "history": self.history,
             "suggestions": self.suggestions,
             "answered": self.answered,
+            "confidence": (self.confidence * 100.0).round() / 100.0,
+            "alternatives": self.alternatives,
+            "named_moment": self.named_moment,
             "nodes": self.nodes.iter().map(|&u| node(u)).collect::<Vec<_>>(),
             "insert": self.insertion.as_ref().map(|i| json!({"copy_of": node(i.copy_of), "after": node(i.after)})),
         })
     }
 }
 
-/// Answers a question typed in the user's words.
+fn or_list(items: &[String]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} or {last}", rest.join(", ")),
+    }
+}
+
+/// Answers a question typed in the user's words: read (nodes, then what
+/// is asked, then when), then answered at the moment it names, if any.
 pub fn ask(cx: &Context, question: &str) -> Reply {
-    match parse::parse(question) {
-        Some(intent) => {
-            let mut r = compose::compose(cx, question, &intent);
-            r.restate = Question::parse(question).is_none();
-            // A why is put at its level of detail by the search's own
-            // rendering (`detail::why_text`); the others here.
-            if r.target.is_none() && r.answered {
-                at_detail(cx, &mut r);
+    let reading = match Question::parse(question) {
+        Some(q) => Some(read::Reading {
+            intent: parse::Intent::Fixed(q),
+            confidence: 1.0,
+            alternatives: Vec::new(),
+            when: None,
+        }),
+        None => read::read(&read::Vocabulary::new(cx.tree), cx.tree, question),
+    };
+    let Some(reading) = reading else {
+        let mut r = Reply::new(question, None);
+        r.answered = false;
+        r.answer = "I don't know how to answer that.".into();
+        r.suggestions = suggestions(cx, question);
+        r.confidence = 0.0;
+        return r;
+    };
+    let moved;
+    let cx = match (reading.when, cx.at.as_ref()) {
+        (Some(w), Some(at)) => match moment_of(cx.tree, at, w) {
+            Ok(pos) => {
+                moved = Context {
+                    tree: cx.tree,
+                    session: cx.session,
+                    at: Some(at.index.at(pos)),
+                    node: cx.node,
+                    detail: cx.detail,
+                    last: std::cell::Cell::new(cx.last.get()),
+                };
+                &moved
             }
-            r
+            Err(e) => {
+                let mut r = Reply::new(question, Some(reading.intent.short()));
+                r.answered = false;
+                r.answer = e;
+                return r;
+            }
+        },
+        _ => cx,
+    };
+    let mut r = compose::compose(cx, question, &reading.intent);
+    r.restate = Question::parse(question).is_none();
+    r.confidence = reading.confidence;
+    r.named_moment = reading.when.map(|w| w.words());
+    // Han's questions are asked of a moment; one the question named is
+    // said back with it ("What are you doing at tick 9?").
+    if let (Some(w), parse::Intent::Fixed(Question::Tree(_) | Question::Run(_))) =
+        (reading.when, &reading.intent)
+    {
+        if let Some(q) = r.understood.strip_suffix('?') {
+            r.understood = format!("{q} {}?", w.words());
         }
-        None => {
-            let mut r = Reply::new(question, None);
-            r.answered = false;
-            r.answer = "I don't know how to answer that.".into();
-            r.suggestions = suggestions(cx, question);
-            r
+    }
+    r.alternatives = reading
+        .alternatives
+        .iter()
+        .map(|i| read::wording(cx.tree, i))
+        .collect();
+    // A why is put at its level of detail by the search's own
+    // rendering (`detail::why_text`); the others here.
+    if r.target.is_none() && r.answered {
+        at_detail(cx, &mut r);
+    }
+    if r.answered {
+        if let Some(u) = r.about {
+            cx.last.set(Some(u));
+        }
+    }
+    r
+}
+
+/// The position a moment said in words stands for in the run.
+fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<u32, String> {
+    use crate::run::Status;
+    use crate::session::Moment;
+    use read::When;
+    let index = at.index;
+    let ticks = index.ticks();
+    let first_failure = || {
+        index
+            .transitions
+            .iter()
+            .position(|t| t.status == Status::Failure)
+            .map(|i| i as u32)
+            .ok_or_else(|| {
+                "Nothing failed in this run, so there is no moment of a failure.".to_string()
+            })
+    };
+    match w {
+        When::Tick(n) | When::Step(n, _) if n > ticks => Err(format!(
+            "The run has {ticks} tick{}; there is no tick {n}.",
+            if ticks == 1 { "" } else { "s" }
+        )),
+        When::Tick(n) => index.position(Moment {
+            tick: n,
+            step: None,
+        }),
+        When::Step(n, s) => index.position(Moment {
+            tick: n,
+            step: Some(s),
+        }),
+        When::FirstTick => index.position(Moment {
+            tick: 1,
+            step: None,
+        }),
+        When::LastTick => index.position(Moment {
+            tick: ticks.max(1),
+            step: None,
+        }),
+        When::BeforeFailure => first_failure(),
+        When::AfterFailure => first_failure().map(|i| i + 1),
+        When::AfterRecovery => {
+            let i = first_failure()?;
+            let leaf = index.transitions[i as usize].uid;
+            let end = index.at(index.transitions.len() as u32);
+            crate::explain::failure::recovery(tree, &end, leaf, i + 1)
+                .map(|(_, pos)| pos)
+                .ok_or_else(|| {
+                    "Nothing recovered from the first failure, so there is no moment after a recovery."
+                        .to_string()
+                })
         }
     }
 }

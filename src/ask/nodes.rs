@@ -19,8 +19,11 @@ pub enum Unresolved {
 /// The node a subject names, at a moment of a run if there is one.
 pub fn resolve(tree: &Tree, who: &Subject, run: Option<&At>) -> Result<Uid, Unresolved> {
     let phrase = match who {
-        Subject::Task => return Ok(tree.root().uid),
+        Subject::Task | Subject::It => return Ok(tree.root().uid),
         Subject::Named(p) => trimmed(p),
+        Subject::Nodes(us, _) => {
+            return choose(tree, us.clone(), run).unwrap_or(Err(Unresolved::Unknown(Vec::new())))
+        }
     };
     if let Ok(uid) = crate::pick::pick(tree, &phrase) {
         return Ok(uid);
@@ -58,12 +61,12 @@ pub fn resolve(tree: &Tree, who: &Subject, run: Option<&At>) -> Result<Uid, Unre
 /// descent (a SubTree and the Sequence inside it named alike), else the
 /// only one that had run by the moment.
 fn choose(tree: &Tree, found: Vec<Uid>, run: Option<&At>) -> Option<Result<Uid, Unresolved>> {
-    let first = *found.first()?;
-    if found
-        .iter()
-        .all(|&u| u == first || tree.is_ancestor(first, u))
-    {
-        return Some(Ok(first));
+    if found.is_empty() {
+        return None;
+    }
+    let found = super::read::mentions::outermost(tree, found);
+    if found.len() == 1 {
+        return Some(Ok(found[0]));
     }
     if let Some(at) = run {
         let ran: Vec<Uid> = found

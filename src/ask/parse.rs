@@ -34,6 +34,12 @@ pub enum Which {
 pub enum Subject {
     Task,
     Named(String),
+    /// The nodes a question's words name, found by the reader (several
+    /// when they share the words), with the words.
+    Nodes(Vec<crate::model::Uid>, String),
+    /// "it", "that": the node of the previous question, else the
+    /// selected one, else the task.
+    It,
 }
 
 #[derive(Debug, Clone, PartialEq, Eq)]

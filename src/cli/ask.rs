@@ -121,6 +121,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         at: view,
         node: uid,
         detail,
+        last: Default::default(),
     };
     print_replies(&cx, &questions, format)
 }
@@ -199,6 +200,7 @@ fn live_ask(
         at: Some(view),
         node: uid,
         detail,
+        last: Default::default(),
     };
     print_replies(&cx, words, format)
 }

@@ -149,6 +149,7 @@ fn went_wrong(tree: &Tree, s: &Session, end: u32) -> String {
         at: Some(s.index.at(end)),
         node: None,
         detail: Default::default(),
+        last: Default::default(),
     };
     ask(&cx, "What went wrong?").answer
 }

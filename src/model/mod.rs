@@ -6,6 +6,7 @@ pub mod builtins;
 mod edit;
 mod naming;
 pub mod nav2;
+pub mod nav2_words;
 
 pub use naming::{as_deed, gerund, words};
 

@@ -457,6 +457,7 @@ impl App {
             at,
             node: Some(node),
             detail: self.detail,
+            last: std::cell::Cell::new(self.reply.as_ref().and_then(|r| r.about)),
         };
         let r = crate::ask::ask(&cx, text);
         self.asked = Some((node, self.moment().map(|m| m.to_string())));

@@ -1,0 +1,374 @@
+//! Words → the nodes they name, found as spans of the question before
+//! anything else is read. A node is known by its name, its ID, the values
+//! of its ports (a service name, a topic), and for Nav2 trees by the
+//! field's words (`model::nav2_words`). A span matches however its writer
+//! spelled the name: with articles, joined, hyphenated, in another word
+//! form, with a small typo, or half of it; a kind word beside it ("the
+//! FollowPath action") picks among nodes that share the name.
+
+use super::words::{name_words, split_name, Word};
+use crate::model::nav2_words::{self, Target};
+use crate::model::{Kind, Tree, Uid};
+use rustc_hash::FxHashSet;
+
+/// Where a node's words come from; a name counts more than a port value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Source {
+    Name,
+    Id,
+    Port,
+    Field,
+}
+
+#[derive(Debug)]
+struct Entry {
+    uid: Uid,
+    /// Stems of its words, articles left out.
+    stems: Vec<String>,
+    /// Its words as written, joined with nothing between ("lookatchuck").
+    joined: String,
+    source: Source,
+}
+
+/// The words every node of a tree can be found by. Built once a tree.
+#[derive(Debug)]
+pub struct Vocabulary {
+    entries: Vec<Entry>,
+    /// Every stem of every entry, to pass over spans that share none.
+    stems: FxHashSet<String>,
+}
+
+/// A span of the question that names nodes.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mention {
+    /// Word positions `start..end` in the question.
+    pub start: usize,
+    pub end: usize,
+    /// The nodes it names, best first (several when they share the name).
+    pub uids: Vec<Uid>,
+    /// 1.0 for a name as written; less for a typo, half a name, a port.
+    pub score: f32,
+    /// The span is only words that also ask ("wait", "goal"): a node only
+    /// if the question names no other.
+    pub weak: bool,
+    /// The words as the user wrote them.
+    pub phrase: String,
+}
+
+const ARTICLES: &[&str] = &["the", "a", "an", "its", "your", "my", "our"];
+
+fn is_article(w: &str) -> bool {
+    ARTICLES.contains(&w)
+}
+
+/// Kind words: "the FollowPath action", "the insert large gear fallback".
+fn kind_word(w: &str) -> Option<fn(&crate::model::Node) -> bool> {
+    Some(match w {
+        "action" | "actions" | "leaf" | "behavior" | "behaviour" => |n| n.kind == Kind::Action,
+        "condition" | "check" | "conditions" => |n| n.kind == Kind::Condition,
+        "fallback" | "selector" => |n| n.id.contains("Fallback") || n.id.contains("Selector"),
+        "sequence" => |n| n.id.contains("Sequence"),
+        "subtree" => |n| n.kind == Kind::SubTree,
+        "decorator" => |n| n.kind == Kind::Decorator,
+        "control" => |n| n.kind == Kind::Control,
+        "recovery" => |n| n.id.contains("Recovery"),
+        "node" | "step" | "task" => |_| true,
+        _ => return None,
+    })
+}
+
+impl Vocabulary {
+    pub fn new(tree: &Tree) -> Vocabulary {
+        let mut entries = Vec::new();
+        let mut push = |uid: Uid, text: &str, source: Source| {
+            let ws: Vec<String> = name_words(text)
+                .into_iter()
+                .filter(|w| !is_article(w))
+                .collect();
+            if ws.is_empty() {
+                return;
+            }
+            let joined: String = split_name(text)
+                .to_lowercase()
+                .split(|c: char| !c.is_alphanumeric())
+                .filter(|w| !w.is_empty() && !is_article(w))
+                .collect();
+            entries.push(Entry {
+                uid,
+                stems: ws,
+                joined,
+                source,
+            });
+        };
+        for u in tree.preorder() {
+            let n = tree.node(u);
+            push(u, &tree.spoken(u), Source::Name);
+            if n.name != n.id {
+                push(u, &n.id, Source::Id);
+            }
+            for p in &n.ports {
+                let v = p.value.to_xml();
+                if p.value.key().is_none() && v.len() >= 4 && v.chars().any(char::is_alphabetic) {
+                    push(u, &v, Source::Port);
+                }
+            }
+        }
+        if nav2_words::applies(tree.nodes.iter().map(|n| n.id.as_str())) {
+            for (phrase, target) in nav2_words::WORDS {
+                for u in targets(tree, *target) {
+                    push(u, phrase, Source::Field);
+                }
+            }
+        }
+        let stems = entries
+            .iter()
+            .flat_map(|e| e.stems.iter().cloned())
+            .collect();
+        Vocabulary { entries, stems }
+    }
+
+    /// The node mentions of a question, longest and best first, none
+    /// overlapping. `asks(stem)`: a word that also asks (a cue word).
+    pub fn mentions(&self, tree: &Tree, q: &[Word], asks: &dyn Fn(&str) -> bool) -> Vec<Mention> {
+        let mut found: Vec<(f32, usize, usize, Vec<Uid>)> = Vec::new();
+        for i in 0..q.len() {
+            if is_article(&q[i].text) || q[i].text.starts_with('#') {
+                continue;
+            }
+            for j in i + 1..=(i + 8).min(q.len()) {
+                if is_article(&q[j - 1].text) {
+                    continue;
+                }
+                if q[i..j].iter().any(|w| w.text == "\u{0}") {
+                    break;
+                }
+                let span: Vec<&Word> = q[i..j].iter().filter(|w| !is_article(&w.text)).collect();
+                if !span.iter().any(|w| self.known(&w.stem, &w.text)) {
+                    continue;
+                }
+                let mut best = 0.0f32;
+                let mut uids: Vec<Uid> = Vec::new();
+                for e in &self.entries {
+                    let s = score(&span, e);
+                    if s > best + 0.001 {
+                        best = s;
+                        uids.clear();
+                    }
+                    if s > 0.0 && (s - best).abs() <= 0.001 && !uids.contains(&e.uid) {
+                        uids.push(e.uid);
+                    }
+                }
+                if best >= 0.6 {
+                    found.push((best, i, j, uids));
+                }
+            }
+        }
+        // Longer spans first at about the same score: "look at chuck" over "chuck".
+        found.sort_by(|a, b| {
+            let ka = a.0 + 0.03 * (a.2 - a.1) as f32;
+            let kb = b.0 + 0.03 * (b.2 - b.1) as f32;
+            kb.total_cmp(&ka).then(a.1.cmp(&b.1))
+        });
+        let mut taken = vec![false; q.len()];
+        let mut out = Vec::new();
+        for (score, i, j, uids) in found {
+            if taken[i..j].iter().any(|&t| t) {
+                continue;
+            }
+            let (mut start, mut end) = (i, j);
+            let mut uids = uids;
+            // A kind word beside the name picks among nodes that share it.
+            let after = (j..q.len()).find(|&k| !is_article(&q[k].text));
+            let before = (0..i).rev().find(|&k| !is_article(&q[k].text));
+            for k in [after, after.map(|a| a + 1), before].into_iter().flatten() {
+                if k >= q.len() || taken[k] {
+                    continue;
+                }
+                if let Some(is) = kind_word(&q[k].text) {
+                    let kept: Vec<Uid> =
+                        uids.iter().copied().filter(|&u| is(tree.node(u))).collect();
+                    if !kept.is_empty() {
+                        uids = kept;
+                    }
+                    start = start.min(k);
+                    end = end.max(k + 1);
+                    if k + 1 < q.len() && q[k + 1].text == "node" {
+                        end = end.max(k + 2);
+                    }
+                    break;
+                }
+            }
+            let uids = outermost(tree, uids);
+            for t in &mut taken[start..end] {
+                *t = true;
+            }
+            let weak = q[i..j].iter().all(|w| is_article(&w.text) || asks(&w.stem));
+            let phrase = q[start..end]
+                .iter()
+                .map(|w| w.text.as_str())
+                .collect::<Vec<_>>()
+                .join(" ");
+            out.push(Mention {
+                start,
+                end,
+                uids,
+                score,
+                weak,
+                phrase,
+            });
+        }
+        out.sort_by_key(|m| m.start);
+        out
+    }
+
+    /// Every stem of the tree's names, IDs, ports and field words.
+    pub fn stems(&self) -> &FxHashSet<String> {
+        &self.stems
+    }
+
+    fn known(&self, stem: &str, text: &str) -> bool {
+        if self.stems.contains(stem) {
+            return true;
+        }
+        // A typo, or a name written joined ("lookatchuck").
+        text.len() >= 4
+            && self.entries.iter().any(|e| {
+                e.joined.starts_with(&text[..4.min(text.len())])
+                    || e.stems.iter().any(|s| close(s, text))
+            })
+    }
+}
+
+/// A SubTree, Fallback or Sequence and the control node inside it named
+/// alike are one: the outermost. A leaf named as the node above it (Nav2's
+/// FollowPath action under the FollowPath RecoveryNode) is a node of its
+/// own, and nodes that share a name otherwise stay several.
+pub fn outermost(tree: &Tree, uids: Vec<Uid>) -> Vec<Uid> {
+    match uids.first() {
+        Some(&first)
+            if uids.iter().all(|&u| {
+                u == first || (tree.is_ancestor(first, u) && !tree.node(u).kind.is_leaf())
+            }) =>
+        {
+            vec![first]
+        }
+        _ => uids,
+    }
+}
+
+fn targets(tree: &Tree, t: Target) -> Vec<Uid> {
+    let by_id = |ids: &[&str]| -> Vec<Uid> {
+        tree.preorder()
+            .into_iter()
+            .filter(|&u| ids.contains(&tree.node(u).id.as_str()))
+            .collect()
+    };
+    match t {
+        Target::Ids(ids) => by_id(ids),
+        Target::IdsWithPort(ids, text) => by_id(ids)
+            .into_iter()
+            .filter(|&u| {
+                tree.node(u)
+                    .ports
+                    .iter()
+                    .any(|p| p.value.to_xml().contains(text))
+            })
+            .collect(),
+        Target::RecoveryBranch => {
+            let named: Vec<Uid> = tree
+                .preorder()
+                .into_iter()
+                .filter(|&u| {
+                    let n = &tree.node(u).name;
+                    n == "RecoveryFallback" || n == "RecoveryActions"
+                })
+                .take(1)
+                .collect();
+            if !named.is_empty() {
+                return named;
+            }
+            let root = tree.root();
+            if root.id == "RecoveryNode" {
+                root.children.get(1).copied().into_iter().collect()
+            } else {
+                Vec::new()
+            }
+        }
+        Target::Root => vec![tree.root().uid],
+    }
+}
+
+/// Edits allowed between a word and the word it was meant to be.
+fn allowance(len: usize) -> usize {
+    match len {
+        0..=3 => 0,
+        4..=7 => 1,
+        8..=15 => 2,
+        _ => 3,
+    }
+}
+
+fn close(a: &str, b: &str) -> bool {
+    let n = a.len().max(b.len());
+    a.len().abs_diff(b.len()) <= allowance(n) && strsim::damerau_levenshtein(a, b) <= allowance(n)
+}
+
+/// How well a span of words names an entry: 1.0 as written, less for a
+/// typo, joined words, or a part of the name.
+fn score(span: &[&Word], e: &Entry) -> f32 {
+    let weight = match e.source {
+        Source::Name => 1.0,
+        Source::Id => 0.98,
+        Source::Port => 0.85,
+        Source::Field => 0.97,
+    };
+    let same = |w: &Word, s: &str| w.stem == s || w.text == s;
+    if span.len() == e.stems.len() && span.iter().zip(&e.stems).all(|(w, s)| same(w, s)) {
+        return weight;
+    }
+    let joined: String = span.iter().map(|w| w.text.as_str()).collect();
+    if joined == e.joined {
+        return 0.97 * weight;
+    }
+    if span.len() == e.stems.len() {
+        let mut typos = 0;
+        let all = span.iter().zip(&e.stems).all(|(w, s)| {
+            if same(w, s) {
+                true
+            } else if close(s, &w.text) || close(s, &w.stem) {
+                typos += 1;
+                true
+            } else {
+                false
+            }
+        });
+        if all {
+            return (0.92 - 0.05 * typos as f32) * weight;
+        }
+    }
+    let n = joined.len().max(e.joined.len());
+    if joined.len().abs_diff(e.joined.len()) <= allowance(n)
+        && n >= 5
+        && strsim::damerau_levenshtein(&joined, &e.joined) <= allowance(n)
+    {
+        return 0.86 * weight;
+    }
+    // Half a name: the span's words in order inside the entry's.
+    if e.source != Source::Field && span.len() < e.stems.len() {
+        let chars: usize = span.iter().map(|w| w.text.len()).sum();
+        if chars >= 4 {
+            for start in 0..=e.stems.len() - span.len() {
+                let window = &e.stems[start..start + span.len()];
+                if span
+                    .iter()
+                    .zip(window)
+                    .all(|(w, s)| same(w, s) || close(s, &w.text))
+                {
+                    let part = span.len() as f32 / e.stems.len() as f32;
+                    return (0.55 + 0.35 * part) * weight;
+                }
+            }
+        }
+    }
+    0.0
+}

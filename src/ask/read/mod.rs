@@ -1,0 +1,1163 @@
+//! A question → what it asks, read as an intent reader reads: its words
+//! made standard (`words`), the moment it names taken out (`when`), the
+//! nodes it names found as spans against this tree's vocabulary
+//! (`mentions`), then what is asked, from the words that are left (cue
+//! words, negation, "instead of"), with a confidence. The order of the
+//! parts, imperatives ("explain", "tell me") and filler change nothing.
+
+pub mod mentions;
+pub mod when;
+pub mod words;
+
+use super::parse::{Event, Intent, Subject, Which};
+use crate::explain::{Question, RunQuestion, TreeQuestion};
+use crate::model::{Tree, Uid};
+pub use mentions::{Mention, Vocabulary};
+pub use when::When;
+use words::Word;
+
+/// Below this, the answer says what it read and offers other readings.
+pub const SURE: f32 = 0.7;
+
+/// What a question was read as.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Reading {
+    pub intent: Intent,
+    /// 0 to 1: how much of the question the reading accounts for, and how
+    /// closely its node names match the tree's.
+    pub confidence: f32,
+    /// Other readings, best first (at most three).
+    pub alternatives: Vec<Intent>,
+    /// The moment the question names, if any.
+    pub when: Option<When>,
+}
+
+/// A question's words with the parts already read marked.
+struct Sentence<'a> {
+    q: &'a [Word],
+    /// Stems of the tree's own words: a verb that names a node's deed
+    /// ("cleared") is not an unexplained word.
+    tree_words: &'a rustc_hash::FxHashSet<String>,
+    /// Positions read as a moment or a node.
+    used: Vec<bool>,
+    nodes: Vec<Mention>,
+}
+
+impl Sentence<'_> {
+    fn free(&self) -> impl Iterator<Item = (usize, &Word)> + '_ {
+        self.q.iter().enumerate().filter(|(i, _)| !self.used[*i])
+    }
+    fn has(&self, text: &str) -> bool {
+        self.free().any(|(_, w)| w.text == text)
+    }
+    fn has_stem(&self, stems: &[&str]) -> bool {
+        self.free().any(|(_, w)| stems.contains(&w.stem.as_str()))
+    }
+    fn has_prefix(&self, prefixes: &[&str]) -> bool {
+        self.free()
+            .any(|(_, w)| prefixes.iter().any(|p| w.text.starts_with(p)))
+    }
+    /// Words in a row among the free ones ("how often").
+    fn phrase(&self, p: &[&str]) -> Option<usize> {
+        let free: Vec<(usize, &Word)> = self.free().collect();
+        free.windows(p.len())
+            .find(|win| win.iter().zip(p).all(|((_, w), t)| w.text == *t))
+            .map(|win| win[0].0)
+    }
+    /// The first word that may ask, past politeness and imperatives.
+    fn first_free(&self) -> Option<&str> {
+        self.free()
+            .map(|(_, w)| w.text.as_str())
+            .find(|w| !LEAD.contains(w) && !IMPERATIVE.contains(w))
+    }
+
+    /// Whether nothing but filler is left.
+    fn empty(&self) -> bool {
+        self.free().all(|(_, w)| {
+            FILLER.contains(&w.text.as_str()) || IMPERATIVE.contains(&w.text.as_str())
+        })
+    }
+}
+
+/// Words a question may open with that ask nothing.
+const LEAD: &[&str] = &[
+    "please", "btx", "hey", "hi", "so", "ok", "um", "uh", "umm", "hmm", "well", "just", "and",
+    "but", "then", "also", "me", "quick", "question", "bro", "dude", "now", "i", "wonder", "want",
+    "to", "know",
+];
+
+/// Words that ask nothing: politeness, imperatives, hedges.
+const FILLER: &[&str] = &[
+    "please",
+    "btx",
+    "hey",
+    "hi",
+    "so",
+    "ok",
+    "um",
+    "uh",
+    "umm",
+    "hmm",
+    "well",
+    "just",
+    "exactly",
+    "actually",
+    "really",
+    "then",
+    "like",
+    "quick",
+    "quickly",
+    "question",
+    "bro",
+    "man",
+    "dude",
+    "lol",
+    "again",
+    "here",
+    "there",
+    "this",
+    "one",
+    "in",
+    "with",
+    "about",
+    "on",
+    "at",
+    "of",
+    "to",
+    "for",
+    "and",
+    "or",
+    "but",
+    "the",
+    "a",
+    "an",
+    "me",
+    "i",
+    "we",
+    "us",
+    "know",
+    "want",
+    "wonder",
+    "wondering",
+    "curious",
+    "now",
+    "moment",
+    "thanks",
+    "thank",
+    "you",
+    "it",
+    "that",
+    "is",
+    "are",
+    "was",
+    "were",
+    "be",
+    "been",
+    "do",
+    "does",
+    "did",
+    "have",
+    "has",
+    "had",
+    "can",
+    "could",
+    "would",
+    "will",
+    "should",
+    "any",
+    "some",
+    "exact",
+    "precisely",
+    "briefly",
+    "robot",
+    "bot",
+    "agent",
+    "system",
+    "today",
+    "this",
+    "these",
+    "those",
+    "time",
+    "run",
+    "log",
+    "during",
+    "by",
+    "from",
+    "guess",
+    "mean",
+    "means",
+    "happen",
+    "happened",
+    "hell",
+    "heck",
+    "earth",
+    "on",
+    "up",
+    "out",
+    "all",
+    "everything",
+    "something",
+    "anything",
+    "go",
+    "get",
+    "got",
+    "kind",
+    "sort",
+    "as",
+    "my",
+    "your",
+    "its",
+    "our",
+    "their",
+    "they",
+    "he",
+    "she",
+    "him",
+    "her",
+    "again",
+    "yet",
+    "still",
+    "even",
+    "ever",
+    "whole",
+    "entire",
+    "currently",
+    "right",
+    "real",
+    "go",
+    "going",
+    "okay",
+];
+
+/// Imperatives that ask what the words after them ask.
+const IMPERATIVE: &[&str] = &[
+    "explain",
+    "tell",
+    "show",
+    "describe",
+    "list",
+    "give",
+    "say",
+    "summarize",
+    "summarise",
+    "report",
+    "display",
+    "print",
+    "find",
+    "help",
+    "let",
+];
+
+/// Words that ask, by stem: a node named by one of them only is a weak
+/// mention ("wait" in "wait, what failed?").
+fn asks(stem: &str) -> bool {
+    const CUES: &[&str] = &[
+        "what",
+        "whi",
+        "why",
+        "how",
+        "when",
+        "where",
+        "which",
+        "who",
+        "fail",
+        "succeed",
+        "run",
+        "start",
+        "go",
+        "goal",
+        "subgoal",
+        "task",
+        "mission",
+        "do",
+        "next",
+        "wrong",
+        "problem",
+        "error",
+        "recov",
+        "recoveri",
+        "handl",
+        "can",
+        "tick",
+        "step",
+        "happen",
+        "be",
+        "have",
+        "it",
+        "you",
+        "robot",
+        "now",
+        "not",
+        "if",
+        "step",
+        "work",
+        "help",
+        "objective",
+        "doing",
+    ];
+    CUES.contains(&stem)
+}
+
+/// Reads a question about a tree.
+pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
+    if text.trim().eq_ignore_ascii_case("q5") {
+        return Some(Reading {
+            intent: Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
+            confidence: 1.0,
+            alternatives: Vec::new(),
+            when: None,
+        });
+    }
+    let text = paths_as_uids(tree, text);
+    let q = words::words(&text);
+    if q.is_empty() {
+        return None;
+    }
+    let mut s = Sentence {
+        q: &q,
+        tree_words: vocabulary.stems(),
+        used: vec![false; q.len()],
+        nodes: Vec::new(),
+    };
+    let when = when::find(&q).map(|(w, used)| {
+        for i in used {
+            if i < s.used.len() {
+                s.used[i] = true;
+            }
+        }
+        w
+    });
+    // "#18": a uid, as everywhere in btx.
+    for (i, w) in q.iter().enumerate() {
+        if s.used[i] {
+            continue;
+        }
+        if let Some(uid) = w.text.strip_prefix('#').and_then(|n| n.parse::<Uid>().ok()) {
+            if tree.get(uid).is_some() {
+                s.nodes.push(Mention {
+                    start: i,
+                    end: i + 1,
+                    uids: vec![uid],
+                    score: 1.0,
+                    weak: false,
+                    phrase: w.text.clone(),
+                });
+                s.used[i] = true;
+            }
+        }
+    }
+    let free: Vec<Word> = q
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            if s.used[i] {
+                // Read already: a word no node is named by.
+                Word {
+                    text: "\u{0}".into(),
+                    stem: "\u{0}".into(),
+                }
+            } else {
+                w.clone()
+            }
+        })
+        .collect();
+    for m in vocabulary.mentions(tree, &free, &asks) {
+        s.nodes.push(m);
+    }
+    s.nodes.sort_by_key(|m| m.start);
+    // Weak mentions stay words unless the question names no other node
+    // and asks about one.
+    let strong: Vec<Mention> = s.nodes.iter().filter(|m| !m.weak).cloned().collect();
+    let readings = {
+        let mut with_strong = Sentence {
+            q: &q,
+            tree_words: s.tree_words,
+            used: s.used.clone(),
+            nodes: strong,
+        };
+        for m in &with_strong.nodes {
+            for i in m.start..m.end {
+                with_strong.used[i] = true;
+            }
+        }
+        let mut r = classify(&with_strong, tree);
+        if r.is_empty() || r.iter().all(|(i, _)| needs_node(i)) {
+            let weak: Vec<Mention> = s.nodes.iter().filter(|m| m.weak).cloned().collect();
+            if !weak.is_empty() && with_strong.nodes.is_empty() {
+                let mut with_weak = Sentence {
+                    q: &q,
+                    tree_words: s.tree_words,
+                    used: s.used.clone(),
+                    nodes: weak,
+                };
+                for m in &with_weak.nodes {
+                    for i in m.start..m.end {
+                        with_weak.used[i] = true;
+                    }
+                }
+                let alt = classify(&with_weak, tree);
+                if alt.iter().any(|(i, _)| subject_of(i).is_some()) {
+                    r = alt;
+                }
+            }
+        }
+        r
+    };
+    let mut readings = readings;
+    readings.sort_by(|a, b| b.1.total_cmp(&a.1));
+    let mut it = readings.into_iter();
+    let (intent, confidence) = it.next()?;
+    let mut alternatives: Vec<Intent> = Vec::new();
+    for (i, _) in it {
+        if i != intent && !alternatives.contains(&i) && alternatives.len() < 3 {
+            alternatives.push(i);
+        }
+    }
+    Some(Reading {
+        intent,
+        confidence: confidence.clamp(0.0, 1.0),
+        alternatives,
+        when,
+    })
+}
+
+/// A path ("go insert large gear/look at chuck") picks a node as it does
+/// everywhere in btx: the longest that picks one is written as its #uid.
+fn paths_as_uids(tree: &Tree, text: &str) -> String {
+    if !text.contains('/') {
+        return text.to_string();
+    }
+    let toks: Vec<&str> = text.split_whitespace().collect();
+    for len in (1..=toks.len().min(12)).rev() {
+        for i in 0..=toks.len() - len {
+            let span = toks[i..i + len].join(" ");
+            if !span.contains('/') {
+                continue;
+            }
+            let bare = span.trim_matches(|c: char| "?!.,'\"".contains(c));
+            if let Ok(uid) = crate::pick::pick(tree, bare) {
+                let mut out: Vec<String> = toks[..i].iter().map(|t| t.to_string()).collect();
+                out.push(format!("#{uid}"));
+                out.extend(toks[i + len..].iter().map(|t| t.to_string()));
+                return out.join(" ");
+            }
+        }
+    }
+    text.to_string()
+}
+
+fn needs_node(i: &Intent) -> bool {
+    matches!(
+        i,
+        Intent::Why {
+            node: Subject::Task,
+            ..
+        }
+    )
+}
+
+fn subject_of(i: &Intent) -> Option<&Subject> {
+    match i {
+        Intent::Why { node, .. }
+        | Intent::When { node, .. }
+        | Intent::HowOften { node, .. }
+        | Intent::WhatIf { node, .. } => Some(node).filter(|s| matches!(s, Subject::Nodes(..))),
+        _ => None,
+    }
+}
+
+/// The event a question's verbs name, if any, and whether they are negated.
+fn event(s: &Sentence) -> (Option<Event>, bool) {
+    let negated = s.has("not") || s.has("never") || s.has("no") && !s.has("one");
+    let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang"])
+        || s.phrase(&["so", "long"]).is_some()
+        || s.phrase(&["take", "long"]).is_some()
+        || s.phrase(&["taking", "long"]).is_some()
+        || s.phrase(&["took", "long"]).is_some()
+        || s.phrase(&["long", "time"]).is_some();
+    let e = if s.has_stem(&[
+        "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
+    ]) {
+        Some(Event::Fail)
+    } else if s.has_stem(&["skip"]) {
+        Some(Event::Skipped)
+    } else if s.has_stem(&[
+        "halt",
+        "stop",
+        "interrupt",
+        "cancel",
+        "preempt",
+        "kill",
+        "abandon",
+    ]) {
+        Some(Event::Halted)
+    } else if keep {
+        Some(Event::KeepRunning)
+    } else if s.has_stem(&["succeed", "pass", "work", "manag", "ok"]) {
+        Some(Event::Succeed)
+    } else if s.has_stem(&["finish", "end", "complet", "done"]) {
+        Some(Event::Finish)
+    } else if s.has_stem(&[
+        "run", "start", "execut", "tick", "call", "trigger", "begin", "activ", "launch", "fire",
+        "kick", "invok", "attempt", "tri", "tried", "enter", "chose", "choos", "pick", "select",
+        "use",
+    ]) {
+        Some(Event::Run)
+    } else {
+        None
+    };
+    let e = match (e, negated) {
+        (Some(Event::Run), true) => Some(Event::NotRun),
+        (Some(Event::Succeed), true) => Some(Event::Fail),
+        (Some(Event::Fail), true) if s.has_stem(&["fail"]) => Some(Event::Succeed),
+        (Some(Event::Finish), true) => Some(Event::KeepRunning),
+        (None, true) => Some(Event::NotRun),
+        (e, _) => e,
+    };
+    (e, negated)
+}
+
+/// The subject of a question about a node: the node named, "it"/"that",
+/// or the task itself.
+fn subject(s: &Sentence) -> Option<Subject> {
+    if let Some(m) = s.nodes.first() {
+        return Some(Subject::Nodes(m.uids.clone(), m.phrase.clone()));
+    }
+    if s.has("it") || s.has("that") || s.has("this") || s.has("thing") {
+        return Some(Subject::It);
+    }
+    if s.has("you")
+        || s.has_stem(&[
+            "robot", "task", "mission", "tree", "bt", "run", "root", "agent", "navig", "whole",
+            "overal", "everyth", "i",
+        ])
+    {
+        return Some(Subject::Task);
+    }
+    None
+}
+
+/// What is asked, with a confidence for each reading that fits.
+fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
+    let mut out: Vec<(Intent, f32)> = Vec::new();
+    let node_score = s.nodes.iter().map(|m| m.score).fold(1.0f32, f32::min);
+    let unexplained = unexplained(s);
+    let sure = |base: f32| base * node_score * 0.93f32.powi(unexplained.min(6) as i32);
+    let (ev, negated) = event(s);
+    let first = s.first_free().unwrap_or("");
+    let yes_no = [
+        "did",
+        "do",
+        "does",
+        "was",
+        "were",
+        "is",
+        "are",
+        "has",
+        "have",
+        "had",
+        "any",
+        "anything",
+        "everything",
+        "all",
+    ]
+    .contains(&first);
+    let why = s.has("why")
+        || s.phrase(&["how", "come"]).is_some()
+        || s.phrase(&["what", "caused"]).is_some()
+        || s.phrase(&["what", "made"]).is_some()
+        || s.has_stem(&["reason", "caus", "cause"])
+        || (s.has("explain") && !s.nodes.is_empty() && ev.is_some());
+    let what = s.has("what") || s.has("which") || IMPERATIVE.iter().any(|w| s.has(w));
+    let how = s.has("how");
+
+    // "Can you X?": the rest of the words are the behaviour.
+    if let Some(x) = can_you(s, tree) {
+        out.push((Intent::Fixed(Question::CanYou(x)), sure(0.95)));
+        return out;
+    }
+    // "What if X fails?", "what would have happened if X had failed".
+    if s.has("if")
+        || s.has("suppose")
+        || s.has("imagine")
+        || s.phrase(&["what", "about"]).is_some() && ev.is_some()
+    {
+        if let Some(node) = subject(s) {
+            let e = match ev {
+                Some(Event::Succeed) => Event::Succeed,
+                _ => Event::Fail,
+            };
+            if matches!(node, Subject::Nodes(..)) {
+                out.push((Intent::WhatIf { node, event: e }, sure(0.92)));
+                return out;
+            }
+        }
+    }
+    let often = s.phrase(&["how", "often"]).is_some()
+        || s.phrase(&["how", "many"]).is_some()
+        || s.phrase(&["how", "frequently"]).is_some()
+        || s.phrase(&["number", "of"]).is_some()
+        || s.has_stem(&["count"]);
+    if often {
+        if let Some(node) = subject(s) {
+            let e = match ev {
+                Some(Event::NotRun) | Some(Event::Skipped) | None => Event::Run,
+                Some(e) => e,
+            };
+            out.push((Intent::HowOften { node, event: e }, sure(0.95)));
+            return out;
+        }
+    }
+    let when_q = s.has("when")
+        || s.phrase(&["what", "time"]).is_some()
+        || s.phrase(&["which", "tick"]).is_some()
+        || s.phrase(&["what", "tick"]).is_some()
+        || s.phrase(&["at", "what", "point"]).is_some();
+    if when_q && !why {
+        if let Some(node) = subject(s) {
+            let which = if s.has("first") || s.has("1st") || s.has("initially") {
+                Which::First
+            } else if s.has("last") || s.has("final") || s.has("finally") || s.has("latest") {
+                Which::Last
+            } else {
+                Which::Every
+            };
+            let e = match ev {
+                Some(Event::NotRun) | Some(Event::Skipped) | None => Event::Run,
+                Some(e) => e,
+            };
+            out.push((
+                Intent::When {
+                    node,
+                    event: e,
+                    which,
+                },
+                sure(0.95),
+            ));
+            return out;
+        }
+    }
+    if why {
+        // "Why X and not Y", "why X instead of Y": two nodes.
+        let contrast = s.phrase(&["instead", "of"]).is_some()
+            || s.phrase(&["rather", "than"]).is_some()
+            || s.has("not")
+            || s.has("over")
+            || s.has("vs")
+            || s.has("versus");
+        if s.nodes.len() >= 2 && contrast {
+            let done = Subject::Nodes(s.nodes[0].uids.clone(), s.nodes[0].phrase.clone());
+            let instead = Subject::Nodes(s.nodes[1].uids.clone(), s.nodes[1].phrase.clone());
+            let (done, instead) = if negated_first(s) {
+                (instead, done)
+            } else {
+                (done, instead)
+            };
+            out.push((Intent::WhyNot { done, instead }, sure(0.93)));
+            return out;
+        }
+        if let Some(node) = subject(s) {
+            let doing_this =
+                matches!(node, Subject::It) && (s.has("doing") || s.has("this") && ev.is_none());
+            if doing_this && ev.is_none() {
+                out.push((Intent::Fixed(Question::Tree(TreeQuestion::Why)), sure(0.95)));
+                return out;
+            }
+            let foil = foil(s);
+            let e = match ev {
+                Some(e) => e,
+                None if negated => Event::NotRun,
+                None => Event::Run,
+            };
+            let base = if ev.is_some() || matches!(node, Subject::Nodes(..)) {
+                0.95
+            } else {
+                0.6
+            };
+            out.push((
+                Intent::Why {
+                    node,
+                    event: e,
+                    foil,
+                },
+                sure(base),
+            ));
+            if matches!(e, Event::Fail) {
+                out.push((
+                    Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+                    0.3,
+                ));
+            }
+            return out;
+        }
+        if s.has("doing") || s.has("this") || s.has("that") {
+            out.push((Intent::Fixed(Question::Tree(TreeQuestion::Why)), sure(0.9)));
+            return out;
+        }
+        return out;
+    }
+    // Did the recovery work?
+    let generic = |m: &Mention| {
+        m.phrase.split_whitespace().all(|w| {
+            [
+                "the",
+                "recovery",
+                "recoveries",
+                "retry",
+                "retries",
+                "fallback",
+                "behaviors",
+                "behaviours",
+                "actions",
+            ]
+            .contains(&w)
+        })
+    };
+    let recovery_word =
+        s.has_prefix(&["recover", "retr", "fallback", "fix"]) || s.nodes.iter().any(generic);
+    let yes_no = yes_no || s.has("manage") || s.has("managed") || first.starts_with("recover");
+    if recovery_word
+        && !how
+        && yes_no
+        && s.nodes.iter().all(generic)
+        && !matches!(
+            ev,
+            Some(Event::Fail | Event::Halted | Event::Skipped | Event::NotRun)
+        )
+    {
+        out.push((Intent::Recovered, sure(0.95)));
+        return out;
+    }
+    // How was it handled?
+    let handle = s.has_stem(&[
+        "handl", "deal", "dealt", "respond", "react", "cope", "mitig", "recov", "recoveri", "fix",
+        "fixed",
+    ]) || s.has_prefix(&["recover", "handl"]);
+    if (how && handle)
+        || s.phrase(&["do", "about"]).is_some()
+        || s.phrase(&["did", "about"]).is_some()
+        || s.phrase(&["done", "about"]).is_some()
+        || (what && s.has_prefix(&["recover"]) && s.nodes.is_empty())
+    {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::Handled)),
+            sure(0.93),
+        ));
+        return out;
+    }
+    // A tick's transitions.
+    if let Some(w) = when::find(s.q).map(|(w, _)| w) {
+        // 0: the tick of the moment named ("the final tick"), found in the run.
+        let n = match w {
+            When::Tick(n) | When::Step(n, _) => n,
+            _ => 0,
+        };
+        let asks_tick = s.has_stem(&[
+            "happen", "chang", "occur", "describ", "summar", "show", "went", "transit",
+        ]) || s.empty()
+            || (what && !s.has("doing") && !s.has_stem(&["run", "goal", "subgoal"]));
+        if asks_tick && s.nodes.is_empty() {
+            out.push((Intent::Tick(n), sure(0.95)));
+            return out;
+        }
+    }
+    let problem = s.has_stem(&[
+        "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad", "mess",
+    ]);
+    let fine = s.has_stem(&["ok", "fine", "good", "alright", "well", "smooth", "normal"]);
+    if (yes_no || s.has("any")) && (problem || fine) && s.nodes.is_empty() {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+            sure(0.93),
+        ));
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            0.3,
+        ));
+        return out;
+    }
+    if problem && (what || s.empty() || s.has("where")) {
+        if !s.nodes.is_empty() && ev == Some(Event::Fail) {
+            // "what made look at chuck fail", "tell me why X failed".
+            let node = subject(s).unwrap_or(Subject::Task);
+            out.push((
+                Intent::Why {
+                    node,
+                    event: Event::Fail,
+                    foil: None,
+                },
+                sure(0.85),
+            ));
+            return out;
+        }
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            sure(0.95),
+        ));
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+            0.3,
+        ));
+        return out;
+    }
+    // What next?
+    if s.has("next")
+        || s.phrase(&["going", "to"]).is_some() && s.has("do")
+        || s.phrase(&["will", "you", "do"]).is_some()
+        || s.phrase(&["will", "it", "do"]).is_some()
+        || s.phrase(&["comes", "after"]).is_some()
+        || s.has("afterwards")
+        || s.has("upcoming")
+    {
+        out.push((Intent::Next, sure(0.93)));
+        return out;
+    }
+    let subgoal = s.has_stem(&["subgoal", "subtask", "milestone"])
+        || s.phrase(&["sub", "goal"]).is_some()
+        || s.phrase(&["sub", "task"]).is_some()
+        || s.phrase(&["intermediate", "goal"]).is_some()
+        || s.phrase(&["current", "step"]).is_some();
+    let goal = s.has_stem(&[
+        "goal", "object", "mission", "aim", "purpos", "task", "intent", "job", "target",
+    ]) || s.phrase(&["trying", "to"]).is_some()
+        || s.phrase(&["try", "to"]).is_some()
+        || s.phrase(&["supposed", "to"]).is_some();
+    let steps = s.has_stem(&[
+        "step",
+        "achiev",
+        "accomplish",
+        "reach",
+        "plan",
+        "procedur",
+        "strategi",
+        "approach",
+    ]) || (how && s.has_stem(&["do", "get", "complet", "go", "make"]));
+    if how || (steps && what) {
+        if subgoal && steps || subgoal && how {
+            out.push((
+                Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
+                sure(0.93),
+            ));
+            return out;
+        }
+        if goal && (steps || how) {
+            out.push((
+                Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)),
+                sure(0.93),
+            ));
+            return out;
+        }
+        if steps {
+            out.push((
+                Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
+                sure(0.85),
+            ));
+            out.push((Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.4));
+            return out;
+        }
+    }
+    if subgoal {
+        out.push((
+            Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)),
+            sure(0.95),
+        ));
+        return out;
+    }
+    let doing = s.has_stem(&[
+        "do", "busi", "busy", "work", "happen", "run", "execut", "perform", "activ", "up", "act",
+        "action", "behavior",
+    ]) || s.has("doing")
+        || s.has_prefix(&["doin"]);
+    if goal && !s.has("doing") {
+        out.push((
+            Intent::Fixed(Question::Tree(TreeQuestion::Goal)),
+            sure(0.93),
+        ));
+        return out;
+    }
+    if doing && (what || s.empty()) && s.nodes.is_empty() {
+        out.push((
+            Intent::Fixed(Question::Tree(TreeQuestion::Doing)),
+            sure(0.93),
+        ));
+        return out;
+    }
+    // "Did the planner run?", "has follow path failed": whether, and how often.
+    if let (Some(m), Some(e), true) = (s.nodes.first(), ev, yes_no) {
+        let node = Subject::Nodes(m.uids.clone(), m.phrase.clone());
+        let e = if e == Event::NotRun { Event::Run } else { e };
+        out.push((
+            Intent::HowOften {
+                node: node.clone(),
+                event: e,
+            },
+            sure(0.85),
+        ));
+        out.push((
+            Intent::When {
+                node,
+                event: e,
+                which: Which::Every,
+            },
+            0.5,
+        ));
+        return out;
+    }
+    // A node and an event with no question word: "look at chuck failed?".
+    if let (Some(m), Some(e)) = (s.nodes.first(), ev) {
+        let node = Subject::Nodes(m.uids.clone(), m.phrase.clone());
+        out.push((
+            Intent::Why {
+                node: node.clone(),
+                event: e,
+                foil: None,
+            },
+            sure(0.55),
+        ));
+        out.push((
+            Intent::When {
+                node: node.clone(),
+                event: e,
+                which: Which::Every,
+            },
+            0.45,
+        ));
+        out.push((Intent::HowOften { node, event: e }, 0.4));
+        return out;
+    }
+    if let Some(When::Tick(n)) = when::find(s.q).map(|(w, _)| w) {
+        out.push((Intent::Tick(n), sure(0.6)));
+    }
+    out
+}
+
+/// "why not X but Y": the node after a negation was the one not done.
+fn negated_first(s: &Sentence) -> bool {
+    let first = s.nodes[0].start;
+    s.q[..first]
+        .iter()
+        .any(|w| w.text == "not" || w.text == "never")
+        && !s.q[s.nodes[0].end..s.nodes[1].start]
+            .iter()
+            .any(|w| w.text == "not" || w.text == "instead")
+}
+
+/// "X failed instead of succeeding": the outcome the person expected.
+fn foil(s: &Sentence) -> Option<Event> {
+    let at = s
+        .phrase(&["instead", "of"])
+        .or_else(|| s.phrase(&["rather", "than"]))
+        .or_else(|| s.phrase(&["and", "not"]))
+        .or_else(|| s.phrase(&["but", "not"]))?;
+    let after: Vec<&Word> = s.q[at + 2..].iter().collect();
+    after.iter().find_map(|w| match w.stem.as_str() {
+        "succeed" | "pass" | "work" => Some(Event::Succeed),
+        "fail" => Some(Event::Fail),
+        "run" | "start" => Some(Event::Run),
+        _ => None,
+    })
+}
+
+/// The words of "Can you X?" after its opening, or `None`.
+fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
+    let free: Vec<(usize, &Word)> =
+        s.q.iter()
+            .enumerate()
+            .filter(|(_, w)| {
+                !FILLER.contains(&w.text.as_str())
+                    || ["can", "could", "you", "it", "are", "is", "able"].contains(&w.text.as_str())
+            })
+            .collect();
+    let texts: Vec<&str> = free.iter().map(|(_, w)| w.text.as_str()).collect();
+    let openings: &[&[&str]] = &[
+        &["can", "you"],
+        &["could", "you"],
+        &["can", "it"],
+        &["could", "it"],
+        &["are", "you", "able", "to"],
+        &["is", "it", "able", "to"],
+        &["are", "you", "able"],
+        &["can", "robot"],
+        &["could", "robot"],
+        &["is", "robot", "able", "to"],
+        &["are", "you", "capable", "of"],
+    ];
+    let open = openings.iter().find(|o| texts.starts_with(o))?;
+    // "can you tell me why …" asks what follows.
+    let next = texts.get(open.len()).copied().unwrap_or("");
+    if IMPERATIVE.contains(&next)
+        || ["still", "do"].contains(&next) && texts.len() == open.len() + 1
+    {
+        return None;
+    }
+    let from = free.get(open.len())?.0;
+    if let Some(m) = s.nodes.iter().find(|m| m.start >= from) {
+        return Some(tree.description(m.uids[0]).to_string());
+    }
+    let rest: Vec<&str> = s.q[from..]
+        .iter()
+        .map(|w| w.text.as_str())
+        .filter(|w| !["the", "a", "an", "please", "again"].contains(w))
+        .collect();
+    (!rest.is_empty()).then(|| rest.join(" "))
+}
+
+/// Content words the reading leaves unexplained.
+fn unexplained(s: &Sentence) -> usize {
+    const KNOWN: &[&str] = &[
+        "what",
+        "why",
+        "how",
+        "when",
+        "which",
+        "where",
+        "who",
+        "come",
+        "fail",
+        "failed",
+        "failing",
+        "failure",
+        "succeed",
+        "succeeded",
+        "success",
+        "run",
+        "ran",
+        "running",
+        "start",
+        "started",
+        "doing",
+        "goal",
+        "subgoal",
+        "next",
+        "wrong",
+        "problem",
+        "problems",
+        "error",
+        "errors",
+        "recover",
+        "recovered",
+        "recovery",
+        "handle",
+        "handled",
+        "not",
+        "never",
+        "instead",
+        "rather",
+        "than",
+        "if",
+        "often",
+        "many",
+        "times",
+        "tick",
+        "step",
+        "steps",
+        "achieve",
+        "happening",
+        "happen",
+        "happens",
+        "halted",
+        "stopped",
+        "skipped",
+        "finish",
+        "finished",
+        "work",
+        "worked",
+        "going",
+        "doing",
+        "busy",
+        "working",
+        "trying",
+        "mission",
+        "objective",
+        "task",
+        "retry",
+        "fallback",
+        "first",
+        "last",
+        "deal",
+        "dealt",
+        "manage",
+        "managed",
+        "cause",
+        "caused",
+        "reason",
+        "made",
+        "make",
+        "able",
+        "explain",
+        "tell",
+        "show",
+        "describe",
+        "no",
+        "ok",
+        "fine",
+        "executing",
+        "active",
+        "why",
+        "so",
+        "long",
+        "keep",
+        "kept",
+        "issue",
+        "issues",
+        "broke",
+        "broken",
+        "wrong",
+        "purpose",
+        "aim",
+        "plan",
+        "happened",
+        "occurred",
+        "changed",
+        "next",
+        "after",
+        "before",
+        "upcoming",
+    ];
+    s.free()
+        .filter(|(_, w)| {
+            let t = w.text.as_str();
+            !FILLER.contains(&t)
+                && !IMPERATIVE.contains(&t)
+                && !KNOWN.contains(&t)
+                && !asks(&w.stem)
+                && !s.tree_words.contains(&w.stem)
+                && t.len() > 2
+        })
+        .count()
+}
+
+/// An intent said back in btx's words, for "did you mean".
+pub fn wording(tree: &Tree, intent: &Intent) -> String {
+    let who = |s: &Subject| match s {
+        Subject::Task => "the task".to_string(),
+        Subject::It => "it".to_string(),
+        Subject::Named(p) => p.clone(),
+        Subject::Nodes(us, _) => format!("{} (#{})", tree.spoken(us[0]), us[0]),
+    };
+    let verb = |e: Event| match e {
+        Event::Fail => "fail",
+        Event::Succeed => "succeed",
+        Event::Run => "run",
+        Event::NotRun => "not run",
+        Event::Skipped => "get skipped",
+        Event::Halted => "get halted",
+        Event::KeepRunning => "keep running",
+        Event::Finish => "finish",
+    };
+    match intent {
+        Intent::Fixed(q) => q.wording(),
+        Intent::Why { node, event, .. } => format!("Why did {} {}?", who(node), verb(*event)),
+        Intent::WhyNot { done, instead } => {
+            format!("Why did I do {} and not {}?", who(done), who(instead))
+        }
+        Intent::When { node, event, .. } => format!("When did {} {}?", who(node), verb(*event)),
+        Intent::HowOften { node, event } => {
+            format!("How often did {} {}?", who(node), verb(*event))
+        }
+        Intent::Tick(n) => format!("What happened at tick {n}?"),
+        Intent::Next => "What will you do next?".into(),
+        Intent::WhatIf { node, event } => format!("What if {} {}s?", who(node), verb(*event)),
+        Intent::Recovered => "Did the recovery work?".into(),
+    }
+}

@@ -1,0 +1,191 @@
+//! The moment a question names, if it names one: "at tick 9", "at 7:1",
+//! "in the last tick", "just before the failure", "after the recovery".
+//! Read before the nodes, so that "tick 9" is not a node's name.
+
+use super::words::Word;
+
+/// A moment as a question says it; `ask` finds it in the run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum When {
+    /// The end of tick N.
+    Tick(u32),
+    /// After the STEP-th transition of tick N.
+    Step(u32, u32),
+    FirstTick,
+    LastTick,
+    /// Just before the first failure of the run.
+    BeforeFailure,
+    /// Just after the first failure.
+    AfterFailure,
+    /// When the failure's handler succeeded.
+    AfterRecovery,
+}
+
+impl When {
+    /// As an answer says it.
+    pub fn words(self) -> String {
+        match self {
+            When::Tick(n) => format!("at tick {n}"),
+            When::Step(t, s) => format!("at {t}:{s}"),
+            When::FirstTick => "in the first tick".into(),
+            When::LastTick => "in the last tick".into(),
+            When::BeforeFailure => "just before the failure".into(),
+            When::AfterFailure => "just after the failure".into(),
+            When::AfterRecovery => "after the recovery".into(),
+        }
+    }
+}
+
+fn number(w: &str) -> Option<u32> {
+    let w = w.trim_start_matches('#');
+    w.parse().ok().filter(|&n| n > 0)
+}
+
+fn step(w: &str) -> Option<(u32, u32)> {
+    let (t, s) = w.split_once(':')?;
+    Some((number(t)?, s.parse().ok()?))
+}
+
+const BEFORE: &[&str] = &[
+    "at", "in", "on", "during", "of", "for", "from", "by", "around",
+];
+
+/// The moment named, and the word positions that said it.
+pub fn find(q: &[Word]) -> Option<(When, Vec<usize>)> {
+    let t = |i: usize| q.get(i).map(|w| w.text.as_str()).unwrap_or("");
+    let lead = |i: usize, mut used: Vec<usize>| {
+        // "at", "just", "right" before the moment are part of it.
+        let mut k = i;
+        while k > 0 && (BEFORE.contains(&t(k - 1)) || ["just", "right", "the"].contains(&t(k - 1)))
+        {
+            k -= 1;
+            used.push(k);
+        }
+        used
+    };
+    for i in 0..q.len() {
+        let w = t(i);
+        if w == "tick" || w == "ticks" {
+            // "tick 9", "tick #9", "tick number 9", "tick 9 step 2".
+            let mut j = i + 1;
+            if ["number", "no", "num", "nr"].contains(&t(j)) {
+                j += 1;
+            }
+            if let Some((tk, s)) = step(t(j)) {
+                return Some((When::Step(tk, s), lead(i, (i..=j).collect())));
+            }
+            if let Some(n) = number(t(j)) {
+                if t(j + 1) == "step" {
+                    if let Some(s) = number(t(j + 2)) {
+                        return Some((When::Step(n, s), lead(i, (i..=j + 2).collect())));
+                    }
+                }
+                return Some((When::Tick(n), lead(i, (i..=j).collect())));
+            }
+            // "the last tick", "the final tick", "the first tick".
+            if i > 0 && ["last", "final", "first", "1st"].contains(&t(i - 1)) {
+                let w = if t(i - 1) == "first" || t(i - 1) == "1st" {
+                    When::FirstTick
+                } else {
+                    When::LastTick
+                };
+                return Some((w, lead(i - 1, vec![i - 1, i])));
+            }
+        }
+        if w == "step" {
+            // "step 2 of tick 9".
+            if let (Some(s), "of", "tick", Some(n)) =
+                (number(t(i + 1)), t(i + 2), t(i + 3), number(t(i + 4)))
+            {
+                return Some((When::Step(n, s), lead(i, (i..=i + 4).collect())));
+            }
+        }
+        if let Some((tk, s)) = step(w) {
+            if i > 0 && (BEFORE.contains(&t(i - 1)) || t(i - 1) == "moment") {
+                return Some((When::Step(tk, s), lead(i, vec![i])));
+            }
+        }
+        if w == "moment" {
+            if let Some(n) = number(t(i + 1)) {
+                return Some((When::Tick(n), lead(i, vec![i, i + 1])));
+            }
+        }
+        // "at the end (of the run)", "at the start".
+        if (w == "end" || w == "start" || w == "beginning") && i >= 2 && t(i - 1) == "the" {
+            if ["at", "by", "near", "towards", "toward"].contains(&t(i - 2)) {
+                let mut used = vec![i - 2, i - 1, i];
+                if t(i + 1) == "of" && ["run", "mission", "log", "task"].contains(&t(i + 3)) {
+                    used.extend([i + 1, i + 2, i + 3]);
+                }
+                let when = if w == "end" {
+                    When::LastTick
+                } else {
+                    When::FirstTick
+                };
+                return Some((when, used));
+            }
+        }
+        // "before the failure", "after it failed", "after the recovery".
+        if w == "before" || w == "after" || w == "once" {
+            let mut j = i + 1;
+            let mut used = vec![i];
+            while ["the", "it", "that", "first", "a"].contains(&t(j)) {
+                used.push(j);
+                j += 1;
+            }
+            let next = t(j);
+            let what = if ["fail", "crash", "error", "problem", "fault"]
+                .iter()
+                .any(|p| next.starts_with(p))
+            {
+                Some(if w == "before" {
+                    When::BeforeFailure
+                } else {
+                    When::AfterFailure
+                })
+            } else if w != "before" && (next.starts_with("recover") || next.starts_with("retr")) {
+                Some(When::AfterRecovery)
+            } else {
+                None
+            };
+            if let Some(what) = what {
+                used.push(j);
+                if t(j + 1) == "happened" || t(j + 1) == "occurred" {
+                    used.push(j + 1);
+                }
+                return Some((what, lead(i, used)));
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::words::words;
+    use super::*;
+
+    fn when(s: &str) -> Option<When> {
+        find(&words(s)).map(|(w, _)| w)
+    }
+
+    #[test]
+    fn moments_said_in_words_are_found() {
+        assert_eq!(when("what were you doing at tick 9?"), Some(When::Tick(9)));
+        assert_eq!(when("describe tick #9"), Some(When::Tick(9)));
+        assert_eq!(when("why did it fail at 7:1"), Some(When::Step(7, 1)));
+        assert_eq!(
+            when("what happened in the final tick?"),
+            Some(When::LastTick)
+        );
+        assert_eq!(
+            when("just before the failure, what was running?"),
+            Some(When::BeforeFailure)
+        );
+        assert_eq!(
+            when("what were you doing after the recovery"),
+            Some(When::AfterRecovery)
+        );
+        assert_eq!(when("what went wrong"), None);
+    }
+}

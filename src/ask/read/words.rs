@@ -1,0 +1,283 @@
+//! Text → words: lower case, names split where their writer joined them
+//! (CamelCase, snake_case, hyphens, paths), contractions with and without
+//! their apostrophe, casual spellings, and each word's stem, so that
+//! "didnt", "didn't" and "did not", or "cleared" and "clear", read alike.
+
+use rust_stemmers::{Algorithm, Stemmer};
+use std::sync::OnceLock;
+
+/// One word of a question.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Word {
+    /// As read, after the spelling is made standard ("didnt" → "did", "not").
+    pub text: String,
+    /// Its stem ("failed" → "fail"); irregular verbs by a table.
+    pub stem: String,
+}
+
+fn stemmer() -> &'static Stemmer {
+    static S: OnceLock<Stemmer> = OnceLock::new();
+    S.get_or_init(|| Stemmer::create(Algorithm::English))
+}
+
+/// The stem of one lower-case word.
+pub fn stem(w: &str) -> String {
+    if let Some((_, base)) = IRREGULAR.iter().find(|(form, _)| *form == w) {
+        return (*base).to_string();
+    }
+    if w.starts_with('#') || w.chars().any(|c| c.is_ascii_digit()) {
+        return w.to_string();
+    }
+    stemmer().stem(w).into_owned()
+}
+
+/// Past forms the stemmer does not bring back to their verb.
+const IRREGULAR: &[(&str, &str)] = &[
+    ("ran", "run"),
+    ("running", "run"),
+    ("spun", "spin"),
+    ("spinning", "spin"),
+    ("went", "go"),
+    ("gone", "go"),
+    ("going", "go"),
+    ("took", "take"),
+    ("taken", "take"),
+    ("got", "get"),
+    ("gotten", "get"),
+    ("held", "hold"),
+    ("drove", "drive"),
+    ("driven", "drive"),
+    ("broke", "break"),
+    ("broken", "break"),
+    ("began", "begin"),
+    ("begun", "begin"),
+    ("did", "do"),
+    ("done", "do"),
+    ("does", "do"),
+    ("was", "be"),
+    ("were", "be"),
+    ("is", "be"),
+    ("are", "be"),
+    ("been", "be"),
+    ("am", "be"),
+    ("had", "have"),
+    ("has", "have"),
+    ("left", "leave"),
+    ("brought", "bring"),
+    ("caught", "catch"),
+    ("found", "find"),
+    ("made", "make"),
+    ("kept", "keep"),
+    ("stuck", "stick"),
+    ("stopped", "stop"),
+    ("failure", "fail"),
+    ("failures", "fail"),
+    ("success", "succeed"),
+    ("successful", "succeed"),
+    ("successfully", "succeed"),
+    ("succeeded", "succeed"),
+    ("succeeds", "succeed"),
+    ("succeeding", "succeed"),
+];
+
+/// Words written as one that are several ("didnt"), and casual spellings.
+const SPELLINGS: &[(&str, &str)] = &[
+    ("didnt", "did not"),
+    ("dident", "did not"),
+    ("dint", "did not"),
+    ("dont", "do not"),
+    ("doesnt", "does not"),
+    ("doesn", "does not"),
+    ("isnt", "is not"),
+    ("wasnt", "was not"),
+    ("werent", "were not"),
+    ("arent", "are not"),
+    ("hasnt", "has not"),
+    ("havent", "have not"),
+    ("hadnt", "had not"),
+    ("wouldnt", "would not"),
+    ("couldnt", "could not"),
+    ("shouldnt", "should not"),
+    ("cant", "can not"),
+    ("cannot", "can not"),
+    ("wont", "will not"),
+    ("whats", "what is"),
+    ("wats", "what is"),
+    ("wheres", "where is"),
+    ("hows", "how is"),
+    ("whys", "why is"),
+    ("whens", "when is"),
+    ("thats", "that is"),
+    ("whos", "who is"),
+    ("im", "i am"),
+    ("ive", "i have"),
+    ("youre", "you are"),
+    ("theres", "there is"),
+    ("u", "you"),
+    ("ya", "you"),
+    ("r", "are"),
+    ("ur", "your"),
+    ("y", "why"),
+    ("wy", "why"),
+    ("wat", "what"),
+    ("wut", "what"),
+    ("wht", "what"),
+    ("whta", "what"),
+    ("waht", "what"),
+    ("hwat", "what"),
+    ("wha", "what"),
+    ("hw", "how"),
+    ("atm", "now"),
+    ("rn", "now"),
+    ("currently", "now"),
+    ("presently", "now"),
+    ("pls", "please"),
+    ("plz", "please"),
+    ("plox", "please"),
+    ("b4", "before"),
+    ("cuz", "because"),
+    ("coz", "because"),
+    ("bc", "because"),
+    ("abt", "about"),
+    ("smth", "something"),
+    ("sth", "something"),
+    ("tho", "though"),
+    ("thru", "through"),
+    ("nvm", ""),
+    ("pl", "please"),
+    ("ok", "ok"),
+    ("okay", "ok"),
+    ("alright", "ok"),
+    ("behaviour", "behavior"),
+];
+
+/// "didn't" and "it's": the apostrophe's forms, before the apostrophe goes.
+const CONTRACTIONS: &[(&str, &str)] = &[
+    ("can't", "can not"),
+    ("won't", "will not"),
+    ("n't", " not"),
+    ("it's", "it is"),
+    ("what's", "what is"),
+    ("that's", "that is"),
+    ("there's", "there is"),
+    ("who's", "who is"),
+    ("how's", "how is"),
+    ("where's", "where is"),
+    ("when's", "when is"),
+    ("why's", "why is"),
+    ("i'm", "i am"),
+    ("you're", "you are"),
+    ("'ve", " have"),
+    ("'ll", " will"),
+    ("'d", " would"),
+    ("'re", " are"),
+];
+
+/// Splits a written name where its writer joined words: "FollowPath" →
+/// "Follow Path", "ClearLocalCostmap-Context" → "Clear Local Costmap
+/// Context", "look_at_chuck" → "look at chuck". Digits stay with their
+/// word ("L0"), and an all-capitals run stays one word ("BT").
+pub fn split_name(s: &str) -> String {
+    let chars: Vec<char> = s.chars().collect();
+    let mut out = String::with_capacity(s.len() + 8);
+    for (i, &c) in chars.iter().enumerate() {
+        if matches!(c, '_' | '-' | '/' | '.') {
+            out.push(' ');
+            continue;
+        }
+        if i > 0 && c.is_uppercase() {
+            let prev = chars[i - 1];
+            let next_lower = chars.get(i + 1).is_some_and(|n| n.is_lowercase());
+            if prev.is_lowercase() || (prev.is_uppercase() && next_lower) {
+                out.push(' ');
+            }
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// The words of a question.
+pub fn words(text: &str) -> Vec<Word> {
+    let mut s = split_name(text.trim()).to_lowercase();
+    s = s.replace(['’', '‘', '`', '´'], "'");
+    for (from, to) in CONTRACTIONS {
+        s = s.replace(from, to);
+    }
+    // "'s" of a possessive ("the robot's goal") and every other mark go.
+    s = s.replace("'s ", " ");
+    let mut out = Vec::new();
+    for raw in s.split(|c: char| !(c.is_alphanumeric() || c == '#' || c == ':')) {
+        let raw = raw.trim_matches(':');
+        if raw.is_empty() {
+            continue;
+        }
+        // "9:2" is a moment; any other colon separates words.
+        let parts: Vec<&str> = if raw
+            .split(':')
+            .all(|p| p.chars().all(|c| c.is_ascii_digit()))
+        {
+            vec![raw]
+        } else {
+            raw.split(':').filter(|p| !p.is_empty()).collect()
+        };
+        for part in parts {
+            let spelled = SPELLINGS
+                .iter()
+                .find(|(w, _)| *w == part)
+                .map_or(part, |(_, to)| *to);
+            for w in spelled.split_whitespace() {
+                out.push(Word {
+                    text: w.to_string(),
+                    stem: stem(w),
+                });
+            }
+        }
+    }
+    out
+}
+
+/// The words of a node's name, ID or port value, as a question would
+/// hold them.
+pub fn name_words(s: &str) -> Vec<String> {
+    words(s).into_iter().map(|w| w.stem).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn texts(s: &str) -> Vec<String> {
+        words(s).into_iter().map(|w| w.text).collect()
+    }
+
+    #[test]
+    fn contractions_with_and_without_apostrophes_read_alike() {
+        assert_eq!(texts("why didn't it wait"), texts("why didnt it wait"));
+        assert_eq!(texts("whats the goal"), texts("what's the goal"));
+        assert_eq!(
+            texts("y did detect chuk fail"),
+            ["why", "did", "detect", "chuk", "fail"]
+        );
+        assert_eq!(texts("r u ok"), ["are", "you", "ok"]);
+    }
+
+    #[test]
+    fn joined_names_are_split_into_their_words() {
+        assert_eq!(
+            texts("ClearLocalCostmap-Context"),
+            ["clear", "local", "costmap", "context"]
+        );
+        assert_eq!(texts("look_at_chuck"), ["look", "at", "chuck"]);
+        assert_eq!(texts("at 9:2, #18 failed"), ["at", "9:2", "#18", "failed"]);
+        assert_eq!(texts("L0"), ["l0"]);
+    }
+
+    #[test]
+    fn word_forms_share_a_stem() {
+        assert_eq!(stem("cleared"), stem("clear"));
+        assert_eq!(stem("spun"), "spin");
+        assert_eq!(stem("failed"), stem("fail"));
+        assert_eq!(stem("failure"), stem("fail"));
+    }
+}

@@ -59,11 +59,18 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
         Intent::Why { node, event, foil } => with_node(cx, node, Some(*event), &mut r, |u, r| {
             super::why::answer(cx, u, *event, *foil, r)
         }),
-        Intent::WhyNot { done, instead } => with_node(cx, done, None, &mut r, |d, r| {
-            with_node(cx, instead, Some(Event::NotRun), r, |i, r| {
-                super::why::instead(cx, d, i, r)
+        Intent::WhyNot { done, instead } => {
+            with_node(cx, done, Some(Event::Run), &mut r, |d, r| {
+                // Of the nodes the other words name, the one nearest.
+                let instead = match instead {
+                    Subject::Nodes(us, p) => Subject::Nodes(nearest(cx.tree, d, us), p.clone()),
+                    other => other.clone(),
+                };
+                with_node(cx, &instead, None, r, |i, r| {
+                    super::why::instead(cx, d, i, r)
+                })
             })
-        }),
+        }
         Intent::When { node, event, which } => with_node(cx, node, Some(*event), &mut r, |u, r| {
             when(cx, u, *event, *which, r)
         }),
@@ -86,7 +93,7 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
                     .into(),
             ),
         },
-        Intent::WhatIf { node, event } => with_node(cx, node, None, &mut r, |u, r| {
+        Intent::WhatIf { node, event } => with_node(cx, node, Some(Event::Run), &mut r, |u, r| {
             let s = if *event == Event::Fail {
                 Status::Failure
             } else {
@@ -208,10 +215,23 @@ fn by_event(at: &At, us: &[Uid], e: Event) -> Vec<Uid> {
         .filter(|&u| !events(at, u, e).is_empty())
         .collect();
     if had.is_empty() {
-        us.to_vec()
-    } else {
-        had
+        return us.to_vec();
     }
+    had
+}
+
+/// Of `us`, those nearest to `d` in the tree (the deepest common ancestor).
+fn nearest(tree: &Tree, d: Uid, us: &[Uid]) -> Vec<Uid> {
+    let depth_shared = |u: Uid| {
+        tree.ancestors(u)
+            .find(|&a| a == d || tree.is_ancestor(a, d))
+            .map_or(0, |a| tree.node(a).depth)
+    };
+    let best = us.iter().map(|&u| depth_shared(u)).max().unwrap_or(0);
+    us.iter()
+        .copied()
+        .filter(|&u| depth_shared(u) == best)
+        .collect()
 }
 
 /// The run at the question's moment, or why there is none.

@@ -171,6 +171,7 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
             confidence: 1.0,
             alternatives: Vec::new(),
             when: None,
+            about: None,
         }),
         None => read::read(&read::Vocabulary::new(cx.tree), cx.tree, question),
     };
@@ -205,6 +206,27 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         },
         _ => cx,
     };
+    let named;
+    let cx = match &reading.about {
+        Some(us) => {
+            // The one of them running at the moment, if one is.
+            let running = cx.at.as_ref().and_then(|at| {
+                us.iter()
+                    .copied()
+                    .find(|&u| at.status(u) == crate::run::Status::Running)
+            });
+            named = Context {
+                tree: cx.tree,
+                session: cx.session,
+                at: cx.at,
+                node: running.or(us.first().copied()),
+                detail: cx.detail,
+                last: std::cell::Cell::new(cx.last.get()),
+            };
+            &named
+        }
+        None => cx,
+    };
     let mut r = compose::compose(cx, question, &reading.intent);
     r.restate = Question::parse(question).is_none();
     r.confidence = reading.confidence;
@@ -237,7 +259,7 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
 }
 
 /// The position a moment said in words stands for in the run.
-fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<u32, String> {
+pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<u32, String> {
     use crate::run::Status;
     use crate::session::Moment;
     use read::When;

@@ -31,9 +31,6 @@ pub enum Overlay {
         query: String,
         selected: usize,
     },
-    Ask {
-        selected: usize,
-    },
     /// The why-questions about the selected node: (target, question).
     Why {
         selected: usize,
@@ -43,11 +40,13 @@ pub enum Overlay {
     Running {
         selected: usize,
     },
-    /// A question in the user's own words being typed: the text and the
-    /// completion picked (`A`).
+    /// The ask prompt (`a`, `A`): a question being typed, the completion
+    /// chosen, and whether it was chosen with ↑↓ (Enter then asks it; else
+    /// what was typed, as typed).
     Words {
         text: String,
         selected: usize,
+        picked: bool,
     },
     /// "Can you X?" being typed: the text and the completion picked.
     CanYou {

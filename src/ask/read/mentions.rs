@@ -55,6 +55,15 @@ pub struct Mention {
     pub phrase: String,
 }
 
+/// Words any sentence has: never half a name on their own.
+const PLAIN: &[&str] = &[
+    "with", "to", "at", "of", "in", "on", "for", "and", "or", "is", "it", "be", "do", "did",
+    "does", "what", "why", "how", "when", "which", "not", "no", "if", "then", "this", "that",
+    "from", "by", "up", "out", "all", "any", "node", "nodes", "tree", "robot", "time", "times",
+    "entire", "whole", "first", "last", "after", "before", "again", "so", "while", "task",
+    "mission", "goal", "job", "you", "me",
+];
+
 const ARTICLES: &[&str] = &["the", "a", "an", "its", "your", "my", "our"];
 
 fn is_article(w: &str) -> bool {
@@ -103,7 +112,9 @@ impl Vocabulary {
         for u in tree.preorder() {
             let n = tree.node(u);
             push(u, &tree.spoken(u), Source::Name);
-            if n.name != n.id {
+            // A control's ID ("RecoveryNode", "Sequence") is its kind, which
+            // kind words pick by; a leaf's or a SubTree's is a name.
+            if n.name != n.id && !matches!(n.kind, Kind::Control | Kind::Decorator) {
                 push(u, &n.id, Source::Id);
             }
             for p in &n.ports {
@@ -156,6 +167,13 @@ impl Vocabulary {
                     }
                     if s > 0.0 && (s - best).abs() <= 0.001 && !uids.contains(&e.uid) {
                         uids.push(e.uid);
+                    }
+                }
+                // Half a name that only one node has is as good as its name.
+                if (0.6..0.85).contains(&best) && uids.len() == 1 && span.len() >= 1 {
+                    let chars: usize = span.iter().map(|w| w.text.len()).sum();
+                    if chars >= 5 {
+                        best = 0.85;
                     }
                 }
                 if best >= 0.6 {
@@ -231,11 +249,12 @@ impl Vocabulary {
             return true;
         }
         // A typo, or a name written joined ("lookatchuck").
-        text.len() >= 4
-            && self.entries.iter().any(|e| {
-                e.joined.starts_with(&text[..4.min(text.len())])
-                    || e.stems.iter().any(|s| close(s, text))
-            })
+        let head: String = text.chars().take(4).collect();
+        text.chars().count() >= 4
+            && self
+                .entries
+                .iter()
+                .any(|e| e.joined.starts_with(&head) || e.stems.iter().any(|s| close(s, text)))
     }
 }
 
@@ -335,7 +354,8 @@ fn score(span: &[&Word], e: &Entry) -> f32 {
         let all = span.iter().zip(&e.stems).all(|(w, s)| {
             if same(w, s) {
                 true
-            } else if close(s, &w.text) || close(s, &w.stem) {
+            } else if !PLAIN.contains(&w.text.as_str()) && (close(s, &w.text) || close(s, &w.stem))
+            {
                 typos += 1;
                 true
             } else {
@@ -349,12 +369,15 @@ fn score(span: &[&Word], e: &Entry) -> f32 {
     let n = joined.len().max(e.joined.len());
     if joined.len().abs_diff(e.joined.len()) <= allowance(n)
         && n >= 5
+        && joined.get(..2) == e.joined.get(..2)
         && strsim::damerau_levenshtein(&joined, &e.joined) <= allowance(n)
     {
         return 0.86 * weight;
     }
-    // Half a name: the span's words in order inside the entry's.
-    if e.source != Source::Field && span.len() < e.stems.len() {
+    // Half a name: the span's words in order inside the entry's, not
+    // only words any sentence has ("with" of NavigateWithReplanning).
+    let plain = span.iter().all(|w| PLAIN.contains(&w.text.as_str()));
+    if e.source != Source::Field && span.len() < e.stems.len() && !plain {
         let chars: usize = span.iter().map(|w| w.text.len()).sum();
         if chars >= 4 {
             for start in 0..=e.stems.len() - span.len() {

@@ -30,6 +30,9 @@ pub struct Reading {
     pub alternatives: Vec<Intent>,
     /// The moment the question names, if any.
     pub when: Option<When>,
+    /// For Han's questions asked of a node named ("why is it looking at
+    /// the chuck?"): that node, in place of the selected one.
+    pub about: Option<Vec<Uid>>,
 }
 
 /// A question's words with the parts already read marked.
@@ -306,6 +309,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             confidence: 1.0,
             alternatives: Vec::new(),
             when: None,
+            about: None,
         });
     }
     let text = paths_as_uids(tree, text);
@@ -365,12 +369,32 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         s.nodes.push(m);
     }
     s.nodes.sort_by_key(|m| m.start);
+    // Typos in the words that ask ("wen", "frist", "fial"), now that the
+    // tree's names have been found as they were written.
+    let mut in_mention = vec![false; q.len()];
+    for m in &s.nodes {
+        for f in &mut in_mention[m.start..m.end] {
+            *f = true;
+        }
+    }
+    let q: Vec<Word> = q
+        .iter()
+        .enumerate()
+        .map(|(i, w)| {
+            if in_mention[i] || s.used[i] {
+                w.clone()
+            } else {
+                corrected(w, s.tree_words)
+            }
+        })
+        .collect();
+    let q = &q[..];
     // Weak mentions stay words unless the question names no other node
     // and asks about one.
     let strong: Vec<Mention> = s.nodes.iter().filter(|m| !m.weak).cloned().collect();
     let readings = {
         let mut with_strong = Sentence {
-            q: &q,
+            q,
             tree_words: s.tree_words,
             used: s.used.clone(),
             nodes: strong,
@@ -381,11 +405,14 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             }
         }
         let mut r = classify(&with_strong, tree);
-        if r.is_empty() || r.iter().all(|(i, _)| needs_node(i)) {
+        if r.is_empty()
+            || r.iter().all(|(i, _)| needs_node(i))
+            || r.first().is_some_and(|(i, _)| about_task(i))
+        {
             let weak: Vec<Mention> = s.nodes.iter().filter(|m| m.weak).cloned().collect();
             if !weak.is_empty() && with_strong.nodes.is_empty() {
                 let mut with_weak = Sentence {
-                    q: &q,
+                    q,
                     tree_words: s.tree_words,
                     used: s.used.clone(),
                     nodes: weak,
@@ -413,11 +440,20 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             alternatives.push(i);
         }
     }
+    let about = match intent {
+        Intent::Fixed(Question::Tree(_)) => s
+            .nodes
+            .iter()
+            .find(|m| !m.weak && m.uids != [tree.root().uid])
+            .map(|m| m.uids.clone()),
+        _ => None,
+    };
     Some(Reading {
         intent,
         confidence: confidence.clamp(0.0, 1.0),
         alternatives,
         when,
+        about,
     })
 }
 
@@ -444,6 +480,102 @@ fn paths_as_uids(tree: &Tree, text: &str) -> String {
         }
     }
     text.to_string()
+}
+
+/// A reading about the task or "it", where a weak mention may be the node.
+fn about_task(i: &Intent) -> bool {
+    matches!(
+        i,
+        Intent::Why {
+            node: Subject::Task | Subject::It,
+            ..
+        } | Intent::When {
+            node: Subject::Task | Subject::It,
+            ..
+        } | Intent::HowOften {
+            node: Subject::Task | Subject::It,
+            ..
+        }
+    )
+}
+
+/// Words that ask, to correct a typo in one of them against.
+const CUE_WORDS: &[&str] = &[
+    "when",
+    "what",
+    "why",
+    "first",
+    "fail",
+    "failed",
+    "failure",
+    "happened",
+    "happen",
+    "succeed",
+    "succeeded",
+    "recover",
+    "recovered",
+    "recovery",
+    "running",
+    "started",
+    "doing",
+    "subgoal",
+    "goal",
+    "wrong",
+    "next",
+    "handled",
+    "often",
+    "times",
+    "tick",
+    "before",
+    "after",
+    "last",
+    "final",
+    "busy",
+    "going",
+    "computing",
+    "finish",
+    "finished",
+    "halted",
+    "skipped",
+    "instead",
+    "rather",
+    "explain",
+    "describe",
+    "objective",
+    "mission",
+];
+
+fn corrected(w: &Word, tree_words: &rustc_hash::FxHashSet<String>) -> Word {
+    let t = w.text.as_str();
+    if t.chars().count() < 3
+        || CUE_WORDS.contains(&t)
+        || tree_words.contains(&w.stem)
+        || FILLER.contains(&t)
+        || !t.chars().all(|c| c.is_ascii_alphabetic())
+    {
+        return w.clone();
+    }
+    // "computin": a dropped g.
+    if t.ends_with("in") && t.len() >= 5 {
+        let g = format!("{t}g");
+        let stem = words::stem(&g);
+        if CUE_WORDS.contains(&g.as_str()) || tree_words.contains(&stem) {
+            return Word { stem, text: g };
+        }
+    }
+    let best = CUE_WORDS
+        .iter()
+        .filter(|c| c.len() >= 4 && c.len().abs_diff(t.len()) <= 1)
+        .find(|c| {
+            strsim::damerau_levenshtein(c, t) <= 1 && (t.len() >= 4 || c.starts_with(&t[..1]))
+        });
+    match best {
+        Some(c) => Word {
+            text: c.to_string(),
+            stem: words::stem(c),
+        },
+        None => w.clone(),
+    }
 }
 
 fn needs_node(i: &Intent) -> bool {
@@ -493,7 +625,13 @@ fn event(s: &Sentence) -> (Option<Event>, bool) {
         Some(Event::Halted)
     } else if keep {
         Some(Event::KeepRunning)
-    } else if s.has_stem(&["succeed", "pass", "work", "manag", "ok"]) {
+    } else if s.has_stem(&["succeed", "pass", "manag", "ok"])
+        || s.has("successful")
+        || s.has("successfully")
+        || s.has("work")
+        || s.has("worked")
+        || s.has("works")
+    {
         Some(Event::Succeed)
     } else if s.has_stem(&["finish", "end", "complet", "done"]) {
         Some(Event::Finish)
@@ -519,8 +657,14 @@ fn event(s: &Sentence) -> (Option<Event>, bool) {
 
 /// The subject of a question about a node: the node named, "it"/"that",
 /// or the task itself.
-fn subject(s: &Sentence) -> Option<Subject> {
-    if let Some(m) = s.nodes.first() {
+fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
+    // The task named ("nav2", "the patrol") yields to another node named.
+    let m = s
+        .nodes
+        .iter()
+        .find(|m| m.uids != [root])
+        .or_else(|| s.nodes.first());
+    if let Some(m) = m {
         return Some(Subject::Nodes(m.uids.clone(), m.phrase.clone()));
     }
     if s.has("it") || s.has("that") || s.has("this") || s.has("thing") {
@@ -542,7 +686,11 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
     let mut out: Vec<(Intent, f32)> = Vec::new();
     let node_score = s.nodes.iter().map(|m| m.score).fold(1.0f32, f32::min);
     let unexplained = unexplained(s);
-    let sure = |base: f32| base * node_score * 0.93f32.powi(unexplained.min(6) as i32);
+    // How sure a reading is: the words it leaves unexplained count
+    // against it, and so do loosely matched names where it rests on them.
+    let words_sure = 0.93f32.powi(unexplained.min(6) as i32);
+    let sure = |base: f32| base * node_score * words_sure;
+    let sure_of_words = |base: f32| base * words_sure;
     let (ev, negated) = event(s);
     let first = s.first_free().unwrap_or("");
     let yes_no = [
@@ -560,38 +708,131 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         "anything",
         "everything",
         "all",
+        "were",
+        "could",
     ]
     .contains(&first);
+    let root = tree.root().uid;
+    // Nodes named other than the task itself ("nav2", "the patrol").
+    let named: Vec<&Mention> = s.nodes.iter().filter(|m| m.uids != [root]).collect();
     let why = s.has("why")
         || s.phrase(&["how", "come"]).is_some()
         || s.phrase(&["what", "caused"]).is_some()
         || s.phrase(&["what", "made"]).is_some()
         || s.has_stem(&["reason", "caus", "cause"])
-        || (s.has("explain") && !s.nodes.is_empty() && ev.is_some());
+        || (s.has("explain") && !s.has("how") && !s.nodes.is_empty() && ev.is_some());
     let what = s.has("what") || s.has("which") || IMPERATIVE.iter().any(|w| s.has(w));
     let how = s.has("how");
+    let problem = s.has_stem(&[
+        "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad", "mess",
+    ]);
+    let fine = s.has_stem(&["ok", "fine", "good", "alright", "smooth", "normal"]);
+    let doing_words = s.has("doing")
+        || s.has_stem(&["busi", "busy", "work", "activ", "perform", "activ"])
+        || s.phrase(&["up", "to"]).is_some()
+        || s.has("activity");
+    let now_words = s.has("now")
+        || s.has("currently")
+        || s.has("current")
+        || s.phrase(&["this", "part"]).is_some()
+        || s.has("moment")
+        || s.has("working")
+        || s.has("towards");
+    let whole = s.has("whole")
+        || s.has("end")
+        || s.has("final")
+        || s.has("mission")
+        || s.has("big")
+        || s.has("overall")
+        || s.has("entire")
+        || s.has("ultimate")
+        || s.has("main")
+        || s.has("everything")
+        || s.has("all");
 
+    // "Which node failed?": what went wrong.
+    if (s.has("which") || s.has("what"))
+        && s.has_stem(&[
+            "node", "step", "action", "part", "thing", "behavior", "leaf",
+        ])
+        && ev == Some(Event::Fail)
+        && named.is_empty()
+    {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            sure_of_words(0.93),
+        ));
+        return out;
+    }
     // "Can you X?": the rest of the words are the behaviour.
     if let Some(x) = can_you(s, tree) {
-        out.push((Intent::Fixed(Question::CanYou(x)), sure(0.95)));
+        out.push((Intent::Fixed(Question::CanYou(x)), sure_of_words(0.95)));
         return out;
     }
     // "What if X fails?", "what would have happened if X had failed".
-    if s.has("if")
+    let conditional = s.phrase(&["what", "if"]).is_some()
+        || s.phrase(&["happen", "if"]).is_some()
+        || s.phrase(&["happens", "if"]).is_some()
+        || s.phrase(&["happened", "if"]).is_some()
+        || s.phrase(&["do", "if"]).is_some()
         || s.has("suppose")
         || s.has("imagine")
-        || s.phrase(&["what", "about"]).is_some() && ev.is_some()
-    {
-        if let Some(node) = subject(s) {
+        || s.has("hypothetically")
+        || first == "if";
+    if conditional {
+        if let Some(node @ Subject::Nodes(..)) = subject(s, root) {
             let e = match ev {
                 Some(Event::Succeed) => Event::Succeed,
                 _ => Event::Fail,
             };
-            if matches!(node, Subject::Nodes(..)) {
-                out.push((Intent::WhatIf { node, event: e }, sure(0.92)));
-                return out;
-            }
+            out.push((Intent::WhatIf { node, event: e }, sure(0.92)));
+            return out;
         }
+    }
+    // "Did anything fail (while patrolling)?": yes or no, whatever is named.
+    if yes_no
+        && (s.has("anything") || s.has("something") || s.has("any"))
+        && (problem || fine)
+        && !why
+    {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+            sure_of_words(0.93),
+        ));
+        return out;
+    }
+    // Did the recovery work?
+    let generic = |m: &Mention| {
+        m.phrase.split_whitespace().all(|w| {
+            [
+                "the",
+                "recovery",
+                "recoveries",
+                "retry",
+                "retries",
+                "fallback",
+                "behaviors",
+                "behaviours",
+                "actions",
+                "node",
+            ]
+            .contains(&w)
+        })
+    };
+    let recovery_word = s.has_prefix(&["recover"]) || s.nodes.iter().any(generic);
+    let retry_word = s.has_prefix(&["retr", "fallback"]);
+    let fixed_it = s.has_stem(&["fix"]) && (s.has("it") || s.has("that") || s.has("things"));
+    let on_track =
+        s.phrase(&["on", "track"]).is_some() || s.phrase(&["back", "to", "normal"]).is_some();
+    if !how
+        && !why
+        && (yes_no || s.has("manage") || s.has("managed") || first.starts_with("recover"))
+        && (recovery_word || fixed_it || on_track || retry_word && named.iter().all(|m| generic(m)))
+        && !matches!(ev, Some(Event::Halted | Event::Skipped | Event::NotRun))
+        && !(ev == Some(Event::Fail) && !recovery_word)
+    {
+        out.push((Intent::Recovered, sure_of_words(0.93)));
+        return out;
     }
     let often = s.phrase(&["how", "often"]).is_some()
         || s.phrase(&["how", "many"]).is_some()
@@ -599,7 +840,7 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["number", "of"]).is_some()
         || s.has_stem(&["count"]);
     if often {
-        if let Some(node) = subject(s) {
+        if let Some(node) = subject(s, root) {
             let e = match ev {
                 Some(Event::NotRun) | Some(Event::Skipped) | None => Event::Run,
                 Some(e) => e,
@@ -613,8 +854,16 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["which", "tick"]).is_some()
         || s.phrase(&["what", "tick"]).is_some()
         || s.phrase(&["at", "what", "point"]).is_some();
-    if when_q && !why {
-        if let Some(node) = subject(s) {
+    let after_failure = (s.has("after") || s.has("when") || s.has("once"))
+        && problem
+        && (s.phrase(&["did", "it", "do"]).is_some()
+            || s.phrase(&["did", "you", "do"]).is_some()
+            || s.phrase(&["was", "done"]).is_some()
+            || s.phrase(&["did", "the", "robot", "do"]).is_some());
+    if when_q && !why && !after_failure {
+        let node = subject(s, root);
+        let named_or_event = matches!(node, Some(Subject::Nodes(..))) || ev.is_some();
+        if let (Some(node), true) = (node, named_or_event) {
             let which = if s.has("first") || s.has("1st") || s.has("initially") {
                 Which::First
             } else if s.has("last") || s.has("final") || s.has("finally") || s.has("latest") {
@@ -645,10 +894,10 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             || s.has("over")
             || s.has("vs")
             || s.has("versus");
-        if s.nodes.len() >= 2 && contrast {
-            let done = Subject::Nodes(s.nodes[0].uids.clone(), s.nodes[0].phrase.clone());
-            let instead = Subject::Nodes(s.nodes[1].uids.clone(), s.nodes[1].phrase.clone());
-            let (done, instead) = if negated_first(s) {
+        if named.len() >= 2 && contrast {
+            let done = Subject::Nodes(named[0].uids.clone(), named[0].phrase.clone());
+            let instead = Subject::Nodes(named[1].uids.clone(), named[1].phrase.clone());
+            let (done, instead) = if negated_first(s, named[0], named[1]) {
                 (instead, done)
             } else {
                 (done, instead)
@@ -656,11 +905,22 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             out.push((Intent::WhyNot { done, instead }, sure(0.93)));
             return out;
         }
-        if let Some(node) = subject(s) {
+        // "Why is it looking at the chuck?": why it is doing what it does.
+        if progressive(s) && matches!(ev, None | Some(Event::Run) | Some(Event::KeepRunning)) {
+            out.push((
+                Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+                sure_of_words(0.93),
+            ));
+            return out;
+        }
+        if let Some(node) = subject(s, root) {
             let doing_this =
                 matches!(node, Subject::It) && (s.has("doing") || s.has("this") && ev.is_none());
             if doing_this && ev.is_none() {
-                out.push((Intent::Fixed(Question::Tree(TreeQuestion::Why)), sure(0.95)));
+                out.push((
+                    Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+                    sure_of_words(0.95),
+                ));
                 return out;
             }
             let foil = foil(s);
@@ -691,95 +951,53 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             return out;
         }
         if s.has("doing") || s.has("this") || s.has("that") {
-            out.push((Intent::Fixed(Question::Tree(TreeQuestion::Why)), sure(0.9)));
+            out.push((
+                Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+                sure_of_words(0.9),
+            ));
             return out;
         }
-        return out;
-    }
-    // Did the recovery work?
-    let generic = |m: &Mention| {
-        m.phrase.split_whitespace().all(|w| {
-            [
-                "the",
-                "recovery",
-                "recoveries",
-                "retry",
-                "retries",
-                "fallback",
-                "behaviors",
-                "behaviours",
-                "actions",
-            ]
-            .contains(&w)
-        })
-    };
-    let recovery_word =
-        s.has_prefix(&["recover", "retr", "fallback", "fix"]) || s.nodes.iter().any(generic);
-    let yes_no = yes_no || s.has("manage") || s.has("managed") || first.starts_with("recover");
-    if recovery_word
-        && !how
-        && yes_no
-        && s.nodes.iter().all(generic)
-        && !matches!(
-            ev,
-            Some(Event::Fail | Event::Halted | Event::Skipped | Event::NotRun)
-        )
-    {
-        out.push((Intent::Recovered, sure(0.95)));
         return out;
     }
     // How was it handled?
     let handle = s.has_stem(&[
         "handl", "deal", "dealt", "respond", "react", "cope", "mitig", "recov", "recoveri", "fix",
-        "fixed",
+        "fixed", "past", "overcom", "surviv",
     ]) || s.has_prefix(&["recover", "handl"]);
-    if (how && handle)
+    if (how && (handle || problem && !s.has("often") && !s.has("many")))
+        || after_failure
         || s.phrase(&["do", "about"]).is_some()
         || s.phrase(&["did", "about"]).is_some()
         || s.phrase(&["done", "about"]).is_some()
-        || (what && s.has_prefix(&["recover"]) && s.nodes.is_empty())
+        || (what && s.has_prefix(&["recover"]) && named.is_empty())
     {
         out.push((
             Intent::Fixed(Question::Run(RunQuestion::Handled)),
-            sure(0.93),
+            sure_of_words(0.93),
         ));
         return out;
     }
-    // A tick's transitions.
-    if let Some(w) = when::find(s.q).map(|(w, _)| w) {
-        // 0: the tick of the moment named ("the final tick"), found in the run.
-        let n = match w {
-            When::Tick(n) | When::Step(n, _) => n,
-            _ => 0,
-        };
-        let asks_tick = s.has_stem(&[
-            "happen", "chang", "occur", "describ", "summar", "show", "went", "transit",
-        ]) || s.empty()
-            || (what && !s.has("doing") && !s.has_stem(&["run", "goal", "subgoal"]));
-        if asks_tick && s.nodes.is_empty() {
-            out.push((Intent::Tick(n), sure(0.95)));
-            return out;
-        }
-    }
-    let problem = s.has_stem(&[
-        "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad", "mess",
-    ]);
-    let fine = s.has_stem(&["ok", "fine", "good", "alright", "well", "smooth", "normal"]);
-    if (yes_no || s.has("any")) && (problem || fine) && s.nodes.is_empty() {
-        out.push((
-            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
-            sure(0.93),
-        ));
-        out.push((
-            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
-            0.3,
-        ));
+    // What next?
+    let next = s.has("next")
+        || s.phrase(&["going", "to", "do"]).is_some()
+        || s.phrase(&["will", "you", "do"]).is_some()
+        || s.phrase(&["will", "it", "do"]).is_some()
+        || s.phrase(&["will", "the", "robot", "do"]).is_some()
+        || s.phrase(&["comes", "after"]).is_some()
+        || s.phrase(&["after", "this"]).is_some()
+        || s.phrase(&["after", "that"]).is_some()
+        || s.has("afterwards")
+        || s.has("upcoming")
+        || (s.has("after") && (s.has("will") || s.has("happens")));
+    if next {
+        out.push((Intent::Next, sure_of_words(0.93)));
         return out;
     }
-    if problem && (what || s.empty() || s.has("where")) {
-        if !s.nodes.is_empty() && ev == Some(Event::Fail) {
+    let asked_when = when::find(s.q).map(|(w, _)| w);
+    if problem && (what || s.empty() || s.has("where")) && !yes_no {
+        if !named.is_empty() && ev == Some(Event::Fail) && asked_when.is_none() {
             // "what made look at chuck fail", "tell me why X failed".
-            let node = subject(s).unwrap_or(Subject::Task);
+            let node = subject(s, root).unwrap_or(Subject::Task);
             out.push((
                 Intent::Why {
                     node,
@@ -792,7 +1010,7 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         }
         out.push((
             Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
-            sure(0.95),
+            sure_of_words(0.95),
         ));
         out.push((
             Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
@@ -800,17 +1018,33 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         ));
         return out;
     }
-    // What next?
-    if s.has("next")
-        || s.phrase(&["going", "to"]).is_some() && s.has("do")
-        || s.phrase(&["will", "you", "do"]).is_some()
-        || s.phrase(&["will", "it", "do"]).is_some()
-        || s.phrase(&["comes", "after"]).is_some()
-        || s.has("afterwards")
-        || s.has("upcoming")
-    {
-        out.push((Intent::Next, sure(0.93)));
+    if (yes_no || s.has("any")) && (problem || fine) && named.is_empty() {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+            sure_of_words(0.93),
+        ));
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            0.3,
+        ));
         return out;
+    }
+    // A tick's transitions: "describe tick 9", "what happened in the last tick".
+    let this_tick =
+        s.phrase(&["this", "tick"]).is_some() || s.phrase(&["current", "tick"]).is_some();
+    if asked_when.is_some() || this_tick {
+        let n = match asked_when {
+            Some(When::Tick(n) | When::Step(n, _)) => n,
+            _ => 0,
+        };
+        let asks_tick = s.has_stem(&[
+            "happen", "chang", "occur", "describ", "summar", "show", "went", "transit",
+        ]) || s.empty()
+            || (what && !doing_words && !s.has_stem(&["run", "goal", "subgoal"]));
+        if asks_tick && named.is_empty() && !doing_words {
+            out.push((Intent::Tick(n), sure_of_words(0.95)));
+            return out;
+        }
     }
     let subgoal = s.has_stem(&["subgoal", "subtask", "milestone"])
         || s.phrase(&["sub", "goal"]).is_some()
@@ -821,36 +1055,45 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         "goal", "object", "mission", "aim", "purpos", "task", "intent", "job", "target",
     ]) || s.phrase(&["trying", "to"]).is_some()
         || s.phrase(&["try", "to"]).is_some()
-        || s.phrase(&["supposed", "to"]).is_some();
-    let steps = s.has_stem(&[
-        "step",
-        "achiev",
-        "accomplish",
-        "reach",
-        "plan",
-        "procedur",
-        "strategi",
-        "approach",
-    ]) || (how && s.has_stem(&["do", "get", "complet", "go", "make"]));
-    if how || (steps && what) {
-        if subgoal && steps || subgoal && how {
+        || s.phrase(&["supposed", "to"]).is_some()
+        || s.phrase(&["get", "done"]).is_some()
+        || s.has_stem(&["achiev", "accomplish"]);
+    let steps = s.has_stem(&["step", "plan", "procedur", "strategi", "approach", "outlin"])
+        || s.phrase(&["walk", "me", "through"]).is_some()
+        || (how
+            && s.has_stem(&[
+                "do",
+                "get",
+                "complet",
+                "go",
+                "make",
+                "finish",
+                "build",
+                "work",
+                "achiev",
+                "accomplish",
+                "reach",
+            ]));
+    if how || (steps && (what || s.empty() || first == "outline" || first == "walk")) {
+        let goal_named = s.nodes.iter().any(|m| m.uids == [root]);
+        if subgoal && (steps || how) {
             out.push((
                 Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
-                sure(0.93),
+                sure_of_words(0.93),
             ));
             return out;
         }
-        if goal && (steps || how) {
+        if (goal || whole || goal_named) && (steps || how) {
             out.push((
                 Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)),
-                sure(0.93),
+                sure_of_words(0.93),
             ));
             return out;
         }
         if steps {
             out.push((
                 Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
-                sure(0.85),
+                sure_of_words(0.85),
             ));
             out.push((Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.4));
             return out;
@@ -859,31 +1102,31 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
     if subgoal {
         out.push((
             Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)),
-            sure(0.95),
+            sure_of_words(0.95),
         ));
         return out;
     }
-    let doing = s.has_stem(&[
-        "do", "busi", "busy", "work", "happen", "run", "execut", "perform", "activ", "up", "act",
-        "action", "behavior",
-    ]) || s.has("doing")
-        || s.has_prefix(&["doin"]);
     if goal && !s.has("doing") {
-        out.push((
-            Intent::Fixed(Question::Tree(TreeQuestion::Goal)),
-            sure(0.93),
-        ));
+        let q = if now_words && !whole {
+            TreeQuestion::Subgoal
+        } else {
+            TreeQuestion::Goal
+        };
+        out.push((Intent::Fixed(Question::Tree(q)), sure_of_words(0.9)));
         return out;
     }
-    if doing && (what || s.empty()) && s.nodes.is_empty() {
+    let doing = doing_words
+        || s.has_stem(&["happen", "run", "execut", "act", "action", "behavior"])
+        || s.has_prefix(&["doin"]);
+    if doing && (what || s.empty() || first == "current") && named.is_empty() {
         out.push((
             Intent::Fixed(Question::Tree(TreeQuestion::Doing)),
-            sure(0.93),
+            sure_of_words(0.93),
         ));
         return out;
     }
     // "Did the planner run?", "has follow path failed": whether, and how often.
-    if let (Some(m), Some(e), true) = (s.nodes.first(), ev, yes_no) {
+    if let (Some(m), Some(e), true) = (named.first(), ev, yes_no) {
         let node = Subject::Nodes(m.uids.clone(), m.phrase.clone());
         let e = if e == Event::NotRun { Event::Run } else { e };
         out.push((
@@ -925,19 +1168,34 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         out.push((Intent::HowOften { node, event: e }, 0.4));
         return out;
     }
-    if let Some(When::Tick(n)) = when::find(s.q).map(|(w, _)| w) {
-        out.push((Intent::Tick(n), sure(0.6)));
-    }
     out
 }
 
+/// "why is it looking at the chuck", "why does it keep driving": asked
+/// of what it is doing now, in the present progressive.
+fn progressive(s: &Sentence) -> bool {
+    if s.has("long") {
+        return false;
+    }
+    let be = s.q.iter().enumerate().position(|(i, w)| {
+        ["is", "are", "am", "was", "were", "keeps", "still"].contains(&w.text.as_str())
+            || w.text == "keep" && i > 0 && ["does", "do"].contains(&s.q[i - 1].text.as_str())
+            || w.text == "keep" && s.q.iter().any(|w| w.text == "does")
+    });
+    let Some(be) = be else {
+        return false;
+    };
+    s.q[be + 1..]
+        .iter()
+        .any(|w| w.text.len() > 4 && w.text.ends_with("ing") && w.text != "something")
+}
+
 /// "why not X but Y": the node after a negation was the one not done.
-fn negated_first(s: &Sentence) -> bool {
-    let first = s.nodes[0].start;
-    s.q[..first]
+fn negated_first(s: &Sentence, a: &Mention, b: &Mention) -> bool {
+    s.q[..a.start]
         .iter()
         .any(|w| w.text == "not" || w.text == "never")
-        && !s.q[s.nodes[0].end..s.nodes[1].start]
+        && !s.q[a.end..b.start]
             .iter()
             .any(|w| w.text == "not" || w.text == "instead")
 }
@@ -964,8 +1222,7 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         s.q.iter()
             .enumerate()
             .filter(|(_, w)| {
-                !FILLER.contains(&w.text.as_str())
-                    || ["can", "could", "you", "it", "are", "is", "able"].contains(&w.text.as_str())
+                !LEAD.contains(&w.text.as_str()) && !["the", "a", "an"].contains(&w.text.as_str())
             })
             .collect();
     let texts: Vec<&str> = free.iter().map(|(_, w)| w.text.as_str()).collect();
@@ -981,6 +1238,10 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         &["could", "robot"],
         &["is", "robot", "able", "to"],
         &["are", "you", "capable", "of"],
+        &["is", "robot", "capable", "of"],
+        &["is", "it", "capable", "of"],
+        &["do", "you", "know", "how", "to"],
+        &["does", "robot", "know", "how", "to"],
     ];
     let open = openings.iter().find(|o| texts.starts_with(o))?;
     // "can you tell me why …" asks what follows.

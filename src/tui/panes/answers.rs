@@ -77,12 +77,15 @@ impl App {
     /// Asking, whichever pane has the focus.
     pub(crate) fn answers_key(&mut self, a: Action) -> bool {
         match a {
-            Action::Ask => self.overlay = Overlay::Ask { selected: 0 },
-            Action::AskWords => {
+            // One prompt: the questions about the node are its first
+            // completions, and any question can be typed.
+            Action::Ask | Action::AskWords => {
                 self.overlay = Overlay::Words {
                     text: String::new(),
                     selected: 0,
-                }
+                    picked: false,
+                };
+                self.cursor = None;
             }
             Action::Why => self.open_why(),
             Action::Graph => match &mut self.why {

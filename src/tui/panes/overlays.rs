@@ -13,6 +13,9 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 use ratatui::Frame;
 
+/// The ask prompt's row that opens "Can you …?".
+pub const CAN_YOU_ROW: &str = "Can you …? (type any subgoal or step)";
+
 /// One edit of a prompt's text (`App::edit`).
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Edit {
@@ -45,7 +48,6 @@ impl App {
         match self.overlay {
             Overlay::Help { .. } => self.help_key(a),
             Overlay::Finder { .. }
-            | Overlay::Ask { .. }
             | Overlay::Why { .. }
             | Overlay::Running { .. }
             | Overlay::Pick { .. } => self.update_list(a),
@@ -104,30 +106,102 @@ impl App {
         }
     }
 
-    /// A question in the user's own words: ↑↓ pick a completion, Enter
-    /// asks it (what was typed when nothing completes it).
+    /// The ask prompt: ↑↓ choose a completion, Tab takes it into the
+    /// text, Enter asks the one chosen (with ↑↓, or the first when nothing
+    /// is typed), else what was typed as typed.
     fn words_key(&mut self, a: Action) {
-        let Overlay::Words { text, selected } = &self.overlay else {
+        let Overlay::Words {
+            text,
+            selected,
+            picked,
+        } = &self.overlay
+        else {
             return;
         };
-        let (text, i) = (text.clone(), *selected);
-        let completions = crate::ask::complete::complete(&self.tree, &text, 8);
-        let Overlay::Words { selected, .. } = &mut self.overlay else {
+        let (text, i, picked) = (text.clone(), *selected, *picked);
+        let completions = self.ask_completions(&text);
+        let Overlay::Words {
+            text: typed,
+            selected,
+            picked: chose,
+        } = &mut self.overlay
+        else {
             return;
         };
         match a {
             Action::Back | Action::Quit => self.overlay = Overlay::None,
-            Action::Up => *selected = selected.saturating_sub(1),
-            Action::Down => *selected = (*selected + 1).min(completions.len().saturating_sub(1)),
+            Action::Up => {
+                *selected = selected.saturating_sub(1);
+                *chose = true;
+            }
+            Action::Down => {
+                *selected = (*selected + 1).min(completions.len().saturating_sub(1));
+                *chose = true;
+            }
+            Action::NextPane => {
+                if let Some(c) = completions.get(i) {
+                    if *c != CAN_YOU_ROW {
+                        *typed = c.clone();
+                        *selected = 0;
+                        *chose = false;
+                        self.cursor = None;
+                    }
+                }
+            }
             Action::Toggle => {
-                let q = completions.get(i).cloned().unwrap_or(text);
+                let q = if picked || text.trim().is_empty() {
+                    completions.get(i).cloned().unwrap_or(text)
+                } else {
+                    text
+                };
                 self.overlay = Overlay::None;
-                if !q.trim().is_empty() {
+                if q == CAN_YOU_ROW {
+                    self.overlay = Overlay::CanYou {
+                        text: String::new(),
+                        selected: 0,
+                    };
+                    return;
+                }
+                // A question of the list is answered as the list answers it.
+                if let Some(known) = self.questions().into_iter().find(|k| k.wording() == q) {
+                    self.ask(&known);
+                } else if !q.trim().is_empty() {
                     self.ask_words(&q);
                 }
             }
             _ => {}
         }
+    }
+
+    /// What the ask prompt offers for `text`: with nothing typed, the
+    /// questions about the selected node; as one types, the whole
+    /// questions that complete it (node names after a lead) and those of
+    /// the list that match.
+    pub fn ask_completions(&self, text: &str) -> Vec<String> {
+        let listed: Vec<String> = self
+            .questions()
+            .iter()
+            .map(|q| match q {
+                Question::CanYou(x) if x.is_empty() => CAN_YOU_ROW.to_string(),
+                q => q.wording(),
+            })
+            .collect();
+        if text.trim().is_empty() {
+            return listed;
+        }
+        let mut out = crate::ask::complete::complete(&self.tree, text, 8);
+        let keyed: Vec<(String, String)> = listed
+            .iter()
+            .filter(|l| *l != CAN_YOU_ROW)
+            .map(|l| (l.clone(), l.clone()))
+            .collect();
+        for c in crate::rank::rank(text, &keyed, 8) {
+            if !out.contains(&c) {
+                out.push(c);
+            }
+        }
+        out.truncate(8);
+        out
     }
 
     /// The transition filter's text: Enter applies it.
@@ -175,13 +249,12 @@ impl App {
     /// path): at the cursor, which `Left`/`Right`/`Home`/`End` move.
     pub fn edit(&mut self, e: Edit) {
         let cursor = self.cursor;
-        let (text, selected, replace) = match &mut self.overlay {
-            Overlay::Finder { query, selected } => (query, Some(selected), None),
-            Overlay::Export { path, replace } => (path, None, Some(replace)),
-            Overlay::Filter { text } => (text, None, None),
-            Overlay::CanYou { text, selected } | Overlay::Words { text, selected } => {
-                (text, Some(selected), None)
-            }
+        let text = match &mut self.overlay {
+            Overlay::Finder { query, .. } => query,
+            Overlay::Export { path, .. } => path,
+            Overlay::Filter { text }
+            | Overlay::CanYou { text, .. }
+            | Overlay::Words { text, .. } => text,
             _ => return,
         };
         let n = text.chars().count();
@@ -221,6 +294,18 @@ impl App {
         };
         let end = text.chars().count();
         if changed {
+            if let Overlay::Words { picked, .. } = &mut self.overlay {
+                *picked = false;
+            }
+        }
+        let (selected, replace) = match &mut self.overlay {
+            Overlay::Finder { selected, .. }
+            | Overlay::CanYou { selected, .. }
+            | Overlay::Words { selected, .. } => (Some(selected), None),
+            Overlay::Export { replace, .. } => (None, Some(replace)),
+            _ => (None, None),
+        };
+        if changed {
             if let Some(s) = selected {
                 *s = 0;
             }
@@ -259,7 +344,6 @@ impl App {
     fn update_list(&mut self, a: Action) {
         let len = match &self.overlay {
             Overlay::Finder { query, .. } => self.finder_results(query).len(),
-            Overlay::Ask { .. } => self.questions().len(),
             Overlay::Why { targets, .. } => targets.len(),
             Overlay::Running { .. } => self.running_nodes().len(),
             Overlay::Pick { .. } => self.choices.as_ref().map_or(0, |c| c.len()),
@@ -267,7 +351,6 @@ impl App {
         };
         let choice = match &mut self.overlay {
             Overlay::Finder { selected, .. }
-            | Overlay::Ask { selected }
             | Overlay::Why { selected, .. }
             | Overlay::Running { selected }
             | Overlay::Pick { selected } => selected,
@@ -288,16 +371,6 @@ impl App {
                             self.follow_node = false;
                         }
                     }
-                    Overlay::Ask { .. } => match self.questions().get(i).cloned() {
-                        Some(Question::CanYou(x)) if x.is_empty() => {
-                            self.overlay = Overlay::CanYou {
-                                text: String::new(),
-                                selected: 0,
-                            }
-                        }
-                        Some(q) => self.ask(&q),
-                        None => {}
-                    },
                     Overlay::Why { targets, .. } => {
                         if let (Some((t, _)), Some(m)) = (targets.get(i), self.moment()) {
                             self.ask_why(t.clone(), Vec::new(), m);
@@ -468,7 +541,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                 .collect();
             f.render_widget(Paragraph::new(lines), inner);
         }
-        Overlay::Words { text, selected } => draw_words(app, f, area, text, *selected),
+        Overlay::Words { text, selected, .. } => draw_words(app, f, area, text, *selected),
         Overlay::Filter { text } => {
             let r = centered(area, area.width.saturating_sub(8).min(70), 3);
             f.render_widget(Clear, r);
@@ -523,65 +596,41 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                 r,
             );
         }
-        Overlay::Ask { selected } => {
-            let qs = app.questions();
-            let r = centered(area, 60, qs.len() as u16 + 2);
-            f.render_widget(Clear, r);
-            let lines: Vec<Line> = qs
-                .iter()
-                .enumerate()
-                .map(|(i, q)| {
-                    let st = if i == *selected {
-                        Style::default().add_modifier(Modifier::REVERSED)
-                    } else {
-                        Style::default()
-                    };
-                    let text = match q {
-                        crate::explain::Question::CanYou(x) if x.is_empty() => {
-                            "Can you …? (type any subgoal or step)".to_string()
-                        }
-                        q => q.wording(),
-                    };
-                    Line::from(Span::styled(text, st))
-                })
-                .collect();
-            let title = format!(
-                " ask about {} ",
-                crate::text::visible(app.tree.description(app.asked_node()))
-            );
-            f.render_widget(
-                Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
-                r,
-            );
-        }
     }
 }
 
 /// The prompt of a question in the user's own words, with its completions.
 fn draw_words(app: &App, f: &mut Frame, area: Rect, text: &str, selected: usize) {
+    let rows = app.ask_completions(text);
     let r = centered(
         area,
         area.width.saturating_sub(8).min(80),
-        area.height.saturating_sub(4).min(12),
+        (rows.len() as u16 + 2)
+            .max(4)
+            .min(area.height.saturating_sub(2)),
     );
     f.render_widget(Clear, r);
     let b = Block::default().borders(Borders::ALL).title(format!(
-        " ask in your own words: {} ",
+        " ask about {}: {} ",
+        crate::text::visible(app.tree.description(app.asked_node())),
         with_cursor(text, app.cursor)
     ));
     let inner = b.inner(r);
     f.render_widget(b, r);
-    let lines: Vec<Line> = crate::ask::complete::complete(&app.tree, text, 8)
+    let h = inner.height as usize;
+    let first = selected.saturating_sub(h.saturating_sub(1));
+    let lines: Vec<Line> = rows
         .into_iter()
         .enumerate()
-        .take(inner.height as usize)
+        .skip(first)
+        .take(h)
         .map(|(i, q)| {
             let st = if i == selected {
                 Style::default().add_modifier(Modifier::REVERSED)
             } else {
                 Style::default()
             };
-            Line::from(Span::styled(crate::text::visible(&q).into_owned(), st))
+            Line::from(Span::styled(fit(&q, inner.width as usize), st))
         })
         .collect();
     f.render_widget(Paragraph::new(lines), inner);

@@ -786,7 +786,7 @@ fn a_question_typed_in_words_is_answered_as_btx_ask_answers_it() {
     press(&mut app, "Awhy did look at chuck fail");
     let s = screen(&app, 110, 34);
     assert!(
-        s.contains("ask in your own words: why did look at chuck fail▏"),
+        s.contains("ask about look at chuck: why did look at chuck fail▏"),
         "{s}"
     );
     assert!(s.contains("│why did look at chuck fail"), "{s}");
@@ -1379,4 +1379,84 @@ fn the_fleet_view_shows_failures_as_bars_and_opens_a_run() {
         .contains("is not in the fleet view"));
     btx::tui::Screen::event(&mut app, Event::Key(key_event("q")), (120, 40));
     assert!(app.quit);
+}
+
+/// One ask prompt (#38 item 5): `a` and `A` open the same prompt; the
+/// questions about the node are its completions, filtered as one types;
+/// Space and q are typed, not actions; Enter asks what was typed as typed;
+/// Tab takes the chosen completion into the text.
+#[test]
+fn one_ask_prompt_takes_typed_words_and_completions() {
+    use btx::tui::app::Overlay;
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    press(&mut app, "a");
+    assert!(matches!(app.overlay, Overlay::Words { .. }));
+    let s = screen(&app, 110, 34);
+    assert!(s.contains("What went wrong?"), "{s}");
+    insta::assert_snapshot!("ask_prompt_80x24", screen(&app, 80, 24));
+    // Typed with spaces and a q: nothing quits, nothing else acts.
+    press(&mut app, "is it q ok");
+    assert!(!app.quit);
+    assert!(
+        screen(&app, 110, 34).contains("is it q ok▏"),
+        "{}",
+        screen(&app, 110, 34)
+    );
+    // Filtered as one types: "went" keeps "What went wrong?".
+    app.edit(btx::tui::panes::overlays::Edit::ToStart);
+    press(&mut app, "went");
+    assert_eq!(
+        app.ask_completions("went").first().map(String::as_str),
+        Some("What went wrong?")
+    );
+    // Tab takes the completion into the text; Enter asks it.
+    btx::tui::handle(
+        &mut app,
+        ratatui::crossterm::event::Event::Key(ratatui::crossterm::event::KeyEvent::new(
+            ratatui::crossterm::event::KeyCode::Tab,
+            ratatui::crossterm::event::KeyModifiers::NONE,
+        )),
+        (110, 34),
+    );
+    assert!(matches!(&app.overlay, Overlay::Words { text, .. } if text == "What went wrong?"));
+    press(&mut app, "\n");
+    assert!(matches!(app.overlay, Overlay::None));
+    let a = app.answer.as_ref().expect("the list's answer");
+    assert!(
+        a.text.contains("because look at chuck failed"),
+        "{}",
+        a.text
+    );
+    // Typed text is asked as typed, even where a completion is shown.
+    press(&mut app, "Awhats wrong\n");
+    let r = app.reply.as_ref().expect("a reply");
+    assert_eq!(r.understood, "What went wrong?");
+}
+
+/// A reading btx is not sure of says what it read in the answer pane and
+/// offers the other readings as a list to pick from.
+#[test]
+fn an_unsure_reading_offers_the_other_readings_to_pick() {
+    use btx::tui::app::Overlay;
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    press(&mut app, "alook at the chuck failed\n");
+    let r = app.reply.as_ref().expect("a reply");
+    assert!(r.unsure(), "{:?}", r.confidence);
+    assert!(matches!(app.overlay, Overlay::Words { .. }));
+    let s = screen(&app, 110, 34);
+    assert!(s.contains("When did look at chuck (#18) fail?"), "{s}");
+    assert!(s.contains("I read this as"), "{s}");
+    // Picking one asks it.
+    app.update(Action::Down);
+    press(&mut app, "\n");
+    let r = app.reply.as_ref().expect("a reply");
+    assert!(
+        r.understood
+            .starts_with("How often did look at chuck (#18) fail"),
+        "{}",
+        r.understood
+    );
+    assert!(app.did_you_mean.is_empty());
 }

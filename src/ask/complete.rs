@@ -25,7 +25,7 @@ pub fn complete(tree: &Tree, typed: &str, limit: usize) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     let lower = typed.to_lowercase();
     let lead = LEADS.iter().find(|(l, _)| lower.starts_with(l));
-    let reads = super::parse::parse(typed).is_some();
+    let reads = super::read::read(&super::read::Vocabulary::new(tree), tree, typed).is_some();
     // Past a lead, a name is being typed: the names complete it.
     if lead.is_none() && reads {
         out.push(typed.trim().to_string());

@@ -112,6 +112,9 @@ pub struct App {
     pub answer: Option<Answer>,
     /// The answer to a question typed in the user's own words.
     pub reply: Option<crate::ask::Reply>,
+    /// Other readings of the last question, when btx was not sure of its
+    /// own: the ask prompt offers them to pick from.
+    pub did_you_mean: Vec<String>,
     /// How much answers say (`+`/`-` on the answers pane).
     pub detail: crate::ask::Detail,
     pub why: Option<WhyView>,
@@ -188,6 +191,7 @@ impl App {
             details: Default::default(),
             answers: Default::default(),
             reply: None,
+            did_you_mean: Vec::new(),
             detail: crate::ask::Detail::Normal,
             zoom: false,
             scroll_max: std::cell::Cell::new((usize::MAX, usize::MAX)),
@@ -464,8 +468,24 @@ impl App {
         for &u in &r.nodes {
             self.reveal(u);
         }
+        // Not sure of its reading: the other readings, to pick from.
+        self.did_you_mean = if r.unsure() {
+            r.alternatives.clone()
+        } else {
+            Vec::new()
+        };
         self.reply = Some(r);
         self.focus = Pane::Ask;
+        if !self.did_you_mean.is_empty() {
+            self.overlay = Overlay::Words {
+                text: String::new(),
+                selected: 0,
+                picked: false,
+            };
+            self.cursor = None;
+            self.message =
+                Some("did you mean one of these? Enter asks it, Esc keeps this answer".into());
+        }
     }
 
     /// The answer on screen as plain text (what `y` copies).

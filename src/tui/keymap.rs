@@ -174,13 +174,13 @@ pub const KEYMAP: &[Binding] = &[
     Binding {
         keys: &["a"],
         action: Action::Ask,
-        help: "ask about the selected node",
+        help: "ask: the questions about the node, or type your own",
         hint: "ask",
     },
     Binding {
         keys: &["A"],
         action: Action::AskWords,
-        help: "ask in your own words, with completion",
+        help: "ask (the same prompt as a)",
         hint: "",
     },
     Binding {

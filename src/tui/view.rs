@@ -247,7 +247,10 @@ pub fn view(app: &App, f: &mut Frame) {
         Overlay::None => None,
         Overlay::Help { .. } => Some("↑↓ scroll  Esc or ? close"),
         Overlay::Export { .. } => Some("type a file name  Enter write  Esc cancel"),
-        Overlay::CanYou { .. } | Overlay::Words { .. } | Overlay::Filter { .. } => {
+        Overlay::Words { .. } => {
+            Some("type a question  ↑↓ choose  Tab complete  Enter ask  Ctrl-u clear  Esc cancel")
+        }
+        Overlay::CanYou { .. } | Overlay::Filter { .. } => {
             Some("type  ←→ move  Ctrl-w word  Ctrl-u clear  Enter take  Esc cancel")
         }
         Overlay::Finder { .. } => Some("type to find  ↑↓ choose  Enter go  Esc close"),

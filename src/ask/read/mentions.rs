@@ -101,7 +101,8 @@ impl Vocabulary {
                 .to_lowercase()
                 .split(|c: char| !c.is_alphanumeric())
                 .filter(|w| !w.is_empty() && !is_article(w))
-                .collect();
+                .collect::<String>()
+                .replace('0', "o");
             entries.push(Entry {
                 uid,
                 stems: ws,
@@ -235,6 +236,61 @@ impl Vocabulary {
                 phrase,
             });
         }
+        // A node called by its kind alone ("the parallel", "the retry
+        // node"): every node of that kind, for the run to choose among.
+        let mut k = 0;
+        while k < q.len() {
+            if taken[k] {
+                k += 1;
+                continue;
+            }
+            let two = q.get(k + 1).map(|w| w.text.as_str());
+            let (len, is): (usize, Option<fn(&str) -> bool>) = match (q[k].text.as_str(), two) {
+                ("recovery", Some("node")) => (2, Some(|id| id == "RecoveryNode")),
+                ("retry", Some("node")) | ("retry", Some("decorator")) => {
+                    (2, Some(|id| id.starts_with("Retry")))
+                }
+                ("parallel", _) => (1, Some(|id| id.contains("Parallel"))),
+                ("sequence", _) => (1, Some(|id| id.contains("Sequence"))),
+                ("fallback", _) | ("selector", _) => (
+                    1,
+                    Some(|id| id.contains("Fallback") || id.contains("Selector")),
+                ),
+                ("inverter", _) => (1, Some(|id| id == "Inverter")),
+                ("repeat", _) => (1, Some(|id| id == "Repeat")),
+                ("timeout", _) => (1, Some(|id| id == "Timeout")),
+                ("pipeline", _) => (1, Some(|id| id == "PipelineSequence")),
+                _ => (1, None),
+            };
+            if let Some(is) = is {
+                let uids: Vec<Uid> = tree
+                    .preorder()
+                    .into_iter()
+                    .filter(|&u| is(&tree.node(u).id))
+                    .collect();
+                if !uids.is_empty() && !taken[k..(k + len).min(q.len())].iter().any(|&t| t) {
+                    let end = (k + len).min(q.len());
+                    for t in &mut taken[k..end] {
+                        *t = true;
+                    }
+                    out.push(Mention {
+                        start: k,
+                        end,
+                        uids,
+                        score: 0.9,
+                        weak: false,
+                        phrase: q[k..end]
+                            .iter()
+                            .map(|w| w.text.as_str())
+                            .collect::<Vec<_>>()
+                            .join(" "),
+                    });
+                    k = end;
+                    continue;
+                }
+            }
+            k += 1;
+        }
         out.sort_by_key(|m| m.start);
         out
     }
@@ -345,7 +401,12 @@ fn score(span: &[&Word], e: &Entry) -> f32 {
     if span.len() == e.stems.len() && span.iter().zip(&e.stems).all(|(w, s)| same(w, s)) {
         return weight;
     }
-    let joined: String = span.iter().map(|w| w.text.as_str()).collect();
+    // "LO" for "L0": a zero read as the letter.
+    let joined: String = span
+        .iter()
+        .map(|w| w.text.as_str())
+        .collect::<String>()
+        .replace('0', "o");
     if joined == e.joined {
         return 0.97 * weight;
     }

@@ -673,7 +673,8 @@ fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
     if s.has("you")
         || s.has_stem(&[
             "robot", "task", "mission", "tree", "bt", "run", "root", "agent", "navig", "whole",
-            "overal", "everyth", "i",
+            "overal", "everyth", "i", "trip", "journey", "taxi", "car", "vehicl", "drone", "kit",
+            "job",
         ])
     {
         return Some(Subject::Task);

@@ -221,6 +221,13 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         return;
     }
     if let Some(r) = &app.reply {
+        // What btx read, when it was not sure, comes first.
+        if r.unsure() {
+            lines.push(Line::from(Span::styled(
+                crate::text::visible(&r.read_as()).into_owned(),
+                Style::default().fg(Color::Yellow),
+            )));
+        }
         lines.push(Line::from(Span::styled(
             if r.understood.is_empty() {
                 r.question.clone()

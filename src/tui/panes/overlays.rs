@@ -129,7 +129,10 @@ impl App {
             return;
         };
         match a {
-            Action::Back | Action::Quit => self.overlay = Overlay::None,
+            Action::Back | Action::Quit => {
+                self.overlay = Overlay::None;
+                self.did_you_mean.clear();
+            }
             Action::Up => {
                 *selected = selected.saturating_sub(1);
                 *chose = true;
@@ -155,6 +158,7 @@ impl App {
                     text
                 };
                 self.overlay = Overlay::None;
+                self.did_you_mean.clear();
                 if q == CAN_YOU_ROW {
                     self.overlay = Overlay::CanYou {
                         text: String::new(),
@@ -187,6 +191,9 @@ impl App {
             })
             .collect();
         if text.trim().is_empty() {
+            if !self.did_you_mean.is_empty() {
+                return self.did_you_mean.clone();
+            }
             return listed;
         }
         let mut out = crate::ask::complete::complete(&self.tree, text, 8);

@@ -359,7 +359,8 @@ fn tally(files: &[&str], keep: impl Fn(&Case) -> bool) -> Tally {
     t
 }
 
-fn report(name: &str, t: &Tally) -> f64 {
+/// The share read as meant and the share misread without saying so.
+fn report(name: &str, t: &Tally) -> (f64, f64) {
     let n = |f: Fate| t.counts.get(&f).copied().unwrap_or(0);
     let pct = |k: usize| 100.0 * k as f64 / t.total.max(1) as f64;
     println!(
@@ -375,7 +376,7 @@ fn report(name: &str, t: &Tally) -> f64 {
         pct(n(Fate::Misread)),
         n(Fate::Misread),
     );
-    pct(n(Fate::Understood))
+    (pct(n(Fate::Understood)), pct(n(Fate::Misread)))
 }
 
 #[test]
@@ -395,7 +396,7 @@ fn the_corpus_is_large_varied_and_labelled() {
 #[test]
 fn questions_tuned_on_are_read_as_meant() {
     let t = tally(&["corpus.jsonl", "forums.jsonl"], |c| half(&c.q) == 0);
-    let understood = report("tuned-on half", &t);
+    let (understood, misread) = report("tuned-on half", &t);
     if std::env::var_os("BTX_SHOW_MISREADS").is_some() {
         for w in &t.wrong {
             println!("{w}");
@@ -411,11 +412,17 @@ fn questions_tuned_on_are_read_as_meant() {
 #[test]
 fn questions_held_out_are_read_as_meant() {
     let t = tally(&["corpus.jsonl", "forums.jsonl"], |c| half(&c.q) == 1);
-    let understood = report("held-out half", &t);
-    assert!(understood >= HELD_FLOOR, "{understood:.1}%");
+    let (understood, misread) = report("held-out half", &t);
+    assert!(
+        understood >= HELD_FLOOR && misread <= HELD_MISREAD,
+        "{understood:.1}% understood, {misread:.1}% misread"
+    );
 }
 
-/// Floors under the figures measured at the last change of the reader:
-/// a change that reads fewer questions as meant fails here.
-const DEV_FLOOR: f64 = 0.0;
-const HELD_FLOOR: f64 = 0.0;
+/// Floors and ceilings just beyond the figures measured at the last change
+/// of the reader (87.9 % and 4.3 % tuned on, 81.8 % and 9.6 % held out): a
+/// change that reads fewer questions as meant, or misreads more, fails.
+const DEV_FLOOR: f64 = 87.0;
+const DEV_MISREAD: f64 = 5.0;
+const HELD_FLOOR: f64 = 80.0;
+const HELD_MISREAD: f64 = 10.5;

@@ -71,12 +71,13 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
                 })
             })
         }
-        Intent::When { node, event, which } => with_node(cx, node, Some(*event), &mut r, |u, r| {
+        // When and how often: every node the words name, each in its line.
+        Intent::When { node, event, which } => with_node(cx, node, None, &mut r, |u, r| {
             when(cx, u, *event, *which, r)
         }),
-        Intent::HowOften { node, event } => with_node(cx, node, Some(*event), &mut r, |u, r| {
-            how_often(cx, u, *event, r)
-        }),
+        Intent::HowOften { node, event } => {
+            with_node(cx, node, None, &mut r, |u, r| how_often(cx, u, *event, r))
+        }
         Intent::Tick(n) => {
             // 0: the tick of the moment the question named ("the last tick").
             let n = match (*n, cx.at.as_ref()) {
@@ -137,7 +138,7 @@ fn with_node(
                 Subject::Named(p) | Subject::Nodes(_, p) => p.clone(),
                 _ => unreachable!("the task is one node"),
             };
-            let kinds: Vec<String> = us.iter().map(|&u| kind_name(cx.tree, u)).collect();
+            let kinds = told_apart(cx.tree, &us);
             let mut lines = vec![format!(
                 "{} names {}.",
                 crate::causal::english::capitalised(&phrase),
@@ -187,16 +188,41 @@ fn hashes(us: &[Uid]) -> String {
         .join(", ")
 }
 
-/// "the action (#10)", "the RecoveryNode (#9)": a node told apart from
-/// others of its name by its kind.
-pub(super) fn kind_name(tree: &Tree, u: Uid) -> String {
-    let n = tree.node(u);
-    match n.kind {
-        crate::model::Kind::Action => format!("the action (#{u})"),
-        crate::model::Kind::Condition => format!("the condition (#{u})"),
-        crate::model::Kind::SubTree => format!("the subtree (#{u})"),
-        _ => format!("the {} (#{u})", n.id),
-    }
+/// Nodes a question's words name alike, each told apart from the others:
+/// by its kind ("the RecoveryNode (#9)", "the action (#10)"), else by its
+/// own name ("ClearLocalCostmap-Context (#13)"), else by its parent.
+fn told_apart(tree: &Tree, us: &[Uid]) -> Vec<String> {
+    let kind = |u: Uid| {
+        let n = tree.node(u);
+        match n.kind {
+            crate::model::Kind::Action => "the action".to_string(),
+            crate::model::Kind::Condition => "the condition".to_string(),
+            crate::model::Kind::SubTree => "the subtree".to_string(),
+            _ => format!("the {}", n.id),
+        }
+    };
+    let distinct = |f: &dyn Fn(Uid) -> String| {
+        let all: Vec<String> = us.iter().map(|&u| f(u)).collect();
+        let mut seen = all.clone();
+        seen.sort();
+        seen.dedup();
+        (seen.len() == all.len()).then_some(all)
+    };
+    let labels = distinct(&kind)
+        .or_else(|| distinct(&|u| tree.description(u).to_string()))
+        .unwrap_or_else(|| {
+            us.iter()
+                .map(|&u| match tree.parent(u) {
+                    Some(p) => format!("{} under {}", kind(u), tree.description(p)),
+                    None => kind(u),
+                })
+                .collect()
+        });
+    labels
+        .into_iter()
+        .zip(us)
+        .map(|(l, u)| format!("{l} (#{u})"))
+        .collect()
 }
 
 /// Among nodes that share a name, those the event happened to: the one

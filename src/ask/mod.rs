@@ -145,7 +145,7 @@ impl Reply {
             "history": self.history,
             "suggestions": self.suggestions,
             "answered": self.answered,
-            "confidence": (self.confidence * 100.0).round() / 100.0,
+            "confidence": (f64::from(self.confidence) * 100.0).round() / 100.0,
             "alternatives": self.alternatives,
             "named_moment": self.named_moment,
             "nodes": self.nodes.iter().map(|&u| node(u)).collect::<Vec<_>>(),
@@ -237,7 +237,10 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         (reading.when, &reading.intent)
     {
         if let Some(q) = r.understood.strip_suffix('?') {
-            r.understood = format!("{q} {}?", w.words());
+            let past =
+                q.replacen(" are you ", " were you ", 1)
+                    .replacen(" is your ", " was your ", 1);
+            r.understood = format!("{past} {}?", w.words());
         }
     }
     r.alternatives = reading

@@ -28,6 +28,8 @@ struct Entry {
     /// Its words as written, joined with nothing between ("lookatchuck").
     joined: String,
     source: Source,
+    /// An ID several nodes share: a type, weaker than a name.
+    shared: bool,
 }
 
 /// The words every node of a tree can be found by. Built once a tree.
@@ -89,28 +91,36 @@ fn kind_word(w: &str) -> Option<fn(&crate::model::Node) -> bool> {
 impl Vocabulary {
     pub fn new(tree: &Tree) -> Vocabulary {
         let mut entries = Vec::new();
+        // Names repeat (SubTrees, Nav2's field words for several nodes):
+        // each text is read once.
+        let mut read: rustc_hash::FxHashMap<String, Option<(Vec<String>, String)>> =
+            Default::default();
         let mut push = |uid: Uid, text: &str, source: Source| {
-            let ws: Vec<String> = name_words(text)
-                .into_iter()
-                .filter(|w| !is_article(w))
-                .collect();
-            if ws.is_empty() {
-                return;
-            }
-            let joined: String = split_name(text)
-                .to_lowercase()
-                .split(|c: char| !c.is_alphanumeric())
-                .filter(|w| !w.is_empty() && !is_article(w))
-                .collect::<String>()
-                .replace('0', "o");
-            entries.push(Entry {
-                uid,
-                stems: ws,
-                joined,
-                source,
+            let known = read.entry(text.to_string()).or_insert_with(|| {
+                let ws: Vec<String> = name_words(text)
+                    .into_iter()
+                    .filter(|w| !is_article(w))
+                    .collect();
+                let joined: String = split_name(text)
+                    .to_lowercase()
+                    .split(|c: char| !c.is_alphanumeric())
+                    .filter(|w| !w.is_empty() && !is_article(w))
+                    .collect::<String>()
+                    .replace('0', "o");
+                (!ws.is_empty()).then_some((ws, joined))
             });
+            if let Some((stems, joined)) = known {
+                entries.push(Entry {
+                    uid,
+                    stems: stems.clone(),
+                    joined: joined.clone(),
+                    source,
+                    shared: false,
+                });
+            }
         };
-        for u in tree.preorder() {
+        let order = tree.preorder();
+        for &u in &order {
             let n = tree.node(u);
             push(u, &tree.spoken(u), Source::Name);
             // A control's ID ("RecoveryNode", "Sequence") is its kind, which
@@ -125,12 +135,26 @@ impl Vocabulary {
                 }
             }
         }
+        drop(push);
         if nav2_words::applies(tree.nodes.iter().map(|n| n.id.as_str())) {
-            for (phrase, target) in nav2_words::WORDS {
-                for u in targets(tree, *target) {
-                    push(u, phrase, Source::Field);
+            for ((stems, joined), (_, target)) in field_words().iter().zip(nav2_words::WORDS) {
+                for u in targets(tree, &order, *target) {
+                    entries.push(Entry {
+                        uid: u,
+                        stems: stems.clone(),
+                        joined: joined.clone(),
+                        source: Source::Field,
+                        shared: false,
+                    });
                 }
             }
+        }
+        let mut ids: rustc_hash::FxHashMap<&str, usize> = Default::default();
+        for n in &tree.nodes {
+            *ids.entry(n.id.as_str()).or_default() += 1;
+        }
+        for e in &mut entries {
+            e.shared = e.source == Source::Id && ids.get(tree.node(e.uid).id.as_str()) > Some(&1);
         }
         let stems = entries
             .iter()
@@ -143,25 +167,48 @@ impl Vocabulary {
     /// overlapping. `asks(stem)`: a word that also asks (a cue word).
     pub fn mentions(&self, tree: &Tree, q: &[Word], asks: &dyn Fn(&str) -> bool) -> Vec<Mention> {
         let mut found: Vec<(f32, usize, usize, Vec<Uid>)> = Vec::new();
+        // A name starts and ends with one of the tree's words (or a typo
+        // of one): spans that do not are passed over unscored.
+        let known: Vec<bool> = q.iter().map(|w| self.known(&w.stem, &w.text)).collect();
+        // The entries each word may belong to: those holding its stem, a
+        // stem it is a typo of, or a joined name it starts.
+        let near: Vec<Vec<usize>> = q
+            .iter()
+            .zip(&known)
+            .map(|(w, &k)| if k { self.near(w) } else { Vec::new() })
+            .collect();
         for i in 0..q.len() {
-            if is_article(&q[i].text) || q[i].text.starts_with('#') {
+            if is_article(&q[i].text) || q[i].text.starts_with('#') || !known[i] {
                 continue;
             }
             for j in i + 1..=(i + 8).min(q.len()) {
-                if is_article(&q[j - 1].text) {
+                if is_article(&q[j - 1].text) || !known[j - 1] {
                     continue;
                 }
                 if q[i..j].iter().any(|w| w.text == "\u{0}") {
                     break;
                 }
-                let span: Vec<&Word> = q[i..j].iter().filter(|w| !is_article(&w.text)).collect();
-                if !span.iter().any(|w| self.known(&w.stem, &w.text)) {
+                // "recovery node", "retry node": a kind, not a name.
+                if ["recovery", "retry"].contains(&q[j - 1].text.as_str())
+                    && q.get(j).is_some_and(|w| w.text == "node")
+                    && i == j - 1
+                {
                     continue;
                 }
+                let span: Vec<&Word> = q[i..j].iter().filter(|w| !is_article(&w.text)).collect();
+                // "LO" for "L0": a zero read as the letter.
+                let joined: String = span
+                    .iter()
+                    .map(|w| w.text.as_str())
+                    .collect::<String>()
+                    .replace('0', "o");
                 let mut best = 0.0f32;
                 let mut uids: Vec<Uid> = Vec::new();
-                for e in &self.entries {
-                    let s = score(&span, e);
+                let mut entries: Vec<usize> = near[i..j].iter().flatten().copied().collect();
+                entries.sort_unstable();
+                entries.dedup();
+                for e in entries.into_iter().map(|k| &self.entries[k]) {
+                    let s = score(&span, &joined, e);
                     if s > best + 0.001 {
                         best = s;
                         uids.clear();
@@ -173,7 +220,7 @@ impl Vocabulary {
                 // Half a name that only one node has is as good as its name.
                 if (0.6..0.85).contains(&best) && uids.len() == 1 && span.len() >= 1 {
                     let chars: usize = span.iter().map(|w| w.text.len()).sum();
-                    if chars >= 5 {
+                    if chars >= 4 {
                         best = 0.85;
                     }
                 }
@@ -300,8 +347,24 @@ impl Vocabulary {
         &self.stems
     }
 
+    fn near(&self, w: &Word) -> Vec<usize> {
+        let head: String = w.text.chars().take(4).collect();
+        let long = w.text.chars().count() >= 4;
+        self.entries
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| {
+                e.stems.iter().any(|s| *s == w.stem || *s == w.text)
+                    || long && e.joined.starts_with(&head)
+                    || e.stems.iter().any(|s| close(s, &w.text))
+                    || e.joined == w.text.replace('0', "o")
+            })
+            .map(|(k, _)| k)
+            .collect()
+    }
+
     fn known(&self, stem: &str, text: &str) -> bool {
-        if self.stems.contains(stem) {
+        if self.stems.contains(stem) || self.stems.contains(&text.replace('o', "0")) {
             return true;
         }
         // A typo, or a name written joined ("lookatchuck").
@@ -312,6 +375,24 @@ impl Vocabulary {
                 .iter()
                 .any(|e| e.joined.starts_with(&head) || e.stems.iter().any(|s| close(s, text)))
     }
+}
+
+/// Nav2's field words as a question's words, read once a process.
+fn field_words() -> &'static [(Vec<String>, String)] {
+    static WORDS: std::sync::OnceLock<Vec<(Vec<String>, String)>> = std::sync::OnceLock::new();
+    WORDS.get_or_init(|| {
+        nav2_words::WORDS
+            .iter()
+            .map(|(phrase, _)| {
+                let stems: Vec<String> = name_words(phrase)
+                    .into_iter()
+                    .filter(|w| !is_article(w))
+                    .collect();
+                let joined: String = phrase.split(' ').filter(|w| !is_article(w)).collect();
+                (stems, joined)
+            })
+            .collect()
+    })
 }
 
 /// A SubTree, Fallback or Sequence and the control node inside it named
@@ -331,10 +412,11 @@ pub fn outermost(tree: &Tree, uids: Vec<Uid>) -> Vec<Uid> {
     }
 }
 
-fn targets(tree: &Tree, t: Target) -> Vec<Uid> {
+fn targets(tree: &Tree, order: &[Uid], t: Target) -> Vec<Uid> {
     let by_id = |ids: &[&str]| -> Vec<Uid> {
-        tree.preorder()
-            .into_iter()
+        order
+            .iter()
+            .copied()
             .filter(|&u| ids.contains(&tree.node(u).id.as_str()))
             .collect()
     };
@@ -350,9 +432,9 @@ fn targets(tree: &Tree, t: Target) -> Vec<Uid> {
             })
             .collect(),
         Target::RecoveryBranch => {
-            let named: Vec<Uid> = tree
-                .preorder()
-                .into_iter()
+            let named: Vec<Uid> = order
+                .iter()
+                .copied()
                 .filter(|&u| {
                     let n = &tree.node(u).name;
                     n == "RecoveryFallback" || n == "RecoveryActions"
@@ -383,16 +465,25 @@ fn allowance(len: usize) -> usize {
     }
 }
 
+/// A typo of one another: within the edits their length allows, the
+/// first letter kept or swapped with the second ("chuk", "fial").
 fn close(a: &str, b: &str) -> bool {
     let n = a.len().max(b.len());
-    a.len().abs_diff(b.len()) <= allowance(n) && strsim::damerau_levenshtein(a, b) <= allowance(n)
+    let (mut x, mut y) = (a.bytes(), b.bytes());
+    let (a0, b0) = (x.next(), y.next());
+    let first = a0 == b0 || (a0 == b.bytes().nth(1) && b0 == a.bytes().nth(1));
+    first
+        && allowance(n) > 0
+        && a.len().abs_diff(b.len()) <= allowance(n)
+        && strsim::osa_distance(a, b) <= allowance(n)
 }
 
 /// How well a span of words names an entry: 1.0 as written, less for a
 /// typo, joined words, or a part of the name.
-fn score(span: &[&Word], e: &Entry) -> f32 {
+fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
     let weight = match e.source {
         Source::Name => 1.0,
+        Source::Id if e.shared => 0.75,
         Source::Id => 0.98,
         Source::Port => 0.85,
         Source::Field => 0.97,
@@ -401,12 +492,6 @@ fn score(span: &[&Word], e: &Entry) -> f32 {
     if span.len() == e.stems.len() && span.iter().zip(&e.stems).all(|(w, s)| same(w, s)) {
         return weight;
     }
-    // "LO" for "L0": a zero read as the letter.
-    let joined: String = span
-        .iter()
-        .map(|w| w.text.as_str())
-        .collect::<String>()
-        .replace('0', "o");
     if joined == e.joined {
         return 0.97 * weight;
     }
@@ -431,7 +516,7 @@ fn score(span: &[&Word], e: &Entry) -> f32 {
     if joined.len().abs_diff(e.joined.len()) <= allowance(n)
         && n >= 5
         && joined.get(..2) == e.joined.get(..2)
-        && strsim::damerau_levenshtein(&joined, &e.joined) <= allowance(n)
+        && strsim::osa_distance(joined, &e.joined) <= allowance(n)
     {
         return 0.86 * weight;
     }

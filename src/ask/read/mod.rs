@@ -566,9 +566,7 @@ fn corrected(w: &Word, tree_words: &rustc_hash::FxHashSet<String>) -> Word {
     let best = CUE_WORDS
         .iter()
         .filter(|c| c.len() >= 4 && c.len().abs_diff(t.len()) <= 1)
-        .find(|c| {
-            strsim::damerau_levenshtein(c, t) <= 1 && (t.len() >= 4 || c.starts_with(&t[..1]))
-        });
+        .find(|c| strsim::osa_distance(c, t) <= 1 && (t.len() >= 4 || c.starts_with(&t[..1])));
     match best {
         Some(c) => Word {
             text: c.to_string(),

@@ -207,12 +207,15 @@ pub fn split_name(s: &str) -> String {
 /// The words of a question.
 pub fn words(text: &str) -> Vec<Word> {
     let mut s = split_name(text.trim()).to_lowercase();
-    s = s.replace(['’', '‘', '`', '´'], "'");
-    for (from, to) in CONTRACTIONS {
-        s = s.replace(from, to);
+    if s.contains(['\'', '’', '‘', '`', '´']) {
+        s = s.replace(['’', '‘', '`', '´'], "'");
+        for (from, to) in CONTRACTIONS {
+            s = s.replace(from, to);
+        }
+        // "'s" of a possessive ("the robot's goal") goes; every other mark
+        // is a word's end.
+        s = s.replace("'s ", " ");
     }
-    // "'s" of a possessive ("the robot's goal") and every other mark go.
-    s = s.replace("'s ", " ");
     let mut out = Vec::new();
     for raw in s.split(|c: char| !(c.is_alphanumeric() || c == '#' || c == ':')) {
         let raw = raw.trim_matches(':');

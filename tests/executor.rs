@@ -14,6 +14,17 @@ fn run(body: &str, plan: &str, ticks: u32) -> (Vec<Vec<String>>, Vec<Status>) {
 
 /// `c` is a condition, every other unknown leaf an action.
 fn ticked(body: &str, plan: &str, ticks: u32, stop: bool) -> (Vec<Vec<String>>, Vec<Status>) {
+    ticked_as(body, plan, ticks, stop, Default::default())
+}
+
+/// As `ticked`, following a Nav2 release's nodes.
+fn ticked_as(
+    body: &str,
+    plan: &str,
+    ticks: u32,
+    stop: bool,
+    nav2: btx::model::nav2::Release,
+) -> (Vec<Vec<String>>, Vec<Status>) {
     let xml = format!("<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\">{body}</BehaviorTree><TreeNodesModel><Condition ID=\"c\"/></TreeNodesModel></root>");
     let tree = load_str(Path::new("t.xml"), &xml, &LoadOptions::default())
         .unwrap()
@@ -22,7 +33,7 @@ fn ticked(body: &str, plan: &str, ticks: u32, stop: bool) -> (Vec<Vec<String>>, 
     let mut ex = Executor::new(
         &tree,
         PlanLeaves::new(plan, &tree),
-        RunOptions { tick_ms: 10 },
+        RunOptions { tick_ms: 10, nav2 },
     );
     let (mut out, mut roots) = (Vec::new(), Vec::new());
     for _ in 0..ticks {
@@ -355,26 +366,19 @@ r = S",
         5,
     );
     assert_eq!(roots, [Status::Failure]);
-    // RoundRobin: a fails, b succeeds; next time it starts at b.
+    // RoundRobin (main, wrap_around="true"): a fails, b succeeds; the
+    // next time it starts after b, as every release of Nav2 does.
     let (t, roots) = ticked(
-        r#"<RoundRobin name="rr"><a name="a"/><b name="b"/></RoundRobin>"#,
-        "a = F\nb = S, F, S",
-        3,
+        r#"<RoundRobin name="rr" wrap_around="true"><a name="a"/><b name="b"/></RoundRobin>"#,
+        "a = F, S\nb = S",
+        2,
         false,
     );
-    assert_eq!(roots, [Status::Success, Status::Failure, Status::Success]);
+    assert_eq!(roots, [Status::Success, Status::Success]);
     assert_eq!(
         t[1],
-        s(&[
-            "rr:RUNNING",
-            "b:FAILURE",
-            "a:FAILURE",
-            "a:IDLE",
-            "b:IDLE",
-            "rr:FAILURE",
-            "rr:IDLE"
-        ]),
-        "it starts where it succeeded"
+        s(&["rr:RUNNING", "a:SUCCESS", "a:IDLE", "rr:SUCCESS", "rr:IDLE"]),
+        "it starts after the child that succeeded"
     );
 }
 
@@ -578,4 +582,80 @@ fn scripts_join_strings_assign_declared_entries_and_read_enums() {
     let plan = Plan::parse(Path::new("t.plan"), "").unwrap();
     let mut ex = Executor::new(&tree, PlanLeaves::new(plan, &tree), RunOptions::default());
     assert_eq!(ex.tick_once().unwrap(), Status::Success);
+}
+
+/// Nav2's own unit tests of RoundRobin (nav2_behavior_tree/test/plugins/
+/// control/test_round_robin_node.cpp, main at a3a9704, whose fixture sets
+/// wrap_around="true"), each child's statuses made a plan, in every
+/// release where the source is the same, and where they differ as each
+/// release's source runs them.
+#[test]
+fn round_robin_runs_nav2s_own_tests_in_each_release() {
+    use btx::model::nav2::Release;
+    let wrapping = r#"<RoundRobin name="rr" wrap_around="true"><x name="x"/><y name="y"/><z name="z"/></RoundRobin>"#;
+    let plain = r#"<RoundRobin name="rr"><x name="x"/><y name="y"/><z name="z"/></RoundRobin>"#;
+    for release in [Release::Humble, Release::Jazzy, Release::Main] {
+        // test_failure: every child fails in turn.
+        let (t, roots) = ticked_as(wrapping, "x = F\ny = 1RF\nz = 1RF", 3, true, release);
+        assert_eq!(
+            roots,
+            [Status::Running, Status::Running, Status::Failure],
+            "{release:?}"
+        );
+        assert!(
+            t[2].ends_with(&s(&["rr:FAILURE", "rr:IDLE"])),
+            "{release:?} {:?}",
+            t[2]
+        );
+        // test_behavior: after a success the next tick starts at the next
+        // child (z), and wraps around to x.
+        let (_, roots) = ticked_as(
+            wrapping,
+            "x = 1RF, 1RF\ny = 1RS, S\nz = 1RF",
+            6,
+            false,
+            release,
+        );
+        assert_eq!(
+            roots,
+            [
+                Status::Running,
+                Status::Running,
+                Status::Success,
+                Status::Running,
+                Status::Running,
+                Status::Success
+            ],
+            "{release:?}"
+        );
+    }
+    // test_wrap_around_disabled (main's default): all fail, FAILURE at once.
+    let (_, roots) = ticked_as(plain, "x = F\ny = F\nz = F", 1, true, Release::Main);
+    assert_eq!(roots, [Status::Failure]);
+    // Where the releases differ: x fails, y fails, z succeeds. Humble and
+    // Jazzy succeed; main without wrap_around ends at the last child with
+    // FAILURE whatever it returned (its source breaks out of the loop
+    // before it looks at the status).
+    for (release, want) in [
+        (Release::Humble, Status::Success),
+        (Release::Jazzy, Status::Success),
+        (Release::Main, Status::Failure),
+    ] {
+        let (_, roots) = ticked_as(plain, "x = F\ny = F\nz = S", 1, true, release);
+        assert_eq!(roots, [want], "{release:?}");
+    }
+    // Without wrap_around (main), a run of successes walks the children
+    // once: x, then y, then z ends the node.
+    let (_, roots) = ticked_as(plain, "x = S\ny = S\nz = S", 3, false, Release::Main);
+    assert_eq!(roots, [Status::Success, Status::Success, Status::Failure]);
+    let (_, roots) = ticked_as(plain, "x = S\ny = S\nz = S", 4, false, Release::Humble);
+    assert_eq!(
+        roots,
+        [
+            Status::Success,
+            Status::Success,
+            Status::Success,
+            Status::Success
+        ]
+    );
 }

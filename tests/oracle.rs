@@ -137,6 +137,7 @@ fn btx_run(case: &Case) -> Run {
     };
     let options = RunOptions {
         tick_ms: if case.tick_ms > 0 { case.tick_ms } else { 10 },
+        ..RunOptions::default()
     };
     match simulate(&tree, source, None, case.max_ticks, options, leaves) {
         Ok(s) => Run {

@@ -158,6 +158,7 @@ impl TickFacts {
             replay,
             RunOptions {
                 tick_ms: session.header.tick_ms.max(1),
+                nav2: session.header.nav2.unwrap_or_default(),
             },
         );
         let mut feed = Feed::default();

@@ -85,6 +85,7 @@ fn new_executor(session: &Session) -> Result<Executor<'_, SourceLeaves>, String>
         leaves,
         RunOptions {
             tick_ms: session.header.tick_ms.max(1),
+            nav2: session.header.nav2.unwrap_or_default(),
         },
     ))
 }

@@ -27,12 +27,20 @@ pub struct Args {
     /// Simulated milliseconds between ticks (Timeout, Delay, Sleep).
     #[arg(long, value_name = "MS", default_value_t = 10)]
     pub tick_ms: u64,
+    /// The Nav2 release whose control and decorator nodes to follow where their sources differ (RoundRobin): humble, jazzy or main.
+    #[arg(long, value_name = "RELEASE", default_value = "main", value_parser = parse_release)]
+    pub nav2: btx::model::nav2::Release,
     /// Ask "Can you X?" at the end of tick MOMENT; a yes inserts the subgoal and the run goes on with it.
     #[arg(long, num_args = 2, value_names = ["MOMENT", "QUESTION"])]
     pub ask_at: Option<Vec<String>>,
     /// The session file to write (never overwritten): JSON lines, or Parquet if it ends in .parquet.
     #[arg(long, value_name = "SESSION")]
     pub out: PathBuf,
+}
+
+fn parse_release(s: &str) -> Result<btx::model::nav2::Release, String> {
+    btx::model::nav2::Release::parse(s)
+        .ok_or_else(|| format!("\"{s}\" is not a Nav2 release btx knows: humble, jazzy or main"))
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
@@ -46,6 +54,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         seed,
         max_ticks,
         tick_ms,
+        nav2,
         ask_at,
         out,
     } = args;
@@ -81,7 +90,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         source,
         seed: Some(seed),
         max_ticks,
-        options: RunOptions { tick_ms },
+        options: RunOptions { tick_ms, nav2 },
         ask: ask.clone(),
         out: &out,
     };

@@ -638,6 +638,7 @@ pub(crate) fn import_header(
         },
         seed: None,
         tick_ms: 0,
+        nav2: None,
         blackboard,
         before: Vec::new(),
     }

@@ -45,6 +45,36 @@ impl Base {
     }
 }
 
+/// The Nav2 release whose control and decorator nodes a run follows where
+/// their sources differ (`RoundRobin`); `--nav2` picks it, main by default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Release {
+    Humble,
+    Jazzy,
+    #[default]
+    Main,
+}
+
+impl Release {
+    pub fn parse(s: &str) -> Option<Release> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "humble" => Some(Release::Humble),
+            "jazzy" => Some(Release::Jazzy),
+            "main" | "rolling" | "kilted" => Some(Release::Main),
+            _ => None,
+        }
+    }
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Release::Humble => "humble",
+            Release::Jazzy => "jazzy",
+            Release::Main => "main",
+        }
+    }
+}
+
 /// Releases, as bits.
 pub const HUMBLE: u8 = 1;
 pub const JAZZY: u8 = 2;

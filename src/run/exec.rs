@@ -267,11 +267,16 @@ pub struct Flow {
 pub struct RunOptions {
     /// Simulated time between ticks, for Timeout, Delay and Sleep.
     pub tick_ms: u64,
+    /// The Nav2 release whose nodes the run follows where they differ.
+    pub nav2: crate::model::nav2::Release,
 }
 
 impl Default for RunOptions {
     fn default() -> Self {
-        RunOptions { tick_ms: 10 }
+        RunOptions {
+            tick_ms: 10,
+            nav2: Default::default(),
+        }
     }
 }
 

@@ -47,6 +47,9 @@ pub struct Header {
     pub source: Source,
     pub seed: Option<u64>,
     pub tick_ms: u64,
+    /// The Nav2 release the run followed, where it is not main.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub nav2: Option<crate::model::nav2::Release>,
     /// Blackboard entries before the first tick.
     #[serde(default)]
     pub blackboard: Vec<(EntryId, Value)>,

@@ -63,6 +63,8 @@ pub fn header(req: &RunRequest, xml: bool) -> Header {
         source: req.source.clone(),
         seed: req.seed,
         tick_ms: req.options.tick_ms,
+        // Written where it is not main's, so that a re-run follows it.
+        nav2: (req.options.nav2 != Default::default()).then_some(req.options.nav2),
         blackboard: Vec::new(),
         before: Vec::new(),
     }

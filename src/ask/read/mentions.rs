@@ -57,6 +57,9 @@ pub struct Mention {
     pub phrase: String,
 }
 
+/// Whether a node ID is of a kind a kind word names.
+type IsKind = fn(&str) -> bool;
+
 /// Words any sentence has: never half a name on their own.
 const PLAIN: &[&str] = &[
     "with", "to", "at", "of", "in", "on", "for", "and", "or", "is", "it", "be", "do", "did",
@@ -135,7 +138,6 @@ impl Vocabulary {
                 }
             }
         }
-        drop(push);
         if nav2_words::applies(tree.nodes.iter().map(|n| n.id.as_str())) {
             for ((stems, joined), (_, target)) in field_words().iter().zip(nav2_words::WORDS) {
                 for u in targets(tree, &order, *target) {
@@ -218,7 +220,7 @@ impl Vocabulary {
                     }
                 }
                 // Half a name that only one node has is as good as its name.
-                if (0.6..0.85).contains(&best) && uids.len() == 1 && span.len() >= 1 {
+                if (0.6..0.85).contains(&best) && uids.len() == 1 && !span.is_empty() {
                     let chars: usize = span.iter().map(|w| w.text.len()).sum();
                     if chars >= 4 {
                         best = 0.85;
@@ -292,7 +294,7 @@ impl Vocabulary {
                 continue;
             }
             let two = q.get(k + 1).map(|w| w.text.as_str());
-            let (len, is): (usize, Option<fn(&str) -> bool>) = match (q[k].text.as_str(), two) {
+            let (len, is): (usize, Option<IsKind>) = match (q[k].text.as_str(), two) {
                 ("recovery", Some("node")) => (2, Some(|id| id == "RecoveryNode")),
                 ("retry", Some("node")) | ("retry", Some("decorator")) => {
                     (2, Some(|id| id.starts_with("Retry")))
@@ -471,7 +473,8 @@ fn close(a: &str, b: &str) -> bool {
     let n = a.len().max(b.len());
     let (mut x, mut y) = (a.bytes(), b.bytes());
     let (a0, b0) = (x.next(), y.next());
-    let first = a0 == b0 || (a0 == b.bytes().nth(1) && b0 == a.bytes().nth(1));
+    let first =
+        a0 == b0 || (a0 == b.as_bytes().get(1).copied() && b0 == a.as_bytes().get(1).copied());
     first
         && allowance(n) > 0
         && a.len().abs_diff(b.len()) <= allowance(n)

@@ -828,7 +828,7 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         && (yes_no || s.has("manage") || s.has("managed") || first.starts_with("recover"))
         && (recovery_word || fixed_it || on_track || retry_word && named.iter().all(|m| generic(m)))
         && !matches!(ev, Some(Event::Halted | Event::Skipped | Event::NotRun))
-        && !(ev == Some(Event::Fail) && !recovery_word)
+        && (ev != Some(Event::Fail) || recovery_word)
     {
         out.push((Intent::Recovered, sure_of_words(0.93)));
         return out;

@@ -111,8 +111,12 @@ pub fn find(q: &[Word]) -> Option<(When, Vec<usize>)> {
             }
         }
         // "at the end (of the run)", "at the start".
-        if (w == "end" || w == "start" || w == "beginning") && i >= 2 && t(i - 1) == "the" {
-            if ["at", "by", "near", "towards", "toward"].contains(&t(i - 2)) {
+        if (w == "end" || w == "start" || w == "beginning")
+            && i >= 2
+            && t(i - 1) == "the"
+            && ["at", "by", "near", "towards", "toward"].contains(&t(i - 2))
+        {
+            {
                 let mut used = vec![i - 2, i - 1, i];
                 if t(i + 1) == "of" && ["run", "mission", "log", "task"].contains(&t(i + 3)) {
                     used.extend([i + 1, i + 2, i + 3]);

@@ -144,28 +144,57 @@ impl<L: Leaves> Executor<'_, L> {
         Ok(Status::Failure)
     }
 
-    /// Nav2's `RoundRobin` (plugins/control/round_robin_node.cpp at
-    /// 00639cf1): from the child where it stopped, the first to succeed
-    /// succeeds it (the next tick starts from that child again); a failure
-    /// moves on, wrapping around, until every child has failed once.
+    /// Nav2's `RoundRobin` (plugins/control/round_robin_node.cpp), as the
+    /// release of the run has it. In every release a child that completes
+    /// moves the index on, so the next tick starts at the child after the
+    /// one that succeeded; the first success succeeds the node; a failure
+    /// moves on until every child has failed once. Humble wraps around past
+    /// the last child; Jazzy too, and counts SKIPPED children (all skipped:
+    /// SKIPPED); main wraps only with `wrap_around="true"` (default false):
+    /// otherwise the last child's completion, whatever it is, ends the node
+    /// with FAILURE (or SKIPPED when every child was skipped).
     pub(super) fn tick_round_robin(&mut self, uid: Uid) -> R<Status> {
+        use crate::model::nav2::Release;
         let tree = self.tree;
         let kids = tree.node(uid).children.clone();
+        let n = kids.len();
+        let release = self.opts.nav2;
+        let wrap = match release {
+            Release::Humble | Release::Jazzy => true,
+            Release::Main => self
+                .port_str(uid, "wrap_around")
+                .is_some_and(|w| w.trim().eq_ignore_ascii_case("true")),
+        };
         self.set_status(uid, Status::Running);
-        while self.rt(uid).failures < kids.len() {
+        let mut skipped = 0;
+        while self.rt(uid).failures + skipped < n {
             let c = kids[self.rt(uid).idx];
             self.check_progress(uid, c)?;
-            match self.exec(c)? {
+            let s = self.exec(c)?;
+            if !matches!(s, Status::Running | Status::Idle) {
+                let r = self.rt(uid);
+                r.idx += 1;
+                if r.idx == n {
+                    if wrap {
+                        r.idx = 0;
+                    } else {
+                        match s {
+                            Status::Skipped => skipped += 1,
+                            Status::Failure => r.failures += 1,
+                            _ => {}
+                        }
+                        break;
+                    }
+                }
+            }
+            match s {
                 Status::Success => {
                     self.rt(uid).failures = 0;
                     self.reset_children(uid);
                     return Ok(Status::Success);
                 }
-                Status::Failure => {
-                    let r = self.rt(uid);
-                    r.idx = (r.idx + 1) % kids.len();
-                    r.failures += 1;
-                }
+                Status::Failure => self.rt(uid).failures += 1,
+                Status::Skipped if release != Release::Humble => skipped += 1,
                 Status::Running => return Ok(Status::Running),
                 s => {
                     return Err(self.err(
@@ -179,7 +208,11 @@ impl<L: Leaves> Executor<'_, L> {
         let r = self.rt(uid);
         r.idx = 0;
         r.failures = 0;
-        Ok(Status::Failure)
+        Ok(if skipped == n {
+            Status::Skipped
+        } else {
+            Status::Failure
+        })
     }
 
     /// Nav2's `RateController` (plugins/decorator/rate_controller.cpp):

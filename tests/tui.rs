@@ -809,7 +809,7 @@ fn a_question_typed_in_words_is_answered_as_btx_ask_answers_it() {
     assert_eq!(out.trim_end(), r.text().trim_end());
     assert!(
         r.text()
-            .contains("what look at chuck returns is given by the run"),
+            .contains("Why it failed is not in the run: the plan scripted it"),
         "{}",
         r.text()
     );

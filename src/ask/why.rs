@@ -57,6 +57,15 @@ pub fn answer(
                 r.answer = halted_by(cx, u, p);
                 return Ok(());
             }
+            // A leaf decides its own outcome: what the run shows of it comes
+            // first; the search only where a domain says what it depends on.
+            if cx.tree.node(u).kind.is_leaf() && matches!(e, Event::Fail | Event::Succeed) {
+                r.answer = leaf_outcome(cx, at, u, p);
+                let domain = cx.session.is_some_and(|s| s.header.source.kind == "domain");
+                if !domain {
+                    return Ok(());
+                }
+            }
             if ev.len() > 1 {
                 r.history = Some(format!(
                     "{} {} {} by then: at {}.",
@@ -90,6 +99,127 @@ pub fn answer(
         .into_iter()
         .collect();
     search(cx, &target, &not, moment, r)
+}
+
+/// What the run shows of a leaf's completion at position `p`: that it
+/// returned the status itself, when it started and how long it ran, how
+/// often it had ended so before, and what handled a failure, and whether
+/// that worked; where its outcome came from, and that the run does not
+/// say why.
+fn leaf_outcome(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> String {
+    let idx = at.index;
+    let t = idx.transitions[p as usize - 1];
+    let name = upper(&cx_name(cx, u));
+    let m = step_moment(idx, p);
+    let what = cx.tree.node(u).kind.as_str().to_lowercase();
+    let mut out = Vec::new();
+    // Its start: the last time it left IDLE before this completion.
+    let start = idx
+        .changes_of(u)
+        .iter()
+        .copied()
+        .take_while(|&q| q < p)
+        .filter(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)
+        .last();
+    let ran = match start {
+        Some(q) if q != p && idx.transitions[q as usize - 1].status == Status::Running => {
+            let (a, b) = (idx.transitions[q as usize - 1].tick, t.tick);
+            let ticks = b - a + 1;
+            format!(
+                ", after running from {} ({ticks} tick{})",
+                step_moment(idx, q),
+                if ticks == 1 { "" } else { "s" }
+            )
+        }
+        _ => " in the call that started it".to_string(),
+    };
+    out.push(format!(
+        "{name} returned {} itself at {m}{ran}: it is {} {what}, so nothing in the tree decided it.",
+        t.status.as_str(),
+        if what.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" }
+    ));
+    let before: Vec<u32> = idx
+        .changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&q| q < p && idx.transitions[q as usize - 1].status == t.status)
+        .collect();
+    out.push(match before.len() {
+        0 => format!("It had not {} before.", past_of(t.status)),
+        n => format!(
+            "It had {} {} before, at {}.",
+            past_of(t.status),
+            times(n),
+            super::compose::moments(idx, &before)
+        ),
+    });
+    if t.status == Status::Failure {
+        let handlers: Vec<Uid> = cx
+            .tree
+            .ancestors(u)
+            .filter(|&a| crate::explain::failure::handles_failure(cx.tree, a))
+            .collect();
+        // Up each handler above it, as "did the recovery work?" goes.
+        let mut said = Vec::new();
+        for h in handlers {
+            let end = idx
+                .changes_of(h)
+                .iter()
+                .copied()
+                .filter(|&q| q > p && q <= at.pos)
+                .map(|q| (q, idx.transitions[q as usize - 1].status))
+                .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
+            let hn = cx_name(cx, h);
+            match end {
+                Some((q, Status::Success)) => {
+                    said.push(format!(
+                        "{hn} handled it and succeeded at {}",
+                        step_moment(idx, q)
+                    ));
+                    break;
+                }
+                Some((q, _)) => said.push(format!("{hn} failed too, at {}", step_moment(idx, q))),
+                None => {
+                    said.push(format!("{hn} handles it, and had not finished {}", by(cx)));
+                    break;
+                }
+            }
+        }
+        out.push(if said.is_empty() {
+            "No fallback, retry or recovery is above it: its failure went up the tree.".into()
+        } else {
+            format!("{}.", upper(&said.join("; ")))
+        });
+    }
+    let source = cx
+        .session
+        .map(|s| s.header.source.kind.as_str())
+        .unwrap_or("");
+    out.push(match source {
+        "domain" => String::new(),
+        "plan" => format!(
+            "Why it {} is not in the run: the plan scripted it; give a domain file (--domain FILE) to say what it depends on.",
+            past_of(t.status)
+        ),
+        "world" => format!(
+            "Why it {} is not in the run: the world's scenario decided it.",
+            past_of(t.status)
+        ),
+        _ => format!(
+            "Why it {} is not in the run: the robot's log records the outcome, not its reason (the node's own logs or its outputs may say).",
+            past_of(t.status)
+        ),
+    });
+    out.retain(|l| !l.is_empty());
+    out.join(" ")
+}
+
+fn past_of(s: Status) -> &'static str {
+    match s {
+        Status::Failure => "failed",
+        Status::Success => "succeeded",
+        _ => "ended so",
+    }
 }
 
 /// "Why did X not run?" in the tick of the moment: the target and moment
@@ -207,6 +337,8 @@ fn search(
     at: Moment,
     r: &mut Reply,
 ) -> Result<(), String> {
+    // What the run shows, set before (a leaf's outcome), stays first.
+    let facts = std::mem::take(&mut r.answer);
     let s = cx.session.ok_or_else(|| {
         "a why needs a recorded run; a live robot's statuses cannot be re-run".to_string()
     })?;
@@ -236,6 +368,10 @@ fn search(
     // not the call asked about (a node ticked again in the same tick), its
     // answer is to another question, and is not passed off as this one's.
     if !says(asked, r.short_event) {
+        if !facts.is_empty() {
+            r.answer = facts;
+            return Ok(());
+        }
         r.answer = format!(
             "btx cannot answer this as asked: its causal model of tick {} holds the node otherwise (it would answer another question: \"{}\"), as where a node is called again within a tick under a Nav2 RecoveryNode. The transitions are in btx log.",
             at.tick,
@@ -248,6 +384,9 @@ fn search(
         widened.clear();
     }
     r.answer = format!("{widened}{}", body.trim_end());
+    if !facts.is_empty() {
+        r.answer = format!("{facts}\n{}", r.answer);
+    }
     Ok(())
 }
 

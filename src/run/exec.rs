@@ -260,6 +260,9 @@ pub struct Flow {
     pub skipped: usize,
     pub count: i64,
     pub started: bool,
+    /// A Nav2 RoundRobin that wraps around past its last child (the
+    /// run's release and its `wrap_around` port decide).
+    pub wraps: bool,
 }
 
 /// Options of a run.
@@ -459,6 +462,19 @@ impl<'t, L: Leaves> Executor<'t, L> {
             skipped: r.skipped,
             count: r.count,
             started: r.started,
+            wraps: self.round_robin_wraps(uid),
+        }
+    }
+
+    /// Whether a Nav2 RoundRobin wraps around past its last child: always
+    /// in Humble and Jazzy, in main only with `wrap_around="true"`.
+    pub(crate) fn round_robin_wraps(&self, uid: Uid) -> bool {
+        use crate::model::nav2::Release;
+        match self.opts.nav2 {
+            Release::Humble | Release::Jazzy => true,
+            Release::Main => self
+                .port_str(uid, "wrap_around")
+                .is_some_and(|w| w.trim().eq_ignore_ascii_case("true")),
         }
     }
 
@@ -670,7 +686,9 @@ impl<'t, L: Leaves> Executor<'t, L> {
         let n = self.tree.node(uid);
         self.seq += 1;
         let seq = self.seq;
+        let wraps = n.builtin == Some(Builtin::RoundRobin) && self.round_robin_wraps(uid);
         let r = self.rt(uid);
+        r.entry.wraps = wraps;
         r.entry_seq = seq;
         r.entry_status = r.status;
         r.entry.idx = r.idx;

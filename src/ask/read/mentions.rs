@@ -64,6 +64,7 @@ type IsKind = fn(&str) -> bool;
 const PLAIN: &[&str] = &[
     "with", "to", "at", "of", "in", "on", "for", "and", "or", "is", "it", "be", "do", "did",
     "does", "what", "why", "how", "when", "which", "not", "no", "if", "then", "this", "that",
+    "was", "were", "are", "has", "have", "had", "can", "could", "will", "would", "a", "the",
     "from", "by", "up", "out", "all", "any", "node", "nodes", "tree", "robot", "time", "times",
     "entire", "whole", "first", "last", "after", "before", "again", "so", "while", "task",
     "mission", "goal", "job", "you", "me",
@@ -86,7 +87,7 @@ fn kind_word(w: &str) -> Option<fn(&crate::model::Node) -> bool> {
         "decorator" => |n| n.kind == Kind::Decorator,
         "control" => |n| n.kind == Kind::Control,
         "recovery" => |n| n.id.contains("Recovery"),
-        "node" | "step" | "task" => |_| true,
+        "node" | "step" => |_| true,
         _ => return None,
     })
 }
@@ -198,6 +199,14 @@ impl Vocabulary {
                     continue;
                 }
                 let span: Vec<&Word> = q[i..j].iter().filter(|w| !is_article(&w.text)).collect();
+                // Words any sentence has ("did", "with") never name a node
+                // on their own, whatever an ID says (`Do`).
+                if span
+                    .iter()
+                    .all(|w| PLAIN.contains(&w.text.as_str()) || PLAIN.contains(&w.stem.as_str()))
+                {
+                    continue;
+                }
                 // "LO" for "L0": a zero read as the letter.
                 let joined: String = span
                     .iter()

@@ -263,10 +263,16 @@ impl Model {
                         _ => false,
                     })
             }
-            Flow::RoundRobin { start, failed } => {
+            Flow::RoundRobin {
+                start,
+                failed,
+                wraps,
+            } => {
                 let n = kids.len();
                 let pos = (k + n - start) % n;
-                ep && pos < n - failed && (0..pos).all(|j| left((start + j) % n) == Status::Failure)
+                ep && pos < n - failed
+                    && (wraps || k >= start)
+                    && (0..pos).all(|j| left((start + j) % n) == Status::Failure)
             }
             Flow::Recovery {
                 start,
@@ -471,11 +477,23 @@ impl Model {
                 }
                 Status::Success
             }
-            Flow::RoundRobin { start, failed } => {
+            Flow::RoundRobin {
+                start,
+                failed,
+                wraps,
+            } => {
                 let n = kids.len();
-                for j in 0..n - failed {
-                    match r((start + j) % n) {
+                let turn = if wraps {
+                    n - failed
+                } else {
+                    (n - start).min(n - failed)
+                };
+                for j in 0..turn {
+                    let k = (start + j) % n;
+                    match r(k) {
                         Status::Failure => {}
+                        // The last child ends a RoundRobin that does not wrap.
+                        Status::Success if !wraps && k + 1 == n => return Status::Failure,
                         s => return s,
                     }
                 }

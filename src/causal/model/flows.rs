@@ -166,6 +166,7 @@ pub(super) fn flow_of(tree: &Tree, uid: Uid, f: &crate::run::Flow) -> Flow {
         Some(Builtin::RoundRobin) if f.idx < n.children.len() => Flow::RoundRobin {
             start: f.idx,
             failed: f.failures.min(n.children.len()),
+            wraps: f.wraps,
         },
         _ => Flow::Gated,
     }

@@ -131,11 +131,14 @@ enum Flow {
     Pipeline {
         last: usize,
     },
-    /// Nav2's RoundRobin: from child `start`, each in turn (wrapping round)
-    /// until one does not fail, `failed` of them having failed before.
+    /// Nav2's RoundRobin: from child `start`, each in turn (wrapping round
+    /// where it `wraps`) until one does not fail, `failed` of them having
+    /// failed before. One that does not wrap ends at its last child, with
+    /// FAILURE whatever that child returned (main's source).
     RoundRobin {
         start: usize,
         failed: usize,
+        wraps: bool,
     },
     /// Nav2's RecoveryNode in a tick where it ticks each child at most
     /// once: from child `start`, the recovery after a failure while fewer
@@ -658,7 +661,8 @@ mod tests {
             m.flows[0],
             Flow::RoundRobin {
                 start: 1,
-                failed: 1
+                failed: 1,
+                wraps: false
             }
         );
         assert!(!executed(&m, &[], 2) && executed(&m, &[], 3));

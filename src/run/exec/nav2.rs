@@ -159,12 +159,7 @@ impl<L: Leaves> Executor<'_, L> {
         let kids = tree.node(uid).children.clone();
         let n = kids.len();
         let release = self.opts.nav2;
-        let wrap = match release {
-            Release::Humble | Release::Jazzy => true,
-            Release::Main => self
-                .port_str(uid, "wrap_around")
-                .is_some_and(|w| w.trim().eq_ignore_ascii_case("true")),
-        };
+        let wrap = self.round_robin_wraps(uid);
         self.set_status(uid, Status::Running);
         let mut skipped = 0;
         while self.rt(uid).failures + skipped < n {

@@ -456,3 +456,24 @@ fn a_leafs_failure_is_answered_with_what_the_run_shows() {
         assert!(checked > 0, "{file}");
     }
 }
+
+/// A node halted inside its own call (Nav2's RecoveryNode: RUNNING → IDLE
+/// → FAILURE in one tick) did not start again: "how often" counts the
+/// starts the log shows, IDLE → RUNNING, for the FollowPath RecoveryNode
+/// (#39 item 6: it said "it started 4 times").
+#[test]
+fn a_halt_inside_a_call_is_not_a_start() {
+    let run = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let (ok, out, err) = btx(&["ask", run, "how often did #9 fail?"]);
+    assert!(ok, "{err}");
+    let (_, log, _) = btx(&["log", run, "--node", "#9"]);
+    let starts = log
+        .lines()
+        .filter(|l| l.contains("IDLE     -> RUNNING"))
+        .count();
+    assert_eq!(starts, 2, "{log}");
+    assert!(
+        out.contains("failed once") && out.contains("it started twice"),
+        "{out}"
+    );
+}

@@ -291,16 +291,31 @@ pub(super) fn is_event(prev: Status, status: Status, e: Event) -> bool {
 }
 
 /// Positions, up to the moment, after each occurrence of `e` at `uid`.
+/// A node halted within its own call (Nav2's `halt()` resets it to IDLE
+/// before it returns FAILURE) does not start again when it completes:
+/// RUNNING → IDLE → FAILURE in one tick is one call.
 pub(super) fn events(at: &At, uid: Uid, e: Event) -> Vec<u32> {
-    at.index
-        .changes_of(uid)
+    let changes = at.index.changes_of(uid);
+    changes
         .iter()
-        .copied()
-        .filter(|&p| p <= at.pos)
-        .filter(|&p| {
+        .enumerate()
+        .filter(|&(_, &p)| p <= at.pos)
+        .filter(|&(i, &p)| {
             let t = at.index.transitions[p as usize - 1];
-            is_event(t.prev, t.status, e)
+            if !is_event(t.prev, t.status, e) {
+                return false;
+            }
+            let halted_in_call = e == Event::Run
+                && t.prev == Status::Idle
+                && matches!(t.status, Status::Success | Status::Failure)
+                && i > 0
+                && {
+                    let b = at.index.transitions[changes[i - 1] as usize - 1];
+                    b.tick == t.tick && b.prev == Status::Running && b.status == Status::Idle
+                };
+            !halted_in_call
         })
+        .map(|(_, &p)| p)
         .collect()
 }
 

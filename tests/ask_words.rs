@@ -221,7 +221,7 @@ fn the_tense_picks_the_moment_and_the_answer_restates_the_question() {
     let (ok, out, _) = btx(&["ask", run, "why did insert large gear fail"]);
     assert!(ok);
     assert!(
-        out.starts_with("Why did insert large gear (#13) fail at 11:6?\nNo change of up to 2 things would have made it SUCCESS; what would have changed it:\n1. Insert large gear (#13, attempt 1) failed because reset arm (#26, attempt 1) failed."),
+        out.starts_with("Why did insert large gear (#13) fail at 11:6?\nInsert large gear (#13) failed at 11:6 because insert large gear (#14) failed at 10:6, because look at chuck (#18) returned FAILURE at 10:1.\nNo change of up to 2 things would have made it SUCCESS; what would have changed it:\n1. Insert large gear (#13, attempt 1) failed because reset arm (#26, attempt 1) failed."),
         "{out}"
     );
 }
@@ -270,7 +270,7 @@ fn three_levels_of_detail() {
     let (_, brief, _) = btx(&["ask", run, "--detail", "brief", q]);
     assert_eq!(
         brief,
-        "Why did insert large gear (#13) fail at 11:6?\nInsert large gear (#13, attempt 1) failed because reset arm (#26, attempt 1) failed.\n"
+        "Why did insert large gear (#13) fail at 11:6?\nInsert large gear (#13) failed at 11:6 because insert large gear (#14) failed at 10:6, because look at chuck (#18) returned FAILURE at 10:1.\n"
     );
     let (_, normal, _) = btx(&["ask", run, q]);
     assert!(

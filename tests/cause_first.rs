@@ -59,6 +59,7 @@ fn when_one_leaf_fails_the_task_the_first_explanation_names_it() {
     let mut rng = Rng::new(32);
     let dir = tempfile::tempdir().unwrap();
     let (mut asked, mut named, mut missed) = (0, 0, Vec::new());
+    let (mut chained, mut unchained) = (0, Vec::new());
     for case in 0..400 {
         let mut leaves = Vec::new();
         let body = format!(
@@ -83,12 +84,31 @@ fn when_one_leaf_fails_the_task_the_first_explanation_names_it() {
         } else {
             missed.push(format!("{leaf} in {xml}\n{out}{err}"));
         }
+        // The answer's first sentence follows the failure down to the
+        // leaf (#39 item 3): "… because step 4 (#9) returned FAILURE at …".
+        let chain = out.lines().nth(1).unwrap_or("");
+        if chain.contains(&format!("because {leaf} (#")) && chain.contains("returned FAILURE at") {
+            chained += 1;
+        } else {
+            unchained.push(format!("{leaf} in {xml}\n{out}{err}"));
+        }
     }
     eprintln!("the failing leaf named first in {named} of {asked} runs");
     for m in &missed {
         eprintln!("missed: {m}");
     }
     assert!(asked >= 100, "only {asked} runs failed through one leaf");
+    eprintln!("the failing leaf first in the answer's chain in {chained} of {asked} runs");
+    assert!(
+        chained * 100 >= asked * 95,
+        "chained to the leaf in {chained} of {asked}:\n{}",
+        unchained
+            .iter()
+            .take(5)
+            .cloned()
+            .collect::<Vec<_>>()
+            .join("\n\n")
+    );
     assert!(
         named * 100 >= asked * 95,
         "named first in {named} of {asked}:\n{}",

@@ -146,15 +146,12 @@ fn root_cause(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> Option<S
             }
             _ => {}
         }
-        let last_of = |c: Uid| {
-            idx.changes_of(c)
-                .iter()
-                .copied()
-                .filter(|&q| {
+        let last_of =
+            |c: Uid| {
+                idx.changes_of(c).iter().copied().rev().find(|&q| {
                     q > since && q < pos && idx.transitions[q as usize - 1].status == wanted
                 })
-                .last()
-        };
+            };
         let kids = &tree.node(cur).children;
         let primary_first =
             wanted == Status::Failure && crate::explain::failure::handles_failure(tree, cur);

@@ -477,3 +477,16 @@ fn a_halt_inside_a_call_is_not_a_start() {
         "{out}"
     );
 }
+
+/// A question btx cannot read is answered with suggestions about the node
+/// it named, not the selected one (#38: a why about "chuk" suggested
+/// questions about retreat arm).
+#[test]
+fn suggestions_are_about_the_node_the_question_named() {
+    let run = "sessions/kitting-lookat-fails-once.jsonl";
+    let (ok, out, _) = btx(&["ask", run, "--at", "12", "chuk blorp zzz"]);
+    assert!(!ok);
+    assert!(out.starts_with("I don't know how to answer that."), "{out}");
+    assert!(out.contains("chuck"), "{out}");
+    assert!(!out.contains("retreat arm"), "{out}");
+}

@@ -340,8 +340,16 @@ fn at_detail(cx: &Context, r: &mut Reply) {
 /// was typed, with this run's names in them.
 fn suggestions(cx: &Context, question: &str) -> Vec<String> {
     let tree = cx.tree;
-    let node = cx
-        .node
+    // About the node the question named, if it named one ("chuk"), else
+    // the selected or current one.
+    let words = read::words::words(question);
+    let named = read::Vocabulary::new(tree)
+        .mentions(tree, &words, &|_| false)
+        .into_iter()
+        .find(|m| !m.uids.is_empty())
+        .map(|m| m.uids[0]);
+    let node = named
+        .or(cx.node)
         .or_else(|| cx.at.as_ref().and_then(|a| a.current()))
         .unwrap_or(tree.root().uid);
     let x = tree.spoken(node);
@@ -361,6 +369,14 @@ fn suggestions(cx: &Context, question: &str) -> Vec<String> {
     if let Some(a) = &cx.at {
         items.push(format!("What happened at tick {}?", a.moment().tick));
     }
+    // A node named: the questions about it, best first.
+    if named.is_some() {
+        items.retain(|q| q.contains(&x));
+    }
     let keyed: Vec<(String, String)> = items.iter().map(|s| (s.clone(), s.clone())).collect();
-    crate::rank::rank(question, &keyed, 3)
+    let mut out = crate::rank::rank(question, &keyed, 3);
+    if out.is_empty() {
+        out = items.into_iter().take(3).collect();
+    }
+    out
 }

@@ -886,10 +886,37 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         }
     }
     if why {
+        // "Why didn't it X after Y failed": a why about X; the clause after
+        // "after", "when" or "once" only says when.
+        if named.len() >= 2 {
+            let marker = s.q[named[0].end..named[1].start]
+                .iter()
+                .position(|w| {
+                    ["after", "when", "once", "while", "since", "because"]
+                        .contains(&w.text.as_str())
+                })
+                .map(|i| i + named[0].end);
+            if let Some(cut) = marker {
+                let mut main = Sentence {
+                    q: s.q,
+                    tree_words: s.tree_words,
+                    used: s.used.clone(),
+                    nodes: s.nodes.iter().filter(|m| m.end <= cut).cloned().collect(),
+                };
+                for u in &mut main.used[cut..] {
+                    *u = true;
+                }
+                return classify(&main, tree);
+            }
+        }
         // "Why X and not Y", "why X instead of Y": two nodes.
+        let not_between = named.len() >= 2
+            && s.q[named[0].end..named[1].start]
+                .iter()
+                .any(|w| w.text == "not" || w.text == "never");
         let contrast = s.phrase(&["instead", "of"]).is_some()
             || s.phrase(&["rather", "than"]).is_some()
-            || s.has("not")
+            || not_between
             || s.has("over")
             || s.has("vs")
             || s.has("versus");
@@ -1184,9 +1211,10 @@ fn progressive(s: &Sentence) -> bool {
     let Some(be) = be else {
         return false;
     };
-    s.q[be + 1..]
-        .iter()
-        .any(|w| w.text.len() > 4 && w.text.ends_with("ing") && w.text != "something")
+    s.q[be + 1..].iter().any(|w| {
+        w.text.len() > 4 && w.text.ends_with("ing") && w.text != "something"
+            || ["active", "busy"].contains(&w.text.as_str())
+    })
 }
 
 /// "why not X but Y": the node after a negation was the one not done.

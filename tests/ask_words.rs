@@ -490,3 +490,29 @@ fn suggestions_are_about_the_node_the_question_named() {
     assert!(out.contains("chuck"), "{out}");
     assert!(!out.contains("retreat arm"), "{out}");
 }
+
+/// "Can you X?" once the run has ended (#39 item 6: after the patrol's
+/// root failed at 5:7, it said "Yes. I will scan area after patrol twice"):
+/// there is no run left to add a subgoal to, and the answer says so with
+/// the root's outcome as the log has it. While the run goes on, it is
+/// answered as before.
+#[test]
+fn can_you_is_refused_once_the_run_has_ended() {
+    let run = "tests/fixtures/questions/patrol.jsonl";
+    let (ok, out, _) = btx(&["ask", run, "can you walk?"]);
+    assert!(ok);
+    assert!(
+        out.contains("No: the run had ended by then (patrol FAILURE at 5:7)"),
+        "{out}"
+    );
+    let (_, log, _) = btx(&["log", run, "--node", "#1"]);
+    assert!(log.contains("    5     7     1  patrol"), "{log}");
+    let (_, during, _) = btx(&[
+        "ask",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "--at",
+        "10",
+        "Can you insert large gear?",
+    ]);
+    assert!(!during.contains("the run had ended"), "{during}");
+}

@@ -6,6 +6,26 @@ use super::Reply;
 use crate::explain::Question;
 
 pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
+    // "Can you X?" inserts a subgoal into a run that goes on: once the
+    // root has completed, there is none to insert it into.
+    if let (Question::CanYou(_), Some(at)) = (q, cx.at.as_ref()) {
+        let root = cx.tree.root().uid;
+        if let (Some((p, s)), false) = (
+            at.last_completion(root)
+                .filter(|_| at.root_outcome().is_some()),
+            at.status(root) == crate::run::Status::Running,
+        ) {
+            r.about = Some(root);
+            r.understood = q.wording();
+            r.answer = format!(
+                "No: the run had ended by then ({} {} at {}), so there is no subgoal to add it to. Ask while the robot runs, or of the tree.",
+                cx.tree.spoken(root),
+                s.as_str(),
+                super::compose::step_moment(at.index, p)
+            );
+            return Ok(());
+        }
+    }
     let uid = match (cx.node, cx.at.as_ref()) {
         (Some(u), _) => u,
         (None, Some(at)) => at.current().ok_or_else(|| {

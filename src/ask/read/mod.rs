@@ -46,7 +46,24 @@ struct Sentence<'a> {
     nodes: Vec<Mention>,
 }
 
-impl Sentence<'_> {
+impl<'a> Sentence<'a> {
+    /// The same words (corrected as `q`), read with `nodes` as its node
+    /// mentions: their words are read, the rest are left to ask.
+    fn with_nodes(&self, q: &'a [Word], nodes: Vec<Mention>) -> Sentence<'a> {
+        let mut used = self.used.clone();
+        for m in &nodes {
+            for u in &mut used[m.start..m.end] {
+                *u = true;
+            }
+        }
+        Sentence {
+            q,
+            tree_words: self.tree_words,
+            used,
+            nodes,
+        }
+    }
+
     fn free(&self) -> impl Iterator<Item = (usize, &Word)> + '_ {
         self.q.iter().enumerate().filter(|(i, _)| !self.used[*i])
     }
@@ -393,17 +410,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // and asks about one.
     let strong: Vec<Mention> = s.nodes.iter().filter(|m| !m.weak).cloned().collect();
     let readings = {
-        let mut with_strong = Sentence {
-            q,
-            tree_words: s.tree_words,
-            used: s.used.clone(),
-            nodes: strong,
-        };
-        for m in &with_strong.nodes {
-            for i in m.start..m.end {
-                with_strong.used[i] = true;
-            }
-        }
+        let with_strong = s.with_nodes(q, strong);
         let mut r = classify(&with_strong, tree);
         if r.is_empty()
             || r.iter().all(|(i, _)| needs_node(i))
@@ -411,17 +418,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         {
             let weak: Vec<Mention> = s.nodes.iter().filter(|m| m.weak).cloned().collect();
             if !weak.is_empty() && with_strong.nodes.is_empty() {
-                let mut with_weak = Sentence {
-                    q,
-                    tree_words: s.tree_words,
-                    used: s.used.clone(),
-                    nodes: weak,
-                };
-                for m in &with_weak.nodes {
-                    for i in m.start..m.end {
-                        with_weak.used[i] = true;
-                    }
-                }
+                let with_weak = s.with_nodes(q, weak);
                 let alt = classify(&with_weak, tree);
                 if alt.iter().any(|(i, _)| subject_of(i).is_some()) {
                     r = alt;

@@ -383,7 +383,7 @@ fn a_log_of_an_autoremapped_subtree_is_explained_with_the_robot_s_tree() {
     // With the robot's tree: the ticks are the library's, the answer given.
     let (ok, out, err) = common::btx(&["why", log, "go", "--tree", tree]);
     assert!(ok, "{err}");
-    assert!(out.starts_with("Why did go succeed"), "{out}");
+    assert!(out.starts_with("Why did go (#6) succeed"), "{out}");
     assert!(!err.contains("told apart by timing"), "{err}");
     let (ok, table, err) = common::btx(&["log", log, "--tree", tree]);
     assert!(ok, "{err}");

@@ -141,6 +141,7 @@ pub fn why_text(
         }
         Detail::Full => {
             w.shown = None;
+            w.full = true;
             let mut text = w.text();
             let mut nodes: Vec<Uid> = Vec::new();
             for g in 0..w.groups().len() {

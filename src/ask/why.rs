@@ -188,124 +188,17 @@ fn root_cause(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> Option<S
     ))
 }
 
-/// What the run shows of a leaf's completion at position `p`: that it
-/// returned the status itself, when it started and how long it ran, how
-/// often it had ended so before, and what handled a failure, and whether
-/// that worked; where its outcome came from, and that the run does not
-/// say why.
+/// What the run shows of a leaf's completion at position `p`, by the
+/// moment of the conversation (`causal::calls::leaf_facts`).
 fn leaf_outcome(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> String {
-    let idx = at.index;
-    let t = idx.transitions[p as usize - 1];
-    let name = upper(&cx_name(cx, u));
-    let m = step_moment(idx, p);
-    let what = cx.tree.node(u).kind.as_str().to_lowercase();
-    let mut out = Vec::new();
-    // Its start: the last time it left IDLE before this completion.
-    let start = idx
-        .changes_of(u)
-        .iter()
-        .copied()
-        .take_while(|&q| q < p)
-        .filter(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)
-        .last();
-    let ran = match start {
-        Some(q) if q != p && idx.transitions[q as usize - 1].status == Status::Running => {
-            let (a, b) = (idx.transitions[q as usize - 1].tick, t.tick);
-            let ticks = b - a + 1;
-            format!(
-                ", after running from {} ({ticks} tick{})",
-                step_moment(idx, q),
-                if ticks == 1 { "" } else { "s" }
-            )
-        }
-        _ => " in the call that started it".to_string(),
-    };
-    out.push(format!(
-        "{name} returned {} itself at {m}{ran}: it is {} {what}, so nothing in the tree decided it.",
-        t.status.as_str(),
-        if what.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" }
-    ));
-    let before: Vec<u32> = idx
-        .changes_of(u)
-        .iter()
-        .copied()
-        .filter(|&q| q < p && idx.transitions[q as usize - 1].status == t.status)
-        .collect();
-    out.push(match before.len() {
-        0 => format!("It had not {} before.", past_of(t.status)),
-        n => format!(
-            "It had {} {} before, at {}.",
-            past_of(t.status),
-            times(n),
-            super::compose::moments(idx, &before)
+    match cx.session {
+        Some(s) => crate::causal::calls::leaf_facts(s, u, p, at.pos),
+        None => format!(
+            "{} returned {} itself at {}.",
+            upper(&cx.tree.told(u)),
+            at.index.transitions[p as usize - 1].status.as_str(),
+            step_moment(at.index, p)
         ),
-    });
-    if t.status == Status::Failure {
-        let handlers: Vec<Uid> = cx
-            .tree
-            .ancestors(u)
-            .filter(|&a| crate::explain::failure::handles_failure(cx.tree, a))
-            .collect();
-        // Up each handler above it, as "did the recovery work?" goes.
-        let mut said = Vec::new();
-        for h in handlers {
-            let end = idx
-                .changes_of(h)
-                .iter()
-                .copied()
-                .filter(|&q| q > p && q <= at.pos)
-                .map(|q| (q, idx.transitions[q as usize - 1].status))
-                .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
-            let hn = cx_name(cx, h);
-            match end {
-                Some((q, Status::Success)) => {
-                    said.push(format!(
-                        "{hn} handled it and succeeded at {}",
-                        step_moment(idx, q)
-                    ));
-                    break;
-                }
-                Some((q, _)) => said.push(format!("{hn} failed too, at {}", step_moment(idx, q))),
-                None => {
-                    said.push(format!("{hn} handles it, and had not finished {}", by(cx)));
-                    break;
-                }
-            }
-        }
-        out.push(if said.is_empty() {
-            "No fallback, retry or recovery is above it: its failure went up the tree.".into()
-        } else {
-            format!("{}.", upper(&said.join("; ")))
-        });
-    }
-    let source = cx
-        .session
-        .map(|s| s.header.source.kind.as_str())
-        .unwrap_or("");
-    out.push(match source {
-        "domain" => String::new(),
-        "plan" => format!(
-            "Why it {} is not in the run: the plan scripted it; give a domain file (--domain FILE) to say what it depends on.",
-            past_of(t.status)
-        ),
-        "world" => format!(
-            "Why it {} is not in the run: the world's scenario decided it.",
-            past_of(t.status)
-        ),
-        _ => format!(
-            "Why it {} is not in the run: the robot's log records the outcome, not its reason (the node's own logs or its outputs may say).",
-            past_of(t.status)
-        ),
-    });
-    out.retain(|l| !l.is_empty());
-    out.join(" ")
-}
-
-fn past_of(s: Status) -> &'static str {
-    match s {
-        Status::Failure => "failed",
-        Status::Success => "succeeded",
-        _ => "ended so",
     }
 }
 

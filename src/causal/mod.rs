@@ -8,6 +8,7 @@
 //! run?") still get answers.
 
 pub mod attempts;
+pub mod calls;
 pub mod compare;
 pub mod english;
 pub mod eval;
@@ -101,6 +102,11 @@ pub struct Why {
     /// changed at a call the model's variables do not stand for (an
     /// earlier call of a node called again within the tick).
     pub call_changes: Vec<CallChange>,
+    /// The answer from the run's own calls, where the model of the tick
+    /// does not hold the call asked about or could only name later events.
+    pub by_calls: Option<calls::Told>,
+    /// Say how each answer was found and checked (`--detail full`).
+    pub full: bool,
 }
 
 /// A leaf's outcome at one of its calls in the tick, which running the
@@ -396,6 +402,9 @@ impl Why {
     }
 
     pub fn text(&self) -> String {
+        if let Some(t) = &self.by_calls {
+            return t.text(&self.model.tree, self.shown, self.full);
+        }
         if !self.call_changes.is_empty() {
             let text = self.model_text();
             let (asked, rest) = text.split_once('\n').unwrap_or((text.as_str(), ""));
@@ -506,6 +515,10 @@ impl Why {
             for (x, g) in list.iter_mut().zip(&groups) {
                 x["checks"] = g.iter().map(|&i| self.checks[i].json()).collect();
             }
+        }
+        if let Some(t) = &self.by_calls {
+            j["question"] = serde_json::Value::from(t.question(&self.model.tree));
+            j["by_calls"] = t.json(&self.model.tree);
         }
         j["call_changes"] = self
             .call_changes
@@ -739,7 +752,17 @@ pub fn why(
     // At a step, a node's facts are those of its call at or before it.
     let t = match (t, moment.step) {
         (query::Target::Status(u), Some(step)) if u as usize <= model.session_len() => {
-            query::Target::Status(query::call_at(&model, u, step).map_err(fail)?)
+            match query::call_at(&model, u, step) {
+                Ok(c) => query::Target::Status(c),
+                // A call the model of the tick does not hold: the run's own
+                // calls answer.
+                Err(e) => {
+                    return match calls::Told::of(session, u, pos) {
+                        Some(told) => Ok(told_why(session, model, told, moment, max_depth)),
+                        None => Err(fail(e)),
+                    }
+                }
+            }
         }
         (query::Target::Executed(u), Some(step)) if u as usize <= model.session_len() => {
             query::Target::Executed(query::call_at(&model, u, step).map_err(fail)?)
@@ -751,7 +774,16 @@ pub fn why(
     };
     let v = query::target_var(&model, &t, pos).map_err(fail)?;
     if let Some(e) = another_call(session, &model, v, moment, pos) {
-        return Err(fail(e));
+        // The run itself holds the call: its recorded leaf outcomes, run
+        // again, answer.
+        let told = match model.vars[v].kind {
+            VarKind::Status(u) => calls::Told::of(session, model.origin(u), pos),
+            _ => None,
+        };
+        return match told {
+            Some(told) => Ok(told_why(session, model, told, moment, max_depth)),
+            None => Err(fail(e)),
+        };
     }
     if let Some(when) = fact_from(session, &model, v, moment.tick).filter(|&p| p > pos) {
         let then = session.index.moment(when);
@@ -819,7 +851,94 @@ pub fn why(
     };
     let mut w = checked(session, model, query, answer, watch, moment.to_string());
     through_what_the_model_holds(session, &mut w, watch);
+    if moment.step.is_some() {
+        causes_before(session, &mut w, v, moment, pos);
+    }
+    // A leaf decides its own outcome: without a domain to say what it
+    // depends on, what the run shows of its call is the answer.
+    if let (VarKind::Status(u), None, true) = (
+        w.model.vars[v].kind,
+        &w.model.domain,
+        w.answer.explanations.is_empty() && w.by_calls.is_none(),
+    ) {
+        if w.model.tree.node(w.model.origin(u)).kind.is_leaf() {
+            w.by_calls = calls::Told::of(session, w.model.origin(u), pos);
+        }
+    }
     Ok(w)
+}
+
+/// A why answered from the run's own calls alone.
+fn told_why(
+    session: &Session,
+    model: Model,
+    told: calls::Told,
+    moment: Moment,
+    max_depth: usize,
+) -> Why {
+    let v = model.r(told.uid);
+    let query = Query {
+        targets: vec![v],
+        foils: vec![default_foils(&model, v)],
+    };
+    let answer = Answer {
+        depth: None,
+        max_depth,
+        explanations: Vec::new(),
+        candidates: 0,
+        evaluated: 0,
+        stopped: None,
+        omitted: 0,
+        held: Vec::new(),
+        held_tried: false,
+    };
+    let mut w = checked(session, model, query, answer, None, moment.to_string());
+    w.by_calls = Some(told);
+    w
+}
+
+/// A cause comes before its effect: at a step, an explanation resting on
+/// a fact the tick made true only after it (the recovery a failure set
+/// going) is dropped. Where that leaves nothing about a node's completion,
+/// the run's own calls answer.
+fn causes_before(session: &Session, w: &mut Why, v: VarId, moment: Moment, pos: u32) {
+    let m = &w.model;
+    let VarKind::Status(target) = m.vars[v].kind else {
+        return;
+    };
+    let target = m.origin(target);
+    // A status another node reached after the moment, not on the path
+    // above the target (a log may write a parent's change after its
+    // child's, as btcm's does).
+    let after = |x: VarId| match m.vars[x].kind {
+        VarKind::Status(u) => {
+            let u = m.origin(u);
+            !m.tree.is_ancestor(u, target)
+                && u != target
+                && fact_from(session, m, x, moment.tick).is_some_and(|q| q > pos)
+        }
+        _ => false,
+    };
+    let later: Vec<bool> = w
+        .answer
+        .explanations
+        .iter()
+        .map(|e| e.vars.iter().any(|&x| after(x)))
+        .collect();
+    if !later.contains(&true) {
+        return;
+    }
+    let mut keep = later.iter().map(|l| !l);
+    w.answer
+        .explanations
+        .retain(|_| keep.next().unwrap_or(true));
+    if w.checks.len() == later.len() {
+        let mut keep = later.iter().map(|l| !l);
+        w.checks.retain(|_| keep.next().unwrap_or(true));
+    }
+    if w.answer.explanations.is_empty() {
+        w.by_calls = calls::Told::of(session, target, pos);
+    }
 }
 
 /// The most changes tried by running the tree again through what the
@@ -1031,5 +1150,7 @@ fn checked(
         dropped,
         shown: None,
         call_changes: Vec::new(),
+        by_calls: None,
+        full: false,
     }
 }

@@ -24,6 +24,29 @@ impl Tree {
         }
     }
 
+    /// The node as an answer names it: its name as the XML writes it, with
+    /// its uid; where other nodes share the name, with its kind too ("the
+    /// FollowPath action (#22)", "the FollowPath recovery node (#21)").
+    pub fn told(&self, uid: Uid) -> String {
+        let d = self.description(uid);
+        let shared = self
+            .nodes
+            .iter()
+            .any(|n| n.uid != uid && self.description(n.uid) == d);
+        let n = self.node(uid);
+        // An unnamed control node is its kind already ("RetryUntilSuccessful").
+        if !shared || (d == n.id && !n.kind.is_leaf()) {
+            return format!("{d} (#{uid})");
+        }
+        let kind = match n.kind {
+            Kind::Action => "action".to_string(),
+            Kind::Condition => "condition".to_string(),
+            Kind::SubTree => "subtree".to_string(),
+            _ => words(&n.id).to_lowercase(),
+        };
+        format!("the {d} {kind} (#{uid})")
+    }
+
     /// The node's description as words for a sentence: a name made of an
     /// ID (`ComputePathToPose`, `ClearGlobalCostmap-Context`, `go_home`)
     /// reads "compute path to pose", "clear global costmap (context)", "go

@@ -191,3 +191,20 @@ fn every_failure_of_the_nav2_navigators_is_answered_at_its_step() {
     assert!(refused.is_empty(), "{refused:#?}");
     assert!(later.is_empty(), "{later:#?}");
 }
+
+/// Faults before branches (#39 item 5): at tick 7 "What went wrong?" named
+/// the routine replanning check ("global updated goal succeeded and the
+/// inverter above it turned that into a failure"), a branch taken by
+/// design, not FollowPath's second failure.
+#[test]
+fn what_went_wrong_names_the_fault_not_a_branch_taken() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = run(dir.path(), "twice", "2RF, 2RF, 3RS");
+    let (ok, out, err) = btx(&["ask", &r, "--at", "7", "What went wrong?"]);
+    assert!(ok, "{err}");
+    assert!(!out.contains("global updated goal"), "{out}");
+    assert_eq!(
+        out,
+        "I could not run the navigate recovery because I was unable to follow path as follow path failed.\n"
+    );
+}

@@ -491,18 +491,20 @@ impl Told {
         })?;
         let t = idx.transitions[p as usize - 1];
         let leaf = session.tree.node(u).kind.is_leaf();
-        let found = Replay::new(session, p).map(|r| {
-            let below = if leaf {
-                CallCauses::default()
-            } else {
-                r.causes(u, p, Within::Below)
-            };
-            if below.causes.is_empty() {
-                r.causes(u, p, Within::Anywhere)
-            } else {
-                below
-            }
-        });
+        // A leaf decides its own outcome: what the run shows of its call
+        // is the answer, and nothing is searched.
+        let found = if leaf {
+            Ok(CallCauses::default())
+        } else {
+            Replay::new(session, p).map(|r| {
+                let below = r.causes(u, p, Within::Below);
+                if below.causes.is_empty() {
+                    r.causes(u, p, Within::Anywhere)
+                } else {
+                    below
+                }
+            })
+        };
         Some(Told {
             uid: u,
             pos: p,
@@ -677,7 +679,7 @@ impl Told {
             Err(e) if full || sentences.is_empty() => out.push_str(&format!(
                 "The run could not be replayed to look further: {e}.\n"
             )),
-            Ok(f) if full => out.push_str(&format!(
+            Ok(f) if full && f.candidates > 0 => out.push_str(&format!(
                 "Found by running the tree again on the run's own leaf outcomes, each of {} of the {} leaf calls before {} changed in turn.\n",
                 f.tried, f.candidates, self.moment
             )),

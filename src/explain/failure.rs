@@ -75,6 +75,41 @@ fn named_ancestor(tree: &Tree, uid: Uid) -> Option<Uid> {
 
 /// Algorithm 7, from the current node `n` up to its subgoal.
 pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
+    // A fault first: a fallback that went on past a check answering no
+    // took a branch (Nav2's "is a new path needed?"); a failure higher up
+    // that made a fallback or recovery act is what went wrong, if any.
+    let d = diagnose_from(tree, run, n, true);
+    if d.text.is_empty() {
+        diagnose_from(tree, run, n, false)
+    } else {
+        d
+    }
+}
+
+/// Whether only checks failed below `first` since `since`: a condition
+/// did, and no action did (where the record shows no failure, as a live
+/// robot's statuses may not, nothing is known to be a branch).
+fn only_checks_failed(tree: &Tree, run: &At, first: Uid, since: u32) -> bool {
+    let below: Vec<Uid> = std::iter::once(first)
+        .chain(tree.descendants(first))
+        .collect();
+    let failed = |u: &&Uid| run.last_failure_since(**u, since).is_some();
+    let is = |u: Uid, k: Kind| tree.node(u).kind == k && tree.node(u).builtin.is_none();
+    // A check: a condition, or an Inverter over one.
+    let check = |u: Uid| {
+        is(u, Kind::Condition)
+            || (tree.node(u).builtin == Some(Builtin::Inverter)
+                && tree
+                    .node(u)
+                    .children
+                    .iter()
+                    .all(|&c| is(c, Kind::Condition)))
+    };
+    below.iter().filter(failed).any(|&u| check(u))
+        && !below.iter().filter(failed).any(|&u| is(u, Kind::Action))
+}
+
+fn diagnose_from(tree: &Tree, run: &At, n: Uid, skip_branches: bool) -> Diagnosis {
     let mut d = Diagnosis::default();
     let mut fallback = None;
     let mut p = tree.parent(n);
@@ -94,6 +129,14 @@ pub fn diagnose(tree: &Tree, run: &At, n: Uid) -> Diagnosis {
         } else {
             is_fallback(tree, x) && first_child_failed(tree, run, x, children[0])
         };
+        if fell_back
+            && skip_branches
+            && tree.node(x).builtin != Some(Builtin::RecoveryNode)
+            && only_checks_failed(tree, run, children[0], run.started_at(x))
+        {
+            p = tree.parent(x);
+            continue;
+        }
         if fell_back {
             fallback = Some(x);
             d.text = format!("I could not {} because ", tree.deed(x));

@@ -368,6 +368,8 @@ fn btx_why_answers_in_text_and_json() {
         "SUCCESS",
         "--at",
         "1:3",
+        "--detail",
+        "full",
     ]);
     assert!(ok, "{err}");
     assert_eq!(

@@ -504,7 +504,15 @@ fn set_with_a_plan_seeds_the_root_blackboard_and_re_runs_start_from_it() {
     // the same way).
     assert!(err.contains("--set goal=VALUE"), "{err}");
     // A re-run reproduces the run from what it started with.
-    let (ok, text, err) = common::btx(&["why", out.to_str().unwrap(), "status(#1)", "--at", "2"]);
+    let (ok, text, err) = common::btx(&[
+        "why",
+        out.to_str().unwrap(),
+        "status(#1)",
+        "--at",
+        "2",
+        "--detail",
+        "full",
+    ]);
     assert!(ok, "{err}");
     assert!(
         text.contains("Checked: running the tree again to tick 2"),

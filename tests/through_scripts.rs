@@ -51,7 +51,8 @@ const SWITCH: &str = r#"<root BTCPP_format="4"><BehaviorTree ID="T"><Sequence>
 fn a_skip_if_that_reads_a_leaf_s_write_is_explained_by_that_leaf() {
     let s = run(SKIP_IF, false);
     let d = session_domain(&s, None).unwrap();
-    let w = why(&s, d, "status(guarded)", &[], None, 2).unwrap();
+    let mut w = why(&s, d, "status(guarded)", &[], None, 2).unwrap();
+    w.full = true;
     let text = w.text();
     assert!(
         text.contains("1. Guarded was skipped because setter succeeded. If setter had failed, guarded would have succeeded."),
@@ -77,7 +78,8 @@ fn a_switch_whose_variable_a_leaf_sets_is_explained_by_that_leaf() {
 fn a_log_says_what_it_could_not_search() {
     let s = run(SKIP_IF, true);
     let d = session_domain(&s, None).unwrap();
-    let w = why(&s, d, "status(guarded)", &[], None, 2).unwrap();
+    let mut w = why(&s, d, "status(guarded)", &[], None, 2).unwrap();
+    w.full = true;
     let text = w.text();
     assert!(text.contains("No explanation up to depth 2"), "{text}");
     assert!(

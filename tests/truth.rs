@@ -437,7 +437,8 @@ fn what_rests_on_a_node_the_model_does_not_follow_is_not_claimed() {
         .all(|c| c["K"].as_array().unwrap().is_empty()));
     // Run from its plan, the same question is settled by running it again.
     let s = run_case(&case, false).unwrap();
-    let w = causal::why(&s, None, "status(#2)", &[], Some(at), 2).unwrap();
+    let mut w = causal::why(&s, None, "status(#2)", &[], Some(at), 2).unwrap();
+    w.full = true;
     assert!(w.sentences().is_empty(), "{}", w.text());
     assert!(
         w.text()
@@ -620,7 +621,8 @@ fn a_fact_is_explained_only_once_it_holds() {
 #[test]
 fn same_named_nodes_carry_their_uid_and_numbers_print_short() {
     let s = session("sessions/kitting-lookat-fails-once.jsonl");
-    let w = why(&s, "status(#13)", "10");
+    let mut w = why(&s, "status(#13)", "10");
+    w.full = true;
     let text = w.text();
     assert!(
         text.starts_with(

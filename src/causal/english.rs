@@ -713,7 +713,15 @@ fn short_count(n: u128) -> String {
     }
 }
 
-pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str, shown: Option<usize>) -> String {
+/// The answer as text; `full` adds each explanation's formal line.
+pub fn to_text(
+    m: &Model,
+    q: &Query,
+    a: &Answer,
+    moment: &str,
+    shown: Option<usize>,
+    full: bool,
+) -> String {
     let mut out = format!(
         "{}  (tick {}, moment {moment})\n",
         question(m, q),
@@ -736,12 +744,10 @@ pub fn to_text(m: &Model, q: &Query, a: &Answer, moment: &str, shown: Option<usi
         Some(_) => {
             let limit = shown.unwrap_or(usize::MAX);
             for (n, g) in groups.iter().enumerate().take(limit) {
-                out.push_str(&format!(
-                    "{}. {}\n   formally: {}\n",
-                    n + 1,
-                    group_sentence(m, q, a, g),
-                    formal_line(m, a, g)
-                ));
+                out.push_str(&format!("{}. {}\n", n + 1, group_sentence(m, q, a, g)));
+                if full {
+                    out.push_str(&format!("   formally: {}\n", formal_line(m, a, g)));
+                }
             }
             if groups.len() > limit {
                 let more = groups.len() - limit;

@@ -410,7 +410,10 @@ impl Why {
             let (asked, rest) = text.split_once('\n').unwrap_or((text.as_str(), ""));
             let mut out = format!("{asked}\n");
             for c in self.call_sentences() {
-                out.push_str(&format!("• {c}\n  Found by running the tree again with that call's outcome changed (btx's model of the tick does not hold that call).\n"));
+                out.push_str(&format!("• {c}\n"));
+                if self.full {
+                    out.push_str("  Found by running the tree again with that call's outcome changed (btx's model of the tick does not hold that call).\n");
+                }
             }
             out.push_str(rest);
             return out;
@@ -425,8 +428,22 @@ impl Why {
             &self.answer,
             &self.moment,
             self.shown,
+            self.full,
         );
-        out.push_str(&self.checks_text());
+        // How each explanation was checked is said at full detail; that
+        // none held is the answer itself.
+        let checks = self.checks_text();
+        if self.full {
+            out.push_str(&checks);
+        } else {
+            for l in checks
+                .lines()
+                .filter(|l| l.starts_with("No explanation holds"))
+            {
+                out.push_str(l);
+                out.push('\n');
+            }
+        }
         out
     }
 

@@ -10,7 +10,7 @@ use super::Reply;
 use crate::explain::han::and_list;
 use crate::model::{Builtin, Tree, Uid};
 use crate::run::Status;
-use crate::session::{At, Index, Moment, Session};
+use crate::session::{At, Index, Session};
 
 /// What a question is asked of: a tree, or a moment of a run.
 pub struct Context<'a> {
@@ -321,14 +321,7 @@ pub(super) fn events(at: &At, uid: Uid, e: Event) -> Vec<u32> {
 
 /// The moment right after the transition that ends at position `pos`,
 /// always as `TICK:STEP`.
-pub(super) fn step_moment(index: &Index, pos: u32) -> Moment {
-    let t = index.transitions[pos as usize - 1].tick;
-    let start = index.tick_range(t).start as u32;
-    Moment {
-        tick: t,
-        step: Some(pos - start),
-    }
-}
+pub(super) use crate::causal::calls::{step_moment, times};
 
 pub(super) fn past(e: Event) -> &'static str {
     match e {
@@ -361,14 +354,6 @@ pub(super) fn verb(e: Event) -> &'static str {
         Event::Halted => "get halted",
         Event::KeepRunning => "keep running",
         Event::Finish => "finish",
-    }
-}
-
-pub(super) fn times(n: usize) -> String {
-    match n {
-        1 => "once".into(),
-        2 => "twice".into(),
-        n => format!("{n} times"),
     }
 }
 

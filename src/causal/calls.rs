@@ -7,6 +7,7 @@
 //! reproduce the record (time-driven nodes, blackboard values the record
 //! does not hold), nothing is claimed from a re-run.
 
+use super::english::capitalised;
 use crate::model::{Tree, Uid};
 use crate::run::exec::{Event, Executor, LeafCall, LeafOutcome, Leaves, RunOptions};
 use crate::run::Status;
@@ -371,14 +372,7 @@ impl Replay<'_> {
             .iter()
             .filter(|&&q| q <= p && ended(idx.transitions[q as usize - 1].status))
             .count();
-        let since = idx
-            .changes_of(u)
-            .iter()
-            .copied()
-            .take_while(|&q| q < p)
-            .filter(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)
-            .last()
-            .unwrap_or(0);
+        let since = call_start(idx, u, p).unwrap_or(0);
         let mut cands: Vec<(Uid, usize, u32, Status)> = Vec::new();
         for (i, calls) in self.calls.iter().enumerate() {
             let leaf = i as Uid + 1;
@@ -569,7 +563,7 @@ impl Told {
                 if g.len() == 1 {
                     return format!(
                         "{} {} at {} because {} {} at {}. Had it {} then, {}{assumed}.",
-                        upper(&me),
+                        capitalised(&me),
                         past(self.status),
                         self.moment,
                         tree.told(c.leaf),
@@ -586,7 +580,7 @@ impl Told {
                     .collect();
                 format!(
                     "{} {} at {} because {} {} again at {}, after it {} at {}{}. Had it {} at {}, {}; {}{assumed}.",
-                    upper(&me),
+                    capitalised(&me),
                     past(self.status),
                     self.moment,
                     tree.told(c.leaf),
@@ -733,7 +727,19 @@ pub fn step_moment(idx: &crate::session::Index, pos: u32) -> Moment {
     }
 }
 
-fn times(n: usize) -> String {
+/// Where node `u`'s call that ends at position `p` started: its last
+/// change out of IDLE before `p`.
+fn call_start(idx: &crate::session::Index, u: Uid, p: u32) -> Option<u32> {
+    idx.changes_of(u)
+        .iter()
+        .copied()
+        .take_while(|&q| q < p)
+        .filter(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)
+        .last()
+}
+
+/// "once", "twice", "N times".
+pub fn times(n: usize) -> String {
     match n {
         1 => "once".into(),
         2 => "twice".into(),
@@ -749,17 +755,11 @@ pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
     let idx = &session.index;
     let tree = &session.tree;
     let t = idx.transitions[p as usize - 1];
-    let name = upper(&tree.told(u));
+    let name = capitalised(&tree.told(u));
     let m = step_moment(idx, p);
     let what = tree.node(u).kind.as_str().to_lowercase();
     let mut out = Vec::new();
-    let start = idx
-        .changes_of(u)
-        .iter()
-        .copied()
-        .take_while(|&q| q < p)
-        .filter(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)
-        .last();
+    let start = call_start(idx, u, p);
     let ran = match start {
         Some(q) if idx.transitions[q as usize - 1].status == Status::Running => {
             let ticks = t.tick - idx.transitions[q as usize - 1].tick + 1;
@@ -876,7 +876,7 @@ pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
         out.push(if said.is_empty() {
             "No fallback, retry or recovery is above it: its failure went up the tree.".into()
         } else {
-            format!("{}.", upper(&said.join("; ")))
+            format!("{}.", capitalised(&said.join("; ")))
         });
     }
     out.push(match session.header.source.kind.as_str() {
@@ -896,12 +896,4 @@ pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
     });
     out.retain(|l| !l.is_empty());
     out.join(" ")
-}
-
-fn upper(s: &str) -> String {
-    let mut c = s.chars();
-    match c.next() {
-        Some(f) => f.to_uppercase().chain(c).collect(),
-        None => String::new(),
-    }
 }

@@ -208,3 +208,27 @@ fn what_went_wrong_names_the_fault_not_a_branch_taken() {
         "I could not run the navigate recovery because I was unable to follow path as follow path failed.\n"
     );
 }
+
+/// Asked in words at a step inside a node ticked twice in the tick, the
+/// root cause comes first and is said once (it was said twice: the
+/// record's chain, then the run's).
+#[test]
+fn asked_in_words_at_the_step_the_cause_is_said_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = run(dir.path(), "twice", "2RF, 2RF, 3RS");
+    let (ok, out, err) = btx(&[
+        "ask",
+        &r,
+        "--at",
+        "7:4",
+        "why did the followpath recovery node fail?",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(out.matches(" because ").count(), 1, "{out}");
+    assert!(
+        out.lines().nth(1).unwrap_or("").starts_with(
+            "1. The FollowPath recovery node (#21) failed at 7:4 because the FollowPath action (#22) failed again at 7:1"
+        ),
+        "{out}"
+    );
+}

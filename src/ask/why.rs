@@ -318,7 +318,7 @@ fn search(
     r: &mut Reply,
 ) -> Result<(), String> {
     // What the run shows, set before (a leaf's outcome), stays first.
-    let facts = std::mem::take(&mut r.answer);
+    let mut facts = std::mem::take(&mut r.answer);
     let s = cx.session.ok_or_else(|| {
         "a why needs a recorded run; a live robot's statuses cannot be re-run".to_string()
     })?;
@@ -349,6 +349,11 @@ fn search(
             r.not.clear();
             w = any;
         }
+    }
+    // Answered from the run's own calls, the chain is told there, checked
+    // by running the tree again: the record's chain would say it twice.
+    if w.by_calls.is_some() {
+        facts.clear();
     }
     let text = super::detail::why_text(&mut w, s, cx.detail);
     let (asked, body) = text.split_once('\n').unwrap_or((text.as_str(), ""));

@@ -639,3 +639,71 @@ fn steps_made_only_because_the_runs_parted_follow_from_it() {
     assert_eq!(following, [10, 11, 12, 15, 16, 17, 27]);
     assert_eq!(app.diff.divergences().len(), 1);
 }
+
+/// #39 item 9: a long loop that goes wrong once, against the same loop,
+/// is aligned exactly (Myers' cost is length × distance, and the distance
+/// is small), and gives the distance the short loops give.
+#[test]
+fn a_long_loop_that_goes_wrong_once_has_its_exact_distance() {
+    let dir = tempfile::tempdir().unwrap();
+    let distance = |cycles: usize| -> (u64, bool) {
+        let p = |f: &str| {
+            dir.path()
+                .join(format!("{cycles}-{f}"))
+                .to_str()
+                .unwrap()
+                .to_string()
+        };
+        let xml = format!(
+            r#"<root BTCPP_format="4" main_tree_to_execute="Loop">
+  <BehaviorTree ID="Loop">
+    <Repeat num_cycles="{cycles}" name="loop">
+      <Sequence name="cycle">
+        <Fallback name="look">
+          <LookAt name="look at chuck"/>
+          <Relocalise name="relocalise"/>
+        </Fallback>
+        <Grasp name="grasp"/>
+      </Sequence>
+    </Repeat>
+  </BehaviorTree>
+  <TreeNodesModel>
+    <Action ID="LookAt"/><Action ID="Relocalise"/><Action ID="Grasp"/>
+  </TreeNodesModel>
+</root>"#
+        );
+        std::fs::write(p("loop.xml"), xml).unwrap();
+        std::fs::write(p("a.plan"), "look at chuck = 1RS\ngrasp = 1RS\n").unwrap();
+        // Look at chuck fails once, half way through.
+        let looks = vec!["1RS"; cycles / 2].join(", ");
+        std::fs::write(
+            p("b.plan"),
+            format!("look at chuck = {looks}, 1RF, 1RS\ngrasp = 1RS\n"),
+        )
+        .unwrap();
+        for run in ["a", "b"] {
+            let (ok, _, err) = btx(&[
+                "run",
+                &p("loop.xml"),
+                "--plan",
+                &p(&format!("{run}.plan")),
+                "--out",
+                &p(&format!("{run}.jsonl")),
+                "--max-ticks",
+                "1000000",
+            ]);
+            assert!(ok, "{err}");
+        }
+        let d = json(&["diff", &p("a.jsonl"), &p("b.jsonl"), "--format", "json"]);
+        let exact = d["sections"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|s| s["exact"] == true);
+        (d["distance"].as_u64().unwrap(), exact)
+    };
+    // 10 cycles are short enough for any alignment; 4,000 cycles (8,001
+    // actions a side) were aligned by units and labelled "at most".
+    assert_eq!(distance(10), (3, true));
+    assert_eq!(distance(4_000), (3, true));
+}

@@ -77,6 +77,68 @@ pub fn edits_bounded<T: Eq + std::hash::Hash + Ord>(a: &[T], b: &[T]) -> (Vec<Ed
     (script(&ops), exact)
 }
 
+/// The work an exact alignment of two long sequences may take, in cells of
+/// the edit graph: Myers' algorithm costs (N+M)·D, so two long runs that
+/// differ in a few places are aligned exactly whatever their length, and
+/// only runs far apart fall back to aligning by units.
+pub const WORK_MAX: usize = 60_000_000;
+
+/// A shortest edit script, when one is cheap to find: the sequences are
+/// short, or their edit distance is at most `WORK_MAX / (N+M)`. `None`
+/// otherwise, found out within that much work.
+pub fn edits_near<T: Eq + std::hash::Hash + Ord>(a: &[T], b: &[T]) -> Option<Vec<Edit>> {
+    let n = a.len() + b.len();
+    if n > EXACT_MAX {
+        // The common ends cost nothing: the bound is on what lies between.
+        let (head, tail) = common_ends(a, b);
+        let (ma, mb) = (&a[head..a.len() - tail], &b[head..b.len() - tail]);
+        distance_within(ma, mb, WORK_MAX / (ma.len() + mb.len()).max(1))?;
+    }
+    Some(script(&similar::capture_diff_slices(
+        Algorithm::Myers,
+        a,
+        b,
+    )))
+}
+
+/// The edit distance of `a` and `b` (insertions plus deletions) if it is at
+/// most `max_d`: Myers' greedy forward pass, in O((N+M)·max_d) time and
+/// O(max_d) memory, with no script kept.
+pub fn distance_within<T: Eq>(a: &[T], b: &[T], max_d: usize) -> Option<usize> {
+    let (n, m) = (a.len() as isize, b.len() as isize);
+    let max_d = max_d.min(a.len() + b.len()) as isize;
+    let off = max_d + 1;
+    // The furthest x reached on each diagonal k = x - y; -1: not reached.
+    let mut v = vec![-1isize; 2 * max_d as usize + 3];
+    for d in 0..=max_d {
+        for k in (-d..=d).step_by(2) {
+            let i = (off + k) as usize;
+            let x = if d == 0 {
+                0
+            } else {
+                // Down from diagonal k+1 (an insertion) or right from k-1
+                // (a deletion), whichever stays in the grid and goes further.
+                let down = Some(v[i + 1]).filter(|&x| x >= 0 && x - k <= m);
+                let right = Some(v[i - 1]).filter(|&x| x >= 0 && x < n).map(|x| x + 1);
+                match down.max(right) {
+                    Some(x) => x,
+                    None => continue,
+                }
+            };
+            let (mut x, mut y) = (x, x - k);
+            while x < n && y < m && a[x as usize] == b[y as usize] {
+                x += 1;
+                y += 1;
+            }
+            v[i] = x;
+            if x == n && y == m {
+                return Some(d as usize);
+            }
+        }
+    }
+    None
+}
+
 /// Sequences up to this long (both together) are aligned exactly, with no
 /// time bound: Myers' worst case is then some 10^7 steps.
 pub const EXACT_MAX: usize = 4_000;
@@ -363,6 +425,27 @@ mod tests {
         assert_eq!(script("abc", "axc"), " a ~bx  c");
         assert_eq!(script("ab", ""), "-a -b");
         assert_eq!(script("", ""), "");
+    }
+
+    #[test]
+    fn the_bounded_distance_is_exact_within_its_bound() {
+        let d = |a: &str, b: &str, max| {
+            let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+            distance_within(&a, &b, max)
+        };
+        assert_eq!(d("abc", "axc", 9), Some(2));
+        assert_eq!(d("abc", "axc", 1), None);
+        assert_eq!(d("", "", 0), Some(0));
+        assert_eq!(d("ab", "", 5), Some(2));
+        assert_eq!(d("", "xyz", 3), Some(3));
+        assert_eq!(d("RRUUp", "RRRUULp", 9), Some(2));
+        // Long and near: a loop that goes wrong once.
+        let a: Vec<u32> = (0..200_000).map(|i| i % 7).collect();
+        let mut b = a.clone();
+        b.splice(100_000..100_001, [9, 9, 9]);
+        assert_eq!(distance_within(&a, &b, 10), Some(4));
+        let e = edits_near(&a, &b).expect("near");
+        assert_eq!(distance(&e), 4);
     }
 
     #[test]

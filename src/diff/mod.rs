@@ -472,10 +472,15 @@ impl Diff {
             let ys = y.map(|s| s.steps).unwrap_or_default();
             let kx: Vec<_> = xs.iter().map(|s| s.key(outcomes)).collect();
             let ky: Vec<_> = ys.iter().map(|s| s.key(outcomes)).collect();
-            let (mut edits, exact) = if outcomes && kx.len() + ky.len() > align::EXACT_MAX {
-                // Two long runs: run of the root by run of the root, then
-                // tick by tick, so that the answer does not hang on a
-                // time bound (and so on the machine's load).
+            // Runs that differ in a few places are aligned exactly, however
+            // long (Myers' cost is length × distance).
+            let near = align::edits_near(&kx, &ky);
+            let (mut edits, exact) = if let Some(e) = near {
+                (e, true)
+            } else if outcomes {
+                // Two long runs far apart: run of the root by run of the
+                // root, then tick by tick, so that the answer does not hang
+                // on a time bound (and so on the machine's load).
                 let episode = |first: bool, i: usize| {
                     u64::from(if first { xs[i].episode } else { ys[i].episode })
                 };

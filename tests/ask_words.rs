@@ -259,7 +259,7 @@ fn what_went_wrong_after_a_recovery_tells_the_history() {
     assert!(ok, "{err}");
     assert_eq!(
         out,
-        "Nothing is wrong now. Follow path failed at ticks 4 and 6; navigate recovery (#1) recovered (check whether the goal was updated) and succeeded at tick 10.\nDid the recovery work?\nYes. Follow path (#10) failed at 6:1; follow path (#9) failed too, at 6:4; navigate recovery (#1), which handles it, succeeded at 10:10.\n"
+        "Nothing is wrong now. Follow path failed at ticks 4 and 6; the FollowPath recovery node (#9) first recovered (check whether the goal was updated) and tried again, which failed; navigate recovery (#1) recovered (check whether the goal was updated) and succeeded at tick 10.\nDid the recovery work?\nYes. Follow path (#10) failed at 6:1; follow path (#9) failed too, at 6:4; navigate recovery (#1), which handles it, succeeded at 10:10.\n"
     );
 }
 

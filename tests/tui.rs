@@ -686,8 +686,8 @@ fn a_key_that_cannot_act_says_why() {
     let mut app = demo();
     app.update(Action::End);
     app.update(Action::NextFailure);
-    assert_eq!(app.message.as_deref(), Some("no leaf failed after tick 54"));
-    assert!(screen(&app, 110, 34).contains("no leaf failed after tick 54"));
+    assert_eq!(app.message.as_deref(), Some("no fault after tick 54"));
+    assert!(screen(&app, 110, 34).contains("no fault after tick 54"));
     app.update(Action::Graph);
     assert_eq!(
         app.message.as_deref(),
@@ -1459,4 +1459,28 @@ fn an_unsure_reading_offers_the_other_readings_to_pick() {
         r.understood
     );
     assert!(app.did_you_mean.is_empty());
+}
+
+/// `f` goes by faults (#39 item 5): in the patrol, the e-stop check under
+/// its Inverter answers no in every tick, as designed; the battery check
+/// failing at tick 7, which fails the patrol, is the one fault.
+#[test]
+fn f_stops_at_faults_not_at_branches_taken() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let opts = btx::xml::LoadOptions {
+        run_tree: Some(root.join("tests/fixtures/answers/patrol-battery.xml")),
+        ..Default::default()
+    };
+    let mut app = btx::tui::open(
+        &root.join("tests/fixtures/logs/patrol_battery_drops.btlog"),
+        None,
+        &opts,
+    )
+    .unwrap();
+    app.update(Action::Start);
+    app.update(Action::NextFailure);
+    assert_eq!(app.tree.description(app.selected), "battery ok");
+    assert!(screen(&app, 110, 34).contains("tick 7 of 7"));
+    app.update(Action::NextFailure);
+    assert_eq!(app.message.as_deref(), Some("no fault after tick 7"));
 }

@@ -87,6 +87,10 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
             tick(cx, n, &mut r)
         }
         Intent::Recovered => recovered(cx, &mut r),
+        // At a moment of a recorded run, the tree is run on from there.
+        Intent::Next if cx.node.is_none() && cx.session.is_some() && cx.at.is_some() => {
+            ahead(cx, &mut r)
+        }
         Intent::Next => match cx.node.or_else(|| cx.at.as_ref().and_then(|a| a.current())) {
             Some(u) => next(cx, u, Status::Success, &mut r, true),
             None => Err(
@@ -580,6 +584,20 @@ fn flow(n: &crate::model::Node, status: Status) -> Flow {
     }
 }
 
+/// What happens after the moment, by running the tree on from it.
+fn ahead(cx: &Context, r: &mut Reply) -> Result<(), String> {
+    let (Some(s), Some(at)) = (cx.session, cx.at.as_ref()) else {
+        return Err("a run is needed".into());
+    };
+    r.understood = "What will I do next?".into();
+    let a = crate::causal::ahead::ahead(s, at.pos).map_err(|e| format!("Nothing: {e}."))?;
+    r.answer = a.text(cx.tree);
+    let mut nodes: Vec<Uid> = a.steps.iter().map(|s| s.uid).collect();
+    nodes.dedup();
+    r.nodes = nodes;
+    Ok(())
+}
+
 /// What the tree ticks after `u` ends with `s`, read from the tree: up
 /// through the parents that pass the outcome on, to the next child a
 /// Sequence or Fallback goes on to.
@@ -598,20 +616,40 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
         format!("What happens if {name} {word}?")
     };
     let (mut child, mut status) = (u, s);
+    let says = |s: Status| {
+        if s == Status::Success {
+            "succeeds"
+        } else {
+            "fails"
+        }
+    };
+    // The nodes that end because `u` did, each with how it ends.
+    let mut ended: Vec<(Uid, Status)> = Vec::new();
     while let Some(p) = tree.parent(child) {
         let n = tree.node(p);
         match flow(n, status) {
             Flow::Up(st) => {
                 status = st;
                 child = p;
+                ended.push((p, st));
             }
             Flow::Again => {
-                let again = if n.builtin == Some(Builtin::Repeat) {
-                    "repeats it (while it has cycles left)"
+                let repeat = n.builtin == Some(Builtin::Repeat);
+                let way: String = ended
+                    .iter()
+                    .map(|&(e, st)| format!("{} {}, then ", cx.name(e), says(st)))
+                    .collect();
+                let what = if child == u {
+                    "it".to_string()
                 } else {
-                    "tries again (while it has attempts left)"
+                    cx.name(child)
                 };
-                r.answer = format!("If {name} {word}, {} {again}.", cx.name(p));
+                let again = if repeat {
+                    format!("repeats {what} (while it has cycles left)")
+                } else {
+                    format!("tries {what} again (while it has attempts left)")
+                };
+                r.answer = format!("If {name} {word}, {way}{} {again}.", cx.name(p));
                 r.nodes = vec![u, p];
                 return Ok(());
             }
@@ -628,25 +666,65 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
                 match n.children.get(at + 1) {
                     Some(&c) if go_on => {
                         let first = tree.leaves_below(c).next().unwrap_or(c);
-                        r.answer = format!("If {name} {word}, I will {} next.", tree.deed(first));
+                        // An async control yields the tick between children.
+                        let yields = matches!(
+                            n.builtin,
+                            Some(Builtin::AsyncSequence | Builtin::AsyncFallback)
+                        );
+                        r.answer = if yields {
+                            format!(
+                                "If {name} {word}, {} goes on to {} when it is ticked again (it gives the tick back first).",
+                                cx.name(p),
+                                tree.deed(first)
+                            )
+                        } else {
+                            format!("If {name} {word}, I will {} next.", tree.deed(first))
+                        };
                         r.nodes = vec![u, first];
                         return Ok(());
                     }
-                    _ => child = p,
+                    _ => {
+                        child = p;
+                        ended.push((p, status));
+                    }
                 }
             }
         }
     }
-    let ends = if status == Status::Success {
-        "succeeds"
+    // Only where every node above passes the same outcome on as the last
+    // of its steps is `u` the task's last step.
+    let last_step = s == Status::Success
+        && ended.iter().all(|&(p, st)| {
+            st == s
+                && tree
+                    .node(p)
+                    .children
+                    .last()
+                    .is_some_and(|&c| c == u || tree.is_ancestor(c, u))
+        });
+    r.answer = if last_step {
+        format!(
+            "If {name} {word}, the task {}: {} is its last step.",
+            says(status),
+            tree.spoken(u)
+        )
     } else {
-        "fails"
+        // Say the way up, so the claim can be read against a run.
+        let way: Vec<String> = ended
+            .iter()
+            .filter(|&&(p, _)| p != Tree::ROOT)
+            .map(|&(p, st)| format!("{} {}", cx.name(p), says(st)))
+            .collect();
+        let way = if way.is_empty() {
+            String::new()
+        } else {
+            format!("{}, so ", way.join(", then "))
+        };
+        format!("If {name} {word}, {way}the task {}.", says(status))
     };
-    r.answer = format!(
-        "If {name} {word}, the task {ends}: {} is its last step.",
-        tree.spoken(u)
-    );
-    r.nodes = vec![u];
+    r.nodes = std::iter::once(u)
+        .chain(ended.iter().map(|&(p, _)| p))
+        .collect();
     Ok(())
 }
 

@@ -301,11 +301,47 @@ fn halted_by(cx: &Context, u: Uid, p: u32) -> String {
                 step_moment(idx, q)
             )
         }
-        None => format!(
-            "{name} was halted at {}: a node above it stopped ticking it (a reactive check or a parent that finished); the transitions of that tick show which.",
-            step_moment(idx, p)
-        ),
+        None => match sibling_outcome(cx, u, start + 1..p) {
+            // A reactive node's earlier child changed, so it stopped the
+            // child it no longer ticks (a guard that failed).
+            Some((q, a)) => {
+                let t = idx.transitions[q as usize - 1];
+                format!(
+                    "{name} was halted at {} because {} became {} at {}, so the {} {} stopped ticking it.",
+                    step_moment(idx, p),
+                    cx_name(cx, t.uid),
+                    t.status.as_str(),
+                    step_moment(idx, q),
+                    cx.tree.node(a).id,
+                    cx_name(cx, a),
+                )
+            }
+            None => format!(
+                "{name} was halted at {}: a node above it stopped ticking it, and the record of that tick does not show which.",
+                step_moment(idx, p)
+            ),
+        },
     }
+}
+
+/// The latest outcome before a halt, within `span` of the halt's tick, of
+/// a node beside the halted one (under one of its ancestors, not above or
+/// below it), and the ancestor both are under.
+fn sibling_outcome(cx: &Context, u: Uid, span: std::ops::Range<u32>) -> Option<(u32, Uid)> {
+    let idx = cx.at.as_ref()?.index;
+    let tree = cx.tree;
+    span.rev().find_map(|q| {
+        let t = idx.transitions[q as usize - 1];
+        if t.status == Status::Idle
+            || t.uid == u
+            || tree.is_ancestor(t.uid, u)
+            || tree.is_ancestor(u, t.uid)
+        {
+            return None;
+        }
+        let common = tree.ancestors(u).find(|&a| tree.is_ancestor(a, t.uid))?;
+        Some((q, common))
+    })
 }
 
 /// Asks the counterfactual search, and keeps its explanations (its own

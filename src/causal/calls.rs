@@ -29,8 +29,11 @@ struct Call {
     /// Ticks from its start to its end (0: it completed when it started).
     ticks: u32,
     end: End,
-    /// The record's position of its completion (0 when cut).
+    /// The record's position of its completion or halt (0 when it was
+    /// still running at the record's end).
     end_pos: u32,
+    /// The record's position of its start.
+    start_pos: u32,
 }
 
 /// Each leaf's recorded calls, in order. A call the record shows is one
@@ -40,7 +43,7 @@ struct Call {
 fn recorded_calls(session: &Session) -> Vec<Vec<Call>> {
     let idx = &session.index;
     let mut calls: Vec<Vec<Call>> = vec![Vec::new(); session.tree.len()];
-    let mut open: Vec<Option<u32>> = vec![None; session.tree.len()];
+    let mut open: Vec<Option<(u32, u32)>> = vec![None; session.tree.len()];
     let done = |s: Status| matches!(s, Status::Success | Status::Failure);
     for (i, t) in idx.transitions.iter().enumerate() {
         let n = session.tree.node(t.uid);
@@ -51,40 +54,44 @@ fn recorded_calls(session: &Session) -> Vec<Vec<Call>> {
         let pos = i as u32 + 1;
         match (t.prev, t.status) {
             (Status::Running, s) if done(s) => {
-                let start = open[u].take().unwrap_or(t.tick);
+                let (start, start_pos) = open[u].take().unwrap_or((t.tick, pos));
                 calls[u].push(Call {
                     start,
                     ticks: t.tick - start,
                     end: End::Done(s),
                     end_pos: pos,
+                    start_pos,
                 });
             }
             (Status::Running, Status::Idle) => {
-                let start = open[u].take().unwrap_or(t.tick);
+                let (start, start_pos) = open[u].take().unwrap_or((t.tick, pos));
                 calls[u].push(Call {
                     start,
                     ticks: t.tick - start,
                     end: End::Cut,
-                    end_pos: 0,
+                    end_pos: pos,
+                    start_pos,
                 });
             }
-            (_, Status::Running) => open[u] = Some(t.tick),
+            (_, Status::Running) => open[u] = Some((t.tick, pos)),
             (_, s) if done(s) => calls[u].push(Call {
                 start: t.tick,
                 ticks: 0,
                 end: End::Done(s),
                 end_pos: pos,
+                start_pos: pos,
             }),
             _ => {}
         }
     }
     for (u, o) in open.iter().enumerate() {
-        if let Some(start) = *o {
+        if let Some((start, start_pos)) = *o {
             calls[u].push(Call {
                 start,
                 ticks: u32::MAX,
                 end: End::Cut,
                 end_pos: 0,
+                start_pos,
             });
         }
     }
@@ -104,12 +111,21 @@ struct ReplayLeaves {
     /// Leaves asked for more than the record holds (a call it has not, or
     /// past a halt): they return what they last returned, or keep running.
     assumed: Vec<Uid>,
+    /// Actions with no call left are started, and run on (a prediction:
+    /// an action's next call has not ended yet), rather than repeat their
+    /// last outcome (a counterfactual's re-run of a record).
+    actions_run: Vec<bool>,
 }
 
 impl ReplayLeaves {
-    fn new(calls: Vec<Vec<Call>>, flip: Option<(Uid, usize, Status)>) -> Self {
+    fn new(
+        calls: Vec<Vec<Call>>,
+        flip: Option<(Uid, usize, Status)>,
+        actions_run: Vec<bool>,
+    ) -> Self {
         let n = calls.len();
         ReplayLeaves {
+            actions_run,
             calls,
             next: vec![0; n],
             open: vec![None; n],
@@ -163,6 +179,10 @@ impl Leaves for ReplayLeaves {
                 self.assume(call.uid);
                 Status::Running
             }
+            None if self.actions_run.get(i).copied().unwrap_or(false) => {
+                self.assume(call.uid);
+                Status::Running
+            }
             None => {
                 self.assume(call.uid);
                 // As it last ended in the record, else a success.
@@ -198,8 +218,11 @@ impl Leaves for ReplayLeaves {
 
 /// A session whose run the executor reproduces from its recorded calls.
 pub struct Replay<'s> {
-    session: &'s Session,
+    pub(super) session: &'s Session,
     calls: Vec<Vec<Call>>,
+    /// Which leaves are actions that start and run on once their recorded
+    /// calls are used up (`as_of`); empty: none.
+    actions_run: Vec<bool>,
 }
 
 /// Why a run cannot be replayed from its calls.
@@ -227,14 +250,58 @@ impl<'s> Replay<'s> {
         if let Some(why) = not_replayable(session) {
             return Err(why);
         }
-        let r = Replay {
+        Replay {
             session,
             calls: recorded_calls(session),
-        };
+            actions_run: Vec::new(),
+        }
+        .checked(upto)
+    }
+
+    /// The run's calls as they stood at position `pos`, when nothing later
+    /// was known: a call running then keeps running; past its recorded
+    /// calls a condition repeats its last outcome and an action starts and
+    /// runs on (`assumed`). Checked as `new`.
+    pub(super) fn as_of(session: &'s Session, pos: u32) -> Result<Replay<'s>, String> {
+        if let Some(why) = not_replayable(session) {
+            return Err(why);
+        }
+        let mut calls = recorded_calls(session);
+        for cs in &mut calls {
+            cs.retain(|c| c.start_pos <= pos);
+            // Ended after `pos`: then it was running, its end not known.
+            if let Some(c) = cs.last_mut().filter(|c| c.end_pos > pos) {
+                c.end = End::Cut;
+                c.ticks = u32::MAX;
+                c.end_pos = 0;
+            }
+        }
+        let actions_run = session
+            .tree
+            .nodes
+            .iter()
+            .map(|n| {
+                n.kind == crate::model::Kind::Action
+                    && n.builtin.is_none()
+                    // Nav2's selectors and the like end in the tick they start.
+                    && crate::model::nav2::at_once(&n.id, session.tree.release).is_none()
+            })
+            .collect();
+        Replay {
+            session,
+            calls,
+            actions_run,
+        }
+        .checked(pos)
+    }
+
+    fn checked(self, upto: u32) -> Result<Replay<'s>, String> {
+        let r = self;
+        let session = r.session;
         let want = &session.index.transitions[..upto as usize];
         let mut got = 0usize;
         let mut differs = None;
-        r.run(None, |_, t| {
+        r.run(None, session.index.ticks(), |_, t| {
             if got >= want.len() {
                 return false;
             }
@@ -263,21 +330,22 @@ impl<'s> Replay<'s> {
     /// transition to `sink` until it says stop, the root completes or the
     /// record's ticks are past. The leaves the re-run asked more of than the
     /// record holds.
-    fn run(
+    pub(super) fn run(
         &self,
         flip: Option<(Uid, usize, Status)>,
+        last: u32,
         mut sink: impl FnMut(u32, (u32, Uid, Status, Status)) -> bool,
     ) -> Result<Vec<Uid>, String> {
         let s = self.session;
         let mut ex = Executor::new(
             &s.tree,
-            ReplayLeaves::new(self.calls.clone(), flip),
+            ReplayLeaves::new(self.calls.clone(), flip, self.actions_run.clone()),
             RunOptions {
                 tick_ms: s.header.tick_ms.max(1),
                 nav2: s.header.nav2.unwrap_or_default(),
             },
         );
-        let last = s.index.ticks().min(TICKS_MAX);
+        let last = last.min(TICKS_MAX);
         for _ in 1..=last {
             let r = ex.tick_once();
             let mut in_tick = 0u32;
@@ -372,7 +440,7 @@ impl Replay<'_> {
             .iter()
             .filter(|&&q| q <= p && ended(idx.transitions[q as usize - 1].status))
             .count();
-        let since = call_start(idx, u, p).unwrap_or(0);
+        let since = idx.call_start(u, p).unwrap_or(0);
         let mut cands: Vec<(Uid, usize, u32, Status)> = Vec::new();
         for (i, calls) in self.calls.iter().enumerate() {
             let leaf = i as Uid + 1;
@@ -408,22 +476,25 @@ impl Replay<'_> {
             };
             let mut seen = 0usize;
             let mut instead = None;
-            let Ok(assumed) = self.run(Some((leaf, k, to)), |step, (tick, uid, _, status)| {
-                if uid == u && ended(status) {
-                    seen += 1;
-                    if seen == nth {
-                        instead = Some((
-                            status,
-                            Moment {
-                                tick,
-                                step: Some(step),
-                            },
-                        ));
-                        return false;
+            let last = idx.ticks();
+            let Ok(assumed) =
+                self.run(Some((leaf, k, to)), last, |step, (tick, uid, _, status)| {
+                    if uid == u && ended(status) {
+                        seen += 1;
+                        if seen == nth {
+                            instead = Some((
+                                status,
+                                Moment {
+                                    tick,
+                                    step: Some(step),
+                                },
+                            ));
+                            return false;
+                        }
                     }
-                }
-                true
-            }) else {
+                    true
+                })
+            else {
                 continue;
             };
             if instead.is_some_and(|(s, _)| s == event.status) {
@@ -727,17 +798,6 @@ pub fn step_moment(idx: &crate::session::Index, pos: u32) -> Moment {
     }
 }
 
-/// Where node `u`'s call that ends at position `p` started: its last
-/// change out of IDLE before `p`.
-fn call_start(idx: &crate::session::Index, u: Uid, p: u32) -> Option<u32> {
-    idx.changes_of(u)
-        .iter()
-        .copied()
-        .take_while(|&q| q < p)
-        .filter(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)
-        .last()
-}
-
 /// "once", "twice", "N times".
 pub fn times(n: usize) -> String {
     match n {
@@ -759,7 +819,7 @@ pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
     let m = step_moment(idx, p);
     let what = tree.node(u).kind.as_str().to_lowercase();
     let mut out = Vec::new();
-    let start = call_start(idx, u, p);
+    let start = idx.call_start(u, p);
     let ran = match start {
         Some(q) if idx.transitions[q as usize - 1].status == Status::Running => {
             let ticks = t.tick - idx.transitions[q as usize - 1].tick + 1;

@@ -465,21 +465,34 @@ pub fn sentence(m: &Model, q: &Query, e: &Explanation) -> String {
             of,
             repeat,
         }) => {
-            let what = m
-                .tree
-                .ancestors(node)
-                .find(|&a| m.tree.has_name(a))
-                .map_or_else(|| m.node_name(node), |a| m.node_name(a));
             let of = if of > 0 {
                 format!(" of {of}")
             } else {
                 String::new()
             };
-            vec![if repeat {
-                format!("I would have repeated {what}: cycle {attempt}{of}")
+            let origin = m.origin(node);
+            // A loop someone named ("patrol twice") is said as itself, with
+            // what it runs again: never the task it is part of.
+            let child = m.tree.node(origin).children.first().copied();
+            if let (true, Some(c)) = (m.tree.has_name(origin), child) {
+                let (lp, what) = (m.tree.description(origin), m.tree.description(c));
+                vec![if repeat {
+                    format!("{lp} would have repeated {what}: cycle {attempt}{of}")
+                } else {
+                    format!("{lp} would have tried {what} again: attempt {attempt}{of}")
+                }]
             } else {
-                format!("I would have retried to {what}: attempt {attempt}{of}")
-            }]
+                let what = m
+                    .tree
+                    .ancestors(node)
+                    .find(|&a| m.tree.has_name(a))
+                    .map_or_else(|| m.node_name(node), |a| m.node_name(a));
+                vec![if repeat {
+                    format!("I would have repeated {what}: cycle {attempt}{of}")
+                } else {
+                    format!("I would have retried to {what}: attempt {attempt}{of}")
+                }]
+            }
         }
         // Never a consequence the model only guesses: which node it rests
         // on, and why btx cannot follow it.

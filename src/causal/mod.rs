@@ -7,6 +7,7 @@
 //! leaf outcomes are exogenous, so structural questions ("why did ask not
 //! run?") still get answers.
 
+pub mod ahead;
 pub mod attempts;
 pub mod calls;
 pub mod compare;

@@ -560,12 +560,44 @@ pub fn history(tree: &Tree, run: &At) -> Option<(String, Vec<Uid>)> {
     let mut text = capitalise(&said.join("; "));
     let from = first.unwrap_or(at);
     if let Some((h, done, ran)) = recovered_by(tree, run, leaf, at, from) {
-        let mut deeds: Vec<String> = Vec::new();
-        for d in ran.iter().map(|&u| tree.deed(u)) {
-            if !deeds.contains(&d) {
-                deeds.push(d);
+        let deeds_of = |by: &dyn Fn(Uid) -> bool| {
+            let mut deeds: Vec<String> = Vec::new();
+            for d in ran
+                .iter()
+                .filter(|&&(g, _)| by(g))
+                .map(|&(_, u)| tree.deed(u))
+            {
+                if !deeds.contains(&d) {
+                    deeds.push(d);
+                }
+            }
+            deeds
+        };
+        // A handler below `h` that ran its recovery first, and failed: its
+        // recovery is its own, not `h`'s.
+        let mut inner: Vec<Uid> = Vec::new();
+        for &(g, _) in &ran {
+            if g != h && !inner.contains(&g) {
+                inner.push(g);
             }
         }
+        for g in inner {
+            let deeds = deeds_of(&|x| x == g);
+            // A RecoveryNode goes back to its first child; a Fallback
+            // does not.
+            let how = if tree.node(g).builtin == Some(Builtin::RecoveryNode) {
+                "first recovered ({}) and tried again, which failed"
+            } else {
+                "first fell back ({}) and failed"
+            };
+            text.push_str(&format!(
+                "; {} {}",
+                tree.told(g),
+                how.replace("{}", &and_list(&deeds))
+            ));
+            nodes.push(g);
+        }
+        let deeds = deeds_of(&|x| x == h);
         let how = match tree.node(h).builtin {
             Some(Builtin::RetryUntilSuccessful) => "tried again and".to_string(),
             _ if deeds.is_empty() => "went on and".to_string(),
@@ -577,10 +609,13 @@ pub fn history(tree: &Tree, run: &At) -> Option<(String, Vec<Uid>)> {
             run.index.transitions[done as usize - 1].tick
         ));
         nodes.push(h);
-        nodes.extend(ran);
+        nodes.extend(ran.iter().map(|&(_, u)| u));
     }
     Some((format!("{text}."), nodes))
 }
+
+/// A handler, and a leaf that ran in its recovery.
+pub type Recovered = (Uid, Uid);
 
 /// The node above `leaf` that handled its failure at position `at` and
 /// succeeded afterwards (by this moment): a Fallback, a Retry or a
@@ -592,12 +627,14 @@ pub fn recovered_by(
     leaf: Uid,
     at: u32,
     from: u32,
-) -> Option<(Uid, u32, Vec<Uid>)> {
+) -> Option<(Uid, u32, Vec<Recovered>)> {
     let (h, end) = recovery(tree, run, leaf, at)?;
     // What ran to recover: leaves in the later children of a Fallback
     // or RecoveryNode between `h` and them (the nominal steps that
     // went on are not a recovery).
-    let in_recovery = |u: Uid| {
+    // Only a handler of this failure (an ancestor of the leaf) recovers:
+    // a Fallback beside it that took its second child is a branch taken.
+    let handler_of = |u: Uid| -> Option<Uid> {
         let mut c = u;
         while let Some(p) = tree.parent(c) {
             let fallback = matches!(
@@ -610,25 +647,26 @@ pub fn recovered_by(
                 )
             );
             if fallback && tree.node(p).children.first() != Some(&c) {
-                return true;
+                return Some(p);
             }
             if p == h {
-                return false;
+                return None;
             }
             c = p;
         }
-        false
+        None
     };
-    let mut ran: Vec<Uid> = Vec::new();
+    let in_recovery = |u: Uid| handler_of(u).is_some_and(|f| f == h || tree.is_ancestor(f, leaf));
+    let mut ran: Vec<Recovered> = Vec::new();
     for q in from + 1..end {
         let t = run.index.transitions[q as usize - 1];
         if t.status == Status::Success
             && tree.node(t.uid).kind.is_leaf()
             && tree.is_ancestor(h, t.uid)
             && in_recovery(t.uid)
-            && !ran.contains(&t.uid)
+            && !ran.iter().any(|&(_, l)| l == t.uid)
         {
-            ran.push(t.uid);
+            ran.push((handler_of(t.uid).unwrap_or(h), t.uid));
         }
     }
     Some((h, end, ran))
@@ -721,7 +759,24 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
                 let first = tree.node(fb).children[0];
                 // "fell back to run the X" reads as "fell back to the X".
                 let deed = tree.deed(h);
-                let to = deed.strip_prefix("run ").unwrap_or(&deed);
+                // An unnamed handler is said as what it runs, not as its
+                // type ("the sequence").
+                let to = if tree.has_name(h) || tree.node(h).children.is_empty() {
+                    deed.strip_prefix("run ").unwrap_or(&deed).to_string()
+                } else {
+                    let parts: Vec<String> = tree
+                        .node(h)
+                        .children
+                        .iter()
+                        .map(|&c| format!("{} (#{c})", tree.description(c)))
+                        .collect();
+                    let parts: Vec<&str> = parts.iter().map(String::as_str).collect();
+                    format!(
+                        "the {} (#{h}) of {}",
+                        tree.node(h).id,
+                        super::han::and_list(&parts)
+                    )
+                };
                 parts.push(format!(
                     "When {} failed, I fell back to {to}.",
                     tree.spoken(first),

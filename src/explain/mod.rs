@@ -2,6 +2,7 @@
 //! answers.
 
 pub mod failure;
+pub mod fault;
 pub mod han;
 pub mod insert;
 

@@ -65,10 +65,25 @@ impl Tree {
     pub fn deed(&self, uid: Uid) -> String {
         let d = self.description(uid);
         let s = self.spoken(uid);
-        if d.contains(char::is_whitespace) || d.is_empty() {
-            return lower_first(&s);
-        }
         let n = self.node(uid);
+        if d.contains(char::is_whitespace) || d.is_empty() {
+            // Written as words: kept when it says a deed ("look at chuck");
+            // a check or a thing said as words reads as a deed too ("battery
+            // ok" → "check whether the battery is ok", "guarded patrol
+            // step" → "run the guarded patrol step").
+            let s = lower_first(&s);
+            let first = s.split(' ').next().unwrap_or("");
+            if d.is_empty() || VERBS.contains(&first) || first == "check" {
+                return s;
+            }
+            if n.kind == super::Kind::Condition {
+                let negated = n
+                    .parent
+                    .is_some_and(|p| self.node(p).builtin == Some(super::Builtin::Inverter));
+                return check(&s, negated);
+            }
+            return as_deed(&s);
+        }
         // One word that is the node's ID, as BehaviorTree.CPP registers it
         // (`Spin`, `Wait`): a word, not a proper name. A lowercase word is
         // kept as written (a paper's `ask`).
@@ -723,7 +738,8 @@ mod deed_tests {
         assert_eq!(t.deed(1), "go home");
         let t = tree(r#"<Sequence name="Drive in a square"><Action ID="GPS fix"/></Sequence>"#);
         assert_eq!(t.deed(1), "drive in a square");
-        assert_eq!(t.deed(2), "GPS fix");
+        // Words that are no deed are a thing run, never a verb.
+        assert_eq!(t.deed(2), "run the GPS fix");
         // A name that ends in a kind of node names the node.
         let t = tree(
             r#"<RateController name="ComputeRouteRateController" hz="1"><ComputeRoute name="ComputeRoute"/></RateController>"#,

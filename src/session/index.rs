@@ -473,6 +473,17 @@ impl Index {
         &self.by_node[(uid - 1) as usize]
     }
 
+    /// Where node `u`'s call that ends at position `p` started: its last
+    /// change out of IDLE before `p`.
+    pub fn call_start(&self, u: Uid, p: u32) -> Option<u32> {
+        self.changes_of(u)
+            .iter()
+            .copied()
+            .take_while(|&q| q < p)
+            .filter(|&q| self.transitions[q as usize - 1].prev == Status::Idle)
+            .last()
+    }
+
     /// What a node did in tick `tick`, as the timeline's strip shows it: a
     /// status only where the node ran in that tick (Groot2's log replay
     /// shows a status only where a node ran).

@@ -2,6 +2,7 @@
 //! [`Action`]; answers come from the library.
 
 use super::keymap::Action;
+use crate::explain::fault::{faults, is_fault};
 use crate::explain::{answer, Answer, Question, RunQuestion, TreeQuestion};
 use crate::frame::Framed;
 use crate::model::{Builtin, Kind, Tree, Uid};
@@ -529,28 +530,29 @@ impl App {
         }
     }
 
-    /// The leaf whose FAILURE came last in tick `t`.
+    /// The leaf whose fault came last in tick `t` (a check that answered
+    /// no as designed is a branch taken, not a fault).
     pub(crate) fn failed_leaf(&self, t: u32) -> Option<Uid> {
         let s = self.session.as_ref()?;
-        s.index
-            .transitions
-            .iter()
+        let range = s.index.tick_range(t);
+        (range.start as u32 + 1..=range.end as u32)
             .rev()
-            .find(|x| {
-                x.tick == t && x.status == Status::Failure && s.tree.node(x.uid).kind.is_leaf()
+            .find(|&p| {
+                let x = s.index.transitions[p as usize - 1];
+                s.tree.node(x.uid).kind.is_leaf() && is_fault(&s.tree, &s.index, p)
             })
-            .map(|x| x.uid)
+            .map(|p| s.index.transitions[p as usize - 1].uid)
     }
 
+    /// The ticks with a fault of a leaf in them.
     pub(crate) fn failure_ticks(&self) -> Vec<u32> {
         let Some(s) = &self.session else {
             return Vec::new();
         };
-        let mut ticks: Vec<u32> = s
-            .index
-            .transitions
-            .iter()
-            .filter(|t| t.status == Status::Failure && s.tree.node(t.uid).kind.is_leaf())
+        let mut ticks: Vec<u32> = faults(&s.tree, &s.index)
+            .into_iter()
+            .map(|p| s.index.transitions[p as usize - 1])
+            .filter(|t| s.tree.node(t.uid).kind.is_leaf())
             .map(|t| t.tick)
             .collect();
         ticks.dedup();

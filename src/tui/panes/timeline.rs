@@ -135,8 +135,8 @@ impl App {
         true
     }
 
-    /// To the end of the next (previous) tick in which a leaf failed, with
-    /// that leaf selected.
+    /// To the end of the next (previous) tick in which a leaf's failure was
+    /// a fault (not a branch taken), with that leaf selected.
     fn goto_failure(&mut self, next: bool) {
         let t = self.current_tick();
         let at_end = self.tick_end(t) == Some(self.pos);
@@ -155,7 +155,7 @@ impl App {
             }
         } else {
             self.message = Some(format!(
-                "no leaf failed {} tick {t}",
+                "no fault {} tick {t}",
                 if next { "after" } else { "before" }
             ));
         }

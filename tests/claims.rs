@@ -463,3 +463,71 @@ fn the_patrols_answers_are_true() {
         "Scan area (#8) started twice by the end of the run at tick 7 (at 2:9 and 5:18)."
     );
 }
+
+/// Faults and branches (#39 item 5): in the patrol the e-stop check under
+/// its Inverter answers no in every tick as designed, and the battery
+/// check's no fails the patrol; in Nav2's navigator FollowPath's failures
+/// are faults, and GoalUpdated's and WouldA…RecoveryHelp's noes are
+/// branches; in the kitting run, a grasp check after the grasp is a fault.
+#[test]
+fn faults_are_told_from_branches_taken() {
+    use btx::explain::fault::is_fault;
+    let said = |s: &Session| -> Vec<(String, bool)> {
+        let mut out: Vec<(String, bool)> = Vec::new();
+        for (i, t) in s.index.transitions.iter().enumerate() {
+            if t.status == Status::Failure && s.tree.node(t.uid).kind.is_leaf() {
+                let e = (
+                    s.tree.description(t.uid).to_string(),
+                    is_fault(&s.tree, &s.index, i as u32 + 1),
+                );
+                if !out.contains(&e) {
+                    out.push(e);
+                }
+            }
+        }
+        out
+    };
+    let runs = runs();
+    let patrol = &runs.last().unwrap().1;
+    assert_eq!(
+        said(patrol),
+        [
+            ("emergency stop pressed".to_string(), false),
+            ("battery ok".to_string(), true)
+        ]
+    );
+    let nav =
+        common::fixture("realworld/nav2-a3a9704/navigate_to_pose_w_replanning_and_recovery.xml");
+    let models = common::fixture("realworld/nav2-a3a9704/nav2_tree_nodes.xml");
+    let plan = "@default_action = 1RS\n@default_condition = S\nFollowPath = 2RF, 2RF, 3RS\nGoalUpdated = F\nWouldAControllerRecoveryHelp = F\n";
+    let s = planned(&std::fs::read_to_string(&nav).unwrap(), plan, Some(&models)).unwrap();
+    let nav_said = said(&s);
+    assert!(
+        nav_said.contains(&("FollowPath".to_string(), true)),
+        "{nav_said:?}"
+    );
+    assert!(
+        nav_said.contains(&("GoalUpdated".to_string(), false)),
+        "{nav_said:?}"
+    );
+    assert!(
+        nav_said.contains(&("WouldAControllerRecoveryHelp".to_string(), false)),
+        "{nav_said:?}"
+    );
+    assert!(
+        nav_said.iter().all(|(n, f)| *f == (n == "FollowPath")),
+        "{nav_said:?}"
+    );
+    let kit = btx::input::open(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("sessions/kitting-grasp-check-fails-first.jsonl"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let kit = kit.session().unwrap();
+    assert!(
+        said(kit).contains(&("check if grasped".to_string(), true)),
+        "{:?}",
+        said(kit)
+    );
+}

@@ -707,3 +707,57 @@ fn a_long_loop_that_goes_wrong_once_has_its_exact_distance() {
     assert_eq!(distance(10), (3, true));
     assert_eq!(distance(4_000), (3, true));
 }
+
+/// #39 item 5: two runs that end apart lead with what decided the outcome,
+/// not with a harmless retry that came first: here a drive that failed
+/// once and was retried, then the battery check that failed the task.
+#[test]
+fn what_decided_the_outcome_leads_over_a_harmless_retry() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |f: &str| dir.path().join(f).to_str().unwrap().to_string();
+    std::fs::write(
+        p("t.xml"),
+        r#"<root BTCPP_format="4" main_tree_to_execute="Task">
+  <BehaviorTree ID="Task">
+    <Sequence name="deliver">
+      <RetryUntilSuccessful num_attempts="3"><Move name="drive to shelf"/></RetryUntilSuccessful>
+      <Pick name="pick parcel"/>
+      <Check name="battery ok"/>
+      <Move name="drive to door"/>
+    </Sequence>
+  </BehaviorTree>
+  <TreeNodesModel><Action ID="Move"/><Action ID="Pick"/><Condition ID="Check"/></TreeNodesModel>
+</root>"#,
+    )
+    .unwrap();
+    std::fs::write(
+        p("a.plan"),
+        "@default_action = 1RS\n@default_condition = S\n",
+    )
+    .unwrap();
+    std::fs::write(
+        p("b.plan"),
+        "@default_action = 1RS\n@default_condition = S\ndrive to shelf = 1RF, 1RS\nbattery ok = F\n",
+    )
+    .unwrap();
+    for run in ["a", "b"] {
+        let (ok, _, err) = btx(&[
+            "run",
+            &p("t.xml"),
+            "--plan",
+            &p(&format!("{run}.plan")),
+            "--out",
+            &p(&format!("{run}.jsonl")),
+        ]);
+        assert!(ok, "{err}");
+    }
+    let (_, out, _) = btx(&["diff", &p("a.jsonl"), &p("b.jsonl")]);
+    let summary = out.lines().last().unwrap();
+    assert!(
+        summary.starts_with("In all: edit distance 4, LCS 2. What decided the outcome: deliver: A's 3rd action, \"battery ok\" (#5, tick 3), is \"battery ok\" (#5, tick 4, FAILURE) in B. The runs part ways"),
+        "{summary}"
+    );
+    let d = json(&["diff", &p("a.jsonl"), &p("b.jsonl"), "--format", "json"]);
+    assert_eq!(d["decisive"]["edit"], 3, "{d}");
+    assert_eq!(d["first_divergence"]["edit"], 0, "{d}");
+}

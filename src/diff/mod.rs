@@ -356,6 +356,38 @@ pub struct Diff {
     /// it is the first divergent step after it: the transition was in a
     /// step both runs made alike, as a leaf RUNNING one tick longer).
     pub parting_held: bool,
+    /// Two runs that ended apart (one FAILURE, the other not): the edit
+    /// holding the failing run's last fault before its root failed, what
+    /// decided the outcome (`explain::fault`: never a check that answered
+    /// no as designed).
+    pub decisive: Option<(usize, usize)>,
+}
+
+/// The position (0-based) of the last leaf fault before the run's root
+/// failed, when it failed.
+fn last_fault(s: &Session) -> Option<usize> {
+    let idx = &s.index;
+    let root = s.tree.root().uid;
+    let failed = idx
+        .transitions
+        .iter()
+        .rposition(|t| t.uid == root && t.status.is_completed())
+        .filter(|&r| idx.transitions[r].status == Status::Failure)?;
+    (0..failed).rev().find(|&q| {
+        s.tree.node(idx.transitions[q].uid).kind.is_leaf()
+            && crate::explain::fault::is_fault(&s.tree, idx, q as u32 + 1)
+    })
+}
+
+/// Whether a run's root last completed with SUCCESS or FAILURE, and which.
+fn root_outcome(s: &Session) -> Option<Status> {
+    let root = s.tree.root().uid;
+    s.index
+        .transitions
+        .iter()
+        .rev()
+        .find(|t| t.uid == root && t.status.is_completed())
+        .map(|t| t.status)
 }
 
 /// Between two runs, a changed pair of two different leaves says nothing
@@ -540,7 +572,7 @@ impl Diff {
             .as_ref()
             .is_some_and(|p| mark_parting(&mut sections, p.index, same_shape(a.tree, b.tree)));
         let parting_text = parting.as_ref().map(|p| p.text(a.tree, b.tree, "A", "B"));
-        Diff {
+        let mut d = Diff {
             a_name: a.name.clone(),
             b_name: b.name.clone(),
             a_run: a.session.is_some(),
@@ -549,7 +581,33 @@ impl Diff {
             parting,
             parting_text,
             parting_held,
+            decisive: None,
+        };
+        d.decisive = d.decided(a.session, b.session);
+        d
+    }
+
+    /// The divergence that decided the outcome, when the runs ended apart.
+    fn decided(&self, a: Option<&Session>, b: Option<&Session>) -> Option<(usize, usize)> {
+        let (a, b) = (a?, b?);
+        let (oa, ob) = (root_outcome(a), root_outcome(b));
+        if oa == ob {
+            return None;
         }
+        let (in_b, fault) = match (oa, ob) {
+            (_, Some(Status::Failure)) => (true, last_fault(b)?),
+            (Some(Status::Failure), _) => (false, last_fault(a)?),
+            _ => return None,
+        };
+        let holds = |st: &Step| st.span().is_some_and(|(x, y)| x <= fault && fault <= y);
+        self.divergences().into_iter().find(|&(s, i)| {
+            let (sec, e) = (&self.sections[s], self.sections[s].edits[i]);
+            if in_b {
+                e.b.is_some_and(|k| holds(&sec.b[k]))
+            } else {
+                e.a.is_some_and(|k| holds(&sec.a[k]))
+            }
+        })
     }
 
     /// The edit where the runs part ways: (section, edit).
@@ -769,9 +827,17 @@ impl Diff {
             } else {
                 String::new()
             };
+            // What decided the outcome comes first, where it is not the
+            // first divergence already.
+            let decided = match self.decisive {
+                Some(d) if d != (s, i) => {
+                    format!(" What decided the outcome: {}.", self.describe(d.0, d.1))
+                }
+                _ => String::new(),
+            };
             write!(
                 out,
-                "\nIn all: edit distance {}{}, LCS {}.{parted} First divergence: {}.{after}\n",
+                "\nIn all: edit distance {}{}, LCS {}.{decided}{parted} First divergence: {}.{after}\n",
                 self.distance(),
                 if self.sections.iter().all(|s| s.exact) {
                     ""
@@ -809,6 +875,11 @@ impl Diff {
             "distance": self.distance(),
             "lcs": self.lcs(),
             "first_divergence": first,
+            "decisive": self.decisive.map(|(s, i)| json!({
+                "subgoal": self.sections[s].name,
+                "edit": i,
+                "text": self.describe(s, i),
+            })),
             "parting": parting,
             "sections": self.sections.iter().map(Section::json).collect::<Vec<_>>(),
         })

@@ -1,10 +1,12 @@
 //! Faults and branches (#39 item 5). A FAILURE is a fault when it is an
-//! action's, when it made a subgoal or the root fail, or when it set a
-//! recovery going (a RecoveryNode's first child failing); a check that
+//! action's, when it made a subgoal or the root fail, when it set a
+//! recovery going (a RecoveryNode's first child, a Retry's child), or when
+//! a check verifies what an action did before it ("check if grasped"); a
+//! control node's, when a fault below it made it fail. A check that
 //! answered no and whose parent went on as designed (an e-stop check under
-//! an Inverter, Nav2's GoalUpdated and WouldA…RecoveryHelp) is a branch
-//! taken. Jumping to failures, the fleet's lists and "What went wrong?" go
-//! by faults.
+//! an Inverter, Nav2's GoalUpdated and WouldA…RecoveryHelp, a guard at the
+//! head of a Sequence) is a branch taken. Jumping to failures and the
+//! fleet's lists go by faults.
 
 use crate::model::{Builtin, Kind, Tree, Uid};
 use crate::run::Status;
@@ -19,21 +21,44 @@ pub fn is_fault(tree: &Tree, idx: &Index, p: u32) -> bool {
         return false;
     }
     let n = tree.node(t.uid);
-    if n.kind == Kind::Action && n.builtin.is_none() || t.uid == Tree::ROOT {
+    if is_action(tree, t.uid) || t.uid == Tree::ROOT {
         return true;
     }
-    // A control node fails because of what failed below it in this call:
-    // an action there makes its failure that action's fault too.
-    if !n.kind.is_leaf() && action_failed_below(tree, idx, t.uid, p) {
-        return true;
+    // A control node fails because of what failed below it in this call.
+    if !n.kind.is_leaf() {
+        let start = idx.call_start(t.uid, p).unwrap_or(0);
+        return (start + 1..p).any(|q| {
+            let x = idx.transitions[q as usize - 1];
+            x.status == Status::Failure
+                && tree.node(x.uid).kind.is_leaf()
+                && tree.is_ancestor(t.uid, x.uid)
+                && is_fault(tree, idx, q)
+        });
     }
-    // Follow the failure up through its tick.
-    let end = idx.tick_range(t.tick).end as u32;
-    let (mut child, mut from) = (t.uid, p);
+    reaches_a_goal(tree, idx, t.uid, p) || verifies(tree, t.uid)
+}
+
+fn is_action(tree: &Tree, u: Uid) -> bool {
+    let n = tree.node(u);
+    n.kind == Kind::Action && n.builtin.is_none()
+}
+
+/// Whether a check's failure went up, failing each parent in its tick, to
+/// the root, a SubTree (Han's subgoal), or a handler that set a recovery
+/// going (a RecoveryNode's first child, a Retry's child). Out of a
+/// RecoveryNode's recovery branch it goes no further: that failure belongs
+/// to the fault that started the recovery (Nav2's WouldA…RecoveryHelp
+/// saying no).
+fn reaches_a_goal(tree: &Tree, idx: &Index, u: Uid, p: u32) -> bool {
+    let end = idx.tick_range(idx.transitions[p as usize - 1].tick).end as u32;
+    let (mut child, mut from) = (u, p);
     while let Some(parent) = tree.parent(child) {
         let pn = tree.node(parent);
-        if pn.builtin == Some(Builtin::RecoveryNode) && pn.children.first() == Some(&child) {
-            return true;
+        let first = pn.children.first() == Some(&child);
+        match pn.builtin {
+            Some(Builtin::RecoveryNode) => return first,
+            Some(Builtin::RetryUntilSuccessful) => return true,
+            _ => {}
         }
         let changes = idx.changes_of(parent);
         let after = changes.partition_point(|&q| q <= from);
@@ -48,9 +73,8 @@ pub fn is_fault(tree: &Tree, idx: &Index, p: u32) -> bool {
                 )
             });
         match next {
-            // A SubTree is what Han's framing calls a subgoal.
             Some(q) if idx.transitions[q as usize - 1].status == Status::Failure => {
-                if parent == Tree::ROOT || tree.node(parent).kind == Kind::SubTree {
+                if parent == Tree::ROOT || pn.kind == Kind::SubTree {
                     return true;
                 }
                 child = parent;
@@ -62,15 +86,29 @@ pub fn is_fault(tree: &Tree, idx: &Index, p: u32) -> bool {
     false
 }
 
-/// Whether an action below `u` failed in `u`'s call that ended at `p`.
-fn action_failed_below(tree: &Tree, idx: &Index, u: Uid, p: u32) -> bool {
-    let start = idx.call_start(u, p).unwrap_or(0);
-    idx.transitions[start as usize..p as usize].iter().any(|t| {
-        t.status == Status::Failure
-            && tree.is_ancestor(u, t.uid)
-            && tree.node(t.uid).kind == Kind::Action
-            && tree.node(t.uid).builtin.is_none()
-    })
+/// Whether a check comes after an action in its Sequence: it verifies what
+/// was done ("check if grasped"), and its no is a fault; a check before
+/// any action is a guard, and its no a branch.
+fn verifies(tree: &Tree, u: Uid) -> bool {
+    let Some(parent) = tree.parent(u) else {
+        return false;
+    };
+    let pn = tree.node(parent);
+    let sequence = matches!(
+        pn.builtin,
+        Some(
+            Builtin::Sequence
+                | Builtin::SequenceWithMemory
+                | Builtin::ReactiveSequence
+                | Builtin::AsyncSequence
+        )
+    );
+    sequence
+        && pn
+            .children
+            .iter()
+            .take_while(|&&c| c != u)
+            .any(|&c| tree.descendants(c).any(|d| is_action(tree, d)))
 }
 
 /// The positions of the run's faults, in order.

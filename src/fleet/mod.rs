@@ -105,6 +105,10 @@ pub struct NodeStats {
     pub ran_in: usize,
     pub failed_in: usize,
     pub failures: u64,
+    /// Runs in which its failure was a fault, and its faults; its other
+    /// failures are branches taken.
+    pub faulted_in: usize,
+    pub faults: u64,
     /// Every RUNNING spell's length in ticks, sorted.
     pub running: Vec<u32>,
     /// Failures recovered, by the handler that recovered them.
@@ -196,8 +200,9 @@ impl Fleet {
         fleet
     }
 
-    /// Every node that ran in some run, most failed first (by the runs it
-    /// failed in, then its failures), then by path.
+    /// Every node that ran in some run, most at fault first (by the runs
+    /// its failure was a fault in, then its faults, then its failures),
+    /// then by path.
     pub fn nodes(&self) -> Vec<NodeStats> {
         let trees = self.trees().len();
         let mut by: BTreeMap<(&str, Uid), NodeStats> = BTreeMap::new();
@@ -218,6 +223,8 @@ impl Fleet {
                 s.ran_in += 1;
                 s.failed_in += usize::from(n.failures > 0);
                 s.failures += u64::from(n.failures);
+                s.faulted_in += usize::from(n.faults > 0);
+                s.faults += u64::from(n.faults);
                 s.running.extend(&n.running);
                 for rec in &n.recoveries {
                     match rec {
@@ -232,8 +239,8 @@ impl Fleet {
             s.running.sort_unstable();
         }
         out.sort_by(|a, b| {
-            (b.failed_in, b.failures)
-                .cmp(&(a.failed_in, a.failures))
+            (b.faulted_in, b.faults, b.failed_in, b.failures)
+                .cmp(&(a.faulted_in, a.faults, a.failed_in, a.failures))
                 .then_with(|| a.path.cmp(&b.path))
         });
         out
@@ -307,7 +314,7 @@ impl Fleet {
         let nodes = self.nodes();
         // The actions and conditions: a control node fails as its
         // children do, and says nothing more (the JSON lists it).
-        let failed: Vec<&NodeStats> = nodes.iter().filter(|n| n.failures > 0).collect();
+        let failed: Vec<&NodeStats> = nodes.iter().filter(|n| n.faults > 0).collect();
         let (leaves, controls): (Vec<&NodeStats>, Vec<&NodeStats>) =
             failed.iter().partition(|n| n.leaf);
         if !leaves.is_empty() {
@@ -315,15 +322,34 @@ impl Fleet {
             for n in &leaves {
                 let runs = match n.ran_in {
                     1 => "the one run it ran in".to_string(),
-                    k => format!("{} of the {k} runs it ran in", n.failed_in),
+                    k => format!("{} of the {k} runs it ran in", n.faulted_in),
                 };
                 out.push_str(&format!(
                     "  {} failed in {runs} ({}){}.\n",
                     n.name,
-                    count(n.failures as usize, "failure"),
+                    count(n.faults as usize, "failure"),
                     recoveries(n)
                 ));
             }
+        }
+        // Checks that answered no as designed: said apart, in one line.
+        let branches: Vec<String> = nodes
+            .iter()
+            .filter(|n| n.leaf && n.failures > n.faults)
+            .map(|n| {
+                format!(
+                    "{} ({} in {})",
+                    n.name,
+                    count((n.failures - n.faults) as usize, "time"),
+                    count(n.failed_in, "run")
+                )
+            })
+            .collect();
+        if !branches.is_empty() {
+            out.push_str(&format!(
+                "  Branches taken, not faults (checks that answered no as the tree is designed to): {}.\n",
+                branches.join(", ")
+            ));
         }
         if !controls.is_empty() {
             out.push_str(&format!(
@@ -401,6 +427,8 @@ impl Fleet {
                 "ran_in": n.ran_in,
                 "failed_in": n.failed_in,
                 "failures": n.failures,
+                "faulted_in": n.faulted_in,
+                "faults": n.faults,
                 "running_ticks": {
                     "spells": n.running.len(),
                     "median": n.running_quantile(0.5),

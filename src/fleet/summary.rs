@@ -5,6 +5,7 @@
 
 use crate::ask::{ask, Context};
 use crate::explain::failure::recovery;
+use crate::explain::fault::is_fault;
 use crate::model::{Tree, Uid};
 use crate::run::Status;
 use crate::session::Session;
@@ -54,11 +55,14 @@ pub struct NodeRun {
     pub uid: Uid,
     pub leaf: bool,
     pub failures: u32,
+    /// Of those, the faults (`explain::fault`): the rest are branches
+    /// taken, checks that answered no as the tree is designed to.
+    pub faults: u32,
     /// Ticks each RUNNING spell lasted, from the tick it went RUNNING to the
     /// tick it completed or was halted (spells still open at the end left
     /// out).
     pub running: Vec<u32>,
-    /// For each failure of a leaf, the handler that recovered it (a
+    /// For each fault of a leaf, the handler that recovered it (a
     /// Fallback, a Retry or a RecoveryNode that succeeded after it), named
     /// as answers name a node; `None`: none did by the run's end.
     pub recoveries: Vec<Option<String>>,
@@ -86,6 +90,7 @@ pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunS
                 uid: t.uid,
                 leaf: node.kind.is_leaf(),
                 failures: 0,
+                faults: 0,
                 running: Vec::new(),
                 recoveries: Vec::new(),
             });
@@ -102,6 +107,10 @@ pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunS
         if t.status == Status::Failure {
             let nr = nodes[k].as_mut().expect("a node that failed ran");
             nr.failures += 1;
+            if !is_fault(tree, &s.index, i as u32 + 1) {
+                continue;
+            }
+            nr.faults += 1;
             if nr.leaf {
                 let by = recovery(tree, &at_end, t.uid, i as u32 + 1)
                     .map(|(h, _)| format!("{} #{h}", tree.spoken(h)));

@@ -42,7 +42,7 @@ impl FleetApp {
         let nodes: Vec<NodeStats> = fleet
             .nodes()
             .into_iter()
-            .filter(|n| n.leaf && n.failures > 0)
+            .filter(|n| n.leaf && n.faults > 0)
             .collect();
         let shown = (0..fleet.runs.len()).collect();
         let focus = if nodes.is_empty() {
@@ -150,7 +150,7 @@ impl FleetApp {
             .filter(|(_, r)| {
                 r.nodes
                     .iter()
-                    .any(|m| m.path == n.path && m.uid == n.uid && m.failures > 0)
+                    .any(|m| m.path == n.path && m.uid == n.uid && m.faults > 0)
             })
             .map(|(i, _)| i)
             .collect();

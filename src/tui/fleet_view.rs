@@ -90,7 +90,7 @@ fn failures(app: &FleetApp, f: &mut Frame, area: Rect) {
         .skip(first(app.node, app.nodes.len(), h))
         .take(h)
     {
-        let filled = (n.failed_in * bar_w).div_ceil(runs);
+        let filled = (n.faulted_in * bar_w).div_ceil(runs);
         let mut name = Style::default();
         if i == app.node {
             name = name.add_modifier(Modifier::REVERSED);
@@ -103,7 +103,7 @@ fn failures(app: &FleetApp, f: &mut Frame, area: Rect) {
                 "░".repeat(bar_w - filled.min(bar_w)),
                 Style::default().fg(Color::DarkGray),
             ),
-            Span::raw(format!(" {:>4}/{}", n.failed_in, n.ran_in)),
+            Span::raw(format!(" {:>4}/{}", n.faulted_in, n.ran_in)),
         ]));
     }
     f.render_widget(Paragraph::new(lines), inner);
@@ -125,9 +125,9 @@ fn spells(app: &FleetApp, f: &mut Frame, area: Rect) {
         )),
         Line::from(format!(
             "failed in {} of the {} runs it ran in ({})",
-            n.failed_in,
+            n.faulted_in,
             n.ran_in,
-            crate::text::counted(n.failures as usize, "failure")
+            crate::text::counted(n.faults as usize, "failure")
         )),
     ];
     for (by, k) in &n.recovered {

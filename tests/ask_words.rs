@@ -221,7 +221,7 @@ fn the_tense_picks_the_moment_and_the_answer_restates_the_question() {
     let (ok, out, _) = btx(&["ask", run, "why did insert large gear fail"]);
     assert!(ok);
     assert!(
-        out.starts_with("Why did insert large gear (#13) fail at 11:6?\nInsert large gear (#13) failed at 11:6 because insert large gear (#14) failed at 10:6, because look at chuck (#18) returned FAILURE at 10:1.\nNo change of up to 2 things would have made it SUCCESS; what would have changed it:\n1. Insert large gear (#13, attempt 1) failed because reset arm (#26, attempt 1) failed."),
+        out.starts_with("Why did the insert large gear fallback (#13) fail at 11:6?\nThe insert large gear fallback (#13) failed at 11:6 because the insert large gear sequence (#14) failed at 10:6, because look at chuck (#18) returned FAILURE at 10:1.\nNo change of up to 2 things would have made it SUCCESS; what would have changed it:\n1. Insert large gear (#13, attempt 1) failed because reset arm (#26, attempt 1) failed."),
         "{out}"
     );
 }
@@ -234,7 +234,7 @@ fn did_the_recovery_work_is_answered_from_the_ticks_that_followed() {
     let (_, end, _) = btx(&["ask", run, "did the recovery work?"]);
     assert!(
         end.contains("Yes.")
-            && end.contains("retry until successful (#7), which handles it, succeeded at 26:20"),
+            && end.contains("RetryUntilSuccessful (#7), which handles it, succeeded at 26:20"),
         "{end}"
     );
 }
@@ -259,7 +259,7 @@ fn what_went_wrong_after_a_recovery_tells_the_history() {
     assert!(ok, "{err}");
     assert_eq!(
         out,
-        "Nothing is wrong now. Follow path failed at ticks 4 and 6; the FollowPath recovery node (#9) first recovered (check whether the goal was updated) and tried again, which failed; navigate recovery (#1) recovered (check whether the goal was updated) and succeeded at tick 10.\nDid the recovery work?\nYes. Follow path (#10) failed at 6:1; follow path (#9) failed too, at 6:4; navigate recovery (#1), which handles it, succeeded at 10:10.\n"
+        "Nothing is wrong now. FollowPath failed at ticks 4 and 6; the FollowPath recovery node (#9) first recovered (check GoalUpdated) and tried again, which failed; NavigateRecovery (#1) recovered (check GoalUpdated) and succeeded at tick 10.\nDid the recovery work?\nYes. The FollowPath action (#10) failed at 6:1; the FollowPath recovery node (#9) failed too, at 6:4; NavigateRecovery (#1), which handles it, succeeded at 10:10.\n"
     );
 }
 
@@ -270,7 +270,7 @@ fn three_levels_of_detail() {
     let (_, brief, _) = btx(&["ask", run, "--detail", "brief", q]);
     assert_eq!(
         brief,
-        "Why did insert large gear (#13) fail at 11:6?\nInsert large gear (#13) failed at 11:6 because insert large gear (#14) failed at 10:6, because look at chuck (#18) returned FAILURE at 10:1.\n"
+        "Why did the insert large gear fallback (#13) fail at 11:6?\nThe insert large gear fallback (#13) failed at 11:6 because the insert large gear sequence (#14) failed at 10:6, because look at chuck (#18) returned FAILURE at 10:1.\n"
     );
     // Plain by default (#39 item 8): how it was checked only at full.
     let (_, normal, _) = btx(&["ask", run, q]);
@@ -287,7 +287,7 @@ fn three_levels_of_detail() {
         "{full}"
     );
     assert!(
-        full.contains("What the run shows of the nodes these rest on:\n  reset arm (#26): RUNNING → FAILURE at 11:3"),
+        full.contains("What the run shows of the nodes these rest on:\n  the reset arm force failure (#26): RUNNING → FAILURE at 11:3"),
         "{full}"
     );
     // Brief keeps the cause of a failure answer, not its first clause.

@@ -557,7 +557,7 @@ fn nav2s_navigator_runs_and_its_recovery_is_explained() {
     assert!(ok, "{err}");
     assert_eq!(
         said,
-        "I compute path to pose in order to navigate with replanning.\n"
+        "I run ComputePathToPose in order to run NavigateWithReplanning.\n"
     );
     let (_, text) = run("@default_action = 1RS\n@default_condition = S\n", "nominal");
     assert!(text.contains("root SUCCESS (root completed)"), "{text}");
@@ -580,8 +580,8 @@ fn nav2s_navigator_runs_and_its_recovery_is_explained() {
     assert!(ok, "{err}");
     assert_eq!(
         said,
-        "I could not follow path because follow path failed.\n\
-         When follow path failed, I fell back to the follow path recovery fallback.\n"
+        "I could not run FollowPath because FollowPath failed.\n\
+         When FollowPath failed, I fell back to FollowPathRecoveryFallback.\n"
     );
 }
 
@@ -654,7 +654,7 @@ fn every_nav2_navigator_of_the_corpus_runs_and_explains_its_recovery() {
             assert!(ok, "{err}");
             assert_eq!(
                 said,
-                "The task failed: compute and smooth route stopped because are poses near succeeded and the inverter above it turned that into a failure.\n",
+                "The task failed: ComputeAndSmoothRoute stopped because ArePosesNear succeeded and the inverter above it turned that into a failure.\n",
                 "{name}"
             );
             let (out, text) = run(tree, &format!("{defaults}{far}"), &format!("m{i}"));
@@ -727,7 +727,7 @@ fn every_nav2_navigator_of_the_corpus_runs_and_explains_its_recovery() {
         let (ok, said, err) = btx(&["ask", out, "--at", &tick.to_string(), "wrong"]);
         assert!(ok, "{err}");
         assert_eq!(
-            said, "I could not follow path because follow path failed.\n",
+            said, "I could not run FollowPath because FollowPath failed.\n",
             "{name}"
         );
     }
@@ -841,7 +841,7 @@ fn plansys2_and_auto_apms_trees_load_run_and_read_as_english() {
     assert!(ok, "{err}");
     assert_eq!(
         said,
-        "To achieve the goal \"root sequence\", I need to do 5 steps. 1. open gripper. 2. approach object. 3. close gripper. 4. move. 5. open gripper.\n"
+        "To achieve the goal \"root_sequence\", I need to do 5 steps. 1. open gripper. 2. approach object. 3. close gripper. 4. move. 5. open gripper.\n"
     );
     // Its leaves are the robot's own: said once per ID, and one hint.
     assert_eq!(err.matches("unknown node").count(), 4, "{err}");
@@ -889,7 +889,7 @@ fn plansys2_and_auto_apms_trees_load_run_and_read_as_english() {
     );
     let (ok, said, err) = btx(&["ask", out.to_str().unwrap(), "--at", "last", "wrong"]);
     assert!(ok, "{err}");
-    assert_eq!(said, "The task failed: place object failed.\n");
+    assert_eq!(said, "The task failed: PlaceObject failed.\n");
 }
 
 #[test]
@@ -910,7 +910,7 @@ fn a_name_several_nodes_answer_to_is_said_to_mean_the_outermost() {
     assert!(ok, "{err}");
     assert_eq!(
         text,
-        "About #6 NavigateRecovery/NavigateWithReplanning/ComputePathToPose (\"ComputePathToPose\" also names #7):\nI compute path to pose.\n"
+        "About #6 NavigateRecovery/NavigateWithReplanning/ComputePathToPose (\"ComputePathToPose\" also names #7):\nI run ComputePathToPose.\n"
     );
     // A uid is exact: nothing to say.
     let (ok, text, _) = btx(&["ask", "trees/kitting.xml", "--node", "#2", "q1"]);

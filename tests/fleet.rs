@@ -167,7 +167,7 @@ fn a_fleets_figures_are_what_each_run_says() {
     // as `btx ask … "How was the failure handled?"` says of one of them at
     // the run's end.
     let look = node(&v, "look at chuck #18");
-    assert_eq!(look["recovered"][0]["by"], "retry until successful #7");
+    assert_eq!(look["recovered"][0]["by"], "RetryUntilSuccessful #7");
     assert_eq!(look["recovered"][0]["failures"], look["failures"]);
     let (ok, out, _) = btx(&[
         "ask",
@@ -178,7 +178,7 @@ fn a_fleets_figures_are_what_each_run_says() {
     ]);
     assert!(ok);
     assert!(
-        out.contains("retry until successful (#7) tried again and succeeded"),
+        out.contains("RetryUntilSuccessful (#7) tried again and succeeded"),
         "{out}"
     );
     // Detect chuck's: by the fallback asking for help where asking
@@ -208,7 +208,7 @@ fn a_fleet_reads_as_text_with_its_causes_first_in_words() {
     let look = node(&v, "look at chuck #18");
     assert!(
         out.contains(&format!(
-            "  look at chuck #18 failed in 3 of the {} runs it ran in (3 failures); 3 recovered by retry until successful #7.\n",
+            "  look at chuck #18 failed in 3 of the {} runs it ran in (3 failures); 3 recovered by RetryUntilSuccessful #7.\n",
             look["ran_in"]
         )),
         "{out}"

@@ -377,32 +377,32 @@ fn real_trees_read_as_the_readme_says() {
     // A recovery branch is not a step: Q5 says what it does on failure.
     assert_eq!(
         ask(&t, "#7", TreeQuestion::HowGoal),
-        "To achieve the goal \"navigate recovery\", I need to do 1 step. 1. navigate with replanning. If navigate with replanning fails, I recover by running the recovery fallback."
+        "To achieve the goal \"NavigateRecovery\", I need to do 1 step. 1. run NavigateWithReplanning. If NavigateWithReplanning fails, I recover by running RecoveryFallback."
     );
     // No SubTree: the goal's step (or named recovery) holding the node is
     // its subgoal.
     assert_eq!(
         ask(&t, "#7", TreeQuestion::Subgoal),
-        "My subgoal is to navigate with replanning."
+        "My subgoal is to run NavigateWithReplanning."
     );
     assert_eq!(
         ask(&t, "#7", TreeQuestion::HowSubgoal),
-        "To achieve the subgoal \"navigate with replanning\", I need to do 2 steps. 1. compute path to pose. 2. monitor and follow path."
+        "To achieve the subgoal \"NavigateWithReplanning\", I need to do 2 steps. 1. run ComputePathToPose. 2. run MonitorAndFollowPath."
     );
     // A condition is a check; an ID that is no verb is a thing run.
     let updated = uid_of(&t, "RecoveryFallback/GoalUpdated");
     let said = han::answer(&t, updated, TreeQuestion::Why).text;
     assert_eq!(
         said,
-        "I check whether the goal was updated in order to run the recovery fallback."
+        "I check GoalUpdated in order to run RecoveryFallback."
     );
     assert_eq!(
         han::answer(&t, updated, TreeQuestion::Subgoal).text,
-        "My subgoal is to run the recovery fallback."
+        "My subgoal is to run RecoveryFallback."
     );
     assert_eq!(
         ask(&t, "#3", TreeQuestion::Doing),
-        "I run the controller selector."
+        "I run ControllerSelector."
     );
     // main's route navigator recovers by an unnamed Sequence: a check, then
     // the named RecoveryFallback, which is what Q5 says it recovers by. A
@@ -418,15 +418,15 @@ fn real_trees_read_as_the_readme_says() {
     .tree;
     assert_eq!(
         ask(&t, "#1", TreeQuestion::HowGoal),
-        "To achieve the goal \"navigate recovery\", I need to do 1 step. 1. navigate with replanning. If navigate with replanning fails, I recover by running the recovery fallback."
+        "To achieve the goal \"NavigateRecovery\", I need to do 1 step. 1. run NavigateWithReplanning. If NavigateWithReplanning fails, I recover by running RecoveryFallback."
     );
     assert_eq!(
         ask(&t, "ClearingActions", TreeQuestion::Subgoal),
-        "My subgoal is to run the recovery fallback."
+        "My subgoal is to run RecoveryFallback."
     );
     assert_eq!(
         ask(&t, "ComputeRouteRateController", TreeQuestion::Why),
-        "I run the compute route rate controller in order to compute route."
+        "I run ComputeRouteRateController in order to run ComputeRoute."
     );
     // An Inverter turns a check around.
     let small = |body: &str, id: &str| {
@@ -444,7 +444,7 @@ fn real_trees_read_as_the_readme_says() {
     );
     assert_eq!(
         ask(&t, "#3", TreeQuestion::Doing),
-        "I check that the goal was not updated."
+        "I check that GoalUpdated does not hold."
     );
     // An unnamed root: the goal is the tree's ID in words.
     assert_eq!(
@@ -453,7 +453,7 @@ fn real_trees_read_as_the_readme_says() {
     );
     assert_eq!(
         ask(&t, "#4", TreeQuestion::Why),
-        "I follow path in order to navigate to pose."
+        "I run FollowPath in order to navigate to pose."
     );
     // A named decorator is a named ancestor.
     let t = small(
@@ -610,17 +610,11 @@ fn no_recovery_as_a_verb_no_zero_steps_no_check_run_as_a_thing() {
     )
     .unwrap()
     .tree;
-    assert_eq!(
-        ask(&t, "#2", TreeQuestion::Doing),
-        "I run the spin recovery."
-    );
-    assert_eq!(
-        ask(&t, "#3", TreeQuestion::Doing),
-        "I check whether the door is closed."
-    );
+    assert_eq!(ask(&t, "#2", TreeQuestion::Doing), "I run SpinRecovery.");
+    assert_eq!(ask(&t, "#3", TreeQuestion::Doing), "I check IsDoorClosed.");
     // No named step: Q5 counts the actions, never "0 steps".
     assert_eq!(
         ask(&t, "#3", TreeQuestion::HowGoal),
-        "To achieve the goal \"navigate\", I need to do 3 actions. 1. run the spin recovery. 2. check whether the door is closed. 3. back up."
+        "To achieve the goal \"navigate\", I need to do 3 actions. 1. run SpinRecovery. 2. check IsDoorClosed. 3. run BackUp."
     );
 }

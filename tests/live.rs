@@ -597,7 +597,7 @@ fn ask_live_answers_about_the_present_and_disturbs_no_recording() {
     let (q1, wrong) = last.split_once('\n').unwrap();
     assert_eq!(
         wrong.trim_end(),
-        "I cannot tell: I was already running retry until successful (#7) when btx attached, \
+        "I cannot tell: I was already running RetryUntilSuccessful (#7) when btx attached, \
          and look at chuck (#18) had last failed before that; whether that was in this run \
          of it, the statuses btx read do not say.",
         "{asked:#?}"

@@ -177,7 +177,7 @@ fn a_bag_s_runs_are_the_robot_s_own_logs() {
     // The ticks in which nothing changed are told by timing, which the
     // library's fast ticks make vary: the failures are asserted, not when.
     assert!(
-        a.starts_with("Nothing is wrong now. Follow path failed at tick "),
+        a.starts_with("Nothing is wrong now. FollowPath failed at tick "),
         "{a}"
     );
     assert!(a.contains("; Spin failed at tick "), "{a}");

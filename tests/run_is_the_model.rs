@@ -205,7 +205,7 @@ fn what_went_wrong_names_the_fault_not_a_branch_taken() {
     assert!(!out.contains("global updated goal"), "{out}");
     assert_eq!(
         out,
-        "I could not run the navigate recovery because I was unable to follow path as follow path failed.\n"
+        "I could not run NavigateRecovery because I was unable to run FollowPath as FollowPath failed.\n"
     );
 }
 

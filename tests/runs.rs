@@ -537,7 +537,7 @@ fn what_went_wrong_looks_at_the_current_run_only() {
     // recovered from is told as history.
     assert_eq!(
         ask(&s, "26", "wrong"),
-        "Nothing is wrong now. Look at chuck failed at tick 10; the insert large gear fallback (#13) first fell back (retreat arm) and failed; retry until successful (#7) tried again and succeeded at tick 26."
+        "Nothing is wrong now. Look at chuck failed at tick 10; the insert large gear fallback (#13) first fell back (retreat arm) and failed; RetryUntilSuccessful (#7) tried again and succeeded at tick 26."
     );
     // At every step in between: the Fallback resets insert large gear, then
     // fails and is reset itself, before the Retry starts attempt 2 (tick

@@ -70,7 +70,7 @@ fn names(tree: &Tree) -> Vec<String> {
     let mut out: Vec<String> = Vec::new();
     for u in tree.preorder() {
         if tree.has_name(u) || tree.node(u).kind.is_leaf() {
-            let n = tree.spoken(u);
+            let n = tree.words_of(u);
             if !out.contains(&n) {
                 out.push(n);
             }

@@ -36,7 +36,7 @@ impl Context<'_> {
     }
 
     fn name(&self, uid: Uid) -> String {
-        format!("{} (#{uid})", self.tree.spoken(uid))
+        self.tree.told(uid)
     }
 
     /// "by the end of the run (tick 54)" or "by moment 10:3".
@@ -141,6 +141,13 @@ fn with_node(
             let phrase = match &who {
                 Subject::Named(p) | Subject::Nodes(_, p) => p.clone(),
                 _ => unreachable!("the task is one node"),
+            };
+            // The name as the XML writes it, where they all share it.
+            let d = cx.tree.description(us[0]);
+            let phrase = if us.iter().all(|&u| cx.tree.description(u) == d) {
+                d.to_string()
+            } else {
+                phrase
             };
             let kinds = told_apart(cx.tree, &us);
             let mut lines = vec![format!(

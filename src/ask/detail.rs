@@ -76,7 +76,7 @@ pub fn facts(tree: &Tree, at: &At, nodes: &[Uid]) -> Vec<String> {
                 )
             })
             .collect();
-        let mut line = format!("{} (#{u}): ", tree.spoken(u));
+        let mut line = format!("{}: ", tree.told(u));
         line.push_str(&if moves.is_empty() {
             format!(
                 "no transition in tick {tick}; {} then",

@@ -28,7 +28,7 @@ pub fn resolve(tree: &Tree, who: &Subject, run: Option<&At>) -> Result<Uid, Unre
     if let Ok(uid) = crate::pick::pick(tree, &phrase) {
         return Ok(uid);
     }
-    let as_words = |uid: Uid| tree.spoken(uid).to_lowercase();
+    let as_words = |uid: Uid| tree.words_of(uid).to_lowercase();
     let exact: Vec<Uid> = tree
         .preorder()
         .into_iter()
@@ -51,7 +51,7 @@ pub fn resolve(tree: &Tree, who: &Subject, run: Option<&At>) -> Result<Uid, Unre
         let items: Vec<(String, Uid)> = tree
             .preorder()
             .into_iter()
-            .map(|u| (tree.spoken(u), u))
+            .map(|u| (tree.words_of(u), u))
             .collect();
         Unresolved::Unknown(crate::rank::rank(&phrase, &items, 3))
     })?

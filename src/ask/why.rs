@@ -108,84 +108,9 @@ pub fn answer(
 }
 
 /// The failure of control node `u` at position `p` followed down to the
-/// leaf it comes from, in one sentence: at each node, the child whose
-/// failure ended it since it started (a fallback's, a recovery's or a
-/// retry's first child, whose failure the others only answered; any other
-/// node's last failed child), until a leaf, or an Inverter whose child
-/// succeeded. `None` when no child failed since it started (it failed by
-/// its own rule: a Timeout, a Parallel's count).
+/// leaf it comes from (`causal::chain`).
 fn root_cause(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> Option<String> {
-    use crate::model::Builtin;
-    let tree = cx.tree;
-    let idx = at.index;
-    let moment = |q: u32| step_moment(idx, q).to_string();
-    let mut chain: Vec<(Uid, u32, Status)> = vec![(u, p, Status::Failure)];
-    let (mut cur, mut pos, mut wanted) = (u, p, Status::Failure);
-    while !tree.node(cur).kind.is_leaf() {
-        // Since it last started: its last IDLE → non-IDLE before `pos`.
-        let since = idx
-            .changes_of(cur)
-            .iter()
-            .copied()
-            .take_while(|&q| q < pos)
-            .filter(|&q| {
-                let t = idx.transitions[q as usize - 1];
-                t.prev == Status::Idle && t.status != Status::Idle
-            })
-            .last()
-            .unwrap_or(0);
-        match tree.node(cur).builtin {
-            // An outcome forced by design has no cause below it.
-            Some(Builtin::ForceFailure | Builtin::ForceSuccess) => break,
-            Some(Builtin::Inverter) => {
-                wanted = if wanted == Status::Failure {
-                    Status::Success
-                } else {
-                    Status::Failure
-                }
-            }
-            _ => {}
-        }
-        let last_of =
-            |c: Uid| {
-                idx.changes_of(c).iter().copied().rev().find(|&q| {
-                    q > since && q < pos && idx.transitions[q as usize - 1].status == wanted
-                })
-            };
-        let kids = &tree.node(cur).children;
-        let primary_first =
-            wanted == Status::Failure && crate::explain::failure::handles_failure(tree, cur);
-        let found = if primary_first {
-            kids.iter().find_map(|&c| last_of(c).map(|q| (c, q)))
-        } else {
-            kids.iter()
-                .filter_map(|&c| last_of(c).map(|q| (c, q)))
-                .max_by_key(|&(_, q)| q)
-        };
-        let Some((c, q)) = found else { break };
-        chain.push((c, q, wanted));
-        (cur, pos) = (c, q);
-    }
-    if chain.len() < 2 {
-        return None;
-    }
-    let did = |c: Uid, q: u32, st: Status| {
-        let verb = if tree.node(c).kind.is_leaf() {
-            format!("returned {}", st.as_str())
-        } else if st == Status::Success {
-            "succeeded".to_string()
-        } else {
-            "failed".to_string()
-        };
-        format!("{} {verb} at {}", cx_name(cx, c), moment(q))
-    };
-    let steps: Vec<String> = chain[1..].iter().map(|&(c, q, st)| did(c, q, st)).collect();
-    Some(format!(
-        "{} failed at {} because {}.",
-        upper(&cx_name(cx, u)),
-        moment(p),
-        steps.join(", because ")
-    ))
+    crate::causal::chain::RootCause::of(cx.tree, at.index, u, p).map(|c| c.text(cx.tree))
 }
 
 /// What the run shows of a leaf's completion at position `p`, by the
@@ -258,7 +183,7 @@ fn by(cx: &Context) -> String {
 }
 
 fn cx_name(cx: &Context, u: Uid) -> String {
-    format!("{} (#{u})", cx.tree.spoken(u))
+    cx.tree.told(u)
 }
 
 /// X never did what was asked by then: say so, and how it last ended.
@@ -363,7 +288,8 @@ fn search(
     r.not = not.to_vec();
     r.moment = Some(at.to_string());
     let mut w = match crate::causal::why(s, d.clone(), target, not, Some(at), 2) {
-        Ok(w) => w,
+        // The conversation says the root cause itself, first.
+        Ok(w) => crate::causal::Why { root: None, ..w },
         // The causal model of the tick lacks this call (a node called
         // again within the tick): what the run shows is the answer.
         Err(_) if !facts.is_empty() => {
@@ -376,7 +302,9 @@ fn search(
     // Nothing would have made it the contrast the words imply: say so, and
     // what would have changed it at all.
     if w.answer.explanations.is_empty() && !not.is_empty() && r.foil_implied {
-        let any = crate::causal::why(s, d, target, &[], Some(at), 2).map_err(|e| e.to_string())?;
+        let any = crate::causal::why(s, d, target, &[], Some(at), 2)
+            .map(|w| crate::causal::Why { root: None, ..w })
+            .map_err(|e| e.to_string())?;
         if !any.answer.explanations.is_empty() {
             widened = format!(
                 "No change of up to 2 things would have made it {}; what would have changed it:\n",

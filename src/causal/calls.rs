@@ -527,6 +527,9 @@ pub struct Told {
     pub last_tick: u32,
     /// For a leaf: what the run shows of its call.
     pub leaf_facts: Option<String>,
+    /// For a control node: what the run shows of how it ended (the child
+    /// it ended after, and what its kind does with that).
+    pub design: Option<String>,
 }
 
 fn past(s: Status) -> &'static str {
@@ -577,6 +580,7 @@ impl Told {
             moment: step_moment(idx, p),
             found,
             leaf_facts: leaf.then(|| leaf_facts(session, u, p, idx.transitions.len() as u32)),
+            design: (!leaf).then(|| design(session, u, p)),
             last_tick: idx.ticks(),
         })
     }
@@ -730,7 +734,7 @@ impl Told {
             ));
         }
         if sentences.is_empty() {
-            if let Some(f) = &self.leaf_facts {
+            if let Some(f) = self.leaf_facts.as_ref().or(self.design.as_ref()) {
                 out.push_str(f);
                 out.push('\n');
             } else {
@@ -785,6 +789,7 @@ impl Told {
             "candidates": found.map(|f| f.candidates),
             "not_replayed": self.found.as_ref().err(),
             "leaf_facts": self.leaf_facts,
+            "design": self.design,
         })
     }
 }
@@ -795,6 +800,45 @@ pub fn step_moment(idx: &crate::session::Index, pos: u32) -> Moment {
     Moment {
         tick: t,
         step: Some(pos - idx.tick_range(t).start as u32),
+    }
+}
+
+/// How a control node's call ended, as the run shows it: the child it
+/// ended after, and what a node of its kind does with that ("a ForceFailure
+/// fails whatever its child returns").
+fn design(session: &Session, u: Uid, p: u32) -> String {
+    use crate::model::Builtin;
+    let idx = &session.index;
+    let tree = &session.tree;
+    let t = idx.transitions[p as usize - 1];
+    let me = capitalised(&tree.told(u));
+    let start = idx.call_start(u, p).unwrap_or(0);
+    let child = (start + 1..p).rev().find_map(|q| {
+        let x = idx.transitions[q as usize - 1];
+        (tree.parent(x.uid) == Some(u) && x.status.is_completed()).then_some((q, x))
+    });
+    let kind = match tree.node(u).builtin {
+        Some(Builtin::ForceFailure) => " A ForceFailure fails whatever its child returns.",
+        Some(Builtin::ForceSuccess) => " A ForceSuccess succeeds whatever its child returns.",
+        Some(Builtin::Inverter) => " An Inverter turns its child's outcome around.",
+        Some(Builtin::Precondition) => {
+            " A Precondition whose `if` is false returns its `else` without ticking its child."
+        }
+        _ => "",
+    };
+    let then = past(t.status);
+    match child {
+        Some((q, x)) => format!(
+            "{me} {then} at {} after {} {} at {}.{kind}",
+            step_moment(idx, p),
+            tree.told(x.uid),
+            past(x.status),
+            step_moment(idx, q)
+        ),
+        None => format!(
+            "{me} {then} at {} without a child of it ending in that call.{kind}",
+            step_moment(idx, p)
+        ),
     }
 }
 

@@ -10,6 +10,7 @@
 pub mod ahead;
 pub mod attempts;
 pub mod calls;
+pub mod chain;
 pub mod compare;
 pub mod english;
 pub mod eval;
@@ -106,6 +107,9 @@ pub struct Why {
     /// The answer from the run's own calls, where the model of the tick
     /// does not hold the call asked about or could only name later events.
     pub by_calls: Option<calls::Told>,
+    /// A control node's failure followed down to the leaf it comes from:
+    /// said first (#39 item 3).
+    pub root: Option<chain::RootCause>,
     /// Say how each answer was found and checked (`--detail full`).
     pub full: bool,
 }
@@ -403,6 +407,26 @@ impl Why {
     }
 
     pub fn text(&self) -> String {
+        let text = self.body();
+        // The root cause first, after the question.
+        // The run's calls name the same leaf already, with more: once.
+        let said = |c: &chain::RootCause| {
+            self.by_calls.as_ref().is_some_and(|t| {
+                t.found
+                    .as_ref()
+                    .is_ok_and(|f| f.causes.first().map(|x| x.leaf) == c.leaf(&self.model.tree))
+            })
+        };
+        match &self.root {
+            Some(c) if !said(c) => {
+                let (asked, rest) = text.split_once('\n').unwrap_or((text.as_str(), ""));
+                format!("{asked}\n{}\n{rest}", c.text(&self.model.tree))
+            }
+            _ => text,
+        }
+    }
+
+    fn body(&self) -> String {
         if let Some(t) = &self.by_calls {
             return t.text(&self.model.tree, self.shown, self.full);
         }
@@ -537,6 +561,15 @@ impl Why {
         if let Some(t) = &self.by_calls {
             j["question"] = serde_json::Value::from(t.question(&self.model.tree));
             j["by_calls"] = t.json(&self.model.tree);
+        }
+        if let Some(c) = &self.root {
+            j["root_cause"] = serde_json::json!({
+                "text": c.text(&self.model.tree),
+                "leaf": c.leaf(&self.model.tree),
+                "chain": c.chain.iter().zip(&c.moments).map(|(&(u, _, st), m)| serde_json::json!({
+                    "uid": u, "status": st.as_str(), "at": m.to_string(),
+                })).collect::<Vec<_>>(),
+            });
         }
         j["call_changes"] = self
             .call_changes
@@ -850,6 +883,13 @@ pub fn why(
         out
     };
     if foil_vals.is_empty() {
+        // A node whose outcome is fixed by its kind (AlwaysFailure): what
+        // the run shows of its call is the answer.
+        if let VarKind::Status(u) = model.vars[v].kind {
+            if let Some(told) = calls::Told::of(session, model.origin(u), pos) {
+                return Ok(told_why(session, model, told, moment, max_depth));
+            }
+        }
         return Err(fail(format!(
             "{} can take no other value: there is nothing to contrast it with",
             model.var_name(v)
@@ -872,18 +912,39 @@ pub fn why(
     if moment.step.is_some() {
         causes_before(session, &mut w, v, moment, pos);
     }
-    // A leaf decides its own outcome: without a domain to say what it
-    // depends on, what the run shows of its call is the answer.
-    if let (VarKind::Status(u), None, true) = (
+    // Nothing found: a leaf decides its own outcome, and what the run
+    // shows of its call is the answer (without a domain to say what it
+    // depends on); a control node's, the run's calls searched.
+    if let (VarKind::Status(u), true) = (
         w.model.vars[v].kind,
-        &w.model.domain,
         w.answer.explanations.is_empty() && w.by_calls.is_none(),
     ) {
-        if w.model.tree.node(w.model.origin(u)).kind.is_leaf() {
+        let leaf = w.model.tree.node(w.model.origin(u)).kind.is_leaf();
+        if !leaf || w.model.domain.is_none() {
             w.by_calls = calls::Told::of(session, w.model.origin(u), pos);
         }
     }
+    if let VarKind::Status(u) = w.model.vars[v].kind {
+        w.root = root_of(session, w.model.origin(u), pos);
+    }
     Ok(w)
+}
+
+/// A control node's failure by position `pos` (in its tick), followed
+/// down to the leaf it comes from.
+fn root_of(session: &Session, u: crate::model::Uid, pos: u32) -> Option<chain::RootCause> {
+    let idx = &session.index;
+    if session.tree.node(u).kind.is_leaf() {
+        return None;
+    }
+    let tick = idx.transitions.get((pos as usize).checked_sub(1)?)?.tick;
+    let start = idx.tick_range(tick).start as u32;
+    let p = idx.changes_of(u).iter().copied().rev().find(|&q| {
+        q <= pos && q > start && idx.transitions[q as usize - 1].status.is_completed()
+    })?;
+    (idx.transitions[p as usize - 1].status == crate::run::Status::Failure)
+        .then(|| chain::RootCause::of(&session.tree, idx, u, p))
+        .flatten()
 }
 
 /// A why answered from the run's own calls alone.
@@ -911,6 +972,7 @@ fn told_why(
         held_tried: false,
     };
     let mut w = checked(session, model, query, answer, None, moment.to_string());
+    w.root = root_of(session, told.uid, told.pos);
     w.by_calls = Some(told);
     w
 }
@@ -1169,6 +1231,7 @@ fn checked(
         shown: None,
         call_changes: Vec::new(),
         by_calls: None,
+        root: None,
         full: false,
     }
 }

@@ -921,7 +921,7 @@ mod tests {
         let (text, nodes) = what_went_wrong(&s.tree, &at(4), 5);
         assert_eq!(
             text,
-            "I cannot tell: I was already running retry until successful (#2) when btx read the statuses again after a gap (after transition 4), and look (#4) had last failed before that; whether that was in this run of it, the statuses btx read do not say."
+            "I cannot tell: I was already running RetryUntilSuccessful (#2) when btx read the statuses again after a gap (after transition 4), and look (#4) had last failed before that; whether that was in this run of it, the statuses btx read do not say."
         );
         assert_eq!(nodes, [2, 4]);
         // B's RUNNING the read already showed left what the records
@@ -950,7 +950,7 @@ mod tests {
         let (text, nodes) = what_went_wrong(&s.tree, &at, 5);
         assert_eq!(
             text,
-            "I cannot tell: I was already running retry until successful (#2) when btx attached, and look (#4) had last failed before that; whether that was in this run of it, the statuses btx read do not say."
+            "I cannot tell: I was already running RetryUntilSuccessful (#2) when btx attached, and look (#4) had last failed before that; whether that was in this run of it, the statuses btx read do not say."
         );
         assert_eq!(nodes, [2, 4]);
         // Not "Yes.": the run does not say that anything went wrong.

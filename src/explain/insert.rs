@@ -46,7 +46,7 @@ fn is_sequence_or_subtree(tree: &Tree, uid: Uid) -> bool {
 /// the named nodes whose name has every word of X.
 fn find_named(tree: &Tree, scope: Uid, x: &str) -> Vec<Uid> {
     let want = x.trim().to_lowercase();
-    let words_of = |u: Uid| tree.spoken(u).to_lowercase();
+    let words_of = |u: Uid| tree.words_of(u).to_lowercase();
     let exact = |u: Uid| tree.description(u).to_lowercase() == want || words_of(u) == want;
     let all: Vec<Uid> = tree.descendants(Tree::ROOT).collect();
     let mut found: Vec<Uid> = all
@@ -186,14 +186,14 @@ pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> 
         let items: Vec<(String, Uid)> = tree
             .descendants(Tree::ROOT)
             .filter(|&u| tree.has_name(u))
-            .map(|u| (tree.spoken(u), u))
+            .map(|u| (tree.words_of(u), u))
             .collect();
         // Names that hold X's letters in order, as the finder matches.
         let matcher = fuzzy_matcher::skim::SkimMatcherV2::default().ignore_case();
         let close: Vec<String> = crate::rank::rank(x, &items, 3)
             .into_iter()
             .filter(|&u| {
-                fuzzy_matcher::FuzzyMatcher::fuzzy_match(&matcher, &tree.spoken(u), x).is_some()
+                fuzzy_matcher::FuzzyMatcher::fuzzy_match(&matcher, &tree.words_of(u), x).is_some()
             })
             .map(|u| format!("\"{}\" (#{u})", tree.spoken(u)))
             .collect();

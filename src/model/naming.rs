@@ -47,24 +47,31 @@ impl Tree {
         format!("the {d} {kind} (#{uid})")
     }
 
-    /// The node's description as words for a sentence: a name made of an
-    /// ID (`ComputePathToPose`, `ClearGlobalCostmap-Context`, `go_home`)
-    /// reads "compute path to pose", "clear global costmap (context)", "go
-    /// home"; a name with spaces is kept as written (the papers' trees).
+    /// The node as a sentence names it: as the tree's XML writes it
+    /// (`FollowPath`, `ClearLocalCostmap-Context`, `look at chuck`), so
+    /// that an answer's names are the ones the user greps for (#39 item 8).
     pub fn spoken(&self, uid: Uid) -> String {
+        self.description(uid).to_string()
+    }
+
+    /// The node's description as words, for reading questions: a name made
+    /// of an ID (`ComputePathToPose`, `ClearGlobalCostmap-Context`,
+    /// `go_home`) reads "compute path to pose", "clear global costmap
+    /// (context)", "go home"; a name with spaces is kept as written.
+    pub fn words_of(&self, uid: Uid) -> String {
         words(self.description(uid))
     }
 
     /// What Han's answers say the node does, after "I" or "to". A name a
     /// person wrote as words is kept as written (the papers' trees); a name
-    /// made of an ID reads as English: a condition is a check ("check
-    /// whether the goal was updated", under an Inverter "check that the goal
-    /// was not updated"), and a name that does not start with a verb is a
-    /// thing run ("run the controller selector"), so that no ID is used as a
-    /// verb.
+    /// made of an ID keeps the ID, as the XML writes it: a condition is a
+    /// check ("check GoalUpdated", under an Inverter "check that
+    /// GlobalUpdatedGoal does not hold"), anything else a thing run ("run
+    /// FollowPath"), so that no ID is used as a verb; a one-word ID that is
+    /// a verb (`Spin`, `Wait`, the paper's `ask`) is the verb.
     pub fn deed(&self, uid: Uid) -> String {
         let d = self.description(uid);
-        let s = self.spoken(uid);
+        let s = self.words_of(uid);
         let n = self.node(uid);
         if d.contains(char::is_whitespace) || d.is_empty() {
             // Written as words: kept when it says a deed ("look at chuck");
@@ -88,8 +95,17 @@ impl Tree {
         // (`Spin`, `Wait`): a word, not a proper name. A lowercase word is
         // kept as written (a paper's `ask`).
         let one_id_word = !s.contains(' ') && d == n.id;
-        let s = if one_id_word { lower_first(&s) } else { s };
-        if s == d && !one_id_word {
+        let lowercase = d.chars().all(|c| !c.is_uppercase());
+        if one_id_word && (VERBS.contains(&lower_first(&s).as_str()) || (s == d && lowercase)) {
+            return lower_first(&s);
+        }
+        // snake_case is words already (PlanSys2's `open_gripper`): a deed
+        // when its first word is a verb.
+        let first = s.split(' ').next().unwrap_or("");
+        if d.chars()
+            .all(|c| c.is_lowercase() || c.is_ascii_digit() || c == '_')
+            && VERBS.contains(&first)
+        {
             return s;
         }
         // A check written as an action ("IsDoorClosed" without a model
@@ -99,9 +115,13 @@ impl Tree {
             let negated = n
                 .parent
                 .is_some_and(|p| self.node(p).builtin == Some(super::Builtin::Inverter));
-            return check(&s, negated);
+            return if negated {
+                format!("check that {d} does not hold")
+            } else {
+                format!("check {d}")
+            };
         }
-        as_deed(&s)
+        format!("run {d}")
     }
 
     /// Han's `has_name`. A SubTree always has one (its name, or its ID). Any
@@ -719,18 +739,18 @@ mod deed_tests {
         assert_eq!(
             deeds,
             [
-                "compute path to pose",
-                "run the controller selector",
+                "run ComputePathToPose",
+                "run ControllerSelector",
                 "spin",
-                "check whether the goal was updated",
-                "check that the goal was not updated",
-                "check whether the path is valid",
-                "check whether I am stuck",
-                "check whether a controller recovery would help",
-                "check whether the transform is available",
-                "check that path expiring timer does not hold",
-                "check whether I am within path tracking bounds",
-                "check path expiring timer",
+                "check GoalUpdated",
+                "check that GoalUpdated does not hold",
+                "check IsPathValid",
+                "check IsStuck",
+                "check WouldAControllerRecoveryHelp",
+                "check TransformAvailable",
+                "check that PathExpiringTimer does not hold",
+                "check IsWithinPathTrackingBounds",
+                "check PathExpiringTimer",
                 "ask",
             ]
         );
@@ -744,8 +764,14 @@ mod deed_tests {
         let t = tree(
             r#"<RateController name="ComputeRouteRateController" hz="1"><ComputeRoute name="ComputeRoute"/></RateController>"#,
         );
-        assert_eq!(t.deed(1), "run the compute route rate controller");
-        assert_eq!(t.deed(2), "compute route");
+        assert_eq!(t.deed(1), "run ComputeRouteRateController");
+        assert_eq!(t.deed(2), "run ComputeRoute");
+        // snake_case that starts with a verb is a deed in words.
+        let t = tree(r#"<Sequence name="s"><open_gripper/><gripper_state/></Sequence>"#);
+        assert_eq!(
+            (t.deed(2), t.deed(3)),
+            ("open gripper".into(), "run gripper_state".into())
+        );
     }
 
     #[test]

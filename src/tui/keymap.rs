@@ -150,13 +150,13 @@ pub const KEYMAP: &[Binding] = &[
     Binding {
         keys: &["f"],
         action: Action::NextFailure,
-        help: "end of the next tick where a leaf failed",
+        help: "end of the next tick with a fault",
         hint: "failure",
     },
     Binding {
         keys: &["F"],
         action: Action::PrevFailure,
-        help: "end of the previous tick where a leaf failed",
+        help: "end of the previous tick with a fault",
         hint: "",
     },
     Binding {

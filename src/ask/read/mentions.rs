@@ -126,7 +126,7 @@ impl Vocabulary {
         let order = tree.preorder();
         for &u in &order {
             let n = tree.node(u);
-            push(u, &tree.spoken(u), Source::Name);
+            push(u, &tree.words_of(u), Source::Name);
             // A control's ID ("RecoveryNode", "Sequence") is its kind, which
             // kind words pick by; a leaf's or a SubTree's is a name.
             if n.name != n.id && !matches!(n.kind, Kind::Control | Kind::Decorator) {

@@ -1418,7 +1418,7 @@ pub fn wording(tree: &Tree, intent: &Intent) -> String {
         Subject::Task => "the task".to_string(),
         Subject::It => "it".to_string(),
         Subject::Named(p) => p.clone(),
-        Subject::Nodes(us, _) => format!("{} (#{})", tree.spoken(us[0]), us[0]),
+        Subject::Nodes(us, _) => tree.told(us[0]),
     };
     let verb = |e: Event| match e {
         Event::Fail => "fail",

@@ -531,3 +531,28 @@ fn faults_are_told_from_branches_taken() {
         said(kit)
     );
 }
+
+/// A leaf's own outcome says what it read and wrote, where the run holds
+/// the blackboard (#39 item 4): look at chuck read the pose detect chuck
+/// wrote, and detect chuck wrote it.
+#[test]
+fn a_leafs_call_says_what_it_read_and_wrote() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let input = btx::input::open(
+        &root.join("sessions/kitting-nominal.jsonl"),
+        &LoadOptions::default(),
+    )
+    .unwrap();
+    let s = input.session().unwrap();
+    let c = cx(s, Moment { tick: 46, step: None });
+    let look = ask(&c, "why did look at chuck succeed?").answer;
+    assert!(
+        look.contains("It read object pose = \"value of output from 'detect chuck'\"."),
+        "{look}"
+    );
+    let detect = ask(&c, "why did #12 succeed?").answer;
+    assert!(
+        detect.contains("It wrote object pose = \"value of output from 'detect chuck'\"."),
+        "{detect}"
+    );
+}

@@ -842,6 +842,51 @@ fn design(session: &Session, u: Uid, p: u32) -> String {
     }
 }
 
+/// What a leaf's call read and wrote, where the run holds the blackboard:
+/// its inputs as they were when it started, its outputs when it ended
+/// (Nav2's `error_code_id`). Empty where the run holds none of them.
+fn ports_said(session: &Session, u: Uid, start: u32, end: u32) -> String {
+    use crate::model::Direction;
+    let tree = &session.tree;
+    let n = tree.node(u);
+    let bb = crate::run::blackboard::Blackboard::new(tree);
+    let (before, after) = (
+        session.index.at(start.saturating_sub(1)),
+        session.index.at(end),
+    );
+    let mut read = Vec::new();
+    let mut wrote = Vec::new();
+    for port in &n.ports {
+        let Some(e) = bb.port_entry(tree, n.scope, &port.value) else {
+            continue;
+        };
+        match port.assumed_direction() {
+            Direction::Out => {
+                if let Some(v) = after.entry(&e) {
+                    wrote.push(format!("{} = {v}", e.key));
+                }
+            }
+            _ => {
+                if let Some(v) = before.entry(&e) {
+                    read.push(format!("{} = {v}", e.key));
+                }
+            }
+        }
+    }
+    let mut said = Vec::new();
+    if !read.is_empty() {
+        said.push(format!("read {}", read.join(", ")));
+    }
+    if !wrote.is_empty() {
+        said.push(format!("wrote {}", wrote.join(", ")));
+    }
+    if said.is_empty() {
+        String::new()
+    } else {
+        format!("It {}.", said.join(" and "))
+    }
+}
+
 /// "once", "twice", "N times".
 pub fn times(n: usize) -> String {
     match n {
@@ -983,6 +1028,7 @@ pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
             format!("{}.", capitalised(&said.join("; ")))
         });
     }
+    out.push(ports_said(session, u, start.unwrap_or(p), p));
     out.push(match session.header.source.kind.as_str() {
         "domain" => String::new(),
         "plan" => format!(

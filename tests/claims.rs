@@ -544,7 +544,13 @@ fn a_leafs_call_says_what_it_read_and_wrote() {
     )
     .unwrap();
     let s = input.session().unwrap();
-    let c = cx(s, Moment { tick: 46, step: None });
+    let c = cx(
+        s,
+        Moment {
+            tick: 46,
+            step: None,
+        },
+    );
     let look = ask(&c, "why did look at chuck succeed?").answer;
     assert!(
         look.contains("It read object pose = \"value of output from 'detect chuck'\"."),

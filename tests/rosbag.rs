@@ -188,6 +188,24 @@ fn a_bag_s_runs_are_the_robot_s_own_logs() {
         err.contains("a rosbag holds no tree: give the tree the robot ran with --tree FILE"),
         "{err}"
     );
+    // The release that recorded a bag picks how Nav2's nodes are re-run
+    // (#39 item 7): Humble's messages (no uids) are Humble's; Jazzy's,
+    // with uids, may be Jazzy's or later, and keep the default.
+    let opened = |b: &Path| match btx::input::open(
+        b,
+        &btx::xml::LoadOptions {
+            run_tree: Some(PathBuf::from(tree_s)),
+            ..Default::default()
+        },
+    )
+    .unwrap()
+    {
+        btx::input::Input::Session(s) => s.header.nav2,
+        btx::input::Input::Tree { .. } => panic!("a bag"),
+    };
+    assert_eq!(opened(&humble), Some(btx::model::nav2::Release::Humble));
+    assert_eq!(opened(&humble_db3), Some(btx::model::nav2::Release::Humble));
+    assert_eq!(opened(&jazzy), None);
     // A bag and a SqliteLogger database are told apart by their tables.
     let sqlite_logger = common::fixture("logs/kitting_nominal.db3");
     let (ok, _, err) = common::btx(&["log", sqlite_logger.to_str().unwrap()]);

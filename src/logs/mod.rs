@@ -317,6 +317,10 @@ impl<'a> BagRuns<'a> {
             },
             &|o| format!("{topic}, status change {}", o + 1),
         )?;
+        // Re-runs follow the release that recorded the bag, where it says.
+        if let Some(r) = self.log.release {
+            s.header.nav2 = Some(r);
+        }
         if let Some(a) = &self.log.ambiguous {
             s.warnings.push(Warning {
                 location: self.path.display().to_string(),

@@ -43,6 +43,10 @@ pub struct BagRecords {
     /// Several nodes have a name a change gave (a bag without uids): said
     /// once.
     pub ambiguous: Option<String>,
+    /// The Nav2 release that recorded it, where the bag says: its
+    /// metadata's `ros_distro`, else Humble for messages without uids
+    /// (Jazzy added them; a bag with uids may be Jazzy's or later).
+    pub release: Option<crate::model::nav2::Release>,
 }
 
 /// Whether `path` is a bag: a directory with `metadata.yaml`, an MCAP
@@ -160,11 +164,22 @@ pub fn read(path: &Path, tree: &Tree) -> Result<BagRecords, Located> {
         };
         topic.get_or_insert(t);
     }
+    let by_layout = (m.messages > 0 && !m.uids).then_some(crate::model::nav2::Release::Humble);
     Ok(BagRecords {
         topic: topic.unwrap_or_default(),
         ambiguous: m.said(),
+        release: distro(path).or(by_layout),
         records: m.records,
     })
+}
+
+/// The `ros_distro` a bag directory's metadata names, if it is a Nav2
+/// release btx knows.
+fn distro(path: &Path) -> Option<crate::model::nav2::Release> {
+    let meta = std::fs::read_to_string(path.join("metadata.yaml")).ok()?;
+    meta.lines()
+        .find_map(|l| l.trim().strip_prefix("ros_distro:"))
+        .and_then(|d| crate::model::nav2::Release::parse(d.trim().trim_matches(['"', '\''])))
 }
 
 /// The topic of Nav2's log among `(name, type)`: `behavior_tree_log`,
@@ -380,6 +395,8 @@ struct Matcher<'a> {
     /// Messages read so far, and the first ambiguous name and its message.
     messages: usize,
     ambiguous: Option<(String, usize)>,
+    /// Whether the changes carry uids (Jazzy's messages and later).
+    uids: bool,
 }
 
 impl<'a> Matcher<'a> {
@@ -399,6 +416,7 @@ impl<'a> Matcher<'a> {
             records: Vec::new(),
             messages: 0,
             ambiguous: None,
+            uids: false,
         }
     }
 
@@ -438,6 +456,7 @@ impl<'a> Matcher<'a> {
             )
         })?;
         let prev = Status::parse(c.prev).unwrap_or(Status::Idle);
+        self.uids |= c.uid.is_some();
         let uid = match c.uid {
             Some(u) if self.tree.get(u).is_some() => u,
             Some(u) => {

@@ -623,12 +623,14 @@ fn ask_live_answers_about_the_present_and_disturbs_no_recording() {
     the_run_less_what_btx_said_it_lost(&logged, &watched, &w.stderr);
     // A word that is a question is not taken for a host; nothing
     // listening is said at once.
-    let (ok, _, err) = common::btx(&["ask", "--live", "wrong"]);
-    assert!(!ok);
-    assert!(
-        err.contains("127.0.0.1:1667: nothing is listening"),
-        "{err}"
-    );
+    for q in ["wrong", "whats it doing atm?", "what are you doing"] {
+        let (ok, _, err) = common::btx(&["ask", "--live", q]);
+        assert!(!ok);
+        assert!(
+            err.contains("127.0.0.1:1667: nothing is listening"),
+            "{q}: {err}"
+        );
+    }
 }
 
 #[test]

@@ -46,10 +46,15 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     } = args;
     let detail = detail.into();
     if let Some(ep) = live {
-        // `--live wrong`: the word is a question, not a host.
-        let (ep, first) = match btx::ask::parse::parse(&ep) {
-            Some(_) if !ep.contains([':', '.']) => (String::new(), Some(ep)),
-            _ => (ep, None),
+        // `--live wrong`: a question (a shortcut, or words), not a host;
+        // a host has a port or a dot, or is one word.
+        let question = btx::explain::Question::parse(&ep).is_some()
+            || ep.trim().contains(char::is_whitespace)
+            || ep.trim_end().ends_with('?');
+        let (ep, first) = if question && !ep.contains([':', '.']) {
+            (String::new(), Some(ep))
+        } else {
+            (ep, None)
         };
         let words: Vec<String> = first
             .into_iter()

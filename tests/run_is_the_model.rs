@@ -232,3 +232,24 @@ fn asked_in_words_at_the_step_the_cause_is_said_once() {
         "{out}"
     );
 }
+
+/// The root cause is said of the state asked about: at the end of tick 7
+/// NavigateWithReplanning (#2) runs again (it failed at 7:12 and started
+/// over at 7:43), so why it keeps running is not answered with why it
+/// failed; at 7:12 it is.
+#[test]
+fn the_root_cause_is_of_the_state_asked_about() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = run(dir.path(), "nav", "2RF, 2RF, 3RS");
+    let (ok, end, err) = btx(&["why", &s, "status(#2)", "--at", "7"]);
+    assert!(ok, "{err}");
+    assert!(
+        end.starts_with("Why did NavigateWithReplanning keep running"),
+        "{end}"
+    );
+    assert!(!end.contains("failed at 7:12 because"), "{end}");
+    let (ok, at, err) = btx(&["why", &s, "status(#2)", "--at", "7:12", "--format", "json"]);
+    assert!(ok, "{err}");
+    let j: serde_json::Value = serde_json::from_str(&at).unwrap();
+    assert_eq!(j["root_cause"]["leaf"], 22, "{j}");
+}

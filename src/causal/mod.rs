@@ -939,10 +939,13 @@ fn root_of(session: &Session, u: crate::model::Uid, pos: u32) -> Option<chain::R
     }
     let tick = idx.transitions.get((pos as usize).checked_sub(1)?)?.tick;
     let start = idx.tick_range(tick).start as u32;
+    // Its state at the moment: the last change that was not a reset. Only
+    // a failure it is still in is followed down (one it started again
+    // after, in the tick, is not what is asked).
     let p = idx.changes_of(u).iter().copied().rev().find(|&q| {
-        q <= pos && q > start && idx.transitions[q as usize - 1].status.is_completed()
+        q <= pos && idx.transitions[q as usize - 1].status != crate::run::Status::Idle
     })?;
-    (idx.transitions[p as usize - 1].status == crate::run::Status::Failure)
+    (p > start && idx.transitions[p as usize - 1].status == crate::run::Status::Failure)
         .then(|| chain::RootCause::of(&session.tree, idx, u, p))
         .flatten()
 }

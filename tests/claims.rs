@@ -12,30 +12,10 @@ mod trees;
 use btx::ask::{ask, Context};
 use btx::causal::ahead::{ahead, Record};
 use btx::model::Uid;
-use btx::run::plan::{Plan, PlanLeaves};
 use btx::run::world::random::Rng;
-use btx::run::{RunOptions, Status};
-use btx::session::record::simulate;
-use btx::session::{Moment, Session, Source};
-use btx::xml::{load_str, LoadOptions};
-use std::path::Path;
-
-fn planned(xml: &str, plan: &str, models: Option<&Path>) -> Option<Session> {
-    let mut opts = LoadOptions::default();
-    if let Some(m) = models {
-        opts.models = vec![m.to_path_buf()];
-    }
-    let l = load_str(Path::new("case.xml"), xml, &opts).ok()?;
-    let plan = Plan::parse(Path::new("case.plan"), plan).ok()?;
-    let leaves = PlanLeaves::new(plan.clone(), &l.tree);
-    let source = Source {
-        kind: "plan".into(),
-        path: None,
-        text: Some(plan.text),
-        name: None,
-    };
-    simulate(&l.tree, source, None, 40, RunOptions::default(), leaves).ok()
-}
+use btx::run::Status;
+use btx::session::{Moment, Session};
+use btx::xml::LoadOptions;
 
 /// The runs: generated trees, the Nav2 navigators with generated plans,
 /// and the recorded patrol.
@@ -43,7 +23,7 @@ fn runs() -> Vec<(String, Session)> {
     let mut out = Vec::new();
     for seed in 0..120 {
         let c = trees::generate(seed);
-        if let Some(s) = planned(&c.xml, &c.plan, None) {
+        if let Some(s) = common::planned(&c.xml, &c.plan, None) {
             out.push((format!("generated {seed} ({}; {})", c.xml, c.plan), s));
         }
     }
@@ -63,7 +43,7 @@ fn runs() -> Vec<(String, Session)> {
                 follow.join(", "),
                 outcome(&mut rng)
             );
-            match planned(&xml, &plan, Some(&models)) {
+            match common::planned(&xml, &plan, Some(&models)) {
                 Some(s) => out.push((format!("{} plan {k}: {plan}", nav.display()), s)),
                 None => panic!("{}: the navigator did not run", nav.display()),
             }
@@ -500,7 +480,7 @@ fn faults_are_told_from_branches_taken() {
         common::fixture("realworld/nav2-a3a9704/navigate_to_pose_w_replanning_and_recovery.xml");
     let models = common::fixture("realworld/nav2-a3a9704/nav2_tree_nodes.xml");
     let plan = "@default_action = 1RS\n@default_condition = S\nFollowPath = 2RF, 2RF, 3RS\nGoalUpdated = F\nWouldAControllerRecoveryHelp = F\n";
-    let s = planned(&std::fs::read_to_string(&nav).unwrap(), plan, Some(&models)).unwrap();
+    let s = common::planned(&std::fs::read_to_string(&nav).unwrap(), plan, Some(&models)).unwrap();
     let nav_said = said(&s);
     assert!(
         nav_said.contains(&("FollowPath".to_string(), true)),

@@ -10,30 +10,9 @@ mod common;
 mod trees;
 
 use btx::model::{Tree, Uid};
-use btx::run::plan::{Plan, PlanLeaves};
 use btx::run::world::random::Rng;
-use btx::run::{RunOptions, Status};
-use btx::session::record::simulate;
-use btx::session::{Moment, Session, Source};
-use btx::xml::{load_str, LoadOptions};
-use std::path::Path;
-
-fn planned(xml: &str, plan: &str, models: Option<&Path>) -> Option<Session> {
-    let mut opts = LoadOptions::default();
-    if let Some(m) = models {
-        opts.models = vec![m.to_path_buf()];
-    }
-    let l = load_str(Path::new("case.xml"), xml, &opts).ok()?;
-    let plan = Plan::parse(Path::new("case.plan"), plan).ok()?;
-    let leaves = PlanLeaves::new(plan.clone(), &l.tree);
-    let source = Source {
-        kind: "plan".into(),
-        path: None,
-        text: Some(plan.text),
-        name: None,
-    };
-    simulate(&l.tree, source, None, 40, RunOptions::default(), leaves).ok()
-}
+use btx::run::Status;
+use btx::session::{Moment, Session};
 
 /// The node a variable names ("status(battery ok)", "status(FollowPath (#22))").
 fn node_of(tree: &Tree, var: &str) -> Option<Uid> {
@@ -129,7 +108,7 @@ fn a_why_at_every_failure_is_answered_by_its_root_cause() {
     let mut f = Figures::default();
     for seed in 0..150 {
         let c = trees::generate(seed);
-        if let Some(s) = planned(&c.xml, &c.plan, None) {
+        if let Some(s) = common::planned(&c.xml, &c.plan, None) {
             ask_every_failure(&format!("generated {seed}"), &s, &mut f);
         }
     }
@@ -150,7 +129,7 @@ fn a_why_at_every_failure_is_answered_by_its_root_cause() {
                 fails(&mut rng),
                 fails(&mut rng)
             );
-            let s = planned(&xml, &plan, Some(&models)).expect("the navigator runs");
+            let s = common::planned(&xml, &plan, Some(&models)).expect("the navigator runs");
             ask_every_failure(&format!("{} with {plan}", nav.display()), &s, &mut f);
         }
     }

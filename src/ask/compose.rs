@@ -611,18 +611,6 @@ fn ahead(cx: &Context, r: &mut Reply) -> Result<(), String> {
 fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Result<(), String> {
     let tree = cx.tree;
     let name = cx.name(u);
-    let word = if s == Status::Success {
-        "succeeds"
-    } else {
-        "fails"
-    };
-    r.about = Some(u);
-    r.understood = if asked_next {
-        format!("What will I do next, once {name} succeeds?")
-    } else {
-        format!("What happens if {name} {word}?")
-    };
-    let (mut child, mut status) = (u, s);
     let says = |s: Status| {
         if s == Status::Success {
             "succeeds"
@@ -630,6 +618,14 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
             "fails"
         }
     };
+    let word = says(s);
+    r.about = Some(u);
+    r.understood = if asked_next {
+        format!("What will I do next, once {name} succeeds?")
+    } else {
+        format!("What happens if {name} {word}?")
+    };
+    let (mut child, mut status) = (u, s);
     // The nodes that end because `u` did, each with how it ends.
     let mut ended: Vec<(Uid, Status)> = Vec::new();
     while let Some(p) = tree.parent(child) {

@@ -55,12 +55,7 @@ pub fn ahead(session: &Session, pos: u32) -> Result<Ahead, String> {
     }
     let here = idx.transitions[pos as usize - 1];
     let root = session.tree.root().uid;
-    let root_ended = idx.transitions[..pos as usize]
-        .iter()
-        .rev()
-        .find(|t| t.uid == root && t.status != Status::Idle)
-        .is_some_and(|t| matches!(t.status, Status::Success | Status::Failure));
-    if root_ended {
+    if idx.at(pos).root_outcome().is_some() {
         return Err(format!(
             "the run had ended by then ({} ended before {})",
             session.tree.told(root),

@@ -367,27 +367,20 @@ pub struct Diff {
 /// failed, when it failed.
 fn last_fault(s: &Session) -> Option<usize> {
     let idx = &s.index;
-    let root = s.tree.root().uid;
-    let failed = idx
-        .transitions
-        .iter()
-        .rposition(|t| t.uid == root && t.status.is_completed())
-        .filter(|&r| idx.transitions[r].status == Status::Failure)?;
+    let failed = match last_root_completion(s)? {
+        (p, Status::Failure) => p as usize - 1,
+        _ => return None,
+    };
     (0..failed).rev().find(|&q| {
         s.tree.node(idx.transitions[q].uid).kind.is_leaf()
             && crate::explain::fault::is_fault(&s.tree, idx, q as u32 + 1)
     })
 }
 
-/// Whether a run's root last completed with SUCCESS or FAILURE, and which.
-fn root_outcome(s: &Session) -> Option<Status> {
-    let root = s.tree.root().uid;
-    s.index
-        .transitions
-        .iter()
-        .rev()
-        .find(|t| t.uid == root && t.status.is_completed())
-        .map(|t| t.status)
+/// Where and how a run's root last completed.
+fn last_root_completion(s: &Session) -> Option<(u32, Status)> {
+    let end = s.index.transitions.len() as u32;
+    s.index.at(end).last_completion(s.tree.root().uid)
 }
 
 /// Between two runs, a changed pair of two different leaves says nothing
@@ -590,7 +583,8 @@ impl Diff {
     /// The divergence that decided the outcome, when the runs ended apart.
     fn decided(&self, a: Option<&Session>, b: Option<&Session>) -> Option<(usize, usize)> {
         let (a, b) = (a?, b?);
-        let (oa, ob) = (root_outcome(a), root_outcome(b));
+        let outcome = |s: &Session| last_root_completion(s).map(|(_, st)| st);
+        let (oa, ob) = (outcome(a), outcome(b));
         if oa == ob {
             return None;
         }

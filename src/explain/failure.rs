@@ -560,11 +560,12 @@ pub fn history(tree: &Tree, run: &At) -> Option<(String, Vec<Uid>)> {
     let mut text = capitalise(&said.join("; "));
     let from = first.unwrap_or(at);
     if let Some((h, done, ran)) = recovered_by(tree, run, leaf, at, from) {
-        let deeds_of = |by: &dyn Fn(Uid) -> bool| {
+        // What one handler ran, each deed once.
+        let deeds_of = |by: Uid| {
             let mut deeds: Vec<String> = Vec::new();
             for d in ran
                 .iter()
-                .filter(|&&(g, _)| by(g))
+                .filter(|&&(g, _)| g == by)
                 .map(|&(_, u)| tree.deed(u))
             {
                 if !deeds.contains(&d) {
@@ -582,22 +583,18 @@ pub fn history(tree: &Tree, run: &At) -> Option<(String, Vec<Uid>)> {
             }
         }
         for g in inner {
-            let deeds = deeds_of(&|x| x == g);
+            let said = and_list(&deeds_of(g));
             // A RecoveryNode goes back to its first child; a Fallback
             // does not.
             let how = if tree.node(g).builtin == Some(Builtin::RecoveryNode) {
-                "first recovered ({}) and tried again, which failed"
+                format!("first recovered ({said}) and tried again, which failed")
             } else {
-                "first fell back ({}) and failed"
+                format!("first fell back ({said}) and failed")
             };
-            text.push_str(&format!(
-                "; {} {}",
-                tree.told(g),
-                how.replace("{}", &and_list(&deeds))
-            ));
+            text.push_str(&format!("; {} {how}", tree.told(g)));
             nodes.push(g);
         }
-        let deeds = deeds_of(&|x| x == h);
+        let deeds = deeds_of(h);
         let how = match tree.node(h).builtin {
             Some(Builtin::RetryUntilSuccessful) => "tried again and".to_string(),
             _ if deeds.is_empty() => "went on and".to_string(),

@@ -110,10 +110,3 @@ fn verifies(tree: &Tree, u: Uid) -> bool {
             .take_while(|&&c| c != u)
             .any(|&c| tree.descendants(c).any(|d| is_action(tree, d)))
 }
-
-/// The positions of the run's faults, in order.
-pub fn faults(tree: &Tree, idx: &Index) -> Vec<u32> {
-    (1..=idx.transitions.len() as u32)
-        .filter(|&p| is_fault(tree, idx, p))
-        .collect()
-}

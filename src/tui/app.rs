@@ -2,7 +2,7 @@
 //! [`Action`]; answers come from the library.
 
 use super::keymap::Action;
-use crate::explain::fault::{faults, is_fault};
+use crate::explain::fault::is_fault;
 use crate::explain::{answer, Answer, Question, RunQuestion, TreeQuestion};
 use crate::frame::Framed;
 use crate::model::{Builtin, Kind, Tree, Uid};
@@ -549,11 +549,16 @@ impl App {
         let Some(s) = &self.session else {
             return Vec::new();
         };
-        let mut ticks: Vec<u32> = faults(&s.tree, &s.index)
-            .into_iter()
-            .map(|p| s.index.transitions[p as usize - 1])
-            .filter(|t| s.tree.node(t.uid).kind.is_leaf())
-            .map(|t| t.tick)
+        // Leaves only: a control node's fault is its leaf's, and costs a
+        // scan of its call.
+        let mut ticks: Vec<u32> = (1..=s.index.transitions.len() as u32)
+            .filter(|&p| {
+                let t = s.index.transitions[p as usize - 1];
+                t.status == Status::Failure
+                    && s.tree.node(t.uid).kind.is_leaf()
+                    && is_fault(&s.tree, &s.index, p)
+            })
+            .map(|p| s.index.transitions[p as usize - 1].tick)
             .collect();
         ticks.dedup();
         ticks

@@ -253,3 +253,30 @@ pub fn kitting_fleet() -> Vec<PathBuf> {
     paths.push("tests/fixtures/logs/kitting_lookat_fails_once.btlog".into());
     paths
 }
+
+/// A tree run by btx on a plan (40 ticks at most), with a models file if
+/// given; `None` when the tree or the plan is refused.
+pub fn planned(xml: &str, plan: &str, models: Option<&Path>) -> Option<btx::session::Session> {
+    let mut opts = LoadOptions::default();
+    if let Some(m) = models {
+        opts.models = vec![m.to_path_buf()];
+    }
+    let l = btx::xml::load_str(Path::new("case.xml"), xml, &opts).ok()?;
+    let plan = btx::run::plan::Plan::parse(Path::new("case.plan"), plan).ok()?;
+    let leaves = btx::run::plan::PlanLeaves::new(plan.clone(), &l.tree);
+    let source = btx::session::Source {
+        kind: "plan".into(),
+        path: None,
+        text: Some(plan.text),
+        name: None,
+    };
+    btx::session::record::simulate(
+        &l.tree,
+        source,
+        None,
+        40,
+        btx::run::RunOptions::default(),
+        leaves,
+    )
+    .ok()
+}

@@ -522,3 +522,55 @@ fn can_you_is_refused_once_the_run_has_ended() {
     ]);
     assert!(!during.contains("the run had ended"), "{during}");
 }
+
+/// A node named within another ("the retreat arm in reset arm") is the one
+/// under it; "list" is an imperative, never a typo of "lift" or "last";
+/// "keep trying to X" asks why X started again; and a why about a failure
+/// shared by a leaf and the node above it named alike (Nav2's FollowPath)
+/// answers the leaf first, since its failure is the cause.
+#[test]
+fn scopes_imperatives_and_nested_names_are_read_as_meant() {
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let (_, out, _) = btx(&[
+        "ask",
+        kitting,
+        "at what tick did the retreat arm in reset arm finish?",
+        "--format",
+        "json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["answers"][0]["about"]["uid"], 27, "{out}");
+    assert!(
+        v["answers"][0]["answer"]
+            .as_str()
+            .unwrap()
+            .contains("at 11:1"),
+        "{out}"
+    );
+
+    let (_, out, _) = btx(&[
+        "ask",
+        kitting,
+        "list the steps of the place screw into caddy sequence",
+    ]);
+    assert!(out.starts_with("How do you achieve your subgoal?"), "{out}");
+
+    let (_, out, _) = btx(&[
+        "ask",
+        kitting,
+        "why did it keep trying to look at the chuck",
+    ]);
+    assert!(
+        out.starts_with("Why did look at chuck (#18) start"),
+        "{out}"
+    );
+
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let (_, out, _) = btx(&["ask", nav2, "why did follow path fail", "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["answers"][0]["about"]["uid"], 10, "{out}");
+    let text = v["answers"][0]["answer"].as_str().unwrap();
+    let action = text.find("The action (#10)").unwrap();
+    let recovery = text.find("The RecoveryNode (#9)").unwrap();
+    assert!(action < recovery, "{text}");
+}

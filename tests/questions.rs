@@ -410,9 +410,9 @@ fn questions_held_out_are_read_as_meant() {
 }
 
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (88.5 % and 3.8 % tuned on, 82.2 % and 9.0 % held out): a
+/// of the reader (89.5 % and 3.0 % tuned on, 82.6 % and 8.6 % held out): a
 /// change that reads fewer questions as meant, or misreads more, fails.
-const DEV_FLOOR: f64 = 88.0;
-const DEV_MISREAD: f64 = 4.5;
-const HELD_FLOOR: f64 = 81.0;
-const HELD_MISREAD: f64 = 10.0;
+const DEV_FLOOR: f64 = 89.0;
+const DEV_MISREAD: f64 = 3.5;
+const HELD_FLOOR: f64 = 82.0;
+const HELD_MISREAD: f64 = 9.0;

@@ -72,12 +72,12 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
             })
         }
         // When and how often: every node the words name, each in its line.
-        Intent::When { node, event, which } => with_node(cx, node, None, &mut r, |u, r| {
+        Intent::When { node, event, which } => with_node(cx, node, Some(*event), &mut r, |u, r| {
             when(cx, u, *event, *which, r)
         }),
-        Intent::HowOften { node, event } => {
-            with_node(cx, node, None, &mut r, |u, r| how_often(cx, u, *event, r))
-        }
+        Intent::HowOften { node, event } => with_node(cx, node, Some(*event), &mut r, |u, r| {
+            how_often(cx, u, *event, r)
+        }),
         Intent::Tick(n) => {
             // 0: the tick of the moment the question named ("the last tick").
             let n = match (*n, cx.at.as_ref()) {
@@ -128,7 +128,7 @@ fn with_node(
     let who = match (who, event, cx.at.as_ref()) {
         (Subject::It, _, _) => Subject::Nodes(vec![cx.it()], "it".into()),
         (Subject::Nodes(us, p), Some(e), Some(at)) if us.len() > 1 => {
-            Subject::Nodes(by_event(at, us, e), p.clone())
+            Subject::Nodes(by_event(cx.tree, at, us, e), p.clone())
         }
         (w, _, _) => w.clone(),
     };
@@ -239,7 +239,7 @@ fn told_apart(tree: &Tree, us: &[Uid]) -> Vec<String> {
 /// Among nodes that share a name, those the event happened to: the one
 /// whose transition is the moment itself, else the ones it happened to by
 /// then; all of them when it happened to none.
-fn by_event(at: &At, us: &[Uid], e: Event) -> Vec<Uid> {
+fn by_event(tree: &Tree, at: &At, us: &[Uid], e: Event) -> Vec<Uid> {
     if at.pos > 0 {
         let t = at.index.transitions[at.pos as usize - 1];
         if us.contains(&t.uid) && is_event(t.prev, t.status, e) {
@@ -253,6 +253,20 @@ fn by_event(at: &At, us: &[Uid], e: Event) -> Vec<Uid> {
         .collect();
     if had.is_empty() {
         return us.to_vec();
+    }
+    // A failure inside a node named alike (Nav2's FollowPath action under
+    // the FollowPath RecoveryNode) is the cause of the outer one's: it is
+    // answered first.
+    let mut had = had;
+    if e == Event::Fail {
+        let outer = |u: Uid| {
+            had.iter()
+                .filter(|&&v| v != u && tree.is_ancestor(v, u))
+                .count()
+        };
+        let mut keyed: Vec<(usize, Uid)> = had.iter().map(|&u| (outer(u), u)).collect();
+        keyed.sort_by_key(|&(k, _)| std::cmp::Reverse(k));
+        had = keyed.into_iter().map(|(_, u)| u).collect();
     }
     had
 }

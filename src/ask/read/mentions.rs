@@ -72,6 +72,19 @@ const PLAIN: &[&str] = &[
 
 const ARTICLES: &[&str] = &["the", "a", "an", "its", "your", "my", "our"];
 
+/// Words of the question's own English that are never a typo of a name
+/// ("list" is not "lift", "show" not "shoe"): they name a node only as
+/// written.
+const NEVER_TYPOS: &[&str] = &[
+    "list", "show", "tell", "give", "explain", "describe", "steps", "step", "says", "said", "when",
+    "then", "than", "what", "that", "went", "want", "done", "know", "need", "make",
+];
+
+fn typo_of(name_word: &str, w: &Word) -> bool {
+    !NEVER_TYPOS.contains(&w.text.as_str())
+        && (close(name_word, &w.text) || close(name_word, &w.stem))
+}
+
 fn is_article(w: &str) -> bool {
     ARTICLES.contains(&w)
 }
@@ -512,8 +525,7 @@ fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
         let all = span.iter().zip(&e.stems).all(|(w, s)| {
             if same(w, s) {
                 true
-            } else if !PLAIN.contains(&w.text.as_str()) && (close(s, &w.text) || close(s, &w.stem))
-            {
+            } else if !PLAIN.contains(&w.text.as_str()) && typo_of(s, w) {
                 typos += 1;
                 true
             } else {
@@ -543,7 +555,7 @@ fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
                 if span
                     .iter()
                     .zip(window)
-                    .all(|(w, s)| same(w, s) || close(s, &w.text))
+                    .all(|(w, s)| same(w, s) || typo_of(s, w))
                 {
                     let part = span.len() as f32 / e.stems.len() as f32;
                     return (0.55 + 0.35 * part) * weight;

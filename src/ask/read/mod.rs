@@ -386,6 +386,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         s.nodes.push(m);
     }
     s.nodes.sort_by_key(|m| m.start);
+    s.nodes = scoped(tree, &q, std::mem::take(&mut s.nodes));
     // Typos in the words that ask ("wen", "frist", "fial"), now that the
     // tree's names have been found as they were written.
     let mut in_mention = vec![false; q.len()];
@@ -452,6 +453,45 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         when,
         about,
     })
+}
+
+/// "The retreat arm in reset arm", "the costmap clearing under the
+/// recovery branch": a node named within another is one of those under
+/// it, and the other names no node of its own.
+fn scoped(tree: &Tree, q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
+    const WITHIN: &[&str] = &[
+        "in", "under", "inside", "within", "of", "below", "beneath", "for", "from",
+    ];
+    let mut out: Vec<Mention> = Vec::with_capacity(nodes.len());
+    for m in nodes {
+        if let Some(a) = out.last_mut() {
+            let between = &q[a.end..m.start];
+            let within = !between.is_empty()
+                && between.iter().any(|w| WITHIN.contains(&w.text.as_str()))
+                && between.iter().all(|w| {
+                    WITHIN.contains(&w.text.as_str()) || ["the", "a"].contains(&w.text.as_str())
+                });
+            let under: Vec<Uid> = a
+                .uids
+                .iter()
+                .copied()
+                .filter(|&u| m.uids.iter().any(|&p| p != u && tree.is_ancestor(p, u)))
+                .collect();
+            if within && !under.is_empty() && !m.weak {
+                a.uids = under;
+                a.end = m.end;
+                a.score = a.score.min(m.score);
+                a.phrase = q[a.start..a.end]
+                    .iter()
+                    .map(|w| w.text.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" ");
+                continue;
+            }
+        }
+        out.push(m);
+    }
+    out
 }
 
 /// A path ("go insert large gear/look at chuck") picks a node as it does
@@ -548,6 +588,8 @@ fn corrected(w: &Word, tree_words: &rustc_hash::FxHashSet<String>) -> Word {
         || CUE_WORDS.contains(&t)
         || tree_words.contains(&w.stem)
         || FILLER.contains(&t)
+        || IMPERATIVE.contains(&t)
+        || LEAD.contains(&t)
         || !t.chars().all(|c| c.is_ascii_alphabetic())
     {
         return w.clone();
@@ -638,6 +680,17 @@ fn event(s: &Sentence) -> (Option<Event>, bool) {
         Some(Event::Run)
     } else {
         None
+    };
+    // "Why did it keep trying to detect the chuck?": it ran again and
+    // again, which is starting, not one call running on.
+    let retrying = s.has_stem(&["keep", "kept"])
+        && s.free().any(|(_, w)| {
+            ["trying", "retrying", "attempting", "restarting"].contains(&w.text.as_str())
+        });
+    let e = if retrying && e == Some(Event::KeepRunning) {
+        Some(Event::Run)
+    } else {
+        e
     };
     let e = match (e, negated) {
         (Some(Event::Run), true) => Some(Event::NotRun),

@@ -38,7 +38,7 @@ pub fn is_fault(tree: &Tree, idx: &Index, p: u32) -> bool {
     reaches_a_goal(tree, idx, t.uid, p) || verifies(tree, t.uid)
 }
 
-fn is_action(tree: &Tree, u: Uid) -> bool {
+pub(crate) fn is_action(tree: &Tree, u: Uid) -> bool {
     let n = tree.node(u);
     n.kind == Kind::Action && n.builtin.is_none()
 }
@@ -51,7 +51,29 @@ fn is_action(tree: &Tree, u: Uid) -> bool {
 /// saying no).
 fn reaches_a_goal(tree: &Tree, idx: &Index, u: Uid, p: u32) -> bool {
     let end = idx.tick_range(idx.transitions[p as usize - 1].tick).end as u32;
-    let (mut child, mut from) = (u, p);
+    goes_up_to_a_goal(tree, u, p, |parent, from| {
+        let changes = idx.changes_of(parent);
+        let after = changes.partition_point(|&q| q <= from);
+        changes[after..]
+            .iter()
+            .copied()
+            .take_while(|&q| q <= end)
+            .map(|q| (q, idx.transitions[q as usize - 1].status))
+            .find(|&(_, s)| matches!(s, Status::Success | Status::Failure))
+    })
+}
+
+/// `reaches_a_goal` over any record of the tick: `next_done(parent, from)`
+/// is the parent's first completion after `from` in the tick (its place
+/// and status). A watch reads a tick as it comes (`alerts`), a session
+/// through its index: one rule for both.
+pub(crate) fn goes_up_to_a_goal<P: Copy>(
+    tree: &Tree,
+    u: Uid,
+    from: P,
+    next_done: impl Fn(Uid, P) -> Option<(P, Status)>,
+) -> bool {
+    let (mut child, mut from) = (u, from);
     while let Some(parent) = tree.parent(child) {
         let pn = tree.node(parent);
         let first = pn.children.first() == Some(&child);
@@ -60,20 +82,8 @@ fn reaches_a_goal(tree: &Tree, idx: &Index, u: Uid, p: u32) -> bool {
             Some(Builtin::RetryUntilSuccessful) => return true,
             _ => {}
         }
-        let changes = idx.changes_of(parent);
-        let after = changes.partition_point(|&q| q <= from);
-        let next = changes[after..]
-            .iter()
-            .copied()
-            .take_while(|&q| q <= end)
-            .find(|&q| {
-                matches!(
-                    idx.transitions[q as usize - 1].status,
-                    Status::Success | Status::Failure
-                )
-            });
-        match next {
-            Some(q) if idx.transitions[q as usize - 1].status == Status::Failure => {
+        match next_done(parent, from) {
+            Some((q, Status::Failure)) => {
                 if parent == Tree::ROOT || pn.kind == Kind::SubTree {
                     return true;
                 }
@@ -89,7 +99,7 @@ fn reaches_a_goal(tree: &Tree, idx: &Index, u: Uid, p: u32) -> bool {
 /// Whether a check comes after an action in its Sequence: it verifies what
 /// was done ("check if grasped"), and its no is a fault; a check before
 /// any action is a guard, and its no a branch.
-fn verifies(tree: &Tree, u: Uid) -> bool {
+pub(crate) fn verifies(tree: &Tree, u: Uid) -> bool {
     let Some(parent) = tree.parent(u) else {
         return false;
     };

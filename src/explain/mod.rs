@@ -1,6 +1,7 @@
 //! Explanations: the questions people ask about a tree or a run, and their
 //! answers.
 
+pub mod alerts;
 pub mod failure;
 pub mod fault;
 pub mod han;

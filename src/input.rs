@@ -125,6 +125,18 @@ pub fn utc(us: i64) -> String {
     )
 }
 
+/// A UTC time of µs since the epoch as RFC 3339 with microseconds:
+/// `2026-11-25T22:11:20.123456Z`.
+pub fn rfc3339(us: i64) -> String {
+    let day = utc(us);
+    format!(
+        "{}T{}{:06}Z",
+        &day[..10],
+        &day[11..20],
+        us.rem_euclid(1_000_000)
+    )
+}
+
 /// `BAG#N`: run N of a rosbag, when no file has that very name.
 fn bag_run(path: &Path) -> Option<(&Path, usize)> {
     if path.exists() {

@@ -323,3 +323,48 @@ fn ask_live_reads_a_groot1_robot_at_this_moment() {
     // Nothing asked reads the blackboard: its absence goes unsaid.
     assert!(err.is_empty(), "{err}");
 }
+
+/// #40: the faults of a BehaviorTree.CPP 3 robot are said as they come
+/// over Groot 1's protocol, as they are of a Groot2 server's.
+#[test]
+fn a_groot1_robots_fault_and_its_recovery_are_said() {
+    let port = free_pair();
+    let mut robot = Publisher::replaying("kitting_lookat_fails_once_v3.fbl", port, port - 1, 5);
+    let mut w = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["watch", &format!(":{port}"), "--for", "60"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = BufReader::new(w.stderr.take().unwrap());
+    let mut first = String::new();
+    err.read_line(&mut first).unwrap();
+    assert!(first.starts_with("watching "), "{first}");
+    robot.go();
+    robot.done();
+    let out = w.wait_with_output().unwrap();
+    let mut rest = String::new();
+    err.read_to_string(&mut rest).unwrap();
+    assert!(out.status.success(), "{first}{rest}");
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = stdout
+        .lines()
+        .map(|l| l.split_once(" UTC  ").map_or(l, |x| x.1))
+        .collect();
+    assert_eq!(lines.len(), 3, "{stdout}");
+    assert!(
+        // BehaviorTree.CPP 3 spells it RetryUntilSuccesful.
+        lines[0]
+            .starts_with("10:1 look at chuck failed; insert large gear failed; RetryUntilSucces"),
+        "{stdout}"
+    );
+    assert!(
+        lines[0].ends_with("tries again, attempt 2 of 3"),
+        "{stdout}"
+    );
+    assert!(
+        lines[1].contains(" recovered: RetryUntilSucces"),
+        "{stdout}"
+    );
+    assert_eq!(lines[2], "run 1 ended at tick 54: SUCCESS");
+}

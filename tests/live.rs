@@ -185,7 +185,7 @@ fn watch(plan: &str, dir: &Path) -> (Session, Session, String, String) {
                 &fixture(&format!("plans/{plan}.plan")),
                 &btlog,
                 &["20", "stdin"],
-                &["--out", out.to_str().unwrap()],
+                &["--out", out.to_str().unwrap(), "--transitions"],
                 None,
                 &|_| {},
             )
@@ -320,7 +320,7 @@ fn attached_to_a_robot_already_running_btx_knows_each_node_as_it_was() {
                 &fixture("plans/kitting_lookat_fails_once.plan"),
                 &btlog,
                 &["20", "stdin"],
-                &["--out", out.to_str().unwrap()],
+                &["--out", out.to_str().unwrap(), "--transitions"],
                 Some(Duration::from_millis(400)),
                 &|_| {},
             )
@@ -1037,7 +1037,13 @@ fn three_robots_are_watched_at_once_each_into_its_own_session() {
     let mut w = Command::new(env!("CARGO_BIN_EXE_btx"))
         .arg("watch")
         .args(robots.iter().map(|r| format!(":{}", r.0)))
-        .args(["--for", "120", "--out", out.to_str().unwrap()])
+        .args([
+            "--for",
+            "120",
+            "--out",
+            out.to_str().unwrap(),
+            "--transitions",
+        ])
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
@@ -1109,4 +1115,181 @@ fn three_robots_are_watched_at_once_each_into_its_own_session() {
             .count();
         assert_eq!(rows, logged.index.transitions.len(), "robot :{port}");
     }
+}
+
+/// The events of `btx watch --format json` (its lines with an "event"),
+/// in order.
+fn events(stdout: &str) -> Vec<serde_json::Value> {
+    stdout
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok())
+        .filter(|v| v.get("event").is_some())
+        .collect()
+}
+
+/// #40: a real BehaviorTree.CPP robot whose look at chuck fails once and
+/// whose Retry recovers it, and one whose battery check fails its patrol
+/// for good. Each fault gets its line with what handles it, then one
+/// when the handling ends, in order; `--on-fault` is given each event as
+/// JSON. How soon after the robot's transition btx said each (the robot's
+/// clock against this machine's) is reported, not asserted.
+#[test]
+fn faults_are_said_as_they_happen_and_handed_to_a_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let btlog = dir.path().join("lookat.btlog");
+    let out = dir.path().join("lookat.jsonl");
+    let handed = dir.path().join("handed.jsonl");
+    let cmd = format!("cat >> '{}'", handed.display());
+    let w = until_it_happens(
+        &btlog,
+        &out,
+        || {
+            let _ = std::fs::remove_file(&handed);
+            watch_robot(
+                &fixture("kitting-tree.v4.xml"),
+                &fixture("plans/kitting_lookat_fails_once.plan"),
+                &btlog,
+                &["20", "stdin"],
+                &["--format", "json", "--on-fault", &cmd],
+                None,
+                &|_| {},
+            )
+        },
+        no_race,
+    );
+    assert!(w.ok, "{}", w.stderr);
+    let said = events(&w.stdout);
+    let what: Vec<&str> = said.iter().map(|e| e["event"].as_str().unwrap()).collect();
+    assert_eq!(what, ["fault", "recovered", "run-ended"], "{}", w.stdout);
+    assert_eq!(said[0]["node"]["description"], "look at chuck");
+    assert_eq!(said[0]["root_cause"]["uid"], 18);
+    assert_eq!(said[0]["handler"]["uid"], 7);
+    assert!(
+        said[0]["text"]
+            .as_str()
+            .unwrap()
+            .ends_with("RetryUntilSuccessful (#7) tries again, attempt 2 of 3"),
+        "{}",
+        said[0]
+    );
+    assert_eq!(said[1]["handler"]["uid"], 7);
+    assert_eq!(said[2]["outcome"], "SUCCESS");
+    for e in &said {
+        let late = e["said_us"].as_i64().unwrap() - e["time_us"].as_i64().unwrap();
+        eprintln!(
+            "{} at {}: said {:.1} ms after the robot's transition",
+            e["event"],
+            e["moment"],
+            late as f64 / 1000.0
+        );
+    }
+    // The moments are the session's, which btx kept whole.
+    let watched = events(&w.stdout);
+    assert_eq!(watched[0]["moment"], "10:1");
+    let handed = std::fs::read_to_string(&handed).unwrap();
+    let handed: Vec<serde_json::Value> = handed
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(handed.len(), 2, "{handed:?}");
+    assert_eq!(handed[0]["event"], "fault");
+    assert_eq!(handed[1]["event"], "recovered");
+
+    // A patrol that fails for good: the battery check's no is a fault (it
+    // fails the task), and nothing handles it.
+    let btlog = dir.path().join("patrol.btlog");
+    let out = dir.path().join("patrol.jsonl");
+    let w = until_it_happens(
+        &btlog,
+        &out,
+        || {
+            watch_robot(
+                &fixture("answers/patrol-battery.xml"),
+                &fixture("answers/patrol-battery.plan"),
+                &btlog,
+                &["20", "stdin"],
+                &["--until-end"],
+                None,
+                &|_| {},
+            )
+        },
+        no_race,
+    );
+    assert!(w.ok, "{}", w.stderr);
+    let lines: Vec<&str> = w.stdout.lines().collect();
+    assert_eq!(lines.len(), 3, "{}", w.stdout);
+    // Each line begins with the robot's time of day.
+    let text = |l: &str| l.split_once(" UTC  ").map(|x| x.1.to_string()).unwrap();
+    assert_eq!(
+        text(lines[0]),
+        "7:5 battery ok failed; guarded patrol step failed; patrol twice failed; nothing above handles it, so the task fails"
+    );
+    assert_eq!(text(lines[1]), "7:14 not recovered: the task failed");
+    assert_eq!(text(lines[2]), "run 1 ended at tick 7: FAILURE");
+    assert!(
+        w.stderr
+            .contains("1 fault: 0 open, 0 recovered, 1 not · 1 run ended"),
+        "{}",
+        w.stderr
+    );
+}
+
+/// #40 item 5: a watch started before the robot is up waits for it,
+/// saying so, and keeps every transition from the first tick on.
+#[test]
+fn a_robot_not_up_yet_is_waited_for_and_kept_from_its_first_tick() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let btlog = dir.path().join("late.btlog");
+    let out = dir.path().join("late.jsonl");
+    let port = free_port();
+    let mut w = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["watch", &format!(":{port}"), "--for", "120", "--until-end"])
+        .args(["--out", out.to_str().unwrap()])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = BufReader::new(w.stderr.take().unwrap());
+    let mut first = String::new();
+    err.read_line(&mut first).unwrap();
+    assert!(
+        first.starts_with(&format!(
+            "waiting for 127.0.0.1:{port}: nothing is listening there"
+        )),
+        "{first}"
+    );
+    let mut robot = Command::new(oracle_python())
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/live/robot.py"))
+        .arg(fixture("kitting-tree.v4.xml"))
+        .arg(fixture("plans/kitting_nominal.plan"))
+        .arg(port.to_string())
+        .arg(&btlog)
+        .args(["20", "stdin"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("the robot starts");
+    let mut said = BufReader::new(robot.stdout.take().unwrap()).lines();
+    assert_eq!(said.next().unwrap().unwrap(), "READY");
+    let mut second = String::new();
+    err.read_line(&mut second).unwrap();
+    assert!(second.starts_with("watching "), "{second}");
+    writeln!(robot.stdin.as_mut().unwrap(), "go").unwrap();
+    assert!(said.any(|l| l.is_ok_and(|l| l == "DONE")), "the robot died");
+    let status = w.wait().unwrap();
+    let _ = robot.kill();
+    let _ = robot.wait();
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut err, &mut rest).unwrap();
+    assert!(status.success(), "{first}{second}{rest}");
+    let (logged, watched) = (session(&btlog), session(&out));
+    if !rest.contains("zeroed records") {
+        assert_eq!(watched.index.transitions, logged.index.transitions);
+    }
+    let first_tick = logged.index.tick_range(1);
+    assert_eq!(
+        watched.index.transitions[first_tick.clone()],
+        logged.index.transitions[first_tick]
+    );
 }

@@ -332,8 +332,10 @@ fn a_long_session_spans_row_groups_and_comes_back_whole() {
                     from,
                     to,
                     decision,
+                    ..
                 } => {
                     transitions += 1;
+                    // Times too, so that the row groups carry them.
                     Record::Transition {
                         tick: tick + k * ticks,
                         step,
@@ -341,6 +343,7 @@ fn a_long_session_spans_row_groups_and_comes_back_whole() {
                         from,
                         to,
                         decision,
+                        time_us: Some(1_795_312_541_000_000 + transitions as i64),
                     }
                 }
                 Record::Write {

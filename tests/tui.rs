@@ -1484,3 +1484,36 @@ fn f_stops_at_faults_not_at_branches_taken() {
     app.update(Action::NextFailure);
     assert_eq!(app.message.as_deref(), Some("no fault after tick 7"));
 }
+
+/// #40 item 2: `e` lists the run's faults as a watch told them, newest
+/// first; Enter goes to the moment of one with its failed node selected.
+#[test]
+fn the_faults_are_listed_newest_first_and_enter_goes_to_one() {
+    use btx::tui::app::Overlay;
+    let mut app = demo();
+    app.update(Action::Faults);
+    let Overlay::Faults { lines, .. } = &app.overlay else {
+        panic!("no faults list: {:?}", app.message);
+    };
+    let texts: Vec<&str> = lines.iter().map(|l| l.0.as_str()).collect();
+    assert_eq!(
+        texts,
+        [
+            "run 1 ended at tick 54: SUCCESS",
+            "26:20 recovered: RetryUntilSuccessful (#7) succeeded",
+            "10:1 look at chuck failed; insert large gear failed; RetryUntilSuccessful (#7) tries again, attempt 2 of 3",
+        ]
+    );
+    let shown = screen(&app, 110, 34);
+    assert!(shown.contains("Faults, newest first"), "{shown}");
+    assert!(
+        shown.contains("10:1 look at chuck failed; insert large gear failed"),
+        "{shown}"
+    );
+    app.update(Action::Down);
+    app.update(Action::Down);
+    app.update(Action::Toggle);
+    assert!(matches!(app.overlay, Overlay::None));
+    assert_eq!(app.at().unwrap().moment().to_string(), "10:1");
+    assert_eq!(app.selected, 18);
+}

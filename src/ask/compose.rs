@@ -394,6 +394,19 @@ pub(super) fn moments(index: &Index, ps: &[u32]) -> String {
     }
 }
 
+/// A moment of the run as a "when" answer says it: with the robot's time
+/// of day where the run keeps it ("10:1, 01:55:41.796 UTC").
+fn timed_moment(cx: &Context, at: &At, p: u32) -> String {
+    let m = step_moment(at.index, p).to_string();
+    match cx
+        .session
+        .and_then(|s| s.times_us.get((p as usize).wrapping_sub(1)))
+    {
+        Some(&us) => format!("{m}, {} UTC", &crate::input::utc(us)[11..]),
+        None => m,
+    }
+}
+
 fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(), String> {
     let at = run_of(cx, &r.question)?;
     let ev = events(at, u, e);
@@ -403,6 +416,9 @@ fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(
         Which::Last => "last ",
         Which::Every => "",
     };
+    let timed = cx
+        .session
+        .is_some_and(|s| s.times_us.len() == at.index.transitions.len());
     r.understood = format!("When did {name} {what}{}?", verb(e));
     r.answer = match (ev.first(), ev.last(), which) {
         (None, _, _) => format!("{} {} {by}.", upper(&name), never(e)),
@@ -410,16 +426,26 @@ fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(
             "{} first {} at {} ({} in all {by}).",
             upper(&name),
             past(e),
-            step_moment(at.index, p),
+            timed_moment(cx, at, p),
             times(ev.len())
         ),
         (_, Some(&p), Which::Last) => format!(
             "{} last {} at {} ({} in all {by}).",
             upper(&name),
             past(e),
-            step_moment(at.index, p),
+            timed_moment(cx, at, p),
             times(ev.len())
         ),
+        _ if timed && ev.len() <= 12 => {
+            let ms: Vec<String> = ev.iter().map(|&p| timed_moment(cx, at, p)).collect();
+            format!(
+                "{} {} {} {by}: at {}.",
+                upper(&name),
+                past(e),
+                times(ev.len()),
+                ms.join("; ")
+            )
+        }
         _ => format!(
             "{} {} {} {by}: at {}.",
             upper(&name),

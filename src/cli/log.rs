@@ -19,13 +19,28 @@ pub struct Args {
     /// List the runs the log holds (a rosbag's goals: each the root starting again), with their times and how each ended; --run N picks one.
     #[arg(long, conflicts_with_all = ["follow", "node"])]
     pub runs: bool,
+    /// A time column first: the robot's clock at each transition, as the log recorded it (.btlog, .db3, .fbl, rosbags, runs kept by btx watch): `utc`, the time of day, or `relative`, seconds since the run's first transition. JSON always has `time` and `time_us` where they are known.
+    #[arg(long, value_enum, value_name = "utc|relative")]
+    pub time: Option<TimeColumn>,
+    /// Only the faults, each with what handles it and how that ended, as `btx watch` tells them as they happen.
+    #[arg(long, conflicts_with_all = ["follow", "node", "no_idle", "runs"])]
+    pub faults: bool,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum TimeColumn {
+    Utc,
+    Relative,
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     if args.runs {
         return list_runs(&args, cli);
+    }
+    if args.faults {
+        return list_faults(&args, cli);
     }
     match args {
         Args {
@@ -101,6 +116,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             no_idle,
             follow: false,
             format,
+            time: args_time,
             ..
         } => {
             let s = match btx::input::open(&session, &reading.options()?).map_err(located)? {
@@ -115,6 +131,15 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 Some(p) => Some(pick_node(&s.tree, p)?),
                 None => None,
             };
+            let clock = match (args_time, s.times_us.first()) {
+                (None, _) => None,
+                (Some(_), None) => fail!(
+                    "{}: no time is known for its transitions (a run btx simulated, a btcm log, a Parquet session): --time shows the times a log or a watched robot gave",
+                    session.display()
+                ),
+                (Some(TimeColumn::Utc), _) => Some(btx::export::Clock::Utc),
+                (Some(TimeColumn::Relative), Some(&t0)) => Some(btx::export::Clock::Relative(t0)),
+            };
             // Written as it is read: a log of millions of transitions is
             // never held whole, in text or in JSON.
             let mut w = SafeOut::new();
@@ -122,10 +147,19 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 Format::Json => btx::export::write_log_json(&mut w, &s, only, no_idle),
                 Format::Text => {
                     use std::io::Write;
-                    let mut r = w.write_all(btx::export::LOG_TEXT_HEADER.as_bytes());
+                    let head = clock.map_or("", |c| c.header());
+                    let mut r =
+                        w.write_all(format!("{head}{}", btx::export::LOG_TEXT_HEADER).as_bytes());
                     btx::export::each_log_row(&s, only, no_idle, |row| {
                         if r.is_ok() {
-                            r = w.write_all(btx::export::log_text_row(&s, &row).as_bytes());
+                            let cell = clock.map_or(String::new(), |c| c.cell(row.time_us));
+                            let text = btx::export::log_text_row(&s, &row);
+                            // A gap line before the row stays unprefixed.
+                            let text = match text.rsplit_once("---\n") {
+                                Some((gap, row)) => format!("{gap}---\n{cell}{row}"),
+                                None => format!("{cell}{text}"),
+                            };
+                            r = w.write_all(text.as_bytes());
                         }
                     });
                     for g in btx::export::trailing_gaps(&s) {
@@ -323,5 +357,55 @@ fn list_runs(args: &Args, cli: &Globals) -> Result<(), Failure> {
         let _ = w.write_all(line.as_bytes());
         Ok(())
     })?;
+    Ok(())
+}
+
+/// `--faults`: the run's faults, as a watch would have told them.
+fn list_faults(args: &Args, cli: &Globals) -> Result<(), Failure> {
+    let s = match btx::input::open(&args.session, &args.reading.options()?).map_err(located)? {
+        Input::Session(s) => *s,
+        Input::Tree { .. } => fail!(
+            "{} is a tree; btx log reads sessions and logs",
+            args.session.display()
+        ),
+    };
+    warn_all(cli.quiet, &s.warnings);
+    let alerts = btx::explain::alerts::of_run(&s.tree, &s.index);
+    let out = match args.format {
+        Format::Text => alerts
+            .iter()
+            .map(|a| format!("{}\n", a.text))
+            .collect::<String>(),
+        Format::Json => {
+            let v: Vec<serde_json::Value> = alerts
+                .iter()
+                .map(|a| {
+                    let node = |u: Option<btx::model::Uid>| match u {
+                        Some(u) => {
+                            serde_json::json!({"uid": u, "description": s.tree.description(u)})
+                        }
+                        None => serde_json::Value::Null,
+                    };
+                    serde_json::json!({
+                        "event": a.what,
+                        "moment": format!("{}:{}", a.tick, a.step),
+                        "node": node(Some(a.node)),
+                        "root_cause": node(a.root_cause),
+                        "handler": node(a.handler),
+                        "outcome": a.outcome.map(|o| o.as_str()),
+                        "text": a.text,
+                    })
+                })
+                .collect();
+            serde_json::to_string_pretty(&serde_json::json!({
+                "schema": "btx.faults/1",
+                "session": s.path.display().to_string(),
+                "events": v,
+            }))
+            .unwrap_or_default()
+                + "\n"
+        }
+    };
+    print!("{out}");
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `btx watch`: Watch running robots (Groot2 or Groot 1 protocol) and print their transitions as they happen.
 
 use super::*;
+use btx::explain::alerts::{Alert, Alerts, Row, What};
 use btx::live::{groot2, Feed};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -20,8 +21,29 @@ pub struct Args {
     /// Stop after this many seconds.
     #[arg(long = "for", value_name = "SECONDS", value_parser = seconds)]
     pub for_secs: Option<f64>,
+    /// Print every transition as a table (as `btx log` prints one) rather than the faults. JSON always holds every transition, and the faults among them.
+    #[arg(long)]
+    pub transitions: bool,
+    /// Run CMD (with `sh -c`) for each fault, recovery and failed recovery, the event as JSON on its standard input and in BTX_EVENT, its line in BTX_TEXT, the robot in BTX_ROBOT. It never holds the watch up: a command that fails is said, one that runs past 10 s is killed and said.
+    #[arg(long, value_name = "CMD")]
+    pub on_fault: Option<String>,
+    /// Stop watching a robot once its run has ended (its root back to IDLE after SUCCESS or FAILURE).
+    #[arg(long)]
+    pub until_end: bool,
+    /// Wait at most this many seconds for a robot that is not up yet (default: until it is, Ctrl-C or --for).
+    #[arg(long, value_name = "SECONDS", value_parser = seconds)]
+    pub wait: Option<f64>,
     #[arg(long, value_enum, default_value = "text")]
     pub format: Format,
+}
+
+/// What is printed of each robot.
+#[derive(Clone, Copy)]
+struct Say {
+    format: Format,
+    /// Every transition, not the faults.
+    transitions: bool,
+    quiet: bool,
 }
 
 /// One robot watched: its feed, and what was said of it so far.
@@ -31,6 +53,13 @@ struct Robot {
     prefix: String,
     feed: Feed,
     shell: btx::session::Session,
+    alerts: Alerts,
+    /// Faults said, handlings that ended well and not, runs ended.
+    faults: usize,
+    recovered: usize,
+    not_recovered: usize,
+    runs: usize,
+    tick: u32,
     header: bool,
     gaps_said: usize,
     notes_said: usize,
@@ -43,12 +72,14 @@ impl Robot {
         publisher: Option<u16>,
         out: Option<PathBuf>,
         several: bool,
-    ) -> Result<Robot, String> {
-        let mut feed = Feed::start(&ep, publisher, out).map_err(|e| e.to_string())?;
+    ) -> Result<Robot, btx::live::groot2::LiveError> {
+        let mut feed = Feed::start(&ep, publisher, out)?;
         feed.print_rows();
         feed.without_view();
         // Names the nodes of the rows printed.
-        let shell = feed.session().map_err(|e| e.to_string())?;
+        let shell = feed
+            .session()
+            .map_err(|e| btx::live::groot2::LiveError(e.to_string()))?;
         Ok(Robot {
             prefix: if several {
                 format!("[{ep}] ")
@@ -57,7 +88,13 @@ impl Robot {
             },
             ep,
             feed,
+            alerts: Alerts::new(shell.tree.clone()),
             shell,
+            faults: 0,
+            recovered: 0,
+            not_recovered: 0,
+            runs: 0,
+            tick: 0,
             header: false,
             gaps_said: 0,
             notes_said: 0,
@@ -65,44 +102,110 @@ impl Robot {
         })
     }
 
-    /// Takes what came, prints its rows (unless standard output is
-    /// closed) and says its gaps and notes; `done` halts the feed.
+    /// The robot in one line: how it stands and what befell it.
+    fn status(&self) -> String {
+        let mut line = format!(
+            "{}{} · tick {} · {} transitions",
+            self.prefix,
+            self.feed.glance(),
+            self.tick,
+            self.feed.transitions()
+        );
+        if self.faults > 0 {
+            line.push_str(&format!(
+                " · {} fault{}: {} open, {} recovered, {} not",
+                self.faults,
+                if self.faults == 1 { "" } else { "s" },
+                self.alerts.open(),
+                self.recovered,
+                self.not_recovered
+            ));
+        }
+        if self.runs > 0 {
+            line.push_str(&format!(
+                " · {} run{} ended",
+                self.runs,
+                if self.runs == 1 { "" } else { "s" }
+            ));
+        }
+        line
+    }
+
+    /// Takes what came, prints its rows or its faults (unless standard
+    /// output is closed) and says its gaps and notes; `done` halts the
+    /// feed. The alerts said, for `--on-fault`.
     fn step(
         &mut self,
         done: bool,
         closed: bool,
-        format: Format,
-        quiet: bool,
-    ) -> Result<(), Failure> {
+        say: Say,
+        status: &mut StatusLine,
+    ) -> Result<Vec<Alert>, Failure> {
         if done {
             self.feed.halt();
         } else {
             self.feed.poll();
         }
-        let p = &self.prefix;
+        let p = self.prefix.clone();
         for n in &self.feed.notes[self.notes_said..] {
-            if !quiet {
+            if !say.quiet {
+                status.clear();
                 eprintln!("{p}warning: {}: {n}", self.ep);
             }
         }
         self.notes_said = self.feed.notes.len();
         // Each tick is printed once numbered: the numbers are final.
         let rows = self.feed.take_rows();
-        if !closed && !rows.is_empty() {
-            let out = match format {
-                Format::Json => {
-                    let lines = btx::export::log_json_lines(&self.shell, &rows);
+        let mut alerts = Vec::new();
+        for r in &rows {
+            self.tick = r.tick;
+            alerts.extend(self.alerts.push(Row {
+                tick: r.tick,
+                step: r.step,
+                uid: r.uid,
+                prev: r.prev,
+                status: r.status,
+                time_us: r.time_us,
+            }));
+        }
+        // Nothing more came for now (or ever): a check's failure held for
+        // the rest of its tick is decided on what came.
+        if rows.is_empty() || done {
+            alerts.extend(self.alerts.flush());
+        }
+        if done {
+            alerts.extend(self.alerts.settle());
+        }
+        for a in &alerts {
+            match a.what {
+                What::Fault => self.faults += 1,
+                What::Recovered => self.recovered += 1,
+                What::NotRecovered => self.not_recovered += 1,
+                What::RunEnded => self.runs += 1,
+            }
+        }
+        if !closed {
+            let out = match (say.format, say.transitions) {
+                // Every transition, and the events among them.
+                (Format::Json, _) => {
+                    let mut out = String::new();
+                    if !rows.is_empty() {
+                        out.push_str(&btx::export::log_json_lines(&self.shell, &rows));
+                    }
+                    for a in &alerts {
+                        out.push_str(&alert_json(&self.shell.tree, a, None).to_string());
+                        out.push('\n');
+                    }
                     if p.is_empty() {
-                        lines
+                        out
                     } else {
                         let robot = serde_json::to_string(&self.ep).unwrap_or_default();
-                        lines
-                            .lines()
+                        out.lines()
                             .map(|l| format!("{{\"robot\":{robot},{}\n", &l[1..]))
                             .collect()
                     }
                 }
-                Format::Text => {
+                (Format::Text, true) if !rows.is_empty() => {
                     let t = btx::export::log_text(&self.shell, &rows);
                     let body = if self.header {
                         t.split_once('\n')
@@ -113,25 +216,35 @@ impl Robot {
                     };
                     body.lines().map(|l| format!("{p}{l}\n")).collect()
                 }
+                (Format::Text, true) => String::new(),
+                (Format::Text, false) => {
+                    alerts.iter().map(|a| format!("{p}{}\n", line(a))).collect()
+                }
             };
-            print!("{out}");
+            if !out.is_empty() {
+                status.clear();
+                print!("{out}");
+            }
         }
         if let Some(e) = self.feed.write_error.take() {
             self.feed.halt();
+            status.clear();
             eprintln!("{p}watching stopped: the run cannot be written");
             return Err(e.into());
         }
         for g in &self.feed.gaps[self.gaps_said..] {
+            status.clear();
             eprintln!("{p}gap after transition {}: {}", g.at, g.why);
         }
         self.gaps_said = self.feed.gaps.len();
         if self.feed.status.error != self.said {
             if let Some(e) = &self.feed.status.error {
+                status.clear();
                 eprintln!("{p}{e}; connecting again");
             }
             self.said = self.feed.status.error.clone();
         }
-        Ok(())
+        Ok(alerts)
     }
 
     /// The session finished (with --out) and what is said of the run.
@@ -140,6 +253,9 @@ impl Robot {
         let p = &self.prefix;
         if let (false, Some(f)) = (quiet, &self.feed.status.finished) {
             eprintln!("{p}{f}");
+        }
+        if !quiet {
+            eprintln!("{}", self.status());
         }
         let n = self.feed.transitions();
         if let (false, Some((median, p99))) = (quiet, self.feed.latency_ms()) {
@@ -151,6 +267,191 @@ impl Robot {
             }
         }
         Ok(())
+    }
+}
+
+/// An alert as its line: the robot's time of day first, where known.
+fn line(a: &Alert) -> String {
+    match a.time_us {
+        Some(t) => format!("{} UTC  {}", &btx::input::utc(t)[11..], a.text),
+        None => a.text.clone(),
+    }
+}
+
+/// An alert as `--format json` and `--on-fault` give it.
+fn alert_json(tree: &btx::model::Tree, a: &Alert, robot: Option<&str>) -> serde_json::Value {
+    let node = |u: Option<btx::model::Uid>| match u {
+        Some(u) if tree.get(u).is_some() => {
+            serde_json::json!({"uid": u, "description": tree.description(u)})
+        }
+        _ => serde_json::Value::Null,
+    };
+    let mut v = serde_json::json!({
+        "event": a.what,
+        "moment": format!("{}:{}", a.tick, a.step),
+        "tick": a.tick,
+        "step": a.step,
+        "time": a.time_us.map(btx::input::rfc3339),
+        "time_us": a.time_us,
+        "node": node(Some(a.node)),
+        "root_cause": node(a.root_cause),
+        "handler": node(a.handler),
+        "text": a.text,
+        // When btx said it, by this machine's clock: beside `time`, how
+        // soon after the robot's transition.
+        "said": btx::input::rfc3339(now_us()),
+        "said_us": now_us(),
+    });
+    if let Some(s) = a.outcome {
+        v["outcome"] = serde_json::Value::from(s.as_str());
+    }
+    if let Some(r) = robot {
+        v["robot"] = serde_json::Value::from(r);
+    }
+    v
+}
+
+fn now_us() -> i64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_micros() as i64)
+}
+
+/// The robots' one-line statuses, kept in place at the foot of a
+/// terminal's standard error (refreshed each second), and out of the way
+/// of every other line.
+struct StatusLine {
+    shown: bool,
+    on: bool,
+    last: Instant,
+}
+
+impl StatusLine {
+    fn new(quiet: bool) -> StatusLine {
+        use std::io::IsTerminal;
+        StatusLine {
+            shown: false,
+            on: !quiet && std::io::stderr().is_terminal(),
+            last: Instant::now(),
+        }
+    }
+
+    fn clear(&mut self) {
+        if self.shown {
+            eprint!("\r\x1b[K");
+            self.shown = false;
+        }
+    }
+
+    fn show(&mut self, robots: &[Robot]) {
+        if !self.on || self.last.elapsed() < Duration::from_secs(1) {
+            return;
+        }
+        self.last = Instant::now();
+        let width = ratatui::crossterm::terminal::size()
+            .map(|(w, _)| w as usize)
+            .unwrap_or(80)
+            .saturating_sub(1);
+        let all: Vec<String> = robots.iter().map(Robot::status).collect();
+        let text: String = all.join(" | ").chars().take(width).collect();
+        eprint!("\r{text}\x1b[K");
+        self.shown = true;
+    }
+}
+
+/// `--on-fault`: each event goes to a thread that runs the command, so
+/// that the watch never waits for it; at most `QUEUED` wait their turn,
+/// and what does not fit is counted and said.
+struct OnFault {
+    tx: Option<std::sync::mpsc::SyncSender<(String, String, String)>>,
+    worker: Option<std::thread::JoinHandle<()>>,
+    dropped: usize,
+}
+
+const QUEUED: usize = 256;
+const COMMAND_TIMEOUT: Duration = Duration::from_secs(10);
+
+impl OnFault {
+    fn new(cmd: Option<String>) -> OnFault {
+        let Some(cmd) = cmd else {
+            return OnFault {
+                tx: None,
+                worker: None,
+                dropped: 0,
+            };
+        };
+        let (tx, rx) = std::sync::mpsc::sync_channel::<(String, String, String)>(QUEUED);
+        let worker = std::thread::spawn(move || {
+            for (json, text, robot) in rx {
+                if let Err(e) = run_command(&cmd, &json, &text, &robot) {
+                    eprintln!("--on-fault: {e}");
+                }
+            }
+        });
+        OnFault {
+            tx: Some(tx),
+            worker: Some(worker),
+            dropped: 0,
+        }
+    }
+
+    fn send(&mut self, json: String, text: String, robot: String) {
+        if let Some(tx) = &self.tx {
+            if tx.try_send((json, text, robot)).is_err() {
+                self.dropped += 1;
+            }
+        }
+    }
+
+    /// Waits for the commands queued (each bounded by its timeout).
+    fn finish(mut self) {
+        drop(self.tx.take());
+        if let Some(w) = self.worker.take() {
+            let _ = w.join();
+        }
+        if self.dropped > 0 {
+            eprintln!(
+                "--on-fault: {} events came while {QUEUED} were waiting for the command, and were not given to it",
+                self.dropped
+            );
+        }
+    }
+}
+
+/// Runs the command once, the event on its standard input.
+fn run_command(cmd: &str, json: &str, text: &str, robot: &str) -> Result<(), String> {
+    use std::io::Write;
+    let mut child = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(cmd)
+        .env("BTX_EVENT", json)
+        .env("BTX_TEXT", text)
+        .env("BTX_ROBOT", robot)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .map_err(|e| format!("cannot run {cmd:?}: {e}"))?;
+    if let Some(mut stdin) = child.stdin.take() {
+        // A command that does not read its input is not an error.
+        let _ = stdin.write_all(json.as_bytes());
+        let _ = stdin.write_all(b"\n");
+    }
+    let started = Instant::now();
+    loop {
+        match child.try_wait() {
+            Ok(Some(status)) if status.success() => return Ok(()),
+            Ok(Some(status)) => return Err(format!("{cmd:?} failed ({status}) for: {text}")),
+            Ok(None) if started.elapsed() >= COMMAND_TIMEOUT => {
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(format!(
+                    "{cmd:?} ran past {} s and was killed, for: {text}",
+                    COMMAND_TIMEOUT.as_secs()
+                ));
+            }
+            Ok(None) => std::thread::sleep(Duration::from_millis(20)),
+            Err(e) => return Err(format!("{cmd:?}: {e}")),
+        }
     }
 }
 
@@ -228,6 +529,21 @@ fn outputs(eps: &[String], out: Option<&Path>) -> Result<Vec<Option<PathBuf>>, F
     })
 }
 
+/// Why a robot could not be watched, without its address before it.
+fn reason(ep: &str, e: &btx::live::groot2::LiveError) -> String {
+    let e = e.to_string();
+    e.strip_prefix(&format!("{ep}: ")).unwrap_or(&e).to_string()
+}
+
+/// A robot not up yet: tried again every `RETRY` until `--wait` ends.
+struct Waiting {
+    ep: String,
+    out: Option<PathBuf>,
+    why: String,
+}
+
+const RETRY: Duration = Duration::from_millis(500);
+
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let Robots { eps, outs, claims } = Robots::new(
         &args.endpoints,
@@ -236,24 +552,50 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         "btx watch",
     )?;
     let several = eps.len() > 1;
+    let say = Say {
+        format: args.format,
+        transitions: args.transitions,
+        quiet: cli.quiet,
+    };
+    let started = |r: &Robot| {
+        if !cli.quiet {
+            eprintln!(
+                "{}watching {}: tree {} (Ctrl-C stops)",
+                r.prefix, r.ep, r.feed.status.uuid
+            );
+        }
+    };
     let mut robots = Vec::new();
+    let mut waiting = Vec::new();
     for (ep, out) in eps.iter().zip(outs) {
-        match Robot::start(ep.clone(), args.publisher_port, out, several) {
+        match Robot::start(ep.clone(), args.publisher_port, out.clone(), several) {
             Ok(r) => {
-                if !cli.quiet {
-                    eprintln!(
-                        "{}watching {ep}: tree {} (Ctrl-C stops)",
-                        r.prefix, r.feed.status.uuid
-                    );
-                }
+                started(&r);
                 robots.push(r);
             }
-            // One robot that cannot be reached does not stop the others.
+            // A robot not up yet is waited for; one that answers wrongly
+            // is said, and does not stop the others.
+            Err(e) if e.not_up() && args.wait != Some(0.0) => {
+                let why = reason(ep, &e);
+                if !cli.quiet {
+                    let p = if several {
+                        format!("[{ep}] ")
+                    } else {
+                        String::new()
+                    };
+                    eprintln!("{p}waiting for {ep}: {why}; Ctrl-C stops");
+                }
+                waiting.push(Waiting {
+                    ep: ep.clone(),
+                    out,
+                    why,
+                });
+            }
             Err(e) if several => eprintln!("[{ep}] unreachable: {e}"),
-            Err(e) => return Err(Failure::Plain(e)),
+            Err(e) => return Err(Failure::Plain(format!("{ep}: {}", reason(ep, &e)))),
         }
     }
-    if robots.is_empty() {
+    if robots.is_empty() && waiting.is_empty() {
         fail!("no robot could be reached");
     }
     super::RECORDING.store(true, Ordering::Relaxed);
@@ -262,12 +604,20 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         signal_hook::flag::register(sig, Arc::clone(&stop))
             .map_err(|e| Failure::Plain(format!("cannot catch signals: {e}")))?;
     }
+    let begun = Instant::now();
     let deadline = args
         .for_secs
-        .map(|s| Instant::now() + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+        .map(|s| begun + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+    let wait_until = args
+        .wait
+        .map(|s| begun + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+    let mut status = StatusLine::new(cli.quiet);
+    let mut on_fault = OnFault::new(args.on_fault.clone());
     let mut closed_said = false;
     let mut failed = None;
-    while !robots.is_empty() {
+    let mut watched = robots.len();
+    let mut tried = Instant::now();
+    while !robots.is_empty() || !waiting.is_empty() {
         // A closed standard output (`| head`) ends the printing, never the
         // recording: with --out the watch goes on as it would have.
         let closed = super::stdout_closed();
@@ -288,15 +638,66 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         let all_done = stop.load(Ordering::Relaxed)
             || deadline.is_some_and(|d| Instant::now() >= d)
             || (closed && args.out.is_none());
+        // Robots not up yet: tried again, until they are or the wait ends.
+        let give_up = all_done || wait_until.is_some_and(|w| Instant::now() >= w);
+        if give_up {
+            let waited = begun.elapsed().as_secs_f64();
+            for w in waiting.drain(..) {
+                status.clear();
+                let said = format!("{}: {} (waited {waited:.1} s)", w.ep, w.why);
+                if several {
+                    eprintln!("[{}] never came up: {said}", w.ep);
+                } else {
+                    failed.get_or_insert(Failure::Plain(said));
+                }
+            }
+        } else if !waiting.is_empty() && tried.elapsed() >= RETRY {
+            tried = Instant::now();
+            let mut still = Vec::new();
+            for w in waiting.drain(..) {
+                match Robot::start(w.ep.clone(), args.publisher_port, w.out.clone(), several) {
+                    Ok(r) => {
+                        status.clear();
+                        started(&r);
+                        watched += 1;
+                        robots.push(r);
+                    }
+                    Err(e) if e.not_up() => still.push(Waiting {
+                        why: reason(&w.ep, &e),
+                        ..w
+                    }),
+                    Err(e) => {
+                        status.clear();
+                        let said = format!("{}: {}", w.ep, reason(&w.ep, &e));
+                        if several {
+                            eprintln!("[{}] {said}", w.ep);
+                        } else {
+                            failed.get_or_insert(Failure::Plain(said));
+                        }
+                    }
+                }
+            }
+            waiting = still;
+        }
         let mut still = Vec::with_capacity(robots.len());
         for mut r in robots {
             // A robot whose run finished ends its session; the others go on.
-            let done = all_done || r.feed.status.finished.is_some();
-            if let Err(e) = r.step(done, closed, args.format, cli.quiet) {
-                failed.get_or_insert(e);
-                continue;
+            let ended = args.until_end && r.runs > 0;
+            let done = all_done || ended || r.feed.status.finished.is_some();
+            match r.step(done, closed, say, &mut status) {
+                Ok(alerts) => {
+                    for a in alerts.iter().filter(|a| a.what != What::RunEnded) {
+                        let json = alert_json(&r.shell.tree, a, Some(&r.ep)).to_string();
+                        on_fault.send(json, line(a), r.ep.clone());
+                    }
+                }
+                Err(e) => {
+                    failed.get_or_insert(e);
+                    continue;
+                }
             }
             if done {
+                status.clear();
                 if let Err(e) = r.finish(cli.quiet) {
                     failed.get_or_insert(e);
                 }
@@ -305,12 +706,16 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             }
         }
         robots = still;
-        if !robots.is_empty() {
+        status.show(&robots);
+        if !robots.is_empty() || !waiting.is_empty() {
             std::thread::sleep(Duration::from_millis(20));
         }
     }
+    status.clear();
+    on_fault.finish();
     drop(claims);
     match failed {
+        None if watched == 0 => fail!("no robot came up"),
         Some(e) => Err(e),
         None => Ok(()),
     }

@@ -72,8 +72,9 @@ struct Handling {
 }
 
 /// Reads a run's transitions as they come and says its faults.
-pub struct Alerts<'t> {
-    tree: &'t Tree,
+pub struct Alerts {
+    /// Shared, so that a line can be made while the state changes.
+    tree: std::sync::Arc<Tree>,
     /// The last leaf fault below each node in its call so far.
     below: Vec<Option<Uid>>,
     /// A Retry's attempts, a RecoveryNode's recoveries, in the call so far.
@@ -90,8 +91,9 @@ pub struct Alerts<'t> {
     decided: Vec<(u32, u32)>,
 }
 
-impl<'t> Alerts<'t> {
-    pub fn new(tree: &'t Tree) -> Alerts<'t> {
+impl Alerts {
+    pub fn new(tree: Tree) -> Alerts {
+        let tree = std::sync::Arc::new(tree);
         let n = tree.nodes.iter().map(|n| n.uid).max().unwrap_or(0) as usize + 1;
         Alerts {
             tree,
@@ -177,8 +179,8 @@ impl<'t> Alerts<'t> {
         row.status == Status::Failure
             && n.kind.is_leaf()
             && row.uid != Tree::ROOT
-            && !is_action(self.tree, row.uid)
-            && !verifies(self.tree, row.uid)
+            && !is_action(&self.tree, row.uid)
+            && !verifies(&self.tree, row.uid)
     }
 
     fn is_fault(&self, row: Row, rest: &[Row]) -> bool {
@@ -186,14 +188,14 @@ impl<'t> Alerts<'t> {
             return false;
         }
         let n = self.tree.node(row.uid);
-        if is_action(self.tree, row.uid) || row.uid == Tree::ROOT {
+        if is_action(&self.tree, row.uid) || row.uid == Tree::ROOT {
             return true;
         }
         if !n.kind.is_leaf() {
             return self.below[row.uid as usize].is_some();
         }
-        verifies(self.tree, row.uid)
-            || goes_up_to_a_goal(self.tree, row.uid, 0usize, |parent, from| {
+        verifies(&self.tree, row.uid)
+            || goes_up_to_a_goal(&self.tree, row.uid, 0usize, |parent, from| {
                 rest.iter()
                     .enumerate()
                     .skip(from)
@@ -205,7 +207,8 @@ impl<'t> Alerts<'t> {
     }
 
     fn read(&mut self, row: Row, rest: &[Row], out: &mut Vec<Alert>) {
-        let tree = self.tree;
+        let tree = std::sync::Arc::clone(&self.tree);
+        let tree = &*tree;
         let u = row.uid;
         // Decided before a start resets what was below: a node Nav2 halts
         // within its call (RUNNING → IDLE → FAILURE) fails for what failed
@@ -307,7 +310,8 @@ impl<'t> Alerts<'t> {
 
     /// A fault at `row` whose root cause is `cause`.
     fn fault(&mut self, row: Row, cause: Uid, out: &mut Vec<Alert>) {
-        let tree = self.tree;
+        let tree = std::sync::Arc::clone(&self.tree);
+        let tree = &*tree;
         let u = row.uid;
         if u == Tree::ROOT {
             let open = std::mem::take(&mut self.open);
@@ -423,7 +427,8 @@ impl<'t> Alerts<'t> {
     /// A node as a line names it: its name, with its kind and uid where
     /// other nodes share the name.
     fn name(&self, u: Uid) -> String {
-        let tree = self.tree;
+        let tree = std::sync::Arc::clone(&self.tree);
+        let tree = &*tree;
         let d = tree.description(u);
         let n = tree.node(u);
         let shared = tree
@@ -440,7 +445,8 @@ impl<'t> Alerts<'t> {
     /// The nodes a failure of `u` makes fail, the node that handles it,
     /// and what that one does, as the tree's nodes work.
     fn handled(&self, u: Uid) -> (Vec<Uid>, Option<Uid>, String) {
-        let tree = self.tree;
+        let tree = std::sync::Arc::clone(&self.tree);
+        let tree = &*tree;
         let mut path = Vec::new();
         let mut child = u;
         while let Some(p) = tree.parent(child) {
@@ -459,7 +465,8 @@ impl<'t> Alerts<'t> {
 
     /// What `p` does when its child `child` fails, if it handles it.
     fn handles(&self, p: Uid, child: Uid) -> Option<String> {
-        let tree = self.tree;
+        let tree = std::sync::Arc::clone(&self.tree);
+        let tree = &*tree;
         let n = tree.node(p);
         let who = tree.told(p);
         let index = n.children.iter().position(|&c| c == child)?;
@@ -537,6 +544,31 @@ impl<'t> Alerts<'t> {
     }
 }
 
+/// The lines a recorded run would have given as it happened.
+pub fn of_run(tree: &Tree, idx: &crate::session::Index) -> Vec<Alert> {
+    let mut a = Alerts::new(tree.clone());
+    let mut out = Vec::new();
+    let (mut tick, mut step) = (0, 0);
+    for t in &idx.transitions {
+        if t.tick != tick {
+            tick = t.tick;
+            step = 0;
+        }
+        step += 1;
+        out.extend(a.push(Row {
+            tick: t.tick,
+            step,
+            uid: t.uid,
+            prev: t.prev,
+            status: t.status,
+            time_us: None,
+        }));
+    }
+    out.extend(a.flush());
+    out.extend(a.settle());
+    out
+}
+
 fn at(row: Row) -> String {
     format!("{}:{}", row.tick, row.step)
 }
@@ -567,7 +599,7 @@ mod tests {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let input = open(&root.join(file), &LoadOptions::default()).unwrap();
         let s = input.session().unwrap();
-        let mut a = Alerts::new(input.tree());
+        let mut a = Alerts::new(input.tree().clone());
         let mut out = Vec::new();
         let mut step = 0;
         let mut tick = 0;

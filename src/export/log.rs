@@ -15,6 +15,8 @@ pub struct LogRow {
     /// Transitions may be missing just before this one (a live run's gap;
     /// those before filtered-out rows come with the next row shown).
     pub gap: Option<String>,
+    /// The robot's clock, µs since the epoch, where the source gives one.
+    pub time_us: Option<i64>,
 }
 
 /// The gaps after the last transition (a live run that ended on one).
@@ -81,6 +83,7 @@ pub fn each_log_row(s: &Session, only: Option<Uid>, no_idle: bool, mut f: impl F
         ..LogFilter::default()
     };
     let (mut gi, mut gap): (usize, Option<String>) = (0, None);
+    let timed = s.times_us.len() == idx.transitions.len();
     for tick in 1..=idx.ticks() {
         let r = idx.tick_range(tick);
         for (k, i) in r.clone().enumerate() {
@@ -103,6 +106,7 @@ pub fn each_log_row(s: &Session, only: Option<Uid>, no_idle: bool, mut f: impl F
                 prev: t.prev,
                 status: t.status,
                 decision: idx.transition_decision(i).map(str::to_string),
+                time_us: timed.then(|| s.times_us[i]),
             });
         }
     }
@@ -137,6 +141,46 @@ pub fn log_text_row(s: &Session, r: &LogRow) -> String {
     )
 }
 
+/// The time column `btx log --time` adds before the others.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Clock {
+    /// The time of day, UTC, to the microsecond.
+    Utc,
+    /// Seconds since this time (µs since the epoch): the run's start.
+    Relative(i64),
+}
+
+impl Clock {
+    pub fn header(self) -> &'static str {
+        match self {
+            Clock::Utc => "     time (UTC) ",
+            Clock::Relative(_) => "    time s ",
+        }
+    }
+
+    /// A row's time as the column shows it ("?" where it has none).
+    pub fn cell(self, us: Option<i64>) -> String {
+        match (self, us) {
+            (Clock::Utc, Some(t)) => format!(
+                "{}.{:06} ",
+                &crate::input::utc(t)[11..19],
+                t.rem_euclid(1_000_000)
+            ),
+            (Clock::Relative(base), Some(t)) => {
+                let d = t - base;
+                let secs = format!(
+                    "{}.{:03}",
+                    d.div_euclid(1_000_000),
+                    d.rem_euclid(1_000_000) / 1000
+                );
+                format!("{secs:>10} ")
+            }
+            (Clock::Utc, None) => format!("{:>15} ", "?"),
+            (Clock::Relative(_), None) => format!("{:>10} ", "?"),
+        }
+    }
+}
+
 pub fn log_text(s: &Session, rows: &[LogRow]) -> String {
     let mut out = LOG_TEXT_HEADER.to_string();
     for r in rows {
@@ -160,6 +204,10 @@ pub fn log_json_row(s: &Session, r: &LogRow) -> Value {
     });
     if let Some(g) = &r.gap {
         v["gap"] = Value::from(g.clone());
+    }
+    if let Some(t) = r.time_us {
+        v["time"] = Value::from(crate::input::rfc3339(t));
+        v["time_us"] = Value::from(t);
     }
     v
 }
@@ -190,6 +238,13 @@ pub fn write_log_json(
             .gap
             .as_deref()
             .map_or(String::new(), |g| format!(",\n      \"gap\": {}", text(g)));
+        let time = r.time_us.map_or(String::new(), |t| {
+            format!(
+                ",\n      \"time\": \"{}\",\n      \"time_us\": {t}",
+                crate::input::rfc3339(t)
+            )
+        });
+        let gap = gap + time.as_str();
         let chunk = format!(
             "{}    {{\n      \"tick\": {},\n      \"step\": {},\n      \"uid\": {},\n      \"node\": {},\n      \"type\": {},\n      \"prev\": \"{}\",\n      \"status\": \"{}\",\n      \"decision\": {},\n      \"halted\": {}{}\n    }}",
             if first { "\n" } else { ",\n" },
@@ -256,12 +311,27 @@ mod tests {
                 .join("sessions/kitting-lookat-fails-once.jsonl"),
         )
         .unwrap();
-        for (only, no_idle) in [(None, false), (Some(18), true), (Some(2), true)] {
-            let rows = log_rows(&s, only, no_idle);
-            let whole = serde_json::to_string_pretty(&log_json(&s, &rows)).unwrap() + "\n";
-            let mut streamed = Vec::new();
-            write_log_json(&mut streamed, &s, only, no_idle).unwrap();
-            assert_eq!(String::from_utf8(streamed).unwrap(), whole, "{only:?}");
+        // A log keeps each transition's time: the rows carry it.
+        let timed = crate::input::open(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("tests/fixtures/logs/kitting_lookat_fails_once.btlog"),
+            &Default::default(),
+        )
+        .unwrap();
+        let timed = timed.session().unwrap();
+        assert!(
+            log_json(timed, &log_rows(timed, Some(18), false))["transitions"][1]["time"]
+                .as_str()
+                .is_some_and(|t| t.ends_with('Z') && t.len() == 27)
+        );
+        for s in [&s, timed] {
+            for (only, no_idle) in [(None, false), (Some(18), true), (Some(2), true)] {
+                let rows = log_rows(s, only, no_idle);
+                let whole = serde_json::to_string_pretty(&log_json(s, &rows)).unwrap() + "\n";
+                let mut streamed = Vec::new();
+                write_log_json(&mut streamed, s, only, no_idle).unwrap();
+                assert_eq!(String::from_utf8(streamed).unwrap(), whole, "{only:?}");
+            }
         }
     }
 }

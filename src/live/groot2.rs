@@ -31,6 +31,17 @@ pub struct Transition {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct LiveError(pub String);
 
+impl LiveError {
+    /// Whether nothing answered at the address yet: a robot not up, which
+    /// may come up later.
+    /// (A Groot 1 robot whose server answers and whose publisher does
+    /// not is up, and its publisher's port likely another: said at once.)
+    pub fn not_up(&self) -> bool {
+        (self.0.contains("nothing is listening there") || self.0.contains("cannot connect"))
+            && !self.0.contains("the publisher of")
+    }
+}
+
 impl std::fmt::Display for LiveError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(&self.0)

@@ -140,6 +140,7 @@ impl Recorder {
                 self.root = (prev, r.status);
             }
             if let Some(w) = self.writer.as_mut() {
+                w.timed(Some(r.time_us));
                 w.event(&Event::Transition {
                     tick,
                     uid: r.uid,
@@ -157,6 +158,7 @@ impl Recorder {
                     status: r.status,
                     decision: None,
                     gap: self.pending_gap.take(),
+                    time_us: Some(r.time_us),
                 });
             }
             if self.view && self.kept.len() < VIEW_MAX {

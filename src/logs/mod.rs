@@ -683,6 +683,8 @@ fn write_events(s: &Session, w: &mut crate::session::SessionWriter) -> Result<()
     // The states read when recording began are in the header.
     let resyncs: Vec<_> = idx.resyncs().into_iter().filter(|r| r.0 > 0).collect();
     let mut ri = 0;
+    // The log's times are kept with its transitions.
+    let timed = s.times_us.len() == idx.transitions.len();
     for (i, t) in idx.transitions.iter().enumerate() {
         while let Some((_, why)) = idx.gaps.get(gi).filter(|g| g.0 as usize <= i) {
             w.gap(t.tick, why)?;
@@ -710,6 +712,7 @@ fn write_events(s: &Session, w: &mut crate::session::SessionWriter) -> Result<()
             })?;
             di += 1;
         }
+        w.timed(s.times_us.get(i).copied().filter(|_| timed));
         w.event(&crate::run::Event::Transition {
             tick: t.tick,
             uid: t.uid,

@@ -19,6 +19,8 @@ pub(super) struct Builder {
     index: Index,
     end: Option<(u32, crate::run::Status, String)>,
     inserts: Vec<(u32, Uid, Uid, Uid, String)>,
+    /// Each transition's time, while every one so far has one.
+    times_us: Vec<i64>,
     warnings: Vec<Warning>,
 }
 
@@ -63,6 +65,7 @@ impl Builder {
             index,
             end: None,
             inserts: Vec::new(),
+            times_us: Vec::new(),
             warnings: Vec::new(),
         })
     }
@@ -106,6 +109,7 @@ impl Builder {
                 from,
                 to,
                 decision,
+                time_us,
                 ..
             } => {
                 self.known(uid, err)?;
@@ -126,6 +130,13 @@ impl Builder {
                     },
                     decision,
                 );
+                // Kept only if every transition has its time.
+                match time_us {
+                    Some(t) if self.times_us.len() + 1 == self.index.transitions.len() => {
+                        self.times_us.push(t)
+                    }
+                    _ => self.times_us.clear(),
+                }
             }
             Record::Decision {
                 tick,
@@ -216,6 +227,11 @@ impl Builder {
             );
             self.warn(location, message);
         }
+        let times_us = if self.times_us.len() == self.index.transitions.len() {
+            std::mem::take(&mut self.times_us)
+        } else {
+            Vec::new()
+        };
         Session {
             path: self.path,
             header: self.header,
@@ -223,8 +239,8 @@ impl Builder {
             index: self.index,
             end: self.end,
             inserts: self.inserts,
-            span_us: None,
-            times_us: Vec::new(),
+            span_us: times_us.first().zip(times_us.last()).map(|(a, b)| (*a, *b)),
+            times_us,
             warnings: self.warnings,
         }
     }

@@ -28,6 +28,7 @@ pub const SCHEMA: &str = "message btx_session {
   OPTIONAL INT32 status;
   OPTIONAL BYTE_ARRAY decision (UTF8);
   OPTIONAL BYTE_ARRAY record (UTF8);
+  OPTIONAL INT64 time_us;
 }";
 
 /// The key of the file's metadata that says it is a btx session, and its
@@ -82,6 +83,7 @@ struct Rows {
     prev: Vec<Option<i32>>,
     status: Vec<Option<i32>>,
     decision: Vec<Option<String>>,
+    time_us: Vec<Option<i64>>,
     record: Vec<Option<String>>,
 }
 
@@ -95,7 +97,9 @@ impl Rows {
                 from,
                 to,
                 decision,
+                time_us,
             } => {
+                self.time_us.push(*time_us);
                 self.tick.push(i64::from(*tick));
                 self.step.push(i64::from(*step));
                 self.uid.push(Some(*uid as i32));
@@ -122,6 +126,7 @@ impl Rows {
         self.prev.push(None);
         self.status.push(None);
         self.decision.push(None);
+        self.time_us.push(None);
         self.record.push(Some(json));
     }
 
@@ -138,7 +143,8 @@ impl Rows {
             c.ints(rows.prev.into_iter())?;
             c.ints(rows.status.into_iter())?;
             c.strings(rows.decision.iter().map(Option::as_deref))?;
-            c.strings(rows.record.iter().map(Option::as_deref))
+            c.strings(rows.record.iter().map(Option::as_deref))?;
+            c.longs(rows.time_us.into_iter())
         })
     }
 }
@@ -254,7 +260,9 @@ pub fn read(path: &Path, bytes: Vec<u8>, sink: &mut dyn Sink) -> Result<(), Loca
             ))
         }
     }
-    if meta.file_metadata().schema_descr().num_columns() != 7 {
+    // Files written before transitions kept their time have 7 columns.
+    let columns = meta.file_metadata().schema_descr().num_columns();
+    if columns != 7 && columns != 8 {
         return Err(Located::file(
             path,
             "a Parquet session of other columns than btx writes",
@@ -272,6 +280,11 @@ pub fn read(path: &Path, bytes: Vec<u8>, sink: &mut dyn Sink) -> Result<(), Loca
         let status = crate::table::column::<Int32Type>(rg, 4, rows).map_err(bad)?;
         let decision = crate::table::column::<ByteArrayType>(rg, 5, rows).map_err(bad)?;
         let record = crate::table::column::<ByteArrayType>(rg, 6, rows).map_err(bad)?;
+        let time_us = if columns == 8 {
+            crate::table::column::<Int64Type>(rg, 7, rows).map_err(bad)?
+        } else {
+            vec![None; rows]
+        };
         for i in 0..rows {
             nth += 1;
             let err = |m: String| Located::file(path, format!("row {nth}: {m}"));
@@ -283,6 +296,7 @@ pub fn read(path: &Path, bytes: Vec<u8>, sink: &mut dyn Sink) -> Result<(), Loca
                 status: status[i],
                 decision: decision[i].as_ref(),
                 record: record[i].as_ref(),
+                time_us: time_us[i],
             };
             if nth == 1 {
                 let text = row.text(row.record, "record").map_err(&err)?;
@@ -309,6 +323,7 @@ struct Row<'a> {
     status: Option<i32>,
     decision: Option<&'a ByteArray>,
     record: Option<&'a ByteArray>,
+    time_us: Option<i64>,
 }
 
 impl<'a> Row<'a> {
@@ -347,6 +362,7 @@ impl<'a> Row<'a> {
                 .decision
                 .map(|_| self.text(self.decision, "decision").map(str::to_string))
                 .transpose()?,
+            time_us: self.time_us,
         })
     }
 }

@@ -83,6 +83,10 @@ pub enum Record {
         to: Status,
         #[serde(default, skip_serializing_if = "Option::is_none")]
         decision: Option<String>,
+        /// The robot's clock, µs since the epoch, where the source had one
+        /// (a log, a watched robot).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        time_us: Option<i64>,
     },
     #[serde(rename = "d")]
     Decision {
@@ -155,6 +159,8 @@ pub struct SessionWriter {
     tick: u32,
     step: u32,
     transitions: u64,
+    /// The time of the next transition written (`timed`).
+    next_time: Option<i64>,
     /// What the last flush made durable: the tick it ended, and the
     /// transitions up to it (said when a later write fails).
     kept: (u32, u64),
@@ -223,6 +229,7 @@ impl SessionWriter {
             tick: 0,
             step: 0,
             transitions: 0,
+            next_time: None,
             kept: (0, 0),
         };
         if line.len() > HEADER_MAX {
@@ -271,6 +278,12 @@ impl SessionWriter {
         self.step
     }
 
+    /// The robot's clock at the next transition written: a session keeps
+    /// the time of day its source had.
+    pub fn timed(&mut self, time_us: Option<i64>) {
+        self.next_time = time_us;
+    }
+
     pub fn event(&mut self, e: &Event) -> Result<(), Located> {
         let rec = match e {
             Event::Transition {
@@ -290,6 +303,7 @@ impl SessionWriter {
                     from: *prev,
                     to: *status,
                     decision: decision.clone(),
+                    time_us: self.next_time.take(),
                 }
             }
             Event::Decision {
@@ -493,6 +507,7 @@ struct Flat<'a> {
     root: Option<Status>,
     transitions: Option<u64>,
     reason: Option<String>,
+    time_us: Option<i64>,
 }
 
 /// The transition lines btx itself writes, read without serde: they are
@@ -513,6 +528,13 @@ fn fast_transition(line: &str) -> Option<Record> {
     let (uid, s) = num(s, ",\"uid\":")?;
     let (from, s) = word(s, ",\"from\":\"")?;
     let (to, s) = word(s, ",\"to\":\"")?;
+    let (time_us, s) = match s.strip_prefix(",\"time_us\":") {
+        Some(t) => {
+            let end = t.find(|c: char| !c.is_ascii_digit() && c != '-')?;
+            (Some(t[..end].parse().ok()?), &t[end..])
+        }
+        None => (None, s),
+    };
     (s == "}").then_some(Record::Transition {
         tick,
         step,
@@ -520,6 +542,7 @@ fn fast_transition(line: &str) -> Option<Record> {
         from,
         to,
         decision: None,
+        time_us,
     })
 }
 
@@ -550,6 +573,7 @@ pub fn parse_record(line: &str) -> Result<Record, String> {
             from: need(f.from, k, "from")?,
             to: need(f.to, k, "to")?,
             decision: f.decision,
+            time_us: f.time_us,
         },
         "d" => Record::Decision {
             tick: need(f.tick, k, "tick")?,
@@ -606,6 +630,7 @@ mod tests {
                 from: Status::Idle,
                 to: Status::Running,
                 decision: Some("a".into()),
+                time_us: Some(1_795_793_363_082_249),
             },
             Record::Transition {
                 tick: 3,
@@ -614,6 +639,7 @@ mod tests {
                 from: Status::Running,
                 to: Status::Idle,
                 decision: None,
+                time_us: None,
             },
             Record::Decision {
                 tick: 4,

@@ -41,6 +41,12 @@ pub enum Overlay {
     Running {
         selected: usize,
     },
+    /// The run's faults as a watch told them, newest first, with where
+    /// each happened (a position of the run).
+    Faults {
+        selected: usize,
+        lines: Vec<(String, u32, crate::model::Uid)>,
+    },
     /// The ask prompt (`a`, `A`): a question being typed, the completion
     /// chosen, and whether it was chosen with ↑↓ (Enter then asks it; else
     /// what was typed, as typed).
@@ -432,6 +438,35 @@ impl App {
             Pane::Ask => {
                 self.answers.scroll(a, self.scroll_max.get().1);
             }
+        }
+    }
+
+    /// `e`: the run's faults as a watch told them (the library's
+    /// `explain::alerts`), newest first, to go to one.
+    pub fn open_faults(&mut self) {
+        let Some(s) = &self.session else {
+            self.message = Some("a tree alone has no faults: open a run".into());
+            return;
+        };
+        let lines: Vec<(String, u32, Uid)> = crate::explain::alerts::of_run(&s.tree, &s.index)
+            .into_iter()
+            .rev()
+            .filter_map(|a| {
+                let m = crate::session::Moment {
+                    tick: a.tick,
+                    step: Some(a.step),
+                };
+                let p = s.index.position(m).ok()?;
+                let u = a
+                    .root_cause
+                    .filter(|_| a.what == crate::explain::alerts::What::Fault);
+                Some((a.text, p, u.unwrap_or(a.node)))
+            })
+            .collect();
+        if lines.is_empty() {
+            self.message = Some("no fault in this run".into());
+        } else {
+            self.overlay = Overlay::Faults { selected: 0, lines };
         }
     }
 

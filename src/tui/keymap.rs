@@ -59,6 +59,8 @@ pub enum Action {
     OnlyStatus,
     /// Pick from the nodes RUNNING at this moment.
     Running,
+    /// The run's faults as they happened, each with its handling.
+    Faults,
     /// Copy the answer on screen to the clipboard (OSC 52).
     Copy,
     /// Pick another run of the log, or another robot watched.
@@ -235,6 +237,12 @@ pub const KEYMAP: &[Binding] = &[
         keys: &["r"],
         action: Action::Running,
         help: "pick from the nodes RUNNING at this moment",
+        hint: "",
+    },
+    Binding {
+        keys: &["e"],
+        action: Action::Faults,
+        help: "the run's faults as they happened: Enter goes to one",
         hint: "",
     },
     Binding {

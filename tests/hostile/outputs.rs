@@ -291,7 +291,14 @@ fn a_watch_that_cannot_write_stops_saying_so_and_a_closed_stdout_keeps_recording
     let (port, mut server) = served(run, "2", "60");
     let out = dir.path().join("piped.jsonl");
     let mut w = Command::new(env!("CARGO_BIN_EXE_btx"))
-        .args(["watch", &format!(":{port}"), "--for", "3", "--out"])
+        .args([
+            "watch",
+            &format!(":{port}"),
+            "--for",
+            "3",
+            "--transitions",
+            "--out",
+        ])
         .arg(&out)
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

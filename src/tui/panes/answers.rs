@@ -108,6 +108,7 @@ impl App {
                     self.overlay = Overlay::Running { selected: 0 };
                 }
             }
+            Action::Faults => self.open_faults(),
             Action::Copy => self.copy_answer(),
             _ => return false,
         }

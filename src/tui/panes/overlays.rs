@@ -50,6 +50,7 @@ impl App {
             Overlay::Finder { .. }
             | Overlay::Why { .. }
             | Overlay::Running { .. }
+            | Overlay::Faults { .. }
             | Overlay::Pick { .. } => self.update_list(a),
             Overlay::CanYou { .. } => self.can_you_key(a),
             Overlay::Words { .. } => self.words_key(a),
@@ -353,6 +354,7 @@ impl App {
             Overlay::Finder { query, .. } => self.finder_results(query).len(),
             Overlay::Why { targets, .. } => targets.len(),
             Overlay::Running { .. } => self.running_nodes().len(),
+            Overlay::Faults { lines, .. } => lines.len(),
             Overlay::Pick { .. } => self.choices.as_ref().map_or(0, |c| c.len()),
             _ => 0,
         };
@@ -360,6 +362,7 @@ impl App {
             Overlay::Finder { selected, .. }
             | Overlay::Why { selected, .. }
             | Overlay::Running { selected }
+            | Overlay::Faults { selected, .. }
             | Overlay::Pick { selected } => selected,
             _ => return,
         };
@@ -384,6 +387,14 @@ impl App {
                         }
                     }
                     Overlay::Pick { .. } => self.pick(i),
+                    Overlay::Faults { lines, .. } => {
+                        if let Some(&(_, p, u)) = lines.get(i) {
+                            self.goto(p);
+                            self.reveal(u);
+                            self.selected = self.visible_for(u);
+                            self.follow_node = false;
+                        }
+                    }
                     Overlay::Running { .. } => {
                         if let Some(&u) = self.running_nodes().get(i) {
                             self.reveal(u);
@@ -501,6 +512,21 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                 &rows,
                 *selected,
                 " RUNNING now: Enter selects ",
+            );
+        }
+        Overlay::Faults { selected, lines } => {
+            let rows: Vec<String> = lines
+                .iter()
+                .map(|(l, _, _)| crate::text::visible(l).to_string())
+                .collect();
+            let width = area.width.saturating_sub(4).min(140);
+            list(
+                f,
+                area,
+                width,
+                &rows,
+                *selected,
+                " Faults, newest first: Enter goes to one ",
             );
         }
         Overlay::Pick { selected } => {

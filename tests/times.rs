@@ -1,0 +1,109 @@
+//! #40 item 4: the time of day, kept and shown. A log's per-transition
+//! times survive `btx import` (JSON lines and Parquet, either way), `btx
+//! log --time` shows them, and a run that has none says so.
+
+mod common;
+
+use common::btx;
+
+#[test]
+fn a_logs_times_are_kept_by_import_and_shown_by_log() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = "tests/fixtures/logs/kitting_lookat_fails_once.btlog";
+    let jsonl = dir.path().join("a.jsonl");
+    let parquet = dir.path().join("a.parquet");
+    let back = dir.path().join("b.jsonl");
+    let (ok, _, err) = btx(&["import", log, "--out", jsonl.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    let (ok, _, err) = btx(&[
+        "import",
+        jsonl.to_str().unwrap(),
+        "--out",
+        parquet.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, _, err) = btx(&[
+        "import",
+        parquet.to_str().unwrap(),
+        "--out",
+        back.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, want, _) = btx(&["log", log, "--time", "utc"]);
+    assert!(ok);
+    assert!(want.starts_with("     time (UTC)  tick"), "{want}");
+    // The fixture's transition at 10:1, as its FileLogger2 timed it.
+    assert!(
+        want.contains("01:55:41.796157    10     1    18  look at chuck                            RUNNING  -> FAILURE"),
+        "{want}"
+    );
+    for f in [&jsonl, &parquet, &back] {
+        let (ok, got, err) = btx(&["log", f.to_str().unwrap(), "--time", "utc"]);
+        assert!(ok, "{err}");
+        assert_eq!(got, want, "{}", f.display());
+    }
+    // Relative to the first transition, in seconds.
+    let (_, rel, _) = btx(&[
+        "log",
+        back.to_str().unwrap(),
+        "--time",
+        "relative",
+        "--node",
+        "#18",
+    ]);
+    assert!(
+        rel.lines()
+            .nth(2)
+            .unwrap()
+            .trim_start()
+            .starts_with("0.048 "),
+        "{rel}"
+    );
+    // JSON rows carry the time whatever the text shows.
+    let (_, json, _) = btx(&[
+        "log",
+        back.to_str().unwrap(),
+        "--format",
+        "json",
+        "--node",
+        "#18",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["transitions"][1]["time"], "2026-11-22T01:55:41.796157Z");
+    assert_eq!(v["transitions"][1]["time_us"], 1_795_312_541_796_157_i64);
+}
+
+#[test]
+fn a_run_without_times_says_so() {
+    let (ok, _, err) = btx(&["log", "sessions/kitting-nominal.jsonl", "--time", "utc"]);
+    assert!(!ok);
+    assert!(
+        err.contains("sessions/kitting-nominal.jsonl: no time is known for its transitions"),
+        "{err}"
+    );
+}
+
+/// "When" answers say the robot's time of day beside the moment, where
+/// the run keeps it.
+#[test]
+fn when_answers_say_the_time_of_day() {
+    let (ok, out, err) = btx(&[
+        "ask",
+        "tests/fixtures/logs/kitting_lookat_fails_once.btlog",
+        "when did look at chuck fail?",
+        "when did look at chuck first start",
+    ]);
+    assert!(ok, "{err}");
+    assert!(out.contains(": at 10:1, 01:55:41.796 UTC."), "{out}");
+    assert!(
+        out.contains("first started at 9:2, 01:55:41.791 UTC ("),
+        "{out}"
+    );
+    // A simulated run has no clock: the moment alone.
+    let (_, out, _) = btx(&[
+        "ask",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "when did look at chuck fail?",
+    ]);
+    assert!(out.contains(": at 10:1."), "{out}");
+}

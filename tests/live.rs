@@ -1293,3 +1293,36 @@ fn a_robot_not_up_yet_is_waited_for_and_kept_from_its_first_tick() {
         logged.index.transitions[first_tick]
     );
 }
+
+/// #40 item 5: the live explorer's view of a run is the whole run, to its
+/// last transition, as `btx watch` keeps it (it was said to stop two
+/// ticks short on a Nav2 navigator's run).
+#[test]
+fn the_live_view_holds_every_tick_to_the_last() {
+    let run = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let served = session(&Path::new(env!("CARGO_MANIFEST_DIR")).join(run));
+    let (port, mut server) = serve(run, "5", "30");
+    let mut feed = btx::live::Feed::start(&format!("127.0.0.1:{port}"), None, None).unwrap();
+    let start = Instant::now();
+    let mut last = None;
+    while start.elapsed() < Duration::from_secs(8) {
+        if let Some(s) = feed.news(Duration::from_millis(100)) {
+            last = Some(s.unwrap());
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let _ = server.kill();
+    let got = last.expect("a view of the run");
+    // Every transition, in order, to the root's last. (Ticks 5 and 9 of
+    // this run changed nothing, a leaf kept RUNNING: no Groot2 client sees
+    // them, and the view numbers the ticks it saw.)
+    let moves = |s: &btx::session::Session| -> Vec<(u32, btx::run::Status, btx::run::Status)> {
+        s.index
+            .transitions
+            .iter()
+            .map(|t| (t.uid, t.prev, t.status))
+            .collect()
+    };
+    assert_eq!(moves(&got), moves(&served), "{:?}", got.warnings);
+    assert_eq!(got.index.ticks(), 8);
+}

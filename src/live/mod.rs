@@ -209,6 +209,7 @@ impl Watch {
             exact,
         } = attach(&mut c)?;
         let mut gaps = Vec::new();
+        let mut note_idle = None;
         let buffer = c.buffer;
         let overflowed = first.len() >= buffer;
         if overflowed {
@@ -223,7 +224,7 @@ impl Watch {
                     }
                 ),
             });
-        } else if !before.is_empty() {
+        } else if before.iter().any(|b| b.status != Status::Idle) {
             gaps.push(Gap {
                 at: 0,
                 why: format!(
@@ -231,6 +232,10 @@ impl Watch {
                     if exact { "" } else { " only roughly (it kept changing while btx read it)" }
                 ),
             });
+        } else if first.is_empty() && !before.is_empty() {
+            // Every node IDLE, some done: the robot's run had ended. No
+            // transition is missing; there is nothing to watch yet.
+            note_idle = Some("the robot's tree is idle (its last run had ended): nothing to watch until its next run starts".to_string());
         }
         let mut w = Watch::new(endpoint, Protocol::Groot2, xml, c.uuid, t0);
         w.client = Some(c);
@@ -241,6 +246,7 @@ impl Watch {
             w.resyncs.push((0, before));
         }
         w.notes.extend(note);
+        w.notes.extend(note_idle);
         if publisher.is_some() {
             w.notes.push("--publisher-port is for a BehaviorTree.CPP 3 robot; this one speaks Groot2, on one port: it is not used".into());
         }

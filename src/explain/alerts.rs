@@ -546,6 +546,32 @@ impl Alerts {
 
 /// The lines a recorded run would have given as it happened.
 pub fn of_run(tree: &Tree, idx: &crate::session::Index) -> Vec<Alert> {
+    read_run(tree, idx).0
+}
+
+/// A run's faults in numbers: said, still being handled, recovered, not.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Tally {
+    pub faults: usize,
+    pub open: usize,
+    pub recovered: usize,
+    pub not_recovered: usize,
+}
+
+impl Tally {
+    pub fn of_run(tree: &Tree, idx: &crate::session::Index) -> Tally {
+        let (alerts, open) = read_run(tree, idx);
+        let n = |w: What| alerts.iter().filter(|a| a.what == w).count();
+        Tally {
+            faults: n(What::Fault),
+            open,
+            recovered: n(What::Recovered),
+            not_recovered: n(What::NotRecovered),
+        }
+    }
+}
+
+fn read_run(tree: &Tree, idx: &crate::session::Index) -> (Vec<Alert>, usize) {
     let mut a = Alerts::new(tree.clone());
     let mut out = Vec::new();
     let (mut tick, mut step) = (0, 0);
@@ -566,7 +592,8 @@ pub fn of_run(tree: &Tree, idx: &crate::session::Index) -> Vec<Alert> {
     }
     out.extend(a.flush());
     out.extend(a.settle());
-    out
+    let open = a.open();
+    (out, open)
 }
 
 fn at(row: Row) -> String {
@@ -711,5 +738,50 @@ mod tests {
             }
         }
         assert!(n >= 10, "{n} runs");
+    }
+
+    /// The numbers the live explorer's timeline shows.
+    #[test]
+    fn a_runs_faults_are_tallied() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let tally = |f: &str| {
+            let input = open(&root.join(f), &LoadOptions::default()).unwrap();
+            let s = input.session().unwrap();
+            Tally::of_run(&s.tree, &s.index)
+        };
+        let t = tally("sessions/kitting-lookat-fails-once.jsonl");
+        assert_eq!(
+            (t.faults, t.open, t.recovered, t.not_recovered),
+            (1, 0, 1, 0)
+        );
+        let t = tally("tests/fixtures/logs/patrol_battery_drops.btlog");
+        assert_eq!(
+            (t.faults, t.open, t.recovered, t.not_recovered),
+            (1, 0, 0, 1)
+        );
+        // Cut while the Retry handles the failure: one open.
+        let input = open(
+            &root.join("sessions/kitting-lookat-fails-once.jsonl"),
+            &LoadOptions::default(),
+        )
+        .unwrap();
+        let s = input.session().unwrap();
+        let mut a = Alerts::new(s.tree.clone());
+        let (mut tick, mut step) = (0, 0);
+        for t in s.index.transitions.iter().take_while(|t| t.tick <= 12) {
+            if t.tick != tick {
+                (tick, step) = (t.tick, 0);
+            }
+            step += 1;
+            a.push(Row {
+                tick: t.tick,
+                step,
+                uid: t.uid,
+                prev: t.prev,
+                status: t.status,
+                time_us: None,
+            });
+        }
+        assert_eq!(a.open(), 1);
     }
 }

@@ -159,6 +159,8 @@ pub struct App {
     pub follow: Option<crate::input::Follow>,
     /// A robot running now (`btx open --live`): the run grows from it.
     pub live: Option<crate::live::Feed>,
+    /// A live run's faults in numbers, for the timeline's title.
+    pub live_faults: crate::explain::alerts::Tally,
     /// The other runs of the log, or the other robots watched (`R`).
     pub choices: Option<super::choices::Choices>,
     /// Where the open prompt's cursor is (characters from the start);
@@ -179,6 +181,7 @@ impl App {
                 .unwrap_or(0)
         });
         let mut app = App {
+            live_faults: Default::default(),
             tree,
             session,
             title,
@@ -904,7 +907,21 @@ impl App {
             self.follow = None;
             return;
         }
+        if self.live.is_some() {
+            self.live_faults = crate::explain::alerts::Tally::of_run(&s.tree, &s.index);
+        }
         self.session = Some(s);
+        // The faults list, open on a live run, grows with it.
+        if let Overlay::Faults { selected, .. } = self.overlay {
+            self.open_faults();
+            if let Overlay::Faults {
+                selected: now,
+                lines,
+            } = &mut self.overlay
+            {
+                *now = selected.min(lines.len().saturating_sub(1));
+            }
+        }
         let end = self.positions();
         if at_end {
             self.pos = end;

@@ -215,7 +215,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         (Some(l), Some(s)) => {
             // How far behind goes first: the status line is long.
             let behind = s.index.transitions.len().saturating_sub(app.pos as usize);
-            format!(
+            let mut title = format!(
                 " timeline · {}{} ",
                 if behind > 0 {
                     format!("{behind} transitions behind live · ")
@@ -223,7 +223,15 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                     String::new()
                 },
                 crate::text::visible(&l.status.line()),
-            )
+            );
+            let t = app.live_faults;
+            if t.faults > 0 {
+                title.push_str(&format!(
+                    "· faults: {} open, {} recovered, {} not ",
+                    t.open, t.recovered, t.not_recovered
+                ));
+            }
+            title
         }
         (_, Some(s)) => format!(" timeline · run {} ", crate::text::visible(&s.ending())),
         _ => " timeline ".into(),

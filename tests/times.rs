@@ -107,3 +107,40 @@ fn when_answers_say_the_time_of_day() {
     ]);
     assert!(out.contains(": at 10:1."), "{out}");
 }
+
+/// `--at` takes a time of day on the robot's clock: the moment after the
+/// last transition at or before it.
+#[test]
+fn at_takes_a_time_of_day() {
+    let log = "tests/fixtures/logs/kitting_lookat_fails_once.btlog";
+    // 01:55:41.796157 is look at chuck's failure at 10:1.
+    for at in ["01:55:41.7962", "01:55:41.796157 UTC", "01:55:41.796157Z"] {
+        let (ok, out, err) = btx(&["why", log, "status(#18)", "--at", at]);
+        assert!(ok, "{at}: {err}");
+        assert!(
+            out.starts_with("Why did look at chuck (#18) fail at 10:1?"),
+            "{at}: {out}"
+        );
+    }
+    let (ok, _, err) = btx(&["why", log, "status(#18)", "--at", "00:00:01"]);
+    assert!(!ok);
+    assert!(
+        err.contains("is before the run's first transition, at 01:55:41.748"),
+        "{err}"
+    );
+    let (ok, _, err) = btx(&[
+        "ask",
+        "sessions/kitting-nominal.jsonl",
+        "--at",
+        "01:00:00",
+        "what are you doing",
+    ]);
+    assert!(!ok);
+    assert!(err.contains("keeps no times"), "{err}");
+    // Two colons make a time; one is still TICK:STEP.
+    let (ok, out, _) = btx(&["why", log, "status(#18)", "--at", "10:1"]);
+    assert!(
+        ok && out.starts_with("Why did look at chuck (#18) fail at 10:1?"),
+        "{out}"
+    );
+}

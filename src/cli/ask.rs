@@ -81,7 +81,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let view = match input.session() {
         Some(s) => {
             let m = match &at {
-                Some(a) => Moment::parse_within(a, s.index.ticks()).map_err(Failure::Plain)?,
+                Some(a) => s.moment_at(a).map_err(Failure::Plain)?,
                 None => Moment {
                     tick: s.index.ticks().max(1),
                     step: None,

@@ -29,7 +29,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let s = session_of(&input, &session)?;
     let tick = match at.as_deref() {
         Some(a) => {
-            let m = Moment::parse_within(a, s.index.ticks()).map_err(Failure::Plain)?;
+            let m = s.moment_at(a).map_err(Failure::Plain)?;
             s.index.position(m).map_err(Failure::Plain)?;
             m.tick
         }

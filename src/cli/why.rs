@@ -49,7 +49,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let s = session_of(&input, &session)?;
     let at = at
         .as_deref()
-        .map(|a| Moment::parse_within(a, s.index.ticks()))
+        .map(|a| s.moment_at(a))
         .transpose()
         .map_err(Failure::Plain)?;
     let d = btx::causal::session_domain(s, domain.as_deref()).map_err(located)?;

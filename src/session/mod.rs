@@ -87,4 +87,58 @@ impl Session {
     pub fn at(&self, m: Moment) -> Result<At<'_>, String> {
         Ok(self.index.at(self.index.position(m)?))
     }
+
+    /// `--at` as written: a moment (`10`, `10:3`, `last`, `-2`), or a time
+    /// of day on the robot's clock (`01:55:41.796`, UTC, with or without
+    /// `Z` or ` UTC`), for a run that keeps one: the moment after the last
+    /// transition at or before it.
+    pub fn moment_at(&self, text: &str) -> Result<Moment, String> {
+        let t = text.trim();
+        let clock = t
+            .strip_suffix("UTC")
+            .or_else(|| t.strip_suffix('Z'))
+            .unwrap_or(t)
+            .trim();
+        if clock.matches(':').count() != 2 {
+            return Moment::parse_within(text, self.index.ticks());
+        }
+        let bad = || {
+            format!("\"{text}\" is not a time of day: write HH:MM:SS or HH:MM:SS.ffffff (UTC), e.g. 01:55:41.796")
+        };
+        let mut parts = clock.splitn(3, ':');
+        let (h, m, sec) = (parts.next(), parts.next(), parts.next());
+        let num = |x: Option<&str>, max: u32| {
+            x.and_then(|x| x.parse::<u32>().ok())
+                .filter(|&n| n < max)
+                .ok_or_else(bad)
+        };
+        let (h, m) = (num(h, 24)?, num(m, 60)?);
+        let sec = sec
+            .and_then(|x| x.parse::<f64>().ok())
+            .filter(|x| (0.0..61.0).contains(x))
+            .ok_or_else(bad)?;
+        let Some(&first) = self.times_us.first() else {
+            return Err(format!(
+                "\"{text}\" is a time of day, and {} keeps no times (a log or a watched robot's run does)",
+                self.path.display()
+            ));
+        };
+        let day = first.div_euclid(86_400_000_000) * 86_400_000_000;
+        let of_day =
+            (i64::from(h) * 3600 + i64::from(m) * 60) * 1_000_000 + (sec * 1e6).round() as i64;
+        // The first such time at or after the run's first day began; a run
+        // past midnight reads an earlier clock as the next day's.
+        let mut want = day + of_day;
+        if want < first && first - want > 43_200_000_000 {
+            want += 86_400_000_000;
+        }
+        let upto = self.times_us.partition_point(|&x| x <= want);
+        if upto == 0 {
+            return Err(format!(
+                "\"{text}\" is before the run's first transition, at {} UTC",
+                &crate::input::utc(first)[11..]
+            ));
+        }
+        Ok(self.index.moment(upto as u32))
+    }
 }

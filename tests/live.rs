@@ -1326,3 +1326,35 @@ fn the_live_view_holds_every_tick_to_the_last() {
     assert_eq!(moves(&got), moves(&served), "{:?}", got.warnings);
     assert_eq!(got.index.ticks(), 8);
 }
+
+/// `--on-fault` never holds the watch up: a command that hangs is killed
+/// after 10 s and said, and the watch's exit waits for it at most that
+/// long once the run is over.
+#[test]
+fn a_hanging_on_fault_command_is_killed_and_said() {
+    let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "20", "60");
+    let t = Instant::now();
+    let (ok, out, err) = common::btx(&[
+        "watch",
+        &format!(":{port}"),
+        "--until-end",
+        "--for",
+        "60",
+        "--on-fault",
+        "sleep 100",
+    ]);
+    let took = t.elapsed();
+    let _ = server.kill();
+    assert!(ok, "{err}");
+    // The lines came as they happened, whatever the command did.
+    assert_eq!(out.lines().count(), 3, "{out}");
+    assert!(
+        err.contains("\"sleep 100\" ran past 10 s and was killed"),
+        "{err}"
+    );
+    assert!(
+        err.contains("the command was still busy 11 s after the watch ended"),
+        "{err}"
+    );
+    assert!(took < Duration::from_secs(25), "{took:?}");
+}

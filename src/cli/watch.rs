@@ -364,6 +364,8 @@ impl StatusLine {
 /// and what does not fit is counted and said.
 struct OnFault {
     tx: Option<std::sync::mpsc::SyncSender<(String, String, String)>>,
+    /// Set once btx is done waiting: the command running is killed.
+    leave: Arc<AtomicBool>,
     worker: Option<std::thread::JoinHandle<()>>,
     dropped: usize,
 }
@@ -376,20 +378,27 @@ impl OnFault {
         let Some(cmd) = cmd else {
             return OnFault {
                 tx: None,
+                leave: Arc::new(AtomicBool::new(false)),
                 worker: None,
                 dropped: 0,
             };
         };
         let (tx, rx) = std::sync::mpsc::sync_channel::<(String, String, String)>(QUEUED);
+        let leave = Arc::new(AtomicBool::new(false));
+        let left = Arc::clone(&leave);
         let worker = std::thread::spawn(move || {
             for (json, text, robot) in rx {
-                if let Err(e) = run_command(&cmd, &json, &text, &robot) {
+                if left.load(Ordering::Relaxed) {
+                    break;
+                }
+                if let Err(e) = run_command(&cmd, &json, &text, &robot, &left) {
                     eprintln!("--on-fault: {e}");
                 }
             }
         });
         OnFault {
             tx: Some(tx),
+            leave,
             worker: Some(worker),
             dropped: 0,
         }
@@ -404,10 +413,26 @@ impl OnFault {
     }
 
     /// Waits for the commands queued (each bounded by its timeout).
+    /// Waits for the events still queued, at most `COMMAND_TIMEOUT` once
+    /// the watch is over: a command that hangs on each of them cannot hold
+    /// btx's exit up for long; what is left is said.
     fn finish(mut self) {
         drop(self.tx.take());
         if let Some(w) = self.worker.take() {
-            let _ = w.join();
+            let until = Instant::now() + COMMAND_TIMEOUT + Duration::from_secs(1);
+            while !w.is_finished() && Instant::now() < until {
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            if w.is_finished() {
+                let _ = w.join();
+            } else {
+                self.leave.store(true, Ordering::Relaxed);
+                let _ = w.join();
+                eprintln!(
+                    "--on-fault: the command was still busy {} s after the watch ended: it was stopped, and the events still waiting were not given to it",
+                    COMMAND_TIMEOUT.as_secs() + 1
+                );
+            }
         }
         if self.dropped > 0 {
             eprintln!(
@@ -418,10 +443,33 @@ impl OnFault {
     }
 }
 
+/// Kills a command started in its own process group, and all it started.
+fn kill_group(child: &mut std::process::Child) {
+    if let Ok(pid) = i32::try_from(child.id()) {
+        // SAFETY: kill(2) with a negative pid signals that process group;
+        // it reads and writes no memory of ours.
+        unsafe {
+            libc::kill(-pid, libc::SIGKILL);
+        }
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+}
+
 /// Runs the command once, the event on its standard input.
-fn run_command(cmd: &str, json: &str, text: &str, robot: &str) -> Result<(), String> {
+fn run_command(
+    cmd: &str,
+    json: &str,
+    text: &str,
+    robot: &str,
+    leave: &AtomicBool,
+) -> Result<(), String> {
     use std::io::Write;
+    use std::os::unix::process::CommandExt;
+    // In a process group of its own, so that killing it kills what the
+    // shell started too (a `sleep` left behind would hold the terminal).
     let mut child = std::process::Command::new("sh")
+        .process_group(0)
         .arg("-c")
         .arg(cmd)
         .env("BTX_EVENT", json)
@@ -441,9 +489,12 @@ fn run_command(cmd: &str, json: &str, text: &str, robot: &str) -> Result<(), Str
         match child.try_wait() {
             Ok(Some(status)) if status.success() => return Ok(()),
             Ok(Some(status)) => return Err(format!("{cmd:?} failed ({status}) for: {text}")),
+            Ok(None) if leave.load(Ordering::Relaxed) => {
+                kill_group(&mut child);
+                return Ok(());
+            }
             Ok(None) if started.elapsed() >= COMMAND_TIMEOUT => {
-                let _ = child.kill();
-                let _ = child.wait();
+                kill_group(&mut child);
                 return Err(format!(
                     "{cmd:?} ran past {} s and was killed, for: {text}",
                     COMMAND_TIMEOUT.as_secs()

@@ -169,7 +169,7 @@ enum Command {
     Log(log::Args),
     /// Serve a recorded run (session or log) over the Groot2 protocol, as a robot that is running now, for Groot2, btview or btx watch.
     Serve(serve::Args),
-    /// Watch running robots (BehaviorTree.CPP 4 over Groot2, BehaviorTree.CPP 3 and Nav2 Humble over Groot 1): print their transitions as they happen, and keep each run as a session.
+    /// Watch running robots (BehaviorTree.CPP 4 over Groot2, BehaviorTree.CPP 3 and Nav2 Humble over Groot 1): tell each fault as it happens, what handles it and whether that worked (or every transition, with --transitions), and keep each run as a session.
     Watch(watch::Args),
 }
 

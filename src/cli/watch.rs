@@ -1,4 +1,4 @@
-//! `btx watch`: Watch running robots (Groot2 or Groot 1 protocol) and print their transitions as they happen.
+//! `btx watch`: Watch running robots (Groot2 or Groot 1 protocol), tell their faults as they happen (or print every transition), and keep their runs.
 
 use super::*;
 use btx::explain::alerts::{Alert, Alerts, Row, What};

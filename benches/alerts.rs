@@ -20,22 +20,7 @@ fn alerts(c: &mut Criterion) {
     )
     .unwrap();
     let s = input.session().unwrap();
-    let mut rows = Vec::new();
-    let (mut tick, mut step) = (0, 0);
-    for (i, t) in s.index.transitions.iter().enumerate() {
-        if t.tick != tick {
-            (tick, step) = (t.tick, 0);
-        }
-        step += 1;
-        rows.push(Row {
-            tick: t.tick,
-            step,
-            uid: t.uid,
-            prev: t.prev,
-            status: t.status,
-            time_us: s.times_us.get(i).copied(),
-        });
-    }
+    let rows: Vec<Row> = btx::explain::alerts::rows(&s.index, &s.times_us).collect();
     let ticks = s.index.ticks();
     let mut g = c.benchmark_group("alerts");
     g.sample_size(10);

@@ -379,23 +379,7 @@ fn list_faults(args: &Args, cli: &Globals) -> Result<(), Failure> {
         Format::Json => {
             let v: Vec<serde_json::Value> = alerts
                 .iter()
-                .map(|a| {
-                    let node = |u: Option<btx::model::Uid>| match u {
-                        Some(u) => {
-                            serde_json::json!({"uid": u, "description": s.tree.description(u)})
-                        }
-                        None => serde_json::Value::Null,
-                    };
-                    serde_json::json!({
-                        "event": a.what,
-                        "moment": format!("{}:{}", a.tick, a.step),
-                        "node": node(Some(a.node)),
-                        "root_cause": node(a.root_cause),
-                        "handler": node(a.handler),
-                        "outcome": a.outcome.map(|o| o.as_str()),
-                        "text": a.text,
-                    })
-                })
+                .map(|a| btx::export::alert_json(&s.tree, a))
                 .collect();
             serde_json::to_string_pretty(&serde_json::json!({
                 "schema": "btx.faults/1",

@@ -170,11 +170,10 @@ impl Robot {
         }
         // Nothing more came for now (or ever): a check's failure held for
         // the rest of its tick is decided on what came.
-        if rows.is_empty() || done {
-            alerts.extend(self.alerts.flush());
-        }
         if done {
-            alerts.extend(self.alerts.settle());
+            alerts.extend(self.alerts.finish());
+        } else if rows.is_empty() {
+            alerts.extend(self.alerts.flush());
         }
         for a in &alerts {
             match a.what {
@@ -280,33 +279,18 @@ fn line(a: &Alert) -> String {
 
 /// An alert as `--format json` and `--on-fault` give it.
 fn alert_json(tree: &btx::model::Tree, a: &Alert, robot: Option<&str>) -> serde_json::Value {
-    let node = |u: Option<btx::model::Uid>| match u {
-        Some(u) if tree.get(u).is_some() => {
-            serde_json::json!({"uid": u, "description": tree.description(u)})
-        }
-        _ => serde_json::Value::Null,
-    };
-    let mut v = serde_json::json!({
-        "event": a.what,
-        "moment": format!("{}:{}", a.tick, a.step),
-        "tick": a.tick,
-        "step": a.step,
-        "time": a.time_us.map(btx::input::rfc3339),
-        "time_us": a.time_us,
-        "node": node(Some(a.node)),
-        "root_cause": node(a.root_cause),
-        "handler": node(a.handler),
-        "text": a.text,
-        // When btx said it, by this machine's clock: beside `time`, how
-        // soon after the robot's transition.
-        "said": btx::input::rfc3339(now_us()),
-        "said_us": now_us(),
-    });
-    if let Some(s) = a.outcome {
-        v["outcome"] = serde_json::Value::from(s.as_str());
-    }
+    let mut v = btx::export::alert_json(tree, a);
+    v["tick"] = a.tick.into();
+    v["step"] = a.step.into();
+    v["time"] = a.time_us.map(btx::input::rfc3339).into();
+    v["time_us"] = a.time_us.into();
+    // When btx said it, by this machine's clock: beside `time`, how soon
+    // after the robot's transition.
+    let now = now_us();
+    v["said"] = btx::input::rfc3339(now).into();
+    v["said_us"] = now.into();
     if let Some(r) = robot {
-        v["robot"] = serde_json::Value::from(r);
+        v["robot"] = r.into();
     }
     v
 }

@@ -22,6 +22,31 @@ pub struct Row {
     pub time_us: Option<i64>,
 }
 
+/// A recorded run's transitions as a watch reads them: numbered within
+/// their tick, with the robot's time where the run keeps it (`times_us`,
+/// one a transition, or empty).
+pub fn rows<'a>(
+    idx: &'a crate::session::Index,
+    times_us: &'a [i64],
+) -> impl Iterator<Item = Row> + 'a {
+    let timed = times_us.len() == idx.transitions.len();
+    let (mut tick, mut step) = (0, 0);
+    idx.transitions.iter().enumerate().map(move |(i, t)| {
+        if t.tick != tick {
+            (tick, step) = (t.tick, 0);
+        }
+        step += 1;
+        Row {
+            tick: t.tick,
+            step,
+            uid: t.uid,
+            prev: t.prev,
+            status: t.status,
+            time_us: timed.then(|| times_us[i]),
+        }
+    })
+}
+
 /// What an alert says happened.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -136,6 +161,14 @@ impl Alerts {
         for (i, &row) in held.iter().enumerate() {
             self.read(row, &held[i + 1..], &mut out);
         }
+        out
+    }
+
+    /// No more will come: what is held is decided, and handlers halted
+    /// in the last tick are not recovered.
+    pub fn finish(&mut self) -> Vec<Alert> {
+        let mut out = self.flush();
+        out.extend(self.settle());
         out
     }
 
@@ -573,27 +606,9 @@ impl Tally {
 
 fn read_run(tree: &Tree, idx: &crate::session::Index) -> (Vec<Alert>, usize) {
     let mut a = Alerts::new(tree.clone());
-    let mut out = Vec::new();
-    let (mut tick, mut step) = (0, 0);
-    for t in &idx.transitions {
-        if t.tick != tick {
-            tick = t.tick;
-            step = 0;
-        }
-        step += 1;
-        out.extend(a.push(Row {
-            tick: t.tick,
-            step,
-            uid: t.uid,
-            prev: t.prev,
-            status: t.status,
-            time_us: None,
-        }));
-    }
-    out.extend(a.flush());
-    out.extend(a.settle());
-    let open = a.open();
-    (out, open)
+    let mut out: Vec<Alert> = rows(idx, &[]).flat_map(|r| a.push(r)).collect();
+    out.extend(a.finish());
+    (out, a.open())
 }
 
 fn at(row: Row) -> String {
@@ -627,26 +642,8 @@ mod tests {
         let input = open(&root.join(file), &LoadOptions::default()).unwrap();
         let s = input.session().unwrap();
         let mut a = Alerts::new(input.tree().clone());
-        let mut out = Vec::new();
-        let mut step = 0;
-        let mut tick = 0;
-        for t in &s.index.transitions {
-            if t.tick != tick {
-                tick = t.tick;
-                step = 0;
-            }
-            step += 1;
-            out.extend(a.push(Row {
-                tick: t.tick,
-                step,
-                uid: t.uid,
-                prev: t.prev,
-                status: t.status,
-                time_us: None,
-            }));
-        }
-        out.extend(a.flush());
-        out.extend(a.settle());
+        let mut out: Vec<Alert> = rows(&s.index, &[]).flat_map(|r| a.push(r)).collect();
+        out.extend(a.finish());
         let whole: Vec<(u32, u32)> = (1..=s.index.transitions.len() as u32)
             .filter(|&p| crate::explain::fault::is_fault(input.tree(), &s.index, p))
             .map(|p| {
@@ -767,20 +764,8 @@ mod tests {
         .unwrap();
         let s = input.session().unwrap();
         let mut a = Alerts::new(s.tree.clone());
-        let (mut tick, mut step) = (0, 0);
-        for t in s.index.transitions.iter().take_while(|t| t.tick <= 12) {
-            if t.tick != tick {
-                (tick, step) = (t.tick, 0);
-            }
-            step += 1;
-            a.push(Row {
-                tick: t.tick,
-                step,
-                uid: t.uid,
-                prev: t.prev,
-                status: t.status,
-                time_us: None,
-            });
+        for r in rows(&s.index, &[]).take_while(|r| r.tick <= 12) {
+            a.push(r);
         }
         assert_eq!(a.open(), 1);
     }

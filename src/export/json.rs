@@ -6,6 +6,21 @@ fn node_ref(tree: &Tree, uid: Uid) -> Value {
     json!({ "uid": uid, "description": tree.description(uid) })
 }
 
+/// A fault, a recovery or a run's end as `btx log --faults` and `btx
+/// watch --format json` give it.
+pub fn alert_json(tree: &Tree, a: &crate::explain::alerts::Alert) -> Value {
+    let node = |u: Option<Uid>| u.map_or(Value::Null, |u| node_ref(tree, u));
+    json!({
+        "event": a.what,
+        "moment": format!("{}:{}", a.tick, a.step),
+        "node": node(Some(a.node)),
+        "root_cause": node(a.root_cause),
+        "handler": node(a.handler),
+        "outcome": a.outcome.map(|o| o.as_str()),
+        "text": a.text,
+    })
+}
+
 /// One node of `btx.tree/2`.
 fn node_json(tree: &Tree, n: &crate::model::Node) -> Value {
     let (file, line, column) = tree.location(n.uid);

@@ -99,7 +99,11 @@ fn run_tree(opts: &LoadOptions) -> Result<Option<Tree>, Located> {
 fn given<'a>(tree: &'a Option<Tree>, opts: &'a LoadOptions) -> Option<crate::logs::GivenTree<'a>> {
     tree.as_ref()
         .zip(opts.run_tree.as_deref())
-        .map(|(tree, path)| crate::logs::GivenTree { tree, path })
+        .map(|(tree, path)| crate::logs::GivenTree {
+            tree,
+            path,
+            topic: opts.topic.as_deref(),
+        })
 }
 
 /// A UTC time of µs since the epoch, as `2026-11-25 22:11:20.123`.

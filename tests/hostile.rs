@@ -437,6 +437,30 @@ fn a_wal_mode_database_is_read_with_the_rows_in_its_wal() {
     assert_eq!(out.lines().count(), 1 + 209, "every row of the WAL is read");
     // The database was not touched, and the writer goes on.
     assert_eq!(std::fs::read(&db).unwrap(), before);
+    // A sparse 3 GB `-wal` (its frames, then a hole) was copied whole into
+    // the temporary folder (#41 item 3): its data only is, so it reads in
+    // a temporary folder of 4 MiB, the same rows.
+    let wal = std::fs::OpenOptions::new()
+        .write(true)
+        .open(dir.path().join("w.db3-wal"))
+        .unwrap();
+    wal.set_len(3 << 30).unwrap();
+    let small = tempfile::tempdir().unwrap();
+    let script = format!(
+        "mount -t tmpfs -o size=4096k none {t} && cd {root} && TMPDIR={t} exec {btx} log {db}",
+        t = small.path().display(),
+        root = env!("CARGO_MANIFEST_DIR"),
+        btx = env!("CARGO_BIN_EXE_btx"),
+        db = db.display(),
+    );
+    let r = Command::new("unshare")
+        .args(["--user", "--map-root-user", "--mount", "sh", "-c", &script])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success(), "{err}");
+    assert!(err.contains("this is session 99"), "{err}");
+    assert_eq!(String::from_utf8_lossy(&r.stdout).lines().count(), 1 + 209);
     c.execute("DELETE FROM Transitions WHERE session_id = 99", [])
         .unwrap();
 }
@@ -1011,4 +1035,55 @@ fn domain_ranges_are_finite_and_domain_comparisons_exact() {
             "{test} is true of 1e-30: {err}"
         );
     }
+}
+
+/// An MCAP record: opcode, length, body.
+fn mcap_record(op: u8, body: &[u8]) -> Vec<u8> {
+    let mut r = vec![op];
+    r.extend((body.len() as u64).to_le_bytes());
+    r.extend(body);
+    r
+}
+
+fn mcap_string(s: &str) -> Vec<u8> {
+    let mut b = (s.len() as u32).to_le_bytes().to_vec();
+    b.extend(s.as_bytes());
+    b
+}
+
+#[test]
+fn an_mcap_chunk_claiming_gigabytes_is_refused_before_it_is_decompressed() {
+    // 527 KB of chunks decompressing to 4 GiB of zeros took 94 s (#41 item 3).
+    let mut chunk = Vec::new();
+    chunk.extend(0u64.to_le_bytes());
+    chunk.extend(0u64.to_le_bytes());
+    chunk.extend((4u64 << 30).to_le_bytes());
+    chunk.extend(0u32.to_le_bytes());
+    chunk.extend(mcap_string("zstd"));
+    chunk.extend(16u64.to_le_bytes());
+    chunk.extend([0u8; 16]);
+    let mut file = b"\x89MCAP0\r\n".to_vec();
+    let mut header = mcap_string("ros2");
+    header.extend(mcap_string("hostile"));
+    file.extend(mcap_record(0x01, &header));
+    file.extend(mcap_record(0x06, &chunk));
+    file.extend(mcap_record(0x0F, &0u32.to_le_bytes()));
+    file.extend(mcap_record(0x02, &[0u8; 20]));
+    file.extend(b"\x89MCAP0\r\n");
+    let dir = tempfile::tempdir().unwrap();
+    let bag = dir.path().join("zeros.mcap");
+    std::fs::write(&bag, &file).unwrap();
+    let tree = fixture("kitting-tree.v4.xml");
+    let r = btx_run(&[
+        "log",
+        bag.to_str().unwrap(),
+        "--tree",
+        tree.to_str().unwrap(),
+    ]);
+    assert_eq!(r.code, Some(1), "{}", r.err);
+    assert!(
+        one_line(&r.err).contains("an MCAP chunk claims 4294967296 bytes decompressed, more than the 256 MiB btx reads in one chunk"),
+        "{}",
+        r.err
+    );
 }

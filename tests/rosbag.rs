@@ -236,3 +236,258 @@ fn a_run_whose_end_never_reached_the_bag_is_cut_off() {
     );
     assert!(!last.contains("root SUCCESS"), "{list}");
 }
+
+/// An error as one line: miette wraps its messages at the terminal's width.
+fn flat(err: &str) -> String {
+    err.lines()
+        .map(|l| l.trim_start_matches([' ', '│', '×']).trim_end())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// (uid, prev, status) of each transition.
+fn changes(s: &Session) -> Vec<(u32, String, String)> {
+    rows(s).into_iter().map(|(_, u, p, n)| (u, p, n)).collect()
+}
+
+/// The session of run `k` of a bag, read with `tree` (and `topic`).
+fn bag_run(b: &Path, tree: &Path, topic: Option<&str>, k: usize) -> Session {
+    let opts = btx::xml::LoadOptions {
+        run_tree: Some(tree.to_path_buf()),
+        run: Some(k),
+        topic: topic.map(str::to_string),
+        ..Default::default()
+    };
+    match btx::input::open(b, &opts).unwrap() {
+        btx::input::Input::Session(s) => *s,
+        btx::input::Input::Tree { .. } => panic!("a bag"),
+    }
+}
+
+#[test]
+fn a_bag_given_another_tree_is_refused_naming_the_node_that_differs() {
+    // A Jazzy bag carries each node's name beside its uid: another tree
+    // of the same shape was read in its own names (#41 item 4).
+    let dir = tempfile::tempdir().unwrap();
+    let runs = goals(dir.path());
+    let other = dir.path().join("other.xml");
+    std::fs::write(&other, NAV.replace("\"Spin\"", "\"BackUp\"")).unwrap();
+    let other = other.to_str().unwrap();
+    for (name, storage, release, said) in [
+        (
+            "j-mcap",
+            "mcap",
+            "jazzy",
+            "is \"Spin\" in the bag but \"BackUp\" in the tree given: is it the tree the robot ran?",
+        ),
+        (
+            "j-db3",
+            "sqlite3",
+            "jazzy",
+            "is \"Spin\" in the bag but \"BackUp\" in the tree given: is it the tree the robot ran?",
+        ),
+        (
+            "h-db3",
+            "sqlite3",
+            "humble",
+            "no node of the tree given is named \"Spin\": is it the tree the robot ran?",
+        ),
+    ] {
+        let b = bag(dir.path(), name, storage, release, &runs);
+        for cmd in [&["log"][..], &["ask", "what went wrong"]] {
+            let mut args = vec![cmd[0], b.to_str().unwrap()];
+            args.extend(&cmd[1..]);
+            args.extend(["--tree", other]);
+            let (ok, out, err) = common::btx(&args);
+            assert!(!ok, "{name} {cmd:?}: {out}");
+            assert!(err.contains(said), "{name} {cmd:?}: {err}");
+        }
+    }
+}
+
+#[test]
+fn a_bag_of_two_robots_is_refused_unless_a_topic_is_picked() {
+    // Two namespaces' logs in one bag were read as the first, the other
+    // dropped silently (#41 item 4).
+    let dir = tempfile::tempdir().unwrap();
+    let runs = goals(dir.path());
+    let tree = dir.path().join("nav.xml");
+    std::fs::write(&tree, NAV).unwrap();
+    let t = tree.to_str().unwrap();
+    let second = bag(dir.path(), "one", "mcap", "jazzy", &runs[1..]);
+    let alone = rows(&bag_run(&second, &tree, None, 1));
+    for storage in ["mcap", "sqlite3"] {
+        let b = bag(
+            dir.path(),
+            &format!("two-{storage}"),
+            storage,
+            "jazzy-two",
+            &runs,
+        );
+        let bs = b.to_str().unwrap();
+        let (ok, _, err) = common::btx(&["log", bs, "--runs", "--tree", t]);
+        let err = flat(&err);
+        assert!(!ok, "{storage}");
+        assert!(
+            err.contains(
+                "2 behavior_tree_log topics (/behavior_tree_log, /robot2/behavior_tree_log)"
+            ) && err.contains("--topic /behavior_tree_log"),
+            "{storage}: {err}"
+        );
+        for topic in ["/behavior_tree_log", "/robot2/behavior_tree_log"] {
+            let (ok, list, err) =
+                common::btx(&["log", bs, "--runs", "--tree", t, "--topic", topic]);
+            assert!(ok, "{storage} {topic}: {err}");
+            assert_eq!(list.lines().count(), 2, "{storage} {topic}: {list}");
+        }
+        // The second robot's run is that run, as a bag of its own gives it.
+        let picked = bag_run(&b, &tree, Some("/robot2/behavior_tree_log"), 1);
+        assert_eq!(rows(&picked), alone, "{storage}");
+        let (ok, _, err) = common::btx(&[
+            "log",
+            bs,
+            "--tree",
+            t,
+            "--topic",
+            "/robot3/behavior_tree_log",
+        ]);
+        let err = flat(&err);
+        assert!(!ok);
+        assert!(
+            err.contains("no behavior_tree_log topic \"/robot3/behavior_tree_log\"; its behavior_tree_log topics: /behavior_tree_log, /robot2/behavior_tree_log"),
+            "{err}"
+        );
+    }
+}
+
+/// The bag's MCAP file rewritten in small chunks, as a recorder with a
+/// small chunk size writes it up to its summary (which a recorder killed
+/// never writes), by the `mcap` crate's own writer.
+fn rechunked(mcap_file: &Path, out: &Path) {
+    let bytes = std::fs::read(mcap_file).unwrap();
+    let mut w = mcap::WriteOptions::new()
+        .chunk_size(Some(400))
+        .emit_message_indexes(false)
+        .emit_summary_records(false)
+        .emit_summary_offsets(false)
+        .emit_chunk_indexes(false)
+        .emit_statistics(false)
+        .create(std::io::BufWriter::new(std::fs::File::create(out).unwrap()))
+        .unwrap();
+    for m in mcap::MessageStream::new(&bytes).unwrap() {
+        w.write(&m.unwrap()).unwrap();
+    }
+    w.finish().unwrap();
+}
+
+#[test]
+fn an_mcap_cut_short_is_read_up_to_its_last_whole_record() {
+    // A recorder killed leaves no summary and half a record: the bag read
+    // as nothing, though every message before the cut is whole (#41 item 3).
+    let dir = tempfile::tempdir().unwrap();
+    let runs = goals(dir.path());
+    let tree = dir.path().join("nav.xml");
+    std::fs::write(&tree, NAV).unwrap();
+    let t = tree.to_str().unwrap();
+    let b = bag(dir.path(), "whole", "mcap", "jazzy", &runs);
+    let file = std::fs::read_dir(&b)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "mcap"))
+        .unwrap();
+    let small = dir.path().join("small.mcap");
+    rechunked(&file, &small);
+    let whole_runs: Vec<_> = (1..=2)
+        .map(|k| changes(&bag_run(&small, &tree, None, k)))
+        .collect();
+    let bytes = std::fs::read(&small).unwrap();
+    let mut seen_runs = std::collections::BTreeSet::new();
+    let mut before_any = 0;
+    for pct in (10..100).step_by(3) {
+        let cut = dir.path().join(format!("cut{pct}.mcap"));
+        std::fs::write(&cut, &bytes[..bytes.len() * pct / 100]).unwrap();
+        let cs = cut.to_str().unwrap();
+        let (ok, list, err) = common::btx(&["log", cs, "--runs", "--tree", t]);
+        let err = flat(&err);
+        if !ok {
+            // Cut before its first whole message: said as such.
+            assert!(
+                err.contains("the bag ends in the middle of a record, before any message of Nav2's log was whole: a recorder stopped"),
+                "{pct}%: {err}"
+            );
+            before_any += 1;
+            continue;
+        }
+        let n = list.lines().count() - 1;
+        let whole = n - usize::from(list.contains("no end recorded"));
+        assert!(
+            err.contains(&format!(
+                "in the middle of a record: a recorder stopped; {whole} of {n} runs whole"
+            )),
+            "{pct}%: {err}\n{list}"
+        );
+        seen_runs.insert(n);
+        // What was read is what the whole bag holds, up to the cut (the
+        // transitions; ticks are told apart by timing over what was read).
+        for k in 1..=n {
+            let got = changes(&bag_run(&cut, &tree, None, k));
+            assert!(!got.is_empty());
+            let full = &whole_runs[k - 1];
+            assert_eq!(
+                &full[..got.len().min(full.len())],
+                &got[..],
+                "{pct}% run {k}"
+            );
+        }
+    }
+    assert!(before_any > 0);
+    assert_eq!(
+        seen_runs.len(),
+        2,
+        "cuts in the first and in the second run"
+    );
+}
+
+#[test]
+fn a_bag_s_metadata_naming_a_file_outside_its_folder_is_refused() {
+    // `metadata.yaml` naming ../../etc/passwd, an absolute path or a link
+    // out of the bag made btx open it (#41 item 7).
+    let dir = tempfile::tempdir().unwrap();
+    let runs = goals(dir.path());
+    let tree = dir.path().join("nav.xml");
+    std::fs::write(&tree, NAV).unwrap();
+    let t = tree.to_str().unwrap();
+    let b = bag(dir.path(), "b", "sqlite3", "jazzy", &runs);
+    let meta = std::fs::read_to_string(b.join("metadata.yaml")).unwrap();
+    assert!(meta.contains("- b.db3"), "{meta}");
+    // The bag's own file, through a link out of the folder and back.
+    std::fs::rename(b.join("b.db3"), dir.path().join("outside.db3")).unwrap();
+    std::os::unix::fs::symlink(dir.path().join("outside.db3"), b.join("link.db3")).unwrap();
+    for (name, said) in [
+        ("../../etc/passwd", "a path out of the bag's folder"),
+        ("/etc/passwd", "an absolute path"),
+        ("link.db3", "a link out of the bag's folder"),
+    ] {
+        std::fs::write(
+            b.join("metadata.yaml"),
+            meta.replace("- b.db3", &format!("- {name}")),
+        )
+        .unwrap();
+        let (ok, _, err) = common::btx(&["log", b.to_str().unwrap(), "--tree", t]);
+        let err = flat(&err);
+        assert!(!ok, "{name}");
+        assert!(
+            err.contains(&format!("relative_file_paths names {name:?}, {said}")),
+            "{name}: {err}"
+        );
+    }
+    // Inside the folder, by any name, it is read.
+    std::fs::rename(dir.path().join("outside.db3"), b.join("renamed.db3")).unwrap();
+    std::fs::write(
+        b.join("metadata.yaml"),
+        meta.replace("- b.db3", "- ./renamed.db3"),
+    )
+    .unwrap();
+    let (ok, _, err) = common::btx(&["log", b.to_str().unwrap(), "--tree", t]);
+    assert!(ok, "{err}");
+}

@@ -104,6 +104,9 @@ struct Reading {
     /// For a log of several runs (a rosbag's goals): the run to read, from 1 (default: the last). `btx log BAG --runs` lists them.
     #[arg(long = "run", id = "run_number", value_name = "N")]
     run: Option<usize>,
+    /// For a rosbag that holds several behavior_tree_log topics (one robot's each): the topic to read, e.g. /robot1/behavior_tree_log.
+    #[arg(long, value_name = "TOPIC")]
+    topic: Option<String>,
 }
 
 impl Reading {
@@ -133,6 +136,7 @@ impl Reading {
             with,
             run_tree: self.run_tree.clone(),
             run: self.run,
+            topic: self.topic.clone(),
         })
     }
 }

@@ -22,6 +22,8 @@ use std::path::{Path, PathBuf};
 pub struct GivenTree<'a> {
     pub tree: &'a crate::model::Tree,
     pub path: &'a Path,
+    /// A bag's topic, when it has several (`--topic`).
+    pub topic: Option<&'a str>,
 }
 
 impl GivenTree<'_> {
@@ -261,7 +263,7 @@ impl<'a> BagRuns<'a> {
                 "a rosbag holds no tree: give the tree the robot ran with --tree FILE (Nav2: the navigator's XML, bt_navigator's default_nav_to_pose_bt_xml, e.g. navigate_to_pose_w_replanning_and_recovery.xml)",
             ));
         };
-        let log = rosbag::read(path, given.tree)?;
+        let log = rosbag::read(path, given.tree, given.topic)?;
         if log.records.is_empty() {
             return Err(Located::file(
                 path,
@@ -269,6 +271,25 @@ impl<'a> BagRuns<'a> {
             ));
         }
         let starts = rosbag::run_starts(&log.records);
+        let mut log = log;
+        if let Some(cut) = log.cut.as_mut() {
+            // Every run before the last ended (another started); the last
+            // one did if its root completed before the cut.
+            let last = &log.records[starts[starts.len() - 1]..];
+            let done = |s: Status| matches!(s, Status::Success | Status::Failure);
+            let mut root = last
+                .iter()
+                .filter(|r| r.uid == crate::model::Tree::ROOT)
+                .rev();
+            // BehaviorTree.CPP sets a finished tree back to IDLE.
+            let ended = match (root.next(), root.next()) {
+                (Some(a), _) if done(a.status) => true,
+                (Some(a), Some(b)) => a.status == Status::Idle && done(b.status),
+                _ => false,
+            };
+            let whole = starts.len() - 1 + usize::from(ended);
+            cut.push_str(&format!("; {whole} of {} runs whole", starts.len()));
+        }
         Ok(BagRuns {
             path: path.to_path_buf(),
             given,
@@ -321,7 +342,7 @@ impl<'a> BagRuns<'a> {
         if let Some(r) = self.log.release {
             s.header.nav2 = Some(r);
         }
-        if let Some(a) = &self.log.ambiguous {
+        for a in self.log.ambiguous.iter().chain(&self.log.cut) {
             s.warnings.push(Warning {
                 location: self.path.display().to_string(),
                 message: a.clone(),

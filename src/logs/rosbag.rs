@@ -47,7 +47,18 @@ pub struct BagRecords {
     /// metadata's `ros_distro`, else Humble for messages without uids
     /// (Jazzy added them; a bag with uids may be Jazzy's or later).
     pub release: Option<crate::model::nav2::Release>,
+    /// Where the bag could be read only in part (cut by a stopped
+    /// recorder, or past `BAG_TRANSITIONS_MAX`), said as it is.
+    pub cut: Option<String>,
 }
+
+/// The status changes read of one bag at most (32 bytes each, then the
+/// session's index): past them the rest is said, not read.
+pub const BAG_TRANSITIONS_MAX: usize = 10_000_000;
+/// An MCAP chunk decompresses to at most this (rosbag2 writes chunks of
+/// about 768 KiB): a chunk that claims more is refused before it is
+/// decompressed.
+pub const MCAP_CHUNK_MAX: u64 = 256 << 20;
 
 /// Whether `path` is a bag: a directory with `metadata.yaml`, an MCAP
 /// file, or a SQLite file with rosbag2's tables.
@@ -98,6 +109,40 @@ fn is_rosbag_db3(path: &Path) -> bool {
     })
 }
 
+/// A storage file `metadata.yaml` names, which must be in the bag's own
+/// folder: a name absolute, climbing out (`..`), or a link leading out is
+/// refused, so a bag mailed around makes btx read nothing else.
+fn inside(bag: &Path, name: &str) -> Result<PathBuf, Located> {
+    let refuse = |why: &str| {
+        Located::file(
+            &bag.join("metadata.yaml"),
+            format!(
+                "relative_file_paths names {:?}, {why}: a bag's storage files are in its own folder",
+                crate::text::visible(name)
+            ),
+        )
+    };
+    let rel = Path::new(name);
+    if rel.is_absolute() {
+        return Err(refuse("an absolute path"));
+    }
+    if rel.components().any(|c| {
+        !matches!(
+            c,
+            std::path::Component::Normal(_) | std::path::Component::CurDir
+        )
+    }) {
+        return Err(refuse("a path out of the bag's folder"));
+    }
+    let file = bag.join(rel);
+    if let (Ok(real), Ok(home)) = (file.canonicalize(), bag.canonicalize()) {
+        if !real.starts_with(&home) {
+            return Err(refuse("a link out of the bag's folder"));
+        }
+    }
+    Ok(file)
+}
+
 /// The storage files of a bag, in the order rosbag2 wrote them.
 fn storage_files(path: &Path) -> Result<Vec<PathBuf>, Located> {
     if !path.is_dir() {
@@ -116,7 +161,7 @@ fn storage_files(path: &Path) -> Result<Vec<PathBuf>, Located> {
         }
         if listing {
             match t.strip_prefix("- ") {
-                Some(name) => files.push(path.join(name.trim().trim_matches(['"', '\'']))),
+                Some(name) => files.push(inside(path, name.trim().trim_matches(['"', '\'']))?),
                 None if t.is_empty() => {}
                 None => listing = false,
             }
@@ -141,9 +186,11 @@ fn storage_files(path: &Path) -> Result<Vec<PathBuf>, Located> {
 }
 
 /// The `behavior_tree_log` topic as records of `tree`, in the bag's order.
-pub fn read(path: &Path, tree: &Tree) -> Result<BagRecords, Located> {
+/// `want` names the topic when the bag has several (`--topic`).
+pub fn read(path: &Path, tree: &Tree, want: Option<&str>) -> Result<BagRecords, Located> {
     let mut m = Matcher::new(path, tree);
     let mut topic = None;
+    let mut cut = None;
     for file in storage_files(path)? {
         if !std::fs::metadata(&file).is_ok_and(|m| m.is_file()) {
             return Err(Located::file(
@@ -157,12 +204,18 @@ pub fn read(path: &Path, tree: &Tree) -> Result<BagRecords, Located> {
                 std::io::Read::read_exact(&mut f, &mut h).map(|()| h)
             })
             .is_ok_and(|h| h == MCAP_MAGIC);
-        let t = if mcap {
-            read_mcap(&file, &mut m)?
+        let (t, c) = if mcap {
+            read_mcap(&file, &mut m, want)?
         } else {
-            read_db3(&file, &mut m)?
+            read_db3(&file, &mut m, want)?
         };
         topic.get_or_insert(t);
+        // A bag's storage files follow each other: past a cut, or past
+        // the bound, the rest is not the run's continuation.
+        if let Some(c) = c.or_else(|| m.full().then(|| too_many(&m))) {
+            cut = Some(c);
+            break;
+        }
     }
     let by_layout = (m.messages > 0 && !m.uids).then_some(crate::model::nav2::Release::Humble);
     Ok(BagRecords {
@@ -170,7 +223,36 @@ pub fn read(path: &Path, tree: &Tree) -> Result<BagRecords, Located> {
         ambiguous: m.said(),
         release: distro(path).or(by_layout),
         records: m.records,
+        cut,
     })
+}
+
+fn too_many(m: &Matcher) -> String {
+    format!(
+        "the bag holds more than {BAG_TRANSITIONS_MAX} status changes: btx read the first {} (to {}), not the rest",
+        m.records.len(),
+        m.records.last().map_or(String::new(), |r| crate::input::utc(r.time_us)),
+    )
+}
+
+/// Said of a bag that ends in the middle of a record (its recorder was
+/// stopped), or that cannot be read past a record, after the last change
+/// read; `BagRuns` adds how many runs are whole.
+fn cut_short(m: &Matcher, why: &str) -> String {
+    let at = m
+        .records
+        .last()
+        .map(|r| format!(" at {}", &crate::input::utc(r.time_us)[11..]));
+    // The reader asks for a record longer than what is left of the file.
+    let cut = why.is_empty()
+        || why.contains("in the middle of a record")
+        || why.contains("exceeds limit");
+    match (cut, at) {
+        (true, Some(at)) => format!("the bag ends{at} in the middle of a record: a recorder stopped"),
+        (true, None) => "the bag ends in the middle of a record, before any message of Nav2's log was whole: a recorder stopped".into(),
+        (false, Some(at)) => format!("the bag cannot be read past its last whole record{at} ({why}): read up to there"),
+        (false, None) => format!("the bag cannot be read ({why}) before any message of Nav2's log"),
+    }
 }
 
 /// The `ros_distro` a bag directory's metadata names, if it is a Nav2
@@ -182,18 +264,41 @@ fn distro(path: &Path) -> Option<crate::model::nav2::Release> {
         .and_then(|d| crate::model::nav2::Release::parse(d.trim().trim_matches(['"', '\''])))
 }
 
-/// The topic of Nav2's log among `(name, type)`: `behavior_tree_log`,
+/// Whether a topic is Nav2's log: by its type, or by its name,
 /// namespaced or not.
+fn is_log(name: &str, ty: &str) -> bool {
+    ty == LOG_TYPE || name == "behavior_tree_log" || name.ends_with("/behavior_tree_log")
+}
+
+/// The topic of Nav2's log among `(name, type)`: the one there is, or the
+/// one `want` names. Two robots' logs are never read as one.
 fn log_topic<'a>(
     path: &Path,
     topics: impl Iterator<Item = (&'a str, &'a str)>,
+    want: Option<&str>,
 ) -> Result<String, Located> {
     let all: Vec<(&str, &str)> = topics.collect();
     let logs: Vec<&str> = all
         .iter()
-        .filter(|(n, t)| *t == LOG_TYPE || n.ends_with("/behavior_tree_log"))
+        .filter(|(n, t)| is_log(n, t))
         .map(|(n, _)| *n)
         .collect();
+    if let Some(w) = want {
+        return match logs.iter().find(|n| **n == w) {
+            Some(n) => Ok(n.to_string()),
+            None => Err(Located::file(
+                path,
+                format!(
+                    "the bag has no behavior_tree_log topic {w:?}; its behavior_tree_log topics: {}",
+                    if logs.is_empty() {
+                        "none".to_string()
+                    } else {
+                        logs.join(", ")
+                    }
+                ),
+            )),
+        };
+    }
     match logs.as_slice() {
         [one] => Ok(one.to_string()),
         [] => Err(Located::file(
@@ -207,15 +312,20 @@ fn log_topic<'a>(
                 }
             ),
         )),
-        many => Err(Located::file(
-            path,
-            format!(
-                "the bag has {} behavior_tree_log topics ({}): one robot per bag, please (split it with `ros2 bag convert`)",
-                many.len(),
-                many.join(", ")
-            ),
-        )),
+        many => Err(several(path, many)),
     }
+}
+
+fn several(path: &Path, logs: &[&str]) -> Located {
+    Located::file(
+        path,
+        format!(
+            "the bag has {} behavior_tree_log topics ({}), one robot's each: pick one with --topic {}",
+            logs.len(),
+            logs.join(", "),
+            logs[0]
+        ),
+    )
 }
 
 /// The definition to read the messages by: the bag's, or, when it carries
@@ -283,7 +393,12 @@ fn take_message(v: &Value, message: usize, m: &mut Matcher) -> Result<(), Locate
     Ok(())
 }
 
-fn read_db3(file: &Path, m: &mut Matcher) -> Result<String, Located> {
+/// The bag's log topic, and where it is cut short if it is.
+fn read_db3(
+    file: &Path,
+    m: &mut Matcher,
+    want: Option<&str>,
+) -> Result<(String, Option<String>), Located> {
     let fail = |m: String| Located::file(file, m);
     let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
     let (conn, _copy) = super::db3::open_read_only(file)?;
@@ -300,6 +415,7 @@ fn read_db3(file: &Path, m: &mut Matcher) -> Result<String, Located> {
     let topic = log_topic(
         file,
         topics.iter().map(|(_, n, t)| (n.as_str(), t.as_str())),
+        want,
     )?;
     let id = topics.iter().find(|t| t.1 == topic).map_or(0, |t| t.0);
     // From Iron on, the bag keeps each type's definition.
@@ -323,50 +439,195 @@ fn read_db3(file: &Path, m: &mut Matcher) -> Result<String, Located> {
     };
     let defs = m.definitions(file, &topic, definition.as_deref(), first.as_deref())?;
     for r in rows {
-        let data = r.map_err(|e| sql("table messages", e))?;
+        let data = match r {
+            Ok(d) => d,
+            // A page past the last one read is damaged: the rows before it
+            // are the run so far.
+            Err(e) if m.messages > 0 => {
+                return Ok((topic, Some(cut_short(m, &e.to_string()))));
+            }
+            Err(e) => return Err(sql("table messages", e)),
+        };
         m.message(&defs, &data)?;
+        if m.full() {
+            break;
+        }
     }
-    Ok(topic)
+    Ok((topic, None))
 }
 
-fn read_mcap(file: &Path, m: &mut Matcher) -> Result<String, Located> {
+/// An MCAP file read in order, record by record, as its specification
+/// describes for a file with no summary: a file cut short (a recorder
+/// killed) is read up to its last whole record, and what follows is said.
+fn read_mcap(
+    file: &Path,
+    m: &mut Matcher,
+    want: Option<&str>,
+) -> Result<(String, Option<String>), Located> {
+    use mcap::records::Record;
     let bytes = crate::source::read_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
-    let stream = mcap::MessageStream::new(&bytes)
-        .map_err(|e| Located::file(file, format!("not a readable MCAP file: {e}")))?;
-    let mut topic: Option<String> = None;
-    let mut defs: Option<Definitions> = None;
-    let mut topics: Vec<(String, String)> = Vec::new();
-    for msg in stream {
-        let msg = msg.map_err(|e| Located::file(file, format!("MCAP: {e}")))?;
-        let ty = msg
-            .channel
-            .schema
-            .as_ref()
-            .map_or(String::new(), |s| s.name.clone());
-        if !topics.iter().any(|(n, _)| *n == msg.channel.topic) {
-            topics.push((msg.channel.topic.clone(), ty.clone()));
-        }
-        let is_log = ty == LOG_TYPE || msg.channel.topic.ends_with("/behavior_tree_log");
-        if topic.is_none() && is_log {
-            topic = Some(msg.channel.topic.clone());
-            let text = msg
-                .channel
-                .schema
-                .as_ref()
-                .filter(|s| s.encoding == "ros2msg")
-                .map(|s| String::from_utf8_lossy(&s.data).into_owned());
-            let first: &[u8] = &msg.data;
-            defs = Some(m.definitions(file, &msg.channel.topic, text.as_deref(), Some(first))?);
-        }
-        if let (Some(t), Some(d)) = (&topic, &defs) {
-            if *t == msg.channel.topic {
-                m.message(d, &msg.data)?;
+    let reader = mcap::read::LinearReader::new_with_options(
+        &bytes,
+        mcap::read::Options::IgnoreEndMagic.into(),
+    )
+    .map_err(|e| Located::file(file, format!("not a readable MCAP file: {e}")))?;
+    let mut st = McapLog {
+        file,
+        want,
+        schemas: Default::default(),
+        topics: Vec::new(),
+        log: None,
+        defs: None,
+    };
+    let mut cut = None;
+    let mut ended = false;
+    for rec in reader {
+        let rec = match rec {
+            Ok(r) => r,
+            Err(e) => {
+                cut = Some(cut_short(m, &e.to_string()));
+                break;
             }
+        };
+        match rec {
+            Record::Chunk { header, data } => {
+                if header.uncompressed_size > MCAP_CHUNK_MAX {
+                    return Err(Located::file(
+                        file,
+                        format!(
+                            "an MCAP chunk claims {} bytes decompressed, more than the {} MiB btx reads in one chunk (rosbag2 writes chunks of about 768 KiB)",
+                            header.uncompressed_size,
+                            MCAP_CHUNK_MAX >> 20
+                        ),
+                    ));
+                }
+                let inner = mcap::read::ChunkReader::new(header, &data)
+                    .map_err(|e| Located::file(file, format!("MCAP chunk: {e}")))?;
+                for r in inner {
+                    let r = r.map_err(|e| Located::file(file, format!("MCAP chunk: {e}")))?;
+                    st.take(r, m)?;
+                    if m.full() {
+                        break;
+                    }
+                }
+            }
+            Record::DataEnd(_) | Record::Footer(_) => ended = true,
+            r => st.take(r, m)?,
+        }
+        if m.full() {
+            return Ok((st.topic()?, None));
+        }
+        if ended {
+            break;
         }
     }
-    match topic {
-        Some(t) => Ok(t),
-        None => log_topic(file, topics.iter().map(|(n, t)| (n.as_str(), t.as_str()))),
+    if !ended && cut.is_none() && m.messages > 0 {
+        cut = Some(cut_short(m, ""));
+    }
+    if let (Some(c), 0) = (&cut, m.messages) {
+        // Nothing whole to read: the cut is what there is to say.
+        return Err(Located::file(file, c.clone()));
+    }
+    Ok((st.topic()?, cut))
+}
+
+/// What an MCAP's records said so far: schemas, channels, the log's.
+struct McapLog<'a> {
+    file: &'a Path,
+    want: Option<&'a str>,
+    /// By id: name, encoding, text.
+    schemas: std::collections::HashMap<u16, (String, String, Vec<u8>)>,
+    /// Every topic and its type, in the order they came.
+    topics: Vec<(String, String)>,
+    /// The log's channel, and its definitions once its first message came.
+    log: Option<LogChannel>,
+    defs: Option<Definitions>,
+}
+
+struct LogChannel {
+    id: u16,
+    topic: String,
+    /// Its schema's text, where the bag carries one.
+    text: Option<String>,
+}
+
+impl McapLog<'_> {
+    fn take(&mut self, r: mcap::records::Record, m: &mut Matcher) -> Result<(), Located> {
+        use mcap::records::Record;
+        match r {
+            Record::Schema { header, data } => {
+                self.schemas
+                    .insert(header.id, (header.name, header.encoding, data.into_owned()));
+            }
+            Record::Channel(c) => {
+                let ty = self
+                    .schemas
+                    .get(&c.schema_id)
+                    .map_or(String::new(), |s| s.0.clone());
+                if self.topics.iter().any(|(n, _)| *n == c.topic) {
+                    return Ok(());
+                }
+                self.topics.push((c.topic.clone(), ty.clone()));
+                if !is_log(&c.topic, &ty) {
+                    return Ok(());
+                }
+                let chosen = match self.want {
+                    Some(w) => w == c.topic,
+                    None if self.log.is_none() => true,
+                    None => {
+                        let logs: Vec<&str> = self
+                            .topics
+                            .iter()
+                            .filter(|(n, t)| is_log(n, t))
+                            .map(|(n, _)| n.as_str())
+                            .collect();
+                        return Err(several(self.file, &logs));
+                    }
+                };
+                if chosen {
+                    let text = self
+                        .schemas
+                        .get(&c.schema_id)
+                        .filter(|s| s.1 == "ros2msg")
+                        .map(|s| String::from_utf8_lossy(&s.2).into_owned());
+                    self.log = Some(LogChannel {
+                        id: c.id,
+                        topic: c.topic,
+                        text,
+                    });
+                }
+            }
+            Record::Message { header, data } => {
+                let Some(log) = &self.log else {
+                    return Ok(());
+                };
+                if header.channel_id != log.id {
+                    return Ok(());
+                }
+                if self.defs.is_none() {
+                    let defs =
+                        m.definitions(self.file, &log.topic, log.text.as_deref(), Some(&data))?;
+                    self.defs = Some(defs);
+                }
+                if let Some(d) = &self.defs {
+                    m.message(d, &data)?;
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// The log's topic, or why there is none.
+    fn topic(&self) -> Result<String, Located> {
+        match &self.log {
+            Some(l) => Ok(l.topic.clone()),
+            None => log_topic(
+                self.file,
+                self.topics.iter().map(|(n, t)| (n.as_str(), t.as_str())),
+                self.want,
+            ),
+        }
     }
 }
 
@@ -420,6 +681,11 @@ impl<'a> Matcher<'a> {
         }
     }
 
+    /// Whether `BAG_TRANSITIONS_MAX` changes are read.
+    fn full(&self) -> bool {
+        self.records.len() >= BAG_TRANSITIONS_MAX
+    }
+
     fn at(&self, message: usize, m: String) -> Located {
         Located::file(
             self.path,
@@ -458,6 +724,18 @@ impl<'a> Matcher<'a> {
         let prev = Status::parse(c.prev).unwrap_or(Status::Idle);
         self.uids |= c.uid.is_some();
         let uid = match c.uid {
+            // A bag given another tree would be explained in that tree's
+            // names: the names the bag carries must be the tree's.
+            Some(u) if self.tree.get(u).is_some() && bt_name(self.tree, u) != c.name => {
+                return Err(self.at(
+                    message,
+                    format!(
+                        "uid {u} is \"{}\" in the bag but \"{}\" in the tree given: is it the tree the robot ran?",
+                        crate::text::visible(c.name),
+                        crate::text::visible(bt_name(self.tree, u))
+                    ),
+                ))
+            }
             Some(u) if self.tree.get(u).is_some() => u,
             Some(u) => {
                 return Err(self.at(

@@ -31,6 +31,9 @@ pub struct LoadOptions {
     pub run_tree: Option<PathBuf>,
     /// Which run of a log that holds several (a rosbag's goals), from 1.
     pub run: Option<usize>,
+    /// Which `behavior_tree_log` topic of a bag that holds several (one
+    /// robot's each, namespaced).
+    pub topic: Option<String>,
 }
 
 /// The most warnings a load reports one by one.

@@ -218,6 +218,43 @@ fn a_server_flooding_transitions_is_read_in_bounded_memory() {
     assert!(Session::load(&out).is_ok());
 }
 
+#[test]
+fn a_server_replying_past_its_announced_buffer_is_read_in_bounded_memory() {
+    // 10,000 transitions a reply, each reply under the 100,000 btx reads at
+    // once, reached 2.7 GB in 8 s: the reading thread took replies faster
+    // than numbering and writing used them (#41 item 1).
+    let (port, stop) = flooding("sessions/kitting-nominal.jsonl", 90_000);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("w.jsonl");
+    let r = btx_run(&[
+        "watch",
+        &format!(":{port}"),
+        "--for",
+        "6",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    eprintln!(
+        "PEAK {} MiB latency {:?}",
+        r.peak_kib >> 10,
+        r.err
+            .lines()
+            .filter(|l| l.contains("median"))
+            .collect::<Vec<_>>()
+    );
+    assert!(r.peak_kib < 200 << 10, "peak {} MiB", r.peak_kib >> 10);
+    assert!(
+        r.err.contains("more than the server's buffer of 1000"),
+        "{}",
+        r.err
+    );
+    let kept = Session::load(&out).unwrap();
+    assert!(kept.index.transitions.len() > 1000, "{}", r.err);
+    assert!(!std::path::Path::new(&format!("{}.partial", out.display())).exists());
+}
+
 /// A Groot2 server written by hand on raw TCP (ZMTP 3.0, NULL): it answers
 /// as `btx serve` would play `run`, except that every `t` gets `records`
 /// transitions, streamed in pieces so that this test process holds none

@@ -6,12 +6,14 @@ per tick (as Nav2's RosTopicLogger flushes once per tick), written by the
 PyPI package `rosbags`, an implementation of rosbag2 and CDR btx's
 developers did not write.
 
-Usage: write_bag.py OUT sqlite3|mcap humble|jazzy[-cut|-nodef] RUN.btlog[:RUN.json] [...]
+Usage: write_bag.py OUT sqlite3|mcap humble|jazzy[-cut|-nodef|-two] RUN.btlog[:RUN.json] [...]
 RUN.json is tests/oracle/btcpp_run.py's: {"ticks": [[start_us, end_us], ...]}.
 Runs follow each other in the bag, as goals do. With humble, the bag keeps
 no message definition, as Humble's rosbag2 keeps none. With -cut, the last
 run's last message never reaches the bag (some Nav2 versions do not flush
-the tick that ends the run); with -nodef, a SQLite bag keeps no definition.
+the tick that ends the run); with -nodef, a SQLite bag keeps no definition;
+with -two, the last run is another robot's, on /robot2/behavior_tree_log (two
+robots' namespaces recorded in one bag).
 
 The message definitions are nav2_msgs/msg/BehaviorTreeStatusChange.msg and
 BehaviorTreeLog.msg of ros-navigation/navigation2, humble (19402664a) and
@@ -60,7 +62,8 @@ def main():
     out, storage, release = sys.argv[1:4]
     cut = release.endswith("-cut")
     nodef = release.endswith("-nodef")
-    release = release.removesuffix("-cut").removesuffix("-nodef")
+    two = release.endswith("-two")
+    release = release.removesuffix("-cut").removesuffix("-nodef").removesuffix("-two")
     # RUN.btlog alone (no tick file): a message every 40 records.
     runs = [a.split(":") if ":" in a else [a, None] for a in sys.argv[4:]]
     store = get_typestore(Stores.ROS2_HUMBLE)
@@ -76,6 +79,7 @@ def main():
     shift = 0
     with Writer(out, version=8, storage_plugin=plugin) as w:
         conn = w.add_connection("/behavior_tree_log", "nav2_msgs/msg/BehaviorTreeLog", typestore=store)
+        other = w.add_connection("/robot2/behavior_tree_log", "nav2_msgs/msg/BehaviorTreeLog", typestore=store) if two else None
         # Each node's status as the logger saw it, across goals.
         status = {}
         for btlog, meta in runs:
@@ -94,6 +98,9 @@ def main():
                         k += 1
                     by_tick[k].append((t, uid, s))
             last = [btlog, meta] == list(runs[-1])
+            on = other if (two and last) else conn
+            if two and last:
+                status = {}
             for k, ((a, e), tick) in enumerate(zip(ticks, by_tick)):
                 if not tick or (cut and last and k == max(i for i, t in enumerate(by_tick) if t)):
                     continue
@@ -113,7 +120,7 @@ def main():
                     events.append(Change(**fields))
                 sent = e + shift + 100
                 msg = Log(timestamp=Time(sec=sent // 1_000_000, nanosec=(sent % 1_000_000) * 1000), event_log=events)
-                w.write(conn, sent * 1000, store.serialize_cdr(msg, "nav2_msgs/msg/BehaviorTreeLog"))
+                w.write(on, sent * 1000, store.serialize_cdr(msg, "nav2_msgs/msg/BehaviorTreeLog"))
     if (release == "humble" or nodef) and storage == "sqlite3":
         import glob
         for db in glob.glob(out + "/*.db3"):

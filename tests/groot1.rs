@@ -368,3 +368,63 @@ fn a_groot1_robots_fault_and_its_recovery_are_said() {
     );
     assert_eq!(lines[2], "run 1 ended at tick 54: SUCCESS");
 }
+
+#[test]
+fn a_flooding_publisher_is_watched_in_bounded_memory() {
+    // A BehaviorTree.CPP 3 publisher flooding one tick that never ends
+    // aborted `btx watch` at 2.7 GB within 7 s, its session holding only
+    // its header (#41 item 1).
+    let server = free_pair();
+    let mut robot = Publisher::start(&[
+        script("groot1_robot.py").as_os_str(),
+        fixture("logs/taxi_nominal_v3.fbl").as_os_str(),
+        server.to_string().as_ref(),
+        (server - 1).to_string().as_ref(),
+        "flood:6".as_ref(),
+    ]);
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("flood.jsonl");
+    let mut w = Command::new("prlimit")
+        .arg("--as=2147483648")
+        .arg("--")
+        .arg(env!("CARGO_BIN_EXE_btx"))
+        .args(["watch", &format!(":{server}"), "--for", "5", "--out"])
+        .arg(&out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = BufReader::new(w.stderr.take().unwrap());
+    let mut first = String::new();
+    err.read_line(&mut first).unwrap();
+    assert!(first.starts_with("watching "), "{first}");
+    robot.go();
+    let mut rest = String::new();
+    err.read_to_string(&mut rest).unwrap();
+    let pid = w.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
+    std::mem::forget(w);
+    let sent = robot.done();
+    assert!(
+        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
+        "{rest}"
+    );
+    assert!(
+        rest.contains("transitions with no tick's end: that tick is closed there"),
+        "{rest}"
+    );
+    assert!(
+        usage.ru_maxrss < 300 << 10,
+        "peak {} MiB",
+        usage.ru_maxrss >> 10
+    );
+    let kept = session(&out);
+    assert!(
+        kept.index.transitions.len() > 1_000_000,
+        "{} of {sent}: {rest}",
+        kept.index.transitions.len()
+    );
+}

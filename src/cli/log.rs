@@ -63,6 +63,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             let mut grown = Grown::default();
             let started = std::time::Instant::now();
             let mut last = None;
+            let mut last_error: Option<String> = None;
             loop {
                 let mut done = false;
                 if let Some(fin) = finished.as_ref().filter(|_| !session.exists()) {
@@ -79,12 +80,18 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 let fresh = match f.poll() {
                     Ok(Some(s)) => {
                         last = Some(s);
+                        last_error = None;
                         true
                     }
                     Ok(None) => false,
-                    // Caught mid-write: read again at the next poll.
+                    // Caught mid-write: read again at the next poll; said
+                    // once, however many polls find it so.
                     Err(e) if grown.printed() > 0 => {
-                        eprintln!("following: {e}");
+                        let said = e.to_string();
+                        if last_error.as_ref() != Some(&said) {
+                            eprintln!("following: {said}");
+                            last_error = Some(said);
+                        }
                         false
                     }
                     Err(e) => return Err(located(e)),

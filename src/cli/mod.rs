@@ -327,6 +327,7 @@ mod graph;
 mod import;
 mod log;
 mod open;
+mod printer;
 mod run;
 mod screenshot;
 mod serve;

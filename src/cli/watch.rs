@@ -1,5 +1,6 @@
 //! `btx watch`: Watch running robots (Groot2 or Groot 1 protocol), tell their faults as they happen (or print every transition), and keep their runs.
 
+use super::printer::Printer;
 use super::*;
 use btx::explain::alerts::{Alert, Alerts, Row, What};
 use btx::live::{groot2, Feed};
@@ -139,7 +140,7 @@ impl Robot {
         done: bool,
         closed: bool,
         say: Say,
-        status: &mut StatusLine,
+        pr: &mut Printer,
     ) -> Result<Vec<Alert>, Failure> {
         if done {
             self.feed.halt();
@@ -149,8 +150,7 @@ impl Robot {
         let p = self.prefix.clone();
         for n in &self.feed.notes[self.notes_said..] {
             if !say.quiet {
-                status.clear();
-                eprintln!("{p}warning: {}: {n}", self.ep);
+                pr.err(format!("{p}warning: {}: {n}", self.ep));
             }
         }
         self.notes_said = self.feed.notes.len();
@@ -220,26 +220,21 @@ impl Robot {
                     alerts.iter().map(|a| format!("{p}{}\n", line(a))).collect()
                 }
             };
-            if !out.is_empty() {
-                status.clear();
-                print!("{out}");
-            }
+            let rows = out.lines().count();
+            pr.out(out, rows);
         }
         if let Some(e) = self.feed.write_error.take() {
             self.feed.halt();
-            status.clear();
-            eprintln!("{p}watching stopped: the run cannot be written");
+            pr.err(format!("{p}watching stopped: the run cannot be written"));
             return Err(e.into());
         }
         for g in &self.feed.gaps[self.gaps_said..] {
-            status.clear();
-            eprintln!("{p}gap after transition {}: {}", g.at, g.why);
+            pr.err(format!("{p}gap after transition {}: {}", g.at, g.why));
         }
         self.gaps_said = self.feed.gaps.len();
         if self.feed.status.error != self.said {
             if let Some(e) = &self.feed.status.error {
-                status.clear();
-                eprintln!("{p}{e}; connecting again");
+                pr.err(format!("{p}{e}; connecting again"));
             }
             self.said = self.feed.status.error.clone();
         }
@@ -247,25 +242,51 @@ impl Robot {
     }
 
     /// The session finished (with --out) and what is said of the run.
-    fn finish(mut self, quiet: bool) -> Result<(), Failure> {
+    fn finish(mut self, quiet: bool, pr: &mut Printer) -> Result<(), Failure> {
         self.feed.halt();
-        let p = &self.prefix;
+        let p = self.prefix.clone();
         if let (false, Some(f)) = (quiet, &self.feed.status.finished) {
-            eprintln!("{p}{f}");
+            pr.err(format!("{p}{f}"));
         }
         if !quiet {
-            eprintln!("{}", self.status());
+            pr.err(self.status());
         }
         let n = self.feed.transitions();
-        if let (false, Some((median, p99))) = (quiet, self.feed.latency_ms()) {
-            eprintln!("{p}{n} transitions; from the robot to here: median {median:.1} ms, 99th percentile {p99:.1} ms");
+        match (quiet, self.feed.latency_ms()) {
+            (false, Some(Ok((median, p99)))) => pr.err(format!("{p}{n} transitions; from the robot to here: median {median:.1} ms, 99th percentile {p99:.1} ms")),
+            (false, Some(Err(median))) => pr.err(format!(
+                "{p}{n} transitions; from the robot to here: unknown (the robot's timestamps are {} this machine's clock)",
+                clock_apart(median)
+            )),
+            _ => {}
         }
         if let Some(path) = self.feed.stop()? {
             if !quiet {
-                eprintln!("{p}{n} transitions written to {}", path.display());
+                pr.err(format!("{p}{n} transitions written to {}", path.display()));
             }
         }
         Ok(())
+    }
+}
+
+/// How far apart two clocks are, in words: "5.7 days behind".
+fn clock_apart(ms: f64) -> String {
+    let s = ms.abs() / 1000.0;
+    let (n, unit) = if s >= 86_400.0 * 365.0 {
+        (s / (86_400.0 * 365.25), "years")
+    } else if s >= 86_400.0 {
+        (s / 86_400.0, "days")
+    } else if s >= 3600.0 {
+        (s / 3600.0, "hours")
+    } else {
+        (s / 60.0, "minutes")
+    };
+    // A latency is here minus there: positive, the robot's clock is behind.
+    let side = if ms > 0.0 { "behind" } else { "ahead of" };
+    if n >= 1e6 {
+        format!("far {side}")
+    } else {
+        format!("{n:.1} {unit} {side}")
     }
 }
 
@@ -302,10 +323,9 @@ fn now_us() -> i64 {
 }
 
 /// The robots' one-line statuses, kept in place at the foot of a
-/// terminal's standard error (refreshed each second), and out of the way
-/// of every other line.
+/// terminal's standard error (refreshed each second; `Printer` keeps it
+/// out of the way of every other line).
 struct StatusLine {
-    shown: bool,
     on: bool,
     last: Instant,
 }
@@ -314,20 +334,12 @@ impl StatusLine {
     fn new(quiet: bool) -> StatusLine {
         use std::io::IsTerminal;
         StatusLine {
-            shown: false,
             on: !quiet && std::io::stderr().is_terminal(),
             last: Instant::now(),
         }
     }
 
-    fn clear(&mut self) {
-        if self.shown {
-            eprint!("\r\x1b[K");
-            self.shown = false;
-        }
-    }
-
-    fn show(&mut self, robots: &[Robot]) {
+    fn show(&mut self, robots: &[Robot], pr: &mut Printer) {
         if !self.on || self.last.elapsed() < Duration::from_secs(1) {
             return;
         }
@@ -338,8 +350,7 @@ impl StatusLine {
             .saturating_sub(1);
         let all: Vec<String> = robots.iter().map(Robot::status).collect();
         let text: String = all.join(" | ").chars().take(width).collect();
-        eprint!("\r{text}\x1b[K");
-        self.shown = true;
+        pr.status(Some(text));
     }
 }
 
@@ -587,17 +598,18 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         "btx watch",
     )?;
     let several = eps.len() > 1;
+    let mut pr = Printer::new(args.out.is_some());
     let say = Say {
         format: args.format,
         transitions: args.transitions,
         quiet: cli.quiet,
     };
-    let started = |r: &Robot| {
+    let started = |r: &Robot, pr: &mut Printer| {
         if !cli.quiet {
-            eprintln!(
+            pr.err(format!(
                 "{}watching {}: tree {} (Ctrl-C stops)",
                 r.prefix, r.ep, r.feed.status.uuid
-            );
+            ));
         }
     };
     let mut robots = Vec::new();
@@ -605,7 +617,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     for (ep, out) in eps.iter().zip(outs) {
         match Robot::start(ep.clone(), args.publisher_port, out.clone(), several) {
             Ok(r) => {
-                started(&r);
+                started(&r, &mut pr);
                 robots.push(r);
             }
             // A robot not up yet is waited for; one that answers wrongly
@@ -618,7 +630,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     } else {
                         String::new()
                     };
-                    eprintln!("{p}waiting for {ep}: {why}; Ctrl-C stops");
+                    pr.err(format!("{p}waiting for {ep}: {why}; Ctrl-C stops"));
                 }
                 waiting.push(Waiting {
                     ep: ep.clone(),
@@ -626,7 +638,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     why,
                 });
             }
-            Err(e) if several => eprintln!("[{ep}] unreachable: {e}"),
+            Err(e) if several => pr.err(format!("[{ep}] unreachable: {e}")),
             Err(e) => return Err(Failure::Plain(format!("{ep}: {}", reason(ep, &e)))),
         }
     }
@@ -659,7 +671,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         if closed && !closed_said {
             closed_said = true;
             if let (Some(out), false) = (&args.out, cli.quiet) {
-                eprintln!(
+                pr.err(format!(
                     "standard output was closed; still recording to {} ({})",
                     out.display(),
                     if deadline.is_some() {
@@ -667,7 +679,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     } else {
                         "Ctrl-C stops"
                     }
-                );
+                ));
             }
         }
         let all_done = stop.load(Ordering::Relaxed)
@@ -678,10 +690,9 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         if give_up {
             let waited = begun.elapsed().as_secs_f64();
             for w in waiting.drain(..) {
-                status.clear();
                 let said = format!("{}: {} (waited {waited:.1} s)", w.ep, w.why);
                 if several {
-                    eprintln!("[{}] never came up: {said}", w.ep);
+                    pr.err(format!("[{}] never came up: {said}", w.ep));
                 } else {
                     failed.get_or_insert(Failure::Plain(said));
                 }
@@ -692,8 +703,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             for w in waiting.drain(..) {
                 match Robot::start(w.ep.clone(), args.publisher_port, w.out.clone(), several) {
                     Ok(r) => {
-                        status.clear();
-                        started(&r);
+                        started(&r, &mut pr);
                         watched += 1;
                         robots.push(r);
                     }
@@ -702,10 +712,9 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                         ..w
                     }),
                     Err(e) => {
-                        status.clear();
                         let said = format!("{}: {}", w.ep, reason(&w.ep, &e));
                         if several {
-                            eprintln!("[{}] {said}", w.ep);
+                            pr.err(format!("[{}] {said}", w.ep));
                         } else {
                             failed.get_or_insert(Failure::Plain(said));
                         }
@@ -719,7 +728,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             // A robot whose run finished ends its session; the others go on.
             let ended = args.until_end && r.runs > 0;
             let done = all_done || ended || r.feed.status.finished.is_some();
-            match r.step(done, closed, say, &mut status) {
+            match r.step(done, closed, say, &mut pr) {
                 Ok(alerts) => {
                     for a in alerts.iter().filter(|a| a.what != What::RunEnded) {
                         let json = alert_json(&r.shell.tree, a, Some(&r.ep)).to_string();
@@ -732,8 +741,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 }
             }
             if done {
-                status.clear();
-                if let Err(e) = r.finish(cli.quiet) {
+                if let Err(e) = r.finish(cli.quiet, &mut pr) {
                     failed.get_or_insert(e);
                 }
             } else {
@@ -741,12 +749,14 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             }
         }
         robots = still;
-        status.show(&robots);
-        if !robots.is_empty() || !waiting.is_empty() {
+        status.show(&robots, &mut pr);
+        // A robot with more waiting is served again at once.
+        let busy = robots.iter().any(|r| r.feed.more);
+        if !busy && (!robots.is_empty() || !waiting.is_empty()) {
             std::thread::sleep(Duration::from_millis(20));
         }
     }
-    status.clear();
+    pr.finish();
     on_fault.finish();
     drop(claims);
     match failed {

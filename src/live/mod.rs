@@ -70,7 +70,14 @@ pub struct Watch {
     /// How the robot's run ended, when the robot went away after its root
     /// completed: the run is over, not cut off.
     pub finished: Option<String>,
+    /// Replies larger than the buffer the server announced, in a row.
+    oversized: usize,
 }
+
+/// Replies larger than the server's buffer, in a row, after which btx
+/// leaves the robot: no publisher sends them, and one that floods would
+/// take the time and the disk of every other robot watched.
+pub const OVERSIZED_MAX: usize = 10;
 
 /// How many times btx starts recording before it takes the statuses as
 /// they are (a robot whose statuses never hold still that long).
@@ -189,6 +196,7 @@ impl Watch {
             notes: Vec::new(),
             root: None,
             finished: None,
+            oversized: 0,
         }
     }
 
@@ -307,9 +315,10 @@ impl Watch {
                         groot2::TRANSITIONS_REPLY_MAX
                     ));
                 }
-                let n = self.take(ts);
                 let buffer = self.client.as_ref().map_or(SERVER_BUFFER, |c| c.buffer);
-                if n >= buffer || dropped.is_some() {
+                let full = ts.len() >= buffer;
+                let n = self.take(ts);
+                if full || dropped.is_some() {
                     // The statuses now, as the lost transitions left them.
                     let states = self.client.as_mut().map(|c| c.states());
                     match states {
@@ -355,9 +364,26 @@ impl Watch {
     }
 
     /// Keeps the transitions of a `t` reply; how many came.
-    fn take(&mut self, ts: Vec<groot2::Transition>) -> usize {
+    fn take(&mut self, mut ts: Vec<groot2::Transition>) -> usize {
         let buffer = self.client.as_ref().map_or(SERVER_BUFFER, |c| c.buffer);
-        if ts.len() >= buffer {
+        let sent = ts.len();
+        if (1..=buffer).contains(&sent) {
+            self.oversized = 0;
+        }
+        if ts.len() > buffer {
+            // No publisher sends more than its buffer holds: a full buffer,
+            // whose newest transitions are kept (as a ring keeps them), so
+            // that what one reply makes btx hold is bounded by the buffer.
+            let over = ts.len() - buffer;
+            ts.drain(..over);
+            self.gap(format!("the server sent {} transitions in one reply, more than the server's buffer of {buffer} it announced: the {over} oldest are left out, as a full buffer loses them{RESYNCED} after the {buffer} kept", buffer + over));
+            self.oversized += 1;
+            if self.oversized >= OVERSIZED_MAX {
+                self.finished = Some(format!(
+                    "btx left the robot: its server sent more transitions than its buffer of {buffer} in {OVERSIZED_MAX} replies in a row, as no BehaviorTree.CPP publisher does; what came before is kept"
+                ));
+            }
+        } else if ts.len() == buffer {
             self.gap(format!("the server's buffer of {buffer} transitions was full: older ones may be lost{RESYNCED} after these {buffer}"));
         }
         let n = ts.len();
@@ -585,6 +611,9 @@ struct Blackboards {
 /// What the polling thread hands over: the transitions numbered since the
 /// last batch, the gaps and resyncs among them, the status.
 struct Batch {
+    /// Transitions received that this batch accounts for (numbered now,
+    /// or held by the numbering thread for the rest of their tick).
+    received: usize,
     numbered: Vec<(Record, u32)>,
     latency_us: Vec<i64>,
     gaps: Vec<Gap>,
@@ -601,6 +630,10 @@ struct Batch {
 pub struct Feed {
     pub protocol: Protocol,
     rx: std::sync::mpsc::Receiver<Batch>,
+    /// Transitions handed to the threads and not taken here yet.
+    in_flight: std::sync::Arc<std::sync::atomic::AtomicUsize>,
+    /// Whether the last `poll` left batches waiting (its time was up).
+    pub more: bool,
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
     /// The polling thread, then the numbering thread.
     threads: Vec<std::thread::JoinHandle<()>>,
@@ -639,6 +672,12 @@ pub const POLL_MAX: Duration = Duration::from_millis(25);
 const POLL_TARGET: f64 = 250.0;
 /// Latency samples kept (for the median and the 99th percentile).
 const LATENCY_KEPT: usize = 1 << 16;
+/// Transitions that may wait between a feed's threads and its caller
+/// (about 40 bytes each).
+pub const IN_FLIGHT_MAX: usize = 1 << 20;
+/// The time one `Feed::poll` takes at most: with several robots, one that
+/// floods cannot keep the caller from the others (the rest wait).
+const POLL_TIME_MAX: Duration = Duration::from_millis(10);
 
 impl Feed {
     /// Connects (an error is returned at once), then watches from a thread;
@@ -651,6 +690,13 @@ impl Feed {
     ) -> Result<Feed, LiveError> {
         let mut w = Watch::start(endpoint, publisher)?;
         let protocol = w.protocol;
+        let nodes =
+            crate::xml::load_str(std::path::Path::new(endpoint), &w.xml, &Default::default())
+                .map(|l| l.tree.len());
+        if let Ok(nodes) = nodes {
+            let odd = states_of_nodes(&mut w.resyncs, nodes);
+            w.gaps.extend(odd);
+        }
         // The tree is checked now, not at the first transition.
         let shell = crate::logs::open_live(
             protocol,
@@ -666,7 +712,6 @@ impl Feed {
         header.source.path = Some(name.display().to_string());
         let recorder = recorder::Recorder::new(&shell.tree, out.as_deref(), &header)
             .map_err(|e| LiveError(e.to_string()))?;
-        let (tx, rx) = std::sync::mpsc::channel();
         let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let halt = std::sync::Arc::clone(&stop);
         let status = w.status(0.0, None);
@@ -675,20 +720,28 @@ impl Feed {
         let blackboards = std::sync::Arc::new(std::sync::Mutex::new(Blackboards::default()));
         let shared = std::sync::Arc::clone(&blackboards);
         let tree = shell.tree;
+        // What waits between the threads and the caller is bounded: past
+        // `IN_FLIGHT_MAX` transitions the polling thread leaves the robot's
+        // buffer unread (what it loses is said as a gap), never holds more.
+        let (tx, rx) = std::sync::mpsc::channel();
         let (raw_tx, raw_rx) = std::sync::mpsc::channel();
+        let in_flight = std::sync::Arc::new(std::sync::atomic::AtomicUsize::new(0));
+        let flying = std::sync::Arc::clone(&in_flight);
         let numberer = std::thread::Builder::new()
             .name("btx-ticks".into())
             .spawn(move || numbering(&tree, &raw_rx, &tx))
             .map_err(|e| LiveError(format!("cannot start watching: {e}")))?;
         let poller = std::thread::Builder::new()
             .name("btx-live".into())
-            .spawn(move || polling(&mut w, &raw_tx, &halt, &shared))
+            .spawn(move || polling(&mut w, &raw_tx, &halt, &shared, &flying))
             .map_err(|e| LiveError(format!("cannot start watching: {e}")))?;
         Ok(Feed {
             protocol,
             rx,
             stop,
             threads: vec![poller, numberer],
+            in_flight,
+            more: false,
             status,
             blackboards,
             xml,
@@ -761,6 +814,8 @@ impl Feed {
     }
 
     fn take(&mut self, b: Batch) -> bool {
+        self.in_flight
+            .fetch_sub(b.received, std::sync::atomic::Ordering::Relaxed);
         let grew = !b.numbered.is_empty() || !b.gaps.is_empty() || !b.notes.is_empty();
         for g in &b.gaps {
             if self.gaps.len() < recorder::VIEW_MARKS_MAX {
@@ -818,8 +873,14 @@ impl Feed {
     /// comes); whether the run grew.
     pub fn poll(&mut self) -> bool {
         let mut grew = false;
+        let began = std::time::Instant::now();
+        self.more = false;
         while let Ok(b) = self.rx.try_recv() {
             grew |= self.take(b);
+            if began.elapsed() >= POLL_TIME_MAX {
+                self.more = true;
+                break;
+            }
         }
         grew
     }
@@ -891,15 +952,23 @@ impl Feed {
         self.finish()
     }
 
-    /// The median and the 99th percentile of the latency, in ms.
-    pub fn latency_ms(&self) -> Option<(f64, f64)> {
+    /// The median and the 99th percentile of the latency, in ms; `Err`
+    /// with the median when the two clocks cannot be compared (a robot
+    /// whose clock is a minute ahead of this machine's, or an hour behind,
+    /// or timestamps that are no time: 2^48 − 1).
+    pub fn latency_ms(&self) -> Option<Result<(f64, f64), f64>> {
         let mut l = self.latency_us.clone();
         if l.is_empty() {
             return None;
         }
         l.sort_unstable();
         let at = |q: f64| l[((l.len() - 1) as f64 * q).round() as usize] as f64 / 1000.0;
-        Some((at(0.5), at(0.99)))
+        let (median, p99) = (at(0.5), at(0.99));
+        Some(if (-60_000.0..=3_600_000.0).contains(&median) {
+            Ok((median, p99))
+        } else {
+            Err(median)
+        })
     }
 
     /// Stops the thread and takes what it still had (its ticks numbered to
@@ -949,6 +1018,7 @@ fn polling(
     tx: &std::sync::mpsc::Sender<Raw>,
     halt: &std::sync::atomic::AtomicBool,
     shared: &std::sync::Mutex<Blackboards>,
+    in_flight: &std::sync::atomic::AtomicUsize,
 ) {
     let mut rate = (std::time::Instant::now(), 0usize, 0.0f64);
     let mut sent = 0usize;
@@ -964,6 +1034,11 @@ fn polling(
     let mut per_s = 0.0f64;
     loop {
         let halting = halt.load(std::sync::atomic::Ordering::Relaxed);
+        // Backpressure: the caller is behind; the robot's buffer waits.
+        if !halting && in_flight.load(std::sync::atomic::Ordering::Relaxed) > IN_FLIGHT_MAX {
+            std::thread::sleep(POLL_MIN);
+            continue;
+        }
         let since = polled.elapsed();
         polled = std::time::Instant::now();
         let error = match w.poll() {
@@ -995,8 +1070,10 @@ fn polling(
         let news = n > sent || !w.gaps.is_empty() || !w.notes.is_empty();
         if news || error.is_some() || last.elapsed() >= Duration::from_millis(500) || halting {
             last = std::time::Instant::now();
+            let records = w.take_records();
+            in_flight.fetch_add(records.len(), std::sync::atomic::Ordering::Relaxed);
             let raw = Raw {
-                records: w.take_records(),
+                records,
                 latency_us: std::mem::take(&mut w.latency_us),
                 gaps: std::mem::take(&mut w.gaps),
                 resyncs: std::mem::take(&mut w.resyncs),
@@ -1025,17 +1102,18 @@ fn numbering(
     tx: &std::sync::mpsc::Sender<Batch>,
 ) {
     let mut ticks = crate::logs::ticks::Stream::new(tree);
-    let (mut fell_back_said, mut capped_said) = (false, false);
+    let (mut fell_back_said, mut capped_said, mut overlong_said) = (false, false, false);
     while let Ok(raw) = rx.recv() {
         let Raw {
             mut records,
             latency_us,
             mut gaps,
-            resyncs,
+            mut resyncs,
             mut notes,
             status,
             last,
         } = raw;
+        let received = records.len();
         // A uid the tree does not have names no node: the record is left
         // out, as a transition lost at its place.
         let nodes = tree.len();
@@ -1052,6 +1130,8 @@ fn numbering(
             gaps.sort_by_key(|g| g.at);
             records.retain(|r| recorder::is_node(r.uid, nodes));
         }
+        gaps.extend(states_of_nodes(&mut resyncs, nodes));
+        gaps.sort_by_key(|g| g.at);
         // Each gap's records before it are numbered as they are, and
         // ticks go by timing after it.
         let mut numbered = Vec::new();
@@ -1082,6 +1162,14 @@ fn numbering(
                 at + 1
             ));
         }
+        if let (Some(at), false) = (ticks.overlong, overlong_said) {
+            overlong_said = true;
+            notes.push(format!(
+                "from transition {}, the robot sent more than {} transitions with no tick's end: that tick is closed there, and ticks are told apart by timing",
+                at + 1,
+                crate::logs::ticks::TICK_RECORDS_MAX
+            ));
+        }
         if let (Some(at), false) = (ticks.capped, capped_said) {
             capped_said = true;
             notes.push(format!(
@@ -1091,6 +1179,7 @@ fn numbering(
             ));
         }
         let batch = Batch {
+            received,
             numbered,
             latency_us,
             gaps,
@@ -1102,6 +1191,31 @@ fn numbering(
             break;
         }
     }
+}
+
+/// Leaves out of `resyncs` the states of uids that are no node of a tree
+/// of `nodes` nodes (a server's `S`, a Groot 1 message's statuses): a gap
+/// says each place, as for a transition of no node.
+fn states_of_nodes(resyncs: &mut [(usize, Vec<Before>)], nodes: usize) -> Vec<Gap> {
+    let mut gaps = Vec::new();
+    for (at, states) in resyncs {
+        let mut odd = states
+            .iter()
+            .filter(|b| !recorder::is_node(b.uid, nodes))
+            .map(|b| b.uid);
+        if let Some(first) = odd.next() {
+            let more = odd.count();
+            gaps.push(Gap {
+                at: *at,
+                why: format!(
+                    "the server sent the state of uid {first}{}, which is no node of its tree ({nodes} nodes): it is left out",
+                    if more > 0 { format!(" and {more} more") } else { String::new() }
+                ),
+            });
+            states.retain(|b| recorder::is_node(b.uid, nodes));
+        }
+    }
+    gaps
 }
 
 /// Fetches the blackboard wanted, if it is due.

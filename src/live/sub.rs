@@ -22,6 +22,8 @@ pub struct Sub {
 
 /// The bytes of one read.
 const CHUNK: usize = 1 << 16;
+/// The bytes one `receive` reads at most.
+const RECEIVE_MAX: usize = 4 << 20;
 
 impl Sub {
     /// Connects to a PUB socket and subscribes to every message.
@@ -48,7 +50,10 @@ impl Sub {
         let deadline = Instant::now() + wait;
         let mut out = Vec::new();
         let mut chunk = vec![0u8; CHUNK];
-        loop {
+        let mut got = 0usize;
+        // A publisher that floods is read `RECEIVE_MAX` at a time: the
+        // rest waits in the socket (and the robot's queue), never here.
+        while got < RECEIVE_MAX {
             let left = deadline.saturating_duration_since(Instant::now());
             if left.is_zero() {
                 break;
@@ -63,6 +68,7 @@ impl Sub {
                     break;
                 }
                 Ok(n) => {
+                    got += n;
                     self.buf.extend_from_slice(&chunk[..n]);
                     self.frames(&mut out)?;
                     // More is waiting when the read filled the chunk.

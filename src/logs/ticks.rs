@@ -229,7 +229,15 @@ pub struct Stream<'t> {
     received: usize,
     pub fell_back: Option<usize>,
     pub capped: Option<usize>,
+    /// Where a tick ran past `TICK_RECORDS_MAX` records and was closed.
+    pub overlong: Option<usize>,
 }
+
+/// The records one tick holds at most while it waits for its end: a tree
+/// of 250,000 nodes makes about 500,000 transitions a tick; a robot that
+/// sends more without a tick's end is closed there (said by the caller),
+/// so that what waits is bounded.
+pub const TICK_RECORDS_MAX: usize = 1 << 20;
 
 /// Ticks numbered only once the period is measured over this many.
 const SETTLE: usize = 8;
@@ -262,6 +270,7 @@ impl<'t> Stream<'t> {
             received: 0,
             fell_back: None,
             capped: None,
+            overlong: None,
         }
     }
 
@@ -286,7 +295,16 @@ impl<'t> Stream<'t> {
             }
             None => self.by_timing(recs),
         };
-        self.number(whole, false)
+        let mut out = self.number(whole, false);
+        let waiting = match &self.replay {
+            Some(ex) => ex.leaves.recs.len(),
+            None => self.waiting.len(),
+        };
+        if waiting > TICK_RECORDS_MAX {
+            self.overlong.get_or_insert(self.received - waiting);
+            out.extend(self.gap());
+        }
+        out
     }
 
     /// Records may be missing here: what arrived is numbered as it is, and
@@ -646,5 +664,41 @@ mod tests {
         assert_eq!(last, 35 + EMPTY_TICKS_MAX);
         assert_eq!(ticks[30] - ticks[29], 1 + 10);
         assert_eq!(ticks[31] - ticks[30], 1);
+    }
+
+    #[test]
+    fn a_tick_that_never_ends_is_closed_at_its_bound() {
+        // A flooding robot: transitions with one timestamp, no tick's end.
+        let tree = crate::xml::load_str(
+            std::path::Path::new("flood.xml"),
+            "<root BTCPP_format=\"4\"><BehaviorTree ID=\"M\"><AlwaysSuccess/></BehaviorTree></root>",
+            &Default::default(),
+        )
+        .unwrap()
+        .tree;
+        let mut s = Stream::new(&tree);
+        let mut given = 0;
+        let batch: Vec<Record> = (0..100_000)
+            .map(|i| Record {
+                time_us: 5,
+                uid: 1,
+                status: if i % 2 == 0 {
+                    Status::Running
+                } else {
+                    Status::Success
+                },
+                offset: i,
+            })
+            .collect();
+        for _ in 0..30 {
+            given += s.push(&batch).len();
+        }
+        assert!(s.overlong.is_some());
+        assert!(
+            3_000_000 - given <= TICK_RECORDS_MAX + batch.len(),
+            "{given}"
+        );
+        given += s.finish().len();
+        assert_eq!(given, 3_000_000);
     }
 }

@@ -414,7 +414,13 @@ fn follow_says_when_its_file_is_truncated_or_replaced_and_starts_again() {
     let cut: String = nominal.lines().take(6).map(|l| format!("{l}\n")).collect();
     std::fs::write(&f, &cut).unwrap();
     wait_for(&|_, e| e.contains("was truncated or shrunk"));
-    let (o3, e) = wait_for(&|o3, _| rows(o3) > rows(&o2));
+    let (o3, _) = wait_for(&|o3, _| rows(o3) > rows(&o2));
+    // Shrunk mid-record: said once, not at every poll (#41 item 9).
+    std::fs::write(&f, &nominal.as_bytes()[..3000]).unwrap();
+    wait_for(&|_, e| e.contains("following: "));
+    std::thread::sleep(Duration::from_millis(1500));
+    let e = std::fs::read_to_string(&err).unwrap();
+    assert_eq!(e.matches("following: ").count(), 1, "{e}");
     let _ = child.kill();
     let _ = child.wait();
     assert!(

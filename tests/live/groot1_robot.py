@@ -19,7 +19,11 @@ over the wire protocol of the library's PublisherZMQ
 The nodes' uids and order come from btview's flatbuffer reader (the PyPI
 package btview, written apart from btx); pyzmq (libzmq) does the sockets.
 
-Usage: groot1_robot.py RUN.fbl SERVER_PORT PUBLISHER_PORT [GAP_MS]
+Usage: groot1_robot.py RUN.fbl SERVER_PORT PUBLISHER_PORT [GAP_MS | flood:SECS]
+
+With flood:SECS, a hostile publisher: for SECS seconds it sends, as fast as
+it can, messages of 1,000 records of the run's first node starting and going back
+to IDLE, all with one timestamp (a tick that never ends), then ends as above.
 
 Prints READY once bound and waits for a line on its standard input (the
 test says when its client listens); sends the batches GAP_MS apart (default
@@ -72,7 +76,9 @@ def batches(records, window_us=40_000):
 
 def main():
     fbl, server_port, publisher_port = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
-    gap = float(sys.argv[4]) / 1000.0 if len(sys.argv) > 4 else 0.005
+    arg = sys.argv[4] if len(sys.argv) > 4 else "5"
+    flood = float(arg.split(":")[1]) if arg.startswith("flood:") else None
+    gap = 0.005 if flood is not None else float(arg) / 1000.0
     tree, records = read_fbl(fbl)
     order = depth_first(tree)
     ctx = zmq.Context()
@@ -98,6 +104,19 @@ def main():
     sys.stdin.readline()
     status = {uid: 0 for uid in order}
     sent = 0
+    if flood is not None:
+        states = b"".join(struct.pack("<Hb", uid, 0) for uid in order)
+        # The first record's node started and set back to IDLE, 500 times:
+        # each message follows from the one before.
+        sec, usec, uid = struct.unpack_from("<iiH", records[0], 0)
+        start = struct.pack("<iiHbb", sec, usec, uid, 0, 1)
+        back = struct.pack("<iiHbb", sec, usec, uid, 1, 0)
+        msg = struct.pack("<I", len(states)) + states + struct.pack("<I", 1000) + (start + back) * 500
+        until = time.time() + flood
+        while time.time() < until:
+            pub.send(msg)
+            sent += 1000
+        records = []
     for batch in batches(records):
         states = b"".join(struct.pack("<Hb", uid, status[uid]) for uid in order)
         msg = struct.pack("<I", len(states)) + states + struct.pack("<I", len(batch))

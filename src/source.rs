@@ -63,7 +63,7 @@ impl Located {
     /// An error about a whole file (unreadable, missing, ...).
     pub fn file(path: &Path, message: impl Into<String>) -> Self {
         Located {
-            location: path.display().to_string(),
+            location: crate::text::path(path),
             message: message.into(),
             source_code: None,
             span: None,

@@ -42,6 +42,19 @@ pub fn visible(s: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
+/// A file's name as btx says it: its line breaks and tabs as `\n`, `\r`
+/// and `\t`, so that a name can never start a line of a report or an
+/// error of its own (the rest is escaped wherever btx prints, `visible`).
+pub fn path(p: &std::path::Path) -> String {
+    let s = p.display().to_string();
+    if !s.contains(['\n', '\r', '\t']) {
+        return s;
+    }
+    s.replace('\n', "\\n")
+        .replace('\r', "\\r")
+        .replace('\t', "\\t")
+}
+
 /// `s` with every control character replaced by `?`s of the same length in
 /// bytes, so that byte offsets into it (an error's span) stay right.
 pub fn same_length(s: &str) -> Cow<'_, str> {

@@ -337,3 +337,57 @@ fn a_directory_that_links_back_to_itself_is_read_once() {
     let v = json(&["fleet", dir.path().to_str().unwrap(), "--format", "json"]);
     assert_eq!(v["runs"], runs.len());
 }
+
+#[test]
+fn robots_whose_names_differ_by_what_a_path_cannot_hold_stay_apart() {
+    // `r:1` and `r?1` were both `robot=r_1` in --export, one robot to
+    // every reader (#41 item 7): escaped as Spark escapes Hive paths, they
+    // are two, under their own names, to DuckDB (the PyPI package).
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let fleet = dir.path().join("fleet");
+    std::fs::create_dir_all(&fleet).unwrap();
+    for (robot, src) in [
+        ("r:1", "sessions/kitting-nominal.jsonl"),
+        ("r?1", "sessions/kitting-lookat-fails-once.jsonl"),
+        ("r\nforged", "sessions/kitting-nominal.jsonl"),
+    ] {
+        std::fs::copy(root.join(src), fleet.join(format!("{robot}.jsonl"))).unwrap();
+    }
+    // A file not read is named in the report: its name starts no line.
+    std::fs::write(
+        fleet.join("bad\nforged: every run SUCCESS.jsonl"),
+        "garbage",
+    )
+    .unwrap();
+    let out = dir.path().join("export");
+    let (ok, report, err) = btx(&[
+        "fleet",
+        fleet.to_str().unwrap(),
+        "--export",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let all = format!("{report}{err}");
+    assert!(
+        all.contains("bad\\nforged: every run SUCCESS.jsonl"),
+        "{all}"
+    );
+    assert!(!all.lines().any(|l| l.starts_with("forged")), "{all}");
+    let py = std::process::Command::new(common::oracle_python())
+        .arg("-c")
+        .arg("import duckdb, sys, json; print(json.dumps(duckdb.sql(\"select robot, count(*) from read_parquet('\" + sys.argv[1] + \"/transitions/**/*.parquet', hive_partitioning=true) group by robot order by robot\").fetchall()))")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        py.status.success(),
+        "{}",
+        String::from_utf8_lossy(&py.stderr)
+    );
+    let got: Value = serde_json::from_slice(&py.stdout).unwrap();
+    assert_eq!(
+        got,
+        serde_json::json!([["r\nforged", 209], ["r:1", 209], ["r?1", 248]])
+    );
+}

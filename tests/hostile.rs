@@ -1087,3 +1087,34 @@ fn an_mcap_chunk_claiming_gigabytes_is_refused_before_it_is_decompressed() {
         r.err
     );
 }
+
+#[test]
+fn a_lock_that_is_not_a_regular_file_is_refused_at_once() {
+    // A FIFO at OUT.btx-lock hung btx for ever (#41 item 7).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.jsonl");
+    let lock = dir.path().join("o.jsonl.btx-lock");
+    let tree = fixture("kitting-tree.v4.xml");
+    let plan = fixture("plans/kitting_nominal.plan");
+    let run = |said: &str| {
+        let started = std::time::Instant::now();
+        let (code, _, err) = btx_code(&[
+            "run",
+            tree.to_str().unwrap(),
+            "--plan",
+            plan.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(1), "{err}");
+        assert!(one_line(&err).contains(said), "{err}");
+        assert!(started.elapsed() < std::time::Duration::from_secs(5));
+        assert!(!out.exists());
+    };
+    let made = Command::new("mkfifo").arg(&lock).status().unwrap();
+    assert!(made.success());
+    run("something that is not a regular file (a FIFO, a device, a directory) is here, where btx keeps the lock of this output");
+    std::fs::remove_file(&lock).unwrap();
+    std::os::unix::fs::symlink("/etc/passwd", &lock).unwrap();
+    run("a link is here, where btx keeps the lock of this output");
+}

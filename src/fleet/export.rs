@@ -97,23 +97,47 @@ impl Partition {
     }
 }
 
-/// A name safe in a path and a Hive partition value.
+/// A Hive partition value as Spark escapes it (`escapePathName`): the
+/// characters a path or a partition cannot hold as `%XX`, so that two
+/// robots whose names differ only by them stay two; DuckDB, Spark and
+/// Trino read them back. An empty value is Hive's default partition.
 fn safe(s: &str) -> String {
-    let out: String = s
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || "._-".contains(c) {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect();
-    if out.is_empty() || out.starts_with('.') {
-        format!("_{out}")
-    } else {
-        out
+    if s.is_empty() {
+        return "__HIVE_DEFAULT_PARTITION__".into();
     }
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        if matches!(
+            c,
+            '\u{1}'
+                ..='\u{1f}'
+                    | '"'
+                    | '#'
+                    | '%'
+                    | '\''
+                    | '*'
+                    | '/'
+                    | ':'
+                    | '='
+                    | '?'
+                    | '\\'
+                    | '\u{7f}'
+                    | '{'
+                    | '['
+                    | ']'
+                    | '^'
+        ) || c == '\0'
+        {
+            out.push_str(&format!("%{:02X}", c as u32));
+        } else {
+            out.push(c);
+        }
+    }
+    // A name that starts with a dot is hidden from the readers.
+    if out.starts_with('.') {
+        out.replace_range(..1, "%2E");
+    }
+    out
 }
 
 /// Makes the export's directory: a new one, or an empty one (tables of
@@ -248,4 +272,23 @@ pub fn tables(root: &Path, fleet: &Fleet) -> Result<(), Located> {
         })?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::safe;
+
+    #[test]
+    fn partition_values_are_escaped_as_spark_escapes_them() {
+        assert_eq!(safe("robot-7"), "robot-7");
+        assert_eq!(safe("127.0.0.1_1667"), "127.0.0.1_1667");
+        assert_eq!(safe("a:b"), "a%3Ab");
+        assert_eq!(safe("a/b"), "a%2Fb");
+        assert_eq!(safe("a%3Ab"), "a%253Ab");
+        assert_ne!(safe("a:b"), safe("a?b"));
+        assert_eq!(safe("line\nbreak"), "line%0Abreak");
+        assert_eq!(safe(".hidden"), "%2Ehidden");
+        assert_eq!(safe(""), "__HIVE_DEFAULT_PARTITION__");
+        assert_eq!(safe("été"), "été");
+    }
 }

@@ -146,9 +146,12 @@ impl Fleet {
                 let mut unwritten = Vec::new();
                 let r = crate::input::each_run(f, opts, |k, n, s: Session| {
                     let (name, id) = if n > 1 {
-                        (format!("{}#{k}", f.display()), format!("f{i:06}-{k}"))
+                        (
+                            format!("{}#{k}", crate::text::path(f)),
+                            format!("f{i:06}-{k}"),
+                        )
                     } else {
-                        (f.display().to_string(), format!("f{i:06}"))
+                        (crate::text::path(f), format!("f{i:06}"))
                     };
                     let mut run = summarise(name, &s, reference);
                     run.file = f.clone();
@@ -164,9 +167,15 @@ impl Fleet {
                     Ok(())
                 });
                 done();
-                let r = r
-                    .map(|()| runs)
-                    .map_err(|e| (f.display().to_string(), e.to_string()));
+                let r = r.map(|()| runs).map_err(|e| {
+                    // The file's name is said once, before its error.
+                    let (name, e) = (crate::text::path(f), e.to_string());
+                    let e = e
+                        .strip_prefix(&format!("{name}: "))
+                        .unwrap_or(&e)
+                        .to_string();
+                    (name, e)
+                });
                 (r, unwritten)
             })
             .collect();

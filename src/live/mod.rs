@@ -522,7 +522,7 @@ pub fn snapshot(endpoint: &str, publisher: Option<u16>) -> Result<Session, LiveE
         .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
     for n in notes {
         s.warnings.push(Warning {
-            location: name.display().to_string(),
+            location: crate::text::path(&name),
             message: n,
         });
     }
@@ -919,19 +919,19 @@ impl Feed {
             .collect();
         for n in &self.notes {
             s.warnings.push(Warning {
-                location: name.display().to_string(),
+                location: crate::text::path(&name),
                 message: n.clone(),
             });
         }
         for g in &r.gaps {
             s.warnings.push(Warning {
-                location: format!("{}: transition {}", name.display(), g.at + 1),
+                location: format!("{}: transition {}", crate::text::path(&name), g.at + 1),
                 message: format!("gap: {}", g.why),
             });
         }
         if r.unviewed > 0 {
             s.warnings.push(Warning {
-                location: name.display().to_string(),
+                location: crate::text::path(&name),
                 message: format!(
                     "the explorer holds the first {} transitions of a live run; the {} after them are {}",
                     recorder::VIEW_MAX,

@@ -228,7 +228,7 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         let tick = i as u32 + 1;
         if *t != i as u64 {
             warnings.push(Warning {
-                location: path.display().to_string(),
+                location: crate::text::path(path),
                 message: format!(
                     "tick {t} follows tick {}: ticks are renumbered",
                     i as i64 - 1

@@ -230,7 +230,7 @@ pub fn open_db3_as(
     }
     if ids.len() > 1 {
         s.warnings.push(Warning {
-            location: path.display().to_string(),
+            location: crate::text::path(path),
             message: format!(
                 "the database holds sessions {}; this is session {id} ({}); open another as {}#N",
                 ids.iter()
@@ -344,7 +344,7 @@ impl<'a> BagRuns<'a> {
         }
         for a in self.log.ambiguous.iter().chain(&self.log.cut) {
             s.warnings.push(Warning {
-                location: self.path.display().to_string(),
+                location: crate::text::path(&self.path),
                 message: a.clone(),
             });
         }
@@ -364,7 +364,7 @@ pub fn open_rosbag(
     let mut s = runs.session(k)?;
     if n > 1 {
         s.warnings.push(Warning {
-            location: path.display().to_string(),
+            location: crate::text::path(path),
             message: format!(
                 "the bag holds {n} runs (goals); this is run {k}; open another with --run N or {}#N",
                 path.display()
@@ -480,7 +480,7 @@ fn session_from(
     }
     if partial_tail > 0 {
         warnings.push(Warning {
-            location: format!("{}: byte offset {}", path.display(), len - partial_tail),
+            location: format!("{}: byte offset {}", crate::text::path(path), len - partial_tail),
             message: format!("the last {partial_tail} bytes are not a whole record (a log still being written?); left out"),
         });
     }
@@ -499,7 +499,7 @@ fn session_from(
     let at = |i: usize| place(records.get(i).map_or(len, |r| r.offset));
     if let Some(i) = capped {
         warnings.push(Warning {
-            location: format!("{}: {}", path.display(), at(i)),
+            location: format!("{}: {}", crate::text::path(path), at(i)),
             message: format!(
                 "the timestamps claim more than {} ticks in which nothing changed; from here a gap counts as one tick",
                 crate::session::EMPTY_TICKS_MAX
@@ -508,7 +508,7 @@ fn session_from(
     }
     if let Some(i) = fell_back {
         warnings.push(Warning {
-            location: format!("{}: {}", path.display(), at(i)),
+            location: format!("{}: {}", crate::text::path(path), at(i)),
             message:
                 "the replay could not follow the log from here; ticks are told apart by timing"
                     .into(),

@@ -217,7 +217,7 @@ impl PlanLeaves {
         if !unplanned.is_empty() {
             unplanned.sort();
             p.warnings.push(Warning {
-                location: p.plan.path.display().to_string(),
+                location: crate::text::path(&p.plan.path),
                 message: format!(
                     "no plan entry for {} (add @default_action / @default_condition); they succeed at once",
                     unplanned.join(", ")
@@ -242,7 +242,7 @@ impl PlanLeaves {
         at_once.dedup();
         for (line, id) in at_once {
             p.warnings.push(Warning {
-                location: format!("{}:{line}:1", p.plan.path.display()),
+                location: format!("{}:{line}:1", crate::text::path(&p.plan.path)),
                 message: format!(
                     "Nav2's {id} completes in the tick it starts and never returns RUNNING; its RUNNING ticks here are dropped"
                 ),
@@ -268,7 +268,7 @@ impl PlanLeaves {
         for (e, u) in p.plan.entries.iter().zip(&used) {
             if !u && !e.key.starts_with('@') {
                 p.warnings.push(Warning {
-                    location: format!("{}:{}:1", p.plan.path.display(), e.line),
+                    location: format!("{}:{}:1", crate::text::path(&p.plan.path), e.line),
                     message: format!(
                         "\"{}\" matches no leaf of the tree{}",
                         e.key,

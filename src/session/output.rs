@@ -130,11 +130,31 @@ fn open_lock(path: &Path, out: &Path) -> Result<File, Located> {
         Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
         Err(e) => return Err(unwritable(out, e)),
     }
-    let mut f = OpenOptions::new()
-        .read(true)
-        .write(true)
-        .open(path)
-        .map_err(|e| unwritable(path, e))?;
+    // Never waits, never follows: a FIFO put there would hold an open for
+    // ever, a link would lock another file.
+    let mut f = {
+        use std::os::unix::fs::OpenOptionsExt;
+        OpenOptions::new()
+            .read(true)
+            .write(true)
+            .custom_flags(libc::O_NONBLOCK | libc::O_NOFOLLOW)
+            .open(path)
+    }
+    .map_err(|e| match e.raw_os_error() {
+        Some(libc::ELOOP) => Located::file(
+            path,
+            "a link is here, where btx keeps the lock of this output: btx locks no file a link leads to",
+        )
+        .with_help("choose another --out, or remove that link"),
+        _ => unwritable(path, e),
+    })?;
+    if !f.metadata().is_ok_and(|m| m.is_file()) {
+        return Err(Located::file(
+            path,
+            "something that is not a regular file (a FIFO, a device, a directory) is here, where btx keeps the lock of this output",
+        )
+        .with_help("choose another --out, or move it away"));
+    }
     let mut head = [0u8; MAGIC.len()];
     let n = f.read(&mut head).unwrap_or(0);
     // An empty file is a lock whose maker died before it said who it was.

@@ -189,7 +189,7 @@ impl Loader {
             // Said even past the warnings shown: it is what to do about them.
             let f = &self.files[*file];
             self.warnings.push(Warning {
-                location: format!("{}:1:1", f.path.display()),
+                location: format!("{}:1:1", crate::text::path(&f.path)),
                 message: msg,
             });
         }
@@ -223,7 +223,7 @@ impl Loader {
         let f = &self.files[file];
         let (line, col) = crate::source::line_col(&f.text, start);
         self.warnings.push(Warning {
-            location: format!("{}:{line}:{col}", f.path.display()),
+            location: format!("{}:{line}:{col}", crate::text::path(&f.path)),
             message: msg.into(),
         });
     }

@@ -1517,3 +1517,38 @@ fn the_faults_are_listed_newest_first_and_enter_goes_to_one() {
     assert_eq!(app.at().unwrap().moment().to_string(), "10:1");
     assert_eq!(app.selected, 18);
 }
+
+#[test]
+fn a_paste_of_pages_into_the_prompt_is_cut_at_its_bound_and_said() {
+    // 20 KB pasted into the question prompt pinned a core for over a
+    // minute: completion ran at each key over the whole text (#41 item 8).
+    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::{Edit, PROMPT_MAX};
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    press(&mut app, "a");
+    let pasted = "why did look at chuck fail ".repeat(800);
+    btx::tui::handle(
+        &mut app,
+        ratatui::crossterm::event::Event::Paste(pasted),
+        (110, 34),
+    );
+    let Overlay::Words { text, .. } = &app.overlay else {
+        panic!("{:?}", app.overlay)
+    };
+    assert_eq!(text.chars().count(), PROMPT_MAX);
+    assert!(
+        app.message.as_deref().is_some_and(
+            |m| m.contains("at most 1000 characters: the 20600 past them were left out")
+        ),
+        "{:?}",
+        app.message
+    );
+    // Typed on, nothing more is taken, and the screen still draws.
+    app.edit(Edit::Insert("x".into()));
+    let Overlay::Words { text, .. } = &app.overlay else {
+        panic!()
+    };
+    assert_eq!(text.chars().count(), PROMPT_MAX);
+    assert!(screen(&app, 110, 34).contains("why did look at chuck fail"));
+}

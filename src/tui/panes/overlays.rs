@@ -13,6 +13,10 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Clear, Paragraph};
 use ratatui::Frame;
 
+/// The characters a prompt holds: a question is a sentence, and what is
+/// typed is read and completed at each key (each linear in the text).
+pub const PROMPT_MAX: usize = 1000;
+
 /// The ask prompt's row that opens "Can you …?".
 pub const CAN_YOU_ROW: &str = "Can you …? (type any subgoal or step)";
 
@@ -257,6 +261,7 @@ impl App {
     /// path): at the cursor, which `Left`/`Right`/`Home`/`End` move.
     pub fn edit(&mut self, e: Edit) {
         let cursor = self.cursor;
+        let mut cut = None;
         let text = match &mut self.overlay {
             Overlay::Finder { query, .. } => query,
             Overlay::Export { path, .. } => path,
@@ -270,7 +275,13 @@ impl App {
         let byte = |s: &str, i: usize| s.char_indices().nth(i).map_or(s.len(), |(b, _)| b);
         let (changed, to) = match e {
             Edit::Insert(s) => {
-                let s: String = s.chars().filter(|c| !c.is_control()).collect();
+                // A paste of pages is cut at the bound, and said.
+                let room = PROMPT_MAX.saturating_sub(n);
+                let all = s.chars().filter(|c| !c.is_control()).count();
+                let s: String = s.chars().filter(|c| !c.is_control()).take(room).collect();
+                if all > room {
+                    cut = Some(all - room);
+                }
                 text.insert_str(byte(text, at), &s);
                 (true, at + s.chars().count())
             }
@@ -322,6 +333,11 @@ impl App {
             }
         }
         self.cursor = (to < end).then_some(to);
+        if let Some(n) = cut {
+            self.message = Some(format!(
+                "a question or a search is at most {PROMPT_MAX} characters: the {n} past them were left out"
+            ));
+        }
     }
 
     /// The text of the prompt being typed, if one is.

@@ -383,3 +383,71 @@ fn a_long_session_spans_row_groups_and_comes_back_whole() {
     assert_eq!(a.index.transitions, b.index.transitions);
     assert_eq!(b.index.ticks(), 330 * ticks);
 }
+
+/// `sql` run by DuckDB (the PyPI package) with `$S` as the session's
+/// path and `$KV` as its btx.session metadata value.
+fn duckdb(session: &Path, sql: &str) {
+    let script = format!(
+        "import duckdb, sys\ns = sys.argv[1]\nkv = duckdb.sql(f\"select value from parquet_kv_metadata('{{s}}') where key='btx.session'\").fetchall()[0][0].decode()\nduckdb.execute({sql:?}.replace('$S', s).replace('$KV', kv))\n"
+    );
+    let o = std::process::Command::new(common::oracle_python())
+        .arg("-c")
+        .arg(script)
+        .arg(session)
+        .current_dir(session.parent().unwrap())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+#[test]
+fn a_session_written_again_by_duckdb_in_any_codec_reads_the_same() {
+    // Only Snappy was read (#41 item 5): DuckDB, Spark and Polars write
+    // zstd, gzip or LZ4 when asked; Brotli is refused with what to do.
+    let dir = tempfile::tempdir().unwrap();
+    let s = dir.path().join("s.parquet");
+    let (ok, err) = run_kitting(&[], &s);
+    assert!(ok, "{err}");
+    let (ok, want, err) = btx(&["log", s.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    for codec in ["zstd", "gzip", "lz4_raw", "brotli"] {
+        let to = dir.path().join(format!("{codec}.parquet"));
+        duckdb(
+            &s,
+            &format!("COPY (SELECT * FROM read_parquet('$S')) TO '{}' (FORMAT parquet, COMPRESSION {codec}, KV_METADATA {{'btx.session': '$KV'}})", to.display()),
+        );
+        let (ok, got, err) = btx(&["log", to.to_str().unwrap()]);
+        if codec == "brotli" {
+            assert!(!ok);
+            assert!(
+                err.split_whitespace().collect::<Vec<_>>().join(" ").contains("compressed with brotli, which btx does not read (it reads Snappy, zstd, gzip and LZ4)"),
+                "{err}"
+            );
+        } else {
+            assert!(ok, "{codec}: {err}");
+            assert_eq!(got, want, "{codec}");
+        }
+    }
+}
+
+#[test]
+fn a_value_past_the_record_bound_is_refused_with_its_row() {
+    // The 8 MiB bound of a JSON line was not applied to Parquet: a 1 GiB
+    // decision aborted btx at 3.2 GB (#41 item 5).
+    let dir = tempfile::tempdir().unwrap();
+    let s = dir.path().join("s.parquet");
+    let (ok, err) = run_kitting(&[], &s);
+    assert!(ok, "{err}");
+    let big = dir.path().join("big.parquet");
+    duckdb(
+        &s,
+        &format!("COPY (SELECT * REPLACE (CASE WHEN row_number() OVER () = 5 THEN repeat('x', 9 * 1024 * 1024) ELSE decision END AS decision) FROM read_parquet('$S')) TO '{}' (FORMAT parquet, KV_METADATA {{'btx.session': '$KV'}})", big.display()),
+    );
+    let (ok, _, err) = btx(&["log", big.to_str().unwrap()]);
+    assert!(!ok);
+    let err = err.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(
+        err.contains("row 5: its decision is 9437184 bytes, more than a record may be (8 MiB)"),
+        "{err}"
+    );
+}

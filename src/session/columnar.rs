@@ -231,11 +231,28 @@ impl Sink for Writing {
 
 /// Reads a Parquet session into `sink`, row by row: the header, then the
 /// records. An error names the row (the header is row 1).
-pub fn read(path: &Path, bytes: Vec<u8>, sink: &mut dyn Sink) -> Result<(), Located> {
+/// A row group's text columns (`decision`, `record`) decompress to at most
+/// this: a row group is read whole, and what btx holds is bounded by it,
+/// not by the file (a row group of btx's holds 65,536 rows).
+pub const ROW_GROUP_TEXT_MAX: i64 = 256 << 20;
+
+/// A Parquet session, from a file (read a row group at a time) or bytes.
+pub fn read<R: parquet::file::reader::ChunkReader + 'static>(
+    path: &Path,
+    source: R,
+    sink: &mut dyn Sink,
+) -> Result<(), Located> {
     let bad = |e: parquet::errors::ParquetError| {
-        Located::file(path, format!("not a readable Parquet session: {e}"))
+        let e = e.to_string();
+        match e.split_once("Disabled feature at compile time: ") {
+            Some((_, codec)) => Located::file(
+                path,
+                format!("a Parquet session compressed with {codec}, which btx does not read (it reads Snappy, zstd, gzip and LZ4): write it again with one of them, e.g. DuckDB's COPY … (FORMAT parquet, COMPRESSION zstd)"),
+            ),
+            None => Located::file(path, format!("not a readable Parquet session: {e}")),
+        }
     };
-    let r = SerializedFileReader::new(bytes::Bytes::from(bytes)).map_err(bad)?;
+    let r = SerializedFileReader::new(source).map_err(bad)?;
     let meta = r.metadata();
     let ours = meta
         .file_metadata()
@@ -272,6 +289,21 @@ pub fn read(path: &Path, bytes: Vec<u8>, sink: &mut dyn Sink) -> Result<(), Loca
     for g in 0..r.num_row_groups() {
         let rg = r.get_row_group(g).map_err(bad)?;
         let rows = rg.metadata().num_rows() as usize;
+        for (i, name) in [(5, "decision"), (6, "record")] {
+            let size = rg.metadata().column(i).uncompressed_size();
+            if size > ROW_GROUP_TEXT_MAX {
+                return Err(Located::file(
+                    path,
+                    format!(
+                        "row group {} (from row {}): its {name} column is {} MiB decompressed, more than the {} MiB btx reads of a row group",
+                        g + 1,
+                        nth + 1,
+                        size >> 20,
+                        ROW_GROUP_TEXT_MAX >> 20
+                    ),
+                ));
+            }
+        }
         let rg = &*rg;
         let tick = crate::table::column::<Int64Type>(rg, 0, rows).map_err(bad)?;
         let step = crate::table::column::<Int64Type>(rg, 1, rows).map_err(bad)?;
@@ -288,6 +320,16 @@ pub fn read(path: &Path, bytes: Vec<u8>, sink: &mut dyn Sink) -> Result<(), Loca
         for i in 0..rows {
             nth += 1;
             let err = |m: String| Located::file(path, format!("row {nth}: {m}"));
+            // Bounded as a line of JSON lines is.
+            for (v, name) in [(&decision[i], "decision"), (&record[i], "record")] {
+                let len = v.as_ref().map_or(0, |b| b.len());
+                if len > super::format::RECORD_MAX {
+                    return Err(err(format!(
+                        "its {name} is {len} bytes, more than a record may be ({} MiB)",
+                        super::format::RECORD_MAX >> 20
+                    )));
+                }
+            }
             let row = Row {
                 tick: tick[i],
                 step: step[i],

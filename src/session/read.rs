@@ -54,8 +54,15 @@ pub fn format_of(path: &Path) -> Option<Format> {
 /// The session file at `path`: JSON lines a line at a time, or Parquet.
 pub fn file(path: &Path, sink: &mut dyn Sink) -> Result<(), Located> {
     crate::source::check_input(path, crate::source::INPUT_SIZE_MAX, "the session")?;
-    if format_of(path) == Some(Format::JsonLines) {
-        return jsonl_file(path, sink);
+    match format_of(path) {
+        Some(Format::JsonLines) => return jsonl_file(path, sink),
+        // Read a row group at a time from the file, never whole.
+        Some(Format::Parquet) => {
+            let f = std::fs::File::open(path)
+                .map_err(|e| Located::file(path, format!("cannot read the file: {e}")))?;
+            return super::columnar::read(path, f, sink);
+        }
+        None => {}
     }
     let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the session")?;
     any(path, bytes, sink)
@@ -64,7 +71,7 @@ pub fn file(path: &Path, sink: &mut dyn Sink) -> Result<(), Located> {
 /// A session's bytes, by their format.
 pub fn any(path: &Path, bytes: Vec<u8>, sink: &mut dyn Sink) -> Result<(), Located> {
     if super::columnar::is_parquet(&bytes) {
-        return super::columnar::read(path, bytes, sink);
+        return super::columnar::read(path, bytes::Bytes::from(bytes), sink);
     }
     let text = String::from_utf8(bytes).map_err(|e| {
         Located::file(

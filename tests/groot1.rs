@@ -408,6 +408,11 @@ fn a_flooding_publisher_is_watched_in_bounded_memory() {
     assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
     std::mem::forget(w);
     let sent = robot.done();
+    // The recorded run's timestamps are days old: no latency is said.
+    assert!(
+        rest.contains("from the robot to here: unknown (the robot's timestamps are"),
+        "{rest}"
+    );
     assert!(
         libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
         "{rest}"
@@ -417,7 +422,7 @@ fn a_flooding_publisher_is_watched_in_bounded_memory() {
         "{rest}"
     );
     assert!(
-        usage.ru_maxrss < 300 << 10,
+        usage.ru_maxrss < 200 << 10,
         "peak {} MiB",
         usage.ru_maxrss >> 10
     );

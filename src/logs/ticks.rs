@@ -233,11 +233,12 @@ pub struct Stream<'t> {
     pub overlong: Option<usize>,
 }
 
-/// The records one tick holds at most while it waits for its end: a tree
-/// of 250,000 nodes makes about 500,000 transitions a tick; a robot that
-/// sends more without a tick's end is closed there (said by the caller),
-/// so that what waits is bounded.
-pub const TICK_RECORDS_MAX: usize = 1 << 20;
+/// The records one tick holds at most while it waits for its end (a tick
+/// of a 100,000-node tree in which every node runs makes 200,000): a robot
+/// that sends more without a tick's end has that tick closed there (said
+/// by the caller), so that what waits is bounded: about 100 MB at most
+/// with the copies numbering makes, measured on a flooding publisher.
+pub const TICK_RECORDS_MAX: usize = 1 << 18;
 
 /// Ticks numbered only once the period is measured over this many.
 const SETTLE: usize = 8;

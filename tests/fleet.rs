@@ -391,3 +391,44 @@ fn robots_whose_names_differ_by_what_a_path_cannot_hold_stay_apart() {
         serde_json::json!([["r\nforged", 209], ["r:1", 209], ["r?1", 248]])
     );
 }
+
+/// `btx fleet DIR`'s peak memory (KiB), from its own rusage.
+fn fleet_peak_kib(dir: &Path) -> i64 {
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_btx"))
+        .arg("fleet")
+        .arg(dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let pid = child.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
+    std::mem::forget(child);
+    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0);
+    usage.ru_maxrss
+}
+
+#[test]
+fn a_fleet_keeps_its_runs_summaries_not_their_nodes() {
+    // `btx fleet` kept about 31 KB a run, every node's every spell (50,000
+    // runs: 1.55 GB) (#41 item 6): each run's nodes are counted into the
+    // fleet's as they are read. Measured as the growth from 1,000 to 5,000
+    // runs (links to one failing run), in one test.
+    let dir = tempfile::tempdir().unwrap();
+    let run =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("sessions/kitting-lookat-fails-once.jsonl");
+    let mut peaks = Vec::new();
+    for n in [1000, 5000] {
+        let d = dir.path().join(n.to_string());
+        std::fs::create_dir_all(&d).unwrap();
+        for i in 0..n {
+            std::fs::hard_link(&run, d.join(format!("r{i:05}.jsonl"))).unwrap();
+        }
+        peaks.push(fleet_peak_kib(&d));
+    }
+    let per_run = (peaks[1] - peaks[0]) as f64 * 1024.0 / 4000.0;
+    assert!(per_run < 2048.0, "{per_run:.0} bytes a run ({peaks:?} KiB)");
+}

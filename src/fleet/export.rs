@@ -221,7 +221,8 @@ pub fn transitions(
     })
 }
 
-/// Writes the runs and nodes tables, one file a partition.
+/// Writes the runs table, one file a partition (the nodes table is
+/// written a run at a time, `nodes`).
 pub fn tables(root: &Path, fleet: &Fleet) -> Result<(), Located> {
     let mut parts: std::collections::BTreeMap<&Partition, Vec<&RunSummary>> = Default::default();
     for r in &fleet.runs {
@@ -243,35 +244,37 @@ pub fn tables(root: &Path, fleet: &Fleet) -> Result<(), Located> {
             c.longs(runs.iter().map(|r| r.span_us.map(|s| s.0)))?;
             c.longs(runs.iter().map(|r| r.span_us.map(|s| s.1)))
         })?;
-        let rows: Vec<(&RunSummary, &super::summary::NodeRun)> = runs
-            .iter()
-            .flat_map(|r| r.nodes.iter().map(move |n| (*r, n)))
-            .collect();
-        let path = p.dir(root, "nodes").join("nodes.parquet");
-        write(&path, NODES, |c| {
-            c.strings(rows.iter().map(|(r, _)| Some(r.name.as_str())))?;
-            c.strings(rows.iter().map(|(r, _)| Some(r.tree.as_str())))?;
-            c.ints(rows.iter().map(|(_, n)| Some(n.uid as i32)))?;
-            c.strings(rows.iter().map(|(_, n)| Some(n.spoken.as_str())))?;
-            c.strings(rows.iter().map(|(_, n)| Some(n.path.as_str())))?;
-            c.bools(rows.iter().map(|(_, n)| n.leaf))?;
-            c.ints(rows.iter().map(|(_, n)| Some(n.failures as i32)))?;
-            c.ints(
-                rows.iter()
-                    .map(|(_, n)| Some(n.recoveries.iter().filter(|r| r.is_some()).count() as i32)),
-            )?;
-            c.ints(
-                rows.iter()
-                    .map(|(_, n)| Some(n.recoveries.iter().filter(|r| r.is_none()).count() as i32)),
-            )?;
-            c.ints(rows.iter().map(|(_, n)| Some(n.running.len() as i32)))?;
-            c.longs(
-                rows.iter()
-                    .map(|(_, n)| Some(n.running.iter().map(|&d| i64::from(d)).sum())),
-            )
-        })?;
     }
     Ok(())
+}
+
+/// Writes a run's rows of the nodes table (one row a node that ran), in
+/// its partition, as the run is read: a fleet keeps no run's nodes.
+pub fn nodes(root: &Path, at: &Partition, id: &str, r: &RunSummary) -> Result<(), Located> {
+    let path = at.dir(root, "nodes").join(format!("{id}.parquet"));
+    let rows = &r.nodes;
+    write(&path, NODES, |c| {
+        c.strings(rows.iter().map(|_| Some(r.name.as_str())))?;
+        c.strings(rows.iter().map(|_| Some(r.tree.as_str())))?;
+        c.ints(rows.iter().map(|n| Some(n.uid as i32)))?;
+        c.strings(rows.iter().map(|n| Some(n.spoken.as_str())))?;
+        c.strings(rows.iter().map(|n| Some(n.path.as_str())))?;
+        c.bools(rows.iter().map(|n| n.leaf))?;
+        c.ints(rows.iter().map(|n| Some(n.failures as i32)))?;
+        c.ints(
+            rows.iter()
+                .map(|n| Some(n.recoveries.iter().filter(|r| r.is_some()).count() as i32)),
+        )?;
+        c.ints(
+            rows.iter()
+                .map(|n| Some(n.recoveries.iter().filter(|r| r.is_none()).count() as i32)),
+        )?;
+        c.ints(rows.iter().map(|n| Some(n.running.len() as i32)))?;
+        c.longs(
+            rows.iter()
+                .map(|n| Some(n.running.iter().map(|&d| i64::from(d)).sum())),
+        )
+    })
 }
 
 #[cfg(test)]

@@ -85,7 +85,11 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) -> Result<(), crate::Located> {
 
 /// The runs of many files, summarised.
 pub struct Fleet {
+    /// Each run's summary, without its nodes: they are counted into
+    /// `stats` as the run is read, so that a run costs its summary only.
     pub runs: Vec<RunSummary>,
+    /// Each node of each tree, across the runs.
+    stats: BTreeMap<(String, Uid), NodeStats>,
     /// Files that could not be read, with why.
     pub errors: Vec<(String, String)>,
     /// Tables that could not be written (`--export`), with why.
@@ -98,6 +102,9 @@ pub struct Fleet {
 #[derive(Debug, Clone, Default)]
 pub struct NodeStats {
     pub uid: Uid,
+    /// Its tree (`RunSummary::tree_key`), and the tree's name.
+    pub tree_key: String,
+    pub tree: String,
     pub path: String,
     pub name: String,
     pub leaf: bool,
@@ -109,8 +116,8 @@ pub struct NodeStats {
     /// failures are branches taken.
     pub faulted_in: usize,
     pub faults: u64,
-    /// Every RUNNING spell's length in ticks, sorted.
-    pub running: Vec<u32>,
+    /// Its RUNNING spells' lengths in ticks, counted by length.
+    pub running: Spells,
     /// Failures recovered, by the handler that recovered them.
     pub recovered: BTreeMap<String, u64>,
     /// Failures no handler recovered by the run's end.
@@ -120,8 +127,60 @@ pub struct NodeStats {
 impl NodeStats {
     /// The spell length below which `q` of them are (nearest rank).
     pub fn running_quantile(&self, q: f64) -> Option<u32> {
-        let n = self.running.len();
-        (n > 0).then(|| self.running[((q * n as f64).ceil() as usize).clamp(1, n) - 1])
+        self.running.quantile(q)
+    }
+}
+
+/// RUNNING spells counted by their length in ticks: a fleet keeps a count
+/// a length, not every spell (bounded by the lengths that occurred).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Spells {
+    by_length: BTreeMap<u32, u64>,
+    count: u64,
+}
+
+impl Spells {
+    pub fn add(&mut self, length: u32) {
+        *self.by_length.entry(length).or_default() += 1;
+        self.count += 1;
+    }
+
+    pub fn len(&self) -> u64 {
+        self.count
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    pub fn max(&self) -> Option<u32> {
+        self.by_length.keys().next_back().copied()
+    }
+
+    /// The length below which `q` of the spells are (nearest rank).
+    pub fn quantile(&self, q: f64) -> Option<u32> {
+        if self.count == 0 {
+            return None;
+        }
+        let rank = ((q * self.count as f64).ceil() as u64).clamp(1, self.count);
+        let mut seen = 0;
+        for (&length, &k) in &self.by_length {
+            seen += k;
+            if seen >= rank {
+                return Some(length);
+            }
+        }
+        self.max()
+    }
+}
+
+impl FromIterator<u32> for Spells {
+    fn from_iter<I: IntoIterator<Item = u32>>(lengths: I) -> Spells {
+        let mut s = Spells::default();
+        for l in lengths {
+            s.add(l);
+        }
+        s
     }
 }
 
@@ -137,60 +196,75 @@ impl Fleet {
         done: &(dyn Fn() + Sync),
     ) -> Fleet {
         type Read = (Result<Vec<RunSummary>, (String, String)>, Vec<String>);
-        let read: Vec<Read> = files
-            .par_iter()
-            .enumerate()
-            .map(|(i, src)| {
-                let f = &src.file;
-                let mut runs = Vec::new();
-                let mut unwritten = Vec::new();
-                let r = crate::input::each_run(f, opts, |k, n, s: Session| {
-                    let (name, id) = if n > 1 {
-                        (
-                            format!("{}#{k}", crate::text::path(f)),
-                            format!("f{i:06}-{k}"),
-                        )
-                    } else {
-                        (crate::text::path(f), format!("f{i:06}"))
-                    };
-                    let mut run = summarise(name, &s, reference);
-                    run.file = f.clone();
-                    run.run = (n > 1).then_some(k);
-                    if let Some(root) = export {
-                        let at = export::Partition::of(f, &src.given, &s);
-                        if let Err(e) = export::transitions(root, &at, &id, &run.name, &s) {
-                            unwritten.push(e.to_string());
-                        }
-                        run.partition = Some(at);
-                    }
-                    runs.push(run);
-                    Ok(())
-                });
-                done();
-                let r = r.map(|()| runs).map_err(|e| {
-                    // The file's name is said once, before its error.
-                    let (name, e) = (crate::text::path(f), e.to_string());
-                    let e = e
-                        .strip_prefix(&format!("{name}: "))
-                        .unwrap_or(&e)
-                        .to_string();
-                    (name, e)
-                });
-                (r, unwritten)
-            })
-            .collect();
         let mut fleet = Fleet {
             runs: Vec::new(),
+            stats: BTreeMap::new(),
             errors: Vec::new(),
             unwritten: Vec::new(),
             reference: None,
         };
-        for (r, unwritten) in read {
-            match r {
-                Ok(runs) => fleet.runs.extend(runs),
-                Err(e) => fleet.errors.push(e),
+        // A few files a core at a time, each run's nodes counted into the
+        // fleet's as its chunk ends: what a fleet holds is its runs'
+        // summaries, whatever the number of files.
+        let chunk = rayon::current_num_threads().max(1) * 8;
+        for (c, part) in files.chunks(chunk).enumerate() {
+            let read: Vec<Read> = part
+                .par_iter()
+                .enumerate()
+                .map(|(j, src)| {
+                    let i = c * chunk + j;
+                    let f = &src.file;
+                    let mut runs = Vec::new();
+                    let mut unwritten = Vec::new();
+                    let r = crate::input::each_run(f, opts, |k, n, s: Session| {
+                        let (name, id) = if n > 1 {
+                            (
+                                format!("{}#{k}", crate::text::path(f)),
+                                format!("f{i:06}-{k}"),
+                            )
+                        } else {
+                            (crate::text::path(f), format!("f{i:06}"))
+                        };
+                        let mut run = summarise(name, &s, reference);
+                        run.file = f.clone();
+                        run.run = (n > 1).then_some(k);
+                        if let Some(root) = export {
+                            let at = export::Partition::of(f, &src.given, &s);
+                            if let Err(e) = export::transitions(root, &at, &id, &run.name, &s) {
+                                unwritten.push(e.to_string());
+                            }
+                            if let Err(e) = export::nodes(root, &at, &id, &run) {
+                                unwritten.push(e.to_string());
+                            }
+                            run.partition = Some(at);
+                        }
+                        runs.push(run);
+                        Ok(())
+                    });
+                    done();
+                    let r = r.map(|()| runs).map_err(|e| {
+                        // The file's name is said once, before its error.
+                        let (name, e) = (crate::text::path(f), e.to_string());
+                        let e = e
+                            .strip_prefix(&format!("{name}: "))
+                            .unwrap_or(&e)
+                            .to_string();
+                        (name, e)
+                    });
+                    (r, unwritten)
+                })
+                .collect();
+            for (r, unwritten) in read {
+                match r {
+                    Ok(runs) => {
+                        for run in runs {
+                            fleet.add(run);
+                        }
+                    }
+                    Err(e) => fleet.errors.push(e),
+                }
+                fleet.unwritten.extend(unwritten);
             }
-            fleet.unwritten.extend(unwritten);
         }
         if let Some(root) = export {
             if let Err(e) = export::tables(root, &fleet) {
@@ -209,43 +283,55 @@ impl Fleet {
         fleet
     }
 
+    /// Counts a run's nodes into the fleet's, and keeps its summary
+    /// without them (the nodes it faulted in, by uid, stay).
+    fn add(&mut self, mut r: RunSummary) {
+        for n in std::mem::take(&mut r.nodes) {
+            let s = self
+                .stats
+                .entry((r.tree_key.clone(), n.uid))
+                .or_insert_with(|| NodeStats {
+                    uid: n.uid,
+                    tree_key: r.tree_key.clone(),
+                    tree: r.tree.clone(),
+                    path: n.path.clone(),
+                    name: n.name.clone(),
+                    leaf: n.leaf,
+                    ..Default::default()
+                });
+            s.ran_in += 1;
+            s.failed_in += usize::from(n.failures > 0);
+            s.failures += u64::from(n.failures);
+            s.faulted_in += usize::from(n.faults > 0);
+            s.faults += u64::from(n.faults);
+            for &d in &n.running {
+                s.running.add(d);
+            }
+            for rec in n.recoveries {
+                match rec {
+                    Some(h) => *s.recovered.entry(h).or_default() += 1,
+                    None => s.unrecovered += 1,
+                }
+            }
+            if n.faults > 0 {
+                r.faulted.push(n.uid);
+            }
+        }
+        r.nodes = Vec::new();
+        self.runs.push(r);
+    }
+
     /// Every node that ran in some run, most at fault first (by the runs
     /// its failure was a fault in, then its faults, then its failures),
     /// then by path.
     pub fn nodes(&self) -> Vec<NodeStats> {
         let trees = self.trees().len();
-        let mut by: BTreeMap<(&str, Uid), NodeStats> = BTreeMap::new();
-        for r in &self.runs {
-            for n in &r.nodes {
-                let s = by.entry((&r.tree_key, n.uid)).or_insert_with(|| NodeStats {
-                    uid: n.uid,
-                    path: n.path.clone(),
-                    // Nodes of several trees say whose they are.
-                    name: if trees > 1 {
-                        format!("{} (in {})", n.name, r.tree)
-                    } else {
-                        n.name.clone()
-                    },
-                    leaf: n.leaf,
-                    ..Default::default()
-                });
-                s.ran_in += 1;
-                s.failed_in += usize::from(n.failures > 0);
-                s.failures += u64::from(n.failures);
-                s.faulted_in += usize::from(n.faults > 0);
-                s.faults += u64::from(n.faults);
-                s.running.extend(&n.running);
-                for rec in &n.recoveries {
-                    match rec {
-                        Some(h) => *s.recovered.entry(h.clone()).or_default() += 1,
-                        None => s.unrecovered += 1,
-                    }
-                }
+        let mut out: Vec<NodeStats> = self.stats.values().cloned().collect();
+        // Nodes of several trees say whose they are.
+        if trees > 1 {
+            for s in &mut out {
+                s.name = format!("{} (in {})", s.name, s.tree);
             }
-        }
-        let mut out: Vec<NodeStats> = by.into_values().collect();
-        for s in &mut out {
-            s.running.sort_unstable();
         }
         out.sort_by(|a, b| {
             (b.faulted_in, b.faults, b.failed_in, b.failures)
@@ -369,7 +455,7 @@ impl Fleet {
         // The actions' times: a control node RUNNING is its children's.
         let mut slow: Vec<&NodeStats> = nodes
             .iter()
-            .filter(|n| n.leaf && n.running.last().is_some_and(|&m| m > 0))
+            .filter(|n| n.leaf && n.running.max().is_some_and(|m| m > 0))
             .collect();
         slow.sort_by(|a, b| {
             (b.running_quantile(0.95), b.running_quantile(0.5))
@@ -397,7 +483,7 @@ impl Fleet {
                     n.name,
                     n.running_quantile(0.5).unwrap_or(0),
                     n.running_quantile(0.95).unwrap_or(0),
-                    n.running.last().copied().unwrap_or(0),
+                    n.running.max().unwrap_or(0),
                     sparkline(&n.running),
                 ));
             }
@@ -442,7 +528,7 @@ impl Fleet {
                     "spells": n.running.len(),
                     "median": n.running_quantile(0.5),
                     "p95": n.running_quantile(0.95),
-                    "max": n.running.last(),
+                    "max": n.running.max(),
                 },
                 "recovered": n.recovered.iter().map(|(by, k)| json!({"by": by, "failures": k})).collect::<Vec<_>>(),
                 "unrecovered": n.unrecovered,
@@ -495,20 +581,20 @@ fn names(runs: &[&str]) -> String {
 }
 
 /// How many spells lasted how long, as eight bars from none to longest.
-pub fn sparkline(sorted: &[u32]) -> String {
+pub fn sparkline(spells: &Spells) -> String {
     const BARS: [char; 8] = ['▁', '▂', '▃', '▄', '▅', '▆', '▇', '█'];
-    let Some(&max) = sorted.last() else {
+    let Some(max) = spells.max() else {
         return String::new();
     };
     let buckets = 8usize;
-    let mut counts = vec![0usize; buckets];
-    for &d in sorted {
+    let mut counts = vec![0u64; buckets];
+    for (&d, &k) in &spells.by_length {
         let b = if max == 0 {
             0
         } else {
             (d as usize * (buckets - 1)) / max as usize
         };
-        counts[b] += 1;
+        counts[b] += k;
     }
     let top = counts.iter().copied().max().unwrap_or(1).max(1);
     counts
@@ -517,7 +603,7 @@ pub fn sparkline(sorted: &[u32]) -> String {
             if c == 0 {
                 ' '
             } else {
-                BARS[(c * (BARS.len() - 1)).div_ceil(top)]
+                BARS[(c * (BARS.len() as u64 - 1)).div_ceil(top) as usize]
             }
         })
         .collect()
@@ -541,12 +627,12 @@ mod tests {
 
     #[test]
     fn a_sparkline_has_a_bar_for_each_length_that_occurred() {
-        assert_eq!(sparkline(&[]), "");
-        assert_eq!(sparkline(&[0, 0]), "█       ");
+        assert_eq!(sparkline(&Spells::default()), "");
+        assert_eq!(sparkline(&[0, 0].into_iter().collect()), "█       ");
         // Lengths 0..=7, one each, then seven more of the longest.
         let mut s: Vec<u32> = (0..=7).collect();
         s.extend([7; 7]);
-        let line: Vec<char> = sparkline(&s).chars().collect();
+        let line: Vec<char> = sparkline(&s.into_iter().collect()).chars().collect();
         assert_eq!(line.len(), 8);
         assert_eq!(line[7], '█');
         assert!(line[..7].iter().all(|&c| c == '▂'), "{line:?}");

@@ -34,7 +34,11 @@ pub struct RunSummary {
     pub wrong: Option<String>,
     /// Places where the log says transitions may be missing.
     pub gaps: usize,
+    /// Each node that ran, as read; a fleet counts them into its own and
+    /// keeps `faulted` (`Fleet::add`).
     pub nodes: Vec<NodeRun>,
+    /// The nodes whose failure was a fault in this run.
+    pub faulted: Vec<Uid>,
     /// Compared with the reference run, subgoal by subgoal (`--reference`).
     pub diff: Option<crate::diff::Diff>,
     /// When the first and the last transition happened, as a log says.
@@ -139,6 +143,7 @@ pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunS
         file: s.path.clone(),
         run: None,
         nodes: nodes.into_iter().flatten().collect(),
+        faulted: Vec::new(),
         diff: reference.map(|r| {
             use crate::diff::{Diff, Side};
             Diff::new(

@@ -147,11 +147,7 @@ impl FleetApp {
             .runs
             .iter()
             .enumerate()
-            .filter(|(_, r)| {
-                r.nodes
-                    .iter()
-                    .any(|m| m.path == n.path && m.uid == n.uid && m.faults > 0)
-            })
+            .filter(|(_, r)| r.tree_key == n.tree_key && r.faulted.contains(&n.uid))
             .map(|(i, _)| i)
             .collect();
         self.only = Some(self.node);

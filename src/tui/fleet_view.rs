@@ -141,7 +141,7 @@ fn spells(app: &FleetApp, f: &mut Frame, area: Rect) {
         "ticks RUNNING: median {}, 95th percentile {}, longest {}",
         q(0.5),
         q(0.95),
-        n.running.last().copied().unwrap_or(0)
+        n.running.max().unwrap_or(0)
     )));
     lines.push(Line::from(vec![
         Span::raw("spells by length "),

@@ -260,15 +260,29 @@ impl Grown {
         format: Format,
         settle: bool,
     ) {
-        let rows = btx::export::log_rows(s, only, no_idle);
-        let changed = if self
-            .rows
-            .iter()
-            .zip(&rows)
-            .any(|(p, r)| *p != (r.uid, r.status))
-        {
+        // One pass over the rows, holding none of them: the rows printed
+        // are compared by node, status and tick, and the new ones printed
+        // a few thousand at a time, so that following a run holds what
+        // `btx log` holds (its index), not a row per transition.
+        let (mut seen, mut replaced, mut renumbered) = (0usize, false, None);
+        let mut ticks_seen = 0usize;
+        let mut last_tick = None;
+        btx::export::each_log_row(s, only, no_idle, |r| {
+            if seen < self.rows.len() {
+                replaced |= self.rows[seen] != (r.uid, r.status);
+                if renumbered.is_none() && self.ticks[seen] != r.tick {
+                    renumbered = Some((seen, r.tick));
+                }
+            }
+            if last_tick != Some(r.tick) {
+                ticks_seen += 1;
+                last_tick = Some(r.tick);
+            }
+            seen += 1;
+        });
+        let changed = if replaced {
             Some("replaced by another run")
-        } else if rows.len() < self.rows.len() {
+        } else if seen < self.rows.len() {
             Some("truncated or shrunk")
         } else {
             None
@@ -280,26 +294,55 @@ impl Grown {
                 self.rows.len()
             );
             *self = Grown::default();
+            renumbered = None;
         }
         if self.ticks.is_empty() && !self.header {
-            let ticks = 1 + rows.windows(2).filter(|w| w[0].tick != w[1].tick).count();
-            self.held = settle && ticks < SETTLE_TICKS;
+            self.held = settle && ticks_seen < SETTLE_TICKS;
             if self.held {
                 return;
             }
         }
-        if let Some(i) = self.ticks.iter().zip(&rows).position(|(t, r)| *t != r.tick) {
+        if let Some((i, now)) = renumbered {
             eprintln!(
-                "note: tick {} of the rows printed (from row {}) is tick {} now, and so are those after it: ticks in which nothing changed are counted from the time between ticks, measured over more of the run; the session holds the new numbers",
+                "note: tick {} of the rows printed (from row {}) is tick {now} now, and so are those after it: ticks in which nothing changed are counted from the time between ticks, measured over more of the run; the session holds the new numbers",
                 self.ticks[i],
                 i + 1,
-                rows[i].tick
             );
-            for (t, r) in self.ticks.iter_mut().zip(&rows) {
-                *t = r.tick;
-            }
+            let mut k = 0;
+            let ticks = &mut self.ticks;
+            btx::export::each_log_row(s, only, no_idle, |r| {
+                if let Some(t) = ticks.get_mut(k) {
+                    *t = r.tick;
+                }
+                k += 1;
+            });
         }
-        let new = rows.get(self.ticks.len()..).unwrap_or(&[]);
+        let printed = self.ticks.len();
+        let mut chunk: Vec<btx::export::LogRow> = Vec::new();
+        let mut k = 0;
+        btx::export::each_log_row(s, only, no_idle, |r| {
+            k += 1;
+            if k <= printed {
+                return;
+            }
+            chunk.push(r);
+            if chunk.len() >= PRINT_CHUNK {
+                self.print_rows(s, &std::mem::take(&mut chunk), format);
+            }
+        });
+        self.print_rows(s, &chunk, format);
+    }
+
+    /// Prints rows after those printed, and keeps what is compared later.
+    fn print_rows(
+        &mut self,
+        s: &btx::session::Session,
+        new: &[btx::export::LogRow],
+        format: Format,
+    ) {
+        if new.is_empty() {
+            return;
+        }
         let out = match format {
             Format::Json => btx::export::log_json_lines(s, new),
             Format::Text => {
@@ -318,6 +361,9 @@ impl Grown {
         self.rows.extend(new.iter().map(|r| (r.uid, r.status)));
     }
 }
+
+/// Rows a growing table prints at once.
+const PRINT_CHUNK: usize = 4096;
 
 /// `--runs`: one line (or JSON object) a run: its number, first and last
 /// transition (UTC), ticks, transitions and how it ended.

@@ -478,3 +478,72 @@ fn a_full_disk_is_refused_at_once_and_a_disk_that_fills_is_said() {
         "{err}"
     );
 }
+
+/// `btx log [--follow] FILE`'s peak memory (KiB), once its table is
+/// whole (`--follow`: then stopped with SIGINT).
+fn log_peak_kib(file: &Path, follow: bool, rows: usize) -> i64 {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut c = Command::new(env!("CARGO_BIN_EXE_btx"));
+    c.arg("log");
+    if follow {
+        c.arg("--follow");
+    }
+    let child = c
+        .arg(file)
+        .stdout(std::fs::File::create(&out).unwrap())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let pid = child.id() as libc::pid_t;
+    if follow {
+        let started = Instant::now();
+        while std::fs::read(&out)
+            .unwrap()
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            < rows
+        {
+            assert!(started.elapsed() < Duration::from_secs(60));
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        // SAFETY: signals our own child.
+        unsafe { libc::kill(pid, libc::SIGINT) };
+    }
+    let mut status = 0;
+    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
+    std::mem::forget(child);
+    usage.ru_maxrss
+}
+
+#[test]
+fn following_a_run_holds_what_logging_it_holds() {
+    // `btx log --follow` held about 280 B a transition, 5 times `btx log`
+    // (#41 item 6): it built every row, and the whole table as one text.
+    let dir = tempfile::tempdir().unwrap();
+    let leaves: String = (0..150).map(|_| "<AlwaysSuccess/>").collect();
+    let tree = dir.path().join("busy.xml");
+    std::fs::write(&tree, format!("<root BTCPP_format=\"4\"><BehaviorTree ID=\"Main\"><ReactiveSequence>{leaves}<Act name=\"wait\"/></ReactiveSequence></BehaviorTree><TreeNodesModel><Action ID=\"Act\"/></TreeNodesModel></root>")).unwrap();
+    let plan = dir.path().join("busy.plan");
+    std::fs::write(&plan, "wait = 1000RS\n").unwrap();
+    let run = dir.path().join("busy.jsonl");
+    let (ok, _, err) = btx(&[
+        "run",
+        tree.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        run.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let rows = 1 + Session::load(&run).unwrap().index.transitions.len();
+    let log = log_peak_kib(&run, false, rows);
+    let follow = log_peak_kib(&run, true, rows);
+    assert!(
+        follow < log * 3 / 2 + 8 * 1024,
+        "follow {follow} KiB, log {log} KiB, {rows} rows"
+    );
+}

@@ -678,6 +678,8 @@ pub const IN_FLIGHT_MAX: usize = 1 << 18;
 /// The time one `Feed::poll` takes at most: with several robots, one that
 /// floods cannot keep the caller from the others (the rest wait).
 const POLL_TIME_MAX: Duration = Duration::from_millis(10);
+/// The time `Feed::news` takes at most (the explorer's robot shown).
+const NEWS_TIME_MAX: Duration = Duration::from_millis(60);
 
 impl Feed {
     /// Connects (an error is returned at once), then watches from a thread;
@@ -872,12 +874,18 @@ impl Feed {
     /// Takes what the thread handed over (written to `OUT.partial` as it
     /// comes); whether the run grew.
     pub fn poll(&mut self) -> bool {
+        self.poll_for(POLL_TIME_MAX)
+    }
+
+    /// `poll`, taking at most `budget` (the explorer, which polls every
+    /// 100 ms, takes most of it: the rest waits, bounded).
+    pub fn poll_for(&mut self, budget: Duration) -> bool {
         let mut grew = false;
         let began = std::time::Instant::now();
         self.more = false;
         while let Ok(b) = self.rx.try_recv() {
             grew |= self.take(b);
-            if began.elapsed() >= POLL_TIME_MAX {
+            if began.elapsed() >= budget {
                 self.more = true;
                 break;
             }
@@ -888,7 +896,7 @@ impl Feed {
     /// The run so far, when it grew and at most every `every` (building it
     /// takes time in proportion to the run).
     pub fn news(&mut self, every: Duration) -> Option<Result<Session, Located>> {
-        self.dirty |= self.poll();
+        self.dirty |= self.poll_for(NEWS_TIME_MAX);
         if !self.dirty || self.built.elapsed() < every {
             return None;
         }

@@ -110,7 +110,7 @@ impl Choices {
     pub fn poll(&mut self) {
         if let Choices::Robots { robots, .. } = self {
             for f in robots.iter_mut().filter_map(|r| r.feed.as_mut()) {
-                f.poll();
+                f.poll_for(std::time::Duration::from_millis(30));
             }
         }
     }

@@ -401,14 +401,9 @@ fn fleet_peak_kib(dir: &Path) -> i64 {
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
-    std::mem::forget(child);
-    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0);
-    usage.ru_maxrss
+    let ended = common::wait_peak(child);
+    assert_eq!(ended.code, Some(0));
+    ended.peak_kib
 }
 
 #[test]

@@ -401,30 +401,22 @@ fn a_flooding_publisher_is_watched_in_bounded_memory() {
     robot.go();
     let mut rest = String::new();
     err.read_to_string(&mut rest).unwrap();
-    let pid = w.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
-    std::mem::forget(w);
+    let ended = common::wait_peak(w);
     let sent = robot.done();
     // The recorded run's timestamps are days old: no latency is said.
     assert!(
         rest.contains("from the robot to here: unknown (the robot's timestamps are"),
         "{rest}"
     );
-    assert!(
-        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
-        "{rest}"
-    );
+    assert_eq!(ended.code, Some(0), "{rest}");
     assert!(
         rest.contains("transitions with no tick's end: that tick is closed there"),
         "{rest}"
     );
     assert!(
-        usage.ru_maxrss < 200 << 10,
+        ended.peak_kib < 200 << 10,
         "peak {} MiB",
-        usage.ru_maxrss >> 10
+        ended.peak_kib >> 10
     );
     let kept = session(&out);
     assert!(

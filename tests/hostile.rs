@@ -51,14 +51,11 @@ fn btx_run(args: &[&str]) -> Run {
         .stderr(std::fs::File::create(&e).unwrap())
         .spawn()
         .expect("prlimit (util-linux) runs btx under a memory ceiling");
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let got = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    assert_eq!(got, pid, "wait4: {}", std::io::Error::last_os_error());
-    std::mem::forget(child);
-    let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
+    let Ended {
+        code,
+        status,
+        peak_kib,
+    } = wait_peak(child);
     let read = |p: &Path| String::from_utf8_lossy(&std::fs::read(p).unwrap()).into_owned();
     let err = read(&e);
     let out_len = std::fs::metadata(&o).unwrap().len();
@@ -75,16 +72,8 @@ fn btx_run(args: &[&str]) -> Run {
         },
         err,
         out_len,
-        peak_kib: usage.ru_maxrss,
+        peak_kib,
     }
-}
-
-/// An error as one line: miette wraps its messages at the terminal's width.
-fn one_line(err: &str) -> String {
-    err.lines()
-        .map(|l| l.trim_start_matches([' ', '│']).trim_end())
-        .collect::<Vec<_>>()
-        .join(" ")
 }
 
 /// Runs btx and returns (exit code, stdout, stderr).

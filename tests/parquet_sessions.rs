@@ -420,7 +420,7 @@ fn a_session_written_again_by_duckdb_in_any_codec_reads_the_same() {
         if codec == "brotli" {
             assert!(!ok);
             assert!(
-                err.split_whitespace().collect::<Vec<_>>().join(" ").contains("compressed with brotli, which btx does not read (it reads Snappy, zstd, gzip and LZ4)"),
+                common::one_line(&err).contains("compressed with brotli, which btx does not read (it reads Snappy, zstd, gzip and LZ4)"),
                 "{err}"
             );
         } else {
@@ -445,7 +445,7 @@ fn a_value_past_the_record_bound_is_refused_with_its_row() {
     );
     let (ok, _, err) = btx(&["log", big.to_str().unwrap()]);
     assert!(!ok);
-    let err = err.split_whitespace().collect::<Vec<_>>().join(" ");
+    let err = common::one_line(&err);
     assert!(
         err.contains("row 5: its decision is 9437184 bytes, more than a record may be (8 MiB)"),
         "{err}"

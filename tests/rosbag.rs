@@ -237,14 +237,6 @@ fn a_run_whose_end_never_reached_the_bag_is_cut_off() {
     assert!(!last.contains("root SUCCESS"), "{list}");
 }
 
-/// An error as one line: miette wraps its messages at the terminal's width.
-fn flat(err: &str) -> String {
-    err.lines()
-        .map(|l| l.trim_start_matches([' ', '│', '×']).trim_end())
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
 /// (uid, prev, status) of each transition.
 fn changes(s: &Session) -> Vec<(u32, String, String)> {
     rows(s).into_iter().map(|(_, u, p, n)| (u, p, n)).collect()
@@ -326,7 +318,7 @@ fn a_bag_of_two_robots_is_refused_unless_a_topic_is_picked() {
         );
         let bs = b.to_str().unwrap();
         let (ok, _, err) = common::btx(&["log", bs, "--runs", "--tree", t]);
-        let err = flat(&err);
+        let err = common::one_line(&err);
         assert!(!ok, "{storage}");
         assert!(
             err.contains(
@@ -351,7 +343,7 @@ fn a_bag_of_two_robots_is_refused_unless_a_topic_is_picked() {
             "--topic",
             "/robot3/behavior_tree_log",
         ]);
-        let err = flat(&err);
+        let err = common::one_line(&err);
         assert!(!ok);
         assert!(
             err.contains("no behavior_tree_log topic \"/robot3/behavior_tree_log\"; its behavior_tree_log topics: /behavior_tree_log, /robot2/behavior_tree_log"),
@@ -408,7 +400,7 @@ fn an_mcap_cut_short_is_read_up_to_its_last_whole_record() {
         std::fs::write(&cut, &bytes[..bytes.len() * pct / 100]).unwrap();
         let cs = cut.to_str().unwrap();
         let (ok, list, err) = common::btx(&["log", cs, "--runs", "--tree", t]);
-        let err = flat(&err);
+        let err = common::one_line(&err);
         if !ok {
             // Cut before its first whole message: said as such.
             assert!(
@@ -474,7 +466,7 @@ fn a_bag_s_metadata_naming_a_file_outside_its_folder_is_refused() {
         )
         .unwrap();
         let (ok, _, err) = common::btx(&["log", b.to_str().unwrap(), "--tree", t]);
-        let err = flat(&err);
+        let err = common::one_line(&err);
         assert!(!ok, "{name}");
         assert!(
             err.contains(&format!("relative_file_paths names {name:?}, {said}")),

@@ -260,26 +260,26 @@ impl Grown {
         format: Format,
         settle: bool,
     ) {
-        // One pass over the rows, holding none of them: the rows printed
-        // are compared by node, status and tick, and the new ones printed
-        // a few thousand at a time, so that following a run holds what
-        // `btx log` holds (its index), not a row per transition.
+        // The rows printed are compared by node, status and tick on the
+        // index, and only the new ones built and printed, a few thousand at
+        // a time: following a run holds what `btx log` holds (its index),
+        // not a row per transition.
         let (mut seen, mut replaced, mut renumbered) = (0usize, false, None);
         let mut ticks_seen = 0usize;
         let mut last_tick = None;
-        btx::export::each_log_row(s, only, no_idle, |r| {
+        for t in btx::export::log_transitions(s, only, no_idle) {
             if seen < self.rows.len() {
-                replaced |= self.rows[seen] != (r.uid, r.status);
-                if renumbered.is_none() && self.ticks[seen] != r.tick {
-                    renumbered = Some((seen, r.tick));
+                replaced |= self.rows[seen] != (t.uid, t.status);
+                if renumbered.is_none() && self.ticks[seen] != t.tick {
+                    renumbered = Some((seen, t.tick));
                 }
             }
-            if last_tick != Some(r.tick) {
+            if last_tick != Some(t.tick) {
                 ticks_seen += 1;
-                last_tick = Some(r.tick);
+                last_tick = Some(t.tick);
             }
             seen += 1;
-        });
+        }
         let changed = if replaced {
             Some("replaced by another run")
         } else if seen < self.rows.len() {
@@ -308,14 +308,13 @@ impl Grown {
                 self.ticks[i],
                 i + 1,
             );
-            let mut k = 0;
-            let ticks = &mut self.ticks;
-            btx::export::each_log_row(s, only, no_idle, |r| {
-                if let Some(t) = ticks.get_mut(k) {
-                    *t = r.tick;
-                }
-                k += 1;
-            });
+            for (mine, t) in self
+                .ticks
+                .iter_mut()
+                .zip(btx::export::log_transitions(s, only, no_idle))
+            {
+                *mine = t.tick;
+            }
         }
         let printed = self.ticks.len();
         let mut chunk: Vec<btx::export::LogRow> = Vec::new();

@@ -112,6 +112,24 @@ pub fn each_log_row(s: &Session, only: Option<Uid>, no_idle: bool, mut f: impl F
     }
 }
 
+/// The transition of each row `each_log_row` gives, in order, without
+/// building the rows (their decisions, their gaps).
+pub fn log_transitions(
+    s: &Session,
+    only: Option<Uid>,
+    no_idle: bool,
+) -> impl Iterator<Item = &crate::session::Transition> + '_ {
+    let filter = LogFilter {
+        node: only,
+        no_idle,
+        ..LogFilter::default()
+    };
+    s.index
+        .transitions
+        .iter()
+        .filter(move |t| filter.keeps(&s.tree, t))
+}
+
 pub const LOG_TEXT_HEADER: &str =
     " tick  step   uid  node                                     prev        status   decision\n";
 

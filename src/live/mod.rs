@@ -692,24 +692,18 @@ impl Feed {
     ) -> Result<Feed, LiveError> {
         let mut w = Watch::start(endpoint, publisher)?;
         let protocol = w.protocol;
-        let nodes =
-            crate::xml::load_str(std::path::Path::new(endpoint), &w.xml, &Default::default())
-                .map(|l| l.tree.len());
-        if let Ok(nodes) = nodes {
-            let odd = states_of_nodes(&mut w.resyncs, nodes);
-            w.gaps.extend(odd);
-        }
-        // The tree is checked now, not at the first transition.
-        let shell = crate::logs::open_live(
-            protocol,
-            std::path::Path::new(endpoint),
-            &w.xml,
-            &[],
-            &w.resyncs,
-        )
-        .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
+        // The tree is checked now, not at the first transition; the
+        // states read with it are the tree's nodes' only (`states_of_nodes`).
+        let shell =
+            crate::logs::open_live(protocol, std::path::Path::new(endpoint), &w.xml, &[], &[])
+                .map_err(|e| LiveError(format!("{endpoint}: the robot's tree: {}", e.message)))?;
+        let odd = states_of_nodes(&mut w.resyncs, shell.tree.len());
+        w.gaps.extend(odd);
         let name = protocol.source(endpoint);
         let mut header = shell.header.clone();
+        if let Some((0, before)) = w.resyncs.first() {
+            header.before = before.clone();
+        }
         header.tree.path = Some(name.display().to_string());
         header.source.path = Some(name.display().to_string());
         let recorder = recorder::Recorder::new(&shell.tree, out.as_deref(), &header)

@@ -263,7 +263,7 @@ impl<'a> BagRuns<'a> {
                 "a rosbag holds no tree: give the tree the robot ran with --tree FILE (Nav2: the navigator's XML, bt_navigator's default_nav_to_pose_bt_xml, e.g. navigate_to_pose_w_replanning_and_recovery.xml)",
             ));
         };
-        let log = rosbag::read(path, given.tree, given.topic)?;
+        let mut log = rosbag::read(path, given.tree, given.topic)?;
         if log.records.is_empty() {
             return Err(Located::file(
                 path,
@@ -271,7 +271,6 @@ impl<'a> BagRuns<'a> {
             ));
         }
         let starts = rosbag::run_starts(&log.records);
-        let mut log = log;
         if let Some(cut) = log.cut.as_mut() {
             // Every run before the last ended (another started); the last
             // one did if its root completed before the cut.

@@ -280,3 +280,37 @@ pub fn planned(xml: &str, plan: &str, models: Option<&Path>) -> Option<btx::sess
     )
     .ok()
 }
+
+/// How a child ended: its exit code (`None`: a signal), its raw wait
+/// status, and its peak memory in KiB.
+pub struct Ended {
+    pub code: Option<i32>,
+    pub status: i32,
+    pub peak_kib: i64,
+}
+
+/// Waits for `child` and reads its own rusage through wait4: per child,
+/// even with tests running in parallel.
+pub fn wait_peak(child: std::process::Child) -> Ended {
+    let pid = child.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    let got = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    assert_eq!(got, pid, "wait4: {}", std::io::Error::last_os_error());
+    // Waited for already: its handle must not wait again.
+    std::mem::forget(child);
+    Ended {
+        code: libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status)),
+        status,
+        peak_kib: usage.ru_maxrss,
+    }
+}
+
+/// An error as one line: miette wraps its messages at the terminal's width.
+pub fn one_line(err: &str) -> String {
+    err.lines()
+        .map(|l| l.trim_start_matches([' ', '│', '×']).trim_end())
+        .collect::<Vec<_>>()
+        .join(" ")
+}

@@ -511,12 +511,7 @@ fn log_peak_kib(file: &Path, follow: bool, rows: usize) -> i64 {
         // SAFETY: signals our own child.
         unsafe { libc::kill(pid, libc::SIGINT) };
     }
-    let mut status = 0;
-    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    assert_eq!(unsafe { libc::wait4(pid, &mut status, 0, &mut usage) }, pid);
-    std::mem::forget(child);
-    usage.ru_maxrss
+    wait_peak(child).peak_kib
 }
 
 #[test]

@@ -542,17 +542,10 @@ fn with_stdout_unread(args: &[&str]) -> (Option<i32>, String, i64) {
         .spawn()
         .unwrap();
     let held = child.stdout.take();
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: rusage is plain data, and `pid` is our unwaited child.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    let got = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    assert_eq!(got, pid);
-    std::mem::forget(child);
+    let ended = wait_peak(child);
     drop(held);
-    let code = libc::WIFEXITED(status).then(|| libc::WEXITSTATUS(status));
     let err = String::from_utf8_lossy(&std::fs::read(&e).unwrap()).into_owned();
-    (code, err, usage.ru_maxrss)
+    (ended.code, err, ended.peak_kib)
 }
 
 #[test]

@@ -288,3 +288,47 @@ fn a_domain_declares_the_scripting_enums_the_robot_registers() {
     let mut ex = btx::run::Executor::new(&tree, leaves, RunOptions::default());
     assert_eq!(ex.tick_once().unwrap(), btx::run::Status::Success);
 }
+
+#[test]
+fn a_value_is_said_as_it_was_written() {
+    // TOML writes NaN as `nan`, which JSON cannot hold: it was said as
+    // `null`, and 1e-300 as 300 digits (#41 item 9).
+    let text = std::fs::read_to_string(root().join("trees/case-study.domain.toml"))
+        .unwrap()
+        .replacen(
+            "[state.X_b]",
+            "[state.Noise]\ntype = \"any\"\ninitial = nan\n\n[state.Tiny]\ntype = \"float\"\nmin = 0.0\nmax = 1.0\ninitial = 1e-300\n\n[state.X_b]",
+            1,
+        )
+        .replacen("inputs = [\"X_a\"]", "inputs = [\"X_a\", \"Noise\", \"Tiny\"]", 1);
+    let dir = tempfile::tempdir().unwrap();
+    let (d, s) = (dir.path().join("d.toml"), dir.path().join("s.jsonl"));
+    std::fs::write(&d, text).unwrap();
+    let tree = shipped("case-study.xml");
+    let args = [
+        "run",
+        tree.to_str().unwrap(),
+        "--domain",
+        d.to_str().unwrap(),
+    ];
+    let (ok, _, err) = btx(&[&args[..], &["--out", s.to_str().unwrap()]].concat());
+    assert!(ok, "{err}");
+    let (ok, graph, err) = btx(&["graph", s.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert!(graph.contains("Noise^0\\n= nan"), "{graph}");
+    assert!(graph.contains("Tiny^0\\n= 1e-300"), "{graph}");
+    // A range's variable cannot start outside it, NaN included.
+    std::fs::write(
+        &d,
+        std::fs::read_to_string(&d)
+            .unwrap()
+            .replace("initial = 1e-300", "initial = nan"),
+    )
+    .unwrap();
+    let again = dir.path().join("again.jsonl");
+    let (ok, _, err) = btx(&[&args[..], &["--out", again.to_str().unwrap()]].concat());
+    assert!(
+        !ok && one_line(&err).contains("Tiny: initial value \"nan\" is outside its range"),
+        "{err}"
+    );
+}

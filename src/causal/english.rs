@@ -25,21 +25,20 @@ pub fn value_text(v: &Val) -> String {
 /// is 0.1 + 0.06 in binary.
 pub fn short_number(x: f64) -> String {
     if !x.is_finite() {
-        return x.to_string();
+        return crate::run::script::number(x)
+            .as_str()
+            .unwrap_or("nan")
+            .to_string();
     }
     for digits in 1..=17 {
         let s = format!("{:.*e}", digits - 1, x);
         let back: f64 = s.parse().unwrap_or(f64::NAN);
         if (back - x).abs() <= 4.0 * f64::EPSILON * x.abs() {
-            let plain = back.to_string();
-            return if plain.contains('.') || plain.contains('e') || plain.contains("inf") {
-                plain
-            } else {
-                format!("{plain}.0")
-            };
+            // Debug, not Display: Display writes 1e-300 as 300 digits.
+            return format!("{back:?}");
         }
     }
-    x.to_string()
+    format!("{x:?}")
 }
 
 pub fn value_json(v: &Val) -> Value {
@@ -785,4 +784,20 @@ pub fn to_text(
         ));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_said_at_the_precision_they_name() {
+        assert_eq!(short_number(0.1 + 0.06), "0.16");
+        assert_eq!(short_number(2.0), "2.0");
+        assert_eq!(short_number(1e-300), "1e-300");
+        assert_eq!(short_number(-2.5e300), "-2.5e300");
+        assert_eq!(short_number(f64::NAN), "nan");
+        assert_eq!(short_number(f64::NEG_INFINITY), "-inf");
+        assert_eq!(value_text(&Val::Data(Value::from("nan"))), "nan");
+    }
 }

@@ -1157,6 +1157,8 @@ fn toml_to_json(v: &toml::Value) -> Value {
     match v {
         toml::Value::String(s) => Value::from(s.clone()),
         toml::Value::Integer(i) => Value::from(*i),
+        // JSON has no NaN: `initial = nan` is kept as a run keeps it.
+        toml::Value::Float(f) if !f.is_finite() => super::script::number(*f),
         toml::Value::Float(f) => Value::from(*f),
         toml::Value::Boolean(b) => Value::Bool(*b),
         other => Value::from(other.to_string()),

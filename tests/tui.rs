@@ -1519,6 +1519,33 @@ fn the_faults_are_listed_newest_first_and_enter_goes_to_one() {
 }
 
 #[test]
+fn a_question_longer_than_the_prompt_shows_where_it_is_typed() {
+    // The prompt was drawn in its window's title and cut on the right, so
+    // past the edge the user typed blind and was told "at the start of the
+    // text" at each key.
+    let mut app = demo();
+    app.update(Action::NextFailure);
+    let words =
+        "why did look at chuck fail and not succeed before the robot went on to the next gear";
+    press(&mut app, &format!("A{words}"));
+    let s = screen(&app, 110, 34);
+    assert!(s.contains("ask about look at chuck: …"), "{s}");
+    assert!(s.contains("went on to the next gear▏ ┐"), "{s}");
+    assert_eq!(app.message, None);
+    // Home shows its start again, the rest cut with a mark.
+    use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
+    let home = KeyEvent::new(KeyCode::Home, KeyModifiers::NONE);
+    btx::tui::handle(&mut app, Event::Key(home), (110, 34));
+    let s = screen(&app, 110, 34);
+    assert!(
+        s.contains("ask about look at chuck: ▏why did look at chuck fail"),
+        "{s}"
+    );
+    assert!(!s.contains("next gear"), "{s}");
+    assert_eq!(app.message, None);
+}
+
+#[test]
 fn a_paste_of_pages_into_the_prompt_is_cut_at_its_bound_and_said() {
     // 20 KB pasted into the question prompt pinned a core for over a
     // minute: completion ran at each key over the whole text (#41 item 8).

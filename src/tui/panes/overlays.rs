@@ -36,14 +36,44 @@ pub enum Edit {
     End,
 }
 
-/// The text of a prompt with the cursor `▏` where it is.
-pub(crate) fn with_cursor(text: &str, cursor: Option<usize>) -> String {
-    let text = crate::text::visible(text);
-    let n = text.chars().count();
+/// The part of a prompt's text around the cursor that fits in `width`
+/// characters, `…` where it is cut: a terminal cuts a long line on the
+/// right, so what is typed past the edge would be typed blind.
+pub(crate) fn prompt_window(text: &str, cursor: Option<usize>, width: usize) -> String {
+    let chars: Vec<char> = crate::text::visible(text).chars().collect();
+    let n = chars.len();
     let at = cursor.unwrap_or(n).min(n);
-    let before: String = text.chars().take(at).collect();
-    let after: String = text.chars().skip(at).collect();
-    format!("{before}▏{after}")
+    let part = |a: usize, b: usize| chars[a..b].iter().collect::<String>();
+    let width = width.max(4);
+    if n < width {
+        return format!("{}▏{}", part(0, at), part(at, n));
+    }
+    // Room for the text beside the cursor and a `…` at each cut end.
+    if at + 2 < width {
+        let end = width - 2;
+        return format!("{}▏{}…", part(0, at), part(at, end));
+    }
+    let after = usize::from(at < n);
+    let start = at - (width - 2 - after);
+    let tail = if at < n { "…" } else { "" };
+    format!("…{}▏{tail}", part(start, at))
+}
+
+/// A prompt in a block's title: `prefix` then the text, within a block
+/// `width` columns wide. The text keeps at least half the room; the
+/// prefix (a node's description, which may be long) is cut first.
+fn prompt_title(prefix: &str, text: &str, cursor: Option<usize>, width: u16) -> String {
+    let room = usize::from(width).saturating_sub(4);
+    let prefix = crate::text::visible(prefix);
+    let keep = (room / 2).max(room.saturating_sub(text.chars().count() + 1));
+    let prefix: String = if prefix.chars().count() > keep {
+        let cut: String = prefix.chars().take(keep.saturating_sub(1)).collect();
+        format!("{cut}…")
+    } else {
+        prefix.into_owned()
+    };
+    let left = room.saturating_sub(prefix.chars().count());
+    format!(" {prefix}{} ", prompt_window(text, cursor, left))
 }
 
 impl App {
@@ -479,7 +509,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             f.render_widget(Clear, r);
             let b = Block::default()
                 .borders(Borders::ALL)
-                .title(format!(" find: {} ", with_cursor(query, app.cursor)));
+                .title(prompt_title("find: ", query, app.cursor, r.width));
             let inner = b.inner(r);
             f.render_widget(b, r);
             let results = app.finder_results(query);
@@ -566,9 +596,12 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                 area.height.saturating_sub(4).min(16),
             );
             f.render_widget(Clear, r);
-            let b = Block::default()
-                .borders(Borders::ALL)
-                .title(format!(" Can you {}? ", with_cursor(text, app.cursor)));
+            let b = Block::default().borders(Borders::ALL).title(prompt_title(
+                "Can you ",
+                &format!("{text}?"),
+                Some(app.cursor.unwrap_or(text.chars().count())),
+                r.width,
+            ));
             let inner = b.inner(r);
             f.render_widget(b, r);
             let h = inner.height as usize;
@@ -595,7 +628,12 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             let r = centered(area, area.width.saturating_sub(8).min(70), 3);
             f.render_widget(Clear, r);
             f.render_widget(
-                Paragraph::new(with_cursor(text, app.cursor)).block(
+                Paragraph::new(prompt_window(
+                    text,
+                    app.cursor,
+                    usize::from(r.width.saturating_sub(2)),
+                ))
+                .block(
                     Block::default()
                         .borders(Borders::ALL)
                         .title(" show transitions of nodes named: Enter applies, empty for all "),
@@ -614,7 +652,11 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             let note = app.message.clone().unwrap_or_default();
             f.render_widget(
                 Paragraph::new(vec![
-                    Line::from(with_cursor(path, app.cursor)),
+                    Line::from(prompt_window(
+                        path,
+                        app.cursor,
+                        usize::from(r.width.saturating_sub(2)),
+                    )),
                     Line::from(crate::text::visible(&note).into_owned()),
                 ])
                 .block(Block::default().borders(Borders::ALL).title(title)),
@@ -659,11 +701,10 @@ fn draw_words(app: &App, f: &mut Frame, area: Rect, text: &str, selected: usize)
             .min(area.height.saturating_sub(2)),
     );
     f.render_widget(Clear, r);
-    let b = Block::default().borders(Borders::ALL).title(format!(
-        " ask about {}: {} ",
-        crate::text::visible(app.tree.description(app.asked_node())),
-        with_cursor(text, app.cursor)
-    ));
+    let about = format!("ask about {}: ", app.tree.description(app.asked_node()));
+    let b = Block::default()
+        .borders(Borders::ALL)
+        .title(prompt_title(&about, text, app.cursor, r.width));
     let inner = b.inner(r);
     f.render_widget(b, r);
     let h = inner.height as usize;
@@ -721,4 +762,27 @@ fn list(f: &mut Frame, area: Rect, width: u16, rows: &[String], selected: usize,
         ),
         r,
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::prompt_window;
+
+    #[test]
+    fn a_prompt_shows_the_text_around_its_cursor() {
+        assert_eq!(prompt_window("why", None, 10), "why▏");
+        assert_eq!(prompt_window("why", Some(1), 10), "w▏hy");
+        let long = "why did look at chuck fail";
+        // Typing at the end: what was just typed stays in sight.
+        assert_eq!(prompt_window(long, None, 10), "…uck fail▏");
+        // At the start, the rest is cut on the right.
+        assert_eq!(prompt_window(long, Some(0), 10), "▏why did …");
+        // Within: the cursor, what is before it, and a cut on each side.
+        assert_eq!(prompt_window(long, Some(15), 10), "…look at▏…");
+        for at in 0..=long.len() {
+            let w = prompt_window(long, Some(at), 10);
+            assert!(w.chars().count() <= 10, "{at}: {w}");
+            assert_eq!(w.matches('▏').count(), 1, "{at}: {w}");
+        }
+    }
 }

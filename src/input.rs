@@ -87,6 +87,32 @@ pub fn each_run(
     Ok(())
 }
 
+/// Each run of a log as `each_run` gives them, a bag of several robots'
+/// logs (one `behavior_tree_log` topic each, no `--topic` given) read
+/// robot by robot: `f` is told the topic of each then.
+pub fn each_robot_run(
+    path: &Path,
+    opts: &LoadOptions,
+    mut f: impl FnMut(Option<&str>, usize, usize, Session) -> Result<(), Box<Located>>,
+) -> Result<(), Located> {
+    let topics = if opts.topic.is_none() && crate::logs::rosbag::is_bag(path) {
+        crate::logs::rosbag::log_topics(path)?
+    } else {
+        Vec::new()
+    };
+    if topics.len() < 2 {
+        return each_run(path, opts, |k, n, s| f(None, k, n, s));
+    }
+    for t in &topics {
+        let opts = LoadOptions {
+            topic: Some(t.clone()),
+            ..opts.clone()
+        };
+        each_run(path, &opts, |k, n, s| f(Some(t), k, n, s))?;
+    }
+    Ok(())
+}
+
 /// The tree file `--tree` names, read.
 fn run_tree(opts: &LoadOptions) -> Result<Option<Tree>, Located> {
     opts.run_tree

@@ -335,6 +335,44 @@ fn a_bag_of_two_robots_is_refused_unless_a_topic_is_picked() {
         // The second robot's run is that run, as a bag of its own gives it.
         let picked = bag_run(&b, &tree, Some("/robot2/behavior_tree_log"), 1);
         assert_eq!(rows(&picked), alone, "{storage}");
+        // A fleet and an import take each topic as a robot of its own.
+        let tables = dir.path().join(format!("tables-{storage}"));
+        let (ok, report, err) = common::btx(&[
+            "fleet",
+            bs,
+            "--tree",
+            t,
+            "--format",
+            "json",
+            "--export",
+            tables.to_str().unwrap(),
+        ]);
+        assert!(ok, "{storage}: {err}");
+        let report: serde_json::Value = serde_json::from_str(&report).unwrap();
+        let names: Vec<&str> = report["each_run"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| r["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(names.len(), 2, "{storage}: {names:?}");
+        assert!(
+            names[0].ends_with(":/behavior_tree_log")
+                && names[1].ends_with(":/robot2/behavior_tree_log"),
+            "{storage}: {names:?}"
+        );
+        assert!(
+            tables.join("transitions/robot=robot2").is_dir(),
+            "{storage}: {report}"
+        );
+        let out = dir.path().join(format!("imported-{storage}"));
+        let (ok, _, err) =
+            common::btx(&["import", bs, "--tree", t, "--out", out.to_str().unwrap()]);
+        assert!(ok, "{storage}: {err}");
+        let imported = Session::load(&out.join("robot2/run-1.jsonl")).unwrap();
+        assert_eq!(rows(&imported), alone, "{storage}");
+        assert!(out.join("root/run-1.jsonl").is_file(), "{err}");
+        assert!(!out.join("root/run-2.jsonl").exists(), "{err}");
         let (ok, _, err) = common::btx(&[
             "log",
             bs,

@@ -41,20 +41,48 @@ fn say_written(path: &Path, s: &btx::session::Session) -> Result<(), Failure> {
     Ok(())
 }
 
-/// A rosbag: one session a run (goal), `OUT/run-N.jsonl`.
+/// A rosbag: one session a run (goal), `OUT/run-N.jsonl`; a bag of several
+/// robots' logs, each robot's in a directory named by its namespace
+/// (`/robot2/behavior_tree_log`: `OUT/robot2/run-N.jsonl`; the root
+/// namespace's: `OUT/root/`).
 fn import_runs(log: &Path, reading: &Reading, out: &Path, cli: &Globals) -> Result<(), Failure> {
-    std::fs::create_dir_all(out).map_err(|e| {
-        Failure::Plain(format!("{}: cannot make the directory: {e}", out.display()))
-    })?;
-    btx::input::each_run(log, &reading.options()?, |k, _, s| {
-        if k == 1 {
+    let mkdir = |d: &Path| {
+        std::fs::create_dir_all(d).map_err(|e| {
+            Box::new(btx::source::Located::file(
+                d,
+                format!("cannot make the directory: {e}"),
+            ))
+        })
+    };
+    mkdir(out).map_err(|e| located(*e))?;
+    let mut warned = false;
+    btx::input::each_robot_run(log, &reading.options()?, |topic, k, _, s| {
+        if !warned {
             warn_all(cli.quiet, &s.warnings);
+            warned = true;
         }
+        let dir = match topic {
+            Some(t) => {
+                let ns = t
+                    .strip_suffix("behavior_tree_log")
+                    .unwrap_or(t)
+                    .trim_matches('/');
+                let name = if ns.is_empty() {
+                    "root".to_string()
+                } else {
+                    ns.replace('/', ".")
+                };
+                let dir = out.join(name);
+                mkdir(&dir)?;
+                dir
+            }
+            None => out.to_path_buf(),
+        };
         let path =
-            btx::logs::write_session(&s, &out.join(format!("run-{k}.jsonl"))).map_err(Box::new)?;
+            btx::logs::write_session(&s, &dir.join(format!("run-{k}.jsonl"))).map_err(Box::new)?;
         eprintln!(
             "{}: {} ticks, {} transitions, {}",
-            path.display(),
+            btx::text::path(&path),
             s.index.ticks(),
             s.index.transitions.len(),
             s.ending()

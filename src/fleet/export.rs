@@ -65,8 +65,15 @@ impl Partition {
     /// file (`fleet/robot-7/run.btlog`), else the file's name without its
     /// extension (`fleet/127.0.0.1_1667.jsonl`, as `btx watch --out`
     /// names its robots); the day is the run's first transition's (UTC),
-    /// else the file's last change.
-    pub fn of(file: &Path, given: &Path, s: &Session) -> Partition {
+    /// else the file's last change. A bag of several robots' logs names
+    /// each by its topic's namespace (`/robot2/behavior_tree_log`: `robot2`).
+    pub fn of(file: &Path, given: &Path, topic: Option<&str>, s: &Session) -> Partition {
+        let namespace = topic.map(|t| {
+            t.strip_suffix("behavior_tree_log")
+                .unwrap_or(t)
+                .trim_matches('/')
+                .to_string()
+        });
         let below = file
             .strip_prefix(given)
             .ok()
@@ -77,6 +84,11 @@ impl Partition {
             file.file_stem()
                 .map_or("robot".into(), |s| s.to_string_lossy().into_owned())
         });
+        let robot = match namespace {
+            Some(ns) if ns.is_empty() => robot,
+            Some(ns) => ns,
+            None => robot,
+        };
         let us = s.span_us.map(|(first, _)| first).or_else(|| {
             let t = std::fs::metadata(file).and_then(|m| m.modified()).ok()?;
             let d = t.duration_since(std::time::UNIX_EPOCH).ok()?;

@@ -216,20 +216,33 @@ impl Fleet {
                     let f = &src.file;
                     let mut runs = Vec::new();
                     let mut unwritten = Vec::new();
-                    let r = crate::input::each_run(f, opts, |k, n, s: Session| {
+                    let mut topics: Vec<String> = Vec::new();
+                    let r = crate::input::each_robot_run(f, opts, |t, k, n, s: Session| {
+                        // A bag of several robots' logs: each its own robot.
+                        let (path, id) = match t {
+                            Some(t) => {
+                                if !topics.iter().any(|x| x == t) {
+                                    topics.push(t.to_string());
+                                }
+                                let ti = topics.len();
+                                (
+                                    format!("{}:{}", crate::text::path(f), crate::text::visible(t)),
+                                    format!("f{i:06}-t{ti}"),
+                                )
+                            }
+                            None => (crate::text::path(f), format!("f{i:06}")),
+                        };
                         let (name, id) = if n > 1 {
-                            (
-                                format!("{}#{k}", crate::text::path(f)),
-                                format!("f{i:06}-{k}"),
-                            )
+                            (format!("{path}#{k}"), format!("{id}-{k}"))
                         } else {
-                            (crate::text::path(f), format!("f{i:06}"))
+                            (path, id)
                         };
                         let mut run = summarise(name, &s, reference);
                         run.file = f.clone();
                         run.run = (n > 1).then_some(k);
+                        run.topic = t.map(str::to_string);
                         if let Some(root) = export {
-                            let at = export::Partition::of(f, &src.given, &s);
+                            let at = export::Partition::of(f, &src.given, t, &s);
                             if let Err(e) = export::transitions(root, &at, &id, &run.name, &s) {
                                 unwritten.push(e.to_string());
                             }

@@ -18,6 +18,8 @@ pub struct RunSummary {
     /// The file, and which of its runs when it holds several: to open it.
     pub file: std::path::PathBuf,
     pub run: Option<usize>,
+    /// The bag's log topic, when it holds several robots' logs.
+    pub topic: Option<String>,
     /// The tree, as its root's name says it.
     pub tree: String,
     /// Which tree, by its shape: nodes of runs of one tree pair by uid,
@@ -142,6 +144,7 @@ pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunS
         partition: None,
         file: s.path.clone(),
         run: None,
+        topic: None,
         nodes: nodes.into_iter().flatten().collect(),
         faulted: Vec::new(),
         diff: reference.map(|r| {

@@ -198,13 +198,7 @@ pub fn read(path: &Path, tree: &Tree, want: Option<&str>) -> Result<BagRecords, 
                 "a storage file of the bag that is not a regular file",
             ));
         }
-        let mcap = std::fs::File::open(&file)
-            .and_then(|mut f| {
-                let mut h = [0u8; 8];
-                std::io::Read::read_exact(&mut f, &mut h).map(|()| h)
-            })
-            .is_ok_and(|h| h == MCAP_MAGIC);
-        let (t, c) = if mcap {
+        let (t, c) = if is_mcap(&file) {
             read_mcap(&file, &mut m, want)?
         } else {
             read_db3(&file, &mut m, want)?
@@ -225,6 +219,101 @@ pub fn read(path: &Path, tree: &Tree, want: Option<&str>) -> Result<BagRecords, 
         records: m.records,
         cut,
     })
+}
+
+/// The bag's `behavior_tree_log` topics, one robot's each, in the order
+/// the bag names them: `btx fleet` and `btx import` read each as a robot.
+pub fn log_topics(path: &Path) -> Result<Vec<String>, Located> {
+    let mut logs: Vec<String> = Vec::new();
+    for file in storage_files(path)? {
+        let topics = if is_mcap(&file) {
+            mcap_topics(&file)?
+        } else {
+            db3_topics(&file)?
+        };
+        for (n, t) in topics {
+            if is_log(&n, &t) && !logs.contains(&n) {
+                logs.push(n);
+            }
+        }
+    }
+    Ok(logs)
+}
+
+fn is_mcap(file: &Path) -> bool {
+    std::fs::File::open(file)
+        .and_then(|mut f| {
+            let mut h = [0u8; 8];
+            std::io::Read::read_exact(&mut f, &mut h).map(|()| h)
+        })
+        .is_ok_and(|h| h == MCAP_MAGIC)
+}
+
+/// Every topic of a `.db3` and its type.
+fn db3_topics(file: &Path) -> Result<Vec<(String, String)>, Located> {
+    let sql = |e: rusqlite::Error| Located::file(file, format!("table topics: {e}"));
+    let (conn, _copy) = super::db3::open_read_only(file)?;
+    let mut st = conn
+        .prepare("SELECT name, type FROM topics ORDER BY id")
+        .map_err(sql)?;
+    let rows = st
+        .query_map([], |r| Ok((r.get(0)?, r.get(1)?)))
+        .map_err(sql)?;
+    rows.collect::<Result<_, _>>().map_err(sql)
+}
+
+/// Every topic of an MCAP and its type: from its summary, or else from
+/// its channels in order (as far as the file is whole).
+fn mcap_topics(file: &Path) -> Result<Vec<(String, String)>, Located> {
+    use mcap::records::Record;
+    let bytes = crate::source::read_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
+    let name_of = |schema: Option<&std::sync::Arc<mcap::Schema>>| {
+        schema.map_or(String::new(), |s| s.name.clone())
+    };
+    if let Ok(Some(summary)) = mcap::Summary::read(&bytes) {
+        if !summary.channels.is_empty() {
+            let mut ch: Vec<_> = summary.channels.values().collect();
+            ch.sort_by_key(|c| c.id);
+            return Ok(ch
+                .into_iter()
+                .map(|c| (c.topic.clone(), name_of(c.schema.as_ref())))
+                .collect());
+        }
+    }
+    let reader = mcap::read::LinearReader::new_with_options(
+        &bytes,
+        mcap::read::Options::IgnoreEndMagic.into(),
+    )
+    .map_err(|e| Located::file(file, format!("not a readable MCAP file: {e}")))?;
+    let mut schemas = std::collections::HashMap::new();
+    let mut topics = Vec::new();
+    let mut take = |r: Record| match r {
+        Record::Schema { header, .. } => {
+            schemas.insert(header.id, header.name);
+        }
+        Record::Channel(c) => {
+            let ty = schemas.get(&c.schema_id).cloned().unwrap_or_default();
+            topics.push((c.topic, ty));
+        }
+        _ => {}
+    };
+    for rec in reader {
+        // Past a cut, the topics before it are the bag's (`read` says the cut).
+        let Ok(rec) = rec else { break };
+        match rec {
+            Record::Chunk { header, data } if header.uncompressed_size <= MCAP_CHUNK_MAX => {
+                let Ok(inner) = mcap::read::ChunkReader::new(header, &data) else {
+                    break;
+                };
+                for r in inner.map_while(Result::ok) {
+                    take(r);
+                }
+            }
+            Record::DataEnd(_) | Record::Footer(_) => break,
+            r => take(r),
+        }
+    }
+    Ok(topics)
 }
 
 fn too_many(m: &Matcher) -> String {

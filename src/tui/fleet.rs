@@ -167,6 +167,7 @@ impl FleetApp {
         };
         let mut opts = self.opts.clone();
         opts.run = r.run.or(opts.run);
+        opts.topic = r.topic.clone().or(opts.topic);
         match super::open(&r.file, None, &opts) {
             Ok(mut app) => {
                 app.keymap = self

@@ -479,6 +479,67 @@ fn an_mcap_cut_short_is_read_up_to_its_last_whole_record() {
 }
 
 #[test]
+fn a_db3_cut_short_is_read_up_to_its_first_page_lost() {
+    // SQLite refuses a file shorter than its header says ("database disk
+    // image is malformed"), though the pages before the cut are whole: a
+    // bag copied from a disk that ran out read as nothing (#41 item 3).
+    let dir = tempfile::tempdir().unwrap();
+    let runs = goals(dir.path());
+    let tree = dir.path().join("nav.xml");
+    std::fs::write(&tree, NAV).unwrap();
+    let t = tree.to_str().unwrap();
+    let b = bag(dir.path(), "whole", "sqlite3", "jazzy", &runs);
+    // Pages of 512 bytes, so that the messages span many and a cut falls
+    // between them.
+    let small = dir.path().join("small.db3");
+    let db = rusqlite::Connection::open(b.join("whole.db3")).unwrap();
+    db.execute_batch("PRAGMA page_size = 512;").unwrap();
+    db.execute("VACUUM INTO ?1", [small.to_str().unwrap()])
+        .unwrap();
+    drop(db);
+    let whole_runs: Vec<_> = (1..=2)
+        .map(|k| changes(&bag_run(&small, &tree, None, k)))
+        .collect();
+    let bytes = std::fs::read(&small).unwrap();
+    assert!(bytes.len() > 12 * 512, "{}", bytes.len());
+    let mut seen_runs = std::collections::BTreeSet::new();
+    let mut refused = 0;
+    for at in (512..bytes.len()).step_by(61) {
+        let cut = dir.path().join(format!("cut{at}.db3"));
+        std::fs::write(&cut, &bytes[..at]).unwrap();
+        let cs = cut.to_str().unwrap();
+        let (ok, list, err) = common::btx(&["log", cs, "--runs", "--tree", t]);
+        let err = common::one_line(&err);
+        let ends = format!("ends at byte {at} of the {}", bytes.len());
+        assert!(err.contains(&ends), "{at}: {err}");
+        if !ok {
+            refused += 1;
+            continue;
+        }
+        let n = list.lines().count() - 1;
+        let whole = n - usize::from(list.contains("no end recorded"));
+        assert!(
+            err.contains("its header says, after the change at ")
+                && err.contains(&format!(
+                    "the file was cut short; read up to there; {whole} of {n} runs whole"
+                )),
+            "{at}: {err}\n{list}"
+        );
+        seen_runs.insert(n);
+        for k in 1..=n {
+            let got = changes(&bag_run(&cut, &tree, None, k));
+            let full = &whole_runs[k - 1];
+            assert_eq!(&full[..got.len().min(full.len())], &got[..], "{at} run {k}");
+        }
+    }
+    assert!(refused > 0);
+    assert!(
+        seen_runs.len() == 2 || seen_runs.contains(&2),
+        "{seen_runs:?}"
+    );
+}
+
+#[test]
 fn a_bag_s_metadata_naming_a_file_outside_its_folder_is_refused() {
     // `metadata.yaml` naming ../../etc/passwd, an absolute path or a link
     // out of the bag made btx open it (#41 item 7).

@@ -31,14 +31,42 @@ fn is_wal(path: &Path) -> bool {
         && (head[18] == 2 || head[19] == 2)
 }
 
-/// A copy of a WAL-mode database and its `-wal` file, removed when dropped.
+/// A database file shorter than its header says.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Cut {
+    /// The file's length, and the length its header says.
+    pub len: u64,
+    pub whole: u64,
+    pub page: u64,
+}
+
+/// Where a database file is cut short: its header's length (valid when
+/// bytes 92..96 equal the change counter at 24..28, as SQLite checks) past
+/// the file's end.
+pub(crate) fn cut_short(path: &Path) -> Option<Cut> {
+    use std::io::Read;
+    let mut head = [0u8; 100];
+    let mut f = std::fs::File::open(path).ok()?;
+    f.read_exact(&mut head).ok()?;
+    let word = |at: usize| u32::from_be_bytes([head[at], head[at + 1], head[at + 2], head[at + 3]]);
+    let page = match u16::from_be_bytes([head[16], head[17]]) {
+        1 => 65_536,
+        p => u64::from(p),
+    };
+    let len = f.metadata().ok()?.len();
+    let whole = u64::from(word(28)) * page;
+    (page > 0 && word(24) == word(92) && whole > len).then_some(Cut { len, whole, page })
+}
+
+/// A copy of a WAL-mode database and its `-wal` file, or of the whole pages
+/// of a database cut short, removed when dropped.
 pub(crate) struct WalCopy {
     dir: std::path::PathBuf,
     db: std::path::PathBuf,
 }
 
 impl WalCopy {
-    fn of(path: &Path) -> std::io::Result<WalCopy> {
+    fn of(path: &Path, pages: Option<u64>) -> std::io::Result<WalCopy> {
         use std::sync::atomic::{AtomicU64, Ordering};
         static N: AtomicU64 = AtomicU64::new(0);
         let dir = std::env::temp_dir().join(format!(
@@ -51,7 +79,16 @@ impl WalCopy {
             db: dir.join("copy.db3"),
             dir,
         };
-        std::fs::copy(path, &copy.db)?;
+        match pages {
+            Some(n) => {
+                let src = std::fs::File::open(path)?;
+                let mut dst = std::fs::File::create(&copy.db)?;
+                std::io::copy(&mut std::io::Read::take(src, n), &mut dst)?;
+            }
+            None => {
+                std::fs::copy(path, &copy.db)?;
+            }
+        }
         let mut wal = path.as_os_str().to_owned();
         wal.push("-wal");
         let wal = std::path::PathBuf::from(wal);
@@ -135,6 +172,16 @@ pub struct Db3Session {
 /// copy of it and its WAL file when it is in WAL mode, which lives as long
 /// as the connection is used.
 pub(crate) fn open_read_only(path: &Path) -> Result<(Connection, Option<WalCopy>), Located> {
+    open(path, true)
+}
+
+/// The database opened to read its schema: a file cut within a page is
+/// read in place, its last page's lost part as zeros.
+pub(crate) fn open_schema(path: &Path) -> Result<(Connection, Option<WalCopy>), Located> {
+    open(path, false)
+}
+
+fn open(path: &Path, whole_pages: bool) -> Result<(Connection, Option<WalCopy>), Located> {
     let fail = |m: String| Located::file(path, m);
     let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
     // A database in WAL mode keeps recent rows in `FILE-wal` and needs a
@@ -142,10 +189,18 @@ pub(crate) fn open_read_only(path: &Path) -> Result<(Connection, Option<WalCopy>
     // cannot make: read a copy of the two files instead (SQLite checks each
     // WAL frame's checksum, so a frame the robot is still writing is left
     // out), and never touch the originals.
+    //
+    // SQLite reads a page past a file's end, or the part of one, as zeros,
+    // and says nothing of a row spilling onto one: a file cut within a
+    // page is read from a copy of its whole pages.
+    let cut = cut_short(path);
+    let pages = cut
+        .filter(|c| whole_pages && c.len % c.page != 0)
+        .map(|c| c.len / c.page * c.page);
     let mut copy = None;
-    let conn = if is_wal(path) {
-        let c = WalCopy::of(path)
-            .map_err(|e| fail(format!("cannot copy the WAL-mode database to read it: {e}")))?;
+    let conn = if is_wal(path) || pages.is_some() {
+        let c = WalCopy::of(path, pages)
+            .map_err(|e| fail(format!("cannot copy the database to read it: {e}")))?;
         let conn = Connection::open_with_flags(
             &c.db,
             OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX,
@@ -161,6 +216,14 @@ pub(crate) fn open_read_only(path: &Path) -> Result<(Connection, Option<WalCopy>
         conn
     };
     let conn = conn.map_err(|e| sql("cannot open the database", e))?;
+    if cut.is_some() {
+        // SQLite refuses a file shorter than its header says, though the
+        // pages before the cut are whole; with the schema writable (read
+        // only, or our copy) it takes the file's length and errs at a page
+        // past it.
+        conn.pragma_update(None, "writable_schema", true)
+            .map_err(|e| sql("cannot open the database", e))?;
+    }
     Ok((conn, copy))
 }
 
@@ -168,7 +231,14 @@ pub(crate) fn open_read_only(path: &Path) -> Result<(Connection, Option<WalCopy>
 /// last if `which` is `None`), read.
 pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), Located> {
     let fail = |m: String| Located::file(path, m);
-    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
+    // What a file cut short lost may be any table's: said with each error.
+    let cut = cut_short(path).map_or(String::new(), |c| {
+        format!(
+            " (the file is cut short: it ends at byte {} of the {} its header says)",
+            c.len, c.whole
+        )
+    });
+    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}{cut}"));
     let (conn, _copy) = open_read_only(path)?;
     for table in ["Definitions", "Nodes", "Transitions"] {
         let n: i64 = conn
@@ -180,7 +250,7 @@ pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), L
             .map_err(|e| sql("not a readable SQLite database", e))?;
         if n == 0 {
             return Err(fail(format!(
-                "not a BehaviorTree.CPP SqliteLogger database: it has no table {table}"
+                "not a BehaviorTree.CPP SqliteLogger database: it has no table {table}{cut}"
             )));
         }
     }

@@ -96,7 +96,7 @@ pub fn is_bag(path: &Path) -> bool {
 /// A SQLite file with rosbag2's `topics` and `messages` tables (a
 /// SqliteLogger's has `Transitions`, `Nodes` and `Definitions`).
 fn is_rosbag_db3(path: &Path) -> bool {
-    let Ok((conn, _copy)) = super::db3::open_read_only(path) else {
+    let Ok((conn, _copy)) = super::db3::open_schema(path) else {
         return false;
     };
     ["topics", "messages"].iter().all(|t| {
@@ -344,6 +344,20 @@ fn cut_short(m: &Matcher, why: &str) -> String {
     }
 }
 
+/// Said of a `.db3` shorter than its header says (a copy or a disk that
+/// ran out): read in the order written, up to its first page lost.
+fn db3_cut(m: &Matcher, len: u64, whole: u64) -> String {
+    match m.records.last() {
+        Some(r) => format!(
+            "the bag's database ends at byte {len} of the {whole} its header says, after the change at {}: the file was cut short; read up to there",
+            &crate::input::utc(r.time_us)[11..]
+        ),
+        None => format!(
+            "the bag's database ends at byte {len} of the {whole} its header says, before any message of Nav2's log: the file was cut short"
+        ),
+    }
+}
+
 /// The `ros_distro` a bag directory's metadata names, if it is a Nav2
 /// release btx knows.
 fn distro(path: &Path) -> Option<crate::model::nav2::Release> {
@@ -489,7 +503,14 @@ fn read_db3(
     want: Option<&str>,
 ) -> Result<(String, Option<String>), Located> {
     let fail = |m: String| Located::file(file, m);
-    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}"));
+    let cut = super::db3::cut_short(file);
+    let sql = |what: &str, e: rusqlite::Error| match cut {
+        Some(c) => fail(format!(
+            "{what}: {e} (the file is cut short: it ends at byte {} of the {} its header says)",
+            c.len, c.whole
+        )),
+        None => fail(format!("{what}: {e}")),
+    };
     let (conn, _copy) = super::db3::open_read_only(file)?;
     let topics: Vec<(i64, String, String)> = {
         let mut st = conn
@@ -515,8 +536,13 @@ fn read_db3(
             |r| r.get(0),
         )
         .ok();
+    // A file cut short has lost pages of the time index too: its rows are
+    // read in the order the recorder wrote them, up to the cut.
+    let order = if cut.is_some() { "id" } else { "timestamp, id" };
     let mut st = conn
-        .prepare("SELECT data FROM messages WHERE topic_id = ?1 ORDER BY timestamp, id")
+        .prepare(&format!(
+            "SELECT data FROM messages WHERE topic_id = ?1 ORDER BY {order}"
+        ))
         .map_err(|e| sql("table messages", e))?;
     let mut rows = st
         .query_map([id], |r| r.get::<_, Vec<u8>>(0))
@@ -526,15 +552,20 @@ fn read_db3(
         Some(Ok(b)) => Some(b.clone()),
         _ => None,
     };
+    let said = |m: &Matcher, e: Option<rusqlite::Error>| match cut {
+        Some(c) => db3_cut(m, c.len, c.whole),
+        None => cut_short(m, &e.map_or(String::new(), |e| e.to_string())),
+    };
+    if first.is_none() && cut.is_some() {
+        return Err(fail(said(m, None)));
+    }
     let defs = m.definitions(file, &topic, definition.as_deref(), first.as_deref())?;
     for r in rows {
         let data = match r {
             Ok(d) => d,
             // A page past the last one read is damaged: the rows before it
             // are the run so far.
-            Err(e) if m.messages > 0 => {
-                return Ok((topic, Some(cut_short(m, &e.to_string()))));
-            }
+            Err(e) if m.messages > 0 => return Ok((topic, Some(said(m, Some(e))))),
             Err(e) => return Err(sql("table messages", e)),
         };
         m.message(&defs, &data)?;
@@ -542,7 +573,7 @@ fn read_db3(
             break;
         }
     }
-    Ok((topic, None))
+    Ok((topic, cut.map(|_| said(m, None))))
 }
 
 /// An MCAP file read in order, record by record, as its specification

@@ -1107,3 +1107,5 @@ fn a_lock_that_is_not_a_regular_file_is_refused_at_once() {
     std::os::unix::fs::symlink("/etc/passwd", &lock).unwrap();
     run("a link is here, where btx keeps the lock of this output");
 }
+#[path = "support/flood_peer.rs"]
+mod flood_peer;

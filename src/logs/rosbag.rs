@@ -188,7 +188,17 @@ fn storage_files(path: &Path) -> Result<Vec<PathBuf>, Located> {
 /// The `behavior_tree_log` topic as records of `tree`, in the bag's order.
 /// `want` names the topic when the bag has several (`--topic`).
 pub fn read(path: &Path, tree: &Tree, want: Option<&str>) -> Result<BagRecords, Located> {
+    read_at_most(path, tree, want, BAG_TRANSITIONS_MAX)
+}
+
+fn read_at_most(
+    path: &Path,
+    tree: &Tree,
+    want: Option<&str>,
+    max: usize,
+) -> Result<BagRecords, Located> {
     let mut m = Matcher::new(path, tree);
+    m.max = max;
     let mut topic = None;
     let mut cut = None;
     for file in storage_files(path)? {
@@ -318,9 +328,12 @@ fn mcap_topics(file: &Path) -> Result<Vec<(String, String)>, Located> {
 
 fn too_many(m: &Matcher) -> String {
     format!(
-        "the bag holds more than {BAG_TRANSITIONS_MAX} status changes: btx read the first {} (to {}), not the rest",
+        "the bag holds more than {} status changes: btx read the first {} (to {}), not the rest",
+        m.max,
         m.records.len(),
-        m.records.last().map_or(String::new(), |r| crate::input::utc(r.time_us)),
+        m.records
+            .last()
+            .map_or(String::new(), |r| crate::input::utc(r.time_us)),
     )
 }
 
@@ -769,6 +782,8 @@ fn bt_name(tree: &Tree, uid: Uid) -> &str {
 /// parents). The ambiguity is said once.
 struct Matcher<'a> {
     path: &'a Path,
+    /// The changes read at most (`BAG_TRANSITIONS_MAX`).
+    max: usize,
     tree: &'a Tree,
     status: Vec<Status>,
     names: std::collections::HashMap<String, Vec<Uid>>,
@@ -791,6 +806,7 @@ impl<'a> Matcher<'a> {
         }
         Matcher {
             path,
+            max: BAG_TRANSITIONS_MAX,
             tree,
             status: vec![Status::Idle; tree.len()],
             names,
@@ -801,9 +817,9 @@ impl<'a> Matcher<'a> {
         }
     }
 
-    /// Whether `BAG_TRANSITIONS_MAX` changes are read.
+    /// Whether `max` changes are read.
     fn full(&self) -> bool {
-        self.records.len() >= BAG_TRANSITIONS_MAX
+        self.records.len() >= self.max
     }
 
     fn at(&self, message: usize, m: String) -> Located {
@@ -935,6 +951,31 @@ pub fn run_starts(records: &[Record]) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_bag_is_read_up_to_its_bound_and_the_rest_said() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/rosbag");
+        let tree = crate::xml::load_file(&dir.join("navigator.xml"), &Default::default())
+            .unwrap()
+            .tree;
+        let bag = dir.join("two_goals");
+        let whole = read(&bag, &tree, None).unwrap();
+        assert!(whole.cut.is_none());
+        // Read message by message: the message that reaches the bound is
+        // read whole, and nothing after it.
+        let part = read_at_most(&bag, &tree, None, 5).unwrap();
+        assert_eq!(part.records.len(), 10);
+        assert_eq!(part.records[..], whole.records[..10]);
+        assert!(whole.records.len() > 10);
+        let cut = part.cut.unwrap();
+        assert!(
+            cut.starts_with(
+                "the bag holds more than 5 status changes: btx read the first 10 (to 20"
+            ),
+            "{cut}"
+        );
+        assert!(cut.ends_with("), not the rest"), "{cut}");
+    }
 
     fn rec(uid: Uid, status: Status) -> Record {
         Record {

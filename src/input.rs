@@ -132,6 +132,29 @@ fn given<'a>(tree: &'a Option<Tree>, opts: &'a LoadOptions) -> Option<crate::log
         })
 }
 
+/// The local time zone's offset from UTC at `us` (µs since the epoch), in
+/// seconds, as `date` finds it (the `TZ` environment, else the system's).
+pub fn local_offset_s(us: i64) -> i64 {
+    // time_t is 64 bits on every target btx builds for.
+    let t: libc::time_t = us.div_euclid(1_000_000);
+    // SAFETY: an all-zero `tm` is a valid value of this plain C struct.
+    let mut tm: libc::tm = unsafe { std::mem::zeroed() };
+    // SAFETY: localtime_r reads `t` and writes only `tm`, both ours.
+    let ok = unsafe { !libc::localtime_r(&t, &mut tm).is_null() };
+    if ok {
+        tm.tm_gmtoff
+    } else {
+        0
+    }
+}
+
+/// An offset from UTC in seconds as `UTC+05:30`.
+pub fn utc_offset(secs: i64) -> String {
+    let sign = if secs < 0 { '-' } else { '+' };
+    let m = secs.abs() / 60;
+    format!("UTC{sign}{:02}:{:02}", m / 60, m % 60)
+}
+
 /// A UTC time of µs since the epoch, as `2026-11-25 22:11:20.123`.
 pub fn utc(us: i64) -> String {
     let secs = us.div_euclid(1_000_000);

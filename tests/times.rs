@@ -59,6 +59,18 @@ fn a_logs_times_are_kept_by_import_and_shown_by_log() {
             .starts_with("0.048 "),
         "{rel}"
     );
+    // In the local time zone (a POSIX TZ needs no zone files): UTC+05:30.
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args(["log", log, "--time", "local", "--node", "#18"])
+        .env("TZ", "IST-05:30")
+        .output()
+        .unwrap();
+    let local = String::from_utf8_lossy(&out.stdout);
+    assert!(local.starts_with("time (UTC+05:30)  tick"), "{local}");
+    assert!(
+        local.contains(" 07:25:41.796157    10     1    18  look at chuck"),
+        "{local}"
+    );
     // JSON rows carry the time whatever the text shows.
     let (_, json, _) = btx(&[
         "log",

@@ -19,8 +19,8 @@ pub struct Args {
     /// List the runs the log holds (a rosbag's goals: each the root starting again), with their times and how each ended; --run N picks one.
     #[arg(long, conflicts_with_all = ["follow", "node"])]
     pub runs: bool,
-    /// A time column first: the robot's clock at each transition, as the log recorded it (.btlog, .db3, .fbl, rosbags, runs kept by btx watch): `utc`, the time of day, or `relative`, seconds since the run's first transition. JSON always has `time` and `time_us` where they are known.
-    #[arg(long, value_enum, value_name = "utc|relative")]
+    /// A time column first: the robot's clock at each transition, as the log recorded it (.btlog, .db3, .fbl, rosbags, runs kept by btx watch): `utc`, the time of day in UTC, `local`, in this machine's time zone (TZ), or `relative`, seconds since the run's first transition. JSON always has `time` and `time_us` (UTC) where they are known.
+    #[arg(long, value_enum, value_name = "utc|local|relative")]
     pub time: Option<TimeColumn>,
     /// Only the faults, each with what handles it and how that ended, as `btx watch` tells them as they happen.
     #[arg(long, conflicts_with_all = ["follow", "node", "no_idle", "runs"])]
@@ -32,6 +32,7 @@ pub struct Args {
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum TimeColumn {
     Utc,
+    Local,
     Relative,
 }
 
@@ -145,6 +146,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     session.display()
                 ),
                 (Some(TimeColumn::Utc), _) => Some(btx::export::Clock::Utc),
+                (Some(TimeColumn::Local), Some(&t0)) => Some(btx::export::Clock::Local(t0)),
                 (Some(TimeColumn::Relative), Some(&t0)) => Some(btx::export::Clock::Relative(t0)),
             };
             // Written as it is read: a log of millions of transitions is
@@ -154,7 +156,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 Format::Json => btx::export::write_log_json(&mut w, &s, only, no_idle),
                 Format::Text => {
                     use std::io::Write;
-                    let head = clock.map_or("", |c| c.header());
+                    let head = clock.map_or(String::new(), |c| c.header());
                     let mut r =
                         w.write_all(format!("{head}{}", btx::export::LOG_TEXT_HEADER).as_bytes());
                     btx::export::each_log_row(&s, only, no_idle, |row| {

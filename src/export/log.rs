@@ -164,15 +164,26 @@ pub fn log_text_row(s: &Session, r: &LogRow) -> String {
 pub enum Clock {
     /// The time of day, UTC, to the microsecond.
     Utc,
+    /// The time of day in the local time zone (its offset at each row, so
+    /// a change to summer time shows); the header names the offset at the
+    /// run's start (µs since the epoch).
+    Local(i64),
     /// Seconds since this time (µs since the epoch): the run's start.
     Relative(i64),
 }
 
 impl Clock {
-    pub fn header(self) -> &'static str {
+    pub fn header(self) -> String {
         match self {
-            Clock::Utc => "     time (UTC) ",
-            Clock::Relative(_) => "    time s ",
+            Clock::Utc => "     time (UTC) ".into(),
+            Clock::Local(t0) => format!(
+                "{:>16} ",
+                format!(
+                    "time ({})",
+                    crate::input::utc_offset(crate::input::local_offset_s(t0))
+                )
+            ),
+            Clock::Relative(_) => "    time s ".into(),
         }
     }
 
@@ -184,6 +195,14 @@ impl Clock {
                 &crate::input::utc(t)[11..19],
                 t.rem_euclid(1_000_000)
             ),
+            (Clock::Local(_), Some(t)) => {
+                let local = t + crate::input::local_offset_s(t) * 1_000_000;
+                format!(
+                    " {}.{:06} ",
+                    &crate::input::utc(local)[11..19],
+                    local.rem_euclid(1_000_000)
+                )
+            }
             (Clock::Relative(base), Some(t)) => {
                 let d = t - base;
                 let secs = format!(
@@ -194,6 +213,7 @@ impl Clock {
                 format!("{secs:>10} ")
             }
             (Clock::Utc, None) => format!("{:>15} ", "?"),
+            (Clock::Local(_), None) => format!("{:>16} ", "?"),
             (Clock::Relative(_), None) => format!("{:>10} ", "?"),
         }
     }

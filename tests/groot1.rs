@@ -289,11 +289,16 @@ fn btviews_v3_mock_is_watched_with_every_transition_it_sent() {
         serde_json::from_str(&std::fs::read_to_string(&sent).unwrap()).unwrap();
     assert_eq!(sent.len(), n);
     assert!(n > 50, "the mock sent {n}");
-    let watched = session(&out);
-    let got: Vec<(u32, u8, u8)> = watched
-        .index
-        .transitions
+    // The mock ticks its tree again after each run: each run is a
+    // session of its own (`OUT`, `OUT-2.jsonl`, …), every transition kept.
+    let runs: Vec<_> = (1..)
+        .map(|k| btx::live::recorder::run_path(&out, k))
+        .take_while(|p| p.exists())
+        .collect();
+    assert!(runs.len() > 1, "{err}");
+    let got: Vec<(u32, u8, u8)> = runs
         .iter()
+        .flat_map(|p| session(p).index.transitions)
         .map(|t| (t.uid, t.prev.code(), t.status.code()))
         .collect();
     assert_eq!(got, sent);

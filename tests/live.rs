@@ -1237,6 +1237,75 @@ fn faults_are_said_as_they_happen_and_handed_to_a_command() {
 /// #40 item 5: a watch started before the robot is up waits for it,
 /// saying so, and keeps every transition from the first tick on.
 #[test]
+fn each_run_of_the_robot_is_a_session_of_its_own() {
+    // A Nav2 robot's next goal is its tree ticked again: the watch went on
+    // in the same session (#40 item 5).
+    let dir = tempfile::tempdir().unwrap();
+    let btlog = dir.path().join("twice.btlog");
+    let out = dir.path().join("twice.jsonl");
+    let second = dir.path().join("twice-2.jsonl");
+    let w = until_it_happens(
+        &btlog,
+        &out,
+        || {
+            let _ = std::fs::remove_file(&second);
+            watch_robot(
+                &fixture("kitting-tree.v4.xml"),
+                &fixture("plans/kitting_lookat_fails_once.plan"),
+                &btlog,
+                &["20", "stdin", "1000", "2"],
+                &["--out", out.to_str().unwrap()],
+                None,
+                &|_| {},
+            )
+        },
+        no_race,
+    );
+    assert!(w.ok, "{}", w.stderr);
+    let err = &w.stderr;
+    assert!(
+        err.contains("run 1: 248 transitions written to") && err.contains("run 2: "),
+        "{err}"
+    );
+    assert!(
+        w.stdout.contains("run 1 ended at tick 54: SUCCESS")
+            && w.stdout.contains("run 2 ended at tick "),
+        "{}",
+        w.stdout
+    );
+    // The robot's own log holds both runs; each session is one, its ticks
+    // from 1, as btx reads the log's runs.
+    let logged = session(&btlog);
+    let runs = [session(&out), session(&second)];
+    let all: Vec<_> = runs
+        .iter()
+        .flat_map(|s| {
+            s.index
+                .transitions
+                .iter()
+                .map(|t| (t.uid, t.prev, t.status))
+        })
+        .collect();
+    let whole: Vec<_> = logged
+        .index
+        .transitions
+        .iter()
+        .map(|t| (t.uid, t.prev, t.status))
+        .collect();
+    assert_eq!(all, whole);
+    for s in &runs {
+        assert_eq!(s.index.transitions[0].tick, 1);
+        assert!(s.ending().contains("root SUCCESS"), "{}", s.ending());
+    }
+    assert_eq!(runs[0].index.ticks(), 54);
+    // The first run fails once and recovers; the second, the plan spent,
+    // does not fail.
+    let (ok, faults, _) = common::btx(&["log", second.to_str().unwrap(), "--faults"]);
+    assert!(ok);
+    assert!(!faults.contains("failed"), "{faults}");
+}
+
+#[test]
 fn a_robot_not_up_yet_is_waited_for_and_kept_from_its_first_tick() {
     use std::io::Write;
     let dir = tempfile::tempdir().unwrap();

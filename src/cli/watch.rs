@@ -13,7 +13,7 @@ pub struct Args {
     /// The robots' servers, each `[HOST][:PORT]` (default 127.0.0.1:1667): a BehaviorTree.CPP 4 Groot2 server, or a BehaviorTree.CPP 3 robot's Groot 1 server (its publisher on the port below). Several are watched at once, each line prefixed with its robot.
     #[arg(value_name = "[HOST][:PORT]")]
     pub endpoints: Vec<String>,
-    /// Also keep the run as a session file: `SESSION.partial` holds the run so far, SESSION the whole run once watching ends (Ctrl-C, --for, or the robot's run finished), as Parquet if it ends in .parquet. With several robots, a directory: one session a robot, `HOST_PORT.jsonl`.
+    /// Also keep the run as a session file: `SESSION.partial` holds the run so far, SESSION the whole run once it ends (the robot's run finished, Ctrl-C or --for), as Parquet if it ends in .parquet; the robot's next run goes to `SESSION-2.jsonl`, and so on. With several robots, a directory: one session a robot's run, `HOST_PORT.jsonl`, `HOST_PORT-2.jsonl`.
     #[arg(long, value_name = "SESSION|DIR")]
     pub out: Option<PathBuf>,
     /// A BehaviorTree.CPP 3 robot's publisher port (Groot 1's protocol; Nav2 Humble's groot_zmq_publisher_port), when it is not the one below the server's.
@@ -260,9 +260,20 @@ impl Robot {
             )),
             _ => {}
         }
-        if let Some(path) = self.feed.stop()? {
-            if !quiet {
-                pr.err(format!("{p}{n} transitions written to {}", path.display()));
+        let written = self.feed.stop()?;
+        if !quiet {
+            match &written[..] {
+                [] => {}
+                [(path, _)] => pr.err(format!("{p}{n} transitions written to {}", path.display())),
+                runs => {
+                    for (k, (path, t)) in runs.iter().enumerate() {
+                        pr.err(format!(
+                            "{p}run {}: {t} transitions written to {}",
+                            k + 1,
+                            path.display()
+                        ));
+                    }
+                }
             }
         }
         Ok(())

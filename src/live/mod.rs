@@ -949,9 +949,11 @@ impl Feed {
     }
 
     /// Stops watching, takes the last transitions, and with `out` finishes
-    /// the session there; where it was written.
-    pub fn stop(mut self) -> Result<Option<std::path::PathBuf>, Located> {
-        self.finish()
+    /// the session there: each run's session written (a robot's next run
+    /// is a session of its own) and its transitions.
+    pub fn stop(mut self) -> Result<Vec<(std::path::PathBuf, usize)>, Located> {
+        self.finish()?;
+        Ok(std::mem::take(&mut self.recorder.written_runs))
     }
 
     /// The median and the 99th percentile of the latency, in ms; `Err`

@@ -38,6 +38,15 @@ impl Mark {
 pub struct Recorder {
     out: Option<PathBuf>,
     writer: Option<SessionWriter>,
+    /// The header each run's session starts from.
+    header: Header,
+    /// Each run's session written (the robot's runs, one a session), and
+    /// whether the next run's is yet to be made (at its first transition).
+    pub written_runs: Vec<(PathBuf, usize)>,
+    next_run: bool,
+    /// The ticks of the runs before this one: each run's ticks count from 1.
+    tick_base: u32,
+    run_written: usize,
     /// Each node's status as the records follow it, and as last read.
     followed: Vec<Status>,
     status: Vec<Status>,
@@ -80,6 +89,11 @@ impl Recorder {
         Ok(Recorder {
             out: out.map(Path::to_path_buf),
             writer,
+            header: header.clone(),
+            written_runs: Vec::new(),
+            next_run: false,
+            tick_base: 0,
+            run_written: 0,
             followed: vec![Status::Idle; tree.len()],
             status,
             marks: VecDeque::new(),
@@ -119,6 +133,9 @@ impl Recorder {
     /// place; flushed, so that a reader of `OUT.partial` sees them.
     pub fn take(&mut self, numbered: &[(Record, u32)]) -> Result<(), Located> {
         for &(r, tick) in numbered {
+            if self.next_run {
+                self.start_run(tick)?;
+            }
             self.marks_before(r.offset, tick)?;
             let u = (r.uid - 1) as usize;
             // A status the read already showed: the read came after this
@@ -139,19 +156,23 @@ impl Recorder {
             if r.uid == Tree::ROOT {
                 self.root = (prev, r.status);
             }
+            // The session's and the rows' ticks are the run's own; the
+            // explorer's view numbers the whole watch.
+            let local = self.local(tick);
             if let Some(w) = self.writer.as_mut() {
                 w.timed(Some(r.time_us));
                 w.event(&Event::Transition {
-                    tick,
+                    tick: local,
                     uid: r.uid,
                     prev,
                     status: r.status,
                     decision: None,
                 })?;
             }
+            self.run_written += 1;
             if let Some(rows) = self.rows.as_mut() {
                 rows.push(LogRow {
-                    tick,
+                    tick: local,
                     step: self.step,
                     uid: r.uid,
                     prev,
@@ -168,10 +189,65 @@ impl Recorder {
                 self.unviewed += 1;
             }
             self.written += 1;
+            // The root back to IDLE after it completed: the robot's run
+            // ended, and its next (a Nav2 robot's next goal) is a session
+            // of its own.
+            if r.uid == Tree::ROOT && r.status == Status::Idle && prev.is_completed() {
+                self.end_run(local, prev)?;
+            }
         }
         if let Some(w) = self.writer.as_mut() {
             w.flush()?;
         }
+        Ok(())
+    }
+
+    /// A tick of the watch as the run's session numbers it (from 1).
+    fn local(&self, tick: u32) -> u32 {
+        tick.saturating_sub(self.tick_base).max(1)
+    }
+
+    /// The run ended at `tick` (its own numbering) with `root`: its
+    /// session is finished, and the next is made at its first transition.
+    fn end_run(&mut self, tick: u32, root: Status) -> Result<(), Located> {
+        let Some(w) = self.writer.take() else {
+            return Ok(());
+        };
+        let path = w.finish(tick, root, "the robot's run finished")?;
+        self.written_runs.push((path, self.run_written));
+        self.run_written = 0;
+        self.next_run = true;
+        Ok(())
+    }
+
+    /// The next run's session, at its first transition (of the watch's
+    /// tick `tick`): `OUT-2.jsonl`, `OUT-3.jsonl` (the first name free).
+    fn start_run(&mut self, tick: u32) -> Result<(), Located> {
+        self.next_run = false;
+        self.tick_base = tick.saturating_sub(1);
+        let Some(out) = &self.out else {
+            return Ok(());
+        };
+        let k = self.written_runs.len() + 1;
+        let path = (k..k + 1000)
+            .map(|k| run_path(out, k))
+            .find(|p| !p.exists() && !SessionWriter::partial_path(p).exists())
+            .unwrap_or_else(|| run_path(out, k));
+        // Every node as it stands when the run starts (IDLE, after the
+        // robot reset its tree).
+        let mut header = self.header.clone();
+        header.before = self
+            .status
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| **s != Status::Idle)
+            .map(|(i, s)| Before {
+                uid: i as Uid + 1,
+                status: *s,
+                done: None,
+            })
+            .collect();
+        self.writer = Some(SessionWriter::create(&path, &header)?);
         Ok(())
     }
 
@@ -188,8 +264,9 @@ impl Recorder {
         let viewed = self.view && self.kept.len() < VIEW_MAX;
         match m {
             Mark::Gap(g) => {
+                let tick = self.local(tick);
                 if let Some(w) = self.writer.as_mut() {
-                    w.gap(tick.max(1), &g.why)?;
+                    w.gap(tick, &g.why)?;
                 }
                 if self.rows.is_some() {
                     // Said with the next row printed.
@@ -203,9 +280,10 @@ impl Recorder {
                 }
             }
             Mark::Resync(at, states) => {
+                let last = self.local(self.last_tick);
                 if let Some(w) = self.writer.as_mut() {
                     // After the transition before it, in that one's tick.
-                    w.resync(self.last_tick.max(1), &states)?;
+                    w.resync(last, &states)?;
                 }
                 self.status.fill(Status::Idle);
                 let len = self.status.len();
@@ -234,9 +312,15 @@ impl Recorder {
             Some(done) => (done, "the robot's run finished"),
             None => (now, "watching stopped"),
         };
+        let last = self.local(self.last_tick);
         match self.writer.take() {
-            Some(w) => w.finish(self.last_tick, root, why).map(Some),
-            None => Ok(None),
+            Some(w) => {
+                let path = w.finish(last, root, why)?;
+                self.written_runs.push((path.clone(), self.run_written));
+                self.run_written = 0;
+                Ok(Some(path))
+            }
+            None => Ok(self.written_runs.last().map(|(p, _)| p.clone())),
         }
     }
 
@@ -260,6 +344,22 @@ impl Recorder {
     pub fn out(&self) -> Option<&Path> {
         self.out.as_deref()
     }
+}
+
+/// Where a watch keeps the robot's `k`-th run: `OUT` for the first, then
+/// `OUT-2.jsonl` (`OUT-2.parquet`), and so on.
+pub fn run_path(out: &Path, k: usize) -> PathBuf {
+    if k <= 1 {
+        return out.to_path_buf();
+    }
+    let stem = out
+        .file_stem()
+        .map_or("run".into(), |s| s.to_string_lossy().into_owned());
+    let name = match out.extension() {
+        Some(x) => format!("{stem}-{k}.{}", x.to_string_lossy()),
+        None => format!("{stem}-{k}"),
+    };
+    out.with_file_name(name)
 }
 
 /// Whether `uid` names a node of a tree of `len` nodes.

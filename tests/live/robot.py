@@ -4,12 +4,14 @@
 fixture syntax (as tests/oracle/btcpp_run.py does), publishing it with the
 library's own Groot2Publisher and recording it with its own FileLogger.
 
-Usage: robot.py TREE.xml PLAN PORT OUT.btlog [TICK_MS] [WAIT_MS] [MAX_TICKS]
+Usage: robot.py TREE.xml PLAN PORT OUT.btlog [TICK_MS] [WAIT_MS] [MAX_TICKS] [RUNS]
 
 It waits WAIT_MS before the first tick (for a client to start recording),
 or, when WAIT_MS is "stdin", until a line comes on its standard input (the
-test says when its client records); then ticks every TICK_MS until the root completes, then keeps publishing for a
-second so that the last transitions can be fetched, and prints "DONE".
+test says when its client records); then ticks every TICK_MS until the root completes, RUNS times (1: a Nav2
+robot's next goal is the tree ticked again, 300 ms later; the plan's
+leaves go on with their scripts), then keeps publishing for a second so
+that the last transitions can be fetched, and prints "DONE".
 The Python leaves declare no ports, and BehaviorTree.CPP rejects an
 attribute that is not a declared port, so the leaves' port attributes are
 removed before loading: uids, names and transitions are unchanged.
@@ -42,6 +44,7 @@ def main():
     tick_ms = float(sys.argv[5]) if len(sys.argv) > 5 else 20
     wait = sys.argv[6] if len(sys.argv) > 6 else "1500"
     max_ticks = int(sys.argv[7]) if len(sys.argv) > 7 else 1000
+    runs = int(sys.argv[8]) if len(sys.argv) > 8 else 1
     xml = without_leaf_ports(open(xml_path).read())
     factory = bt.BehaviorTreeFactory()
     leaves = btcpp_run.Leaves(btcpp_run.parse_plan(open(plan_path).read()))
@@ -55,11 +58,14 @@ def main():
         sys.stdin.readline()
     else:
         time.sleep(float(wait) / 1000.0)
-    for _ in range(max_ticks):
-        status = tree.tick_exactly_once()
-        time.sleep(tick_ms / 1000.0)
-        if status != bt.NodeStatus.RUNNING:
-            break
+    for run in range(runs):
+        if run > 0:
+            time.sleep(0.3)
+        for _ in range(max_ticks):
+            status = tree.tick_exactly_once()
+            time.sleep(tick_ms / 1000.0)
+            if status != bt.NodeStatus.RUNNING:
+                break
     time.sleep(1.0)
     logger.flush()
     del logger

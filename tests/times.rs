@@ -95,6 +95,36 @@ fn a_run_without_times_says_so() {
     );
 }
 
+/// `--detail full` says the robot's time of day at each moment named.
+#[test]
+fn a_full_answer_says_the_time_of_each_moment() {
+    let log = "tests/fixtures/logs/kitting_lookat_fails_once.btlog";
+    for q in ["why did look at chuck fail", "what went wrong"] {
+        let (ok, out, err) = btx(&["ask", log, q, "--detail", "full"]);
+        assert!(ok, "{err}");
+        let times = out
+            .lines()
+            .find(|l| l.starts_with("Times (the robot's clock, UTC): "))
+            .unwrap_or_else(|| panic!("{q}: {out}"));
+        assert!(
+            times.contains("10:1 01:55:41.796") || times.contains("tick 10 01:55:41.796"),
+            "{q}: {times}"
+        );
+        assert!(!times.contains("01:55:41 "), "{q}: {times}");
+    }
+    // Normal detail keeps to the answer; a run with no times says none.
+    let (_, out, _) = btx(&["ask", log, "why did look at chuck fail"]);
+    assert!(!out.contains("Times ("), "{out}");
+    let (_, out, _) = btx(&[
+        "ask",
+        "sessions/kitting-lookat-fails-once.jsonl",
+        "why did look at chuck fail",
+        "--detail",
+        "full",
+    ]);
+    assert!(!out.contains("Times ("), "{out}");
+}
+
 /// "When" answers say the robot's time of day beside the moment, where
 /// the run keeps it.
 #[test]

@@ -113,6 +113,82 @@ pub fn facts(tree: &Tree, at: &At, nodes: &[Uid]) -> Vec<String> {
     out
 }
 
+/// The robot's time of day at each moment `text` names (`10:1`), where the
+/// run keeps it: "Times (the robot's clock, UTC): 9:2 01:55:41.791, …".
+pub fn times_of(text: &str, session: &crate::session::Session) -> Option<String> {
+    let times = &session.times_us;
+    if times.is_empty() {
+        return None;
+    }
+    let mut said: Vec<String> = Vec::new();
+    let chars: Vec<char> = text.chars().collect();
+    let mut i = 0;
+    while i < chars.len() {
+        // TICK:STEP, not part of a time of day (01:55:41) or a longer word.
+        let start = i;
+        while i < chars.len() && chars[i].is_ascii_digit() {
+            i += 1;
+        }
+        if i == start {
+            i += 1;
+            continue;
+        }
+        let before = start.checked_sub(1).map(|j| chars[j]);
+        if chars.get(i) != Some(&':')
+            || before.is_some_and(|c| c == ':' || c.is_alphanumeric() || c == '.')
+        {
+            continue;
+        }
+        let colon = i;
+        i += 1;
+        while i < chars.len() && chars[i].is_ascii_digit() {
+            i += 1;
+        }
+        if i == colon + 1
+            || chars
+                .get(i)
+                .is_some_and(|c| *c == ':' || c.is_alphanumeric())
+        {
+            continue;
+        }
+        let token: String = chars[start..i].iter().collect();
+        let Ok(m) = crate::session::Moment::parse(&token) else {
+            continue;
+        };
+        let Ok(p) = session.index.position(m) else {
+            continue;
+        };
+        let Some(&us) = (p as usize).checked_sub(1).and_then(|k| times.get(k)) else {
+            continue;
+        };
+        let t = format!("{token} {}", &crate::input::utc(us)[11..]);
+        if !said.contains(&t) {
+            said.push(t);
+        }
+    }
+    // "at tick 10": the end of that tick.
+    let words: Vec<&str> = text
+        .split(|c: char| c.is_whitespace() || c == ',' || c == ';' || c == '.')
+        .collect();
+    for pair in words.windows(2) {
+        let (true, Ok(tick)) = (pair[0] == "tick", pair[1].parse::<u32>()) else {
+            continue;
+        };
+        let m = crate::session::Moment { tick, step: None };
+        let Ok(p) = session.index.position(m) else {
+            continue;
+        };
+        let Some(&us) = (p as usize).checked_sub(1).and_then(|k| times.get(k)) else {
+            continue;
+        };
+        let t = format!("tick {tick} {}", &crate::input::utc(us)[11..]);
+        if !said.contains(&t) {
+            said.push(t);
+        }
+    }
+    (!said.is_empty()).then(|| format!("Times (the robot's clock, UTC): {}.", said.join(", ")))
+}
+
 /// A `why` answer at a level of detail, its question line first: brief,
 /// the first explanation's sentence; normal, three explanations and how
 /// many more; full, every one and the facts of the nodes they rest on.
@@ -157,6 +233,10 @@ pub fn why_text(
                 for l in facts(&session.tree, &at, &nodes) {
                     text.push_str(&format!("  {l}\n"));
                 }
+            }
+            if let Some(times) = times_of(&text, session) {
+                text.push_str(&times);
+                text.push('\n');
             }
             text
         }

@@ -332,6 +332,12 @@ fn at_detail(cx: &Context, r: &mut Reply) {
                     r.answer.push_str(&format!("\n  {f}"));
                 }
             }
+            if let Some(s) = cx.session {
+                if let Some(times) = detail::times_of(&r.answer, s) {
+                    r.answer.push('\n');
+                    r.answer.push_str(&times);
+                }
+            }
         }
     }
 }

@@ -34,8 +34,16 @@ pub fn short_number(x: f64) -> String {
         let s = format!("{:.*e}", digits - 1, x);
         let back: f64 = s.parse().unwrap_or(f64::NAN);
         if (back - x).abs() <= 4.0 * f64::EPSILON * x.abs() {
-            // Debug, not Display: Display writes 1e-300 as 300 digits.
-            return format!("{back:?}");
+            // In decimals while short (0.00000025), else with an exponent:
+            // Display writes 1e-300 as 300 digits, Debug as 1e-300.
+            let plain = back.to_string();
+            return if plain.len() > 12 {
+                format!("{back:?}")
+            } else if plain.contains('.') {
+                plain
+            } else {
+                format!("{plain}.0")
+            };
         }
     }
     format!("{x:?}")
@@ -796,6 +804,8 @@ mod tests {
         assert_eq!(short_number(2.0), "2.0");
         assert_eq!(short_number(1e-300), "1e-300");
         assert_eq!(short_number(-2.5e300), "-2.5e300");
+        assert_eq!(short_number(-2.5e-7), "-0.00000025");
+        assert_eq!(short_number(123456789.5), "123456789.5");
         assert_eq!(short_number(f64::NAN), "nan");
         assert_eq!(short_number(f64::NEG_INFINITY), "-inf");
         assert_eq!(value_text(&Val::Data(Value::from("nan"))), "nan");

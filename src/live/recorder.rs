@@ -47,6 +47,8 @@ pub struct Recorder {
     /// The ticks of the runs before this one: each run's ticks count from 1.
     tick_base: u32,
     run_written: usize,
+    /// The watch's tick the root last started in.
+    run_from: u32,
     /// Each node's status as the records follow it, and as last read.
     followed: Vec<Status>,
     status: Vec<Status>,
@@ -94,6 +96,7 @@ impl Recorder {
             next_run: false,
             tick_base: 0,
             run_written: 0,
+            run_from: 0,
             followed: vec![Status::Idle; tree.len()],
             status,
             marks: VecDeque::new(),
@@ -155,6 +158,9 @@ impl Recorder {
             self.last_tick = tick;
             if r.uid == Tree::ROOT {
                 self.root = (prev, r.status);
+                if prev == Status::Idle {
+                    self.run_from = tick;
+                }
             }
             // The session's and the rows' ticks are the run's own; the
             // explorer's view numbers the whole watch.
@@ -189,10 +195,15 @@ impl Recorder {
                 self.unviewed += 1;
             }
             self.written += 1;
-            // The root back to IDLE after it completed: the robot's run
-            // ended, and its next (a Nav2 robot's next goal) is a session
-            // of its own.
-            if r.uid == Tree::ROOT && r.status == Status::Idle && prev.is_completed() {
+            // The root back to IDLE after it completed a run of several
+            // ticks: the robot's run ended, and its next (a Nav2 robot's
+            // next goal) is a session of its own. A tree that completes
+            // within each tick it is ticked (a loop) stays one session.
+            if r.uid == Tree::ROOT
+                && r.status == Status::Idle
+                && prev.is_completed()
+                && tick > self.run_from
+            {
                 self.end_run(local, prev)?;
             }
         }

@@ -182,8 +182,9 @@ impl FleetApp {
     }
 
     /// Ends of runs on a time axis: (position 0..1, outcome), when the runs
-    /// say when they happened.
-    pub fn timeline(&self) -> Option<Vec<(f64, Option<Status>)>> {
+    /// say when they happened, and the axis's first and last time (µs
+    /// since the epoch).
+    pub fn timeline(&self) -> Option<Timeline> {
         let times: Vec<(i64, Option<Status>)> = self
             .fleet
             .runs
@@ -195,14 +196,19 @@ impl FleetApp {
             times.iter().map(|t| t.0).max()?,
         );
         let span = (hi - lo).max(1) as f64;
-        Some(
+        Some((
             times
                 .into_iter()
                 .map(|(t, o)| ((t - lo) as f64 / span, o))
                 .collect(),
-        )
+            (lo, hi),
+        ))
     }
 }
+
+/// Runs on a time axis (`FleetApp::timeline`): each run's place (0..1) and
+/// outcome, and the axis's ends (µs since the epoch).
+pub type Timeline = (Vec<(f64, Option<Status>)>, (i64, i64));
 
 /// Rows a page key moves.
 const PAGE: usize = 10;

@@ -203,7 +203,7 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
     let w = inner.width as usize;
     let mut lines = Vec::new();
     match app.timeline() {
-        Some(marks) if w > 2 => {
+        Some((marks, (lo, hi))) if w > 2 => {
             let timed = marks.len();
             // One cell a slice of time; a failure shows over a success.
             let mut cells: Vec<Option<Option<Status>>> = vec![None; w];
@@ -232,6 +232,24 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
                     })
                     .collect::<Vec<_>>(),
             ));
+            // The axis's ends, dated (UTC, the robots' clocks).
+            let (first, last) = (crate::input::utc(lo), crate::input::utc(hi));
+            let last = if first[..10] == last[..10] {
+                format!("{} UTC", &last[11..16])
+            } else {
+                format!("{} UTC", &last[..16])
+            };
+            let first = &first[..16];
+            let pad = w.saturating_sub(first.chars().count() + last.chars().count());
+            let ends = if pad > 0 {
+                format!("{first}{}{last}", " ".repeat(pad))
+            } else {
+                format!("from {first}")
+            };
+            lines.push(Line::from(Span::styled(
+                ends,
+                Style::default().fg(Color::DarkGray),
+            )));
             lines.push(Line::from(Span::styled(
                 format!(
                     "{} by start time: S succeeded, F failed, · unfinished",
@@ -255,6 +273,12 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
             r.name.clone(),
             Style::default().add_modifier(Modifier::BOLD),
         )));
+        if let Some((first, _)) = r.span_us {
+            lines.push(Line::from(format!(
+                "started {} UTC",
+                &crate::input::utc(first)[..19]
+            )));
+        }
         lines.push(Line::from(format!(
             "{}.",
             crate::causal::english::capitalised(&r.ending)

@@ -42,7 +42,7 @@ fn a_logs_times_are_kept_by_import_and_shown_by_log() {
         assert!(ok, "{err}");
         assert_eq!(got, want, "{}", f.display());
     }
-    // Relative to the first transition, in seconds.
+    // Relative to the first transition, in seconds: what --time alone gives.
     let (_, rel, _) = btx(&[
         "log",
         back.to_str().unwrap(),
@@ -51,6 +51,8 @@ fn a_logs_times_are_kept_by_import_and_shown_by_log() {
         "--node",
         "#18",
     ]);
+    let (_, alone, _) = btx(&["log", back.to_str().unwrap(), "--node", "#18", "--time"]);
+    assert_eq!(alone, rel);
     assert!(
         rel.lines()
             .nth(2)

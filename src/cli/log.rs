@@ -19,8 +19,8 @@ pub struct Args {
     /// List the runs the log holds (a rosbag's goals: each the root starting again), with their times and how each ended; --run N picks one.
     #[arg(long, conflicts_with_all = ["follow", "node"])]
     pub runs: bool,
-    /// A time column first: the robot's clock at each transition, as the log recorded it (.btlog, .db3, .fbl, rosbags, runs kept by btx watch): `utc`, the time of day in UTC, `local`, in this machine's time zone (TZ), or `relative`, seconds since the run's first transition. JSON always has `time` and `time_us` (UTC) where they are known.
-    #[arg(long, value_enum, value_name = "utc|local|relative")]
+    /// A time column first: the robot's clock at each transition, as the log recorded it (.btlog, .db3, .fbl, rosbags, runs kept by btx watch): `utc`, the time of day in UTC, `local`, in this machine's time zone (TZ), or `relative` (what `--time` alone gives), seconds since the run's first transition. JSON always has `time` and `time_us` (UTC) where they are known.
+    #[arg(long, value_enum, value_name = "utc|local|relative", num_args = 0..=1, default_missing_value = "relative")]
     pub time: Option<TimeColumn>,
     /// Only the faults, each with what handles it and how that ended, as `btx watch` tells them as they happen.
     #[arg(long, conflicts_with_all = ["follow", "node", "no_idle", "runs"])]

@@ -93,33 +93,78 @@ pub fn port_label(p: &Port) -> String {
     }
 }
 
+/// Levels of indentation drawn (3 columns each): past them a line says
+/// its level before the last ones' guides, so a chain thousands of levels
+/// deep stays on a screen, and its text grows with its nodes, not with
+/// the square of its depth.
+pub const INDENT_MAX: usize = 40;
+
 /// Draws a tree with box-drawing guides, iteratively (trees can be deep),
-/// a line at a time into `line`: the indentation of a deep tree grows with
-/// the square of its depth, so nothing holds it all.
+/// a line at a time into `line`. What is kept is a flag a level (whether
+/// a sibling follows there), never a prefix string a node.
 fn draw<F, C>(root: usize, children: C, mut label: F, line: &mut dyn FnMut(&str))
 where
     C: Fn(usize) -> Vec<usize>,
     F: FnMut(usize) -> String,
 {
-    // (node, prefix for its children, its own guide)
-    let mut stack: Vec<(usize, String, String)> = vec![(root, String::new(), String::new())];
+    // (node, its level, whether it is the last of its siblings)
+    let mut stack: Vec<(usize, usize, bool)> = vec![(root, 0, true)];
+    // For each level from 1 above the node drawn: a sibling follows there.
+    let mut more: Vec<bool> = Vec::new();
     let mut text = String::new();
-    while let Some((x, prefix, guide)) = stack.pop() {
+    while let Some((x, level, last)) = stack.pop() {
+        more.truncate(level.saturating_sub(1));
         text.clear();
-        text.push_str(&guide);
+        if level > 0 {
+            let from = level.saturating_sub(INDENT_MAX);
+            if from > 0 {
+                text.push_str(&format!("[level {level}] "));
+            }
+            for &m in &more[from.min(more.len())..] {
+                text.push_str(if m { "│  " } else { "   " });
+            }
+            text.push_str(if last { "└─ " } else { "├─ " });
+        }
         text.push_str(&label(x));
         text.push('\n');
         line(&text);
-        let kids = children(x);
-        let last = kids.len().saturating_sub(1);
-        for (i, &k) in kids.iter().enumerate().rev() {
-            let (g, p) = if i == last {
-                ("└─ ", "   ")
-            } else {
-                ("├─ ", "│  ")
-            };
-            stack.push((k, format!("{prefix}{p}"), format!("{prefix}{g}")));
+        if level > 0 {
+            more.push(!last);
         }
+        let kids = children(x);
+        let n = kids.len();
+        for (i, &k) in kids.iter().enumerate().rev() {
+            stack.push((k, level + 1, i + 1 == n));
+        }
+    }
+}
+
+#[cfg(test)]
+mod draw_tests {
+    use super::{draw, INDENT_MAX};
+
+    fn drawn(children: impl Fn(usize) -> Vec<usize>) -> Vec<String> {
+        let mut out = Vec::new();
+        draw(0, children, |x| format!("n{x}"), &mut |l| {
+            out.push(l.to_string())
+        });
+        out
+    }
+
+    #[test]
+    fn guides_follow_siblings_and_a_deep_chain_says_its_level() {
+        // 0 ─ 1 ─ 3, 0 ─ 2
+        let t = drawn(|x| match x {
+            0 => vec![1, 2],
+            1 => vec![3],
+            _ => vec![],
+        });
+        assert_eq!(t, ["n0\n", "├─ n1\n", "│  └─ n3\n", "└─ n2\n"]);
+        let deep = 3 * INDENT_MAX;
+        let t = drawn(|x| if x < deep { vec![x + 1] } else { vec![] });
+        let last = t.last().unwrap();
+        assert!(last.starts_with(&format!("[level {deep}]    ")), "{last}");
+        assert!(t.iter().all(|l| l.chars().count() < 3 * INDENT_MAX + 30));
     }
 }
 

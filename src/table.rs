@@ -58,9 +58,16 @@ impl Writer {
 
     /// Writes the footer; the file is then whole, and synced to disk.
     pub fn close(self) -> Result<(), Located> {
-        let path = self.path;
-        let file = self.w.into_inner().map_err(|e| failed(&path, e))?;
+        let path = self.path.clone();
+        let file = self.close_unsynced()?;
         file.sync_all().map_err(|e| failed(&path, e))
+    }
+
+    /// Writes the footer, leaving the sync to the caller (an export of
+    /// thousands of files syncs them all at once).
+    pub fn close_unsynced(self) -> Result<File, Located> {
+        let path = self.path;
+        self.w.into_inner().map_err(|e| failed(&path, e))
     }
 }
 

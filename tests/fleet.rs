@@ -278,6 +278,26 @@ fn duckdb_reads_the_export_of_a_thousand_runs_to_the_same_figures() {
         "json",
     ]);
     assert_eq!(v["runs"], 1000);
+    // Every file written beside its place is named once all are synced:
+    // none is left as `.part`, and every table's files are there.
+    let mut dirs = vec![out.clone()];
+    let mut files = 0;
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else {
+                assert!(
+                    p.extension().is_some_and(|x| x == "parquet"),
+                    "{}",
+                    p.display()
+                );
+                files += 1;
+            }
+        }
+    }
+    assert!(files >= 2000, "{files}");
     let py = std::process::Command::new(common::oracle_python())
         .arg(root.join("tests/fleet/duckdb_figures.py"))
         .arg(&out)

@@ -283,6 +283,8 @@ impl Fleet {
             if let Err(e) = export::tables(root, &fleet) {
                 fleet.unwritten.push(e.to_string());
             }
+            let said = export::commit(root);
+            fleet.unwritten.extend(said);
         }
         let diffs: Vec<crate::diff::Diff> = fleet
             .runs

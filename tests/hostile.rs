@@ -832,6 +832,21 @@ fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
     ]);
     assert_eq!(r.code, Some(0), "{}", r.err);
     assert!(r.out.contains("My subgoal is to run T23."), "{}", r.out);
+    // A chain of 4,000 SubTrees, each a Sequence holding the next (8,001
+    // levels): the loader kept a copy of the path of SubTrees above each
+    // node waiting to be read, 471 MB; one shared link a SubTree now.
+    let mut subtrees = String::from(r#"<root BTCPP_format="4" main_tree_to_execute="T0">"#);
+    for i in 0..4000 {
+        subtrees.push_str(&format!(
+            r#"<BehaviorTree ID="T{i}"><Sequence><SubTree ID="T{}"/><AlwaysSuccess/></Sequence></BehaviorTree>"#,
+            i + 1
+        ));
+    }
+    subtrees.push_str(r#"<BehaviorTree ID="T4000"><AlwaysSuccess/></BehaviorTree></root>"#);
+    let subtrees = write(dir.path(), "subtrees.xml", &subtrees);
+    let r = btx_run(&["tree", &subtrees]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(r.peak_kib < 64 * 1024, "{} KiB", r.peak_kib);
     // 100,000 levels: refused, with the limit.
     let deeper = write(dir.path(), "deeper.xml", &chain(250, 400));
     let r = btx_run(&["tree", &deeper]);

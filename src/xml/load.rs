@@ -556,7 +556,7 @@ impl Loader {
             parent: Option<Uid>,
             scope: ScopeId,
             depth: u32,
-            chain: std::rc::Rc<Vec<String>>,
+            chain: std::rc::Rc<Chain>,
         }
         let def_el = |d: &Def| {
             &roots[d.file]
@@ -571,7 +571,10 @@ impl Loader {
             parent: None,
             scope: 0,
             depth: 0,
-            chain: std::rc::Rc::new(vec![main_id.to_string()]),
+            chain: std::rc::Rc::new(Chain {
+                id: main_id.to_string(),
+                up: None,
+            }),
         }];
         while let Some(w) = stack.pop() {
             // SubTrees that call others twice double the tree at each
@@ -623,14 +626,16 @@ impl Loader {
                         )
                         .with_help(help));
                 };
-                if w.chain.contains(&node.id) {
-                    let mut cycle: Vec<String> = w
-                        .chain
-                        .iter()
-                        .skip_while(|c| **c != node.id)
-                        .cloned()
-                        .collect();
-                    cycle.push(node.id.clone());
+                if w.chain.ids().any(|c| c == node.id) {
+                    let mut cycle: Vec<&str> = Vec::new();
+                    for c in w.chain.ids() {
+                        cycle.push(c);
+                        if c == node.id {
+                            break;
+                        }
+                    }
+                    cycle.reverse();
+                    cycle.push(&node.id);
                     return Err(self.err(
                         w.file,
                         w.el,
@@ -644,8 +649,10 @@ impl Loader {
                 let scope = subtree_scope(&node, w.el, w.scope);
                 scopes.push(scope);
                 node.opens_scope = Some(scopes.len() - 1);
-                let mut chain = (*w.chain).clone();
-                chain.push(node.id.clone());
+                let chain = Chain {
+                    id: node.id.clone(),
+                    up: Some(w.chain.clone()),
+                };
                 let d = &defs[di];
                 stack.push(Work {
                     el: &def_el(d).children[0],
@@ -1107,4 +1114,19 @@ fn uses_v4_only(el: &Element) -> bool {
         stack.extend(e.children.iter());
     }
     false
+}
+
+/// The SubTrees open above a node, innermost first, shared: each SubTree
+/// adds one link, so a chain thousands of levels deep holds one link a
+/// level (a copy of the whole path a level held the square of the depth:
+/// 470 MB for 4,000 SubTrees).
+struct Chain {
+    id: String,
+    up: Option<std::rc::Rc<Chain>>,
+}
+
+impl Chain {
+    fn ids(&self) -> impl Iterator<Item = &str> {
+        std::iter::successors(Some(self), |c| c.up.as_deref()).map(|c| c.id.as_str())
+    }
 }

@@ -229,6 +229,37 @@ pub struct Node {
 pub struct SourceFile {
     pub path: PathBuf,
     pub text: String,
+    /// Where each line starts, made the first time a place is asked for:
+    /// a node's line is then a binary search, not a count of the newlines
+    /// before it (which made `tree --format json` quadratic in the file).
+    pub lines: std::sync::OnceLock<Vec<usize>>,
+}
+
+impl SourceFile {
+    pub fn new(path: PathBuf, text: String) -> SourceFile {
+        SourceFile {
+            path,
+            text,
+            lines: std::sync::OnceLock::new(),
+        }
+    }
+
+    /// 1-based line and column (in characters) of a byte offset, as
+    /// `source::line_col` says them.
+    pub fn line_col(&self, offset: usize) -> (usize, usize) {
+        let starts = self.lines.get_or_init(|| {
+            std::iter::once(0)
+                .chain(self.text.match_indices('\n').map(|(i, _)| i + 1))
+                .collect()
+        });
+        let mut offset = offset.min(self.text.len());
+        while offset > 0 && !self.text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        let line = starts.partition_point(|&s| s <= offset);
+        let start = starts[line - 1];
+        (line, self.text[start..offset].chars().count() + 1)
+    }
 }
 
 /// A port declared by a `<TreeNodesModel>`.
@@ -335,7 +366,7 @@ impl Tree {
     pub fn location(&self, uid: Uid) -> (String, usize, usize) {
         let o = self.node(uid).origin;
         let f = &self.files[o.file];
-        let (line, col) = crate::source::line_col(&f.text, o.start);
+        let (line, col) = f.line_col(o.start);
         (f.path.display().to_string(), line, col)
     }
 
@@ -359,4 +390,22 @@ pub fn same_shape(a: &Tree, b: &Tree) -> bool {
             .iter()
             .zip(&b.nodes)
             .all(|(x, y)| x.kind == y.kind && x.parent == y.parent && x.builtin == y.builtin)
+}
+
+#[cfg(test)]
+mod source_file_tests {
+    use super::SourceFile;
+
+    #[test]
+    fn a_place_is_the_line_and_column_source_says() {
+        let text = "ab\n  <é>\n\nx".to_string();
+        let f = SourceFile::new("t.xml".into(), text.clone());
+        for offset in 0..=text.len() + 2 {
+            assert_eq!(
+                f.line_col(offset),
+                crate::source::line_col(&text, offset),
+                "{offset}"
+            );
+        }
+    }
 }

@@ -238,7 +238,7 @@ impl Loader {
         let root = parse_document(&path, &text)?;
         let file = self.files.len();
         self.seen.insert(key, file);
-        self.files.push(SourceFile { path, text });
+        self.files.push(SourceFile::new(path, text));
         if root.tag != "root" {
             return Err(self.err(
                 file,

@@ -113,75 +113,42 @@ pub fn facts(tree: &Tree, at: &At, nodes: &[Uid]) -> Vec<String> {
     out
 }
 
-/// The robot's time of day at each moment `text` names (`10:1`), where the
-/// run keeps it: "Times (the robot's clock, UTC): 9:2 01:55:41.791, …".
+/// The robot's time of day at each moment `text` names (`10:1`, "tick
+/// 26"), where the run keeps it: "Times (the robot's clock, UTC): 9:2
+/// 01:55:41.791, …".
 pub fn times_of(text: &str, session: &crate::session::Session) -> Option<String> {
+    use crate::session::Moment;
     let times = &session.times_us;
     if times.is_empty() {
         return None;
     }
-    let mut said: Vec<String> = Vec::new();
-    let chars: Vec<char> = text.chars().collect();
-    let mut i = 0;
-    while i < chars.len() {
-        // TICK:STEP, not part of a time of day (01:55:41) or a longer word.
-        let start = i;
-        while i < chars.len() && chars[i].is_ascii_digit() {
-            i += 1;
-        }
-        if i == start {
-            i += 1;
-            continue;
-        }
-        let before = start.checked_sub(1).map(|j| chars[j]);
-        if chars.get(i) != Some(&':')
-            || before.is_some_and(|c| c == ':' || c.is_alphanumeric() || c == '.')
-        {
-            continue;
-        }
-        let colon = i;
-        i += 1;
-        while i < chars.len() && chars[i].is_ascii_digit() {
-            i += 1;
-        }
-        if i == colon + 1
-            || chars
-                .get(i)
-                .is_some_and(|c| *c == ':' || c.is_alphanumeric())
-        {
-            continue;
-        }
-        let token: String = chars[start..i].iter().collect();
-        let Ok(m) = crate::session::Moment::parse(&token) else {
-            continue;
-        };
-        let Ok(p) = session.index.position(m) else {
-            continue;
-        };
-        let Some(&us) = (p as usize).checked_sub(1).and_then(|k| times.get(k)) else {
-            continue;
-        };
-        let t = format!("{token} {}", &crate::input::utc(us)[11..]);
-        if !said.contains(&t) {
-            said.push(t);
-        }
-    }
-    // "at tick 10": the end of that tick.
     let words: Vec<&str> = text
-        .split(|c: char| c.is_whitespace() || c == ',' || c == ';' || c == '.')
+        .split_whitespace()
+        .map(|w| w.trim_matches(|c: char| !c.is_ascii_alphanumeric()))
         .collect();
-    for pair in words.windows(2) {
-        let (true, Ok(tick)) = (pair[0] == "tick", pair[1].parse::<u32>()) else {
-            continue;
+    let mut said: Vec<String> = Vec::new();
+    for (i, w) in words.iter().enumerate() {
+        // TICK:STEP (a time of day, 01:55:41.796, has two colons), or
+        // "tick N", the end of that tick.
+        let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+        let (label, m) = match w.split_once(':') {
+            Some((t, s)) if digits(t) && digits(s) => match Moment::parse(w) {
+                Ok(m) => (w.to_string(), m),
+                Err(_) => continue,
+            },
+            None if *w == "tick" => match words.get(i + 1).and_then(|n| n.parse().ok()) {
+                Some(tick) => (format!("tick {tick}"), Moment { tick, step: None }),
+                None => continue,
+            },
+            _ => continue,
         };
-        let m = crate::session::Moment { tick, step: None };
         let Ok(p) = session.index.position(m) else {
             continue;
         };
         let Some(&us) = (p as usize).checked_sub(1).and_then(|k| times.get(k)) else {
             continue;
         };
-        let t = format!("tick {tick} {}", &crate::input::utc(us)[11..]);
+        let t = format!("{label} {}", &crate::input::utc(us)[11..]);
         if !said.contains(&t) {
             said.push(t);
         }

@@ -63,10 +63,7 @@ fn import_runs(log: &Path, reading: &Reading, out: &Path, cli: &Globals) -> Resu
         }
         let dir = match topic {
             Some(t) => {
-                let ns = t
-                    .strip_suffix("behavior_tree_log")
-                    .unwrap_or(t)
-                    .trim_matches('/');
+                let ns = btx::logs::rosbag::namespace(t);
                 let name = if ns.is_empty() {
                     "root".to_string()
                 } else {

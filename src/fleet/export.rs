@@ -68,12 +68,7 @@ impl Partition {
     /// else the file's last change. A bag of several robots' logs names
     /// each by its topic's namespace (`/robot2/behavior_tree_log`: `robot2`).
     pub fn of(file: &Path, given: &Path, topic: Option<&str>, s: &Session) -> Partition {
-        let namespace = topic.map(|t| {
-            t.strip_suffix("behavior_tree_log")
-                .unwrap_or(t)
-                .trim_matches('/')
-                .to_string()
-        });
+        let namespace = topic.map(crate::logs::rosbag::namespace);
         let below = file
             .strip_prefix(given)
             .ok()
@@ -85,9 +80,8 @@ impl Partition {
                 .map_or("robot".into(), |s| s.to_string_lossy().into_owned())
         });
         let robot = match namespace {
-            Some(ns) if ns.is_empty() => robot,
-            Some(ns) => ns,
-            None => robot,
+            Some(ns) if !ns.is_empty() => ns.to_string(),
+            _ => robot,
         };
         let us = s.span_us.map(|(first, _)| first).or_else(|| {
             let t = std::fs::metadata(file).and_then(|m| m.modified()).ok()?;

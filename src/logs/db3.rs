@@ -40,6 +40,17 @@ pub(crate) struct Cut {
     pub page: u64,
 }
 
+impl Cut {
+    /// Said after an error about a file cut short: what it lost may be
+    /// any table's.
+    pub fn note(&self) -> String {
+        format!(
+            " (the file is cut short: it ends at byte {} of the {} its header says)",
+            self.len, self.whole
+        )
+    }
+}
+
 /// Where a database file is cut short: its header's length (valid when
 /// bytes 92..96 equal the change counter at 24..28, as SQLite checks) past
 /// the file's end.
@@ -232,12 +243,7 @@ fn open(path: &Path, whole_pages: bool) -> Result<(Connection, Option<WalCopy>),
 pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), Located> {
     let fail = |m: String| Located::file(path, m);
     // What a file cut short lost may be any table's: said with each error.
-    let cut = cut_short(path).map_or(String::new(), |c| {
-        format!(
-            " (the file is cut short: it ends at byte {} of the {} its header says)",
-            c.len, c.whole
-        )
-    });
+    let cut = cut_short(path).map_or(String::new(), |c| c.note());
     let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}{cut}"));
     let (conn, _copy) = open_read_only(path)?;
     for table in ["Definitions", "Nodes", "Transitions"] {

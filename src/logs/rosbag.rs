@@ -380,6 +380,15 @@ fn distro(path: &Path) -> Option<crate::model::nav2::Release> {
         .and_then(|d| crate::model::nav2::Release::parse(d.trim().trim_matches(['"', '\''])))
 }
 
+/// The namespace of a robot's log topic, without its slashes:
+/// `/robot2/behavior_tree_log` is `robot2`, `/behavior_tree_log` empty.
+pub fn namespace(topic: &str) -> &str {
+    topic
+        .strip_suffix("behavior_tree_log")
+        .unwrap_or(topic)
+        .trim_matches('/')
+}
+
 /// Whether a topic is Nav2's log: by its type, or by its name,
 /// namespaced or not.
 fn is_log(name: &str, ty: &str) -> bool {
@@ -517,13 +526,8 @@ fn read_db3(
 ) -> Result<(String, Option<String>), Located> {
     let fail = |m: String| Located::file(file, m);
     let cut = super::db3::cut_short(file);
-    let sql = |what: &str, e: rusqlite::Error| match cut {
-        Some(c) => fail(format!(
-            "{what}: {e} (the file is cut short: it ends at byte {} of the {} its header says)",
-            c.len, c.whole
-        )),
-        None => fail(format!("{what}: {e}")),
-    };
+    let note = cut.map_or(String::new(), |c| c.note());
+    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}{note}"));
     let (conn, _copy) = super::db3::open_read_only(file)?;
     let topics: Vec<(i64, String, String)> = {
         let mut st = conn

@@ -252,10 +252,7 @@ impl SourceFile {
                 .chain(self.text.match_indices('\n').map(|(i, _)| i + 1))
                 .collect()
         });
-        let mut offset = offset.min(self.text.len());
-        while offset > 0 && !self.text.is_char_boundary(offset) {
-            offset -= 1;
-        }
+        let offset = crate::source::floor_char_boundary(&self.text, offset.min(self.text.len()));
         let line = starts.partition_point(|&s| s <= offset);
         let start = starts[line - 1];
         (line, self.text[start..offset].chars().count() + 1)

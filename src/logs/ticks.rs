@@ -62,9 +62,79 @@ impl<R: AsRef<[Record]>> Leaves for Replay<R> {
     }
 }
 
+/// Records below which a log is replayed in one piece.
+const PARALLEL_MIN: usize = 1 << 17;
+
 /// Structural tick of each record, or the index of the first record the
-/// replay could not follow.
+/// replay could not follow. A long log is replayed in pieces at once, one
+/// a core: it is cut where the root went back to IDLE, the end of a tick
+/// after which BehaviorTree.CPP has reset the whole tree, so each piece
+/// replays from a fresh tree as it would have from the one before it. A
+/// node that keeps state past that (Nav2's RoundRobin keeps its child,
+/// a script its blackboard) makes a piece's replay not follow its
+/// records, and then the log is replayed in one piece.
 fn by_structure(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    by_structure_in(tree, recs, cores)
+}
+
+fn by_structure_in(tree: &Tree, recs: &[Record], pieces: usize) -> Result<Vec<u32>, usize> {
+    let cuts = cuts(tree, recs, pieces);
+    if cuts.len() > 2 {
+        let parts: Vec<Result<Vec<u32>, usize>> = std::thread::scope(|scope| {
+            let handles: Vec<_> = cuts
+                .windows(2)
+                .map(|w| {
+                    let part = &recs[w[0]..w[1]];
+                    scope.spawn(move || by_structure_whole(tree, part))
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().unwrap_or(Err(0)))
+                .collect()
+        });
+        if parts.iter().all(Result::is_ok) {
+            let mut out = Vec::with_capacity(recs.len());
+            for part in parts.into_iter().flatten() {
+                let base = out.last().copied().unwrap_or(0);
+                out.extend(part.into_iter().map(|t| t + base));
+            }
+            return Ok(out);
+        }
+    }
+    by_structure_whole(tree, recs)
+}
+
+/// Where to cut `recs` into about `pieces` of like length: just after a
+/// record of the root going back to IDLE. The first cut is 0, the last
+/// the length.
+fn cuts(tree: &Tree, recs: &[Record], pieces: usize) -> Vec<usize> {
+    let mut cuts = vec![0];
+    if pieces < 2 || recs.len() < PARALLEL_MIN {
+        cuts.push(recs.len());
+        return cuts;
+    }
+    let root = tree.root().uid;
+    for k in 1..pieces {
+        let aim = recs.len() * k / pieces;
+        let from = aim.max(*cuts.last().expect("seeded"));
+        if let Some(i) = recs[from..]
+            .iter()
+            .position(|r| r.uid == root && r.status == Status::Idle)
+        {
+            let cut = from + i + 1;
+            if cut < recs.len() {
+                cuts.push(cut);
+            }
+        }
+    }
+    cuts.push(recs.len());
+    cuts.dedup();
+    cuts
+}
+
+fn by_structure_whole(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
     let mut ex = Executor::new(
         tree,
         Replay {
@@ -543,6 +613,85 @@ mod tests {
         .unwrap()
         .tree;
         (tree, raw.records)
+    }
+
+    /// The fixture runs of the kitting tree one after the other, `times`
+    /// over, each later than the last.
+    fn kitting_runs(times: usize) -> (Tree, Vec<Record>) {
+        let names = [
+            "kitting_nominal.btlog",
+            "kitting_lookat_fails_once.btlog",
+            "kitting_grasp_check_fails_first.btlog",
+            "kitting_detect_chuck_always_fails.btlog",
+        ];
+        let (tree, _) = fixture_log(names[0]);
+        let mut out: Vec<Record> = Vec::new();
+        for k in 0..times {
+            let (_, recs) = fixture_log(names[k % names.len()]);
+            let base = out.last().map_or(0, |r| r.time_us + 100_000);
+            out.extend(recs.iter().map(|r| Record {
+                time_us: base + r.time_us - recs[0].time_us,
+                ..*r
+            }));
+        }
+        (tree, out)
+    }
+
+    #[test]
+    fn a_long_log_replayed_in_pieces_is_numbered_as_in_one() {
+        let (tree, recs) = kitting_runs(1200);
+        assert!(recs.len() > PARALLEL_MIN);
+        let cut = cuts(&tree, &recs, 3);
+        assert_eq!(cut.len(), 4, "three pieces");
+        let whole = by_structure_whole(&tree, &recs).unwrap();
+        assert_eq!(by_structure_in(&tree, &recs, 3).unwrap(), whole);
+        assert_eq!(by_structure_in(&tree, &recs, 2).unwrap(), whole);
+    }
+
+    #[test]
+    fn a_piece_that_needs_the_state_before_it_is_replayed_with_it() {
+        // Nav2's RoundRobin keeps the child it is at when the root
+        // completes: a piece replayed from a fresh tree would start at the
+        // first child. The log says the second, the piece cannot follow,
+        // and the log is replayed in one piece, numbered right.
+        let tree = crate::xml::load_str(
+            std::path::Path::new("rr.xml"),
+            r#"<root BTCPP_format="4"><BehaviorTree ID="Main">
+                 <RoundRobin><AlwaysSuccess/><AlwaysSuccess/><AlwaysSuccess/></RoundRobin>
+               </BehaviorTree></root>"#,
+            &crate::xml::LoadOptions::default(),
+        )
+        .unwrap()
+        .tree;
+        let plan = crate::run::plan::Plan::parse(std::path::Path::new("p.plan"), "").unwrap();
+        let leaves = crate::run::plan::PlanLeaves::new(plan, &tree);
+        let mut ex = Executor::new(&tree, leaves, RunOptions::default());
+        let (mut recs, mut truth) = (Vec::new(), Vec::new());
+        while recs.len() <= PARALLEL_MIN {
+            ex.tick_once().unwrap();
+            for e in ex.take_events() {
+                if let crate::run::Event::Transition {
+                    tick, uid, status, ..
+                } = e
+                {
+                    recs.push(Record {
+                        time_us: tick as i64 * 1000,
+                        uid,
+                        status,
+                        offset: 0,
+                    });
+                    truth.push(tick);
+                }
+            }
+        }
+        let cut = cuts(&tree, &recs, 2);
+        assert_eq!(cut.len(), 3);
+        let second = &recs[cut[1]..];
+        assert!(
+            by_structure_whole(&tree, second).is_err(),
+            "the second piece cannot be replayed alone"
+        );
+        assert_eq!(by_structure_in(&tree, &recs, 2).unwrap(), truth);
     }
 
     #[test]

@@ -1,6 +1,7 @@
 //! Questions written by people who had not seen btx's reader
-//! (`tests/fixtures/questions/corpus.jsonl`, written blind over seven runs,
-//! and `forums.jsonl`, questions users wrote in BehaviorTree.CPP, Nav2 and
+//! (`tests/fixtures/questions/corpus.jsonl`, written blind over seven runs;
+//! `corpus2.jsonl`, 260 more written blind later by another writer, who
+//! checked each label against the run's log; and `forums.jsonl`, questions users wrote in BehaviorTree.CPP, Nav2 and
 //! Groot issue threads, each with its thread), each labelled with what it
 //! asks: the intent, the node, the event and the moment. The corpus is
 //! split in two by a hash of the question: the reader was tuned on the
@@ -254,7 +255,10 @@ fn judge(c: &Case, input: &Input) -> Outcome {
             _ => Vec::new(),
         }
     };
-    let want = named(&c.node);
+    // A SubTree and the Sequence inside it named alike are one behaviour,
+    // answered as the outermost (docs/commands.md): a label naming both is
+    // met by an answer about the SubTree.
+    let want = read::mentions::outermost(tree, named(&c.node));
     let subject_named = matches!(
         &reading.intent,
         Intent::Why { .. }
@@ -385,7 +389,9 @@ fn the_corpus_is_large_varied_and_labelled() {
 
 #[test]
 fn questions_tuned_on_are_read_as_meant() {
-    let t = tally(&["corpus.jsonl", "forums.jsonl"], |c| half(&c.q) == 0);
+    let t = tally(&["corpus.jsonl", "corpus2.jsonl", "forums.jsonl"], |c| {
+        half(&c.q) == 0
+    });
     let (understood, misread) = report("tuned-on half", &t);
     if std::env::var_os("BTX_SHOW_MISREADS").is_some() {
         for w in &t.wrong {
@@ -401,7 +407,9 @@ fn questions_tuned_on_are_read_as_meant() {
 
 #[test]
 fn questions_held_out_are_read_as_meant() {
-    let t = tally(&["corpus.jsonl", "forums.jsonl"], |c| half(&c.q) == 1);
+    let t = tally(&["corpus.jsonl", "corpus2.jsonl", "forums.jsonl"], |c| {
+        half(&c.q) == 1
+    });
     let (understood, misread) = report("held-out half", &t);
     assert!(
         understood >= HELD_FLOOR && misread <= HELD_MISREAD,
@@ -410,9 +418,10 @@ fn questions_held_out_are_read_as_meant() {
 }
 
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (89.5 % and 3.0 % tuned on, 82.6 % and 8.6 % held out): a
-/// change that reads fewer questions as meant, or misreads more, fails.
-const DEV_FLOOR: f64 = 89.0;
-const DEV_MISREAD: f64 = 3.5;
-const HELD_FLOOR: f64 = 82.0;
-const HELD_MISREAD: f64 = 9.0;
+/// of the reader (90.0 % and 3.7 % tuned on, 84.0 % and 7.2 % held out,
+/// with corpus2's questions in both halves): a change that reads fewer
+/// questions as meant, or misreads more, fails.
+const DEV_FLOOR: f64 = 89.5;
+const DEV_MISREAD: f64 = 4.0;
+const HELD_FLOOR: f64 = 83.5;
+const HELD_MISREAD: f64 = 7.5;

@@ -72,12 +72,12 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
             })
         }
         // When and how often: every node the words name, each in its line.
-        Intent::When { node, event, which } => with_node(cx, node, Some(*event), &mut r, |u, r| {
+        Intent::When { node, event, which } => counted(cx, node, *event, &mut r, |u, r| {
             when(cx, u, *event, *which, r)
         }),
-        Intent::HowOften { node, event } => with_node(cx, node, Some(*event), &mut r, |u, r| {
-            how_often(cx, u, *event, r)
-        }),
+        Intent::HowOften { node, event } => {
+            counted(cx, node, *event, &mut r, |u, r| how_often(cx, u, *event, r))
+        }
         Intent::Tick(n) => {
             // 0: the tick of the moment the question named ("the last tick").
             let n = match (*n, cx.at.as_ref()) {
@@ -114,6 +114,45 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
     r
 }
 
+/// `with_node` for a question that counts an event ("when", "how
+/// often"): where the words name several nodes and only one ever had the
+/// event, the answer is about that one and says the others never had it.
+fn counted(
+    cx: &Context,
+    who: &Subject,
+    event: Event,
+    r: &mut Reply,
+    f: impl Fn(Uid, &mut Reply) -> Result<(), String>,
+) -> Result<(), String> {
+    with_node(cx, who, Some(event), r, f)?;
+    let (Subject::Nodes(all, _), Some(at), Some(u)) = (who, cx.at.as_ref(), r.about) else {
+        return Ok(());
+    };
+    if all.len() < 2 || r.answer.contains(" also names ") || !all.contains(&u) {
+        return Ok(());
+    }
+    let rest: Vec<Uid> = all
+        .iter()
+        .copied()
+        .filter(|&v| v != u && events(at, v, event).is_empty())
+        .collect();
+    if rest.is_empty() || rest.len() + 1 != all.len() {
+        return Ok(());
+    }
+    let labels = told_apart(cx.tree, all);
+    let label = |v: Uid| labels[all.iter().position(|&a| a == v).unwrap_or(0)].clone();
+    let kinds: Vec<String> = rest.iter().map(|&v| label(v)).collect();
+    r.answer.push_str(&format!(
+        "\n{} also names {}, which {} {}.",
+        crate::causal::english::capitalised(cx.tree.description(u)),
+        and_list(&kinds),
+        never(event),
+        cx.by(at)
+    ));
+    r.nodes.extend(rest);
+    Ok(())
+}
+
 /// Runs `f` on the node a subject names. Nodes that share the words are
 /// told apart by what the run shows at the moment (the one that failed
 /// then, for a why about a failure); otherwise each is answered in a line
@@ -125,6 +164,10 @@ fn with_node(
     r: &mut Reply,
     f: impl Fn(Uid, &mut Reply) -> Result<(), String>,
 ) -> Result<(), String> {
+    let named_alike: Vec<Uid> = match who {
+        Subject::Nodes(us, _) => us.clone(),
+        _ => Vec::new(),
+    };
     let who = match (who, event, cx.at.as_ref()) {
         (Subject::It, _, _) => Subject::Nodes(vec![cx.it()], "it".into()),
         (Subject::Nodes(us, p), Some(e), Some(at)) if us.len() > 1 => {
@@ -149,7 +192,17 @@ fn with_node(
             } else {
                 phrase
             };
-            let kinds = told_apart(cx.tree, &us);
+            // Told apart among every node the words name, so that those
+            // the event never happened to can be said too: "names X and Y"
+            // alone would say they are all.
+            let all: Vec<Uid> = if us.iter().all(|u| named_alike.contains(u)) {
+                named_alike.clone()
+            } else {
+                us.clone()
+            };
+            let labels = told_apart(cx.tree, &all);
+            let label = |u: Uid| labels[all.iter().position(|&a| a == u).unwrap_or(0)].clone();
+            let kinds: Vec<String> = us.iter().map(|&u| label(u)).collect();
             let mut lines = vec![format!(
                 "{} names {}.",
                 crate::causal::english::capitalised(&phrase),
@@ -173,6 +226,18 @@ fn with_node(
                 }
                 r.nodes.extend(sub.nodes);
                 r.nodes.push(u);
+            }
+            let rest: Vec<Uid> = all.iter().copied().filter(|u| !us.contains(u)).collect();
+            if let (false, Some(e)) = (rest.is_empty(), event) {
+                let kinds: Vec<String> = rest.iter().map(|&u| label(u)).collect();
+                lines.push(format!(
+                    "{} also names {}, which {} {}.",
+                    crate::causal::english::capitalised(&phrase),
+                    and_list(&kinds),
+                    never(e),
+                    cx.at.as_ref().map_or(String::new(), |at| cx.by(at))
+                ));
+                r.nodes.extend(rest);
             }
             r.about = us.first().copied();
             r.answer = lines.join("\n");

@@ -166,6 +166,37 @@ pub fn instead(cx: &Context, done: Uid, other: Uid, r: &mut Reply) -> Result<(),
     r.short_event = Some(Event::NotRun);
     r.about = Some(other);
     r.nodes = vec![done, other];
+    // Nav2 calls nodes again within a tick: Y may have been tried first in
+    // this tick, and its end is why X ran. Searching the tick's last pass
+    // would answer why Y was not tried again, which is not what was asked.
+    let start = at.index.tick_range(tick).start as u32;
+    let ended_before = at.index.changes_of(other).iter().copied().rfind(|&q| {
+        q > start
+            && q < p
+            && matches!(
+                at.index.transitions[q as usize - 1].status,
+                Status::Failure | Status::Success
+            )
+    });
+    if let Some(q) = ended_before {
+        let ended = at.index.transitions[q as usize - 1].status;
+        let mut why = super::Reply::new(&r.question, r.short);
+        answer(cx, done, Event::Run, None, &mut why)?;
+        r.answer = format!(
+            "{} was tried first in tick {tick}: it {} at {}, and {d} started after it, at {}.\n{}",
+            upper(&o),
+            past(if ended == Status::Failure {
+                Event::Fail
+            } else {
+                Event::Succeed
+            }),
+            step_moment(at.index, q),
+            step_moment(at.index, p),
+            why.answer
+        );
+        r.answered = why.answered;
+        return Ok(());
+    }
     search(
         cx,
         &format!("executed(#{other})"),

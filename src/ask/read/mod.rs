@@ -426,6 +426,21 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
                 }
             }
         }
+        // "Why did it go to recoveries instead of trying the controller":
+        // a contrast needs two nodes, and a node named by a word that also
+        // asks ("recoveries") is the second.
+        let contrast = with_strong.phrase(&["instead", "of"]).is_some()
+            || with_strong.phrase(&["rather", "than"]).is_some();
+        if contrast && with_strong.nodes.len() == 1 && s.nodes.len() > 1 {
+            let all = s.with_nodes(q, s.nodes.clone());
+            let alt = classify(&all, tree);
+            if alt
+                .first()
+                .is_some_and(|(i, _)| matches!(i, Intent::WhyNot { .. }))
+            {
+                r = alt;
+            }
+        }
         r
     };
     let mut readings = readings;
@@ -438,6 +453,12 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             alternatives.push(i);
         }
     }
+    // "Did it recover after the failure?": the failure is what the
+    // recovery is from, not the moment to ask at.
+    let when = match (&intent, when) {
+        (Intent::Recovered, Some(When::AfterFailure | When::AfterRecovery)) => None,
+        (_, w) => w,
+    };
     let about = match intent {
         Intent::Fixed(Question::Tree(_)) => s
             .nodes
@@ -772,9 +793,18 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || (s.has("explain") && !s.has("how") && !s.nodes.is_empty() && ev.is_some());
     let what = s.has("what") || s.has("which") || IMPERATIVE.iter().any(|w| s.has(w));
     let how = s.has("how");
-    let problem = s.has_stem(&[
-        "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad", "mess",
-    ]);
+    // "After it couldn't detect the chuck": not managing is failing.
+    let could_not = s.phrase(&["could", "not"]).is_some()
+        || s.phrase(&["can", "not"]).is_some()
+        || s.phrase(&["was", "unable"]).is_some()
+        || s.phrase(&["unable", "to"]).is_some();
+    let break_down = s.phrase(&["break", "down"]).is_some();
+    let problem = could_not
+        || !break_down
+            && s.has_stem(&[
+                "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad",
+                "mess",
+            ]);
     let fine = s.has_stem(&["ok", "fine", "good", "alright", "smooth", "normal"]);
     let doing_words = s.has("doing")
         || s.has_stem(&["busi", "busy", "work", "activ", "perform", "activ"])
@@ -795,6 +825,8 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.has("overall")
         || s.has("entire")
         || s.has("ultimate")
+        || s.has("ultimately")
+        || s.has("eventually")
         || s.has("main")
         || s.has("everything")
         || s.has("all");
@@ -898,7 +930,11 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             return out;
         }
     }
-    let when_q = s.has("when")
+    let every_time = (s.has("every") || s.has("each") || s.has("all"))
+        && (s.has("time") || s.has("times"))
+        && !why;
+    let when_q = every_time
+        || s.has("when")
         || s.phrase(&["what", "time"]).is_some()
         || s.phrase(&["which", "tick"]).is_some()
         || s.phrase(&["what", "tick"]).is_some()
@@ -1115,12 +1151,23 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         };
         let asks_tick = s.has_stem(&[
             "happen", "chang", "occur", "describ", "summar", "show", "went", "transit",
-        ]) || s.empty()
+        ]) || break_down
+            || s.empty()
             || (what && !doing_words && !s.has_stem(&["run", "goal", "subgoal"]));
         if asks_tick && named.is_empty() && !doing_words {
             out.push((Intent::Tick(n), sure_of_words(0.95)));
             return out;
         }
+    }
+    // "Did the robot still make it to the goal after the failures?":
+    // whether the run came through, not what the goal is.
+    let reached = s.has_stem(&["reach", "arriv"])
+        || s.phrase(&["make", "it"]).is_some()
+        || s.phrase(&["get", "to"]).is_some()
+        || s.phrase(&["got", "to"]).is_some();
+    if yes_no && reached && s.has_stem(&["goal", "destin", "target"]) && named.is_empty() {
+        out.push((Intent::Recovered, sure_of_words(0.9)));
+        return out;
     }
     let subgoal = s.has_stem(&["subgoal", "subtask", "milestone"])
         || s.phrase(&["sub", "goal"]).is_some()
@@ -1183,7 +1230,21 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         return out;
     }
     if goal && !s.has("doing") {
-        let q = if now_words && !whole {
+        let trying = s.phrase(&["trying", "to"]).is_some() || s.phrase(&["try", "to"]).is_some();
+        let named_goal = s.has_stem(&["goal", "object", "mission", "purpos", "job", "target"]);
+        let here = now_words || s.has("here") || s.phrase(&["this", "point"]).is_some();
+        // "What is it trying to achieve?", with neither "now" nor "in the
+        // end": the whole task's goal, or that of the part it is in. Both
+        // are read, and asked back.
+        if trying && !named_goal && !here && !whole {
+            out.push((
+                Intent::Fixed(Question::Tree(TreeQuestion::Goal)),
+                sure_of_words(0.65),
+            ));
+            out.push((Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)), 0.6));
+            return out;
+        }
+        let q = if here && !whole {
             TreeQuestion::Subgoal
         } else {
             TreeQuestion::Goal
@@ -1264,6 +1325,10 @@ fn progressive(s: &Sentence) -> bool {
     s.q[be + 1..].iter().any(|w| {
         w.text.len() > 4 && w.text.ends_with("ing") && w.text != "something"
             || ["active", "busy"].contains(&w.text.as_str())
+            // "computin": the g dropped from a verb of the tree's.
+            || w.text.len() > 4
+                && w.text.ends_with("in")
+                && s.tree_words.contains(&words::stem(&format!("{}g", w.text)))
     })
 }
 
@@ -1298,8 +1363,11 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
     let free: Vec<(usize, &Word)> =
         s.q.iter()
             .enumerate()
-            .filter(|(_, w)| {
-                !LEAD.contains(&w.text.as_str()) && !["the", "a", "an"].contains(&w.text.as_str())
+            .filter(|(i, w)| {
+                !LEAD.contains(&w.text.as_str())
+                    && !["the", "a", "an"].contains(&w.text.as_str())
+                    // "robot, can you pick a screw": the robot addressed.
+                    && (*i != 0 || !["robot", "bot"].contains(&w.text.as_str()))
             })
             .collect();
     let texts: Vec<&str> = free.iter().map(|(_, w)| w.text.as_str()).collect();

@@ -484,6 +484,55 @@ fn a_halt_inside_a_call_is_not_a_start() {
     );
 }
 
+/// "Why X instead of Y" where Y ran first in that tick: the answer says
+/// what the log shows (Y's end, then X's start) before why X ran, where it
+/// explained why Y was not tried again in the tick's last pass.
+#[test]
+fn instead_of_a_node_tried_first_in_the_tick_says_so() {
+    let run = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let q = "why did it go to recoveries instead of trying the controller again";
+    let (ok, out, err) = btx(&["ask", run, "--at", "6", q]);
+    assert!(ok, "{err}");
+    let (_, log, _) = btx(&["log", run, "--node", "#10"]);
+    assert!(
+        log.lines().any(
+            |l| l.split_whitespace().take(3).collect::<Vec<_>>() == ["6", "1", "10"]
+                && l.contains("RUNNING  -> FAILURE")
+        ),
+        "{log}"
+    );
+    assert!(
+        out.contains("The FollowPath action (#10) was tried first in tick 6: it failed at 6:1, and RecoveryFallback (#14) started after it, at 6:9."),
+        "{out}"
+    );
+    assert!(out.contains("FollowPath (#10) failed at 6:1"), "{out}");
+}
+
+/// Nodes a name covers that never had the event are said, not left out
+/// of "X names A and B" as if those were all.
+#[test]
+fn a_count_over_nodes_named_alike_says_those_it_never_happened_to() {
+    let run = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let (ok, out, err) = btx(&["ask", run, "how often did GoalUpdated succeed"]);
+    assert!(ok, "{err}");
+    let (_, log, _) = btx(&["log", run, "--node", "#7"]);
+    assert!(!log.contains("-> SUCCESS"), "{log}");
+    assert!(
+        out.contains("also names the condition under ComputePathToPoseRecoveryFallback (#7), which never succeeded"),
+        "{out}"
+    );
+    let (ok, out, _) = btx(&[
+        "ask",
+        "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog",
+        "when did it ask for help",
+    ]);
+    assert!(ok);
+    assert!(
+        out.contains("(#55)") && out.contains("(#79)") && out.contains("never started"),
+        "{out}"
+    );
+}
+
 /// A question btx cannot read is answered with suggestions about the node
 /// it named, not the selected one (#38: a why about "chuk" suggested
 /// questions about retreat arm).

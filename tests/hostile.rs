@@ -821,12 +821,13 @@ fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
     let r = btx_run(&["why", &session, "status(#1)"]);
     assert_eq!(r.code, Some(0), "{}", r.err);
     assert!(
-        // Past the model's bound, the run's own calls answer: the root
-        // succeeds by its kind (#39 item 10: never refused).
-        r.out.contains("ForceSuccess (#1) succeeded at 1:29957 after ForceSuccess (#2) succeeded at 1:29955. A ForceSuccess succeeds whatever its child returns."),
+        // Past the model's bound at depth 1, the nearest single changes
+        // are searched (#42 item 2), and what was not is said.
+        r.out.contains("1. ForceSuccess (#1) succeeded because ForceSuccess (#2) succeeded. If ForceSuccess (#2) had been running, ForceSuccess (#1) would have been running."),
         "{}",
         r.out
     );
+    assert!(r.out.contains("the 200 variables nearest status(ForceSuccess (#1)) were searched, the 19773 farther ones not"), "{}", r.out);
     let r = btx_run(&[
         "ask", &session, "--node", "#9987", "q1", "q2", "q3", "wrong",
     ]);
@@ -847,6 +848,20 @@ fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
     let r = btx_run(&["tree", &subtrees]);
     assert_eq!(r.code, Some(0), "{}", r.err);
     assert!(r.peak_kib < 64 * 1024, "{} KiB", r.peak_kib);
+    // Its root's why: every one of the 24,001 variables below is a single
+    // change, 10^9 evaluations, past the bound; it answered nothing at
+    // depth 1. The nearest are searched, and the rest said not to be.
+    let chained = dir.path().join("c.jsonl").display().to_string();
+    let r = btx_run(&["run", &subtrees, "--plan", &plan, "--out", &chained]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    let r = btx_run(&["why", &chained, "status(#1)", "--at", "last"]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(
+        r.out.contains("2. Sequence (#1) succeeded because T1 succeeded. If T1 had failed, Sequence (#1) would have failed."),
+        "{}",
+        r.out
+    );
+    assert!(r.out.contains("the 200 variables nearest status(Sequence (#1)) were searched, the 23801 farther ones not"), "{}", r.out);
     // 100,000 levels: refused, with the limit.
     let deeper = write(dir.path(), "deeper.xml", &chain(250, 400));
     let r = btx_run(&["tree", &deeper]);

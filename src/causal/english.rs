@@ -644,6 +644,7 @@ pub fn to_json(m: &Model, q: &Query, a: &Answer, moment: &str) -> Value {
         "candidates": a.candidates,
         "evaluated": a.evaluated,
         "omitted": a.omitted,
+        "unsearched": a.unsearched,
         "held": a.held,
         "stopped": a.stopped.map(|(depth, n)| json!({"depth": depth, "interventions": n.to_string()})),
         "model": {"nodes": m.vars.len(), "edges": m.edge_count()},
@@ -782,6 +783,15 @@ pub fn to_text(
                     a.omitted,
                     m.var_name(q.targets[0]),
                     super::search::EXPLANATIONS_MAX
+                ));
+            }
+            if a.unsearched > 0 {
+                out.push_str(&format!(
+                    "The search at this size was past btx's bound ({} variable evaluations): the {} variables nearest {} were searched, the {} farther ones not; more explanations may lie there.\n",
+                    short_count(super::search::SEARCH_WORK_MAX),
+                    a.candidates - a.unsearched,
+                    m.var_name(q.targets[0]),
+                    a.unsearched
                 ));
             }
         }

@@ -973,6 +973,7 @@ fn told_why(
         omitted: 0,
         held: Vec::new(),
         held_tried: false,
+        unsearched: 0,
     };
     let mut w = checked(session, model, query, answer, None, moment.to_string());
     w.root = root_of(session, told.uid, told.pos);

@@ -62,6 +62,9 @@ pub struct Answer {
     /// Explanations found past the first `EXPLANATIONS_MAX` (the nearest
     /// causes), left out: not checked, merged or shown.
     pub omitted: usize,
+    /// Candidates not searched at the answer's depth: the whole depth was
+    /// past the bound, and only the nearest `NEAREST_MAX` were.
+    pub unsearched: usize,
     /// Nodes that decide by the blackboard (a pre-condition script, a
     /// Switch, …), which the model holds as recorded and which a change
     /// could reach through a script: where none could be re-run, whether
@@ -76,6 +79,12 @@ pub struct Answer {
 /// 10,000 single causes of its root's status; each kept one is re-run and
 /// merged, and nobody reads past the first few dozen.
 pub const EXPLANATIONS_MAX: usize = 50;
+
+/// Where a whole depth of single changes is past the bound, the candidates
+/// nearest the target searched instead (a chain of 10,000 SubTrees: the
+/// root's status depends on every node below it, and the answer is in the
+/// few nearest).
+pub const NEAREST_MAX: usize = 4 * EXPLANATIONS_MAX;
 
 /// The most work a search does: interventions × the variables each one
 /// evaluates. Serial recall's queries take about 10^5; a depth-1 search on a
@@ -146,10 +155,20 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
     let mut evaluators: Vec<_> = (0..threads).map(|_| model.evaluator(&within)).collect();
     let alts: Vec<usize> = candidates.iter().map(|(_, a)| a.len()).collect();
     let mut work: u128 = 0;
+    let dist = model.distances_to(&q.targets);
     for depth in 1..=max_depth.min(candidates.len()) {
         let n = interventions(&alts, depth);
         work = work.saturating_add(n.saturating_mul(within.len().max(1) as u128));
-        if work > SEARCH_WORK_MAX {
+        let mut unsearched = 0;
+        let sets = if work > SEARCH_WORK_MAX && depth == 1 {
+            // Past the bound: the single changes nearest the target.
+            let mut near: Vec<usize> = (0..candidates.len()).collect();
+            near.sort_by_key(|&c| (dist[candidates[c].0], c));
+            near.truncate(NEAREST_MAX);
+            unsearched = candidates.len() - near.len();
+            near.sort_unstable();
+            near.into_iter().map(|c| vec![c]).collect()
+        } else if work > SEARCH_WORK_MAX {
             return Ok(Answer {
                 depth: None,
                 max_depth,
@@ -160,9 +179,11 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
                 omitted: 0,
                 held: Vec::new(),
                 held_tried: false,
+                unsearched: 0,
             });
-        }
-        let sets = subsets(candidates.len(), depth);
+        } else {
+            subsets(candidates.len(), depth)
+        };
         let chunk = sets.len().div_ceil(threads).max(1);
         let one = |ev: &mut Evaluator,
                    set: &Vec<usize>|
@@ -235,7 +256,6 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
             explanations.extend(g);
         }
         // Nearest causes first (fewest edges to the target), then by variable.
-        let dist = model.distances_to(&q.targets);
         explanations.sort_by_key(|e| {
             (
                 e.vars.iter().map(|&v| dist[v]).max().unwrap_or(0),
@@ -255,6 +275,22 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
                 stopped: None,
                 held: Vec::new(),
                 held_tried: false,
+                unsearched,
+            });
+        }
+        if unsearched > 0 {
+            // None among the nearest: the rest is past the bound, unknown.
+            return Ok(Answer {
+                depth: None,
+                max_depth,
+                explanations: Vec::new(),
+                candidates: candidates.len(),
+                evaluated,
+                stopped: Some((depth, n)),
+                omitted: 0,
+                held: Vec::new(),
+                held_tried: false,
+                unsearched: 0,
             });
         }
     }
@@ -268,6 +304,7 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
         omitted: 0,
         held: Vec::new(),
         held_tried: false,
+        unsearched: 0,
     })
 }
 

@@ -418,10 +418,10 @@ fn questions_held_out_are_read_as_meant() {
 }
 
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (90.0 % and 3.7 % tuned on, 84.0 % and 7.2 % held out,
+/// of the reader (90.1 % and 3.7 % tuned on, 84.5 % and 7.0 % held out,
 /// with corpus2's questions in both halves): a change that reads fewer
 /// questions as meant, or misreads more, fails.
 const DEV_FLOOR: f64 = 89.5;
 const DEV_MISREAD: f64 = 4.0;
-const HELD_FLOOR: f64 = 83.5;
+const HELD_FLOOR: f64 = 84.0;
 const HELD_MISREAD: f64 = 7.5;

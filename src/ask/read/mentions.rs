@@ -152,7 +152,13 @@ impl Vocabulary {
                 }
             }
         }
-        if nav2_words::applies(tree.nodes.iter().map(|n| n.id.as_str())) {
+        // A Nav2 tree by its node types, or by its names where a tree (a
+        // test's, a simulation's) gives Nav2's nodes a type of its own.
+        let ids_and_names = tree
+            .nodes
+            .iter()
+            .flat_map(|n| [n.id.as_str(), n.name.as_str()]);
+        if nav2_words::applies(ids_and_names) {
             for ((stems, joined), (_, target)) in field_words().iter().zip(nav2_words::WORDS) {
                 for u in targets(tree, &order, *target) {
                     entries.push(Entry {
@@ -441,7 +447,11 @@ fn targets(tree: &Tree, order: &[Uid], t: Target) -> Vec<Uid> {
         order
             .iter()
             .copied()
-            .filter(|&u| ids.contains(&tree.node(u).id.as_str()))
+            .filter(|&u| {
+                let n = tree.node(u);
+                ids.contains(&n.id.as_str())
+                    || n.kind.is_leaf() && ids.contains(&n.name.as_str())
+            })
             .collect()
     };
     match t {

@@ -6,7 +6,7 @@
 use crate::model::{Kind, Tree, Uid};
 use crate::run::blackboard::EntryId;
 use crate::run::replay::{Call, Replay};
-use crate::run::{CallRecord, Executor, Flow, RunOptions, Status};
+use crate::run::{CallRecord, Executor, Flow, Parked, RunOptions, Status};
 use crate::session::Session;
 use serde_json::Value;
 use std::collections::HashMap;
@@ -67,7 +67,7 @@ fn plain_leaf(tree: &Tree, uid: Uid) -> bool {
 /// The leaf calls of a session, handed to the replay a tick at a time:
 /// holding every call of a long run at once cost about 110 bytes a
 /// transition (#31 item 1).
-#[derive(Default)]
+#[derive(Default, Clone)]
 struct Feed {
     /// The next transition, write and decision to hand over.
     next: (usize, usize, usize),
@@ -139,6 +139,56 @@ impl Feed {
     }
 }
 
+/// The replay of a session kept at some of its ticks, so that the facts
+/// of a tick late in a long run are replayed from the nearest one before
+/// it, not from the first tick (the explorer at the end of 5·10^6
+/// transitions took 0.6 s a question). Each is the replay at the start of
+/// a tick: the executor parked after the ticks before it, and the feed.
+#[derive(Default)]
+struct Marks(Vec<(Parked<Replay>, Feed)>);
+
+/// Ticks between two marks at least, and the marks kept at most, with the
+/// bytes they may hold (a mark holds each node's control state).
+const MARK_EVERY_MIN: u32 = 64;
+const MARKS_MAX: usize = 256;
+const MARKS_BYTES: usize = 64 << 20;
+
+impl Marks {
+    /// The latest mark at or before the start of `tick`, resumed.
+    fn nearest<'t>(&mut self, tree: &'t Tree, tick: u32) -> Option<(Executor<'t, Replay>, Feed)> {
+        let i = self.0.partition_point(|(p, _)| p.ticks() < tick);
+        let (parked, feed) = self.0[..i].last()?;
+        match parked.resume(tree) {
+            Some(ex) => Some((ex, feed.clone())),
+            None => {
+                // Made with other nodes (a subgoal inserted since).
+                self.0.clear();
+                None
+            }
+        }
+    }
+
+    fn add(&mut self, parked: Parked<Replay>, feed: Feed, most: usize) {
+        let i = self.0.partition_point(|(p, _)| p.ticks() < parked.ticks());
+        if self
+            .0
+            .get(i)
+            .is_some_and(|(p, _)| p.ticks() == parked.ticks())
+        {
+            return;
+        }
+        self.0.insert(i, (parked, feed));
+        if self.0.len() > most {
+            // Every other one goes: they stay spread over the run.
+            let mut k = 0;
+            self.0.retain(|_| {
+                k += 1;
+                k % 2 == 0
+            });
+        }
+    }
+}
+
 impl TickFacts {
     /// The facts of `tick` (from 1) of a session.
     pub fn of(session: &Session, tick: u32) -> Result<TickFacts, String> {
@@ -151,18 +201,29 @@ impl TickFacts {
             ));
         }
         let n = tree.len();
-        let mut replay = Replay::new(session.header.blackboard.clone());
-        replay.writes_recorded = !idx.writes.is_empty();
-        let mut ex = Executor::new(
-            tree,
-            replay,
-            RunOptions {
-                tick_ms: session.header.tick_ms.max(1),
-                nav2: session.header.nav2.unwrap_or_default(),
-            },
-        );
-        let mut feed = Feed::default();
-        for t in 1..tick {
+        let marks = &idx.scratch;
+        let most = MARKS_MAX.min(MARKS_BYTES / (n * 320).max(1)).max(2);
+        let every = (idx.ticks() / most as u32).max(MARK_EVERY_MIN);
+        let (mut ex, mut feed) = marks
+            .with(|m: &mut Marks| m.nearest(tree, tick))
+            .unwrap_or_else(|| {
+                let mut replay = Replay::new(session.header.blackboard.clone());
+                replay.writes_recorded = !idx.writes.is_empty();
+                let ex = Executor::new(
+                    tree,
+                    replay,
+                    RunOptions {
+                        tick_ms: session.header.tick_ms.max(1),
+                        nav2: session.header.nav2.unwrap_or_default(),
+                    },
+                );
+                (ex, Feed::default())
+            });
+        for t in ex.ticks() + 1..tick {
+            if t % every == 0 {
+                let (parked, kept) = (ex.clone().park(), feed.clone());
+                marks.with(|m: &mut Marks| m.add(parked, kept, most));
+            }
             feed.fill(session, &mut ex.leaves, t);
             ex.tick_once()
                 .map_err(|e| format!("replaying tick {t}: {e}"))?;
@@ -352,4 +413,100 @@ fn per_call_facts(
         );
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TickFacts;
+
+    /// The recorded kitting run, `times` over, as one `.btlog`.
+    fn long_log(times: usize) -> Vec<u8> {
+        let bytes = std::fs::read(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/fixtures/logs/kitting_lookat_fails_once.btlog"
+        ))
+        .unwrap();
+        let n = i32::from_le_bytes(bytes[19..23].try_into().unwrap()) as usize;
+        let (head, body) = bytes.split_at(31 + n);
+        let span = u64::from_le_bytes(
+            [&body[body.len() - 9..body.len() - 3], &[0, 0][..]]
+                .concat()
+                .try_into()
+                .unwrap(),
+        ) + 100_000;
+        let mut out = head.to_vec();
+        for k in 0..times as u64 {
+            for r in body.chunks_exact(9) {
+                let dt = u64::from_le_bytes([&r[..6], &[0, 0][..]].concat().try_into().unwrap());
+                out.extend_from_slice(&(dt + k * span).to_le_bytes()[..6]);
+                out.extend_from_slice(&r[6..]);
+            }
+        }
+        out
+    }
+
+    /// The facts as text, their maps in order.
+    fn canonical(f: &TickFacts) -> String {
+        let sorted = |m: &std::collections::HashMap<_, _>| -> String {
+            let mut v: Vec<String> = m
+                .iter()
+                .map(
+                    |(k, x): (&crate::run::blackboard::EntryId, &serde_json::Value)| {
+                        format!("{k:?}={x}")
+                    },
+                )
+                .collect();
+            v.sort();
+            v.join(",")
+        };
+        let mut before: Vec<String> = f
+            .state_before
+            .iter()
+            .map(|(u, m)| format!("{u}:{}", sorted(m)))
+            .collect();
+        before.sort();
+        let mut done: Vec<(u32, u32)> = f.done_at.iter().map(|(&u, &p)| (u, p)).collect();
+        done.sort();
+        let mut per_call: Vec<String> = f
+            .per_call
+            .iter()
+            .map(|(k, c)| format!("{k:?}:{}:{:?}", sorted(&c.state_before), c.done_at))
+            .collect();
+        per_call.sort();
+        format!(
+            "{} {:?} {:?} {:?} {:?} {:?} {:?} {} {before:?} {} {:?} {done:?} {:?} {:?} {:?} {per_call:?}",
+            f.tick,
+            f.ticked,
+            f.returned,
+            f.flows,
+            f.start,
+            f.decisions,
+            f.outcome,
+            sorted(&f.state_start),
+            sorted(&f.state_end),
+            f.order,
+            f.guessed,
+            f.calls,
+            f.call_log,
+        )
+    }
+
+    #[test]
+    fn a_tick_replayed_from_a_kept_mark_has_the_facts_of_a_whole_replay() {
+        let bytes = long_log(40);
+        let path = std::path::Path::new("long.btlog");
+        let marked = crate::logs::open_btlog(path, &bytes).unwrap();
+        let ticks = marked.index.ticks();
+        assert!(ticks > 2000, "{ticks}");
+        // Late first (marks are laid on the way), then around and between
+        // them, each against a replay from the first tick.
+        for tick in [ticks, 1, 63, 64, 65, 129, 1000, ticks / 2, ticks - 1, 700] {
+            let fresh = crate::logs::open_btlog(path, &bytes).unwrap();
+            let a = TickFacts::of(&marked, tick).unwrap();
+            let b = TickFacts::of(&fresh, tick).unwrap();
+            assert_eq!(canonical(&a), canonical(&b), "tick {tick}");
+        }
+        let kept = marked.index.scratch.with(|m: &mut super::Marks| m.0.len());
+        assert!(kept > 10, "{kept} marks");
+    }
 }

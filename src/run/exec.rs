@@ -283,6 +283,37 @@ impl Default for RunOptions {
     }
 }
 
+/// What a parked executor holds in place of its tree: it is never ticked
+/// while parked.
+static NO_TREE: std::sync::LazyLock<Tree> = std::sync::LazyLock::new(|| Tree {
+    version: crate::model::Version::V4,
+    release: crate::model::Version::V4,
+    main_tree: String::new(),
+    nodes: Vec::new(),
+    scopes: Vec::new(),
+    models: Default::default(),
+    files: Vec::new(),
+    unused: Vec::new(),
+});
+
+/// An executor's state without its tree (`Executor::park`): a replay kept
+/// at a tick, to go on from there without replaying the ticks before it.
+#[derive(Clone)]
+pub struct Parked<L: Leaves>(Executor<'static, L>);
+
+impl<L: Leaves + Clone> Parked<L> {
+    /// Goes on with `tree`, the one the executor ran: `None` when its
+    /// nodes are not those (a subgoal inserted since).
+    pub fn resume<'u>(&self, tree: &'u Tree) -> Option<Executor<'u, L>> {
+        (self.0.rt.len() == tree.len()).then(|| self.0.clone().rebind(tree))
+    }
+
+    /// The tick it was parked after.
+    pub fn ticks(&self) -> u32 {
+        self.0.tick
+    }
+}
+
 // Clone: a live run's tick replay goes on from a copy, kept at the last
 // whole tick, when a tick's records have not all arrived (`logs::ticks`).
 #[derive(Clone)]
@@ -409,6 +440,35 @@ impl<'t, L: Leaves> Executor<'t, L> {
             tick_transitions: 0,
             set_count: self.set_count,
             leaf_called: false,
+        }
+    }
+
+    /// The run as it stands, kept apart from its tree: to go on from here
+    /// later, as often as wanted (`Parked::resume`).
+    pub fn park(self) -> Parked<L> {
+        Parked(self.rebind(&NO_TREE))
+    }
+
+    /// Every field as it is, with another tree of the same nodes.
+    fn rebind<'u>(self, tree: &'u Tree) -> Executor<'u, L> {
+        Executor {
+            tree,
+            leaves: self.leaves,
+            rt: self.rt,
+            bb: self.bb,
+            tick: self.tick,
+            now_ms: self.now_ms,
+            opts: self.opts,
+            events: self.events,
+            pending_decision: self.pending_decision,
+            seq: self.seq,
+            forced: self.forced,
+            calls: self.calls,
+            record_calls: self.record_calls,
+            call_log: self.call_log,
+            tick_transitions: self.tick_transitions,
+            set_count: self.set_count,
+            leaf_called: self.leaf_called,
         }
     }
 

@@ -11,7 +11,8 @@ pub mod status;
 pub mod world;
 
 pub use exec::{
-    CallRecord, Event, Executor, Flow, Forced, LeafCall, LeafOutcome, Leaves, RunError, RunOptions,
+    CallRecord, Event, Executor, Flow, Forced, LeafCall, LeafOutcome, Leaves, Parked, RunError,
+    RunOptions,
 };
 pub use status::Status;
 

@@ -20,7 +20,7 @@ pub struct Call {
 }
 
 /// Leaves that do what a record says.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct Replay {
     initial: Vec<(EntryId, Value)>,
     calls: HashMap<(u32, Uid), VecDeque<Call>>,

@@ -157,6 +157,9 @@ pub struct Index {
     /// a gap), as (position, per node its status and last completion).
     /// Empty: every node IDLE, never done, and followed from there.
     resyncs: Vec<(u32, Vec<NodeState>)>,
+    /// What answers keep of this run to use again (`causal::facts` keeps
+    /// its replay at some ticks).
+    pub scratch: super::scratch::Scratch,
 }
 
 /// A blackboard write made by a node during a tick, at a position.

@@ -11,6 +11,7 @@ pub mod parting;
 pub mod read;
 pub mod record;
 pub mod rerun;
+pub mod scratch;
 
 pub use format::{Before, Header, Record, SessionWriter, Source, TreeRef};
 pub use index::{At, Index, Moment, TickMark, Transition, Write, EMPTY_TICKS_MAX};

@@ -449,8 +449,7 @@ fn targets(tree: &Tree, order: &[Uid], t: Target) -> Vec<Uid> {
             .copied()
             .filter(|&u| {
                 let n = tree.node(u);
-                ids.contains(&n.id.as_str())
-                    || n.kind.is_leaf() && ids.contains(&n.name.as_str())
+                ids.contains(&n.id.as_str()) || n.kind.is_leaf() && ids.contains(&n.name.as_str())
             })
             .collect()
     };

@@ -150,7 +150,7 @@ struct Marks(Vec<(Parked<Replay>, Feed)>);
 /// Ticks between two marks at least, and the marks kept at most, with the
 /// bytes they may hold (a mark holds each node's control state).
 const MARK_EVERY_MIN: u32 = 64;
-const MARKS_MAX: usize = 256;
+const MARKS_MAX: usize = 1024;
 const MARKS_BYTES: usize = 64 << 20;
 
 impl Marks {
@@ -189,6 +189,76 @@ impl Marks {
     }
 }
 
+/// The marks a session keeps at most, and the ticks between two.
+fn spacing(session: &Session) -> (usize, u32) {
+    let n = session.tree.len();
+    let most = MARKS_MAX.min(MARKS_BYTES / (n * 320).max(1)).max(2);
+    let every = (session.index.ticks() / most as u32).max(MARK_EVERY_MIN);
+    (most, every)
+}
+
+/// The replay at the start of `tick`, from the nearest mark before it,
+/// laying marks on the way.
+fn replay_to(session: &Session, tick: u32) -> Result<(Executor<'_, Replay>, Feed), String> {
+    let tree = &session.tree;
+    let idx = &session.index;
+    let marks = &idx.scratch;
+    let (most, every) = spacing(session);
+    let (mut ex, mut feed) = marks
+        .with(|m: &mut Marks| m.nearest(tree, tick))
+        .unwrap_or_else(|| {
+            let mut replay = Replay::new(session.header.blackboard.clone());
+            replay.writes_recorded = !idx.writes.is_empty();
+            let ex = Executor::new(
+                tree,
+                replay,
+                RunOptions {
+                    tick_ms: session.header.tick_ms.max(1),
+                    nav2: session.header.nav2.unwrap_or_default(),
+                },
+            );
+            (ex, Feed::default())
+        });
+    for t in ex.ticks() + 1..tick {
+        if t % every == 0 {
+            let (parked, kept) = (ex.clone().park(), feed.clone());
+            marks.with(|m: &mut Marks| m.add(parked, kept, most));
+        }
+        feed.fill(session, &mut ex.leaves, t);
+        ex.tick_once()
+            .map_err(|e| format!("replaying tick {t}: {e}"))?;
+        ex.take_events();
+    }
+    Ok((ex, feed))
+}
+
+/// Lays the marks of a session ahead of any question, a stretch at a time,
+/// for about `budget`: whether there are more to lay. The explorer calls it
+/// while nobody presses a key, so that the first question late in a long
+/// run does not replay it all.
+pub fn lay_marks(session: &Session, budget: std::time::Duration) -> bool {
+    let began = std::time::Instant::now();
+    let (_, every) = spacing(session);
+    let last = session.index.ticks();
+    loop {
+        let laid = session
+            .index
+            .scratch
+            .with(|m: &mut Marks| m.0.last().map_or(0, |(p, _)| p.ticks()));
+        // The next mark: the start of the next multiple of `every`.
+        let next = (laid + 1) / every * every + every;
+        if next >= last {
+            return false;
+        }
+        if replay_to(session, next + 1).is_err() {
+            return false;
+        }
+        if began.elapsed() >= budget {
+            return true;
+        }
+    }
+}
+
 impl TickFacts {
     /// The facts of `tick` (from 1) of a session.
     pub fn of(session: &Session, tick: u32) -> Result<TickFacts, String> {
@@ -201,34 +271,7 @@ impl TickFacts {
             ));
         }
         let n = tree.len();
-        let marks = &idx.scratch;
-        let most = MARKS_MAX.min(MARKS_BYTES / (n * 320).max(1)).max(2);
-        let every = (idx.ticks() / most as u32).max(MARK_EVERY_MIN);
-        let (mut ex, mut feed) = marks
-            .with(|m: &mut Marks| m.nearest(tree, tick))
-            .unwrap_or_else(|| {
-                let mut replay = Replay::new(session.header.blackboard.clone());
-                replay.writes_recorded = !idx.writes.is_empty();
-                let ex = Executor::new(
-                    tree,
-                    replay,
-                    RunOptions {
-                        tick_ms: session.header.tick_ms.max(1),
-                        nav2: session.header.nav2.unwrap_or_default(),
-                    },
-                );
-                (ex, Feed::default())
-            });
-        for t in ex.ticks() + 1..tick {
-            if t % every == 0 {
-                let (parked, kept) = (ex.clone().park(), feed.clone());
-                marks.with(|m: &mut Marks| m.add(parked, kept, most));
-            }
-            feed.fill(session, &mut ex.leaves, t);
-            ex.tick_once()
-                .map_err(|e| format!("replaying tick {t}: {e}"))?;
-            ex.take_events();
-        }
+        let (mut ex, mut feed) = replay_to(session, tick)?;
         let uids = 1..=n as Uid;
         let mut flows: Vec<Flow> = uids.clone().map(|u| ex.flow(u)).collect();
         let mut start: Vec<Status> = uids.clone().map(|u| ex.status(u)).collect();
@@ -508,5 +551,35 @@ mod tests {
         }
         let kept = marked.index.scratch.with(|m: &mut super::Marks| m.0.len());
         assert!(kept > 10, "{kept} marks");
+    }
+
+    #[test]
+    fn marks_laid_ahead_of_a_question_answer_it_as_a_whole_replay_does() {
+        let bytes = long_log(40);
+        let path = std::path::Path::new("long.btlog");
+        let ahead = crate::logs::open_btlog(path, &bytes).unwrap();
+        let mut slices = 0;
+        while super::lay_marks(&ahead, std::time::Duration::ZERO) {
+            slices += 1;
+            assert!(slices < 10_000, "marks laid for ever");
+        }
+        let (most, every) = super::spacing(&ahead);
+        let kept = ahead.index.scratch.with(|m: &mut super::Marks| m.0.len());
+        assert!(kept > 10 && kept <= most, "{kept} marks");
+        let ticks = ahead.index.ticks();
+        let last_mark = ahead
+            .index
+            .scratch
+            .with(|m: &mut super::Marks| m.0.last().map(|(p, _)| p.ticks()));
+        assert!(
+            last_mark.is_some_and(|t| t + 1 + every >= ticks),
+            "{last_mark:?} of {ticks}"
+        );
+        let fresh = crate::logs::open_btlog(path, &bytes).unwrap();
+        for tick in [ticks, ticks - 70, 500] {
+            let a = TickFacts::of(&ahead, tick).unwrap();
+            let b = TickFacts::of(&fresh, tick).unwrap();
+            assert_eq!(canonical(&a), canonical(&b), "tick {tick}");
+        }
     }
 }

@@ -140,6 +140,11 @@ pub trait Screen {
     fn take_clipboard(&mut self) -> Option<String> {
         None
     }
+    /// Work done while no key is pending, a few milliseconds at a time:
+    /// whether there is more.
+    fn idle(&mut self) -> bool {
+        false
+    }
 }
 
 /// The OSC 52 sequence that asks the terminal to put `text` on the
@@ -179,7 +184,18 @@ impl Screen for App {
     fn take_clipboard(&mut self) -> Option<String> {
         self.clipboard.take()
     }
+    fn idle(&mut self) -> bool {
+        // The replay's marks, so that a question late in a long run is
+        // answered from the nearest (a live run is still growing).
+        match (&self.session, &self.live) {
+            (Some(s), None) => crate::causal::facts::lay_marks(s, IDLE_SLICE),
+            _ => false,
+        }
+    }
 }
+
+/// The longest a key waits for the work done between keys.
+const IDLE_SLICE: Duration = Duration::from_millis(8);
 
 impl Screen for diff::DiffApp {
     fn draw(&self, f: &mut ratatui::Frame) {
@@ -486,6 +502,10 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
                     dirty = true;
                     None
                 }
+            } else if event::poll(Duration::ZERO)? {
+                Some(event::read()?)
+            } else if app.idle() {
+                None
             } else {
                 Some(event::read()?)
             };

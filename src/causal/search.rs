@@ -75,6 +75,25 @@ pub struct Answer {
     pub held_tried: bool,
 }
 
+impl Answer {
+    /// No explanation found: the search stopped at a depth past its bound
+    /// (`stopped`), where that many interventions would have been tried.
+    fn stopped(candidates: usize, evaluated: usize, max_depth: usize, at: (usize, u128)) -> Answer {
+        Answer {
+            depth: None,
+            max_depth,
+            explanations: Vec::new(),
+            candidates,
+            evaluated,
+            stopped: Some(at),
+            omitted: 0,
+            held: Vec::new(),
+            held_tried: false,
+            unsearched: 0,
+        }
+    }
+}
+
 /// The most explanations of one size kept. A chain of 10,000 decorators has
 /// 10,000 single causes of its root's status; each kept one is re-run and
 /// merged, and nobody reads past the first few dozen.
@@ -169,18 +188,12 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
             near.sort_unstable();
             near.into_iter().map(|c| vec![c]).collect()
         } else if work > SEARCH_WORK_MAX {
-            return Ok(Answer {
-                depth: None,
-                max_depth,
-                explanations: Vec::new(),
-                candidates: candidates.len(),
+            return Ok(Answer::stopped(
+                candidates.len(),
                 evaluated,
-                stopped: Some((depth, n)),
-                omitted: 0,
-                held: Vec::new(),
-                held_tried: false,
-                unsearched: 0,
-            });
+                max_depth,
+                (depth, n),
+            ));
         } else {
             subsets(candidates.len(), depth)
         };
@@ -280,18 +293,12 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
         }
         if unsearched > 0 {
             // None among the nearest: the rest is past the bound, unknown.
-            return Ok(Answer {
-                depth: None,
-                max_depth,
-                explanations: Vec::new(),
-                candidates: candidates.len(),
+            return Ok(Answer::stopped(
+                candidates.len(),
                 evaluated,
-                stopped: Some((depth, n)),
-                omitted: 0,
-                held: Vec::new(),
-                held_tried: false,
-                unsearched: 0,
-            });
+                max_depth,
+                (depth, n),
+            ));
         }
     }
     Ok(Answer {

@@ -420,27 +420,13 @@ impl<'t, L: Leaves> Executor<'t, L> {
     /// Carries the run on with a tree that has nodes inserted (existing uids
     /// unchanged, new ones appended), as after "Can you X?".
     pub fn retarget<'u>(self, tree: &'u Tree) -> Executor<'u, L> {
-        let mut rt = self.rt;
-        rt.resize(tree.len(), NodeRt::default());
-        Executor {
-            tree,
-            leaves: self.leaves,
-            rt,
-            bb: self.bb,
-            tick: self.tick,
-            now_ms: self.now_ms,
-            opts: self.opts,
-            events: self.events,
-            pending_decision: self.pending_decision,
-            seq: self.seq,
-            forced: self.forced,
-            calls: vec![0; tree.len()],
-            record_calls: self.record_calls,
-            call_log: Vec::new(),
-            tick_transitions: 0,
-            set_count: self.set_count,
-            leaf_called: false,
-        }
+        let mut ex = self.rebind(tree);
+        ex.rt.resize(tree.len(), NodeRt::default());
+        ex.calls = vec![0; tree.len()];
+        ex.call_log = Vec::new();
+        ex.tick_transitions = 0;
+        ex.leaf_called = false;
+        ex
     }
 
     /// The run as it stands, kept apart from its tree: to go on from here

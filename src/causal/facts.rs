@@ -40,7 +40,8 @@ pub struct TickFacts {
     /// Position (transitions applied) after which each leaf's first call
     /// in this tick had happened.
     pub done_at: HashMap<Uid, u32>,
-    /// Calls the replay had to guess (the record did not hold them).
+    /// Calls the replay had to guess in this tick (the record did not
+    /// hold them).
     pub guessed: Vec<(u32, Uid)>,
     /// How often each node was ticked in the tick (a child under a Retry
     /// or Repeat may be ticked more than once), per uid − 1.
@@ -228,6 +229,9 @@ fn replay_to(session: &Session, tick: u32) -> Result<(Executor<'_, Replay>, Feed
         ex.tick_once()
             .map_err(|e| format!("replaying tick {t}: {e}"))?;
         ex.take_events();
+        // Only the asked tick's guesses are facts; kept, the list would
+        // grow with the run and be copied into every mark.
+        ex.leaves.guessed.clear();
     }
     Ok((ex, feed))
 }

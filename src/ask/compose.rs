@@ -128,7 +128,7 @@ fn counted(
     let (Subject::Nodes(all, _), Some(at), Some(u)) = (who, cx.at.as_ref(), r.about) else {
         return Ok(());
     };
-    if all.len() < 2 || r.answer.contains(" also names ") || !all.contains(&u) {
+    if all.len() < 2 || !all.contains(&u) {
         return Ok(());
     }
     let rest: Vec<Uid> = all
@@ -136,21 +136,40 @@ fn counted(
         .copied()
         .filter(|&v| v != u && events(at, v, event).is_empty())
         .collect();
+    // Several had it: `with_node` answered each and said the rest.
     if rest.is_empty() || rest.len() + 1 != all.len() {
         return Ok(());
     }
     let labels = told_apart(cx.tree, all);
-    let label = |v: Uid| labels[all.iter().position(|&a| a == v).unwrap_or(0)].clone();
-    let kinds: Vec<String> = rest.iter().map(|&v| label(v)).collect();
-    r.answer.push_str(&format!(
-        "\n{} also names {}, which {} {}.",
-        crate::causal::english::capitalised(cx.tree.description(u)),
-        and_list(&kinds),
-        never(event),
-        cx.by(at)
-    ));
+    let line = also_named(cx, all, &labels, &rest, cx.tree.description(u), event);
+    r.answer.push('\n');
+    r.answer.push_str(&line);
     r.nodes.extend(rest);
     Ok(())
+}
+
+/// "GoalUpdated also names the condition under … (#7), which never
+/// succeeded by …": nodes the words name that the event never happened to,
+/// by their `labels` among `all`.
+fn also_named(
+    cx: &Context,
+    all: &[Uid],
+    labels: &[String],
+    rest: &[Uid],
+    name: &str,
+    e: Event,
+) -> String {
+    let kinds: Vec<String> = rest
+        .iter()
+        .map(|&v| labels[all.iter().position(|&a| a == v).unwrap_or(0)].clone())
+        .collect();
+    format!(
+        "{} also names {}, which {} {}.",
+        crate::causal::english::capitalised(name),
+        and_list(&kinds),
+        never(e),
+        cx.at.as_ref().map_or(String::new(), |at| cx.by(at))
+    )
 }
 
 /// Runs `f` on the node a subject names. Nodes that share the words are
@@ -229,14 +248,7 @@ fn with_node(
             }
             let rest: Vec<Uid> = all.iter().copied().filter(|u| !us.contains(u)).collect();
             if let (false, Some(e)) = (rest.is_empty(), event) {
-                let kinds: Vec<String> = rest.iter().map(|&u| label(u)).collect();
-                lines.push(format!(
-                    "{} also names {}, which {} {}.",
-                    crate::causal::english::capitalised(&phrase),
-                    and_list(&kinds),
-                    never(e),
-                    cx.at.as_ref().map_or(String::new(), |at| cx.by(at))
-                ));
+                lines.push(also_named(cx, &all, &labels, &rest, &phrase, e));
                 r.nodes.extend(rest);
             }
             r.about = us.first().copied();

@@ -194,7 +194,13 @@ impl Marks {
 fn spacing(session: &Session) -> (usize, u32) {
     let n = session.tree.len();
     let most = MARKS_MAX.min(MARKS_BYTES / (n * 320).max(1)).max(2);
-    let every = (session.index.ticks() / most as u32).max(MARK_EVERY_MIN);
+    // Rounded up, so that marks every `every` ticks are at most `most`
+    // and none is thinned out as soon as it is laid.
+    let every = session
+        .index
+        .ticks()
+        .div_ceil(most as u32)
+        .max(MARK_EVERY_MIN);
     (most, every)
 }
 

@@ -53,12 +53,28 @@ fn db3_session(path: &Path) -> Option<(&Path, i64)> {
 /// one it embeds, after checking that the two are the same node for node;
 /// a tree file is refused then, having no tree to replace.
 pub fn open(path: &Path, opts: &LoadOptions) -> Result<Input, Located> {
+    match open_to_print(path, opts)? {
+        Printable::Input(input) => Ok(input),
+        Printable::Numbered(n) => Ok(Input::Session(Box::new(n.into_session()))),
+    }
+}
+
+/// What `btx log` prints from: a `.btlog` numbered into ticks but not
+/// indexed (indexing millions of transitions costs more than printing
+/// them), or whatever else `open` opens.
+pub enum Printable {
+    Numbered(Box<crate::logs::Numbered>),
+    Input(Input),
+}
+
+/// `open`, leaving a `.btlog` unindexed.
+pub fn open_to_print(path: &Path, opts: &LoadOptions) -> Result<Printable, Located> {
     let tree = run_tree(opts)?;
     let Some(given) = given(&tree, opts) else {
         return open_as(path, opts, None);
     };
     match open_as(path, opts, Some(given))? {
-        Input::Tree { .. } => Err(Located::file(
+        Printable::Input(Input::Tree { .. }) => Err(Located::file(
             path,
             "--tree replaces the tree a log or a session embeds; this is a tree file",
         )),
@@ -205,21 +221,39 @@ fn open_as(
     path: &Path,
     opts: &LoadOptions,
     given: Option<crate::logs::GivenTree>,
-) -> Result<Input, Located> {
+) -> Result<Printable, Located> {
+    if let Some(input) = open_by_name(path, opts, given)? {
+        return Ok(Printable::Input(input));
+    }
+    let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the file")?;
+    if crate::logs::btlog::is_btlog(&bytes) {
+        let log = crate::logs::number_btlog(path, bytes, given)?;
+        return Ok(Printable::Numbered(Box::new(log)));
+    }
+    open_bytes(path, opts, bytes, given).map(Printable::Input)
+}
+
+/// A file recognised by its name: a bag, a run of a SqliteLogger
+/// database, a btx session.
+fn open_by_name(
+    path: &Path,
+    opts: &LoadOptions,
+    given: Option<crate::logs::GivenTree>,
+) -> Result<Option<Input>, Located> {
     if let Some((bag, n)) = bag_run(path) {
         let s = crate::logs::open_rosbag(bag, Some(n), given)?;
-        return Ok(Input::Session(Box::new(s)));
+        return Ok(Some(Input::Session(Box::new(s))));
     }
     if crate::logs::rosbag::is_bag(path) {
         let s = crate::logs::open_rosbag(path, opts.run, given)?;
-        return Ok(Input::Session(Box::new(s)));
+        return Ok(Some(Input::Session(Box::new(s))));
     }
     if let Some((file, n)) = db3_session(path) {
-        return Ok(Input::Session(Box::new(crate::logs::open_db3_as(
+        return Ok(Some(Input::Session(Box::new(crate::logs::open_db3_as(
             file,
             Some(n),
             given,
-        )?)));
+        )?))));
     }
     // A btx session is read as it is read anywhere (a line at a time).
     if crate::session::read::format_of(path).is_some() {
@@ -227,9 +261,18 @@ fn open_as(
         if let Some(g) = given {
             g.put_in(&mut s)?;
         }
-        return Ok(Input::Session(Box::new(s)));
+        return Ok(Some(Input::Session(Box::new(s))));
     }
-    let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the file")?;
+    Ok(None)
+}
+
+/// A file `open_by_name` did not recognise, by its content.
+fn open_bytes(
+    path: &Path,
+    opts: &LoadOptions,
+    bytes: Vec<u8>,
+    given: Option<crate::logs::GivenTree>,
+) -> Result<Input, Located> {
     if crate::session::columnar::is_parquet(&bytes) {
         // Not a session (that was seen above): its reader says what it is.
         return Ok(Input::Session(Box::new(Session::from_bytes(path, bytes)?)));
@@ -239,11 +282,7 @@ fn open_as(
             path, None, given,
         )?)));
     }
-    if crate::logs::btlog::is_btlog(&bytes) {
-        return Ok(Input::Session(Box::new(crate::logs::open_btlog_as(
-            path, bytes, given,
-        )?)));
-    }
+
     if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
         return Err(Located::file(
             path,

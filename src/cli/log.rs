@@ -127,42 +127,44 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             time: args_time,
             ..
         } => {
-            let s = match btx::input::open(&session, &reading.options()?).map_err(located)? {
-                Input::Session(s) => *s,
-                Input::Tree { .. } => fail!(
+            let opened = btx::input::open_to_print(&session, &reading.options()?);
+            let s: Box<dyn btx::export::Table> = match opened.map_err(located)? {
+                Printable::Numbered(log) => log,
+                Printable::Input(Input::Session(s)) => s,
+                Printable::Input(Input::Tree { .. }) => fail!(
                     "{} is a tree; btx log reads sessions and logs",
                     session.display()
                 ),
             };
-            warn_all(cli.quiet, &s.warnings);
+            warn_all(cli.quiet, s.warnings());
             let only = match &node {
-                Some(p) => Some(pick_node(&s.tree, p)?),
+                Some(p) => Some(pick_node(s.tree(), p)?),
                 None => None,
             };
-            let clock = match (args_time, s.times_us.first()) {
+            let clock = match (args_time, s.first_time_us()) {
                 (None, _) => None,
                 (Some(_), None) => fail!(
                     "{}: no time is known for its transitions (a run btx simulated, a btcm log, a Parquet session): --time shows the times a log or a watched robot gave",
                     session.display()
                 ),
                 (Some(TimeColumn::Utc), _) => Some(btx::export::Clock::Utc),
-                (Some(TimeColumn::Local), Some(&t0)) => Some(btx::export::Clock::Local(t0)),
-                (Some(TimeColumn::Relative), Some(&t0)) => Some(btx::export::Clock::Relative(t0)),
+                (Some(TimeColumn::Local), Some(t0)) => Some(btx::export::Clock::Local(t0)),
+                (Some(TimeColumn::Relative), Some(t0)) => Some(btx::export::Clock::Relative(t0)),
             };
             // Written as it is read: a log of millions of transitions is
             // never held whole, in text or in JSON.
             let mut w = SafeOut::new();
             let done = match format {
-                Format::Json => btx::export::write_log_json(&mut w, &s, only, no_idle),
+                Format::Json => btx::export::write_log_json(&mut w, &*s, only, no_idle),
                 Format::Text => {
                     use std::io::Write;
                     let head = clock.map_or(String::new(), |c| c.header());
                     let mut r =
                         w.write_all(format!("{head}{}", btx::export::LOG_TEXT_HEADER).as_bytes());
-                    btx::export::each_log_row(&s, only, no_idle, |row| {
+                    s.each_row(only, no_idle, &mut |row| {
                         if r.is_ok() {
                             let cell = clock.map_or(String::new(), |c| c.cell(row.time_us));
-                            let text = btx::export::log_text_row(&s, &row);
+                            let text = btx::export::log_text_row(s.tree(), &row);
                             // A gap line before the row stays unprefixed.
                             let text = match text.rsplit_once("---\n") {
                                 Some((gap, row)) => format!("{gap}---\n{cell}{row}"),
@@ -171,7 +173,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                             r = w.write_all(text.as_bytes());
                         }
                     });
-                    for g in btx::export::trailing_gaps(&s) {
+                    for g in s.trailing_gaps() {
                         if r.is_ok() {
                             r = w.write_all(format!("  --- gap: {g} ---\n").as_bytes());
                         }

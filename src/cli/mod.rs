@@ -4,7 +4,7 @@
 
 use btx::explain::Question;
 use btx::frame::Framed;
-use btx::input::{open, Input};
+use btx::input::{open, Input, Printable};
 use btx::run::domain::{Domain, DomainLeaves};
 use btx::run::plan::{Plan, PlanLeaves};
 use btx::run::world::kitting;

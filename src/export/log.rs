@@ -112,6 +112,95 @@ pub fn each_log_row(s: &Session, only: Option<Uid>, no_idle: bool, mut f: impl F
     }
 }
 
+/// What `btx log`'s table is read from: a session, or a log numbered
+/// into ticks and not indexed (`logs::Numbered`), which prints as it is
+/// read without the cost of an index.
+pub trait Table {
+    fn path(&self) -> &std::path::Path;
+    fn tree(&self) -> &crate::model::Tree;
+    fn ticks(&self) -> u32;
+    /// `each_log_row`.
+    fn each_row(&self, only: Option<Uid>, no_idle: bool, f: &mut dyn FnMut(LogRow));
+    /// The gaps after the last transition (a live run that ended on one).
+    fn trailing_gaps(&self) -> Vec<&str>;
+    /// What reading it noticed.
+    fn warnings(&self) -> &[crate::source::Warning];
+    /// The robot's clock at the first transition (µs since the epoch),
+    /// where the source gave times.
+    fn first_time_us(&self) -> Option<i64>;
+}
+
+impl Table for Session {
+    fn path(&self) -> &std::path::Path {
+        &self.path
+    }
+    fn tree(&self) -> &crate::model::Tree {
+        &self.tree
+    }
+    fn ticks(&self) -> u32 {
+        self.index.ticks()
+    }
+    fn each_row(&self, only: Option<Uid>, no_idle: bool, f: &mut dyn FnMut(LogRow)) {
+        each_log_row(self, only, no_idle, f)
+    }
+    fn trailing_gaps(&self) -> Vec<&str> {
+        trailing_gaps(self)
+    }
+    fn warnings(&self) -> &[crate::source::Warning] {
+        &self.warnings
+    }
+    fn first_time_us(&self) -> Option<i64> {
+        self.times_us.first().copied()
+    }
+}
+
+impl Table for crate::logs::Numbered {
+    fn path(&self) -> &std::path::Path {
+        &self.path
+    }
+    fn tree(&self) -> &crate::model::Tree {
+        &self.tree
+    }
+    fn ticks(&self) -> u32 {
+        crate::logs::Numbered::ticks(self)
+    }
+    /// The rows as `each_log_row` gives them from the session this log
+    /// would be: a log has no gaps and no decisions.
+    fn each_row(&self, only: Option<Uid>, no_idle: bool, f: &mut dyn FnMut(LogRow)) {
+        let filter = LogFilter {
+            node: only,
+            no_idle,
+            ..LogFilter::default()
+        };
+        let (mut tick, mut step) = (0, 0);
+        self.each_transition(|i, t| {
+            step = if t.tick == tick { step + 1 } else { 1 };
+            tick = t.tick;
+            if filter.keeps(&self.tree, &t) {
+                f(LogRow {
+                    tick,
+                    step,
+                    uid: t.uid,
+                    prev: t.prev,
+                    status: t.status,
+                    decision: None,
+                    gap: None,
+                    time_us: self.times_us.get(i).copied(),
+                });
+            }
+        });
+    }
+    fn trailing_gaps(&self) -> Vec<&str> {
+        Vec::new()
+    }
+    fn warnings(&self) -> &[crate::source::Warning] {
+        &self.warnings
+    }
+    fn first_time_us(&self) -> Option<i64> {
+        self.times_us.first().copied()
+    }
+}
+
 /// The transition of each row `each_log_row` gives, in order, without
 /// building the rows (their decisions, their gaps).
 pub fn log_transitions(
@@ -134,8 +223,8 @@ pub const LOG_TEXT_HEADER: &str =
     " tick  step   uid  node                                     prev        status   decision\n";
 
 /// One row of the text table.
-pub fn log_text_row(s: &Session, r: &LogRow) -> String {
-    let mut name = s.tree.description(r.uid).to_string();
+pub fn log_text_row(tree: &crate::model::Tree, r: &LogRow) -> String {
+    let mut name = tree.description(r.uid).to_string();
     if name.chars().count() > 40 {
         name = name.chars().take(39).collect::<String>() + "…";
     }
@@ -222,19 +311,19 @@ impl Clock {
 pub fn log_text(s: &Session, rows: &[LogRow]) -> String {
     let mut out = LOG_TEXT_HEADER.to_string();
     for r in rows {
-        out.push_str(&log_text_row(s, r));
+        out.push_str(&log_text_row(&s.tree, r));
     }
     out
 }
 
 /// One row as `btx.log/1` has it.
-pub fn log_json_row(s: &Session, r: &LogRow) -> Value {
+pub fn log_json_row(tree: &crate::model::Tree, r: &LogRow) -> Value {
     let mut v = json!({
         "tick": r.tick,
         "step": r.step,
         "uid": r.uid,
-        "node": s.tree.description(r.uid),
-        "type": s.tree.type_name(r.uid),
+        "node": tree.description(r.uid),
+        "type": tree.type_name(r.uid),
         "prev": r.prev,
         "status": r.status,
         "decision": r.decision,
@@ -253,19 +342,19 @@ pub fn log_json_row(s: &Session, r: &LogRow) -> Value {
 /// `btx.log/1`, pretty-printed as `log_json` would be, written row by row.
 pub fn write_log_json(
     w: &mut impl std::io::Write,
-    s: &Session,
+    s: &(impl Table + ?Sized),
     only: Option<Uid>,
     no_idle: bool,
 ) -> std::io::Result<()> {
     write!(
         w,
         "{{\n  \"schema\": \"btx.log/1\",\n  \"session\": {},\n  \"ticks\": {},\n  \"transitions\": [",
-        Value::from(s.path.display().to_string()),
-        s.index.ticks()
+        Value::from(s.path().display().to_string()),
+        s.ticks()
     )?;
     let mut first = true;
     let mut result = Ok(());
-    each_log_row(s, only, no_idle, |r| {
+    s.each_row(only, no_idle, &mut |r| {
         if result.is_err() {
             return;
         }
@@ -289,8 +378,8 @@ pub fn write_log_json(
             r.tick,
             r.step,
             r.uid,
-            text(s.tree.description(r.uid)),
-            text(s.tree.type_name(r.uid)),
+            text(s.tree().description(r.uid)),
+            text(s.tree().type_name(r.uid)),
             r.prev,
             r.status,
             r.decision.as_deref().map_or_else(|| "null".to_string(), text),
@@ -301,7 +390,7 @@ pub fn write_log_json(
         result = w.write_all(chunk.as_bytes());
     });
     result?;
-    let end = trailing_gaps(s);
+    let end = s.trailing_gaps();
     let end = if end.is_empty() {
         String::new()
     } else {
@@ -334,7 +423,7 @@ pub fn log_json(s: &Session, rows: &[LogRow]) -> Value {
         "schema": "btx.log/1",
         "session": s.path.display().to_string(),
         "ticks": s.index.ticks(),
-        "transitions": rows.iter().map(|r| log_json_row(s, r)).collect::<Vec<_>>(),
+        "transitions": rows.iter().map(|r| log_json_row(&s.tree, r)).collect::<Vec<_>>(),
     })
 }
 

@@ -71,10 +71,19 @@ pub fn open_btlog_as(
     bytes: Vec<u8>,
     given: Option<GivenTree>,
 ) -> Result<Session, Located> {
+    Ok(number_btlog(path, bytes, given)?.into_session())
+}
+
+/// A `.btlog` numbered into ticks, not indexed (see `Numbered`).
+pub fn number_btlog(
+    path: &Path,
+    bytes: Vec<u8>,
+    given: Option<GivenTree>,
+) -> Result<Numbered, Located> {
     let raw = btlog::parse(path, &bytes)?;
     let len = bytes.len();
     drop(bytes);
-    btlog_session(path, len, raw, given)
+    btlog_numbered(path, len, raw, given)
 }
 
 fn btlog_session(
@@ -83,7 +92,16 @@ fn btlog_session(
     raw: btlog::RawLog,
     given: Option<GivenTree>,
 ) -> Result<Session, Located> {
-    session_from(
+    Ok(btlog_numbered(path, len, raw, given)?.into_session())
+}
+
+fn btlog_numbered(
+    path: &Path,
+    len: usize,
+    raw: btlog::RawLog,
+    given: Option<GivenTree>,
+) -> Result<Numbered, Located> {
+    number(
         path,
         LogRun {
             len,
@@ -430,6 +448,81 @@ fn session_from(
     run: LogRun,
     place: &dyn Fn(usize) -> String,
 ) -> Result<Session, Located> {
+    let resyncs = run.resyncs;
+    Ok(number(path, run, place)?.into_session_with(resyncs))
+}
+
+/// A log's run with its ticks numbered, not yet indexed: what `btx log`
+/// prints from as it reads (an index of millions of transitions costs
+/// more than the printing), and what a session is built from.
+pub struct Numbered {
+    pub path: PathBuf,
+    pub tree: crate::model::Tree,
+    pub warnings: Vec<Warning>,
+    /// When each transition happened (µs since the epoch).
+    pub times_us: Vec<i64>,
+    /// Each transition's tick.
+    ticks: Vec<u32>,
+    /// Each transition's uid and status, in 4 bytes: a log's uids are
+    /// BehaviorTree.CPP's 16-bit ones, checked against the tree.
+    moves: Vec<u32>,
+    header: Header,
+}
+
+/// Each node's status as a log's records follow it, and as the robot last
+/// said it (a live run's states read after a gap): what a transition
+/// changed from.
+struct Follower {
+    followed: Vec<Status>,
+    status: Vec<Status>,
+}
+
+impl Follower {
+    fn new(nodes: usize) -> Follower {
+        Follower {
+            followed: vec![Status::Idle; nodes],
+            status: vec![Status::Idle; nodes],
+        }
+    }
+
+    fn read(&mut self, tree: &crate::model::Tree, states: &[crate::session::Before]) {
+        self.status.fill(Status::Idle);
+        for b in states.iter().filter(|b| tree.get(b.uid).is_some()) {
+            self.status[(b.uid - 1) as usize] = b.status;
+        }
+    }
+
+    /// The status `uid` changes from, to `to`.
+    fn step(&mut self, uid: crate::model::Uid, to: Status) -> Status {
+        let u = (uid - 1) as usize;
+        // A status the read already showed: the read came after this
+        // transition, which left the status the records followed.
+        let prev = if self.status[u] == to {
+            self.followed[u]
+        } else {
+            self.status[u]
+        };
+        self.status[u] = to;
+        self.followed[u] = to;
+        prev
+    }
+}
+
+/// What a walk over a log's run meets: the robot's reading of the
+/// nodes' states, after how many transitions, or a transition.
+enum Step<'a> {
+    States(usize, &'a [crate::session::Before]),
+    Move(usize, Transition),
+}
+
+fn unpack(m: u32) -> (crate::model::Uid, Status) {
+    let status = Status::from_code((m >> 29) as u8).expect("a status packed by number");
+    (m & ((1 << 29) - 1), status)
+}
+
+/// A log's records numbered into ticks, with the tree checked and what
+/// the reading noticed said; the records are let go (when owned).
+fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<Numbered, Located> {
     let LogRun {
         len,
         partial_tail,
@@ -437,7 +530,7 @@ fn session_from(
         version,
         records,
         kind,
-        resyncs,
+        resyncs: _,
         ticks: numbered,
         given,
     } = run;
@@ -464,18 +557,16 @@ fn session_from(
         }
     };
     let mut warnings = Vec::new();
-    for r in records.iter() {
-        if tree.get(r.uid).is_none() {
-            return Err(Located::file(
-                path,
-                format!(
-                    "{}: uid {} is not a node of the log's tree ({} nodes)",
-                    place(r.offset),
-                    r.uid,
-                    tree.len()
-                ),
-            ));
-        }
+    if let Some(r) = records.iter().find(|r| tree.get(r.uid).is_none()) {
+        return Err(Located::file(
+            path,
+            format!(
+                "{}: uid {} is not a node of the log's tree ({} nodes)",
+                place(r.offset),
+                r.uid,
+                tree.len()
+            ),
+        ));
     }
     if partial_tail > 0 {
         warnings.push(Warning {
@@ -513,87 +604,106 @@ fn session_from(
                     .into(),
         });
     }
-    // What the session keeps of the records: their times, and each one's
-    // node and status; the records themselves are let go (when owned).
-    let span_us = records
-        .first()
-        .zip(records.last())
-        .map(|(a, b)| (a.time_us, b.time_us));
     let times_us: Vec<i64> = records.iter().map(|r| r.time_us).collect();
-    // A uid and a status in 4 bytes: a log's uids are BehaviorTree.CPP's
-    // 16-bit ones, checked against the tree above.
     let moves: Vec<u32> = records
         .iter()
         .map(|r| r.uid | u32::from(r.status.code()) << 29)
         .collect();
     drop(records);
-    let unpack = |m: u32| {
-        let status = Status::from_code((m >> 29) as u8).expect("a status packed above");
-        (m & ((1 << 29) - 1), status)
-    };
-    let mut index = Index::new(tree.len());
-    index.reserve(moves.iter().map(|&m| unpack(m).0));
-    // Each node's status as the records follow it, and as last read.
-    let mut followed = vec![Status::Idle; tree.len()];
-    let mut status = followed.clone();
-    let mut next = resyncs.iter().peekable();
-    for (i, (&m, &t)) in moves.iter().zip(&ticks).enumerate() {
-        let (uid, to) = unpack(m);
-        while let Some((_, states)) = next.next_if(|(at, _)| *at <= i) {
-            if i == 0 {
-                index.set_before(states);
-            } else {
-                index.push_resync(states);
-            }
-            status.fill(Status::Idle);
-            for b in states.iter().filter(|b| tree.get(b.uid).is_some()) {
-                status[(b.uid - 1) as usize] = b.status;
-            }
-        }
-        let u = (uid - 1) as usize;
-        // A status the read already showed: the read came after this
-        // transition, which left the status the records followed.
-        let prev = if status[u] == to {
-            followed[u]
-        } else {
-            status[u]
-        };
-        status[u] = to;
-        followed[u] = to;
-        index.push_transition(
-            &tree,
-            Transition {
-                tick: t,
-                uid,
-                prev,
-                status: to,
-            },
-            None,
-        );
-    }
-    for (at, states) in next {
-        if *at == 0 {
-            index.set_before(states);
-        } else {
-            index.push_resync(states);
-        }
-    }
     let mut header = import_header(path, &tree, version, kind, Vec::new());
     if let Some(g) = given {
         header.tree.path = Some(g.path.display().to_string());
     }
-    let end = ending(&index);
-    Ok(Session {
+    Ok(Numbered {
         path: path.to_path_buf(),
-        header,
         tree,
-        index,
-        end,
-        inserts: Vec::new(),
-        span_us,
-        times_us,
         warnings,
+        times_us,
+        ticks,
+        moves,
+        header,
     })
+}
+
+impl Numbered {
+    /// The log's ticks, empty ones (a leaf running through them) counted.
+    pub fn ticks(&self) -> u32 {
+        self.ticks.last().copied().unwrap_or(0)
+    }
+
+    /// Each transition, with its place in the log, in order.
+    pub fn each_transition(&self, mut f: impl FnMut(usize, Transition)) {
+        self.walk(&[], |step| {
+            if let Step::Move(i, t) = step {
+                f(i, t)
+            }
+        });
+    }
+
+    /// The transitions in order, each robot's reading of the nodes'
+    /// states (`resyncs`: after how many transitions) where it came.
+    fn walk(&self, resyncs: &[(usize, Vec<crate::session::Before>)], mut f: impl FnMut(Step)) {
+        let mut follower = Follower::new(self.tree.len());
+        let mut next = resyncs.iter().peekable();
+        for (i, (&m, &tick)) in self.moves.iter().zip(&self.ticks).enumerate() {
+            while let Some((_, states)) = next.next_if(|(at, _)| *at <= i) {
+                f(Step::States(i, states));
+                follower.read(&self.tree, states);
+            }
+            let (uid, status) = unpack(m);
+            let prev = follower.step(uid, status);
+            f(Step::Move(
+                i,
+                Transition {
+                    tick,
+                    uid,
+                    prev,
+                    status,
+                },
+            ));
+        }
+        for (at, states) in next {
+            f(Step::States(*at, states));
+        }
+    }
+
+    /// The run as a session: its transitions indexed.
+    pub fn into_session(self) -> Session {
+        self.into_session_with(&[])
+    }
+
+    /// `into_session`, with the nodes' states the robot said after how
+    /// many transitions (`resyncs`).
+    fn into_session_with(self, resyncs: &[(usize, Vec<crate::session::Before>)]) -> Session {
+        let mut index = Index::new(self.tree.len());
+        index.reserve(self.moves.iter().map(|&m| unpack(m).0));
+        self.walk(resyncs, |step| match step {
+            Step::States(0, states) => index.set_before(states),
+            Step::States(_, states) => index.push_resync(states),
+            Step::Move(_, t) => index.push_transition(&self.tree, t, None),
+        });
+        let Numbered {
+            path,
+            tree,
+            warnings,
+            times_us,
+            header,
+            ..
+        } = self;
+        let span_us = times_us.first().zip(times_us.last()).map(|(a, b)| (*a, *b));
+        let end = ending(&index);
+        Session {
+            path,
+            header,
+            tree,
+            index,
+            end,
+            inserts: Vec::new(),
+            span_us,
+            times_us,
+            warnings,
+        }
+    }
 }
 
 /// Where a tree file and the tree a log recorded differ, uid by uid (the

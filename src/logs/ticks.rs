@@ -75,7 +75,83 @@ const PARALLEL_MIN: usize = 1 << 17;
 /// records, and then the log is replayed in one piece.
 fn by_structure(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if let Some(ticks) = by_distinct_runs(tree, recs, cores) {
+        return Ok(ticks);
+    }
     by_structure_in(tree, recs, cores)
+}
+
+/// A robot that does one job again and again logs the same run again and
+/// again (the same nodes changing to the same statuses in the same order:
+/// the ticks spent running leave no record), and a replay from the reset
+/// tree numbers the same records the same way. So each distinct run is
+/// replayed once, the distinct runs one after the other as the log first
+/// has them, and every repeat takes its first's numbers. `None` where no
+/// run repeats, or where the distinct runs cannot be replayed one after
+/// the other (a node keeps state from run to run): the log is then
+/// replayed as it is.
+fn by_distinct_runs(tree: &Tree, recs: &[Record], pieces: usize) -> Option<Vec<u32>> {
+    let root = tree.root().uid;
+    let mut runs = vec![0];
+    runs.extend(
+        recs.iter()
+            .enumerate()
+            .filter(|(_, r)| r.uid == root && r.status == Status::Idle)
+            .map(|(i, _)| i + 1)
+            .filter(|&i| i < recs.len()),
+    );
+    runs.push(recs.len());
+    let key = |r: &Record| (r.uid, r.status);
+    let same =
+        |a: &[Record], b: &[Record]| a.len() == b.len() && a.iter().map(key).eq(b.iter().map(key));
+    // Each run's distinct run; the distinct ones' ranges in `recs`.
+    let mut seen: std::collections::HashMap<(usize, u64), Vec<usize>> = Default::default();
+    let mut distinct: Vec<std::ops::Range<usize>> = Vec::new();
+    let mut of_run = Vec::with_capacity(runs.len() - 1);
+    for w in runs.windows(2) {
+        let run = &recs[w[0]..w[1]];
+        let hash = run.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, r| {
+            (h ^ u64::from(r.uid << 3 | u32::from(r.status.code()))).wrapping_mul(0x0100_0000_01b3)
+        });
+        let ids = seen.entry((run.len(), hash)).or_default();
+        let id = match ids.iter().find(|&&d| same(&recs[distinct[d].clone()], run)) {
+            Some(&d) => d,
+            None => {
+                distinct.push(w[0]..w[1]);
+                ids.push(distinct.len() - 1);
+                distinct.len() - 1
+            }
+        };
+        of_run.push(id);
+    }
+    if distinct.len() == of_run.len() {
+        return None;
+    }
+    let once: Vec<Record> = distinct
+        .iter()
+        .flat_map(|d| recs[d.clone()].iter().copied())
+        .collect();
+    let numbered = by_structure_in(tree, &once, pieces).ok()?;
+    // Each distinct run's ticks, counted from 1 at its first record.
+    let mut relative: Vec<&[u32]> = Vec::with_capacity(distinct.len());
+    let mut numbers = Vec::with_capacity(once.len());
+    let mut at = 0;
+    for d in &distinct {
+        let first = numbered[at];
+        numbers.extend(numbered[at..at + d.len()].iter().map(|t| t - first + 1));
+        at += d.len();
+    }
+    at = 0;
+    for d in &distinct {
+        relative.push(&numbers[at..at + d.len()]);
+        at += d.len();
+    }
+    let mut out = Vec::with_capacity(recs.len());
+    for &id in &of_run {
+        let base = out.last().copied().unwrap_or(0);
+        out.extend(relative[id].iter().map(|t| t + base));
+    }
+    Some(out)
 }
 
 fn by_structure_in(tree: &Tree, recs: &[Record], pieces: usize) -> Result<Vec<u32>, usize> {
@@ -646,6 +722,21 @@ mod tests {
         let whole = by_structure_whole(&tree, &recs).unwrap();
         assert_eq!(by_structure_in(&tree, &recs, 3).unwrap(), whole);
         assert_eq!(by_structure_in(&tree, &recs, 2).unwrap(), whole);
+    }
+
+    #[test]
+    fn runs_done_again_are_numbered_as_their_first_without_replaying_them() {
+        let (tree, recs) = kitting_runs(41);
+        let whole = by_structure_whole(&tree, &recs).unwrap();
+        assert_eq!(by_distinct_runs(&tree, &recs, 1).unwrap(), whole);
+        assert_eq!(by_distinct_runs(&tree, &recs, 3).unwrap(), whole);
+        // A log cut inside its last run: that run is one of its own.
+        let cut = &recs[..recs.len() - 7];
+        let whole = by_structure_whole(&tree, cut).unwrap();
+        assert_eq!(by_distinct_runs(&tree, cut, 2).unwrap(), whole);
+        // No run done twice: nothing to spare, the log is replayed as it is.
+        let (tree, once) = kitting_runs(4);
+        assert_eq!(by_distinct_runs(&tree, &once, 2), None);
     }
 
     #[test]

@@ -194,6 +194,13 @@ pub fn utc(us: i64) -> String {
     )
 }
 
+/// The UTC time of day of µs since the epoch, to the microsecond
+/// (`01:55:41.796157`): as answers say a moment's time, exact, so that
+/// `--at` given it goes to that very moment.
+pub fn clock(us: i64) -> String {
+    format!("{}{:06}", &utc(us)[11..20], us.rem_euclid(1_000_000))
+}
+
 /// A UTC time of µs since the epoch as RFC 3339 with microseconds:
 /// `2026-11-25T22:11:20.123456Z`.
 pub fn rfc3339(us: i64) -> String {

@@ -1047,3 +1047,19 @@ fn the_readme_s_nav2_table_is_the_code_s() {
     );
     assert_eq!(rows.len(), 80);
 }
+
+/// Asked at the step the failure happened, what handles it has not run
+/// yet: "not yet", never "nothing handled it" while the run goes on
+/// (reset arm, the fallback's next child, runs at 10:7).
+#[test]
+fn a_failure_asked_at_its_own_moment_is_not_handled_yet() {
+    let log = "tests/fixtures/logs/kitting_lookat_fails_once.btlog";
+    let (ok, out, err) = btx(&["ask", log, "--at", "10:1", "how was it handled?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("Nothing has handled it yet at 10:1: the run goes on."),
+        "{out}"
+    );
+    let (_, out, _) = btx(&["ask", log, "--at", "10:7", "how was it handled?"]);
+    assert!(out.contains("I fell back to reset arm."), "{out}");
+}

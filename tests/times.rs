@@ -138,9 +138,9 @@ fn when_answers_say_the_time_of_day() {
         "when did look at chuck first start",
     ]);
     assert!(ok, "{err}");
-    assert!(out.contains(": at 10:1, 01:55:41.796 UTC."), "{out}");
+    assert!(out.contains(": at 10:1, 01:55:41.796157 UTC."), "{out}");
     assert!(
-        out.contains("first started at 9:2, 01:55:41.791 UTC ("),
+        out.contains("first started at 9:2, 01:55:41.791002 UTC ("),
         "{out}"
     );
     // A simulated run has no clock: the moment alone.
@@ -166,10 +166,40 @@ fn at_takes_a_time_of_day() {
             "{at}: {out}"
         );
     }
+    // The time an answer says is the moment it was about: to the
+    // microsecond, since look at chuck fails 157 µs into that millisecond
+    // and the rest of tick 10 comes within it.
+    let (_, said, _) = btx(&["ask", log, "when did look at chuck fail?"]);
+    let at = said
+        .split("at 10:1, ")
+        .nth(1)
+        .and_then(|t| t.split(" UTC").next())
+        .unwrap_or_else(|| panic!("{said}"));
+    assert_eq!(at, "01:55:41.796157");
+    for at in [
+        at,
+        "2026-11-22T01:55:41.796157Z",
+        "2026-11-22 01:55:41.796157",
+    ] {
+        let (ok, out, err) = btx(&["why", log, "status(#18)", "--at", at]);
+        assert!(ok, "{at}: {err}");
+        assert!(
+            out.starts_with("Why did look at chuck (#18) fail at 10:1?"),
+            "{at}: {out}"
+        );
+    }
+    let (ok, _, err) = btx(&["why", log, "status(#18)", "--at", "2026-11-23T01:55:41Z"]);
+    assert!(!ok);
+    assert!(
+        err.contains("is after the run's last transition, at 2026-11-22T01:55:4"),
+        "{err}"
+    );
+    let (ok, _, err) = btx(&["why", log, "status(#18)", "--at", "2026-13-01T01:55:41Z"]);
+    assert!(!ok && err.contains("is not a time of day"), "{err}");
     let (ok, _, err) = btx(&["why", log, "status(#18)", "--at", "00:00:01"]);
     assert!(!ok);
     assert!(
-        err.contains("is before the run's first transition, at 01:55:41.748"),
+        err.contains("is before the run's first transition, at 2026-11-22T01:55:41.748"),
         "{err}"
     );
     let (ok, _, err) = btx(&[

@@ -479,7 +479,7 @@ fn timed_moment(cx: &Context, at: &At, p: u32) -> String {
         .session
         .and_then(|s| s.times_us.get((p as usize).wrapping_sub(1)))
     {
-        Some(&us) => format!("{m}, {} UTC", &crate::input::utc(us)[11..]),
+        Some(&us) => format!("{m}, {} UTC", crate::input::clock(us)),
         None => m,
     }
 }

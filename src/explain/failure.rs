@@ -810,6 +810,17 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
         ));
         nodes.extend([*r, rp]);
     }
+    if parts.is_empty() && run.status(Tree::ROOT) == Status::Running {
+        // Asked at the failure itself: what handles it comes after.
+        return (
+            format!(
+                "{} Nothing has handled it yet at {}: the run goes on.",
+                d.text,
+                run.index.moment(run.pos)
+            ),
+            d.nodes,
+        );
+    }
     if parts.is_empty() {
         // The root failed and nothing above the failure handled it.
         return (format!("{} Nothing handled the failure.", d.text), d.nodes);

@@ -90,9 +90,12 @@ impl Session {
     }
 
     /// `--at` as written: a moment (`10`, `10:3`, `last`, `-2`), or a time
-    /// of day on the robot's clock (`01:55:41.796`, UTC, with or without
-    /// `Z` or ` UTC`), for a run that keeps one: the moment after the last
-    /// transition at or before it.
+    /// on the robot's clock, for a run that keeps one: a time of day
+    /// (`01:55:41.796`, UTC, with or without `Z` or ` UTC`) or a date and
+    /// time as btx's JSON writes them (`2026-11-25T01:55:41.796157Z`): the
+    /// moment after the last transition at or before it. Answers say
+    /// times to the microsecond, so a time an answer said is the moment
+    /// it was about.
     pub fn moment_at(&self, text: &str) -> Result<Moment, String> {
         let t = text.trim();
         let clock = t
@@ -104,7 +107,11 @@ impl Session {
             return Moment::parse_within(text, self.index.ticks());
         }
         let bad = || {
-            format!("\"{text}\" is not a time of day: write HH:MM:SS or HH:MM:SS.ffffff (UTC), e.g. 01:55:41.796")
+            format!("\"{text}\" is not a time of day: write HH:MM:SS or HH:MM:SS.ffffff (UTC), e.g. 01:55:41.796, or a date and time, e.g. 2026-11-25T01:55:41.796Z")
+        };
+        let (date, clock) = match clock.split_once(['T', ' ']) {
+            Some((d, c)) => (Some(days_of(d).ok_or_else(bad)?), c),
+            None => (None, clock),
         };
         let mut parts = clock.splitn(3, ':');
         let (h, m, sec) = (parts.next(), parts.next(), parts.next());
@@ -118,28 +125,65 @@ impl Session {
             .and_then(|x| x.parse::<f64>().ok())
             .filter(|x| (0.0..61.0).contains(x))
             .ok_or_else(bad)?;
-        let Some(&first) = self.times_us.first() else {
+        let (Some(&first), Some(&last)) = (self.times_us.first(), self.times_us.last()) else {
             return Err(format!(
                 "\"{text}\" is a time of day, and {} keeps no times (a log or a watched robot's run does)",
                 self.path.display()
             ));
         };
-        let day = first.div_euclid(86_400_000_000) * 86_400_000_000;
         let of_day =
             (i64::from(h) * 3600 + i64::from(m) * 60) * 1_000_000 + (sec * 1e6).round() as i64;
-        // The first such time at or after the run's first day began; a run
-        // past midnight reads an earlier clock as the next day's.
-        let mut want = day + of_day;
-        if want < first && first - want > 43_200_000_000 {
-            want += 86_400_000_000;
-        }
+        let want = match date {
+            Some(days) => days * 86_400_000_000 + of_day,
+            None => {
+                // The first such time at or after the run's first day
+                // began; a run past midnight reads an earlier clock as the
+                // next day's.
+                let day = first.div_euclid(86_400_000_000) * 86_400_000_000;
+                let want = day + of_day;
+                if want < first && first - want > 43_200_000_000 {
+                    want + 86_400_000_000
+                } else {
+                    want
+                }
+            }
+        };
         let upto = self.times_us.partition_point(|&x| x <= want);
         if upto == 0 {
             return Err(format!(
-                "\"{text}\" is before the run's first transition, at {} UTC",
-                &crate::input::utc(first)[11..]
+                "\"{text}\" is before the run's first transition, at {}",
+                crate::input::rfc3339(first)
+            ));
+        }
+        if want > last {
+            return Err(format!(
+                "\"{text}\" is after the run's last transition, at {} (--at last is the run's end)",
+                crate::input::rfc3339(last)
             ));
         }
         Ok(self.index.moment(upto as u32))
     }
+}
+
+/// Days since 1970-01-01 of a date written `YYYY-MM-DD` (Howard Hinnant's
+/// days-from-civil).
+fn days_of(date: &str) -> Option<i64> {
+    let mut parts = date.splitn(3, '-');
+    let y: i64 = parts.next()?.parse().ok()?;
+    let m: i64 = parts
+        .next()?
+        .parse()
+        .ok()
+        .filter(|m| (1..=12).contains(m))?;
+    let d: i64 = parts
+        .next()?
+        .parse()
+        .ok()
+        .filter(|d| (1..=31).contains(d))?;
+    let y = if m <= 2 { y - 1 } else { y };
+    let era = y.div_euclid(400);
+    let yoe = y - era * 400;
+    let doy = (153 * (m + if m > 2 { -3 } else { 9 }) + 2) / 5 + d - 1;
+    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    Some(era * 146_097 + doe - 719_468)
 }

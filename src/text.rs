@@ -49,10 +49,12 @@ pub fn visible(s: &str) -> Cow<'_, str> {
 /// and `\t`, so that a name can never start a line of a report or an
 /// error of its own (the rest is escaped wherever btx prints, `visible`).
 pub fn path(p: &std::path::Path) -> String {
-    let s = p.display().to_string();
-    if !s.contains(['\n', '\r', '\t']) {
-        return s;
-    }
+    one_line(&p.display().to_string())
+}
+
+/// `s` with its line breaks and tabs as `\n`, `\r` and `\t`: a place
+/// named in a message (a file's name in it) keeps to its line.
+pub fn one_line(s: &str) -> String {
     s.replace('\n', "\\n")
         .replace('\r', "\\r")
         .replace('\t', "\\t")

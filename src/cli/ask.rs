@@ -88,7 +88,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 },
             };
             if s.index.ticks() == 0 {
-                fail!("{}: the session recorded no tick", file.display());
+                fail!("{}: the session recorded no tick", btx::text::path(&file));
             }
             Some(s.at(m).map_err(Failure::Plain)?)
         }
@@ -96,7 +96,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             if at.is_some() {
                 fail!(
                     "--at picks a moment of a run, and {} is a tree, not a session",
-                    file.display()
+                    btx::text::path(&file)
                 );
             }
             None

@@ -51,7 +51,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         .iter()
         .zip(&inputs)
         .map(|(f, i)| {
-            let name = f.display().to_string();
+            let name = btx::text::path(f).to_string();
             match i.session() {
                 Some(s) => btx::diff::Side::session(name, s),
                 None => btx::diff::Side::tree(name, i.tree()),
@@ -77,8 +77,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             if !btx::diff::same_shape(&a.tree, &b.tree) {
                 fail!(
                     "--why compares two runs of one tree, and {} and {} ran different trees",
-                    files[0].display(),
-                    files[1].display()
+                    btx::text::path(&files[0]),
+                    btx::text::path(&files[1])
                 );
             }
             let dom = btx::causal::session_domain(b, domain.as_deref()).map_err(located)?;

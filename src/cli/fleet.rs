@@ -32,7 +32,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let reference = match &args.reference {
         Some(r) => match open_input(r, &args.reading, cli.quiet)? {
             Input::Session(s) => Some(s),
-            Input::Tree { .. } => fail!("--reference: {} is a tree, not a run", r.display()),
+            Input::Tree { .. } => fail!("--reference: {} is a tree, not a run", btx::text::path(r)),
         },
         None => None,
     };
@@ -93,7 +93,10 @@ fn expand(paths: &[PathBuf]) -> Result<Vec<PathBuf>, Failure> {
 }
 
 fn shown(paths: &[PathBuf]) -> String {
-    let v: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
+    let v: Vec<String> = paths
+        .iter()
+        .map(|p| btx::text::path(p).to_string())
+        .collect();
     v.join(", ")
 }
 

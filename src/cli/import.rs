@@ -25,7 +25,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     }
     let s = match open_input(&log, &reading, cli.quiet)? {
         Input::Session(s) => *s,
-        Input::Tree { .. } => fail!("{} is a tree, not a log", log.display()),
+        Input::Tree { .. } => fail!("{} is a tree, not a log", btx::text::path(&log)),
     };
     let path = btx::logs::write_session(&s, &out)?;
     say_written(&path, &s)
@@ -34,7 +34,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
 fn say_written(path: &Path, s: &btx::session::Session) -> Result<(), Failure> {
     eprintln!(
         "{}: {} ticks, {} transitions",
-        path.display(),
+        btx::text::path(path),
         s.index.ticks(),
         s.index.transitions.len()
     );

@@ -71,8 +71,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     if !fin.exists() {
                         fail!(
                             "{}: the session being followed is gone, and {} is not there either",
-                            session.display(),
-                            fin.display()
+                            btx::text::path(&session),
+                            btx::text::path(fin)
                         );
                     }
                     f = btx::input::Follow::with(fin, opts.clone());
@@ -110,7 +110,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 }
                 if done {
                     if let Some(fin) = &finished {
-                        eprintln!("the run ended: the session is now {}", fin.display());
+                        eprintln!("the run ended: the session is now {}", btx::text::path(fin));
                     }
                     return Ok(());
                 }
@@ -133,7 +133,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 Printable::Input(Input::Session(s)) => s,
                 Printable::Input(Input::Tree { .. }) => fail!(
                     "{} is a tree; btx log reads sessions and logs",
-                    session.display()
+                    btx::text::path(&session)
                 ),
             };
             warn_all(cli.quiet, s.warnings());
@@ -145,7 +145,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 (None, _) => None,
                 (Some(_), None) => fail!(
                     "{}: no time is known for its transitions (a run btx simulated, a btcm log, a Parquet session): --time shows the times a log or a watched robot gave",
-                    session.display()
+                    btx::text::path(&session)
                 ),
                 (Some(TimeColumn::Utc), _) => Some(btx::export::Clock::Utc),
                 (Some(TimeColumn::Local), Some(t0)) => Some(btx::export::Clock::Local(t0)),
@@ -294,7 +294,7 @@ impl Grown {
         if let Some(why) = changed {
             eprintln!(
                 "note: {} was {why}: its {} rows printed are not the start of what it holds now; following it again from its start",
-                s.path.display(),
+                btx::text::path(&s.path),
                 self.rows.len()
             );
             *self = Grown::default();
@@ -422,7 +422,7 @@ fn list_faults(args: &Args, cli: &Globals) -> Result<(), Failure> {
         Input::Session(s) => *s,
         Input::Tree { .. } => fail!(
             "{} is a tree; btx log reads sessions and logs",
-            args.session.display()
+            btx::text::path(&args.session)
         ),
     };
     warn_all(cli.quiet, &s.warnings);
@@ -439,7 +439,7 @@ fn list_faults(args: &Args, cli: &Globals) -> Result<(), Failure> {
                 .collect();
             serde_json::to_string_pretty(&serde_json::json!({
                 "schema": "btx.faults/1",
-                "session": s.path.display().to_string(),
+                "session": btx::text::path(&s.path).to_string(),
                 "events": v,
             }))
             .unwrap_or_default()

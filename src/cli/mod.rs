@@ -115,7 +115,7 @@ impl Reading {
         for w in &self.with {
             if w.is_dir() {
                 let mut files: Vec<PathBuf> = std::fs::read_dir(w)
-                    .map_err(|e| Failure::Plain(format!("{}: {e}", w.display())))?
+                    .map_err(|e| Failure::Plain(format!("{}: {e}", btx::text::path(w))))?
                     .filter_map(|e| e.ok().map(|e| e.path()))
                     .filter(|p| p.extension().is_some_and(|x| x == "xml") && p.is_file())
                     .collect();
@@ -189,7 +189,8 @@ enum Failure {
 impl From<btx::Located> for Failure {
     fn from(mut e: btx::Located) -> Self {
         use btx::text::{same_length, visible};
-        e.location = visible(&e.location).into_owned();
+        // A file's name that holds a line break cannot start a line.
+        e.location = visible(&btx::text::one_line(&e.location)).into_owned();
         e.message = visible(&e.message).into_owned();
         e.label = visible(&e.label).into_owned();
         e.help = e.help.map(|h| visible(&h).into_owned());
@@ -205,8 +206,10 @@ impl From<btx::Located> for Failure {
             if end - start > LINE_SHOWN_MAX {
                 e.source_code = None;
                 e.span = None;
-            } else if let std::borrow::Cow::Owned(clean) = same_length(text) {
-                e.source_code = Some(miette::NamedSource::new(src.name(), clean));
+            } else {
+                let name = visible(&btx::text::one_line(src.name())).into_owned();
+                let clean = same_length(text).into_owned();
+                e.source_code = Some(miette::NamedSource::new(name, clean));
             }
         }
         Failure::Located(miette::Report::new(e))
@@ -265,8 +268,14 @@ fn written(r: std::io::Result<()>) {
 }
 
 fn err_out(s: &str) {
+    err_raw(&btx::text::visible(s));
+}
+
+/// Standard error as given: btx's own cursor codes, around text escaped
+/// by `err_out`'s rule.
+fn err_raw(s: &str) {
     use std::io::Write;
-    let _ = std::io::stderr().write_all(btx::text::visible(s).as_bytes());
+    let _ = std::io::stderr().write_all(s.as_bytes());
 }
 
 macro_rules! fail {
@@ -365,10 +374,10 @@ fn located(e: btx::Located) -> Failure {
 fn session_of<'a>(input: &'a Input, file: &Path) -> Result<&'a Session, Failure> {
     match input.session() {
         Some(s) if s.index.ticks() > 0 => Ok(s),
-        Some(_) => fail!("{}: the session recorded no tick", file.display()),
+        Some(_) => fail!("{}: the session recorded no tick", btx::text::path(file)),
         None => fail!(
             "{} is a tree; a why-question is about a run: give a session (btx run … --out SESSION) or a log",
-            file.display()
+            btx::text::path(file)
         ),
     }
 }

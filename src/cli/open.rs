@@ -61,7 +61,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 if app.session.is_none() {
                     fail!(
                         "--follow follows a log or a session as it grows, and {} is a tree",
-                        log.display()
+                        btx::text::path(log)
                     );
                 }
                 let mut f = btx::input::Follow::new(log);
@@ -125,7 +125,7 @@ fn live(
     btx::tui::run_with(app, cli.ascii).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
     if !cli.quiet {
         for o in robots.outs.iter().flatten().filter(|o| o.exists()) {
-            eprintln!("the run is in {}", o.display());
+            eprintln!("the run is in {}", btx::text::path(o));
         }
     }
     Ok(())

@@ -18,6 +18,15 @@ pub const WAITING_MAX: usize = 4 << 20;
 /// At the end, how long btx waits for an output that takes nothing more.
 pub const STALLED: Duration = Duration::from_secs(2);
 
+/// Back to the start of the line, and the line cleared.
+const CLEAR: &str = "\r\x1b[K";
+
+/// The status line as the terminal is sent it: btx's own cursor codes
+/// around the text, whose own control characters are escaped.
+fn status_line(t: &str) -> String {
+    format!("\r{}\x1b[K", btx::text::visible(t))
+}
+
 /// What goes to a lane: a text, or (standard error) the status line in
 /// place, `None` to clear it.
 enum Said {
@@ -48,7 +57,7 @@ impl Lane {
             .spawn(move || {
                 for said in rx {
                     if shown.swap(false, Ordering::Relaxed) {
-                        super::err_out("\r\x1b[K");
+                        super::err_raw(CLEAR);
                     }
                     match said {
                         Said::Text(t, n) => {
@@ -57,7 +66,7 @@ impl Lane {
                             done_rows.fetch_sub(n, Ordering::Relaxed);
                         }
                         Said::Status(Some(t)) => {
-                            super::err_out(&format!("\r{t}\x1b[K"));
+                            super::err_raw(&status_line(&t));
                             shown.store(true, Ordering::Relaxed);
                         }
                         Said::Status(None) => {}
@@ -226,5 +235,17 @@ impl Drop for Printer {
     fn drop(&mut self) {
         self.out.close();
         self.err.close();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_status_line_moves_the_cursor_and_escapes_what_it_says() {
+        assert_eq!(
+            super::status_line("tick 3 \x1b[2J"),
+            "\rtick 3 \\x1b[2J\x1b[K"
+        );
+        assert_eq!(super::CLEAR, "\r\x1b[K");
     }
 }

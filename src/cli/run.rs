@@ -61,8 +61,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     if let Some(t) = &reading.run_tree {
         fail!(
             "--tree {} is for reading a log with the tree its robot ran; btx run runs the tree file it is given ({})",
-            t.display(),
-            path.display()
+            btx::text::path(t),
+            btx::text::path(&path)
         );
     }
     let _claim = btx::session::OutputLock::take(&out, "btx run")?;
@@ -111,7 +111,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         let plan = Plan::load(p)?;
         let source = Source {
             kind: "plan".into(),
-            path: Some(p.display().to_string()),
+            path: Some(btx::text::path(p).to_string()),
             text: Some(plan.text.clone()),
             name: None,
         };
@@ -120,7 +120,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         let d = std::sync::Arc::new(Domain::load(p)?);
         let source = Source {
             kind: "domain".into(),
-            path: Some(p.display().to_string()),
+            path: Some(btx::text::path(p).to_string()),
             text: Some(d.text.clone()),
             name: Some(d.name.clone()),
         };
@@ -183,7 +183,7 @@ fn report_run(
             }
             eprintln!(
                 "{}: {} ticks, {} transitions, root {} ({})",
-                s.path.display(),
+                btx::text::path(&s.path),
                 s.ticks,
                 s.transitions,
                 s.root,
@@ -193,14 +193,14 @@ fn report_run(
         }
         Err(RecordError::Io(e)) => Err(e.into()),
         Err(RecordError::Script(e, s)) => {
-            eprintln!("the run up to the error is in {}", s.path.display());
+            eprintln!("the run up to the error is in {}", btx::text::path(&s.path));
             Err(e.into())
         }
         Err(RecordError::Run(e, s)) => {
             let (file, line, col) = tree.location(e.uid);
             fail!(
                 "{file}:{line}:{col}: {e}\nthe run up to here is in {}",
-                s.path.display()
+                btx::text::path(&s.path)
             );
         }
     }

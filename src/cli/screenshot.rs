@@ -28,14 +28,17 @@ pub fn run(args: Args) -> Result<(), Failure> {
     let buf = btx::tui::render(&app, width, height);
     match out.extension().and_then(|e| e.to_str()) {
         Some("svg") => std::fs::write(&out, btx::tui::svg::buffer_to_svg(&buf))
-            .map_err(|e| Failure::Plain(format!("{}: {e}", out.display())))?,
+            .map_err(|e| Failure::Plain(format!("{}: {e}", btx::text::path(&out))))?,
         Some("png") => {
             let png = btx::tui::svg::svg_to_png(&btx::tui::svg::buffer_to_svg(&buf))
                 .map_err(Failure::Plain)?;
             std::fs::write(&out, png)
-                .map_err(|e| Failure::Plain(format!("{}: {e}", out.display())))?
+                .map_err(|e| Failure::Plain(format!("{}: {e}", btx::text::path(&out))))?
         }
-        _ => fail!("{}: a screenshot is a .svg or a .png file", out.display()),
+        _ => fail!(
+            "{}: a screenshot is a .svg or a .png file",
+            btx::text::path(&out)
+        ),
     }
     Ok(())
 }

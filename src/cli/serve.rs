@@ -45,7 +45,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         Input::Session(s) => *s,
         Input::Tree { .. } => fail!(
             "{} is a tree; btx serve replays a session or a log",
-            args.run.display()
+            btx::text::path(&args.run)
         ),
     };
     warn_all(cli.quiet, &s.warnings);
@@ -61,7 +61,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         let s = replay.session();
         eprintln!(
             "serving {} ({} transitions in {} ticks) on {}:{} with the Groot2 protocol (Ctrl-C stops)",
-            args.run.display(),
+            btx::text::path(&args.run),
             s.index.transitions.len(),
             s.index.ticks(),
             args.host,

@@ -55,10 +55,8 @@ struct Robot {
     feed: Feed,
     shell: btx::session::Session,
     alerts: Alerts,
-    /// Faults said, handlings that ended well and not, runs ended.
-    faults: usize,
-    recovered: usize,
-    not_recovered: usize,
+    /// Faults said, and how their handling ended.
+    tally: btx::explain::alerts::Tally,
     runs: usize,
     tick: u32,
     header: bool,
@@ -91,9 +89,7 @@ impl Robot {
             feed,
             alerts: Alerts::new(shell.tree.clone()),
             shell,
-            faults: 0,
-            recovered: 0,
-            not_recovered: 0,
+            tally: Default::default(),
             runs: 0,
             tick: 0,
             header: false,
@@ -112,14 +108,15 @@ impl Robot {
             self.tick,
             self.feed.transitions()
         );
-        if self.faults > 0 {
+        let t = &self.tally;
+        if t.faults > 0 {
             line.push_str(&format!(
                 " · {} fault{}: {} open, {} recovered, {} not",
-                self.faults,
-                if self.faults == 1 { "" } else { "s" },
-                self.alerts.open(),
-                self.recovered,
-                self.not_recovered
+                t.faults,
+                if t.faults == 1 { "" } else { "s" },
+                t.open,
+                t.recovered,
+                t.not_recovered
             ));
         }
         if self.runs > 0 {
@@ -176,12 +173,8 @@ impl Robot {
             alerts.extend(self.alerts.flush());
         }
         for a in &alerts {
-            match a.what {
-                What::Fault => self.faults += 1,
-                What::Recovered => self.recovered += 1,
-                What::NotRecovered => self.not_recovered += 1,
-                What::RunEnded => self.runs += 1,
-            }
+            self.tally.add(&self.shell.tree, a);
+            self.runs += usize::from(a.what == What::RunEnded);
         }
         if !closed {
             let out = match (say.format, say.transitions) {
@@ -264,13 +257,16 @@ impl Robot {
         if !quiet {
             match &written[..] {
                 [] => {}
-                [(path, _)] => pr.err(format!("{p}{n} transitions written to {}", path.display())),
+                [(path, _)] => pr.err(format!(
+                    "{p}{n} transitions written to {}",
+                    btx::text::path(path)
+                )),
                 runs => {
                     for (k, (path, t)) in runs.iter().enumerate() {
                         pr.err(format!(
                             "{p}run {}: {t} transitions written to {}",
                             k + 1,
-                            path.display()
+                            btx::text::path(path)
                         ));
                     }
                 }
@@ -304,7 +300,7 @@ fn clock_apart(ms: f64) -> String {
 /// An alert as its line: the robot's time of day first, where known.
 fn line(a: &Alert) -> String {
     match a.time_us {
-        Some(t) => format!("{} UTC  {}", &btx::input::utc(t)[11..], a.text),
+        Some(t) => format!("{} UTC  {}", btx::input::clock(t), a.text),
         None => a.text.clone(),
     }
 }
@@ -573,11 +569,14 @@ fn outputs(eps: &[String], out: Option<&Path>) -> Result<Vec<Option<PathBuf>>, F
             if dir.extension().is_some_and(|x| x == "jsonl") {
                 fail!(
                     "with several robots --out names a directory (a session a robot), not {}",
-                    dir.display()
+                    btx::text::path(dir)
                 );
             }
             std::fs::create_dir_all(dir).map_err(|e| {
-                Failure::Plain(format!("{}: cannot make the directory: {e}", dir.display()))
+                Failure::Plain(format!(
+                    "{}: cannot make the directory: {e}",
+                    btx::text::path(dir)
+                ))
             })?;
             eps.iter()
                 .map(|e| Some(dir.join(session_name(e))))
@@ -684,7 +683,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             if let (Some(out), false) = (&args.out, cli.quiet) {
                 pr.err(format!(
                     "standard output was closed; still recording to {} ({})",
-                    out.display(),
+                    btx::text::path(out),
                     if deadline.is_some() {
                         "until --for ends"
                     } else {

@@ -200,11 +200,6 @@ impl Alerts {
         out
     }
 
-    /// Faults still being handled.
-    pub fn open(&self) -> usize {
-        self.open.iter().filter(|h| h.handler.is_some()).count()
-    }
-
     /// A check's failure, which is a fault only if it goes up to a goal
     /// in its tick.
     fn undecided(&self, row: Row) -> bool {
@@ -579,36 +574,69 @@ impl Alerts {
 
 /// The lines a recorded run would have given as it happened.
 pub fn of_run(tree: &Tree, idx: &crate::session::Index) -> Vec<Alert> {
-    read_run(tree, idx).0
+    read_run(tree, idx)
 }
 
 /// A run's faults in numbers: said, still being handled, recovered, not.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+/// Each fault is counted once, by how the handling it started ended:
+/// a Retry's attempt that fails again hands its fault on to the next
+/// attempt, and a handler that gives up hands it on to the handler above,
+/// so a recovery (or a failure) there ends every fault handed on to it.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Tally {
     pub faults: usize,
     pub open: usize,
     pub recovered: usize,
     pub not_recovered: usize,
+    /// The handler of each fault not ended yet (`None`: nothing handles
+    /// it, the run's end will).
+    pending: Vec<Option<Uid>>,
 }
 
 impl Tally {
     pub fn of_run(tree: &Tree, idx: &crate::session::Index) -> Tally {
-        let (alerts, open) = read_run(tree, idx);
-        let n = |w: What| alerts.iter().filter(|a| a.what == w).count();
-        Tally {
-            faults: n(What::Fault),
-            open,
-            recovered: n(What::Recovered),
-            not_recovered: n(What::NotRecovered),
+        let mut t = Tally::default();
+        for a in &read_run(tree, idx) {
+            t.add(tree, a);
         }
+        t
+    }
+
+    /// Counts a line said.
+    pub fn add(&mut self, tree: &Tree, a: &Alert) {
+        let ended = |by: Option<Uid>, h: &Option<Uid>| match (by, h) {
+            (None, _) => true,
+            (Some(by), Some(h)) => by == *h || tree.is_ancestor(by, *h),
+            (Some(_), None) => false,
+        };
+        let (by, recovered) = match a.what {
+            What::Fault => {
+                self.faults += 1;
+                self.pending.push(a.handler);
+                self.open = self.pending.len();
+                return;
+            }
+            What::Recovered => (a.handler, true),
+            What::NotRecovered => (a.handler, false),
+            What::RunEnded => (None, a.outcome == Some(Status::Success)),
+        };
+        let before = self.pending.len();
+        self.pending.retain(|h| !ended(by, h));
+        let n = before - self.pending.len();
+        if recovered {
+            self.recovered += n;
+        } else {
+            self.not_recovered += n;
+        }
+        self.open = self.pending.len();
     }
 }
 
-fn read_run(tree: &Tree, idx: &crate::session::Index) -> (Vec<Alert>, usize) {
+fn read_run(tree: &Tree, idx: &crate::session::Index) -> Vec<Alert> {
     let mut a = Alerts::new(tree.clone());
     let mut out: Vec<Alert> = rows(idx, &[]).flat_map(|r| a.push(r)).collect();
     out.extend(a.finish());
-    (out, a.open())
+    out
 }
 
 fn at(row: Row) -> String {
@@ -728,10 +756,18 @@ mod tests {
                     continue;
                 }
                 let rel = p.strip_prefix(root).unwrap().to_str().unwrap().to_string();
-                if open(&p, &LoadOptions::default()).is_ok_and(|i| i.session().is_some()) {
-                    said(&rel);
-                    n += 1;
-                }
+                let Ok(crate::input::Input::Session(s)) = open(&p, &LoadOptions::default()) else {
+                    continue;
+                };
+                said(&rel);
+                // Each fault is counted once, by how its handling ended.
+                let t = Tally::of_run(&s.tree, &s.index);
+                assert_eq!(
+                    t.faults,
+                    t.open + t.recovered + t.not_recovered,
+                    "{rel}: {t:?}"
+                );
+                n += 1;
             }
         }
         assert!(n >= 10, "{n} runs");
@@ -756,6 +792,19 @@ mod tests {
             (t.faults, t.open, t.recovered, t.not_recovered),
             (1, 0, 0, 1)
         );
+        // Attempts 2 and 3 of the Retry fail again, it gives up, and the
+        // fallback above it recovers: three faults, each recovered there.
+        let t = tally("sessions/kitting-detect-chuck-always-fails.jsonl");
+        assert_eq!(
+            (t.faults, t.open, t.recovered, t.not_recovered),
+            (3, 0, 3, 0)
+        );
+        // The same, then asking for help fails too: four, none recovered.
+        let t = tally("sessions/kitting-help-fails.jsonl");
+        assert_eq!(
+            (t.faults, t.open, t.recovered, t.not_recovered),
+            (4, 0, 0, 4)
+        );
         // Cut while the Retry handles the failure: one open.
         let input = open(
             &root.join("sessions/kitting-lookat-fails-once.jsonl"),
@@ -764,9 +813,12 @@ mod tests {
         .unwrap();
         let s = input.session().unwrap();
         let mut a = Alerts::new(s.tree.clone());
+        let mut t = Tally::default();
         for r in rows(&s.index, &[]).take_while(|r| r.tick <= 12) {
-            a.push(r);
+            for alert in a.push(r) {
+                t.add(&s.tree, &alert);
+            }
         }
-        assert_eq!(a.open(), 1);
+        assert_eq!((t.faults, t.open), (1, 1));
     }
 }

@@ -84,6 +84,8 @@ impl Recorder {
         for b in header.before.iter().filter(|b| tree.get(b.uid).is_some()) {
             status[(b.uid - 1) as usize] = b.status;
         }
+        // Attached to a robot that was running: its root runs already.
+        let root = status.first().copied().unwrap_or(Status::Idle);
         let writer = match out {
             Some(o) => Some(SessionWriter::create(o, header)?),
             None => None,
@@ -103,7 +105,7 @@ impl Recorder {
             tick: 0,
             step: 0,
             last_tick: 0,
-            root: (Status::Idle, Status::Idle),
+            root: (Status::Idle, root),
             rows: None,
             pending_gap: None,
             view: true,
@@ -301,6 +303,12 @@ impl Recorder {
                 for b in states.iter().filter(|b| is_node(b.uid, len)) {
                     self.status[(b.uid - 1) as usize] = b.status;
                 }
+                // Joined while the robot ran: the root runs though no
+                // transition of it came (a status of it read is no change).
+                let root = self.status[(Tree::ROOT - 1) as usize];
+                if root != self.root.1 {
+                    self.root = (self.root.1, root);
+                }
                 if viewed && at > 0 && self.resyncs.len() < VIEW_MARKS_MAX {
                     self.resyncs.push((self.kept.len(), states));
                 }
@@ -376,4 +384,85 @@ pub fn run_path(out: &Path, k: usize) -> PathBuf {
 /// Whether `uid` names a node of a tree of `len` nodes.
 pub fn is_node(uid: Uid, len: usize) -> bool {
     uid >= 1 && (uid as usize) <= len
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tree() -> Tree {
+        crate::xml::load_str(
+            Path::new("t.xml"),
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Sequence>
+                 <AlwaysSuccess/><AlwaysSuccess/></Sequence></BehaviorTree></root>"#,
+            &Default::default(),
+        )
+        .unwrap()
+        .tree
+    }
+
+    fn rec(uid: Uid, status: Status, offset: usize) -> (Record, u32) {
+        let r = Record {
+            time_us: offset as i64,
+            uid,
+            status,
+            offset,
+        };
+        (r, 1)
+    }
+
+    /// Attached while the robot ran and stopped before its run ended:
+    /// the root was RUNNING all along, though no transition of it came.
+    #[test]
+    fn a_watch_that_joined_a_running_robot_ends_with_the_root_running() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("w.jsonl");
+        let tree = tree();
+        let mut header = crate::logs::import_header(
+            Path::new("x"),
+            &tree,
+            crate::model::Version::V4,
+            "t",
+            vec![],
+        );
+        header.before = vec![
+            Before {
+                uid: 1,
+                status: Status::Running,
+                done: None,
+            },
+            Before {
+                uid: 2,
+                status: Status::Running,
+                done: None,
+            },
+        ];
+        let mut r = Recorder::new(&tree, Some(&out), &header).unwrap();
+        r.take(&[rec(2, Status::Success, 0), rec(3, Status::Running, 1)])
+            .unwrap();
+        assert_eq!(r.root(), (Status::Idle, Status::Running));
+        let path = r.finish().unwrap().unwrap();
+        let s = crate::session::Session::load(&path).unwrap();
+        assert!(
+            s.ending().contains("with the root RUNNING"),
+            "{}",
+            s.ending()
+        );
+        // Read again after a gap, the same.
+        let mut r = Recorder::new(
+            &tree,
+            None,
+            &crate::logs::import_header(
+                Path::new("x"),
+                &tree,
+                crate::model::Version::V4,
+                "t",
+                vec![],
+            ),
+        )
+        .unwrap();
+        r.resync(0, header.before.clone());
+        r.take(&[rec(2, Status::Success, 0)]).unwrap();
+        assert_eq!(r.root().1, Status::Running);
+    }
 }

@@ -224,7 +224,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                 },
                 crate::text::visible(&l.status.line()),
             );
-            let t = app.live_faults;
+            let t = &app.live_faults;
             if t.faults > 0 {
                 title.push_str(&format!(
                     "· faults: {} open, {} recovered, {} not ",

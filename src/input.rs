@@ -103,6 +103,35 @@ pub fn each_run(
     Ok(())
 }
 
+/// Each run of a log as `each_run` gives them, a `.btlog` of several runs
+/// too (`logs::ends_a_run`: the robot's tree started again after it
+/// completed), each with its ticks from 1. Elsewhere (a fleet, an import)
+/// a `.btlog` is one run: a robot's log of thousands of runs is one file.
+pub fn each_log_run(
+    path: &Path,
+    opts: &LoadOptions,
+    mut f: impl FnMut(usize, usize, Session) -> Result<(), Box<Located>>,
+) -> Result<(), Located> {
+    if opts.run.is_some() || crate::logs::rosbag::is_bag(path) {
+        return each_run(path, opts, f);
+    }
+    match open_to_print(path, opts)? {
+        Printable::Numbered(log) => {
+            let starts = log.run_starts();
+            let n = starts.len();
+            for k in 1..=n {
+                let run = log.run_of(&starts, k)?;
+                f(k, n, run.into_session()).map_err(|e| *e)?;
+            }
+            Ok(())
+        }
+        Printable::Input(Input::Session(s)) => f(1, 1, *s).map_err(|e| *e),
+        Printable::Input(Input::Tree { .. }) => {
+            Err(Located::file(path, "a tree file holds no run"))
+        }
+    }
+}
+
 /// Each run of a log as `each_run` gives them, a bag of several robots'
 /// logs (one `behavior_tree_log` topic each, no `--topic` given) read
 /// robot by robot: `f` is told the topic of each then.
@@ -234,7 +263,10 @@ fn open_as(
     }
     let bytes = crate::source::read_input(path, crate::source::INPUT_SIZE_MAX, "the file")?;
     if crate::logs::btlog::is_btlog(&bytes) {
-        let log = crate::logs::number_btlog(path, bytes, given)?;
+        let mut log = crate::logs::number_btlog(path, bytes, given)?;
+        if let Some(k) = opts.run {
+            log = log.run(k)?;
+        }
         return Ok(Printable::Numbered(Box::new(log)));
     }
     open_bytes(path, opts, bytes, given).map(Printable::Input)

@@ -586,3 +586,62 @@ fn only_a_log_that_stops_while_the_root_runs_is_cut_off() {
         .unwrap()
         .contains("\"k\":\"end\""));
 }
+
+/// A `.btlog` of a robot that ran its tree twice (the real BehaviorTree.CPP
+/// 4.8, 0.3 s apart): two runs, as `btx watch` told them, each with its
+/// ticks from 1; the pause between them is no ticks (the tree was reset,
+/// not ticked); `--faults` numbers the runs and gives the times asked for.
+#[test]
+fn a_log_of_two_runs_lists_each_and_opens_either() {
+    let log = "tests/fixtures/logs/kitting_twice.btlog";
+    let (ok, out, err) = btx(&["log", log, "--runs"]);
+    assert!(ok, "{err}");
+    let rows: Vec<&str> = out.lines().skip(1).collect();
+    assert_eq!(rows.len(), 2, "{out}");
+    assert!(
+        rows[0].contains(" 54          248  ended at tick 54: root SUCCESS"),
+        "{out}"
+    );
+    assert!(
+        rows[1].contains(" 46          209  ended at tick 46: root SUCCESS"),
+        "{out}"
+    );
+    // The whole log: run 2 follows run 1 at the next tick.
+    let (_, whole, _) = btx(&["log", log]);
+    let last = whole.lines().last().unwrap();
+    assert!(
+        last.starts_with("  100    29     1  build a gearbox kit"),
+        "{last}"
+    );
+    // Run 2 alone: its ticks from 1, said.
+    let (ok, second, err) = btx(&["log", log, "--run", "2"]);
+    assert!(ok, "{err}");
+    assert!(err.contains("the log holds 2 runs"), "{err}");
+    assert_eq!(second.lines().count(), 1 + 209);
+    assert!(
+        second
+            .lines()
+            .nth(1)
+            .unwrap()
+            .starts_with("    1     1     1"),
+        "{second}"
+    );
+    let (ok, faults, _) = btx(&["log", log, "--faults", "--time", "utc"]);
+    assert!(ok);
+    let faults: Vec<&str> = faults.lines().collect();
+    assert_eq!(faults.len(), 4, "{faults:?}");
+    assert!(faults[0].ends_with(" 10:1 look at chuck failed; insert large gear failed; RetryUntilSuccessful (#7) tries again, attempt 2 of 3"), "{faults:?}");
+    assert!(faults[0].starts_with("03:20:58."), "{faults:?}");
+    assert!(
+        faults[3].ends_with("run 2 ended at tick 100: SUCCESS"),
+        "{faults:?}"
+    );
+    let (_, faults, _) = btx(&["log", log, "--run", "2", "--faults"]);
+    assert_eq!(faults, "run 2 ended at tick 46: SUCCESS\n");
+    let (ok, out, err) = btx(&["log", log, "--run", "3", "--runs"]);
+    assert!(!ok && out.is_empty(), "{out}");
+    assert!(
+        one_line(&err).contains("the log holds runs 1 to 2; there is no run 3"),
+        "{err}"
+    );
+}

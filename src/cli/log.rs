@@ -16,7 +16,7 @@ pub struct Args {
     /// Keep printing transitions as the log grows (until interrupted); with --format json, one object a line.
     #[arg(long)]
     pub follow: bool,
-    /// List the runs the log holds (a rosbag's goals: each the root starting again), with their times and how each ended; --run N picks one.
+    /// List the runs the log holds (a rosbag's goals, a .btlog's runs: each the root starting again after it completed), with their times and how each ended; --run N picks one.
     #[arg(long, conflicts_with_all = ["follow", "node"])]
     pub runs: bool,
     /// A time column first: the robot's clock at each transition, as the log recorded it (.btlog, .db3, .fbl, rosbags, runs kept by btx watch): `utc`, the time of day in UTC, `local`, in this machine's time zone (TZ), or `relative` (what `--time` alone gives), seconds since the run's first transition. JSON always has `time` and `time_us` (UTC) where they are known.
@@ -141,16 +141,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 Some(p) => Some(pick_node(s.tree(), p)?),
                 None => None,
             };
-            let clock = match (args_time, s.first_time_us()) {
-                (None, _) => None,
-                (Some(_), None) => fail!(
-                    "{}: no time is known for its transitions (a run btx simulated, a btcm log, a Parquet session): --time shows the times a log or a watched robot gave",
-                    btx::text::path(&session)
-                ),
-                (Some(TimeColumn::Utc), _) => Some(btx::export::Clock::Utc),
-                (Some(TimeColumn::Local), Some(t0)) => Some(btx::export::Clock::Local(t0)),
-                (Some(TimeColumn::Relative), Some(t0)) => Some(btx::export::Clock::Relative(t0)),
-            };
+            let clock = clock_of(args_time, s.first_time_us(), &session)?;
             // Written as it is read: a log of millions of transitions is
             // never held whole, in text or in JSON.
             let mut w = SafeOut::new();
@@ -372,17 +363,18 @@ const PRINT_CHUNK: usize = 4096;
 /// transition (UTC), ticks, transitions and how it ended.
 fn list_runs(args: &Args, cli: &Globals) -> Result<(), Failure> {
     let mut w = SafeOut::new();
-    if matches!(args.format, Format::Text) {
-        use std::io::Write;
-        let _ = w.write_all(
-            b" run  first transition (UTC)      last transition (UTC)       ticks  transitions  ended\n",
-        );
-    }
-    btx::input::each_run(&args.session, &args.reading.options()?, |k, _, s| {
+    btx::input::each_log_run(&args.session, &args.reading.options()?, |k, _, s| {
         use std::io::Write;
         if k == 1 {
-            // Said once: the warnings every run shares.
+            // Said once: the warnings every run shares. The header waits
+            // for the first run, so that a log that cannot be read prints
+            // its error alone.
             warn_all(cli.quiet, &s.warnings);
+            if matches!(args.format, Format::Text) {
+                let _ = w.write_all(
+                    b" run  first transition (UTC)      last transition (UTC)       ticks  transitions  ended\n",
+                );
+            }
         }
         let t = s.index.transitions.len();
         let (first, last) = match s.span_us {
@@ -416,6 +408,24 @@ fn list_runs(args: &Args, cli: &Globals) -> Result<(), Failure> {
     Ok(())
 }
 
+/// `--time`'s column, for a run whose first transition was at `t0`.
+fn clock_of(
+    time: Option<TimeColumn>,
+    t0: Option<i64>,
+    session: &std::path::Path,
+) -> Result<Option<btx::export::Clock>, Failure> {
+    Ok(match (time, t0) {
+        (None, _) => None,
+        (Some(_), None) => fail!(
+            "{}: no time is known for its transitions (a run btx simulated, a btcm log, a session written without them): --time shows the times a log or a watched robot gave",
+            btx::text::path(session)
+        ),
+        (Some(TimeColumn::Utc), _) => Some(btx::export::Clock::Utc),
+        (Some(TimeColumn::Local), Some(t0)) => Some(btx::export::Clock::Local(t0)),
+        (Some(TimeColumn::Relative), Some(t0)) => Some(btx::export::Clock::Relative(t0)),
+    })
+}
+
 /// `--faults`: the run's faults, as a watch would have told them.
 fn list_faults(args: &Args, cli: &Globals) -> Result<(), Failure> {
     let s = match btx::input::open(&args.session, &args.reading.options()?).map_err(located)? {
@@ -426,11 +436,15 @@ fn list_faults(args: &Args, cli: &Globals) -> Result<(), Failure> {
         ),
     };
     warn_all(cli.quiet, &s.warnings);
-    let alerts = btx::explain::alerts::of_run(&s.tree, &s.index);
+    let alerts = btx::explain::alerts::of_run(&s);
+    let clock = clock_of(args.time, s.times_us.first().copied(), &args.session)?;
     let out = match args.format {
         Format::Text => alerts
             .iter()
-            .map(|a| format!("{}\n", a.text))
+            .map(|a| {
+                let cell = clock.map_or(String::new(), |c| c.cell(a.time_us));
+                format!("{cell}{}\n", a.text)
+            })
             .collect::<String>(),
         Format::Json => {
             let v: Vec<serde_json::Value> = alerts

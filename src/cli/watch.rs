@@ -308,10 +308,6 @@ fn line(a: &Alert) -> String {
 /// An alert as `--format json` and `--on-fault` give it.
 fn alert_json(tree: &btx::model::Tree, a: &Alert, robot: Option<&str>) -> serde_json::Value {
     let mut v = btx::export::alert_json(tree, a);
-    v["tick"] = a.tick.into();
-    v["step"] = a.step.into();
-    v["time"] = a.time_us.map(btx::input::rfc3339).into();
-    v["time_us"] = a.time_us.into();
     // When btx said it, by this machine's clock: beside `time`, how soon
     // after the robot's transition.
     let now = now_us();

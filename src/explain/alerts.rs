@@ -572,9 +572,13 @@ impl Alerts {
     }
 }
 
-/// The lines a recorded run would have given as it happened.
-pub fn of_run(tree: &Tree, idx: &crate::session::Index) -> Vec<Alert> {
-    read_run(tree, idx)
+/// The lines a recorded run would have given as it happened; `run`, its
+/// number among the runs of its log, when the log holds several (a
+/// watch numbers each run's end as it comes).
+pub fn of_run(s: &crate::session::Session) -> Vec<Alert> {
+    let mut a = Alerts::new(s.tree.clone());
+    a.runs = s.run.map_or(0, |(k, _)| k as u32 - 1);
+    read_with(a, &s.index, &s.times_us)
 }
 
 /// A run's faults in numbers: said, still being handled, recovered, not.
@@ -633,8 +637,11 @@ impl Tally {
 }
 
 fn read_run(tree: &Tree, idx: &crate::session::Index) -> Vec<Alert> {
-    let mut a = Alerts::new(tree.clone());
-    let mut out: Vec<Alert> = rows(idx, &[]).flat_map(|r| a.push(r)).collect();
+    read_with(Alerts::new(tree.clone()), idx, &[])
+}
+
+fn read_with(mut a: Alerts, idx: &crate::session::Index, times_us: &[i64]) -> Vec<Alert> {
+    let mut out: Vec<Alert> = rows(idx, times_us).flat_map(|r| a.push(r)).collect();
     out.extend(a.finish());
     out
 }

@@ -18,6 +18,10 @@ pub fn alert_json(tree: &Tree, a: &crate::explain::alerts::Alert) -> Value {
         "handler": node(a.handler),
         "outcome": a.outcome.map(|o| o.as_str()),
         "text": a.text,
+        "tick": a.tick,
+        "step": a.step,
+        "time": a.time_us.map(crate::input::rfc3339),
+        "time_us": a.time_us,
     })
 }
 

@@ -197,15 +197,8 @@ impl Recorder {
                 self.unviewed += 1;
             }
             self.written += 1;
-            // The root back to IDLE after it completed a run of several
-            // ticks: the robot's run ended, and its next (a Nav2 robot's
-            // next goal) is a session of its own. A tree that completes
-            // within each tick it is ticked (a loop) stays one session.
-            if r.uid == Tree::ROOT
-                && r.status == Status::Idle
-                && prev.is_completed()
-                && tick > self.run_from
-            {
+            // The robot's run ended: its next is a session of its own.
+            if r.uid == Tree::ROOT && crate::logs::ends_a_run(prev, r.status, tick, self.run_from) {
                 self.end_run(local, prev)?;
             }
         }

@@ -358,5 +358,6 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         span_us: None,
         times_us: Vec::new(),
         warnings,
+        run: None,
     })
 }

@@ -355,6 +355,7 @@ impl<'a> BagRuns<'a> {
             },
             &|o| format!("{topic}, status change {}", o + 1),
         )?;
+        s.run = (n > 1).then_some((k, n));
         // Re-runs follow the release that recorded the bag, where it says.
         if let Some(r) = self.log.release {
             s.header.nav2 = Some(r);
@@ -467,6 +468,8 @@ pub struct Numbered {
     /// BehaviorTree.CPP's 16-bit ones, checked against the tree.
     moves: Vec<u32>,
     header: Header,
+    /// Run k of the n the log holds, when it holds several.
+    run: Option<(usize, usize)>,
 }
 
 /// Each node's status as a log's records follow it, and as the robot last
@@ -622,10 +625,76 @@ fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<N
         ticks,
         moves,
         header,
+        run: None,
     })
 }
 
+/// Whether the root's transition from `prev` to `to`, in tick `tick` of a
+/// run that started in tick `run_from`, ends a robot's run: the root back
+/// to IDLE after it completed a run of several ticks, so that the next
+/// (a Nav2 robot's next goal) is a run of its own. A tree that completes
+/// within each tick it is ticked (a loop) is one run.
+pub fn ends_a_run(prev: Status, to: Status, tick: u32, run_from: u32) -> bool {
+    to == Status::Idle && prev.is_completed() && tick > run_from
+}
+
 impl Numbered {
+    /// Where each of the robot's runs starts (`ends_a_run`): 0 first.
+    pub fn run_starts(&self) -> Vec<usize> {
+        let mut starts = vec![0];
+        let mut run_from = 0;
+        self.each_transition(|i, t| {
+            if t.uid != crate::model::Tree::ROOT {
+                return;
+            }
+            if t.prev == Status::Idle {
+                run_from = t.tick;
+            }
+            if ends_a_run(t.prev, t.status, t.tick, run_from) && i + 1 < self.moves.len() {
+                starts.push(i + 1);
+            }
+        });
+        starts
+    }
+
+    /// Run `k` (from 1) of the log alone, its ticks from 1; said in its
+    /// warnings when the log holds several.
+    pub fn run(self, k: usize) -> Result<Numbered, Located> {
+        let starts = self.run_starts();
+        let mut run = self.run_of(&starts, k)?;
+        let n = starts.len();
+        if n > 1 {
+            run.warnings.push(Warning {
+                location: crate::text::path(&self.path),
+                message: format!("the log holds {n} runs (the root started again after it completed); this is run {k}, its ticks from 1"),
+            });
+        }
+        Ok(run)
+    }
+
+    /// Run `k` of the runs starting at `starts` (`run_starts`), unsaid.
+    pub fn run_of(&self, starts: &[usize], k: usize) -> Result<Numbered, Located> {
+        let n = starts.len();
+        if k == 0 || k > n {
+            return Err(Located::file(
+                &self.path,
+                format!("the log holds runs 1 to {n}; there is no run {k} (`btx log LOG --runs` lists them)"),
+            ));
+        }
+        let range = starts[k - 1]..starts.get(k).copied().unwrap_or(self.moves.len());
+        let base = self.ticks.get(range.start).map_or(0, |t| t - 1);
+        Ok(Numbered {
+            path: self.path.clone(),
+            tree: self.tree.clone(),
+            warnings: self.warnings.clone(),
+            times_us: self.times_us[range.clone()].to_vec(),
+            ticks: self.ticks[range.clone()].iter().map(|t| t - base).collect(),
+            moves: self.moves[range].to_vec(),
+            header: self.header.clone(),
+            run: (n > 1).then_some((k, n)),
+        })
+    }
+
     /// The log's ticks, empty ones (a leaf running through them) counted.
     pub fn ticks(&self) -> u32 {
         self.ticks.last().copied().unwrap_or(0)
@@ -688,6 +757,7 @@ impl Numbered {
             warnings,
             times_us,
             header,
+            run,
             ..
         } = self;
         let span_us = times_us.first().zip(times_us.last()).map(|(a, b)| (*a, *b));
@@ -702,6 +772,7 @@ impl Numbered {
             span_us,
             times_us,
             warnings,
+            run,
         }
     }
 }

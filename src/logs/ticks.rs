@@ -275,16 +275,38 @@ fn by_timing(recs: &[Record]) -> Vec<u32> {
 /// `EMPTY_TICKS_MAX`.
 const EMPTY_PER_GAP: f64 = 1e6;
 
+/// The ticks from one tick's first record to the next one's: a gap
+/// almost k periods long is k ticks, the k - 1 between them ones in which
+/// nothing changed (a leaf kept RUNNING). A tree its last tick left IDLE
+/// (its run over: BehaviorTree.CPP reset it) is not being ticked: a tick
+/// of it would have started it again, so the gap is one tick whatever
+/// its length (the pause between two runs of a robot).
+fn ticks_in_gap(gap_us: i64, period: Option<i64>, root_idle: bool) -> u32 {
+    match period {
+        Some(p) if !root_idle => (gap_us as f64 / p.max(1) as f64 + 0.1)
+            .floor()
+            .clamp(1.0, EMPTY_PER_GAP) as u32,
+        _ => 1,
+    }
+}
+
 /// Puts back the ticks in which nothing changed, from the time between
 /// ticks; and the record from which gaps counted for one tick each, if
 /// the empty ticks ran past `EMPTY_TICKS_MAX`.
 fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> (Vec<u32>, Option<usize>) {
     let mut firsts: Vec<i64> = Vec::new();
     let mut first_rec: Vec<usize> = Vec::new();
+    // Whether the root was left IDLE by the tick before each.
+    let mut idle_before: Vec<bool> = Vec::new();
+    let mut root_idle = false;
     for (i, r) in recs.iter().enumerate() {
         if i == 0 || ticks[i] != ticks[i - 1] {
             firsts.push(r.time_us);
             first_rec.push(i);
+            idle_before.push(root_idle);
+        }
+        if r.uid == Tree::ROOT {
+            root_idle = r.status == Status::Idle;
         }
     }
     let mut gaps: Vec<i64> = firsts
@@ -303,9 +325,7 @@ fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> (Vec<u32>, Option<usize>)
     let mut empty = 0u32;
     let mut capped = None;
     for (k, w) in firsts.windows(2).enumerate() {
-        let steps = ((w[1].saturating_sub(w[0])) as f64 / period.max(1) as f64 + 0.1)
-            .floor()
-            .clamp(1.0, EMPTY_PER_GAP) as u32;
+        let steps = ticks_in_gap(w[1].saturating_sub(w[0]), Some(period), idle_before[k + 1]);
         let extra = (steps - 1).min(EMPTY_TICKS_MAX - empty);
         if extra < steps - 1 && capped.is_none() {
             capped = Some(first_rec[k + 1]);
@@ -377,6 +397,9 @@ pub struct Stream<'t> {
     pub capped: Option<usize>,
     /// Where a tick ran past `TICK_RECORDS_MAX` records and was closed.
     pub overlong: Option<usize>,
+    /// Whether the last tick numbered left the root IDLE (see
+    /// `ticks_in_gap`).
+    root_idle: bool,
 }
 
 /// The records one tick holds at most while it waits for its end (a tick
@@ -418,6 +441,7 @@ impl<'t> Stream<'t> {
             fell_back: None,
             capped: None,
             overlong: None,
+            root_idle: false,
         }
     }
 
@@ -573,12 +597,7 @@ impl<'t> Stream<'t> {
             let n = match self.last {
                 None => 1,
                 Some((prev, n)) => {
-                    let steps = match period {
-                        Some(p) => ((first.saturating_sub(prev)) as f64 / p.max(1) as f64 + 0.1)
-                            .floor()
-                            .clamp(1.0, EMPTY_PER_GAP) as u32,
-                        None => 1,
-                    };
+                    let steps = ticks_in_gap(first.saturating_sub(prev), period, self.root_idle);
                     let extra = (steps - 1).min(EMPTY_TICKS_MAX - self.empty);
                     if extra < steps - 1 && self.capped.is_none() {
                         self.capped = Some(self.numbered);
@@ -588,6 +607,9 @@ impl<'t> Stream<'t> {
                 }
             };
             self.last = Some((first, n));
+            if let Some(r) = t.iter().rev().find(|r| r.uid == Tree::ROOT) {
+                self.root_idle = r.status == Status::Idle;
+            }
             self.numbered += t.len();
             out.extend(t.into_iter().map(|r| (r, n)));
         }
@@ -722,6 +744,28 @@ mod tests {
         let whole = by_structure_whole(&tree, &recs).unwrap();
         assert_eq!(by_structure_in(&tree, &recs, 3).unwrap(), whole);
         assert_eq!(by_structure_in(&tree, &recs, 2).unwrap(), whole);
+    }
+
+    #[test]
+    fn the_pause_between_two_runs_is_no_ticks() {
+        // Runs 100 ms apart, ticks about 5 ms apart: the tree was reset
+        // between them, not ticked, so run 2 starts at the next tick.
+        let (tree, recs) = kitting_runs(2);
+        let t = reconstruct(&tree, &recs);
+        let second = recs
+            .iter()
+            .enumerate()
+            .skip(1)
+            .find(|(_, r)| r.uid == Tree::ROOT && r.status == Status::Running)
+            .map(|(i, _)| i)
+            .unwrap();
+        assert_eq!(t.numbers[second], t.numbers[second - 1] + 1);
+        // Numbered as the records arrive, the same.
+        let mut stream = Stream::new(&tree);
+        let mut got = stream.push(&recs);
+        got.extend(stream.finish());
+        let numbers: Vec<u32> = got.iter().map(|x| x.1).collect();
+        assert_eq!(numbers, t.numbers);
     }
 
     #[test]

@@ -242,6 +242,7 @@ impl Builder {
             span_us: times_us.first().zip(times_us.last()).map(|(a, b)| (*a, *b)),
             times_us,
             warnings: self.warnings,
+            run: None,
         }
     }
 }

@@ -39,6 +39,9 @@ pub struct Session {
     /// empty for a session, which keeps no times.
     pub times_us: Vec<i64>,
     pub warnings: Vec<Warning>,
+    /// Run k of the n its log holds, when it holds several (a rosbag's
+    /// goals, a `.btlog` whose tree started again).
+    pub run: Option<(usize, usize)>,
 }
 
 impl Session {

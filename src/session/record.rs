@@ -158,6 +158,7 @@ pub fn simulate<L: Leaves>(
         span_us: None,
         times_us: Vec::new(),
         warnings: Vec::new(),
+        run: None,
     })
 }
 

@@ -451,7 +451,7 @@ impl App {
             self.message = Some("a tree alone has no faults: open a run".into());
             return;
         };
-        let lines: Vec<(String, u32, Uid)> = crate::explain::alerts::of_run(&s.tree, &s.index)
+        let lines: Vec<(String, u32, Uid)> = crate::explain::alerts::of_run(s)
             .into_iter()
             .rev()
             .filter_map(|a| {

@@ -1063,3 +1063,20 @@ fn a_failure_asked_at_its_own_moment_is_not_handled_yet() {
     let (_, out, _) = btx(&["ask", log, "--at", "10:7", "how was it handled?"]);
     assert!(out.contains("I fell back to reset arm."), "{out}");
 }
+
+/// "Did the task succeed?" asks whether the run came through, not what
+/// the goal is (a user's trial read it as "What is your goal?").
+#[test]
+fn whether_the_task_succeeded_is_asked_of_the_run() {
+    let log = "tests/fixtures/logs/kitting_lookat_fails_once.btlog";
+    for q in ["did the task succeed?", "did the robot finish the task?"] {
+        let (ok, out, err) = btx(&["ask", log, q]);
+        assert!(ok, "{q}: {err}");
+        assert!(out.contains("Build a gearbox kit (#1) "), "{q}: {out}");
+        assert!(
+            out.contains("once by the end of the run at tick 54: at 54:28"),
+            "{q}: {out}"
+        );
+        assert!(!out.contains("My goal is"), "{q}: {out}");
+    }
+}

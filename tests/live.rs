@@ -1427,3 +1427,36 @@ fn a_hanging_on_fault_command_is_killed_and_said() {
     );
     assert!(took < Duration::from_secs(25), "{took:?}");
 }
+
+/// Several robots named, one never up: the other is watched to its end
+/// and kept, the one that never came up is said, and the exit says that
+/// not all were watched (the docs: "a robot that never came up is an
+/// error").
+#[test]
+fn a_robot_that_never_came_up_among_several_is_an_error_after_the_rest() {
+    let (port, mut server) = serve("sessions/kitting-lookat-fails-once.jsonl", "4", "8");
+    let absent = free_port();
+    let dir = tempfile::tempdir().unwrap();
+    let w = Command::new(env!("CARGO_BIN_EXE_btx"))
+        .args([
+            "watch",
+            &format!(":{port}"),
+            &format!(":{absent}"),
+            "--wait",
+            "1",
+            "--until-end",
+            "--out",
+        ])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    let _ = server.kill();
+    let (out, err) = (
+        String::from_utf8_lossy(&w.stdout),
+        String::from_utf8_lossy(&w.stderr),
+    );
+    assert_eq!(w.status.code(), Some(1), "{out}\n{err}");
+    assert!(err.contains(&format!(":{absent}] never came up")), "{err}");
+    assert!(err.contains("1 of the robots named never came up"), "{err}");
+    assert!(out.contains("run 1 ended at tick 54: SUCCESS"), "{out}");
+}

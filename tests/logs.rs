@@ -645,3 +645,33 @@ fn a_log_of_two_runs_lists_each_and_opens_either() {
         "{err}"
     );
 }
+
+/// A `.btlog` cut inside its magic is said as a log cut short, not as "not
+/// a tree"; a broken record of a session names its own line and column
+/// (serde's "line 1" is the record's, not the file's).
+#[test]
+fn a_cut_log_and_a_broken_record_say_where() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("cut.btlog");
+    std::fs::write(&log, b"BTCPP4-File").unwrap();
+    let (ok, _, err) = btx(&["log", log.to_str().unwrap()]);
+    assert!(!ok);
+    let err = one_line(&err);
+    assert!(
+        err.contains("byte offset 11: the file ends inside the .btlog's magic (BTCPP4-FileLogger2): a log cut short"),
+        "{err}"
+    );
+    let good = std::fs::read_to_string("sessions/kitting-nominal.jsonl").unwrap();
+    let mut lines: Vec<&str> = good.lines().collect();
+    lines[3] = r#"{"k":"t","tick":1,"#;
+    let broken = dir.path().join("broken.jsonl");
+    std::fs::write(&broken, lines.join("\n") + "\n").unwrap();
+    let (ok, _, err) = btx(&["log", broken.to_str().unwrap()]);
+    assert!(!ok);
+    let err = one_line(&err);
+    assert!(err.contains("broken.jsonl:4:"), "{err}");
+    assert!(
+        err.contains("(column 18)") && !err.contains("at line 1"),
+        "{err}"
+    );
+}

@@ -364,7 +364,7 @@ struct OnFault {
     tx: Option<std::sync::mpsc::SyncSender<(String, String, String)>>,
     /// Set once btx is done waiting: the command running is killed.
     leave: Arc<AtomicBool>,
-    worker: Option<std::thread::JoinHandle<()>>,
+    worker: Option<std::thread::JoinHandle<usize>>,
     dropped: usize,
 }
 
@@ -384,15 +384,18 @@ impl OnFault {
         let (tx, rx) = std::sync::mpsc::sync_channel::<(String, String, String)>(QUEUED);
         let leave = Arc::new(AtomicBool::new(false));
         let left = Arc::clone(&leave);
+        // The events not given to the command, once btx stopped waiting.
         let worker = std::thread::spawn(move || {
-            for (json, text, robot) in rx {
+            let mut events = rx.into_iter();
+            for (json, text, robot) in events.by_ref() {
                 if left.load(Ordering::Relaxed) {
-                    break;
+                    return 1 + events.count();
                 }
                 if let Err(e) = run_command(&cmd, &json, &text, &robot, &left) {
                     eprintln!("--on-fault: {e}");
                 }
             }
+            0
         });
         OnFault {
             tx: Some(tx),
@@ -425,10 +428,15 @@ impl OnFault {
                 let _ = w.join();
             } else {
                 self.leave.store(true, Ordering::Relaxed);
-                let _ = w.join();
+                let left = w.join().unwrap_or(0);
                 eprintln!(
-                    "--on-fault: the command was still busy {} s after the watch ended: it was stopped, and the events still waiting were not given to it",
-                    COMMAND_TIMEOUT.as_secs() + 1
+                    "--on-fault: the command was still busy {} s after the watch ended: it was stopped, and {}",
+                    COMMAND_TIMEOUT.as_secs() + 1,
+                    if left == 1 {
+                        "the 1 event still waiting was not given to it".to_string()
+                    } else {
+                        format!("the {left} events still waiting were not given to it")
+                    }
                 );
             }
         }
@@ -669,6 +677,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let mut closed_said = false;
     let mut failed = None;
     let mut watched = robots.len();
+    let mut never_up = 0usize;
     let mut tried = Instant::now();
     while !robots.is_empty() || !waiting.is_empty() {
         // A closed standard output (`| head`) ends the printing, never the
@@ -699,6 +708,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 let said = format!("{}: {} (waited {waited:.1} s)", w.ep, w.why);
                 if several {
                     pr.err(format!("[{}] never came up: {said}", w.ep));
+                    never_up += 1;
                 } else {
                     failed.get_or_insert(Failure::Plain(said));
                 }
@@ -767,6 +777,10 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     drop(claims);
     match failed {
         None if watched == 0 => fail!("no robot came up"),
+        // The others were watched to the end and kept; the exit says not all were.
+        None if never_up > 0 => fail!(
+            "{never_up} of the robots named never came up (each said above); the others were watched"
+        ),
         Some(e) => Err(e),
         None => Ok(()),
     }

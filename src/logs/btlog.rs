@@ -32,12 +32,20 @@ fn at(path: &Path, offset: usize, msg: impl std::fmt::Display) -> Located {
     Located::file(path, format!("byte offset {offset}: {msg}"))
 }
 
+/// A `.btlog`, or the start of one cut inside its magic.
 pub fn is_btlog(bytes: &[u8]) -> bool {
-    bytes.starts_with(MAGIC)
+    bytes.starts_with(MAGIC) || (bytes.len() >= 6 && MAGIC.starts_with(bytes))
 }
 
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawLog, Located> {
-    if !is_btlog(bytes) {
+    if bytes.len() < MAGIC.len() && MAGIC.starts_with(bytes) {
+        return Err(at(
+            path,
+            bytes.len(),
+            "the file ends inside the .btlog's magic (BTCPP4-FileLogger2): a log cut short",
+        ));
+    }
+    if !bytes.starts_with(MAGIC) {
         return Err(at(
             path,
             0,

@@ -616,7 +616,7 @@ fn read_mcap(
         log: None,
         defs: None,
     };
-    let mut cut = None;
+    let mut cut: Option<String> = None;
     let mut ended = false;
     for rec in reader {
         let rec = match rec {
@@ -658,9 +658,11 @@ fn read_mcap(
             break;
         }
     }
-    if !ended && cut.is_none() && m.messages > 0 {
+    if !ended && cut.is_none() {
         cut = Some(cut_short(m, ""));
     }
+    // Where: the file's end, a byte offset the user can check.
+    let cut = cut.map(|c| format!("byte offset {}: {c}", bytes.len()));
     if let (Some(c), 0) = (&cut, m.messages) {
         // Nothing whole to read: the cut is what there is to say.
         return Err(Located::file(file, c.clone()));

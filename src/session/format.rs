@@ -555,12 +555,23 @@ pub const RECORD_MAX: usize = 8 << 20;
 /// read one, before parsing it.
 pub const HEADER_MAX: usize = 16 << 20;
 
+/// A JSON error in one line of a session, as the column in that line:
+/// serde says "at line 1 column 59" of the line alone, which reads as the
+/// file's first line when the record is on its 50th.
+pub fn json_error(e: &serde_json::Error) -> String {
+    let text = e.to_string();
+    match text.rsplit_once(" at line ") {
+        Some((what, _)) if e.line() == 1 => format!("{what} (column {})", e.column()),
+        _ => text,
+    }
+}
+
 /// Reads one record line.
 pub fn parse_record(line: &str) -> Result<Record, String> {
     if let Some(r) = fast_transition(line) {
         return Ok(r);
     }
-    let f: Flat = serde_json::from_str(line).map_err(|e| e.to_string())?;
+    let f: Flat = serde_json::from_str(line).map_err(|e| json_error(&e))?;
     fn need<T>(v: Option<T>, k: &str, field: &str) -> Result<T, String> {
         v.ok_or_else(|| format!("a \"{k}\" record needs \"{field}\""))
     }

@@ -100,7 +100,12 @@ pub fn header(path: &Path, text: &str, err: Locate) -> Result<Header, Located> {
     if text.len() > format::HEADER_MAX {
         return Err(header_too_long(path, text.len()));
     }
-    serde_json::from_str(text).map_err(|e| err(format!("not a btx session header: {e}")))
+    serde_json::from_str(text).map_err(|e| {
+        err(format!(
+            "not a btx session header: {}",
+            format::json_error(&e)
+        ))
+    })
 }
 
 /// Where the JSON lines come from: a text in memory, or a file read a

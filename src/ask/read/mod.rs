@@ -1169,6 +1169,25 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         out.push((Intent::Recovered, sure_of_words(0.9)));
         return out;
     }
+    // "Did the task succeed?", "did the robot finish the job?": whether
+    // the run came through, asked of the task, not what its goal is.
+    let outcome = matches!(ev, Some(Event::Succeed | Event::Fail | Event::Finish));
+    if yes_no
+        && outcome
+        && !why
+        && named.is_empty()
+        && s.has_stem(&["task", "mission", "job", "run"])
+    {
+        out.push((
+            Intent::When {
+                node: Subject::Task,
+                event: ev.unwrap_or(Event::Finish),
+                which: Which::Every,
+            },
+            sure_of_words(0.9),
+        ));
+        return out;
+    }
     let subgoal = s.has_stem(&["subgoal", "subtask", "milestone"])
         || s.phrase(&["sub", "goal"]).is_some()
         || s.phrase(&["sub", "task"]).is_some()

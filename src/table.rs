@@ -91,6 +91,7 @@ impl Columns<'_, '_> {
         c.close()
     }
 
+    /// A text column.
     pub fn strings<'s>(
         &mut self,
         values: impl Iterator<Item = Option<&'s str>>,
@@ -98,6 +99,17 @@ impl Columns<'_, '_> {
         self.column::<ByteArrayType>(
             values.map(|v| v.map(|s| ByteArray::from(s.as_bytes().to_vec()))),
         )
+    }
+
+    /// A text column of few distinct values, each made once (`texts`) and
+    /// shared by the rows that hold it (by index): a copy a row was most
+    /// of an export's time.
+    pub fn shared_strings(
+        &mut self,
+        texts: &[ByteArray],
+        values: impl Iterator<Item = usize>,
+    ) -> parquet::errors::Result<()> {
+        self.column::<ByteArrayType>(values.map(|i| Some(texts[i].clone())))
     }
 
     pub fn ints(

@@ -789,29 +789,29 @@ mod tests {
             let s = input.session().unwrap();
             Tally::of_run(&s.tree, &s.index)
         };
-        let t = tally("sessions/kitting-lookat-fails-once.jsonl");
-        assert_eq!(
-            (t.faults, t.open, t.recovered, t.not_recovered),
-            (1, 0, 1, 0)
-        );
-        let t = tally("tests/fixtures/logs/patrol_battery_drops.btlog");
-        assert_eq!(
-            (t.faults, t.open, t.recovered, t.not_recovered),
-            (1, 0, 0, 1)
-        );
-        // Attempts 2 and 3 of the Retry fail again, it gives up, and the
-        // fallback above it recovers: three faults, each recovered there.
-        let t = tally("sessions/kitting-detect-chuck-always-fails.jsonl");
-        assert_eq!(
-            (t.faults, t.open, t.recovered, t.not_recovered),
-            (3, 0, 3, 0)
-        );
-        // The same, then asking for help fails too: four, none recovered.
-        let t = tally("sessions/kitting-help-fails.jsonl");
-        assert_eq!(
-            (t.faults, t.open, t.recovered, t.not_recovered),
-            (4, 0, 0, 4)
-        );
+        // (faults, open, recovered, not). Attempts 2 and 3 of the Retry
+        // fail again, it gives up, and the fallback above it recovers: three
+        // faults, each recovered there; then asking for help fails too:
+        // four, none recovered.
+        for (f, want) in [
+            ("sessions/kitting-lookat-fails-once.jsonl", (1, 0, 1, 0)),
+            (
+                "tests/fixtures/logs/patrol_battery_drops.btlog",
+                (1, 0, 0, 1),
+            ),
+            (
+                "sessions/kitting-detect-chuck-always-fails.jsonl",
+                (3, 0, 3, 0),
+            ),
+            ("sessions/kitting-help-fails.jsonl", (4, 0, 0, 4)),
+        ] {
+            let t = tally(f);
+            assert_eq!(
+                (t.faults, t.open, t.recovered, t.not_recovered),
+                want,
+                "{f}"
+            );
+        }
         // Cut while the Retry handles the failure: one open.
         let input = open(
             &root.join("sessions/kitting-lookat-fails-once.jsonl"),

@@ -50,8 +50,8 @@ pub struct Recorder {
     /// The watch's tick the root last started in.
     run_from: u32,
     /// Each node's status as the records follow it, and as last read.
-    followed: Vec<Status>,
-    status: Vec<Status>,
+    /// Each node's status, as the records and the states read say.
+    follow: crate::logs::Follower,
     /// Marks waiting for the first transition at or after their place.
     marks: VecDeque<Mark>,
     tick: u32,
@@ -80,12 +80,10 @@ pub struct Recorder {
 impl Recorder {
     /// With `out`, the run streams to `OUT.partial` from the header on.
     pub fn new(tree: &Tree, out: Option<&Path>, header: &Header) -> Result<Recorder, Located> {
-        let mut status = vec![Status::Idle; tree.len()];
-        for b in header.before.iter().filter(|b| tree.get(b.uid).is_some()) {
-            status[(b.uid - 1) as usize] = b.status;
-        }
+        let mut follow = crate::logs::Follower::new(tree.len());
+        follow.read(&header.before);
         // Attached to a robot that was running: its root runs already.
-        let root = status.first().copied().unwrap_or(Status::Idle);
+        let root = follow.status().first().copied().unwrap_or(Status::Idle);
         let writer = match out {
             Some(o) => Some(SessionWriter::create(o, header)?),
             None => None,
@@ -99,8 +97,7 @@ impl Recorder {
             tick_base: 0,
             run_written: 0,
             run_from: 0,
-            followed: vec![Status::Idle; tree.len()],
-            status,
+            follow,
             marks: VecDeque::new(),
             tick: 0,
             step: 0,
@@ -142,16 +139,7 @@ impl Recorder {
                 self.start_run(tick)?;
             }
             self.marks_before(r.offset, tick)?;
-            let u = (r.uid - 1) as usize;
-            // A status the read already showed: the read came after this
-            // transition, which left the status the records followed.
-            let prev = if self.status[u] == r.status {
-                self.followed[u]
-            } else {
-                self.status[u]
-            };
-            self.status[u] = r.status;
-            self.followed[u] = r.status;
+            let prev = self.follow.step(r.uid, r.status);
             if tick != self.tick {
                 self.tick = tick;
                 self.step = 0;
@@ -243,7 +231,8 @@ impl Recorder {
         // robot reset its tree).
         let mut header = self.header.clone();
         header.before = self
-            .status
+            .follow
+            .status()
             .iter()
             .enumerate()
             .filter(|(_, s)| **s != Status::Idle)
@@ -291,14 +280,10 @@ impl Recorder {
                     // After the transition before it, in that one's tick.
                     w.resync(last, &states)?;
                 }
-                self.status.fill(Status::Idle);
-                let len = self.status.len();
-                for b in states.iter().filter(|b| is_node(b.uid, len)) {
-                    self.status[(b.uid - 1) as usize] = b.status;
-                }
+                self.follow.read(&states);
                 // Joined while the robot ran: the root runs though no
                 // transition of it came (a status of it read is no change).
-                let root = self.status[(Tree::ROOT - 1) as usize];
+                let root = self.follow.status()[(Tree::ROOT - 1) as usize];
                 if root != self.root.1 {
                     self.root = (self.root.1, root);
                 }

@@ -474,29 +474,31 @@ pub struct Numbered {
 
 /// Each node's status as a log's records follow it, and as the robot last
 /// said it (a live run's states read after a gap): what a transition
-/// changed from.
-struct Follower {
+/// changed from. The recorder of a live run follows its records by it too.
+pub(crate) struct Follower {
     followed: Vec<Status>,
     status: Vec<Status>,
 }
 
 impl Follower {
-    fn new(nodes: usize) -> Follower {
+    pub(crate) fn new(nodes: usize) -> Follower {
         Follower {
             followed: vec![Status::Idle; nodes],
             status: vec![Status::Idle; nodes],
         }
     }
 
-    fn read(&mut self, tree: &crate::model::Tree, states: &[crate::session::Before]) {
+    /// The nodes' states as the robot said them (those of no node left out).
+    pub(crate) fn read(&mut self, states: &[crate::session::Before]) {
         self.status.fill(Status::Idle);
-        for b in states.iter().filter(|b| tree.get(b.uid).is_some()) {
+        let len = self.status.len();
+        for b in states.iter().filter(|b| b.uid >= 1 && b.uid as usize <= len) {
             self.status[(b.uid - 1) as usize] = b.status;
         }
     }
 
     /// The status `uid` changes from, to `to`.
-    fn step(&mut self, uid: crate::model::Uid, to: Status) -> Status {
+    pub(crate) fn step(&mut self, uid: crate::model::Uid, to: Status) -> Status {
         let u = (uid - 1) as usize;
         // A status the read already showed: the read came after this
         // transition, which left the status the records followed.
@@ -508,6 +510,11 @@ impl Follower {
         self.status[u] = to;
         self.followed[u] = to;
         prev
+    }
+
+    /// Each node's status now, by uid - 1.
+    pub(crate) fn status(&self) -> &[Status] {
+        &self.status
     }
 }
 
@@ -717,7 +724,7 @@ impl Numbered {
         for (i, (&m, &tick)) in self.moves.iter().zip(&self.ticks).enumerate() {
             while let Some((_, states)) = next.next_if(|(at, _)| *at <= i) {
                 f(Step::States(i, states));
-                follower.read(&self.tree, states);
+                follower.read(states);
             }
             let (uid, status) = unpack(m);
             let prev = follower.step(uid, status);

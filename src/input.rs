@@ -69,6 +69,15 @@ pub enum Printable {
 
 /// `open`, leaving a `.btlog` unindexed.
 pub fn open_to_print(path: &Path, opts: &LoadOptions) -> Result<Printable, Located> {
+    let mut opened = open_unsaid(path, opts)?;
+    if let (Printable::Numbered(log), None) = (&mut opened, opts.run) {
+        log.say_runs();
+    }
+    Ok(opened)
+}
+
+/// `open_to_print`, not saying that a log read whole holds several runs.
+fn open_unsaid(path: &Path, opts: &LoadOptions) -> Result<Printable, Located> {
     let tree = run_tree(opts)?;
     let Some(given) = given(&tree, opts) else {
         return open_as(path, opts, None);
@@ -115,7 +124,7 @@ pub fn each_log_run(
     if opts.run.is_some() || crate::logs::rosbag::is_bag(path) {
         return each_run(path, opts, f);
     }
-    match open_to_print(path, opts)? {
+    match open_unsaid(path, opts)? {
         Printable::Numbered(log) => {
             let starts = log.run_starts();
             let n = starts.len();

@@ -1080,3 +1080,14 @@ fn whether_the_task_succeeded_is_asked_of_the_run() {
         assert!(!out.contains("My goal is"), "{q}: {out}");
     }
 }
+
+/// Asked while the task still runs, whether it succeeded is "not yet".
+#[test]
+fn whether_the_task_succeeded_while_it_runs_is_not_yet() {
+    let log = "tests/fixtures/logs/kitting_lookat_fails_once.btlog";
+    let (_, out, _) = btx(&["ask", log, "--at", "10:1", "did the task succeed?"]);
+    assert!(
+        out.contains("never succeeded by moment 10:1: it is still running then."),
+        "{out}"
+    );
+}

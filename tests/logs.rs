@@ -606,8 +606,16 @@ fn a_log_of_two_runs_lists_each_and_opens_either() {
         rows[1].contains(" 46          209  ended at tick 46: root SUCCESS"),
         "{out}"
     );
-    // The whole log: run 2 follows run 1 at the next tick.
-    let (_, whole, _) = btx(&["log", log]);
+    // The whole log, said so: run 2 follows run 1 at the next tick.
+    let (_, whole, err) = btx(&["log", log]);
+    assert!(
+        err.contains(
+            "the log holds 2 runs (the root started again after it completed), read whole"
+        ),
+        "{err}"
+    );
+    let runs_err = btx(&["log", log, "--runs"]).2;
+    assert!(!runs_err.contains("read whole"), "{runs_err}");
     let last = whole.lines().last().unwrap();
     assert!(
         last.starts_with("  100    29     1  build a gearbox kit"),

@@ -498,6 +498,17 @@ fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(
         .is_some_and(|s| s.times_us.len() == at.index.transitions.len());
     r.understood = format!("When did {name} {what}{}?", verb(e));
     r.answer = match (ev.first(), ev.last(), which) {
+        // Still running then: not yet, rather than never.
+        (None, _, _)
+            if matches!(e, Event::Succeed | Event::Fail | Event::Finish)
+                && at.status(u) == Status::Running =>
+        {
+            format!(
+                "{} {} {by}: it is still running then.",
+                upper(&name),
+                never(e)
+            )
+        }
         (None, _, _) => format!("{} {} {by}.", upper(&name), never(e)),
         (Some(&p), _, Which::First) => format!(
             "{} first {} at {} ({} in all {by}).",

@@ -101,7 +101,7 @@ struct Reading {
     /// For a log: the tree file the robot ran, used instead of the tree the log embeds (which BehaviorTree.CPP writes back without _autoremap and its models), after checking that the two match node for node.
     #[arg(long = "tree", id = "run_tree", value_name = "FILE")]
     run_tree: Option<PathBuf>,
-    /// For a log of several runs (a rosbag's goals): the run to read, from 1 (default: the last). `btx log BAG --runs` lists them.
+    /// For a log of several runs (a rosbag's goals, a .btlog whose tree was started again): the run to read, from 1 (default: a bag's last run; a .btlog whole). `btx log LOG --runs` lists them.
     #[arg(long = "run", id = "run_number", value_name = "N")]
     run: Option<usize>,
     /// For a rosbag that holds several behavior_tree_log topics (one robot's each): the topic to read, e.g. /robot1/behavior_tree_log.

@@ -628,6 +628,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     };
     let mut robots = Vec::new();
     let mut waiting = Vec::new();
+    let mut unreachable = 0usize;
     for (ep, out) in eps.iter().zip(outs) {
         match Robot::start(ep.clone(), args.publisher_port, out.clone(), several) {
             Ok(r) => {
@@ -652,7 +653,10 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     why,
                 });
             }
-            Err(e) if several => pr.err(format!("[{ep}] unreachable: {e}")),
+            Err(e) if several => {
+                pr.err(format!("[{ep}] unreachable: {e}"));
+                unreachable += 1;
+            }
             Err(e) => return Err(Failure::Plain(format!("{ep}: {}", reason(ep, &e)))),
         }
     }
@@ -677,7 +681,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let mut closed_said = false;
     let mut failed = None;
     let mut watched = robots.len();
-    let mut never_up = 0usize;
+    let mut never_up = unreachable;
     let mut tried = Instant::now();
     while !robots.is_empty() || !waiting.is_empty() {
         // A closed standard output (`| head`) ends the printing, never the
@@ -731,6 +735,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                         let said = format!("{}: {}", w.ep, reason(&w.ep, &e));
                         if several {
                             pr.err(format!("[{}] {said}", w.ep));
+                            never_up += 1;
                         } else {
                             failed.get_or_insert(Failure::Plain(said));
                         }
@@ -779,7 +784,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         None if watched == 0 => fail!("no robot came up"),
         // The others were watched to the end and kept; the exit says not all were.
         None if never_up > 0 => fail!(
-            "{never_up} of the robots named never came up (each said above); the others were watched"
+            "{never_up} of the robots named could not be watched (each said above); the others were"
         ),
         Some(e) => Err(e),
         None => Ok(()),

@@ -492,7 +492,10 @@ impl Follower {
     pub(crate) fn read(&mut self, states: &[crate::session::Before]) {
         self.status.fill(Status::Idle);
         let len = self.status.len();
-        for b in states.iter().filter(|b| b.uid >= 1 && b.uid as usize <= len) {
+        for b in states
+            .iter()
+            .filter(|b| b.uid >= 1 && b.uid as usize <= len)
+        {
             self.status[(b.uid - 1) as usize] = b.status;
         }
     }
@@ -649,19 +652,33 @@ impl Numbered {
     /// Where each of the robot's runs starts (`ends_a_run`): 0 first.
     pub fn run_starts(&self) -> Vec<usize> {
         let mut starts = vec![0];
-        let mut run_from = 0;
-        self.each_transition(|i, t| {
-            if t.uid != crate::model::Tree::ROOT {
-                return;
+        let (mut run_from, mut root) = (0, Status::Idle);
+        for (i, (&m, &tick)) in self.moves.iter().zip(&self.ticks).enumerate() {
+            let (uid, to) = unpack(m);
+            if uid != crate::model::Tree::ROOT {
+                continue;
             }
-            if t.prev == Status::Idle {
-                run_from = t.tick;
+            let prev = std::mem::replace(&mut root, to);
+            if prev == Status::Idle {
+                run_from = tick;
             }
-            if ends_a_run(t.prev, t.status, t.tick, run_from) && i + 1 < self.moves.len() {
+            if ends_a_run(prev, to, tick, run_from) && i + 1 < self.moves.len() {
                 starts.push(i + 1);
             }
-        });
+        }
         starts
+    }
+
+    /// Read whole, a log of several runs says so: an answer about "now"
+    /// is about the last run's end, and ticks count through every run.
+    pub fn say_runs(&mut self) {
+        let n = self.run_starts().len();
+        if n > 1 {
+            self.warnings.push(Warning {
+                location: crate::text::path(&self.path),
+                message: format!("the log holds {n} runs (the root started again after it completed), read whole, its ticks counted through them all; --run N reads one, `btx log LOG --runs` lists them"),
+            });
+        }
     }
 
     /// Run `k` (from 1) of the log alone, its ticks from 1; said in its

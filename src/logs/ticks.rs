@@ -499,11 +499,21 @@ impl<'t> Stream<'t> {
     /// The robot has gone quiet: the whole ticks held for the period are
     /// numbered now, by the period measured so far (a run of fewer than
     /// `SETTLE` ticks would otherwise wait for its end to be shown).
+    /// Ticks told apart by timing (after a gap, or attached to a robot
+    /// already running) end at a pause of 1 ms: the tick the quiet follows
+    /// is whole too, and numbered now, where it waited for the next record
+    /// (a watch `--until-end` of a robot joined while it ran waited for
+    /// ever for its run's last tick).
     pub fn settle(&mut self) -> Vec<(Record, u32)> {
-        if self.held.is_empty() {
+        let quiet_tick = if self.replay.is_none() {
+            self.waiting_tick()
+        } else {
+            None
+        };
+        if self.held.is_empty() && quiet_tick.is_none() {
             return Vec::new();
         }
-        self.number(Vec::new(), true)
+        self.number(quiet_tick.into_iter().collect(), true)
     }
 
     /// The run is over: everything is numbered.
@@ -917,6 +927,31 @@ mod tests {
         assert_eq!(got.len(), recs.len());
         let numbers: Vec<u32> = got.iter().map(|x| x.1).collect();
         assert_eq!(numbers, by_timing(&recs));
+    }
+
+    #[test]
+    fn by_timing_the_last_tick_is_numbered_once_the_robot_goes_quiet() {
+        // Attached to a robot that was running: ticks go by timing. Its
+        // last tick, the run's end, is whole once the robot is quiet.
+        let recs: Vec<Record> = [0, 10_000, 10_100].into_iter().map(rec).collect();
+        let tree = crate::xml::load_str(
+            std::path::Path::new("t.xml"),
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#,
+            &Default::default(),
+        )
+        .unwrap()
+        .tree;
+        let mut s = Stream::new(&tree);
+        let mut got = s.gap();
+        got.extend(s.push(&recs));
+        assert!(got.len() < 3, "the last tick waits for what follows");
+        got.extend(s.settle());
+        assert_eq!(got.iter().map(|x| x.1).collect::<Vec<_>>(), [1, 2, 2]);
+        // What comes after the quiet is a later tick.
+        got.extend(s.push(&[rec(50_000)]));
+        got.extend(s.finish());
+        assert_eq!(got.len(), 4);
+        assert!(got[3].1 > 2);
     }
 
     #[test]

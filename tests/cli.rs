@@ -1091,3 +1091,18 @@ fn whether_the_task_succeeded_while_it_runs_is_not_yet() {
         "{out}"
     );
 }
+
+/// A session recorded from the middle of a run (btx attached to a running
+/// robot) whose header says look at chuck had last failed: not "Nothing
+/// went wrong", but what the states read show, and that the rest is not
+/// in the session.
+#[test]
+fn a_failure_before_recording_began_is_said_from_the_states_read() {
+    let s = "tests/fixtures/joined_after_failure.jsonl";
+    let (ok, out, err) = btx(&["ask", s, "was there anything wrong?"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out.trim_end(),
+        "Nothing went wrong since recording began. Before recording began, look at chuck had last failed: how, and what handled it, is not in the session."
+    );
+}

@@ -1457,6 +1457,9 @@ fn a_robot_that_never_came_up_among_several_is_an_error_after_the_rest() {
     );
     assert_eq!(w.status.code(), Some(1), "{out}\n{err}");
     assert!(err.contains(&format!(":{absent}] never came up")), "{err}");
-    assert!(err.contains("1 of the robots named could not be watched"), "{err}");
+    assert!(
+        err.contains("1 of the robots named could not be watched"),
+        "{err}"
+    );
     assert!(out.contains("run 1 ended at tick 54: SUCCESS"), "{out}");
 }

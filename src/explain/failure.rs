@@ -521,10 +521,45 @@ pub const NOTHING_WRONG: &str = "Nothing went wrong.";
 /// navigate recovery (#1) ran clear local costmap and succeeded at tick
 /// 10."): a person who saw the failure asks about it.
 fn nothing_now(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
+    let (before, mut earlier) = said_failed_before(tree, run);
     match history(tree, run) {
-        Some((text, nodes)) => (format!("Nothing is wrong now. {text}"), nodes),
+        Some((text, mut nodes)) => {
+            nodes.append(&mut earlier);
+            (format!("Nothing is wrong now. {text}{before}"), nodes)
+        }
+        None if !earlier.is_empty() => (
+            format!("Nothing went wrong since recording began.{before}"),
+            earlier,
+        ),
         None => (NOTHING_WRONG.to_string(), vec![n]),
     }
+}
+
+/// A run recorded from its middle (btx attached to a running robot): the
+/// leaves whose last completion before then was a failure, said as what
+/// the states read show, since the transitions are not in the session.
+fn said_failed_before(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
+    // Failed before, whatever came since: what recovered from it, if
+    // anything did, the transitions since may show.
+    if !run.index.attached() {
+        return (String::new(), Vec::new());
+    }
+    let leaves: Vec<Uid> = tree
+        .descendants(Tree::ROOT)
+        .filter(|&u| tree.node(u).kind.is_leaf())
+        .filter(|&u| run.index.before(u).1 == Some(Status::Failure))
+        .collect();
+    if leaves.is_empty() {
+        return (String::new(), leaves);
+    }
+    let names: Vec<String> = leaves.iter().map(|&u| tree.spoken(u)).collect();
+    (
+        format!(
+            " Before recording began, {} had last failed: how, and what handled it, is not in the session.",
+            and_list(&names)
+        ),
+        leaves,
+    )
 }
 
 /// The leaves that failed in the root's current run, by the ticks they

@@ -1012,13 +1012,17 @@ mod tests {
         ]);
         assert_eq!(s.index.transitions[0].prev, Status::Running);
         // The Retry has finished: above leave (#6) no Retry or Fallback
-        // is active, and Algorithm 7 finds nothing, as it would had the
-        // whole run been recorded.
+        // is active, and Algorithm 7 finds nothing now. Look's failure
+        // before recording began is said, as the whole run recorded would
+        // have said it, with what the session cannot say.
         let at = At {
             index: &s.index,
             pos: 4,
         };
-        assert_eq!(what_went_wrong(&s.tree, &at, 6).0, NOTHING_WRONG);
+        assert_eq!(
+            what_went_wrong(&s.tree, &at, 6).0,
+            "Nothing went wrong since recording began. Before recording began, look had last failed: how, and what handled it, is not in the session."
+        );
         // Once look completes within the recording, the snapshot's failure
         // is no longer its last completion.
         let s = attached(&[(4, Status::Running), (4, Status::Success)]);

@@ -1106,17 +1106,3 @@ fn a_failure_before_recording_began_is_said_from_the_states_read() {
         "Nothing went wrong since recording began. Before recording began, look at chuck had last failed: how, and what handled it, is not in the session."
     );
 }
-
-/// `why --at` keeps to its moment: what handles the failure is said as
-/// far as the run had gone then, not what came later.
-#[test]
-fn why_at_a_moment_tells_nothing_after_it() {
-    let log = "tests/fixtures/logs/kitting_lookat_fails_once.btlog";
-    let (ok, out, err) = btx(&["why", log, "status(#18)", "--at", "10:1"]);
-    assert!(ok, "{err}");
-    assert!(out.contains("had not finished by moment 10:1"), "{out}");
-    assert!(!out.contains("26:20") && !out.contains("17:2"), "{out}");
-    // Asked at the run's end, the same failure's whole handling.
-    let (_, out, _) = btx(&["ask", log, "why did look at chuck fail?"]);
-    assert!(out.contains("succeeded at 26:20"), "{out}");
-}

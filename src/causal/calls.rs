@@ -579,7 +579,7 @@ impl Told {
             status: t.status,
             moment: step_moment(idx, p),
             found,
-            leaf_facts: leaf.then(|| leaf_facts(session, u, p, pos)),
+            leaf_facts: leaf.then(|| leaf_facts(session, u, p, idx.transitions.len() as u32)),
             design: (!leaf).then(|| design(session, u, p)),
             last_tick: idx.ticks(),
         })

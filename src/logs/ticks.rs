@@ -132,24 +132,21 @@ fn by_distinct_runs(tree: &Tree, recs: &[Record], pieces: usize) -> Option<Vec<u
         .flat_map(|d| recs[d.clone()].iter().copied())
         .collect();
     let numbered = by_structure_in(tree, &once, pieces).ok()?;
-    // Each distinct run's ticks, counted from 1 at its first record.
-    let mut relative: Vec<&[u32]> = Vec::with_capacity(distinct.len());
-    let mut numbers = Vec::with_capacity(once.len());
+    // Each distinct run's ticks in `numbered`, which count its first as 1
+    // more than the tick before it.
     let mut at = 0;
-    for d in &distinct {
-        let first = numbered[at];
-        numbers.extend(numbered[at..at + d.len()].iter().map(|t| t - first + 1));
-        at += d.len();
-    }
-    at = 0;
-    for d in &distinct {
-        relative.push(&numbers[at..at + d.len()]);
-        at += d.len();
-    }
+    let spans: Vec<&[u32]> = distinct
+        .iter()
+        .map(|d| {
+            at += d.len();
+            &numbered[at - d.len()..at]
+        })
+        .collect();
     let mut out = Vec::with_capacity(recs.len());
     for &id in &of_run {
-        let base = out.last().copied().unwrap_or(0);
-        out.extend(relative[id].iter().map(|t| t + base));
+        let base = out.last().copied().unwrap_or(0) + 1;
+        let first = spans[id][0];
+        out.extend(spans[id].iter().map(|t| t - first + base));
     }
     Some(out)
 }
@@ -907,19 +904,24 @@ mod tests {
         }
     }
 
+    /// A tree of one leaf, for numbering by timing.
+    fn one_leaf() -> Tree {
+        crate::xml::load_str(
+            std::path::Path::new("t.xml"),
+            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#,
+            &Default::default(),
+        )
+        .unwrap()
+        .tree
+    }
+
     #[test]
     fn after_a_gap_ticks_go_by_timing_and_every_record_is_kept() {
         let recs: Vec<Record> = [0, 10_000, 10_100, 20_000, 30_000]
             .into_iter()
             .map(rec)
             .collect();
-        let tree = crate::xml::load_str(
-            std::path::Path::new("t.xml"),
-            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#,
-            &Default::default(),
-        )
-        .unwrap()
-        .tree;
+        let tree = one_leaf();
         let mut s = Stream::new(&tree);
         let mut got = s.gap();
         got.extend(s.push(&recs));
@@ -934,13 +936,7 @@ mod tests {
         // Attached to a robot that was running: ticks go by timing. Its
         // last tick, the run's end, is whole once the robot is quiet.
         let recs: Vec<Record> = [0, 10_000, 10_100].into_iter().map(rec).collect();
-        let tree = crate::xml::load_str(
-            std::path::Path::new("t.xml"),
-            r#"<root BTCPP_format="4"><BehaviorTree ID="M"><AlwaysSuccess/></BehaviorTree></root>"#,
-            &Default::default(),
-        )
-        .unwrap()
-        .tree;
+        let tree = one_leaf();
         let mut s = Stream::new(&tree);
         let mut got = s.gap();
         got.extend(s.push(&recs));

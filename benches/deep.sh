@@ -2,13 +2,15 @@
 # Deep trees (#42 item 2): a chain of N SubTrees, each BehaviorTree a
 # Sequence holding the next SubTree and an AlwaysSuccess (3 nodes and 2
 # levels a link: N SubTrees make 3N nodes, 2N levels), loaded and printed
-# by `btx tree` (text, then JSON) and run for one tick by `btx run`; prints
+# by `btx tree` (text, then JSON), run for one tick by `btx run`, its causal
+# graph printed by `btx graph` and its root's why asked by `btx why`; prints
 # each one's time and peak memory, and the text's size, per N, so that how
 # each grows with the depth reads off the rows.
 #
-#   benches/deep.sh [N ...]   (500 1000 2000 4000)
+#   benches/deep.sh [N ...]   (500 1000 2000 4000 8000 10000: 1,001 to
+#                              20,001 levels)
 set -euo pipefail
-sizes=("$@"); [ $# -gt 0 ] || sizes=(500 1000 2000 4000)
+sizes=("$@"); [ $# -gt 0 ] || sizes=(500 1000 2000 4000 8000 10000)
 cd "$(dirname "$0")/.."
 cargo build --release --quiet --bin btx
 btx=$PWD/target/release/btx
@@ -31,5 +33,7 @@ PY
   size=$(du -m "$dir/out" | cut -f1)
   json=$(measure "$btx" tree "$dir/chain.xml" --format json)
   run=$(measure "$btx" run "$dir/chain.xml" --plan "$dir/empty.plan" --max-ticks 1 --out "$dir/s$n.jsonl")
-  echo "$n SubTrees ($((3 * n + 1)) nodes, $((2 * n + 1)) levels): tree $text (${size} MB of text); tree --format json $json; run 1 tick $run"
+  graph=$(measure "$btx" graph "$dir/s$n.jsonl")
+  why=$(measure "$btx" why "$dir/s$n.jsonl" 'status(#1)' --at last)
+  echo "$n SubTrees ($((3 * n + 1)) nodes, $((2 * n + 1)) levels): tree $text (${size} MB of text); tree --format json $json; run 1 tick $run; graph $graph; why $why"
 done

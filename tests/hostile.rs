@@ -833,27 +833,44 @@ fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
     ]);
     assert_eq!(r.code, Some(0), "{}", r.err);
     assert!(r.out.contains("My subgoal is to run T23."), "{}", r.out);
-    // A chain of 4,000 SubTrees, each a Sequence holding the next (8,001
-    // levels): the loader kept a copy of the path of SubTrees above each
-    // node waiting to be read, 471 MB; one shared link a SubTree now.
+    // A chain of 10,000 SubTrees, each a Sequence holding the next (20,001
+    // levels, past the 13,900 BehaviorTree.CPP 4.8 loads on an 8 MiB stack):
+    // the loader kept a copy of the path of SubTrees above each node
+    // waiting to be read (471 MB at 4,000), and checked each SubTree for a
+    // cycle by walking that path; the plan's leaves were matched by every
+    // scope's path written out (648 MB for one tick at 10,000); the graph
+    // named each variable by scanning the tree. Each now costs what the
+    // tree holds.
+    let n = 10_000;
     let mut subtrees = String::from(r#"<root BTCPP_format="4" main_tree_to_execute="T0">"#);
-    for i in 0..4000 {
+    for i in 0..n {
         subtrees.push_str(&format!(
             r#"<BehaviorTree ID="T{i}"><Sequence><SubTree ID="T{}"/><AlwaysSuccess/></Sequence></BehaviorTree>"#,
             i + 1
         ));
     }
-    subtrees.push_str(r#"<BehaviorTree ID="T4000"><AlwaysSuccess/></BehaviorTree></root>"#);
+    subtrees.push_str(&format!(
+        r#"<BehaviorTree ID="T{n}"><AlwaysSuccess/></BehaviorTree></root>"#
+    ));
     let subtrees = write(dir.path(), "subtrees.xml", &subtrees);
     let r = btx_run(&["tree", &subtrees]);
     assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(
+        r.out.contains("[level 20000]"),
+        "{}",
+        &r.out[r.out.len() - 400..]
+    );
     assert!(r.peak_kib < 64 * 1024, "{} KiB", r.peak_kib);
-    // Its root's why: every one of the 24,001 variables below is a single
-    // change, 10^9 evaluations, past the bound; it answered nothing at
-    // depth 1. The nearest are searched, and the rest said not to be.
     let chained = dir.path().join("c.jsonl").display().to_string();
     let r = btx_run(&["run", &subtrees, "--plan", &plan, "--out", &chained]);
     assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(r.peak_kib < 100 * 1024, "{} KiB", r.peak_kib);
+    let r = btx_run(&["graph", &chained]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(r.peak_kib < 200 * 1024, "{} KiB", r.peak_kib);
+    // Its root's why: every one of the 60,001 variables below is a single
+    // change, 3.6·10^9 evaluations, past the bound; it answered nothing at
+    // depth 1. The nearest are searched, and the rest said not to be.
     let r = btx_run(&["why", &chained, "status(#1)", "--at", "last"]);
     assert_eq!(r.code, Some(0), "{}", r.err);
     assert!(
@@ -861,12 +878,13 @@ fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
         "{}",
         r.out
     );
-    assert!(r.out.contains("the 200 variables nearest status(Sequence (#1)) were searched, the 23801 farther ones not"), "{}", r.out);
+    assert!(r.out.contains("the 200 variables nearest status(Sequence (#1)) were searched, the 59801 farther ones not"), "{}", r.out);
+    assert!(r.peak_kib < 250 * 1024, "{} KiB", r.peak_kib);
     // 100,000 levels: refused, with the limit.
     let deeper = write(dir.path(), "deeper.xml", &chain(250, 400));
     let r = btx_run(&["tree", &deeper]);
     assert_eq!(r.code, Some(1), "{}", r.err);
-    assert!(one_line(&r.err).contains("10000 levels deep"), "{}", r.err);
+    assert!(one_line(&r.err).contains("25000 levels deep"), "{}", r.err);
     assert!(r.peak_kib < 100 * 1024, "{} KiB", r.peak_kib);
 }
 

@@ -8,7 +8,7 @@ mod naming;
 pub mod nav2;
 pub mod nav2_words;
 
-pub use naming::{as_deed, gerund, words};
+pub use naming::{as_deed, gerund, words, PathKey};
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;

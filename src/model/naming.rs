@@ -207,6 +207,35 @@ impl Tree {
         paths.into_iter().map(Option::unwrap_or_default).collect()
     }
 
+    /// Every scope's path as a `PathKey`, each from its parent's: what
+    /// matches a leaf's fullPath to a plan's keys in time and memory linear
+    /// in the tree, where the paths themselves grow with depth squared.
+    pub fn scope_path_keys(&self) -> Vec<PathKey> {
+        let mut keys: Vec<Option<PathKey>> = vec![None; self.scopes.len()];
+        for s in 0..self.scopes.len() {
+            let key = match self.scope_step(s) {
+                None => PathKey::EMPTY,
+                Some((parent, seg)) => match keys[parent] {
+                    Some(p) => p.joined(&seg),
+                    // A parent numbered after its child: walked up instead.
+                    None => PathKey::of(&self.scope_path(s)),
+                },
+            };
+            keys[s] = Some(key);
+        }
+        keys.into_iter().map(Option::unwrap_or_default).collect()
+    }
+
+    /// `full_path_in` as a `PathKey`, given its scope's.
+    pub fn full_path_key(&self, scope: PathKey, uid: Uid) -> PathKey {
+        let n = self.node(uid);
+        if n.name == n.id {
+            scope.joined(&n.name).then("::").then(&uid.to_string())
+        } else {
+            scope.joined(&n.name)
+        }
+    }
+
     /// The name BehaviorTree.CPP's Groot2 publisher gives a scope's
     /// blackboard (`B`): the main tree's ID for the root, the SubTree
     /// instance's path (`_fullpath`) otherwise.
@@ -304,6 +333,34 @@ mod tests {
         for n in &tree.nodes {
             assert_eq!(all[(n.uid - 1) as usize], tree.display_path(n.uid));
         }
+    }
+
+    #[test]
+    fn a_full_paths_key_is_the_key_of_the_path_written_out() {
+        // SubTrees named and not (`ID::uid`), nested, a name with a slash.
+        let xml = r#"<root BTCPP_format="4" main_tree_to_execute="M">
+            <BehaviorTree ID="M"><Sequence>
+                <SubTree ID="A" name="first/a"/><SubTree ID="A"/><Action ID="Go" name="go"/>
+            </Sequence></BehaviorTree>
+            <BehaviorTree ID="A"><Sequence><SubTree ID="B"/><Action ID="Go"/></Sequence></BehaviorTree>
+            <BehaviorTree ID="B"><Action ID="Go" name="leaf"/></BehaviorTree>
+            <TreeNodesModel><Action ID="Go"/></TreeNodesModel></root>"#;
+        let tree = crate::xml::load_str(std::path::Path::new("t.xml"), xml, &Default::default())
+            .unwrap()
+            .tree;
+        let keys = tree.scope_path_keys();
+        let mut distinct = std::collections::HashSet::new();
+        for n in &tree.nodes {
+            let written = tree.full_path(n.uid);
+            let key = tree.full_path_key(keys[n.scope], n.uid);
+            assert_eq!(key, super::PathKey::of(&written), "{written}");
+            distinct.insert(key);
+        }
+        // Two paths differ where their strings do.
+        let strings: std::collections::HashSet<String> =
+            tree.nodes.iter().map(|n| tree.full_path(n.uid)).collect();
+        assert_eq!(distinct.len(), strings.len());
+        assert!(strings.contains("first/a/B::4/leaf"), "{strings:?}");
     }
 
     #[test]
@@ -822,5 +879,40 @@ mod words_tests {
         assert_eq!(words("look at chuck"), "look at chuck");
         assert_eq!(words("Sequence"), "Sequence");
         assert_eq!(words("FollowPath"), "follow path");
+    }
+}
+
+/// A path's fingerprint: two polynomial hashes modulo 2^61 − 1 and the
+/// length, extended a piece at a time, so equal paths have equal keys and
+/// different ones collide with odds near 2^-120, without the path being
+/// written out.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct PathKey(u64, u64, usize);
+
+impl PathKey {
+    pub const EMPTY: PathKey = PathKey(0, 0, 0);
+    const P: u64 = (1 << 61) - 1;
+
+    pub fn of(s: &str) -> PathKey {
+        PathKey::EMPTY.then(s)
+    }
+
+    /// The key of this path with `s` appended.
+    pub fn then(self, s: &str) -> PathKey {
+        let step = |h: u64, base: u64, b: u8| {
+            ((u128::from(h) * u128::from(base) + u128::from(b) + 1) % u128::from(Self::P)) as u64
+        };
+        s.bytes().fold(self, |k, b| {
+            PathKey(step(k.0, 1_000_003, b), step(k.1, 998_244_353, b), k.2 + 1)
+        })
+    }
+
+    /// The key of `self/seg` (of `seg` alone when this path is empty).
+    pub fn joined(self, seg: &str) -> PathKey {
+        if self.2 == 0 {
+            self.then(seg)
+        } else {
+            self.then("/").then(seg)
+        }
     }
 }

@@ -3,7 +3,7 @@
 
 use super::exec::{LeafCall, LeafOutcome, Leaves};
 use super::status::Status;
-use crate::model::{Kind, Tree, Uid, Version};
+use crate::model::{Kind, PathKey, Tree, Uid, Version};
 use crate::source::{Located, Warning};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -162,8 +162,15 @@ impl Plan {
         Plan::parse(path, &text)
     }
 
-    fn entry(&self, key: &str) -> Option<usize> {
-        self.entries.iter().position(|e| e.key == key)
+    /// Each key's first entry, by the key's `PathKey` (a fullPath is matched
+    /// by its key, never written out: on a deep chain of SubTrees the paths
+    /// grow with depth squared).
+    fn entries_by_key(&self) -> HashMap<PathKey, usize> {
+        let mut by_key = HashMap::with_capacity(self.entries.len());
+        for (i, e) in self.entries.iter().enumerate() {
+            by_key.entry(PathKey::of(&e.key)).or_insert(i);
+        }
+        by_key
     }
 }
 
@@ -176,8 +183,10 @@ pub struct PlanLeaves {
     plan: Plan,
     /// leaf uid → (plan entry, cursor)
     assigned: HashMap<Uid, (Option<usize>, usize)>,
-    /// Cursor keys (fullPath in v4, uid in v3) → cursor.
-    cursor_ids: HashMap<String, usize>,
+    /// Each plan key's first entry.
+    by_key: HashMap<PathKey, usize>,
+    /// Cursor keys (fullPath in v4, `#uid` in v3) → cursor.
+    cursor_ids: HashMap<PathKey, usize>,
     /// Position of each cursor in its list.
     cursors: Vec<usize>,
     running: HashMap<Uid, (u32, Status)>,
@@ -189,6 +198,7 @@ pub struct PlanLeaves {
 impl PlanLeaves {
     pub fn new(plan: Plan, tree: &Tree) -> PlanLeaves {
         let mut p = PlanLeaves {
+            by_key: plan.entries_by_key(),
             plan,
             assigned: HashMap::new(),
             cursor_ids: HashMap::new(),
@@ -200,10 +210,10 @@ impl PlanLeaves {
         let mut used = vec![false; p.plan.entries.len()];
         // Built-in leaves (Script, AlwaysSuccess, SetBlackboard…) run by
         // their own rules and take no plan entry.
-        let scope_paths = tree.scope_paths();
+        let scope_keys = tree.scope_path_keys();
         for n in &tree.nodes {
             if n.kind.is_leaf() && n.builtin.is_none() {
-                if let Some(e) = p.assign(tree, Some(&scope_paths), n.uid) {
+                if let Some(e) = p.assign(tree, scope_keys[n.scope], n.uid) {
                     used[e] = true;
                 }
             }
@@ -257,6 +267,11 @@ impl PlanLeaves {
             .any(|(e, u)| !u && !e.key.starts_with('@'));
         let mut keys: Vec<(String, String)> = Vec::new();
         let mut seen = std::collections::HashSet::new();
+        let scope_paths = if unused {
+            tree.scope_paths()
+        } else {
+            Vec::new()
+        };
         for n in tree.nodes.iter().filter(|n| unused && n.kind.is_leaf()) {
             let scope = scope_paths.get(n.scope).map(String::as_str);
             for k in super::leaf_keys_under(tree, scope, n.uid) {
@@ -282,17 +297,25 @@ impl PlanLeaves {
 
     /// Which plan entry drives a leaf: its fullPath (v4 only), then its
     /// instance name, then its registration ID, then the default.
-    /// `scope_paths`: every scope's path, when the caller has them.
-    fn assign(&mut self, tree: &Tree, scope_paths: Option<&[String]>, uid: Uid) -> Option<usize> {
-        let scope = scope_paths.and_then(|p| p.get(tree.node(uid).scope));
-        let keys = super::leaf_keys_under(tree, scope.map(String::as_str), uid);
-        let entry = keys.iter().find_map(|k| self.plan.entry(k));
-        // Each node steps through its own copy of its list: keyed by fullPath
-        // in v4 (the first key), by uid in v3, as the fixture runner did.
-        let cursor = match tree.version {
-            Version::V4 => keys.into_iter().next().expect("a v4 leaf's fullPath"),
-            Version::V3 => format!("#{uid}"),
+    /// `scope`: the key of the leaf's scope's path.
+    fn assign(&mut self, tree: &Tree, scope: PathKey, uid: Uid) -> Option<usize> {
+        let n = tree.node(uid);
+        let full = (tree.version == Version::V4).then(|| tree.full_path_key(scope, uid));
+        let default = if n.kind == Kind::Condition {
+            "@default_condition"
+        } else {
+            "@default_action"
         };
+        // The order of `leaf_keys`, matched by key.
+        let named = (!n.name.is_empty()).then(|| PathKey::of(&n.name));
+        let entry = full
+            .into_iter()
+            .chain(named)
+            .chain([PathKey::of(&n.id), PathKey::of(default)])
+            .find_map(|k| self.by_key.get(&k).copied());
+        // Each node steps through its own copy of its list: keyed by fullPath
+        // in v4, by uid in v3, as the fixture runner did.
+        let cursor = full.unwrap_or_else(|| PathKey::of(&format!("#{uid}")));
         let next = self.cursors.len();
         let id = *self.cursor_ids.entry(cursor).or_insert(next);
         if id == next {
@@ -366,7 +389,8 @@ impl Leaves for PlanLeaves {
         let uid = call.uid;
         if !self.assigned.contains_key(&uid) {
             // A leaf inserted during the run ("Can you X?").
-            self.assign(call.tree, None, uid);
+            let scope = PathKey::of(&call.tree.scope_path(call.tree.node(uid).scope));
+            self.assign(call.tree, scope, uid);
         }
         // A condition, or a Nav2 action that completes at once, takes the
         // completed part of each outcome.

@@ -42,7 +42,7 @@ pub const WARNINGS_MAX: usize = 50;
 /// The most nodes a tree may have once its SubTrees are expanded.
 pub const NODES_MAX: usize = 250_000;
 /// The deepest a tree may be once its SubTrees are expanded.
-pub const DEPTH_MAX: usize = 10_000;
+pub const DEPTH_MAX: usize = 25_000;
 
 /// The most files one tree may include, directly or not.
 pub const INCLUDES_MAX: usize = 256;
@@ -126,6 +126,9 @@ struct Loader {
     defs: Vec<Def>,
     /// The IDs of every `<BehaviorTree>` read (a bare `<ID/>` calls one).
     tree_ids: std::collections::HashSet<String>,
+    /// The IDs of the `<BehaviorTree>`s read from files (not a log's
+    /// instantiated ones, which carry a `_fullpath`): one is defined once.
+    defined: std::collections::HashSet<String>,
     models: BTreeMap<String, NodeModel>,
     /// The kind each custom ID was first used as, and where.
     kinds: HashMap<String, (Kind, FileId, usize)>,
@@ -265,11 +268,7 @@ impl Loader {
                     let id = child.attr("ID").map(str::to_string);
                     let fullpath = child.attr("_fullpath").map(str::to_string);
                     if let (Some(id), None) = (&id, &fullpath) {
-                        if self
-                            .defs
-                            .iter()
-                            .any(|d| d.id.as_deref() == Some(id) && d.fullpath.is_none())
-                        {
+                        if !self.defined.insert(id.clone()) {
                             return Err(self.err(
                                 file,
                                 child,
@@ -558,6 +557,10 @@ impl Loader {
             depth: u32,
             chain: std::rc::Rc<Chain>,
         }
+        enum Step<'a> {
+            Enter(Work<'a>),
+            Leave(String),
+        }
         let def_el = |d: &Def| {
             &roots[d.file]
                 .as_ref()
@@ -565,7 +568,18 @@ impl Loader {
                 .children[d.idx]
         };
         let main_def = &defs[main];
-        let mut stack = vec![Work {
+        // A SubTree's ID on the path from the root, counted on entering and
+        // left when its subtree is done (a `None` on the stack), so the
+        // cycle check costs one lookup, not a walk up a chain 10^4 deep.
+        let mut on_path: std::collections::HashSet<String> =
+            std::iter::once(main_id.to_string()).collect();
+        let by_fullpath: HashMap<&str, usize> = defs
+            .iter()
+            .enumerate()
+            .rev()
+            .filter_map(|(i, d)| Some((d.fullpath.as_deref()?, i)))
+            .collect();
+        let mut stack = vec![Step::Enter(Work {
             el: &def_el(main_def).children[0],
             file: main_def.file,
             parent: None,
@@ -575,8 +589,15 @@ impl Loader {
                 id: main_id.to_string(),
                 up: None,
             }),
-        }];
-        while let Some(w) = stack.pop() {
+        })];
+        while let Some(step) = stack.pop() {
+            let w = match step {
+                Step::Enter(w) => w,
+                Step::Leave(id) => {
+                    on_path.remove(&id);
+                    continue;
+                }
+            };
             // SubTrees that call others twice double the tree at each
             // level: the count and depth after expansion are bounded.
             if nodes.len() >= NODES_MAX || w.depth as usize >= DEPTH_MAX {
@@ -602,7 +623,7 @@ impl Loader {
             if node.kind == Kind::SubTree {
                 let by_path =
                     w.el.attr("_fullpath")
-                        .and_then(|p| defs.iter().position(|d| d.fullpath.as_deref() == Some(p)));
+                        .and_then(|p| by_fullpath.get(p).copied());
                 let Some(di) = by_path.or_else(|| by_id.get(&node.id).copied()) else {
                     let items: Vec<(String, String)> =
                         by_id.keys().map(|k| (k.clone(), k.clone())).collect();
@@ -626,7 +647,7 @@ impl Loader {
                         )
                         .with_help(help));
                 };
-                if w.chain.ids().any(|c| c == node.id) {
+                if on_path.contains(&node.id) {
                     let mut cycle: Vec<&str> = Vec::new();
                     for c in w.chain.ids() {
                         cycle.push(c);
@@ -654,24 +675,26 @@ impl Loader {
                     up: Some(w.chain.clone()),
                 };
                 let d = &defs[di];
-                stack.push(Work {
+                on_path.insert(node.id.clone());
+                stack.push(Step::Leave(node.id.clone()));
+                stack.push(Step::Enter(Work {
                     el: &def_el(d).children[0],
                     file: d.file,
                     parent: Some(uid),
                     scope: scopes.len() - 1,
                     depth: w.depth + 1,
                     chain: std::rc::Rc::new(chain),
-                });
+                }));
             } else {
                 for c in w.el.children.iter().rev() {
-                    stack.push(Work {
+                    stack.push(Step::Enter(Work {
                         el: c,
                         file: w.file,
                         parent: Some(uid),
                         scope: w.scope,
                         depth: w.depth + 1,
                         chain: w.chain.clone(),
-                    });
+                    }));
                 }
             }
             nodes.push(node);

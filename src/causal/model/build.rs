@@ -578,6 +578,8 @@ impl Model {
             copy_of,
             folded,
             session_len,
+            descriptions: Default::default(),
+            loop_above: Default::default(),
         };
         // Stage "facts": every variable's value with no intervention.
         m.fact = m.evaluate_all()?;

@@ -255,6 +255,13 @@ pub struct Model {
     /// Per uid − 1: attempts of a loop no copy stands for.
     folded: Vec<i64>,
     session_len: usize,
+    /// Each description's count among the session's nodes, made when a
+    /// name is first asked for (naming every variable scanned the tree for
+    /// each, quadratic on a deep chain).
+    descriptions: std::sync::OnceLock<FxHashMap<String, usize>>,
+    /// Per uid − 1: the nearest loop above with several attempts of its
+    /// child in the tick, and the child of it on the way (`attempt_of`).
+    loop_above: std::sync::OnceLock<Vec<Option<(Uid, Uid)>>>,
 }
 
 /// A model error: the domain or the record does not fit the tree.
@@ -424,9 +431,17 @@ impl Model {
     pub fn node_name(&self, u: Uid) -> String {
         let o = self.origin(u);
         let d = self.tree.description(o);
-        let shared = self.tree.nodes[..self.session_len]
-            .iter()
-            .any(|n| n.uid != o && self.tree.description(n.uid) == d);
+        let counts = self.descriptions.get_or_init(|| {
+            let mut counts: FxHashMap<String, usize> = FxHashMap::default();
+            for n in &self.tree.nodes[..self.session_len] {
+                *counts
+                    .entry(self.tree.description(n.uid).to_string())
+                    .or_default() += 1;
+            }
+            counts
+        });
+        let itself = usize::from((o as usize) <= self.session_len);
+        let shared = counts.get(d).is_some_and(|&c| c > itself);
         match (self.attempt_of(u), shared) {
             (Some(a), true) => format!("{d} (#{o}, attempt {a})"),
             (Some(a), false) => format!("{d} (attempt {a})"),
@@ -441,16 +456,44 @@ impl Model {
         if let Some(c) = self.copy_of(u) {
             return Some(c.attempt);
         }
-        let mut child = u;
-        for a in self.tree.ancestors(u) {
-            let kids = &self.tree.node(a).children;
-            if self.attempt_loop(a).is_some() && kids.len() > 1 {
-                let k = kids.iter().position(|&c| c == child)? as i64;
-                return Some(self.attempts_val(a, &self.fact) + k + 1);
+        let (a, child) = self.loop_above(u)?;
+        let k = self
+            .tree
+            .node(a)
+            .children
+            .iter()
+            .position(|&c| c == child)? as i64;
+        Some(self.attempts_val(a, &self.fact) + k + 1)
+    }
+
+    fn loop_above(&self, u: Uid) -> Option<(Uid, Uid)> {
+        let several =
+            |a: Uid| self.attempt_loop(a).is_some() && self.tree.node(a).children.len() > 1;
+        let walk = |u: Uid| {
+            let mut child = u;
+            for a in self.tree.ancestors(u) {
+                if several(a) {
+                    return Some((a, child));
+                }
+                child = a;
             }
-            child = a;
-        }
-        None
+            None
+        };
+        let all = self.loop_above.get_or_init(|| {
+            let mut all: Vec<Option<(Uid, Uid)>> = Vec::with_capacity(self.tree.nodes.len());
+            for n in &self.tree.nodes {
+                let above = match self.tree.parent(n.uid) {
+                    None => None,
+                    Some(p) if several(p) => Some((p, n.uid)),
+                    // Pre-order numbering: the parent's is known.
+                    Some(p) if p < n.uid => all[p as usize - 1],
+                    Some(_) => walk(n.uid),
+                };
+                all.push(above);
+            }
+            all
+        });
+        all.get(u as usize - 1).copied().flatten()
     }
 
     /// A human name for a variable: `executed(L0)`, `X_b^1`.

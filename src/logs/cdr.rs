@@ -283,6 +283,223 @@ impl Definitions {
     }
 }
 
+/// A message whose one sequence of structs is what is read (Nav2's
+/// `event_log`), laid out flat from its definition: every other field is
+/// read past by its type, and the items' fields asked for (`paths`, such as
+/// `timestamp.sec`) are read into slots, without a `Value` tree or a copy
+/// of their text. Made only where every field but the sequence has a size
+/// the definition fixes (primitives, strings, nested messages, small
+/// arrays); else `Definitions::decode` reads it.
+#[derive(Debug, Clone)]
+pub struct Flat {
+    head: Vec<Op>,
+    items: Vec<Op>,
+    seq: String,
+    tail: Vec<Op>,
+    kinds: Vec<SlotKind>,
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Op {
+    Int {
+        size: usize,
+        signed: bool,
+        slot: Option<usize>,
+    },
+    Text {
+        slot: Option<usize>,
+    },
+}
+
+/// What the definition makes of a path asked for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SlotKind {
+    Absent,
+    Int,
+    Text,
+    /// A nested message (its fields are paths of their own).
+    Message,
+    /// Anything else (a float, a bool, an array): not read into the slot.
+    Other,
+}
+
+/// A slot of one item, as read.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Slot<'a> {
+    Absent,
+    Int(i64),
+    Text(std::borrow::Cow<'a, str>),
+}
+
+impl Definitions {
+    /// The top message laid out flat around its sequence field `seq`, with
+    /// `paths` of each item read into slots; `None` where it cannot be.
+    pub fn flat(&self, seq: &str, paths: &[&str]) -> Option<Flat> {
+        let mut flat = Flat {
+            head: Vec::new(),
+            items: Vec::new(),
+            seq: seq.to_string(),
+            tail: Vec::new(),
+            kinds: vec![SlotKind::Absent; paths.len()],
+        };
+        let mut seen = false;
+        for f in self.types.get(&self.top)? {
+            if f.name == seq && !seen {
+                let (Shape::Sequence, Type::Message(item)) = (&f.shape, &f.ty) else {
+                    return None;
+                };
+                seen = true;
+                let mut ops = Vec::new();
+                for g in self.types.get(item)? {
+                    self.lay(g, "", paths, &mut flat.kinds, &mut ops, 0)?;
+                }
+                flat.items = ops;
+            } else {
+                let mut none = Vec::new();
+                let ops = if seen { &mut flat.tail } else { &mut flat.head };
+                self.lay(f, "", &[], &mut none, ops, 0)?;
+            }
+        }
+        seen.then_some(flat)
+    }
+
+    /// One field's ops, its path's slot tagged (the first field of a path).
+    fn lay(
+        &self,
+        f: &Field,
+        prefix: &str,
+        paths: &[&str],
+        kinds: &mut [SlotKind],
+        ops: &mut Vec<Op>,
+        depth: usize,
+    ) -> Option<()> {
+        if depth > 32 {
+            return None;
+        }
+        let path = if prefix.is_empty() {
+            f.name.clone()
+        } else {
+            format!("{prefix}.{}", f.name)
+        };
+        let slot = paths
+            .iter()
+            .position(|p| *p == path)
+            .filter(|&i| kinds[i] == SlotKind::Absent);
+        let (kind, times) = match f.shape {
+            Shape::One => (None, 1),
+            Shape::Array(n) if n <= 64 => (Some(SlotKind::Other), n),
+            _ => return None,
+        };
+        for _ in 0..times {
+            let tag = |k: SlotKind, kinds: &mut [SlotKind]| {
+                let k = kind.unwrap_or(k);
+                if let Some(i) = slot {
+                    kinds[i] = k;
+                }
+                slot.filter(|_| kind.is_none())
+            };
+            match &f.ty {
+                Type::Int { size, signed } => ops.push(Op::Int {
+                    size: *size,
+                    signed: *signed,
+                    slot: tag(SlotKind::Int, kinds),
+                }),
+                Type::Float(size) => {
+                    tag(SlotKind::Other, kinds);
+                    ops.push(Op::Int {
+                        size: *size,
+                        signed: false,
+                        slot: None,
+                    });
+                }
+                Type::Bool => {
+                    tag(SlotKind::Other, kinds);
+                    ops.push(Op::Int {
+                        size: 1,
+                        signed: false,
+                        slot: None,
+                    });
+                }
+                Type::Text => ops.push(Op::Text {
+                    slot: tag(SlotKind::Text, kinds),
+                }),
+                Type::Message(name) => {
+                    tag(SlotKind::Message, kinds);
+                    for g in self.types.get(name)? {
+                        self.lay(g, &path, paths, kinds, ops, depth + 1)?;
+                    }
+                }
+            }
+        }
+        Some(())
+    }
+}
+
+impl Flat {
+    /// What each path asked for is in this definition.
+    pub fn kinds(&self) -> &[SlotKind] {
+        &self.kinds
+    }
+
+    /// One message's items, each `kinds().len()` slots in a row. Its errors
+    /// are `Definitions::decode`'s, word for word.
+    pub fn decode<'a>(&self, bytes: &'a [u8]) -> Result<Vec<Slot<'a>>, String> {
+        let little = match bytes.get(..2) {
+            Some([0, 1]) | Some([0, 3]) => true,
+            Some([0, 0]) | Some([0, 2]) => false,
+            _ => return Err("not CDR (its encapsulation header is not 00 00/01 00 00)".into()),
+        };
+        let mut r = Reader {
+            body: &bytes[4.min(bytes.len())..],
+            at: 0,
+            little,
+        };
+        let k = self.kinds.len();
+        let mut none = [];
+        run(&self.head, &mut r, &mut none)?;
+        let n = r.int(4, false)? as usize;
+        if n > r.body.len() - r.at {
+            return Err(format!(
+                "{}: a sequence of {n} elements in {} bytes",
+                self.seq,
+                r.body.len() - r.at
+            ));
+        }
+        let mut out = vec![Slot::Absent; n * k];
+        for i in 0..n {
+            run(&self.items, &mut r, &mut out[i * k..(i + 1) * k])?;
+        }
+        run(&self.tail, &mut r, &mut none)?;
+        if r.body.len() - r.at >= 4 {
+            return Err(format!(
+                "{} bytes left after the message: the definition does not describe it",
+                r.body.len() - r.at
+            ));
+        }
+        Ok(out)
+    }
+}
+
+fn run<'a>(ops: &[Op], r: &mut Reader<'a>, slots: &mut [Slot<'a>]) -> Result<(), String> {
+    for op in ops {
+        match *op {
+            Op::Int { size, signed, slot } => {
+                let v = r.int(size, signed)?;
+                if let Some(i) = slot {
+                    slots[i] = Slot::Int(v);
+                }
+            }
+            Op::Text { slot } => {
+                let t = r.text_ref()?;
+                if let Some(i) = slot {
+                    slots[i] = Slot::Text(t);
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// The bytes after the encapsulation header; alignment counts from there.
 struct Reader<'a> {
     body: &'a [u8],
@@ -290,30 +507,52 @@ struct Reader<'a> {
     little: bool,
 }
 
-impl Reader<'_> {
-    fn take(&mut self, n: usize, align: usize) -> Result<&[u8], String> {
-        let start = self.at.div_ceil(align) * align;
-        let end = start
-            .checked_add(n)
-            .filter(|&e| e <= self.body.len())
-            .ok_or_else(|| {
-                format!(
-                    "the message ends at byte {} of {n} more it needs",
-                    self.body.len() + 4
-                )
-            })?;
-        self.at = end;
-        Ok(&self.body[start..end])
+impl<'a> Reader<'a> {
+    #[inline]
+    fn take(&mut self, n: usize, align: usize) -> Result<&'a [u8], String> {
+        let start = if align.is_power_of_two() {
+            (self.at + align - 1) & !(align - 1)
+        } else {
+            self.at.div_ceil(align) * align
+        };
+        match start.checked_add(n).filter(|&e| e <= self.body.len()) {
+            Some(end) => {
+                self.at = end;
+                Ok(&self.body[start..end])
+            }
+            None => Err(self.short(n)),
+        }
     }
 
+    #[cold]
+    fn short(&self, n: usize) -> String {
+        format!(
+            "the message ends at byte {} of {n} more it needs",
+            self.body.len() + 4
+        )
+    }
+
+    #[inline]
     fn int(&mut self, size: usize, signed: bool) -> Result<i64, String> {
         let little = self.little;
         let b = self.take(size, size)?;
-        let mut x: u64 = 0;
-        for i in 0..size {
-            let byte = if little { b[size - 1 - i] } else { b[i] };
-            x = (x << 8) | u64::from(byte);
-        }
+        let x = match (size, little) {
+            (1, _) => u64::from(b[0]),
+            (2, true) => u64::from(u16::from_le_bytes([b[0], b[1]])),
+            (2, false) => u64::from(u16::from_be_bytes([b[0], b[1]])),
+            (4, true) => u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+            (4, false) => u64::from(u32::from_be_bytes([b[0], b[1], b[2], b[3]])),
+            _ => {
+                let mut buf = [0u8; 8];
+                if little {
+                    buf[..size].copy_from_slice(b);
+                    u64::from_le_bytes(buf)
+                } else {
+                    buf[8 - size..].copy_from_slice(b);
+                    u64::from_be_bytes(buf)
+                }
+            }
+        };
         Ok(if signed && size < 8 {
             let shift = 64 - 8 * size as u32;
             ((x << shift) as i64) >> shift
@@ -323,11 +562,18 @@ impl Reader<'_> {
     }
 
     fn text(&mut self) -> Result<String, String> {
+        Ok(self.text_ref()?.into_owned())
+    }
+
+    fn text_ref(&mut self) -> Result<std::borrow::Cow<'a, str>, String> {
         let n = self.int(4, false)? as usize;
         let b = self.take(n, 1)?;
         // The length counts the closing NUL.
         let b = b.strip_suffix(&[0]).unwrap_or(b);
-        Ok(String::from_utf8_lossy(b).into_owned())
+        Ok(match std::str::from_utf8(b) {
+            Ok(t) => t.into(),
+            Err(_) => String::from_utf8_lossy(b),
+        })
     }
 }
 
@@ -410,5 +656,104 @@ mod tests {
             .decode(&b)
             .unwrap_err()
             .contains("a sequence of 4294967295"));
+    }
+
+    /// Every field a flat read gives, from the tree of values of the
+    /// general read: the two must agree, errors included.
+    fn flat_as_values(
+        d: &Definitions,
+        bytes: &[u8],
+        paths: &[&str],
+    ) -> Result<Vec<Slot<'static>>, String> {
+        let v = d.decode(bytes)?;
+        let mut out = Vec::new();
+        for c in v.get("event_log").unwrap().list().unwrap() {
+            for p in paths {
+                let mut at = Some(c);
+                for part in p.split('.') {
+                    at = at.and_then(|x| x.get(part));
+                }
+                out.push(match at {
+                    Some(Value::Int(i)) => Slot::Int(*i),
+                    Some(Value::Text(t)) => Slot::Text(t.clone().into()),
+                    _ => Slot::Absent,
+                });
+            }
+        }
+        Ok(out)
+    }
+
+    #[test]
+    fn a_flat_read_reads_what_the_tree_of_values_reads() {
+        let paths = [
+            "timestamp.sec",
+            "timestamp.nanosec",
+            "node_name",
+            "uid",
+            "previous_status",
+            "current_status",
+        ];
+        let humble = LOG.replace("uint16 uid # since Jazzy\n", "");
+        // A field before the sequence and one after it are read past.
+        let around = LOG.replacen(
+            "builtin_interfaces/Time timestamp\nBehaviorTreeStatusChange[] event_log\n",
+            "uint8 flag\nbuiltin_interfaces/Time timestamp\nBehaviorTreeStatusChange[] event_log\nfloat64 after\nstring label\nbool[3] bits\n",
+            1,
+        );
+        let jazzy = cdr(&[
+            ("FollowPath", 12, "IDLE", "RUNNING"),
+            ("Seq", 3, "RUNNING", "SUCCESS"),
+        ]);
+        for text in [LOG.to_string(), humble, around] {
+            let d = Definitions::parse("nav2_msgs/msg/BehaviorTreeLog", &text).unwrap();
+            let flat = d.flat("event_log", &paths).unwrap();
+            let mut cases: Vec<Vec<u8>> = vec![
+                jazzy.clone(),
+                b"xy".to_vec(),
+                b"\x00\x01\x00\x00\xff\xff".to_vec(),
+            ];
+            // Every cut of the message, and a byte more than it holds.
+            cases.extend((0..jazzy.len()).map(|n| jazzy[..n].to_vec()));
+            cases.push([jazzy.clone(), vec![0; 4]].concat());
+            for bytes in cases {
+                assert_eq!(
+                    flat.decode(&bytes).map(|v| v
+                        .into_iter()
+                        .map(|s| match s {
+                            Slot::Text(t) => Slot::Text(t.into_owned().into()),
+                            Slot::Int(i) => Slot::Int(i),
+                            Slot::Absent => Slot::Absent,
+                        })
+                        .collect::<Vec<_>>()),
+                    flat_as_values(&d, &bytes, &paths),
+                    "{bytes:?}"
+                );
+            }
+        }
+        assert_eq!(
+            Definitions::parse("nav2_msgs/msg/BehaviorTreeLog", LOG)
+                .unwrap()
+                .flat("event_log", &paths)
+                .unwrap()
+                .kinds(),
+            [
+                SlotKind::Int,
+                SlotKind::Int,
+                SlotKind::Text,
+                SlotKind::Int,
+                SlotKind::Text,
+                SlotKind::Text
+            ]
+        );
+        // A sequence besides the log's is left to the tree of values.
+        let more = LOG.replacen(
+            "BehaviorTreeStatusChange[] event_log\n",
+            "BehaviorTreeStatusChange[] event_log\nint32[] extra\n",
+            1,
+        );
+        assert!(Definitions::parse("nav2_msgs/msg/BehaviorTreeLog", &more)
+            .unwrap()
+            .flat("event_log", &paths)
+            .is_none());
     }
 }

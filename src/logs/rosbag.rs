@@ -7,7 +7,7 @@
 //! again after it stopped) is a run of its own.
 
 use super::btlog::Record;
-use super::cdr::{Definitions, Value};
+use super::cdr::{Definitions, Slot, SlotKind, Value};
 use crate::model::{Tree, Uid};
 use crate::run::Status;
 use crate::source::Located;
@@ -602,12 +602,6 @@ fn read_mcap(
     want: Option<&str>,
 ) -> Result<(String, Option<String>), Located> {
     use mcap::records::Record;
-    let bytes = crate::source::read_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
-    let reader = mcap::read::LinearReader::new_with_options(
-        &bytes,
-        mcap::read::Options::IgnoreEndMagic.into(),
-    )
-    .map_err(|e| Located::file(file, format!("not a readable MCAP file: {e}")))?;
     let mut st = McapLog {
         file,
         want,
@@ -616,16 +610,8 @@ fn read_mcap(
         log: None,
         defs: None,
     };
-    let mut cut: Option<String> = None;
     let mut ended = false;
-    for rec in reader {
-        let rec = match rec {
-            Ok(r) => r,
-            Err(e) => {
-                cut = Some(cut_short(m, &e.to_string()));
-                break;
-            }
-        };
+    let (len, error) = mcap_records(file, |rec| {
         match rec {
             Record::Chunk { header, data } => {
                 if header.uncompressed_size > MCAP_CHUNK_MAX {
@@ -651,23 +637,73 @@ fn read_mcap(
             Record::DataEnd(_) | Record::Footer(_) => ended = true,
             r => st.take(r, m)?,
         }
-        if m.full() {
-            return Ok((st.topic()?, None));
-        }
-        if ended {
-            break;
-        }
+        Ok(!m.full() && !ended)
+    })?;
+    if m.full() {
+        return Ok((st.topic()?, None));
     }
-    if !ended && cut.is_none() {
-        cut = Some(cut_short(m, ""));
-    }
+    let cut = match error {
+        Some(e) => Some(cut_short(m, &e)),
+        None if !ended => Some(cut_short(m, "")),
+        None => None,
+    };
     // Where: the file's end, a byte offset the user can check.
-    let cut = cut.map(|c| format!("byte offset {}: {c}", bytes.len()));
+    let cut = cut.map(|c| format!("byte offset {len}: {c}"));
     if let (Some(c), 0) = (&cut, m.messages) {
         // Nothing whole to read: the cut is what there is to say.
         return Err(Located::file(file, c.clone()));
     }
     Ok((st.topic()?, cut))
+}
+
+/// An MCAP file's records in order, as its specification describes for a
+/// file with no summary, read a piece at a time (the bag is never held
+/// whole: a chunk at most, with its records), chunks given whole to `take`
+/// until it says stop. The file's length, and the error a cut file (a
+/// recorder killed) ends in, if any.
+fn mcap_records(
+    file: &Path,
+    mut take: impl FnMut(mcap::records::Record<'_>) -> Result<bool, Located>,
+) -> Result<(u64, Option<String>), Located> {
+    use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
+    use std::io::Read;
+    let len = crate::source::check_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
+    let cannot = |e: std::io::Error| Located::file(file, format!("cannot read the bag: {e}"));
+    let mut f = std::fs::File::open(file).map_err(cannot)?;
+    let options = LinearReaderOptions::default()
+        .with_skip_end_magic(true)
+        .with_emit_chunks(true)
+        // A chunk's compressed bytes: past what it may decompress to, and
+        // a margin, a length is a broken file, not an allocation.
+        .with_record_length_limit((MCAP_CHUNK_MAX + (1 << 20)) as usize);
+    let mut reader = LinearReader::new_with_options(options);
+    let mut read_any = false;
+    while let Some(event) = reader.next_event() {
+        match event {
+            Ok(LinearReadEvent::ReadRequest(need)) => {
+                let n = f.read(reader.insert(need.max(1 << 16))).map_err(cannot)?;
+                reader.notify_read(n);
+            }
+            Ok(LinearReadEvent::Record { opcode, data }) => {
+                let record = match mcap::parse_record(opcode, data) {
+                    Ok(r) => r,
+                    Err(e) => return Ok((len, Some(e.to_string()))),
+                };
+                read_any = true;
+                if !take(record)? {
+                    return Ok((len, None));
+                }
+            }
+            Err(mcap::McapError::BadMagic) if !read_any => {
+                return Err(Located::file(
+                    file,
+                    format!("not a readable MCAP file: {}", mcap::McapError::BadMagic),
+                ))
+            }
+            Err(e) => return Ok((len, Some(e.to_string()))),
+        }
+    }
+    Ok((len, None))
 }
 
 /// What an MCAP's records said so far: schemas, channels, the log's.
@@ -680,7 +716,7 @@ struct McapLog<'a> {
     topics: Vec<(String, String)>,
     /// The log's channel, and its definitions once its first message came.
     log: Option<LogChannel>,
-    defs: Option<Definitions>,
+    defs: Option<LogDefs>,
 }
 
 struct LogChannel {
@@ -842,18 +878,51 @@ impl<'a> Matcher<'a> {
         topic: &str,
         text: Option<&str>,
         first: Option<&[u8]>,
-    ) -> Result<Definitions, Located> {
-        definitions(text, first)
+    ) -> Result<LogDefs, Located> {
+        let defs = definitions(text, first)
             .map(|(d, _)| d)
-            .map_err(|e| Located::file(file, format!("{topic}: {e}")))
+            .map_err(|e| Located::file(file, format!("{topic}: {e}")))?;
+        // Read flat where the changes' fields are where a change needs
+        // them; else as a tree of values, which says what is missing.
+        let flat = defs.flat("event_log", &CHANGE_PATHS).filter(|f| {
+            let k = f.kinds();
+            k[0] != SlotKind::Absent && [k[3], k[5], k[6]].iter().all(|&k| k == SlotKind::Text)
+        });
+        Ok(LogDefs { defs, flat })
     }
 
     /// One message's changes.
-    fn message(&mut self, defs: &Definitions, data: &[u8]) -> Result<(), Located> {
+    fn message(&mut self, defs: &LogDefs, data: &[u8]) -> Result<(), Located> {
         self.messages += 1;
         let n = self.messages;
-        let v = defs.decode(data).map_err(|e| self.at(n, e))?;
-        take_message(&v, n, self)
+        let Some(flat) = &defs.flat else {
+            let v = defs.defs.decode(data).map_err(|e| self.at(n, e))?;
+            return take_message(&v, n, self);
+        };
+        let slots = flat.decode(data).map_err(|e| self.at(n, e))?;
+        let int = |s: &Slot| match s {
+            Slot::Int(i) => Some(*i),
+            _ => None,
+        };
+        fn text<'s>(s: &'s Slot<'_>) -> &'s str {
+            match s {
+                Slot::Text(t) => t,
+                _ => "",
+            }
+        }
+        for c in slots.chunks(CHANGE_PATHS.len()) {
+            let (name, prev, now) = (text(&c[3]), text(&c[5]), text(&c[6]));
+            let (sec, nsec) = (int(&c[1]).unwrap_or(0), int(&c[2]).unwrap_or(0));
+            let change = Change {
+                time_us: sec.saturating_mul(1_000_000).saturating_add(nsec / 1000),
+                name,
+                uid: int(&c[4]).map(|u| u as u32),
+                prev,
+                now,
+            };
+            self.take(&change, n)?;
+        }
+        Ok(())
     }
 
     fn take(&mut self, c: &Change, message: usize) -> Result<(), Located> {
@@ -934,6 +1003,24 @@ impl<'a> Matcher<'a> {
             )
         })
     }
+}
+
+/// A change's fields a `Flat` reads, in slot order.
+const CHANGE_PATHS: [&str; 7] = [
+    "timestamp",
+    "timestamp.sec",
+    "timestamp.nanosec",
+    "node_name",
+    "uid",
+    "previous_status",
+    "current_status",
+];
+
+/// The definition a topic's messages are read by, and its flat layout
+/// where it has one.
+struct LogDefs {
+    defs: Definitions,
+    flat: Option<super::cdr::Flat>,
 }
 
 /// Where each run starts among the records: at the first, and wherever

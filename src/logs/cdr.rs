@@ -203,23 +203,9 @@ impl Definitions {
     /// Decodes one message: the 4-byte encapsulation header, then the top
     /// type's fields; every byte must be read (padding aside).
     pub fn decode(&self, bytes: &[u8]) -> Result<Value, String> {
-        let little = match bytes.get(..2) {
-            Some([0, 1]) | Some([0, 3]) => true,
-            Some([0, 0]) | Some([0, 2]) => false,
-            _ => return Err("not CDR (its encapsulation header is not 00 00/01 00 00)".into()),
-        };
-        let mut r = Reader {
-            body: &bytes[4.min(bytes.len())..],
-            at: 0,
-            little,
-        };
+        let mut r = Reader::open(bytes)?;
         let v = self.message(&self.top, &mut r, 0)?;
-        if r.body.len() - r.at >= 4 {
-            return Err(format!(
-                "{} bytes left after the message: the definition does not describe it",
-                r.body.len() - r.at
-            ));
-        }
+        r.finish()?;
         Ok(v)
     }
 
@@ -444,16 +430,7 @@ impl Flat {
     /// One message's items, each `kinds().len()` slots in a row. Its errors
     /// are `Definitions::decode`'s, word for word.
     pub fn decode<'a>(&self, bytes: &'a [u8]) -> Result<Vec<Slot<'a>>, String> {
-        let little = match bytes.get(..2) {
-            Some([0, 1]) | Some([0, 3]) => true,
-            Some([0, 0]) | Some([0, 2]) => false,
-            _ => return Err("not CDR (its encapsulation header is not 00 00/01 00 00)".into()),
-        };
-        let mut r = Reader {
-            body: &bytes[4.min(bytes.len())..],
-            at: 0,
-            little,
-        };
+        let mut r = Reader::open(bytes)?;
         let k = self.kinds.len();
         let mut none = [];
         run(&self.head, &mut r, &mut none)?;
@@ -470,12 +447,7 @@ impl Flat {
             run(&self.items, &mut r, &mut out[i * k..(i + 1) * k])?;
         }
         run(&self.tail, &mut r, &mut none)?;
-        if r.body.len() - r.at >= 4 {
-            return Err(format!(
-                "{} bytes left after the message: the definition does not describe it",
-                r.body.len() - r.at
-            ));
-        }
+        r.finish()?;
         Ok(out)
     }
 }
@@ -508,6 +480,30 @@ struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
+    /// A message's body, after its 4-byte encapsulation header.
+    fn open(bytes: &'a [u8]) -> Result<Reader<'a>, String> {
+        let little = match bytes.get(..2) {
+            Some([0, 1]) | Some([0, 3]) => true,
+            Some([0, 0]) | Some([0, 2]) => false,
+            _ => return Err("not CDR (its encapsulation header is not 00 00/01 00 00)".into()),
+        };
+        Ok(Reader {
+            body: &bytes[4.min(bytes.len())..],
+            at: 0,
+            little,
+        })
+    }
+
+    /// Every byte read, padding aside.
+    fn finish(&self) -> Result<(), String> {
+        match self.body.len() - self.at {
+            left if left >= 4 => Err(format!(
+                "{left} bytes left after the message: the definition does not describe it"
+            )),
+            _ => Ok(()),
+        }
+    }
+
     #[inline]
     fn take(&mut self, n: usize, align: usize) -> Result<&'a [u8], String> {
         let start = if align.is_power_of_two() {

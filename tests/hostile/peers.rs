@@ -486,7 +486,10 @@ fn a_standard_output_nobody_reads_holds_no_memory_and_the_session_every_row() {
         err.contains("rows not printed while the output was not read; the session has every row"),
         "{err}"
     );
-    assert!(peak < 100 << 10, "peak {} MiB", peak >> 10);
+    // Unbounded, the rows would have grown btx by some 700 MB in 30 s; a
+    // debug build on a loaded machine, holding the server's replies of up
+    // to 100,000 transitions, peaked at 103 MiB.
+    assert!(peak < 160 << 10, "peak {} MiB", peak >> 10);
     let kept = Session::load(&out).unwrap();
     assert_eq!(
         kept.index.transitions.len(),

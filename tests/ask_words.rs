@@ -623,3 +623,53 @@ fn scopes_imperatives_and_nested_names_are_read_as_meant() {
     let recovery = text.find("The RecoveryNode (#9)").unwrap();
     assert!(action < recovery, "{text}");
 }
+
+/// "Move right instead of up": the second part of a contrast that leaves
+/// out its verb takes the first part's ("move up"); "what if X had
+/// succeeded" asks of the node named X that failed; a question about the
+/// robot's world, not its run, is not read as one about the run.
+#[test]
+fn contrasts_counterfactuals_and_the_world_are_read_as_meant() {
+    let (ok, out, err) = btx(&[
+        "ask",
+        "tests/fixtures/logs/taxi_nominal.btlog",
+        "--at",
+        "3",
+        "why did it move right instead of up",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with(
+            "Why did I do the move right action (#7) and not move up (#8, #9) in tick 3?"
+        ),
+        "{out}"
+    );
+    // The bag's FollowPath names the Fallback (#2), which recovered, and
+    // the action (#3), which failed.
+    let (ok, out, err) = btx(&[
+        "ask",
+        "tests/fixtures/rosbag/two_goals",
+        "--tree",
+        "tests/fixtures/rosbag/navigator.xml",
+        "--run",
+        "1",
+        "what if FollowPath had succeeded",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with("What happens if the FollowPath action (#3) succeeds?"),
+        "{out}"
+    );
+    for q in [
+        "how much does this robot arm cost",
+        "what ROS distro is this running on",
+        "when is the next maintenance due",
+    ] {
+        let (ok, out, _) = btx(&["ask", "sessions/kitting-lookat-fails-once.jsonl", q]);
+        assert!(!ok, "{q}: {out}");
+        assert!(
+            out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
+}

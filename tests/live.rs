@@ -325,7 +325,14 @@ fn attached_to_a_robot_already_running_btx_knows_each_node_as_it_was() {
                 &|_| {},
             )
         },
-        no_race,
+        // On a loaded machine the robot may end its run before btx
+        // attaches (it then says the tree is idle): what the test
+        // provokes did not happen, and it runs again.
+        |w| {
+            no_race(w)
+                && w.stderr
+                    .contains("btx attached to a robot that had been running")
+        },
     );
     assert!(w.ok, "{}", w.stderr);
     assert!(

@@ -276,8 +276,11 @@ fn judge(c: &Case, input: &Input) -> Outcome {
     }
     if c.intent == "why-instead" {
         if let Intent::WhyNot { done, instead } = &reading.intent {
+            // The outermost of nodes named alike, as for the node above.
             let has = |s: &Subject, v: &Value| match s {
-                Subject::Nodes(us, _) => named(v).iter().all(|u| us.contains(u)),
+                Subject::Nodes(us, _) => read::mentions::outermost(tree, named(v))
+                    .iter()
+                    .all(|u| us.contains(u)),
                 _ => false,
             };
             right = intent == "why-instead" && has(done, &c.node) && has(instead, &c.node2);
@@ -418,10 +421,10 @@ fn questions_held_out_are_read_as_meant() {
 }
 
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (90.1 % and 3.7 % tuned on, 84.5 % and 7.0 % held out,
+/// of the reader (91.3 % and 2.7 % tuned on, 84.9 % and 6.7 % held out,
 /// with corpus2's questions in both halves): a change that reads fewer
 /// questions as meant, or misreads more, fails.
-const DEV_FLOOR: f64 = 89.5;
-const DEV_MISREAD: f64 = 4.0;
-const HELD_FLOOR: f64 = 84.0;
-const HELD_MISREAD: f64 = 7.5;
+const DEV_FLOOR: f64 = 90.8;
+const DEV_MISREAD: f64 = 3.0;
+const HELD_FLOOR: f64 = 84.5;
+const HELD_MISREAD: f64 = 7.0;

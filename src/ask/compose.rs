@@ -98,14 +98,29 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
                     .into(),
             ),
         },
-        Intent::WhatIf { node, event } => with_node(cx, node, Some(Event::Run), &mut r, |u, r| {
-            let s = if *event == Event::Fail {
-                Status::Failure
-            } else {
-                Status::Success
+        Intent::WhatIf { node, event } => {
+            // "What if FollowPath had succeeded?" asks of the one that did
+            // not: of nodes named alike, those that failed, where some did.
+            let node = match (node, cx.at.as_ref()) {
+                (Subject::Nodes(us, p), Some(at)) if us.len() > 1 && *event == Event::Succeed => {
+                    let failed = by_event(cx.tree, at, us, Event::Fail);
+                    if failed.len() < us.len() {
+                        Subject::Nodes(failed, p.clone())
+                    } else {
+                        node.clone()
+                    }
+                }
+                _ => node.clone(),
             };
-            next(cx, u, s, r, false)
-        }),
+            with_node(cx, &node, Some(Event::Run), &mut r, |u, r| {
+                let s = if *event == Event::Fail {
+                    Status::Failure
+                } else {
+                    Status::Success
+                };
+                next(cx, u, s, r, false)
+            })
+        }
     };
     if let Err(e) = done {
         r.answer = e;

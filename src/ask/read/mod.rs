@@ -270,6 +270,79 @@ const IMPERATIVE: &[&str] = &[
 
 /// Words that ask, by stem: a node named by one of them only is a weak
 /// mention ("wait" in "wait, what failed?").
+/// Words of questions about the robot's world, not its run (what it costs,
+/// what software it runs, its upkeep): the run holds no answer, so no node
+/// named, none is read.
+fn about_the_world(word: &str) -> bool {
+    const WORLD: &[&str] = &[
+        "cost",
+        "costs",
+        "price",
+        "prices",
+        "priced",
+        "pricing",
+        "buy",
+        "bought",
+        "purchase",
+        "purchased",
+        "warranty",
+        "distro",
+        "distribution",
+        "install",
+        "installed",
+        "installing",
+        "installation",
+        "firmware",
+        "license",
+        "licence",
+        "licensing",
+        "maintenance",
+        "weather",
+    ];
+    WORLD.contains(&word)
+}
+
+/// "Why did it move right instead of up": a contrast whose second part
+/// leaves out the verb the first has. Where nothing after "instead of" or
+/// "rather than" names a node, the first mention's first word and the
+/// words after are looked up together ("move up").
+fn elided_foil(
+    vocabulary: &mentions::Vocabulary,
+    tree: &Tree,
+    q: &[Word],
+    nodes: &[Mention],
+) -> Option<Mention> {
+    let after = (0..q.len().saturating_sub(1)).find_map(|i| {
+        let pair = (q[i].text.as_str(), q[i + 1].text.as_str());
+        matches!(pair, ("instead", "of") | ("rather", "than")).then_some(i + 2)
+    })?;
+    let [fact] = nodes else { return None };
+    if fact.end > after || fact.end - fact.start < 2 || after >= q.len() {
+        return None;
+    }
+    let rest = &q[after..q.len().min(after + 4)];
+    let words: Vec<Word> = std::iter::once(q[fact.start].clone())
+        .chain(rest.iter().cloned())
+        .collect();
+    let found = vocabulary
+        .mentions(tree, &words, &asks)
+        .into_iter()
+        .find(|m| m.start == 0 && m.end >= 2 && !m.weak && m.uids != fact.uids)?;
+    let end = after + found.end - 1;
+    Some(Mention {
+        start: after,
+        end,
+        uids: found.uids,
+        score: found.score,
+        weak: false,
+        phrase: q[after..end]
+            .iter()
+            .map(|w| w.text.as_str())
+            .collect::<Vec<_>>()
+            .join(" "),
+    })
+}
+
 fn asks(stem: &str) -> bool {
     const CUES: &[&str] = &[
         "what",
@@ -387,6 +460,9 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     }
     s.nodes.sort_by_key(|m| m.start);
     s.nodes = scoped(tree, &q, std::mem::take(&mut s.nodes));
+    if let Some(m) = elided_foil(vocabulary, tree, &q, &s.nodes) {
+        s.nodes.push(m);
+    }
     // Typos in the words that ask ("wen", "frist", "fial"), now that the
     // tree's names have been found as they were written.
     let mut in_mention = vec![false; q.len()];
@@ -410,6 +486,13 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // Weak mentions stay words unless the question names no other node
     // and asks about one.
     let strong: Vec<Mention> = s.nodes.iter().filter(|m| !m.weak).cloned().collect();
+    if strong.is_empty()
+        && q.iter()
+            .enumerate()
+            .any(|(i, w)| !in_mention[i] && about_the_world(&w.text))
+    {
+        return None;
+    }
     let readings = {
         let with_strong = s.with_nodes(q, strong);
         let mut r = classify(&with_strong, tree);

@@ -626,8 +626,9 @@ fn scopes_imperatives_and_nested_names_are_read_as_meant() {
 
 /// "Move right instead of up": the second part of a contrast that leaves
 /// out its verb takes the first part's ("move up"); "what if X had
-/// succeeded" asks of the node named X that failed; a question about the
-/// robot's world, not its run, is not read as one about the run.
+/// succeeded" asks of the node named X that failed; "stop trying to X" asks
+/// why the retry around X failed; a question about the robot's world, not
+/// its run, is not read as one about the run.
 #[test]
 fn contrasts_counterfactuals_and_the_world_are_read_as_meant() {
     let (ok, out, err) = btx(&[
@@ -660,6 +661,22 @@ fn contrasts_counterfactuals_and_the_world_are_read_as_meant() {
         out.starts_with("What happens if the FollowPath action (#3) succeeds?"),
         "{out}"
     );
+    // A loop that stopped trying failed: the retry above what it tried.
+    for q in [
+        "why did the robot stop trying to detect the chuk",
+        "why did it give up on detecting the chuck",
+    ] {
+        let (ok, out, err) = btx(&[
+            "ask",
+            "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog",
+            q,
+        ]);
+        assert!(ok, "{err}");
+        assert!(
+            out.starts_with("Why did RetryUntilSuccessful (#7) fail at 12:9?"),
+            "{q}: {out}"
+        );
+    }
     for q in [
         "how much does this robot arm cost",
         "what ROS distro is this running on",

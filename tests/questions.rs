@@ -421,10 +421,10 @@ fn questions_held_out_are_read_as_meant() {
 }
 
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (91.3 % and 2.7 % tuned on, 84.9 % and 6.7 % held out,
+/// of the reader (91.5 % and 2.5 % tuned on, 84.9 % and 6.7 % held out,
 /// with corpus2's questions in both halves): a change that reads fewer
 /// questions as meant, or misreads more, fails.
-const DEV_FLOOR: f64 = 90.8;
-const DEV_MISREAD: f64 = 3.0;
+const DEV_FLOOR: f64 = 91.0;
+const DEV_MISREAD: f64 = 2.8;
 const HELD_FLOOR: f64 = 84.5;
 const HELD_MISREAD: f64 = 7.0;

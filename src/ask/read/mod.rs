@@ -740,6 +740,38 @@ fn subject_of(i: &Intent) -> Option<&Subject> {
 }
 
 /// The event a question's verbs name, if any, and whether they are negated.
+/// "The retry gave up", "why did it stop trying to detect the chuck": a
+/// loop that stopped trying failed.
+fn gave_up(s: &Sentence) -> bool {
+    let give = ["give", "gave", "giving", "gives", "given"];
+    let stop = ["stop", "stopped", "stops", "stopping", "quit", "quits"];
+    let trying = ["trying", "retrying", "attempting"];
+    give.iter().any(|g| s.phrase(&[g, "up"]).is_some())
+        || stop
+            .iter()
+            .any(|st| trying.iter().any(|t| s.phrase(&[st, t]).is_some()))
+}
+
+/// Of nodes a question says stopped trying, the loops that tried them: each
+/// node's nearest retry above it (itself, if it is one); `None` where one
+/// has none.
+fn loops_of(tree: &Tree, us: &[Uid]) -> Option<Vec<Uid>> {
+    let retries = |u: Uid| {
+        let id = &tree.node(u).id;
+        id.starts_with("Retry") || id == "RecoveryNode"
+    };
+    let mut out: Vec<Uid> = Vec::new();
+    for &u in us {
+        let l = std::iter::once(u)
+            .chain(tree.ancestors(u))
+            .find(|&a| retries(a))?;
+        if !out.contains(&l) {
+            out.push(l);
+        }
+    }
+    Some(out)
+}
+
 fn event(s: &Sentence) -> (Option<Event>, bool) {
     let negated = s.has("not") || s.has("never") || s.has("no") && !s.has("one");
     let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang"])
@@ -748,9 +780,10 @@ fn event(s: &Sentence) -> (Option<Event>, bool) {
         || s.phrase(&["taking", "long"]).is_some()
         || s.phrase(&["took", "long"]).is_some()
         || s.phrase(&["long", "time"]).is_some();
-    let e = if s.has_stem(&[
-        "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
-    ]) {
+    let e = if gave_up(s)
+        || s.has_stem(&[
+            "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
+        ]) {
         Some(Event::Fail)
     } else if s.has_stem(&["skip"]) {
         Some(Event::Skipped)
@@ -1118,6 +1151,13 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
                 ));
                 return out;
             }
+            let node = match node {
+                Subject::Nodes(us, p) if gave_up(s) => match loops_of(tree, &us) {
+                    Some(loops) => Subject::Nodes(loops, p),
+                    None => Subject::Nodes(us, p),
+                },
+                other => other,
+            };
             let foil = foil(s);
             let e = match ev {
                 Some(e) => e,
@@ -1565,6 +1605,14 @@ fn unexplained(s: &Sentence) -> usize {
         "happens",
         "halted",
         "stopped",
+        "stop",
+        "give",
+        "gave",
+        "giving",
+        "gives",
+        "quit",
+        "retrying",
+        "attempting",
         "skipped",
         "finish",
         "finished",

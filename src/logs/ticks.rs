@@ -74,7 +74,10 @@ const PARALLEL_MIN: usize = 1 << 17;
 /// a script its blackboard) makes a piece's replay not follow its
 /// records, and then the log is replayed in one piece.
 fn by_structure(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    // Asked once: the standard library reads the cgroup's files each time,
+    // and a bag's thousands of runs are each numbered on their own.
+    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    let cores = *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     if let Some(ticks) = by_distinct_runs(tree, recs, cores) {
         return Ok(ticks);
     }

@@ -901,6 +901,12 @@ fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
     let r = btx_run(&["tree", &deeper]);
     assert_eq!(r.code, Some(1), "{}", r.err);
     assert!(one_line(&r.err).contains("25000 levels deep"), "{}", r.err);
+    // With what BehaviorTree.CPP itself does (docs/limits.md).
+    assert!(
+        one_line(&r.err).contains("crashes past about 13,900 levels"),
+        "{}",
+        r.err
+    );
     assert!(r.peak_kib < 100 * 1024, "{} KiB", r.peak_kib);
 }
 

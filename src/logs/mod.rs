@@ -113,6 +113,7 @@ fn btlog_numbered(
             resyncs: &[],
             ticks: None,
             given,
+            given_xml: None,
         },
         &|o| format!("byte offset {o}"),
     )
@@ -198,6 +199,7 @@ fn live_session(
             resyncs,
             ticks,
             given: None,
+            given_xml: None,
         },
         &|o| format!("transition {}", o + 1),
     )?;
@@ -232,6 +234,7 @@ pub fn open_db3_as(
             resyncs: &[],
             ticks: None,
             given,
+            given_xml: None,
         },
         &|o| format!("table Transitions, session {id}, row {o}"),
     )?;
@@ -269,6 +272,8 @@ pub fn open_db3_as(
 pub struct BagRuns<'a> {
     path: PathBuf,
     given: GivenTree<'a>,
+    /// The given tree's XML, written once for every run's header.
+    xml: String,
     log: rosbag::BagRecords,
     starts: Vec<usize>,
 }
@@ -309,6 +314,7 @@ impl<'a> BagRuns<'a> {
         }
         Ok(BagRuns {
             path: path.to_path_buf(),
+            xml: crate::xml::to_v4_xml(given.tree),
             given,
             log,
             starts,
@@ -352,6 +358,7 @@ impl<'a> BagRuns<'a> {
                 resyncs: &[],
                 ticks: None,
                 given: Some(self.given),
+                given_xml: Some(&self.xml),
             },
             &|o| format!("{topic}, status change {}", o + 1),
         )?;
@@ -417,6 +424,7 @@ pub fn open_fbl_as(
             resyncs: &[],
             ticks: None,
             given,
+            given_xml: None,
         },
         &|o| format!("byte offset {o}"),
     )
@@ -440,6 +448,9 @@ struct LogRun<'a> {
     ticks: Option<&'a [u32]>,
     /// The tree the robot ran, in place of the log's.
     given: Option<GivenTree<'a>>,
+    /// That tree as the session's header writes it, where the caller made
+    /// it once for many runs (a bag's).
+    given_xml: Option<&'a str>,
 }
 
 /// A log's run as a session; `place` names where a record is (a byte
@@ -546,6 +557,7 @@ fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<N
         resyncs: _,
         ticks: numbered,
         given,
+        given_xml,
     } = run;
     let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
     let tree = match given {
@@ -623,7 +635,14 @@ fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<N
         .map(|r| r.uid | u32::from(r.status.code()) << 29)
         .collect();
     drop(records);
-    let mut header = import_header(path, &tree, version, kind, Vec::new());
+    let mut header = import_header_with(
+        path,
+        &tree,
+        version,
+        kind,
+        Vec::new(),
+        given_xml.map(str::to_string),
+    );
     if let Some(g) = given {
         header.tree.path = Some(g.path.display().to_string());
     }
@@ -849,13 +868,25 @@ pub(crate) fn import_header(
     kind: &str,
     blackboard: Vec<(crate::run::blackboard::EntryId, serde_json::Value)>,
 ) -> Header {
+    import_header_with(path, tree, version, kind, blackboard, None)
+}
+
+/// `import_header`, with the tree's XML where the caller has it already.
+fn import_header_with(
+    path: &Path,
+    tree: &crate::model::Tree,
+    version: crate::model::Version,
+    kind: &str,
+    blackboard: Vec<(crate::run::blackboard::EntryId, serde_json::Value)>,
+    xml: Option<String>,
+) -> Header {
     Header {
         btx_session: format::FORMAT_VERSION,
         btx_version: env!("CARGO_PKG_VERSION").to_string(),
         tree: TreeRef {
             path: Some(path.display().to_string()),
             hash: None,
-            xml: crate::xml::to_v4_xml(tree),
+            xml: xml.unwrap_or_else(|| crate::xml::to_v4_xml(tree)),
             btcpp_format: version.number(),
             main_tree: tree.main_tree.clone(),
         },

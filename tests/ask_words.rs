@@ -690,3 +690,33 @@ fn contrasts_counterfactuals_and_the_world_are_read_as_meant() {
         );
     }
 }
+
+/// A condition named as a thing and its state ("path clear") said with a
+/// verb between them ("was the path clear", "if the path had been clear")
+/// is the condition's outcome; "not" makes it a failure. The patrol run:
+/// path clear succeeded at 3:6 and 4:1 and failed at 5:1.
+#[test]
+fn a_conditions_state_said_with_a_verb_is_its_outcome() {
+    for (q, first) in [
+        (
+            "why was the path not clear",
+            "Why did path clear (#6) fail at 5:1?",
+        ),
+        (
+            "what would have happened if the path had been clear",
+            "What happens if path clear (#6) succeeds?",
+        ),
+        (
+            "when was the path clear?",
+            "When did path clear (#6) succeed?",
+        ),
+        (
+            "how many times was path clear checked",
+            "How often did path clear (#6) start?",
+        ),
+    ] {
+        let (ok, out, err) = btx(&["ask", "tests/fixtures/questions/patrol.jsonl", q]);
+        assert!(ok, "{q}: {err}");
+        assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
+    }
+}

@@ -421,7 +421,7 @@ fn questions_held_out_are_read_as_meant() {
 }
 
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (91.5 % and 2.5 % tuned on, 84.9 % and 6.7 % held out,
+/// of the reader (91.6 % and 2.4 % tuned on, 85.0 % and 6.5 % held out,
 /// with corpus2's questions in both halves): a change that reads fewer
 /// questions as meant, or misreads more, fails.
 const DEV_FLOOR: f64 = 91.0;

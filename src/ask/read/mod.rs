@@ -1215,7 +1215,9 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             || s.has("over")
             || s.has("vs")
             || s.has("versus");
-        if named.len() >= 2 && contrast {
+        // A node is never contrasted with itself ("why was the path not
+        // clear" names path clear twice).
+        if named.len() >= 2 && contrast && named[0].uids != named[1].uids {
             let done = Subject::Nodes(named[0].uids.clone(), named[0].phrase.clone());
             let instead = Subject::Nodes(named[1].uids.clone(), named[1].phrase.clone());
             let (done, instead) = if negated_first(s, named[0], named[1]) {

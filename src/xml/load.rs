@@ -500,8 +500,17 @@ impl Loader {
         let defs = std::mem::take(&mut self.defs);
         let roots = std::mem::take(&mut self.roots);
         self.tree_ids = by_id.keys().cloned().collect();
-        let (nodes, scopes) = self.expand(version, &defs, &roots, &by_id, main, &main_id)?;
-        let unused = self.unused_definitions(version, &defs, &roots, &by_id, &nodes, main);
+        // A log's instantiated trees, by the `_fullpath` of the SubTree
+        // each stands for (the first of a path).
+        let by_fullpath: HashMap<&str, usize> = defs
+            .iter()
+            .enumerate()
+            .rev()
+            .filter_map(|(i, d)| Some((d.fullpath.as_deref()?, i)))
+            .collect();
+        let index = (&by_id, &by_fullpath);
+        let (nodes, scopes) = self.expand(version, &defs, &roots, index, main, &main_id)?;
+        let unused = self.unused_definitions(version, &defs, &roots, index, &nodes, main);
         self.say_unknown();
         let tree = Tree {
             version,
@@ -537,7 +546,7 @@ impl Loader {
         version: Version,
         defs: &[Def],
         roots: &[Option<Element>],
-        by_id: &HashMap<String, usize>,
+        (by_id, by_fullpath): ByIdAndPath,
         main: usize,
         main_id: &str,
     ) -> Result<(Vec<Node>, Vec<Scope>), Located> {
@@ -568,17 +577,12 @@ impl Loader {
                 .children[d.idx]
         };
         let main_def = &defs[main];
-        // A SubTree's ID on the path from the root, counted on entering and
-        // left when its subtree is done (a `None` on the stack), so the
-        // cycle check costs one lookup, not a walk up a chain 10^4 deep.
+        // The SubTree IDs on the path from the root: one is added on
+        // entering a SubTree and removed by the `Leave` pushed under its
+        // subtree, so the cycle check costs one lookup, not a walk up a
+        // chain 10^4 deep.
         let mut on_path: std::collections::HashSet<String> =
             std::iter::once(main_id.to_string()).collect();
-        let by_fullpath: HashMap<&str, usize> = defs
-            .iter()
-            .enumerate()
-            .rev()
-            .filter_map(|(i, d)| Some((d.fullpath.as_deref()?, i)))
-            .collect();
         let mut stack = vec![Step::Enter(Work {
             el: &def_el(main_def).children[0],
             file: main_def.file,
@@ -719,7 +723,7 @@ impl Loader {
         version: Version,
         defs: &[Def],
         roots: &[Option<Element>],
-        by_id: &HashMap<String, usize>,
+        (by_id, by_fullpath): ByIdAndPath,
         nodes: &[Node],
         main: usize,
     ) -> Vec<(String, String)> {
@@ -747,7 +751,7 @@ impl Loader {
                 self.unknown_at.clone(),
                 self.kinds.clone(),
             );
-            let expanded = self.expand(version, defs, roots, by_id, i, id);
+            let expanded = self.expand(version, defs, roots, (by_id, by_fullpath), i, id);
             self.warnings.truncate(saved.0);
             self.more_warnings = saved.1;
             self.unknown = saved.2;
@@ -1149,6 +1153,9 @@ fn uses_v4_only(el: &Element) -> bool {
 /// adds one link, so a chain thousands of levels deep holds one link a
 /// level (a copy of the whole path a level held the square of the depth:
 /// 470 MB for 4,000 SubTrees).
+/// The definitions by ID, and a log's by the `_fullpath` they stand for.
+type ByIdAndPath<'a, 'd> = (&'a HashMap<String, usize>, &'a HashMap<&'d str, usize>);
+
 struct Chain {
     id: String,
     up: Option<std::rc::Rc<Chain>>,

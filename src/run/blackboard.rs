@@ -15,7 +15,7 @@ pub struct EntryId {
     pub key: String,
 }
 
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Blackboard {
     scopes: Vec<BTreeMap<String, Value>>,
 }

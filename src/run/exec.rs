@@ -248,6 +248,61 @@ struct NodeRt {
     transitions: u64,
 }
 
+impl NodeRt {
+    /// The same control state: what the node does when ticked next. Every
+    /// field is named, so that a new one is sorted here too.
+    fn same_control(&self, o: &NodeRt) -> bool {
+        let NodeRt {
+            status,
+            idx,
+            count,
+            completed,
+            successes,
+            failures,
+            skipped,
+            started,
+            fired,
+            cached,
+            deadline,
+            since_ms,
+            period_s,
+            origin,
+            seen,
+            ticked: _,
+            returned: _,
+            entry_seq: _,
+            entry: _,
+            entry_status: _,
+            transitions: _,
+        } = self;
+        *status == o.status
+            && *idx == o.idx
+            && *count == o.count
+            && *completed == o.completed
+            && *successes == o.successes
+            && *failures == o.failures
+            && *skipped == o.skipped
+            && *started == o.started
+            && *fired == o.fired
+            && *cached == o.cached
+            && *deadline == o.deadline
+            && *since_ms == o.since_ms
+            && period_s.to_bits() == o.period_s.to_bits()
+            && origin.to_bits() == o.origin.to_bits()
+            && *seen == o.seen
+    }
+
+    /// Forgets when the node was last ticked and how it began then.
+    fn forget_calls(&mut self) {
+        self.ticked = 0;
+        self.returned = Status::Idle;
+        self.entry_seq = 0;
+        self.entry = Flow::default();
+        self.entry_status = Status::Idle;
+        self.transitions = 0;
+    }
+}
+
 /// What a control node carries from one tick into the next, as the causal
 /// model needs it: where a composite resumes, which Parallel children are
 /// done, how many retries are spent.
@@ -311,6 +366,11 @@ impl<L: Leaves + Clone> Parked<L> {
     /// The tick it was parked after.
     pub fn ticks(&self) -> u32 {
         self.0.tick
+    }
+
+    /// The executor as it was parked, to compare (not to tick: it has no tree).
+    pub fn peek(&self) -> &Executor<'static, L> {
+        &self.0
     }
 }
 
@@ -473,6 +533,45 @@ impl<'t, L: Leaves> Executor<'t, L> {
     /// Ticks completed so far.
     pub fn ticks(&self) -> u32 {
         self.tick
+    }
+
+    /// Whether this executor and `other` go on alike from the start of
+    /// their next ticks, given the same leaf calls in the same order: every
+    /// node's control state and the blackboard are equal (when and what each
+    /// node was last ticked aside), and no node waits on simulated time (a
+    /// deadline, a period begun), so that either is the same state at any
+    /// tick (`rebase`). The replay's marks share such states between the
+    /// runs of a log that a reset of the whole tree separates.
+    pub fn same_course(&self, other: &Executor<'_, L>) -> bool {
+        self.timeless()
+            && other.timeless()
+            && self.pending_decision == other.pending_decision
+            && self.bb == other.bb
+            && self.rt.len() == other.rt.len()
+            && self
+                .rt
+                .iter()
+                .zip(&other.rt)
+                .all(|(a, b)| a.same_control(b))
+    }
+
+    /// No node waits on simulated time: the state is the same at any tick.
+    pub fn timeless(&self) -> bool {
+        self.rt
+            .iter()
+            .all(|r| r.deadline.is_none() && r.since_ms == 0)
+    }
+
+    /// A timeless executor (`same_course`) moved to the end of tick
+    /// `ticks`, as if it had come there: what each node did last is
+    /// forgotten, as it belongs to other ticks.
+    pub fn rebase(&mut self, ticks: u32) {
+        debug_assert!(self.timeless());
+        self.tick = ticks;
+        self.now_ms = u64::from(ticks.saturating_sub(1)) * self.opts.tick_ms;
+        for r in &mut self.rt {
+            r.forget_calls();
+        }
     }
 
     pub fn status(&self, uid: Uid) -> Status {

@@ -56,6 +56,24 @@ impl Replay {
         self.calls.retain(|&(t, _), _| t >= tick);
     }
 
+    /// Whether the calls not in the record are guessed alike from here
+    /// (the status each leaf returned last, and has now, the same).
+    pub fn same_memory(&self, o: &Replay) -> bool {
+        let busy = |m: &HashMap<Uid, Status>| {
+            let mut v: Vec<(Uid, Status)> = m
+                .iter()
+                .filter(|(_, s)| **s != Status::Idle)
+                .map(|(u, s)| (*u, *s))
+                .collect();
+            v.sort_unstable_by_key(|(u, _)| *u);
+            v
+        };
+        self.last == o.last
+            && busy(&self.now) == busy(&o.now)
+            && self.initial == o.initial
+            && self.writes_recorded == o.writes_recorded
+    }
+
     /// Whether every recorded call was replayed.
     pub fn exhausted(&self) -> bool {
         self.calls.values().all(VecDeque::is_empty)

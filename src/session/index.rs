@@ -466,6 +466,12 @@ impl Index {
         }
     }
 
+    /// Whether the record holds more of the leaves' calls than their
+    /// transitions: blackboard writes or decisions.
+    pub fn records_calls(&self) -> bool {
+        !(self.writes.is_empty() && self.decision_calls.is_empty() && self.decided.is_empty())
+    }
+
     /// The decision taken with transition `i` (0-based), if any.
     pub fn transition_decision(&self, i: usize) -> Option<&str> {
         self.decided.get(&(i as u32)).map(String::as_str)

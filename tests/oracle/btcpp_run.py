@@ -7,7 +7,8 @@ time of every tick, so that btx's executor can be compared with the library
 transition for transition and tick for tick.
 
 Usage: btcpp_run.py CASES.json OUT_DIR
-CASES.json is a list of {"xml": ..., "plan": ..., "max_ticks": N}. For case i
+CASES.json is a list of {"xml": ..., "plan": ..., "max_ticks": N} (and
+"runs": K to tick the tree again after it completes, K runs in all). For case i
 it writes OUT_DIR/i.btlog and OUT_DIR/i.json: {"ticks": [[start_us, end_us],
 ...], "root": "SUCCESS", "error": null}. Times are microseconds since the
 epoch, as the FileLogger's are.
@@ -118,8 +119,14 @@ def run(case, log_path):
             # A clear gap between ticks, so that each record falls in its
             # tick; timing cases set the period themselves.
             time.sleep(case.get("sleep_ms", 1.5) / 1000.0)
+            # "runs": the tree is ticked again after it completes, as a
+            # robot that does its job again does, until it has completed
+            # that many times.
             if status != bt.NodeStatus.RUNNING:
-                break
+                done = case.get("done", 0) + 1
+                case["done"] = done
+                if done >= case.get("runs", 1):
+                    break
     finally:
         # FileLogger2 writes from a thread of its own: give it a moment
         # before the flush and the destructor that joins it.

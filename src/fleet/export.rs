@@ -55,7 +55,7 @@ pub const NODES: &str = "message node {
 }";
 
 /// Where a run's rows go: its robot and day.
-#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord)]
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct Partition {
     pub robot: String,
     pub day: String,
@@ -229,18 +229,8 @@ fn sync_fs(dir: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
-/// One Parquet file of one row group, its columns written by `columns` in
-/// the schema's order, beside its place: `commit` names it.
-fn write(
-    path: &Path,
-    schema: &str,
-    columns: impl FnOnce(&mut Columns) -> parquet::errors::Result<()>,
-) -> Result<(), Located> {
-    let failed =
-        |e: std::io::Error| Located::file(path, format!("cannot write the Parquet file: {e}"));
-    if let Some(d) = path.parent() {
-        std::fs::create_dir_all(d).map_err(failed)?;
-    }
+/// The writer's properties: snappy, and no statistics of the text columns.
+fn properties() -> WriterProperties {
     // A text column's min and max cost a comparison of every value (a
     // fifth of an export's time) and prune nothing in files of one run:
     // its name, its nodes' names, five statuses. Numbers keep theirs.
@@ -251,28 +241,138 @@ fn write(
             parquet::file::properties::EnabledStatistics::None,
         );
     }
-    let props = props.build();
-    let part = path.with_extension("parquet.part");
-    let mut w = crate::table::Writer::create(path, &part, schema, props)?;
+    props.build()
+}
+
+/// Creates `path`'s `.part` file, its directory first.
+fn create_part(path: &Path, schema: &str) -> Result<crate::table::Writer, Located> {
+    let failed =
+        |e: std::io::Error| Located::file(path, format!("cannot write the Parquet file: {e}"));
+    if let Some(d) = path.parent() {
+        std::fs::create_dir_all(d).map_err(failed)?;
+    }
+    crate::table::Writer::create(
+        path,
+        &path.with_extension("parquet.part"),
+        schema,
+        properties(),
+    )
+}
+
+/// One Parquet file of one row group, its columns written by `columns` in
+/// the schema's order, beside its place: `commit` names it.
+fn write(
+    path: &Path,
+    schema: &str,
+    columns: impl FnOnce(&mut Columns) -> parquet::errors::Result<()>,
+) -> Result<(), Located> {
+    let mut w = create_part(path, schema)?;
     let done = w
         .row_group(columns)
         .and_then(|()| w.close_unsynced().map(drop));
     if done.is_err() {
         // Half a file is never named.
-        let _ = std::fs::remove_file(&part);
+        let _ = std::fs::remove_file(path.with_extension("parquet.part"));
     }
     done
 }
 
-/// Writes a run's transitions, as `file` (a name unique in the export).
-pub fn transitions(
-    root: &Path,
-    at: &Partition,
-    file: &str,
-    run: &str,
-    s: &Session,
-) -> Result<(), Located> {
-    let path = at.dir(root, "transitions").join(format!("{file}.parquet"));
+/// The export's files of runs' rows (the transitions and nodes tables),
+/// open while the fleet is read: each run's rows are a row group of a
+/// file of its partition that no other core is writing, so that a
+/// partition has a file a core, not a file a run (creating 1,840 files
+/// was a quarter of an export's time).
+pub struct Files {
+    root: PathBuf,
+    free: std::sync::Mutex<std::collections::HashMap<(&'static str, Partition), Vec<Open>>>,
+    made: std::sync::atomic::AtomicUsize,
+}
+
+/// A file being written, and the runs it holds.
+struct Open {
+    path: PathBuf,
+    w: crate::table::Writer,
+    runs: Vec<String>,
+}
+
+impl Files {
+    pub fn new(root: &Path) -> Files {
+        Files {
+            root: root.to_path_buf(),
+            free: Default::default(),
+            made: Default::default(),
+        }
+    }
+
+    /// Writes `run`'s rows of `table` as a row group of one of its
+    /// partition's files. Where that fails, the file is given up, and the
+    /// error names every run whose rows it held.
+    fn row_group(
+        &self,
+        table: &'static str,
+        schema: &str,
+        at: &Partition,
+        run: &str,
+        columns: impl FnOnce(&mut Columns) -> parquet::errors::Result<()>,
+    ) -> Result<(), Located> {
+        let key = (table, at.clone());
+        let taken = self.lock().get_mut(&key).and_then(Vec::pop);
+        let mut open = match taken {
+            Some(open) => open,
+            None => {
+                let k = self.made.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let path = at
+                    .dir(&self.root, table)
+                    .join(format!("part-{k:05}.parquet"));
+                let w = create_part(&path, schema)?;
+                Open {
+                    path,
+                    w,
+                    runs: Vec::new(),
+                }
+            }
+        };
+        match open.w.row_group(columns) {
+            Ok(()) => {
+                open.runs.push(run.to_string());
+                self.lock().entry(key).or_default().push(open);
+                Ok(())
+            }
+            Err(e) => {
+                let _ = std::fs::remove_file(open.path.with_extension("parquet.part"));
+                let mut lost = open.runs;
+                lost.push(run.to_string());
+                Err(Located::file(
+                    &open.path,
+                    format!("{} (the rows of {})", e.message, lost.join(", ")),
+                ))
+            }
+        }
+    }
+
+    fn lock(
+        &self,
+    ) -> std::sync::MutexGuard<'_, std::collections::HashMap<(&'static str, Partition), Vec<Open>>>
+    {
+        self.free.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Writes every file's footer: what could not be written is said.
+    pub fn close(self) -> Vec<String> {
+        let open = self.free.into_inner().unwrap_or_else(|e| e.into_inner());
+        let mut said = Vec::new();
+        for open in open.into_values().flatten() {
+            if let Err(e) = open.w.close_unsynced() {
+                let _ = std::fs::remove_file(open.path.with_extension("parquet.part"));
+                said.push(format!("{e} (the rows of {})", open.runs.join(", ")));
+            }
+        }
+        said
+    }
+}
+
+/// Writes a run's transitions.
+pub fn transitions(files: &Files, at: &Partition, run: &str, s: &Session) -> Result<(), Located> {
     let ts = &s.index.transitions;
     let mut steps = Vec::with_capacity(ts.len());
     let mut last = (0, 0);
@@ -290,12 +390,17 @@ pub fn transitions(
         .map(|u| text(&s.tree.spoken(u)))
         .collect();
     names.push(text(run));
+    // Static text is shared without counting its users: a count kept for
+    // each row was a fifth of an export's time.
     let statuses: Vec<_> = (0..=4)
-        .map(|c| text(Status::from_code(c).map_or("", Status::as_str)))
+        .map(|c| {
+            let name = Status::from_code(c).map_or("", Status::as_str);
+            parquet::data_type::ByteArray::from(bytes::Bytes::from_static(name.as_bytes()))
+        })
         .collect();
     let code = |st: Status| usize::from(st.code());
     let timed = s.times_us.len() == ts.len();
-    write(&path, TRANSITIONS, |c| {
+    files.row_group("transitions", TRANSITIONS, at, run, |c| {
         c.shared_strings(&names, ts.iter().map(|_| names.len() - 1))?;
         c.ints(ts.iter().map(|t| Some(t.tick as i32)))?;
         c.ints(steps.iter().map(|&k| Some(k)))?;
@@ -336,10 +441,9 @@ pub fn tables(root: &Path, fleet: &Fleet) -> Result<(), Located> {
 
 /// Writes a run's rows of the nodes table (one row a node that ran), in
 /// its partition, as the run is read: a fleet keeps no run's nodes.
-pub fn nodes(root: &Path, at: &Partition, id: &str, r: &RunSummary) -> Result<(), Located> {
-    let path = at.dir(root, "nodes").join(format!("{id}.parquet"));
+pub fn nodes(files: &Files, at: &Partition, r: &RunSummary) -> Result<(), Located> {
     let rows = &r.nodes;
-    write(&path, NODES, |c| {
+    files.row_group("nodes", NODES, at, &r.name, |c| {
         c.strings(rows.iter().map(|_| Some(r.name.as_str())))?;
         c.strings(rows.iter().map(|_| Some(r.tree.as_str())))?;
         c.ints(rows.iter().map(|n| Some(n.uid as i32)))?;

@@ -207,46 +207,33 @@ impl Fleet {
         // fleet's as its chunk ends: what a fleet holds is its runs'
         // summaries, whatever the number of files.
         let chunk = rayon::current_num_threads().max(1) * 8;
-        for (c, part) in files.chunks(chunk).enumerate() {
+        let out = export.map(export::Files::new);
+        for part in files.chunks(chunk) {
             let read: Vec<Read> = part
                 .par_iter()
-                .enumerate()
-                .map(|(j, src)| {
-                    let i = c * chunk + j;
+                .map(|src| {
                     let f = &src.file;
                     let mut runs = Vec::new();
                     let mut unwritten = Vec::new();
-                    let mut topics: Vec<String> = Vec::new();
                     let r = crate::input::each_robot_run(f, opts, |t, k, n, s: Session| {
                         // A bag of several robots' logs: each its own robot.
-                        let (path, id) = match t {
+                        let path = match t {
                             Some(t) => {
-                                if !topics.iter().any(|x| x == t) {
-                                    topics.push(t.to_string());
-                                }
-                                let ti = topics.len();
-                                (
-                                    format!("{}:{}", crate::text::path(f), crate::text::visible(t)),
-                                    format!("f{i:06}-t{ti}"),
-                                )
+                                format!("{}:{}", crate::text::path(f), crate::text::visible(t))
                             }
-                            None => (crate::text::path(f), format!("f{i:06}")),
+                            None => crate::text::path(f),
                         };
-                        let (name, id) = if n > 1 {
-                            (format!("{path}#{k}"), format!("{id}-{k}"))
-                        } else {
-                            (path, id)
-                        };
+                        let name = if n > 1 { format!("{path}#{k}") } else { path };
                         let mut run = summarise(name, &s, reference);
                         run.file = f.clone();
                         run.run = (n > 1).then_some(k);
                         run.topic = t.map(str::to_string);
-                        if let Some(root) = export {
+                        if let Some(files) = &out {
                             let at = export::Partition::of(f, &src.given, t, &s);
-                            if let Err(e) = export::transitions(root, &at, &id, &run.name, &s) {
+                            if let Err(e) = export::transitions(files, &at, &run.name, &s) {
                                 unwritten.push(e.to_string());
                             }
-                            if let Err(e) = export::nodes(root, &at, &id, &run) {
+                            if let Err(e) = export::nodes(files, &at, &run) {
                                 unwritten.push(e.to_string());
                             }
                             run.partition = Some(at);
@@ -279,7 +266,8 @@ impl Fleet {
                 fleet.unwritten.extend(unwritten);
             }
         }
-        if let Some(root) = export {
+        if let (Some(root), Some(files)) = (export, out) {
+            fleet.unwritten.extend(files.close());
             if let Err(e) = export::tables(root, &fleet) {
                 fleet.unwritten.push(e.to_string());
             }

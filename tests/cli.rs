@@ -358,7 +358,7 @@ fn moments_count_from_the_end_of_the_run_everywhere_one_is_taken() {
     }
     let (ok, _, err) = btx(&["ask", s, "--at", "-47", "q1"]);
     assert!(!ok);
-    assert_eq!(err, "error: \"-47\": the run has 46 ticks\n");
+    assert_eq!(err, "  × \"-47\": the run has 46 ticks\n\n");
 }
 
 #[test]
@@ -1105,4 +1105,57 @@ fn a_failure_before_recording_began_is_said_from_the_states_read() {
         out.trim_end(),
         "Nothing went wrong since recording began. Before recording began, look at chuck had last failed: how, and what handled it, is not in the session."
     );
+}
+
+/// `btx --help` says what `btx` and `btx FILE` do; each command's help
+/// lists its own options (the explorer's only where the explorer opens);
+/// every error is drawn alike, whatever the command.
+#[test]
+fn help_says_each_commands_own_options_and_errors_come_in_one_style() {
+    let (ok, help, _) = btx(&["--help"]);
+    assert!(ok);
+    assert!(help.contains("`btx FILE` opens"), "{help}");
+    assert!(
+        help.contains("`btx` alone opens the explorer's demo"),
+        "{help}"
+    );
+    for command in [
+        "log", "ask", "serve", "why", "tree", "run", "import", "watch",
+    ] {
+        let (ok, help, _) = btx(&[command, "--help"]);
+        assert!(ok, "{command}");
+        assert!(
+            !help.contains("--keys") && !help.contains("--ascii"),
+            "btx {command} --help lists the explorer's options:\n{help}"
+        );
+        assert!(help.contains("--quiet"), "{command}");
+    }
+    for command in ["open", "fleet"] {
+        let (_, help, _) = btx(&[command, "--help"]);
+        assert!(
+            help.contains("--keys") && help.contains("--ascii"),
+            "{command}"
+        );
+    }
+    let errors: Vec<String> = [
+        vec!["nosuch.btlog"],
+        vec!["open", "nosuch.btlog"],
+        vec!["log", "nosuch.btlog"],
+        vec!["ask", "nosuch.btlog", "q1"],
+        vec!["why", "nosuch.btlog", "status(#1)"],
+        vec!["tree", "nosuch.btlog"],
+    ]
+    .iter()
+    .map(|args| {
+        let (ok, _, err) = btx(args);
+        assert!(!ok, "{args:?}");
+        err
+    })
+    .collect();
+    for e in &errors {
+        assert_eq!(
+            e, "  × nosuch.btlog: cannot read the file: No such file or directory (os error 2)\n\n",
+            "{errors:#?}"
+        );
+    }
 }

@@ -153,6 +153,29 @@ fn demo_in_a_real_terminal() {
     );
 }
 
+/// `btx FILE` opens FILE in the explorer, as `btx open FILE` does.
+#[test]
+fn a_file_given_alone_opens_in_the_explorer() {
+    if !tmux_here() {
+        return;
+    }
+    let t = Tmux(format!("btx-e2e-file-{}", std::process::id()));
+    let cmd = format!(
+        "cd {} && {} --ascii sessions/kitting-lookat-fails-once.jsonl; echo EXITED:$?; sleep 30",
+        env!("CARGO_MANIFEST_DIR"),
+        env!("CARGO_BIN_EXE_btx")
+    );
+    t.start(&cmd);
+    t.wait_for("kitting-lookat-fails-once.jsonl");
+    let s = t.wait_for("moment 1 ");
+    assert!(
+        !s.contains('┏'),
+        "--ascii before the file is the explorer's: {s}"
+    );
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    t.wait_for("EXITED:0");
+}
+
 #[test]
 fn side_by_side_diff_in_a_real_terminal() {
     if !tmux_here() {

@@ -10,6 +10,8 @@ pub struct Args {
     pub paths: Vec<PathBuf>,
     #[command(flatten)]
     pub reading: Reading,
+    #[command(flatten)]
+    pub explorer: Explorer,
     /// Also compare each run with this one, subgoal by subgoal (as `btx diff REF RUN...`).
     #[arg(long, value_name = "RUN")]
     pub reference: Option<PathBuf>,

@@ -22,20 +22,42 @@ use std::process::ExitCode;
 #[command(
     name = "btx",
     version,
-    about = "Explain behaviour-tree runs: BehaviorTree.CPP trees and their runs, framed and questioned"
+    about = "Explain behaviour-tree runs: BehaviorTree.CPP trees and their runs, framed and questioned",
+    long_about = "Explain behaviour-tree runs: BehaviorTree.CPP trees and their runs, framed and questioned.\n\n`btx FILE` opens a tree, a session or a log in the explorer (as `btx open FILE`); `btx` alone opens the explorer's demo."
 )]
 pub struct Cli {
     /// Do not print warnings.
     #[arg(short, long, global = true)]
     quiet: bool,
-    /// The explorer's keymap file (default: $XDG_CONFIG_HOME/btx/keys.toml or ~/.config/btx/keys.toml, if it exists).
-    #[arg(long, global = true, value_name = "FILE")]
-    keys: Option<PathBuf>,
-    /// The explorer draws only ASCII: no box drawing, arrows or symbols (names stay as they are).
-    #[arg(long, global = true)]
-    ascii: bool,
+    /// A tree, a session or a log to open in the explorer (`btx open TREE [SESSION]`); none: the demo.
+    #[arg(value_name = "FILE", num_args = 0..=2)]
+    files: Vec<PathBuf>,
+    #[command(flatten)]
+    explorer: Explorer,
     #[command(subcommand)]
     command: Option<Command>,
+}
+
+/// The explorer's options: what `btx`, `btx FILE`, `btx open` and
+/// `btx fleet --open` take, and no other command.
+#[derive(clap::Args, Default, Clone)]
+pub struct Explorer {
+    /// The explorer's keymap file (default: $XDG_CONFIG_HOME/btx/keys.toml or ~/.config/btx/keys.toml, if it exists).
+    #[arg(long, value_name = "FILE")]
+    keys: Option<PathBuf>,
+    /// The explorer draws only ASCII: no box drawing, arrows or symbols (names stay as they are).
+    #[arg(long)]
+    ascii: bool,
+}
+
+impl Explorer {
+    /// These options, with those given before the command (`btx --ascii open`) where these are unset.
+    fn or(self, before: &Explorer) -> Explorer {
+        Explorer {
+            keys: self.keys.or_else(|| before.keys.clone()),
+            ascii: self.ascii || before.ascii,
+        }
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -359,16 +381,10 @@ fn open_input(file: &Path, reading: &Reading, quiet: bool) -> Result<Input, Fail
     Ok(input)
 }
 
-/// An error without a position reads best as one plain message.
+/// An input's error, drawn by miette (with the offending line, where it
+/// has one).
 fn located(e: btx::Located) -> Failure {
-    if e.source_code.is_none() {
-        Failure::Plain(match &e.help {
-            Some(h) => format!("{e}\n  help: {h}"),
-            None => e.to_string(),
-        })
-    } else {
-        Failure::from(e)
-    }
+    Failure::from(e)
 }
 
 fn session_of<'a>(input: &'a Input, file: &Path) -> Result<&'a Session, Failure> {
@@ -388,30 +404,43 @@ fn pick_node(tree: &btx::Tree, pick: &str) -> Result<btx::Uid, Failure> {
 
 /// Runs a command line: the demo with none, else its command's module.
 fn dispatch(cli: Cli) -> Result<(), Failure> {
-    let globals = Globals {
+    let with = |e: &Explorer| Globals {
         quiet: cli.quiet,
-        keys: cli.keys,
-        ascii: cli.ascii,
+        keys: e.keys.clone(),
+        ascii: e.ascii,
     };
+    let globals = with(&cli.explorer);
     let Some(command) = cli.command else {
+        if !cli.files.is_empty() {
+            return open::run(open::Args::of(cli.files), &globals);
+        }
         let mut app = btx::tui::demo();
         app.keymap = keymap(globals.keys.as_deref())?;
         return btx::tui::run_with(app, globals.ascii)
             .map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     };
+    let before = cli.explorer;
     match command {
+        Command::Open(mut a) => {
+            a.explorer = std::mem::take(&mut a.explorer).or(&before);
+            let globals = with(&a.explorer);
+            open::run(a, &globals)
+        }
+        Command::Fleet(mut a) => {
+            a.explorer = std::mem::take(&mut a.explorer).or(&before);
+            let globals = with(&a.explorer);
+            fleet::run(a, &globals)
+        }
         Command::Tree(a) => tree::run(a, &globals),
         Command::Ask(a) => ask::run(a, &globals),
         Command::Run(a) => run::run(a, &globals),
         Command::Import(a) => import::run(a, &globals),
         Command::World(a) => world::run(a),
-        Command::Open(a) => open::run(a, &globals),
         Command::Screenshot(a) => screenshot::run(a),
         Command::Why(a) => why::run(a, &globals),
         Command::Eval(a) => eval::run(a),
         Command::Graph(a) => graph::run(a, &globals),
         Command::Diff(a) => diff::run(a, &globals),
-        Command::Fleet(a) => fleet::run(a, &globals),
         Command::Log(a) => log::run(a, &globals),
         Command::Watch(a) => watch::run(a, &globals),
         Command::Serve(a) => serve::run(a, &globals),
@@ -448,7 +477,10 @@ fn finish(result: Result<(), Failure>) -> ExitCode {
             ExitCode::FAILURE
         }
         Err(Failure::Plain(msg)) => {
-            eprintln!("error: {msg}");
+            // In the style of every other error (miette's), made safe here.
+            use std::io::Write;
+            let report = miette::Report::msg(btx::text::visible(&msg).into_owned());
+            let _ = writeln!(std::io::stderr(), "{report:?}");
             ExitCode::FAILURE
         }
         Err(Failure::Exit(code)) => ExitCode::from(code),
@@ -457,5 +489,10 @@ fn finish(result: Result<(), Failure>) -> ExitCode {
 
 /// Runs a parsed command line to its exit status.
 pub fn main(cli: Cli) -> ExitCode {
+    // Errors unwrapped: a list of nodes or files keeps a line an item (the
+    // terminal wraps what is longer).
+    let _ = miette::set_hook(Box::new(|_| {
+        Box::new(miette::MietteHandlerOpts::new().wrap_lines(false).build())
+    }));
     finish(dispatch(cli))
 }

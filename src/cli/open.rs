@@ -23,6 +23,24 @@ pub struct Args {
     pub publisher_port: Option<u16>,
     #[command(flatten)]
     pub reading: Reading,
+    #[command(flatten)]
+    pub explorer: Explorer,
+}
+
+impl Args {
+    /// `btx open FILES`, as `btx FILES` says it.
+    pub fn of(files: Vec<PathBuf>) -> Args {
+        Args {
+            files,
+            diff: false,
+            follow: false,
+            live: None,
+            out: None,
+            publisher_port: None,
+            reading: Reading::default(),
+            explorer: Explorer::default(),
+        }
+    }
 }
 
 pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {

@@ -358,7 +358,7 @@ fn moments_count_from_the_end_of_the_run_everywhere_one_is_taken() {
     }
     let (ok, _, err) = btx(&["ask", s, "--at", "-47", "q1"]);
     assert!(!ok);
-    assert_eq!(err, "  × \"-47\": the run has 46 ticks\n\n");
+    assert_eq!(err, "  × \"-47\": the run has 46 ticks\n");
 }
 
 #[test]
@@ -1154,7 +1154,7 @@ fn help_says_each_commands_own_options_and_errors_come_in_one_style() {
     .collect();
     for e in &errors {
         assert_eq!(
-            e, "  × nosuch.btlog: cannot read the file: No such file or directory (os error 2)\n\n",
+            e, "  × nosuch.btlog: cannot read the file: No such file or directory (os error 2)\n",
             "{errors:#?}"
         );
     }

@@ -487,7 +487,7 @@ fn unclear_or_silent_cases_say_what_is_wrong() {
     assert_eq!(code, Some(1));
     assert_eq!(
         err,
-        "  × there is no node #99999: the tree's uids are 1 to 79\n\n"
+        "  × there is no node #99999: the tree's uids are 1 to 79\n"
     );
     let sub = dir.path().join("dir");
     std::fs::create_dir(&sub).unwrap();

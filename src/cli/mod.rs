@@ -473,14 +473,14 @@ fn finish(result: Result<(), Failure>) -> ExitCode {
         Err(Failure::Located(report)) => {
             // Its text was made safe when it was built; miette may colour it.
             use std::io::Write;
-            let _ = writeln!(std::io::stderr(), "{report:?}");
+            let _ = writeln!(std::io::stderr(), "{}", format!("{report:?}").trim_end());
             ExitCode::FAILURE
         }
         Err(Failure::Plain(msg)) => {
             // In the style of every other error (miette's), made safe here.
             use std::io::Write;
             let report = miette::Report::msg(btx::text::visible(&msg).into_owned());
-            let _ = writeln!(std::io::stderr(), "{report:?}");
+            let _ = writeln!(std::io::stderr(), "{}", format!("{report:?}").trim_end());
             ExitCode::FAILURE
         }
         Err(Failure::Exit(code)) => ExitCode::from(code),

@@ -237,7 +237,12 @@ fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
     // The causal model, the reason marked.
     app.update(Action::Graph);
     insta::assert_snapshot!("why", screen(&app, 110, 34));
-    // Follow up on the first reason: why did L0 fail?
+    // Follow up on the first reason: why did L0 fail? (Tab brings the
+    // focus to the answer; it stayed where the question was asked.)
+    app.update(Action::NextPane);
+    while app.focus != btx::tui::app::Pane::Ask {
+        app.update(Action::NextPane);
+    }
     app.update(Action::Toggle);
     let w = app.why.as_ref().unwrap();
     assert_eq!(
@@ -848,6 +853,9 @@ fn plus_and_minus_say_more_or_less_of_a_why_answer() {
     app.selected = 1;
     app.update(Action::Why);
     app.update(Action::Toggle);
+    // The answer's keys are its pane's once Tab brings the focus there.
+    assert_eq!(app.focus, btx::tui::app::Pane::Tree);
+    app.focus = btx::tui::app::Pane::Ask;
     let all = app.why.as_ref().unwrap().why.groups().len();
     assert!(all > 3, "{all}");
     assert_eq!(app.why.as_ref().unwrap().why.shown, Some(3));
@@ -1578,4 +1586,94 @@ fn a_paste_of_pages_into_the_prompt_is_cut_at_its_bound_and_said() {
     };
     assert_eq!(text.chars().count(), PROMPT_MAX);
     assert!(screen(&app, 110, 34).contains("why did look at chuck fail"));
+}
+
+/// After an answer the focus is where the question was asked from, so the
+/// keys that move in time still do; an answer about the moment left goes
+/// to the history once, with its moment, and a typed question is said
+/// once in it.
+#[test]
+fn an_answer_keeps_the_focus_and_the_history_keeps_each_answer_once_with_its_moment() {
+    use btx::tui::app::Pane;
+    let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
+    app.update(Action::NextFailure);
+    let moment = app.shown_moment().unwrap().to_string();
+    app.focus = Pane::Timeline;
+    app.ask_words("why did look at chuck fail?");
+    assert_eq!(app.focus, Pane::Timeline);
+    let on_screen = app.answer_text().unwrap();
+    assert_eq!(
+        on_screen
+            .matches("Why did look at chuck (#18) fail")
+            .count(),
+        1,
+        "{on_screen}"
+    );
+    app.ask(&btx::explain::Question::Tree(
+        btx::explain::TreeQuestion::Doing,
+    ));
+    app.update(Action::End);
+    let end = app.shown_moment().unwrap().to_string();
+    assert_ne!(end, moment, "End moved in time");
+    let h = &app.answers.history;
+    assert_eq!(h.len(), 2, "{h:#?}");
+    assert!(
+        h[0].contains(&format!("at moment {moment}")) && h[0].contains("What are you doing?"),
+        "{h:#?}"
+    );
+    assert!(h[1].contains(&format!("at moment {moment}")), "{h:#?}");
+    assert_eq!(
+        h[1].matches("Why did look at chuck (#18) fail").count(),
+        1,
+        "{h:#?}"
+    );
+    // Moving again adds nothing: the answer is in the history once.
+    app.update(Action::Start);
+    assert_eq!(app.answers.history.len(), 2);
+}
+
+/// The screen's rows as one text, each row's borders and padding off, so
+/// that a wrapped sentence reads whole.
+fn joined(s: &str) -> String {
+    s.lines()
+        .map(|l| {
+            l.trim_matches(|c: char| c == ' ' || "│┃".contains(c))
+                .trim()
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A why-question, a divergence and a causal variable longer than the
+/// screen wraps; none is cut at the popup's or the status bar's edge.
+#[test]
+fn long_lines_wrap_in_popups_and_the_status_bar() {
+    let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
+    app.update(Action::NextFailure);
+    app.update(Action::Why);
+    let btx::tui::app::Overlay::Why { targets, .. } = &app.overlay else {
+        panic!("the why-questions: {:?}", app.overlay)
+    };
+    let questions: Vec<String> = targets.iter().map(|(_, q)| q.clone()).collect();
+    assert!(
+        questions.iter().any(|q| q.chars().count() > 70),
+        "{questions:#?}"
+    );
+    let s = joined(&screen(&app, 80, 40));
+    for q in &questions {
+        assert!(
+            s.contains(q.as_str()),
+            "{q:?} cut:\n{}",
+            screen(&app, 80, 40)
+        );
+    }
+    let mut d = diff_app(
+        "sessions/kitting-nominal.jsonl",
+        "sessions/kitting-lookat-fails-once.jsonl",
+    );
+    d.update(Action::NextDivergence);
+    let said = d.message.clone().unwrap();
+    assert!(said.chars().count() > 80, "{said}");
+    let s = screen(&d, 80, 30);
+    assert!(joined(&s).ends_with(&said), "{said:?} cut:\n{s}");
 }

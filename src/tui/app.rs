@@ -324,6 +324,11 @@ impl App {
     pub(crate) fn goto(&mut self, pos: u32) {
         self.pos = pos.min(self.positions());
         self.at_tick = None;
+        // An answer about the moment left goes to the history, said with
+        // its moment (a why-answer stays: it names its own).
+        if self.answer.is_some() {
+            self.remember_answer();
+        }
         self.answer = None;
         self.timeline.scroll = 0;
         self.details.scroll = 0;
@@ -514,7 +519,6 @@ impl App {
             Vec::new()
         };
         self.reply = Some(r);
-        self.focus = Pane::Ask;
         if !self.did_you_mean.is_empty() {
             self.overlay = Overlay::Words {
                 text: String::new(),
@@ -533,7 +537,12 @@ impl App {
             return Some(w.why.text());
         }
         if let Some(r) = &self.reply {
-            return Some(format!("{}\n{}\n", r.understood, r.text()));
+            // The question once: the reply restates it first when btx read it.
+            let text = r.text();
+            return Some(match text.lines().next() == Some(r.understood.as_str()) {
+                true => format!("{text}\n"),
+                false => format!("{}\n{text}\n", r.understood),
+            });
         }
         let a = self.answer.as_ref()?;
         Some(format!("{}\n{}\n", a.question.wording(), a.text))
@@ -731,7 +740,6 @@ impl App {
                 self.reveal(u);
             }
         }
-        self.focus = Pane::Ask;
     }
 
     pub(crate) fn moment(&self) -> Option<crate::session::Moment> {
@@ -793,7 +801,6 @@ impl App {
                     centre: None,
                     pick: None,
                 });
-                self.focus = Pane::Ask;
             }
             Err(e) => self.message = Some(e.to_string()),
         }

@@ -247,13 +247,26 @@ fn help(app: &DiffApp, f: &mut Frame, area: Rect) {
 
 pub fn view(app: &DiffApp, f: &mut Frame) {
     let runs = app.a.session.is_some() || app.b.session.is_some();
+    // A message (a divergence described) wraps onto up to three rows.
+    let width = usize::from(f.area().width).max(1);
+    let said: Vec<String> = app
+        .message
+        .as_deref()
+        .map(|m| {
+            textwrap::wrap(m, width)
+                .into_iter()
+                .map(|r| r.into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    let rows = said.len().clamp(1, 3) as u16;
     let v = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
             Constraint::Min(6),
             Constraint::Length(if app.answer.is_some() { 10 } else { 6 }),
             Constraint::Length(if runs { 2 } else { 0 }),
-            Constraint::Length(1),
+            Constraint::Length(rows),
         ])
         .split(f.area());
     let top = Layout::default()
@@ -269,12 +282,26 @@ pub fn view(app: &DiffApp, f: &mut Frame) {
             v[2],
         );
     }
-    let status = match &app.message {
-        Some(m) => Span::styled(
-            super::view::fit(m, v[3].width as usize),
-            Style::default().fg(Color::Yellow),
-        ),
-        None => Span::styled(app.hints(), Style::default().fg(Color::DarkGray)),
+    let status: Vec<Line> = match app.message {
+        Some(_) => {
+            let last = said.len().min(3);
+            said[..last]
+                .iter()
+                .enumerate()
+                .map(|(i, r)| {
+                    // A fourth row and on is cut, and says so.
+                    let r = match i + 1 == last && said.len() > 3 {
+                        true => super::view::fit(&format!("{r} …"), width),
+                        false => r.clone(),
+                    };
+                    Line::from(Span::styled(r, Style::default().fg(Color::Yellow)))
+                })
+                .collect()
+        }
+        None => vec![Line::from(Span::styled(
+            app.hints(),
+            Style::default().fg(Color::DarkGray),
+        ))],
     };
     f.render_widget(Paragraph::new(status), v[3]);
     if app.help {

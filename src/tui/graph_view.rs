@@ -216,10 +216,13 @@ pub fn draw(n: &Neighbourhood, pick: Option<usize>, width: usize) -> Vec<Line<'s
         None => ("centre", &n.centre),
     };
     lines.push(Line::from(""));
-    lines.push(Line::from(Span::styled(
-        format!("{what}: {} = {}", x.name, x.value),
-        Style::default().add_modifier(Modifier::BOLD),
-    )));
+    // The variable in full, wrapped: a long value is an answer's point.
+    for row in textwrap::wrap(&format!("{what}: {} = {}", x.name, x.value), width) {
+        lines.push(Line::from(Span::styled(
+            row.into_owned(),
+            Style::default().add_modifier(Modifier::BOLD),
+        )));
+    }
     // The hint whole, or a shorter one whole: never cut mid-word.
     let hint = crate::tui::view::first_fitting(
         &[

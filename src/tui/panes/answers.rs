@@ -206,8 +206,14 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
                 Style::default().fg(Color::DarkGray),
             )));
         }
+        // The focus stays where the question was asked: the keys below
+        // are this pane's once Tab brings it here.
+        let keys = "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file · y: copy";
         lines.push(Line::from(Span::styled(
-            "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file · y: copy",
+            match app.focus == Pane::Ask {
+                true => keys.to_string(),
+                false => format!("Tab here, then {keys}"),
+            },
             Style::default().fg(Color::DarkGray),
         )));
         push_history(app, &mut lines);

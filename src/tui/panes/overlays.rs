@@ -664,20 +664,26 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             );
         }
         Overlay::Why { selected, targets } => {
-            let r = centered(area, 70, targets.len() as u16 + 2);
+            // As wide as the longest question, up to the screen; a longer
+            // one wraps under itself, never cut.
+            let longest = targets.iter().map(|(_, q)| q.chars().count()).max();
+            let width = (longest.unwrap_or(0) as u16 + 2)
+                .max(70)
+                .min(area.width.saturating_sub(4));
+            let inner = usize::from(width.saturating_sub(2)).max(1);
+            let mut lines: Vec<Line> = Vec::new();
+            for (i, (_, q)) in targets.iter().enumerate() {
+                let st = if i == *selected {
+                    Style::default().add_modifier(Modifier::REVERSED)
+                } else {
+                    Style::default()
+                };
+                for row in textwrap::wrap(q, inner) {
+                    lines.push(Line::from(Span::styled(row.into_owned(), st)));
+                }
+            }
+            let r = centered(area, width, lines.len() as u16 + 2);
             f.render_widget(Clear, r);
-            let lines: Vec<Line> = targets
-                .iter()
-                .enumerate()
-                .map(|(i, (_, q))| {
-                    let st = if i == *selected {
-                        Style::default().add_modifier(Modifier::REVERSED)
-                    } else {
-                        Style::default()
-                    };
-                    Line::from(Span::styled(q.clone(), st))
-                })
-                .collect();
             let title = format!(
                 " why? about {} ",
                 crate::text::visible(app.tree.description(app.asked_node()))

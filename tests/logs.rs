@@ -683,3 +683,30 @@ fn a_cut_log_and_a_broken_record_say_where() {
         "{err}"
     );
 }
+
+/// One node's rows of a log, read by following that node alone, are its
+/// rows among every row: the same ticks, steps, statuses changed from and
+/// times, for every node of every fixture log, with and without IDLE.
+#[test]
+fn one_nodes_rows_are_its_rows_among_all() {
+    use btx::export::Table;
+    for name in [
+        "kitting_lookat_fails_once.btlog",
+        "kitting_twice.btlog",
+        "patrol_battery_drops.btlog",
+        "counted_runs.btlog",
+    ] {
+        let path = fixture("logs").join(name);
+        let log = btx::logs::number_btlog(&path, std::fs::read(&path).unwrap(), None).unwrap();
+        for no_idle in [false, true] {
+            let mut all = Vec::new();
+            log.each_row(None, no_idle, &mut |r| all.push(r));
+            for u in 1..=log.tree().len() as u32 {
+                let mut one = Vec::new();
+                log.each_row(Some(u), no_idle, &mut |r| one.push(r));
+                let want: Vec<_> = all.iter().filter(|r| r.uid == u).cloned().collect();
+                assert_eq!(one, want, "{name} #{u} no_idle {no_idle}");
+            }
+        }
+    }
+}

@@ -5,6 +5,7 @@ use crate::run::Status;
 use crate::session::Session;
 use serde_json::{json, Value};
 
+#[derive(Debug, Clone, PartialEq)]
 pub struct LogRow {
     pub tick: u32,
     pub step: u32,
@@ -172,6 +173,24 @@ impl Table for crate::logs::Numbered {
             no_idle,
             ..LogFilter::default()
         };
+        if let Some(u) = only {
+            // One node's rows: the others need not be followed.
+            self.each_transition_of(u, |i, step, t| {
+                if filter.keeps(&self.tree, &t) {
+                    f(LogRow {
+                        tick: t.tick,
+                        step,
+                        uid: t.uid,
+                        prev: t.prev,
+                        status: t.status,
+                        decision: None,
+                        gap: None,
+                        time_us: self.times_us.get(i).copied(),
+                    });
+                }
+            });
+            return;
+        }
         let (mut tick, mut step) = (0, 0);
         self.each_transition(|i, t| {
             step = if t.tick == tick { step + 1 } else { 1 };

@@ -23,9 +23,89 @@ pub struct Record {
 pub struct RawLog {
     pub xml: String,
     pub t0_us: i64,
-    pub records: Vec<Record>,
+    /// The records, as columns: a `Record` a transition held 24 bytes where
+    /// these hold 12, and a record's offset is `first + 9 × its index`.
+    pub records: Columns,
+    /// The first record's byte offset.
+    pub first: usize,
     /// Bytes at the end that are not a whole record (a log still being written).
     pub partial_tail: usize,
+}
+
+/// A log's records as columns: each one's uid and status in 4 bytes
+/// (`pack`), and its time (µs since the epoch).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Columns {
+    pub moves: Vec<u32>,
+    pub times: Vec<i64>,
+}
+
+/// Uids below this pack with a status in 4 bytes (BehaviorTree.CPP's are
+/// 16-bit).
+pub const PACKED_UID_MAX: u32 = (1 << 29) - 1;
+
+/// A uid (at most `PACKED_UID_MAX`) and a status in 4 bytes.
+pub fn pack(uid: u32, status: Status) -> u32 {
+    debug_assert!(uid <= PACKED_UID_MAX);
+    uid | u32::from(status.code()) << 29
+}
+
+pub fn unpack(m: u32) -> (u32, Status) {
+    let status = Status::from_code((m >> 29) as u8).expect("a status packed by number");
+    (m & PACKED_UID_MAX, status)
+}
+
+impl Columns {
+    /// Records as columns; their uids must pack (checked by the caller).
+    pub fn of(records: &[Record]) -> Columns {
+        Columns {
+            moves: records.iter().map(|r| pack(r.uid, r.status)).collect(),
+            times: records.iter().map(|r| r.time_us).collect(),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.moves.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.moves.is_empty()
+    }
+
+    pub fn view(&self) -> Packed<'_> {
+        Packed {
+            moves: &self.moves,
+            times: &self.times,
+        }
+    }
+}
+
+/// Columns borrowed, or a part of them.
+#[derive(Debug, Clone, Copy)]
+pub struct Packed<'a> {
+    pub moves: &'a [u32],
+    pub times: &'a [i64],
+}
+
+impl<'a> Packed<'a> {
+    pub fn len(&self) -> usize {
+        self.moves.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.moves.is_empty()
+    }
+
+    pub fn key(&self, i: usize) -> Option<(u32, Status)> {
+        self.moves.get(i).map(|&m| unpack(m))
+    }
+
+    pub fn part(&self, r: std::ops::Range<usize>) -> Packed<'a> {
+        Packed {
+            moves: &self.moves[r.clone()],
+            times: &self.times[r],
+        }
+    }
 }
 
 fn at(path: &Path, offset: usize, msg: impl std::fmt::Display) -> Located {
@@ -84,10 +164,13 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawLog, Located> {
         .get(23 + n..31 + n)
         .ok_or_else(|| at(path, 23 + n, "the file ends inside t0"))?;
     let t0_us = i64::from_le_bytes(t0_bytes.try_into().expect("8 bytes"));
-    let mut records = Vec::with_capacity((bytes.len() - 31 - n) / 9);
-    let mut off = 31 + n;
-    while off + 9 <= bytes.len() {
-        let r = &bytes[off..off + 9];
+    let first = 31 + n;
+    let whole = (bytes.len() - first) / 9;
+    let mut records = Columns {
+        moves: Vec::with_capacity(whole),
+        times: Vec::with_capacity(whole),
+    };
+    for (k, r) in bytes[first..first + 9 * whole].chunks_exact(9).enumerate() {
         let mut dt = [0u8; 8];
         dt[..6].copy_from_slice(&r[..6]);
         let dt = u64::from_le_bytes(dt) as i64;
@@ -95,22 +178,18 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawLog, Located> {
         let status = Status::from_code(r[8]).ok_or_else(|| {
             at(
                 path,
-                off + 8,
+                first + 9 * k + 8,
                 format!("status byte {} is not a status (0 to 4)", r[8]),
             )
         })?;
-        records.push(Record {
-            time_us: t0_us.saturating_add(dt),
-            uid,
-            status,
-            offset: off,
-        });
-        off += 9;
+        records.moves.push(pack(uid, status));
+        records.times.push(t0_us.saturating_add(dt));
     }
     Ok(RawLog {
         xml,
         t0_us,
         records,
-        partial_tail: bytes.len() - off,
+        first,
+        partial_tail: bytes.len() - first - 9 * whole,
     })
 }

@@ -108,7 +108,11 @@ fn btlog_numbered(
             partial_tail: raw.partial_tail,
             xml: &raw.xml,
             version: crate::model::Version::V4,
-            records: raw.records.into(),
+            records: Recs::Columns {
+                cols: raw.records,
+                first: raw.first,
+                size: 9,
+            },
             kind: "btlog",
             resyncs: &[],
             ticks: None,
@@ -194,7 +198,7 @@ fn live_session(
             partial_tail: 0,
             xml,
             version: protocol.version(),
-            records: records.into(),
+            records: Recs::Records(records.into()),
             kind: protocol.name(),
             resyncs,
             ticks,
@@ -229,7 +233,7 @@ pub fn open_db3_as(
             partial_tail: 0,
             xml: &raw.xml,
             version: crate::model::Version::V4,
-            records: std::mem::take(&mut raw.records).into(),
+            records: Recs::Records(std::mem::take(&mut raw.records).into()),
             kind: "db3",
             resyncs: &[],
             ticks: None,
@@ -353,7 +357,7 @@ impl<'a> BagRuns<'a> {
                 partial_tail: 0,
                 xml: "",
                 version: self.given.tree.release,
-                records: self.log.records[start..end].into(),
+                records: Recs::Records(self.log.records[start..end].into()),
                 kind: "rosbag",
                 resyncs: &[],
                 ticks: None,
@@ -419,7 +423,7 @@ pub fn open_fbl_as(
             partial_tail: raw.partial_tail,
             xml: &raw.xml,
             version: crate::model::Version::V3,
-            records: records.into(),
+            records: Recs::Records(records.into()),
             kind: "fbl",
             resyncs: &[],
             ticks: None,
@@ -439,7 +443,7 @@ struct LogRun<'a> {
     version: crate::model::Version,
     /// Owned where the caller gives them up: they are let go before the
     /// session is built (#31 item 1: 24 bytes a transition).
-    records: std::borrow::Cow<'a, [btlog::Record]>,
+    records: Recs<'a>,
     kind: &'a str,
     /// The nodes' states read from the robot, after how many records (at
     /// 0: when recording began; none: all IDLE then).
@@ -451,6 +455,18 @@ struct LogRun<'a> {
     /// That tree as the session's header writes it, where the caller made
     /// it once for many runs (a bag's).
     given_xml: Option<&'a str>,
+}
+
+/// A log's records: as its reader made them, or as columns (a `.btlog`'s,
+/// 12 bytes a record where a `Record` is 24).
+enum Recs<'a> {
+    Records(std::borrow::Cow<'a, [btlog::Record]>),
+    /// Record `i` is at offset `first + size × i`.
+    Columns {
+        cols: btlog::Columns,
+        first: usize,
+        size: usize,
+    },
 }
 
 /// A log's run as a session; `place` names where a record is (a byte
@@ -539,9 +555,23 @@ enum Step<'a> {
     Move(usize, Transition),
 }
 
-fn unpack(m: u32) -> (crate::model::Uid, Status) {
-    let status = Status::from_code((m >> 29) as u8).expect("a status packed by number");
-    (m & ((1 << 29) - 1), status)
+use btlog::unpack;
+
+/// Where each record of a log is.
+enum Offsets {
+    Every { first: usize, size: usize },
+    At(Vec<usize>),
+}
+
+impl Offsets {
+    /// Record `i`'s, of `n`.
+    fn of(&self, i: usize, n: usize) -> Option<usize> {
+        match self {
+            _ if i >= n => None,
+            Offsets::Every { first, size } => Some(first + size * i),
+            Offsets::At(v) => v.get(i).copied(),
+        }
+    }
 }
 
 /// A log's records numbered into ticks, with the tree checked and what
@@ -582,17 +612,33 @@ fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<N
         }
     };
     let mut warnings = Vec::new();
-    if let Some(r) = records.iter().find(|r| tree.get(r.uid).is_none()) {
-        return Err(Located::file(
+    let not_a_node = |offset: usize, uid: u32| {
+        Located::file(
             path,
             format!(
-                "{}: uid {} is not a node of the log's tree ({} nodes)",
-                place(r.offset),
-                r.uid,
+                "{}: uid {uid} is not a node of the log's tree ({} nodes)",
+                place(offset),
                 tree.len()
             ),
-        ));
-    }
+        )
+    };
+    // As columns, each record's offset where it says one.
+    let (records, offsets) = match records {
+        Recs::Records(r) => {
+            if let Some(r) = r.iter().find(|r| tree.get(r.uid).is_none()) {
+                return Err(not_a_node(r.offset, r.uid));
+            }
+            let offsets: Vec<usize> = r.iter().map(|r| r.offset).collect();
+            (btlog::Columns::of(&r), Offsets::At(offsets))
+        }
+        Recs::Columns { cols, first, size } => {
+            let bad = cols.moves.iter().map(|&m| btlog::unpack(m).0);
+            if let Some((i, uid)) = bad.enumerate().find(|(_, u)| tree.get(*u).is_none()) {
+                return Err(not_a_node(first + size * i, uid));
+            }
+            (cols, Offsets::Every { first, size })
+        }
+    };
     if partial_tail > 0 {
         warnings.push(Warning {
             location: format!("{}: byte offset {}", crate::text::path(path), len - partial_tail),
@@ -609,9 +655,9 @@ fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<N
             fell_back: None,
             capped: None,
         },
-        None => ticks::reconstruct(&tree, &records),
+        None => ticks::reconstruct(&tree, records.view()),
     };
-    let at = |i: usize| place(records.get(i).map_or(len, |r| r.offset));
+    let at = |i: usize| place(offsets.of(i, records.len()).unwrap_or(len));
     if let Some(i) = capped {
         warnings.push(Warning {
             location: format!("{}: {}", crate::text::path(path), at(i)),
@@ -629,12 +675,10 @@ fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<N
                     .into(),
         });
     }
-    let times_us: Vec<i64> = records.iter().map(|r| r.time_us).collect();
-    let moves: Vec<u32> = records
-        .iter()
-        .map(|r| r.uid | u32::from(r.status.code()) << 29)
-        .collect();
-    drop(records);
+    let btlog::Columns {
+        moves,
+        times: times_us,
+    } = records;
     let mut header = import_header_with(
         path,
         &tree,
@@ -750,6 +794,39 @@ impl Numbered {
                 f(i, t)
             }
         });
+    }
+
+    /// Each transition of node `uid`, with its place in the log and its
+    /// step in its tick, in order: `each_transition` for one node, which
+    /// follows only that node (a log has no robot's reading of the states
+    /// between its records, so a status changes from the node's last).
+    pub fn each_transition_of(
+        &self,
+        uid: crate::model::Uid,
+        mut f: impl FnMut(usize, u32, Transition),
+    ) {
+        let (mut prev, mut tick, mut first) = (Status::Idle, 0, 0);
+        for (i, (&m, &t)) in self.moves.iter().zip(&self.ticks).enumerate() {
+            if t != tick {
+                (tick, first) = (t, i);
+            }
+            if m & btlog::PACKED_UID_MAX != uid {
+                continue;
+            }
+            let (uid, status) = unpack(m);
+            let from = std::mem::replace(&mut prev, status);
+            let step = (i - first + 1) as u32;
+            f(
+                i,
+                step,
+                Transition {
+                    tick,
+                    uid,
+                    prev: from,
+                    status,
+                },
+            );
+        }
     }
 
     /// The transitions in order, each robot's reading of the nodes'

@@ -11,7 +11,7 @@
 //! log (a custom control node, a lost record), ticks fall back to timing
 //! alone: a new tick after a gap of 1 ms or more, as Groot 1 does.
 
-use super::btlog::Record;
+use super::btlog::{Packed, Record};
 use crate::model::{Tree, Uid};
 use crate::run::{Executor, LeafCall, LeafOutcome, Leaves, RunOptions, Status};
 use crate::session::EMPTY_TICKS_MAX;
@@ -26,21 +26,38 @@ struct Replay<R> {
     ran_out: bool,
 }
 
-impl<R: AsRef<[Record]>> Leaves for Replay<R> {
+/// The records a replay follows: each one's uid and status.
+trait Keys {
+    fn key(&self, i: usize) -> Option<(u32, Status)>;
+}
+
+impl Keys for Vec<Record> {
+    fn key(&self, i: usize) -> Option<(u32, Status)> {
+        self.get(i).map(|r| (r.uid, r.status))
+    }
+}
+
+impl Keys for Packed<'_> {
+    fn key(&self, i: usize) -> Option<(u32, Status)> {
+        Packed::key(self, i)
+    }
+}
+
+impl<R: Keys + Clone> Leaves for Replay<R> {
     fn tick(&mut self, call: &mut LeafCall) -> LeafOutcome {
         let now = if call.resumed {
             Status::Running
         } else {
             Status::Idle
         };
-        let status = match self.recs.as_ref().get(self.cursor) {
+        let status = match self.recs.key(self.cursor) {
             // The log ends inside this tick (it is still being written, or
             // the logger lost its queue): what follows is unknown, not wrong.
             None => {
                 self.ran_out = true;
                 Status::Running
             }
-            Some(r) if r.uid == call.uid && r.status != now => r.status,
+            Some((uid, status)) if uid == call.uid && status != now => status,
             _ if now == Status::Running => Status::Running,
             _ => {
                 self.diverged = true;
@@ -54,8 +71,8 @@ impl<R: AsRef<[Record]>> Leaves for Replay<R> {
     }
 
     fn observe(&mut self, uid: Uid, _prev: Status, status: Status) {
-        match self.recs.as_ref().get(self.cursor) {
-            Some(r) if r.uid == uid && r.status == status => self.cursor += 1,
+        match self.recs.key(self.cursor) {
+            Some(k) if k == (uid, status) => self.cursor += 1,
             None => self.ran_out = true,
             _ => self.diverged = true,
         }
@@ -73,7 +90,7 @@ const PARALLEL_MIN: usize = 1 << 17;
 /// node that keeps state past that (Nav2's RoundRobin keeps its child,
 /// a script its blackboard) makes a piece's replay not follow its
 /// records, and then the log is replayed in one piece.
-fn by_structure(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
+fn by_structure(tree: &Tree, recs: Packed) -> Result<Vec<u32>, usize> {
     // Asked once: the standard library reads the cgroup's files each time,
     // and a bag's thousands of runs are each numbered on their own.
     static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
@@ -93,31 +110,32 @@ fn by_structure(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
 /// run repeats, or where the distinct runs cannot be replayed one after
 /// the other (a node keeps state from run to run): the log is then
 /// replayed as it is.
-fn by_distinct_runs(tree: &Tree, recs: &[Record], pieces: usize) -> Option<Vec<u32>> {
-    let root = tree.root().uid;
+fn by_distinct_runs(tree: &Tree, recs: Packed, pieces: usize) -> Option<Vec<u32>> {
+    let root = super::btlog::pack(tree.root().uid, Status::Idle);
     let mut runs = vec![0];
     runs.extend(
-        recs.iter()
+        recs.moves
+            .iter()
             .enumerate()
-            .filter(|(_, r)| r.uid == root && r.status == Status::Idle)
+            .filter(|(_, &m)| m == root)
             .map(|(i, _)| i + 1)
             .filter(|&i| i < recs.len()),
     );
     runs.push(recs.len());
-    let key = |r: &Record| (r.uid, r.status);
-    let same =
-        |a: &[Record], b: &[Record]| a.len() == b.len() && a.iter().map(key).eq(b.iter().map(key));
     // Each run's distinct run; the distinct ones' ranges in `recs`.
     let mut seen: std::collections::HashMap<(usize, u64), Vec<usize>> = Default::default();
     let mut distinct: Vec<std::ops::Range<usize>> = Vec::new();
     let mut of_run = Vec::with_capacity(runs.len() - 1);
     for w in runs.windows(2) {
-        let run = &recs[w[0]..w[1]];
-        let hash = run.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, r| {
-            (h ^ u64::from(r.uid << 3 | u32::from(r.status.code()))).wrapping_mul(0x0100_0000_01b3)
+        let run = &recs.moves[w[0]..w[1]];
+        let hash = run.iter().fold(0xcbf2_9ce4_8422_2325_u64, |h, &m| {
+            (h ^ u64::from(m)).wrapping_mul(0x0100_0000_01b3)
         });
         let ids = seen.entry((run.len(), hash)).or_default();
-        let id = match ids.iter().find(|&&d| same(&recs[distinct[d].clone()], run)) {
+        let id = match ids
+            .iter()
+            .find(|&&d| recs.moves[distinct[d].clone()] == *run)
+        {
             Some(&d) => d,
             None => {
                 distinct.push(w[0]..w[1]);
@@ -130,11 +148,17 @@ fn by_distinct_runs(tree: &Tree, recs: &[Record], pieces: usize) -> Option<Vec<u
     if distinct.len() == of_run.len() {
         return None;
     }
-    let once: Vec<Record> = distinct
-        .iter()
-        .flat_map(|d| recs[d.clone()].iter().copied())
-        .collect();
-    let numbered = by_structure_in(tree, &once, pieces).ok()?;
+    let once = super::btlog::Columns {
+        moves: distinct
+            .iter()
+            .flat_map(|d| recs.moves[d.clone()].iter().copied())
+            .collect(),
+        times: distinct
+            .iter()
+            .flat_map(|d| recs.times[d.clone()].iter().copied())
+            .collect(),
+    };
+    let numbered = by_structure_in(tree, once.view(), pieces).ok()?;
     // Each distinct run's ticks in `numbered`, which count its first as 1
     // more than the tick before it.
     let mut at = 0;
@@ -154,14 +178,14 @@ fn by_distinct_runs(tree: &Tree, recs: &[Record], pieces: usize) -> Option<Vec<u
     Some(out)
 }
 
-fn by_structure_in(tree: &Tree, recs: &[Record], pieces: usize) -> Result<Vec<u32>, usize> {
+fn by_structure_in(tree: &Tree, recs: Packed, pieces: usize) -> Result<Vec<u32>, usize> {
     let cuts = cuts(tree, recs, pieces);
     if cuts.len() > 2 {
         let parts: Vec<Result<Vec<u32>, usize>> = std::thread::scope(|scope| {
             let handles: Vec<_> = cuts
                 .windows(2)
                 .map(|w| {
-                    let part = &recs[w[0]..w[1]];
+                    let part = recs.part(w[0]..w[1]);
                     scope.spawn(move || by_structure_whole(tree, part))
                 })
                 .collect();
@@ -185,20 +209,17 @@ fn by_structure_in(tree: &Tree, recs: &[Record], pieces: usize) -> Result<Vec<u3
 /// Where to cut `recs` into about `pieces` of like length: just after a
 /// record of the root going back to IDLE. The first cut is 0, the last
 /// the length.
-fn cuts(tree: &Tree, recs: &[Record], pieces: usize) -> Vec<usize> {
+fn cuts(tree: &Tree, recs: Packed, pieces: usize) -> Vec<usize> {
     let mut cuts = vec![0];
     if pieces < 2 || recs.len() < PARALLEL_MIN {
         cuts.push(recs.len());
         return cuts;
     }
-    let root = tree.root().uid;
+    let root = super::btlog::pack(tree.root().uid, Status::Idle);
     for k in 1..pieces {
         let aim = recs.len() * k / pieces;
         let from = aim.max(*cuts.last().expect("seeded"));
-        if let Some(i) = recs[from..]
-            .iter()
-            .position(|r| r.uid == root && r.status == Status::Idle)
-        {
+        if let Some(i) = recs.moves[from..].iter().position(|&m| m == root) {
             let cut = from + i + 1;
             if cut < recs.len() {
                 cuts.push(cut);
@@ -210,7 +231,7 @@ fn cuts(tree: &Tree, recs: &[Record], pieces: usize) -> Vec<usize> {
     cuts
 }
 
-fn by_structure_whole(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
+fn by_structure_whole(tree: &Tree, recs: Packed) -> Result<Vec<u32>, usize> {
     let mut ex = Executor::new(
         tree,
         Replay {
@@ -257,15 +278,16 @@ fn by_structure_whole(tree: &Tree, recs: &[Record]) -> Result<Vec<u32>, usize> {
 }
 
 /// Timing alone: a new tick after a gap of 1 ms or more.
-fn by_timing(recs: &[Record]) -> Vec<u32> {
+fn by_timing(times: &[i64]) -> Vec<u32> {
     let mut n = 0;
     let mut prev: Option<i64> = None;
-    recs.iter()
-        .map(|r| {
-            if prev.is_none_or(|p| r.time_us.saturating_sub(p) >= 1000) {
+    times
+        .iter()
+        .map(|&t| {
+            if prev.is_none_or(|p| t.saturating_sub(p) >= 1000) {
                 n += 1;
             }
-            prev = Some(r.time_us);
+            prev = Some(t);
             n
         })
         .collect()
@@ -293,20 +315,21 @@ fn ticks_in_gap(gap_us: i64, period: Option<i64>, root_idle: bool) -> u32 {
 /// Puts back the ticks in which nothing changed, from the time between
 /// ticks; and the record from which gaps counted for one tick each, if
 /// the empty ticks ran past `EMPTY_TICKS_MAX`.
-fn with_empty_ticks(recs: &[Record], ticks: &[u32]) -> (Vec<u32>, Option<usize>) {
+fn with_empty_ticks(recs: Packed, ticks: &[u32]) -> (Vec<u32>, Option<usize>) {
     let mut firsts: Vec<i64> = Vec::new();
     let mut first_rec: Vec<usize> = Vec::new();
     // Whether the root was left IDLE by the tick before each.
     let mut idle_before: Vec<bool> = Vec::new();
     let mut root_idle = false;
-    for (i, r) in recs.iter().enumerate() {
+    for (i, (&m, &time)) in recs.moves.iter().zip(recs.times).enumerate() {
         if i == 0 || ticks[i] != ticks[i - 1] {
-            firsts.push(r.time_us);
+            firsts.push(time);
             first_rec.push(i);
             idle_before.push(root_idle);
         }
-        if r.uid == Tree::ROOT {
-            root_idle = r.status == Status::Idle;
+        let (uid, status) = super::btlog::unpack(m);
+        if uid == Tree::ROOT {
+            root_idle = status == Status::Idle;
         }
     }
     let mut gaps: Vec<i64> = firsts
@@ -352,10 +375,10 @@ pub struct Ticks {
     pub capped: Option<usize>,
 }
 
-pub fn reconstruct(tree: &Tree, recs: &[Record]) -> Ticks {
+pub fn reconstruct(tree: &Tree, recs: Packed) -> Ticks {
     let (structural, fell_back) = match by_structure(tree, recs) {
         Ok(t) => (t, None),
-        Err(at) => (by_timing(recs), Some(at)),
+        Err(at) => (by_timing(recs.times), Some(at)),
     };
     let (numbers, capped) = with_empty_ticks(recs, &structural);
     Ticks {
@@ -720,7 +743,24 @@ mod tests {
         )
         .unwrap()
         .tree;
-        (tree, raw.records)
+        let records = (raw.records.moves.iter().zip(&raw.records.times))
+            .enumerate()
+            .map(|(i, (&m, &time_us))| {
+                let (uid, status) = crate::logs::btlog::unpack(m);
+                Record {
+                    time_us,
+                    uid,
+                    status,
+                    offset: raw.first + 9 * i,
+                }
+            })
+            .collect();
+        (tree, records)
+    }
+
+    /// Records as the numbering reads them.
+    fn cols(recs: &[Record]) -> crate::logs::btlog::Columns {
+        crate::logs::btlog::Columns::of(recs)
     }
 
     /// The fixture runs of the kitting tree one after the other, `times`
@@ -749,11 +789,17 @@ mod tests {
     fn a_long_log_replayed_in_pieces_is_numbered_as_in_one() {
         let (tree, recs) = kitting_runs(1200);
         assert!(recs.len() > PARALLEL_MIN);
-        let cut = cuts(&tree, &recs, 3);
+        let cut = cuts(&tree, cols(&recs).view(), 3);
         assert_eq!(cut.len(), 4, "three pieces");
-        let whole = by_structure_whole(&tree, &recs).unwrap();
-        assert_eq!(by_structure_in(&tree, &recs, 3).unwrap(), whole);
-        assert_eq!(by_structure_in(&tree, &recs, 2).unwrap(), whole);
+        let whole = by_structure_whole(&tree, cols(&recs).view()).unwrap();
+        assert_eq!(
+            by_structure_in(&tree, cols(&recs).view(), 3).unwrap(),
+            whole
+        );
+        assert_eq!(
+            by_structure_in(&tree, cols(&recs).view(), 2).unwrap(),
+            whole
+        );
     }
 
     #[test]
@@ -761,7 +807,7 @@ mod tests {
         // Runs 100 ms apart, ticks about 5 ms apart: the tree was reset
         // between them, not ticked, so run 2 starts at the next tick.
         let (tree, recs) = kitting_runs(2);
-        let t = reconstruct(&tree, &recs);
+        let t = reconstruct(&tree, cols(&recs).view());
         let second = recs
             .iter()
             .enumerate()
@@ -781,16 +827,25 @@ mod tests {
     #[test]
     fn runs_done_again_are_numbered_as_their_first_without_replaying_them() {
         let (tree, recs) = kitting_runs(41);
-        let whole = by_structure_whole(&tree, &recs).unwrap();
-        assert_eq!(by_distinct_runs(&tree, &recs, 1).unwrap(), whole);
-        assert_eq!(by_distinct_runs(&tree, &recs, 3).unwrap(), whole);
+        let whole = by_structure_whole(&tree, cols(&recs).view()).unwrap();
+        assert_eq!(
+            by_distinct_runs(&tree, cols(&recs).view(), 1).unwrap(),
+            whole
+        );
+        assert_eq!(
+            by_distinct_runs(&tree, cols(&recs).view(), 3).unwrap(),
+            whole
+        );
         // A log cut inside its last run: that run is one of its own.
         let cut = &recs[..recs.len() - 7];
-        let whole = by_structure_whole(&tree, cut).unwrap();
-        assert_eq!(by_distinct_runs(&tree, cut, 2).unwrap(), whole);
+        let whole = by_structure_whole(&tree, cols(&cut).view()).unwrap();
+        assert_eq!(
+            by_distinct_runs(&tree, cols(&cut).view(), 2).unwrap(),
+            whole
+        );
         // No run done twice: nothing to spare, the log is replayed as it is.
         let (tree, once) = kitting_runs(4);
-        assert_eq!(by_distinct_runs(&tree, &once, 2), None);
+        assert_eq!(by_distinct_runs(&tree, cols(&once).view(), 2), None);
     }
 
     #[test]
@@ -829,23 +884,26 @@ mod tests {
                 }
             }
         }
-        let cut = cuts(&tree, &recs, 2);
+        let cut = cuts(&tree, cols(&recs).view(), 2);
         assert_eq!(cut.len(), 3);
         let second = &recs[cut[1]..];
         assert!(
-            by_structure_whole(&tree, second).is_err(),
+            by_structure_whole(&tree, cols(&second).view()).is_err(),
             "the second piece cannot be replayed alone"
         );
-        assert_eq!(by_structure_in(&tree, &recs, 2).unwrap(), truth);
+        assert_eq!(
+            by_structure_in(&tree, cols(&recs).view(), 2).unwrap(),
+            truth
+        );
     }
 
     #[test]
     fn a_log_cut_inside_a_tick_keeps_its_structural_ticks() {
         let (tree, records) = fixture_log("kitting_lookat_fails_once.btlog");
-        let full = reconstruct(&tree, &records);
+        let full = reconstruct(&tree, cols(&records).view());
         assert_eq!((full.fell_back, full.capped), (None, None));
         for cut in [1, 5, 40, 100, records.len() - 1] {
-            let part = reconstruct(&tree, &records[..cut]);
+            let part = reconstruct(&tree, cols(&records[..cut]).view());
             assert_eq!(part.fell_back, None, "cut at {cut}");
             assert_eq!(part.numbers[..], full.numbers[..cut], "cut at {cut}");
         }
@@ -854,7 +912,7 @@ mod tests {
     #[test]
     fn a_short_run_that_goes_quiet_is_numbered_without_waiting_for_its_end() {
         let (tree, records) = fixture_log("kitting_nominal.btlog");
-        let whole = reconstruct(&tree, &records);
+        let whole = reconstruct(&tree, cols(&records).view());
         // The first 5 ticks, then nothing: they wait for the period...
         let five = whole.numbers.iter().take_while(|&&n| n <= 5).count();
         let mut s = Stream::new(&tree);
@@ -886,7 +944,7 @@ mod tests {
             "kitting_detect_chuck_always_fails.btlog",
         ] {
             let (tree, records) = fixture_log(log);
-            let whole = reconstruct(&tree, &records);
+            let whole = reconstruct(&tree, cols(&records).view());
             for chunk in [1, 2, 7, 64, records.len()] {
                 let mut s = Stream::new(&tree);
                 let mut got = Vec::new();
@@ -931,7 +989,7 @@ mod tests {
         got.extend(s.finish());
         assert_eq!(got.len(), recs.len());
         let numbers: Vec<u32> = got.iter().map(|x| x.1).collect();
-        assert_eq!(numbers, by_timing(&recs));
+        assert_eq!(numbers, by_timing(&cols(&recs).times));
     }
 
     #[test]
@@ -959,7 +1017,8 @@ mod tests {
             .into_iter()
             .map(rec)
             .collect();
-        let (ticks, capped) = with_empty_ticks(&recs, &by_timing(&recs));
+        let c = cols(&recs);
+        let (ticks, capped) = with_empty_ticks(c.view(), &by_timing(&c.times));
         assert_eq!(&ticks[..3], [1, 2, 3]);
         assert_eq!(ticks[3], 3 + 1_000_000);
         assert!(ticks.iter().all(|&t| t <= u32::MAX / 2));
@@ -977,7 +1036,8 @@ mod tests {
             times.push(t);
         }
         let recs: Vec<Record> = times.into_iter().map(rec).collect();
-        let (ticks, capped) = with_empty_ticks(&recs, &by_timing(&recs));
+        let c = cols(&recs);
+        let (ticks, capped) = with_empty_ticks(c.view(), &by_timing(&c.times));
         assert_eq!(capped, Some(30));
         let last = *ticks.last().unwrap();
         assert_eq!(last, 35 + EMPTY_TICKS_MAX);

@@ -85,10 +85,12 @@ fn oracle(cases: &[Case], dir: &Path) -> Vec<Run> {
                 .collect();
             let path = dir.join(format!("{i}.btlog"));
             let log = btlog::parse(&path, &std::fs::read(&path).unwrap()).unwrap();
-            let transitions = log
-                .records
-                .iter()
-                .map(|r| (nearest_tick(&ticks, r.time_us), r.uid, r.status))
+            let records = &log.records;
+            let transitions = (records.moves.iter().zip(&records.times))
+                .map(|(&m, &time_us)| {
+                    let (uid, status) = btlog::unpack(m);
+                    (nearest_tick(&ticks, time_us), uid, status)
+                })
                 .collect();
             Run {
                 transitions,

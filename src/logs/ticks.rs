@@ -838,11 +838,8 @@ mod tests {
         );
         // A log cut inside its last run: that run is one of its own.
         let cut = &recs[..recs.len() - 7];
-        let whole = by_structure_whole(&tree, cols(&cut).view()).unwrap();
-        assert_eq!(
-            by_distinct_runs(&tree, cols(&cut).view(), 2).unwrap(),
-            whole
-        );
+        let whole = by_structure_whole(&tree, cols(cut).view()).unwrap();
+        assert_eq!(by_distinct_runs(&tree, cols(cut).view(), 2).unwrap(), whole);
         // No run done twice: nothing to spare, the log is replayed as it is.
         let (tree, once) = kitting_runs(4);
         assert_eq!(by_distinct_runs(&tree, cols(&once).view(), 2), None);
@@ -888,7 +885,7 @@ mod tests {
         assert_eq!(cut.len(), 3);
         let second = &recs[cut[1]..];
         assert!(
-            by_structure_whole(&tree, cols(&second).view()).is_err(),
+            by_structure_whole(&tree, cols(second).view()).is_err(),
             "the second piece cannot be replayed alone"
         );
         assert_eq!(

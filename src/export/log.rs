@@ -173,31 +173,11 @@ impl Table for crate::logs::Numbered {
             no_idle,
             ..LogFilter::default()
         };
-        if let Some(u) = only {
-            // One node's rows: the others need not be followed.
-            self.each_transition_of(u, |i, step, t| {
-                if filter.keeps(&self.tree, &t) {
-                    f(LogRow {
-                        tick: t.tick,
-                        step,
-                        uid: t.uid,
-                        prev: t.prev,
-                        status: t.status,
-                        decision: None,
-                        gap: None,
-                        time_us: self.times_us.get(i).copied(),
-                    });
-                }
-            });
-            return;
-        }
-        let (mut tick, mut step) = (0, 0);
-        self.each_transition(|i, t| {
-            step = if t.tick == tick { step + 1 } else { 1 };
-            tick = t.tick;
+        // A log's row: no gap, no decision.
+        let mut row = |i: usize, step: u32, t: crate::session::Transition| {
             if filter.keeps(&self.tree, &t) {
                 f(LogRow {
-                    tick,
+                    tick: t.tick,
                     step,
                     uid: t.uid,
                     prev: t.prev,
@@ -207,7 +187,19 @@ impl Table for crate::logs::Numbered {
                     time_us: self.times_us.get(i).copied(),
                 });
             }
-        });
+        };
+        match only {
+            // One node's rows: the others need not be followed.
+            Some(u) => self.each_transition_of(u, row),
+            None => {
+                let (mut tick, mut step) = (0, 0);
+                self.each_transition(|i, t| {
+                    step = if t.tick == tick { step + 1 } else { 1 };
+                    tick = t.tick;
+                    row(i, step, t)
+                });
+            }
+        }
     }
     fn trailing_gaps(&self) -> Vec<&str> {
         Vec::new()

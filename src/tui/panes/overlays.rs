@@ -459,241 +459,273 @@ impl App {
 pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
     match &app.overlay {
         Overlay::None => {}
-        Overlay::Help { scroll } => {
-            let mut lines: Vec<Line> = app
-                .keymap
-                .keys
-                .iter()
-                .map(|b| {
-                    Line::from(vec![
-                        Span::styled(
-                            format!("{:<16}", b.0.join(" ")),
-                            Style::default().fg(Color::Yellow),
-                        ),
-                        Span::raw(b.2),
-                    ])
-                })
-                .collect();
-            lines.push(Line::from(""));
-            for (sign, what) in LEGEND {
-                lines.push(Line::from(vec![
-                    Span::styled(format!("{sign:<16}"), Style::default().fg(Color::Yellow)),
-                    Span::raw(*what),
-                ]));
-            }
-            let r = centered(area, 76, lines.len() as u16 + 2);
-            let shown = r.height.saturating_sub(2) as usize;
-            let top = (*scroll).min(lines.len().saturating_sub(shown));
-            let more = if top + shown < lines.len() {
-                " ↓ more "
-            } else {
-                ""
-            };
-            f.render_widget(Clear, r);
-            f.render_widget(
-                Paragraph::new(lines).scroll((top as u16, 0)).block(
-                    Block::default()
-                        .borders(Borders::ALL)
-                        .title(" keys and signs (↑↓ scroll, ? or Esc to close) ")
-                        .title_bottom(more),
-                ),
-                r,
-            );
-        }
-        Overlay::Finder { query, selected } => {
-            let r = centered(
-                area,
-                area.width.saturating_sub(8),
-                area.height.saturating_sub(4),
-            );
-            f.render_widget(Clear, r);
-            let b = Block::default()
-                .borders(Borders::ALL)
-                .title(prompt_title("find: ", query, app.cursor, r.width));
-            let inner = b.inner(r);
-            f.render_widget(b, r);
-            let results = app.finder_results(query);
-            let h = inner.height as usize;
-            let first = selected.saturating_sub(h.saturating_sub(1));
-            let mut lines = Vec::new();
-            for (i, (u, idx)) in results.iter().enumerate().skip(first).take(h) {
-                let label = app.finder_label(*u);
-                // A row too long ends in … (its path, usually), never cut bare.
-                let (n, w) = (label.chars().count(), inner.width as usize);
-                let keep = if n > w { w.saturating_sub(1) } else { n };
-                let mut spans = Vec::new();
-                for (ci, ch) in label.chars().enumerate().take(keep) {
-                    let mut st = Style::default();
-                    if idx.contains(&ci) {
-                        st = st.fg(Color::Yellow).add_modifier(Modifier::BOLD);
-                    }
-                    if i == *selected {
-                        st = st.add_modifier(Modifier::REVERSED);
-                    }
-                    spans.push(Span::styled(ch.to_string(), st));
-                }
-                if keep < n {
-                    spans.push(Span::raw("…"));
-                }
-                lines.push(Line::from(spans));
-            }
-            f.render_widget(Paragraph::new(lines), inner);
-        }
-        Overlay::Running { selected } => {
-            let rows: Vec<String> = app
-                .running_nodes()
-                .iter()
-                .map(|&u| {
-                    format!(
-                        "{} #{u}  {}",
-                        crate::text::visible(app.tree.description(u)),
-                        app.tree.type_name(u)
-                    )
-                })
-                .collect();
-            list(
-                f,
-                area,
-                70,
-                &rows,
-                *selected,
-                " RUNNING now: Enter selects ",
-            );
-        }
-        Overlay::Faults { selected, lines } => {
-            let rows: Vec<String> = lines
-                .iter()
-                .map(|(l, _, _)| crate::text::visible(l).to_string())
-                .collect();
-            let width = area.width.saturating_sub(4).min(140);
-            list(
-                f,
-                area,
-                width,
-                &rows,
-                *selected,
-                " Faults, newest first: Enter goes to one ",
-            );
-        }
-        Overlay::Pick { selected } => {
-            let Some(c) = &app.choices else { return };
-            let rows: Vec<String> = c
-                .lines(app.live.as_ref())
-                .iter()
-                .enumerate()
-                .map(|(i, row)| {
-                    let mark = if i == c.current() { "▸ " } else { "  " };
-                    format!("{mark}{}", crate::text::visible(row))
-                })
-                .collect();
-            let width = area.width.saturating_sub(4).min(110);
-            list(f, area, width, &rows, *selected, c.title());
-        }
-        Overlay::CanYou { text, selected } => {
-            let r = centered(
-                area,
-                area.width.saturating_sub(8).min(70),
-                area.height.saturating_sub(4).min(16),
-            );
-            f.render_widget(Clear, r);
-            let b = Block::default().borders(Borders::ALL).title(prompt_title(
-                "Can you ",
-                &format!("{text}?"),
-                Some(app.cursor.unwrap_or(text.chars().count())),
-                r.width,
-            ));
-            let inner = b.inner(r);
-            f.render_widget(b, r);
-            let h = inner.height as usize;
-            let first = selected.saturating_sub(h.saturating_sub(1));
-            let lines: Vec<Line> = app
-                .can_you_candidates(text)
-                .into_iter()
-                .enumerate()
-                .skip(first)
-                .take(h)
-                .map(|(i, d)| {
-                    let st = if i == *selected {
-                        Style::default().add_modifier(Modifier::REVERSED)
-                    } else {
-                        Style::default()
-                    };
-                    Line::from(Span::styled(crate::text::visible(&d).into_owned(), st))
-                })
-                .collect();
-            f.render_widget(Paragraph::new(lines), inner);
-        }
+        Overlay::Help { scroll } => draw_help(app, f, area, scroll),
+        Overlay::Finder { query, selected } => draw_finder(app, f, area, query, selected),
+        Overlay::Running { selected } => draw_running(app, f, area, selected),
+        Overlay::Faults { selected, lines } => draw_faults(f, area, selected, lines),
+        Overlay::Pick { selected } => draw_pick(app, f, area, selected),
+        Overlay::CanYou { text, selected } => draw_can_you(app, f, area, text, selected),
         Overlay::Words { text, selected, .. } => draw_words(app, f, area, text, *selected),
-        Overlay::Filter { text } => {
-            let r = centered(area, area.width.saturating_sub(8).min(70), 3);
-            f.render_widget(Clear, r);
-            f.render_widget(
-                Paragraph::new(prompt_window(
-                    text,
-                    app.cursor,
-                    usize::from(r.width.saturating_sub(2)),
-                ))
-                .block(
-                    Block::default()
-                        .borders(Borders::ALL)
-                        .title(" show transitions of nodes named: Enter applies, empty for all "),
+        Overlay::Filter { text } => draw_filter(app, f, area, text),
+        Overlay::Export { path, replace } => draw_export(app, f, area, path, replace),
+        Overlay::Why { selected, targets } => draw_why(app, f, area, selected, targets),
+    }
+}
+
+/// The keys and the signs, scrolled.
+fn draw_help(app: &App, f: &mut Frame, area: Rect, scroll: &usize) {
+    let mut lines: Vec<Line> = app
+        .keymap
+        .keys
+        .iter()
+        .map(|b| {
+            Line::from(vec![
+                Span::styled(
+                    format!("{:<16}", b.0.join(" ")),
+                    Style::default().fg(Color::Yellow),
                 ),
-                r,
-            );
-        }
-        Overlay::Export { path, replace } => {
-            let r = centered(area, area.width.saturating_sub(8).min(90), 4);
-            f.render_widget(Clear, r);
-            let title = if *replace {
-                " a file is there: Enter replaces it, Esc keeps it "
-            } else {
-                " write the causal model (DOT) to: Enter writes, Esc cancels "
-            };
-            let note = app.message.clone().unwrap_or_default();
-            f.render_widget(
-                Paragraph::new(vec![
-                    Line::from(prompt_window(
-                        path,
-                        app.cursor,
-                        usize::from(r.width.saturating_sub(2)),
-                    )),
-                    Line::from(crate::text::visible(&note).into_owned()),
-                ])
-                .block(Block::default().borders(Borders::ALL).title(title)),
-                r,
-            );
-        }
-        Overlay::Why { selected, targets } => {
-            // As wide as the longest question, up to the screen; a longer
-            // one wraps under itself, never cut.
-            let longest = targets.iter().map(|(_, q)| q.chars().count()).max();
-            let width = (longest.unwrap_or(0) as u16 + 2)
-                .max(70)
-                .min(area.width.saturating_sub(4));
-            let inner = usize::from(width.saturating_sub(2)).max(1);
-            let mut lines: Vec<Line> = Vec::new();
-            for (i, (_, q)) in targets.iter().enumerate() {
-                let st = if i == *selected {
-                    Style::default().add_modifier(Modifier::REVERSED)
-                } else {
-                    Style::default()
-                };
-                for row in textwrap::wrap(q, inner) {
-                    lines.push(Line::from(Span::styled(row.into_owned(), st)));
-                }
+                Span::raw(b.2),
+            ])
+        })
+        .collect();
+    lines.push(Line::from(""));
+    for (sign, what) in LEGEND {
+        lines.push(Line::from(vec![
+            Span::styled(format!("{sign:<16}"), Style::default().fg(Color::Yellow)),
+            Span::raw(*what),
+        ]));
+    }
+    let r = centered(area, 76, lines.len() as u16 + 2);
+    let shown = r.height.saturating_sub(2) as usize;
+    let top = (*scroll).min(lines.len().saturating_sub(shown));
+    let more = if top + shown < lines.len() {
+        " ↓ more "
+    } else {
+        ""
+    };
+    f.render_widget(Clear, r);
+    f.render_widget(
+        Paragraph::new(lines).scroll((top as u16, 0)).block(
+            Block::default()
+                .borders(Borders::ALL)
+                .title(" keys and signs (↑↓ scroll, ? or Esc to close) ")
+                .title_bottom(more),
+        ),
+        r,
+    );
+}
+
+/// The finder: the query, and the nodes it matches.
+fn draw_finder(app: &App, f: &mut Frame, area: Rect, query: &str, selected: &usize) {
+    let r = centered(
+        area,
+        area.width.saturating_sub(8),
+        area.height.saturating_sub(4),
+    );
+    f.render_widget(Clear, r);
+    let b = Block::default()
+        .borders(Borders::ALL)
+        .title(prompt_title("find: ", query, app.cursor, r.width));
+    let inner = b.inner(r);
+    f.render_widget(b, r);
+    let results = app.finder_results(query);
+    let h = inner.height as usize;
+    let first = selected.saturating_sub(h.saturating_sub(1));
+    let mut lines = Vec::new();
+    for (i, (u, idx)) in results.iter().enumerate().skip(first).take(h) {
+        let label = app.finder_label(*u);
+        // A row too long ends in … (its path, usually), never cut bare.
+        let (n, w) = (label.chars().count(), inner.width as usize);
+        let keep = if n > w { w.saturating_sub(1) } else { n };
+        let mut spans = Vec::new();
+        for (ci, ch) in label.chars().enumerate().take(keep) {
+            let mut st = Style::default();
+            if idx.contains(&ci) {
+                st = st.fg(Color::Yellow).add_modifier(Modifier::BOLD);
             }
-            let r = centered(area, width, lines.len() as u16 + 2);
-            f.render_widget(Clear, r);
-            let title = format!(
-                " why? about {} ",
-                crate::text::visible(app.tree.description(app.asked_node()))
-            );
-            f.render_widget(
-                Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
-                r,
-            );
+            if i == *selected {
+                st = st.add_modifier(Modifier::REVERSED);
+            }
+            spans.push(Span::styled(ch.to_string(), st));
+        }
+        if keep < n {
+            spans.push(Span::raw("…"));
+        }
+        lines.push(Line::from(spans));
+    }
+    f.render_widget(Paragraph::new(lines), inner);
+}
+
+/// The nodes RUNNING now, to pick one.
+fn draw_running(app: &App, f: &mut Frame, area: Rect, selected: &usize) {
+    let rows: Vec<String> = app
+        .running_nodes()
+        .iter()
+        .map(|&u| {
+            format!(
+                "{} #{u}  {}",
+                crate::text::visible(app.tree.description(u)),
+                app.tree.type_name(u)
+            )
+        })
+        .collect();
+    list(
+        f,
+        area,
+        70,
+        &rows,
+        *selected,
+        " RUNNING now: Enter selects ",
+    );
+}
+
+/// The faults, newest first, to go to one.
+fn draw_faults(
+    f: &mut Frame,
+    area: Rect,
+    selected: &usize,
+    lines: &[(String, u32, crate::model::Uid)],
+) {
+    let rows: Vec<String> = lines
+        .iter()
+        .map(|(l, _, _)| crate::text::visible(l).to_string())
+        .collect();
+    let width = area.width.saturating_sub(4).min(140);
+    list(
+        f,
+        area,
+        width,
+        &rows,
+        *selected,
+        " Faults, newest first: Enter goes to one ",
+    );
+}
+
+/// A list to pick a run, a robot or a session from.
+fn draw_pick(app: &App, f: &mut Frame, area: Rect, selected: &usize) {
+    let Some(c) = &app.choices else { return };
+    let rows: Vec<String> = c
+        .lines(app.live.as_ref())
+        .iter()
+        .enumerate()
+        .map(|(i, row)| {
+            let mark = if i == c.current() { "▸ " } else { "  " };
+            format!("{mark}{}", crate::text::visible(row))
+        })
+        .collect();
+    let width = area.width.saturating_sub(4).min(110);
+    list(f, area, width, &rows, *selected, c.title());
+}
+
+/// "Can you …?": the prompt, and the subgoals it completes to.
+fn draw_can_you(app: &App, f: &mut Frame, area: Rect, text: &str, selected: &usize) {
+    let r = centered(
+        area,
+        area.width.saturating_sub(8).min(70),
+        area.height.saturating_sub(4).min(16),
+    );
+    f.render_widget(Clear, r);
+    let b = Block::default().borders(Borders::ALL).title(prompt_title(
+        "Can you ",
+        &format!("{text}?"),
+        Some(app.cursor.unwrap_or(text.chars().count())),
+        r.width,
+    ));
+    let inner = b.inner(r);
+    f.render_widget(b, r);
+    let h = inner.height as usize;
+    let first = selected.saturating_sub(h.saturating_sub(1));
+    let lines: Vec<Line> = app
+        .can_you_candidates(text)
+        .into_iter()
+        .enumerate()
+        .skip(first)
+        .take(h)
+        .map(|(i, d)| {
+            let st = if i == *selected {
+                Style::default().add_modifier(Modifier::REVERSED)
+            } else {
+                Style::default()
+            };
+            Line::from(Span::styled(crate::text::visible(&d).into_owned(), st))
+        })
+        .collect();
+    f.render_widget(Paragraph::new(lines), inner);
+}
+
+/// The timeline's name filter.
+fn draw_filter(app: &App, f: &mut Frame, area: Rect, text: &str) {
+    let r = centered(area, area.width.saturating_sub(8).min(70), 3);
+    f.render_widget(Clear, r);
+    f.render_widget(
+        Paragraph::new(prompt_window(
+            text,
+            app.cursor,
+            usize::from(r.width.saturating_sub(2)),
+        ))
+        .block(
+            Block::default()
+                .borders(Borders::ALL)
+                .title(" show transitions of nodes named: Enter applies, empty for all "),
+        ),
+        r,
+    );
+}
+
+/// Where to write the causal model.
+fn draw_export(app: &App, f: &mut Frame, area: Rect, path: &str, replace: &bool) {
+    let r = centered(area, area.width.saturating_sub(8).min(90), 4);
+    f.render_widget(Clear, r);
+    let title = if *replace {
+        " a file is there: Enter replaces it, Esc keeps it "
+    } else {
+        " write the causal model (DOT) to: Enter writes, Esc cancels "
+    };
+    let note = app.message.clone().unwrap_or_default();
+    f.render_widget(
+        Paragraph::new(vec![
+            Line::from(prompt_window(
+                path,
+                app.cursor,
+                usize::from(r.width.saturating_sub(2)),
+            )),
+            Line::from(crate::text::visible(&note).into_owned()),
+        ])
+        .block(Block::default().borders(Borders::ALL).title(title)),
+        r,
+    );
+}
+
+/// The why-questions about the node, each whole.
+fn draw_why(app: &App, f: &mut Frame, area: Rect, selected: &usize, targets: &[(String, String)]) {
+    // As wide as the longest question, up to the screen; a longer
+    // one wraps under itself, never cut.
+    let longest = targets.iter().map(|(_, q)| q.chars().count()).max();
+    let width = (longest.unwrap_or(0) as u16 + 2)
+        .max(70)
+        .min(area.width.saturating_sub(4));
+    let inner = usize::from(width.saturating_sub(2)).max(1);
+    let mut lines: Vec<Line> = Vec::new();
+    for (i, (_, q)) in targets.iter().enumerate() {
+        let st = if i == *selected {
+            Style::default().add_modifier(Modifier::REVERSED)
+        } else {
+            Style::default()
+        };
+        for row in textwrap::wrap(q, inner) {
+            lines.push(Line::from(Span::styled(row.into_owned(), st)));
         }
     }
+    let r = centered(area, width, lines.len() as u16 + 2);
+    f.render_widget(Clear, r);
+    let title = format!(
+        " why? about {} ",
+        crate::text::visible(app.tree.description(app.asked_node()))
+    );
+    f.render_widget(
+        Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
+        r,
+    );
 }
 
 /// The prompt of a question in the user's own words, with its completions.

@@ -211,6 +211,38 @@ fn shown_transitions(app: &App, s: &crate::session::Session, rows: usize) -> Vec
 }
 
 pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
+    let b = block(title(app), app.focus == Pane::Timeline);
+    let inner = b.inner(area);
+    f.render_widget(b, area);
+    let Some(s) = &app.session else {
+        f.render_widget(
+            Paragraph::new("no run: open a session to step through it"),
+            inner,
+        );
+        return;
+    };
+    let m = app
+        .shown_moment()
+        .unwrap_or_else(|| s.index.at(app.pos).moment());
+    let mut lines = vec![head(app, s, m, inner.width as usize)];
+    // A strip of what the selected node did in each tick around now, and
+    // its tick axis.
+    let width = inner.width.saturating_sub(10) as u32;
+    let start = m.tick.saturating_sub(width / 2).max(1);
+    let end = (start + width).min(s.index.ticks());
+    lines.push(strip(app, s, m, start..=end));
+    lines.push(axis(start..=end));
+    // The transitions around the moment (those the filters keep).
+    let around = (inner.height as usize).saturating_sub(3);
+    for i in shown_transitions(app, s, around) {
+        lines.push(transition_row(s, i, i + 1 == app.pos as usize));
+    }
+    f.render_widget(Paragraph::new(lines), inner);
+}
+
+/// The pane's title: how the run ended (a live robot's status and faults),
+/// and the filters that hide transitions.
+fn title(app: &App) -> String {
     let mut title = match (&app.live, &app.session) {
         (Some(l), Some(s)) => {
             // How far behind goes first: the status line is long.
@@ -253,19 +285,17 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         }
         title.push_str(&format!("· showing {} ", parts.join(", ")));
     }
-    let b = block(title, app.focus == Pane::Timeline);
-    let inner = b.inner(area);
-    f.render_widget(b, area);
-    let Some(s) = &app.session else {
-        f.render_widget(
-            Paragraph::new("no run: open a session to step through it"),
-            inner,
-        );
-        return;
-    };
-    let m = app
-        .shown_moment()
-        .unwrap_or_else(|| s.index.at(app.pos).moment());
+    title
+}
+
+/// The moment, its tick and transition of the run's, and the strip's
+/// legend as far as it fits in `width`.
+fn head(
+    app: &App,
+    s: &crate::session::Session,
+    m: crate::session::Moment,
+    width: usize,
+) -> Line<'static> {
     let ticks = s.index.ticks();
     let total = s.index.transitions.len();
     let mut play = if app.playing {
@@ -294,7 +324,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             m.tick, app.pos
         ),
     };
-    let room = (inner.width as usize).saturating_sub(head.chars().count() + 4);
+    let room = width.saturating_sub(head.chars().count() + 4);
     // The strip's legend, shorter where the long one does not fit.
     let legend = first_fitting(
         &[
@@ -304,7 +334,7 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         ],
         room,
     );
-    let mut lines = vec![Line::from(vec![
+    Line::from(vec![
         Span::raw(head),
         Span::styled(
             if legend.is_empty() {
@@ -314,14 +344,21 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             },
             Style::default().fg(Color::DarkGray),
         ),
-    ])];
-    // A strip of what the selected node did in each tick around now: a
-    // status only where it ran, `·` where it did not, blank before it first ran.
-    let width = inner.width.saturating_sub(10) as u32;
-    let start = m.tick.saturating_sub(width / 2).max(1);
+    ])
+}
+
+/// What the selected node did in each of the ticks: a status only where
+/// it ran, `·` where it did not, blank before it first ran; the moment's
+/// tick reversed.
+fn strip(
+    app: &App,
+    s: &crate::session::Session,
+    m: crate::session::Moment,
+    ticks: std::ops::RangeInclusive<u32>,
+) -> Line<'static> {
+    use crate::session::TickMark;
     let mut strip = vec![Span::raw(format!("#{:<4} ", app.selected))];
-    for t in start..=(start + width).min(ticks) {
-        use crate::session::TickMark;
+    for t in ticks {
         let (c, color) = match s.index.tick_mark(app.selected, t) {
             TickMark::Running => ('▆', status_color(Status::Running)),
             TickMark::Done(Status::Failure) => ('▃', status_color(Status::Failure)),
@@ -336,11 +373,14 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         }
         strip.push(Span::styled(c.to_string(), style));
     }
-    lines.push(Line::from(strip));
-    // Its tick axis: a mark and the number every ten ticks.
+    Line::from(strip)
+}
+
+/// The strip's tick axis: a mark and the number every ten ticks.
+fn axis(ticks: std::ops::RangeInclusive<u32>) -> Line<'static> {
     let mut axis = String::from("tick  ");
-    let mut t = start;
-    while t <= (start + width).min(ticks) {
+    let mut t = *ticks.start();
+    while t <= *ticks.end() {
         if t.is_multiple_of(10) || t == 1 {
             let label = format!("╵{t}");
             axis.push_str(&label);
@@ -351,49 +391,45 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             t += 1;
         }
     }
-    lines.push(Line::from(Span::styled(
-        axis,
-        Style::default().fg(Color::DarkGray),
-    )));
-    // The transitions around the moment (those the filters keep).
-    let around = (inner.height as usize).saturating_sub(3);
-    for i in shown_transitions(app, s, around) {
-        let t = s.index.transitions[i];
-        let here = i + 1 == app.pos as usize;
-        let style = if here {
-            Style::default().add_modifier(Modifier::REVERSED)
-        } else {
-            Style::default()
-        };
-        lines.push(Line::from(vec![
-            Span::styled(
-                format!(
-                    "{:>5} #{:<4} {:<32} ",
-                    t.tick,
-                    t.uid,
-                    truncate(&crate::text::visible(s.tree.description(t.uid)), 32)
-                ),
-                style,
+    Line::from(Span::styled(axis, Style::default().fg(Color::DarkGray)))
+}
+
+/// Transition `i` as a row: its tick, node, and the statuses it changed
+/// between; reversed `here`; a live run's gap before it said.
+fn transition_row(s: &crate::session::Session, i: usize, here: bool) -> Line<'static> {
+    let t = s.index.transitions[i];
+    let style = if here {
+        Style::default().add_modifier(Modifier::REVERSED)
+    } else {
+        Style::default()
+    };
+    Line::from(vec![
+        Span::styled(
+            format!(
+                "{:>5} #{:<4} {:<32} ",
+                t.tick,
+                t.uid,
+                truncate(&crate::text::visible(s.tree.description(t.uid)), 32)
             ),
-            Span::styled(
-                format!("{:<8}", t.prev.as_str()),
-                Style::default().fg(status_color(t.prev)),
-            ),
-            Span::raw(" → "),
-            Span::styled(
-                t.status.as_str(),
-                Style::default().fg(status_color(t.status)),
-            ),
-            // A live run's gap just before this transition.
-            Span::styled(
-                if s.index.gaps.iter().any(|g| g.0 as usize == i) {
-                    "  ⋯ gap before: transitions may be missing"
-                } else {
-                    ""
-                },
-                Style::default().fg(Color::Yellow),
-            ),
-        ]));
-    }
-    f.render_widget(Paragraph::new(lines), inner);
+            style,
+        ),
+        Span::styled(
+            format!("{:<8}", t.prev.as_str()),
+            Style::default().fg(status_color(t.prev)),
+        ),
+        Span::raw(" → "),
+        Span::styled(
+            t.status.as_str(),
+            Style::default().fg(status_color(t.status)),
+        ),
+        // A live run's gap just before this transition.
+        Span::styled(
+            if s.index.gaps.iter().any(|g| g.0 as usize == i) {
+                "  ⋯ gap before: transitions may be missing"
+            } else {
+                ""
+            },
+            Style::default().fg(Color::Yellow),
+        ),
+    ])
 }

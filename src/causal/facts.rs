@@ -485,7 +485,6 @@ impl TickFacts {
     }
 
     fn replayed(session: &Session, tick: u32, from: From) -> Result<TickFacts, String> {
-        let tree = &session.tree;
         let idx = &session.index;
         if tick == 0 || tick > idx.ticks() {
             return Err(format!(
@@ -493,147 +492,205 @@ impl TickFacts {
                 idx.ticks()
             ));
         }
-        let n = tree.len();
-        let (mut ex, mut feed) = replay_to(session, tick, from)?;
-        let uids = 1..=n as Uid;
-        let mut flows: Vec<Flow> = uids.clone().map(|u| ex.flow(u)).collect();
-        let mut start: Vec<Status> = uids.clone().map(|u| ex.status(u)).collect();
-        ex.record_calls = true;
-        feed.fill(session, &mut ex.leaves, tick);
-        ex.tick_once()
-            .map_err(|e| format!("replaying tick {tick}: {e}"))?;
-        // Counted from the tick's start: the counter's value before it
-        // depends on where the replay began (a run gone over, `Marks`).
-        let mut call_log = ex.call_log().to_vec();
-        let base = call_log.iter().map(|c| c.entry_seq).min().unwrap_or(1) - 1;
-        for c in &mut call_log {
-            c.entry_seq -= base;
-            c.exit_seq -= base;
-        }
-        // A node ticked more than once in the tick (under a Retry or a
-        // Repeat) is taken at its last tick, and its descendants at the
-        // ticks that belong to it: those that began after it began.
-        let mut ticked = vec![false; n];
-        let mut returned = vec![Status::Idle; n];
-        for u in tree.preorder() {
-            let i = u as usize - 1;
-            let (t, s) = ex.last_ticked(u);
-            let (seq, flow, entry_status) = ex.last_entry(u);
-            let in_parent = tree
-                .node(u)
-                .parent
-                .is_none_or(|p| ticked[p as usize - 1] && ex.last_entry(p).0 < seq);
-            if t == tick && in_parent {
-                ticked[i] = true;
-                returned[i] = s;
-                flows[i] = flow.clone();
-                start[i] = entry_status;
-            }
-        }
-        let guessed = ex.leaves.guessed.clone();
-        let calls: Vec<u32> = (1..=n as Uid).map(|u| ex.calls(u)).collect();
+        let r = replay_tick(session, tick, from)?;
+        let (decisions, outcome) = recorded(session, tick, &r.ticked, &r.returned);
+        let bb = blackboard_through(session, tick, &r.ticked);
+        let per_call = per_call_facts(
+            &session.tree,
+            &r.call_log,
+            &bb.start,
+            &writes_of_tick(session, tick),
+            idx.tick_range(tick).start as u32,
+        );
+        Ok(TickFacts {
+            tick,
+            ticked: r.ticked,
+            returned: r.returned,
+            flows: r.flows,
+            start: r.start,
+            decisions,
+            outcome,
+            state_start: bb.start,
+            state_before: bb.before,
+            state_end: bb.end,
+            order: bb.order,
+            done_at: bb.done_at,
+            guessed: r.guessed,
+            calls: r.calls,
+            call_log: r.call_log,
+            per_call,
+        })
+    }
+}
 
-        // Decisions and outcomes from the record.
-        let range = idx.tick_range(tick);
-        let mut decisions = vec![None; n];
-        let mut outcome = vec![Status::Success; n];
-        for (i, t) in idx.transitions[..range.end].iter().enumerate() {
-            if t.status == Status::Idle || !tree.node(t.uid).kind.is_leaf() {
-                continue;
-            }
-            outcome[t.uid as usize - 1] = t.status;
-            if range.contains(&i) {
-                if let Some(dd) = idx.transition_decision(i) {
-                    decisions[t.uid as usize - 1] = Some(dd.to_string());
-                }
-            }
-        }
-        for &(_, t, uid, ref dd) in &idx.decision_calls {
-            if t == tick && tree.get(uid).is_some() {
-                decisions[uid as usize - 1] = Some(dd.clone());
-            }
-        }
-        for u in uids {
-            if ticked[u as usize - 1] && tree.node(u).kind.is_leaf() {
-                outcome[u as usize - 1] = returned[u as usize - 1];
-            }
-        }
+/// What the executor did in one tick, replayed.
+struct Replayed {
+    ticked: Vec<bool>,
+    returned: Vec<Status>,
+    flows: Vec<Flow>,
+    start: Vec<Status>,
+    guessed: Vec<(u32, Uid)>,
+    calls: Vec<u32>,
+    call_log: Vec<CallRecord>,
+}
 
-        // The blackboard through the tick, from the writes.
-        let mut state: HashMap<EntryId, Value> =
-            session.header.blackboard.iter().cloned().collect();
-        let mut w = 0;
-        let writes = &idx.writes;
-        while let Some(x) = writes.get(w).filter(|x| x.tick < tick) {
-            state.insert(x.entry.clone(), x.value.clone());
-            w += 1;
+/// Replays tick `tick`: which nodes were ticked in it, what they
+/// returned, and the control state and status each began it with.
+fn replay_tick(session: &Session, tick: u32, from: From) -> Result<Replayed, String> {
+    let tree = &session.tree;
+    let n = tree.len();
+    let (mut ex, mut feed) = replay_to(session, tick, from)?;
+    let uids = 1..=n as Uid;
+    let mut flows: Vec<Flow> = uids.clone().map(|u| ex.flow(u)).collect();
+    let mut start: Vec<Status> = uids.clone().map(|u| ex.status(u)).collect();
+    ex.record_calls = true;
+    feed.fill(session, &mut ex.leaves, tick);
+    ex.tick_once()
+        .map_err(|e| format!("replaying tick {tick}: {e}"))?;
+    // Counted from the tick's start: the counter's value before it
+    // depends on where the replay began (a run gone over, `Marks`).
+    let mut call_log = ex.call_log().to_vec();
+    let base = call_log.iter().map(|c| c.entry_seq).min().unwrap_or(1) - 1;
+    for c in &mut call_log {
+        c.entry_seq -= base;
+        c.exit_seq -= base;
+    }
+    // A node ticked more than once in the tick (under a Retry or a
+    // Repeat) is taken at its last tick, and its descendants at the
+    // ticks that belong to it: those that began after it began.
+    let mut ticked = vec![false; n];
+    let mut returned = vec![Status::Idle; n];
+    for u in tree.preorder() {
+        let i = u as usize - 1;
+        let (t, s) = ex.last_ticked(u);
+        let (seq, flow, entry_status) = ex.last_entry(u);
+        let in_parent = tree
+            .node(u)
+            .parent
+            .is_none_or(|p| ticked[p as usize - 1] && ex.last_entry(p).0 < seq);
+        if t == tick && in_parent {
+            ticked[i] = true;
+            returned[i] = s;
+            flows[i] = flow.clone();
+            start[i] = entry_status;
         }
-        let state_start = state.clone();
-        let mut state_before = HashMap::new();
-        let mut order = Vec::new();
-        let mut done_at = HashMap::new();
-        let mut first_call = |uid: Uid, state: &HashMap<EntryId, Value>| {
-            if tree.node(uid).kind.is_leaf() && !state_before.contains_key(&uid) {
-                state_before.insert(uid, state.clone());
-                order.push(uid);
-            }
-        };
-        for i in range.clone() {
-            while let Some(x) = writes
-                .get(w)
-                .filter(|x| x.tick == tick && x.pos as usize <= i)
-            {
-                first_call(x.uid, &state);
-                state.insert(x.entry.clone(), x.value.clone());
-                w += 1;
-            }
-            let t = &idx.transitions[i];
-            if t.status != Status::Idle {
-                first_call(t.uid, &state);
-                if tree.node(t.uid).kind.is_leaf() {
-                    done_at.entry(t.uid).or_insert(i as u32 + 1);
-                }
+    }
+    Ok(Replayed {
+        guessed: ex.leaves.guessed.clone(),
+        calls: uids.map(|u| ex.calls(u)).collect(),
+        ticked,
+        returned,
+        flows,
+        start,
+        call_log,
+    })
+}
+
+/// The leaves' decisions in tick `tick`, and the status each returns if
+/// ticked (`TickFacts::outcome`), from the record and the replay.
+fn recorded(
+    session: &Session,
+    tick: u32,
+    ticked: &[bool],
+    returned: &[Status],
+) -> (Vec<Option<String>>, Vec<Status>) {
+    let (tree, idx) = (&session.tree, &session.index);
+    let n = tree.len();
+    let range = idx.tick_range(tick);
+    let mut decisions = vec![None; n];
+    let mut outcome = vec![Status::Success; n];
+    for (i, t) in idx.transitions[..range.end].iter().enumerate() {
+        if t.status == Status::Idle || !tree.node(t.uid).kind.is_leaf() {
+            continue;
+        }
+        outcome[t.uid as usize - 1] = t.status;
+        if range.contains(&i) {
+            if let Some(dd) = idx.transition_decision(i) {
+                decisions[t.uid as usize - 1] = Some(dd.to_string());
             }
         }
-        while let Some(x) = writes.get(w).filter(|x| x.tick == tick) {
+    }
+    for &(_, t, uid, ref dd) in &idx.decision_calls {
+        if t == tick && tree.get(uid).is_some() {
+            decisions[uid as usize - 1] = Some(dd.clone());
+        }
+    }
+    for u in 1..=n as Uid {
+        if ticked[u as usize - 1] && tree.node(u).kind.is_leaf() {
+            outcome[u as usize - 1] = returned[u as usize - 1];
+        }
+    }
+    (decisions, outcome)
+}
+
+/// The blackboard through a tick, from the writes: at its start, before
+/// each leaf's first call, and at its end; the leaves' first calls in
+/// order, and where each had happened.
+struct TickBlackboard {
+    start: HashMap<EntryId, Value>,
+    before: HashMap<Uid, HashMap<EntryId, Value>>,
+    end: HashMap<EntryId, Value>,
+    order: Vec<Uid>,
+    done_at: HashMap<Uid, u32>,
+}
+
+fn blackboard_through(session: &Session, tick: u32, ticked: &[bool]) -> TickBlackboard {
+    let (tree, idx) = (&session.tree, &session.index);
+    let range = idx.tick_range(tick);
+    let mut state: HashMap<EntryId, Value> = session.header.blackboard.iter().cloned().collect();
+    let mut w = 0;
+    let writes = &idx.writes;
+    while let Some(x) = writes.get(w).filter(|x| x.tick < tick) {
+        state.insert(x.entry.clone(), x.value.clone());
+        w += 1;
+    }
+    let state_start = state.clone();
+    let mut state_before = HashMap::new();
+    let mut order = Vec::new();
+    let mut done_at = HashMap::new();
+    let mut first_call = |uid: Uid, state: &HashMap<EntryId, Value>| {
+        if tree.node(uid).kind.is_leaf() && !state_before.contains_key(&uid) {
+            state_before.insert(uid, state.clone());
+            order.push(uid);
+        }
+    };
+    for i in range {
+        while let Some(x) = writes
+            .get(w)
+            .filter(|x| x.tick == tick && x.pos as usize <= i)
+        {
             first_call(x.uid, &state);
             state.insert(x.entry.clone(), x.value.clone());
             w += 1;
         }
-        // An action ticked again while RUNNING leaves no record of its
-        // call; the state it read is taken as the tick's start (exact
-        // unless a leaf before it in the tick wrote one of its inputs).
-        for (u, &t) in ticked.iter().enumerate() {
-            let uid = u as Uid + 1;
-            if t && tree.node(uid).kind == Kind::Action && !state_before.contains_key(&uid) {
-                state_before.insert(uid, state_start.clone());
+        let t = &idx.transitions[i];
+        if t.status != Status::Idle {
+            first_call(t.uid, &state);
+            if tree.node(t.uid).kind.is_leaf() {
+                done_at.entry(t.uid).or_insert(i as u32 + 1);
             }
         }
-        let per_call = per_call_facts(
-            tree,
-            &call_log,
-            &state_start,
-            &writes_of_tick(session, tick),
-            range.start as u32,
-        );
-        Ok(TickFacts {
-            tick,
-            ticked,
-            returned,
-            flows,
-            start,
-            decisions,
-            outcome,
-            state_start,
-            state_before,
-            state_end: state,
-            order,
-            done_at,
-            guessed,
-            calls,
-            call_log,
-            per_call,
-        })
+    }
+    while let Some(x) = writes.get(w).filter(|x| x.tick == tick) {
+        first_call(x.uid, &state);
+        state.insert(x.entry.clone(), x.value.clone());
+        w += 1;
+    }
+    // An action ticked again while RUNNING leaves no record of its
+    // call; the state it read is taken as the tick's start (exact
+    // unless a leaf before it in the tick wrote one of its inputs).
+    for (u, &t) in ticked.iter().enumerate() {
+        let uid = u as Uid + 1;
+        if t && tree.node(uid).kind == Kind::Action && !state_before.contains_key(&uid) {
+            state_before.insert(uid, state_start.clone());
+        }
+    }
+    TickBlackboard {
+        start: state_start,
+        before: state_before,
+        end: state,
+        order,
+        done_at,
     }
 }
 

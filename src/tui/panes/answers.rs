@@ -148,10 +148,46 @@ fn push_history(app: &App, lines: &mut Vec<Line<'static>>) {
 }
 
 pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
-    let b = block(" ask (a) ".into(), app.focus == Pane::Ask);
-    // An answer on screen names what it was asked about, wherever the
-    // selection has gone since.
-    let about = match &app.asked {
+    let mut lines = vec![Line::from(Span::styled(
+        about(app),
+        Style::default().fg(Color::DarkGray),
+    ))];
+    let title = match (&app.why, &app.reply, &app.answer) {
+        (Some(w), ..) => {
+            why_lines(app, w, &mut lines);
+            " why (w) "
+        }
+        (None, Some(r), _) => {
+            reply_lines(r, &mut lines);
+            " ask (a) "
+        }
+        (None, None, Some(a)) => {
+            lines.push(Line::from(Span::styled(
+                a.question.wording(),
+                Style::default().add_modifier(Modifier::BOLD),
+            )));
+            // Q5's steps come a line each.
+            lines.extend(a.text.lines().map(|l| Line::from(l.to_string())));
+            lines.push(used(&a.nodes));
+            " ask (a) "
+        }
+        (None, None, None) => {
+            lines.push(Line::from(
+                "press a to ask a question about the selected node",
+            ));
+            " ask (a) "
+        }
+    };
+    push_history(app, &mut lines);
+    let (p, last) = scrolled(lines, app.answers.scroll, area);
+    note_max(app, false, last);
+    f.render_widget(p.block(block(title.into(), app.focus == Pane::Ask)), area);
+}
+
+/// What the answer on screen was asked about, wherever the selection has
+/// gone since; with no answer, the node a question would be about.
+fn about(app: &App) -> String {
+    match &app.asked {
         Some((u, at)) if app.answer.is_some() || app.why.is_some() || app.reply.is_some() => {
             format!(
                 "about {} #{u}{}",
@@ -165,122 +201,91 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
             crate::text::visible(app.tree.description(app.asked_node())),
             app.asked_node()
         ),
-    };
-    let mut lines = vec![Line::from(Span::styled(
-        about,
-        Style::default().fg(Color::DarkGray),
-    ))];
-    if let Some(w) = &app.why {
-        let q = &w.why;
+    }
+}
+
+/// "from #13 #18": the nodes an answer used.
+fn used(nodes: &[crate::model::Uid]) -> Line<'static> {
+    let used: Vec<String> = nodes.iter().map(|u| format!("#{u}")).collect();
+    Line::from(Span::styled(
+        format!("from {}", used.join(" ")),
+        Style::default().fg(Color::Cyan),
+    ))
+}
+
+/// A why-answer: the question, the causes re-runs found, the
+/// explanations (the picked one reversed) and the pane's keys.
+fn why_lines(app: &App, w: &crate::tui::app::WhyView, lines: &mut Vec<Line<'static>>) {
+    let q = &w.why;
+    lines.push(Line::from(Span::styled(
+        crate::causal::english::question(&q.model, &q.query),
+        Style::default().add_modifier(Modifier::BOLD),
+    )));
+    // Causes found by running the tree again at calls the model does
+    // not hold come first, as in `btx why`.
+    for c in q.call_sentences() {
+        lines.push(Line::from(format!("• {c}")));
+    }
+    let sentences = q.sentences();
+    if sentences.is_empty() && q.answer.stopped.is_some() {
+        let text = crate::causal::english::stopped_text(&q.answer);
+        lines.push(Line::from(text.trim_end().to_string()));
+    } else if sentences.is_empty() {
+        // The CLI's words, word for word (the reason nothing explains
+        // it, and what re-running said).
+        let text = q.text();
+        lines.extend(text.lines().skip(1).map(|l| Line::from(l.to_string())));
+    }
+    let limit = q.shown.unwrap_or(usize::MAX);
+    for (i, s) in sentences.iter().enumerate().take(limit) {
+        let st = if i == w.selected {
+            Style::default().add_modifier(Modifier::REVERSED)
+        } else {
+            Style::default()
+        };
+        lines.push(Line::from(Span::styled(format!("{}. {s}", i + 1), st)));
+    }
+    if sentences.len() > limit {
         lines.push(Line::from(Span::styled(
-            crate::causal::english::question(&q.model, &q.query),
-            Style::default().add_modifier(Modifier::BOLD),
-        )));
-        // Causes found by running the tree again at calls the model does
-        // not hold come first, as in `btx why`.
-        for c in q.call_sentences() {
-            lines.push(Line::from(format!("• {c}")));
-        }
-        let sentences = q.sentences();
-        if sentences.is_empty() && q.answer.stopped.is_some() {
-            let text = crate::causal::english::stopped_text(&q.answer);
-            lines.push(Line::from(text.trim_end().to_string()));
-        } else if sentences.is_empty() {
-            // The CLI's words, word for word (the reason nothing explains
-            // it, and what re-running said).
-            let text = q.text();
-            lines.extend(text.lines().skip(1).map(|l| Line::from(l.to_string())));
-        }
-        let limit = q.shown.unwrap_or(usize::MAX);
-        for (i, s) in sentences.iter().enumerate().take(limit) {
-            let st = if i == w.selected {
-                Style::default().add_modifier(Modifier::REVERSED)
-            } else {
-                Style::default()
-            };
-            lines.push(Line::from(Span::styled(format!("{}. {s}", i + 1), st)));
-        }
-        if sentences.len() > limit {
-            lines.push(Line::from(Span::styled(
-                format!("… and {} more (+ shows more)", sentences.len() - limit),
-                Style::default().fg(Color::DarkGray),
-            )));
-        }
-        // The focus stays where the question was asked: the keys below
-        // are this pane's once Tab brings it here.
-        let keys = "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file · y: copy";
-        lines.push(Line::from(Span::styled(
-            match app.focus == Pane::Ask {
-                true => keys.to_string(),
-                false => format!("Tab here, then {keys}"),
-            },
+            format!("… and {} more (+ shows more)", sentences.len() - limit),
             Style::default().fg(Color::DarkGray),
         )));
-        push_history(app, &mut lines);
-        f.render_widget(
-            {
-                let (p, last) = scrolled(lines, app.answers.scroll, area);
-                note_max(app, false, last);
-                p.block(block(" why (w) ".into(), app.focus == Pane::Ask))
-            },
-            area,
-        );
-        return;
     }
-    if let Some(r) = &app.reply {
-        // What btx read, when it was not sure, comes first.
-        if r.unsure() {
-            lines.push(Line::from(Span::styled(
-                crate::text::visible(&r.read_as()).into_owned(),
-                Style::default().fg(Color::Yellow),
-            )));
-        }
+    // The focus stays where the question was asked: the keys below
+    // are this pane's once Tab brings it here.
+    let keys = "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file · y: copy";
+    lines.push(Line::from(Span::styled(
+        match app.focus == Pane::Ask {
+            true => keys.to_string(),
+            false => format!("Tab here, then {keys}"),
+        },
+        Style::default().fg(Color::DarkGray),
+    )));
+}
+
+/// A question typed in words: what btx read when it was not sure, the
+/// question as it read it, the answer and the nodes it used.
+fn reply_lines(r: &Reply, lines: &mut Vec<Line<'static>>) {
+    if r.unsure() {
         lines.push(Line::from(Span::styled(
-            if r.understood.is_empty() {
-                r.question.clone()
-            } else {
-                r.understood.clone()
-            },
-            Style::default().add_modifier(Modifier::BOLD),
+            crate::text::visible(&r.read_as()).into_owned(),
+            Style::default().fg(Color::Yellow),
         )));
-        let body = Reply::body(r);
-        lines.extend(
-            body.lines()
-                .map(|l| Line::from(crate::text::visible(l).into_owned())),
-        );
-        if !r.nodes.is_empty() {
-            let used: Vec<String> = r.nodes.iter().map(|u| format!("#{u}")).collect();
-            lines.push(Line::from(Span::styled(
-                format!("from {}", used.join(" ")),
-                Style::default().fg(Color::Cyan),
-            )));
-        }
-        push_history(app, &mut lines);
-        let (p, last) = scrolled(lines, app.answers.scroll, area);
-        note_max(app, false, last);
-        f.render_widget(p.block(b), area);
-        return;
     }
-    match &app.answer {
-        Some(a) => {
-            lines.push(Line::from(Span::styled(
-                a.question.wording(),
-                Style::default().add_modifier(Modifier::BOLD),
-            )));
-            // Q5's steps come a line each.
-            lines.extend(a.text.lines().map(|l| Line::from(l.to_string())));
-            let used: Vec<String> = a.nodes.iter().map(|u| format!("#{u}")).collect();
-            lines.push(Line::from(Span::styled(
-                format!("from {}", used.join(" ")),
-                Style::default().fg(Color::Cyan),
-            )));
-        }
-        None => lines.push(Line::from(
-            "press a to ask a question about the selected node",
-        )),
+    lines.push(Line::from(Span::styled(
+        if r.understood.is_empty() {
+            r.question.clone()
+        } else {
+            r.understood.clone()
+        },
+        Style::default().add_modifier(Modifier::BOLD),
+    )));
+    let body = Reply::body(r);
+    lines.extend(
+        body.lines()
+            .map(|l| Line::from(crate::text::visible(l).into_owned())),
+    );
+    if !r.nodes.is_empty() {
+        lines.push(used(&r.nodes));
     }
-    push_history(app, &mut lines);
-    let (p, last) = scrolled(lines, app.answers.scroll, area);
-    note_max(app, false, last);
-    f.render_widget(p.block(b), area);
 }

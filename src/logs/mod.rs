@@ -589,56 +589,9 @@ fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<N
         given,
         given_xml,
     } = run;
-    let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
-    let tree = match given {
-        // A log that embeds no tree (a rosbag) has only the one given.
-        Some(g) if xml.is_empty() => g.tree.clone(),
-        _ => {
-            let embedded = load_str(
-                &name,
-                xml,
-                &LoadOptions {
-                    version: Some(version),
-                    main_tree: None,
-                    embedded: true,
-                    ..Default::default()
-                },
-            )?
-            .tree;
-            match given {
-                Some(g) => g.checked(path, &embedded)?,
-                None => embedded,
-            }
-        }
-    };
+    let tree = log_tree(path, xml, version, given)?;
+    let (records, offsets) = as_columns(path, &tree, records, place)?;
     let mut warnings = Vec::new();
-    let not_a_node = |offset: usize, uid: u32| {
-        Located::file(
-            path,
-            format!(
-                "{}: uid {uid} is not a node of the log's tree ({} nodes)",
-                place(offset),
-                tree.len()
-            ),
-        )
-    };
-    // As columns, each record's offset where it says one.
-    let (records, offsets) = match records {
-        Recs::Records(r) => {
-            if let Some(r) = r.iter().find(|r| tree.get(r.uid).is_none()) {
-                return Err(not_a_node(r.offset, r.uid));
-            }
-            let offsets: Vec<usize> = r.iter().map(|r| r.offset).collect();
-            (btlog::Columns::of(&r), Offsets::At(offsets))
-        }
-        Recs::Columns { cols, first, size } => {
-            let bad = cols.moves.iter().map(|&m| btlog::unpack(m).0);
-            if let Some((i, uid)) = bad.enumerate().find(|(_, u)| tree.get(*u).is_none()) {
-                return Err(not_a_node(first + size * i, uid));
-            }
-            (cols, Offsets::Every { first, size })
-        }
-    };
     if partial_tail > 0 {
         warnings.push(Warning {
             location: format!("{}: byte offset {}", crate::text::path(path), len - partial_tail),
@@ -700,6 +653,71 @@ fn number(path: &Path, run: LogRun, place: &dyn Fn(usize) -> String) -> Result<N
         header,
         run: None,
     })
+}
+
+/// The tree a log's records are of: the one it embeds, or the tree file
+/// the robot ran once checked against it (a rosbag embeds none).
+fn log_tree(
+    path: &Path,
+    xml: &str,
+    version: crate::model::Version,
+    given: Option<GivenTree>,
+) -> Result<crate::model::Tree, Located> {
+    if let Some(g) = given.filter(|_| xml.is_empty()) {
+        return Ok(g.tree.clone());
+    }
+    let name = PathBuf::from(format!("{} (embedded tree)", path.display()));
+    let embedded = load_str(
+        &name,
+        xml,
+        &LoadOptions {
+            version: Some(version),
+            main_tree: None,
+            embedded: true,
+            ..Default::default()
+        },
+    )?
+    .tree;
+    match given {
+        Some(g) => g.checked(path, &embedded),
+        None => Ok(embedded),
+    }
+}
+
+/// A log's records as columns, each one's offset where it says one; an
+/// error names the first record whose uid is no node of `tree`.
+fn as_columns(
+    path: &Path,
+    tree: &crate::model::Tree,
+    records: Recs,
+    place: &dyn Fn(usize) -> String,
+) -> Result<(btlog::Columns, Offsets), Located> {
+    let not_a_node = |offset: usize, uid: u32| {
+        Located::file(
+            path,
+            format!(
+                "{}: uid {uid} is not a node of the log's tree ({} nodes)",
+                place(offset),
+                tree.len()
+            ),
+        )
+    };
+    match records {
+        Recs::Records(r) => {
+            if let Some(r) = r.iter().find(|r| tree.get(r.uid).is_none()) {
+                return Err(not_a_node(r.offset, r.uid));
+            }
+            let offsets: Vec<usize> = r.iter().map(|r| r.offset).collect();
+            Ok((btlog::Columns::of(&r), Offsets::At(offsets)))
+        }
+        Recs::Columns { cols, first, size } => {
+            let bad = cols.moves.iter().map(|&m| btlog::unpack(m).0);
+            if let Some((i, uid)) = bad.enumerate().find(|(_, u)| tree.get(*u).is_none()) {
+                return Err(not_a_node(first + size * i, uid));
+            }
+            Ok((cols, Offsets::Every { first, size }))
+        }
+    }
 }
 
 /// Whether the root's transition from `prev` to `to`, in tick `tick` of a

@@ -87,9 +87,6 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
     f.render_widget(b, area);
     let h = inner.height as usize;
     let first = first_row(app, h);
-    let at = app.at();
-    let current = at.and_then(|a| a.current());
-    let highlighted: Vec<Uid> = app.highlighted();
     let width = inner.width as usize;
     // Deep rows scroll sideways with the selection: its indentation is kept
     // within half the pane, and rows that start left of the view show `‹`.
@@ -99,104 +96,139 @@ pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
         .find(|r| r.uid == app.selected)
         .map_or(0, |r| r.depth);
     let shift = (2 * sel_depth).saturating_sub(width / 2);
-    let mut lines = Vec::with_capacity(h);
-    for r in app.rows().iter().skip(first).take(h) {
-        let status = app.status(r.uid);
-        let mut marker = match status {
-            Status::Idle => " ".to_string(),
-            s => s.as_str()[..1].to_string(),
-        };
-        let mut mstyle = Style::default()
-            .fg(status_color(status))
-            .add_modifier(Modifier::BOLD);
-        if let Some(a) = &at {
-            if status == Status::Idle {
-                let t = a
-                    .index
-                    .changes_of(r.uid)
-                    .iter()
-                    .rev()
-                    .find(|&&p| p <= a.pos)
-                    .map(|&p| a.index.transitions[p as usize - 1]);
-                if t.is_some_and(|t| t.prev == Status::Running) {
-                    marker = "H".into();
-                    mstyle = Style::default().fg(Color::Magenta);
-                } else if a.failed(r.uid) {
-                    marker = "x".into();
-                    mstyle = Style::default().fg(Color::Red);
-                }
-            }
+    let seen = Seen {
+        at: app.at(),
+        highlighted: app.highlighted(),
+    };
+    let lines: Vec<Line> = app
+        .rows()
+        .iter()
+        .skip(first)
+        .take(h)
+        .map(|r| row(app, &seen, r, shift, width))
+        .collect();
+    f.render_widget(Paragraph::new(lines), inner);
+}
+
+/// What every row is drawn against: the moment, and the nodes the answer
+/// on screen highlights.
+struct Seen<'a> {
+    at: Option<crate::session::At<'a>>,
+    highlighted: Vec<Uid>,
+}
+
+/// A node's row: its status letter, indentation shifted left by `shift`,
+/// fold, glyph, role and name (cut so that its uid always shows) in
+/// `width` columns.
+fn row(
+    app: &App,
+    seen: &Seen,
+    r: &crate::tui::app::Row,
+    shift: usize,
+    width: usize,
+) -> Line<'static> {
+    let current = seen.at.as_ref().and_then(|a| a.current());
+    let (marker, mstyle) = marker(app, seen, r.uid);
+    let fold = if !r.has_children {
+        "  "
+    } else if app.collapsed.contains(&r.uid) {
+        "▸ "
+    } else {
+        "▾ "
+    };
+    let mut name_style = Style::default();
+    if seen.highlighted.contains(&r.uid) {
+        name_style = name_style
+            .fg(Color::Cyan)
+            .add_modifier(Modifier::UNDERLINED);
+    }
+    if Some(r.uid) == current {
+        name_style = name_style.add_modifier(Modifier::BOLD);
+    }
+    if r.uid == app.selected {
+        name_style = name_style.add_modifier(Modifier::REVERSED);
+    }
+    let role = if app.framed_view {
+        match app
+            .framed
+            .nodes
+            .iter()
+            .find(|x| x.uid == r.uid)
+            .map(|x| x.role)
+        {
+            Some(crate::frame::Role::Goal) => "goal ",
+            Some(crate::frame::Role::Subgoal) => "subgoal ",
+            Some(crate::frame::Role::Step) => "step ",
+            _ => "",
         }
-        let fold = if !r.has_children {
-            "  "
-        } else if app.collapsed.contains(&r.uid) {
-            "▸ "
-        } else {
-            "▾ "
-        };
-        let mut name_style = Style::default();
-        if highlighted.contains(&r.uid) {
-            name_style = name_style
-                .fg(Color::Cyan)
-                .add_modifier(Modifier::UNDERLINED);
-        }
-        if Some(r.uid) == current {
-            name_style = name_style.add_modifier(Modifier::BOLD);
-        }
-        if r.uid == app.selected {
-            name_style = name_style.add_modifier(Modifier::REVERSED);
-        }
-        let role = if app.framed_view {
-            match app
-                .framed
-                .nodes
-                .iter()
-                .find(|x| x.uid == r.uid)
-                .map(|x| x.role)
-            {
-                Some(crate::frame::Role::Goal) => "goal ",
-                Some(crate::frame::Role::Subgoal) => "subgoal ",
-                Some(crate::frame::Role::Step) => "step ",
-                _ => "",
-            }
+    } else {
+        ""
+    };
+    let indent = match (2 * r.depth).checked_sub(shift) {
+        Some(n) if shift == 0 => " ".repeat(n),
+        Some(n) => format!("‹{}", " ".repeat(n.saturating_sub(1))),
+        None => "‹".to_string(),
+    };
+    let head = vec![
+        Span::styled(format!("{marker} "), mstyle),
+        Span::raw(indent),
+        Span::raw(fold),
+        Span::styled(
+            format!("{} ", glyph(app, r.uid)),
+            Style::default().fg(Color::Blue),
+        ),
+    ];
+    let tail = [
+        Span::styled(format!(" #{}", r.uid), Style::default().fg(Color::DarkGray)),
+        Span::raw(if Some(r.uid) == current {
+            "  ◀ now"
         } else {
             ""
-        };
-        let indent = match (2 * r.depth).checked_sub(shift) {
-            Some(n) if shift == 0 => " ".repeat(n),
-            Some(n) => format!("‹{}", " ".repeat(n.saturating_sub(1))),
-            None => "‹".to_string(),
-        };
-        let head = vec![
-            Span::styled(format!("{marker} "), mstyle),
-            Span::raw(indent),
-            Span::raw(fold),
-            Span::styled(
-                format!("{} ", glyph(app, r.uid)),
-                Style::default().fg(Color::Blue),
-            ),
-        ];
-        let tail = [
-            Span::styled(format!(" #{}", r.uid), Style::default().fg(Color::DarkGray)),
-            Span::raw(if Some(r.uid) == current {
-                "  ◀ now"
-            } else {
-                ""
-            }),
-        ];
-        // The name gives way, with an ellipsis, so the uid always shows.
-        let used: usize = head.iter().chain(&tail[..1]).map(Span::width).sum();
-        let name = fit(
-            &format!(
-                "{role}{}",
-                crate::text::visible(app.tree.description(r.uid))
-            ),
-            width.saturating_sub(used),
-        );
-        let mut spans = head;
-        spans.push(Span::styled(name, name_style));
-        spans.extend(tail);
-        lines.push(Line::from(spans));
+        }),
+    ];
+    // The name gives way, with an ellipsis, so the uid always shows.
+    let used: usize = head.iter().chain(&tail[..1]).map(Span::width).sum();
+    let name = fit(
+        &format!(
+            "{role}{}",
+            crate::text::visible(app.tree.description(r.uid))
+        ),
+        width.saturating_sub(used),
+    );
+    let mut spans = head;
+    spans.push(Span::styled(name, name_style));
+    spans.extend(tail);
+    Line::from(spans)
+}
+
+/// A node's status letter at the moment: its status, or for an IDLE one
+/// `H` if it was halted while RUNNING and `x` if it failed earlier.
+fn marker(app: &App, seen: &Seen, uid: Uid) -> (String, Style) {
+    let status = app.status(uid);
+    let mut marker = match status {
+        Status::Idle => " ".to_string(),
+        s => s.as_str()[..1].to_string(),
+    };
+    let mut mstyle = Style::default()
+        .fg(status_color(status))
+        .add_modifier(Modifier::BOLD);
+    if let Some(a) = &seen.at {
+        if status == Status::Idle {
+            let t = a
+                .index
+                .changes_of(uid)
+                .iter()
+                .rev()
+                .find(|&&p| p <= a.pos)
+                .map(|&p| a.index.transitions[p as usize - 1]);
+            if t.is_some_and(|t| t.prev == Status::Running) {
+                marker = "H".into();
+                mstyle = Style::default().fg(Color::Magenta);
+            } else if a.failed(uid) {
+                marker = "x".into();
+                mstyle = Style::default().fg(Color::Red);
+            }
+        }
     }
-    f.render_widget(Paragraph::new(lines), inner);
+    (marker, mstyle)
 }

@@ -208,6 +208,14 @@ impl Marks {
         }
     }
 
+    /// Cuts the session's runs, once, with room for each one's state.
+    fn cut_runs(&mut self, session: &Session) {
+        let runs = self.runs.get_or_insert_with(|| Runs::of(session));
+        if self.at_start.len() != runs.starts.len() {
+            self.at_start = vec![None; runs.starts.len()];
+        }
+    }
+
     /// The latest run starting at or before `tick` whose state is known,
     /// going on from known states through runs like ones replayed before:
     /// the run's first tick and its state, resumed there. From run `from`
@@ -218,10 +226,8 @@ impl Marks {
         tick: u32,
         from: Option<usize>,
     ) -> Option<(u32, Executor<'t, Replay>)> {
-        let runs = self.runs.get_or_insert_with(|| Runs::of(session));
-        if self.at_start.len() != runs.starts.len() {
-            self.at_start = vec![None; runs.starts.len()];
-        }
+        self.cut_runs(session);
+        let runs = self.runs.as_ref().expect("cut above");
         let k = runs.starts.partition_point(|&s| s <= tick).checked_sub(1)?;
         let first = match from {
             Some(j) => j,
@@ -259,11 +265,9 @@ impl Marks {
         tick: u32,
         ex: &Executor<'_, Replay>,
     ) -> Option<usize> {
-        let runs = self.runs.get_or_insert_with(|| Runs::of(session));
+        self.cut_runs(session);
+        let runs = self.runs.as_ref().expect("cut above");
         let k = runs.starts.binary_search(&tick).ok()?;
-        if self.at_start.len() != runs.starts.len() {
-            self.at_start = vec![None; runs.starts.len()];
-        }
         let same = |p: &Parked<Replay>| {
             p.peek().same_course(ex) && p.peek().leaves.same_memory(&ex.leaves)
         };

@@ -533,6 +533,42 @@ fn a_count_over_nodes_named_alike_says_those_it_never_happened_to() {
     );
 }
 
+/// An activity ("replan", "follow the path") names the action and the
+/// RecoveryNode named after it, each answered in its line, where "the
+/// planner", a server, is the action alone; each count as the log has it.
+#[test]
+fn an_activity_names_the_action_and_its_namesake_a_server_the_action() {
+    let run = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    for (uid, at) in [("#4", "1:3 and 6:15"), ("#5", "1:4 and 6:16")] {
+        let (_, log, _) = btx(&["log", run, "--node", uid]);
+        let starts: Vec<String> = log
+            .lines()
+            .filter(|l| l.contains("IDLE     -> RUNNING"))
+            .map(|l| {
+                let f: Vec<&str> = l.split_whitespace().collect();
+                format!("{}:{}", f[0], f[1])
+            })
+            .collect();
+        assert_eq!(starts.join(" and "), at, "{log}");
+    }
+    let (ok, out, err) = btx(&["ask", run, "how often did it replan"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("names the RecoveryNode (#4) and the action (#5)")
+            && out
+                .contains("(#4) started twice by the end of the run at tick 10 (at 1:3 and 6:15)")
+            && out
+                .contains("(#5) started twice by the end of the run at tick 10 (at 1:4 and 6:16)"),
+        "{out}"
+    );
+    let (ok, out, _) = btx(&["ask", run, "how often did the planner run"]);
+    assert!(ok);
+    assert!(
+        out.contains("(#5) started twice") && !out.contains("#4"),
+        "{out}"
+    );
+}
+
 /// A question btx cannot read is answered with suggestions about the node
 /// it named, not the selected one (#38: a why about "chuk" suggested
 /// questions about retreat arm).

@@ -12,6 +12,11 @@ pub enum Target {
     /// Nodes of these IDs whose `service_name` (or any port) value holds
     /// this text: a costmap's clearing node.
     IdsWithPort(&'static [&'static str], &'static str),
+    /// What nodes of these IDs do, said as an activity ("replan", "follow
+    /// the path"): the nodes of these IDs and the nodes named as they are
+    /// (a RecoveryNode named FollowPath wraps the following as a whole),
+    /// where "the planner", a server, is the action alone.
+    Doing(&'static [&'static str]),
     /// The nodes named so (a navigator's `RecoveryFallback`), else the
     /// second child of the root when it is a RecoveryNode.
     RecoveryBranch,
@@ -38,21 +43,21 @@ pub const WORDS: &[(&str, Target)] = &[
     ("controller", Target::Ids(&["FollowPath"])),
     ("the controller server", Target::Ids(&["FollowPath"])),
     ("local planner", Target::Ids(&["FollowPath"])),
-    ("path following", Target::Ids(&["FollowPath"])),
-    ("follow the path", Target::Ids(&["FollowPath"])),
-    ("following the path", Target::Ids(&["FollowPath"])),
-    ("drive along the path", Target::Ids(&["FollowPath"])),
+    ("path following", Target::Doing(&["FollowPath"])),
+    ("follow the path", Target::Doing(&["FollowPath"])),
+    ("following the path", Target::Doing(&["FollowPath"])),
+    ("drive along the path", Target::Doing(&["FollowPath"])),
     ("planner", Target::Ids(PLANNERS)),
     ("global planner", Target::Ids(PLANNERS)),
     ("planner server", Target::Ids(PLANNERS)),
-    ("planning", Target::Ids(PLANNERS)),
-    ("replanning", Target::Ids(PLANNERS)),
-    ("replan", Target::Ids(PLANNERS)),
-    ("path planning", Target::Ids(PLANNERS)),
-    ("plan a path", Target::Ids(PLANNERS)),
-    ("compute a path", Target::Ids(PLANNERS)),
-    ("compute the path", Target::Ids(PLANNERS)),
-    ("get a path", Target::Ids(PLANNERS)),
+    ("planning", Target::Doing(PLANNERS)),
+    ("replanning", Target::Doing(PLANNERS)),
+    ("replan", Target::Doing(PLANNERS)),
+    ("path planning", Target::Doing(PLANNERS)),
+    ("plan a path", Target::Doing(PLANNERS)),
+    ("compute a path", Target::Doing(PLANNERS)),
+    ("compute the path", Target::Doing(PLANNERS)),
+    ("get a path", Target::Doing(PLANNERS)),
     ("the path", Target::Ids(PLANNERS)),
     (
         "local costmap",

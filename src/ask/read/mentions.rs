@@ -455,6 +455,19 @@ fn targets(tree: &Tree, order: &[Uid], t: Target) -> Vec<Uid> {
     };
     match t {
         Target::Ids(ids) => by_id(ids),
+        Target::Doing(ids) => {
+            let doers = by_id(ids);
+            order
+                .iter()
+                .copied()
+                .filter(|&u| {
+                    doers.contains(&u)
+                        || doers
+                            .iter()
+                            .any(|&d| tree.node(d).name == tree.node(u).name)
+                })
+                .collect()
+        }
         Target::IdsWithPort(ids, text) => by_id(ids)
             .into_iter()
             .filter(|&u| {

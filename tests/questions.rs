@@ -6,6 +6,8 @@
 //! asks: the intent, the node, the event and the moment. The corpus is
 //! split in two by a hash of the question: the reader was tuned on the
 //! first half only; the figures of the second are the ones reported.
+//! `corpus3.jsonl`, 320 more written blind by a third writer once the
+//! reader stood, is never tuned on: its figures are the fresh ones.
 //!
 //! `cargo test --test questions -- --nocapture` prints the figures.
 
@@ -420,11 +422,32 @@ fn questions_held_out_are_read_as_meant() {
     );
 }
 
+#[test]
+fn questions_written_after_the_reader_are_read_as_meant() {
+    let t = tally(&["corpus3.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus3)", &t);
+    if std::env::var_os("BTX_SHOW_FRESH").is_some() {
+        for w in &t.wrong {
+            println!("{w}");
+        }
+    }
+    assert!(t.total >= 300, "{}", t.total);
+    assert!(
+        understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
+        "{understood:.1}% understood, {misread:.1}% misread"
+    );
+}
+
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (91.6 % and 2.4 % tuned on, 85.0 % and 6.5 % held out,
+/// of the reader (92.2 % and 1.8 % tuned on, 85.7 % and 5.8 % held out,
 /// with corpus2's questions in both halves): a change that reads fewer
 /// questions as meant, or misreads more, fails.
-const DEV_FLOOR: f64 = 91.0;
-const DEV_MISREAD: f64 = 2.8;
-const HELD_FLOOR: f64 = 84.5;
-const HELD_MISREAD: f64 = 7.0;
+const DEV_FLOOR: f64 = 91.8;
+const DEV_MISREAD: f64 = 2.0;
+const HELD_FLOOR: f64 = 85.5;
+const HELD_MISREAD: f64 = 6.0;
+/// corpus3's figures when it was first read (72.2 % understood, 8.4 %
+/// misread): never tuned on, so a change that lowers them reads people
+/// worse, not this corpus.
+const FRESH_FLOOR: f64 = 72.0;
+const FRESH_MISREAD: f64 = 8.5;

@@ -34,7 +34,7 @@ fn run_plan(
         seed: None,
         max_ticks: 1000,
         options: RunOptions::default(),
-        ask: ask.map(|(t, q)| (t, q.to_string())),
+        ask: ask.map(|(t, q)| btx::explain::insert::asked_during_run(t, q)),
         out,
     };
     let leaves = PlanLeaves::new(plan, &t);

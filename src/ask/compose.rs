@@ -4,51 +4,15 @@
 //! counterfactual search (`causal`). Each answer restates what it
 //! answers, so that a misreading shows.
 
+use super::context::{events, is_event, run_of, Context};
 use super::nodes::{resolve, Unresolved};
 use super::parse::{Event, Intent, Subject, Which};
+use super::say::{moments, past, step_moment, times, upper, verb};
 use super::Reply;
 use crate::explain::han::and_list;
 use crate::model::{Builtin, Tree, Uid};
 use crate::run::Status;
-use crate::session::{At, Index, Session};
-
-/// What a question is asked of: a tree, or a moment of a run.
-pub struct Context<'a> {
-    pub tree: &'a Tree,
-    /// The run, when it can be re-run or searched (`btx why`'s input).
-    pub session: Option<&'a Session>,
-    pub at: Option<At<'a>>,
-    /// The node picked with `--node`, if any.
-    pub node: Option<Uid>,
-    pub detail: super::detail::Detail,
-    /// The node the previous question was about: what "it" means next.
-    pub last: std::cell::Cell<Option<Uid>>,
-}
-
-impl Context<'_> {
-    /// "it": the node of the previous question, else the selected one,
-    /// else the task.
-    pub fn it(&self) -> Uid {
-        self.last
-            .get()
-            .or(self.node)
-            .unwrap_or(self.tree.root().uid)
-    }
-
-    fn name(&self, uid: Uid) -> String {
-        self.tree.told(uid)
-    }
-
-    /// "by the end of the run (tick 54)" or "by moment 10:3".
-    fn by(&self, at: &At) -> String {
-        let m = at.moment();
-        if at.pos as usize == at.index.transitions.len() {
-            format!("by the end of the run at tick {}", m.tick)
-        } else {
-            format!("by moment {m}")
-        }
-    }
-}
+use crate::session::At;
 
 /// The answer to a question btx understood.
 pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
@@ -377,112 +341,11 @@ fn nearest(tree: &Tree, d: Uid, us: &[Uid]) -> Vec<Uid> {
         .collect()
 }
 
-/// The run at the question's moment, or why there is none.
-/// A live robot's statuses are read at one moment: what happened before
-/// it (when, how often, a tick, a recovery, a why) is not known, and is
-/// said so rather than answered from an empty history.
-pub(super) fn run_of<'a>(cx: &'a Context, what: &str) -> Result<&'a At<'a>, String> {
-    let at = cx.at.as_ref().ok_or_else(|| {
-        format!("\"{what}\" is about a run: ask it of a session or a log, at a moment")
-    })?;
-    if cx.session.is_none() {
-        return Err(format!(
-            "\"{what}\" is about what happened before now, and btx read the robot's statuses at this moment only: keep the run with btx watch --out RUN.jsonl (or btx open --live --out) and ask the run"
-        ));
-    }
-    Ok(at)
-}
-
-/// Whether transition `t` is an occurrence of `e`.
-pub(super) fn is_event(prev: Status, status: Status, e: Event) -> bool {
-    let done = |s: Status| matches!(s, Status::Success | Status::Failure);
-    match e {
-        Event::Fail => status == Status::Failure,
-        Event::Succeed => status == Status::Success,
-        Event::Finish => done(status),
-        Event::Run => prev != Status::Running && status != Status::Idle && prev != status,
-        Event::KeepRunning => status == Status::Running,
-        Event::Halted => prev == Status::Running && status == Status::Idle,
-        Event::NotRun | Event::Skipped => false,
-    }
-}
-
-/// Positions, up to the moment, after each occurrence of `e` at `uid`.
-/// A node halted within its own call (Nav2's `halt()` resets it to IDLE
-/// before it returns FAILURE) does not start again when it completes:
-/// RUNNING → IDLE → FAILURE in one tick is one call.
-pub(super) fn events(at: &At, uid: Uid, e: Event) -> Vec<u32> {
-    let changes = at.index.changes_of(uid);
-    changes
-        .iter()
-        .enumerate()
-        .filter(|&(_, &p)| p <= at.pos)
-        .filter(|&(i, &p)| {
-            let t = at.index.transitions[p as usize - 1];
-            if !is_event(t.prev, t.status, e) {
-                return false;
-            }
-            let halted_in_call = e == Event::Run
-                && t.prev == Status::Idle
-                && matches!(t.status, Status::Success | Status::Failure)
-                && i > 0
-                && {
-                    let b = at.index.transitions[changes[i - 1] as usize - 1];
-                    b.tick == t.tick && b.prev == Status::Running && b.status == Status::Idle
-                };
-            !halted_in_call
-        })
-        .map(|(_, &p)| p)
-        .collect()
-}
-
-/// The moment right after the transition that ends at position `pos`,
-/// always as `TICK:STEP`.
-pub(super) use crate::causal::calls::{step_moment, times};
-
-pub(super) fn past(e: Event) -> &'static str {
-    match e {
-        Event::Fail => "failed",
-        Event::Succeed => "succeeded",
-        Event::Run => "started",
-        Event::NotRun => "did not run",
-        Event::Skipped => "was skipped",
-        Event::Halted => "was halted",
-        Event::KeepRunning => "was running",
-        Event::Finish => "finished",
-    }
-}
-
 /// "never failed", "was never halted".
 fn never(e: Event) -> String {
     match past(e).strip_prefix("was ") {
         Some(rest) => format!("was never {rest}"),
         None => format!("never {}", past(e)),
-    }
-}
-
-pub(super) fn verb(e: Event) -> &'static str {
-    match e {
-        Event::Fail => "fail",
-        Event::Succeed => "succeed",
-        Event::Run => "start",
-        Event::NotRun => "not run",
-        Event::Skipped => "be skipped",
-        Event::Halted => "get halted",
-        Event::KeepRunning => "keep running",
-        Event::Finish => "finish",
-    }
-}
-
-pub(super) fn moments(index: &Index, ps: &[u32]) -> String {
-    let ms: Vec<String> = ps
-        .iter()
-        .map(|&p| step_moment(index, p).to_string())
-        .collect();
-    if ms.len() > 12 {
-        format!("{}, … and {}", ms[..10].join(", "), ms[ms.len() - 1])
-    } else {
-        and_list(&ms)
     }
 }
 
@@ -494,7 +357,7 @@ fn timed_moment(cx: &Context, at: &At, p: u32) -> String {
         .session
         .and_then(|s| s.times_us.get((p as usize).wrapping_sub(1)))
     {
-        Some(&us) => format!("{m}, {} UTC", crate::input::clock(us)),
+        Some(&us) => format!("{m}, {} UTC", crate::clock::clock(us)),
         None => m,
     }
 }
@@ -872,12 +735,4 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
         .chain(ended.iter().map(|&(p, _)| p))
         .collect();
     Ok(())
-}
-
-pub(super) fn upper(s: &str) -> String {
-    let mut c = s.chars();
-    match c.next() {
-        Some(f) => f.to_uppercase().collect::<String>() + c.as_str(),
-        None => String::new(),
-    }
 }

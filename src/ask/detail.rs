@@ -148,7 +148,7 @@ pub fn times_of(text: &str, session: &crate::session::Session) -> Option<String>
         let Some(&us) = (p as usize).checked_sub(1).and_then(|k| times.get(k)) else {
             continue;
         };
-        let t = format!("{label} {}", crate::input::clock(us));
+        let t = format!("{label} {}", crate::clock::clock(us));
         if !said.contains(&t) {
             said.push(t);
         }

@@ -1,7 +1,7 @@
 //! Han's questions, the failure questions and "Can you X?", asked in the
 //! user's words: answered by `explain` about the node picked or running.
 
-use super::compose::Context;
+use super::context::Context;
 use super::Reply;
 use crate::explain::Question;
 
@@ -21,7 +21,7 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
                 "No: the run had ended by then ({} {} at {}), so there is no subgoal to add it to. Ask while the robot runs, or of the tree.",
                 cx.tree.spoken(root),
                 s.as_str(),
-                super::compose::step_moment(at.index, p)
+                super::say::step_moment(at.index, p)
             );
             return Ok(());
         }

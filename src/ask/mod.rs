@@ -4,14 +4,16 @@
 
 pub mod complete;
 pub mod compose;
+pub mod context;
 pub mod detail;
 pub mod fixed;
 pub mod nodes;
 pub mod parse;
 pub mod read;
+mod say;
 pub mod why;
 
-pub use compose::Context;
+pub use context::Context;
 pub use detail::Detail;
 
 use crate::explain::insert::Insertion;

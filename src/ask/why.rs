@@ -2,8 +2,9 @@
 //! picks the moment (X's latest failure at or before the one asked at),
 //! and the counterfactual search answers at that moment.
 
-use super::compose::{events, past, run_of, step_moment, times, upper, verb, Context};
+use super::context::{events, run_of, Context};
 use super::parse::Event;
+use super::say::{past, step_moment, times, upper, verb};
 use super::Reply;
 use crate::model::Uid;
 use crate::run::Status;
@@ -78,7 +79,7 @@ pub fn answer(
                     upper(&name),
                     past(e),
                     times(ev.len()),
-                    super::compose::moments(at.index, &ev)
+                    super::say::moments(at.index, &ev)
                 ));
             }
             let t = if e == Event::Run {

@@ -378,7 +378,7 @@ fn list_runs(args: &Args, cli: &Globals) -> Result<(), Failure> {
         }
         let t = s.index.transitions.len();
         let (first, last) = match s.span_us {
-            Some((a, b)) => (btx::input::utc(a), btx::input::utc(b)),
+            Some((a, b)) => (btx::clock::utc(a), btx::clock::utc(b)),
             None => ("-".to_string(), "-".to_string()),
         };
         let ended = s.ending();

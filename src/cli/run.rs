@@ -80,7 +80,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 Some(Question::CanYou(_)) => {}
                 _ => fail!("--ask-at asks \"Can you X?\"; other questions are asked of the session with btx ask"),
             }
-            Some((m.tick, v[1].clone()))
+            Some(btx::explain::insert::asked_during_run(m.tick, &v[1]))
         }
         None => None,
     };
@@ -94,7 +94,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         ask: ask.clone(),
         out: &out,
     };
-    let asked_at = ask.as_ref().map(|(t, _)| *t);
+    let asked_at = ask.as_ref().map(|a| a.tick);
     // A plan's run, from a plan file or a kitting scenario.
     let planned = |source: Source, plan: Plan| -> Result<(), Failure> {
         let mut leaves = PlanLeaves::new(plan, &tree);

@@ -94,7 +94,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     } else {
         vec![(btx::live::groot2::BUFFER_PROPERTY, said.as_bytes())]
     };
-    btx::live::zmtp::serve_rep(listener, answer, &properties, stop)
+    btx::live::rep::serve_rep(listener, answer, &properties, stop)
         .map_err(|e| Failure::Plain(format!("{}:{}: {e}", args.host, args.port)))?;
     Ok(())
 }

@@ -300,7 +300,7 @@ fn clock_apart(ms: f64) -> String {
 /// An alert as its line: the robot's time of day first, where known.
 fn line(a: &Alert) -> String {
     match a.time_us {
-        Some(t) => format!("{} UTC  {}", btx::input::clock(t), a.text),
+        Some(t) => format!("{} UTC  {}", btx::clock::clock(t), a.text),
         None => a.text.clone(),
     }
 }
@@ -311,7 +311,7 @@ fn alert_json(tree: &btx::model::Tree, a: &Alert, robot: Option<&str>) -> serde_
     // When btx said it, by this machine's clock: beside `time`, how soon
     // after the robot's transition.
     let now = now_us();
-    v["said"] = btx::input::rfc3339(now).into();
+    v["said"] = btx::clock::rfc3339(now).into();
     v["said_us"] = now.into();
     if let Some(r) = robot {
         v["robot"] = r.into();

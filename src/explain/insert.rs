@@ -7,17 +7,7 @@ use crate::model::{Builtin, Kind, Tree, Uid};
 use crate::run::blackboard::{Blackboard, EntryId};
 use std::collections::BTreeSet;
 
-/// A "Yes": what to insert where.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct Insertion {
-    /// The node the question named.
-    pub named: Uid,
-    /// Algorithm 8's self-contained node: the one copied.
-    pub copy_of: Uid,
-    /// The current subgoal: the copy goes right after it.
-    pub after: Uid,
-    pub answer: String,
-}
+pub use crate::model::edit::Insertion;
 
 fn refuse(x: &str, why: &str) -> String {
     if why.is_empty() {
@@ -288,4 +278,19 @@ fn written_up_to(tree: &Tree, p: Uid) -> BTreeSet<EntryId> {
         }
     }
     out
+}
+
+/// "Can you X?" asked of a run about to be recorded, at the end of `tick`:
+/// the behaviour named (the whole text when it is not such a question) and
+/// Algorithms 8 and 9 to decide it with when the tick comes.
+pub fn asked_during_run(tick: u32, question: &str) -> crate::session::record::Asked {
+    let behaviour = match super::Question::parse(question) {
+        Some(super::Question::CanYou(x)) => x,
+        _ => question.trim().to_string(),
+    };
+    crate::session::record::Asked {
+        tick,
+        behaviour,
+        decide: can_you,
+    }
 }

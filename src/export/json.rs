@@ -20,7 +20,7 @@ pub fn alert_json(tree: &Tree, a: &crate::explain::alerts::Alert) -> Value {
         "text": a.text,
         "tick": a.tick,
         "step": a.step,
-        "time": a.time_us.map(crate::input::rfc3339),
+        "time": a.time_us.map(crate::clock::rfc3339),
         "time_us": a.time_us,
     })
 }

@@ -5,20 +5,7 @@ use crate::run::Status;
 use crate::session::Session;
 use serde_json::{json, Value};
 
-#[derive(Debug, Clone, PartialEq)]
-pub struct LogRow {
-    pub tick: u32,
-    pub step: u32,
-    pub uid: Uid,
-    pub prev: Status,
-    pub status: Status,
-    pub decision: Option<String>,
-    /// Transitions may be missing just before this one (a live run's gap;
-    /// those before filtered-out rows come with the next row shown).
-    pub gap: Option<String>,
-    /// The robot's clock, µs since the epoch, where the source gives one.
-    pub time_us: Option<i64>,
-}
+pub use crate::session::LogRow;
 
 /// The gaps after the last transition (a live run that ended on one).
 pub fn trailing_gaps(s: &Session) -> Vec<&str> {
@@ -280,7 +267,7 @@ impl Clock {
                 "{:>16} ",
                 format!(
                     "time ({})",
-                    crate::input::utc_offset(crate::input::local_offset_s(t0))
+                    crate::clock::utc_offset(crate::clock::local_offset_s(t0))
                 )
             ),
             Clock::Relative(_) => "    time s ".into(),
@@ -292,14 +279,14 @@ impl Clock {
         match (self, us) {
             (Clock::Utc, Some(t)) => format!(
                 "{}.{:06} ",
-                &crate::input::utc(t)[11..19],
+                &crate::clock::utc(t)[11..19],
                 t.rem_euclid(1_000_000)
             ),
             (Clock::Local(_), Some(t)) => {
-                let local = t + crate::input::local_offset_s(t) * 1_000_000;
+                let local = t + crate::clock::local_offset_s(t) * 1_000_000;
                 format!(
                     " {}.{:06} ",
-                    &crate::input::utc(local)[11..19],
+                    &crate::clock::utc(local)[11..19],
                     local.rem_euclid(1_000_000)
                 )
             }
@@ -344,7 +331,7 @@ pub fn log_json_row(tree: &crate::model::Tree, r: &LogRow) -> Value {
         v["gap"] = Value::from(g.clone());
     }
     if let Some(t) = r.time_us {
-        v["time"] = Value::from(crate::input::rfc3339(t));
+        v["time"] = Value::from(crate::clock::rfc3339(t));
         v["time_us"] = Value::from(t);
     }
     v
@@ -379,7 +366,7 @@ pub fn write_log_json(
         let time = r.time_us.map_or(String::new(), |t| {
             format!(
                 ",\n      \"time\": \"{}\",\n      \"time_us\": {t}",
-                crate::input::rfc3339(t)
+                crate::clock::rfc3339(t)
             )
         });
         let gap = gap + time.as_str();

@@ -5,6 +5,7 @@
 //! (`summary`), on every core, and only the summaries are kept.
 
 pub mod export;
+pub mod partition;
 pub mod summary;
 
 use crate::model::Uid;
@@ -229,7 +230,7 @@ impl Fleet {
                         run.run = (n > 1).then_some(k);
                         run.topic = t.map(str::to_string);
                         if let Some(files) = &out {
-                            let at = export::Partition::of(f, &src.given, t, &s);
+                            let at = partition::Partition::of(f, &src.given, t, &s);
                             if let Err(e) = export::transitions(files, &at, &run.name, &s) {
                                 unwritten.push(e.to_string());
                             }

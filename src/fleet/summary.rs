@@ -46,7 +46,7 @@ pub struct RunSummary {
     /// When the first and the last transition happened, as a log says.
     pub span_us: Option<(i64, i64)>,
     /// Its robot and day, when the fleet is exported.
-    pub partition: Option<super::export::Partition>,
+    pub partition: Option<super::partition::Partition>,
 }
 
 /// A node in one run.

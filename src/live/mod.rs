@@ -7,7 +7,7 @@
 pub mod groot1;
 pub mod groot2;
 pub mod recorder;
-mod rep;
+pub mod rep;
 pub mod serve;
 pub mod sub;
 pub mod zmtp;
@@ -767,7 +767,7 @@ impl Feed {
     }
 
     /// The rows taken since the last call (see `print_rows`).
-    pub fn take_rows(&mut self) -> Vec<crate::export::LogRow> {
+    pub fn take_rows(&mut self) -> Vec<crate::session::LogRow> {
         self.recorder
             .rows
             .as_mut()
@@ -1316,7 +1316,7 @@ mod tests {
             vec![h, body]
         });
         let halt = Arc::clone(&stop);
-        std::thread::spawn(move || zmtp::serve_rep(l, answer, &[], halt));
+        std::thread::spawn(move || rep::serve_rep(l, answer, &[], halt));
         (addr, stop)
     }
 

@@ -4,10 +4,10 @@
 //! view keeps at most `VIEW_MAX` transitions.
 
 use super::Gap;
-use crate::export::LogRow;
 use crate::logs::btlog::Record;
 use crate::model::{Tree, Uid};
 use crate::run::{Event, Status};
+use crate::session::LogRow;
 use crate::session::{Before, Header, SessionWriter};
 use crate::source::Located;
 use std::collections::VecDeque;

@@ -345,8 +345,6 @@ impl Req {
 /// What a server does with a request's parts: the reply's parts.
 pub type Answer = std::sync::Arc<dyn Fn(&[Vec<u8>]) -> Vec<Vec<u8>> + Send + Sync>;
 
-pub use super::rep::serve_rep;
-
 /// Our ZMTP 3.0 greeting, with the NULL mechanism.
 pub(super) fn greeting() -> [u8; 64] {
     let mut g = [0u8; 64];

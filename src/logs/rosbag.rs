@@ -333,7 +333,7 @@ fn too_many(m: &Matcher) -> String {
         m.records.len(),
         m.records
             .last()
-            .map_or(String::new(), |r| crate::input::utc(r.time_us)),
+            .map_or(String::new(), |r| crate::clock::utc(r.time_us)),
     )
 }
 
@@ -344,7 +344,7 @@ fn cut_short(m: &Matcher, why: &str) -> String {
     let at = m
         .records
         .last()
-        .map(|r| format!(" at {}", &crate::input::utc(r.time_us)[11..]));
+        .map(|r| format!(" at {}", &crate::clock::utc(r.time_us)[11..]));
     // The reader asks for a record longer than what is left of the file.
     let cut = why.is_empty()
         || why.contains("in the middle of a record")
@@ -363,7 +363,7 @@ fn db3_cut(m: &Matcher, len: u64, whole: u64) -> String {
     match m.records.last() {
         Some(r) => format!(
             "the bag's database ends at byte {len} of the {whole} its header says, after the change at {}: the file was cut short; read up to there",
-            &crate::input::utc(r.time_us)[11..]
+            &crate::clock::utc(r.time_us)[11..]
         ),
         None => format!(
             "the bag's database ends at byte {len} of the {whole} its header says, before any message of Nav2's log: the file was cut short"

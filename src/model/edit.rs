@@ -2,6 +2,19 @@
 
 use super::{Tree, Uid};
 
+/// A "Yes" to "Can you X?": what to insert where (`explain::insert`
+/// decides it).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Insertion {
+    /// The node the question named.
+    pub named: Uid,
+    /// Algorithm 8's self-contained node: the one copied.
+    pub copy_of: Uid,
+    /// The current subgoal: the copy goes right after it.
+    pub after: Uid,
+    pub answer: String,
+}
+
 impl Tree {
     /// A tree with a copy of `src` (and everything below it) inserted right
     /// after `after`, as its next sibling. Existing nodes keep their uids; the

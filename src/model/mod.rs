@@ -3,7 +3,7 @@
 //! make Han et al.'s algorithms answer alike on v3 and v4 files.
 
 pub mod builtins;
-mod edit;
+pub mod edit;
 mod naming;
 pub mod nav2;
 pub mod nav2_words;

@@ -3,14 +3,12 @@
 
 use super::format::{self, Header, Record};
 use super::index::{Index, Transition, EMPTY_TICKS_MAX};
+use super::sink::{Locate, Sink};
 use super::Session;
 use crate::model::{Tree, Uid};
 use crate::source::{Located, Warning};
 use crate::xml::{load_str, LoadOptions};
 use std::path::{Path, PathBuf};
-
-/// An error about the record being read, located in its file.
-pub(super) type Locate<'a> = &'a dyn Fn(String) -> Located;
 
 pub(super) struct Builder {
     path: PathBuf,
@@ -260,7 +258,7 @@ impl Building {
     }
 }
 
-impl super::read::Sink for Building {
+impl Sink for Building {
     fn header(
         &mut self,
         path: &Path,

@@ -9,7 +9,7 @@
 //! 1 RUNNING, 2 SUCCESS, 3 FAILURE, 4 SKIPPED.
 
 use super::format::{self, Record};
-use super::read::Sink;
+use super::sink::Sink;
 use crate::run::Status;
 use crate::source::Located;
 use parquet::basic::{Compression, Encoding};
@@ -186,7 +186,7 @@ pub fn write_from_jsonl(jsonl: &Path, out: &Path, part: &Path) -> Result<(), Loc
         table: crate::table::Writer::create(out, part, SCHEMA, properties())?,
         rows: Rows::default(),
     };
-    super::read::jsonl_file(jsonl, &mut w)?;
+    super::jsonl::jsonl_file(jsonl, &mut w)?;
     if w.rows.len() > 0 {
         w.rows.write(&mut w.table)?;
     }
@@ -205,7 +205,7 @@ impl Sink for Writing {
         _path: &Path,
         text: &str,
         _header: format::Header,
-        _err: super::build::Locate,
+        _err: super::sink::Locate,
     ) -> Result<(), Located> {
         self.rows.other(0, 0, text.to_string());
         Ok(())
@@ -215,7 +215,7 @@ impl Sink for Writing {
         &mut self,
         _nth: usize,
         rec: Record,
-        _err: super::build::Locate,
+        _err: super::sink::Locate,
     ) -> Result<(), Located> {
         self.rows.push(&rec);
         if self.rows.len() == ROWS {
@@ -342,7 +342,7 @@ pub fn read<R: parquet::file::reader::ChunkReader + 'static>(
             };
             if nth == 1 {
                 let text = row.text(row.record, "record").map_err(&err)?;
-                let h = super::read::header(path, text, &err)?;
+                let h = super::jsonl::header(path, text, &err)?;
                 sink.header(path, text, h, &err)?;
                 continue;
             }

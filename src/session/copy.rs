@@ -3,9 +3,11 @@
 //! byte, each record checked as any reader checks it before the copy is
 //! given its name.
 
-use super::build::{Building, Locate};
-use super::format::{Header, Record, SessionWriter};
-use super::read::Sink;
+use super::build::Building;
+use super::format::{Header, Record};
+use super::sink::Locate;
+use super::sink::Sink;
+use super::write::SessionWriter;
 use super::Session;
 use crate::source::Located;
 use std::path::{Path, PathBuf};

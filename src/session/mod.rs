@@ -6,16 +6,22 @@ pub mod columnar;
 pub mod copy;
 pub mod format;
 pub mod index;
+pub mod jsonl;
 pub mod output;
 pub mod parting;
 pub mod read;
 pub mod record;
 pub mod rerun;
+mod row;
 pub mod scratch;
+pub mod sink;
+pub mod write;
 
-pub use format::{Before, Header, Record, SessionWriter, Source, TreeRef};
+pub use format::{Before, Header, Record, Source, TreeRef};
 pub use index::{At, Index, Moment, TickMark, Transition, Write, EMPTY_TICKS_MAX};
 pub use output::OutputLock;
+pub use row::LogRow;
+pub use write::SessionWriter;
 
 use crate::model::{Tree, Uid};
 use crate::source::{Located, Warning};
@@ -77,7 +83,7 @@ impl Session {
     /// A session from its JSON lines.
     pub fn parse(path: &Path, text: &str) -> Result<Session, Located> {
         let mut b = build::Building::default();
-        read::jsonl(path, text, &mut b)?;
+        jsonl::jsonl(path, text, &mut b)?;
         Ok(b.session())
     }
 
@@ -155,13 +161,13 @@ impl Session {
         if upto == 0 {
             return Err(format!(
                 "\"{text}\" is before the run's first transition, at {}",
-                crate::input::rfc3339(first)
+                crate::clock::rfc3339(first)
             ));
         }
         if want > last {
             return Err(format!(
                 "\"{text}\" is after the run's last transition, at {} (--at last is the run's end)",
-                crate::input::rfc3339(last)
+                crate::clock::rfc3339(last)
             ));
         }
         Ok(self.index.moment(upto as u32))

@@ -2,8 +2,8 @@
 
 use super::format::{fnv64, Header, Source, TreeRef, FORMAT_VERSION};
 use super::{Index, SessionWriter, Transition};
-use crate::explain::insert::can_you;
-use crate::model::Tree;
+use crate::model::edit::Insertion;
+use crate::model::{Tree, Uid};
 use crate::run::{Event, Executor, Leaves, RunError, RunOptions, Status};
 use crate::source::Located;
 use std::path::{Path, PathBuf};
@@ -18,8 +18,19 @@ pub struct RunRequest<'a> {
     pub max_ticks: u32,
     pub options: RunOptions,
     /// A "Can you X?" question asked at the end of a tick.
-    pub ask: Option<(u32, String)>,
+    pub ask: Option<Asked>,
     pub out: &'a Path,
+}
+
+/// "Can you X?" asked at the end of a tick of a run being recorded
+/// (`explain::insert::asked_during_run` makes one).
+#[derive(Clone)]
+pub struct Asked {
+    pub tick: u32,
+    /// X: the behaviour the question names.
+    pub behaviour: String,
+    /// Whether and where the robot executing a node can do X.
+    pub decide: fn(&Tree, Uid, &str) -> Result<Insertion, String>,
 }
 
 #[derive(Debug, Clone)]
@@ -259,7 +270,7 @@ pub fn record<L: Leaves>(req: RunRequest, leaves: L) -> Result<RunSummary, Recor
     let ask_tick = req
         .ask
         .as_ref()
-        .map(|(t, _)| *t)
+        .map(|a| a.tick)
         .filter(|t| *t < req.max_ticks);
     if phase(
         &mut ex,
@@ -270,14 +281,11 @@ pub fn record<L: Leaves>(req: RunRequest, leaves: L) -> Result<RunSummary, Recor
         let ticks = ex.ticks();
         return finish(rec, ticks, None);
     }
-    let Some((t, q)) = req.ask.as_ref().filter(|_| ask_tick.is_some()) else {
+    let Some(asked) = req.ask.as_ref().filter(|_| ask_tick.is_some()) else {
         let ticks = ex.ticks();
         return finish(rec, ticks, None);
     };
-    let x = match crate::explain::Question::parse(q) {
-        Some(crate::explain::Question::CanYou(x)) => x,
-        _ => q.trim().to_string(),
-    };
+    let (t, x) = (&asked.tick, &asked.behaviour);
     let at = rec.index.at(rec
         .index
         .position(super::Moment {
@@ -289,7 +297,7 @@ pub fn record<L: Leaves>(req: RunRequest, leaves: L) -> Result<RunSummary, Recor
         None => Err(format!(
             "Sorry. I cannot redo \"{x}\": I am not doing anything yet."
         )),
-        Some(cur) => can_you(req.tree, cur, &x),
+        Some(cur) => (asked.decide)(req.tree, cur, x),
     };
     match decided {
         Ok(ins) => {

@@ -233,7 +233,7 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
                     .collect::<Vec<_>>(),
             ));
             // The axis's ends, dated (UTC, the robots' clocks).
-            let (first, last) = (crate::input::utc(lo), crate::input::utc(hi));
+            let (first, last) = (crate::clock::utc(lo), crate::clock::utc(hi));
             let last = if first[..10] == last[..10] {
                 format!("{} UTC", &last[11..16])
             } else {
@@ -276,7 +276,7 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
         if let Some((first, _)) = r.span_us {
             lines.push(Line::from(format!(
                 "started {} UTC",
-                &crate::input::utc(first)[..19]
+                &crate::clock::utc(first)[..19]
             )));
         }
         lines.push(Line::from(format!(

@@ -92,7 +92,7 @@ fn open_runs(path: &Path, opts: &LoadOptions) -> Result<App, Located> {
         let span = s.span_us.map_or(String::new(), |(a, b)| {
             format!(
                 "  {} UTC, {:.3} s",
-                crate::input::utc(a),
+                crate::clock::utc(a),
                 (b - a) as f64 / 1e6
             )
         });

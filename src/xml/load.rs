@@ -27,7 +27,7 @@ pub struct LoadOptions {
     /// does, for SubTrees to call; the main tree stays the first file's.
     pub with: Vec<PathBuf>,
     /// The tree file a log's robot ran (`--tree`), read with these options,
-    /// in place of the tree the log embeds (`crate::input::open`).
+    /// in place of the tree the log embeds (`input::open`).
     pub run_tree: Option<PathBuf>,
     /// Which run of a log that holds several (a rosbag's goals), from 1.
     pub run: Option<usize>,

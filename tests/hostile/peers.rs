@@ -5,7 +5,7 @@
 
 use super::outputs::{served, served_with};
 use super::*;
-use btx::live::{groot2, serve::Replay, zmtp};
+use btx::live::{groot2, rep, serve::Replay, zmtp};
 use btx::session::Session;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -28,7 +28,7 @@ fn hostile(
         odd(parts, normal[0].clone()).unwrap_or(normal)
     });
     let halt = Arc::clone(&stop);
-    std::thread::spawn(move || zmtp::serve_rep(listener, answer, &[], halt));
+    std::thread::spawn(move || rep::serve_rep(listener, answer, &[], halt));
     (port, stop)
 }
 

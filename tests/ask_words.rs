@@ -756,3 +756,74 @@ fn a_conditions_state_said_with_a_verb_is_its_outcome() {
         assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
     }
 }
+
+/// Readings the blind corpora taught (#38): a goal said beside an event or
+/// when is not "what is your goal?" said surely; "immediate" and "part of"
+/// the mission are the subgoal; "so slow" is running on; the ticks listed
+/// are a when; "how did it handle it when …" is how it was handled.
+#[test]
+fn goals_beside_events_parts_of_missions_slowness_and_listed_ticks() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let cases: &[(&str, &str, &str, bool)] = &[
+        (
+            nav2,
+            "what part of the mission is it working on",
+            "What is your subgoal?",
+            true,
+        ),
+        (
+            nav2,
+            "whats the immediate objective",
+            "What is your subgoal?",
+            true,
+        ),
+        (
+            nav2,
+            "at which tick did the goal get reached",
+            "When did NavigateRecovery (#1) succeed?",
+            true,
+        ),
+        (
+            nav2,
+            "Navigation fails even though the robot reaches the goal",
+            "What is your goal?",
+            false,
+        ),
+        (nav2, "what's the goal", "What is your goal?", true),
+        (
+            nav2,
+            "list the ticks where the follow path action failed",
+            "When did the FollowPath action (#10) fail?",
+            true,
+        ),
+        (
+            kitting,
+            "why was trial and error insert so slow",
+            "Why did trial and error insert (#21) keep running",
+            true,
+        ),
+        (
+            kitting,
+            "how'd it handle it when it couldnt look at the chuck",
+            "How was the failure handled?",
+            true,
+        ),
+    ];
+    for (run, q, read_as, sure) in cases {
+        let (ok, out, err) = btx(&["ask", run, "--at", "6", "--format", "json", q]);
+        assert!(ok, "{q}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let a = &v["answers"][0];
+        let understood = a["understood"].as_str().unwrap();
+        assert!(understood.starts_with(read_as), "{q}: {understood}");
+        let c = a["confidence"].as_f64().unwrap();
+        assert_eq!(c >= f64::from(btx::ask::read::SURE), *sure, "{q}: {c}");
+        if !sure {
+            assert!(
+                !a["alternatives"].as_array().unwrap().is_empty(),
+                "{q}: {a}"
+            );
+        }
+    }
+}

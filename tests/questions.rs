@@ -416,6 +416,11 @@ fn questions_held_out_are_read_as_meant() {
         half(&c.q) == 1
     });
     let (understood, misread) = report("held-out half", &t);
+    if std::env::var_os("BTX_SHOW_MISREADS").is_some() {
+        for w in &t.wrong {
+            println!("{w}");
+        }
+    }
     assert!(
         understood >= HELD_FLOOR && misread <= HELD_MISREAD,
         "{understood:.1}% understood, {misread:.1}% misread"
@@ -439,15 +444,16 @@ fn questions_written_after_the_reader_are_read_as_meant() {
 }
 
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (92.2 % and 1.8 % tuned on, 85.7 % and 5.8 % held out,
-/// with corpus2's questions in both halves): a change that reads fewer
+/// of the reader (92.2 % and 1.8 % tuned on, 86.9 % and 4.0 % on the second
+/// half, with corpus2's questions in both halves; since corpus3 came, the
+/// second half is tuned on too, and corpus3 is the one held out): a change that reads fewer
 /// questions as meant, or misreads more, fails.
 const DEV_FLOOR: f64 = 91.8;
 const DEV_MISREAD: f64 = 2.0;
-const HELD_FLOOR: f64 = 85.5;
-const HELD_MISREAD: f64 = 6.0;
-/// corpus3's figures when it was first read (72.2 % understood, 8.4 %
-/// misread): never tuned on, so a change that lowers them reads people
+const HELD_FLOOR: f64 = 86.5;
+const HELD_MISREAD: f64 = 4.2;
+/// corpus3's figures (72.2 % understood, 8.4 % misread when it was first
+/// read; 72.5 % and 7.8 % now): never tuned on, so a change that lowers them reads people
 /// worse, not this corpus.
-const FRESH_FLOOR: f64 = 72.0;
-const FRESH_MISREAD: f64 = 8.5;
+const FRESH_FLOOR: f64 = 72.2;
+const FRESH_MISREAD: f64 = 8.0;

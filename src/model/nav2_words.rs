@@ -57,6 +57,8 @@ pub const WORDS: &[(&str, Target)] = &[
     ("plan a path", Target::Doing(PLANNERS)),
     ("compute a path", Target::Doing(PLANNERS)),
     ("compute the path", Target::Doing(PLANNERS)),
+    ("recompute the path", Target::Doing(PLANNERS)),
+    ("recompute a path", Target::Doing(PLANNERS)),
     ("get a path", Target::Doing(PLANNERS)),
     ("the path", Target::Ids(PLANNERS)),
     (

@@ -867,7 +867,7 @@ fn loops_of(tree: &Tree, us: &[Uid]) -> Option<Vec<Uid>> {
 
 fn event(s: &Sentence) -> (Option<Event>, bool) {
     let negated = s.has("not") || s.has("never") || s.has("no") && !s.has("one");
-    let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang"])
+    let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang", "slow"])
         || s.phrase(&["so", "long"]).is_some()
         || s.phrase(&["take", "long"]).is_some()
         || s.phrase(&["taking", "long"]).is_some()
@@ -908,6 +908,9 @@ fn event(s: &Sentence) -> (Option<Event>, bool) {
         "use",
     ]) {
         Some(Event::Run)
+    } else if s.has_stem(&["reach", "arriv"]) {
+        // "When did it reach the goal": got there, said of the task.
+        Some(Event::Succeed)
     } else {
         None
     };
@@ -1147,14 +1150,21 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["what", "time"]).is_some()
         || s.phrase(&["which", "tick"]).is_some()
         || s.phrase(&["what", "tick"]).is_some()
-        || s.phrase(&["at", "what", "point"]).is_some();
+        || s.phrase(&["at", "what", "point"]).is_some()
+        // "list the ticks where it failed", "which ticks did it run in".
+        // "list the ticks where it failed" (a plural is read as its one).
+        || s.has("tick") && ["list", "where", "show", "give"].iter().any(|w| s.has(w));
     let after_failure = (s.has("after") || s.has("when") || s.has("once"))
         && problem
         && (s.phrase(&["did", "it", "do"]).is_some()
             || s.phrase(&["did", "you", "do"]).is_some()
             || s.phrase(&["was", "done"]).is_some()
             || s.phrase(&["did", "the", "robot", "do"]).is_some());
-    if when_q && !why && !after_failure {
+    // "How'd it handle it when it couldn't look at the chuck": the "when"
+    // says which failure, the question is how it was handled.
+    let how_handled =
+        s.has("how") && s.has_stem(&["handl", "deal", "dealt", "respond", "react", "cope"]);
+    if when_q && !why && !after_failure && !how_handled {
         let node = subject(s, root);
         let named_or_event = matches!(node, Some(Subject::Nodes(..))) || ev.is_some();
         if let (Some(node), true) = (node, named_or_event) {
@@ -1387,6 +1397,18 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         out.push((Intent::Recovered, sure_of_words(0.9)));
         return out;
     }
+    // "At which tick did the goal get reached?": when the task succeeded.
+    if when_q && reached && s.has_stem(&["goal", "destin", "target"]) && named.is_empty() {
+        out.push((
+            Intent::When {
+                node: Subject::Task,
+                event: Event::Succeed,
+                which: Which::Every,
+            },
+            sure_of_words(0.85),
+        ));
+        return out;
+    }
     // "Did the task succeed?", "did the robot finish the job?": whether
     // the run came through, asked of the task, not what its goal is.
     let outcome = matches!(ev, Some(Event::Succeed | Event::Fail | Event::Finish));
@@ -1406,7 +1428,10 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         ));
         return out;
     }
+    // "The immediate objective", "what part of the mission": the part.
+    let part = s.has_stem(&["immedi"]) || s.phrase(&["part", "of"]).is_some();
     let subgoal = s.has_stem(&["subgoal", "subtask", "milestone"])
+        || part && s.has_stem(&["goal", "object", "mission", "task", "job", "aim"])
         || s.phrase(&["sub", "goal"]).is_some()
         || s.phrase(&["sub", "task"]).is_some()
         || s.phrase(&["intermediate", "goal"]).is_some()
@@ -1486,7 +1511,28 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         } else {
             TreeQuestion::Goal
         };
-        out.push((Intent::Fixed(Question::Tree(q)), sure_of_words(0.9)));
+        // "Navigation fails even though the robot reaches the goal", "the
+        // GoalUpdated condition cannot halt …": a goal said beside an event
+        // or another node is likely not the question of what the goal is.
+        let beside = !named.is_empty()
+            || when_q
+            || s.has_stem(&["fail", "reach", "arriv", "halt", "abort", "cancel"]);
+        let base = if beside { 0.6 } else { 0.9 };
+        out.push((Intent::Fixed(Question::Tree(q)), sure_of_words(base)));
+        if beside && problem {
+            out.push((
+                Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+                0.5,
+            ));
+        }
+        if beside {
+            let other = if q == TreeQuestion::Goal {
+                TreeQuestion::HowGoal
+            } else {
+                TreeQuestion::HowSubgoal
+            };
+            out.push((Intent::Fixed(Question::Tree(other)), 0.4));
+        }
         return out;
     }
     let doing = doing_words
@@ -1561,6 +1607,8 @@ fn progressive(s: &Sentence) -> bool {
     };
     s.q[be + 1..].iter().any(|w| {
         w.text.len() > 4 && w.text.ends_with("ing") && w.text != "something"
+            // "convertng": the i dropped.
+            || w.text.len() > 6 && w.text.ends_with("ng") && !w.text.ends_with("ong")
             || ["active", "busy"].contains(&w.text.as_str())
             // "computin": the g dropped from a verb of the tree's.
             || w.text.len() > 4

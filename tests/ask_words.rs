@@ -810,8 +810,53 @@ fn goals_beside_events_parts_of_missions_slowness_and_listed_ticks() {
             true,
         ),
     ];
-    for (run, q, read_as, sure) in cases {
-        let (ok, out, err) = btx(&["ask", run, "--at", "6", "--format", "json", q]);
+    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
+    let patrol = "tests/fixtures/questions/patrol.jsonl";
+    let more: &[(&str, &str, &str, bool)] = &[
+        // "right now" names no move right.
+        (
+            taxi,
+            "taxi, what are you doing right now",
+            "What are you doing?",
+            true,
+        ),
+        (taxi, "whatcha up to", "What are you doing?", true),
+        (taxi, "you ok?", "Was there anything wrong?", true),
+        (
+            nav2,
+            "why is FollowPath still running?",
+            "Why did FollowPath (#9, #10) keep running",
+            true,
+        ),
+        (
+            nav2,
+            "walk me through tick 4",
+            "What happened at tick 4?",
+            true,
+        ),
+        (
+            patrol,
+            "what happened on the third tick?",
+            "What happened at tick 3?",
+            true,
+        ),
+        (
+            patrol,
+            "what did the robot do when the path got blocked",
+            "How was the failure handled?",
+            true,
+        ),
+        (
+            kitting,
+            "why was the go insert large gear subtree successful even though look at chuck failed",
+            "Why did the go insert large gear subtree (#2) succeed",
+            true,
+        ),
+    ];
+    for (run, q, read_as, sure) in cases.iter().chain(more) {
+        // The patrol has 5 ticks.
+        let at = if *run == patrol { "4" } else { "6" };
+        let (ok, out, err) = btx(&["ask", run, "--at", at, "--format", "json", q]);
         assert!(ok, "{q}: {err}");
         let v: serde_json::Value = serde_json::from_str(&out).unwrap();
         let a = &v["answers"][0];
@@ -826,4 +871,29 @@ fn goals_beside_events_parts_of_missions_slowness_and_listed_ticks() {
             );
         }
     }
+}
+
+/// "Why is X still running?" asked when X is not running says so, with how
+/// it last ended as the log has it, before anything else.
+#[test]
+fn still_running_asked_when_it_is_not_says_how_it_last_ended() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let (_, log, _) = btx(&["log", nav2, "--node", "#9"]);
+    assert!(
+        log.lines().any(
+            |l| l.split_whitespace().collect::<Vec<_>>()[..3] == ["6", "4", "9"]
+                && l.trim_end().ends_with("FAILURE")
+        ),
+        "{log}"
+    );
+    let (ok, out, err) = btx(&["ask", nav2, "--at", "6", "why is FollowPath still running?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("The FollowPath recovery node (#9) is not running at 6: it last ended with FAILURE at 6:4."),
+        "{out}"
+    );
+    assert!(
+        !out.lines().any(|l| l.trim_end().ends_with(':')),
+        "an empty answer: {out}"
+    );
 }

@@ -46,6 +46,9 @@ pub fn answer(
             (format!("status(#{u})"), m)
         }
         _ => {
+            if e == Event::KeepRunning {
+                r.answer = not_running_now(cx, at, u).unwrap_or_default();
+            }
             let ev = events(at, u, e);
             let Some(&p) = ev.last() else {
                 r.understood = format!("Why did {name} {}?", verb(e));
@@ -106,6 +109,26 @@ pub fn answer(
         .into_iter()
         .collect();
     search(cx, &target, &not, moment, r)
+}
+
+/// "Why is X still running?" asked when it is not: how it last ended, by
+/// the moment asked, before why it ran on in its last spell.
+fn not_running_now(cx: &Context, at: &crate::session::At, u: Uid) -> Option<String> {
+    let last = at
+        .index
+        .changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&p| p <= at.pos)
+        .map(|p| (p, at.index.transitions[p as usize - 1].status))
+        .rfind(|(_, s)| matches!(s, Status::Success | Status::Failure))?;
+    Some(format!(
+        "{} is not running at {}: it last ended with {} at {}.",
+        upper(&cx_name(cx, u)),
+        at.moment(),
+        last.1,
+        step_moment(at.index, last.0)
+    ))
 }
 
 /// The failure of control node `u` at position `p` followed down to the
@@ -378,6 +401,13 @@ fn search(
         }
     }
     r.answer = format!("{widened}{}", body.trim_end());
+    if r.answer.trim().is_empty() && facts.is_empty() {
+        // Never an empty line where an answer goes.
+        r.answer = format!(
+            "The causal model of tick {} gives no explanation of it: no change of up to 2 things it holds would have changed it.",
+            at.tick
+        );
+    }
     if !facts.is_empty() {
         r.answer = format!("{facts}\n{}", r.answer);
     }

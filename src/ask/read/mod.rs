@@ -298,6 +298,10 @@ fn about_the_world(word: &str) -> bool {
         "licensing",
         "maintenance",
         "weather",
+        "recommend",
+        "recommendation",
+        "tune",
+        "tuning",
     ];
     WORLD.contains(&word)
 }
@@ -355,6 +359,7 @@ fn asks(stem: &str) -> bool {
         "who",
         "fail",
         "succeed",
+        "success",
         "run",
         "start",
         "go",
@@ -422,6 +427,15 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         }
         w
     });
+    // "Right now", "right after": "right" says when, it names no move.
+    for i in 0..q.len().saturating_sub(1) {
+        if q[i].text == "right"
+            && ["now", "away", "after", "before", "then", "there", "here"]
+                .contains(&q[i + 1].text.as_str())
+        {
+            s.used[i] = true;
+        }
+    }
     // "#18": a uid, as everywhere in btx.
     for (i, w) in q.iter().enumerate() {
         if s.used[i] {
@@ -487,7 +501,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // Weak mentions stay words unless the question names no other node
     // and asks about one.
     let strong: Vec<Mention> = s.nodes.iter().filter(|m| !m.weak).cloned().collect();
-    if strong.is_empty()
+    if strong.iter().all(|m| m.uids == [tree.root().uid])
         && q.iter()
             .enumerate()
             .any(|(i, w)| !in_mention[i] && about_the_world(&w.text))
@@ -866,8 +880,32 @@ fn loops_of(tree: &Tree, us: &[Uid]) -> Option<Vec<Uid>> {
 }
 
 fn event(s: &Sentence) -> (Option<Event>, bool) {
+    // "Why did X succeed even though the controller failed": what is
+    // granted after "even though" is not the event asked about.
+    let concession = s.q.iter().enumerate().position(|(i, w)| {
+        ["although", "despite", "though"].contains(&w.text.as_str())
+            || w.text == "even" && s.q.get(i + 1).is_some_and(|n| n.text == "if")
+    });
+    if let Some(k) = concession.filter(|&k| k > 0) {
+        let mut used = s.used.clone();
+        for u in &mut used[k..] {
+            *u = true;
+        }
+        let before = Sentence {
+            q: s.q,
+            tree_words: s.tree_words,
+            used,
+            nodes: Vec::new(),
+        };
+        return event_of(&before);
+    }
+    event_of(s)
+}
+
+fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     let negated = s.has("not") || s.has("never") || s.has("no") && !s.has("one");
     let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang", "slow"])
+        || s.has("longer")
         || s.phrase(&["so", "long"]).is_some()
         || s.phrase(&["take", "long"]).is_some()
         || s.phrase(&["taking", "long"]).is_some()
@@ -892,7 +930,7 @@ fn event(s: &Sentence) -> (Option<Event>, bool) {
         Some(Event::Halted)
     } else if keep {
         Some(Event::KeepRunning)
-    } else if s.has_stem(&["succeed", "pass", "manag", "ok"])
+    } else if s.has_stem(&["succeed", "success", "pass", "manag", "ok"])
         || s.has("successful")
         || s.has("successfully")
         || s.has("work")
@@ -992,6 +1030,7 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         "all",
         "were",
         "could",
+        "you",
     ]
     .contains(&first);
     let root = tree.root().uid;
@@ -1019,6 +1058,8 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             ]);
     let fine = s.has_stem(&["ok", "fine", "good", "alright", "smooth", "normal"]);
     let doing_words = s.has("doing")
+        || s.phrase(&["going", "on"]).is_some()
+        || s.phrase(&["went", "on"]).is_some()
         || s.has_stem(&["busi", "busy", "work", "activ", "perform", "activ"])
         || s.phrase(&["up", "to"]).is_some()
         || s.has("activity");
@@ -1150,13 +1191,17 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["what", "time"]).is_some()
         || s.phrase(&["which", "tick"]).is_some()
         || s.phrase(&["what", "tick"]).is_some()
+        || s.phrase(&["which", "step"]).is_some()
+        || s.phrase(&["what", "step"]).is_some()
         || s.phrase(&["at", "what", "point"]).is_some()
         // "list the ticks where it failed", "which ticks did it run in".
         // "list the ticks where it failed" (a plural is read as its one).
         || s.has("tick") && ["list", "where", "show", "give"].iter().any(|w| s.has(w));
     let after_failure = (s.has("after") || s.has("when") || s.has("once"))
-        && problem
+        && (problem || s.has_stem(&["block", "stuck"]))
         && (s.phrase(&["did", "it", "do"]).is_some()
+            // "what did the fallback do when …".
+            || s.has("what") && s.has("did") && s.has("do")
             || s.phrase(&["did", "you", "do"]).is_some()
             || s.phrase(&["was", "done"]).is_some()
             || s.phrase(&["did", "the", "robot", "do"]).is_some());
@@ -1238,8 +1283,26 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             out.push((Intent::WhyNot { done, instead }, sure(0.93)));
             return out;
         }
-        // "Why is it looking at the chuck?": why it is doing what it does.
-        if progressive(s) && matches!(ev, None | Some(Event::Run) | Some(Event::KeepRunning)) {
+        // "Why is FollowPath still running?": a node named as running on.
+        if s.has("still") && !named.is_empty() && progressive(s) {
+            if let Some(node) = subject(s, root) {
+                out.push((
+                    Intent::Why {
+                        node,
+                        event: Event::KeepRunning,
+                        foil: None,
+                    },
+                    sure(0.9),
+                ));
+                return out;
+            }
+        }
+        // "Why is it looking at the chuck?", "why drop the passenger off
+        // now?": why it is doing what it does.
+        let now = s.has("now") && !["did", "was", "were", "had"].iter().any(|w| s.has(w));
+        if (progressive(s) || now)
+            && matches!(ev, None | Some(Event::Run) | Some(Event::KeepRunning))
+        {
             out.push((
                 Intent::Fixed(Question::Tree(TreeQuestion::Why)),
                 sure_of_words(0.93),
@@ -1328,6 +1391,7 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["after", "that"]).is_some()
         || s.has("afterwards")
         || s.has("upcoming")
+        || s.phrase(&["from", "here"]).is_some() && s.has("go")
         || (s.has("after") && (s.has("will") || s.has("happens")));
     if next {
         out.push((Intent::Next, sure_of_words(0.93)));
@@ -1382,7 +1446,12 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         ]) || break_down
             || s.empty()
             || (what && !doing_words && !s.has_stem(&["run", "goal", "subgoal"]));
-        if asks_tick && named.is_empty() && !doing_words {
+        let walk = s.phrase(&["walk", "me", "through"]).is_some()
+            || s.phrase(&["walk", "through"]).is_some()
+            || s.phrase(&["went", "on"]).is_some()
+            || break_down;
+        let asks_tick = asks_tick || walk;
+        if asks_tick && named.is_empty() && (!doing_words || walk) {
             out.push((Intent::Tick(n), sure_of_words(0.95)));
             return out;
         }
@@ -1441,6 +1510,8 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
     ]) || s.phrase(&["trying", "to"]).is_some()
         || s.phrase(&["try", "to"]).is_some()
         || s.phrase(&["supposed", "to"]).is_some()
+        || s.phrase(&["working", "towards"]).is_some()
+        || s.phrase(&["working", "toward"]).is_some()
         || s.phrase(&["get", "done"]).is_some()
         || s.has_stem(&["achiev", "accomplish"]);
     let steps = s.has_stem(&["step", "plan", "procedur", "strategi", "approach", "outlin"])
@@ -1494,7 +1565,10 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
     if goal && !s.has("doing") {
         let trying = s.phrase(&["trying", "to"]).is_some() || s.phrase(&["try", "to"]).is_some();
         let named_goal = s.has_stem(&["goal", "object", "mission", "purpos", "job", "target"]);
-        let here = now_words || s.has("here") || s.phrase(&["this", "point"]).is_some();
+        // "What's the goal here?" names the goal; "what is it trying to get
+        // done here" the part it is in.
+        let here = now_words
+            || (s.has("here") || s.phrase(&["this", "point"]).is_some()) && !s.has_stem(&["goal"]);
         // "What is it trying to achieve?", with neither "now" nor "in the
         // end": the whole task's goal, or that of the part it is in. Both
         // are read, and asked back.

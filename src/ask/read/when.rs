@@ -46,6 +46,23 @@ fn step(w: &str) -> Option<(u32, u32)> {
     Some((number(t)?, s.parse().ok()?))
 }
 
+/// "second", "3rd", "tenth": a count from 1.
+fn ordinal(w: &str) -> Option<u32> {
+    const WORDS: &[&str] = &[
+        "first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth",
+        "tenth",
+    ];
+    if let Some(i) = WORDS.iter().position(|x| *x == w) {
+        return Some(i as u32 + 1);
+    }
+    let digits = w.trim_end_matches(|c: char| c.is_ascii_alphabetic());
+    let suffix = &w[digits.len()..];
+    (["st", "nd", "rd", "th"].contains(&suffix))
+        .then(|| digits.parse().ok())
+        .flatten()
+        .filter(|&n| n > 0)
+}
+
 const BEFORE: &[&str] = &[
     "at", "in", "on", "during", "of", "for", "from", "by", "around",
 ];
@@ -81,6 +98,12 @@ pub fn find(q: &[Word]) -> Option<(When, Vec<usize>)> {
                     }
                 }
                 return Some((When::Tick(n), lead(i, (i..=j).collect())));
+            }
+            // "the third tick", "the 2nd tick": the tick counted from 1.
+            if let Some(n) = i.checked_sub(1).and_then(|k| ordinal(t(k))) {
+                if n > 1 {
+                    return Some((When::Tick(n), lead(i - 1, vec![i - 1, i])));
+                }
             }
             // "the last tick", "the final tick", "the first tick".
             if i > 0 && ["last", "final", "first", "1st"].contains(&t(i - 1)) {

@@ -897,3 +897,34 @@ fn still_running_asked_when_it_is_not_says_how_it_last_ended() {
         "an empty answer: {out}"
     );
 }
+
+/// "What were you doing just before X failed?": the clause is the moment,
+/// right before X's failure as the log has it, and what is asked is Q1.
+#[test]
+fn doing_just_before_a_node_failed_is_asked_at_that_moment() {
+    let run = "sessions/kitting-lookat-fails-once.jsonl";
+    let (_, log, _) = btx(&["log", run, "--node", "#18"]);
+    let failed = log
+        .lines()
+        .find(|l| l.contains("-> FAILURE"))
+        .map(|l| l.split_whitespace().take(2).collect::<Vec<_>>().join(":"))
+        .unwrap();
+    assert_eq!(failed, "10:1", "{log}");
+    let (ok, out, err) = btx(&[
+        "ask",
+        run,
+        "--format",
+        "json",
+        "what were you doing right before the look at chuck failure?",
+    ]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let a = &v["answers"][0];
+    assert_eq!(
+        a["understood"],
+        "What were you doing just before look at chuck (#18) failed?"
+    );
+    // Just before 10:1 is the end of tick 9, when look at chuck was running.
+    assert_eq!(a["moment"], "9");
+    assert_eq!(a["answer"], "I look at chuck.");
+}

@@ -8,7 +8,8 @@
 //! first half only; the figures of the second are the ones reported.
 //! `corpus3.jsonl`, 320 more written blind by a third writer once the
 //! reader stood, was held out until `corpus4.jsonl` (320 by a fourth
-//! writer) came; corpus4 is never tuned on: its figures are the fresh ones.
+//! writer) came, and corpus4 until `corpus5.jsonl` (280 by a fifth);
+//! corpus5 is never tuned on: its figures are the fresh ones.
 //!
 //! `cargo test --test questions -- --nocapture` prints the figures.
 
@@ -430,21 +431,25 @@ fn questions_held_out_are_read_as_meant() {
 
 #[test]
 fn questions_written_after_the_reader_are_read_as_meant() {
-    let t = tally(&["corpus3.jsonl"], |_| true);
-    let (understood, misread) = report("corpus3 (tuned on since corpus4)", &t);
-    assert!(t.total >= 300, "{}", t.total);
-    assert!(
-        understood >= C3_FLOOR && misread <= C3_MISREAD,
-        "{understood:.1}% understood, {misread:.1}% misread"
-    );
-    let t = tally(&["corpus4.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus4)", &t);
+    let t3 = tally(&["corpus3.jsonl", "corpus4.jsonl"], |_| true);
+    let (understood3, misread3) = report("corpus3 and corpus4 (tuned on)", &t3);
+    let t = tally(&["corpus5.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus5)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
-        for w in &t.wrong {
+        for w in t3.wrong.iter().chain(&t.wrong) {
             println!("{w}");
         }
     }
-    assert!(t.total >= 300, "{}", t.total);
+    assert!(
+        t3.total >= 600 && t.total >= 280,
+        "{} {}",
+        t3.total,
+        t.total
+    );
+    assert!(
+        understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
+        "corpus3 and corpus4: {understood3:.1}% understood, {misread3:.1}% misread"
+    );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
         "{understood:.1}% understood, {misread:.1}% misread"
@@ -458,13 +463,12 @@ fn questions_written_after_the_reader_are_read_as_meant() {
 /// questions as meant, or misreads more, fails.
 const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
-const HELD_FLOOR: f64 = 87.8;
-const HELD_MISREAD: f64 = 4.3;
-/// corpus3's figures (72.2 % understood, 8.4 % misread when it was first
-/// read; 79.7 % and 3.4 % once tuned on) and corpus4's (77.2 % and 5.6 %
-/// when it was first read, never tuned on): never tuned on, so a change that lowers them reads people
-/// worse, not this corpus.
-const C3_FLOOR: f64 = 79.5;
-const C3_MISREAD: f64 = 3.5;
-const FRESH_FLOOR: f64 = 77.0;
-const FRESH_MISREAD: f64 = 5.7;
+const HELD_FLOOR: f64 = 88.0;
+const HELD_MISREAD: f64 = 4.1;
+/// corpus3 and corpus4 as tuned on (80.5 % understood, 3.3 % misread;
+/// first read 72.2 %/8.4 % and 77.2 %/5.6 %), and corpus5, never tuned on
+/// (74.6 % and 5.4 % when it was first read).
+const C3_FLOOR: f64 = 80.3;
+const C3_MISREAD: f64 = 3.4;
+const FRESH_FLOOR: f64 = 74.5;
+const FRESH_MISREAD: f64 = 5.5;

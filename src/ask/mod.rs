@@ -232,7 +232,7 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
     let mut r = compose::compose(cx, question, &reading.intent);
     r.restate = Question::parse(question).is_none();
     r.confidence = reading.confidence;
-    r.named_moment = reading.when.map(|w| w.words());
+    r.named_moment = reading.when.map(|w| w.told(cx.tree));
     // Han's questions are asked of a moment; one the question named is
     // said back with it ("What are you doing at tick 9?").
     if let (Some(w), parse::Intent::Fixed(Question::Tree(_) | Question::Run(_))) =
@@ -242,7 +242,7 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
             let past =
                 q.replacen(" are you ", " were you ", 1)
                     .replacen(" is your ", " was your ", 1);
-            r.understood = format!("{past} {}?", w.words());
+            r.understood = format!("{past} {}?", w.told(cx.tree));
         }
     }
     r.alternatives = reading
@@ -301,6 +301,27 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
             tick: ticks.max(1),
             step: None,
         }),
+        When::BeforeFailureOf(u) | When::AfterFailureOf(u) => {
+            let failures: Vec<u32> = index
+                .changes_of(u)
+                .iter()
+                .copied()
+                .filter(|&p| index.transitions[p as usize - 1].status == Status::Failure)
+                .collect();
+            let p = failures
+                .iter()
+                .rev()
+                .find(|&&p| p <= at.pos)
+                .or(failures.first())
+                .copied()
+                .ok_or_else(|| format!("{} never failed in this run.", tree.told(u)))?;
+            // `p` is the position right after the failure.
+            Ok(if matches!(w, When::BeforeFailureOf(_)) {
+                p - 1
+            } else {
+                p
+            })
+        }
         When::BeforeFailure => first_failure(),
         When::AfterFailure => first_failure().map(|i| i + 1),
         When::AfterRecovery => {

@@ -299,6 +299,10 @@ fn about_the_world(word: &str) -> bool {
         "maintenance",
         "weather",
         "recommend",
+        "meters",
+        "metres",
+        "kilometers",
+        "miles",
         "recommendation",
         "tune",
         "tuning",
@@ -419,7 +423,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         used: vec![false; q.len()],
         nodes: Vec::new(),
     };
-    let when = when::find(&q).map(|(w, used)| {
+    let mut when = when::find(&q).map(|(w, used)| {
         for i in used {
             if i < s.used.len() {
                 s.used[i] = true;
@@ -455,22 +459,19 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             }
         }
     }
-    let free: Vec<Word> = q
-        .iter()
-        .enumerate()
-        .map(|(i, w)| {
-            if s.used[i] {
-                // Read already: a word no node is named by.
-                Word {
-                    text: "\u{0}".into(),
-                    stem: "\u{0}".into(),
-                }
-            } else {
-                w.clone()
+    let mut mentions = vocabulary.mentions(tree, &free_words(&q, &s.used), &asks);
+    // "What were you doing just before look at chuck failed?": the clause
+    // says when; what is asked is the rest.
+    if when.is_none() {
+        if let Some((w, used)) = failure_clause(&q, &s.used, &mentions) {
+            when = Some(w);
+            for i in used {
+                s.used[i] = true;
             }
-        })
-        .collect();
-    for m in vocabulary.mentions(tree, &free, &asks) {
+            mentions.retain(|m| !(m.start..m.end).any(|i| s.used[i]));
+        }
+    }
+    for m in mentions {
         s.nodes.push(m);
     }
     s.nodes.sort_by_key(|m| m.start);
@@ -572,6 +573,70 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         when,
         about,
     })
+}
+
+/// The words not read yet; those read are blanked.
+fn free_words(q: &[Word], used: &[bool]) -> Vec<Word> {
+    q.iter()
+        .enumerate()
+        .map(|(i, w)| {
+            if used[i] {
+                Word {
+                    text: "\u{0}".into(),
+                    stem: "\u{0}".into(),
+                }
+            } else {
+                w.clone()
+            }
+        })
+        .collect()
+}
+
+/// "(just) before X failed", "right after the X failure", in a question
+/// that asks what was done or running: the moment, and the words that say
+/// it (the marker, the node's name, the failure).
+fn failure_clause(q: &[Word], used: &[bool], mentions: &[Mention]) -> Option<(When, Vec<usize>)> {
+    let doing = q.iter().any(|w| {
+        [
+            "doing",
+            "running",
+            "subgoal",
+            "goal",
+            "happening",
+            "active",
+            "executing",
+        ]
+        .contains(&w.text.as_str())
+    });
+    if !doing {
+        return None;
+    }
+    let k = q
+        .iter()
+        .enumerate()
+        .position(|(i, w)| !used[i] && (w.text == "before" || w.text == "after"))?;
+    // The name right after the marker (an article between), then the failure.
+    let m = mentions
+        .iter()
+        .find(|m| m.start > k && q[k + 1..m.start].iter().all(|w| w.text == "the"))?;
+    if m.uids.len() != 1 {
+        return None;
+    }
+    let end = (m.end..q.len().min(m.end + 2)).find(|&i| q[i].stem == "fail")?;
+    let mut said: Vec<usize> = (k..=end).collect();
+    for j in (0..k).rev() {
+        if ["just", "right"].contains(&q[j].text.as_str()) {
+            said.push(j);
+        } else {
+            break;
+        }
+    }
+    let w = if q[k].text == "before" {
+        When::BeforeFailureOf(m.uids[0])
+    } else {
+        When::AfterFailureOf(m.uids[0])
+    };
+    Some((w, said))
 }
 
 /// "The retreat arm in reset arm", "the costmap clearing under the
@@ -942,8 +1007,8 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
         Some(Event::Finish)
     } else if s.has_stem(&[
         "run", "start", "execut", "tick", "call", "trigger", "begin", "activ", "launch", "fire",
-        "kick", "invok", "attempt", "tri", "tried", "enter", "chose", "choos", "pick", "select",
-        "use",
+        "check", "kick", "invok", "attempt", "tri", "tried", "enter", "chose", "choos", "pick",
+        "select", "use",
     ]) {
         Some(Event::Run)
     } else if s.has_stem(&["reach", "arriv"]) {
@@ -1235,6 +1300,60 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             return out;
         }
     }
+    // "What's the purpose of the thing you're doing now?", "what is L2
+    // for?", "whats the point of driving right now?": why it does what it
+    // does (the task's purpose is its goal, asked below).
+    let purpose = s.has_stem(&["purpos", "reason"])
+        || s.phrase(&["point", "of"]).is_some()
+        || what && s.q.last().is_some_and(|w| w.text == "for");
+    let current = doing_words || s.has("now") || s.has("current") || s.has_stem(&["action"]);
+    if purpose && !why && ev.is_none() && (current || !named.is_empty()) {
+        out.push((
+            Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+            sure_of_words(0.9),
+        ));
+        return out;
+    }
+    // "Why look around?": a bare verb after "why" asks why it does it.
+    let bare = s.q.first().is_some_and(|w| w.text == "why")
+        && s.q.get(1).is_some_and(|w| {
+            !matches!(
+                w.text.as_str(),
+                "did"
+                    | "was"
+                    | "is"
+                    | "does"
+                    | "do"
+                    | "were"
+                    | "has"
+                    | "have"
+                    | "had"
+                    | "are"
+                    | "not"
+                    | "would"
+                    | "could"
+                    | "will"
+                    | "can"
+                    | "the"
+                    | "it"
+                    | "you"
+                    | "so"
+                    | "robot"
+                    | "bot"
+                    | "they"
+                    | "he"
+                    | "she"
+                    | "we"
+            )
+        });
+    let contrast = s.has("instead") || s.phrase(&["rather", "than"]).is_some();
+    if why && bare && !contrast && matches!(ev, None | Some(Event::Run)) && !named.is_empty() {
+        out.push((
+            Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+            sure_of_words(0.85),
+        ));
+        return out;
+    }
     if why {
         // "Why didn't it X after Y failed": a why about X; the clause after
         // "after", "when" or "once" only says when.
@@ -1393,6 +1512,22 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.has("upcoming")
         || s.phrase(&["from", "here"]).is_some() && s.has("go")
         || (s.has("after") && (s.has("will") || s.has("happens")));
+    // "What happens now?", "and now what?", "what will the tree do now?",
+    // "what do you plan to do after walking?".
+    let past = ["did", "was", "were", "had", "happened"]
+        .iter()
+        .any(|w| s.has(w));
+    let next = next
+        || !past
+            && (s.phrase(&["what", "happens"]).is_some()
+                && (s.has("now") || s.has("then") || s.has("after"))
+                || s.q.len() >= 2
+                    && s.q[s.q.len() - 2..]
+                        .iter()
+                        .map(|w| w.text.as_str())
+                        .eq(["now", "what"])
+                || s.has("will") && s.has("do") && what
+                || s.phrase(&["plan", "to", "do"]).is_some());
     if next {
         out.push((Intent::Next, sure_of_words(0.93)));
         return out;
@@ -1514,7 +1649,8 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["working", "toward"]).is_some()
         || s.phrase(&["get", "done"]).is_some()
         || s.has_stem(&["achiev", "accomplish"]);
-    let steps = s.has_stem(&["step", "plan", "procedur", "strategi", "approach", "outlin"])
+    let steps = !s.has("doing")
+        && s.has_stem(&["step", "plan", "procedur", "strategi", "approach", "outlin"])
         || s.phrase(&["walk", "me", "through"]).is_some()
         || (how
             && s.has_stem(&[
@@ -1745,8 +1881,20 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         &["is", "robot", "capable", "of"],
         &["is", "it", "capable", "of"],
         &["do", "you", "know", "how", "to"],
+        &["would", "you", "be", "able", "to"],
+        &["will", "you", "be", "able", "to"],
+        &["is", "robot", "able", "to"],
         &["does", "robot", "know", "how", "to"],
     ];
+    // "Is clearing the local costmap something you can do?".
+    if texts.first() == Some(&"is")
+        && (texts.ends_with(&["something", "you", "can", "do"])
+            || texts.ends_with(&["something", "it", "can", "do"]))
+    {
+        let from = free.get(1)?.0;
+        let m = s.nodes.iter().find(|m| m.start >= from)?;
+        return Some(tree.description(m.uids[0]).to_string());
+    }
     let open = openings.iter().find(|o| texts.starts_with(o))?;
     // "can you tell me why …" asks what follows.
     let next = texts.get(open.len()).copied().unwrap_or("");

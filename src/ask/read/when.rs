@@ -19,6 +19,11 @@ pub enum When {
     AfterFailure,
     /// When the failure's handler succeeded.
     AfterRecovery,
+    /// Just before this node failed (its last failure by the moment asked,
+    /// else its first).
+    BeforeFailureOf(crate::model::Uid),
+    /// Just after this node failed.
+    AfterFailureOf(crate::model::Uid),
 }
 
 impl When {
@@ -32,6 +37,17 @@ impl When {
             When::BeforeFailure => "just before the failure".into(),
             When::AfterFailure => "just after the failure".into(),
             When::AfterRecovery => "after the recovery".into(),
+            When::BeforeFailureOf(u) => format!("just before #{u} failed"),
+            When::AfterFailureOf(u) => format!("just after #{u} failed"),
+        }
+    }
+
+    /// As an answer says it, the node by its name.
+    pub fn told(self, tree: &crate::model::Tree) -> String {
+        match self {
+            When::BeforeFailureOf(u) => format!("just before {} failed", tree.told(u)),
+            When::AfterFailureOf(u) => format!("just after {} failed", tree.told(u)),
+            w => w.words(),
         }
     }
 }

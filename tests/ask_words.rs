@@ -853,7 +853,29 @@ fn goals_beside_events_parts_of_missions_slowness_and_listed_ticks() {
             true,
         ),
     ];
-    for (run, q, read_as, sure) in cases.iter().chain(more) {
+    let asked_by_corpus5: &[(&str, &str, &str, bool)] = &[
+        (taxi, "robot ok??", "Was there anything wrong?", true),
+        (taxi, "tick 2 details pls", "What happened at tick 2?", true),
+        (
+            taxi,
+            "Is the taxi capable of navigating to the destination?",
+            "Can you navigate to destination?",
+            true,
+        ),
+        (
+            taxi,
+            "What's the purpose of the thing you're currently executing?",
+            "Why are you doing this?",
+            true,
+        ),
+        (
+            taxi,
+            "Can you justify the move you're making right now?",
+            "Why are you doing this?",
+            true,
+        ),
+    ];
+    for (run, q, read_as, sure) in cases.iter().chain(more).chain(asked_by_corpus5) {
         // The patrol has 5 ticks.
         let at = if *run == patrol { "4" } else { "6" };
         let (ok, out, err) = btx(&["ask", run, "--at", at, "--format", "json", q]);
@@ -927,4 +949,21 @@ fn doing_just_before_a_node_failed_is_asked_at_that_moment() {
     // Just before 10:1 is the end of tick 9, when look at chuck was running.
     assert_eq!(a["moment"], "9");
     assert_eq!(a["answer"], "I look at chuck.");
+}
+
+/// Advice and amounts are not the run's: refused, exit status 1.
+#[test]
+fn advice_and_amounts_are_refused() {
+    for q in [
+        "what should I set num_attempts to?",
+        "how much does the taxi cost?",
+        "should I use BehaviorTree.CPP or py_trees for my next project?",
+    ] {
+        let (ok, out, _) = btx(&["ask", "tests/fixtures/logs/taxi_nominal.btlog", q]);
+        assert!(!ok, "{q}: {out}");
+        assert!(
+            out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
 }

@@ -167,7 +167,19 @@ fn or_list(items: &[String]) -> String {
 /// Answers a question typed in the user's words: read (nodes, then what
 /// is asked, then when), then answered at the moment it names, if any.
 pub fn ask(cx: &Context, question: &str) -> Reply {
+    // "Can you justify the move you're making?", "can you explain …": a
+    // question put politely, read as what it asks.
+    let polite = |x: &str| {
+        let first = x.split_whitespace().next().unwrap_or("").to_lowercase();
+        [
+            "justify", "explain", "tell", "show", "describe", "say", "give", "list",
+        ]
+        .contains(&first.as_str())
+    };
     let reading = match Question::parse(question) {
+        Some(Question::CanYou(x)) if polite(&x) => {
+            read::read(&read::Vocabulary::new(cx.tree), cx.tree, question)
+        }
         Some(q) => Some(read::Reading {
             intent: parse::Intent::Fixed(q),
             confidence: 1.0,
@@ -230,7 +242,7 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         None => cx,
     };
     let mut r = compose::compose(cx, question, &reading.intent);
-    r.restate = Question::parse(question).is_none();
+    r.restate = !matches!(Question::parse(question), Some(q) if !matches!(&q, Question::CanYou(x) if polite(x)));
     r.confidence = reading.confidence;
     r.named_moment = reading.when.map(|w| w.told(cx.tree));
     // Han's questions are asked of a moment; one the question named is

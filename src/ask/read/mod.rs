@@ -300,6 +300,11 @@ fn about_the_world(word: &str) -> bool {
         "weather",
         "recommend",
         "meters",
+        "ram",
+        "cpu",
+        "raining",
+        "rain",
+        "snow",
         "metres",
         "kilometers",
         "miles",
@@ -502,10 +507,16 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // Weak mentions stay words unless the question names no other node
     // and asks about one.
     let strong: Vec<Mention> = s.nodes.iter().filter(|m| !m.weak).cloned().collect();
-    if strong.iter().all(|m| m.uids == [tree.root().uid])
-        && q.iter()
-            .enumerate()
-            .any(|(i, w)| !in_mention[i] && about_the_world(&w.text))
+    // "What should I set num_attempts to?", "should I use py_trees?":
+    // advice, which no run holds.
+    let advice = q
+        .windows(2)
+        .any(|p| p[0].text == "should" && ["i", "we"].contains(&p[1].text.as_str()));
+    if advice
+        || strong.iter().all(|m| m.uids == [tree.root().uid])
+            && q.iter()
+                .enumerate()
+                .any(|(i, w)| !in_mention[i] && about_the_world(&w.text))
     {
         return None;
     }
@@ -1102,13 +1113,15 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
     // Nodes named other than the task itself ("nav2", "the patrol").
     let named: Vec<&Mention> = s.nodes.iter().filter(|m| m.uids != [root]).collect();
     let why = s.has("why")
+        || s.has_stem(&["justifi", "justif"])
         || s.phrase(&["how", "come"]).is_some()
         || s.phrase(&["what", "caused"]).is_some()
         || s.phrase(&["what", "made"]).is_some()
         || s.has_stem(&["reason", "caus", "cause"])
         || (s.has("explain") && !s.has("how") && !s.nodes.is_empty() && ev.is_some());
     let what = s.has("what") || s.has("which") || IMPERATIVE.iter().any(|w| s.has(w));
-    let how = s.has("how");
+    // "How much does it cost", "how much RAM": an amount, never the steps.
+    let how = s.has("how") && s.phrase(&["how", "much"]).is_none();
     // "After it couldn't detect the chuck": not managing is failing.
     let could_not = s.phrase(&["could", "not"]).is_some()
         || s.phrase(&["can", "not"]).is_some()
@@ -1187,6 +1200,14 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             out.push((Intent::WhatIf { node, event: e }, sure(0.92)));
             return out;
         }
+    }
+    // "Robot ok??", "something wrong?": a few words asking whether all is well.
+    if s.q.len() <= 3 && (problem || fine) && named.is_empty() && !why && !what {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+            sure_of_words(0.9),
+        ));
+        return out;
     }
     // "Did anything fail (while patrolling)?": yes or no, whatever is named.
     if yes_no
@@ -1307,7 +1328,7 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["point", "of"]).is_some()
         || what && s.q.last().is_some_and(|w| w.text == "for");
     let current = doing_words || s.has("now") || s.has("current") || s.has_stem(&["action"]);
-    if purpose && !why && ev.is_none() && (current || !named.is_empty()) {
+    if purpose && !why && matches!(ev, None | Some(Event::Run)) && (current || !named.is_empty()) {
         out.push((
             Intent::Fixed(Question::Tree(TreeQuestion::Why)),
             sure_of_words(0.9),
@@ -1577,7 +1598,7 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
             _ => 0,
         };
         let asks_tick = s.has_stem(&[
-            "happen", "chang", "occur", "describ", "summar", "show", "went", "transit",
+            "happen", "chang", "occur", "describ", "summar", "show", "went", "transit", "detail",
         ]) || break_down
             || s.empty()
             || (what && !doing_words && !s.has_stem(&["run", "goal", "subgoal"]));
@@ -1860,7 +1881,7 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
             .enumerate()
             .filter(|(i, w)| {
                 !LEAD.contains(&w.text.as_str())
-                    && !["the", "a", "an"].contains(&w.text.as_str())
+                    && !["the", "a", "an", "this", "that"].contains(&w.text.as_str())
                     // "robot, can you pick a screw": the robot addressed.
                     && (*i != 0 || !["robot", "bot"].contains(&w.text.as_str()))
             })
@@ -1886,19 +1907,34 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         &["is", "robot", "able", "to"],
         &["does", "robot", "know", "how", "to"],
     ];
-    // "Is clearing the local costmap something you can do?".
+    // "Is clearing the local costmap something you can do?", "is detecting
+    // screws something this robot can do?".
     if texts.first() == Some(&"is")
-        && (texts.ends_with(&["something", "you", "can", "do"])
-            || texts.ends_with(&["something", "it", "can", "do"]))
+        && texts.ends_with(&["can", "do"])
+        && texts.contains(&"something")
     {
         let from = free.get(1)?.0;
         let m = s.nodes.iter().find(|m| m.start >= from)?;
         return Some(tree.description(m.uids[0]).to_string());
     }
-    let open = openings.iter().find(|o| texts.starts_with(o))?;
+    // "Is the taxi able to …", "is this robot capable of …": the robot
+    // named any way.
+    let named_subject: [&str; 4];
+    let open: &[&str] = match openings.iter().find(|o| texts.starts_with(o)) {
+        Some(o) => o,
+        None if texts.len() > 4
+            && ["is", "are"].contains(&texts[0])
+            && (texts[2..4] == ["able", "to"] || texts[2..4] == ["capable", "of"]) =>
+        {
+            named_subject = [texts[0], texts[1], texts[2], texts[3]];
+            &named_subject
+        }
+        None => return None,
+    };
     // "can you tell me why …" asks what follows.
     let next = texts.get(open.len()).copied().unwrap_or("");
     if IMPERATIVE.contains(&next)
+        || next == "justify"
         || ["still", "do"].contains(&next) && texts.len() == open.len() + 1
     {
         return None;

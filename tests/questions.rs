@@ -8,8 +8,9 @@
 //! first half only; the figures of the second are the ones reported.
 //! `corpus3.jsonl`, 320 more written blind by a third writer once the
 //! reader stood, was held out until `corpus4.jsonl` (320 by a fourth
-//! writer) came, and corpus4 until `corpus5.jsonl` (280 by a fifth);
-//! corpus5 is never tuned on: its figures are the fresh ones.
+//! writer) came, corpus4 until `corpus5.jsonl` (280 by a fifth), corpus5
+//! until `corpus6.jsonl` (280 by a sixth); corpus6 is never tuned on: its
+//! figures are the fresh ones.
 //!
 //! `cargo test --test questions -- --nocapture` prints the figures.
 
@@ -431,24 +432,26 @@ fn questions_held_out_are_read_as_meant() {
 
 #[test]
 fn questions_written_after_the_reader_are_read_as_meant() {
-    let t3 = tally(&["corpus3.jsonl", "corpus4.jsonl"], |_| true);
-    let (understood3, misread3) = report("corpus3 and corpus4 (tuned on)", &t3);
-    let t = tally(&["corpus5.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus5)", &t);
+    let t3 = tally(&["corpus3.jsonl", "corpus4.jsonl", "corpus5.jsonl"], |_| {
+        true
+    });
+    let (understood3, misread3) = report("corpus3 to corpus5 (tuned on)", &t3);
+    let t = tally(&["corpus6.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus6)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in t3.wrong.iter().chain(&t.wrong) {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 600 && t.total >= 280,
+        t3.total >= 900 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 and corpus4: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus5: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -465,10 +468,10 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 88.0;
 const HELD_MISREAD: f64 = 4.1;
-/// corpus3 and corpus4 as tuned on (80.5 % understood, 3.3 % misread;
-/// first read 72.2 %/8.4 % and 77.2 %/5.6 %), and corpus5, never tuned on
-/// (74.6 % and 5.4 % when it was first read).
-const C3_FLOOR: f64 = 80.3;
-const C3_MISREAD: f64 = 3.4;
-const FRESH_FLOOR: f64 = 74.5;
-const FRESH_MISREAD: f64 = 5.5;
+/// corpus3 to corpus5 as tuned on (80.4 % understood, 3.0 % misread;
+/// first read 72.2 %/8.4 %, 77.2 %/5.6 % and 74.6 %/5.4 %), and corpus6,
+/// never tuned on (76.8 % and 5.7 % when it was first read).
+const C3_FLOOR: f64 = 80.2;
+const C3_MISREAD: f64 = 3.1;
+const FRESH_FLOOR: f64 = 76.5;
+const FRESH_MISREAD: f64 = 5.8;

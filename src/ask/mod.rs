@@ -176,10 +176,10 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         ]
         .contains(&first.as_str())
     };
-    let reading = match Question::parse(question) {
-        Some(Question::CanYou(x)) if polite(&x) => {
-            read::read(&read::Vocabulary::new(cx.tree), cx.tree, question)
-        }
+    let fixed =
+        Question::parse(question).filter(|q| !matches!(q, Question::CanYou(x) if polite(x)));
+    let restate = fixed.is_none();
+    let reading = match fixed {
         Some(q) => Some(read::Reading {
             intent: parse::Intent::Fixed(q),
             confidence: 1.0,
@@ -242,7 +242,7 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         None => cx,
     };
     let mut r = compose::compose(cx, question, &reading.intent);
-    r.restate = !matches!(Question::parse(question), Some(q) if !matches!(&q, Question::CanYou(x) if polite(x)));
+    r.restate = restate;
     r.confidence = reading.confidence;
     r.named_moment = reading.when.map(|w| w.told(cx.tree));
     // Han's questions are asked of a moment; one the question named is

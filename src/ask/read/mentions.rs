@@ -461,10 +461,9 @@ fn targets(tree: &Tree, order: &[Uid], t: Target) -> Vec<Uid> {
                 .iter()
                 .copied()
                 .filter(|&u| {
-                    doers.contains(&u)
-                        || doers
-                            .iter()
-                            .any(|&d| tree.node(d).name == tree.node(u).name)
+                    doers
+                        .iter()
+                        .any(|&d| tree.node(d).name == tree.node(u).name)
                 })
                 .collect()
         }

@@ -99,6 +99,13 @@ impl<'a> Sentence<'a> {
     }
 }
 
+/// Words after "why" that make it not a bare verb ("why look around?"):
+/// auxiliaries, articles and the robot named.
+const NOT_A_VERB: &[&str] = &[
+    "did", "was", "is", "does", "do", "were", "has", "have", "had", "are", "not", "would", "could",
+    "will", "can", "the", "it", "you", "so", "robot", "bot", "they", "he", "she", "we",
+];
+
 /// Words a question may open with that ask nothing.
 const LEAD: &[&str] = &[
     "please", "btx", "hey", "hi", "so", "ok", "um", "uh", "umm", "hmm", "well", "just", "and",
@@ -1280,7 +1287,6 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["which", "step"]).is_some()
         || s.phrase(&["what", "step"]).is_some()
         || s.phrase(&["at", "what", "point"]).is_some()
-        // "list the ticks where it failed", "which ticks did it run in".
         // "list the ticks where it failed" (a plural is read as its one).
         || s.has("tick") && ["list", "where", "show", "give"].iter().any(|w| s.has(w));
     let after_failure = (s.has("after") || s.has("when") || s.has("once"))
@@ -1337,36 +1343,9 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
     }
     // "Why look around?": a bare verb after "why" asks why it does it.
     let bare = s.q.first().is_some_and(|w| w.text == "why")
-        && s.q.get(1).is_some_and(|w| {
-            !matches!(
-                w.text.as_str(),
-                "did"
-                    | "was"
-                    | "is"
-                    | "does"
-                    | "do"
-                    | "were"
-                    | "has"
-                    | "have"
-                    | "had"
-                    | "are"
-                    | "not"
-                    | "would"
-                    | "could"
-                    | "will"
-                    | "can"
-                    | "the"
-                    | "it"
-                    | "you"
-                    | "so"
-                    | "robot"
-                    | "bot"
-                    | "they"
-                    | "he"
-                    | "she"
-                    | "we"
-            )
-        });
+        && s.q
+            .get(1)
+            .is_some_and(|w| !NOT_A_VERB.contains(&w.text.as_str()));
     let contrast = s.has("instead") || s.phrase(&["rather", "than"]).is_some();
     if why && bare && !contrast && matches!(ev, None | Some(Event::Run)) && !named.is_empty() {
         out.push((
@@ -1904,7 +1883,6 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         &["do", "you", "know", "how", "to"],
         &["would", "you", "be", "able", "to"],
         &["will", "you", "be", "able", "to"],
-        &["is", "robot", "able", "to"],
         &["does", "robot", "know", "how", "to"],
     ];
     // "Is clearing the local costmap something you can do?", "is detecting
@@ -1918,28 +1896,26 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         return Some(tree.description(m.uids[0]).to_string());
     }
     // "Is the taxi able to …", "is this robot capable of …": the robot
-    // named any way.
-    let named_subject: [&str; 4];
-    let open: &[&str] = match openings.iter().find(|o| texts.starts_with(o)) {
-        Some(o) => o,
+    // named any way, in four words.
+    let open = match openings.iter().find(|o| texts.starts_with(o)) {
+        Some(o) => o.len(),
         None if texts.len() > 4
             && ["is", "are"].contains(&texts[0])
             && (texts[2..4] == ["able", "to"] || texts[2..4] == ["capable", "of"]) =>
         {
-            named_subject = [texts[0], texts[1], texts[2], texts[3]];
-            &named_subject
+            4
         }
         None => return None,
     };
     // "can you tell me why …" asks what follows.
-    let next = texts.get(open.len()).copied().unwrap_or("");
+    let next = texts.get(open).copied().unwrap_or("");
     if IMPERATIVE.contains(&next)
         || next == "justify"
-        || ["still", "do"].contains(&next) && texts.len() == open.len() + 1
+        || ["still", "do"].contains(&next) && texts.len() == open + 1
     {
         return None;
     }
-    let from = free.get(open.len())?.0;
+    let from = free.get(open)?.0;
     if let Some(m) = s.nodes.iter().find(|m| m.start >= from) {
         return Some(tree.description(m.uids[0]).to_string());
     }

@@ -14,6 +14,8 @@
 // Helpers every stage may use:
 pub mod text;
 
+pub mod pages;
+
 pub mod source;
 
 pub mod clock;

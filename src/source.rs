@@ -95,7 +95,7 @@ pub const TEXT_SIZE_MAX: u64 = 64 << 20;
 pub fn read_input(path: &Path, max: u64, what: &str) -> Result<Vec<u8>, Located> {
     let len = check_input(path, max, what)?;
     use std::io::Read;
-    let mut bytes = Vec::with_capacity(len as usize);
+    let mut bytes = crate::pages::with_capacity(len as usize);
     std::fs::File::open(path)
         .and_then(|f| f.take(max + 1).read_to_end(&mut bytes))
         .map_err(|e| Located::file(path, format!("cannot read {what}: {e}")))?;

@@ -152,15 +152,13 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     let head = clock.map_or(String::new(), |c| c.header());
                     let mut r =
                         w.write_all(format!("{head}{}", btx::export::LOG_TEXT_HEADER).as_bytes());
+                    let mut rows = btx::export::TextRows::new(s.tree());
+                    let mut text = String::new();
                     s.each_row(only, no_idle, &mut |row| {
                         if r.is_ok() {
                             let cell = clock.map_or(String::new(), |c| c.cell(row.time_us));
-                            let text = btx::export::log_text_row(s.tree(), &row);
-                            // A gap line before the row stays unprefixed.
-                            let text = match text.rsplit_once("---\n") {
-                                Some((gap, row)) => format!("{gap}---\n{cell}{row}"),
-                                None => format!("{cell}{text}"),
-                            };
+                            text.clear();
+                            rows.write(&mut text, &cell, &row);
                             r = w.write_all(text.as_bytes());
                         }
                     });

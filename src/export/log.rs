@@ -222,28 +222,57 @@ pub const LOG_TEXT_HEADER: &str =
 
 /// One row of the text table.
 pub fn log_text_row(tree: &crate::model::Tree, r: &LogRow) -> String {
-    let mut name = tree.description(r.uid).to_string();
-    if name.chars().count() > 40 {
-        name = name.chars().take(39).collect::<String>() + "…";
+    let mut out = String::new();
+    TextRows::new(tree).write(&mut out, "", r);
+    out
+}
+
+/// `btx log`'s text rows, written into the caller's buffer: a log of
+/// millions of rows is printed without a string made for each, and each
+/// node's name is cut to its column once.
+pub struct TextRows<'t> {
+    tree: &'t crate::model::Tree,
+    /// Each node's name, cut and padded to its column, by uid.
+    names: Vec<Option<String>>,
+}
+
+impl<'t> TextRows<'t> {
+    pub fn new(tree: &'t crate::model::Tree) -> TextRows<'t> {
+        TextRows {
+            tree,
+            names: Vec::new(),
+        }
     }
-    let gap = r
-        .gap
-        .as_ref()
-        .map_or(String::new(), |g| format!("  --- gap: {g} ---\n"));
-    format!(
-        "{gap}{:>5} {:>5} {:>5}  {:<40} {:<8} -> {:<8} {}\n",
-        r.tick,
-        r.step,
-        r.uid,
-        name,
-        r.prev,
-        r.status,
-        if r.prev == Status::Running && r.status == Status::Idle {
+
+    /// Appends the row to `out`, `cell` (the time column) first; a gap
+    /// before the row is said on a line of its own, without it.
+    pub fn write(&mut self, out: &mut String, cell: &str, r: &LogRow) {
+        use std::fmt::Write;
+        if let Some(g) = &r.gap {
+            let _ = writeln!(out, "  --- gap: {g} ---");
+        }
+        let at = r.uid as usize;
+        if self.names.len() <= at {
+            self.names.resize(at + 1, None);
+        }
+        let name = self.names[at].get_or_insert_with(|| {
+            let mut name = self.tree.description(r.uid).to_string();
+            if name.chars().count() > 40 {
+                name = name.chars().take(39).collect::<String>() + "…";
+            }
+            format!("{name:<40}")
+        });
+        let decision = if r.prev == Status::Running && r.status == Status::Idle {
             "(halted)"
         } else {
             r.decision.as_deref().unwrap_or("")
-        }
-    )
+        };
+        let _ = writeln!(
+            out,
+            "{cell}{:>5} {:>5} {:>5}  {name} {:<8} -> {:<8} {decision}",
+            r.tick, r.step, r.uid, r.prev, r.status,
+        );
+    }
 }
 
 /// The time column `btx log --time` adds before the others.
@@ -308,8 +337,9 @@ impl Clock {
 
 pub fn log_text(s: &Session, rows: &[LogRow]) -> String {
     let mut out = LOG_TEXT_HEADER.to_string();
+    let mut text = TextRows::new(&s.tree);
     for r in rows {
-        out.push_str(&log_text_row(&s.tree, r));
+        text.write(&mut out, "", r);
     }
     out
 }

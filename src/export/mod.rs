@@ -11,7 +11,7 @@ pub use dot::{framed_dot, tree_dot};
 pub use json::{alert_json, framed_json, tree_json, write_tree_json};
 pub use log::{
     each_log_row, log_json, log_json_lines, log_rows, log_text, log_text_row, log_transitions,
-    trailing_gaps, write_log_json, Clock, LogFilter, LogRow, Table, LOG_TEXT_HEADER,
+    trailing_gaps, write_log_json, Clock, LogFilter, LogRow, Table, TextRows, LOG_TEXT_HEADER,
 };
 pub use mermaid::{framed_mermaid, tree_mermaid};
 pub use text::{framed_text, tree_text, write_tree_text};

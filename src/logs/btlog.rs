@@ -167,8 +167,8 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<RawLog, Located> {
     let first = 31 + n;
     let whole = (bytes.len() - first) / 9;
     let mut records = Columns {
-        moves: Vec::with_capacity(whole),
-        times: Vec::with_capacity(whole),
+        moves: crate::pages::with_capacity(whole),
+        times: crate::pages::with_capacity(whole),
     };
     for (k, r) in bytes[first..first + 9 * whole].chunks_exact(9).enumerate() {
         let mut dt = [0u8; 8];

@@ -169,7 +169,7 @@ fn by_distinct_runs(tree: &Tree, recs: Packed, pieces: usize) -> Option<Vec<u32>
             &numbered[at - d.len()..at]
         })
         .collect();
-    let mut out = Vec::with_capacity(recs.len());
+    let mut out = crate::pages::with_capacity(recs.len());
     for &id in &of_run {
         let base = out.last().copied().unwrap_or(0) + 1;
         let first = spans[id][0];
@@ -242,7 +242,8 @@ fn by_structure_whole(tree: &Tree, recs: Packed) -> Result<Vec<u32>, usize> {
         },
         RunOptions::default(),
     );
-    let mut ticks = vec![0u32; recs.len()];
+    let mut ticks = crate::pages::with_capacity(recs.len());
+    ticks.resize(recs.len(), 0u32);
     let mut stuck = 0;
     while ex.leaves.cursor < recs.len() {
         let before = ex.leaves.cursor;
@@ -265,16 +266,15 @@ fn by_structure_whole(tree: &Tree, recs: Packed) -> Result<Vec<u32>, usize> {
         }
     }
     // Compact: ticks without records are put back from timing below.
-    let mut out = Vec::with_capacity(ticks.len());
     let (mut last, mut n) = (0, 0);
-    for t in ticks {
-        if t != last {
-            last = t;
+    for t in &mut ticks {
+        if *t != last {
+            last = *t;
             n += 1;
         }
-        out.push(n);
+        *t = n;
     }
-    Ok(out)
+    Ok(ticks)
 }
 
 /// Timing alone: a new tick after a gap of 1 ms or more.
@@ -313,54 +313,57 @@ fn ticks_in_gap(gap_us: i64, period: Option<i64>, root_idle: bool) -> u32 {
 }
 
 /// Puts back the ticks in which nothing changed, from the time between
-/// ticks; and the record from which gaps counted for one tick each, if
-/// the empty ticks ran past `EMPTY_TICKS_MAX`.
-fn with_empty_ticks(recs: Packed, ticks: &[u32]) -> (Vec<u32>, Option<usize>) {
-    let mut firsts: Vec<i64> = Vec::new();
-    let mut first_rec: Vec<usize> = Vec::new();
-    // Whether the root was left IDLE by the tick before each.
-    let mut idle_before: Vec<bool> = Vec::new();
-    let mut root_idle = false;
-    for (i, (&m, &time)) in recs.moves.iter().zip(recs.times).enumerate() {
+/// ticks, into the structural numbers in place; and the record from which
+/// gaps counted for one tick each, if the empty ticks ran past
+/// `EMPTY_TICKS_MAX`. Two passes over the records, the gaps the only thing
+/// kept between them: a log of millions is numbered without a copy.
+fn with_empty_ticks(recs: Packed, mut ticks: Vec<u32>) -> (Vec<u32>, Option<usize>) {
+    let mut gaps: Vec<i64> = Vec::new();
+    let mut prev_first: Option<i64> = None;
+    for (i, &time) in recs.times.iter().enumerate() {
         if i == 0 || ticks[i] != ticks[i - 1] {
-            firsts.push(time);
-            first_rec.push(i);
-            idle_before.push(root_idle);
+            if let Some(p) = prev_first {
+                let g = time.saturating_sub(p);
+                if g > 0 {
+                    gaps.push(g);
+                }
+            }
+            prev_first = Some(time);
         }
+    }
+    // A late tick makes a long gap, never a short one: measure the period
+    // by the short gaps, and count a gap as k ticks only once it is almost
+    // k periods long.
+    if gaps.is_empty() {
+        return (ticks, None);
+    }
+    let tenth = gaps.len() / 10;
+    let period = *gaps.select_nth_unstable(tenth).1;
+    drop(gaps);
+    let mut empty = 0u32;
+    let mut capped = None;
+    // Whether the root was left IDLE by the tick before each record.
+    let mut root_idle = false;
+    let (mut structural, mut number, mut first) = (0u32, 0u32, 0i64);
+    for (i, (&m, &time)) in recs.moves.iter().zip(recs.times).enumerate() {
+        if i == 0 {
+            (structural, number, first) = (ticks[0], 1, time);
+        } else if ticks[i] != structural {
+            let steps = ticks_in_gap(time.saturating_sub(first), Some(period), root_idle);
+            let extra = (steps - 1).min(EMPTY_TICKS_MAX - empty);
+            if extra < steps - 1 && capped.is_none() {
+                capped = Some(i);
+            }
+            empty += extra;
+            (structural, number, first) = (ticks[i], number + 1 + extra, time);
+        }
+        ticks[i] = number;
         let (uid, status) = super::btlog::unpack(m);
         if uid == Tree::ROOT {
             root_idle = status == Status::Idle;
         }
     }
-    let mut gaps: Vec<i64> = firsts
-        .windows(2)
-        .map(|w| w[1].saturating_sub(w[0]))
-        .filter(|g| *g > 0)
-        .collect();
-    gaps.sort_unstable();
-    // A late tick makes a long gap, never a short one: measure the period
-    // by the short gaps, and count a gap as k ticks only once it is almost
-    // k periods long.
-    let Some(&period) = gaps.get(gaps.len() / 10) else {
-        return (ticks.to_vec(), None);
-    };
-    let mut numbers = vec![1u32];
-    let mut empty = 0u32;
-    let mut capped = None;
-    for (k, w) in firsts.windows(2).enumerate() {
-        let steps = ticks_in_gap(w[1].saturating_sub(w[0]), Some(period), idle_before[k + 1]);
-        let extra = (steps - 1).min(EMPTY_TICKS_MAX - empty);
-        if extra < steps - 1 && capped.is_none() {
-            capped = Some(first_rec[k + 1]);
-        }
-        empty += extra;
-        let last = *numbers.last().expect("seeded");
-        numbers.push(last + 1 + extra);
-    }
-    (
-        ticks.iter().map(|&t| numbers[t as usize - 1]).collect(),
-        capped,
-    )
+    (ticks, capped)
 }
 
 /// A log's tick numbers.
@@ -380,7 +383,7 @@ pub fn reconstruct(tree: &Tree, recs: Packed) -> Ticks {
         Ok(t) => (t, None),
         Err(at) => (by_timing(recs.times), Some(at)),
     };
-    let (numbers, capped) = with_empty_ticks(recs, &structural);
+    let (numbers, capped) = with_empty_ticks(recs, structural);
     Ticks {
         numbers,
         fell_back,
@@ -1015,7 +1018,7 @@ mod tests {
             .map(rec)
             .collect();
         let c = cols(&recs);
-        let (ticks, capped) = with_empty_ticks(c.view(), &by_timing(&c.times));
+        let (ticks, capped) = with_empty_ticks(c.view(), by_timing(&c.times));
         assert_eq!(&ticks[..3], [1, 2, 3]);
         assert_eq!(ticks[3], 3 + 1_000_000);
         assert!(ticks.iter().all(|&t| t <= u32::MAX / 2));
@@ -1034,7 +1037,7 @@ mod tests {
         }
         let recs: Vec<Record> = times.into_iter().map(rec).collect();
         let c = cols(&recs);
-        let (ticks, capped) = with_empty_ticks(c.view(), &by_timing(&c.times));
+        let (ticks, capped) = with_empty_ticks(c.view(), by_timing(&c.times));
         assert_eq!(capped, Some(30));
         let last = *ticks.last().unwrap();
         assert_eq!(last, 35 + EMPTY_TICKS_MAX);

@@ -134,8 +134,9 @@ impl Columns<'_, '_> {
 /// A column's values present, and the definition levels an OPTIONAL
 /// column marks each row with (1 present, 0 missing).
 fn split<T>(values: impl Iterator<Item = Option<T>>) -> (Vec<T>, Vec<i16>) {
-    let mut vals = Vec::new();
-    let mut defs = Vec::new();
+    let n = values.size_hint().0;
+    let mut vals = Vec::with_capacity(n);
+    let mut defs = Vec::with_capacity(n);
     for v in values {
         defs.push(i16::from(v.is_some()));
         vals.extend(v);

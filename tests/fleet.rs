@@ -343,6 +343,21 @@ fn duckdb_reads_the_export_of_a_thousand_runs_to_the_same_figures() {
         let from_transitions = d["failed_in_from_transitions"][&uid].as_u64().unwrap_or(0);
         assert_eq!(n["failed_in"], from_transitions, "#{uid}");
     }
+    // The ticks, steps and times of the runs a .btlog timed, row for row
+    // as `btx log` gives them.
+    let logs = d["log_rows"].as_object().unwrap();
+    assert_eq!(logs.len(), 1000 / sources.len());
+    for (run, rows) in logs {
+        let log = json(&["log", run, "--format", "json"]);
+        let want: Vec<Value> = log["transitions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| serde_json::json!([t["tick"], t["step"], t["uid"], t["time_us"]]))
+            .collect();
+        assert!(want.len() > 10, "{run}");
+        assert_eq!(rows.as_array().unwrap(), &want, "{run}");
+    }
     for c in v["causes"].as_array().unwrap() {
         let why = c["what_went_wrong"].as_str().unwrap();
         assert_eq!(

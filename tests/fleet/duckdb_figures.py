@@ -29,6 +29,14 @@ out = {
         str(uid): n
         for uid, n in db.sql("select uid, count(distinct run) from transitions where status = 'FAILURE' group by uid").fetchall()
     },
+    # Every row of each .btlog run (its ticks, steps and times are
+    # bit-packed differences in the export), in order.
+    "log_rows": {
+        run: rows
+        for run, rows in db.sql(
+            "select run, list([tick, step, uid, time_us] order by tick, step) from transitions where run like '%.btlog' group by run"
+        ).fetchall()
+    },
     "causes": dict(db.sql("select what_went_wrong, count(*) from runs where outcome = 'FAILURE' group by all").fetchall()),
 }
 print(json.dumps(out))

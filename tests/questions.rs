@@ -9,8 +9,10 @@
 //! `corpus3.jsonl`, 320 more written blind by a third writer once the
 //! reader stood, was held out until `corpus4.jsonl` (320 by a fourth
 //! writer) came, corpus4 until `corpus5.jsonl` (280 by a fifth), corpus5
-//! until `corpus6.jsonl` (280 by a sixth); corpus6 is never tuned on: its
-//! figures are the fresh ones.
+//! until `corpus6.jsonl` (280 by a sixth), corpus6 until `corpus7.jsonl`
+//! (280 by a seventh); corpus7 is never tuned on: its figures are the
+//! fresh ones, and its failures are never printed (`BTX_SHOW_FRESH` shows
+//! those of the corpora tuned on).
 //!
 //! `cargo test --test questions -- --nocapture` prints the figures.
 
@@ -432,14 +434,20 @@ fn questions_held_out_are_read_as_meant() {
 
 #[test]
 fn questions_written_after_the_reader_are_read_as_meant() {
-    let t3 = tally(&["corpus3.jsonl", "corpus4.jsonl", "corpus5.jsonl"], |_| {
-        true
-    });
-    let (understood3, misread3) = report("corpus3 to corpus5 (tuned on)", &t3);
-    let t = tally(&["corpus6.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus6)", &t);
+    let t3 = tally(
+        &[
+            "corpus3.jsonl",
+            "corpus4.jsonl",
+            "corpus5.jsonl",
+            "corpus6.jsonl",
+        ],
+        |_| true,
+    );
+    let (understood3, misread3) = report("corpus3 to corpus6 (tuned on)", &t3);
+    let t = tally(&["corpus7.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus7)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
-        for w in t3.wrong.iter().chain(&t.wrong) {
+        for w in &t3.wrong {
             println!("{w}");
         }
     }
@@ -451,7 +459,7 @@ fn questions_written_after_the_reader_are_read_as_meant() {
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus5: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus6: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -468,10 +476,11 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 88.0;
 const HELD_MISREAD: f64 = 4.1;
-/// corpus3 to corpus5 as tuned on (80.4 % understood, 3.0 % misread;
-/// first read 72.2 %/8.4 %, 77.2 %/5.6 % and 74.6 %/5.4 %), and corpus6,
-/// never tuned on (76.8 % and 5.7 % when it was first read).
-const C3_FLOOR: f64 = 80.2;
-const C3_MISREAD: f64 = 3.1;
-const FRESH_FLOOR: f64 = 76.5;
-const FRESH_MISREAD: f64 = 5.8;
+/// corpus3 to corpus6 as tuned on (79.6 % understood, 3.7 % misread
+/// when corpus6 joined them; first read 72.2 %/8.4 %, 77.2 %/5.6 %,
+/// 74.6 %/5.4 % and 76.8 %/5.7 %), and corpus7, never tuned on (69.3 %
+/// and 10.0 % when it was first read).
+const C3_FLOOR: f64 = 79.4;
+const C3_MISREAD: f64 = 3.8;
+const FRESH_FLOOR: f64 = 69.0;
+const FRESH_MISREAD: f64 = 10.1;

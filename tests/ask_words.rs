@@ -967,3 +967,95 @@ fn advice_and_amounts_are_refused() {
         );
     }
 }
+
+/// A post that tells its story before it asks is read by its question,
+/// with the moment the story told; "the second time" is the node's
+/// second end; a condition that "stayed true" succeeded; a question put
+/// politely ("could you confirm how many …", "is this robot able to …")
+/// is read as what it asks; a verb before a name ("retrying FollowPath")
+/// says what was done to that node; a place after a deed ("fails in the
+/// RecoveryFallback") picks among nodes named alike.
+#[test]
+fn posts_ordinals_states_and_polite_forms_are_read_as_meant() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let bag = [
+        "tests/fixtures/rosbag/two_goals",
+        "--tree",
+        "tests/fixtures/rosbag/navigator.xml",
+        "--run",
+        "1",
+    ];
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (vec![nav2], "why did FollowPath fail the second time?", "Why did the FollowPath action (#10) fail at 6:1?"),
+        (
+            vec![nav2],
+            "what was the robot doing just before FollowPath failed the second time?",
+            "What were you doing just before the FollowPath action (#10) failed for the second time?",
+        ),
+        (
+            vec![kitting],
+            "We're running the kitting demo. In the log, look at chuck returns FAILURE at tick 10 even though detect chuck had succeeded before. Could someone explain why the look at chuck failed there? Is it a perception issue?",
+            "Why did look at chuck (#18) fail at 10:1?",
+        ),
+        (
+            vec!["tests/fixtures/questions/patrol.jsonl"],
+            "what if path clear had stayed true?",
+            "What happens if path clear (#6) succeeds?",
+        ),
+        (
+            vec![kitting],
+            "Could you confirm from the log how many times look at chuck failed?",
+            "How often did look at chuck (#18) fail?",
+        ),
+        (
+            vec![kitting, "--at", "20"],
+            "is this robot able to detect the screw compartment?",
+            "Can you detect screw compartment?",
+        ),
+        (
+            vec![kitting],
+            "why did it manage to look at the chuck the second time?",
+            "Why did look at chuck (#18) succeed at 18:1?",
+        ),
+        (
+            bag.to_vec(),
+            "why did it clear the local costmap instead of retrying FollowPath?",
+            "Why did I do ClearLocalCostmap (#4) and not the FollowPath action (#3) in tick 2?",
+        ),
+        (
+            vec![nav2],
+            "What happens if GoalUpdated fails in the RecoveryFallback?",
+            "What happens if the GoalUpdated condition (#15) fails?",
+        ),
+    ];
+    for (files, q, first) in cases {
+        let mut args = vec!["ask"];
+        args.extend(files);
+        args.push(q);
+        let (ok, out, err) = btx(&args);
+        assert!(ok, "{q}: {err}");
+        assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
+    }
+    // A time past the last is said, not answered at another.
+    let (ok, out, _) = btx(&["ask", nav2, "why did FollowPath fail the fifth time?"]);
+    assert!(!ok, "{out}");
+    assert!(
+        out.starts_with(
+            "The FollowPath action (#10) ended 3 times in this run: there is no fifth time."
+        ),
+        "{out}"
+    );
+    // The world, and advice, are refused even where a name is heard.
+    for q in [
+        "what was the temperature in the cell?",
+        "can you recommend a good pizza place near the lab?",
+    ] {
+        let (ok, out, _) = btx(&["ask", kitting, q]);
+        assert!(!ok, "{q}: {out}");
+        assert!(
+            out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
+}

@@ -565,7 +565,7 @@ enum Flow {
     Unknown,
 }
 
-fn flow(n: &crate::model::Node, status: Status) -> Flow {
+fn flow(n: &crate::model::Node, child: Uid, status: Status) -> Flow {
     let flip = |s: Status| {
         if s == Status::Success {
             Status::Failure
@@ -579,7 +579,8 @@ fn flow(n: &crate::model::Node, status: Status) -> Flow {
             Builtin::Sequence
             | Builtin::SequenceWithMemory
             | Builtin::ReactiveSequence
-            | Builtin::AsyncSequence,
+            | Builtin::AsyncSequence
+            | Builtin::PipelineSequence,
         ) => Flow::Next(status == Status::Success),
         Some(Builtin::Fallback | Builtin::ReactiveFallback | Builtin::AsyncFallback) => {
             Flow::Next(status == Status::Failure)
@@ -590,6 +591,14 @@ fn flow(n: &crate::model::Node, status: Status) -> Flow {
         Some(Builtin::RetryUntilSuccessful) if status == Status::Failure => Flow::Again,
         Some(Builtin::Repeat) if status == Status::Success => Flow::Again,
         Some(Builtin::RetryUntilSuccessful | Builtin::Repeat | Builtin::SubTree) => {
+            Flow::Up(status)
+        }
+        // Nav2's: the first child's success is its own, and so is the
+        // recovery's failure. The first child's failure ticks the recovery
+        // only while retries are left: the run's to say.
+        Some(Builtin::RecoveryNode)
+            if (n.children.first() == Some(&child)) == (status == Status::Success) =>
+        {
             Flow::Up(status)
         }
         _ if n.kind == crate::model::Kind::SubTree => Flow::Up(status),
@@ -636,7 +645,7 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
     let mut ended: Vec<(Uid, Status)> = Vec::new();
     while let Some(p) = tree.parent(child) {
         let n = tree.node(p);
-        match flow(n, status) {
+        match flow(n, child, status) {
             Flow::Up(st) => {
                 status = st;
                 child = p;

@@ -170,11 +170,15 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
     // "Can you justify the move you're making?", "can you explain …": a
     // question put politely, read as what it asks.
     let polite = |x: &str| {
-        let first = x.split_whitespace().next().unwrap_or("").to_lowercase();
+        let words: Vec<String> = x.split_whitespace().map(str::to_lowercase).collect();
+        let words: Vec<&str> = words.iter().map(String::as_str).collect();
+        let first = words.first().copied().unwrap_or("");
         [
             "justify", "explain", "tell", "show", "describe", "say", "give", "list",
         ]
-        .contains(&first.as_str())
+        .contains(&first)
+            || read::wraps_a_question(&words)
+            || words.iter().any(|w| read::ADVICE.contains(w))
     };
     let fixed =
         Question::parse(question).filter(|q| !matches!(q, Question::CanYou(x) if polite(x)));
@@ -333,6 +337,47 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
             } else {
                 p
             })
+        }
+        When::Ended {
+            uid,
+            n,
+            status,
+            before,
+        } => {
+            let ends_with = |status: Option<Status>| -> Vec<u32> {
+                index
+                    .changes_of(uid)
+                    .iter()
+                    .copied()
+                    .filter(|&p| {
+                        let s = index.transitions[p as usize - 1].status;
+                        status.map_or(matches!(s, Status::Success | Status::Failure), |want| {
+                            s == want
+                        })
+                    })
+                    .collect()
+            };
+            // "The second time" is its second failure where it failed
+            // twice, else its second try ("it managed the second time").
+            let mut ends = ends_with(status);
+            if ends.len() < n as usize {
+                ends = ends_with(None);
+            }
+            let p = ends.get(n as usize - 1).copied().ok_or_else(|| {
+                let verb = "ended";
+                let times = match ends.len() {
+                    0 => "never".to_string(),
+                    1 => "once".to_string(),
+                    2 => "twice".to_string(),
+                    k => format!("{k} times"),
+                };
+                format!(
+                    "{} {verb} {times} in this run: there is no {} time.",
+                    say::upper(&tree.told(uid)),
+                    read::ordinal_word(n)
+                )
+            })?;
+            Ok(if before { p - 1 } else { p })
         }
         When::BeforeFailure => first_failure(),
         When::AfterFailure => first_failure().map(|i| i + 1),

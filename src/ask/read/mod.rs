@@ -13,7 +13,7 @@ use super::parse::{Event, Intent, Subject, Which};
 use crate::explain::{Question, RunQuestion, TreeQuestion};
 use crate::model::{Kind, Tree, Uid};
 pub use mentions::{Mention, Vocabulary};
-pub use when::When;
+pub use when::{ordinal_word, When};
 use words::Word;
 
 /// Below this, the answer says what it read and offers other readings.
@@ -318,6 +318,12 @@ fn about_the_world(word: &str) -> bool {
         "recommendation",
         "tune",
         "tuning",
+        "temperature",
+        "humidity",
+        "owner",
+        "vendor",
+        "vendors",
+        "supplier",
     ];
     WORLD.contains(&word)
 }
@@ -412,8 +418,54 @@ fn asks(stem: &str) -> bool {
     CUES.contains(&stem)
 }
 
-/// Reads a question about a tree.
+/// Reads a question about a tree. A post that tells its story before it
+/// asks ("We ran the cell overnight … Why did reset arm run?") is read
+/// whole, and, where the whole is not read surely, its questions are read
+/// each on its own: the surest of them, the last of equals, is what it
+/// asks.
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
+    let whole = read_one(vocabulary, tree, text);
+    if whole.as_ref().is_some_and(|r| r.confidence >= SURE) {
+        return whole;
+    }
+    // The first of the surest: what follows a question is most often
+    // about it ("Is this a bug in the decorator?").
+    let asked = questions_in(text)
+        .filter_map(|q| read_one(vocabulary, tree, q))
+        .reduce(|a, b| if b.confidence > a.confidence { b } else { a });
+    match (whole, asked) {
+        (Some(w), Some(a)) if a.confidence <= w.confidence => Some(w),
+        // The moment the story told ("… returned FAILURE at tick 10. Why
+        // did look at chuck fail there?"), where the question says none.
+        (Some(w), Some(mut a)) => {
+            a.when = a.when.or(w.when);
+            Some(a)
+        }
+        (w, a) => a.or(w),
+    }
+}
+
+/// The questions a text of several sentences asks: each sentence that
+/// ends in "?", and what follows a colon ("I need the exact point in the
+/// run: when did look at chuck fail?"). None for a text of one sentence.
+fn questions_in(text: &str) -> impl Iterator<Item = &str> {
+    let mut cuts = vec![0];
+    let b = text.as_bytes();
+    for i in 0..b.len().saturating_sub(1) {
+        if matches!(b[i], b'.' | b'?' | b'!' | b':') && b[i + 1].is_ascii_whitespace() {
+            cuts.push(i + 1);
+        }
+    }
+    cuts.push(text.len());
+    let several = cuts.len() > 2;
+    cuts.windows(2)
+        .map(move |w| text[w[0]..w[1]].trim())
+        .filter(move |s| several && s.ends_with('?'))
+        .collect::<Vec<_>>()
+        .into_iter()
+}
+
+fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     if text.trim().eq_ignore_ascii_case("q5") {
         return Some(Reading {
             intent: Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
@@ -475,7 +527,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // "What were you doing just before look at chuck failed?": the clause
     // says when; what is asked is the rest.
     if when.is_none() {
-        if let Some((w, used)) = failure_clause(&q, &s.used, &mentions) {
+        if let Some((w, used)) = failure_clause(tree, &q, &s.used, &mentions) {
             when = Some(w);
             for i in used {
                 s.used[i] = true;
@@ -488,6 +540,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     }
     s.nodes.sort_by_key(|m| m.start);
     s.nodes = scoped(tree, &q, std::mem::take(&mut s.nodes));
+    s.nodes = governing_verbs_dropped(&q, std::mem::take(&mut s.nodes));
     if let Some(m) = elided_foil(vocabulary, tree, &q, &s.nodes) {
         s.nodes.push(m);
     }
@@ -518,7 +571,8 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // advice, which no run holds.
     let advice = q
         .windows(2)
-        .any(|p| p[0].text == "should" && ["i", "we"].contains(&p[1].text.as_str()));
+        .any(|p| p[0].text == "should" && ["i", "we"].contains(&p[1].text.as_str()))
+        || q.iter().any(|w| ADVICE.contains(&w.text.as_str()));
     if advice
         || strong.iter().all(|m| m.uids == [tree.root().uid])
             && q.iter()
@@ -576,6 +630,18 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         (Intent::Recovered, Some(When::AfterFailure | When::AfterRecovery)) => None,
         (_, w) => w,
     };
+    let when = match (when::nth_time(q), when) {
+        (Some(n), Some(When::BeforeFailureOf(uid) | When::AfterFailureOf(uid))) => {
+            Some(When::Ended {
+                uid,
+                n,
+                status: Some(crate::run::Status::Failure),
+                before: matches!(when, Some(When::BeforeFailureOf(_))),
+            })
+        }
+        (Some(n), None) => nth_end(tree, &intent, n),
+        (_, w) => w,
+    };
     let about = match intent {
         Intent::Fixed(Question::Tree(_)) => s
             .nodes
@@ -591,6 +657,47 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         when,
         about,
     })
+}
+
+/// "Why did FollowPath fail the second time?", "what if detect chuck
+/// had succeeded on the third try?": the moment of the node's N-th end
+/// (of the status asked about; a what-if's is the run it would change).
+/// "When did it fail the first time" asks which, not at when.
+fn nth_end(tree: &Tree, intent: &Intent, n: u32) -> Option<When> {
+    use crate::run::Status;
+    let (uids, status) = match intent {
+        Intent::Why {
+            node: Subject::Nodes(us, _),
+            event,
+            ..
+        } => (
+            us,
+            match event {
+                Event::Fail => Some(Status::Failure),
+                Event::Succeed => Some(Status::Success),
+                _ => None,
+            },
+        ),
+        Intent::WhatIf {
+            node: Subject::Nodes(us, _),
+            ..
+        } => (us, None),
+        _ => return None,
+    };
+    Some(When::Ended {
+        uid: deepest(tree, uids),
+        n,
+        status,
+        before: false,
+    })
+}
+
+/// Of nodes named alike, the one deepest in the tree.
+fn deepest(tree: &Tree, uids: &[Uid]) -> Uid {
+    uids.iter()
+        .copied()
+        .max_by_key(|&u| tree.ancestors(u).count())
+        .unwrap_or(tree.root().uid)
 }
 
 /// The words not read yet; those read are blanked.
@@ -613,7 +720,12 @@ fn free_words(q: &[Word], used: &[bool]) -> Vec<Word> {
 /// "(just) before X failed", "right after the X failure", in a question
 /// that asks what was done or running: the moment, and the words that say
 /// it (the marker, the node's name, the failure).
-fn failure_clause(q: &[Word], used: &[bool], mentions: &[Mention]) -> Option<(When, Vec<usize>)> {
+fn failure_clause(
+    tree: &Tree,
+    q: &[Word],
+    used: &[bool],
+    mentions: &[Mention],
+) -> Option<(When, Vec<usize>)> {
     let doing = q.iter().any(|w| {
         [
             "doing",
@@ -637,9 +749,6 @@ fn failure_clause(q: &[Word], used: &[bool], mentions: &[Mention]) -> Option<(Wh
     let m = mentions
         .iter()
         .find(|m| m.start > k && q[k + 1..m.start].iter().all(|w| w.text == "the"))?;
-    if m.uids.len() != 1 {
-        return None;
-    }
     let end = (m.end..q.len().min(m.end + 2)).find(|&i| q[i].stem == "fail")?;
     let mut said: Vec<usize> = (k..=end).collect();
     for j in (0..k).rev() {
@@ -649,10 +758,13 @@ fn failure_clause(q: &[Word], used: &[bool], mentions: &[Mention]) -> Option<(Wh
             break;
         }
     }
+    // Of nodes named alike, the innermost: the one whose failure the
+    // others pass on (the FollowPath action, not its RecoveryNode).
+    let uid = deepest(tree, &m.uids);
     let w = if q[k].text == "before" {
-        When::BeforeFailureOf(m.uids[0])
+        When::BeforeFailureOf(uid)
     } else {
-        When::AfterFailureOf(m.uids[0])
+        When::AfterFailureOf(uid)
     };
     Some((w, said))
 }
@@ -668,17 +780,36 @@ fn scoped(tree: &Tree, q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
     for m in nodes {
         if let Some(a) = out.last_mut() {
             let between = &q[a.end..m.start];
+            // "GoalUpdated fails in the RecoveryFallback": what it does
+            // may come between the node and where it is.
+            let deed = |w: &Word| {
+                [
+                    "fail", "succeed", "return", "run", "ran", "had", "has", "have", "been",
+                ]
+                .contains(&w.stem.as_str())
+                    || ["false", "true", "fails", "failed", "succeeds", "succeeded"]
+                        .contains(&w.text.as_str())
+            };
             let within = !between.is_empty()
                 && between.iter().any(|w| WITHIN.contains(&w.text.as_str()))
                 && between.iter().all(|w| {
-                    WITHIN.contains(&w.text.as_str()) || ["the", "a"].contains(&w.text.as_str())
+                    WITHIN.contains(&w.text.as_str())
+                        || ["the", "a"].contains(&w.text.as_str())
+                        || deed(w)
                 });
+            let told = between.iter().any(deed);
             let under: Vec<Uid> = a
                 .uids
                 .iter()
                 .copied()
                 .filter(|&u| m.uids.iter().any(|&p| p != u && tree.is_ancestor(p, u)))
                 .collect();
+            if within && !under.is_empty() && !m.weak && told {
+                // The deed stays a word of the question; the place only
+                // picks which of the nodes named alike.
+                a.uids = under;
+                continue;
+            }
             if within && !under.is_empty() && !m.weak {
                 a.uids = under;
                 a.end = m.end;
@@ -694,6 +825,27 @@ fn scoped(tree: &Tree, q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
         out.push(m);
     }
     out
+}
+
+/// "Instead of retrying FollowPath": a verb said of a name right after it
+/// is what was done to that node, not a node of its own (a Retry).
+fn governing_verbs_dropped(q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
+    let verb_before = |a: &Mention, b: &Mention| {
+        a.end - a.start == 1
+            && q[a.start].text.ends_with("ing")
+            && a.end <= b.start
+            && q[a.end..b.start]
+                .iter()
+                .all(|w| ["the", "a"].contains(&w.text.as_str()))
+    };
+    let keep: Vec<bool> = (0..nodes.len())
+        .map(|i| !nodes.get(i + 1).is_some_and(|b| verb_before(&nodes[i], b)))
+        .collect();
+    nodes
+        .into_iter()
+        .zip(keep)
+        .filter_map(|(m, k)| k.then_some(m))
+        .collect()
 }
 
 /// A path ("go insert large gear/look at chuck") picks a node as it does
@@ -878,8 +1030,13 @@ const CUE_WORDS: &[&str] = &[
 
 fn corrected(w: &Word, tree_words: &rustc_hash::FxHashSet<String>) -> Word {
     let t = w.text.as_str();
+    // A cue word's other forms ("happens" of "happen") are not typos.
+    static CUE_STEMS: std::sync::OnceLock<rustc_hash::FxHashSet<String>> =
+        std::sync::OnceLock::new();
+    let cue_stems = CUE_STEMS.get_or_init(|| CUE_WORDS.iter().map(|c| words::stem(c)).collect());
     if t.chars().count() < 3
         || CUE_WORDS.contains(&t)
+        || cue_stems.contains(&w.stem)
         || tree_words.contains(&w.stem)
         || FILLER.contains(&t)
         || IMPERATIVE.contains(&t)
@@ -994,7 +1151,10 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
         || s.phrase(&["taking", "long"]).is_some()
         || s.phrase(&["took", "long"]).is_some()
         || s.phrase(&["long", "time"]).is_some();
+    // "Had path clear stayed true": a condition's outcome said as its
+    // value.
     let e = if gave_up(s)
+        || s.has("false")
         || s.has_stem(&[
             "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
         ]) {
@@ -1014,6 +1174,7 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     } else if keep {
         Some(Event::KeepRunning)
     } else if s.has_stem(&["succeed", "success", "pass", "manag", "ok"])
+        || s.has("true")
         || s.has("successful")
         || s.has("successfully")
         || s.has("work")
@@ -1221,6 +1382,7 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         && (s.has("anything") || s.has("something") || s.has("any"))
         && (problem || fine)
         && !why
+        && !s.has_prefix(&["recover"])
     {
         out.push((
             Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
@@ -1287,8 +1449,8 @@ fn classify(s: &Sentence, tree: &Tree) -> Vec<(Intent, f32)> {
         || s.phrase(&["which", "step"]).is_some()
         || s.phrase(&["what", "step"]).is_some()
         || s.phrase(&["at", "what", "point"]).is_some()
-        // "list the ticks where it failed" (a plural is read as its one).
-        || s.has("tick") && ["list", "where", "show", "give"].iter().any(|w| s.has(w));
+        // "list the ticks where it failed".
+        || (s.has("tick") || s.has("ticks")) && ["list", "where", "show", "give"].iter().any(|w| s.has(w));
     let after_failure = (s.has("after") || s.has("when") || s.has("once"))
         && (problem || s.has_stem(&["block", "stuck"]))
         && (s.phrase(&["did", "it", "do"]).is_some()
@@ -1854,12 +2016,44 @@ fn foil(s: &Sentence) -> Option<Event> {
 }
 
 /// The words of "Can you X?" after its opening, or `None`.
+/// Words that ask for advice, which no run holds ("can you recommend
+/// a better detector?").
+pub const ADVICE: &[&str] = &[
+    "recommend",
+    "recommendation",
+    "recommendations",
+    "suggest",
+    "advise",
+    "advice",
+];
+
+/// "Could you confirm how many times it failed", "can you check when
+/// it stopped": a question put politely, not whether the robot can.
+pub fn wraps_a_question(after: &[&str]) -> bool {
+    const REPORT: &[&str] = &[
+        "confirm", "check", "verify", "find", "figure", "see", "look", "work", "let", "count",
+        "tell", "say", "show",
+    ];
+    let Some((first, rest)) = after.split_first() else {
+        return false;
+    };
+    REPORT.contains(first)
+        && (rest
+            .iter()
+            .any(|w| ["why", "when", "what", "which", "where"].contains(w))
+            || rest
+                .windows(2)
+                .any(|p| p[0] == "how" && ["many", "often", "much", "long"].contains(&p[1])))
+}
+
 fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
     let free: Vec<(usize, &Word)> =
         s.q.iter()
             .enumerate()
             .filter(|(i, w)| {
-                !LEAD.contains(&w.text.as_str())
+                // "to" and "know" lead other questions ("I want to know"),
+                // and are words of the openings here ("able to").
+                (!LEAD.contains(&w.text.as_str()) || ["to", "know"].contains(&w.text.as_str()))
                     && !["the", "a", "an", "this", "that"].contains(&w.text.as_str())
                     // "robot, can you pick a screw": the robot addressed.
                     && (*i != 0 || !["robot", "bot"].contains(&w.text.as_str()))
@@ -1909,7 +2103,8 @@ fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
     };
     // "can you tell me why …" asks what follows.
     let next = texts.get(open).copied().unwrap_or("");
-    if IMPERATIVE.contains(&next)
+    if wraps_a_question(&texts[open.min(texts.len())..])
+        || IMPERATIVE.contains(&next)
         || next == "justify"
         || ["still", "do"].contains(&next) && texts.len() == open + 1
     {

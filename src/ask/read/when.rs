@@ -24,6 +24,15 @@ pub enum When {
     BeforeFailureOf(crate::model::Uid),
     /// Just after this node failed.
     AfterFailureOf(crate::model::Uid),
+    /// The N-th time (from 1) this node ended, with this status if given
+    /// ("the second time it failed", "on the third try"): just after, or
+    /// just before.
+    Ended {
+        uid: crate::model::Uid,
+        n: u32,
+        status: Option<crate::run::Status>,
+        before: bool,
+    },
 }
 
 impl When {
@@ -39,7 +48,25 @@ impl When {
             When::AfterRecovery => "after the recovery".into(),
             When::BeforeFailureOf(u) => format!("just before #{u} failed"),
             When::AfterFailureOf(u) => format!("just after #{u} failed"),
+            When::Ended { uid, .. } => self.ended(&format!("#{uid}")),
         }
+    }
+
+    fn ended(self, node: &str) -> String {
+        let When::Ended {
+            n, status, before, ..
+        } = self
+        else {
+            return String::new();
+        };
+        let verb = match status {
+            Some(crate::run::Status::Failure) => "failed",
+            Some(crate::run::Status::Success) => "succeeded",
+            _ => "ended",
+        };
+        let nth = ordinal_word(n);
+        let at = if before { "just before" } else { "when" };
+        format!("{at} {node} {verb} for the {nth} time")
     }
 
     /// As an answer says it, the node by its name.
@@ -47,6 +74,7 @@ impl When {
         match self {
             When::BeforeFailureOf(u) => format!("just before {} failed", tree.told(u)),
             When::AfterFailureOf(u) => format!("just after {} failed", tree.told(u)),
+            When::Ended { uid, .. } => self.ended(&tree.told(uid)),
             w => w.words(),
         }
     }
@@ -62,13 +90,20 @@ fn step(w: &str) -> Option<(u32, u32)> {
     Some((number(t)?, s.parse().ok()?))
 }
 
+const ORDINALS: &[&str] = &[
+    "first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth", "tenth",
+];
+
+/// A count from 1 in words: "second", "11th".
+pub fn ordinal_word(n: u32) -> String {
+    ORDINALS
+        .get((n as usize).wrapping_sub(1))
+        .map_or(format!("{n}th"), |w| w.to_string())
+}
+
 /// "second", "3rd", "tenth": a count from 1.
 fn ordinal(w: &str) -> Option<u32> {
-    const WORDS: &[&str] = &[
-        "first", "second", "third", "fourth", "fifth", "sixth", "seventh", "eighth", "ninth",
-        "tenth",
-    ];
-    if let Some(i) = WORDS.iter().position(|x| *x == w) {
+    if let Some(i) = ORDINALS.iter().position(|x| *x == w) {
         return Some(i as u32 + 1);
     }
     let digits = w.trim_end_matches(|c: char| c.is_ascii_alphabetic());
@@ -77,6 +112,20 @@ fn ordinal(w: &str) -> Option<u32> {
         .then(|| digits.parse().ok())
         .flatten()
         .filter(|&n| n > 0)
+}
+
+/// "The second time", "on the third try", "the first FollowPath
+/// attempt": which of a node's runs, counted from 1. The node is the one
+/// the question names; `ask` finds that run's end.
+pub fn nth_time(q: &[Word]) -> Option<u32> {
+    const TIME: &[&str] = &["time", "try", "attempt", "tries", "attempts", "go", "round"];
+    (0..q.len()).find_map(|i| {
+        let n = ordinal(&q[i].text)?;
+        // A name may come between: "the second FollowPath attempt".
+        (i + 1..q.len().min(i + 6))
+            .any(|j| TIME.contains(&q[j].text.as_str()))
+            .then_some(n)
+    })
 }
 
 const BEFORE: &[&str] = &[

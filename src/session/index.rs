@@ -275,6 +275,9 @@ impl Index {
     /// A transition, with the decision the leaf took in the same tick call.
     /// Shows the writes held for a leaf's call from now on.
     fn release_writes(&mut self) {
+        if self.held.is_empty() {
+            return;
+        }
         for (_, e, v) in std::mem::take(&mut self.held) {
             self.push_write(e, v);
         }
@@ -285,8 +288,18 @@ impl Index {
     /// up to twice that while copying.
     pub fn reserve(&mut self, uids: impl Iterator<Item = Uid> + Clone) {
         let n = uids.clone().count();
-        self.transitions.reserve_exact(n);
-        self.current.reserve_exact(n);
+        // On huge pages where they are big (see `pages`): a log of
+        // millions of transitions faulted them in 4 KB at a time.
+        fn room<T>(v: &mut Vec<T>, n: usize) {
+            if v.capacity() - v.len() >= n {
+                return;
+            }
+            let mut bigger = crate::pages::with_capacity(v.len() + n);
+            bigger.append(v);
+            *v = bigger;
+        }
+        room(&mut self.transitions, n);
+        room(&mut self.current, n);
         let mut per = vec![0usize; self.by_node.len()];
         for u in uids {
             if let Some(c) = per.get_mut((u as usize).wrapping_sub(1)) {
@@ -294,7 +307,7 @@ impl Index {
             }
         }
         for (list, n) in self.by_node.iter_mut().zip(per) {
-            list.reserve_exact(n);
+            room(list, n);
         }
     }
 

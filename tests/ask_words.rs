@@ -1042,7 +1042,7 @@ fn posts_ordinals_states_and_polite_forms_are_read_as_meant() {
     assert!(!ok, "{out}");
     assert!(
         out.starts_with(
-            "The FollowPath action (#10) ended 3 times in this run: there is no fifth time."
+            "The FollowPath action (#10) failed twice in this run: there is no fifth time."
         ),
         "{out}"
     );

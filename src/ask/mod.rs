@@ -102,7 +102,7 @@ impl Reply {
 
     /// Whether btx says what it read and offers other readings.
     pub fn unsure(&self) -> bool {
-        self.answered && self.confidence < read::SURE && !self.understood.is_empty()
+        self.confidence < read::SURE && !self.understood.is_empty()
     }
 
     /// "I read this as "…". Did you mean: "…" or "…"?"
@@ -219,6 +219,17 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
                 let mut r = Reply::new(question, Some(reading.intent.short()));
                 r.answered = false;
                 r.answer = e;
+                // A reading not sure of itself says so, even where the
+                // moment it names is not in the run.
+                if reading.confidence < read::SURE {
+                    r.understood = read::wording(cx.tree, &reading.intent);
+                    r.confidence = reading.confidence;
+                    r.alternatives = reading
+                        .alternatives
+                        .iter()
+                        .map(|i| read::wording(cx.tree, i))
+                        .collect();
+                }
                 return r;
             }
         },
@@ -341,41 +352,34 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
         When::Ended {
             uid,
             n,
-            status,
+            failed,
             before,
         } => {
-            let ends_with = |status: Option<Status>| -> Vec<u32> {
-                index
-                    .changes_of(uid)
-                    .iter()
-                    .copied()
-                    .filter(|&p| {
-                        let s = index.transitions[p as usize - 1].status;
-                        status.map_or(matches!(s, Status::Success | Status::Failure), |want| {
-                            s == want
-                        })
-                    })
-                    .collect()
-            };
-            // "The second time" is its second failure where it failed
-            // twice, else its second try ("it managed the second time").
-            let mut ends = ends_with(status);
-            if ends.len() < n as usize {
-                ends = ends_with(None);
-            }
+            let ends: Vec<u32> = index
+                .changes_of(uid)
+                .iter()
+                .copied()
+                .filter(|&p| match index.transitions[p as usize - 1].status {
+                    Status::Failure => true,
+                    Status::Success => !failed,
+                    _ => false,
+                })
+                .collect();
             let p = ends.get(n as usize - 1).copied().ok_or_else(|| {
-                let verb = "ended";
-                let times = match ends.len() {
-                    0 => "never".to_string(),
-                    1 => "once".to_string(),
-                    2 => "twice".to_string(),
-                    k => format!("{k} times"),
-                };
-                format!(
-                    "{} {verb} {times} in this run: there is no {} time.",
-                    say::upper(&tree.told(uid)),
-                    read::ordinal_word(n)
-                )
+                let verb = if failed { "failed" } else { "ended" };
+                let node = say::upper(&tree.told(uid));
+                let nth = read::ordinal_word(n);
+                match ends.len() {
+                    0 => format!("{node} never {verb} in this run: there is no {nth} time."),
+                    k => format!(
+                        "{node} {verb} {} in this run: there is no {nth} time.",
+                        match k {
+                            1 => "once".to_string(),
+                            2 => "twice".to_string(),
+                            k => format!("{k} times"),
+                        }
+                    ),
+                }
             })?;
             Ok(if before { p - 1 } else { p })
         }

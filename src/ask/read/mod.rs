@@ -421,16 +421,15 @@ fn asks(stem: &str) -> bool {
 /// Reads a question about a tree. A post that tells its story before it
 /// asks ("We ran the cell overnight … Why did reset arm run?") is read
 /// whole, and, where the whole is not read surely, its questions are read
-/// each on its own: the surest of them, the last of equals, is what it
-/// asks.
+/// each on its own: the surest of them, the first of equals (what follows
+/// a question is most often about it: "Is this a bug?"), is what it asks.
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     let whole = read_one(vocabulary, tree, text);
     if whole.as_ref().is_some_and(|r| r.confidence >= SURE) {
         return whole;
     }
-    // The first of the surest: what follows a question is most often
-    // about it ("Is this a bug in the decorator?").
     let asked = questions_in(text)
+        .into_iter()
         .filter_map(|q| read_one(vocabulary, tree, q))
         .reduce(|a, b| if b.confidence > a.confidence { b } else { a });
     match (whole, asked) {
@@ -448,7 +447,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
 /// The questions a text of several sentences asks: each sentence that
 /// ends in "?", and what follows a colon ("I need the exact point in the
 /// run: when did look at chuck fail?"). None for a text of one sentence.
-fn questions_in(text: &str) -> impl Iterator<Item = &str> {
+fn questions_in(text: &str) -> Vec<&str> {
     let mut cuts = vec![0];
     let b = text.as_bytes();
     for i in 0..b.len().saturating_sub(1) {
@@ -457,12 +456,13 @@ fn questions_in(text: &str) -> impl Iterator<Item = &str> {
         }
     }
     cuts.push(text.len());
-    let several = cuts.len() > 2;
+    if cuts.len() <= 2 {
+        return Vec::new();
+    }
     cuts.windows(2)
-        .map(move |w| text[w[0]..w[1]].trim())
-        .filter(move |s| several && s.ends_with('?'))
-        .collect::<Vec<_>>()
-        .into_iter()
+        .map(|w| text[w[0]..w[1]].trim())
+        .filter(|s| s.ends_with('?'))
+        .collect()
 }
 
 fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
@@ -635,7 +635,7 @@ fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             Some(When::Ended {
                 uid,
                 n,
-                status: Some(crate::run::Status::Failure),
+                failed: true,
                 before: matches!(when, Some(When::BeforeFailureOf(_))),
             })
         }
@@ -660,34 +660,28 @@ fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
 }
 
 /// "Why did FollowPath fail the second time?", "what if detect chuck
-/// had succeeded on the third try?": the moment of the node's N-th end
-/// (of the status asked about; a what-if's is the run it would change).
-/// "When did it fail the first time" asks which, not at when.
+/// had succeeded on the third try?": the moment of the node's N-th end:
+/// its N-th failure where a why asks about failing, else its N-th run to
+/// an end ("why did it manage the second time": the second try; a
+/// what-if's is the run it would change). "When did it fail the first
+/// time" asks which, not at when.
 fn nth_end(tree: &Tree, intent: &Intent, n: u32) -> Option<When> {
-    use crate::run::Status;
-    let (uids, status) = match intent {
+    let (uids, failed) = match intent {
         Intent::Why {
             node: Subject::Nodes(us, _),
             event,
             ..
-        } => (
-            us,
-            match event {
-                Event::Fail => Some(Status::Failure),
-                Event::Succeed => Some(Status::Success),
-                _ => None,
-            },
-        ),
+        } => (us, *event == Event::Fail),
         Intent::WhatIf {
             node: Subject::Nodes(us, _),
             ..
-        } => (us, None),
+        } => (us, false),
         _ => return None,
     };
     Some(When::Ended {
         uid: deepest(tree, uids),
         n,
-        status,
+        failed,
         before: false,
     })
 }
@@ -2015,7 +2009,6 @@ fn foil(s: &Sentence) -> Option<Event> {
     })
 }
 
-/// The words of "Can you X?" after its opening, or `None`.
 /// Words that ask for advice, which no run holds ("can you recommend
 /// a better detector?").
 pub const ADVICE: &[&str] = &[
@@ -2046,6 +2039,7 @@ pub fn wraps_a_question(after: &[&str]) -> bool {
                 .any(|p| p[0] == "how" && ["many", "often", "much", "long"].contains(&p[1])))
 }
 
+/// The words of "Can you X?" after its opening, or `None`.
 fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
     let free: Vec<(usize, &Word)> =
         s.q.iter()

@@ -24,13 +24,13 @@ pub enum When {
     BeforeFailureOf(crate::model::Uid),
     /// Just after this node failed.
     AfterFailureOf(crate::model::Uid),
-    /// The N-th time (from 1) this node ended, with this status if given
-    /// ("the second time it failed", "on the third try"): just after, or
-    /// just before.
+    /// The N-th time (from 1) this node ended, failed if `failed` ("the
+    /// second time it failed", "on the third try"): just after, or just
+    /// before.
     Ended {
         uid: crate::model::Uid,
         n: u32,
-        status: Option<crate::run::Status>,
+        failed: bool,
         before: bool,
     },
 }
@@ -48,25 +48,13 @@ impl When {
             When::AfterRecovery => "after the recovery".into(),
             When::BeforeFailureOf(u) => format!("just before #{u} failed"),
             When::AfterFailureOf(u) => format!("just after #{u} failed"),
-            When::Ended { uid, .. } => self.ended(&format!("#{uid}")),
+            When::Ended {
+                uid,
+                n,
+                failed,
+                before,
+            } => ended(&format!("#{uid}"), n, failed, before),
         }
-    }
-
-    fn ended(self, node: &str) -> String {
-        let When::Ended {
-            n, status, before, ..
-        } = self
-        else {
-            return String::new();
-        };
-        let verb = match status {
-            Some(crate::run::Status::Failure) => "failed",
-            Some(crate::run::Status::Success) => "succeeded",
-            _ => "ended",
-        };
-        let nth = ordinal_word(n);
-        let at = if before { "just before" } else { "when" };
-        format!("{at} {node} {verb} for the {nth} time")
     }
 
     /// As an answer says it, the node by its name.
@@ -74,10 +62,21 @@ impl When {
         match self {
             When::BeforeFailureOf(u) => format!("just before {} failed", tree.told(u)),
             When::AfterFailureOf(u) => format!("just after {} failed", tree.told(u)),
-            When::Ended { uid, .. } => self.ended(&tree.told(uid)),
+            When::Ended {
+                uid,
+                n,
+                failed,
+                before,
+            } => ended(&tree.told(uid), n, failed, before),
             w => w.words(),
         }
     }
+}
+
+fn ended(node: &str, n: u32, failed: bool, before: bool) -> String {
+    let verb = if failed { "failed" } else { "ended" };
+    let at = if before { "just before" } else { "when" };
+    format!("{at} {node} {verb} for the {} time", ordinal_word(n))
 }
 
 fn number(w: &str) -> Option<u32> {

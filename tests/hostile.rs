@@ -896,6 +896,15 @@ fn a_ten_thousand_deep_chain_loads_runs_and_answers_in_little_memory() {
     );
     assert!(r.out.contains("the 200 variables nearest status(Sequence (#1)) were searched, the 59801 farther ones not"), "{}", r.out);
     assert!(r.peak_kib < 400 * 1024, "{} KiB", r.peak_kib);
+    // A chain of 1,000: its 6,001 single changes would cost 3.6·10^7
+    // evaluations, the square of the chain; past 2·10^7 the nearest are
+    // searched, so the search grows with the chain.
+    let thousand = dir.path().join("c1000.jsonl").display().to_string();
+    let r = btx_run(&["run", &chain_of(1_000), "--plan", &plan, "--out", &thousand]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    let r = btx_run(&["why", &thousand, "status(#1)", "--at", "last"]);
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    assert!(r.out.contains("the 200 variables nearest status(Sequence (#1)) were searched, the 5801 farther ones not"), "{}", r.out);
     // 100,000 levels: refused, with the limit.
     let deeper = write(dir.path(), "deeper.xml", &chain(250, 400));
     let r = btx_run(&["tree", &deeper]);

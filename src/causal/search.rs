@@ -112,6 +112,14 @@ pub const NEAREST_MAX: usize = 4 * EXPLANATIONS_MAX;
 /// so an answer does not depend on the machine.
 pub const SEARCH_WORK_MAX: u128 = 400_000_000;
 
+/// The work past which the single changes are searched nearest first, only
+/// `NEAREST_MAX` of them: each single change re-evaluates the variables
+/// between it and the target, so on a chain they cost the square of its
+/// length. Past 2·10^7 (0.2 s) the search grows with the chain, not its
+/// square. No tree of the fixtures, Nav2's or the papers' comes near it
+/// (kitting's singles take about 10^5).
+pub const SINGLES_WORK_MAX: u128 = 20_000_000;
+
 /// How many interventions the sets of `k` of these candidates make: the
 /// k-th elementary symmetric polynomial of their numbers of values.
 fn interventions(alts: &[usize], k: usize) -> u128 {
@@ -179,7 +187,7 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
         let n = interventions(&alts, depth);
         work = work.saturating_add(n.saturating_mul(within.len().max(1) as u128));
         let mut unsearched = 0;
-        let sets = if work > SEARCH_WORK_MAX && depth == 1 {
+        let sets = if work > SINGLES_WORK_MAX && depth == 1 {
             // Past the bound: the single changes nearest the target.
             let mut near: Vec<usize> = (0..candidates.len()).collect();
             near.sort_by_key(|&c| (dist[candidates[c].0], c));

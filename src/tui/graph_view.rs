@@ -34,19 +34,40 @@ fn to_line(row: Row) -> Line<'static> {
     Line::from(spans)
 }
 
+/// The most lines a label wraps to; the picked variable is told in full
+/// below the graph.
+const LABEL_LINES: usize = 3;
+
 /// `[name = value]` with its marks: `★` a reason of the picked explanation,
-/// `◎` the variable asked about; cut with `…` to `max` columns.
-fn label(n: &GraphNode, max: usize) -> String {
+/// `◎` the variable asked about; wrapped to `max` columns, at most
+/// `LABEL_LINES` lines (the last cut with `…` past them).
+fn label(n: &GraphNode, max: usize) -> Vec<String> {
     let mark = match (n.target, n.reason) {
         (true, _) => "◎",
         (_, true) => "★",
         _ => "",
     };
     let inner = format!("{mark}{} = {}", n.name, n.value);
-    format!(
-        "[{}]",
-        super::view::fit(&inner, max.saturating_sub(2).max(1))
-    )
+    let width = max.saturating_sub(2).max(1);
+    let mut lines: Vec<String> = textwrap::wrap(&inner, width)
+        .into_iter()
+        .map(|l| l.into_owned())
+        .collect();
+    if lines.len() > LABEL_LINES {
+        let rest = lines[LABEL_LINES - 1..].join(" ");
+        lines.truncate(LABEL_LINES - 1);
+        lines.push(super::view::fit(&rest, width));
+    }
+    let last = lines.len() - 1;
+    lines
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let open = if i == 0 { '[' } else { ' ' };
+            let close = if i == last { "]" } else { "" };
+            format!("{open}{l}{close}")
+        })
+        .collect()
 }
 
 fn style(n: &GraphNode, picked: bool) -> Style {
@@ -66,21 +87,30 @@ fn style(n: &GraphNode, picked: bool) -> Style {
 }
 
 /// Lays out a row of labels: a window of them around `pick` that fits the
-/// width, centred. Returns the row, each shown label's anchor column (its
-/// middle), and how many are left out to the left and right.
+/// width, centred, each wrapped to its share of it; labels of fewer lines
+/// sit against the edges (`bottom`: the edges leave from below). Returns
+/// the rows, each shown label's anchor column (its middle), and how many
+/// are left out to the left and right.
 fn row_of(
     nodes: &[GraphNode],
     pick: Option<usize>,
     width: usize,
-) -> (Row, Vec<usize>, usize, usize) {
+    bottom: bool,
+) -> (Vec<Row>, Vec<usize>, usize, usize) {
     const GAP: usize = 3;
     let n = nodes.len();
     // Each label gets at most an even share of the width, and at least 16.
     let per = (width.saturating_sub(6) / n.max(1))
         .saturating_sub(GAP)
         .max(16);
-    let labels: Vec<String> = nodes.iter().map(|x| label(x, per)).collect();
-    let w = |i: usize| labels[i].chars().count();
+    let labels: Vec<Vec<String>> = nodes.iter().map(|x| label(x, per)).collect();
+    let w = |i: usize| {
+        labels[i]
+            .iter()
+            .map(|l| l.chars().count())
+            .max()
+            .unwrap_or(0)
+    };
     // The widest window around the pick that fits, growing right then left.
     let p = pick.unwrap_or(0).min(n.saturating_sub(1));
     let (mut lo, mut hi) = (p, p + 1);
@@ -101,33 +131,39 @@ fn row_of(
             break;
         }
     }
-    let mut row = blank(width);
+    let height = (lo..hi).map(|i| labels[i].len()).max().unwrap_or(1);
+    let mut rows = vec![blank(width); height];
+    // The counts of labels left out, on the row the edges meet.
+    let edge_row = if bottom { height - 1 } else { 0 };
     let dim = Style::default().fg(Color::DarkGray);
     if lo > 0 {
         for (k, c) in format!("◂{lo}").chars().enumerate() {
-            row[k] = (c, dim);
+            rows[edge_row][k] = (c, dim);
         }
     }
     let right = n - hi;
     if right > 0 {
         let tag: Vec<char> = format!("{right}▸").chars().collect();
         for (k, c) in tag.iter().enumerate() {
-            row[width - tag.len() + k] = (*c, dim);
+            rows[edge_row][width - tag.len() + k] = (*c, dim);
         }
     }
     let mut x = width.saturating_sub(used) / 2;
     let mut anchors = Vec::new();
     for i in lo..hi {
         let st = style(&nodes[i], pick == Some(i));
-        for (k, c) in labels[i].chars().enumerate() {
-            if x + k < width {
-                row[x + k] = (c, st);
+        let top = if bottom { height - labels[i].len() } else { 0 };
+        for (j, line) in labels[i].iter().enumerate() {
+            for (k, c) in line.chars().enumerate() {
+                if x + k < width {
+                    rows[top + j][x + k] = (c, st);
+                }
             }
         }
         anchors.push((x + w(i) / 2).min(width.saturating_sub(1)));
         x += w(i) + GAP;
     }
-    (row, anchors, lo, right)
+    (rows, anchors, lo, right)
 }
 
 /// The edges between `ups` (columns that come down into the bus) and
@@ -178,7 +214,8 @@ pub fn draw(n: &Neighbourhood, pick: Option<usize>, width: usize) -> Vec<Line<'s
     let width = width.max(24);
     let mut rows: Vec<Row> = Vec::new();
     let np = n.parents.len();
-    let (centre_row, centre_anchor, ..) = row_of(std::slice::from_ref(&n.centre), None, width);
+    let (centre_rows, centre_anchor, ..) =
+        row_of(std::slice::from_ref(&n.centre), None, width, false);
     let cx = centre_anchor[0];
     if n.parents.is_empty() {
         let mut r = blank(width);
@@ -188,13 +225,13 @@ pub fn draw(n: &Neighbourhood, pick: Option<usize>, width: usize) -> Vec<Line<'s
         }
         rows.push(r);
     } else {
-        let (prow, anchors, ..) = row_of(&n.parents, pick.filter(|&p| p < np), width);
-        rows.push(prow);
+        let (prows, anchors, ..) = row_of(&n.parents, pick.filter(|&p| p < np), width, true);
+        rows.extend(prows);
         rows.push(marks(&anchors, '│', width));
         rows.push(bus(&anchors, &[cx], width));
         rows.push(marks(&[cx], '▼', width));
     }
-    rows.push(centre_row);
+    rows.extend(centre_rows);
     if n.children.is_empty() {
         let mut r = blank(width);
         let text = "no effects in the model";
@@ -203,11 +240,16 @@ pub fn draw(n: &Neighbourhood, pick: Option<usize>, width: usize) -> Vec<Line<'s
         }
         rows.push(r);
     } else {
-        let (crow, anchors, ..) = row_of(&n.children, pick.and_then(|p| p.checked_sub(np)), width);
+        let (crows, anchors, ..) = row_of(
+            &n.children,
+            pick.and_then(|p| p.checked_sub(np)),
+            width,
+            false,
+        );
         rows.push(marks(&[cx], '│', width));
         rows.push(bus(&[cx], &anchors, width));
         rows.push(marks(&anchors, '▼', width));
-        rows.push(crow);
+        rows.extend(crows);
     }
     let mut lines: Vec<Line> = rows.into_iter().map(to_line).collect();
     let picked = pick.and_then(|p| n.parents.iter().chain(&n.children).nth(p));

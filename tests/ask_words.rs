@@ -1059,3 +1059,75 @@ fn posts_ordinals_states_and_polite_forms_are_read_as_meant() {
         );
     }
 }
+
+#[test]
+fn tags_stages_capabilities_contrasts_and_counted_names_are_read_as_meant() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
+    let patrol = "tests/fixtures/questions/patrol.jsonl";
+    let detect = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // A question sentence that stands alone is what a post asks.
+        (
+            vec![nav2, "--at", "5"],
+            "why is the controller running again? I thought it failed",
+            "Why are you doing this?",
+        ),
+        // Moving through the timeline says a moment, not "back to approach pose".
+        (
+            vec![kitting, "--at", "21"],
+            "scrolling back to tick 20 — what was the arm busy with at that point?",
+            "What were you doing at tick 20?",
+        ),
+        // Tags that ask yes or no; "or not" negates nothing.
+        (vec![patrol, "--at", "4"], "no problems up to this point, right?", "Was there anything wrong?"),
+        (vec![nav2], "was this a clean run?", "Was there anything wrong?"),
+        (vec![kitting], "so did it get past that glitch or not?", "Did the recovery work?"),
+        // The part it is in, and the whole's purpose.
+        (vec![patrol, "--at", "4"], "which phase of the patrol is underway?", "What is your subgoal?"),
+        (vec![patrol], "big picture, what is it for?", "What is your goal?"),
+        (vec![taxi], "break down the plan for the whole delivery", "How do you achieve your goal?"),
+        // Capabilities, the robot called by what it is.
+        (vec![taxi, "--at", "5"], "does the taxi know how to move down?", "Can you move down?"),
+        (vec![patrol, "--at", "4"], "is looking around one of its capabilities?", "Can you look around?"),
+        // The node after "instead of" is the one not done; the task may be a side.
+        (
+            vec![detect],
+            "Instead of inserting the large gear it asked for help. Why?",
+            "Why did I do the ask action (#28) and not the insert large gear fallback (#13) in tick 12?",
+        ),
+        (
+            vec![patrol],
+            "why did the whole patrol fail rather than just the drive?",
+            "Why did I do patrol (#1) and not drive (#7) in tick 1?",
+        ),
+        // The N-th of the nodes a name calls; a what-if said as a story.
+        (
+            vec![taxi],
+            "say the second move up had failed — then what?",
+            "What happens if the move up action (#9) fails?",
+        ),
+        (
+            vec![patrol],
+            "how would the run differ if look around had failed?",
+            "What happens if look around (#4) fails?",
+        ),
+    ];
+    for (files, q, first) in cases {
+        let mut args = vec!["ask"];
+        args.extend(files);
+        args.push(q);
+        let (ok, out, err) = btx(&args);
+        assert!(ok, "{q}: {err}");
+        assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
+    }
+    // Words of the world, not of the run, though a node's name is heard.
+    let q = "how many of these gearbox kits do we sell per month?";
+    let (ok, out, _) = btx(&["ask", detect, q]);
+    assert!(!ok, "{q}: {out}");
+    assert!(
+        out.starts_with("I don't know how to answer that."),
+        "{q}: {out}"
+    );
+}

@@ -10,11 +10,15 @@
 //! reader stood, was held out until `corpus4.jsonl` (320 by a fourth
 //! writer) came, corpus4 until `corpus5.jsonl` (280 by a fifth), corpus5
 //! until `corpus6.jsonl` (280 by a sixth), corpus6 until `corpus7.jsonl`
-//! (280 by a seventh); corpus7 is never tuned on: its figures are the
-//! fresh ones, and its failures are never printed (`BTX_SHOW_FRESH` shows
-//! those of the corpora tuned on).
+//! (280 by a seventh), corpus7 until `corpus8.jsonl` (280 by an eighth);
+//! corpus8 is never tuned on: its figures are the fresh ones, and its
+//! failures are never printed (`BTX_SHOW_FRESH` shows those of the
+//! corpora tuned on).
 //!
-//! `cargo test --test questions -- --nocapture` prints the figures.
+//! `cargo test --test questions -- --nocapture` prints the figures;
+//! `BTX_DUMP_FATES=FILE` appends each question's fate and reading to FILE,
+//! so that two versions of the reader can be compared question by question
+//! (a change meant to keep every reading keeps the file byte for byte).
 
 use btx::ask::parse::{Event, Intent, Subject, Which};
 use btx::ask::read;
@@ -358,6 +362,15 @@ fn tally(files: &[&str], keep: impl Fn(&Case) -> bool) -> Tally {
             if o.fate != Fate::Understood {
                 t.wrong.push(format!("{:?} [{}] {}", o.fate, c.run, o.said));
             }
+            if let Some(dump) = std::env::var_os("BTX_DUMP_FATES") {
+                use std::io::Write;
+                let mut out = std::fs::OpenOptions::new()
+                    .create(true)
+                    .append(true)
+                    .open(dump)
+                    .unwrap();
+                writeln!(out, "{f}\t{:?}\t[{}] {}", o.fate, c.run, o.said).unwrap();
+            }
         }
     }
     t
@@ -440,26 +453,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus4.jsonl",
             "corpus5.jsonl",
             "corpus6.jsonl",
+            "corpus7.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus6 (tuned on)", &t3);
-    let t = tally(&["corpus7.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus7)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus7 (tuned on)", &t3);
+    let t = tally(&["corpus8.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus8)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 900 && t.total >= 280,
+        t3.total >= 1_400 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus6: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus7: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -468,19 +482,20 @@ fn questions_written_after_the_reader_are_read_as_meant() {
 }
 
 /// Floors and ceilings just beyond the figures measured at the last change
-/// of the reader (92.4 % and 1.6 % tuned on, 88.5 % and 3.8 % on the second
+/// of the reader (92.4 % and 1.6 % tuned on, 89.2 % and 3.7 % on the second
 /// half, with corpus2's questions in both halves; since corpus3 came, the
 /// second half is tuned on too): a change that reads fewer questions as
 /// meant, or misreads more, fails.
 const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
-const HELD_FLOOR: f64 = 88.3;
-const HELD_MISREAD: f64 = 3.9;
-/// corpus3 to corpus6 as tuned on (91.5 % understood, 4.0 % misread; 79.6 %
-/// and 3.7 % when corpus6 joined them; first read 72.2 %/8.4 %, 77.2 %/5.6 %,
-/// 74.6 %/5.4 % and 76.8 %/5.7 %), and corpus7, never tuned on (73.9 % and
-/// 9.6 % now; 69.3 % and 10.0 % when it was first read).
-const C3_FLOOR: f64 = 91.3;
-const C3_MISREAD: f64 = 4.1;
-const FRESH_FLOOR: f64 = 73.7;
+const HELD_FLOOR: f64 = 89.0;
+const HELD_MISREAD: f64 = 3.8;
+/// corpus3 to corpus7 as tuned on (91.4 % understood, 4.1 % misread; 88.2 %
+/// and 5.1 % when corpus7 joined them; first read 72.2 %/8.4 %, 77.2 %/5.6 %,
+/// 74.6 %/5.4 %, 76.8 %/5.7 % and 69.3 %/10.0 %), and corpus8, never tuned
+/// on (83.6 % and 9.6 % when it was first read; 83.2 % and 9.6 % by the
+/// reader before corpus7 was tuned on).
+const C3_FLOOR: f64 = 91.2;
+const C3_MISREAD: f64 = 4.2;
+const FRESH_FLOOR: f64 = 83.4;
 const FRESH_MISREAD: f64 = 9.7;

@@ -167,8 +167,44 @@ fn or_list(items: &[String]) -> String {
 /// Answers a question typed in the user's words: read (nodes, then what
 /// is asked, then when), then answered at the moment it names, if any.
 pub fn ask(cx: &Context, question: &str) -> Reply {
-    // "Can you justify the move you're making?", "can you explain …": a
-    // question put politely, read as what it asks.
+    let (reading, restate) = reading_of(cx, question);
+    let Some(reading) = reading else {
+        let mut r = Reply::new(question, None);
+        r.answered = false;
+        r.answer = "I don't know how to answer that.".into();
+        r.suggestions = suggestions(cx, question);
+        r.confidence = 0.0;
+        return r;
+    };
+    let moved = match (reading.when, cx.at.as_ref()) {
+        (Some(w), Some(at)) => match moment_of(cx.tree, at, w) {
+            Ok(pos) => Some(moved_to(cx, Some(at.index.at(pos)), cx.node)),
+            Err(e) => return not_in_the_run(cx, question, &reading, e),
+        },
+        _ => None,
+    };
+    let cx = moved.as_ref().unwrap_or(cx);
+    // Han's questions asked of a node named: the one of them running at
+    // the moment, if one is.
+    let named = reading.about.as_ref().map(|us| {
+        let running = cx.at.as_ref().and_then(|at| {
+            us.iter()
+                .copied()
+                .find(|&u| at.status(u) == crate::run::Status::Running)
+        });
+        moved_to(cx, cx.at, running.or(us.first().copied()))
+    });
+    let cx = named.as_ref().unwrap_or(cx);
+    let mut r = compose::compose(cx, question, &reading.intent);
+    said_as_read(cx, &reading, restate, &mut r);
+    r
+}
+
+/// The question as read: one of the paper's fixed wordings (not restated)
+/// or the user's own words (restated). "Can you justify the move you're
+/// making?", "can you explain …": a question put politely is read as what
+/// it asks, not as "Can you X?".
+fn reading_of(cx: &Context, question: &str) -> (Option<read::Reading>, bool) {
     let polite = |x: &str| {
         let words: Vec<String> = x.split_whitespace().map(str::to_lowercase).collect();
         let words: Vec<&str> = words.iter().map(String::as_str).collect();
@@ -180,88 +216,67 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
             || read::wraps_a_question(&words)
             || words.iter().any(|w| read::ADVICE.contains(w))
     };
-    let fixed =
-        Question::parse(question).filter(|q| !matches!(q, Question::CanYou(x) if polite(x)));
-    let restate = fixed.is_none();
-    let reading = match fixed {
-        Some(q) => Some(read::Reading {
-            intent: parse::Intent::Fixed(q),
-            confidence: 1.0,
-            alternatives: Vec::new(),
-            when: None,
-            about: None,
-        }),
-        None => read::read(&read::Vocabulary::new(cx.tree), cx.tree, question),
-    };
-    let Some(reading) = reading else {
-        let mut r = Reply::new(question, None);
-        r.answered = false;
-        r.answer = "I don't know how to answer that.".into();
-        r.suggestions = suggestions(cx, question);
-        r.confidence = 0.0;
-        return r;
-    };
-    let moved;
-    let cx = match (reading.when, cx.at.as_ref()) {
-        (Some(w), Some(at)) => match moment_of(cx.tree, at, w) {
-            Ok(pos) => {
-                moved = Context {
-                    tree: cx.tree,
-                    session: cx.session,
-                    at: Some(at.index.at(pos)),
-                    node: cx.node,
-                    detail: cx.detail,
-                    last: std::cell::Cell::new(cx.last.get()),
-                };
-                &moved
-            }
-            Err(e) => {
-                let mut r = Reply::new(question, Some(reading.intent.short()));
-                r.answered = false;
-                r.answer = e;
-                // A reading not sure of itself says so, even where the
-                // moment it names is not in the run.
-                if reading.confidence < read::SURE {
-                    r.understood = read::wording(cx.tree, &reading.intent);
-                    r.confidence = reading.confidence;
-                    r.alternatives = reading
-                        .alternatives
-                        .iter()
-                        .map(|i| read::wording(cx.tree, i))
-                        .collect();
-                }
-                return r;
-            }
-        },
-        _ => cx,
-    };
-    let named;
-    let cx = match &reading.about {
-        Some(us) => {
-            // The one of them running at the moment, if one is.
-            let running = cx.at.as_ref().and_then(|at| {
-                us.iter()
-                    .copied()
-                    .find(|&u| at.status(u) == crate::run::Status::Running)
-            });
-            named = Context {
-                tree: cx.tree,
-                session: cx.session,
-                at: cx.at,
-                node: running.or(us.first().copied()),
-                detail: cx.detail,
-                last: std::cell::Cell::new(cx.last.get()),
-            };
-            &named
-        }
-        None => cx,
-    };
-    let mut r = compose::compose(cx, question, &reading.intent);
+    match Question::parse(question).filter(|q| !matches!(q, Question::CanYou(x) if polite(x))) {
+        Some(q) => (
+            Some(read::Reading {
+                intent: parse::Intent::Fixed(q),
+                confidence: 1.0,
+                alternatives: Vec::new(),
+                when: None,
+                about: None,
+            }),
+            false,
+        ),
+        None => (
+            read::read(&read::Vocabulary::new(cx.tree), cx.tree, question),
+            true,
+        ),
+    }
+}
+
+/// The context asked of, at another moment or about another node.
+fn moved_to<'a>(
+    cx: &Context<'a>,
+    at: Option<crate::session::At<'a>>,
+    node: Option<Uid>,
+) -> Context<'a> {
+    Context {
+        tree: cx.tree,
+        session: cx.session,
+        at,
+        node,
+        detail: cx.detail,
+        last: std::cell::Cell::new(cx.last.get()),
+    }
+}
+
+/// A moment the question names that the run does not hold ("the fifth
+/// time" of a node that failed twice): said, not answered at another. A
+/// reading not sure of itself says so all the same.
+fn not_in_the_run(cx: &Context, question: &str, reading: &read::Reading, e: String) -> Reply {
+    let mut r = Reply::new(question, Some(reading.intent.short()));
+    r.answered = false;
+    r.answer = e;
+    if reading.confidence < read::SURE {
+        r.understood = read::wording(cx.tree, &reading.intent);
+        r.confidence = reading.confidence;
+        r.alternatives = reading
+            .alternatives
+            .iter()
+            .map(|i| read::wording(cx.tree, i))
+            .collect();
+    }
+    r
+}
+
+/// The reply told as read: how sure, the moment named (Han's questions
+/// are asked of a moment, said back with it: "What are you doing at tick
+/// 9?"), the other readings, the level of detail, and the node "it" means
+/// next.
+fn said_as_read(cx: &Context, reading: &read::Reading, restate: bool, r: &mut Reply) {
     r.restate = restate;
     r.confidence = reading.confidence;
     r.named_moment = reading.when.map(|w| w.told(cx.tree));
-    // Han's questions are asked of a moment; one the question named is
-    // said back with it ("What are you doing at tick 9?").
     if let (Some(w), parse::Intent::Fixed(Question::Tree(_) | Question::Run(_))) =
         (reading.when, &reading.intent)
     {
@@ -280,14 +295,13 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
     // A why is put at its level of detail by the search's own
     // rendering (`detail::why_text`); the others here.
     if r.target.is_none() && r.answered {
-        at_detail(cx, &mut r);
+        at_detail(cx, r);
     }
     if r.answered {
         if let Some(u) = r.about {
             cx.last.set(Some(u));
         }
     }
-    r
 }
 
 /// The position a moment said in words stands for in the run.

@@ -77,7 +77,7 @@ const ARTICLES: &[&str] = &["the", "a", "an", "its", "your", "my", "our"];
 /// written.
 const NEVER_TYPOS: &[&str] = &[
     "list", "show", "tell", "give", "explain", "describe", "steps", "step", "says", "said", "when",
-    "then", "than", "what", "that", "went", "want", "done", "know", "need", "make",
+    "then", "than", "what", "that", "went", "want", "done", "know", "need", "make", "clean",
 ];
 
 fn typo_of(name_word: &str, w: &Word) -> bool {
@@ -188,6 +188,16 @@ impl Vocabulary {
     /// The node mentions of a question, longest and best first, none
     /// overlapping. `asks(stem)`: a word that also asks (a cue word).
     pub fn mentions(&self, tree: &Tree, q: &[Word], asks: &dyn Fn(&str) -> bool) -> Vec<Mention> {
+        let mut taken = vec![false; q.len()];
+        let mut out = named_spans(tree, q, self.scored_spans(q), asks, &mut taken);
+        out.extend(kinds_alone(tree, q, &mut taken));
+        out.sort_by_key(|m| m.start);
+        out
+    }
+
+    /// Every span of words that may name nodes, with its score and the
+    /// nodes it names best, the longest and best first.
+    fn scored_spans(&self, q: &[Word]) -> Vec<(f32, usize, usize, Vec<Uid>)> {
         let mut found: Vec<(f32, usize, usize, Vec<Uid>)> = Vec::new();
         // A name starts and ends with one of the tree's words (or a typo
         // of one): spans that do not are passed over unscored.
@@ -265,111 +275,7 @@ impl Vocabulary {
             let kb = b.0 + 0.03 * (b.2 - b.1) as f32;
             kb.total_cmp(&ka).then(a.1.cmp(&b.1))
         });
-        let mut taken = vec![false; q.len()];
-        let mut out = Vec::new();
-        for (score, i, j, uids) in found {
-            if taken[i..j].iter().any(|&t| t) {
-                continue;
-            }
-            let (mut start, mut end) = (i, j);
-            let mut uids = uids;
-            // A kind word beside the name picks among nodes that share it.
-            let after = (j..q.len()).find(|&k| !is_article(&q[k].text));
-            let before = (0..i).rev().find(|&k| !is_article(&q[k].text));
-            for k in [after, after.map(|a| a + 1), before].into_iter().flatten() {
-                if k >= q.len() || taken[k] {
-                    continue;
-                }
-                if let Some(is) = kind_word(&q[k].text) {
-                    let kept: Vec<Uid> =
-                        uids.iter().copied().filter(|&u| is(tree.node(u))).collect();
-                    if !kept.is_empty() {
-                        uids = kept;
-                    }
-                    start = start.min(k);
-                    end = end.max(k + 1);
-                    if k + 1 < q.len() && q[k + 1].text == "node" {
-                        end = end.max(k + 2);
-                    }
-                    break;
-                }
-            }
-            let uids = outermost(tree, uids);
-            for t in &mut taken[start..end] {
-                *t = true;
-            }
-            let weak = q[i..j].iter().all(|w| is_article(&w.text) || asks(&w.stem));
-            let phrase = q[start..end]
-                .iter()
-                .map(|w| w.text.as_str())
-                .collect::<Vec<_>>()
-                .join(" ");
-            out.push(Mention {
-                start,
-                end,
-                uids,
-                score,
-                weak,
-                phrase,
-            });
-        }
-        // A node called by its kind alone ("the parallel", "the retry
-        // node"): every node of that kind, for the run to choose among.
-        let mut k = 0;
-        while k < q.len() {
-            if taken[k] {
-                k += 1;
-                continue;
-            }
-            let two = q.get(k + 1).map(|w| w.text.as_str());
-            let (len, is): (usize, Option<IsKind>) = match (q[k].text.as_str(), two) {
-                ("recovery", Some("node")) => (2, Some(|id| id == "RecoveryNode")),
-                ("retry", Some("node")) | ("retry", Some("decorator")) => {
-                    (2, Some(|id| id.starts_with("Retry")))
-                }
-                ("parallel", _) => (1, Some(|id| id.contains("Parallel"))),
-                ("sequence", _) => (1, Some(|id| id.contains("Sequence"))),
-                ("fallback", _) | ("selector", _) => (
-                    1,
-                    Some(|id| id.contains("Fallback") || id.contains("Selector")),
-                ),
-                ("inverter", _) => (1, Some(|id| id == "Inverter")),
-                ("repeat", _) => (1, Some(|id| id == "Repeat")),
-                ("timeout", _) => (1, Some(|id| id == "Timeout")),
-                ("pipeline", _) => (1, Some(|id| id == "PipelineSequence")),
-                _ => (1, None),
-            };
-            if let Some(is) = is {
-                let uids: Vec<Uid> = tree
-                    .preorder()
-                    .into_iter()
-                    .filter(|&u| is(&tree.node(u).id))
-                    .collect();
-                if !uids.is_empty() && !taken[k..(k + len).min(q.len())].iter().any(|&t| t) {
-                    let end = (k + len).min(q.len());
-                    for t in &mut taken[k..end] {
-                        *t = true;
-                    }
-                    out.push(Mention {
-                        start: k,
-                        end,
-                        uids,
-                        score: 0.9,
-                        weak: false,
-                        phrase: q[k..end]
-                            .iter()
-                            .map(|w| w.text.as_str())
-                            .collect::<Vec<_>>()
-                            .join(" "),
-                    });
-                    k = end;
-                    continue;
-                }
-            }
-            k += 1;
-        }
-        out.sort_by_key(|m| m.start);
-        out
+        found
     }
 
     /// Every stem of the tree's names, IDs, ports and field words.
@@ -585,4 +491,122 @@ fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
         }
     }
     0.0
+}
+
+/// The spans taken, best first, none overlapping; a kind word beside a
+/// name ("the FollowPath action") picks among the nodes that share it.
+fn named_spans(
+    tree: &Tree,
+    q: &[Word],
+    found: Vec<(f32, usize, usize, Vec<Uid>)>,
+    asks: &dyn Fn(&str) -> bool,
+    taken: &mut [bool],
+) -> Vec<Mention> {
+    let mut out = Vec::new();
+    for (score, i, j, uids) in found {
+        if taken[i..j].iter().any(|&t| t) {
+            continue;
+        }
+        let (mut start, mut end) = (i, j);
+        let mut uids = uids;
+        // A kind word beside the name picks among nodes that share it.
+        let after = (j..q.len()).find(|&k| !is_article(&q[k].text));
+        let before = (0..i).rev().find(|&k| !is_article(&q[k].text));
+        for k in [after, after.map(|a| a + 1), before].into_iter().flatten() {
+            if k >= q.len() || taken[k] {
+                continue;
+            }
+            if let Some(is) = kind_word(&q[k].text) {
+                let kept: Vec<Uid> = uids.iter().copied().filter(|&u| is(tree.node(u))).collect();
+                if !kept.is_empty() {
+                    uids = kept;
+                }
+                start = start.min(k);
+                end = end.max(k + 1);
+                if k + 1 < q.len() && q[k + 1].text == "node" {
+                    end = end.max(k + 2);
+                }
+                break;
+            }
+        }
+        let uids = outermost(tree, uids);
+        for t in &mut taken[start..end] {
+            *t = true;
+        }
+        let weak = q[i..j].iter().all(|w| is_article(&w.text) || asks(&w.stem));
+        let phrase = q[start..end]
+            .iter()
+            .map(|w| w.text.as_str())
+            .collect::<Vec<_>>()
+            .join(" ");
+        out.push(Mention {
+            start,
+            end,
+            uids,
+            score,
+            weak,
+            phrase,
+        });
+    }
+    out
+}
+
+/// A node called by its kind alone ("the parallel", "the retry node"):
+/// every node of that kind, for the run to choose among.
+fn kinds_alone(tree: &Tree, q: &[Word], taken: &mut [bool]) -> Vec<Mention> {
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < q.len() {
+        if taken[k] {
+            k += 1;
+            continue;
+        }
+        let two = q.get(k + 1).map(|w| w.text.as_str());
+        let (len, is): (usize, Option<IsKind>) = match (q[k].text.as_str(), two) {
+            ("recovery", Some("node")) => (2, Some(|id| id == "RecoveryNode")),
+            ("retry", Some("node")) | ("retry", Some("decorator")) => {
+                (2, Some(|id| id.starts_with("Retry")))
+            }
+            ("parallel", _) => (1, Some(|id| id.contains("Parallel"))),
+            ("sequence", _) => (1, Some(|id| id.contains("Sequence"))),
+            ("fallback", _) | ("selector", _) => (
+                1,
+                Some(|id| id.contains("Fallback") || id.contains("Selector")),
+            ),
+            ("inverter", _) => (1, Some(|id| id == "Inverter")),
+            ("repeat", _) => (1, Some(|id| id == "Repeat")),
+            ("timeout", _) => (1, Some(|id| id == "Timeout")),
+            ("pipeline", _) => (1, Some(|id| id == "PipelineSequence")),
+            _ => (1, None),
+        };
+        if let Some(is) = is {
+            let uids: Vec<Uid> = tree
+                .preorder()
+                .into_iter()
+                .filter(|&u| is(&tree.node(u).id))
+                .collect();
+            if !uids.is_empty() && !taken[k..(k + len).min(q.len())].iter().any(|&t| t) {
+                let end = (k + len).min(q.len());
+                for t in &mut taken[k..end] {
+                    *t = true;
+                }
+                out.push(Mention {
+                    start: k,
+                    end,
+                    uids,
+                    score: 0.9,
+                    weak: false,
+                    phrase: q[k..end]
+                        .iter()
+                        .map(|w| w.text.as_str())
+                        .collect::<Vec<_>>()
+                        .join(" "),
+                });
+                k = end;
+                continue;
+            }
+        }
+        k += 1;
+    }
+    out
 }

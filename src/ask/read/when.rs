@@ -101,7 +101,7 @@ pub fn ordinal_word(n: u32) -> String {
 }
 
 /// "second", "3rd", "tenth": a count from 1.
-fn ordinal(w: &str) -> Option<u32> {
+pub fn ordinal(w: &str) -> Option<u32> {
     if let Some(i) = ORDINALS.iter().position(|x| *x == w) {
         return Some(i as u32 + 1);
     }
@@ -131,124 +131,192 @@ const BEFORE: &[&str] = &[
     "at", "in", "on", "during", "of", "for", "from", "by", "around",
 ];
 
+/// Words that move through a run, as a user scrolls a timeline.
+const MOVES: &[&str] = &[
+    "back",
+    "forward",
+    "forwards",
+    "ahead",
+    "scroll",
+    "scrolling",
+    "scrolled",
+    "jump",
+    "jumping",
+    "jumped",
+    "go",
+    "going",
+    "went",
+    "rewind",
+    "rewinding",
+    "rewound",
+    "skip",
+    "skipping",
+    "step",
+    "stepping",
+    "move",
+    "moving",
+    "fast",
+];
+
 /// The moment named, and the word positions that said it.
 pub fn find(q: &[Word]) -> Option<(When, Vec<usize>)> {
-    let t = |i: usize| q.get(i).map(|w| w.text.as_str()).unwrap_or("");
-    let lead = |i: usize, mut used: Vec<usize>| {
-        // "at", "just", "right" before the moment are part of it.
-        let mut k = i;
-        while k > 0 && (BEFORE.contains(&t(k - 1)) || ["just", "right", "the"].contains(&t(k - 1)))
-        {
-            k -= 1;
-            used.push(k);
+    (0..q.len()).find_map(|i| {
+        tick_said(q, i)
+            .or_else(|| step_of_tick(q, i))
+            .or_else(|| moment_said(q, i))
+            .or_else(|| end_or_start(q, i))
+            .or_else(|| around_a_failure(q, i))
+    })
+}
+
+/// Word `i` of `q`, or "" past the end.
+fn text(q: &[Word], i: usize) -> &str {
+    q.get(i).map(|w| w.text.as_str()).unwrap_or("")
+}
+
+/// The positions `used` of a moment that starts at `i`, with the words
+/// before it that are part of it: "at", "just", "right", "the", and the
+/// words of moving through a timeline ("scrolling back to tick 20", "jump
+/// to 7:1"), which name no node ("back to approach pose").
+fn lead(q: &[Word], i: usize, mut used: Vec<usize>) -> Vec<usize> {
+    let t = |i: usize| text(q, i);
+    let mut k = i;
+    while k > 0 && (BEFORE.contains(&t(k - 1)) || ["just", "right", "the"].contains(&t(k - 1))) {
+        k -= 1;
+        used.push(k);
+    }
+    if k > 0 && t(k - 1) == "to" {
+        let mut m = k - 1;
+        while m > 0 && MOVES.contains(&t(m - 1)) {
+            m -= 1;
         }
-        used
-    };
-    for i in 0..q.len() {
-        let w = t(i);
-        if w == "tick" || w == "ticks" {
-            // "tick 9", "tick #9", "tick number 9", "tick 9 step 2".
-            let mut j = i + 1;
-            if ["number", "no", "num", "nr"].contains(&t(j)) {
-                j += 1;
-            }
-            if let Some((tk, s)) = step(t(j)) {
-                return Some((When::Step(tk, s), lead(i, (i..=j).collect())));
-            }
-            if let Some(n) = number(t(j)) {
-                if t(j + 1) == "step" {
-                    if let Some(s) = number(t(j + 2)) {
-                        return Some((When::Step(n, s), lead(i, (i..=j + 2).collect())));
-                    }
-                }
-                return Some((When::Tick(n), lead(i, (i..=j).collect())));
-            }
-            // "the third tick", "the 2nd tick": the tick counted from 1.
-            if let Some(n) = i.checked_sub(1).and_then(|k| ordinal(t(k))) {
-                if n > 1 {
-                    return Some((When::Tick(n), lead(i - 1, vec![i - 1, i])));
-                }
-            }
-            // "the last tick", "the final tick", "the first tick".
-            if i > 0 && ["last", "final", "first", "1st"].contains(&t(i - 1)) {
-                let w = if t(i - 1) == "first" || t(i - 1) == "1st" {
-                    When::FirstTick
-                } else {
-                    When::LastTick
-                };
-                return Some((w, lead(i - 1, vec![i - 1, i])));
-            }
-        }
-        if w == "step" {
-            // "step 2 of tick 9".
-            if let (Some(s), "of", "tick", Some(n)) =
-                (number(t(i + 1)), t(i + 2), t(i + 3), number(t(i + 4)))
-            {
-                return Some((When::Step(n, s), lead(i, (i..=i + 4).collect())));
-            }
-        }
-        if let Some((tk, s)) = step(w) {
-            if i > 0 && (BEFORE.contains(&t(i - 1)) || t(i - 1) == "moment") {
-                return Some((When::Step(tk, s), lead(i, vec![i])));
-            }
-        }
-        if w == "moment" {
-            if let Some(n) = number(t(i + 1)) {
-                return Some((When::Tick(n), lead(i, vec![i, i + 1])));
-            }
-        }
-        // "at the end (of the run)", "at the start".
-        if (w == "end" || w == "start" || w == "beginning")
-            && i >= 2
-            && t(i - 1) == "the"
-            && ["at", "by", "near", "towards", "toward"].contains(&t(i - 2))
-        {
-            {
-                let mut used = vec![i - 2, i - 1, i];
-                if t(i + 1) == "of" && ["run", "mission", "log", "task"].contains(&t(i + 3)) {
-                    used.extend([i + 1, i + 2, i + 3]);
-                }
-                let when = if w == "end" {
-                    When::LastTick
-                } else {
-                    When::FirstTick
-                };
-                return Some((when, used));
-            }
-        }
-        // "before the failure", "after it failed", "after the recovery".
-        if w == "before" || w == "after" || w == "once" {
-            let mut j = i + 1;
-            let mut used = vec![i];
-            while ["the", "it", "that", "first", "a"].contains(&t(j)) {
-                used.push(j);
-                j += 1;
-            }
-            let next = t(j);
-            let what = if ["fail", "crash", "error", "problem", "fault"]
-                .iter()
-                .any(|p| next.starts_with(p))
-            {
-                Some(if w == "before" {
-                    When::BeforeFailure
-                } else {
-                    When::AfterFailure
-                })
-            } else if w != "before" && (next.starts_with("recover") || next.starts_with("retr")) {
-                Some(When::AfterRecovery)
-            } else {
-                None
-            };
-            if let Some(what) = what {
-                used.push(j);
-                if t(j + 1) == "happened" || t(j + 1) == "occurred" {
-                    used.push(j + 1);
-                }
-                return Some((what, lead(i, used)));
-            }
+        if m < k - 1 {
+            used.extend(m..k);
         }
     }
+    used
+}
+
+/// "tick 9", "tick #9", "tick number 9", "tick 9 step 2", "the third
+/// tick", "the last tick".
+fn tick_said(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
+    let t = |i: usize| text(q, i);
+    if t(i) != "tick" && t(i) != "ticks" {
+        return None;
+    }
+    let mut j = i + 1;
+    if ["number", "no", "num", "nr"].contains(&t(j)) {
+        j += 1;
+    }
+    if let Some((tk, s)) = step(t(j)) {
+        return Some((When::Step(tk, s), lead(q, i, (i..=j).collect())));
+    }
+    if let Some(n) = number(t(j)) {
+        if t(j + 1) == "step" {
+            if let Some(s) = number(t(j + 2)) {
+                return Some((When::Step(n, s), lead(q, i, (i..=j + 2).collect())));
+            }
+        }
+        return Some((When::Tick(n), lead(q, i, (i..=j).collect())));
+    }
+    // "the third tick", "the 2nd tick": the tick counted from 1.
+    if let Some(n) = i.checked_sub(1).and_then(|k| ordinal(t(k))) {
+        if n > 1 {
+            return Some((When::Tick(n), lead(q, i - 1, vec![i - 1, i])));
+        }
+    }
+    // "the last tick", "the final tick", "the first tick".
+    if i > 0 && ["last", "final", "first", "1st"].contains(&t(i - 1)) {
+        let w = if t(i - 1) == "first" || t(i - 1) == "1st" {
+            When::FirstTick
+        } else {
+            When::LastTick
+        };
+        return Some((w, lead(q, i - 1, vec![i - 1, i])));
+    }
     None
+}
+
+/// "step 2 of tick 9", and "at 7:1".
+fn step_of_tick(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
+    let t = |i: usize| text(q, i);
+    if t(i) == "step" {
+        if let (Some(s), "of", "tick", Some(n)) =
+            (number(t(i + 1)), t(i + 2), t(i + 3), number(t(i + 4)))
+        {
+            return Some((When::Step(n, s), lead(q, i, (i..=i + 4).collect())));
+        }
+    }
+    let (tk, s) = step(t(i))?;
+    (i > 0 && (BEFORE.contains(&t(i - 1)) || t(i - 1) == "moment"))
+        .then(|| (When::Step(tk, s), lead(q, i, vec![i])))
+}
+
+/// "moment 9": the end of tick 9.
+fn moment_said(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
+    if text(q, i) != "moment" {
+        return None;
+    }
+    let n = number(text(q, i + 1))?;
+    Some((When::Tick(n), lead(q, i, vec![i, i + 1])))
+}
+
+/// "at the end (of the run)", "at the start".
+fn end_or_start(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
+    let t = |i: usize| text(q, i);
+    let w = t(i);
+    if !((w == "end" || w == "start" || w == "beginning")
+        && i >= 2
+        && t(i - 1) == "the"
+        && ["at", "by", "near", "towards", "toward"].contains(&t(i - 2)))
+    {
+        return None;
+    }
+    let mut used = vec![i - 2, i - 1, i];
+    if t(i + 1) == "of" && ["run", "mission", "log", "task"].contains(&t(i + 3)) {
+        used.extend([i + 1, i + 2, i + 3]);
+    }
+    let when = if w == "end" {
+        When::LastTick
+    } else {
+        When::FirstTick
+    };
+    Some((when, used))
+}
+
+/// "before the failure", "after it failed", "after the recovery".
+fn around_a_failure(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
+    let t = |i: usize| text(q, i);
+    let w = t(i);
+    if w != "before" && w != "after" && w != "once" {
+        return None;
+    }
+    let mut j = i + 1;
+    let mut used = vec![i];
+    while ["the", "it", "that", "first", "a"].contains(&t(j)) {
+        used.push(j);
+        j += 1;
+    }
+    let next = t(j);
+    let what = if ["fail", "crash", "error", "problem", "fault"]
+        .iter()
+        .any(|p| next.starts_with(p))
+    {
+        if w == "before" {
+            When::BeforeFailure
+        } else {
+            When::AfterFailure
+        }
+    } else if w != "before" && (next.starts_with("recover") || next.starts_with("retr")) {
+        When::AfterRecovery
+    } else {
+        return None;
+    };
+    used.push(j);
+    if t(j + 1) == "happened" || t(j + 1) == "occurred" {
+        used.push(j + 1);
+    }
+    Some((what, lead(q, i, used)))
 }
 
 #[cfg(test)]

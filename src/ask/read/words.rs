@@ -242,6 +242,16 @@ pub fn words(text: &str) -> Vec<Word> {
                 .find(|(w, _)| *w == part)
                 .map_or(part, |(_, to)| *to);
             for w in spelled.split_whitespace() {
+                // "Break down the plan": one word, so that "down" names
+                // no move.
+                if w == "down" && out.last().is_some_and(|p: &Word| p.stem == "break") {
+                    let last = out.len() - 1;
+                    out[last] = Word {
+                        text: "breakdown".into(),
+                        stem: "breakdown".into(),
+                    };
+                    continue;
+                }
                 out.push(Word {
                     text: w.to_string(),
                     stem: stem(w),

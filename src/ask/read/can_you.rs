@@ -1,0 +1,158 @@
+//! "Can you X?" in its many forms ("is the taxi able to …", "is looking
+//! around one of its capabilities?"): the behaviour asked for, and the
+//! openings that wrap another question instead ("can you tell me why …").
+
+use super::*;
+
+/// "Could you confirm how many times it failed", "can you check when
+/// it stopped": a question put politely, not whether the robot can.
+pub fn wraps_a_question(after: &[&str]) -> bool {
+    const REPORT: &[&str] = &[
+        "confirm", "check", "verify", "find", "figure", "see", "look", "work", "let", "count",
+        "tell", "say", "show",
+    ];
+    let Some((first, rest)) = after.split_first() else {
+        return false;
+    };
+    REPORT.contains(first)
+        && (rest
+            .iter()
+            .any(|w| ["why", "when", "what", "which", "where"].contains(w))
+            || rest
+                .windows(2)
+                .any(|p| p[0] == "how" && ["many", "often", "much", "long"].contains(&p[1])))
+}
+
+/// What a robot is called in "can the taxi …": never a behaviour.
+const ROBOTS: &[&str] = &[
+    "robot",
+    "bot",
+    "taxi",
+    "arm",
+    "agent",
+    "tree",
+    "bt",
+    "system",
+    "car",
+    "vehicle",
+    "nav2",
+    "navigator",
+    "rover",
+    "drone",
+    "machine",
+    "it",
+];
+
+/// The words of "Can you X?" after its opening, or `None`.
+pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
+    let free: Vec<(usize, &Word)> =
+        s.q.iter()
+            .enumerate()
+            .filter(|(i, w)| {
+                // "to" and "know" lead other questions ("I want to know"),
+                // and are words of the openings here ("able to").
+                (!LEAD.contains(&w.text.as_str()) || ["to", "know"].contains(&w.text.as_str()))
+                    && !["the", "a", "an", "this", "that"].contains(&w.text.as_str())
+                    // "robot, can you pick a screw": the robot addressed.
+                    && (*i != 0 || !["robot", "bot"].contains(&w.text.as_str()))
+            })
+            .collect();
+    // "Can the taxi refuel?", "does this BT know how to move down?": the
+    // robot called by what it is, read as "robot"; "make the robot back
+    // up" is the robot backing up.
+    let opens_on_robot = free.len() > 2
+        && ["can", "could", "does", "is", "will"].contains(&free[0].1.text.as_str())
+        && ROBOTS.contains(&free[1].1.text.as_str());
+    let mut kept: Vec<(usize, &Word)> = Vec::with_capacity(free.len());
+    let mut texts: Vec<&str> = Vec::with_capacity(free.len());
+    let mut k = 0;
+    while k < free.len() {
+        let t = free[k].1.text.as_str();
+        if k == 2
+            && opens_on_robot
+            && ["make", "get", "have"].contains(&t)
+            && free
+                .get(k + 1)
+                .is_some_and(|(_, w)| ROBOTS.contains(&w.text.as_str()))
+        {
+            k += 2;
+            continue;
+        }
+        texts.push(if k == 1 && opens_on_robot { "robot" } else { t });
+        kept.push(free[k]);
+        k += 1;
+    }
+    let free = kept;
+    // "Is looking around one of its capabilities?", "spinning in place: is
+    // that something it can do?": the node named anywhere.
+    let capability = texts
+        .iter()
+        .any(|w| w.starts_with("capabilit") || w.starts_with("abilit"))
+        && texts.first() == Some(&"is")
+        || texts.ends_with(&["can", "do"]) && texts.contains(&"something");
+    if capability {
+        if let Some(m) = s.nodes.first() {
+            return Some(tree.description(m.uids[0]).to_string());
+        }
+    }
+    let openings: &[&[&str]] = &[
+        &["can", "you"],
+        &["could", "you"],
+        &["can", "it"],
+        &["could", "it"],
+        &["are", "you", "able", "to"],
+        &["is", "it", "able", "to"],
+        &["are", "you", "able"],
+        &["can", "robot"],
+        &["could", "robot"],
+        &["is", "robot", "able", "to"],
+        &["are", "you", "capable", "of"],
+        &["is", "robot", "capable", "of"],
+        &["is", "it", "capable", "of"],
+        &["do", "you", "know", "how", "to"],
+        &["would", "you", "be", "able", "to"],
+        &["will", "you", "be", "able", "to"],
+        &["does", "robot", "know", "how", "to"],
+    ];
+    // "Is clearing the local costmap something you can do?", "is detecting
+    // screws something this robot can do?".
+    if texts.first() == Some(&"is")
+        && texts.ends_with(&["can", "do"])
+        && texts.contains(&"something")
+    {
+        let from = free.get(1)?.0;
+        let m = s.nodes.iter().find(|m| m.start >= from)?;
+        return Some(tree.description(m.uids[0]).to_string());
+    }
+    // "Is the taxi able to …", "is this robot capable of …": the robot
+    // named any way, in four words.
+    let open = match openings.iter().find(|o| texts.starts_with(o)) {
+        Some(o) => o.len(),
+        None if texts.len() > 4
+            && ["is", "are"].contains(&texts[0])
+            && (texts[2..4] == ["able", "to"] || texts[2..4] == ["capable", "of"]) =>
+        {
+            4
+        }
+        None => return None,
+    };
+    // "can you tell me why …" asks what follows.
+    let next = texts.get(open).copied().unwrap_or("");
+    if wraps_a_question(&texts[open.min(texts.len())..])
+        || IMPERATIVE.contains(&next)
+        || next == "justify"
+        || ["still", "do"].contains(&next) && texts.len() == open + 1
+    {
+        return None;
+    }
+    let from = free.get(open)?.0;
+    if let Some(m) = s.nodes.iter().find(|m| m.start >= from) {
+        return Some(tree.description(m.uids[0]).to_string());
+    }
+    let rest: Vec<&str> = s.q[from..]
+        .iter()
+        .map(|w| w.text.as_str())
+        .filter(|w| !["the", "a", "an", "please", "again", "itself", "yourself"].contains(w))
+        .collect();
+    (!rest.is_empty()).then(|| rest.join(" "))
+}

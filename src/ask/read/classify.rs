@@ -1,0 +1,834 @@
+//! What a sentence asks, once its nodes and moment are found: the cue
+//! words are read once (`Cues`), then each rule, in order, says what the
+//! question asks or passes it on. The first rule that reads it wins; a
+//! rule that returns no reading stops the rest (a why that names nothing
+//! it could be about is no other question).
+
+use super::cues::{Cues, Readings};
+use super::{
+    can_you, foil, gave_up, loops_of, negated_first, progressive, when, Mention, Sentence, When,
+    NOT_A_VERB,
+};
+use crate::ask::parse::{Event, Intent, Subject, Which};
+use crate::explain::{Question, RunQuestion, TreeQuestion};
+use crate::model::Tree;
+
+/// The rules, in the order they are tried.
+const RULES: &[fn(&Cues) -> Option<Readings>] = &[
+    which_failed,
+    can_you_asked,
+    what_if,
+    all_well_in_few_words,
+    anything_failed,
+    recovered,
+    how_often,
+    when_it_happened,
+    purpose,
+    why_bare_verb,
+    why,
+    handled,
+    next,
+    what_went_wrong,
+    anything_wrong,
+    tick,
+    goal_reached,
+    task_outcome,
+    how_achieved,
+    subgoal_or_goal,
+    which_of_two,
+    doing,
+    whether_it_happened,
+    event_alone,
+];
+
+/// What a sentence asks: every reading, the best first.
+pub(super) fn classify(s: &Sentence, tree: &Tree) -> Readings {
+    let c = Cues::of(s, tree);
+    RULES.iter().find_map(|rule| rule(&c)).unwrap_or_default()
+}
+
+/// "Which node failed?": what went wrong.
+fn which_failed(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    ((s.has("which") || s.has("what"))
+        && s.has_stem(&[
+            "node", "step", "action", "part", "thing", "behavior", "leaf",
+        ])
+        && c.ev == Some(Event::Fail)
+        && c.named.is_empty())
+    .then(|| {
+        vec![(
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            c.sure_of_words(0.93),
+        )]
+    })
+}
+
+/// "Can you X?": the rest of the words are the behaviour.
+fn can_you_asked(c: &Cues) -> Option<Readings> {
+    let x = can_you(c.s, c.tree)?;
+    c.only(Intent::Fixed(Question::CanYou(x)), 0.95)
+}
+
+/// "What if X fails?", "what would have happened if X had failed".
+fn what_if(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let conditional = s.phrase(&["what", "if"]).is_some()
+        || s.phrase(&["happen", "if"]).is_some()
+        || s.phrase(&["happens", "if"]).is_some()
+        || s.phrase(&["happened", "if"]).is_some()
+        || s.phrase(&["do", "if"]).is_some()
+        || s.has("suppose")
+        || s.has("imagine")
+        || s.has("hypothetically")
+        || c.first == "if"
+        // "How would the run differ if look around had failed?", "say the
+        // second move up had failed: then what?".
+        || s.has("if") && (s.has("would") || s.has("had"))
+        || s.has("had") && (c.first == "say" || s.phrase(&["then", "what"]).is_some())
+        // "L0 succeeds: how does the run change?".
+        || c.how && s.has_stem(&["chang", "differ"]) && c.ev.is_some() && !c.named.is_empty();
+    if !conditional {
+        return None;
+    }
+    let node @ Subject::Nodes(..) = c.subject()? else {
+        return None;
+    };
+    let event = match c.ev {
+        Some(Event::Succeed) => Event::Succeed,
+        _ => Event::Fail,
+    };
+    Some(vec![(Intent::WhatIf { node, event }, c.sure(0.92))])
+}
+
+/// "Robot ok??", "something wrong?", "so far so good?": a few words asking
+/// whether all is well.
+fn all_well_in_few_words(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let so_far = s.phrase(&["so", "far"]).is_some()
+        || s.phrase(&["up", "to", "this", "point"]).is_some()
+        || s.phrase(&["up", "to", "now"]).is_some();
+    if (s.q.len() <= 3 || so_far)
+        && (c.problem || c.fine)
+        && c.named.is_empty()
+        && !c.why
+        && !c.what
+    {
+        return c.only(
+            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+            0.9,
+        );
+    }
+    None
+}
+
+/// "Did anything fail (while patrolling)?": yes or no, whatever is named.
+fn anything_failed(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    if c.yes_no
+        && (s.has("anything") || s.has("something") || s.has("any"))
+        && (c.problem || c.fine)
+        && !c.why
+        && !s.has_prefix(&["recover"])
+    {
+        return c.only(
+            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+            0.93,
+        );
+    }
+    None
+}
+
+/// A name that only says "the recovery" or "the retries".
+fn generic(m: &Mention) -> bool {
+    m.phrase.split_whitespace().all(|w| {
+        [
+            "the",
+            "recovery",
+            "recoveries",
+            "retry",
+            "retries",
+            "fallback",
+            "behaviors",
+            "behaviours",
+            "actions",
+            "node",
+        ]
+        .contains(&w)
+    })
+}
+
+/// Did the recovery work?
+fn recovered(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let recovery_word = s.has_prefix(&["recover"])
+        || s.nodes.iter().any(generic)
+        || s.phrase(&["bounce", "back"]).is_some()
+        || s.phrase(&["bounced", "back"]).is_some()
+        || s.phrase(&["get", "past"]).is_some()
+        || s.phrase(&["got", "past"]).is_some();
+    let retry_word = s.has_prefix(&["retr", "fallback"]);
+    // "Did clearing the costmap fix the failure?": whether it recovered.
+    let fixed_it = s.has_stem(&["fix"])
+        && (s.has("it") || s.has("that") || s.has("things") || c.yes_no && c.problem);
+    let on_track =
+        s.phrase(&["on", "track"]).is_some() || s.phrase(&["back", "to", "normal"]).is_some();
+    if !c.how
+        && !c.why
+        // "L0 failed, but did the tree recover?": the question after "but".
+        && (c.yes_no
+            || s.has("manage")
+            || s.has("managed")
+            || c.first.starts_with("recover")
+            || s.phrase(&["but", "did"]).is_some())
+        && (recovery_word
+            || fixed_it
+            || on_track
+            || retry_word && c.named.iter().all(|m| generic(m)))
+        && !matches!(c.ev, Some(Event::Halted | Event::Skipped | Event::NotRun))
+        && (c.ev != Some(Event::Fail) || recovery_word || fixed_it)
+    {
+        return c.only(Intent::Recovered, 0.93);
+    }
+    None
+}
+
+/// An event as counted or timed: not running is counted as runs.
+fn counted(ev: Option<Event>) -> Event {
+    match ev {
+        Some(Event::NotRun) | Some(Event::Skipped) | None => Event::Run,
+        Some(e) => e,
+    }
+}
+
+/// "How often did X fail?".
+fn how_often(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let often = s.phrase(&["how", "often"]).is_some()
+        || s.phrase(&["how", "many"]).is_some()
+        || s.phrase(&["how", "frequently"]).is_some()
+        || s.phrase(&["number", "of"]).is_some()
+        || s.has_stem(&["count"]);
+    if !often {
+        return None;
+    }
+    let node = c.subject()?;
+    let event = counted(c.ev);
+    Some(vec![(Intent::HowOften { node, event }, c.sure(0.95))])
+}
+
+/// "When did X first fail?".
+fn when_it_happened(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    if !c.when_q || c.why || c.after_failure || c.how_handled {
+        return None;
+    }
+    let node = c.subject();
+    let named_or_event = matches!(node, Some(Subject::Nodes(..))) || c.ev.is_some();
+    let (Some(node), true) = (node, named_or_event) else {
+        return None;
+    };
+    let which = if s.has("first") || s.has("1st") || s.has("initially") {
+        Which::First
+    } else if s.has("last") || s.has("final") || s.has("finally") || s.has("latest") {
+        Which::Last
+    } else {
+        Which::Every
+    };
+    let event = counted(c.ev);
+    Some(vec![(Intent::When { node, event, which }, c.sure(0.95))])
+}
+
+/// "What's the purpose of the thing you're doing now?", "what is L2 for?",
+/// "whats the point of driving right now?": why it does what it does; the
+/// whole's purpose ("big picture, what is it for?") is its goal.
+fn purpose(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let purpose = s.has_stem(&["purpos", "reason"])
+        || s.phrase(&["point", "of"]).is_some()
+        || c.what && s.q.last().is_some_and(|w| w.text == "for");
+    if !purpose || c.why {
+        return None;
+    }
+    let current = c.doing_words || s.has("now") || s.has("current") || s.has_stem(&["action"]);
+    if c.whole && !current && c.named.is_empty() && !c.how {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Goal)), 0.9);
+    }
+    if matches!(c.ev, None | Some(Event::Run)) && (current || !c.named.is_empty()) {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Why)), 0.9);
+    }
+    None
+}
+
+/// "Why look around?": a bare verb after "why" asks why it does it.
+fn why_bare_verb(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let bare = s.q.first().is_some_and(|w| w.text == "why")
+        && s.q
+            .get(1)
+            .is_some_and(|w| !NOT_A_VERB.contains(&w.text.as_str()));
+    let contrast = s.has("instead") || s.phrase(&["rather", "than"]).is_some();
+    (c.why && bare && !contrast && matches!(c.ev, None | Some(Event::Run)) && !c.named.is_empty())
+        .then(|| {
+            vec![(
+                Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+                c.sure_of_words(0.85),
+            )]
+        })
+}
+
+/// A why: about a node's event, a contrast of two, or what it is doing.
+/// A why that names nothing it could be about is read as nothing.
+fn why(c: &Cues) -> Option<Readings> {
+    if !c.why {
+        return None;
+    }
+    Some(
+        why_with_a_clause(c)
+            .or_else(|| why_not(c))
+            .or_else(|| why_still_running(c))
+            .or_else(|| why_doing_now(c))
+            .or_else(|| why_of(c))
+            .unwrap_or_default(),
+    )
+}
+
+/// "Why didn't it X after Y failed": a why about X; the clause after
+/// "after", "when" or "once" only says when.
+fn why_with_a_clause(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let named = &c.named;
+    if named.len() < 2 {
+        return None;
+    }
+    let cut = s.q[named[0].end..named[1].start]
+        .iter()
+        .position(|w| {
+            ["after", "when", "once", "while", "since", "because"].contains(&w.text.as_str())
+        })
+        .map(|i| i + named[0].end)?;
+    let mut main = Sentence {
+        q: s.q,
+        tree_words: s.tree_words,
+        used: s.used.clone(),
+        nodes: s.nodes.iter().filter(|m| m.end <= cut).cloned().collect(),
+    };
+    for u in &mut main.used[cut..] {
+        *u = true;
+    }
+    Some(classify(&main, c.tree))
+}
+
+/// "Why X and not Y", "why X instead of Y": two nodes.
+fn why_not(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let not_between = c.named.len() >= 2
+        && s.q[c.named[0].end..c.named[1].start]
+            .iter()
+            .any(|w| w.text == "not" || w.text == "never");
+    let contrast = s.phrase(&["instead", "of"]).is_some()
+        || s.phrase(&["rather", "than"]).is_some()
+        || not_between
+        || s.has("over")
+        || s.has("vs")
+        || s.has("versus");
+    if !contrast {
+        return None;
+    }
+    // "Why did the whole patrol fail rather than just the drive?": the
+    // task itself may be one side of a contrast.
+    let named: Vec<&Mention> = if c.named.len() < 2 && s.nodes.len() >= 2 {
+        s.nodes.iter().collect()
+    } else {
+        c.named.clone()
+    };
+    // A node is never contrasted with itself ("why was the path not
+    // clear" names path clear twice).
+    if named.len() < 2 || named[0].uids == named[1].uids {
+        return None;
+    }
+    let done = Subject::Nodes(named[0].uids.clone(), named[0].phrase.clone());
+    let instead = Subject::Nodes(named[1].uids.clone(), named[1].phrase.clone());
+    let (done, instead) = if negated_first(s, named[0], named[1]) {
+        (instead, done)
+    } else {
+        (done, instead)
+    };
+    Some(vec![(Intent::WhyNot { done, instead }, c.sure(0.93))])
+}
+
+/// "Why is FollowPath still running?": a node named as running on.
+fn why_still_running(c: &Cues) -> Option<Readings> {
+    if !(c.s.has("still") && !c.named.is_empty() && progressive(c.s)) {
+        return None;
+    }
+    let node = c.subject()?;
+    Some(vec![(
+        Intent::Why {
+            node,
+            event: Event::KeepRunning,
+            foil: None,
+        },
+        c.sure(0.9),
+    )])
+}
+
+/// "Why is it looking at the chuck?", "why drop the passenger off now?":
+/// why it is doing what it does.
+fn why_doing_now(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let now = s.has("now") && !["did", "was", "were", "had"].iter().any(|w| s.has(w));
+    ((progressive(s) || now) && matches!(c.ev, None | Some(Event::Run) | Some(Event::KeepRunning)))
+        .then(|| {
+            vec![(
+                Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+                c.sure_of_words(0.93),
+            )]
+        })
+}
+
+/// "Why did X fail?", "why did it stop?", "why is it doing this?".
+fn why_of(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let Some(node) = c.subject() else {
+        return (s.has("doing") || s.has("this") || s.has("that"))
+            .then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Why)), 0.9))
+            .flatten();
+    };
+    let doing_this =
+        matches!(node, Subject::It) && (s.has("doing") || s.has("this") && c.ev.is_none());
+    if doing_this && c.ev.is_none() {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Why)), 0.95);
+    }
+    let node = match node {
+        Subject::Nodes(us, p) if gave_up(s) => match loops_of(c.tree, &us) {
+            Some(loops) => Subject::Nodes(loops, p),
+            None => Subject::Nodes(us, p),
+        },
+        other => other,
+    };
+    let event = match c.ev {
+        Some(e) => e,
+        None if c.negated => Event::NotRun,
+        None => Event::Run,
+    };
+    let base = if c.ev.is_some() || matches!(node, Subject::Nodes(..)) {
+        0.95
+    } else {
+        0.6
+    };
+    let mut out = vec![(
+        Intent::Why {
+            node,
+            event,
+            foil: foil(s),
+        },
+        c.sure(base),
+    )];
+    if matches!(event, Event::Fail) {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            0.3,
+        ));
+    }
+    Some(out)
+}
+
+/// How was it handled?
+fn handled(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let handle = s.has_stem(&[
+        "handl", "deal", "dealt", "respond", "respons", "react", "cope", "mitig", "recov",
+        "recoveri", "fix", "fixed", "past", "overcom", "surviv",
+    ]) || s.has_prefix(&["recover", "handl"]);
+    if (c.how && (handle || c.problem && !s.has("often") && !s.has("many")))
+        || c.how_handled && !c.why
+        || c.after_failure
+        || s.phrase(&["do", "about"]).is_some()
+        || s.phrase(&["did", "about"]).is_some()
+        || s.phrase(&["done", "about"]).is_some()
+        || (c.what && s.has_prefix(&["recover"]) && c.named.is_empty())
+    {
+        return c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93);
+    }
+    None
+}
+
+/// What next?
+fn next(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let next = s.has("next")
+        || s.phrase(&["going", "to", "do"]).is_some()
+        || s.phrase(&["will", "you", "do"]).is_some()
+        || s.phrase(&["will", "it", "do"]).is_some()
+        || s.phrase(&["will", "the", "robot", "do"]).is_some()
+        || s.phrase(&["comes", "after"]).is_some()
+        || s.phrase(&["after", "this"]).is_some()
+        || s.phrase(&["after", "that"]).is_some()
+        || s.has("afterwards")
+        || s.has("upcoming")
+        // "What's the following action gonna be?".
+        || s.has("following") && (s.phrase(&["going", "to", "be"]).is_some() || s.has("will"))
+        // "And then?".
+        || s.q.len() <= 3 && s.q.last().is_some_and(|w| w.text == "then") && !s.has("if")
+        || s.phrase(&["from", "here"]).is_some() && s.has("go")
+        || (s.has("after") && (s.has("will") || s.has("happens")));
+    // "What happens now?", "and now what?", "what will the tree do now?",
+    // "what do you plan to do after walking?".
+    let past = ["did", "was", "were", "had", "happened"]
+        .iter()
+        .any(|w| s.has(w));
+    let next = next
+        || !past
+            && (s.phrase(&["what", "happens"]).is_some()
+                && (s.has("now") || s.has("then") || s.has("after"))
+                || s.q.len() >= 2
+                    && s.q[s.q.len() - 2..]
+                        .iter()
+                        .map(|w| w.text.as_str())
+                        .eq(["now", "what"])
+                || s.has("will") && s.has("do") && c.what
+                || s.phrase(&["plan", "to", "do"]).is_some());
+    next.then(|| vec![(Intent::Next, c.sure_of_words(0.93))])
+}
+
+/// "What went wrong?", and "what made look at chuck fail?" (a why).
+fn what_went_wrong(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    if !(c.problem && (c.what || s.empty() || s.has("where")) && !c.yes_no) {
+        return None;
+    }
+    let asked_when = when::find(s.q);
+    if !c.named.is_empty() && c.ev == Some(Event::Fail) && asked_when.is_none() {
+        let node = c.subject().unwrap_or(Subject::Task);
+        return Some(vec![(
+            Intent::Why {
+                node,
+                event: Event::Fail,
+                foil: None,
+            },
+            c.sure(0.85),
+        )]);
+    }
+    Some(vec![
+        (
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            c.sure_of_words(0.95),
+        ),
+        (
+            Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+            0.3,
+        ),
+    ])
+}
+
+/// "Any problems?": yes or no.
+fn anything_wrong(c: &Cues) -> Option<Readings> {
+    ((c.yes_no || c.s.has("any")) && (c.problem || c.fine) && c.named.is_empty()).then(|| {
+        vec![
+            (
+                Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
+                c.sure_of_words(0.93),
+            ),
+            (
+                Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+                0.3,
+            ),
+        ]
+    })
+}
+
+/// A tick's transitions: "describe tick 9", "what happened in the last tick".
+fn tick(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let asked_when = when::find(s.q).map(|(w, _)| w);
+    let this_tick =
+        s.phrase(&["this", "tick"]).is_some() || s.phrase(&["current", "tick"]).is_some();
+    if asked_when.is_none() && !this_tick {
+        return None;
+    }
+    let n = match asked_when {
+        Some(When::Tick(n) | When::Step(n, _)) => n,
+        _ => 0,
+    };
+    let walk = s.phrase(&["walk", "me", "through"]).is_some()
+        || s.phrase(&["walk", "through"]).is_some()
+        || s.phrase(&["went", "on"]).is_some()
+        || c.break_down;
+    let asks_tick = s.has_stem(&[
+        "happen", "chang", "occur", "describ", "summar", "show", "went", "transit", "detail",
+        "event", "recap",
+    ]) || c.break_down
+        || s.empty()
+        || (c.what && !c.doing_words && !s.has_stem(&["run", "goal", "subgoal"]))
+        || walk;
+    (asks_tick && c.named.is_empty() && (!c.doing_words || walk))
+        .then(|| vec![(Intent::Tick(n), c.sure_of_words(0.95))])
+}
+
+/// "Did the robot still make it to the goal after the failures?": whether
+/// the run came through; "at which tick did the goal get reached?": when
+/// the task succeeded.
+fn goal_reached(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let reached = s.has_stem(&["reach", "arriv"])
+        || s.phrase(&["make", "it"]).is_some()
+        || s.phrase(&["get", "to"]).is_some()
+        || s.phrase(&["got", "to"]).is_some();
+    if !(reached && s.has_stem(&["goal", "destin", "target"]) && c.named.is_empty()) {
+        return None;
+    }
+    if c.yes_no {
+        return c.only(Intent::Recovered, 0.9);
+    }
+    c.when_q.then(|| {
+        vec![(
+            Intent::When {
+                node: Subject::Task,
+                event: Event::Succeed,
+                which: Which::Every,
+            },
+            c.sure_of_words(0.85),
+        )]
+    })
+}
+
+/// "Did the task succeed?", "did the robot finish the job?": whether the
+/// run came through, asked of the task, not what its goal is.
+fn task_outcome(c: &Cues) -> Option<Readings> {
+    let outcome = matches!(c.ev, Some(Event::Succeed | Event::Fail | Event::Finish));
+    (c.yes_no
+        && outcome
+        && !c.why
+        && c.named.is_empty()
+        && c.s.has_stem(&["task", "mission", "job", "run"]))
+    .then(|| {
+        vec![(
+            Intent::When {
+                node: Subject::Task,
+                event: c.ev.unwrap_or(Event::Finish),
+                which: Which::Every,
+            },
+            c.sure_of_words(0.9),
+        )]
+    })
+}
+
+/// The words that name a part of the task: "the immediate objective",
+/// "what part of the mission", "which phase of the patrol is underway?",
+/// "which branch is it in", "at this stage (the current chunk)".
+fn asks_subgoal(c: &Cues) -> bool {
+    let s = c.s;
+    let part = s.has_stem(&["immedi"]) || s.phrase(&["part", "of"]).is_some();
+    let stage = s.has_stem(&["phase", "stage", "branch", "chunk", "leg", "portion"])
+        || s.phrase(&["this", "level"]).is_some()
+        || s.phrase(&["higher", "level"]).is_some()
+        || (c.what || s.has("which")) && s.has("part") && !s.has("how");
+    s.has_stem(&["subgoal", "subtask", "milestone"])
+        || part && s.has_stem(&["goal", "object", "mission", "task", "job", "aim"])
+        || s.phrase(&["sub", "goal"]).is_some()
+        || s.phrase(&["sub", "task"]).is_some()
+        || s.phrase(&["intermediate", "goal"]).is_some()
+        || s.phrase(&["current", "step"]).is_some()
+        || stage && c.named.is_empty() && (c.what || s.has("which"))
+}
+
+fn asks_goal(s: &Sentence) -> bool {
+    s.has_stem(&[
+        "goal", "object", "mission", "aim", "purpos", "task", "intent", "job", "target",
+    ]) || s.phrase(&["trying", "to"]).is_some()
+        || s.phrase(&["try", "to"]).is_some()
+        || s.phrase(&["supposed", "to"]).is_some()
+        || s.phrase(&["working", "towards"]).is_some()
+        || s.phrase(&["working", "toward"]).is_some()
+        || s.phrase(&["get", "done"]).is_some()
+        || s.has_stem(&["achiev", "accomplish"])
+}
+
+fn asks_steps(c: &Cues) -> bool {
+    let s = c.s;
+    !s.has("doing")
+        && s.has_stem(&[
+            "step", "plan", "procedur", "strategi", "approach", "outlin", "recip", "method",
+            "mechan", "breakdown",
+        ])
+        || s.has("means")
+        || s.phrase(&["walk", "me", "through"]).is_some()
+        || c.break_down
+        // "What does the tree do to get it done?": the steps to it.
+        || c.what && s.phrase(&["do", "to"]).is_some()
+        || (c.how
+            && s.has_stem(&[
+                "do",
+                "get",
+                "complet",
+                "go",
+                "make",
+                "finish",
+                "build",
+                "work",
+                "achiev",
+                "accomplish",
+                "reach",
+            ]))
+}
+
+/// "How do you achieve your (sub)goal?", "outline the steps".
+fn how_achieved(c: &Cues) -> Option<Readings> {
+    let steps = asks_steps(c);
+    let listed =
+        steps && (c.what || c.s.empty() || ["outline", "walk", "breakdown"].contains(&c.first));
+    if !c.how && !listed {
+        return None;
+    }
+    let goal_named = c.s.nodes.iter().any(|m| m.uids == [c.root]);
+    if asks_subgoal(c) && (steps || c.how) {
+        return c.only(
+            Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
+            0.93,
+        );
+    }
+    if (asks_goal(c.s) || c.whole || goal_named) && (steps || c.how) {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.93);
+    }
+    steps.then(|| {
+        vec![
+            (
+                Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
+                c.sure_of_words(0.85),
+            ),
+            (Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.4),
+        ]
+    })
+}
+
+/// "What is your subgoal?", "what is your goal?".
+fn subgoal_or_goal(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    if asks_subgoal(c) {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)), 0.95);
+    }
+    if !asks_goal(s) || s.has("doing") {
+        return None;
+    }
+    let trying = s.phrase(&["trying", "to"]).is_some() || s.phrase(&["try", "to"]).is_some();
+    let named_goal = s.has_stem(&["goal", "object", "mission", "purpos", "job", "target"]);
+    // "What's the goal here?" names the goal; "what is it trying to get
+    // done here" the part it is in.
+    let here = c.now_words
+        || (s.has("here") || s.phrase(&["this", "point"]).is_some()) && !s.has_stem(&["goal"]);
+    // "What is it trying to achieve?", with neither "now" nor "in the
+    // end": the whole task's goal, or that of the part it is in. Both are
+    // read, and asked back.
+    if trying && !named_goal && !here && !c.whole {
+        return Some(vec![
+            (
+                Intent::Fixed(Question::Tree(TreeQuestion::Goal)),
+                c.sure_of_words(0.65),
+            ),
+            (Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)), 0.6),
+        ]);
+    }
+    let q = if here && !c.whole {
+        TreeQuestion::Subgoal
+    } else {
+        TreeQuestion::Goal
+    };
+    // "Navigation fails even though the robot reaches the goal", "the
+    // GoalUpdated condition cannot halt …": a goal said beside an event or
+    // another node is likely not the question of what the goal is.
+    let beside = !c.named.is_empty()
+        || c.when_q
+        || s.has_stem(&["fail", "reach", "arriv", "halt", "abort", "cancel"]);
+    let base = if beside { 0.6 } else { 0.9 };
+    let mut out = vec![(Intent::Fixed(Question::Tree(q)), c.sure_of_words(base))];
+    if beside && c.problem {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            0.5,
+        ));
+    }
+    if beside {
+        let other = if q == TreeQuestion::Goal {
+            TreeQuestion::HowGoal
+        } else {
+            TreeQuestion::HowSubgoal
+        };
+        out.push((Intent::Fixed(Question::Tree(other)), 0.4));
+    }
+    Some(out)
+}
+
+/// "Is it planning or driving right now?": which of two it is doing.
+fn which_of_two(c: &Cues) -> Option<Readings> {
+    let either = c.named.len() == 2
+        && c.yes_no
+        && c.ev.is_none()
+        && c.s.q[c.named[0].end..c.named[1].start]
+            .iter()
+            .all(|w| ["or", "the", "a", "an"].contains(&w.text.as_str()));
+    either.then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Doing)), 0.9))?
+}
+
+/// "What are you doing?".
+fn doing(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let doing = c.doing_words
+        || s.has_stem(&["happen", "run", "execut", "act", "action", "behavior"])
+        || s.has_prefix(&["doin"]);
+    (doing && (c.what || s.empty() || c.first == "current") && c.named.is_empty())
+        .then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Doing)), 0.93))?
+}
+
+/// "Did the planner run?", "has follow path failed": whether, and how often.
+fn whether_it_happened(c: &Cues) -> Option<Readings> {
+    let (Some(m), Some(e), true) = (c.named.first(), c.ev, c.yes_no) else {
+        return None;
+    };
+    let node = Subject::Nodes(m.uids.clone(), m.phrase.clone());
+    let event = if e == Event::NotRun { Event::Run } else { e };
+    Some(vec![
+        (
+            Intent::HowOften {
+                node: node.clone(),
+                event,
+            },
+            c.sure(0.85),
+        ),
+        (
+            Intent::When {
+                node,
+                event,
+                which: Which::Every,
+            },
+            0.5,
+        ),
+    ])
+}
+
+/// A node and an event with no question word: "look at chuck failed?".
+fn event_alone(c: &Cues) -> Option<Readings> {
+    let (Some(m), Some(event)) = (c.s.nodes.first(), c.ev) else {
+        return None;
+    };
+    let node = Subject::Nodes(m.uids.clone(), m.phrase.clone());
+    Some(vec![
+        (
+            Intent::Why {
+                node: node.clone(),
+                event,
+                foil: None,
+            },
+            c.sure(0.55),
+        ),
+        (
+            Intent::When {
+                node: node.clone(),
+                event,
+                which: Which::Every,
+            },
+            0.45,
+        ),
+        (Intent::HowOften { node, event }, 0.4),
+    ])
+}

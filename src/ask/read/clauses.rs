@@ -1,0 +1,230 @@
+//! Clauses that change which node a name means or when a question is
+//! asked: "before FollowPath failed", "the retreat arm in reset arm",
+//! "retrying FollowPath", "the second move up", "instead of up".
+
+use super::*;
+
+/// "Why did it move right instead of up": a contrast whose second part
+/// leaves out the verb the first has. Where nothing after "instead of" or
+/// "rather than" names a node, the first mention's first word and the
+/// words after are looked up together ("move up").
+pub(super) fn elided_foil(
+    vocabulary: &mentions::Vocabulary,
+    tree: &Tree,
+    q: &[Word],
+    nodes: &[Mention],
+) -> Option<Mention> {
+    let after = (0..q.len().saturating_sub(1)).find_map(|i| {
+        let pair = (q[i].text.as_str(), q[i + 1].text.as_str());
+        matches!(pair, ("instead", "of") | ("rather", "than")).then_some(i + 2)
+    })?;
+    let [fact] = nodes else { return None };
+    if fact.end > after || fact.end - fact.start < 2 || after >= q.len() {
+        return None;
+    }
+    let rest = &q[after..q.len().min(after + 4)];
+    let words: Vec<Word> = std::iter::once(q[fact.start].clone())
+        .chain(rest.iter().cloned())
+        .collect();
+    let found = vocabulary
+        .mentions(tree, &words, &asks)
+        .into_iter()
+        .find(|m| m.start == 0 && m.end >= 2 && !m.weak && m.uids != fact.uids)?;
+    let end = after + found.end - 1;
+    Some(Mention {
+        start: after,
+        end,
+        uids: found.uids,
+        score: found.score,
+        weak: false,
+        phrase: q[after..end]
+            .iter()
+            .map(|w| w.text.as_str())
+            .collect::<Vec<_>>()
+            .join(" "),
+    })
+}
+
+/// "The second move up", "the third move left": of the nodes a name
+/// calls, the N-th in the tree (uids count in its order), where no
+/// "time" or "try" after says it is the N-th run of one node.
+pub(super) fn counted_among_alike(q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
+    if when::nth_time(q).is_some() {
+        return nodes;
+    }
+    nodes
+        .into_iter()
+        .map(|mut m| {
+            let before = (0..m.start).rev().find(|&k| q[k].text != "the");
+            // "The first" and "the last" most often mean a time, not a node.
+            let n = before
+                .and_then(|k| when::ordinal(&q[k].text))
+                .filter(|&n| n >= 2);
+            if let (Some(n), true) = (n, m.uids.len() >= 2) {
+                let mut uids = m.uids.clone();
+                uids.sort_unstable();
+                if let Some(&u) = uids.get(n as usize - 1) {
+                    m.uids = vec![u];
+                }
+            }
+            m
+        })
+        .collect()
+}
+
+/// Of nodes named alike, the one deepest in the tree.
+pub(super) fn deepest(tree: &Tree, uids: &[Uid]) -> Uid {
+    uids.iter()
+        .copied()
+        .max_by_key(|&u| tree.ancestors(u).count())
+        .unwrap_or(tree.root().uid)
+}
+
+/// "(just) before X failed", "right after the X failure", in a question
+/// that asks what was done or running: the moment, and the words that say
+/// it (the marker, the node's name, the failure).
+pub(super) fn failure_clause(
+    tree: &Tree,
+    q: &[Word],
+    used: &[bool],
+    mentions: &[Mention],
+) -> Option<(When, Vec<usize>)> {
+    let doing = q.iter().any(|w| {
+        [
+            "doing",
+            "running",
+            "subgoal",
+            "goal",
+            "happening",
+            "active",
+            "executing",
+        ]
+        .contains(&w.text.as_str())
+    });
+    let k = q
+        .iter()
+        .enumerate()
+        .position(|(i, w)| !used[i] && (w.text == "before" || w.text == "after"))?;
+    // "After look at chuck failed, why did it retreat the arm …": a clause
+    // that opens the question, another node asked about after it.
+    let opens = q[..k]
+        .iter()
+        .all(|w| ["just", "right", "so", "and"].contains(&w.text.as_str()));
+    // The name right after the marker (an article or an ordinal between),
+    // then the failure.
+    let m = mentions.iter().find(|m| {
+        m.start > k
+            && q[k + 1..m.start]
+                .iter()
+                .all(|w| w.text == "the" || when::ordinal(&w.text).is_some())
+    })?;
+    let end = (m.end..q.len().min(m.end + 2)).find(|&i| q[i].stem.starts_with("fail"))?;
+    let asked_after = mentions.iter().any(|n| n.start > end);
+    if !(doing || opens && asked_after) {
+        return None;
+    }
+    let mut said: Vec<usize> = (k..=end).collect();
+    for j in (0..k).rev() {
+        if ["just", "right"].contains(&q[j].text.as_str()) {
+            said.push(j);
+        } else {
+            break;
+        }
+    }
+    // Of nodes named alike, the innermost: the one whose failure the
+    // others pass on (the FollowPath action, not its RecoveryNode).
+    let uid = deepest(tree, &m.uids);
+    let nth = q[k + 1..m.start]
+        .iter()
+        .find_map(|w| when::ordinal(&w.text));
+    let w = match (nth, q[k].text == "before") {
+        (Some(n), before) => When::Ended {
+            uid,
+            n,
+            failed: true,
+            before,
+        },
+        (None, true) => When::BeforeFailureOf(uid),
+        (None, false) => When::AfterFailureOf(uid),
+    };
+    Some((w, said))
+}
+
+/// "The retreat arm in reset arm", "the costmap clearing under the
+/// recovery branch": a node named within another is one of those under
+/// it, and the other names no node of its own.
+pub(super) fn scoped(tree: &Tree, q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
+    const WITHIN: &[&str] = &[
+        "in", "under", "inside", "within", "of", "below", "beneath", "for", "from",
+    ];
+    let mut out: Vec<Mention> = Vec::with_capacity(nodes.len());
+    for m in nodes {
+        if let Some(a) = out.last_mut() {
+            let between = &q[a.end..m.start];
+            // "GoalUpdated fails in the RecoveryFallback": what it does
+            // may come between the node and where it is.
+            let deed = |w: &Word| {
+                [
+                    "fail", "succeed", "return", "run", "ran", "had", "has", "have", "been",
+                ]
+                .contains(&w.stem.as_str())
+                    || ["false", "true", "fails", "failed", "succeeds", "succeeded"]
+                        .contains(&w.text.as_str())
+            };
+            let within = !between.is_empty()
+                && between.iter().any(|w| WITHIN.contains(&w.text.as_str()))
+                && between.iter().all(|w| {
+                    WITHIN.contains(&w.text.as_str())
+                        || ["the", "a"].contains(&w.text.as_str())
+                        || deed(w)
+                });
+            let told = between.iter().any(deed);
+            let under: Vec<Uid> = a
+                .uids
+                .iter()
+                .copied()
+                .filter(|&u| m.uids.iter().any(|&p| p != u && tree.is_ancestor(p, u)))
+                .collect();
+            if within && !under.is_empty() && !m.weak && told {
+                // The deed stays a word of the question; the place only
+                // picks which of the nodes named alike.
+                a.uids = under;
+                continue;
+            }
+            if within && !under.is_empty() && !m.weak {
+                a.uids = under;
+                a.end = m.end;
+                a.score = a.score.min(m.score);
+                a.phrase = q[a.start..a.end]
+                    .iter()
+                    .map(|w| w.text.as_str())
+                    .collect::<Vec<_>>()
+                    .join(" ");
+                continue;
+            }
+        }
+        out.push(m);
+    }
+    out
+}
+
+/// "Instead of retrying FollowPath": a verb said of a name right after it
+/// is what was done to that node, not a node of its own (a Retry).
+pub(super) fn governing_verbs_dropped(q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
+    let verb_before = |a: &Mention, b: &Mention| {
+        a.end - a.start == 1
+            && q[a.start].text.ends_with("ing")
+            && a.end <= b.start
+            && q[a.end..b.start]
+                .iter()
+                .all(|w| ["the", "a"].contains(&w.text.as_str()))
+    };
+    let keep: Vec<bool> = (0..nodes.len())
+        .map(|i| !nodes.get(i + 1).is_some_and(|b| verb_before(&nodes[i], b)))
+        .collect();
+    nodes
+        .into_iter()
+        .zip(keep)
+        .filter_map(|(m, k)| k.then_some(m))
+        .collect()
+}

@@ -1,0 +1,353 @@
+//! The cue words of a sentence, read once for every rule of `classify`:
+//! whether it asks why, what, how or yes or no, speaks of a problem or of
+//! all being well, of doing, of the whole, of when; and how sure a reading
+//! that rests on its words or names can be.
+
+use super::*;
+use crate::ask::parse::Event;
+
+/// Readings, best first by their confidence.
+pub(super) type Readings = Vec<(Intent, f32)>;
+
+/// The words of a sentence that say what kind of question it is, read
+/// once for every rule.
+pub(super) struct Cues<'a, 's> {
+    pub(super) s: &'a Sentence<'s>,
+    pub(super) tree: &'a Tree,
+    pub(super) root: Uid,
+    /// Nodes named other than the task itself ("nav2", "the patrol").
+    pub(super) named: Vec<&'a Mention>,
+    pub(super) ev: Option<Event>,
+    pub(super) negated: bool,
+    pub(super) first: &'a str,
+    pub(super) yes_no: bool,
+    pub(super) why: bool,
+    pub(super) what: bool,
+    pub(super) how: bool,
+    pub(super) problem: bool,
+    pub(super) fine: bool,
+    pub(super) doing_words: bool,
+    pub(super) now_words: bool,
+    pub(super) whole: bool,
+    pub(super) break_down: bool,
+    pub(super) when_q: bool,
+    pub(super) after_failure: bool,
+    pub(super) how_handled: bool,
+    node_score: f32,
+    words_sure: f32,
+}
+
+impl<'a, 's> Cues<'a, 's> {
+    pub(super) fn of(s: &'a Sentence<'s>, tree: &'a Tree) -> Cues<'a, 's> {
+        let root = tree.root().uid;
+        let (ev, negated) = event(s);
+        let first = s.first_free().unwrap_or("");
+        let why = s.has("why")
+            || s.has_stem(&["justifi", "justif"])
+            || s.phrase(&["how", "come"]).is_some()
+            || s.phrase(&["what", "caused"]).is_some()
+            || s.phrase(&["what", "made"]).is_some()
+            || s.has_stem(&["reason", "caus", "cause"])
+            || (s.has("explain") && !s.has("how") && !s.nodes.is_empty() && ev.is_some());
+        let what = s.has("what") || s.has("which") || IMPERATIVE.iter().any(|w| s.has(w));
+        let break_down = s.has("breakdown");
+        let problem = problem(s, break_down);
+        Cues {
+            s,
+            tree,
+            root,
+            named: s.nodes.iter().filter(|m| m.uids != [root]).collect(),
+            ev,
+            negated,
+            first,
+            yes_no: yes_no(s, first),
+            why,
+            what,
+            // "How much does it cost", "how much RAM": an amount, never the steps.
+            how: s.has("how") && s.phrase(&["how", "much"]).is_none(),
+            problem,
+            fine: s.has_stem(&[
+                "ok", "fine", "good", "alright", "smooth", "normal", "nomin", "healthi", "healthy",
+                "clean",
+            ]),
+            doing_words: doing_words(s),
+            now_words: s.has("now")
+                || s.has("currently")
+                || s.has("current")
+                || s.phrase(&["this", "part"]).is_some()
+                || s.has("moment")
+                || s.has("working")
+                || s.has("towards"),
+            whole: [
+                "whole",
+                "end",
+                "final",
+                "mission",
+                "big",
+                "overall",
+                "entire",
+                "ultimate",
+                "ultimately",
+                "eventually",
+                "main",
+                "everything",
+                "all",
+                "top",
+                "recording",
+            ]
+            .iter()
+            .any(|w| s.has(w)),
+            break_down,
+            when_q: asks_when(s, why),
+            after_failure: after_failure(s, problem),
+            // "How'd it handle it when it couldn't look at the chuck": the
+            // "when" says which failure, the question is how it was
+            // handled. "What was the tree's response when …", "its way of
+            // dealing with it".
+            how_handled: (s.has("how") || what || s.has("way"))
+                && s.has_stem(&[
+                    "handl", "deal", "dealt", "respond", "respons", "react", "cope",
+                ]),
+            node_score: s.nodes.iter().map(|m| m.score).fold(1.0f32, f32::min),
+            // How sure a reading is: the words it leaves unexplained count
+            // against it, and so do loosely matched names where it rests
+            // on them.
+            words_sure: 0.93f32.powi(unexplained(s).min(6) as i32),
+        }
+    }
+
+    /// How sure a reading that rests on the names found is.
+    pub(super) fn sure(&self, base: f32) -> f32 {
+        base * self.node_score * self.words_sure
+    }
+
+    /// How sure a reading that rests on the words alone is.
+    pub(super) fn sure_of_words(&self, base: f32) -> f32 {
+        base * self.words_sure
+    }
+
+    pub(super) fn subject(&self) -> Option<Subject> {
+        subject(self.s, self.root)
+    }
+
+    /// One reading, as sure as its words.
+    pub(super) fn only(&self, intent: Intent, base: f32) -> Option<Readings> {
+        Some(vec![(intent, self.sure_of_words(base))])
+    }
+}
+
+fn yes_no(s: &Sentence, first: &str) -> bool {
+    [
+        "did",
+        "do",
+        "does",
+        "was",
+        "were",
+        "is",
+        "are",
+        "has",
+        "have",
+        "had",
+        "any",
+        "anything",
+        "everything",
+        "all",
+        "could",
+        "you",
+    ]
+    .contains(&first)
+        // "No problems so far, right?", "problems in the run, yes or no?".
+        || first == "no"
+        || s.q.last().is_some_and(|w| w.text == "right")
+        || s.phrase(&["yes", "or", "no"]).is_some()
+}
+
+fn problem(s: &Sentence, break_down: bool) -> bool {
+    // "After it couldn't detect the chuck": not managing is failing.
+    let could_not = s.phrase(&["could", "not"]).is_some()
+        || s.phrase(&["can", "not"]).is_some()
+        || s.phrase(&["was", "unable"]).is_some()
+        || s.phrase(&["unable", "to"]).is_some();
+    could_not
+        || !break_down
+            && s.has_stem(&[
+                "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad",
+                "mess", "hiccup", "glitch", "snag", "hitch", "troubl",
+            ])
+        || s.phrase(&["off", "the", "rails"]).is_some()
+}
+
+fn doing_words(s: &Sentence) -> bool {
+    s.has("doing")
+        || s.phrase(&["going", "on"]).is_some()
+        || s.phrase(&["went", "on"]).is_some()
+        || s.has_stem(&["busi", "busy", "work", "activ", "perform"])
+        || s.phrase(&["up", "to"]).is_some()
+        || s.phrase(&["carrying", "out"]).is_some()
+        || s.phrase(&["carry", "out"]).is_some()
+        || s.phrase(&["engaged", "in"]).is_some()
+        || s.phrase(&["occupied", "with"]).is_some()
+        || s.has("activity")
+}
+
+fn asks_when(s: &Sentence, why: bool) -> bool {
+    let every_time = (s.has("every") || s.has("each") || s.has("all"))
+        && (s.has("time") || s.has("times"))
+        && !why;
+    every_time
+        || s.has("when")
+        || s.phrase(&["what", "time"]).is_some()
+        || s.phrase(&["which", "tick"]).is_some()
+        || s.phrase(&["what", "tick"]).is_some()
+        || s.phrase(&["which", "step"]).is_some()
+        || s.phrase(&["what", "step"]).is_some()
+        || s.phrase(&["at", "what", "point"]).is_some()
+        // "list the ticks where it failed".
+        || (s.has("tick") || s.has("ticks"))
+            && ["list", "where", "show", "give"].iter().any(|w| s.has(w))
+}
+
+/// "What did it do after it failed?": how a failure was handled.
+fn after_failure(s: &Sentence, problem: bool) -> bool {
+    (s.has("after") || s.has("when") || s.has("once"))
+        && (problem || s.has_stem(&["block", "stuck"]))
+        && (s.phrase(&["did", "it", "do"]).is_some()
+            // "what did the fallback do when …".
+            || s.has("what") && s.has("did") && s.has("do")
+            || s.phrase(&["did", "you", "do"]).is_some()
+            || s.phrase(&["was", "done"]).is_some()
+            || s.phrase(&["did", "the", "robot", "do"]).is_some())
+}
+
+/// Content words the reading leaves unexplained.
+pub(super) fn unexplained(s: &Sentence) -> usize {
+    const KNOWN: &[&str] = &[
+        "what",
+        "why",
+        "how",
+        "when",
+        "which",
+        "where",
+        "who",
+        "come",
+        "fail",
+        "failed",
+        "failing",
+        "failure",
+        "succeed",
+        "succeeded",
+        "success",
+        "run",
+        "ran",
+        "running",
+        "start",
+        "started",
+        "doing",
+        "goal",
+        "subgoal",
+        "next",
+        "wrong",
+        "problem",
+        "problems",
+        "error",
+        "errors",
+        "recover",
+        "recovered",
+        "recovery",
+        "handle",
+        "handled",
+        "not",
+        "never",
+        "instead",
+        "rather",
+        "than",
+        "if",
+        "often",
+        "many",
+        "times",
+        "tick",
+        "step",
+        "steps",
+        "achieve",
+        "happening",
+        "happen",
+        "happens",
+        "halted",
+        "stopped",
+        "stop",
+        "give",
+        "gave",
+        "giving",
+        "gives",
+        "quit",
+        "retrying",
+        "attempting",
+        "skipped",
+        "finish",
+        "finished",
+        "work",
+        "worked",
+        "going",
+        "doing",
+        "busy",
+        "working",
+        "trying",
+        "mission",
+        "objective",
+        "task",
+        "retry",
+        "fallback",
+        "first",
+        "last",
+        "deal",
+        "dealt",
+        "manage",
+        "managed",
+        "cause",
+        "caused",
+        "reason",
+        "made",
+        "make",
+        "able",
+        "explain",
+        "tell",
+        "show",
+        "describe",
+        "no",
+        "ok",
+        "fine",
+        "executing",
+        "active",
+        "why",
+        "so",
+        "long",
+        "keep",
+        "kept",
+        "issue",
+        "issues",
+        "broke",
+        "broken",
+        "wrong",
+        "purpose",
+        "aim",
+        "plan",
+        "happened",
+        "occurred",
+        "changed",
+        "next",
+        "after",
+        "before",
+        "upcoming",
+    ];
+    s.free()
+        .filter(|(_, w)| {
+            let t = w.text.as_str();
+            !FILLER.contains(&t)
+                && !IMPERATIVE.contains(&t)
+                && !KNOWN.contains(&t)
+                && !asks(&w.stem)
+                && !s.tree_words.contains(&w.stem)
+                && t.len() > 2
+        })
+        .count()
+}

@@ -1,0 +1,228 @@
+//! What a question says happened: the event ("failed", "kept running",
+//! "did not run"), what was expected instead (the foil), and who it is
+//! said of (a node named, "it", or the task).
+
+use super::*;
+
+pub(super) fn event(s: &Sentence) -> (Option<Event>, bool) {
+    // "Why did X succeed even though the controller failed": what is
+    // granted after "even though" is not the event asked about.
+    let concession = s.q.iter().enumerate().position(|(i, w)| {
+        ["although", "despite", "though"].contains(&w.text.as_str())
+            || w.text == "even" && s.q.get(i + 1).is_some_and(|n| n.text == "if")
+    });
+    if let Some(k) = concession.filter(|&k| k > 0) {
+        let mut used = s.used.clone();
+        for u in &mut used[k..] {
+            *u = true;
+        }
+        let before = Sentence {
+            q: s.q,
+            tree_words: s.tree_words,
+            used,
+            nodes: Vec::new(),
+        };
+        return event_of(&before);
+    }
+    event_of(s)
+}
+
+fn event_of(s: &Sentence) -> (Option<Event>, bool) {
+    // "Did it get past that glitch or not?": "or not" asks yes or no.
+    let negated = s.has("not") && s.phrase(&["or", "not"]).is_none()
+        || s.has("never")
+        || s.has("no") && !s.has("one");
+    let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang", "slow"])
+        || s.has("longer")
+        || s.phrase(&["so", "long"]).is_some()
+        || s.phrase(&["take", "long"]).is_some()
+        || s.phrase(&["taking", "long"]).is_some()
+        || s.phrase(&["took", "long"]).is_some()
+        || s.phrase(&["long", "time"]).is_some();
+    // "Had path clear stayed true": a condition's outcome said as its
+    // value.
+    let e = if gave_up(s)
+        || s.has("false")
+        || s.has_stem(&[
+            "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
+        ]) {
+        Some(Event::Fail)
+    } else if s.has_stem(&["skip"]) {
+        Some(Event::Skipped)
+    } else if s.has_stem(&[
+        "halt",
+        "stop",
+        "interrupt",
+        "cancel",
+        "preempt",
+        "kill",
+        "abandon",
+    ]) {
+        Some(Event::Halted)
+    } else if keep {
+        Some(Event::KeepRunning)
+    } else if s.has_stem(&["succeed", "success", "pass", "manag", "ok"])
+        || s.has("true")
+        || s.has("successful")
+        || s.has("successfully")
+        || s.has("work")
+        || s.has("worked")
+        || s.has("works")
+    {
+        Some(Event::Succeed)
+    } else if s.has_stem(&["finish", "end", "complet", "done"]) {
+        Some(Event::Finish)
+    } else if s.has_stem(&[
+        "run", "start", "execut", "tick", "call", "trigger", "begin", "activ", "launch", "fire",
+        "check", "kick", "invok", "attempt", "tri", "tried", "enter", "chose", "choos", "pick",
+        "select", "use",
+    ]) {
+        Some(Event::Run)
+    } else if s.has_stem(&["reach", "arriv"]) {
+        // "When did it reach the goal": got there, said of the task.
+        Some(Event::Succeed)
+    } else {
+        None
+    };
+    // "Why did it keep trying to detect the chuck?": it ran again and
+    // again, which is starting, not one call running on.
+    let retrying = s.has_stem(&["keep", "kept"])
+        && s.free().any(|(_, w)| {
+            ["trying", "retrying", "attempting", "restarting"].contains(&w.text.as_str())
+        });
+    let e = if retrying && e == Some(Event::KeepRunning) {
+        Some(Event::Run)
+    } else {
+        e
+    };
+    let e = match (e, negated) {
+        (Some(Event::Run), true) => Some(Event::NotRun),
+        (Some(Event::Succeed), true) => Some(Event::Fail),
+        (Some(Event::Fail), true) if s.has_stem(&["fail"]) => Some(Event::Succeed),
+        (Some(Event::Finish), true) => Some(Event::KeepRunning),
+        (None, true) => Some(Event::NotRun),
+        (e, _) => e,
+    };
+    (e, negated)
+}
+
+/// The event a question's verbs name, if any, and whether they are negated.
+/// "The retry gave up", "why did it stop trying to detect the chuck": a
+/// loop that stopped trying failed.
+pub(super) fn gave_up(s: &Sentence) -> bool {
+    let give = ["give", "gave", "giving", "gives", "given"];
+    let stop = ["stop", "stopped", "stops", "stopping", "quit", "quits"];
+    let trying = ["trying", "retrying", "attempting"];
+    give.iter().any(|g| s.phrase(&[g, "up"]).is_some())
+        || stop
+            .iter()
+            .any(|st| trying.iter().any(|t| s.phrase(&[st, t]).is_some()))
+}
+
+/// Of nodes a question says stopped trying, the loops that tried them: each
+/// node's nearest retry above it (itself, if it is one); `None` where one
+/// has none.
+pub(super) fn loops_of(tree: &Tree, us: &[Uid]) -> Option<Vec<Uid>> {
+    let retries = |u: Uid| {
+        let id = &tree.node(u).id;
+        id.starts_with("Retry") || id == "RecoveryNode"
+    };
+    let mut out: Vec<Uid> = Vec::new();
+    for &u in us {
+        let l = std::iter::once(u)
+            .chain(tree.ancestors(u))
+            .find(|&a| retries(a))?;
+        if !out.contains(&l) {
+            out.push(l);
+        }
+    }
+    Some(out)
+}
+
+/// "why is it looking at the chuck", "why does it keep driving": asked
+/// of what it is doing now, in the present progressive.
+pub(super) fn progressive(s: &Sentence) -> bool {
+    if s.has("long") {
+        return false;
+    }
+    let be = s.q.iter().enumerate().position(|(i, w)| {
+        ["is", "are", "am", "was", "were", "keeps", "still"].contains(&w.text.as_str())
+            || w.text == "keep" && i > 0 && ["does", "do"].contains(&s.q[i - 1].text.as_str())
+            || w.text == "keep" && s.q.iter().any(|w| w.text == "does")
+    });
+    let Some(be) = be else {
+        return false;
+    };
+    s.q[be + 1..].iter().any(|w| {
+        w.text.len() > 4 && w.text.ends_with("ing") && w.text != "something"
+            // "convertng": the i dropped.
+            || w.text.len() > 6 && w.text.ends_with("ng") && !w.text.ends_with("ong")
+            || ["active", "busy"].contains(&w.text.as_str())
+            // "computin": the g dropped from a verb of the tree's.
+            || w.text.len() > 4
+                && w.text.ends_with("in")
+                && s.tree_words.contains(&words::stem(&format!("{}g", w.text)))
+    })
+}
+
+/// "why not X but Y": the node after a negation was the one not done.
+pub(super) fn negated_first(s: &Sentence, a: &Mention, b: &Mention) -> bool {
+    // "Instead of inserting the large gear it asked for help": the node
+    // after "instead of" is the one not done.
+    let foil_first = s.q[a.start.saturating_sub(3)..a.start].windows(2).any(|p| {
+        matches!(
+            (p[0].text.as_str(), p[1].text.as_str()),
+            ("instead", "of") | ("rather", "than")
+        )
+    });
+    foil_first
+        || s.q[..a.start]
+            .iter()
+            .any(|w| w.text == "not" || w.text == "never")
+            && !s.q[a.end..b.start]
+                .iter()
+                .any(|w| w.text == "not" || w.text == "instead")
+}
+
+/// "X failed instead of succeeding": the outcome the person expected.
+pub(super) fn foil(s: &Sentence) -> Option<Event> {
+    let at = s
+        .phrase(&["instead", "of"])
+        .or_else(|| s.phrase(&["rather", "than"]))
+        .or_else(|| s.phrase(&["and", "not"]))
+        .or_else(|| s.phrase(&["but", "not"]))?;
+    let after: Vec<&Word> = s.q[at + 2..].iter().collect();
+    after.iter().find_map(|w| match w.stem.as_str() {
+        "succeed" | "pass" | "work" => Some(Event::Succeed),
+        "fail" => Some(Event::Fail),
+        "run" | "start" => Some(Event::Run),
+        _ => None,
+    })
+}
+
+/// The subject of a question about a node: the node named, "it"/"that",
+/// or the task itself.
+pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
+    // The task named ("nav2", "the patrol") yields to another node named.
+    let m = s
+        .nodes
+        .iter()
+        .find(|m| m.uids != [root])
+        .or_else(|| s.nodes.first());
+    if let Some(m) = m {
+        return Some(Subject::Nodes(m.uids.clone(), m.phrase.clone()));
+    }
+    if s.has("it") || s.has("that") || s.has("this") || s.has("thing") {
+        return Some(Subject::It);
+    }
+    if s.has("you")
+        || s.has_stem(&[
+            "robot", "task", "mission", "tree", "bt", "run", "root", "agent", "navig", "whole",
+            "overal", "everyth", "i", "trip", "journey", "taxi", "car", "vehicl", "drone", "kit",
+            "job",
+        ])
+    {
+        return Some(Subject::Task);
+    }
+    None
+}

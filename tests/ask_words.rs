@@ -1029,14 +1029,7 @@ fn posts_ordinals_states_and_polite_forms_are_read_as_meant() {
             "What happens if the GoalUpdated condition (#15) fails?",
         ),
     ];
-    for (files, q, first) in cases {
-        let mut args = vec!["ask"];
-        args.extend(files);
-        args.push(q);
-        let (ok, out, err) = btx(&args);
-        assert!(ok, "{q}: {err}");
-        assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
-    }
+    first_lines_are(cases);
     // A time past the last is said, not answered at another.
     let (ok, out, _) = btx(&["ask", nav2, "why did FollowPath fail the fifth time?"]);
     assert!(!ok, "{out}");
@@ -1114,14 +1107,7 @@ fn tags_stages_capabilities_contrasts_and_counted_names_are_read_as_meant() {
             "What happens if look around (#4) fails?",
         ),
     ];
-    for (files, q, first) in cases {
-        let mut args = vec!["ask"];
-        args.extend(files);
-        args.push(q);
-        let (ok, out, err) = btx(&args);
-        assert!(ok, "{q}: {err}");
-        assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
-    }
+    first_lines_are(cases);
     // Words of the world, not of the run, though a node's name is heard.
     let q = "how many of these gearbox kits do we sell per month?";
     let (ok, out, _) = btx(&["ask", detect, q]);
@@ -1130,4 +1116,17 @@ fn tags_stages_capabilities_contrasts_and_counted_names_are_read_as_meant() {
         out.starts_with("I don't know how to answer that."),
         "{q}: {out}"
     );
+}
+
+/// Each question asked of its files (and options) is answered, its first
+/// line (what btx read it as) the one given.
+fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {
+    for (files, q, first) in cases {
+        let mut args = vec!["ask"];
+        args.extend(files);
+        args.push(q);
+        let (ok, out, err) = btx(&args);
+        assert!(ok, "{q}: {err}");
+        assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
+    }
 }

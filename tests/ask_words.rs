@@ -1106,6 +1106,13 @@ fn tags_stages_capabilities_contrasts_and_counted_names_are_read_as_meant() {
             "how would the run differ if look around had failed?",
             "What happens if look around (#4) fails?",
         ),
+        // "After X failed" starts the search for the deed asked about: the
+        // retreat that answered the failure, not "had not run by 10:1".
+        (
+            vec![kitting],
+            "after look at chuck failed, why did retreat arm run?",
+            "Why did the retreat arm action (#27) start at 10:8?",
+        ),
     ];
     first_lines_are(cases);
     // Words of the world, not of the run, though a node's name is heard.

@@ -178,7 +178,10 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
     };
     let moved = match (reading.when, cx.at.as_ref()) {
         (Some(w), Some(at)) => match moment_of(cx.tree, at, w) {
-            Ok(pos) => Some(moved_to(cx, Some(at.index.at(pos)), cx.node)),
+            Ok(pos) => {
+                let pos = past_the_clause(at, &reading, pos);
+                Some(moved_to(cx, Some(at.index.at(pos)), cx.node))
+            }
             Err(e) => return not_in_the_run(cx, question, &reading, e),
         },
         _ => None,
@@ -232,6 +235,52 @@ fn reading_of(cx: &Context, question: &str) -> (Option<read::Reading>, bool) {
             true,
         ),
     }
+}
+
+/// "After look at chuck failed, why did it reset the arm?": a moment said
+/// as "after" something starts the search for the deed asked about; it
+/// does not end it. Where the deed came after that moment, the question
+/// is asked at the end of the tick of its first time after it (asked at
+/// the moment itself, the answer was that reset arm "had not run by
+/// moment 10:1"). "When X failed for the second time" is that moment
+/// itself, not a start.
+fn past_the_clause(at: &crate::session::At, reading: &read::Reading, pos: u32) -> u32 {
+    use parse::{Event, Intent, Subject};
+    let after = matches!(
+        reading.when,
+        Some(read::When::AfterFailure | read::When::AfterFailureOf(_) | read::When::AfterRecovery)
+    );
+    let (uids, event) = match &reading.intent {
+        Intent::Why {
+            node: Subject::Nodes(us, _),
+            event,
+            ..
+        } => (us, *event),
+        Intent::WhyNot {
+            done: Subject::Nodes(us, _),
+            ..
+        } => (us, Event::Run),
+        _ => return pos,
+    };
+    if !after {
+        return pos;
+    }
+    let end = at.index.at(at.index.transitions.len() as u32);
+    let first_after = uids
+        .iter()
+        .filter_map(|&u| {
+            context::events(&end, u, event)
+                .into_iter()
+                .find(|&p| p > pos)
+        })
+        .min();
+    let Some(p) = first_after else {
+        return pos;
+    };
+    let tick = at.index.transitions[p as usize - 1].tick;
+    at.index
+        .position(crate::session::Moment { tick, step: None })
+        .unwrap_or(p)
 }
 
 /// The context asked of, at another moment or about another node.

@@ -37,11 +37,7 @@ pub(super) fn elided_foil(
         uids: found.uids,
         score: found.score,
         weak: false,
-        phrase: q[after..end]
-            .iter()
-            .map(|w| w.text.as_str())
-            .collect::<Vec<_>>()
-            .join(" "),
+        phrase: words::said(&q[after..end]),
     })
 }
 
@@ -195,11 +191,7 @@ pub(super) fn scoped(tree: &Tree, q: &[Word], nodes: Vec<Mention>) -> Vec<Mentio
                 a.uids = under;
                 a.end = m.end;
                 a.score = a.score.min(m.score);
-                a.phrase = q[a.start..a.end]
-                    .iter()
-                    .map(|w| w.text.as_str())
-                    .collect::<Vec<_>>()
-                    .join(" ");
+                a.phrase = words::said(&q[a.start..a.end]);
                 continue;
             }
         }

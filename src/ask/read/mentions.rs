@@ -6,7 +6,7 @@
 //! form, with a small typo, or half of it; a kind word beside it ("the
 //! FollowPath action") picks among nodes that share the name.
 
-use super::words::{name_words, split_name, Word};
+use super::words::{self, name_words, split_name, Word};
 use crate::model::nav2_words::{self, Target};
 use crate::model::{Kind, Tree, Uid};
 use rustc_hash::FxHashSet;
@@ -534,11 +534,7 @@ fn named_spans(
             *t = true;
         }
         let weak = q[i..j].iter().all(|w| is_article(&w.text) || asks(&w.stem));
-        let phrase = q[start..end]
-            .iter()
-            .map(|w| w.text.as_str())
-            .collect::<Vec<_>>()
-            .join(" ");
+        let phrase = words::said(&q[start..end]);
         out.push(Mention {
             start,
             end,
@@ -596,11 +592,7 @@ fn kinds_alone(tree: &Tree, q: &[Word], taken: &mut [bool]) -> Vec<Mention> {
                     uids,
                     score: 0.9,
                     weak: false,
-                    phrase: q[k..end]
-                        .iter()
-                        .map(|w| w.text.as_str())
-                        .collect::<Vec<_>>()
-                        .join(" "),
+                    phrase: words::said(&q[k..end]),
                 });
                 k = end;
                 continue;

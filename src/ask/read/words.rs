@@ -262,6 +262,14 @@ pub fn words(text: &str) -> Vec<Word> {
     out
 }
 
+/// Words as the question said them, one space between.
+pub fn said(q: &[Word]) -> String {
+    q.iter()
+        .map(|w| w.text.as_str())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 /// The words of a node's name, ID or port value, as a question would
 /// hold them.
 pub fn name_words(s: &str) -> Vec<String> {

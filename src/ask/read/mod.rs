@@ -428,7 +428,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             })
     };
     if let (Some(w), [q]) = (&whole, &questions[..]) {
-        match read_one(vocabulary, tree, q) {
+        match asked.clone() {
             Some(mut a) if a.confidence >= SURE && stands_alone(q) => {
                 a.when = a.when.or(w.when);
                 return Some(a);

@@ -1125,6 +1125,45 @@ fn tags_stages_capabilities_contrasts_and_counted_names_are_read_as_meant() {
     );
 }
 
+#[test]
+fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    // "After the first X failure" is a start, as "after X failed" is: the
+    // start asked about is the retry at 4:8, not the first call at 2:8.
+    for (args, q) in [
+        (
+            vec!["ask", nav2],
+            "after the first controller failure, why did follow path run again?",
+        ),
+        (
+            vec!["ask", nav2, "--at", "4:8"],
+            "why did the controller start?",
+        ),
+    ] {
+        let mut args = args;
+        args.push(q);
+        let (ok, out, err) = btx(&args);
+        assert!(ok, "{q}: {err}");
+        let mut lines = out.lines();
+        assert_eq!(
+            lines.next(),
+            Some("Why did the FollowPath action (#10) start at 4:8?"),
+            "{q}: {out}"
+        );
+        // The tick's causal model holds the first call only; the run says
+        // why it was called again, the failure first, once.
+        assert_eq!(
+            lines.next(),
+            Some("The FollowPath action (#10) started again at 4:8, after it failed at 4:1 in the same tick. The FollowPath recovery node (#9) ran its recovery, FollowPathRecoveryFallback (#11), which succeeded at 4:6, and so tried the FollowPath action (#10) again, as a RecoveryNode does."),
+            "{q}: {out}"
+        );
+        assert!(
+            !out.contains("causal model of tick 4 gives no explanation"),
+            "{out}"
+        );
+    }
+}
+
 /// Each question asked of its files (and options) is answered, its first
 /// line (what btx read it as) the one given.
 fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {

@@ -243,12 +243,20 @@ fn reading_of(cx: &Context, question: &str) -> (Option<read::Reading>, bool) {
 /// is asked at the end of the tick of its first time after it (asked at
 /// the moment itself, the answer was that reset arm "had not run by
 /// moment 10:1"). "When X failed for the second time" is that moment
-/// itself, not a start.
+/// itself, not a start; "after the first X failure" is a start.
 fn past_the_clause(at: &crate::session::At, reading: &read::Reading, pos: u32) -> u32 {
     use parse::{Event, Intent, Subject};
     let after = matches!(
         reading.when,
-        Some(read::When::AfterFailure | read::When::AfterFailureOf(_) | read::When::AfterRecovery)
+        Some(
+            read::When::AfterFailure
+                | read::When::AfterFailureOf(_)
+                | read::When::AfterRecovery
+                | read::When::Ended {
+                    side: read::Side::After,
+                    ..
+                }
+        )
     );
     let (uids, event) = match &reading.intent {
         Intent::Why {
@@ -416,7 +424,7 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
             uid,
             n,
             failed,
-            before,
+            side,
         } => {
             let ends: Vec<u32> = index
                 .changes_of(uid)
@@ -444,7 +452,7 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
                     ),
                 }
             })?;
-            Ok(if before { p - 1 } else { p })
+            Ok(if side == read::Side::Before { p - 1 } else { p })
         }
         When::BeforeFailure => first_failure(),
         When::AfterFailure => first_failure().map(|i| i + 1),

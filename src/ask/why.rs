@@ -61,6 +61,14 @@ pub fn answer(
                 r.answer = halted_by(cx, u, p);
                 return Ok(());
             }
+            // Called again within the tick (Nav2's RecoveryNode): the tick's
+            // causal model holds its first call only; the run says why.
+            if e == Event::Run {
+                if let Some(again) = called_again(cx, at, u, p) {
+                    r.answer = again;
+                    return Ok(());
+                }
+            }
             // A control node's failure: the leaf it comes from, first.
             if e == Event::Fail && !cx.tree.node(u).kind.is_leaf() {
                 if let Some(chain) = root_cause(cx, at, u, p) {
@@ -149,6 +157,68 @@ fn leaf_outcome(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> String
             step_moment(at.index, p)
         ),
     }
+}
+
+/// A start at `p` of a node that already ended earlier in the same tick:
+/// its parent ticked it again, and a RecoveryNode does so once its
+/// recovery succeeded. Told from the run's transitions; `None` for a
+/// first call.
+fn called_again(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> Option<String> {
+    let index = at.index;
+    let tick = index.transitions[p as usize - 1].tick;
+    let start = index.tick_range(tick).start as u32;
+    let ended = |q: u32| {
+        let t = index.transitions[q as usize - 1];
+        (t.tick == tick && q > start && matches!(t.status, Status::Success | Status::Failure))
+            .then_some((q, t.status))
+    };
+    let (q, how) = index
+        .changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&q| q < p)
+        .filter_map(ended)
+        .next_back()?;
+    let name = upper(&cx_name(cx, u));
+    let outcome = if how == Status::Failure {
+        "failed"
+    } else {
+        "succeeded"
+    };
+    let mut text = format!(
+        "{name} started again at {}, after it {outcome} at {} in the same tick.",
+        step_moment(index, p),
+        step_moment(index, q)
+    );
+    let Some(parent) = cx.tree.parent(u) else {
+        return Some(text);
+    };
+    let node = cx.tree.node(parent);
+    let recovery = (node.id == "RecoveryNode" && node.children.first() == Some(&u))
+        .then(|| node.children.get(1).copied())
+        .flatten();
+    let recovered = recovery.and_then(|c| {
+        index
+            .changes_of(c)
+            .iter()
+            .copied()
+            .find(|&x| {
+                x > q && x < p && index.transitions[x as usize - 1].status == Status::Success
+            })
+            .map(|x| (c, x))
+    });
+    text.push(' ');
+    text.push_str(&match recovered {
+        Some((c, x)) => format!(
+            "{} ran its recovery, {}, which succeeded at {}, and so tried {} again, as a RecoveryNode does.",
+            upper(&cx_name(cx, parent)),
+            cx_name(cx, c),
+            step_moment(index, x),
+            cx_name(cx, u)
+        ),
+        None => format!("{} ticked it again.", upper(&cx_name(cx, parent))),
+    });
+    Some(text)
 }
 
 /// "Why did X not run?" in the tick of the moment: the target and moment

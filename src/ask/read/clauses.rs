@@ -133,12 +133,13 @@ pub(super) fn failure_clause(
     let nth = q[k + 1..m.start]
         .iter()
         .find_map(|w| when::ordinal(&w.text));
-    let w = match (nth, q[k].text == "before") {
-        (Some(n), before) => When::Ended {
+    let before = q[k].text == "before";
+    let w = match (nth, before) {
+        (Some(n), _) => When::Ended {
             uid,
             n,
             failed: true,
-            before,
+            side: if before { Side::Before } else { Side::After },
         },
         (None, true) => When::BeforeFailureOf(uid),
         (None, false) => When::AfterFailureOf(uid),

@@ -27,7 +27,7 @@ use clauses::{
 use event::{event, foil, gave_up, loops_of, negated_first, progressive, subject};
 pub use mentions::{Mention, Vocabulary};
 use rewrite::{paths_as_uids, states_as_outcomes};
-pub use when::{ordinal_word, When};
+pub use when::{ordinal_word, Side, When};
 use words::Word;
 
 /// Below this, the answer says what it read and offers other readings.
@@ -673,7 +673,11 @@ fn chosen(
                 uid,
                 n,
                 failed: true,
-                before: matches!(when, Some(When::BeforeFailureOf(_))),
+                side: if matches!(when, Some(When::BeforeFailureOf(_))) {
+                    Side::Before
+                } else {
+                    Side::After
+                },
             })
         }
         (Some(n), None) => nth_end(tree, &intent, n),
@@ -719,7 +723,7 @@ fn nth_end(tree: &Tree, intent: &Intent, n: u32) -> Option<When> {
         uid: deepest(tree, uids),
         n,
         failed,
-        before: false,
+        side: Side::At,
     })
 }
 

@@ -25,14 +25,24 @@ pub enum When {
     /// Just after this node failed.
     AfterFailureOf(crate::model::Uid),
     /// The N-th time (from 1) this node ended, failed if `failed` ("the
-    /// second time it failed", "on the third try"): just after, or just
-    /// before.
+    /// second time it failed", "on the third try"), and which side of it.
     Ended {
         uid: crate::model::Uid,
         n: u32,
         failed: bool,
-        before: bool,
+        side: Side,
     },
+}
+
+/// Which side of an event a moment told by it stands: "just before X
+/// failed the second time", "when X failed the second time", "after the
+/// first X failure" (the moment of the event itself, from which what is
+/// asked about is looked for after it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    Before,
+    At,
+    After,
 }
 
 impl When {
@@ -52,8 +62,8 @@ impl When {
                 uid,
                 n,
                 failed,
-                before,
-            } => ended(&format!("#{uid}"), n, failed, before),
+                side,
+            } => ended(&format!("#{uid}"), n, failed, side),
         }
     }
 
@@ -66,16 +76,20 @@ impl When {
                 uid,
                 n,
                 failed,
-                before,
-            } => ended(&tree.told(uid), n, failed, before),
+                side,
+            } => ended(&tree.told(uid), n, failed, side),
             w => w.words(),
         }
     }
 }
 
-fn ended(node: &str, n: u32, failed: bool, before: bool) -> String {
+fn ended(node: &str, n: u32, failed: bool, side: Side) -> String {
     let verb = if failed { "failed" } else { "ended" };
-    let at = if before { "just before" } else { "when" };
+    let at = match side {
+        Side::Before => "just before",
+        Side::At => "when",
+        Side::After => "just after",
+    };
     format!("{at} {node} {verb} for the {} time", ordinal_word(n))
 }
 

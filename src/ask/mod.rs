@@ -258,6 +258,9 @@ fn past_the_clause(at: &crate::session::At, reading: &read::Reading, pos: u32) -
                 }
         )
     );
+    if !after {
+        return pos;
+    }
     let (uids, event) = match &reading.intent {
         Intent::Why {
             node: Subject::Nodes(us, _),
@@ -270,9 +273,6 @@ fn past_the_clause(at: &crate::session::At, reading: &read::Reading, pos: u32) -
         } => (us, Event::Run),
         _ => return pos,
     };
-    if !after {
-        return pos;
-    }
     let end = at.index.at(at.index.transitions.len() as u32);
     let first_after = uids
         .iter()

@@ -418,9 +418,10 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // the story, no topic before a colon), read surely, is what the post
     // asks; the story around it only tells when.
     let stands_alone = |q: &str| {
-        words::words(q).len() >= 4
+        let said = words::words(q);
+        said.len() >= 4
             && !text[..text.find(q).unwrap_or(0)].trim_end().ends_with(':')
-            && !words::words(q).iter().any(|w| {
+            && !said.iter().any(|w| {
                 [
                     "it", "its", "that", "this", "there", "them", "they", "these", "those",
                 ]

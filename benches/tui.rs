@@ -24,25 +24,25 @@ fn frames(c: &mut Criterion) {
     g.bench_function("step forward + draw", |b| {
         b.iter(|| {
             app.update(Action::StepForward);
-            term.draw(|f| btx::tui::view::view(&app, f)).unwrap();
+            term.draw(|f| app.draw(f)).unwrap();
         })
     });
     g.bench_function("tick back + draw", |b| {
         b.iter(|| {
             app.update(Action::TickBack);
-            term.draw(|f| btx::tui::view::view(&app, f)).unwrap();
+            term.draw(|f| app.draw(f)).unwrap();
         })
     });
     g.bench_function("scroll down + draw", |b| {
         b.iter(|| {
             app.update(Action::Down);
-            term.draw(|f| btx::tui::view::view(&app, f)).unwrap();
+            term.draw(|f| app.draw(f)).unwrap();
         })
     });
     g.bench_function("jump to the end + draw", |b| {
         b.iter(|| {
             app.update(Action::End);
-            term.draw(|f| btx::tui::view::view(&app, f)).unwrap();
+            term.draw(|f| app.draw(f)).unwrap();
             app.update(Action::Start);
         })
     });

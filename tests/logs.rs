@@ -427,20 +427,23 @@ fn the_explorer_follows_a_log_and_keeps_the_moment() {
     let mut f = btx::input::Follow::new(&p);
     assert!(f.poll().unwrap().is_some());
     assert!(f.poll().unwrap().is_none(), "unchanged: nothing to read");
-    app.follow = Some(f);
+    app.shared.follow = Some(f);
     app.update(btx::tui::Action::End);
-    assert_eq!(app.pos, 30);
+    assert_eq!(app.shared.pos, 30);
     // At the end, the moment keeps to the end as the log grows.
     live_log(&p, 60, 3);
     app.follow_poll();
-    assert_eq!(app.pos, 60);
+    assert_eq!(app.shared.pos, 60);
     // Elsewhere, it stays where the person put it.
     app.update(btx::tui::Action::Start);
-    let here = app.pos;
+    let here = app.shared.pos;
     live_log(&p, 248, 0);
     app.follow_poll();
-    assert_eq!(app.pos, here);
-    assert_eq!(app.session.as_ref().unwrap().index.transitions.len(), 248);
+    assert_eq!(app.shared.pos, here);
+    assert_eq!(
+        app.shared.session.as_ref().unwrap().index.transitions.len(),
+        248
+    );
 }
 
 #[test]

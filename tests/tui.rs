@@ -15,8 +15,8 @@ fn opened(file: &str) -> btx::tui::app::App {
 /// Serial recall, with the first why-question about RepeatOrEnd answered.
 fn why_repeat_or_end() -> btx::tui::app::App {
     let mut app = opened("sessions/serial-recall.jsonl");
-    app.selected = (1..=app.tree.len() as u32)
-        .find(|&u| app.tree.description(u) == "RepeatOrEnd")
+    app.shared.selected = (1..=app.shared.tree.len() as u32)
+        .find(|&u| app.shared.tree.description(u) == "RepeatOrEnd")
         .unwrap();
     app.update(Action::Why);
     app.update(Action::Toggle);
@@ -53,9 +53,9 @@ fn the_smallest_screen_still_draws() {
 fn demo_f_a_what_went_wrong_shows_the_papers_sentence() {
     let mut app = demo();
     app.update(Action::NextFailure);
-    assert_eq!(app.at().unwrap().moment().to_string(), "10");
+    assert_eq!(app.shared.at().unwrap().moment().to_string(), "10");
     app.update(Action::Ask);
-    let qs = app.questions();
+    let qs = app.shared.questions();
     let i = qs
         .iter()
         .position(|q| q.wording() == "What went wrong?")
@@ -64,7 +64,7 @@ fn demo_f_a_what_went_wrong_shows_the_papers_sentence() {
         app.update(Action::Down);
     }
     app.update(Action::Toggle);
-    let a = app.answer.as_ref().unwrap();
+    let a = app.shared.answer.as_ref().unwrap();
     assert_eq!(
         a.text,
         "I could not insert large gear because look at chuck failed."
@@ -76,23 +76,23 @@ fn demo_f_a_what_went_wrong_shows_the_papers_sentence() {
 #[test]
 fn stepping_moves_the_moment_both_ways() {
     let mut app = demo();
-    let start = app.pos;
+    let start = app.shared.pos;
     app.update(Action::StepForward);
     app.update(Action::StepForward);
     app.update(Action::StepBack);
-    assert_eq!(app.pos, start + 1);
+    assert_eq!(app.shared.pos, start + 1);
     // Tick 2 has no transitions (the move runs on), so the step lands in tick 3.
-    assert_eq!(app.at().unwrap().moment().to_string(), "3:1");
+    assert_eq!(app.shared.at().unwrap().moment().to_string(), "3:1");
     app.update(Action::TickForward);
-    assert_eq!(app.at().unwrap().moment().to_string(), "3");
+    assert_eq!(app.shared.at().unwrap().moment().to_string(), "3");
     app.update(Action::End);
-    assert_eq!(app.at().unwrap().moment().to_string(), "54");
+    assert_eq!(app.shared.at().unwrap().moment().to_string(), "54");
     app.update(Action::PrevFailure);
-    assert_eq!(app.at().unwrap().moment().to_string(), "10");
+    assert_eq!(app.shared.at().unwrap().moment().to_string(), "10");
     app.update(Action::Start);
-    assert_eq!(app.at().unwrap().moment().to_string(), "1");
+    assert_eq!(app.shared.at().unwrap().moment().to_string(), "1");
     // The current node is selected and kept visible.
-    assert_eq!(app.selected, 6);
+    assert_eq!(app.shared.selected, 6);
 }
 
 #[test]
@@ -103,22 +103,22 @@ fn finder_jumps_to_the_pick() {
         app.type_char(c);
     }
     app.update(Action::Toggle);
-    assert_eq!(app.selected, 27);
-    assert!(app.row_of(27).is_some());
+    assert_eq!(app.shared.selected, 27);
+    assert!(app.shared.row_of(27).is_some());
 }
 
 #[test]
 fn framed_view_and_collapsing() {
     let mut app = demo();
-    let full = app.rows().len();
+    let full = app.shared.rows().len();
     app.update(Action::ToggleFramed);
-    assert!(app.rows().len() < full);
+    assert!(app.shared.rows().len() < full);
     app.update(Action::Start);
-    app.selected = 1;
+    app.shared.selected = 1;
     app.update(Action::Collapse);
-    assert_eq!(app.rows().len(), 1);
+    assert_eq!(app.shared.rows().len(), 1);
     app.update(Action::Expand);
-    assert!(app.rows().len() > 1);
+    assert!(app.shared.rows().len() > 1);
 }
 
 #[test]
@@ -160,7 +160,7 @@ fn a_keymap_file_overrides_the_table() {
     assert_eq!(km.action_for(&key('Q')), Some(Action::Quit));
     assert!(km.hints().starts_with("Z step"), "{}", km.hints());
     let mut app = scene("help").unwrap();
-    app.keymap = km;
+    app.shared.keymap = km;
     let s = screen(&app, 110, 40);
     assert!(s.contains("Z Right"), "the help shows the keymap in force");
     std::fs::write(&p, "fly = [\"z\"]\n").unwrap();
@@ -209,17 +209,17 @@ fn a_keymap_that_clashes_or_locks_the_user_in_is_refused() {
 fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
     let mut app = opened("sessions/case-study.jsonl");
     // L1 (#4), at the end of the tick: why did it not execute?
-    app.selected = 4;
+    app.shared.selected = 4;
     app.update(Action::Why);
     let targets = match &app.overlay {
-        btx::tui::app::Overlay::Why { targets, .. } => targets.clone(),
+        Some(btx::tui::panes::overlays::Overlay::Why(w)) => w.targets.clone(),
         other => panic!("{other:?}"),
     };
     assert_eq!(targets[0].1, "Why was L1 not ticked?");
     assert_eq!(targets[1].1, "Why did L1 not execute?");
     app.update(Action::Down);
     app.update(Action::Toggle);
-    let w = app.why.as_ref().unwrap();
+    let w = app.shared.why.as_ref().unwrap();
     assert_eq!(
         w.why.sentences(),
         [
@@ -228,7 +228,7 @@ fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
         ]
     );
     // L0 is the first reason's node: it is highlighted in the tree.
-    assert_eq!(app.highlighted(), vec![3]);
+    assert_eq!(app.shared.highlighted(), vec![3]);
     let s = screen(&app, 110, 34);
     assert!(
         s.contains("1. L1 did not execute because L0 failed."),
@@ -244,7 +244,7 @@ fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
         app.update(Action::NextPane);
     }
     app.update(Action::Toggle);
-    let w = app.why.as_ref().unwrap();
+    let w = app.shared.why.as_ref().unwrap();
     assert_eq!(
         w.why.sentences(),
         ["L0 failed because X_a was false. If X_a had been true, L0 would have succeeded."]
@@ -253,16 +253,16 @@ fn why_dialog_answers_follows_up_and_shows_the_causal_model() {
 
 #[test]
 fn x_asks_where_to_write_and_never_overwrites_unasked() {
-    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::Overlay;
     let mut app = opened("sessions/case-study.jsonl");
-    app.selected = 4;
+    app.shared.selected = 4;
     app.update(Action::Why);
     app.update(Action::Toggle);
     app.update(Action::ExportGraph);
     match &app.overlay {
-        Overlay::Export { path, replace } => {
-            assert_eq!(path, "btx-model-tick-1.dot");
-            assert!(!replace);
+        Some(Overlay::Export(e)) => {
+            assert_eq!(e.input.text, "btx-model-tick-1.dot");
+            assert!(!e.replace);
         }
         other => panic!("{other:?}"),
     }
@@ -270,27 +270,21 @@ fn x_asks_where_to_write_and_never_overwrites_unasked() {
     let dir = tempfile::tempdir().unwrap();
     let to = dir.path().join("m.dot");
     std::fs::write(&to, "mine").unwrap();
-    app.overlay = Overlay::Export {
-        path: String::new(),
-        replace: false,
-    };
+    app.overlay = Some(Overlay::export(String::new()));
     for c in to.display().to_string().chars() {
         app.type_char(c);
     }
     // A file is there: the prompt asks, and Esc keeps it.
     app.update(Action::Toggle);
-    assert!(matches!(app.overlay, Overlay::Export { replace: true, .. }));
+    assert!(matches!(&app.overlay, Some(Overlay::Export(e)) if e.replace));
     assert!(screen(&app, 110, 34).contains("a file is there: Enter replaces it"));
     app.update(Action::Back);
     assert_eq!(std::fs::read_to_string(&to).unwrap(), "mine");
     // Asked again and confirmed, it is replaced.
-    app.overlay = Overlay::Export {
-        path: to.display().to_string(),
-        replace: false,
-    };
+    app.overlay = Some(Overlay::export(to.display().to_string()));
     app.update(Action::Toggle);
     app.update(Action::Toggle);
-    assert!(matches!(app.overlay, Overlay::None));
+    assert!(app.overlay.is_none());
     assert!(std::fs::read_to_string(&to)
         .unwrap()
         .contains("digraph model"));
@@ -300,12 +294,17 @@ fn x_asks_where_to_write_and_never_overwrites_unasked() {
     let link = dir.path().join("link.dot");
     std::os::unix::fs::symlink(&target, &link).unwrap();
     for replace in [false, true] {
-        app.overlay = Overlay::Export {
-            path: link.display().to_string(),
+        app.overlay = Some(Overlay::Export(btx::tui::panes::overlays::Export {
+            input: btx::tui::text_input::TextInput::new(link.display().to_string()),
             replace,
-        };
+        }));
         app.update(Action::Toggle);
-        assert!(app.message.as_deref().unwrap().contains("symbolic link"));
+        assert!(app
+            .shared
+            .message
+            .as_deref()
+            .unwrap()
+            .contains("symbolic link"));
     }
     assert_eq!(std::fs::read_to_string(&target).unwrap(), "keep");
 }
@@ -391,7 +390,7 @@ fn side_by_side_runs_move_together_and_say_why_they_diverged() {
 fn next_tick_goes_to_every_tick_empty_or_not() {
     let mut app = demo();
     app.update(Action::Start);
-    let ticks = |app: &btx::tui::app::App| app.shown_moment().unwrap().tick;
+    let ticks = |app: &btx::tui::app::App| app.shared.shown_moment().unwrap().tick;
     assert_eq!(ticks(&app), 1);
     // Ticks in which nothing changed (a leaf kept RUNNING) are ticks too.
     let mut seen = vec![1];
@@ -469,28 +468,31 @@ fn the_selection_stays_while_stepping_and_answers_keep_their_node() {
     let mut app = demo();
     // Following at first: stepping selects the current node.
     app.update(Action::TickForward);
-    let current = app.at().unwrap().current().unwrap();
-    assert_eq!(app.selected, current);
+    let current = app.shared.at().unwrap().current().unwrap();
+    assert_eq!(app.shared.selected, current);
     // The person selects a node: it stays while the run moves.
     app.update(Action::Up);
-    let mine = app.selected;
+    let mine = app.shared.selected;
     assert_ne!(mine, current);
     for _ in 0..5 {
         app.update(Action::TickForward);
     }
-    assert_eq!(app.selected, mine);
+    assert_eq!(app.shared.selected, mine);
     // `o` follows again.
     app.update(Action::Follow);
-    assert_eq!(app.selected, app.at().unwrap().current().unwrap());
+    assert_eq!(
+        app.shared.selected,
+        app.shared.at().unwrap().current().unwrap()
+    );
     // f lands on the leaf that failed and selects it.
     app.update(Action::NextFailure);
-    assert_eq!(app.selected, 18, "look at chuck");
+    assert_eq!(app.shared.selected, 18, "look at chuck");
     // Q1 there, then the selection moves: the pane still names #18.
     app.update(Action::Ask);
     app.update(Action::Toggle);
     app.focus = btx::tui::app::Pane::Tree;
     app.update(Action::Up);
-    assert_ne!(app.selected, 18);
+    assert_ne!(app.shared.selected, 18);
     let s = screen(&app, 110, 34);
     assert!(s.contains("about look at chuck #18 at moment 10"), "{s}");
 }
@@ -515,16 +517,19 @@ fn every_pane_scrolls_and_zooms() {
     app.update(Action::Zoom);
     // The wheel over the ask pane scrolls it, the focus stays.
     app.wheel(Pane::Ask, true);
-    assert_eq!(app.answers.scroll, 1);
+    assert_eq!(app.panes.answers.scrolled(&app.shared), 1);
     assert_eq!(app.focus, Pane::Details);
     // The timeline's list scrolls away from the moment and back on a step.
     app.focus = Pane::Timeline;
-    let pos = app.pos;
+    let pos = app.shared.pos;
     app.update(Action::PageUp);
-    assert_eq!(app.pos, pos, "scrolling the list does not move the moment");
-    assert_eq!(app.timeline.scroll, -10);
+    assert_eq!(
+        app.shared.pos, pos,
+        "scrolling the list does not move the moment"
+    );
+    assert_eq!(app.panes.timeline.scrolled(&app.shared), -10);
     app.update(Action::StepBack);
-    assert_eq!(app.timeline.scroll, 0);
+    assert_eq!(app.panes.timeline.scrolled(&app.shared), 0);
 }
 
 #[test]
@@ -567,8 +572,8 @@ fn the_transition_list_filters_and_follows_the_moment() {
         "{l}"
     );
     // The selected subtree: go insert large gear's transitions only.
-    app.timeline.filter.text.clear();
-    app.selected = 13;
+    app.panes.timeline.filter.text.clear();
+    app.shared.selected = 13;
     app.update(Action::OnlyBelow);
     let s = screen(&app, 110, 34);
     assert!(s.contains("#13 and below"), "{s}");
@@ -576,28 +581,28 @@ fn the_transition_list_filters_and_follows_the_moment() {
 
 #[test]
 fn can_you_is_typed_with_completion_over_the_whole_tree() {
-    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::Overlay;
     let mut app = demo();
     app.update(Action::NextFailure);
     app.update(Action::Ask);
-    let last = app.questions().len() - 1;
+    let last = app.shared.questions().len() - 1;
     for _ in 0..last {
         app.update(Action::Down);
     }
     assert!(screen(&app, 110, 34).contains("Can you …? (type any subgoal or step)"));
     app.update(Action::Toggle);
-    assert!(matches!(app.overlay, Overlay::CanYou { .. }));
+    assert!(matches!(app.overlay, Some(Overlay::CanYou(_))));
     // Every subgoal and sequence of the tree, not only the current subgoal's.
-    let all = app.can_you_candidates("");
+    let all = app.shared.can_you_candidates("");
     assert!(all.contains(&"go place screw".to_string()), "{all:?}");
     for c in "pick scr".chars() {
         app.type_char(c);
     }
-    let picked = app.can_you_candidates("pick scr")[0].clone();
+    let picked = app.shared.can_you_candidates("pick scr")[0].clone();
     assert!(picked.contains("pick screw"), "{picked}");
     assert!(screen(&app, 110, 34).contains("Can you pick scr▏?"));
     app.update(Action::Toggle);
-    let a = app.answer.as_ref().unwrap();
+    let a = app.shared.answer.as_ref().unwrap();
     assert_eq!(a.question.wording(), format!("Can you {picked}?"));
     // The same answer as the CLI's.
     let (ok, out, _) = common::btx(&[
@@ -606,7 +611,7 @@ fn can_you_is_typed_with_completion_over_the_whole_tree() {
         "--at",
         "10",
         "--node",
-        &format!("#{}", app.asked.as_ref().unwrap().0),
+        &format!("#{}", app.shared.asked.as_ref().unwrap().0),
         &format!("Can you {picked}?"),
     ]);
     assert!(ok);
@@ -617,7 +622,7 @@ fn can_you_is_typed_with_completion_over_the_whole_tree() {
 fn the_causal_graph_is_a_graph_you_can_walk() {
     use btx::tui::app::Pane;
     let mut app = opened("sessions/case-study.jsonl");
-    app.selected = 4;
+    app.shared.selected = 4;
     app.update(Action::Why);
     app.update(Action::Down);
     app.update(Action::Toggle);
@@ -632,13 +637,13 @@ fn the_causal_graph_is_a_graph_you_can_walk() {
     let picked = screen(&app, 120, 40);
     assert!(picked.contains("picked: "), "{picked}");
     app.update(Action::Toggle);
-    let w = app.why.as_ref().unwrap();
+    let w = app.shared.why.as_ref().unwrap();
     let centre = w.centre.expect("centred on the cause");
     assert!(w.why.model.parents[w.why.query.targets[0]].contains(&centre));
     insta::assert_snapshot!("graph_recentred_120x40", screen(&app, 120, 40));
     // Esc: back to the variable asked about.
     app.update(Action::Back);
-    assert_eq!(app.why.as_ref().unwrap().centre, None);
+    assert_eq!(app.shared.why.as_ref().unwrap().centre, None);
 }
 
 #[test]
@@ -648,7 +653,7 @@ fn ascii_covers_every_sign_the_explorer_draws() {
         buffers.push(render(&scene(name).unwrap(), 120, 40));
     }
     let mut app = opened("sessions/case-study.jsonl");
-    app.selected = 4;
+    app.shared.selected = 4;
     app.update(Action::Why);
     app.update(Action::Toggle);
     app.update(Action::Graph);
@@ -683,7 +688,7 @@ fn a_key_that_cannot_act_says_why() {
     ] {
         tree.update(a);
         assert_eq!(
-            tree.message.as_deref(),
+            tree.shared.message.as_deref(),
             Some("this is a tree, not a run: open a session or a robot's log to step through one"),
             "{a:?}"
         );
@@ -691,30 +696,33 @@ fn a_key_that_cannot_act_says_why() {
     let mut app = demo();
     app.update(Action::End);
     app.update(Action::NextFailure);
-    assert_eq!(app.message.as_deref(), Some("no fault after tick 54"));
+    assert_eq!(
+        app.shared.message.as_deref(),
+        Some("no fault after tick 54")
+    );
     assert!(screen(&app, 110, 34).contains("no fault after tick 54"));
     app.update(Action::Graph);
     assert_eq!(
-        app.message.as_deref(),
+        app.shared.message.as_deref(),
         Some("ask why first (w): the causal graph is the answer's")
     );
     app.update(Action::NextDivergence);
     assert_eq!(
-        app.message.as_deref(),
+        app.shared.message.as_deref(),
         Some("divergences are shown by btx open --diff A B")
     );
 }
 
 #[test]
 fn running_nodes_are_picked_answers_are_kept_and_copied() {
-    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::Overlay;
     let mut app = demo();
     app.update(Action::NextFailure);
     // The nodes RUNNING at moment 10, in tree order; Enter selects one.
-    let running = app.running_nodes();
+    let running = app.shared.running_nodes();
     assert_eq!(running.first(), Some(&1));
     app.update(Action::Running);
-    assert!(matches!(app.overlay, Overlay::Running { .. }));
+    assert!(matches!(app.overlay, Some(Overlay::Running(_))));
     assert!(screen(&app, 110, 34).contains("RUNNING now: Enter selects"));
     app.update(Action::End);
     let last = *running.last().unwrap();
@@ -722,28 +730,28 @@ fn running_nodes_are_picked_answers_are_kept_and_copied() {
         app.update(Action::Down);
     }
     app.update(Action::Toggle);
-    assert_eq!(app.selected, last);
+    assert_eq!(app.shared.selected, last);
     // Two answers: the first is kept under the second.
     app.update(Action::Ask);
     app.update(Action::Toggle);
-    let first = app.answer.as_ref().unwrap().text.clone();
+    let first = app.shared.answer.as_ref().unwrap().text.clone();
     app.update(Action::Ask);
     app.update(Action::Down);
     app.update(Action::Toggle);
-    assert_eq!(app.answers.history.len(), 1);
+    assert_eq!(app.shared.history.len(), 1);
     assert!(
-        app.answers.history[0].ends_with(&first),
+        app.shared.history[0].ends_with(&first),
         "{:?}",
-        app.answers.history
+        app.shared.history
     );
-    assert!(app.answers.history[0].starts_with(&format!(
+    assert!(app.shared.history[0].starts_with(&format!(
         "about {} #{last} at moment 10",
-        app.tree.description(last)
+        app.shared.tree.description(last)
     )));
     // y queues the answer for the clipboard, as OSC 52.
     app.update(Action::Copy);
-    let copied = app.clipboard.clone().unwrap();
-    assert!(copied.contains(&app.answer.as_ref().unwrap().text));
+    let copied = app.shared.clipboard.clone().unwrap();
+    assert!(copied.contains(&app.shared.answer.as_ref().unwrap().text));
     assert_eq!(btx::tui::osc52("hi"), "\u{1b}]52;c;aGk=\u{7}");
 }
 
@@ -796,7 +804,7 @@ fn a_question_typed_in_words_is_answered_as_btx_ask_answers_it() {
     );
     assert!(s.contains("│why did look at chuck fail"), "{s}");
     press(&mut app, "\n");
-    let r = app.reply.as_ref().expect("an answer");
+    let r = app.shared.reply.as_ref().expect("an answer");
     assert_eq!(r.understood, "Why did look at chuck (#18) fail at 10:1?");
     let s = screen(&app, 110, 34);
     assert!(
@@ -822,15 +830,15 @@ fn a_question_typed_in_words_is_answered_as_btx_ask_answers_it() {
 
 #[test]
 fn every_prompt_takes_typed_text() {
-    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::Overlay;
     let mut app = demo();
     app.update(Action::NextFailure);
     app.update(Action::Ask);
-    for _ in 0..app.questions().len() - 1 {
+    for _ in 0..app.shared.questions().len() - 1 {
         app.update(Action::Down);
     }
     app.update(Action::Toggle);
-    assert!(matches!(app.overlay, Overlay::CanYou { .. }));
+    assert!(matches!(app.overlay, Some(Overlay::CanYou(_))));
     press(&mut app, "pick");
     assert!(screen(&app, 110, 34).contains("Can you pick▏?"));
     app.update(Action::Back);
@@ -839,7 +847,7 @@ fn every_prompt_takes_typed_text() {
     app.update(Action::Find);
     press(&mut app, "look");
     assert!(
-        matches!(&app.overlay, Overlay::Filter { text } if text == "look"),
+        matches!(&app.overlay, Some(Overlay::Filter(f)) if f.input.text == "look"),
         "{:?}",
         app.overlay
     );
@@ -850,25 +858,25 @@ fn plus_and_minus_say_more_or_less_of_a_why_answer() {
     // Why did the kitting task succeed? (ten explanations)
     let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
     app.update(Action::End);
-    app.selected = 1;
+    app.shared.selected = 1;
     app.update(Action::Why);
     app.update(Action::Toggle);
     // The answer's keys are its pane's once Tab brings the focus there.
     assert_eq!(app.focus, btx::tui::app::Pane::Tree);
     app.focus = btx::tui::app::Pane::Ask;
-    let all = app.why.as_ref().unwrap().why.groups().len();
+    let all = app.shared.why.as_ref().unwrap().why.groups().len();
     assert!(all > 3, "{all}");
-    assert_eq!(app.why.as_ref().unwrap().why.shown, Some(3));
+    assert_eq!(app.shared.why.as_ref().unwrap().why.shown, Some(3));
     let s = screen(&app, 200, 70);
     assert!(
         s.contains(&format!("… and {} more (+ shows more)", all - 3)),
         "{s}"
     );
     app.update(Action::Faster);
-    assert_eq!(app.why.as_ref().unwrap().why.shown, None);
+    assert_eq!(app.shared.why.as_ref().unwrap().why.shown, None);
     app.update(Action::Slower);
     app.update(Action::Slower);
-    assert_eq!(app.why.as_ref().unwrap().why.shown, Some(1));
+    assert_eq!(app.shared.why.as_ref().unwrap().why.shown, Some(1));
 }
 
 #[test]
@@ -905,26 +913,36 @@ fn a_rosbags_runs_are_picked_with_r() {
     let mut app =
         btx::tui::open(&root.join("tests/fixtures/rosbag/two_goals"), None, &opts).unwrap();
     // The last run is shown first, as every command reads it.
-    assert_eq!(app.title, "two_goals · run 2 of 2");
-    assert_eq!(app.session.as_ref().unwrap().index.transitions.len(), 14);
+    assert_eq!(app.shared.title, "two_goals · run 2 of 2");
+    assert_eq!(
+        app.shared.session.as_ref().unwrap().index.transitions.len(),
+        14
+    );
     app.update(Action::Pick);
     insta::assert_snapshot!("run_picker", screen(&app, 110, 20));
     app.update(Action::Up);
     app.update(Action::Toggle);
-    assert_eq!(app.title, "two_goals · run 1 of 2");
-    assert_eq!(app.session.as_ref().unwrap().index.transitions.len(), 20);
+    assert_eq!(app.shared.title, "two_goals · run 1 of 2");
+    assert_eq!(
+        app.shared.session.as_ref().unwrap().index.transitions.len(),
+        20
+    );
     // The keys and the other run are kept: back to run 2.
     app.update(Action::Pick);
     app.update(Action::Down);
     app.update(Action::Toggle);
-    assert_eq!(app.title, "two_goals · run 2 of 2");
+    assert_eq!(app.shared.title, "two_goals · run 2 of 2");
     // One run: R says why it cannot act.
     let mut one = opened("sessions/kitting-lookat-fails-once.jsonl");
     one.update(Action::Pick);
     assert!(
-        one.message.as_deref().unwrap().contains("one run here"),
+        one.shared
+            .message
+            .as_deref()
+            .unwrap()
+            .contains("one run here"),
         "{:?}",
-        one.message
+        one.shared.message
     );
 }
 
@@ -1006,7 +1024,7 @@ fn the_strip_shows_a_status_only_in_the_ticks_a_node_ran() {
     assert_eq!(strip, " RRRRFRRRS");
     // On screen, in ASCII: the same marks.
     let mut app = btx::tui::App::new(s.tree.clone(), Some(s), "nav".into());
-    app.selected = follow;
+    app.shared.selected = follow;
     app.update(Action::End);
     let screen = screen(&app, 120, 40);
     assert!(screen.contains("⊘ halted · not ticked"), "{screen}");
@@ -1015,10 +1033,10 @@ fn the_strip_shows_a_status_only_in_the_ticks_a_node_ran() {
 #[test]
 fn the_finder_ranks_a_nodes_own_name_above_letters_spread_over_its_path() {
     let app = opened("sessions/kitting-lookat-fails-once.jsonl");
-    let found = app.finder_results("chuck");
+    let found = app.shared.finder_results("chuck");
     let own = |u: u32| {
-        let d = app.tree.description(u).to_lowercase();
-        let id = app.tree.node(u).id.to_lowercase();
+        let d = app.shared.tree.description(u).to_lowercase();
+        let id = app.shared.tree.node(u).id.to_lowercase();
         d.contains("chuck") || id.contains("chuck")
     };
     let first_other = found.iter().position(|(u, _)| !own(*u));
@@ -1029,13 +1047,13 @@ fn the_finder_ranks_a_nodes_own_name_above_letters_spread_over_its_path() {
     assert!(own(found[0].0));
     // "back to approach pose" matched by letters of its path's segments
     // comes after every node whose one path segment holds them.
-    let back = (1..=app.tree.len() as u32)
-        .find(|&u| app.tree.description(u) == "back to approach pose")
+    let back = (1..=app.shared.tree.len() as u32)
+        .find(|&u| app.shared.tree.description(u) == "back to approach pose")
         .unwrap();
     let at = |u: u32| found.iter().position(|(x, _)| *x == u);
     if let (Some(b), Some(k)) = (at(back), first_other) {
         assert!(b >= k);
-        let label = app.finder_label(found[b].0);
+        let label = app.shared.finder_label(found[b].0);
         let idx = &found[b].1;
         // Its matched letters are where they are in the label.
         let chars: Vec<char> = label.chars().collect();
@@ -1046,7 +1064,7 @@ fn the_finder_ranks_a_nodes_own_name_above_letters_spread_over_its_path() {
 
 #[test]
 fn every_prompt_edits_as_a_line_editor() {
-    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::Overlay;
     use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
     let press = |app: &mut btx::tui::app::App, code: KeyCode, m: KeyModifiers| {
         btx::tui::handle(app, Event::Key(KeyEvent::new(code, m)), (120, 40))
@@ -1056,13 +1074,9 @@ fn every_prompt_edits_as_a_line_editor() {
             press(app, KeyCode::Char(c), KeyModifiers::NONE);
         }
     };
-    let text = |app: &btx::tui::app::App| match &app.overlay {
-        Overlay::Finder { query, .. } => query.clone(),
-        Overlay::CanYou { text, .. } | Overlay::Words { text, .. } | Overlay::Filter { text } => {
-            text.clone()
-        }
-        Overlay::Export { path, .. } => path.clone(),
-        o => panic!("no prompt: {o:?}"),
+    let text = |app: &btx::tui::app::App| match app.prompt_text() {
+        Some(t) => t.to_string(),
+        None => panic!("no prompt: {:?}", app.overlay),
     };
     let none = KeyModifiers::NONE;
     let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
@@ -1087,10 +1101,7 @@ fn every_prompt_edits_as_a_line_editor() {
     assert_eq!(text(&app), "pickscrew");
     press(&mut app, KeyCode::Esc, none);
     // "Can you …?" and the timeline's filter take text the same way.
-    app.overlay = Overlay::CanYou {
-        text: String::new(),
-        selected: 0,
-    };
+    app.overlay = Some(Overlay::can_you());
     typed(&mut app, "pick");
     press(&mut app, KeyCode::Left, none);
     press(&mut app, KeyCode::Backspace, none);
@@ -1100,7 +1111,7 @@ fn every_prompt_edits_as_a_line_editor() {
     app.update(Action::NextPane);
     app.update(Action::Find);
     assert!(
-        matches!(app.overlay, Overlay::Filter { .. }),
+        matches!(app.overlay, Some(Overlay::Filter(_))),
         "{:?}",
         app.overlay
     );
@@ -1115,15 +1126,19 @@ fn fixed_screens_at_80x24_and_120x40() {
     let (s, _, _dir) = nav2_followpath_fails_twice();
     let mut app = btx::tui::App::new(s.tree.clone(), Some(s), "nav.jsonl".into());
     app.update(Action::End);
-    app.selected = 10;
+    app.shared.selected = 10;
     for (w, h) in [(80, 24), (120, 40)] {
         insta::assert_snapshot!(format!("nav2_strip_{w}x{h}"), screen(&app, w, h));
     }
-    app.overlay = btx::tui::app::Overlay::CanYou {
-        text: "pick screw".into(),
-        selected: 0,
-    };
-    app.cursor = Some(4);
+    app.overlay = Some(btx::tui::panes::overlays::Overlay::CanYou(
+        btx::tui::panes::overlays::CanYou {
+            input: btx::tui::text_input::TextInput {
+                text: "pick screw".into(),
+                cursor: Some(4),
+            },
+            ..Default::default()
+        },
+    ));
     for (w, h) in [(80, 24), (120, 40)] {
         insta::assert_snapshot!(format!("can_you_cursor_{w}x{h}"), screen(&app, w, h));
     }
@@ -1183,15 +1198,15 @@ fn at_80_columns_the_diff_cuts_names_with_an_ellipsis_and_keeps_each_uid() {
 #[test]
 fn faster_and_slower_while_paused_say_the_speed() {
     let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
-    assert!(!app.playing);
+    assert!(!app.shared.playing);
     app.update(Action::Faster);
     assert_eq!(
-        app.message.as_deref(),
+        app.shared.message.as_deref(),
         Some("play speed: a step every 100 ms (s plays)")
     );
     app.update(Action::Slower);
     assert_eq!(
-        app.message.as_deref(),
+        app.shared.message.as_deref(),
         Some("play speed: a step every 200 ms (s plays)")
     );
 }
@@ -1236,7 +1251,8 @@ fn every_key_in_every_pane_and_mode_acts_or_says_why_not() {
     // keymap, pressed through the terminal's event path in each pane and
     // mode of a recorded run, changes the screen (what it did, or the
     // status bar saying why it could not); quitting quits.
-    use btx::tui::app::{Overlay, Pane};
+    use btx::tui::app::Pane;
+    use btx::tui::panes::overlays::Overlay;
     use ratatui::crossterm::event::Event;
     type Setup = fn(&mut btx::tui::app::App);
     let modes: [(&str, Setup); 11] = [
@@ -1255,11 +1271,13 @@ fn every_key_in_every_pane_and_mode_acts_or_says_why_not() {
             a.update(Action::Find);
         }),
         ("can you", |a| {
-            a.overlay = Overlay::CanYou {
-                text: String::new(),
-                selected: 0,
-            };
-            a.cursor = Some(0);
+            a.overlay = Some(Overlay::CanYou(btx::tui::panes::overlays::CanYou {
+                input: btx::tui::text_input::TextInput {
+                    text: String::new(),
+                    cursor: Some(0),
+                },
+                ..Default::default()
+            }));
         }),
         ("questions", |a| a.update(Action::Ask)),
         ("playing", |a| a.update(Action::Play)),
@@ -1272,7 +1290,7 @@ fn every_key_in_every_pane_and_mode_acts_or_says_why_not() {
                 let mut app = opened("tests/fixtures/logs/kitting_lookat_fails_once.btlog");
                 app.update(Action::NextFailure);
                 setup(&mut app);
-                app.message = None;
+                app.shared.message = None;
                 // Styles count: a list's selection is drawn reversed.
                 let before = render(&app, 120, 40);
                 btx::tui::handle(&mut app, Event::Key(key_event(k)), (120, 40));
@@ -1364,8 +1382,8 @@ fn the_fleet_view_shows_failures_as_bars_and_opens_a_run() {
     btx::tui::Screen::event(&mut app, Event::Key(key_event("Enter")), (120, 40));
     let run = app.opened.as_ref().expect("the run opened");
     assert_eq!(
-        run.pos as usize,
-        run.session.as_ref().unwrap().index.transitions.len()
+        run.shared.pos as usize,
+        run.shared.session.as_ref().unwrap().index.transitions.len()
     );
     let shown = screen(&app, 120, 40);
     assert!(shown.contains("full tree"));
@@ -1395,11 +1413,11 @@ fn the_fleet_view_shows_failures_as_bars_and_opens_a_run() {
 /// Tab takes the chosen completion into the text.
 #[test]
 fn one_ask_prompt_takes_typed_words_and_completions() {
-    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::Overlay;
     let mut app = demo();
     app.update(Action::NextFailure);
     press(&mut app, "a");
-    assert!(matches!(app.overlay, Overlay::Words { .. }));
+    assert!(matches!(app.overlay, Some(Overlay::Words(_))));
     let s = screen(&app, 110, 34);
     assert!(s.contains("What went wrong?"), "{s}");
     insta::assert_snapshot!("ask_prompt_80x24", screen(&app, 80, 24));
@@ -1412,10 +1430,12 @@ fn one_ask_prompt_takes_typed_words_and_completions() {
         screen(&app, 110, 34)
     );
     // Filtered as one types: "went" keeps "What went wrong?".
-    app.edit(btx::tui::panes::overlays::Edit::ToStart);
+    app.edit(btx::tui::text_input::Edit::ToStart);
     press(&mut app, "went");
     assert_eq!(
-        app.ask_completions("went").first().map(String::as_str),
+        btx::tui::panes::overlays::Words::completions(&app.shared, "went")
+            .first()
+            .map(String::as_str),
         Some("What went wrong?")
     );
     // Tab takes the completion into the text; Enter asks it.
@@ -1427,10 +1447,10 @@ fn one_ask_prompt_takes_typed_words_and_completions() {
         )),
         (110, 34),
     );
-    assert!(matches!(&app.overlay, Overlay::Words { text, .. } if text == "What went wrong?"));
+    assert_eq!(app.prompt_text(), Some("What went wrong?"));
     press(&mut app, "\n");
-    assert!(matches!(app.overlay, Overlay::None));
-    let a = app.answer.as_ref().expect("the list's answer");
+    assert!(app.overlay.is_none());
+    let a = app.shared.answer.as_ref().expect("the list's answer");
     assert!(
         a.text.contains("because look at chuck failed"),
         "{}",
@@ -1438,7 +1458,7 @@ fn one_ask_prompt_takes_typed_words_and_completions() {
     );
     // Typed text is asked as typed, even where a completion is shown.
     press(&mut app, "Awhats wrong\n");
-    let r = app.reply.as_ref().expect("a reply");
+    let r = app.shared.reply.as_ref().expect("a reply");
     assert_eq!(r.understood, "What went wrong?");
 }
 
@@ -1446,27 +1466,27 @@ fn one_ask_prompt_takes_typed_words_and_completions() {
 /// offers the other readings as a list to pick from.
 #[test]
 fn an_unsure_reading_offers_the_other_readings_to_pick() {
-    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::Overlay;
     let mut app = demo();
     app.update(Action::NextFailure);
     press(&mut app, "alook at the chuck failed\n");
-    let r = app.reply.as_ref().expect("a reply");
+    let r = app.shared.reply.as_ref().expect("a reply");
     assert!(r.unsure(), "{:?}", r.confidence);
-    assert!(matches!(app.overlay, Overlay::Words { .. }));
+    assert!(matches!(app.overlay, Some(Overlay::Words(_))));
     let s = screen(&app, 110, 34);
     assert!(s.contains("When did look at chuck (#18) fail?"), "{s}");
     assert!(s.contains("I read this as"), "{s}");
     // Picking one asks it.
     app.update(Action::Down);
     press(&mut app, "\n");
-    let r = app.reply.as_ref().expect("a reply");
+    let r = app.shared.reply.as_ref().expect("a reply");
     assert!(
         r.understood
             .starts_with("How often did look at chuck (#18) fail"),
         "{}",
         r.understood
     );
-    assert!(app.did_you_mean.is_empty());
+    assert!(app.shared.did_you_mean.is_empty());
 }
 
 /// `f` goes by faults (#39 item 5): in the patrol, the e-stop check under
@@ -1487,21 +1507,25 @@ fn f_stops_at_faults_not_at_branches_taken() {
     .unwrap();
     app.update(Action::Start);
     app.update(Action::NextFailure);
-    assert_eq!(app.tree.description(app.selected), "battery ok");
+    assert_eq!(
+        app.shared.tree.description(app.shared.selected),
+        "battery ok"
+    );
     assert!(screen(&app, 110, 34).contains("tick 7 of 7"));
     app.update(Action::NextFailure);
-    assert_eq!(app.message.as_deref(), Some("no fault after tick 7"));
+    assert_eq!(app.shared.message.as_deref(), Some("no fault after tick 7"));
 }
 
 /// #40 item 2: `e` lists the run's faults as a watch told them, newest
 /// first; Enter goes to the moment of one with its failed node selected.
 #[test]
 fn the_faults_are_listed_newest_first_and_enter_goes_to_one() {
-    use btx::tui::app::Overlay;
+    use btx::tui::panes::overlays::Overlay;
     let mut app = demo();
     app.update(Action::Faults);
-    let Overlay::Faults { lines, .. } = &app.overlay else {
-        panic!("no faults list: {:?}", app.message);
+    let Some(Overlay::Faults(btx::tui::panes::overlays::Faults { lines, .. })) = &app.overlay
+    else {
+        panic!("no faults list: {:?}", app.shared.message);
     };
     let texts: Vec<&str> = lines.iter().map(|l| l.0.as_str()).collect();
     assert_eq!(
@@ -1521,9 +1545,9 @@ fn the_faults_are_listed_newest_first_and_enter_goes_to_one() {
     app.update(Action::Down);
     app.update(Action::Down);
     app.update(Action::Toggle);
-    assert!(matches!(app.overlay, Overlay::None));
-    assert_eq!(app.at().unwrap().moment().to_string(), "10:1");
-    assert_eq!(app.selected, 18);
+    assert!(app.overlay.is_none());
+    assert_eq!(app.shared.at().unwrap().moment().to_string(), "10:1");
+    assert_eq!(app.shared.selected, 18);
 }
 
 #[test]
@@ -1539,7 +1563,7 @@ fn a_question_longer_than_the_prompt_shows_where_it_is_typed() {
     let s = screen(&app, 110, 34);
     assert!(s.contains("ask about look at chuck: …"), "{s}");
     assert!(s.contains("went on to the next gear▏ ┐"), "{s}");
-    assert_eq!(app.message, None);
+    assert_eq!(app.shared.message, None);
     // Home shows its start again, the rest cut with a mark.
     use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyModifiers};
     let home = KeyEvent::new(KeyCode::Home, KeyModifiers::NONE);
@@ -1550,15 +1574,14 @@ fn a_question_longer_than_the_prompt_shows_where_it_is_typed() {
         "{s}"
     );
     assert!(!s.contains("next gear"), "{s}");
-    assert_eq!(app.message, None);
+    assert_eq!(app.shared.message, None);
 }
 
 #[test]
 fn a_paste_of_pages_into_the_prompt_is_cut_at_its_bound_and_said() {
     // 20 KB pasted into the question prompt pinned a core for over a
     // minute: completion ran at each key over the whole text (#41 item 8).
-    use btx::tui::app::Overlay;
-    use btx::tui::panes::overlays::{Edit, PROMPT_MAX};
+    use btx::tui::text_input::{Edit, PROMPT_MAX};
     let mut app = demo();
     app.update(Action::NextFailure);
     press(&mut app, "a");
@@ -1568,20 +1591,20 @@ fn a_paste_of_pages_into_the_prompt_is_cut_at_its_bound_and_said() {
         ratatui::crossterm::event::Event::Paste(pasted),
         (110, 34),
     );
-    let Overlay::Words { text, .. } = &app.overlay else {
+    let Some(text) = app.prompt_text() else {
         panic!("{:?}", app.overlay)
     };
     assert_eq!(text.chars().count(), PROMPT_MAX);
     assert!(
-        app.message.as_deref().is_some_and(
+        app.shared.message.as_deref().is_some_and(
             |m| m.contains("at most 1000 characters: the 20600 past them were left out")
         ),
         "{:?}",
-        app.message
+        app.shared.message
     );
     // Typed on, nothing more is taken, and the screen still draws.
     app.edit(Edit::Insert("x".into()));
-    let Overlay::Words { text, .. } = &app.overlay else {
+    let Some(text) = app.prompt_text() else {
         panic!()
     };
     assert_eq!(text.chars().count(), PROMPT_MAX);
@@ -1597,11 +1620,11 @@ fn an_answer_keeps_the_focus_and_the_history_keeps_each_answer_once_with_its_mom
     use btx::tui::app::Pane;
     let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
     app.update(Action::NextFailure);
-    let moment = app.shown_moment().unwrap().to_string();
+    let moment = app.shared.shown_moment().unwrap().to_string();
     app.focus = Pane::Timeline;
-    app.ask_words("why did look at chuck fail?");
+    app.shared.ask_words("why did look at chuck fail?");
     assert_eq!(app.focus, Pane::Timeline);
-    let on_screen = app.answer_text().unwrap();
+    let on_screen = app.shared.answer_text().unwrap();
     assert_eq!(
         on_screen
             .matches("Why did look at chuck (#18) fail")
@@ -1609,13 +1632,13 @@ fn an_answer_keeps_the_focus_and_the_history_keeps_each_answer_once_with_its_mom
         1,
         "{on_screen}"
     );
-    app.ask(&btx::explain::Question::Tree(
+    app.shared.ask(&btx::explain::Question::Tree(
         btx::explain::TreeQuestion::Doing,
     ));
     app.update(Action::End);
-    let end = app.shown_moment().unwrap().to_string();
+    let end = app.shared.shown_moment().unwrap().to_string();
     assert_ne!(end, moment, "End moved in time");
-    let h = &app.answers.history;
+    let h = &app.shared.history;
     assert_eq!(h.len(), 2, "{h:#?}");
     assert!(
         h[0].contains(&format!("at moment {moment}")) && h[0].contains("What are you doing?"),
@@ -1629,7 +1652,7 @@ fn an_answer_keeps_the_focus_and_the_history_keeps_each_answer_once_with_its_mom
     );
     // Moving again adds nothing: the answer is in the history once.
     app.update(Action::Start);
-    assert_eq!(app.answers.history.len(), 2);
+    assert_eq!(app.shared.history.len(), 2);
 }
 
 /// The screen's rows as one text, each row's borders and padding off, so
@@ -1651,7 +1674,11 @@ fn long_lines_wrap_in_popups_and_the_status_bar() {
     let mut app = opened("sessions/kitting-lookat-fails-once.jsonl");
     app.update(Action::NextFailure);
     app.update(Action::Why);
-    let btx::tui::app::Overlay::Why { targets, .. } = &app.overlay else {
+    let Some(btx::tui::panes::overlays::Overlay::Why(btx::tui::panes::overlays::WhyList {
+        targets,
+        ..
+    })) = &app.overlay
+    else {
         panic!("the why-questions: {:?}", app.overlay)
     };
     let questions: Vec<String> = targets.iter().map(|(_, q)| q.clone()).collect();

@@ -415,7 +415,7 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
             return open::run(open::Args::of(cli.files), &globals);
         }
         let mut app = btx::tui::demo();
-        app.keymap = keymap(globals.keys.as_deref())?;
+        app.shared.keymap = keymap(globals.keys.as_deref())?;
         return btx::tui::run_with(app, globals.ascii)
             .map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     };

@@ -76,7 +76,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             )?;
             if follow {
                 let log = files.last().expect("one file at least");
-                if app.session.is_none() {
+                if app.shared.session.is_none() {
                     fail!(
                         "--follow follows a log or a session as it grows, and {} is a tree",
                         btx::text::path(log)
@@ -85,11 +85,11 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 let mut f = btx::input::Follow::new(log);
                 // The first reading is the one just opened.
                 let _ = f.poll();
-                app.follow = Some(f);
+                app.shared.follow = Some(f);
                 // Start at the end: following means watching what comes in.
                 app.update(btx::tui::Action::End);
             }
-            app.keymap = keymap(cli.keys.as_deref())?;
+            app.shared.keymap = keymap(cli.keys.as_deref())?;
             btx::tui::run_with(app, cli.ascii)
                 .map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
         }
@@ -132,14 +132,14 @@ fn live(
     let first = feed.session()?;
     let ep = &robots.eps[current];
     let mut app = btx::tui::App::new(first.tree.clone(), Some(first), format!("live {ep}"));
-    app.live = Some(feed);
+    app.shared.live = Some(feed);
     if choices.len() > 1 {
-        app.choices = Some(Choices::Robots {
+        app.shared.choices = Some(Choices::Robots {
             robots: choices,
             current,
         });
     }
-    app.keymap = keymap(cli.keys.as_deref())?;
+    app.shared.keymap = keymap(cli.keys.as_deref())?;
     btx::tui::run_with(app, cli.ascii).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
     if !cli.quiet {
         for o in robots.outs.iter().flatten().filter(|o| o.exists()) {

@@ -1,17 +1,27 @@
-//! The explorer's state and `update`: every change goes through an
-//! [`Action`]; answers come from the library.
+//! The explorer: it routes each key to the window open or to the panes,
+//! and holds what they share. The components are in `tui::panes`; what
+//! they share, and the questions it asks the library, in `tui::shared`.
 
+use super::choices::Choices;
 use super::keymap::Action;
-use crate::explain::fault::is_fault;
-use crate::explain::{answer, Answer, Question, RunQuestion, TreeQuestion};
-use crate::frame::Framed;
-use crate::model::{Builtin, Kind, Tree, Uid};
-use crate::run::Status;
-use crate::session::{At, Session};
-use fuzzy_matcher::skim::SkimMatcherV2;
-use fuzzy_matcher::FuzzyMatcher;
-use std::collections::HashSet;
+use super::panes::answers::Answers;
+use super::panes::details::Details;
+use super::panes::overlays::Overlay;
+use super::panes::timeline::{self, Timeline};
+use super::panes::tree::TreePane;
+use super::panes::{Component, Handled, Hints};
+use super::shared::Shared;
+use super::text_input::Edit;
+use super::view::{fit, layout};
+use crate::model::Tree;
+use crate::session::Session;
+use ratatui::layout::Rect;
+use ratatui::style::{Color, Style};
+use ratatui::text::Span;
+use ratatui::widgets::Paragraph;
+use ratatui::Frame;
 
+/// The pane that has the focus.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Pane {
     Tree,
@@ -20,386 +30,106 @@ pub enum Pane {
     Ask,
 }
 
-/// A window over the panes.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Overlay {
-    None,
-    /// The keys and the legend, scrolled down `scroll` lines.
-    Help {
-        scroll: usize,
-    },
-    Finder {
-        query: String,
-        selected: usize,
-    },
-    /// The why-questions about the selected node: (target, question).
-    Why {
-        selected: usize,
-        targets: Vec<(String, String)>,
-    },
-    /// The nodes RUNNING at this moment, to pick one from.
-    Running {
-        selected: usize,
-    },
-    /// The run's faults as a watch told them, newest first, with where
-    /// each happened (a position of the run).
-    Faults {
-        selected: usize,
-        lines: Vec<(String, u32, crate::model::Uid)>,
-    },
-    /// The ask prompt (`a`, `A`): a question being typed, the completion
-    /// chosen, and whether it was chosen with ↑↓ (Enter then asks it; else
-    /// what was typed, as typed).
-    Words {
-        text: String,
-        selected: usize,
-        picked: bool,
-    },
-    /// "Can you X?" being typed: the text and the completion picked.
-    CanYou {
-        text: String,
-        selected: usize,
-    },
-    /// The text the timeline's transitions are filtered by, being typed.
-    Filter {
-        text: String,
-    },
-    /// The runs or robots to pick from (`R`).
-    Pick {
-        selected: usize,
-    },
-    /// Where to write the why-answer's causal model (DOT): a path to edit,
-    /// and whether the file there is to be replaced on the next Enter.
-    Export {
-        path: String,
-        replace: bool,
-    },
+/// The four panes, each its own component.
+#[derive(Default)]
+pub struct Panes {
+    pub tree: TreePane,
+    pub timeline: Timeline,
+    pub details: Details,
+    pub answers: Answers,
 }
 
-/// A why-answer on screen: the library's answer, the explanation picked,
-/// and whether its causal model is shown.
-pub struct WhyView {
-    pub why: crate::causal::Why,
-    pub selected: usize,
-    pub graph: bool,
-    /// The variable the graph view is centred on (None: the one asked about).
-    pub centre: Option<crate::causal::model::VarId>,
-    /// The cause or effect picked in the graph view (parents, then children).
-    pub pick: Option<usize>,
-}
+impl Panes {
+    fn get(&self, p: Pane) -> &dyn Component {
+        match p {
+            Pane::Tree => &self.tree,
+            Pane::Timeline => &self.timeline,
+            Pane::Details => &self.details,
+            Pane::Ask => &self.answers,
+        }
+    }
 
-/// Earlier answers kept for the ask pane.
-pub const HISTORY_MAX: usize = 50;
-
-/// Rows or lines a page key moves.
-pub const PAGE: usize = 10;
-
-/// A visible row of the tree pane.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Row {
-    pub uid: Uid,
-    pub depth: usize,
-    pub has_children: bool,
+    fn get_mut(&mut self, p: Pane) -> &mut dyn Component {
+        match p {
+            Pane::Tree => &mut self.tree,
+            Pane::Timeline => &mut self.timeline,
+            Pane::Details => &mut self.details,
+            Pane::Ask => &mut self.answers,
+        }
+    }
 }
 
 pub struct App {
-    pub tree: Tree,
-    pub session: Option<Session>,
-    pub title: String,
-    pub framed: Framed,
-    pub framed_view: bool,
-    pub collapsed: HashSet<Uid>,
-    pub selected: Uid,
-    /// The moment, as a position in the session (transitions applied).
-    pub pos: u32,
-    /// The tick stepped to with N/P when it ends where an earlier one did.
-    pub at_tick: Option<u32>,
+    /// The run, the moment, the selection and the conversation.
+    pub shared: Shared,
+    pub panes: Panes,
+    /// The window open over the panes, which takes every key.
+    pub overlay: Option<Overlay>,
     pub focus: Pane,
-    pub overlay: Overlay,
-    pub answer: Option<Answer>,
-    /// The answer to a question typed in the user's own words.
-    pub reply: Option<crate::ask::Reply>,
-    /// Other readings of the last question, when btx was not sure of its
-    /// own: the ask prompt offers them to pick from.
-    pub did_you_mean: Vec<String>,
-    /// How much answers say (`+`/`-` on the answers pane).
-    pub detail: crate::ask::Detail,
-    pub why: Option<WhyView>,
-    /// The node and moment the answer or why-answer on screen is about:
-    /// the pane keeps saying so when the selection or the moment moves.
-    pub asked: Option<(Uid, Option<String>)>,
-    /// Whether stepping selects the current node. On until the person
-    /// selects a node themselves; `o` turns it on and off.
-    pub follow_node: bool,
-    /// The panes' own state (the tree's is the selection and folding
-    /// above, which every pane reads).
-    pub timeline: super::panes::timeline::TimelineState,
-    pub details: super::panes::details::DetailsState,
-    pub answers: super::panes::answers::AnswersState,
     /// The focused pane fills the screen.
     pub zoom: bool,
-    /// How far the details and the ask pane could scroll when last drawn
-    /// (their wrapped height less the pane's), so scrolling stops there.
-    pub scroll_max: std::cell::Cell<(usize, usize)>,
-    /// Text waiting to be put on the clipboard by the terminal loop.
-    pub clipboard: Option<String>,
-    /// The finder's lines, made when it first opens (the tree is fixed).
-    pub(crate) finder_labels: std::cell::OnceCell<Vec<String>>,
-    /// A one-line message for the status bar (an error, a file written).
-    pub message: Option<String>,
-    pub playing: bool,
-    /// Milliseconds between steps while playing.
-    pub play_ms: u64,
-    pub quit: bool,
-    /// The key bindings in force (the help and the hints show these).
-    pub keymap: super::keymap::Keymap,
     /// The tree pane's share of the width, in percent.
     pub split: u16,
-    /// A log still being written, read again as it grows (`--follow`).
-    pub follow: Option<crate::input::Follow>,
-    /// A robot running now (`btx open --live`): the run grows from it.
-    pub live: Option<crate::live::Feed>,
-    /// A live run's faults in numbers, for the timeline's title.
-    pub live_faults: crate::explain::alerts::Tally,
-    /// The other runs of the log, or the other robots watched (`R`).
-    pub choices: Option<super::choices::Choices>,
-    /// Where the open prompt's cursor is (characters from the start);
-    /// `None`: at its end.
-    pub cursor: Option<usize>,
-    pub(crate) rows: Vec<Row>,
+    pub quit: bool,
 }
 
 impl App {
     pub fn new(tree: Tree, session: Option<Session>, title: String) -> App {
-        let framed = Framed::new(&tree);
-        let pos = session.as_ref().map_or(0, |s| {
-            s.index
-                .position(crate::session::Moment {
-                    tick: 1,
-                    step: None,
-                })
-                .unwrap_or(0)
-        });
-        let mut app = App {
-            live_faults: Default::default(),
-            tree,
-            session,
-            title,
-            framed,
-            framed_view: false,
-            collapsed: HashSet::new(),
-            selected: Tree::ROOT,
-            pos,
-            at_tick: None,
+        App {
+            shared: Shared::new(tree, session, title),
+            panes: Panes::default(),
+            overlay: None,
             focus: Pane::Tree,
-            overlay: Overlay::None,
-            answer: None,
-            why: None,
-            asked: None,
-            follow_node: true,
-            timeline: Default::default(),
-            details: Default::default(),
-            answers: Default::default(),
-            reply: None,
-            did_you_mean: Vec::new(),
-            detail: crate::ask::Detail::Normal,
             zoom: false,
-            scroll_max: std::cell::Cell::new((usize::MAX, usize::MAX)),
-            finder_labels: std::cell::OnceCell::new(),
-            clipboard: None,
-            message: None,
-            playing: false,
-            play_ms: 200,
-            quit: false,
-            keymap: super::keymap::Keymap::default(),
             split: 58,
-            follow: None,
-            live: None,
-            choices: None,
-            cursor: None,
-            rows: Vec::new(),
-        };
-        app.follow_current();
-        app.rebuild_rows();
-        app
-    }
-
-    pub fn rows(&self) -> &[Row] {
-        &self.rows
-    }
-
-    /// The run at the current moment, if there is a run.
-    pub fn at(&self) -> Option<At<'_>> {
-        self.session.as_ref().map(|s| s.index.at(self.pos))
-    }
-
-    pub fn status(&self, uid: Uid) -> Status {
-        self.at().map_or(Status::Idle, |a| a.status(uid))
-    }
-
-    /// Rebuilds the visible rows after expanding, collapsing or switching view.
-    pub fn rebuild_rows(&mut self) {
-        let mut rows = Vec::new();
-        if self.framed_view {
-            let mut stack = vec![(0usize, 0usize)];
-            while let Some((i, depth)) = stack.pop() {
-                let f = &self.framed.nodes[i];
-                rows.push(Row {
-                    uid: f.uid,
-                    depth,
-                    has_children: !f.children.is_empty(),
-                });
-                if !self.collapsed.contains(&f.uid) {
-                    stack.extend(f.children.iter().rev().map(|&c| (c, depth + 1)));
-                }
-            }
-        } else {
-            let mut stack = vec![(Tree::ROOT, 0usize)];
-            while let Some((u, depth)) = stack.pop() {
-                let n = self.tree.node(u);
-                rows.push(Row {
-                    uid: u,
-                    depth,
-                    has_children: !n.children.is_empty(),
-                });
-                if !self.collapsed.contains(&u) {
-                    stack.extend(n.children.iter().rev().map(|&c| (c, depth + 1)));
-                }
-            }
-        }
-        self.rows = rows;
-        if self.row_of(self.selected).is_none() {
-            // The selection was folded away (or is not in the framed view):
-            // select its nearest visible ancestor.
-            let visible: HashSet<Uid> = self.rows.iter().map(|r| r.uid).collect();
-            self.selected = self
-                .tree
-                .ancestors(self.selected)
-                .find(|a| visible.contains(a))
-                .unwrap_or(Tree::ROOT);
+            quit: false,
         }
     }
 
-    pub fn row_of(&self, uid: Uid) -> Option<usize> {
-        self.rows.iter().position(|r| r.uid == uid)
-    }
-
-    /// Makes a node visible: expands its ancestors.
-    pub(crate) fn reveal(&mut self, uid: Uid) {
-        let anc: Vec<Uid> = self.tree.ancestors(uid).collect();
-        for a in anc {
-            self.collapsed.remove(&a);
-        }
-        self.rebuild_rows();
-    }
-
-    /// Selects the current node of the moment, as Groot keeps it in view.
-    pub(crate) fn follow_current(&mut self) {
-        if !self.follow_node {
-            return;
-        }
-        if let Some(cur) = self.at().and_then(|a| a.current()) {
-            self.selected = self.visible_for(cur);
-            self.reveal(cur);
-        }
-    }
-
-    /// In the framed view, a folded node is shown by its framed ancestor.
-    pub(crate) fn visible_for(&self, uid: Uid) -> Uid {
-        if !self.framed_view || self.framed.nodes.iter().any(|f| f.uid == uid) {
-            return uid;
-        }
-        self.tree
-            .ancestors(uid)
-            .find(|a| self.framed.nodes.iter().any(|f| f.uid == *a))
-            .unwrap_or(Tree::ROOT)
-    }
-
-    pub(crate) fn positions(&self) -> u32 {
-        self.session
-            .as_ref()
-            .map_or(0, |s| s.index.transitions.len() as u32)
-    }
-
-    pub(crate) fn goto(&mut self, pos: u32) {
-        self.pos = pos.min(self.positions());
-        self.at_tick = None;
-        // An answer about the moment left goes to the history, said with
-        // its moment (a why-answer stays: it names its own).
-        if self.answer.is_some() {
-            self.remember_answer();
-        }
-        self.answer = None;
-        self.timeline.scroll = 0;
-        self.details.scroll = 0;
-        self.follow_current();
-    }
-
-    /// Goes to the end of tick `t`, which may have no transition of its
-    /// own (a leaf kept RUNNING): several ticks then end at one position,
-    /// and the tick is kept apart from it.
-    pub(crate) fn goto_tick(&mut self, t: u32) {
-        if let Some(p) = self.tick_end(t) {
-            self.goto(p);
-            self.at_tick = Some(t);
-        }
-    }
-
-    /// The moment shown: the tick stepped to, or the position's moment.
-    pub fn shown_moment(&self) -> Option<crate::session::Moment> {
-        match self.at_tick {
-            Some(tick) => Some(crate::session::Moment { tick, step: None }),
-            None => self.at().map(|a| a.moment()),
-        }
-    }
-
-    pub(crate) fn tick_end(&self, tick: u32) -> Option<u32> {
-        let s = self.session.as_ref()?;
-        s.index
-            .position(crate::session::Moment { tick, step: None })
-            .ok()
-    }
-
-    pub(crate) fn current_tick(&self) -> u32 {
-        self.shown_moment().map_or(0, |m| m.tick)
-    }
-
-    /// Ticks in which a leaf failed.
-    /// Routes an action: to the overlay if one is open, then to the
-    /// focused pane, then to the tree (where the selection lives), the
-    /// timeline (time), the answers, and last the explorer's own keys.
-    /// Each pane's keys and drawing are in `tui::panes`.
+    /// Routes an action: to the window if one is open; else to the focused
+    /// pane, then to every pane for the keys that act wherever the focus
+    /// is (the tree's selection, the timeline's time, the answers'
+    /// questions), and last to the explorer's own keys.
     pub fn update(&mut self, a: Action) {
-        if self.overlay != Overlay::None {
-            return self.overlay_key(a);
+        if let Some(o) = &mut self.overlay {
+            let h = o.key(a, &mut self.shared, true);
+            return self.apply(h);
         }
-        // A prompt opened by this key starts with its cursor at the end.
-        self.cursor = None;
+        let sh = &mut self.shared;
         // On a live robot, End (G) is "back to live" from any pane, not a
         // scroll of the pane that has the focus (#27 item 2).
-        if a == Action::End && self.live.is_some() && self.session.is_some() {
-            self.goto(self.positions());
-            self.follow_node = true;
-            self.follow_current();
+        if a == Action::End && sh.live.is_some() && sh.session.is_some() {
+            sh.goto(sh.positions());
+            sh.follow_node = true;
+            sh.follow_current();
             return;
         }
-        self.message = None;
-        if self.session.is_none() && super::panes::timeline::needs_run(a) {
-            self.message = Some(
+        sh.message = None;
+        if sh.session.is_none() && timeline::needs_run(a) {
+            sh.message = Some(
                 "this is a tree, not a run: open a session or a robot's log to step through one"
                     .into(),
             );
             return;
         }
-        let focused = match self.focus {
-            Pane::Tree => false,
-            Pane::Timeline => self.timeline_focused_key(a),
-            Pane::Details => self.details_key(a),
-            Pane::Ask => self.answers_focused_key(a),
-        };
-        if focused || self.tree_key(a) || self.time_key(a) || self.answers_key(a) {
-            return;
+        let order = [Pane::Tree, Pane::Timeline, Pane::Ask, Pane::Details];
+        let focused =
+            std::iter::once(self.focus).chain(order.into_iter().filter(|&p| p != self.focus));
+        for p in focused {
+            let h = self
+                .panes
+                .get_mut(p)
+                .key(a, &mut self.shared, p == self.focus);
+            if h != Handled::Ignored {
+                return self.apply(h);
+            }
         }
+        self.own_key(a);
+    }
+
+    /// The explorer's own keys: quitting, the focus, the finder, the help,
+    /// the layout and the picker.
+    fn own_key(&mut self, a: Action) {
         match a {
             Action::Quit => self.quit = true,
             Action::NextPane => {
@@ -410,15 +140,10 @@ impl App {
                     Pane::Ask => Pane::Tree,
                 }
             }
-            Action::Find => {
-                self.overlay = Overlay::Finder {
-                    query: String::new(),
-                    selected: 0,
-                }
-            }
-            Action::Help => self.overlay = Overlay::Help { scroll: 0 },
+            Action::Find => self.overlay = Some(Overlay::finder()),
+            Action::Help => self.overlay = Some(Overlay::help()),
             Action::NextDivergence | Action::PrevDivergence => {
-                self.message = Some("divergences are shown by btx open --diff A B".into())
+                self.shared.message = Some("divergences are shown by btx open --diff A B".into())
             }
             Action::Zoom => self.zoom = !self.zoom,
             Action::Pick => self.open_picker(),
@@ -428,554 +153,236 @@ impl App {
         }
     }
 
+    /// Does what a component asked for.
+    fn apply(&mut self, h: Handled) {
+        match h {
+            Handled::Ignored | Handled::Taken => {}
+            Handled::Open(o) => self.overlay = Some(o),
+            Handled::Close => self.overlay = None,
+            Handled::Filter(text) => {
+                self.overlay = None;
+                self.panes.timeline.set_filter(text, &self.shared);
+            }
+            Handled::Pick(i) => {
+                self.overlay = None;
+                self.pick(i);
+            }
+        }
+    }
+
     /// The mouse wheel over a pane: the tree moves its selection, the
     /// others scroll, whichever pane has the focus.
     pub fn wheel(&mut self, pane: Pane, down: bool) {
         let a = if down { Action::Down } else { Action::Up };
-        if self.overlay != Overlay::None {
+        if self.overlay.is_some() {
             return self.update(a);
         }
+        let sh = &self.shared;
         match pane {
             Pane::Tree => self.update(a),
             Pane::Timeline => {
-                self.timeline.scroll(a);
+                self.panes.timeline.scroll(a, sh);
             }
             Pane::Details => {
-                self.details.scroll(a, self.scroll_max.get().0);
+                self.panes.details.scroll(a, sh);
             }
             Pane::Ask => {
-                self.answers.scroll(a, self.scroll_max.get().1);
+                self.panes.answers.scroll(a, sh);
             }
         }
     }
 
-    /// `e`: the run's faults as a watch told them (the library's
-    /// `explain::alerts`), newest first, to go to one.
-    pub fn open_faults(&mut self) {
-        let Some(s) = &self.session else {
-            self.message = Some("a tree alone has no faults: open a run".into());
+    /// Typing into the finder or a prompt.
+    pub fn type_char(&mut self, c: char) {
+        self.edit(Edit::Insert(c.to_string()));
+    }
+
+    pub fn backspace(&mut self) {
+        self.edit(Edit::Backspace);
+    }
+
+    /// One edit of the open prompt's text, every prompt alike.
+    pub fn edit(&mut self, e: Edit) {
+        let Some(edited) = self.overlay.as_mut().and_then(|o| o.edit(e)) else {
             return;
         };
-        let lines: Vec<(String, u32, Uid)> = crate::explain::alerts::of_run(s)
-            .into_iter()
-            .rev()
-            .filter_map(|a| {
-                let m = crate::session::Moment {
-                    tick: a.tick,
-                    step: Some(a.step),
-                };
-                let p = s.index.position(m).ok()?;
-                let u = a
-                    .root_cause
-                    .filter(|_| a.what == crate::explain::alerts::What::Fault);
-                Some((a.text, p, u.unwrap_or(a.node)))
-            })
-            .collect();
-        if lines.is_empty() {
-            self.message = Some("no fault in this run".into());
-        } else {
-            self.overlay = Overlay::Faults { selected: 0, lines };
+        if let Some(n) = edited.cut {
+            self.shared.message = Some(format!(
+                "a question or a search is at most {} characters: the {n} past them were left out",
+                super::text_input::PROMPT_MAX
+            ));
         }
     }
 
-    /// The nodes RUNNING at this moment, in tree order.
-    pub fn running_nodes(&self) -> Vec<Uid> {
-        let Some(at) = self.at() else {
-            return Vec::new();
-        };
-        self.tree
-            .preorder()
-            .into_iter()
-            .filter(|&u| at.status(u) == Status::Running)
-            .collect()
+    /// The text of the prompt being typed, if one is.
+    pub fn prompt_text(&self) -> Option<&str> {
+        Some(self.overlay.as_ref()?.input()?.text.as_str())
     }
 
-    /// Asks a question typed in the user's own words, as `btx ask` does:
-    /// the library reads it and answers; the explorer shows the reply.
-    pub fn ask_words(&mut self, text: &str) {
-        self.remember_answer();
-        self.why = None;
-        self.answer = None;
-        let node = self.asked_node();
-        let at = self.at();
-        let cx = crate::ask::Context {
-            tree: &self.tree,
-            session: self.session.as_ref(),
-            at,
-            node: Some(node),
-            detail: self.detail,
-            last: std::cell::Cell::new(self.reply.as_ref().and_then(|r| r.about)),
-        };
-        let r = crate::ask::ask(&cx, text);
-        self.asked = Some((node, self.moment().map(|m| m.to_string())));
-        self.answers.scroll = 0;
-        for &u in &r.nodes {
-            self.reveal(u);
-        }
-        // Not sure of its reading: the other readings, to pick from.
-        self.did_you_mean = if r.unsure() {
-            r.alternatives.clone()
-        } else {
-            Vec::new()
-        };
-        self.reply = Some(r);
-        if !self.did_you_mean.is_empty() {
-            self.overlay = Overlay::Words {
-                text: String::new(),
-                selected: 0,
-                picked: false,
-            };
-            self.cursor = None;
-            self.message =
-                Some("did you mean one of these? Enter asks it, Esc keeps this answer".into());
+    /// Whether keys type text: the finder and every prompt (a letter there
+    /// is text, not a key's action).
+    pub fn typing(&self) -> bool {
+        self.overlay.as_ref().is_some_and(|o| o.input().is_some())
+    }
+
+    /// `R`: the picker, when there is more than one run to pick from.
+    fn open_picker(&mut self) {
+        match &self.shared.choices {
+            Some(c) if c.len() > 1 => self.overlay = Some(Overlay::pick(c.current())),
+            _ => {
+                self.shared.message = Some(
+                    "one run here: R picks among a rosbag's runs (goals) or the robots of btx open --live A B"
+                        .into(),
+                )
+            }
         }
     }
 
-    /// The answer on screen as plain text (what `y` copies).
-    pub fn answer_text(&self) -> Option<String> {
-        if let Some(w) = &self.why {
-            return Some(w.why.text());
-        }
-        if let Some(r) = &self.reply {
-            // The question once: the reply restates it first when btx read it.
-            let text = r.text();
-            return Some(match text.lines().next() == Some(r.understood.as_str()) {
-                true => format!("{text}\n"),
-                false => format!("{}\n{text}\n", r.understood),
-            });
-        }
-        let a = self.answer.as_ref()?;
-        Some(format!("{}\n{}\n", a.question.wording(), a.text))
-    }
-
-    /// Keeps the answer on screen in the history before another replaces it.
-    pub(crate) fn remember_answer(&mut self) {
-        let (Some(text), Some((u, at))) = (self.answer_text(), &self.asked) else {
+    /// Shows choice `i`: its run in a fresh view, the keys, the layout and
+    /// the other choices kept.
+    pub(crate) fn pick(&mut self, i: usize) {
+        let sh = &mut self.shared;
+        let Some(mut choices) = sh.choices.take() else {
             return;
         };
-        let about = format!(
-            "about {} #{u}{}",
-            self.tree.description(*u),
-            at.as_ref()
-                .map_or(String::new(), |m| format!(" at moment {m}"))
-        );
-        self.answers
-            .history
-            .insert(0, format!("{about}\n{}", text.trim_end()));
-        self.answers.history.truncate(HISTORY_MAX);
-    }
-
-    /// Copies the answer through the terminal (OSC 52), which works over
-    /// SSH; the sequence is queued for the next draw.
-    pub(crate) fn copy_answer(&mut self) {
-        match self.answer_text() {
-            Some(t) => {
-                self.clipboard = Some(t);
-                self.message = Some("copied the answer (OSC 52)".into());
+        let stay = i == choices.current() || i >= choices.len();
+        let shown = match &mut choices {
+            _ if stay => Err(None),
+            Choices::Runs { runs, current } => {
+                runs[*current].session = sh.session.take();
+                *current = i;
+                let s = runs[i].session.take().expect("a run not shown is kept");
+                Ok((s.tree.clone(), s, runs[i].title.clone(), None))
             }
-            None => self.message = Some("no answer to copy: ask first (a or w)".into()),
-        }
-    }
-
-    /// The leaf whose fault came last in tick `t` (a check that answered
-    /// no as designed is a branch taken, not a fault).
-    pub(crate) fn failed_leaf(&self, t: u32) -> Option<Uid> {
-        let s = self.session.as_ref()?;
-        let range = s.index.tick_range(t);
-        (range.start as u32 + 1..=range.end as u32)
-            .rev()
-            .find(|&p| {
-                let x = s.index.transitions[p as usize - 1];
-                s.tree.node(x.uid).kind.is_leaf() && is_fault(&s.tree, &s.index, p)
-            })
-            .map(|p| s.index.transitions[p as usize - 1].uid)
-    }
-
-    /// The ticks with a fault of a leaf in them.
-    pub(crate) fn failure_ticks(&self) -> Vec<u32> {
-        let Some(s) = &self.session else {
-            return Vec::new();
-        };
-        // Leaves only: a control node's fault is its leaf's, and costs a
-        // scan of its call.
-        let mut ticks: Vec<u32> = (1..=s.index.transitions.len() as u32)
-            .filter(|&p| {
-                let t = s.index.transitions[p as usize - 1];
-                t.status == Status::Failure
-                    && s.tree.node(t.uid).kind.is_leaf()
-                    && is_fault(&s.tree, &s.index, p)
-            })
-            .map(|p| s.index.transitions[p as usize - 1].tick)
-            .collect();
-        ticks.dedup();
-        ticks
-    }
-
-    /// The questions that apply to the selected node at this moment.
-    pub fn questions(&self) -> Vec<Question> {
-        let mut qs: Vec<Question> = TreeQuestion::ALL.into_iter().map(Question::Tree).collect();
-        if self.session.is_some() {
-            qs.extend(RunQuestion::ALL.into_iter().map(Question::Run));
-        }
-        // "Can you X?" for the sequences and subtrees of the current subgoal.
-        let me = self.asked_node();
-        if let Some(sg) = crate::explain::han::subgoal(&self.tree, me) {
-            let mut seen = HashSet::new();
-            for u in self.tree.descendants(sg) {
-                let n = self.tree.node(u);
-                let seq = n.kind == Kind::SubTree
-                    || matches!(
-                        n.builtin,
-                        Some(
-                            Builtin::Sequence
-                                | Builtin::SequenceWithMemory
-                                | Builtin::ReactiveSequence
-                        )
-                    );
-                if seq && self.tree.has_name(u) && seen.insert(self.tree.description(u).to_string())
-                {
-                    qs.push(Question::CanYou(self.tree.description(u).to_string()));
-                }
-            }
-        }
-        // Last: any subgoal or step, typed (an empty X opens the prompt).
-        qs.push(Question::CanYou(String::new()));
-        qs
-    }
-
-    /// What "Can you X?" can name: every sequence, subtree and step of the
-    /// whole tree, by description, once each, fuzzy-matched to `typed`.
-    pub fn can_you_candidates(&self, typed: &str) -> Vec<String> {
-        let mut seen = HashSet::new();
-        let names: Vec<String> = self
-            .tree
-            .preorder()
-            .into_iter()
-            .filter(|&u| {
-                let n = self.tree.node(u);
-                self.tree.has_name(u) && matches!(n.kind, Kind::SubTree | Kind::Control)
-            })
-            .map(|u| self.tree.description(u).to_string())
-            .filter(|d| seen.insert(d.clone()))
-            .collect();
-        if typed.is_empty() {
-            return names;
-        }
-        let m = SkimMatcherV2::default().ignore_case();
-        let mut scored: Vec<(i64, usize, String)> = names
-            .into_iter()
-            .enumerate()
-            .filter_map(|(i, d)| m.fuzzy_match(&d, typed).map(|s| (s, i, d)))
-            .collect();
-        scored.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
-        scored.into_iter().map(|(_, _, d)| d).collect()
-    }
-
-    /// The node questions are about: the selected one.
-    pub fn asked_node(&self) -> Uid {
-        self.selected
-    }
-
-    /// The finder's line for a node (made for every node on first use).
-    pub fn finder_label(&self, u: Uid) -> &str {
-        let all = self.finder_labels.get_or_init(|| finder_labels(&self.tree));
-        all.get(u as usize - 1).map_or("", String::as_str)
-    }
-
-    /// Finder results: (uid, matched character positions in the label).
-    /// A match in the node's own `#uid`, description or ID comes first;
-    /// then one within one segment of its path; one whose letters are
-    /// spread over several segments last (`/chuck` found "back to approach
-    /// pose" by letters of "build a gearbox kit/…").
-    pub fn finder_results(&self, query: &str) -> Vec<(Uid, Vec<usize>)> {
-        let m = SkimMatcherV2::default().ignore_case();
-        let mut scored: Vec<(u8, i64, Uid, Vec<usize>)> = (1..=self.tree.len() as Uid)
-            .filter_map(|u| {
-                let label = self.finder_label(u);
-                if query.is_empty() {
-                    return Some((0, 0, u, Vec::new()));
-                }
-                // The label is `#uid description  [ID]  path`.
-                let own = label.find("]  ").map_or(label.len(), |i| i + 1);
-                if let Some((s, idx)) = m.fuzzy_indices(&label[..own], query) {
-                    return Some((0, s, u, idx));
-                }
-                let (s, idx) = m.fuzzy_indices(label, query)?;
-                let own_chars = label[..own].chars().count();
-                let segment = |i: usize| {
-                    label
-                        .chars()
-                        .take(i)
-                        .skip(own_chars)
-                        .filter(|&c| c == '/')
-                        .count()
-                };
-                let first = idx.first().map_or(0, |&i| segment(i));
-                let one = idx.iter().all(|&i| i >= own_chars && segment(i) == first);
-                Some((if one { 1 } else { 2 }, s, u, idx))
-            })
-            .collect();
-        scored.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.cmp(&a.1)).then(a.2.cmp(&b.2)));
-        scored
-            .into_iter()
-            .take(200)
-            .map(|(_, _, u, i)| (u, i))
-            .collect()
-    }
-
-    /// Applies one action.
-    /// Asks the library; the answer and its nodes are shown.
-    pub fn ask(&mut self, q: &Question) {
-        self.remember_answer();
-        self.why = None;
-        self.reply = None;
-        let at = self.at();
-        let node = self.asked_node();
-        self.answer = answer(&self.tree, at.as_ref(), node, q).ok();
-        self.asked = Some((node, self.moment().map(|m| m.to_string())));
-        self.answers.scroll = 0;
-        if let Some(a) = &self.answer {
-            let nodes = a.nodes.clone();
-            for u in nodes {
-                self.reveal(u);
-            }
-        }
-    }
-
-    pub(crate) fn moment(&self) -> Option<crate::session::Moment> {
-        let s = self.session.as_ref()?;
-        if let Some(tick) = self.at_tick {
-            return Some(crate::session::Moment { tick, step: None });
-        }
-        (s.index.ticks() > 0).then(|| s.index.moment(self.pos.max(1)))
-    }
-
-    /// Opens the why-questions about the selected node at this moment.
-    pub(crate) fn open_why(&mut self) {
-        let (Some(s), Some(m)) = (&self.session, self.moment()) else {
-            self.message = Some("why-questions are about a run: open a session or a log".into());
-            return;
-        };
-        let targets = crate::causal::session_domain(s, None)
-            .and_then(|d| crate::causal::why_targets(s, d, self.selected, m));
-        match targets {
-            Ok(targets) if !targets.is_empty() => {
-                self.overlay = Overlay::Why {
-                    selected: 0,
-                    targets,
-                }
-            }
-            Ok(_) => self.message = Some("nothing to ask why about here".into()),
-            Err(e) => self.message = Some(e.to_string()),
-        }
-    }
-
-    /// Asks the library why; the answer, its reasons' nodes and the moment
-    /// are shown.
-    pub fn ask_why(&mut self, target: String, foils: Vec<String>, at: crate::session::Moment) {
-        let Some(s) = &self.session else { return };
-        let r = crate::causal::session_domain(s, None)
-            .and_then(|d| crate::causal::why(s, d, &target, &foils, Some(at), 2));
-        match r {
-            Ok(mut w) => {
-                w.shown = super::panes::answers::shown(self.detail);
-                self.remember_answer();
-                let s = self.session.as_ref().expect("a why-answer is about a run");
-                if let Ok(p) = s.index.position(at) {
-                    if p != self.pos {
-                        let keep = self.selected;
-                        self.goto(p);
-                        self.selected = keep;
+            Choices::Robots { robots, current } => match robots[i].feed.take() {
+                None => Err(Some(format!(
+                    "{} could not be reached when the explorer opened",
+                    robots[i].endpoint
+                ))),
+                Some(feed) => match feed.session() {
+                    Ok(s) => {
+                        robots[*current].feed = sh.live.take();
+                        *current = i;
+                        let title = format!("live {}", robots[i].endpoint);
+                        Ok((s.tree.clone(), s, title, Some(feed)))
                     }
-                }
-                for u in w.reason_nodes(0) {
-                    self.reveal(u);
-                }
-                self.asked = Some((self.selected, Some(w.moment.clone())));
-                self.answers.scroll = 0;
-                self.reply = None;
-                self.why = Some(WhyView {
-                    why: w,
-                    selected: 0,
-                    graph: false,
-                    centre: None,
-                    pick: None,
-                });
-            }
-            Err(e) => self.message = Some(e.to_string()),
-        }
-    }
-
-    /// Why does the picked explanation's first reason hold?
-    pub(crate) fn follow_up(&mut self) {
-        let Some(w) = &self.why else { return };
-        match w.why.follow_up(w.selected) {
-            Some((t, foils, at)) => self.ask_why(t, foils, at),
-            None => self.message = Some("no reason to follow up".into()),
-        }
-    }
-
-    /// Asks where to write the why-answer's causal model.
-    pub(crate) fn export_graph(&mut self) {
-        let Some(w) = &self.why else {
-            self.message = Some("ask why first (w): the model is the answer's".into());
-            return;
+                    Err(e) => {
+                        let m = e.to_string();
+                        robots[i].feed = Some(feed);
+                        Err(Some(m))
+                    }
+                },
+            },
         };
-        self.overlay = Overlay::Export {
-            path: format!("btx-model-tick-{}.dot", w.why.model.facts.tick),
-            replace: false,
-        };
-    }
-
-    /// Enter in the export prompt: writes, or asks before replacing a file.
-    pub(crate) fn export_to(&mut self, path: String, replace: bool) {
-        let Some(w) = &self.why else { return };
-        let dot = crate::causal::graph::dot(&w.why.model);
-        match crate::export::write_file(std::path::Path::new(&path), dot.as_bytes(), replace) {
-            Ok(crate::export::Written::Done) => {
-                self.message = Some(format!("wrote {path}"));
-                self.overlay = Overlay::None;
+        match shown {
+            Ok((tree, session, title, feed)) => {
+                let mut next = App::new(tree, Some(session), title);
+                next.shared.keymap = std::mem::take(&mut sh.keymap);
+                next.split = self.split;
+                next.shared.live = feed.or_else(|| sh.live.take());
+                next.shared.choices = Some(choices);
+                if next.shared.live.is_some() {
+                    // A robot is followed at its present.
+                    next.update(Action::End);
+                }
+                *self = next;
             }
-            Ok(crate::export::Written::Exists) => {
-                self.overlay = Overlay::Export {
-                    path,
-                    replace: true,
-                };
-            }
-            Err(e) => {
-                self.message = Some(format!("{path}: {e}"));
-                self.overlay = Overlay::Export {
-                    path,
-                    replace: false,
-                };
+            Err(message) => {
+                sh.choices = Some(choices);
+                sh.message = message;
             }
         }
     }
 
-    /// Nodes shown as used by the answer on screen.
-    pub fn highlighted(&self) -> Vec<Uid> {
-        match (&self.why, &self.answer, &self.reply) {
-            (Some(w), _, _) => w.why.reason_nodes(w.selected),
-            (None, Some(a), _) => a.nodes.clone(),
-            (None, None, Some(r)) => r.nodes.clone(),
-            _ => Vec::new(),
-        }
-    }
-
-    /// A mouse click on tree row `row` (counted from the pane's first row).
-    pub fn click_row(&mut self, row: usize, first: usize) {
-        if let Some(r) = self.rows.get(first + row) {
-            self.selected = r.uid;
-            self.follow_node = false;
-        }
-    }
-
-    /// One step of autoplay; stops at the end.
     /// Reads a followed log again: the timeline grows; the moment stays
     /// where the person put it, or keeps to the end if it was there.
     pub fn follow_poll(&mut self) {
-        if let Some(c) = self.choices.as_mut() {
+        let sh = &mut self.shared;
+        if let Some(c) = sh.choices.as_mut() {
             c.poll();
         }
-        if let Some(l) = &self.live {
+        if let Some(l) = &sh.live {
             // The robot's blackboard is fetched only while details shows it.
             let shown = !self.zoom || self.focus == Pane::Details;
-            l.want_blackboard(shown.then(|| {
-                self.tree
-                    .blackboard_name(self.tree.node(self.selected).scope)
-            }));
+            l.want_blackboard(
+                shown.then(|| sh.tree.blackboard_name(sh.tree.node(sh.selected).scope)),
+            );
         }
-        match self.live.as_mut().and_then(|l| l.news(super::LIVE_EVERY)) {
+        match sh.live.as_mut().and_then(|l| l.news(super::LIVE_EVERY)) {
             Some(Ok(s)) => self.grow(s),
-            Some(Err(e)) => self.message = Some(e.to_string()),
+            Some(Err(e)) => sh.message = Some(e.to_string()),
             None => {}
         }
-        let Some(f) = self.follow.as_mut() else {
+        let Some(f) = self.shared.follow.as_mut() else {
             return;
         };
         match f.poll() {
             Ok(None) => {}
             Ok(Some(s)) => self.grow(s),
             // A log caught mid-write reads again at the next poll.
-            Err(e) => self.message = Some(format!("following: {e}")),
+            Err(e) => self.shared.message = Some(format!("following: {e}")),
         }
     }
 
-    /// Takes a newer reading of the same run.
+    /// Takes a newer reading of the same run; the faults list, open on a
+    /// live run, grows with it.
     pub fn grow(&mut self, s: Session) {
-        let at_end = self.pos >= self.positions();
-        if s.tree.len() != self.tree.len() {
-            self.message = Some(format!(
-                "{}: the log's tree changed ({} nodes, was {}); not followed further",
-                s.path.display(),
-                s.tree.len(),
-                self.tree.len()
-            ));
-            self.follow = None;
-            return;
-        }
-        if self.live.is_some() {
-            self.live_faults = crate::explain::alerts::Tally::of_run(&s.tree, &s.index);
-        }
-        self.session = Some(s);
-        // The faults list, open on a live run, grows with it.
-        if let Overlay::Faults { selected, .. } = self.overlay {
-            self.open_faults();
-            if let Overlay::Faults {
-                selected: now,
-                lines,
-            } = &mut self.overlay
-            {
-                *now = selected.min(lines.len().saturating_sub(1));
+        if self.shared.grow(s) {
+            if let Some(Overlay::Faults(f)) = &mut self.overlay {
+                f.renew(self.shared.fault_lines());
             }
-        }
-        let end = self.positions();
-        if at_end {
-            self.pos = end;
-            self.at_tick = None;
-            self.follow_current();
-        } else {
-            self.pos = self.pos.min(end);
-            self.at_tick = None;
         }
     }
 
     pub fn play_step(&mut self) {
-        if self.pos >= self.positions() {
-            self.playing = false;
+        self.shared.play_step()
+    }
+
+    /// A mouse click on tree row `row` (counted from the pane's first row).
+    pub fn click_row(&mut self, row: usize, first: usize) {
+        self.shared.click_row(row, first)
+    }
+
+    /// Draws the whole screen: the panes (the focused one alone when
+    /// zoomed), the status bar, and the window open over them.
+    pub fn draw(&self, f: &mut Frame) {
+        let sh = &self.shared;
+        let a = layout(f.area(), self.split);
+        if self.zoom {
+            let whole = Rect {
+                height: f.area().height.saturating_sub(1),
+                ..f.area()
+            };
+            self.panes.get(self.focus).draw(sh, f, whole, true);
         } else {
-            self.goto(self.pos + 1);
+            for (p, area) in [
+                (Pane::Tree, a.tree),
+                (Pane::Details, a.details),
+                (Pane::Ask, a.ask),
+                (Pane::Timeline, a.timeline),
+            ] {
+                self.panes.get(p).draw(sh, f, area, p == self.focus);
+            }
+        }
+        let cols = a.status.width as usize;
+        // The keys of the window open, not the panes' under it.
+        let hints = match &self.overlay {
+            Some(o) => o.hints(sh),
+            None => self.panes.get(self.focus).hints(sh),
+        };
+        let status = match (&sh.message, hints) {
+            (Some(m), _) => Span::styled(fit(m, cols), Style::default().fg(Color::Yellow)),
+            (None, Hints::Text(keys)) => {
+                Span::styled(fit(keys, cols), Style::default().fg(Color::DarkGray))
+            }
+            (None, Hints::Keys(first)) => Span::styled(
+                sh.keymap.hints_within(first, cols),
+                Style::default().fg(Color::DarkGray),
+            ),
+        };
+        f.render_widget(Paragraph::new(status), a.status);
+        if let Some(o) = &self.overlay {
+            o.draw(sh, f, f.area(), true);
         }
     }
 }
-
-/// What the finder matches against: description, ID, path and uid.
-/// The finder's line for each node, by uid − 1: uid, description, ID and
-/// path, the path built top-down and cut to its last `FINDER_PATH_MAX`
-/// characters, so a 10,000-level tree costs its size, once.
-pub fn finder_labels(tree: &Tree) -> Vec<String> {
-    tree.display_paths()
-        .into_iter()
-        .enumerate()
-        .map(|(i, path)| {
-            let uid = i as Uid + 1;
-            let n = path.chars().count();
-            let path = if n > FINDER_PATH_MAX {
-                let tail: String = path.chars().skip(n - FINDER_PATH_MAX).collect();
-                format!("…{tail}")
-            } else {
-                path
-            };
-            format!(
-                "#{:<4} {}  [{}]  {}",
-                uid,
-                tree.description(uid),
-                tree.node(uid).id,
-                path
-            )
-        })
-        .collect()
-}
-
-/// The most of a path the finder matches and shows.
-pub const FINDER_PATH_MAX: usize = 120;

@@ -3,7 +3,6 @@
 //! picking one shows its run, and the others go on (each robot's feed is
 //! still read and its session written as the run comes).
 
-use super::app::{App, Overlay};
 use crate::live::Feed;
 use crate::session::Session;
 
@@ -111,80 +110,6 @@ impl Choices {
         if let Choices::Robots { robots, .. } = self {
             for f in robots.iter_mut().filter_map(|r| r.feed.as_mut()) {
                 f.poll_for(std::time::Duration::from_millis(30));
-            }
-        }
-    }
-}
-
-impl App {
-    /// `R`: the picker, when there is more than one run to pick from.
-    pub(crate) fn open_picker(&mut self) {
-        match &self.choices {
-            Some(c) if c.len() > 1 => {
-                self.overlay = Overlay::Pick {
-                    selected: c.current(),
-                }
-            }
-            _ => {
-                self.message = Some(
-                    "one run here: R picks among a rosbag's runs (goals) or the robots of btx open --live A B"
-                        .into(),
-                )
-            }
-        }
-    }
-
-    /// Shows choice `i`: its run in a fresh view, the keys, the layout and
-    /// the other choices kept.
-    pub(crate) fn pick(&mut self, i: usize) {
-        let Some(mut choices) = self.choices.take() else {
-            return;
-        };
-        let stay = i == choices.current() || i >= choices.len();
-        let shown = match &mut choices {
-            _ if stay => Err(None),
-            Choices::Runs { runs, current } => {
-                runs[*current].session = self.session.take();
-                *current = i;
-                let s = runs[i].session.take().expect("a run not shown is kept");
-                Ok((s.tree.clone(), s, runs[i].title.clone(), None))
-            }
-            Choices::Robots { robots, current } => match robots[i].feed.take() {
-                None => Err(Some(format!(
-                    "{} could not be reached when the explorer opened",
-                    robots[i].endpoint
-                ))),
-                Some(feed) => match feed.session() {
-                    Ok(s) => {
-                        robots[*current].feed = self.live.take();
-                        *current = i;
-                        let title = format!("live {}", robots[i].endpoint);
-                        Ok((s.tree.clone(), s, title, Some(feed)))
-                    }
-                    Err(e) => {
-                        let m = e.to_string();
-                        robots[i].feed = Some(feed);
-                        Err(Some(m))
-                    }
-                },
-            },
-        };
-        match shown {
-            Ok((tree, session, title, feed)) => {
-                let mut next = App::new(tree, Some(session), title);
-                next.keymap = std::mem::take(&mut self.keymap);
-                next.split = self.split;
-                next.live = feed.or_else(|| self.live.take());
-                next.choices = Some(choices);
-                if next.live.is_some() {
-                    // A robot is followed at its present.
-                    next.update(super::keymap::Action::End);
-                }
-                *self = next;
-            }
-            Err(message) => {
-                self.choices = Some(choices);
-                self.message = message;
             }
         }
     }

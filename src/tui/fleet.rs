@@ -170,10 +170,10 @@ impl FleetApp {
         opts.topic = r.topic.clone().or(opts.topic);
         match super::open(&r.file, None, &opts) {
             Ok(mut app) => {
-                app.keymap = self
-                    .keymap
-                    .clone()
-                    .saying(Action::Quit, "back", "back to the fleet");
+                app.shared.keymap =
+                    self.keymap
+                        .clone()
+                        .saying(Action::Quit, "back", "back to the fleet");
                 app.update(Action::End);
                 self.opened = Some(Box::new(app));
             }

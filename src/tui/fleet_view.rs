@@ -13,7 +13,7 @@ use ratatui::Frame;
 
 pub fn view(app: &FleetApp, f: &mut Frame) {
     if let Some(run) = &app.opened {
-        return super::view::view(run, f);
+        return run.draw(f);
     }
     let v = Layout::default()
         .direction(Direction::Vertical)

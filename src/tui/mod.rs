@@ -11,7 +11,10 @@ pub mod fleet_view;
 pub mod graph_view;
 pub mod keymap;
 pub mod panes;
+pub mod pick_list;
+pub mod shared;
 pub mod svg;
+pub mod text_input;
 mod unmoved;
 pub mod view;
 
@@ -114,7 +117,7 @@ fn open_runs(path: &Path, opts: &LoadOptions) -> Result<App, Located> {
     let s = shown.session.take().expect("each run is a session");
     let mut app = App::new(s.tree.clone(), Some(s), shown.title.clone());
     if choices.len() > 1 {
-        app.choices = Some(choices);
+        app.shared.choices = Some(choices);
     }
     Ok(app)
 }
@@ -159,7 +162,7 @@ pub fn osc52(text: &str) -> String {
 
 impl Screen for App {
     fn draw(&self, f: &mut ratatui::Frame) {
-        view::view(self, f)
+        App::draw(self, f)
     }
     fn event(&mut self, ev: Event, size: (u16, u16)) {
         handle(self, ev, size)
@@ -168,26 +171,27 @@ impl Screen for App {
         self.quit
     }
     fn play_every(&self) -> Option<Duration> {
-        match (self.playing, self.follow.is_some()) {
-            (true, _) => Some(Duration::from_millis(self.play_ms)),
-            _ if self.live.is_some() => Some(Duration::from_millis(LIVE_MS)),
+        let sh = &self.shared;
+        match (sh.playing, sh.follow.is_some()) {
+            (true, _) => Some(Duration::from_millis(sh.play_ms)),
+            _ if sh.live.is_some() => Some(Duration::from_millis(LIVE_MS)),
             (false, true) => Some(Duration::from_millis(FOLLOW_MS)),
             _ => None,
         }
     }
     fn play_step(&mut self) {
-        if self.playing {
+        if self.shared.playing {
             App::play_step(self)
         }
         self.follow_poll()
     }
     fn take_clipboard(&mut self) -> Option<String> {
-        self.clipboard.take()
+        self.shared.clipboard.take()
     }
     fn idle(&mut self) -> bool {
         // The replay's marks, so that a question late in a long run is
         // answered from the nearest (a live run is still growing).
-        match (&self.session, &self.live) {
+        match (&self.shared.session, &self.shared.live) {
             (Some(s), None) => crate::causal::facts::lay_marks(s, IDLE_SLICE),
             _ => false,
         }
@@ -284,7 +288,7 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
     match ev {
         Event::Key(k) if k.kind == KeyEventKind::Press => {
             if app.typing() {
-                use panes::overlays::Edit;
+                use text_input::Edit;
                 let ctrl = k.modifiers.contains(event::KeyModifiers::CONTROL);
                 // Every prompt edits as a line editor does.
                 let e = match k.code {
@@ -299,28 +303,31 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
                     _ => None,
                 };
                 if let Some(e) = e {
-                    app.message = None;
+                    app.shared.message = None;
                     let before = render(app, size.0, size.1);
                     app.edit(e.clone());
-                    if app.message.is_none() && render(app, size.0, size.1) == before {
-                        app.message = Some(unmoved::edit_reason(app, &e));
+                    if app.shared.message.is_none() && render(app, size.0, size.1) == before {
+                        app.shared.message = Some(unmoved::edit_reason(app, &e));
                     }
                     return;
                 }
             }
-            if let Some(a) = app.keymap.action_for(&k) {
+            if let Some(a) = app.shared.keymap.action_for(&k) {
                 // A key that changes nothing on screen says why (#27 item 2).
-                app.message = None;
+                app.shared.message = None;
                 let before = render(app, size.0, size.1);
                 app.update(a);
-                if !app.quit && app.message.is_none() && render(app, size.0, size.1) == before {
+                if !app.quit
+                    && app.shared.message.is_none()
+                    && render(app, size.0, size.1) == before
+                {
                     let key = keymap::key_name(&k).unwrap_or_default();
-                    app.message = Some(unmoved::reason(app, a, &key));
+                    app.shared.message = Some(unmoved::reason(app, a, &key));
                 }
             }
         }
         // A paste, where the terminal marks one, goes into the prompt whole.
-        Event::Paste(text) if app.typing() => app.edit(panes::overlays::Edit::Insert(text)),
+        Event::Paste(text) if app.typing() => app.edit(text_input::Edit::Insert(text)),
         Event::Mouse(m) => {
             let areas = view::layout(ratatui::layout::Rect::new(0, 0, size.0, size.1), app.split);
             let t = areas.tree;
@@ -331,7 +338,7 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
                         && m.row > t.y
                         && m.row < t.y + t.height - 1 =>
                 {
-                    let first = view::first_row(app, t.height.saturating_sub(2) as usize);
+                    let first = view::first_row(&app.shared, t.height.saturating_sub(2) as usize);
                     app.click_row((m.row - t.y - 1) as usize, first);
                 }
                 MouseEventKind::ScrollDown | MouseEventKind::ScrollUp => {
@@ -564,6 +571,7 @@ pub fn scene(name: &str) -> Result<App, String> {
             app.update(Action::NextFailure);
             app.update(Action::Ask);
             let i = app
+                .shared
                 .questions()
                 .iter()
                 .position(|q| {

@@ -3,27 +3,28 @@
 //! what it did; what it could not do is read here from where the
 //! explorer stands (the window open, the pane focused, the moment).
 
-use super::app::{App, Overlay, Pane};
+use super::app::{App, Pane};
 use super::diff::DiffApp;
 use super::keymap::Action;
-use super::panes::overlays::Edit;
+use super::panes::overlays::Overlay;
+use super::text_input::Edit;
 use crate::model::Tree;
 
 /// Why `key` (bound to `a`) changed nothing in the explorer.
 pub fn reason(app: &App, a: Action, key: &str) -> String {
     match &app.overlay {
-        Overlay::None => {}
-        Overlay::Help { .. } => {
+        None => {}
+        Some(Overlay::Help(_)) => {
             return match a {
                 Action::Up | Action::Start | Action::PageUp => "at the top of the help".into(),
                 Action::Down | Action::End | Action::PageDown => "at the end of the help".into(),
                 _ => format!("{key}: the help is open; ↑↓ scroll it, Esc or ? closes it"),
             }
         }
-        Overlay::CanYou { .. } | Overlay::Words { .. } | Overlay::Filter { .. } => {
+        Some(Overlay::CanYou(_) | Overlay::Words(_) | Overlay::Filter(_)) => {
             return format!("{key}: you are typing; Enter takes the text, Esc cancels");
         }
-        Overlay::Export { .. } => {
+        Some(Overlay::Export(_)) => {
             return format!("{key}: you are typing a file name; Enter writes, Esc cancels");
         }
         _ => {
@@ -34,9 +35,10 @@ pub fn reason(app: &App, a: Action, key: &str) -> String {
             }
         }
     }
-    let name = |u| format!("{} #{u}", app.tree.description(u));
-    let end = app.pos >= app.positions();
-    let start = app.pos == 0;
+    let sh = &app.shared;
+    let name = |u| format!("{} #{u}", sh.tree.description(u));
+    let end = sh.pos >= sh.positions();
+    let start = sh.pos == 0;
     let pane = match app.focus {
         Pane::Tree => "tree",
         Pane::Timeline => "timeline",
@@ -45,12 +47,12 @@ pub fn reason(app: &App, a: Action, key: &str) -> String {
     };
     match a {
         Action::Back => "nothing to close (q quits)".into(),
-        Action::Expand | Action::Toggle if app.tree.node(app.selected).children.is_empty() => {
-            format!("{} is a leaf: nothing to open", name(app.selected))
+        Action::Expand | Action::Toggle if sh.tree.node(sh.selected).children.is_empty() => {
+            format!("{} is a leaf: nothing to open", name(sh.selected))
         }
-        Action::Expand | Action::Toggle => format!("{} is open already", name(app.selected)),
-        Action::Collapse if app.selected == Tree::ROOT => {
-            format!("{} is the root: it has no parent", name(app.selected))
+        Action::Expand | Action::Toggle => format!("{} is open already", name(sh.selected)),
+        Action::Collapse if sh.selected == Tree::ROOT => {
+            format!("{} is the root: it has no parent", name(sh.selected))
         }
         Action::StepForward | Action::TickForward | Action::End if end => {
             "at the end of the run".into()
@@ -64,8 +66,8 @@ pub fn reason(app: &App, a: Action, key: &str) -> String {
         Action::Down | Action::PageDown | Action::End if app.focus != Pane::Tree => {
             format!("at the end of the {pane} pane")
         }
-        Action::Up | Action::PageUp => format!("{} is the first node", name(app.selected)),
-        Action::Down | Action::PageDown => format!("{} is the last node", name(app.selected)),
+        Action::Up | Action::PageUp => format!("{} is the first node", name(sh.selected)),
+        Action::Down | Action::PageDown => format!("{} is the last node", name(sh.selected)),
         _ => format!("{key}: nothing to do here ({})", a.help()),
     }
 }

@@ -1,14 +1,14 @@
-//! `view(&App)`: draws the panes from the state, building widgets only for
-//! what is visible. It computes nothing that explains.
+//! What every screen draws with: the layout, the status colours and
+//! glyphs, blocks, and text cut or scrolled to fit. Widgets are built only
+//! for what is visible; nothing here explains.
 
-use super::app::{App, Overlay, Pane};
+use super::shared::Shared;
 use crate::model::{Kind, Uid};
 use crate::run::Status;
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::style::{Color, Style};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, Paragraph, Wrap};
-use ratatui::Frame;
 
 /// Where each pane is, for drawing and for mouse clicks.
 pub struct Areas {
@@ -59,8 +59,8 @@ pub fn status_color(s: Status) -> Color {
     }
 }
 
-pub(crate) fn glyph(app: &App, uid: Uid) -> &'static str {
-    tree_glyph(&app.tree, uid)
+pub(crate) fn glyph(sh: &Shared, uid: Uid) -> &'static str {
+    tree_glyph(&sh.tree, uid)
 }
 
 /// What every sign on screen means, for the help.
@@ -129,12 +129,8 @@ pub(super) fn block(title: String, focused: bool) -> Block<'static> {
 }
 
 /// The first row shown so that the selection stays in view.
-pub fn first_row(app: &App, height: usize) -> usize {
-    first_shown(
-        app.row_of(app.selected).unwrap_or(0),
-        app.rows().len(),
-        height,
-    )
+pub fn first_row(sh: &Shared, height: usize) -> usize {
+    first_shown(sh.row_of(sh.selected).unwrap_or(0), sh.rows().len(), height)
 }
 
 /// The first of `len` rows shown in `height` so that row `selected` stays
@@ -196,13 +192,6 @@ pub(crate) fn scrolled(
     (p.scroll((by.min(u16::MAX as usize) as u16, 0)), last)
 }
 
-/// Notes how far the details (`details`) or the ask pane can scroll.
-pub(crate) fn note_max(app: &App, details: bool, last: usize) {
-    let (d, a) = app.scroll_max.get();
-    app.scroll_max
-        .set(if details { (last, a) } else { (d, last) });
-}
-
 pub(crate) fn truncate(s: &str, n: usize) -> String {
     if s.chars().count() <= n {
         s.to_string()
@@ -220,68 +209,4 @@ pub(crate) fn centered(area: Rect, w: u16, h: u16) -> Rect {
         width: w,
         height: h,
     }
-}
-
-/// Draws the whole screen.
-pub fn view(app: &App, f: &mut Frame) {
-    let a = layout(f.area(), app.split);
-    if app.zoom {
-        let whole = Rect {
-            height: f.area().height.saturating_sub(1),
-            ..f.area()
-        };
-        match app.focus {
-            Pane::Tree => super::panes::tree::draw(app, f, whole),
-            Pane::Details => super::panes::details::draw(app, f, whole),
-            Pane::Ask => super::panes::answers::draw(app, f, whole),
-            Pane::Timeline => super::panes::timeline::draw(app, f, whole),
-        }
-    } else {
-        super::panes::tree::draw(app, f, a.tree);
-        super::panes::details::draw(app, f, a.details);
-        super::panes::answers::draw(app, f, a.ask);
-        super::panes::timeline::draw(app, f, a.timeline);
-    }
-    let cols = a.status.width as usize;
-    let window = match &app.overlay {
-        Overlay::None => None,
-        Overlay::Help { .. } => Some("↑↓ scroll  Esc or ? close"),
-        Overlay::Export { .. } => Some("type a file name  Enter write  Esc cancel"),
-        Overlay::Words { .. } => {
-            Some("type a question  ↑↓ choose  Tab complete  Enter ask  Ctrl-u clear  Esc cancel")
-        }
-        Overlay::CanYou { .. } | Overlay::Filter { .. } => {
-            Some("type  ←→ move  Ctrl-w word  Ctrl-u clear  Enter take  Esc cancel")
-        }
-        Overlay::Finder { .. } => Some("type to find  ↑↓ choose  Enter go  Esc close"),
-        _ => Some("↑↓ choose  Enter pick  Esc close"),
-    };
-    let status = match (&app.message, window) {
-        (Some(m), _) => Span::styled(fit(m, cols), Style::default().fg(Color::Yellow)),
-        // The keys of the window open, not the panes' under it.
-        (None, Some(keys)) => Span::styled(fit(keys, cols), Style::default().fg(Color::DarkGray)),
-        (None, None) => {
-            use super::keymap::Action as A;
-            let first: &[(A, &str)] = match app.focus {
-                Pane::Ask if app.why.is_some() => &[
-                    (A::Down, "next explanation"),
-                    (A::Toggle, "why that?"),
-                    (A::Graph, "model"),
-                    (A::ExportGraph, "export"),
-                ],
-                Pane::Tree => &[
-                    (A::Down, "move"),
-                    (A::Expand, "open"),
-                    (A::Collapse, "close"),
-                ],
-                _ => &[(A::NextPane, "next pane")],
-            };
-            Span::styled(
-                app.keymap.hints_within(first, a.status.width as usize),
-                Style::default().fg(Color::DarkGray),
-            )
-        }
-    };
-    f.render_widget(Paragraph::new(status), a.status);
-    super::panes::overlays::draw(app, f, f.area());
 }

@@ -1,141 +1,213 @@
 //! The answers pane: Han's questions, why-answers with their explanations
 //! to pick and follow up, the earlier answers, and copying.
 
+use super::overlays::Overlay;
+use super::{Component, Handled, Hints, Scrolled};
 use crate::ask::Reply;
-use crate::tui::app::{App, Overlay, Pane};
 use crate::tui::keymap::Action;
+use crate::tui::shared::{shown, Shared, WhyView};
 use crate::tui::view::*;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
 use ratatui::Frame;
 
-/// The answers pane's own state.
+/// The answers pane's own state (the answers are the conversation, in
+/// [`Shared`]).
 #[derive(Debug, Clone, Default)]
-pub struct AnswersState {
-    /// Lines scrolled.
-    pub scroll: usize,
-    /// Earlier answers, most recent first, each with what it was about.
-    pub history: Vec<String>,
+pub struct Answers {
+    /// Lines scrolled, in the answer on screen.
+    scroll: Scrolled<usize>,
+    /// How far it could scroll when last drawn (its wrapped height less the
+    /// pane's), so scrolling stops there.
+    max: std::cell::Cell<usize>,
 }
 
-impl AnswersState {
-    /// Up, Down, a page, Home and End within the pane (`max`: how far it
-    /// could scroll when last drawn).
-    pub fn scroll(&mut self, a: Action, max: usize) -> bool {
-        super::scroll_lines(&mut self.scroll, a, max)
+impl Answers {
+    /// Up, Down, a page, Home and End within the pane.
+    pub fn scroll(&mut self, a: Action, sh: &Shared) -> bool {
+        let max = self.max.get();
+        super::scroll_lines(self.scroll.get_mut(sh.answered), a, max)
     }
-}
 
-impl App {
+    /// How far the pane is scrolled in the answer on screen.
+    pub fn scrolled(&self, sh: &Shared) -> usize {
+        self.scroll.get(sh.answered)
+    }
+
     /// Keys while the answers pane has the focus: ↑↓ pick a why-answer's
     /// explanation and Enter asks why its reason holds; otherwise the pane
     /// scrolls.
-    pub(crate) fn answers_focused_key(&mut self, a: Action) -> bool {
+    fn focused_key(&mut self, a: Action, sh: &mut Shared) -> Handled {
         // + and - say more or less of the answer on screen.
-        if matches!(a, Action::Faster | Action::Slower)
-            && (self.why.is_some() || self.reply.is_some())
+        if matches!(a, Action::Faster | Action::Slower) && (sh.why.is_some() || sh.reply.is_some())
         {
-            self.change_detail(a == Action::Faster);
-            return true;
+            return change_detail(sh, a == Action::Faster);
         }
-        if let Some(w) = &mut self.why {
+        if let Some(w) = &mut sh.why {
             let n = w.why.groups().len().min(w.why.shown.unwrap_or(usize::MAX));
             match a {
                 Action::Up => w.selected = w.selected.saturating_sub(1),
                 Action::Down => w.selected = (w.selected + 1).min(n.saturating_sub(1)),
-                Action::Toggle => self.follow_up(),
-                _ => return self.answers.scroll(a, self.scroll_max.get().1),
+                Action::Toggle => sh.follow_up(),
+                _ => return Handled::taken(self.scroll(a, sh)),
             }
-            return true;
+            return Handled::Taken;
         }
-        self.answers.scroll(a, self.scroll_max.get().1)
-    }
-
-    /// More (`+`) or less (`-`) detail: a why-answer shows one
-    /// explanation, three, or every one; a question typed in words is
-    /// asked again at the new level.
-    fn change_detail(&mut self, more: bool) {
-        use crate::ask::Detail;
-        self.detail = match (self.detail, more) {
-            (Detail::Brief, true) | (Detail::Full, false) => Detail::Normal,
-            (Detail::Normal, true) | (Detail::Full, true) => Detail::Full,
-            (Detail::Normal, false) | (Detail::Brief, false) => Detail::Brief,
-        };
-        if let Some(w) = &mut self.why {
-            w.why.shown = shown(self.detail);
-            w.selected = w
-                .selected
-                .min(w.why.shown.unwrap_or(usize::MAX).saturating_sub(1));
-        }
-        if let Some(q) = self.reply.as_ref().map(|r| r.question.clone()) {
-            self.ask_words(&q);
-        }
-        self.message = Some(format!("detail: {:?}", self.detail).to_lowercase());
-    }
-
-    /// Asking, whichever pane has the focus.
-    pub(crate) fn answers_key(&mut self, a: Action) -> bool {
-        match a {
-            // One prompt: the questions about the node are its first
-            // completions, and any question can be typed.
-            Action::Ask | Action::AskWords => {
-                self.overlay = Overlay::Words {
-                    text: String::new(),
-                    selected: 0,
-                    picked: false,
-                };
-                self.cursor = None;
-            }
-            Action::Why => self.open_why(),
-            Action::Graph => match &mut self.why {
-                Some(w) => w.graph = !w.graph,
-                None => {
-                    self.message =
-                        Some("ask why first (w): the causal graph is the answer's".into())
-                }
-            },
-            Action::ExportGraph => self.export_graph(),
-            Action::Back => {
-                self.answer = None;
-                self.why = None;
-                self.reply = None;
-            }
-            Action::Running => {
-                if self.running_nodes().is_empty() {
-                    self.message = Some("nothing is RUNNING at this moment".into());
-                } else {
-                    self.overlay = Overlay::Running { selected: 0 };
-                }
-            }
-            Action::Faults => self.open_faults(),
-            Action::Copy => self.copy_answer(),
-            _ => return false,
-        }
-        true
+        Handled::taken(self.scroll(a, sh))
     }
 }
 
-/// How many explanations a why-answer shows at a level of detail, as
-/// `btx why --detail` does.
-pub(crate) fn shown(d: crate::ask::Detail) -> Option<usize> {
-    match d {
-        crate::ask::Detail::Brief => Some(1),
-        crate::ask::Detail::Normal => Some(3),
-        crate::ask::Detail::Full => None,
+impl Component for Answers {
+    fn key(&mut self, a: Action, sh: &mut Shared, focused: bool) -> Handled {
+        if focused {
+            let h = self.focused_key(a, sh);
+            if h != Handled::Ignored {
+                return h;
+            }
+        }
+        answers_key(a, sh)
     }
+
+    fn hints(&self, sh: &Shared) -> Hints {
+        match sh.why {
+            Some(_) => Hints::Keys(&[
+                (Action::Down, "next explanation"),
+                (Action::Toggle, "why that?"),
+                (Action::Graph, "model"),
+                (Action::ExportGraph, "export"),
+            ]),
+            None => Hints::Keys(&[(Action::NextPane, "next pane")]),
+        }
+    }
+
+    fn draw(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool) {
+        let mut lines = vec![Line::from(Span::styled(
+            about(sh),
+            Style::default().fg(Color::DarkGray),
+        ))];
+        let title = match (&sh.why, &sh.reply, &sh.answer) {
+            (Some(w), ..) => {
+                why_lines(w, focused, &mut lines);
+                " why (w) "
+            }
+            (None, Some(r), _) => {
+                reply_lines(r, &mut lines);
+                " ask (a) "
+            }
+            (None, None, Some(a)) => {
+                lines.push(Line::from(Span::styled(
+                    a.question.wording(),
+                    Style::default().add_modifier(Modifier::BOLD),
+                )));
+                // Q5's steps come a line each.
+                lines.extend(a.text.lines().map(|l| Line::from(l.to_string())));
+                lines.push(used(&a.nodes));
+                " ask (a) "
+            }
+            (None, None, None) => {
+                lines.push(Line::from(
+                    "press a to ask a question about the selected node",
+                ));
+                " ask (a) "
+            }
+        };
+        push_history(sh, &mut lines);
+        let (p, last) = scrolled(lines, self.scroll.get(sh.answered), area);
+        self.max.set(last);
+        f.render_widget(p.block(block(title.into(), focused)), area);
+    }
+}
+
+/// More (`+`) or less (`-`) detail: a why-answer shows one
+/// explanation, three, or every one; a question typed in words is
+/// asked again at the new level.
+fn change_detail(sh: &mut Shared, more: bool) -> Handled {
+    use crate::ask::Detail;
+    sh.detail = match (sh.detail, more) {
+        (Detail::Brief, true) | (Detail::Full, false) => Detail::Normal,
+        (Detail::Normal, true) | (Detail::Full, true) => Detail::Full,
+        (Detail::Normal, false) | (Detail::Brief, false) => Detail::Brief,
+    };
+    if let Some(w) = &mut sh.why {
+        w.why.shown = shown(sh.detail);
+        w.selected = w
+            .selected
+            .min(w.why.shown.unwrap_or(usize::MAX).saturating_sub(1));
+    }
+    let offer = match sh.reply.as_ref().map(|r| r.question.clone()) {
+        Some(q) => sh.ask_words(&q),
+        None => false,
+    };
+    sh.message = Some(format!("detail: {:?}", sh.detail).to_lowercase());
+    match offer {
+        true => Handled::Open(Overlay::words()),
+        false => Handled::Taken,
+    }
+}
+
+/// Asking, whichever pane has the focus.
+fn answers_key(a: Action, sh: &mut Shared) -> Handled {
+    match a {
+        // One prompt: the questions about the node are its first
+        // completions, and any question can be typed.
+        Action::Ask | Action::AskWords => return Handled::Open(Overlay::words()),
+        Action::Why => {
+            let targets = sh.why_targets();
+            if !targets.is_empty() {
+                return Handled::Open(Overlay::why(targets));
+            }
+        }
+        Action::Graph => match &mut sh.why {
+            Some(w) => w.graph = !w.graph,
+            None => sh.message = Some("ask why first (w): the causal graph is the answer's".into()),
+        },
+        Action::ExportGraph => match &sh.why {
+            Some(w) => {
+                let path = format!("btx-model-tick-{}.dot", w.why.model.facts.tick);
+                return Handled::Open(Overlay::export(path));
+            }
+            None => sh.message = Some("ask why first (w): the model is the answer's".into()),
+        },
+        Action::Back => {
+            sh.answer = None;
+            sh.why = None;
+            sh.reply = None;
+        }
+        Action::Running => {
+            if sh.running_nodes().is_empty() {
+                sh.message = Some("nothing is RUNNING at this moment".into());
+            } else {
+                return Handled::Open(Overlay::running());
+            }
+        }
+        Action::Faults => match &sh.session {
+            None => sh.message = Some("a tree alone has no faults: open a run".into()),
+            Some(_) => {
+                let lines = sh.fault_lines();
+                if lines.is_empty() {
+                    sh.message = Some("no fault in this run".into());
+                } else {
+                    return Handled::Open(Overlay::faults(lines));
+                }
+            }
+        },
+        Action::Copy => sh.copy_answer(),
+        _ => return Handled::Ignored,
+    }
+    Handled::Taken
 }
 
 /// Earlier answers under the one on screen (scroll down to read them).
-fn push_history(app: &App, lines: &mut Vec<Line<'static>>) {
-    if app.answers.history.is_empty() {
+fn push_history(sh: &Shared, lines: &mut Vec<Line<'static>>) {
+    if sh.history.is_empty() {
         return;
     }
     lines.push(Line::from(Span::styled(
-        format!("── {} earlier (PageDown) ──", app.answers.history.len()),
+        format!("── {} earlier (PageDown) ──", sh.history.len()),
         Style::default().fg(Color::DarkGray),
     )));
-    for h in &app.answers.history {
+    for h in &sh.history {
         for (i, l) in h.lines().enumerate() {
             let st = if i == 0 {
                 Style::default().fg(Color::DarkGray)
@@ -147,59 +219,22 @@ fn push_history(app: &App, lines: &mut Vec<Line<'static>>) {
     }
 }
 
-pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
-    let mut lines = vec![Line::from(Span::styled(
-        about(app),
-        Style::default().fg(Color::DarkGray),
-    ))];
-    let title = match (&app.why, &app.reply, &app.answer) {
-        (Some(w), ..) => {
-            why_lines(app, w, &mut lines);
-            " why (w) "
-        }
-        (None, Some(r), _) => {
-            reply_lines(r, &mut lines);
-            " ask (a) "
-        }
-        (None, None, Some(a)) => {
-            lines.push(Line::from(Span::styled(
-                a.question.wording(),
-                Style::default().add_modifier(Modifier::BOLD),
-            )));
-            // Q5's steps come a line each.
-            lines.extend(a.text.lines().map(|l| Line::from(l.to_string())));
-            lines.push(used(&a.nodes));
-            " ask (a) "
-        }
-        (None, None, None) => {
-            lines.push(Line::from(
-                "press a to ask a question about the selected node",
-            ));
-            " ask (a) "
-        }
-    };
-    push_history(app, &mut lines);
-    let (p, last) = scrolled(lines, app.answers.scroll, area);
-    note_max(app, false, last);
-    f.render_widget(p.block(block(title.into(), app.focus == Pane::Ask)), area);
-}
-
 /// What the answer on screen was asked about, wherever the selection has
 /// gone since; with no answer, the node a question would be about.
-fn about(app: &App) -> String {
-    match &app.asked {
-        Some((u, at)) if app.answer.is_some() || app.why.is_some() || app.reply.is_some() => {
+fn about(sh: &Shared) -> String {
+    match &sh.asked {
+        Some((u, at)) if sh.answer.is_some() || sh.why.is_some() || sh.reply.is_some() => {
             format!(
                 "about {} #{u}{}",
-                crate::text::visible(app.tree.description(*u)),
+                crate::text::visible(sh.tree.description(*u)),
                 at.as_ref()
                     .map_or(String::new(), |m| format!(" at moment {m}"))
             )
         }
         _ => format!(
             "about {} #{}",
-            crate::text::visible(app.tree.description(app.asked_node())),
-            app.asked_node()
+            crate::text::visible(sh.tree.description(sh.asked_node())),
+            sh.asked_node()
         ),
     }
 }
@@ -215,7 +250,7 @@ fn used(nodes: &[crate::model::Uid]) -> Line<'static> {
 
 /// A why-answer: the question, the causes re-runs found, the
 /// explanations (the picked one reversed) and the pane's keys.
-fn why_lines(app: &App, w: &crate::tui::app::WhyView, lines: &mut Vec<Line<'static>>) {
+fn why_lines(w: &WhyView, focused: bool, lines: &mut Vec<Line<'static>>) {
     let q = &w.why;
     lines.push(Line::from(Span::styled(
         crate::causal::english::question(&q.model, &q.query),
@@ -255,7 +290,7 @@ fn why_lines(app: &App, w: &crate::tui::app::WhyView, lines: &mut Vec<Line<'stat
     // are this pane's once Tab brings it here.
     let keys = "↑↓ pick · Enter: why that reason? · m: causal model · x: DOT file · y: copy";
     lines.push(Line::from(Span::styled(
-        match app.focus == Pane::Ask {
+        match focused {
             true => keys.to_string(),
             false => format!("Tab here, then {keys}"),
         },

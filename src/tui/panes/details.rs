@@ -1,8 +1,9 @@
 //! The details pane: the selected node's ports, state and the run's end, or
 //! the why-answer's causal model, as a list or as the graph view.
 
-use crate::tui::app::{App, Pane};
+use super::{Component, Handled, Hints, Scrolled};
 use crate::tui::keymap::Action;
+use crate::tui::shared::{Shared, WhyView};
 use crate::tui::view::*;
 use ratatui::layout::Rect;
 use ratatui::style::{Modifier, Style};
@@ -10,192 +11,207 @@ use ratatui::text::{Line, Span};
 use ratatui::Frame;
 
 /// The details pane's own state.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct DetailsState {
-    /// Lines scrolled.
-    pub scroll: usize,
+#[derive(Debug, Clone, Default)]
+pub struct Details {
+    /// Lines scrolled, at the moment.
+    scroll: Scrolled<usize>,
+    /// How far it could scroll when last drawn (its wrapped height less the
+    /// pane's), so scrolling stops there.
+    max: std::cell::Cell<usize>,
 }
 
-impl DetailsState {
-    /// Up, Down, a page, Home and End within the pane (`max`: how far it
-    /// could scroll when last drawn).
-    pub fn scroll(&mut self, a: Action, max: usize) -> bool {
-        super::scroll_lines(&mut self.scroll, a, max)
+impl Details {
+    /// Up, Down, a page, Home and End within the pane.
+    pub fn scroll(&mut self, a: Action, sh: &Shared) -> bool {
+        let max = self.max.get();
+        super::scroll_lines(self.scroll.get_mut(sh.moved), a, max)
     }
 }
 
-impl App {
+impl Component for Details {
     /// Keys while the details pane has the focus: the graph view's, then
     /// scrolling.
-    pub(crate) fn details_key(&mut self, a: Action) -> bool {
-        self.graph_key(a) || self.details.scroll(a, self.scroll_max.get().0)
+    fn key(&mut self, a: Action, sh: &mut Shared, focused: bool) -> Handled {
+        Handled::taken(focused && (graph_key(a, sh) || self.scroll(a, sh)))
     }
 
-    /// Keys of the causal graph view: ←→ pick a neighbour, Enter centres on
-    /// it, Esc goes back to the variable asked about. Whether the key was
-    /// taken.
-    fn graph_key(&mut self, a: Action) -> bool {
-        if !matches!(
-            a,
-            Action::Expand | Action::Collapse | Action::Toggle | Action::Back
-        ) {
-            return false;
+    fn hints(&self, _sh: &Shared) -> Hints {
+        Hints::Keys(&[(Action::NextPane, "next pane")])
+    }
+
+    fn draw(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool) {
+        if let Some(w) = sh.why.as_ref().filter(|w| w.graph) {
+            return self.model_pane(sh, w, f, area, focused);
         }
-        let Some(w) = self.why.as_mut().filter(|w| w.graph) else {
-            return false;
-        };
-        let centre = w.centre.unwrap_or(w.why.query.targets[0]);
-        let n = w.why.neighbourhood(centre, w.selected);
-        let count = n.parents.len() + n.children.len();
-        match a {
-            Action::Expand if count > 0 => {
-                w.pick = Some(w.pick.map_or(0, |p| (p + 1) % count));
-            }
-            Action::Collapse if count > 0 => {
-                w.pick = Some(w.pick.map_or(count - 1, |p| (p + count - 1) % count));
-            }
-            Action::Toggle => {
-                if let Some(x) = w
-                    .pick
-                    .and_then(|p| n.parents.iter().chain(&n.children).nth(p))
-                {
-                    w.centre = Some(x.var);
-                    w.pick = None;
-                }
-            }
-            Action::Back if w.centre.is_some() => {
-                w.centre = None;
-                w.pick = None;
-            }
-            _ => return false,
-        }
-        true
+        self.node_pane(sh, f, area, focused)
     }
 }
 
-/// The why-answer's causal model as a graph: the variable in the centre
-/// (the one asked about, until another is picked), its causes above and its
-/// effects below, edges in box characters (`graph_view`).
-fn model_pane(app: &App, w: &crate::tui::app::WhyView, f: &mut Frame, area: Rect) {
-    let m = &w.why.model;
-    let b = block(
-        format!(
-            " causal graph · tick {} · {} variables, {} edges (m to hide) ",
-            m.facts.tick,
-            m.vars.len(),
-            m.edge_count()
-        ),
-        app.focus == Pane::Details,
-    );
-    let inner = b.inner(area);
+/// Keys of the causal graph view: ←→ pick a neighbour, Enter centres on
+/// it, Esc goes back to the variable asked about. Whether the key was
+/// taken.
+fn graph_key(a: Action, sh: &mut Shared) -> bool {
+    if !matches!(
+        a,
+        Action::Expand | Action::Collapse | Action::Toggle | Action::Back
+    ) {
+        return false;
+    }
+    let Some(w) = sh.why.as_mut().filter(|w| w.graph) else {
+        return false;
+    };
     let centre = w.centre.unwrap_or(w.why.query.targets[0]);
     let n = w.why.neighbourhood(centre, w.selected);
-    let lines = crate::tui::graph_view::draw(&n, w.pick, inner.width as usize);
-    let (p, last) = scrolled(lines, app.details.scroll, area);
-    note_max(app, true, last);
-    f.render_widget(p.block(b), area);
-}
-
-pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
-    if let Some(w) = app.why.as_ref().filter(|w| w.graph) {
-        return model_pane(app, w, f, area);
-    }
-    let b = block(" details ".into(), app.focus == Pane::Details);
-    let u = app.selected;
-    let n = app.tree.node(u);
-    let at = app.at();
-    let mut lines = vec![
-        Line::from(format!(
-            "{}  #{}",
-            crate::text::visible(app.tree.description(u)),
-            u
-        )),
-        Line::from(format!(
-            "{} {}  name {:?}",
-            n.kind.as_str(),
-            app.tree.type_name(u),
-            n.name
-        )),
-    ];
-    // The path breaks after a `/`, not inside a name.
-    let width = area.width.saturating_sub(2) as usize;
-    lines.extend(
-        wrap_path(&app.tree.display_path(u), width)
-            .into_iter()
-            .map(Line::from),
-    );
-    if let Some(a) = &at {
-        let last = a
-            .last_completed(u)
-            .map_or("never".to_string(), |s| s.to_string());
-        lines.push(Line::from(vec![
-            Span::raw("status "),
-            Span::styled(
-                a.status(u).to_string(),
-                Style::default().fg(status_color(a.status(u))),
-            ),
-            Span::raw(format!("  last completed {last}")),
-        ]));
-        if matches!(
-            n.builtin,
-            Some(crate::model::Builtin::RetryUntilSuccessful | crate::model::Builtin::Repeat)
-        ) {
-            lines.push(Line::from(format!("attempts so far {}", a.attempts(u))));
+    let count = n.parents.len() + n.children.len();
+    match a {
+        Action::Expand if count > 0 => {
+            w.pick = Some(w.pick.map_or(0, |p| (p + 1) % count));
         }
-        if let Some(d) = a.decision(u) {
-            lines.push(Line::from(format!("decision {d}")));
+        Action::Collapse if count > 0 => {
+            w.pick = Some(w.pick.map_or(count - 1, |p| (p + count - 1) % count));
         }
-    }
-    if let Some(s) = &app.session {
-        let e = s.ending();
-        let going = app
-            .live
-            .as_ref()
-            .is_some_and(|l| l.status.finished.is_none() && s.end.is_none());
-        lines.push(Line::from(match e.strip_prefix("no end recorded") {
-            // A robot watched now: its run is not cut off, it goes on.
-            Some(_) if going => format!("The run goes on (tick {}).", s.index.ticks()),
-            Some(rest) => format!("The run has no end recorded{rest}."),
-            None => format!("The run {e}."),
-        }));
-    }
-    for (k, v) in &n.metadata {
-        lines.push(Line::from(Span::styled(
-            format!("{k} {}", crate::text::visible(v)),
-            Style::default().add_modifier(Modifier::DIM),
-        )));
-    }
-    let bb = crate::run::blackboard::Blackboard::new(&app.tree);
-    for p in &n.ports {
-        let mut s = crate::export::port_label(p);
-        if let (Some(a), Some(e)) = (&at, bb.port_entry(&app.tree, n.scope, &p.value)) {
-            if let Some(v) = a.entry(&e) {
-                s.push_str(&format!(" = {v}"));
+        Action::Toggle => {
+            if let Some(x) = w
+                .pick
+                .and_then(|p| n.parents.iter().chain(&n.children).nth(p))
+            {
+                w.centre = Some(x.var);
+                w.pick = None;
             }
         }
-        lines.push(Line::from(s));
-    }
-    if let Some(a) = &at {
-        let state: Vec<String> = a
-            .entries()
-            .iter()
-            .filter(|(e, _)| e.scope == 0)
-            .map(|(e, v)| format!("{}={}", e.key, v))
-            .collect();
-        if !state.is_empty() {
-            lines.push(Line::from(Span::styled(
-                "state",
-                Style::default().add_modifier(Modifier::BOLD),
-            )));
-            lines.push(Line::from(state.join("  ")));
+        Action::Back if w.centre.is_some() => {
+            w.centre = None;
+            w.pick = None;
         }
+        _ => return false,
     }
-    if let Some(l) = &app.live {
-        lines.extend(live_blackboard(l, &app.tree.blackboard_name(n.scope)));
+    true
+}
+
+impl Details {
+    /// The why-answer's causal model as a graph: the variable in the centre
+    /// (the one asked about, until another is picked), its causes above and its
+    /// effects below, edges in box characters (`graph_view`).
+    fn model_pane(&self, sh: &Shared, w: &WhyView, f: &mut Frame, area: Rect, focused: bool) {
+        let m = &w.why.model;
+        let b = block(
+            format!(
+                " causal graph · tick {} · {} variables, {} edges (m to hide) ",
+                m.facts.tick,
+                m.vars.len(),
+                m.edge_count()
+            ),
+            focused,
+        );
+        let inner = b.inner(area);
+        let centre = w.centre.unwrap_or(w.why.query.targets[0]);
+        let n = w.why.neighbourhood(centre, w.selected);
+        let lines = crate::tui::graph_view::draw(&n, w.pick, inner.width as usize);
+        let (p, last) = scrolled(lines, self.scroll.get(sh.moved), area);
+        self.max.set(last);
+        f.render_widget(p.block(b), area);
     }
-    let (p, last) = scrolled(lines, app.details.scroll, area);
-    note_max(app, true, last);
-    f.render_widget(p.block(b), area);
+
+    /// The selected node: its kind, path, status at the moment, ports and
+    /// blackboard, and how the run ended.
+    fn node_pane(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool) {
+        let b = block(" details ".into(), focused);
+        let u = sh.selected;
+        let n = sh.tree.node(u);
+        let at = sh.at();
+        let mut lines = vec![
+            Line::from(format!(
+                "{}  #{}",
+                crate::text::visible(sh.tree.description(u)),
+                u
+            )),
+            Line::from(format!(
+                "{} {}  name {:?}",
+                n.kind.as_str(),
+                sh.tree.type_name(u),
+                n.name
+            )),
+        ];
+        // The path breaks after a `/`, not inside a name.
+        let width = area.width.saturating_sub(2) as usize;
+        lines.extend(
+            wrap_path(&sh.tree.display_path(u), width)
+                .into_iter()
+                .map(Line::from),
+        );
+        if let Some(a) = &at {
+            let last = a
+                .last_completed(u)
+                .map_or("never".to_string(), |s| s.to_string());
+            lines.push(Line::from(vec![
+                Span::raw("status "),
+                Span::styled(
+                    a.status(u).to_string(),
+                    Style::default().fg(status_color(a.status(u))),
+                ),
+                Span::raw(format!("  last completed {last}")),
+            ]));
+            if matches!(
+                n.builtin,
+                Some(crate::model::Builtin::RetryUntilSuccessful | crate::model::Builtin::Repeat)
+            ) {
+                lines.push(Line::from(format!("attempts so far {}", a.attempts(u))));
+            }
+            if let Some(d) = a.decision(u) {
+                lines.push(Line::from(format!("decision {d}")));
+            }
+        }
+        if let Some(s) = &sh.session {
+            let e = s.ending();
+            let going = sh
+                .live
+                .as_ref()
+                .is_some_and(|l| l.status.finished.is_none() && s.end.is_none());
+            lines.push(Line::from(match e.strip_prefix("no end recorded") {
+                // A robot watched now: its run is not cut off, it goes on.
+                Some(_) if going => format!("The run goes on (tick {}).", s.index.ticks()),
+                Some(rest) => format!("The run has no end recorded{rest}."),
+                None => format!("The run {e}."),
+            }));
+        }
+        for (k, v) in &n.metadata {
+            lines.push(Line::from(Span::styled(
+                format!("{k} {}", crate::text::visible(v)),
+                Style::default().add_modifier(Modifier::DIM),
+            )));
+        }
+        let bb = crate::run::blackboard::Blackboard::new(&sh.tree);
+        for p in &n.ports {
+            let mut s = crate::export::port_label(p);
+            if let (Some(a), Some(e)) = (&at, bb.port_entry(&sh.tree, n.scope, &p.value)) {
+                if let Some(v) = a.entry(&e) {
+                    s.push_str(&format!(" = {v}"));
+                }
+            }
+            lines.push(Line::from(s));
+        }
+        if let Some(a) = &at {
+            let state: Vec<String> = a
+                .entries()
+                .iter()
+                .filter(|(e, _)| e.scope == 0)
+                .map(|(e, v)| format!("{}={}", e.key, v))
+                .collect();
+            if !state.is_empty() {
+                lines.push(Line::from(Span::styled(
+                    "state",
+                    Style::default().add_modifier(Modifier::BOLD),
+                )));
+                lines.push(Line::from(state.join("  ")));
+            }
+        }
+        if let Some(l) = &sh.live {
+            lines.extend(live_blackboard(l, &sh.tree.blackboard_name(n.scope)));
+        }
+        let (p, last) = scrolled(lines, self.scroll.get(sh.moved), area);
+        self.max.set(last);
+        f.render_widget(p.block(b), area);
+    }
 }
 
 /// The robot's blackboard of the node's scope (`B`), as last fetched.

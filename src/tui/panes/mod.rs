@@ -1,13 +1,16 @@
-//! The explorer's components, as gitui has them: each owns its state, its
-//! keys and its drawing. `App::update` only routes an action to them, and
-//! `view` draws each from the state with a pure function.
+//! The explorer's components, as gitui has them: each owns its state,
+//! takes a key and says whether it used it, names its keys for the status
+//! bar, and draws from the shared state it is given, read-only. The app
+//! routes keys to them and holds what they share ([`Shared`]); no
+//! component knows the app.
 //!
 //! - `tree`: the tree (full or framed), the selection and folding;
 //! - `timeline`: time (stepping, ticks, failures, playing) and the list of
 //!   transitions with its filters;
 //! - `details`: the selected node's ports and state, or the causal graph;
 //! - `answers`: questions, why-answers and their history;
-//! - `overlays`: the help, the finder, the question lists and the prompts.
+//! - `overlays`: the windows over the panes (the help, the finder, the
+//!   pick lists and the prompts), one component each.
 
 pub mod answers;
 pub mod details;
@@ -15,8 +18,62 @@ pub mod overlays;
 pub mod timeline;
 pub mod tree;
 
-use crate::tui::app::PAGE;
 use crate::tui::keymap::Action;
+use crate::tui::shared::Shared;
+use ratatui::layout::Rect;
+use ratatui::Frame;
+
+/// Rows or lines a page key moves.
+pub const PAGE: usize = 10;
+
+/// What a component did with a key.
+#[derive(Debug, PartialEq, Eq)]
+pub enum Handled {
+    /// Not its key: the next component may take it.
+    Ignored,
+    Taken,
+    /// Taken, and this window is to open (over the panes, or in place of
+    /// the window that took the key).
+    Open(overlays::Overlay),
+    /// Taken, and the window that took it is to close.
+    Close,
+    /// The timeline's filter prompt was answered: show only the
+    /// transitions of nodes named so.
+    Filter(String),
+    /// Choice `i` of the runs or robots was picked.
+    Pick(usize),
+}
+
+impl Handled {
+    pub fn taken(taken: bool) -> Handled {
+        if taken {
+            Handled::Taken
+        } else {
+            Handled::Ignored
+        }
+    }
+}
+
+/// The keys a component names in the status bar.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Hints {
+    /// Its own actions first, then the explorer's, as far as they fit.
+    Keys(&'static [(Action, &'static str)]),
+    /// A window's keys, said whole (the panes' are not for it).
+    Text(&'static str),
+}
+
+/// A pane or a window of the explorer.
+pub trait Component {
+    /// A key. `focused`: whether this pane has the focus (a pane's own
+    /// keys, such as scrolling, act only then; the others wherever the
+    /// focus is).
+    fn key(&mut self, a: Action, sh: &mut Shared, focused: bool) -> Handled;
+    /// The keys it names in the status bar.
+    fn hints(&self, sh: &Shared) -> Hints;
+    /// Draws it in `area`.
+    fn draw(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool);
+}
 
 /// Up, Down, a page, Home and End over the lines of a pane scrolled by
 /// `pos`, at most `max` (how far it could scroll when last drawn).
@@ -31,4 +88,35 @@ pub fn scroll_lines(pos: &mut usize, a: Action, max: usize) -> bool {
         _ => return false,
     };
     true
+}
+
+/// How far a pane is scrolled, for one thing on screen: when the thing
+/// changes (a new moment, a new answer: its `epoch`), the pane is back at
+/// its top.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Scrolled<T> {
+    by: T,
+    epoch: u64,
+}
+
+impl<T: Copy + Default> Scrolled<T> {
+    /// How far it is scrolled for the thing of `epoch`.
+    pub fn get(&self, epoch: u64) -> T {
+        if self.epoch == epoch {
+            self.by
+        } else {
+            T::default()
+        }
+    }
+
+    /// The scroll for the thing of `epoch`, to change.
+    pub fn get_mut(&mut self, epoch: u64) -> &mut T {
+        if self.epoch != epoch {
+            *self = Scrolled {
+                by: T::default(),
+                epoch,
+            };
+        }
+        &mut self.by
+    }
 }

@@ -2,10 +2,11 @@
 //! selection lives here but every pane reads it, so these keys act whichever
 //! pane has the focus (unless the focused pane took the key first).
 
+use super::{Component, Handled, Hints, PAGE};
 use crate::model::Uid;
 use crate::run::Status;
-use crate::tui::app::{App, Pane, PAGE};
 use crate::tui::keymap::Action;
+use crate::tui::shared::Shared;
 use crate::tui::view::*;
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
@@ -13,101 +14,120 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
-impl App {
+/// The tree pane. Its state is the selection and the folding, which every
+/// pane reads: they are in [`Shared`].
+#[derive(Debug, Clone, Copy, Default)]
+pub struct TreePane;
+
+impl Component for TreePane {
+    fn key(&mut self, a: Action, sh: &mut Shared, _focused: bool) -> Handled {
+        Handled::taken(Self::tree_key(a, sh))
+    }
+
+    fn hints(&self, _sh: &Shared) -> Hints {
+        Hints::Keys(&[
+            (Action::Down, "move"),
+            (Action::Expand, "open"),
+            (Action::Collapse, "close"),
+        ])
+    }
+
+    fn draw(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool) {
+        let title = format!(
+            " {} tree · {} ",
+            if sh.framed_view { "framed" } else { "full" },
+            sh.title
+        );
+        let b = block(title, focused);
+        let inner = b.inner(area);
+        f.render_widget(b, area);
+        let h = inner.height as usize;
+        let first = first_row(sh, h);
+        let width = inner.width as usize;
+        // Deep rows scroll sideways with the selection: its indentation is kept
+        // within half the pane, and rows that start left of the view show `‹`.
+        let sel_depth = sh
+            .rows()
+            .iter()
+            .find(|r| r.uid == sh.selected)
+            .map_or(0, |r| r.depth);
+        let shift = (2 * sel_depth).saturating_sub(width / 2);
+        let seen = Seen {
+            at: sh.at(),
+            highlighted: sh.highlighted(),
+        };
+        let lines: Vec<Line> = sh
+            .rows()
+            .iter()
+            .skip(first)
+            .take(h)
+            .map(|r| row(sh, &seen, r, shift, width))
+            .collect();
+        f.render_widget(Paragraph::new(lines), inner);
+    }
+}
+
+impl TreePane {
     /// The tree's keys. Whether the key was taken.
-    pub(crate) fn tree_key(&mut self, a: Action) -> bool {
+    fn tree_key(a: Action, sh: &mut Shared) -> bool {
         match a {
             Action::Up | Action::Down | Action::PageUp | Action::PageDown => {
-                let i = self.row_of(self.selected).unwrap_or(0);
-                let last = self.rows.len().saturating_sub(1);
+                let i = sh.row_of(sh.selected).unwrap_or(0);
+                let last = sh.rows.len().saturating_sub(1);
                 let j = match a {
                     Action::Up => i.saturating_sub(1),
                     Action::Down => (i + 1).min(last),
                     Action::PageUp => i.saturating_sub(PAGE),
                     _ => (i + PAGE).min(last),
                 };
-                self.selected = self.rows[j].uid;
-                self.follow_node = false;
+                sh.selected = sh.rows[j].uid;
+                sh.follow_node = false;
             }
             Action::Collapse => {
-                if self
+                if sh
                     .rows
-                    .get(self.row_of(self.selected).unwrap_or(0))
+                    .get(sh.row_of(sh.selected).unwrap_or(0))
                     .is_some_and(|r| r.has_children)
-                    && !self.collapsed.contains(&self.selected)
+                    && !sh.collapsed.contains(&sh.selected)
                 {
-                    self.collapsed.insert(self.selected);
-                    self.rebuild_rows();
-                } else if let Some(p) = self
+                    sh.collapsed.insert(sh.selected);
+                    sh.rebuild_rows();
+                } else if let Some(p) = sh
                     .tree
-                    .ancestors(self.selected)
-                    .find(|p| self.row_of(*p).is_some())
+                    .ancestors(sh.selected)
+                    .find(|p| sh.row_of(*p).is_some())
                 {
-                    self.selected = p;
-                    self.follow_node = false;
+                    sh.selected = p;
+                    sh.follow_node = false;
                 }
             }
             Action::Expand => {
-                if self.collapsed.remove(&self.selected) {
-                    self.rebuild_rows();
-                } else if let Some(i) = self.row_of(self.selected) {
-                    if self.rows[i].has_children {
-                        if let Some(next) = self.rows.get(i + 1) {
-                            self.selected = next.uid;
-                            self.follow_node = false;
+                if sh.collapsed.remove(&sh.selected) {
+                    sh.rebuild_rows();
+                } else if let Some(i) = sh.row_of(sh.selected) {
+                    if sh.rows[i].has_children {
+                        if let Some(next) = sh.rows.get(i + 1) {
+                            sh.selected = next.uid;
+                            sh.follow_node = false;
                         }
                     }
                 }
             }
             Action::Toggle => {
-                if !self.collapsed.remove(&self.selected) {
-                    self.collapsed.insert(self.selected);
+                if !sh.collapsed.remove(&sh.selected) {
+                    sh.collapsed.insert(sh.selected);
                 }
-                self.rebuild_rows();
+                sh.rebuild_rows();
             }
             Action::ToggleFramed => {
-                self.framed_view = !self.framed_view;
-                self.selected = self.visible_for(self.selected);
-                self.rebuild_rows();
+                sh.framed_view = !sh.framed_view;
+                sh.selected = sh.visible_for(sh.selected);
+                sh.rebuild_rows();
             }
             _ => return false,
         }
         true
     }
-}
-
-pub(crate) fn draw(app: &App, f: &mut Frame, area: Rect) {
-    let title = format!(
-        " {} tree · {} ",
-        if app.framed_view { "framed" } else { "full" },
-        app.title
-    );
-    let b = block(title, app.focus == Pane::Tree);
-    let inner = b.inner(area);
-    f.render_widget(b, area);
-    let h = inner.height as usize;
-    let first = first_row(app, h);
-    let width = inner.width as usize;
-    // Deep rows scroll sideways with the selection: its indentation is kept
-    // within half the pane, and rows that start left of the view show `‹`.
-    let sel_depth = app
-        .rows()
-        .iter()
-        .find(|r| r.uid == app.selected)
-        .map_or(0, |r| r.depth);
-    let shift = (2 * sel_depth).saturating_sub(width / 2);
-    let seen = Seen {
-        at: app.at(),
-        highlighted: app.highlighted(),
-    };
-    let lines: Vec<Line> = app
-        .rows()
-        .iter()
-        .skip(first)
-        .take(h)
-        .map(|r| row(app, &seen, r, shift, width))
-        .collect();
-    f.render_widget(Paragraph::new(lines), inner);
 }
 
 /// What every row is drawn against: the moment, and the nodes the answer
@@ -121,17 +141,17 @@ struct Seen<'a> {
 /// fold, glyph, role and name (cut so that its uid always shows) in
 /// `width` columns.
 fn row(
-    app: &App,
+    sh: &Shared,
     seen: &Seen,
-    r: &crate::tui::app::Row,
+    r: &crate::tui::shared::Row,
     shift: usize,
     width: usize,
 ) -> Line<'static> {
     let current = seen.at.as_ref().and_then(|a| a.current());
-    let (marker, mstyle) = marker(app, seen, r.uid);
+    let (marker, mstyle) = marker(sh, seen, r.uid);
     let fold = if !r.has_children {
         "  "
-    } else if app.collapsed.contains(&r.uid) {
+    } else if sh.collapsed.contains(&r.uid) {
         "▸ "
     } else {
         "▾ "
@@ -145,11 +165,11 @@ fn row(
     if Some(r.uid) == current {
         name_style = name_style.add_modifier(Modifier::BOLD);
     }
-    if r.uid == app.selected {
+    if r.uid == sh.selected {
         name_style = name_style.add_modifier(Modifier::REVERSED);
     }
-    let role = if app.framed_view {
-        match app
+    let role = if sh.framed_view {
+        match sh
             .framed
             .nodes
             .iter()
@@ -174,7 +194,7 @@ fn row(
         Span::raw(indent),
         Span::raw(fold),
         Span::styled(
-            format!("{} ", glyph(app, r.uid)),
+            format!("{} ", glyph(sh, r.uid)),
             Style::default().fg(Color::Blue),
         ),
     ];
@@ -189,10 +209,7 @@ fn row(
     // The name gives way, with an ellipsis, so the uid always shows.
     let used: usize = head.iter().chain(&tail[..1]).map(Span::width).sum();
     let name = fit(
-        &format!(
-            "{role}{}",
-            crate::text::visible(app.tree.description(r.uid))
-        ),
+        &format!("{role}{}", crate::text::visible(sh.tree.description(r.uid))),
         width.saturating_sub(used),
     );
     let mut spans = head;
@@ -203,8 +220,8 @@ fn row(
 
 /// A node's status letter at the moment: its status, or for an IDLE one
 /// `H` if it was halted while RUNNING and `x` if it failed earlier.
-fn marker(app: &App, seen: &Seen, uid: Uid) -> (String, Style) {
-    let status = app.status(uid);
+fn marker(sh: &Shared, seen: &Seen, uid: Uid) -> (String, Style) {
+    let status = sh.status(uid);
     let mut marker = match status {
         Status::Idle => " ".to_string(),
         s => s.as_str()[..1].to_string(),

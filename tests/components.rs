@@ -1,0 +1,190 @@
+//! Every key of every component of the explorer, pressed in isolation
+//! (#43 item 1): each pane and window is given the shared state of the
+//! demo run at its first fault, takes each action of the keymap with and
+//! without the focus, and draws after it. What the router relies on is
+//! checked here: a key a pane ignores changes nothing, the panes' keys
+//! that act wherever the focus is are each one pane's, and a window takes
+//! every key and closes on Esc.
+
+use btx::tui::keymap::{Action, Keymap, KEYMAP};
+use btx::tui::panes::answers::Answers;
+use btx::tui::panes::details::Details;
+use btx::tui::panes::overlays::Overlay;
+use btx::tui::panes::timeline::Timeline;
+use btx::tui::panes::tree::TreePane;
+use btx::tui::panes::{Component, Handled, Hints};
+use btx::tui::shared::Shared;
+
+/// The demo run at its first fault (look at chuck, #18, selected).
+fn shared() -> Shared {
+    let mut app = btx::tui::demo();
+    app.update(Action::NextFailure);
+    assert_eq!(app.shared.selected, 18);
+    app.shared
+}
+
+fn panes() -> Vec<(&'static str, Box<dyn Component>)> {
+    vec![
+        ("tree", Box::new(TreePane)),
+        ("timeline", Box::new(Timeline::default())),
+        ("details", Box::new(Details::default())),
+        ("answers", Box::new(Answers::default())),
+    ]
+}
+
+fn windows(sh: &mut Shared, dir: &std::path::Path) -> Vec<(&'static str, Overlay)> {
+    let targets = sh.why_targets();
+    assert!(!targets.is_empty());
+    let faults = sh.fault_lines();
+    assert!(!faults.is_empty());
+    let path = dir.join("model.dot").display().to_string();
+    vec![
+        ("help", Overlay::help()),
+        ("finder", Overlay::finder()),
+        ("why", Overlay::why(targets)),
+        ("running", Overlay::running()),
+        ("faults", Overlay::faults(faults)),
+        ("pick", Overlay::pick(0)),
+        ("words", Overlay::words()),
+        ("can you", Overlay::can_you()),
+        ("filter", Overlay::filter("look")),
+        ("export", Overlay::export(path)),
+    ]
+}
+
+/// Every action bound in the keymap, once each.
+fn actions() -> Vec<Action> {
+    let mut all: Vec<Action> = Vec::new();
+    for b in KEYMAP {
+        if !all.contains(&b.action) {
+            all.push(b.action);
+        }
+    }
+    assert!(all.len() > 30, "{all:?}");
+    all
+}
+
+/// What a key could change in the shared state.
+fn fingerprint(sh: &Shared) -> String {
+    format!(
+        "{} {:?} {} {} {:?} {} {:?} {} {} {} {} {} {} {:?}",
+        sh.pos,
+        sh.at_tick,
+        sh.selected,
+        sh.rows().len(),
+        sh.framed_view,
+        sh.follow_node,
+        sh.message,
+        sh.answer.is_some(),
+        sh.why.is_some(),
+        sh.reply.is_some(),
+        sh.history.len(),
+        sh.playing,
+        sh.play_ms,
+        sh.clipboard,
+    )
+}
+
+/// Draws a component at two sizes (a terminal and a sliver of one).
+fn draws(c: &dyn Component, sh: &Shared, focused: bool) {
+    for (w, h) in [(80, 24), (24, 6)] {
+        let mut t =
+            ratatui::Terminal::new(ratatui::backend::TestBackend::new(w, h)).expect("a backend");
+        t.draw(|f| c.draw(sh, f, f.area(), focused))
+            .expect("drawing into memory");
+    }
+}
+
+#[test]
+fn every_key_of_every_pane_with_and_without_the_focus() {
+    for (name, _) in panes() {
+        for focused in [true, false] {
+            for a in actions() {
+                let mut sh = shared();
+                let mut pane = panes().into_iter().find(|p| p.0 == name).unwrap().1;
+                let before = fingerprint(&sh);
+                let h = pane.key(a, &mut sh, focused);
+                if h == Handled::Ignored {
+                    assert_eq!(
+                        fingerprint(&sh),
+                        before,
+                        "{name} ignored {a:?} (focused: {focused}) yet changed the state"
+                    );
+                }
+                if !focused && name == "details" {
+                    // Its keys (the graph's, scrolling) are its own.
+                    assert_eq!(h, Handled::Ignored, "details took {a:?} unfocused");
+                }
+                draws(pane.as_ref(), &sh, focused);
+            }
+        }
+    }
+}
+
+#[test]
+fn the_keys_that_act_wherever_the_focus_is_are_each_one_panes() {
+    // The app hands a key to the focused pane, then to each other pane: it
+    // is right only if no two panes take the same key unfocused.
+    for a in actions() {
+        let takers: Vec<&str> = panes()
+            .into_iter()
+            .filter_map(|(name, mut p)| {
+                let mut sh = shared();
+                (p.key(a, &mut sh, false) != Handled::Ignored).then_some(name)
+            })
+            .collect();
+        assert!(takers.len() <= 1, "{a:?} is taken by {takers:?}");
+    }
+}
+
+#[test]
+fn every_window_takes_every_key_and_esc_closes_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let names: Vec<&str> = windows(&mut shared(), dir.path())
+        .into_iter()
+        .map(|w| w.0)
+        .collect();
+    for name in names {
+        for a in actions() {
+            let mut sh = shared();
+            let mut w = windows(&mut sh, dir.path())
+                .into_iter()
+                .find(|w| w.0 == name)
+                .unwrap()
+                .1;
+            let h = w.key(a, &mut sh, true);
+            assert_ne!(h, Handled::Ignored, "the {name} window let {a:?} through");
+            if a == Action::Back {
+                assert_eq!(h, Handled::Close, "Esc in the {name} window");
+            }
+            draws(&w, &sh, true);
+        }
+    }
+}
+
+#[test]
+fn every_components_hints_name_keys_that_are_bound() {
+    let keymap = Keymap::default();
+    let dir = tempfile::tempdir().unwrap();
+    let mut sh = shared();
+    let windows = windows(&mut sh, dir.path());
+    let mut all: Vec<(&str, &dyn Component)> = Vec::new();
+    let panes = panes();
+    for (n, p) in &panes {
+        all.push((n, p.as_ref()));
+    }
+    for (n, w) in &windows {
+        all.push((n, w));
+    }
+    for (name, c) in all {
+        match c.hints(&sh) {
+            Hints::Keys(keys) => {
+                assert!(!keys.is_empty(), "{name}");
+                for (a, _) in keys {
+                    assert!(keymap.key_of(*a).is_some(), "{name} hints {a:?}, unbound");
+                }
+            }
+            Hints::Text(t) => assert!(t.contains("Esc"), "{name}: {t}"),
+        }
+    }
+}

@@ -769,59 +769,13 @@ pub fn why(
     max_depth: usize,
 ) -> Result<Why, Located> {
     let fail = |m: String| Located::file(&session.path, m);
-    let ticks = session.index.ticks();
-    if ticks == 0 {
-        return Err(fail("the session has no ticks".into()));
-    }
-    // Ticks after the root completed are not part of the run, whatever an
-    // end record says: nothing is replayed past the root's completion.
-    let last = last_tick(session);
-    let moment = at.unwrap_or(Moment {
-        tick: last,
-        step: None,
-    });
-    if moment.tick > last {
-        return Err(fail(format!(
-            "tick {} is outside the run: it ended at tick {last}, when its root completed",
-            moment.tick
-        )));
-    }
-    let pos = session.index.position(moment).map_err(fail)?;
+    let (moment, pos) = moment_in_run(session, at).map_err(fail)?;
     let model = model_at(session, domain, moment.tick)?;
-    if let Some(first) = model.unfaithful().first() {
-        let hint = if model.domain.is_some() {
-            "was the domain file changed since the run?"
-        } else {
-            "btx's model of a node differs from how it ran: a bug of btx's, please report it with the session"
-        };
-        return Err(fail(format!(
-            "the model of tick {} does not reproduce the run, so it cannot explain it: {first} ({hint})",
-            moment.tick
-        )));
-    }
+    faithful(&model, moment).map_err(fail)?;
     let t = query::parse_target(&model, target).map_err(fail)?;
-    // At a step, a node's facts are those of its call at or before it.
-    let t = match (t, moment.step) {
-        (query::Target::Status(u), Some(step)) if u as usize <= model.session_len() => {
-            match query::call_at(&model, u, step) {
-                Ok(c) => query::Target::Status(c),
-                // A call the model of the tick does not hold: the run's own
-                // calls answer.
-                Err(e) => {
-                    return match calls::Told::of(session, u, pos) {
-                        Some(told) => Ok(told_why(session, model, told, moment, max_depth)),
-                        None => Err(fail(e)),
-                    }
-                }
-            }
-        }
-        (query::Target::Executed(u), Some(step)) if u as usize <= model.session_len() => {
-            query::Target::Executed(query::call_at(&model, u, step).map_err(fail)?)
-        }
-        (query::Target::Decision(u), Some(step)) if u as usize <= model.session_len() => {
-            query::Target::Decision(query::call_at(&model, u, step).map_err(fail)?)
-        }
-        (t, _) => t,
+    let t = match target_at_step(session, &model, t, moment, pos).map_err(fail)? {
+        AtStep::Target(t) => t,
+        AtStep::Told(told) => return Ok(told_why(session, model, told, moment, max_depth)),
     };
     let v = query::target_var(&model, &t, pos).map_err(fail)?;
     if let Some(e) = another_call(session, &model, v, moment, pos) {
@@ -843,45 +797,8 @@ pub fn why(
             english::fact(&model, v, &model.fact[v])
         )));
     }
-    if let (query::Target::State { var, copy: None }, Some(d)) = (&t, &model.domain) {
-        let e = crate::run::blackboard::EntryId {
-            scope: 0,
-            key: d.vars[*var].name.clone(),
-        };
-        let at = session.index.at(pos);
-        if let (Some(rec), Val::Data(m)) = (at.entry(&e), &model.fact[v]) {
-            if !model::same_value(rec, m) {
-                return Err(fail(format!(
-                    "at {moment} the run has {} = {}, but the model's copy {} is {} (Love's model makes a new copy of a derived variable only where a leaf reads it); ask about {} at the moment a leaf read it",
-                    d.vars[*var].name,
-                    english::value_text(&Val::Data(rec.clone())),
-                    model.var_name(v),
-                    english::value_text(&model.fact[v]),
-                    model.var_name(v),
-                )));
-            }
-        }
-    }
-    let factual = model.snap(v, &model.fact[v]);
-    let foil_vals: Vec<Val> = if foils.is_empty() {
-        default_foils(&model, v)
-    } else {
-        let mut out = Vec::new();
-        for f in foils {
-            let x = query::parse_value(&model, v, f).map_err(fail)?;
-            if x == factual {
-                return Err(fail(format!(
-                    "{} is {} at {moment}: a foil must be a value it did not have",
-                    model.var_name(v),
-                    english::value_text(&model.fact[v])
-                )));
-            }
-            if !out.contains(&x) {
-                out.push(x);
-            }
-        }
-        out
-    };
+    state_as_recorded(session, &model, &t, v, moment, pos).map_err(fail)?;
+    let foil_vals = foil_values(&model, v, foils, moment).map_err(fail)?;
     if foil_vals.is_empty() {
         // A node whose outcome is fixed by its kind (AlwaysFailure): what
         // the run shows of its call is the answer.
@@ -912,22 +829,158 @@ pub fn why(
     if moment.step.is_some() {
         causes_before(session, &mut w, v, moment, pos);
     }
-    // Nothing found: a leaf decides its own outcome, and what the run
-    // shows of its call is the answer (without a domain to say what it
-    // depends on); a control node's, the run's calls searched.
-    if let (VarKind::Status(u), true) = (
-        w.model.vars[v].kind,
-        w.answer.explanations.is_empty() && w.by_calls.is_none(),
-    ) {
+    from_the_run(session, &mut w, v, pos);
+    Ok(w)
+}
+
+/// The moment asked about (default: the end of the run) and its position,
+/// if the run has it.
+fn moment_in_run(session: &Session, at: Option<Moment>) -> Result<(Moment, u32), String> {
+    if session.index.ticks() == 0 {
+        return Err("the session has no ticks".into());
+    }
+    // Ticks after the root completed are not part of the run, whatever an
+    // end record says: nothing is replayed past the root's completion.
+    let last = last_tick(session);
+    let moment = at.unwrap_or(Moment {
+        tick: last,
+        step: None,
+    });
+    if moment.tick > last {
+        return Err(format!(
+            "tick {} is outside the run: it ended at tick {last}, when its root completed",
+            moment.tick
+        ));
+    }
+    let pos = session.index.position(moment)?;
+    Ok((moment, pos))
+}
+
+/// A model that does not reproduce its tick cannot explain it.
+fn faithful(model: &Model, moment: Moment) -> Result<(), String> {
+    let Some(first) = model.unfaithful().first().cloned() else {
+        return Ok(());
+    };
+    let hint = if model.domain.is_some() {
+        "was the domain file changed since the run?"
+    } else {
+        "btx's model of a node differs from how it ran: a bug of btx's, please report it with the session"
+    };
+    Err(format!(
+        "the model of tick {} does not reproduce the run, so it cannot explain it: {first} ({hint})",
+        moment.tick
+    ))
+}
+
+/// A target asked about at a step: the node's call at or before it.
+enum AtStep {
+    Target(query::Target),
+    /// A call the model of the tick does not hold: the run's own calls
+    /// answer.
+    Told(calls::Told),
+}
+
+/// At a step, a node's facts are those of its call at or before it.
+fn target_at_step(
+    session: &Session,
+    model: &Model,
+    t: query::Target,
+    moment: Moment,
+    pos: u32,
+) -> Result<AtStep, String> {
+    let ours = |u: crate::model::Uid| u as usize <= model.session_len();
+    Ok(AtStep::Target(match (t, moment.step) {
+        (query::Target::Status(u), Some(step)) if ours(u) => match query::call_at(model, u, step) {
+            Ok(c) => query::Target::Status(c),
+            Err(e) => return calls::Told::of(session, u, pos).map(AtStep::Told).ok_or(e),
+        },
+        (query::Target::Executed(u), Some(step)) if ours(u) => {
+            query::Target::Executed(query::call_at(model, u, step)?)
+        }
+        (query::Target::Decision(u), Some(step)) if ours(u) => {
+            query::Target::Decision(query::call_at(model, u, step)?)
+        }
+        (t, _) => t,
+    }))
+}
+
+/// A state variable asked about at the tick's end is the model's last
+/// copy of it, which differs from the run's where no leaf read the newer
+/// value: said, rather than explained wrong.
+fn state_as_recorded(
+    session: &Session,
+    model: &Model,
+    t: &query::Target,
+    v: VarId,
+    moment: Moment,
+    pos: u32,
+) -> Result<(), String> {
+    let (query::Target::State { var, copy: None }, Some(d)) = (t, &model.domain) else {
+        return Ok(());
+    };
+    let e = crate::run::blackboard::EntryId {
+        scope: 0,
+        key: d.vars[*var].name.clone(),
+    };
+    let at = session.index.at(pos);
+    if let (Some(rec), Val::Data(m)) = (at.entry(&e), &model.fact[v]) {
+        if !model::same_value(rec, m) {
+            return Err(format!(
+                "at {moment} the run has {} = {}, but the model's copy {} is {} (Love's model makes a new copy of a derived variable only where a leaf reads it); ask about {} at the moment a leaf read it",
+                d.vars[*var].name,
+                english::value_text(&Val::Data(rec.clone())),
+                model.var_name(v),
+                english::value_text(&model.fact[v]),
+                model.var_name(v),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The foils as values of `v` (default: every value it did not have).
+fn foil_values(
+    model: &Model,
+    v: VarId,
+    foils: &[String],
+    moment: Moment,
+) -> Result<Vec<Val>, String> {
+    if foils.is_empty() {
+        return Ok(default_foils(model, v));
+    }
+    let factual = model.snap(v, &model.fact[v]);
+    let mut out = Vec::new();
+    for f in foils {
+        let x = query::parse_value(model, v, f)?;
+        if x == factual {
+            return Err(format!(
+                "{} is {} at {moment}: a foil must be a value it did not have",
+                model.var_name(v),
+                english::value_text(&model.fact[v])
+            ));
+        }
+        if !out.contains(&x) {
+            out.push(x);
+        }
+    }
+    Ok(out)
+}
+
+/// What the run itself says of a node's status: where the search found
+/// nothing, a leaf decides its own outcome and what the run shows of its
+/// call is the answer (without a domain to say what it depends on), and a
+/// control node's, the run's calls searched; and a failure's root cause.
+fn from_the_run(session: &Session, w: &mut Why, v: VarId, pos: u32) {
+    let VarKind::Status(u) = w.model.vars[v].kind else {
+        return;
+    };
+    if w.answer.explanations.is_empty() && w.by_calls.is_none() {
         let leaf = w.model.tree.node(w.model.origin(u)).kind.is_leaf();
         if !leaf || w.model.domain.is_none() {
             w.by_calls = calls::Told::of(session, w.model.origin(u), pos);
         }
     }
-    if let VarKind::Status(u) = w.model.vars[v].kind {
-        w.root = root_of(session, w.model.origin(u), pos);
-    }
-    Ok(w)
+    w.root = root_of(session, w.model.origin(u), pos);
 }
 
 /// A control node's failure by position `pos` (in its tick), followed

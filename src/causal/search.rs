@@ -156,24 +156,13 @@ fn subsets(n: usize, k: usize) -> Vec<Vec<usize>> {
     }
 }
 
+/// A variable that may be changed, with the values it may take instead of
+/// its fact.
+type Candidate = (VarId, Vec<Val>);
+
 pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Located> {
     let within = model.ancestors(&q.targets);
-    let mut ids = within.clone();
-    ids.sort_unstable();
-    let candidates: Vec<(VarId, Vec<Val>)> = ids
-        .into_iter()
-        .filter(|v| !q.targets.contains(v) && model.vars[*v].intervene)
-        .map(|v| {
-            let alts: Vec<Val> = model.vars[v]
-                .range
-                .iter()
-                .filter(|x| **x != model.fact[v])
-                .cloned()
-                .collect();
-            (v, alts)
-        })
-        .filter(|(_, alts)| !alts.is_empty())
-        .collect();
+    let candidates = candidates(model, q, &within);
     let mut evaluated = 0;
     // One evaluator per thread for the whole search, so each keeps what it
     // learnt of the leaf functions (their memo) from set to set and depth
@@ -186,96 +175,16 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
     for depth in 1..=max_depth.min(candidates.len()) {
         let n = interventions(&alts, depth);
         work = work.saturating_add(n.saturating_mul(within.len().max(1) as u128));
-        let mut unsearched = 0;
-        let sets = if work > SINGLES_WORK_MAX && depth == 1 {
-            // Past the bound: the single changes nearest the target.
-            let mut near: Vec<usize> = (0..candidates.len()).collect();
-            near.sort_by_key(|&c| (dist[candidates[c].0], c));
-            near.truncate(NEAREST_MAX);
-            unsearched = candidates.len() - near.len();
-            near.sort_unstable();
-            near.into_iter().map(|c| vec![c]).collect()
-        } else if work > SEARCH_WORK_MAX {
+        let Some((sets, unsearched)) = sets_within(&candidates, &dist, depth, work) else {
             return Ok(Answer::stopped(
                 candidates.len(),
                 evaluated,
                 max_depth,
                 (depth, n),
             ));
-        } else {
-            subsets(candidates.len(), depth)
         };
-        let chunk = sets.len().div_ceil(threads).max(1);
-        let one = |ev: &mut Evaluator,
-                   set: &Vec<usize>|
-         -> Result<(Vec<Explanation>, usize), Located> {
-            let mut groups: Vec<Explanation> = Vec::new();
-            let mut count = 0;
-            let mut choice = vec![0usize; set.len()];
-            loop {
-                let dos: Vec<(VarId, Val)> = set
-                    .iter()
-                    .zip(&choice)
-                    .map(|(&c, &i)| (candidates[c].0, candidates[c].1[i].clone()))
-                    .collect();
-                ev.run(&dos)?;
-                count += 1;
-                let outcome: Vec<Val> = q.targets.iter().map(|&t| ev.value(t).clone()).collect();
-                if outcome
-                    .iter()
-                    .zip(&q.targets)
-                    .zip(&q.foils)
-                    .all(|((o, &t), f)| f.contains(&model.snap(t, o)))
-                {
-                    let mut dos = dos;
-                    dos.sort_by_key(|(v, _)| model.display_key(*v));
-                    let vars: Vec<VarId> = dos.iter().map(|(v, _)| *v).collect();
-                    let values: Vec<Val> = dos.into_iter().map(|(_, x)| x).collect();
-                    match groups.iter_mut().find(|g| g.outcome == outcome) {
-                        Some(g) => g.values.push(values),
-                        None => groups.push(Explanation {
-                            vars,
-                            values: vec![values],
-                            outcome,
-                            next: None,
-                        }),
-                    }
-                }
-                // Next assignment, odometer-style.
-                let mut i = set.len();
-                loop {
-                    if i == 0 {
-                        return Ok((groups, count));
-                    }
-                    i -= 1;
-                    choice[i] += 1;
-                    if choice[i] < candidates[set[i]].1.len() {
-                        break;
-                    }
-                    choice[i] = 0;
-                }
-            }
-        };
-        let found: Vec<Result<(Vec<Explanation>, usize), Located>> = evaluators
-            .par_iter_mut()
-            .zip(sets.par_chunks(chunk))
-            .map(|(ev, chunk)| {
-                let mut groups = Vec::new();
-                let mut count = 0;
-                for set in chunk {
-                    let (g, n) = one(ev, set)?;
-                    groups.extend(g);
-                    count += n;
-                }
-                Ok((groups, count))
-            })
-            .collect();
-        let mut explanations = Vec::new();
-        for r in found {
-            let (g, n) = r?;
-            evaluated += n;
-            explanations.extend(g);
-        }
+        let (mut explanations, n_run) = run_sets(model, q, &candidates, &mut evaluators, &sets)?;
+        evaluated += n_run;
         // Nearest causes first (fewest edges to the target), then by variable.
         explanations.sort_by_key(|e| {
             (
@@ -321,6 +230,150 @@ pub fn search(model: &Model, q: &Query, max_depth: usize) -> Result<Answer, Loca
         held_tried: false,
         unsearched: 0,
     })
+}
+
+/// The variables of `within` (the targets' ancestors) that may be set, by
+/// id, each with its other values; the targets themselves are not.
+fn candidates(model: &Model, q: &Query, within: &[VarId]) -> Vec<Candidate> {
+    let mut ids = within.to_vec();
+    ids.sort_unstable();
+    ids.into_iter()
+        .filter(|v| !q.targets.contains(v) && model.vars[*v].intervene)
+        .map(|v| {
+            let alts: Vec<Val> = model.vars[v]
+                .range
+                .iter()
+                .filter(|x| **x != model.fact[v])
+                .cloned()
+                .collect();
+            (v, alts)
+        })
+        .filter(|(_, alts)| !alts.is_empty())
+        .collect()
+}
+
+/// The sets of `depth` candidates to try, as indices, and how many
+/// candidates were left out; none when the search is past its bound.
+/// Single changes past their own bound are the ones nearest the target.
+fn sets_within(
+    candidates: &[Candidate],
+    dist: &[usize],
+    depth: usize,
+    work: u128,
+) -> Option<(Vec<Vec<usize>>, usize)> {
+    if work > SINGLES_WORK_MAX && depth == 1 {
+        let mut near: Vec<usize> = (0..candidates.len()).collect();
+        near.sort_by_key(|&c| (dist[candidates[c].0], c));
+        near.truncate(NEAREST_MAX);
+        let unsearched = candidates.len() - near.len();
+        near.sort_unstable();
+        Some((near.into_iter().map(|c| vec![c]).collect(), unsearched))
+    } else if work > SEARCH_WORK_MAX {
+        None
+    } else {
+        Some((subsets(candidates.len(), depth), 0))
+    }
+}
+
+/// Runs the sets on every thread, each with its own evaluator: the
+/// explanations found and how many assignments were run.
+fn run_sets(
+    model: &Model,
+    q: &Query,
+    candidates: &[Candidate],
+    evaluators: &mut [Evaluator],
+    sets: &[Vec<usize>],
+) -> Result<(Vec<Explanation>, usize), Located> {
+    let chunk = sets.len().div_ceil(evaluators.len()).max(1);
+    let found: Vec<Result<(Vec<Explanation>, usize), Located>> = evaluators
+        .par_iter_mut()
+        .zip(sets.par_chunks(chunk))
+        .map(|(ev, chunk)| {
+            let mut groups = Vec::new();
+            let mut count = 0;
+            for set in chunk {
+                let (g, n) = explanations_of(model, q, candidates, ev, set)?;
+                groups.extend(g);
+                count += n;
+            }
+            Ok((groups, count))
+        })
+        .collect();
+    let mut explanations = Vec::new();
+    let mut evaluated = 0;
+    for r in found {
+        let (g, n) = r?;
+        evaluated += n;
+        explanations.extend(g);
+    }
+    Ok((explanations, evaluated))
+}
+
+/// Every assignment of other values to the candidates of `set`, run
+/// through the model: the ones that give the foil, grouped by outcome, and
+/// how many were run.
+fn explanations_of(
+    model: &Model,
+    q: &Query,
+    candidates: &[Candidate],
+    ev: &mut Evaluator,
+    set: &[usize],
+) -> Result<(Vec<Explanation>, usize), Located> {
+    let mut groups: Vec<Explanation> = Vec::new();
+    let mut count = 0;
+    let mut choice = vec![0usize; set.len()];
+    loop {
+        let dos: Vec<(VarId, Val)> = set
+            .iter()
+            .zip(&choice)
+            .map(|(&c, &i)| (candidates[c].0, candidates[c].1[i].clone()))
+            .collect();
+        ev.run(&dos)?;
+        count += 1;
+        let outcome: Vec<Val> = q.targets.iter().map(|&t| ev.value(t).clone()).collect();
+        if outcome
+            .iter()
+            .zip(&q.targets)
+            .zip(&q.foils)
+            .all(|((o, &t), f)| f.contains(&model.snap(t, o)))
+        {
+            keep(model, &mut groups, dos, outcome);
+        }
+        // Next assignment, odometer-style.
+        let mut i = set.len();
+        loop {
+            if i == 0 {
+                return Ok((groups, count));
+            }
+            i -= 1;
+            choice[i] += 1;
+            if choice[i] < candidates[set[i]].1.len() {
+                break;
+            }
+            choice[i] = 0;
+        }
+    }
+}
+
+/// Keeps an assignment that gives the foil, with the others of its outcome.
+fn keep(
+    model: &Model,
+    groups: &mut Vec<Explanation>,
+    mut dos: Vec<(VarId, Val)>,
+    outcome: Vec<Val>,
+) {
+    dos.sort_by_key(|(v, _)| model.display_key(*v));
+    let vars: Vec<VarId> = dos.iter().map(|(v, _)| *v).collect();
+    let values: Vec<Val> = dos.into_iter().map(|(_, x)| x).collect();
+    match groups.iter_mut().find(|g| g.outcome == outcome) {
+        Some(g) => g.values.push(values),
+        None => groups.push(Explanation {
+            vars,
+            values: vec![values],
+            outcome,
+            next: None,
+        }),
+    }
 }
 
 #[cfg(test)]

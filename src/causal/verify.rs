@@ -78,6 +78,70 @@ fn transitions_upto(session: &Session, tick: u32) -> Vec<(u32, Uid, Status, Stat
         .collect()
 }
 
+/// Runs the session again up to `tick`, the calls of its last tick
+/// recorded and the state of `before` set as it starts: the decisions
+/// taken in that tick, in order.
+fn replay(
+    ex: &mut Executor<'_, SourceLeaves>,
+    tick: u32,
+    before: &[(usize, serde_json::Value)],
+) -> Result<Vec<(Uid, String)>, String> {
+    let mut decisions: Vec<(Uid, String)> = Vec::new();
+    for t in 1..=tick {
+        ex.record_calls = t == tick;
+        if t == tick && !before.is_empty() {
+            set_state(ex, before)?;
+        }
+        let r = ex.tick_once();
+        for e in ex.take_events() {
+            match e {
+                Event::Transition {
+                    tick: et,
+                    uid,
+                    decision: Some(d),
+                    ..
+                }
+                | Event::Decision {
+                    tick: et,
+                    uid,
+                    decision: d,
+                } if et == tick => decisions.push((uid, d)),
+                _ => {}
+            }
+        }
+        if let Some(e) = ex.leaves.take_error() {
+            return Err(format!("the re-run stopped: {e}"));
+        }
+        r.map_err(|e| format!("the re-run stopped: {e}"))?;
+    }
+    Ok(decisions)
+}
+
+/// Sets the domain's state variables of `before`, and the blackboard
+/// entries that mirror every variable they change.
+fn set_state(
+    ex: &mut Executor<'_, SourceLeaves>,
+    before: &[(usize, serde_json::Value)],
+) -> Result<(), String> {
+    let SourceLeaves::Domain(l) = &mut ex.leaves else {
+        unreachable!("checked before the re-run")
+    };
+    let mut changed = Vec::new();
+    for (var, d) in before {
+        changed.extend(l.apply(*var, d.clone()).map_err(|e| e.to_string())?);
+    }
+    let d = std::sync::Arc::clone(&l.domain);
+    for k in changed {
+        let e = EntryId {
+            scope: 0,
+            key: d.vars[k].name.clone(),
+        };
+        let v = l.state[k].clone();
+        ex.bb.set(&e, v);
+    }
+    Ok(())
+}
+
 fn new_executor(session: &Session) -> Result<Executor<'_, SourceLeaves>, String> {
     let leaves = leaves_of(session)?;
     Ok(Executor::new(
@@ -225,9 +289,39 @@ impl<'s> Rerunner<'s> {
         target: usize,
         watch: Option<usize>,
     ) -> Result<(Val, Vec<u32>), String> {
-        let tick = self.tick;
         let mut ex = new_executor(self.session)?;
         ex.forced.extend_from_slice(forced);
+        let (mut iv, before) = self.intervention(model, dos, &mut ex)?;
+        if let VarKind::State { var, .. } = model.vars[target].kind {
+            iv.watch = Some((var, watch));
+        }
+        match &mut ex.leaves {
+            SourceLeaves::Domain(l) => l.intervene = iv,
+            _ if !(iv.actions.is_empty() && iv.sets.is_empty() && before.is_empty()) => {
+                return Err("state and decisions can only be changed in a domain's run".into())
+            }
+            _ => {}
+        }
+        let decisions = replay(&mut ex, self.tick, &before)?;
+        let calls = (1..=model.session_len() as Uid)
+            .map(|u| ex.calls(u))
+            .collect();
+        let val = self.value_after(model, &ex, target, &decisions)?;
+        Ok((val, calls))
+    }
+
+    /// The changes `dos` as the re-run makes them: statuses forced and
+    /// attempt counts set on the executor, decisions and state within the
+    /// tick in the domain's intervention, and state set before the tick's
+    /// first node (returned apart: it is applied as the tick starts).
+    #[allow(clippy::type_complexity)]
+    fn intervention(
+        &self,
+        model: &Model,
+        dos: &[(usize, Val)],
+        ex: &mut Executor<'_, SourceLeaves>,
+    ) -> Result<(Intervention, Vec<(usize, serde_json::Value)>), String> {
+        let tick = self.tick;
         let mut before: Vec<(usize, serde_json::Value)> = Vec::new();
         let mut iv = Intervention::default();
         iv.tick = tick;
@@ -274,70 +368,27 @@ impl<'s> Rerunner<'s> {
                 _ => return Err(format!("{} cannot be set in a re-run", model.var_name(*v))),
             }
         }
-        if let VarKind::State { var, .. } = model.vars[target].kind {
-            iv.watch = Some((var, watch));
-        }
-        match &mut ex.leaves {
-            SourceLeaves::Domain(l) => l.intervene = iv,
-            _ if !(iv.actions.is_empty() && iv.sets.is_empty() && before.is_empty()) => {
-                return Err("state and decisions can only be changed in a domain's run".into())
-            }
-            _ => {}
-        }
-        let mut decisions: Vec<(Uid, String)> = Vec::new();
-        for t in 1..=tick {
-            ex.record_calls = t == tick;
-            if t == tick && !before.is_empty() {
-                let SourceLeaves::Domain(l) = &mut ex.leaves else {
-                    unreachable!("checked above")
-                };
-                let mut changed = Vec::new();
-                for (var, d) in &before {
-                    changed.extend(l.apply(*var, d.clone()).map_err(|e| e.to_string())?);
-                }
-                let d = std::sync::Arc::clone(&l.domain);
-                for k in changed {
-                    let e = EntryId {
-                        scope: 0,
-                        key: d.vars[k].name.clone(),
-                    };
-                    let v = l.state[k].clone();
-                    ex.bb.set(&e, v);
-                }
-            }
-            let r = ex.tick_once();
-            for e in ex.take_events() {
-                match e {
-                    Event::Transition {
-                        tick: et,
-                        uid,
-                        decision: Some(d),
-                        ..
-                    }
-                    | Event::Decision {
-                        tick: et,
-                        uid,
-                        decision: d,
-                    } if et == tick => decisions.push((uid, d)),
-                    _ => {}
-                }
-            }
-            if let Some(e) = ex.leaves.take_error() {
-                return Err(format!("the re-run stopped: {e}"));
-            }
-            r.map_err(|e| format!("the re-run stopped: {e}"))?;
-        }
-        let calls = (1..=model.session_len() as Uid)
-            .map(|u| ex.calls(u))
-            .collect();
-        // A node of an attempt is read at its own call.
+        Ok((iv, before))
+    }
+
+    /// The target's value in the re-run: a node of an attempt read at its
+    /// own call, any other at its last in the tick.
+    fn value_after(
+        &self,
+        model: &Model,
+        ex: &Executor<'_, SourceLeaves>,
+        target: usize,
+        decisions: &[(Uid, String)],
+    ) -> Result<Val, String> {
+        let tick = self.tick;
+        let call = |u: Uid| self.call_of(model, u);
         let record = |u: Uid| {
             let c = call(u);
             ex.call_log()
                 .iter()
                 .find(|r| r.uid == model.origin(u) && r.call == c)
         };
-        let val = match model.vars[target].kind {
+        Ok(match model.vars[target].kind {
             VarKind::Status(u) if self.in_attempts(model, u) => Val::Status(
                 record(u)
                     .map(|r| r.returned)
@@ -384,8 +435,7 @@ impl<'s> Rerunner<'s> {
                         .unwrap_or_else(|| l.state[var].clone()),
                 )
             }
-        };
-        Ok((val, calls))
+        })
     }
 
     /// Which call within the tick a node of the model stands for: a copy's

@@ -117,82 +117,19 @@ fn diagnose_from(tree: &Tree, run: &At, n: Uid, skip_branches: bool) -> Diagnosi
         if tree.node(x).kind == Kind::SubTree {
             break;
         }
-        let children = &tree.node(x).children;
-        // Han's released code tests the first child's current status.
-        // Nav2's RecoveryNode halts its first child before the recovery
-        // runs: its failure within this run of the node is the test.
-        let fell_back = if tree.node(x).builtin == Some(Builtin::RecoveryNode) {
-            run.status(x) == Status::Running
-                && run
-                    .last_failure_since(children[0], run.started_at(x))
-                    .is_some()
-        } else {
-            is_fallback(tree, x) && first_child_failed(tree, run, x, children[0])
-        };
+        let first = tree.node(x).children[0];
+        let fell_back = fell_back(tree, run, x);
         if fell_back
             && skip_branches
             && tree.node(x).builtin != Some(Builtin::RecoveryNode)
-            && only_checks_failed(tree, run, children[0], run.started_at(x))
+            && only_checks_failed(tree, run, first, run.started_at(x))
         {
             p = tree.parent(x);
             continue;
         }
         if fell_back {
             fallback = Some(x);
-            d.text = format!("I could not {} because ", tree.deed(x));
-            d.nodes.push(x);
-            let since = run.started_at(x);
-            match (
-                last_failed_leaf(tree, run, children[0], since),
-                inverted_failure(tree, run, children[0], since),
-            ) {
-                (Some(f), _) => {
-                    // The paper's line 9 compares with `=`; its own examples
-                    // only come out when the parent is named if it differs.
-                    if let Some(fp) = tree
-                        .parent(f)
-                        .filter(|&fp| tree.description(fp) != tree.description(x))
-                    {
-                        d.text
-                            .push_str(&format!("I was unable to {} as ", tree.deed(fp)));
-                        d.nodes.push(fp);
-                    }
-                    d.text.push_str(&format!("{} failed.", tree.spoken(f)));
-                    d.failed_leaf = Some(f);
-                    d.nodes.push(f);
-                }
-                (None, Some((inv, child))) => {
-                    d.text.push_str(&inverted_text(tree, inv, child));
-                    d.failed_leaf = Some(child);
-                    d.nodes.extend([inv, child]);
-                }
-                (None, None) => match failed_before(tree, run, children[0])[..] {
-                    // The leaf that failed has succeeded since (a later attempt).
-                    [] => d.text = format!("I could not {} earlier.", tree.deed(x)),
-                    [f] => {
-                        d.text.push_str(&format!(
-                            "{} failed, {}.",
-                            tree.spoken(f),
-                            read_at(run, "before")
-                        ));
-                        d.failed_leaf = Some(f);
-                        d.nodes.push(f);
-                    }
-                    ref fs => {
-                        d.text.push_str(&format!(
-                            "one of {} failed, {} (which one, the statuses it read do not say).",
-                            described(tree, fs),
-                            read_at(run, "before")
-                        ));
-                        d.nodes.extend(fs);
-                    }
-                },
-            }
-            let handler = children[1..]
-                .iter()
-                .copied()
-                .find(|&c| run.status(c).is_active() || run.last_completed(c).is_some());
-            d.fell_back = Some((x, handler));
+            why_fell_back(tree, run, x, &mut d);
             break;
         }
         if let Some(c) = handled_elsewhere(tree, run, x) {
@@ -200,49 +137,13 @@ fn diagnose_from(tree: &Tree, run: &At, n: Uid, skip_branches: bool) -> Diagnosi
             break;
         }
         if is_retry(tree, x) && run.attempts(x) > 0 {
-            let a = run.attempts(x);
-            d.retrying.push((x, a));
-            let rp = named_ancestor(tree, x);
-            d.text = format!(
-                "I am retrying for attempt {a} to {}. ",
-                tree.deed(rp.unwrap_or(x))
-            );
-            d.nodes.extend(rp);
-            if let Some(f) = last_failed_leaf(tree, run, x, run.started_at(x)) {
-                let fp = named_ancestor(tree, f).unwrap_or(x);
-                d.text.push_str(&format!(
-                    "I could not {} because {} failed.",
-                    tree.deed(fp),
-                    tree.spoken(f)
-                ));
-                d.failed_leaf = Some(f);
-                d.nodes.extend([fp, f]);
-            }
-            d.text = d.text.trim_end().to_string();
+            retrying(tree, run, x, &mut d);
             break;
         }
         p = tree.parent(x);
     }
     if let Some(fb) = fallback {
-        // Lines 25-33: a Retry above the Fallback is retrying too.
-        let mut p = tree.parent(fb);
-        while let Some(x) = p {
-            if tree.node(x).kind == Kind::SubTree {
-                break;
-            }
-            if is_retry(tree, x) && run.attempts(x) > 0 {
-                let a = run.attempts(x);
-                d.retrying.push((x, a));
-                if let Some(rp) = named_ancestor(tree, x) {
-                    d.text.push_str(&format!(
-                        " I am retrying for attempt {a} to {}.",
-                        tree.deed(rp)
-                    ));
-                    d.nodes.push(rp);
-                }
-            }
-            p = tree.parent(x);
-        }
+        retries_above(tree, run, fb, &mut d);
     }
     if d.text.is_empty() && run.root_outcome() == Some(Status::Failure) {
         root_failure(tree, run, &mut d);
@@ -254,6 +155,134 @@ fn diagnose_from(tree: &Tree, run: &At, n: Uid, skip_branches: bool) -> Diagnosi
         attached_unknown(tree, run, n, &mut d);
     }
     d
+}
+
+/// Whether `x` has fallen back from its first child in its present run.
+fn fell_back(tree: &Tree, run: &At, x: Uid) -> bool {
+    let children = &tree.node(x).children;
+    // Han's released code tests the first child's current status.
+    // Nav2's RecoveryNode halts its first child before the recovery
+    // runs: its failure within this run of the node is the test.
+    if tree.node(x).builtin == Some(Builtin::RecoveryNode) {
+        run.status(x) == Status::Running
+            && run
+                .last_failure_since(children[0], run.started_at(x))
+                .is_some()
+    } else {
+        is_fallback(tree, x) && first_child_failed(tree, run, x, children[0])
+    }
+}
+
+/// "I could not X because …": what failed under the first child of the
+/// fallback `x`, and the child that handles it.
+fn why_fell_back(tree: &Tree, run: &At, x: Uid, d: &mut Diagnosis) {
+    let children = &tree.node(x).children;
+    d.text = format!("I could not {} because ", tree.deed(x));
+    d.nodes.push(x);
+    let since = run.started_at(x);
+    match (
+        last_failed_leaf(tree, run, children[0], since),
+        inverted_failure(tree, run, children[0], since),
+    ) {
+        (Some(f), _) => {
+            // The paper's line 9 compares with `=`; its own examples
+            // only come out when the parent is named if it differs.
+            if let Some(fp) = tree
+                .parent(f)
+                .filter(|&fp| tree.description(fp) != tree.description(x))
+            {
+                d.text
+                    .push_str(&format!("I was unable to {} as ", tree.deed(fp)));
+                d.nodes.push(fp);
+            }
+            d.text.push_str(&format!("{} failed.", tree.spoken(f)));
+            d.failed_leaf = Some(f);
+            d.nodes.push(f);
+        }
+        (None, Some((inv, child))) => {
+            d.text.push_str(&inverted_text(tree, inv, child));
+            d.failed_leaf = Some(child);
+            d.nodes.extend([inv, child]);
+        }
+        (None, None) => failed_unseen(tree, run, x, d),
+    }
+    let handler = children[1..]
+        .iter()
+        .copied()
+        .find(|&c| run.status(c).is_active() || run.last_completed(c).is_some());
+    d.fell_back = Some((x, handler));
+}
+
+/// The first child of `x` failed where the run does not show the leaf:
+/// before recording began, or the leaf has succeeded since.
+fn failed_unseen(tree: &Tree, run: &At, x: Uid, d: &mut Diagnosis) {
+    match failed_before(tree, run, tree.node(x).children[0])[..] {
+        // The leaf that failed has succeeded since (a later attempt).
+        [] => d.text = format!("I could not {} earlier.", tree.deed(x)),
+        [f] => {
+            d.text.push_str(&format!(
+                "{} failed, {}.",
+                tree.spoken(f),
+                read_at(run, "before")
+            ));
+            d.failed_leaf = Some(f);
+            d.nodes.push(f);
+        }
+        ref fs => {
+            d.text.push_str(&format!(
+                "one of {} failed, {} (which one, the statuses it read do not say).",
+                described(tree, fs),
+                read_at(run, "before")
+            ));
+            d.nodes.extend(fs);
+        }
+    }
+}
+
+/// "I am retrying for attempt N to X. I could not Y because Z failed.":
+/// the retry `x` and the leaf whose failure it retries.
+fn retrying(tree: &Tree, run: &At, x: Uid, d: &mut Diagnosis) {
+    let a = run.attempts(x);
+    d.retrying.push((x, a));
+    let rp = named_ancestor(tree, x);
+    d.text = format!(
+        "I am retrying for attempt {a} to {}. ",
+        tree.deed(rp.unwrap_or(x))
+    );
+    d.nodes.extend(rp);
+    if let Some(f) = last_failed_leaf(tree, run, x, run.started_at(x)) {
+        let fp = named_ancestor(tree, f).unwrap_or(x);
+        d.text.push_str(&format!(
+            "I could not {} because {} failed.",
+            tree.deed(fp),
+            tree.spoken(f)
+        ));
+        d.failed_leaf = Some(f);
+        d.nodes.extend([fp, f]);
+    }
+    d.text = d.text.trim_end().to_string();
+}
+
+/// Lines 25-33: a Retry above the Fallback `fb` is retrying too.
+fn retries_above(tree: &Tree, run: &At, fb: Uid, d: &mut Diagnosis) {
+    let mut p = tree.parent(fb);
+    while let Some(x) = p {
+        if tree.node(x).kind == Kind::SubTree {
+            break;
+        }
+        if is_retry(tree, x) && run.attempts(x) > 0 {
+            let a = run.attempts(x);
+            d.retrying.push((x, a));
+            if let Some(rp) = named_ancestor(tree, x) {
+                d.text.push_str(&format!(
+                    " I am retrying for attempt {a} to {}.",
+                    tree.deed(rp)
+                ));
+                d.nodes.push(rp);
+            }
+        }
+        p = tree.parent(x);
+    }
 }
 
 /// Leaves below `p` whose last completion, FAILURE, came before recording

@@ -369,175 +369,216 @@ impl Model {
         if !vals[self.e(uid)].is_true() {
             return Status::Idle;
         }
-        let kids = &self.tree.node(uid).children;
-        let fi = uid as usize - 1;
-        let r = |j: usize| self.r_val(kids[j], vals);
-        match self.flows[fi] {
+        let n = self.tree.node(uid).children.len();
+        match self.flows[uid as usize - 1] {
             Flow::Sequential {
                 cont,
                 start,
                 asynch,
-            } => {
-                let mut skipped = self.facts.flows[fi].skipped;
-                if self.facts.start[fi].is_active() {
-                    skipped = skipped.min(start);
-                } else {
-                    skipped = 0;
-                }
-                for k in start..kids.len() {
-                    match r(k) {
-                        Status::Skipped => skipped += 1,
-                        s if s == cont => {
-                            let fresh = self.facts.start[kids[k] as usize - 1] != Status::Running;
-                            if asynch && fresh && k + 1 < kids.len() {
-                                return Status::Running;
-                            }
-                        }
-                        s => return s,
-                    }
-                }
-                if skipped == kids.len() {
-                    Status::Skipped
-                } else {
-                    cont
-                }
+            } => self.sequential(uid, vals, cont, start, asynch),
+            Flow::Reactive { cont } => self.reactive(uid, vals, cont),
+            Flow::Parallel { .. } | Flow::ParallelAll { .. } => {
+                self.parallel(uid, vals, n).unwrap_or(Status::Running)
             }
-            Flow::Reactive { cont } => {
-                let mut all_skipped = true;
-                for k in 0..kids.len() {
-                    match r(k) {
-                        Status::Skipped => {}
-                        s if s == cont => all_skipped = false,
-                        s => return s,
-                    }
-                }
-                if all_skipped {
-                    Status::Skipped
-                } else {
-                    cont
-                }
-            }
-            Flow::Parallel { .. } | Flow::ParallelAll { .. } => self
-                .parallel(uid, vals, kids.len())
-                .unwrap_or(Status::Running),
-            Flow::Branch { start } => {
-                if start > 0 {
-                    return r(start);
-                }
-                match r(0) {
-                    Status::Success => r(1),
-                    Status::Failure if kids.len() == 3 => r(2),
-                    Status::Failure => Status::Failure,
-                    other => other,
-                }
-            }
-            Flow::Map(Mapping::Loop { again, max }) => {
-                let spent = self.attempts_val(uid, vals);
-                for (k, &kid) in kids.iter().enumerate() {
-                    let s = self.r_val(kid, vals);
-                    if s != again {
-                        return s;
-                    }
-                    let more = spent + k as i64 + 1 < max || max == -1;
-                    if !more {
-                        return if again == Status::Failure {
-                            Status::Failure
-                        } else {
-                            Status::Success
-                        };
-                    }
-                    if self.wakes(kid) {
-                        return Status::Running;
-                    }
-                }
-                // The node would tick its child again within the tick, in
-                // an attempt the model has no copy for (see
-                // causal::verify::retry_next).
-                again
-            }
-            Flow::Map(m) => {
-                let s = r(0);
-                match (m, s) {
-                    (_, Status::Idle) => Status::Idle,
-                    (Mapping::Invert, Status::Success) => Status::Failure,
-                    (Mapping::Invert, Status::Failure) => Status::Success,
-                    (Mapping::ForceSuccess, x) if x.is_completed() => Status::Success,
-                    (Mapping::ForceFailure, x) if x.is_completed() => Status::Failure,
-                    (Mapping::KeepRunning, Status::Success | Status::Skipped) => Status::Running,
-                    _ => s,
-                }
-            }
-            Flow::Pipeline { last } => {
-                for k in 0..kids.len() {
-                    match r(k) {
-                        Status::Success => {}
-                        Status::Running if k < last => {}
-                        s => return s,
-                    }
-                }
-                Status::Success
-            }
+            Flow::Branch { start } => self.branch(uid, vals, start),
+            Flow::Map(Mapping::Loop { again, max }) => self.looped(uid, vals, again, max),
+            Flow::Map(m) => mapped(m, self.child_r(uid, vals, 0)),
+            Flow::Pipeline { last } => self.pipeline(uid, vals, last),
             Flow::RoundRobin {
                 start,
                 failed,
                 wraps,
-            } => {
-                let n = kids.len();
-                let turn = if wraps {
-                    n - failed
-                } else {
-                    (n - start).min(n - failed)
-                };
-                for j in 0..turn {
-                    let k = (start + j) % n;
-                    match r(k) {
-                        Status::Failure => {}
-                        // The last child ends a RoundRobin that does not wrap.
-                        Status::Success if !wraps && k + 1 == n => return Status::Failure,
-                        s => return s,
-                    }
-                }
-                Status::Failure
-            }
+            } => self.round_robin(uid, vals, start, failed, wraps),
             Flow::Recovery {
                 start,
                 count,
                 retries,
             } => {
-                let main = if start == 0 { r(0) } else { Status::Failure };
+                let main = if start == 0 {
+                    self.child_r(uid, vals, 0)
+                } else {
+                    Status::Failure
+                };
                 match main {
-                    Status::Failure if start == 1 || count < retries => match r(1) {
-                        // Back to the first child (`Model::opaque`).
-                        Status::Success | Status::Running => Status::Running,
-                        _ => Status::Failure,
-                    },
+                    Status::Failure if start == 1 || count < retries => {
+                        match self.child_r(uid, vals, 1) {
+                            // Back to the first child (`Model::opaque`).
+                            Status::Success | Status::Running => Status::Running,
+                            _ => Status::Failure,
+                        }
+                    }
                     s => s,
                 }
             }
-            Flow::Gated => {
-                // As recorded while its children are; otherwise the child
-                // that is ticked decides, else what the node returned
-                // without ticking one (`Model::opaque` says where that is
-                // a guess).
-                if self.facts.ticked[fi] && self.children_as_recorded(uid, vals) {
-                    return match self.facts.returned[fi] {
-                        Status::Idle => Status::Failure,
-                        s => s,
-                    };
-                }
-                for (k, &c) in kids.iter().enumerate() {
-                    let s = r(k);
-                    if s != Status::Idle
-                        && (self.facts.ticked[c as usize - 1] || !self.facts.ticked[fi])
-                    {
-                        return s;
+            Flow::Gated => self.gated(uid, vals),
+        }
+    }
+
+    /// r of child `k` of `uid`.
+    fn child_r(&self, uid: Uid, vals: &[Val], k: usize) -> Status {
+        self.r_val(self.tree.node(uid).children[k], vals)
+    }
+
+    /// A Sequence or Fallback: its children from `start` while they return
+    /// `cont`; an asynchronous one yields RUNNING after a child's first
+    /// completion.
+    fn sequential(
+        &self,
+        uid: Uid,
+        vals: &[Val],
+        cont: Status,
+        start: usize,
+        asynch: bool,
+    ) -> Status {
+        let kids = &self.tree.node(uid).children;
+        let fi = uid as usize - 1;
+        let mut skipped = self.facts.flows[fi].skipped;
+        if self.facts.start[fi].is_active() {
+            skipped = skipped.min(start);
+        } else {
+            skipped = 0;
+        }
+        for k in start..kids.len() {
+            match self.child_r(uid, vals, k) {
+                Status::Skipped => skipped += 1,
+                s if s == cont => {
+                    let fresh = self.facts.start[kids[k] as usize - 1] != Status::Running;
+                    if asynch && fresh && k + 1 < kids.len() {
+                        return Status::Running;
                     }
                 }
-                match self.facts.returned[fi] {
-                    Status::Idle => Status::Failure,
-                    s => s,
-                }
+                s => return s,
             }
+        }
+        if skipped == kids.len() {
+            Status::Skipped
+        } else {
+            cont
+        }
+    }
+
+    /// A reactive Sequence or Fallback: every child from the first.
+    fn reactive(&self, uid: Uid, vals: &[Val], cont: Status) -> Status {
+        let mut all_skipped = true;
+        for k in 0..self.tree.node(uid).children.len() {
+            match self.child_r(uid, vals, k) {
+                Status::Skipped => {}
+                s if s == cont => all_skipped = false,
+                s => return s,
+            }
+        }
+        if all_skipped {
+            Status::Skipped
+        } else {
+            cont
+        }
+    }
+
+    /// An IfThenElse or WhileDoElse: the condition, then the branch it
+    /// chose (or the branch already running, from `start`).
+    fn branch(&self, uid: Uid, vals: &[Val], start: usize) -> Status {
+        let r = |k: usize| self.child_r(uid, vals, k);
+        if start > 0 {
+            return r(start);
+        }
+        match r(0) {
+            Status::Success => r(1),
+            Status::Failure if self.tree.node(uid).children.len() == 3 => r(2),
+            Status::Failure => Status::Failure,
+            other => other,
+        }
+    }
+
+    /// A Retry or Repeat unrolled into its attempts: each attempt's copy
+    /// of the child in turn while it returns `again`, up to `max`.
+    fn looped(&self, uid: Uid, vals: &[Val], again: Status, max: i64) -> Status {
+        let spent = self.attempts_val(uid, vals);
+        for (k, &kid) in self.tree.node(uid).children.iter().enumerate() {
+            let s = self.r_val(kid, vals);
+            if s != again {
+                return s;
+            }
+            let more = spent + k as i64 + 1 < max || max == -1;
+            if !more {
+                return if again == Status::Failure {
+                    Status::Failure
+                } else {
+                    Status::Success
+                };
+            }
+            if self.wakes(kid) {
+                return Status::Running;
+            }
+        }
+        // The node would tick its child again within the tick, in
+        // an attempt the model has no copy for (see
+        // causal::verify::retry_next).
+        again
+    }
+
+    /// Nav2's PipelineSequence: a child that succeeded, or one before the
+    /// furthest reached (`last`) still running, lets the next go.
+    fn pipeline(&self, uid: Uid, vals: &[Val], last: usize) -> Status {
+        for k in 0..self.tree.node(uid).children.len() {
+            match self.child_r(uid, vals, k) {
+                Status::Success => {}
+                Status::Running if k < last => {}
+                s => return s,
+            }
+        }
+        Status::Success
+    }
+
+    /// A RoundRobin: the children from `start` in turn (wrapping round if
+    /// it does), those that failed before left out.
+    fn round_robin(
+        &self,
+        uid: Uid,
+        vals: &[Val],
+        start: usize,
+        failed: usize,
+        wraps: bool,
+    ) -> Status {
+        let n = self.tree.node(uid).children.len();
+        let turn = if wraps {
+            n - failed
+        } else {
+            (n - start).min(n - failed)
+        };
+        for j in 0..turn {
+            let k = (start + j) % n;
+            match self.child_r(uid, vals, k) {
+                Status::Failure => {}
+                // The last child ends a RoundRobin that does not wrap.
+                Status::Success if !wraps && k + 1 == n => return Status::Failure,
+                s => return s,
+            }
+        }
+        Status::Failure
+    }
+
+    /// A node whose choices the model takes from the run (a RecoveryNode
+    /// that looped, a node it has no rule for): as recorded
+    /// while its children are; otherwise the child that is ticked decides,
+    /// else what the node returned without ticking one (`Model::opaque`
+    /// says where that is a guess).
+    fn gated(&self, uid: Uid, vals: &[Val]) -> Status {
+        let fi = uid as usize - 1;
+        if self.facts.ticked[fi] && self.children_as_recorded(uid, vals) {
+            return match self.facts.returned[fi] {
+                Status::Idle => Status::Failure,
+                s => s,
+            };
+        }
+        for (k, &c) in self.tree.node(uid).children.iter().enumerate() {
+            let s = self.child_r(uid, vals, k);
+            if s != Status::Idle && (self.facts.ticked[c as usize - 1] || !self.facts.ticked[fi]) {
+                return s;
+            }
+        }
+        match self.facts.returned[fi] {
+            Status::Idle => Status::Failure,
+            s => s,
         }
     }
 
@@ -771,5 +812,18 @@ impl Evaluator<'_> {
 
     pub fn value(&self, v: VarId) -> &Val {
         &self.vals[v]
+    }
+}
+
+/// A decorator that maps its child's status (`s`) to its own.
+fn mapped(m: Mapping, s: Status) -> Status {
+    match (m, s) {
+        (_, Status::Idle) => Status::Idle,
+        (Mapping::Invert, Status::Success) => Status::Failure,
+        (Mapping::Invert, Status::Failure) => Status::Success,
+        (Mapping::ForceSuccess, x) if x.is_completed() => Status::Success,
+        (Mapping::ForceFailure, x) if x.is_completed() => Status::Failure,
+        (Mapping::KeepRunning, Status::Success | Status::Skipped) => Status::Running,
+        _ => s,
     }
 }

@@ -901,132 +901,14 @@ pub fn times(n: usize) -> String {
 /// often it had ended so before, what handled a failure and whether that
 /// worked (by the record's end), and where its outcome came from.
 pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
-    let idx = &session.index;
-    let tree = &session.tree;
-    let t = idx.transitions[p as usize - 1];
-    let name = capitalised(&tree.told(u));
-    let m = step_moment(idx, p);
-    let what = tree.node(u).kind.as_str().to_lowercase();
-    let mut out = Vec::new();
-    let start = idx.call_start(u, p);
-    let ran = match start {
-        Some(q) if idx.transitions[q as usize - 1].status == Status::Running => {
-            let ticks = t.tick - idx.transitions[q as usize - 1].tick + 1;
-            format!(
-                ", after running from {} ({ticks} tick{})",
-                step_moment(idx, q),
-                if ticks == 1 { "" } else { "s" }
-            )
-        }
-        _ => " in the call that started it".to_string(),
-    };
-    out.push(format!(
-        "{name} returned {} itself at {m}{ran}: it is {} {what}, so nothing in the tree decided it.",
-        t.status.as_str(),
-        if what.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" }
-    ));
-    let before: Vec<String> = idx
-        .changes_of(u)
-        .iter()
-        .copied()
-        .filter(|&q| q < p && idx.transitions[q as usize - 1].status == t.status)
-        .map(|q| step_moment(idx, q).to_string())
-        .collect();
-    out.push(match before.len() {
-        0 => format!("It had not {} before.", past(t.status)),
-        n if n > 12 => format!(
-            "It had {} {} before, at {}, … and {}.",
-            past(t.status),
-            times(n),
-            before[..10].join(", "),
-            before[n - 1]
-        ),
-        n => format!(
-            "It had {} {} before, at {}.",
-            past(t.status),
-            times(n),
-            before.join(", ")
-        ),
-    });
+    let t = session.index.transitions[p as usize - 1];
+    let start = session.index.call_start(u, p);
+    let mut out = vec![
+        returned_itself(session, u, p, start),
+        ended_so_before(session, u, p),
+    ];
     if t.status == Status::Failure {
-        let mut said = Vec::new();
-        // Each handler above it in turn, from where the one below ended.
-        let mut from = p;
-        let by = if upto as usize >= idx.transitions.len() {
-            "when the run ends".to_string()
-        } else {
-            format!("by moment {}", idx.moment(upto))
-        };
-        for h in tree
-            .ancestors(u)
-            .filter(|&a| crate::explain::failure::handles_failure(tree, a))
-        {
-            let done = idx
-                .changes_of(h)
-                .iter()
-                .copied()
-                .filter(|&q| q > from && q <= upto)
-                .map(|q| (q, idx.transitions[q as usize - 1].status))
-                .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
-            let hn = tree.told(h);
-            // It tried the leaf again before it ended: say how that went.
-            let before_done = |q: u32| q <= upto && done.is_none_or(|(d, _)| q < d);
-            let again = idx
-                .changes_of(u)
-                .iter()
-                .copied()
-                .filter(|&q| q > from && before_done(q))
-                .find(|&q| idx.transitions[q as usize - 1].prev == Status::Idle);
-            if let Some(a) = again {
-                let ended = idx
-                    .changes_of(u)
-                    .iter()
-                    .copied()
-                    .filter(|&q| q >= a && before_done(q))
-                    .map(|q| (q, idx.transitions[q as usize - 1].status))
-                    .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
-                said.push(match ended {
-                    Some((q, s)) => format!(
-                        "{hn} tried it again at {}, and it {} at {}",
-                        step_moment(idx, a),
-                        if s == t.status {
-                            format!("{} again", past(s))
-                        } else {
-                            past(s).to_string()
-                        },
-                        step_moment(idx, q)
-                    ),
-                    None => format!("{hn} tried it again at {}", step_moment(idx, a)),
-                });
-            }
-            match done {
-                Some((q, Status::Success)) => {
-                    said.push(format!(
-                        "{hn} {} succeeded at {}",
-                        if again.is_some() {
-                            "then"
-                        } else {
-                            "handled it and"
-                        },
-                        step_moment(idx, q)
-                    ));
-                    break;
-                }
-                Some((q, _)) => {
-                    said.push(format!("{hn} then failed, at {}", step_moment(idx, q)));
-                    from = q;
-                }
-                None => {
-                    said.push(format!("{hn} handles it, and had not finished {by}"));
-                    break;
-                }
-            }
-        }
-        out.push(if said.is_empty() {
-            "No fallback, retry or recovery is above it: its failure went up the tree.".into()
-        } else {
-            format!("{}.", capitalised(&said.join("; ")))
-        });
+        out.push(handled(session, u, p, upto));
     }
     out.push(ports_said(session, u, start.unwrap_or(p), p));
     out.push(match session.header.source.kind.as_str() {
@@ -1046,4 +928,159 @@ pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
     });
     out.retain(|l| !l.is_empty());
     out.join(" ")
+}
+
+/// "X returned FAILURE itself at 10:1, after running from 9:3 (2 ticks):
+/// it is an action, so nothing in the tree decided it."
+fn returned_itself(session: &Session, u: Uid, p: u32, start: Option<u32>) -> String {
+    let idx = &session.index;
+    let t = idx.transitions[p as usize - 1];
+    let name = capitalised(&session.tree.told(u));
+    let m = step_moment(idx, p);
+    let what = session.tree.node(u).kind.as_str().to_lowercase();
+    let ran = match start {
+        Some(q) if idx.transitions[q as usize - 1].status == Status::Running => {
+            let ticks = t.tick - idx.transitions[q as usize - 1].tick + 1;
+            format!(
+                ", after running from {} ({ticks} tick{})",
+                step_moment(idx, q),
+                if ticks == 1 { "" } else { "s" }
+            )
+        }
+        _ => " in the call that started it".to_string(),
+    };
+    format!(
+        "{name} returned {} itself at {m}{ran}: it is {} {what}, so nothing in the tree decided it.",
+        t.status.as_str(),
+        if what.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" }
+    )
+}
+
+/// How often, and when, the leaf had ended so before position `p`.
+fn ended_so_before(session: &Session, u: Uid, p: u32) -> String {
+    let idx = &session.index;
+    let t = idx.transitions[p as usize - 1];
+    let before: Vec<String> = idx
+        .changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&q| q < p && idx.transitions[q as usize - 1].status == t.status)
+        .map(|q| step_moment(idx, q).to_string())
+        .collect();
+    match before.len() {
+        0 => format!("It had not {} before.", past(t.status)),
+        n if n > 12 => format!(
+            "It had {} {} before, at {}, … and {}.",
+            past(t.status),
+            times(n),
+            before[..10].join(", "),
+            before[n - 1]
+        ),
+        n => format!(
+            "It had {} {} before, at {}.",
+            past(t.status),
+            times(n),
+            before.join(", ")
+        ),
+    }
+}
+
+/// What handled the leaf's failure at `p`, by position `upto`: each
+/// handler above it in turn, from where the one below ended.
+fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
+    let idx = &session.index;
+    let tree = &session.tree;
+    let mut said = Vec::new();
+    let mut from = p;
+    let by = if upto as usize >= idx.transitions.len() {
+        "when the run ends".to_string()
+    } else {
+        format!("by moment {}", idx.moment(upto))
+    };
+    for h in tree
+        .ancestors(u)
+        .filter(|&a| crate::explain::failure::handles_failure(tree, a))
+    {
+        let done = idx
+            .changes_of(h)
+            .iter()
+            .copied()
+            .filter(|&q| q > from && q <= upto)
+            .map(|q| (q, idx.transitions[q as usize - 1].status))
+            .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
+        let hn = tree.told(h);
+        let again = tried_again(session, u, p, from, upto, done.map(|d| d.0), &hn);
+        if let Some(line) = &again {
+            said.push(line.clone());
+        }
+        match done {
+            Some((q, Status::Success)) => {
+                said.push(format!(
+                    "{hn} {} succeeded at {}",
+                    if again.is_some() {
+                        "then"
+                    } else {
+                        "handled it and"
+                    },
+                    step_moment(idx, q)
+                ));
+                break;
+            }
+            Some((q, _)) => {
+                said.push(format!("{hn} then failed, at {}", step_moment(idx, q)));
+                from = q;
+            }
+            None => {
+                said.push(format!("{hn} handles it, and had not finished {by}"));
+                break;
+            }
+        }
+    }
+    if said.is_empty() {
+        "No fallback, retry or recovery is above it: its failure went up the tree.".into()
+    } else {
+        format!("{}.", capitalised(&said.join("; ")))
+    }
+}
+
+/// Whether the handler `hn` tried the leaf again after `from` before it
+/// ended (at `done`), and how that went.
+fn tried_again(
+    session: &Session,
+    u: Uid,
+    p: u32,
+    from: u32,
+    upto: u32,
+    done: Option<u32>,
+    hn: &str,
+) -> Option<String> {
+    let idx = &session.index;
+    let status = idx.transitions[p as usize - 1].status;
+    let before_done = |q: u32| q <= upto && done.is_none_or(|d| q < d);
+    let a = idx
+        .changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&q| q > from && before_done(q))
+        .find(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)?;
+    let ended = idx
+        .changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&q| q >= a && before_done(q))
+        .map(|q| (q, idx.transitions[q as usize - 1].status))
+        .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
+    Some(match ended {
+        Some((q, s)) => format!(
+            "{hn} tried it again at {}, and it {} at {}",
+            step_moment(idx, a),
+            if s == status {
+                format!("{} again", past(s))
+            } else {
+                past(s).to_string()
+            },
+            step_moment(idx, q)
+        ),
+        None => format!("{hn} tried it again at {}", step_moment(idx, a)),
+    })
 }

@@ -107,132 +107,149 @@ pub(super) fn structure(
     b: &mut Builder,
 ) -> Structure {
     let n = tree.len();
-    let mut e_of = vec![usize::MAX; n];
-    let mut r_of = vec![usize::MAX; n];
-    let mut d_of = vec![None; n];
-    let mut leaf_of = vec![None; n];
-    // Algorithm 7: variables and structural edges.
+    let mut s = Structure {
+        e_of: vec![usize::MAX; n],
+        r_of: vec![usize::MAX; n],
+        d_of: vec![None; n],
+        leaf_of: vec![None; n],
+    };
     for &u in order {
-        let node = tree.node(u);
-        let i = u as usize - 1;
-        let is_leaf = node.kind.is_leaf();
-        let leaf = if is_leaf && node.builtin.is_none() {
-            // A copy is the leaf it copies (its name says the attempt).
-            let origin = copy_of.get(i).copied().flatten().map_or(u, |c| c.origin);
-            domain.as_ref().and_then(|d| d.leaf_for(tree, origin))
-        } else {
-            None
-        };
-        leaf_of[i] = leaf;
-        let e_func = match node.parent {
-            None => Func::Root,
-            Some(p) => Func::ExecChild {
-                parent: p,
-                index: tree
-                    .node(p)
-                    .children
-                    .iter()
-                    .position(|&c| c == u)
-                    .unwrap_or(0),
-            },
-        };
-        e_of[i] = b.var(
-            VarKind::Executed(u),
-            vec![Val::Bool(true), Val::Bool(false)],
-            true,
-            e_func,
-        );
-        let r_func = if is_leaf {
-            Func::LeafStatus { uid: u, leaf }
-        } else {
-            Func::CompositeStatus { uid: u }
-        };
-        // A built-in leaf other than Sleep is synchronous: BehaviorTree.CPP
-        // throws if it returns RUNNING, so no explanation may suppose it.
-        let mut range = status_range(node.kind);
-        if is_leaf && node.builtin.is_some_and(|b| b != Builtin::Sleep) {
-            range.retain(|x| *x != Val::Status(Status::Running));
-        }
-        if let Some(can) = returns(node) {
-            range.retain(|x| matches!(x, Val::Status(s) if *s == Status::Idle || can.contains(s)));
-        }
-        r_of[i] = b.var(VarKind::Status(u), range, true, r_func);
-        if let (Some(l), Kind::Action) = (leaf, node.kind) {
-            let d = domain.as_ref().expect("a leaf has a domain");
-            let mut range: Vec<Val> = d.leaves[l]
-                .actions
-                .iter()
-                .map(|a| Val::Action(Some(a.clone())))
-                .collect();
-            range.push(Val::Action(None));
-            d_of[i] = Some(b.var(
-                VarKind::Decision(u),
-                range,
-                true,
-                Func::Decision { uid: u, leaf: l },
-            ));
-        }
+        node_vars(tree, domain, copy_of, u, b, &mut s);
     }
     for &u in order {
-        let node = tree.node(u);
-        let i = u as usize - 1;
-        b.edge(e_of[i], r_of[i]);
-        if let Some(d) = d_of[i] {
-            b.edge(e_of[i], d);
-            b.edge(d, r_of[i]);
-        }
-        for &c in &node.children {
-            b.edge(r_of[c as usize - 1], r_of[i]);
-        }
-        let Some(p) = node.parent else { continue };
-        let siblings = &tree.node(p).children;
-        let k = siblings.iter().position(|&c| c == u).unwrap_or(0);
-        let ep = e_of[p as usize - 1];
-        // A RoundRobin ticks its children in turn from where it stopped:
-        // each depends on those before it in that turn, not in the tree.
-        if let Flow::RoundRobin { start, .. } = flows[p as usize - 1] {
-            let n = siblings.len();
-            let pos = (k + n - start) % n;
-            let at = |j: usize| r_of[siblings[(start + j) % n] as usize - 1];
-            if pos == 0 {
-                b.edge(ep, e_of[i]);
-            } else {
-                b.edge(at(pos - 1), e_of[i]);
-                b.extra(ep, e_of[i]);
-                for j in 0..pos - 1 {
-                    b.extra(at(j), e_of[i]);
-                }
-            }
-            continue;
-        }
-        if k == 0 {
+        structural_edges(tree, flows, u, b, &s);
+    }
+    s
+}
+
+/// Algorithm 7's variables of node `u`: whether it executed, its status,
+/// and an action's decision where a domain's leaf decides one.
+fn node_vars(
+    tree: &Tree,
+    domain: &Option<Arc<Domain>>,
+    copy_of: &[Option<crate::causal::attempts::Copy>],
+    u: Uid,
+    b: &mut Builder,
+    s: &mut Structure,
+) {
+    let node = tree.node(u);
+    let i = u as usize - 1;
+    let is_leaf = node.kind.is_leaf();
+    let leaf = if is_leaf && node.builtin.is_none() {
+        // A copy is the leaf it copies (its name says the attempt).
+        let origin = copy_of.get(i).copied().flatten().map_or(u, |c| c.origin);
+        domain.as_ref().and_then(|d| d.leaf_for(tree, origin))
+    } else {
+        None
+    };
+    s.leaf_of[i] = leaf;
+    let e_func = match node.parent {
+        None => Func::Root,
+        Some(p) => Func::ExecChild {
+            parent: p,
+            index: tree
+                .node(p)
+                .children
+                .iter()
+                .position(|&c| c == u)
+                .unwrap_or(0),
+        },
+    };
+    s.e_of[i] = b.var(
+        VarKind::Executed(u),
+        vec![Val::Bool(true), Val::Bool(false)],
+        true,
+        e_func,
+    );
+    let r_func = if is_leaf {
+        Func::LeafStatus { uid: u, leaf }
+    } else {
+        Func::CompositeStatus { uid: u }
+    };
+    // A built-in leaf other than Sleep is synchronous: BehaviorTree.CPP
+    // throws if it returns RUNNING, so no explanation may suppose it.
+    let mut range = status_range(node.kind);
+    if is_leaf && node.builtin.is_some_and(|b| b != Builtin::Sleep) {
+        range.retain(|x| *x != Val::Status(Status::Running));
+    }
+    if let Some(can) = returns(node) {
+        range.retain(|x| matches!(x, Val::Status(s) if *s == Status::Idle || can.contains(s)));
+    }
+    s.r_of[i] = b.var(VarKind::Status(u), range, true, r_func);
+    if let (Some(l), Kind::Action) = (leaf, node.kind) {
+        let d = domain.as_ref().expect("a leaf has a domain");
+        let mut range: Vec<Val> = d.leaves[l]
+            .actions
+            .iter()
+            .map(|a| Val::Action(Some(a.clone())))
+            .collect();
+        range.push(Val::Action(None));
+        s.d_of[i] = Some(b.var(
+            VarKind::Decision(u),
+            range,
+            true,
+            Func::Decision { uid: u, leaf: l },
+        ));
+    }
+}
+
+/// Algorithm 7's edges into node `u`'s variables: from its children and
+/// its decision to its status, and to its being executed from its parent
+/// and the sibling before it (in a RoundRobin, before it in that turn),
+/// with the extra edges its parent's flow needs.
+fn structural_edges(tree: &Tree, flows: &[Flow], u: Uid, b: &mut Builder, s: &Structure) {
+    let (e_of, r_of) = (&s.e_of, &s.r_of);
+    let node = tree.node(u);
+    let i = u as usize - 1;
+    b.edge(e_of[i], r_of[i]);
+    if let Some(d) = s.d_of[i] {
+        b.edge(e_of[i], d);
+        b.edge(d, r_of[i]);
+    }
+    for &c in &node.children {
+        b.edge(r_of[c as usize - 1], r_of[i]);
+    }
+    let Some(p) = node.parent else { return };
+    let siblings = &tree.node(p).children;
+    let k = siblings.iter().position(|&c| c == u).unwrap_or(0);
+    let ep = e_of[p as usize - 1];
+    // A RoundRobin ticks its children in turn from where it stopped:
+    // each depends on those before it in that turn, not in the tree.
+    if let Flow::RoundRobin { start, .. } = flows[p as usize - 1] {
+        let n = siblings.len();
+        let pos = (k + n - start) % n;
+        let at = |j: usize| r_of[siblings[(start + j) % n] as usize - 1];
+        if pos == 0 {
             b.edge(ep, e_of[i]);
         } else {
-            b.edge(r_of[siblings[k - 1] as usize - 1], e_of[i]);
+            b.edge(at(pos - 1), e_of[i]);
+            b.extra(ep, e_of[i]);
+            for j in 0..pos - 1 {
+                b.extra(at(j), e_of[i]);
+            }
         }
-        match flows[p as usize - 1] {
-            Flow::Sequential { start, .. } | Flow::Branch { start } if start == k && k > 0 => {
-                b.extra(ep, e_of[i])
-            }
-            Flow::Parallel { .. } | Flow::ParallelAll { .. } if k > 0 => {
-                b.extra(ep, e_of[i]);
-                for &s in &siblings[..k - 1] {
-                    b.extra(r_of[s as usize - 1], e_of[i]);
-                }
-            }
-            Flow::Branch { .. } if k == 2 => b.extra(r_of[siblings[0] as usize - 1], e_of[i]),
-            Flow::Gated | Flow::Map(_) | Flow::Pipeline { .. } | Flow::Recovery { .. } if k > 0 => {
-                b.extra(ep, e_of[i])
-            }
-            _ => {}
-        }
+        return;
     }
-
-    Structure {
-        e_of,
-        r_of,
-        d_of,
-        leaf_of,
+    if k == 0 {
+        b.edge(ep, e_of[i]);
+    } else {
+        b.edge(r_of[siblings[k - 1] as usize - 1], e_of[i]);
+    }
+    match flows[p as usize - 1] {
+        Flow::Sequential { start, .. } | Flow::Branch { start } if start == k && k > 0 => {
+            b.extra(ep, e_of[i])
+        }
+        Flow::Parallel { .. } | Flow::ParallelAll { .. } if k > 0 => {
+            b.extra(ep, e_of[i]);
+            for &s in &siblings[..k - 1] {
+                b.extra(r_of[s as usize - 1], e_of[i]);
+            }
+        }
+        Flow::Branch { .. } if k == 2 => b.extra(r_of[siblings[0] as usize - 1], e_of[i]),
+        Flow::Gated | Flow::Map(_) | Flow::Pipeline { .. } | Flow::Recovery { .. } if k > 0 => {
+            b.extra(ep, e_of[i])
+        }
+        _ => {}
     }
 }
 
@@ -288,119 +305,147 @@ pub(super) fn state_copies(
     st: &Structure,
     b: &mut Builder,
 ) -> StateCopies {
-    let n = tree.len();
-    let Structure {
-        e_of,
-        r_of,
-        d_of,
-        leaf_of,
-    } = st;
-    // Algorithms 3–5 and 8: the state's temporal copies.
-    let mut copies: Vec<Vec<VarId>> = Vec::new();
-    let mut inputs_of: Vec<Vec<(usize, VarId)>> = vec![Vec::new(); n];
-    let mut tau_after = Vec::new();
-    if let Some(d) = &domain {
-        let nv = d.vars.len();
-        copies = vec![Vec::new(); nv];
-        let mut tau = vec![0u32; nv];
-        // Ancestors in the state graph, nearest first, each once.
-        let ancestors: Vec<Vec<usize>> = (0..nv)
-            .map(|x| {
-                let mut seen = vec![false; nv];
-                let mut out = Vec::new();
-                let mut stack: Vec<usize> = d.vars[x].parents.clone();
-                while let Some(a) = stack.pop() {
-                    if !seen[a] {
-                        seen[a] = true;
-                        out.push(a);
-                        stack.extend(d.vars[a].parents.iter().copied());
-                    }
-                }
-                out.sort_unstable();
-                out
-            })
-            .collect();
-        let ensure = |b: &mut Builder, copies: &mut Vec<Vec<VarId>>, x: usize, k: u32| {
-            while copies[x].len() <= k as usize {
-                let c = copies[x].len() as u32;
-                let v = &d.vars[x];
-                let id = b.var(
-                    VarKind::State { var: x, copy: c },
-                    state_range(&v.ty),
-                    v.intervene && v.ty != VarType::Any,
-                    Func::Copy {
-                        var: x,
-                        prev: None,
-                        sparents: Vec::new(),
-                        writers: Vec::new(),
-                    },
-                );
-                copies[x].push(id);
-            }
-            copies[x][k as usize]
-        };
-        for x in 0..nv {
-            ensure(b, &mut copies, x, 0);
-        }
-        for &u in order {
-            let Some(l) = leaf_of[u as usize - 1] else {
-                continue;
-            };
-            let i = u as usize - 1;
-            let def = &d.leaves[l];
-            let mut touched: Vec<usize> = Vec::new();
-            for &x in &def.inputs {
-                let xc = ensure(b, &mut copies, x, tau[x]);
-                let mut set = ancestors[x].clone();
-                set.push(x);
-                for &a in &ancestors[x] {
-                    ensure(b, &mut copies, a, tau[a]);
-                }
-                for &y in &set {
-                    for &p in &d.vars[y].parents {
-                        if set.contains(&p) {
-                            let (pc, yc) = (copies[p][tau[p] as usize], copies[y][tau[y] as usize]);
-                            if b.edge(pc, yc) {
-                                if let Func::Copy { sparents, .. } = &mut b.vars[yc].func {
-                                    sparents.push((p, pc));
-                                }
-                            }
-                        }
-                    }
-                }
-                b.edge(xc, r_of[i]);
-                if let Some(dv) = d_of[i] {
-                    b.edge(xc, dv);
-                }
-                inputs_of[u as usize - 1].push((x, xc));
-                touched.extend(set);
-            }
-            touched.sort_unstable();
-            touched.dedup();
-            for x in touched {
-                tau[x] += 1;
-            }
-            for &y in &def.outputs {
-                let yc = ensure(b, &mut copies, y, tau[y]);
-                b.edge(e_of[i], yc);
-                if let Some(dv) = d_of[i] {
-                    b.edge(dv, yc);
-                }
-                if let Func::Copy { writers, .. } = &mut b.vars[yc].func {
-                    if !writers.contains(&u) {
-                        writers.push(u);
-                    }
-                }
-            }
-            tau_after.push((u, tau.clone()));
-        }
-        carry_forward(d, &copies, b);
+    let mut out = StateCopies {
+        copies: Vec::new(),
+        inputs_of: vec![Vec::new(); tree.len()],
+        tau_after: Vec::new(),
+    };
+    let Some(d) = &domain else {
+        return out;
+    };
+    let nv = d.vars.len();
+    out.copies = vec![Vec::new(); nv];
+    let mut tau = vec![0u32; nv];
+    let ancestors = state_ancestors(d);
+    for x in 0..nv {
+        ensure_copy(d, b, &mut out.copies, x, 0);
     }
+    for &u in order {
+        let Some(l) = st.leaf_of[u as usize - 1] else {
+            continue;
+        };
+        let def = &d.leaves[l];
+        let mut touched: Vec<usize> = Vec::new();
+        for &x in &def.inputs {
+            let xc = leaf_reads(d, b, &mut out.copies, &tau, &ancestors[x], x);
+            let i = u as usize - 1;
+            b.edge(xc, st.r_of[i]);
+            if let Some(dv) = st.d_of[i] {
+                b.edge(xc, dv);
+            }
+            out.inputs_of[i].push((x, xc));
+            touched.extend(ancestors[x].iter().copied());
+            touched.push(x);
+        }
+        touched.sort_unstable();
+        touched.dedup();
+        for x in touched {
+            tau[x] += 1;
+        }
+        leaf_writes(d, b, &mut out.copies, &tau, st, u, &def.outputs);
+        out.tau_after.push((u, tau.clone()));
+    }
+    carry_forward(d, &out.copies, b);
+    out
+}
 
-    StateCopies {
-        copies,
-        inputs_of,
-        tau_after,
+/// Each state variable's ancestors in the state graph, each once, by id.
+fn state_ancestors(d: &Domain) -> Vec<Vec<usize>> {
+    let nv = d.vars.len();
+    (0..nv)
+        .map(|x| {
+            let mut seen = vec![false; nv];
+            let mut out = Vec::new();
+            let mut stack: Vec<usize> = d.vars[x].parents.clone();
+            while let Some(a) = stack.pop() {
+                if !seen[a] {
+                    seen[a] = true;
+                    out.push(a);
+                    stack.extend(d.vars[a].parents.iter().copied());
+                }
+            }
+            out.sort_unstable();
+            out
+        })
+        .collect()
+}
+
+/// Copy `k` of state variable `x`, made (with the copies before it) if
+/// it is not yet.
+fn ensure_copy(d: &Domain, b: &mut Builder, copies: &mut [Vec<VarId>], x: usize, k: u32) -> VarId {
+    while copies[x].len() <= k as usize {
+        let c = copies[x].len() as u32;
+        let v = &d.vars[x];
+        let id = b.var(
+            VarKind::State { var: x, copy: c },
+            state_range(&v.ty),
+            v.intervene && v.ty != VarType::Any,
+            Func::Copy {
+                var: x,
+                prev: None,
+                sparents: Vec::new(),
+                writers: Vec::new(),
+            },
+        );
+        copies[x].push(id);
+    }
+    copies[x][k as usize]
+}
+
+/// A leaf reads input `x`: its current copy, and those of its ancestors
+/// (`anc`) joined by the state graph's edges. The copy read.
+fn leaf_reads(
+    d: &Domain,
+    b: &mut Builder,
+    copies: &mut [Vec<VarId>],
+    tau: &[u32],
+    anc: &[usize],
+    x: usize,
+) -> VarId {
+    let xc = ensure_copy(d, b, copies, x, tau[x]);
+    let mut set = anc.to_vec();
+    set.push(x);
+    for &a in anc {
+        ensure_copy(d, b, copies, a, tau[a]);
+    }
+    for &y in &set {
+        for &p in &d.vars[y].parents {
+            if set.contains(&p) {
+                let (pc, yc) = (copies[p][tau[p] as usize], copies[y][tau[y] as usize]);
+                if b.edge(pc, yc) {
+                    if let Func::Copy { sparents, .. } = &mut b.vars[yc].func {
+                        sparents.push((p, pc));
+                    }
+                }
+            }
+        }
+    }
+    xc
+}
+
+/// Leaf `u` writes `outputs`: their next copies depend on its being
+/// executed and on its decision.
+fn leaf_writes(
+    d: &Domain,
+    b: &mut Builder,
+    copies: &mut [Vec<VarId>],
+    tau: &[u32],
+    st: &Structure,
+    u: Uid,
+    outputs: &[usize],
+) {
+    let i = u as usize - 1;
+    for &y in outputs {
+        let yc = ensure_copy(d, b, copies, y, tau[y]);
+        b.edge(st.e_of[i], yc);
+        if let Some(dv) = st.d_of[i] {
+            b.edge(dv, yc);
+        }
+        if let Func::Copy { writers, .. } = &mut b.vars[yc].func {
+            if !writers.contains(&u) {
+                writers.push(u);
+            }
+        }
     }
 }
 

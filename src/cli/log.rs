@@ -43,137 +43,138 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     if args.faults {
         return list_faults(&args, cli);
     }
-    match args {
-        Args {
-            session,
-            reading,
-            node,
-            no_idle,
-            follow: true,
-            format,
-            ..
-        } => {
-            let opts = reading.options()?;
-            // A session being recorded is `SESSION.partial` until the run
-            // ends and it is renamed: follow it to its final name, then stop.
-            let finished = session
-                .to_str()
-                .and_then(|p| p.strip_suffix(".partial"))
-                .map(std::path::PathBuf::from);
-            let mut f = btx::input::Follow::with(&session, opts.clone());
-            let mut grown = Grown::default();
-            let started = std::time::Instant::now();
-            let mut last = None;
-            let mut last_error: Option<String> = None;
-            loop {
-                let mut done = false;
-                if let Some(fin) = finished.as_ref().filter(|_| !session.exists()) {
-                    if !fin.exists() {
-                        fail!(
-                            "{}: the session being followed is gone, and {} is not there either",
-                            btx::text::path(&session),
-                            btx::text::path(fin)
-                        );
-                    }
-                    f = btx::input::Follow::with(fin, opts.clone());
-                    done = true;
-                }
-                let fresh = match f.poll() {
-                    Ok(Some(s)) => {
-                        last = Some(s);
-                        last_error = None;
-                        true
-                    }
-                    Ok(None) => false,
-                    // Caught mid-write: read again at the next poll; said
-                    // once, however many polls find it so.
-                    Err(e) if grown.printed() > 0 => {
-                        let said = e.to_string();
-                        if last_error.as_ref() != Some(&said) {
-                            eprintln!("following: {said}");
-                            last_error = Some(said);
-                        }
-                        false
-                    }
-                    Err(e) => return Err(located(e)),
-                };
-                // Rows held back (see `Grown`) are printed once the wait is
-                // over, even if the log did not grow since.
-                if let Some(s) = last.as_ref().filter(|_| fresh || grown.held()) {
-                    let only = match &node {
-                        Some(p) => Some(pick_node(&s.tree, p)?),
-                        None => None,
-                    };
-                    // As `btx watch`: the first rows wait at most 2 s.
-                    let settle = !done && started.elapsed().as_secs() < 2;
-                    grown.print(s, only, no_idle, format, settle);
-                }
-                if done {
-                    if let Some(fin) = &finished {
-                        eprintln!("the run ended: the session is now {}", btx::text::path(fin));
-                    }
-                    return Ok(());
-                }
-                std::thread::sleep(std::time::Duration::from_millis(250));
+    if args.follow {
+        follow(&args)
+    } else {
+        print(&args, cli)
+    }
+}
+
+/// `--follow`: the log printed as it grows, until the run that writes it
+/// ends.
+fn follow(args: &Args) -> Result<(), Failure> {
+    let session = &args.session;
+    let opts = args.reading.options()?;
+    // A session being recorded is `SESSION.partial` until the run
+    // ends and it is renamed: follow it to its final name, then stop.
+    let finished = session
+        .to_str()
+        .and_then(|p| p.strip_suffix(".partial"))
+        .map(std::path::PathBuf::from);
+    let mut f = btx::input::Follow::with(session, opts.clone());
+    let mut grown = Grown::default();
+    let started = std::time::Instant::now();
+    let mut last = None;
+    let mut last_error: Option<String> = None;
+    loop {
+        let mut done = false;
+        if let Some(fin) = finished.as_ref().filter(|_| !session.exists()) {
+            if !fin.exists() {
+                fail!(
+                    "{}: the session being followed is gone, and {} is not there either",
+                    btx::text::path(session),
+                    btx::text::path(fin)
+                );
             }
+            f = btx::input::Follow::with(fin, opts.clone());
+            done = true;
         }
-        Args {
-            session,
-            reading,
-            node,
-            no_idle,
-            follow: false,
-            format,
-            time: args_time,
-            ..
-        } => {
-            let opened = btx::input::open_to_print(&session, &reading.options()?);
-            let s: Box<dyn btx::export::Table> = match opened.map_err(located)? {
-                Printable::Numbered(log) => log,
-                Printable::Input(Input::Session(s)) => s,
-                Printable::Input(Input::Tree { .. }) => fail!(
-                    "{} is a tree; btx log reads sessions and logs",
-                    btx::text::path(&session)
-                ),
-            };
-            warn_all(cli.quiet, s.warnings());
-            let only = match &node {
-                Some(p) => Some(pick_node(s.tree(), p)?),
+        let fresh = match f.poll() {
+            Ok(Some(s)) => {
+                last = Some(s);
+                last_error = None;
+                true
+            }
+            Ok(None) => false,
+            // Caught mid-write: read again at the next poll; said
+            // once, however many polls find it so.
+            Err(e) if grown.printed() > 0 => {
+                let said = e.to_string();
+                if last_error.as_ref() != Some(&said) {
+                    eprintln!("following: {said}");
+                    last_error = Some(said);
+                }
+                false
+            }
+            Err(e) => return Err(located(e)),
+        };
+        // Rows held back (see `Grown`) are printed once the wait is
+        // over, even if the log did not grow since.
+        if let Some(s) = last.as_ref().filter(|_| fresh || grown.held()) {
+            let only = match &args.node {
+                Some(p) => Some(pick_node(&s.tree, p)?),
                 None => None,
             };
-            let clock = clock_of(args_time, s.first_time_us(), &session)?;
-            // Written as it is read: a log of millions of transitions is
-            // never held whole, in text or in JSON.
-            let mut w = SafeOut::new();
-            let done = match format {
-                Format::Json => btx::export::write_log_json(&mut w, &*s, only, no_idle),
-                Format::Text => {
-                    use std::io::Write;
-                    let head = clock.map_or(String::new(), |c| c.header());
-                    let mut r =
-                        w.write_all(format!("{head}{}", btx::export::LOG_TEXT_HEADER).as_bytes());
-                    let mut rows = btx::export::TextRows::new(s.tree());
-                    let mut text = String::new();
-                    s.each_row(only, no_idle, &mut |row| {
-                        if r.is_ok() {
-                            let cell = clock.map_or(String::new(), |c| c.cell(row.time_us));
-                            text.clear();
-                            rows.write(&mut text, &cell, &row);
-                            r = w.write_all(text.as_bytes());
-                        }
-                    });
-                    for g in s.trailing_gaps() {
-                        if r.is_ok() {
-                            r = w.write_all(format!("  --- gap: {g} ---\n").as_bytes());
-                        }
-                    }
-                    r
-                }
-            };
-            w.finish(done);
+            // As `btx watch`: the first rows wait at most 2 s.
+            let settle = !done && started.elapsed().as_secs() < 2;
+            grown.print(s, only, args.no_idle, args.format, settle);
+        }
+        if done {
+            if let Some(fin) = &finished {
+                eprintln!("the run ended: the session is now {}", btx::text::path(fin));
+            }
+            return Ok(());
+        }
+        std::thread::sleep(std::time::Duration::from_millis(250));
+    }
+}
+
+/// The log printed once, written as it is read: a log of millions of
+/// transitions is never held whole, in text or in JSON.
+fn print(args: &Args, cli: &Globals) -> Result<(), Failure> {
+    let session = &args.session;
+    let opened = btx::input::open_to_print(session, &args.reading.options()?);
+    let s: Box<dyn btx::export::Table> = match opened.map_err(located)? {
+        Printable::Numbered(log) => log,
+        Printable::Input(Input::Session(s)) => s,
+        Printable::Input(Input::Tree { .. }) => fail!(
+            "{} is a tree; btx log reads sessions and logs",
+            btx::text::path(session)
+        ),
+    };
+    warn_all(cli.quiet, s.warnings());
+    let only = match &args.node {
+        Some(p) => Some(pick_node(s.tree(), p)?),
+        None => None,
+    };
+    let clock = clock_of(args.time, s.first_time_us(), session)?;
+    let mut w = SafeOut::new();
+    let done = match args.format {
+        Format::Json => btx::export::write_log_json(&mut w, &*s, only, args.no_idle),
+        Format::Text => write_text(&mut w, &*s, only, args.no_idle, clock),
+    };
+    w.finish(done);
+    Ok(())
+}
+
+/// The log as Groot's table, a row a transition, with the clock's column
+/// where one is asked for.
+fn write_text(
+    w: &mut SafeOut,
+    s: &dyn btx::export::Table,
+    only: Option<btx::model::Uid>,
+    no_idle: bool,
+    clock: Option<btx::export::Clock>,
+) -> std::io::Result<()> {
+    use std::io::Write;
+    let head = clock.map_or(String::new(), |c| c.header());
+    let mut r = w.write_all(format!("{head}{}", btx::export::LOG_TEXT_HEADER).as_bytes());
+    let mut rows = btx::export::TextRows::new(s.tree());
+    let mut text = String::new();
+    s.each_row(only, no_idle, &mut |row| {
+        if r.is_ok() {
+            let cell = clock.map_or(String::new(), |c| c.cell(row.time_us));
+            text.clear();
+            rows.write(&mut text, &cell, &row);
+            r = w.write_all(text.as_bytes());
+        }
+    });
+    for g in s.trailing_gaps() {
+        if r.is_ok() {
+            r = w.write_all(format!("  --- gap: {g} ---\n").as_bytes());
         }
     }
-    Ok(())
+    r
 }
 
 /// Standard output, buffered, through the sanitiser; a closed pipe ends

@@ -611,56 +611,26 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         args.out.as_deref(),
         "btx watch",
     )?;
-    let several = eps.len() > 1;
-    let mut pr = Printer::new(args.out.is_some());
     let say = Say {
         format: args.format,
         transitions: args.transitions,
         quiet: cli.quiet,
     };
-    let started = |r: &Robot, pr: &mut Printer| {
-        if !cli.quiet {
-            pr.err(format!(
-                "{}watching {}: tree {} (Ctrl-C stops)",
-                r.prefix, r.ep, r.feed.status.uuid
-            ));
-        }
+    let mut w = Watch {
+        args: &args,
+        quiet: cli.quiet,
+        several: eps.len() > 1,
+        pr: Printer::new(args.out.is_some()),
+        robots: Vec::new(),
+        waiting: Vec::new(),
+        failed: None,
+        watched: 0,
+        never_up: 0,
     };
-    let mut robots = Vec::new();
-    let mut waiting = Vec::new();
-    let mut unreachable = 0usize;
     for (ep, out) in eps.iter().zip(outs) {
-        match Robot::start(ep.clone(), args.publisher_port, out.clone(), several) {
-            Ok(r) => {
-                started(&r, &mut pr);
-                robots.push(r);
-            }
-            // A robot not up yet is waited for; one that answers wrongly
-            // is said, and does not stop the others.
-            Err(e) if e.not_up() && args.wait != Some(0.0) => {
-                let why = reason(ep, &e);
-                if !cli.quiet {
-                    let p = if several {
-                        format!("[{ep}] ")
-                    } else {
-                        String::new()
-                    };
-                    pr.err(format!("{p}waiting for {ep}: {why}; Ctrl-C stops"));
-                }
-                waiting.push(Waiting {
-                    ep: ep.clone(),
-                    out,
-                    why,
-                });
-            }
-            Err(e) if several => {
-                pr.err(format!("[{ep}] unreachable: {e}"));
-                unreachable += 1;
-            }
-            Err(e) => return Err(Failure::Plain(format!("{ep}: {}", reason(ep, &e)))),
-        }
+        w.start(ep, out)?;
     }
-    if robots.is_empty() && waiting.is_empty() {
+    if w.robots.is_empty() && w.waiting.is_empty() {
         fail!("no robot could be reached");
     }
     super::RECORDING.store(true, Ordering::Relaxed);
@@ -670,86 +640,181 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             .map_err(|e| Failure::Plain(format!("cannot catch signals: {e}")))?;
     }
     let begun = Instant::now();
-    let deadline = args
-        .for_secs
-        .map(|s| begun + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
-    let wait_until = args
-        .wait
-        .map(|s| begun + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+    let after = |s: Option<f64>| s.map(|s| begun + Duration::from_secs_f64(s.clamp(0.0, 1e9)));
+    let (deadline, wait_until) = (after(args.for_secs), after(args.wait));
     let mut status = StatusLine::new(cli.quiet);
     let mut on_fault = OnFault::new(args.on_fault.clone());
     let mut closed_said = false;
-    let mut failed = None;
-    let mut watched = robots.len();
-    let mut never_up = unreachable;
+    w.watched = w.robots.len();
     let mut tried = Instant::now();
-    while !robots.is_empty() || !waiting.is_empty() {
+    while !w.robots.is_empty() || !w.waiting.is_empty() {
         // A closed standard output (`| head`) ends the printing, never the
         // recording: with --out the watch goes on as it would have.
         let closed = super::stdout_closed();
         if closed && !closed_said {
             closed_said = true;
-            if let (Some(out), false) = (&args.out, cli.quiet) {
-                pr.err(format!(
-                    "standard output was closed; still recording to {} ({})",
-                    btx::text::path(out),
-                    if deadline.is_some() {
-                        "until --for ends"
-                    } else {
-                        "Ctrl-C stops"
-                    }
-                ));
-            }
+            w.say_closed(deadline.is_some());
         }
         let all_done = stop.load(Ordering::Relaxed)
             || deadline.is_some_and(|d| Instant::now() >= d)
             || (closed && args.out.is_none());
         // Robots not up yet: tried again, until they are or the wait ends.
-        let give_up = all_done || wait_until.is_some_and(|w| Instant::now() >= w);
-        if give_up {
-            let waited = begun.elapsed().as_secs_f64();
-            for w in waiting.drain(..) {
-                let said = format!("{}: {} (waited {waited:.1} s)", w.ep, w.why);
-                if several {
-                    pr.err(format!("[{}] never came up: {said}", w.ep));
-                    never_up += 1;
-                } else {
-                    failed.get_or_insert(Failure::Plain(said));
-                }
-            }
-        } else if !waiting.is_empty() && tried.elapsed() >= RETRY {
+        if all_done || wait_until.is_some_and(|u| Instant::now() >= u) {
+            w.give_up(begun.elapsed().as_secs_f64());
+        } else if !w.waiting.is_empty() && tried.elapsed() >= RETRY {
             tried = Instant::now();
-            let mut still = Vec::new();
-            for w in waiting.drain(..) {
-                match Robot::start(w.ep.clone(), args.publisher_port, w.out.clone(), several) {
-                    Ok(r) => {
-                        started(&r, &mut pr);
-                        watched += 1;
-                        robots.push(r);
-                    }
-                    Err(e) if e.not_up() => still.push(Waiting {
-                        why: reason(&w.ep, &e),
-                        ..w
-                    }),
-                    Err(e) => {
-                        let said = format!("{}: {}", w.ep, reason(&w.ep, &e));
-                        if several {
-                            pr.err(format!("[{}] {said}", w.ep));
-                            never_up += 1;
-                        } else {
-                            failed.get_or_insert(Failure::Plain(said));
-                        }
-                    }
+            w.retry();
+        }
+        w.step(all_done, closed, say, &mut on_fault);
+        status.show(&w.robots, &mut w.pr);
+        // A robot with more waiting is served again at once.
+        let busy = w.robots.iter().any(|r| r.feed.more);
+        if !busy && (!w.robots.is_empty() || !w.waiting.is_empty()) {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+    w.end(on_fault, claims)
+}
+
+/// A watch of one robot or several: those watched, those not up yet, and
+/// what its end will say.
+struct Watch<'a> {
+    args: &'a Args,
+    quiet: bool,
+    several: bool,
+    pr: Printer,
+    robots: Vec<Robot>,
+    waiting: Vec<Waiting>,
+    /// The first failure, which the exit reports.
+    failed: Option<Failure>,
+    /// Robots watched, at any time.
+    watched: usize,
+    /// Robots named that were never watched (with several).
+    never_up: usize,
+}
+
+impl Watch<'_> {
+    /// Starts watching `ep`: a robot not up yet is waited for; one that
+    /// answers wrongly is said, and does not stop the others (with one
+    /// robot, it ends the watch).
+    fn start(&mut self, ep: &str, out: Option<PathBuf>) -> Result<(), Failure> {
+        match Robot::start(
+            ep.to_string(),
+            self.args.publisher_port,
+            out.clone(),
+            self.several,
+        ) {
+            Ok(r) => {
+                self.started(&r);
+                self.robots.push(r);
+            }
+            Err(e) if e.not_up() && self.args.wait != Some(0.0) => {
+                let why = reason(ep, &e);
+                if !self.quiet {
+                    let p = if self.several {
+                        format!("[{ep}] ")
+                    } else {
+                        String::new()
+                    };
+                    self.pr
+                        .err(format!("{p}waiting for {ep}: {why}; Ctrl-C stops"));
+                }
+                self.waiting.push(Waiting {
+                    ep: ep.to_string(),
+                    out,
+                    why,
+                });
+            }
+            Err(e) if self.several => {
+                self.pr.err(format!("[{ep}] unreachable: {e}"));
+                self.never_up += 1;
+            }
+            Err(e) => return Err(Failure::Plain(format!("{ep}: {}", reason(ep, &e)))),
+        }
+        Ok(())
+    }
+
+    fn started(&mut self, r: &Robot) {
+        if !self.quiet {
+            self.pr.err(format!(
+                "{}watching {}: tree {} (Ctrl-C stops)",
+                r.prefix, r.ep, r.feed.status.uuid
+            ));
+        }
+    }
+
+    /// Says once that standard output closed while the recording goes on.
+    fn say_closed(&mut self, until_for: bool) {
+        if let (Some(out), false) = (&self.args.out, self.quiet) {
+            self.pr.err(format!(
+                "standard output was closed; still recording to {} ({})",
+                btx::text::path(out),
+                if until_for {
+                    "until --for ends"
+                } else {
+                    "Ctrl-C stops"
+                }
+            ));
+        }
+    }
+
+    /// A robot that could not be watched: said, with several; with one,
+    /// the watch's failure.
+    fn not_watched(&mut self, ep: &str, said: String, lead: &str) {
+        if self.several {
+            self.pr.err(format!("[{ep}] {lead}{said}"));
+            self.never_up += 1;
+        } else {
+            self.failed.get_or_insert(Failure::Plain(said));
+        }
+    }
+
+    /// The wait is over: the robots still not up never came up.
+    fn give_up(&mut self, waited: f64) {
+        for w in std::mem::take(&mut self.waiting) {
+            let said = format!("{}: {} (waited {waited:.1} s)", w.ep, w.why);
+            self.not_watched(&w.ep, said, "never came up: ");
+        }
+    }
+
+    /// Tries the robots not up yet again.
+    fn retry(&mut self) {
+        let mut still = Vec::new();
+        for w in std::mem::take(&mut self.waiting) {
+            match Robot::start(
+                w.ep.clone(),
+                self.args.publisher_port,
+                w.out.clone(),
+                self.several,
+            ) {
+                Ok(r) => {
+                    self.started(&r);
+                    self.watched += 1;
+                    self.robots.push(r);
+                }
+                Err(e) if e.not_up() => still.push(Waiting {
+                    why: reason(&w.ep, &e),
+                    ..w
+                }),
+                Err(e) => {
+                    let said = format!("{}: {}", w.ep, reason(&w.ep, &e));
+                    self.not_watched(&w.ep, said, "");
                 }
             }
-            waiting = still;
         }
-        let mut still = Vec::with_capacity(robots.len());
-        for mut r in robots {
+        self.waiting = still;
+    }
+
+    /// Serves each robot once: its news printed and recorded, its faults
+    /// handed to `--on-fault`; a robot whose run is over (or the whole
+    /// watch) ends its session.
+    fn step(&mut self, all_done: bool, closed: bool, say: Say, on_fault: &mut OnFault) {
+        let mut still = Vec::with_capacity(self.robots.len());
+        for mut r in std::mem::take(&mut self.robots) {
             // A robot whose run finished ends its session; the others go on.
-            let ended = args.until_end && r.runs > 0;
+            let ended = self.args.until_end && r.runs > 0;
             let done = all_done || ended || r.feed.status.finished.is_some();
-            match r.step(done, closed, say, &mut pr) {
+            match r.step(done, closed, say, &mut self.pr) {
                 Ok(alerts) => {
                     for a in alerts.iter().filter(|a| a.what != What::RunEnded) {
                         let json = alert_json(&r.shell.tree, a, Some(&r.ep)).to_string();
@@ -757,36 +822,37 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                     }
                 }
                 Err(e) => {
-                    failed.get_or_insert(e);
+                    self.failed.get_or_insert(e);
                     continue;
                 }
             }
             if done {
-                if let Err(e) = r.finish(cli.quiet, &mut pr) {
-                    failed.get_or_insert(e);
+                if let Err(e) = r.finish(self.quiet, &mut self.pr) {
+                    self.failed.get_or_insert(e);
                 }
             } else {
                 still.push(r);
             }
         }
-        robots = still;
-        status.show(&robots, &mut pr);
-        // A robot with more waiting is served again at once.
-        let busy = robots.iter().any(|r| r.feed.more);
-        if !busy && (!robots.is_empty() || !waiting.is_empty()) {
-            std::thread::sleep(Duration::from_millis(20));
-        }
+        self.robots = still;
     }
-    pr.finish();
-    on_fault.finish();
-    drop(claims);
-    match failed {
-        None if watched == 0 => fail!("no robot came up"),
-        // The others were watched to the end and kept; the exit says not all were.
-        None if never_up > 0 => fail!(
-            "{never_up} of the robots named could not be watched (each said above); the others were"
-        ),
-        Some(e) => Err(e),
-        None => Ok(()),
+
+    /// Ends the watch, the output flushed, the commands run and the
+    /// sessions' claims let go; the exit: the first failure, or that not
+    /// every robot named was watched.
+    fn end(self, on_fault: OnFault, claims: Vec<btx::session::OutputLock>) -> Result<(), Failure> {
+        self.pr.finish();
+        on_fault.finish();
+        drop(claims);
+        match self.failed {
+            None if self.watched == 0 => fail!("no robot came up"),
+            // The others were watched to the end and kept; the exit says not all were.
+            None if self.never_up > 0 => fail!(
+                "{} of the robots named could not be watched (each said above); the others were",
+                self.never_up
+            ),
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
     }
 }

@@ -70,20 +70,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let loaded = btx::xml::load_str(&path, &text, &reading.options()?)?;
     warn_all(cli.quiet, &loaded.warnings);
     let tree = loaded.tree;
-    let ask = match ask_at {
-        Some(v) => {
-            let m = Moment::parse(&v[0]).map_err(Failure::Plain)?;
-            if m.step.is_some() {
-                fail!("--ask-at takes a whole tick: a run is asked between ticks");
-            }
-            match Question::parse(&v[1]) {
-                Some(Question::CanYou(_)) => {}
-                _ => fail!("--ask-at asks \"Can you X?\"; other questions are asked of the session with btx ask"),
-            }
-            Some(btx::explain::insert::asked_during_run(m.tick, &v[1]))
-        }
-        None => None,
-    };
+    let ask = ask_at.map(|v| asked_during(&v)).transpose()?;
     let req = |source: Source| RunRequest {
         tree: &tree,
         tree_file: Some((&path, &text)),
@@ -109,21 +96,10 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     }
     if let Some(p) = &plan {
         let plan = Plan::load(p)?;
-        let source = Source {
-            kind: "plan".into(),
-            path: Some(btx::text::path(p).to_string()),
-            text: Some(plan.text.clone()),
-            name: None,
-        };
-        planned(source, plan)?;
+        planned(source("plan", Some(p), Some(&plan.text), None), plan)?;
     } else if let Some(p) = &domain {
         let d = std::sync::Arc::new(Domain::load(p)?);
-        let source = Source {
-            kind: "domain".into(),
-            path: Some(btx::text::path(p).to_string()),
-            text: Some(d.text.clone()),
-            name: Some(d.name.clone()),
-        };
+        let source = source("domain", Some(p), Some(&d.text), Some(d.name.clone()));
         let mut leaves = DomainLeaves::new(d, &tree)?;
         for a in &set {
             leaves.set(a).map_err(Failure::Plain)?;
@@ -139,12 +115,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                         unknown.join(", ")
                     );
                 }
-                let source = Source {
-                    kind: "world".into(),
-                    path: None,
-                    text: None,
-                    name: Some("taxi".into()),
-                };
+                let source = source("world", None, None, Some("taxi".into()));
                 report_run(
                     &tree,
                     asked_at,
@@ -153,17 +124,42 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             }
             World::Kitting => {
                 let (name, plan) = kitting::scenario(seed).map_err(Failure::Plain)?;
-                let source = Source {
-                    kind: "world".into(),
-                    path: None,
-                    text: Some(plan.text.clone()),
-                    name: Some(format!("kitting: {name}")),
-                };
-                planned(source, plan)?;
+                let name = format!("kitting: {name}");
+                planned(source("world", None, Some(&plan.text), Some(name)), plan)?;
             }
         }
     }
     Ok(())
+}
+
+/// `--ask-at TICK "Can you X?"`: the question asked between ticks.
+fn asked_during(v: &[String]) -> Result<btx::session::record::Asked, Failure> {
+    let m = Moment::parse(&v[0]).map_err(Failure::Plain)?;
+    if m.step.is_some() {
+        fail!("--ask-at takes a whole tick: a run is asked between ticks");
+    }
+    match Question::parse(&v[1]) {
+        Some(Question::CanYou(_)) => {}
+        _ => fail!(
+            "--ask-at asks \"Can you X?\"; other questions are asked of the session with btx ask"
+        ),
+    }
+    Ok(btx::explain::insert::asked_during_run(m.tick, &v[1]))
+}
+
+/// Where a run's leaves came from, as the session's header says it.
+fn source(
+    kind: &str,
+    path: Option<&std::path::Path>,
+    text: Option<&str>,
+    name: Option<String>,
+) -> Source {
+    Source {
+        kind: kind.into(),
+        path: path.map(|p| btx::text::path(p).to_string()),
+        text: text.map(str::to_string),
+        name,
+    }
 }
 
 fn report_run(

@@ -743,51 +743,69 @@ impl Diff {
             .unwrap_or(0)
             .max(1);
         for sec in &self.sections {
-            if sec.a.is_empty() && sec.b.is_empty() {
-                continue;
-            }
-            let only = match (sec.a_subgoal, sec.b_subgoal) {
-                (Some(_), None) => " (only in A)",
-                (None, Some(_)) => " (only in B)",
-                _ => "",
-            };
-            write!(
-                out,
-                "\n{}{only}: edit distance {}{}, LCS {} (A {}, B {}): {}\n",
-                sec.name,
-                sec.distance(),
-                if sec.exact {
-                    ""
-                } else {
-                    if self.outcomes() {
-                        " at most (aligned run of the root by run of the root, then tick by tick)"
-                    } else {
-                        " at most (aligning took longer than 2 s)"
-                    }
-                },
-                sec.lcs(),
-                plural(sec.a.len(), "action"),
-                plural(sec.b.len(), "action"),
-                sec.summary()
-            )?;
-            for (e, role) in sec.edits.iter().zip(&sec.roles) {
-                let mark = match e.op {
-                    Op::Same => ' ',
-                    Op::Inserted => '+',
-                    Op::Deleted => '-',
-                    Op::Changed => '~',
-                };
-                let lead = match role {
-                    Role::Parting => '>',
-                    Role::Follows => '·',
-                    _ => ' ',
-                };
-                let left = e.a.map(|i| sec.a[i].label()).unwrap_or_default();
-                let right = e.b.map(|i| sec.b[i].label()).unwrap_or_default();
-                let line = format!("{lead} {mark} {left:<width$}   {right}");
-                writeln!(out, "{}", line.trim_end())?;
-            }
+            self.write_section(out, sec, width)?;
         }
+        self.write_in_all(out)
+    }
+
+    /// A subgoal's section: its distances and its steps side by side,
+    /// each marked as the same, inserted, deleted or changed.
+    fn write_section(
+        &self,
+        out: &mut dyn std::io::Write,
+        sec: &Section,
+        width: usize,
+    ) -> std::io::Result<()> {
+        if sec.a.is_empty() && sec.b.is_empty() {
+            return Ok(());
+        }
+        let only = match (sec.a_subgoal, sec.b_subgoal) {
+            (Some(_), None) => " (only in A)",
+            (None, Some(_)) => " (only in B)",
+            _ => "",
+        };
+        write!(
+            out,
+            "\n{}{only}: edit distance {}{}, LCS {} (A {}, B {}): {}\n",
+            sec.name,
+            sec.distance(),
+            if sec.exact {
+                ""
+            } else {
+                if self.outcomes() {
+                    " at most (aligned run of the root by run of the root, then tick by tick)"
+                } else {
+                    " at most (aligning took longer than 2 s)"
+                }
+            },
+            sec.lcs(),
+            plural(sec.a.len(), "action"),
+            plural(sec.b.len(), "action"),
+            sec.summary()
+        )?;
+        for (e, role) in sec.edits.iter().zip(&sec.roles) {
+            let mark = match e.op {
+                Op::Same => ' ',
+                Op::Inserted => '+',
+                Op::Deleted => '-',
+                Op::Changed => '~',
+            };
+            let lead = match role {
+                Role::Parting => '>',
+                Role::Follows => '·',
+                _ => ' ',
+            };
+            let left = e.a.map(|i| sec.a[i].label()).unwrap_or_default();
+            let right = e.b.map(|i| sec.b[i].label()).unwrap_or_default();
+            let line = format!("{lead} {mark} {left:<width$}   {right}");
+            writeln!(out, "{}", line.trim_end())?;
+        }
+        Ok(())
+    }
+
+    /// The last paragraph: the distances in all, what decided the outcome,
+    /// where the runs part and the first divergence.
+    fn write_in_all(&self, out: &mut dyn std::io::Write) -> std::io::Result<()> {
         let steps: usize = self.sections.iter().map(|s| s.a.len()).sum();
         let parted = self
             .parting_text

@@ -626,13 +626,6 @@ fn ahead(cx: &Context, r: &mut Reply) -> Result<(), String> {
 fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Result<(), String> {
     let tree = cx.tree;
     let name = cx.name(u);
-    let says = |s: Status| {
-        if s == Status::Success {
-            "succeeds"
-        } else {
-            "fails"
-        }
-    };
     let word = says(s);
     r.about = Some(u);
     r.understood = if asked_next {
@@ -652,22 +645,8 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
                 ended.push((p, st));
             }
             Flow::Again => {
-                let repeat = n.builtin == Some(Builtin::Repeat);
-                let way: String = ended
-                    .iter()
-                    .map(|&(e, st)| format!("{} {}, then ", cx.name(e), says(st)))
-                    .collect();
-                let what = if child == u {
-                    "it".to_string()
-                } else {
-                    cx.name(child)
-                };
-                let again = if repeat {
-                    format!("repeats {what} (while it has cycles left)")
-                } else {
-                    format!("tries {what} again (while it has attempts left)")
-                };
-                r.answer = format!("If {name} {word}, {way}{} {again}.", cx.name(p));
+                let again = again(cx, u, child, p, &ended);
+                r.answer = format!("If {name} {word}, {again}.");
                 r.nodes = vec![u, p];
                 return Ok(());
             }
@@ -684,20 +663,7 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
                 match n.children.get(at + 1) {
                     Some(&c) if go_on => {
                         let first = tree.leaves_below(c).next().unwrap_or(c);
-                        // An async control yields the tick between children.
-                        let yields = matches!(
-                            n.builtin,
-                            Some(Builtin::AsyncSequence | Builtin::AsyncFallback)
-                        );
-                        r.answer = if yields {
-                            format!(
-                                "If {name} {word}, {} goes on to {} when it is ticked again (it gives the tick back first).",
-                                cx.name(p),
-                                tree.deed(first)
-                            )
-                        } else {
-                            format!("If {name} {word}, I will {} next.", tree.deed(first))
-                        };
+                        r.answer = format!("If {name} {word}, {}", goes_on(cx, p, first));
                         r.nodes = vec![u, first];
                         return Ok(());
                     }
@@ -709,6 +675,64 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
             }
         }
     }
+    r.answer = format!("If {name} {word}, {}", task_ends(cx, u, s, status, &ended));
+    r.nodes = std::iter::once(u)
+        .chain(ended.iter().map(|&(p, _)| p))
+        .collect();
+    Ok(())
+}
+
+/// The verb of an outcome, as "if X fails" says it.
+fn says(s: Status) -> &'static str {
+    if s == Status::Success {
+        "succeeds"
+    } else {
+        "fails"
+    }
+}
+
+/// "X ends, then the Retry (#7) tries it again": the loop `p` that ticks
+/// `child` again, after the nodes that `ended` on the way up.
+fn again(cx: &Context, u: Uid, child: Uid, p: Uid, ended: &[(Uid, Status)]) -> String {
+    let way: String = ended
+        .iter()
+        .map(|&(e, st)| format!("{} {}, then ", cx.name(e), says(st)))
+        .collect();
+    let what = if child == u {
+        "it".to_string()
+    } else {
+        cx.name(child)
+    };
+    let again = if cx.tree.node(p).builtin == Some(Builtin::Repeat) {
+        format!("repeats {what} (while it has cycles left)")
+    } else {
+        format!("tries {what} again (while it has attempts left)")
+    };
+    format!("{way}{} {again}", cx.name(p))
+}
+
+/// "I will X next.": the first leaf of the child `p` goes on to; an async
+/// control yields the tick between children.
+fn goes_on(cx: &Context, p: Uid, first: Uid) -> String {
+    let yields = matches!(
+        cx.tree.node(p).builtin,
+        Some(Builtin::AsyncSequence | Builtin::AsyncFallback)
+    );
+    if yields {
+        format!(
+            "{} goes on to {} when it is ticked again (it gives the tick back first).",
+            cx.name(p),
+            cx.tree.deed(first)
+        )
+    } else {
+        format!("I will {} next.", cx.tree.deed(first))
+    }
+}
+
+/// How the task ends when the outcome went up to the root, said with the
+/// way up so the claim can be read against a run.
+fn task_ends(cx: &Context, u: Uid, s: Status, status: Status, ended: &[(Uid, Status)]) -> String {
+    let tree = cx.tree;
     // Only where every node above passes the same outcome on as the last
     // of its steps is `u` the task's last step.
     let last_step = s == Status::Success
@@ -720,28 +744,22 @@ fn next(cx: &Context, u: Uid, s: Status, r: &mut Reply, asked_next: bool) -> Res
                     .last()
                     .is_some_and(|&c| c == u || tree.is_ancestor(c, u))
         });
-    r.answer = if last_step {
-        format!(
-            "If {name} {word}, the task {}: {} is its last step.",
+    if last_step {
+        return format!(
+            "the task {}: {} is its last step.",
             says(status),
             tree.spoken(u)
-        )
-    } else {
-        // Say the way up, so the claim can be read against a run.
-        let way: Vec<String> = ended
-            .iter()
-            .filter(|&&(p, _)| p != Tree::ROOT)
-            .map(|&(p, st)| format!("{} {}", cx.name(p), says(st)))
-            .collect();
-        let way = if way.is_empty() {
-            String::new()
-        } else {
-            format!("{}, so ", way.join(", then "))
-        };
-        format!("If {name} {word}, {way}the task {}.", says(status))
-    };
-    r.nodes = std::iter::once(u)
-        .chain(ended.iter().map(|&(p, _)| p))
+        );
+    }
+    let way: Vec<String> = ended
+        .iter()
+        .filter(|&&(p, _)| p != Tree::ROOT)
+        .map(|&(p, st)| format!("{} {}", cx.name(p), says(st)))
         .collect();
-    Ok(())
+    let way = if way.is_empty() {
+        String::new()
+    } else {
+        format!("{}, so ", way.join(", then "))
+    };
+    format!("{way}the task {}.", says(status))
 }

@@ -452,71 +452,7 @@ pub fn sentence(m: &Model, q: &Query, e: &Explanation) -> String {
         ),
     };
     let outcome: Vec<String> = match e.next {
-        // Never a final status the run cannot give: what the tree would
-        // have done next, and that its outcome is unknown.
-        Some(Next::Unknown(l)) => vec![format!(
-            "{} would have gone on to {}, whose outcome the run does not give",
-            match m.vars[q.targets[0]].kind {
-                VarKind::Status(u) | VarKind::Executed(u) | VarKind::Decision(u)
-                    if m.tree.is_ancestor(u, l) =>
-                {
-                    m.node_name(u)
-                }
-                _ => "the tree".to_string(),
-            },
-            m.node_name(l)
-        )],
-        Some(Next::Retry {
-            node,
-            attempt,
-            of,
-            repeat,
-        }) => {
-            let of = if of > 0 {
-                format!(" of {of}")
-            } else {
-                String::new()
-            };
-            let origin = m.origin(node);
-            // A loop someone named ("patrol twice") is said as itself, with
-            // what it runs again: never the task it is part of.
-            let child = m.tree.node(origin).children.first().copied();
-            if let (true, Some(c)) = (m.tree.has_name(origin), child) {
-                let (lp, what) = (m.tree.description(origin), m.tree.description(c));
-                vec![if repeat {
-                    format!("{lp} would have repeated {what}: cycle {attempt}{of}")
-                } else {
-                    format!("{lp} would have tried {what} again: attempt {attempt}{of}")
-                }]
-            } else {
-                let what = m
-                    .tree
-                    .ancestors(node)
-                    .find(|&a| m.tree.has_name(a))
-                    .map_or_else(|| m.node_name(node), |a| m.node_name(a));
-                vec![if repeat {
-                    format!("I would have repeated {what}: cycle {attempt}{of}")
-                } else {
-                    format!("I would have retried to {what}: attempt {attempt}{of}")
-                }]
-            }
-        }
-        // Never a consequence the model only guesses: which node it rests
-        // on, and why btx cannot follow it.
-        Some(Next::Opaque(node)) => {
-            let id = &m.tree.node(node).id;
-            let how = if m.tree.node(node).builtin.is_none() {
-                format!("btx does not know how a {id} decides")
-            } else if m.tree.node(node).builtin == Some(crate::model::Builtin::RecoveryNode) {
-                format!("a {id} goes back to its first child within the tick, which btx's model does not follow")
-            } else {
-                format!("btx's model does not follow how a {id} decides")
-            };
-            vec![format!(
-                "what followed would have rested on how {} went on, which the run does not give ({how})",
-                m.node_name(node)
-            )]
-        }
+        Some(next) => vec![what_next(m, q, next)],
         None => q
             .targets
             .iter()
@@ -531,6 +467,81 @@ pub fn sentence(m: &Model, q: &Query, e: &Explanation) -> String {
         cond,
         and_list(&outcome)
     )
+}
+
+/// Where the change leads past what the model holds, said as that:
+/// never a final status the run cannot give, nor a consequence the model
+/// only guesses.
+fn what_next(m: &Model, q: &Query, next: Next) -> String {
+    match next {
+        // What the tree would have done next, and that its outcome is
+        // unknown.
+        Next::Unknown(l) => format!(
+            "{} would have gone on to {}, whose outcome the run does not give",
+            match m.vars[q.targets[0]].kind {
+                VarKind::Status(u) | VarKind::Executed(u) | VarKind::Decision(u)
+                    if m.tree.is_ancestor(u, l) =>
+                {
+                    m.node_name(u)
+                }
+                _ => "the tree".to_string(),
+            },
+            m.node_name(l)
+        ),
+        Next::Retry {
+            node,
+            attempt,
+            of,
+            repeat,
+        } => retried(m, node, attempt, of, repeat),
+        // Which node it rests on, and why btx cannot follow it.
+        Next::Opaque(node) => {
+            let id = &m.tree.node(node).id;
+            let how = if m.tree.node(node).builtin.is_none() {
+                format!("btx does not know how a {id} decides")
+            } else if m.tree.node(node).builtin == Some(crate::model::Builtin::RecoveryNode) {
+                format!("a {id} goes back to its first child within the tick, which btx's model does not follow")
+            } else {
+                format!("btx's model does not follow how a {id} decides")
+            };
+            format!(
+                "what followed would have rested on how {} went on, which the run does not give ({how})",
+                m.node_name(node)
+            )
+        }
+    }
+}
+
+/// A loop that would have ticked its child again: attempt (or cycle)
+/// `attempt` of `of`.
+fn retried(m: &Model, node: crate::model::Uid, attempt: i64, of: i64, repeat: bool) -> String {
+    let of = if of > 0 {
+        format!(" of {of}")
+    } else {
+        String::new()
+    };
+    let origin = m.origin(node);
+    // A loop someone named ("patrol twice") is said as itself, with
+    // what it runs again: never the task it is part of.
+    let child = m.tree.node(origin).children.first().copied();
+    if let (true, Some(c)) = (m.tree.has_name(origin), child) {
+        let (lp, what) = (m.tree.description(origin), m.tree.description(c));
+        return if repeat {
+            format!("{lp} would have repeated {what}: cycle {attempt}{of}")
+        } else {
+            format!("{lp} would have tried {what} again: attempt {attempt}{of}")
+        };
+    }
+    let what = m
+        .tree
+        .ancestors(node)
+        .find(|&a| m.tree.has_name(a))
+        .map_or_else(|| m.node_name(node), |a| m.node_name(a));
+    if repeat {
+        format!("I would have repeated {what}: cycle {attempt}{of}")
+    } else {
+        format!("I would have retried to {what}: attempt {attempt}{of}")
+    }
 }
 
 pub fn capitalised(s: &str) -> String {

@@ -342,31 +342,7 @@ impl Alerts {
         let tree = &*tree;
         let u = row.uid;
         if u == Tree::ROOT {
-            let open = std::mem::take(&mut self.open);
-            if open.is_empty() {
-                let text = if cause == u {
-                    format!("{} the task failed", at(row))
-                } else {
-                    format!(
-                        "{} the task failed; the root cause: {} failed",
-                        at(row),
-                        tree.spoken(cause)
-                    )
-                };
-                out.push(self.alert(What::Fault, row, u, Some(cause), text));
-            }
-            for h in open {
-                let mut a = self.alert(
-                    What::NotRecovered,
-                    row,
-                    h.handler.unwrap_or(u),
-                    Some(h.cause),
-                    format!("{} not recovered: the task failed", at(row)),
-                );
-                a.handler = h.handler;
-                out.push(a);
-            }
-            return;
+            return self.task_failed(row, cause, out);
         }
         // The handler itself failed: its handling is over.
         let mut after = None;
@@ -391,44 +367,7 @@ impl Alerts {
         if let Some(c) = after.filter(|&c| c != u) {
             text.push_str(&format!(" (the root cause: {} failed)", self.name(c)));
         }
-        // What fails with it, as the user knows it: the nodes named, and a
-        // Retry or RecoveryNode that has no tries left.
-        let mut said: Vec<String> = Vec::new();
-        let mut child = u;
-        for &p in &path {
-            let n = tree.node(p);
-            let first = n.children.first() == Some(&child);
-            child = p;
-            let part = match n.builtin {
-                Some(Builtin::RetryUntilSuccessful) => Some(format!(
-                    "{} gave up after {} attempts",
-                    tree.told(p),
-                    self.tries[p as usize]
-                )),
-                Some(Builtin::RecoveryNode) if first => Some(format!(
-                    "{} gave up after {} {}",
-                    tree.told(p),
-                    self.tries[p as usize],
-                    if self.tries[p as usize] == 1 {
-                        "retry"
-                    } else {
-                        "retries"
-                    }
-                )),
-                _ if p != Tree::ROOT
-                    && !n.name.is_empty()
-                    && n.name != n.id
-                    && tree.description(p) != tree.description(u) =>
-                {
-                    Some(format!("{} failed", tree.spoken(p)))
-                }
-                _ => None,
-            };
-            if let Some(part) = part.filter(|x| !said.contains(x)) {
-                said.push(part);
-            }
-        }
-        for part in &said {
+        for part in &self.fails_with(u, &path) {
             text.push_str("; ");
             text.push_str(part);
         }
@@ -450,6 +389,73 @@ impl Alerts {
         let mut a = self.alert(What::Fault, row, u, Some(cause), text);
         a.handler = handler;
         out.push(a);
+    }
+
+    /// The root failed: the task's failure, and every handling still open
+    /// is over without recovering.
+    fn task_failed(&mut self, row: Row, cause: Uid, out: &mut Vec<Alert>) {
+        let u = row.uid;
+        let open = std::mem::take(&mut self.open);
+        if open.is_empty() {
+            let text = if cause == u {
+                format!("{} the task failed", at(row))
+            } else {
+                format!(
+                    "{} the task failed; the root cause: {} failed",
+                    at(row),
+                    self.tree.spoken(cause)
+                )
+            };
+            out.push(self.alert(What::Fault, row, u, Some(cause), text));
+        }
+        for h in open {
+            let mut a = self.alert(
+                What::NotRecovered,
+                row,
+                h.handler.unwrap_or(u),
+                Some(h.cause),
+                format!("{} not recovered: the task failed", at(row)),
+            );
+            a.handler = h.handler;
+            out.push(a);
+        }
+    }
+
+    /// What fails with `u` on its `path` up to its handler, as the user
+    /// knows it: the nodes named, and a Retry or RecoveryNode that has no
+    /// tries left; each once.
+    fn fails_with(&self, u: Uid, path: &[Uid]) -> Vec<String> {
+        let tree = &*self.tree;
+        let mut said: Vec<String> = Vec::new();
+        let mut child = u;
+        for &p in path {
+            let n = tree.node(p);
+            let first = n.children.first() == Some(&child);
+            child = p;
+            let tries = self.tries[p as usize];
+            let part = match n.builtin {
+                Some(Builtin::RetryUntilSuccessful) => {
+                    Some(format!("{} gave up after {tries} attempts", tree.told(p),))
+                }
+                Some(Builtin::RecoveryNode) if first => Some(format!(
+                    "{} gave up after {tries} {}",
+                    tree.told(p),
+                    if tries == 1 { "retry" } else { "retries" }
+                )),
+                _ if p != Tree::ROOT
+                    && !n.name.is_empty()
+                    && n.name != n.id
+                    && tree.description(p) != tree.description(u) =>
+                {
+                    Some(format!("{} failed", tree.spoken(p)))
+                }
+                _ => None,
+            };
+            if let Some(part) = part.filter(|x| !said.contains(x)) {
+                said.push(part);
+            }
+        }
+        said
     }
 
     /// A node as a line names it: its name, with its kind and uid where

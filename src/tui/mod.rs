@@ -443,9 +443,32 @@ fn asciify(buf: &mut ratatui::buffer::Buffer) {
 
 /// `run`, drawing only ASCII signs when `ascii` is set.
 pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
-    // SIGTERM (and SIGHUP) while the loop blocks on input: put the terminal
-    // back from a watcher thread, then leave as a killed process would.
-    // An external SIGINT or SIGQUIT too (Ctrl-C itself is a key in raw mode).
+    let watcher = restore_on_signals()?;
+    abort::guard();
+    let mut terminal = ratatui::try_init()?;
+    // ratatui's panic hook leaves the alternate screen and raw mode; mouse
+    // reporting, which btx turned on, is turned off first.
+    let ratatui_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let _ = ratatui::crossterm::execute!(
+            std::io::stdout(),
+            event::DisableMouseCapture,
+            ratatui::crossterm::cursor::Show
+        );
+        ratatui_hook(info);
+    }));
+    let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
+    let result = event_loop(&mut app, &mut terminal, ascii);
+    let _ = ratatui::crossterm::execute!(std::io::stdout(), event::DisableMouseCapture);
+    ratatui::restore();
+    watcher.close();
+    result
+}
+
+/// SIGTERM (and SIGHUP) while the loop blocks on input: put the terminal
+/// back from a watcher thread, then leave as a killed process would. An
+/// external SIGINT or SIGQUIT too (Ctrl-C itself is a key in raw mode).
+fn restore_on_signals() -> std::io::Result<signal_hook::iterator::Handle> {
     let mut signals = signal_hook::iterator::Signals::new([
         signal_hook::consts::SIGTERM,
         signal_hook::consts::SIGHUP,
@@ -464,86 +487,75 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
             std::process::exit(128 + sig);
         }
     });
-    abort::guard();
-    let mut terminal = ratatui::try_init()?;
-    // ratatui's panic hook leaves the alternate screen and raw mode; mouse
-    // reporting, which btx turned on, is turned off first.
-    let ratatui_hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(move |info| {
-        let _ = ratatui::crossterm::execute!(
-            std::io::stdout(),
-            event::DisableMouseCapture,
-            ratatui::crossterm::cursor::Show
-        );
-        ratatui_hook(info);
-    }));
-    let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
+    Ok(watcher)
+}
+
+/// Draws when something changed, then waits for a key (or the next step
+/// while playing, or does idle work while there is some) and hands it to
+/// the screen, until the screen is done.
+fn event_loop(
+    app: &mut impl Screen,
+    terminal: &mut ratatui::DefaultTerminal,
+    ascii: bool,
+) -> std::io::Result<()> {
     // The end-to-end tests crash the explorer on purpose, to see the panic
     // path give the terminal back; nothing else sets this.
     let crash = std::env::var_os(CRASH_ENV).is_some();
     let abort = std::env::var_os(ABORT_ENV).is_some();
-    let result = (|| -> std::io::Result<()> {
-        let mut dirty = true;
-        while !app.done() {
-            if dirty {
-                terminal.draw(|f| {
-                    app.draw(f);
-                    if ascii {
-                        asciify(f.buffer_mut());
-                    }
-                })?;
-                dirty = false;
-                if crash {
-                    panic!("{CRASH_ENV} is set: crashing on purpose after the first frame");
+    let mut dirty = true;
+    while !app.done() {
+        if dirty {
+            terminal.draw(|f| {
+                app.draw(f);
+                if ascii {
+                    asciify(f.buffer_mut());
                 }
-                if abort {
-                    std::process::abort();
-                }
+            })?;
+            dirty = false;
+            if crash {
+                panic!("{CRASH_ENV} is set: crashing on purpose after the first frame");
             }
-            // Block until input; wake on a timer only while playing.
-            let ev = if let Some(every) = app.play_every() {
-                if event::poll(every)? {
-                    Some(event::read()?)
-                } else {
-                    app.play_step();
-                    dirty = true;
-                    None
-                }
-            } else if event::poll(Duration::ZERO)? {
-                Some(event::read()?)
-            } else if app.idle() {
-                None
-            } else {
-                Some(event::read()?)
-            };
-            if let Some(ev) = ev {
-                if is_suspend(&ev) {
-                    suspend()?;
-                    terminal = ratatui::try_init()?;
-                    let _ =
-                        ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
-                    terminal.clear()?;
-                    dirty = true;
-                    continue;
-                }
-                let size = terminal.size()?;
-                app.event(ev, (size.width, size.height));
-                if let Some(t) = app.take_clipboard() {
-                    use std::io::Write;
-                    let mut out = std::io::stdout();
-                    let _ = out
-                        .write_all(osc52(&t).as_bytes())
-                        .and_then(|()| out.flush());
-                }
-                dirty = true;
+            if abort {
+                std::process::abort();
             }
         }
-        Ok(())
-    })();
-    let _ = ratatui::crossterm::execute!(std::io::stdout(), event::DisableMouseCapture);
-    ratatui::restore();
-    watcher.close();
-    result
+        // Block until input; wake on a timer only while playing.
+        let ev = if let Some(every) = app.play_every() {
+            if event::poll(every)? {
+                Some(event::read()?)
+            } else {
+                app.play_step();
+                dirty = true;
+                None
+            }
+        } else if event::poll(Duration::ZERO)? {
+            Some(event::read()?)
+        } else if app.idle() {
+            None
+        } else {
+            Some(event::read()?)
+        };
+        let Some(ev) = ev else { continue };
+        if is_suspend(&ev) {
+            suspend()?;
+            *terminal = ratatui::try_init()?;
+            let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
+            terminal.clear()?;
+            dirty = true;
+            continue;
+        }
+        let size = terminal.size()?;
+        app.event(ev, (size.width, size.height));
+        if let Some(t) = app.take_clipboard() {
+            use std::io::Write;
+            let mut out = std::io::stdout();
+            let _ = out
+                .write_all(osc52(&t).as_bytes())
+                .and_then(|()| out.flush());
+        }
+        dirty = true;
+    }
+    Ok(())
 }
 
 /// Set, the explorer panics once it has drawn its first frame (a test hook

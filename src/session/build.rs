@@ -112,29 +112,13 @@ impl Builder {
             } => {
                 self.known(uid, err)?;
                 Self::near(nth, tick, err)?;
-                if tick < self.index.ticks() || tick == 0 {
-                    return Err(err(format!(
-                        "tick {tick} comes after tick {}",
-                        self.index.ticks()
-                    )));
-                }
-                self.index.push_transition(
-                    &self.tree,
-                    Transition {
-                        tick,
-                        uid,
-                        prev: from,
-                        status: to,
-                    },
-                    decision,
-                );
-                // Kept only if every transition has its time.
-                match time_us {
-                    Some(t) if self.times_us.len() + 1 == self.index.transitions.len() => {
-                        self.times_us.push(t)
-                    }
-                    _ => self.times_us.clear(),
-                }
+                let t = Transition {
+                    tick,
+                    uid,
+                    prev: from,
+                    status: to,
+                };
+                self.transition(t, decision, time_us, err)?;
             }
             Record::Decision {
                 tick,
@@ -167,25 +151,7 @@ impl Builder {
                 first_uid,
                 question,
                 ..
-            } => {
-                self.known(copy_of, err)?;
-                self.known(after, err)?;
-                let (t2, first) = self.tree.with_copy_after(copy_of, after).map_err(err)?;
-                if first != first_uid {
-                    return Err(err(format!(
-                        "the inserted nodes were numbered from {first_uid}, btx numbers them from {first}"
-                    )));
-                }
-                self.tree = t2;
-                self.index.resize(self.tree.len());
-                self.inserts.push((
-                    self.index.transitions.len() as u32,
-                    copy_of,
-                    after,
-                    first_uid,
-                    question,
-                ));
-            }
+            } => self.insert(copy_of, after, first_uid, question, err)?,
             Record::Gap { reason, .. } => {
                 let at = self.index.transitions.len();
                 self.warn(
@@ -211,6 +177,63 @@ impl Builder {
                 self.end = Some((ticks, root, reason));
             }
         }
+        Ok(())
+    }
+
+    /// A status transition, in order of ticks; its time kept only if
+    /// every transition has one.
+    fn transition(
+        &mut self,
+        t: Transition,
+        decision: Option<String>,
+        time_us: Option<i64>,
+        err: Locate,
+    ) -> Result<(), Located> {
+        if t.tick < self.index.ticks() || t.tick == 0 {
+            return Err(err(format!(
+                "tick {} comes after tick {}",
+                t.tick,
+                self.index.ticks()
+            )));
+        }
+        self.index.push_transition(&self.tree, t, decision);
+        match time_us {
+            Some(us) if self.times_us.len() + 1 == self.index.transitions.len() => {
+                self.times_us.push(us)
+            }
+            _ => self.times_us.clear(),
+        }
+        Ok(())
+    }
+
+    /// A behaviour inserted as a subgoal during the run ("Can you X?"):
+    /// the tree grows by a copy of `copy_of` after `after`, numbered as
+    /// the record says btx numbers it.
+    fn insert(
+        &mut self,
+        copy_of: Uid,
+        after: Uid,
+        first_uid: Uid,
+        question: String,
+        err: Locate,
+    ) -> Result<(), Located> {
+        self.known(copy_of, err)?;
+        self.known(after, err)?;
+        let (t2, first) = self.tree.with_copy_after(copy_of, after).map_err(err)?;
+        if first != first_uid {
+            return Err(err(format!(
+                "the inserted nodes were numbered from {first_uid}, btx numbers them from {first}"
+            )));
+        }
+        self.tree = t2;
+        self.index.resize(self.tree.len());
+        self.inserts.push((
+            self.index.transitions.len() as u32,
+            copy_of,
+            after,
+            first_uid,
+            question,
+        ));
         Ok(())
     }
 

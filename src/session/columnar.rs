@@ -242,18 +242,40 @@ pub fn read<R: parquet::file::reader::ChunkReader + 'static>(
     source: R,
     sink: &mut dyn Sink,
 ) -> Result<(), Located> {
-    let bad = |e: parquet::errors::ParquetError| {
-        let e = e.to_string();
-        match e.split_once("Disabled feature at compile time: ") {
-            Some((_, codec)) => Located::file(
-                path,
-                format!("a Parquet session compressed with {codec}, which btx does not read (it reads Snappy, zstd, gzip and LZ4): write it again with one of them, e.g. DuckDB's COPY … (FORMAT parquet, COMPRESSION zstd)"),
-            ),
-            None => Located::file(path, format!("not a readable Parquet session: {e}")),
-        }
-    };
+    let bad = |e| unreadable(path, e);
     let r = SerializedFileReader::new(source).map_err(bad)?;
-    let meta = r.metadata();
+    let columns = our_columns(path, r.metadata())?;
+    let mut nth = 0;
+    for g in 0..r.num_row_groups() {
+        let rg = r.get_row_group(g).map_err(bad)?;
+        within_bound(path, &*rg, g, nth)?;
+        read_group(path, &*rg, columns, &mut nth, sink)?;
+    }
+    if nth == 0 {
+        return Err(Located::file(path, "the session is empty"));
+    }
+    Ok(())
+}
+
+/// Parquet's error, said for a session; a codec btx was built without is
+/// named, with how to write the file again.
+fn unreadable(path: &Path, e: parquet::errors::ParquetError) -> Located {
+    let e = e.to_string();
+    match e.split_once("Disabled feature at compile time: ") {
+        Some((_, codec)) => Located::file(
+            path,
+            format!("a Parquet session compressed with {codec}, which btx does not read (it reads Snappy, zstd, gzip and LZ4): write it again with one of them, e.g. DuckDB's COPY … (FORMAT parquet, COMPRESSION zstd)"),
+        ),
+        None => Located::file(path, format!("not a readable Parquet session: {e}")),
+    }
+}
+
+/// Whether the file is a btx session of a format this btx reads: its
+/// number of columns.
+fn our_columns(
+    path: &Path,
+    meta: &parquet::file::metadata::ParquetMetaData,
+) -> Result<usize, Located> {
     let ours = meta
         .file_metadata()
         .key_value_metadata()
@@ -285,73 +307,89 @@ pub fn read<R: parquet::file::reader::ChunkReader + 'static>(
             "a Parquet session of other columns than btx writes",
         ));
     }
-    let mut nth = 0;
-    for g in 0..r.num_row_groups() {
-        let rg = r.get_row_group(g).map_err(bad)?;
-        let rows = rg.metadata().num_rows() as usize;
-        for (i, name) in [(5, "decision"), (6, "record")] {
-            let size = rg.metadata().column(i).uncompressed_size();
-            if size > ROW_GROUP_TEXT_MAX {
-                return Err(Located::file(
-                    path,
-                    format!(
-                        "row group {} (from row {}): its {name} column is {} MiB decompressed, more than the {} MiB btx reads of a row group",
-                        g + 1,
-                        nth + 1,
-                        size >> 20,
-                        ROW_GROUP_TEXT_MAX >> 20
-                    ),
-                ));
-            }
-        }
-        let rg = &*rg;
-        let tick = crate::table::column::<Int64Type>(rg, 0, rows).map_err(bad)?;
-        let step = crate::table::column::<Int64Type>(rg, 1, rows).map_err(bad)?;
-        let uid = crate::table::column::<Int32Type>(rg, 2, rows).map_err(bad)?;
-        let prev = crate::table::column::<Int32Type>(rg, 3, rows).map_err(bad)?;
-        let status = crate::table::column::<Int32Type>(rg, 4, rows).map_err(bad)?;
-        let decision = crate::table::column::<ByteArrayType>(rg, 5, rows).map_err(bad)?;
-        let record = crate::table::column::<ByteArrayType>(rg, 6, rows).map_err(bad)?;
-        let time_us = if columns == 8 {
-            crate::table::column::<Int64Type>(rg, 7, rows).map_err(bad)?
-        } else {
-            vec![None; rows]
-        };
-        for i in 0..rows {
-            nth += 1;
-            let err = |m: String| Located::file(path, format!("row {nth}: {m}"));
-            // Bounded as a line of JSON lines is.
-            for (v, name) in [(&decision[i], "decision"), (&record[i], "record")] {
-                let len = v.as_ref().map_or(0, |b| b.len());
-                if len > super::format::RECORD_MAX {
-                    return Err(err(format!(
-                        "its {name} is {len} bytes, more than a record may be ({} MiB)",
-                        super::format::RECORD_MAX >> 20
-                    )));
-                }
-            }
-            let row = Row {
-                tick: tick[i],
-                step: step[i],
-                uid: uid[i],
-                prev: prev[i],
-                status: status[i],
-                decision: decision[i].as_ref(),
-                record: record[i].as_ref(),
-                time_us: time_us[i],
-            };
-            if nth == 1 {
-                let text = row.text(row.record, "record").map_err(&err)?;
-                let h = super::jsonl::header(path, text, &err)?;
-                sink.header(path, text, h, &err)?;
-                continue;
-            }
-            let rec = row.record().map_err(&err)?;
-            sink.record(nth - 1, rec, &err)?;
+    Ok(columns)
+}
+
+/// A row group's text columns are read whole: refused past their bound.
+fn within_bound(
+    path: &Path,
+    rg: &dyn parquet::file::reader::RowGroupReader,
+    g: usize,
+    nth: usize,
+) -> Result<(), Located> {
+    for (i, name) in [(5, "decision"), (6, "record")] {
+        let size = rg.metadata().column(i).uncompressed_size();
+        if size > ROW_GROUP_TEXT_MAX {
+            return Err(Located::file(
+                path,
+                format!(
+                    "row group {} (from row {}): its {name} column is {} MiB decompressed, more than the {} MiB btx reads of a row group",
+                    g + 1,
+                    nth + 1,
+                    size >> 20,
+                    ROW_GROUP_TEXT_MAX >> 20
+                ),
+            ));
         }
     }
-    if nth == 0 {
-        return Err(Located::file(path, "the session is empty"));
+    Ok(())
+}
+
+/// The rows of a row group, each handed to the sink (the first row of the
+/// file is the header); `nth` counts the rows read.
+fn read_group(
+    path: &Path,
+    rg: &dyn parquet::file::reader::RowGroupReader,
+    columns: usize,
+    nth: &mut usize,
+    sink: &mut dyn Sink,
+) -> Result<(), Located> {
+    let bad = |e| unreadable(path, e);
+    let rows = rg.metadata().num_rows() as usize;
+    let tick = crate::table::column::<Int64Type>(rg, 0, rows).map_err(bad)?;
+    let step = crate::table::column::<Int64Type>(rg, 1, rows).map_err(bad)?;
+    let uid = crate::table::column::<Int32Type>(rg, 2, rows).map_err(bad)?;
+    let prev = crate::table::column::<Int32Type>(rg, 3, rows).map_err(bad)?;
+    let status = crate::table::column::<Int32Type>(rg, 4, rows).map_err(bad)?;
+    let decision = crate::table::column::<ByteArrayType>(rg, 5, rows).map_err(bad)?;
+    let record = crate::table::column::<ByteArrayType>(rg, 6, rows).map_err(bad)?;
+    let time_us = if columns == 8 {
+        crate::table::column::<Int64Type>(rg, 7, rows).map_err(bad)?
+    } else {
+        vec![None; rows]
+    };
+    for i in 0..rows {
+        *nth += 1;
+        let n = *nth;
+        let err = |m: String| Located::file(path, format!("row {n}: {m}"));
+        // Bounded as a line of JSON lines is.
+        for (v, name) in [(&decision[i], "decision"), (&record[i], "record")] {
+            let len = v.as_ref().map_or(0, |b| b.len());
+            if len > super::format::RECORD_MAX {
+                return Err(err(format!(
+                    "its {name} is {len} bytes, more than a record may be ({} MiB)",
+                    super::format::RECORD_MAX >> 20
+                )));
+            }
+        }
+        let row = Row {
+            tick: tick[i],
+            step: step[i],
+            uid: uid[i],
+            prev: prev[i],
+            status: status[i],
+            decision: decision[i].as_ref(),
+            record: record[i].as_ref(),
+            time_us: time_us[i],
+        };
+        if n == 1 {
+            let text = row.text(row.record, "record").map_err(&err)?;
+            let h = super::jsonl::header(path, text, &err)?;
+            sink.header(path, text, h, &err)?;
+            continue;
+        }
+        let rec = row.record().map_err(&err)?;
+        sink.record(n - 1, rec, &err)?;
     }
     Ok(())
 }

@@ -400,20 +400,8 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
             step: None,
         }),
         When::BeforeFailureOf(u) | When::AfterFailureOf(u) => {
-            let failures: Vec<u32> = index
-                .changes_of(u)
-                .iter()
-                .copied()
-                .filter(|&p| index.transitions[p as usize - 1].status == Status::Failure)
-                .collect();
-            let p = failures
-                .iter()
-                .rev()
-                .find(|&&p| p <= at.pos)
-                .or(failures.first())
-                .copied()
-                .ok_or_else(|| format!("{} never failed in this run.", tree.told(u)))?;
-            // `p` is the position right after the failure.
+            // The position right after the failure.
+            let p = failure_of(tree, at, u)?;
             Ok(if matches!(w, When::BeforeFailureOf(_)) {
                 p - 1
             } else {
@@ -426,32 +414,7 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
             failed,
             side,
         } => {
-            let ends: Vec<u32> = index
-                .changes_of(uid)
-                .iter()
-                .copied()
-                .filter(|&p| match index.transitions[p as usize - 1].status {
-                    Status::Failure => true,
-                    Status::Success => !failed,
-                    _ => false,
-                })
-                .collect();
-            let p = ends.get(n as usize - 1).copied().ok_or_else(|| {
-                let verb = if failed { "failed" } else { "ended" };
-                let node = say::upper(&tree.told(uid));
-                let nth = read::ordinal_word(n);
-                match ends.len() {
-                    0 => format!("{node} never {verb} in this run: there is no {nth} time."),
-                    k => format!(
-                        "{node} {verb} {} in this run: there is no {nth} time.",
-                        match k {
-                            1 => "once".to_string(),
-                            2 => "twice".to_string(),
-                            k => format!("{k} times"),
-                        }
-                    ),
-                }
-            })?;
+            let p = nth_end(tree, at, uid, n, failed)?;
             Ok(if side == read::Side::Before { p - 1 } else { p })
         }
         When::BeforeFailure => first_failure(),
@@ -468,6 +431,60 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
                 })
         }
     }
+}
+
+/// The position right after `u`'s last failure by the moment, else its
+/// first.
+fn failure_of(tree: &Tree, at: &crate::session::At, u: Uid) -> Result<u32, String> {
+    let index = at.index;
+    let failures: Vec<u32> = index
+        .changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&p| index.transitions[p as usize - 1].status == crate::run::Status::Failure)
+        .collect();
+    failures
+        .iter()
+        .rev()
+        .find(|&&p| p <= at.pos)
+        .or(failures.first())
+        .copied()
+        .ok_or_else(|| format!("{} never failed in this run.", tree.told(u)))
+}
+
+/// The position right after `uid`'s `n`-th end (its `n`-th failure, if
+/// `failed`).
+fn nth_end(
+    tree: &Tree,
+    at: &crate::session::At,
+    uid: Uid,
+    n: u32,
+    failed: bool,
+) -> Result<u32, String> {
+    use crate::run::Status;
+    let index = at.index;
+    let ends: Vec<u32> = index
+        .changes_of(uid)
+        .iter()
+        .copied()
+        .filter(|&p| match index.transitions[p as usize - 1].status {
+            Status::Failure => true,
+            Status::Success => !failed,
+            _ => false,
+        })
+        .collect();
+    ends.get(n as usize - 1).copied().ok_or_else(|| {
+        let verb = if failed { "failed" } else { "ended" };
+        let node = say::upper(&tree.told(uid));
+        let nth = read::ordinal_word(n);
+        match ends.len() {
+            0 => format!("{node} never {verb} in this run: there is no {nth} time."),
+            k => format!(
+                "{node} {verb} {} in this run: there is no {nth} time.",
+                crate::causal::calls::times(k)
+            ),
+        }
+    })
 }
 
 fn at_detail(cx: &Context, r: &mut Reply) {

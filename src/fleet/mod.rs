@@ -411,87 +411,8 @@ impl Fleet {
             out.push_str(&format!("not read: {f}: {e}\n"));
         }
         let nodes = self.nodes();
-        // The actions and conditions: a control node fails as its
-        // children do, and says nothing more (the JSON lists it).
-        let failed: Vec<&NodeStats> = nodes.iter().filter(|n| n.faults > 0).collect();
-        let (leaves, controls): (Vec<&NodeStats>, Vec<&NodeStats>) =
-            failed.iter().partition(|n| n.leaf);
-        if !leaves.is_empty() {
-            out.push_str("\nActions and conditions that failed, in the most runs first:\n");
-            for n in &leaves {
-                let runs = match n.ran_in {
-                    1 => "the one run it ran in".to_string(),
-                    k => format!("{} of the {k} runs it ran in", n.faulted_in),
-                };
-                out.push_str(&format!(
-                    "  {} failed in {runs} ({}){}.\n",
-                    n.name,
-                    count(n.faults as usize, "failure"),
-                    recoveries(n)
-                ));
-            }
-        }
-        // Checks that answered no as designed: said apart, in one line.
-        let branches: Vec<String> = nodes
-            .iter()
-            .filter(|n| n.leaf && n.failures > n.faults)
-            .map(|n| {
-                format!(
-                    "{} ({} in {})",
-                    n.name,
-                    count((n.failures - n.faults) as usize, "time"),
-                    count(n.failed_in, "run")
-                )
-            })
-            .collect();
-        if !branches.is_empty() {
-            out.push_str(&format!(
-                "  Branches taken, not faults (checks that answered no as the tree is designed to): {}.\n",
-                branches.join(", ")
-            ));
-        }
-        if !controls.is_empty() {
-            out.push_str(&format!(
-                "  ({} failed as their children did; --format json lists every node.)\n",
-                count(controls.len(), "control node")
-            ));
-        }
-        // The actions' times: a control node RUNNING is its children's.
-        let mut slow: Vec<&NodeStats> = nodes
-            .iter()
-            .filter(|n| n.leaf && n.running.max().is_some_and(|m| m > 0))
-            .collect();
-        slow.sort_by(|a, b| {
-            (b.running_quantile(0.95), b.running_quantile(0.5))
-                .cmp(&(a.running_quantile(0.95), a.running_quantile(0.5)))
-                .then_with(|| a.path.cmp(&b.path))
-        });
-        if !slow.is_empty() {
-            let shown = slow.len().min(LEAVES_SHOWN);
-            out.push_str(&format!(
-                "\nTicks actions kept RUNNING (median, 95th percentile, longest, and the spells by length; {}):\n",
-                if shown < slow.len() {
-                    format!("{shown} longest of {}", slow.len())
-                } else {
-                    count(shown, "action")
-                }
-            ));
-            let width = slow[..shown]
-                .iter()
-                .map(|n| n.name.chars().count())
-                .max()
-                .unwrap_or(0);
-            for n in &slow[..shown] {
-                out.push_str(&format!(
-                    "  {:<width$}  {:>5} {:>5} {:>5}  {}\n",
-                    n.name,
-                    n.running_quantile(0.5).unwrap_or(0),
-                    n.running_quantile(0.95).unwrap_or(0),
-                    n.running.max().unwrap_or(0),
-                    sparkline(&n.running),
-                ));
-            }
-        }
+        failures_text(&nodes, &mut out);
+        running_text(&nodes, &mut out);
         let causes = self.causes();
         if !causes.is_empty() {
             out.push_str("\nFailed runs, by what went wrong:\n");
@@ -611,6 +532,96 @@ pub fn sparkline(spells: &Spells) -> String {
             }
         })
         .collect()
+}
+
+/// The actions and conditions that failed, in the most runs first, with
+/// what recovered them; the checks that answered no as designed, apart.
+fn failures_text(nodes: &[NodeStats], out: &mut String) {
+    // The actions and conditions: a control node fails as its
+    // children do, and says nothing more (the JSON lists it).
+    let failed: Vec<&NodeStats> = nodes.iter().filter(|n| n.faults > 0).collect();
+    let (leaves, controls): (Vec<&NodeStats>, Vec<&NodeStats>) =
+        failed.iter().partition(|n| n.leaf);
+    if !leaves.is_empty() {
+        out.push_str("\nActions and conditions that failed, in the most runs first:\n");
+        for n in &leaves {
+            let runs = match n.ran_in {
+                1 => "the one run it ran in".to_string(),
+                k => format!("{} of the {k} runs it ran in", n.faulted_in),
+            };
+            out.push_str(&format!(
+                "  {} failed in {runs} ({}){}.\n",
+                n.name,
+                count(n.faults as usize, "failure"),
+                recoveries(n)
+            ));
+        }
+    }
+    // Checks that answered no as designed: said apart, in one line.
+    let branches: Vec<String> = nodes
+        .iter()
+        .filter(|n| n.leaf && n.failures > n.faults)
+        .map(|n| {
+            format!(
+                "{} ({} in {})",
+                n.name,
+                count((n.failures - n.faults) as usize, "time"),
+                count(n.failed_in, "run")
+            )
+        })
+        .collect();
+    if !branches.is_empty() {
+        out.push_str(&format!(
+            "  Branches taken, not faults (checks that answered no as the tree is designed to): {}.\n",
+            branches.join(", ")
+        ));
+    }
+    if !controls.is_empty() {
+        out.push_str(&format!(
+            "  ({} failed as their children did; --format json lists every node.)\n",
+            count(controls.len(), "control node")
+        ));
+    }
+}
+
+/// How long the actions kept RUNNING, the longest first.
+fn running_text(nodes: &[NodeStats], out: &mut String) {
+    // The actions' times: a control node RUNNING is its children's.
+    let mut slow: Vec<&NodeStats> = nodes
+        .iter()
+        .filter(|n| n.leaf && n.running.max().is_some_and(|m| m > 0))
+        .collect();
+    slow.sort_by(|a, b| {
+        (b.running_quantile(0.95), b.running_quantile(0.5))
+            .cmp(&(a.running_quantile(0.95), a.running_quantile(0.5)))
+            .then_with(|| a.path.cmp(&b.path))
+    });
+    if !slow.is_empty() {
+        let shown = slow.len().min(LEAVES_SHOWN);
+        out.push_str(&format!(
+            "\nTicks actions kept RUNNING (median, 95th percentile, longest, and the spells by length; {}):\n",
+            if shown < slow.len() {
+                format!("{shown} longest of {}", slow.len())
+            } else {
+                count(shown, "action")
+            }
+        ));
+        let width = slow[..shown]
+            .iter()
+            .map(|n| n.name.chars().count())
+            .max()
+            .unwrap_or(0);
+        for n in &slow[..shown] {
+            out.push_str(&format!(
+                "  {:<width$}  {:>5} {:>5} {:>5}  {}\n",
+                n.name,
+                n.running_quantile(0.5).unwrap_or(0),
+                n.running_quantile(0.95).unwrap_or(0),
+                n.running.max().unwrap_or(0),
+                sparkline(&n.running),
+            ));
+        }
+    }
 }
 
 #[cfg(test)]

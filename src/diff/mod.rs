@@ -464,6 +464,71 @@ fn mark_parting(sections: &mut [Section], at: usize, follow: bool) -> bool {
     held == at
 }
 
+/// The section of a subgoal of A (`x`) and of B (`y`), either of which
+/// may be missing: their steps aligned.
+fn section(x: Option<Sequence>, y: Option<Sequence>, outcomes: bool) -> Section {
+    let name = match (&x, &y) {
+        (Some(x), Some(y)) if x.name != y.name => format!("{} → {}", x.name, y.name),
+        _ => x
+            .as_ref()
+            .or(y.as_ref())
+            .map(|s| s.name.clone())
+            .unwrap_or_default(),
+    };
+    let (a_subgoal, b_subgoal) = (x.as_ref().map(|s| s.subgoal), y.as_ref().map(|s| s.subgoal));
+    let xs = x.map(|s| s.steps).unwrap_or_default();
+    let ys = y.map(|s| s.steps).unwrap_or_default();
+    let (edits, exact) = align_steps(&xs, &ys, outcomes);
+    let roles = edits
+        .iter()
+        .map(|e| {
+            if e.op == Op::Same {
+                Role::Same
+            } else {
+                Role::Own
+            }
+        })
+        .collect();
+    Section {
+        name,
+        a_subgoal,
+        b_subgoal,
+        a: xs,
+        b: ys,
+        edits,
+        exact,
+        roles,
+    }
+}
+
+/// The edits from steps `xs` to `ys`, and whether they are the fewest.
+fn align_steps(xs: &[Step], ys: &[Step], outcomes: bool) -> (Vec<Edit>, bool) {
+    let kx: Vec<_> = xs.iter().map(|s| s.key(outcomes)).collect();
+    let ky: Vec<_> = ys.iter().map(|s| s.key(outcomes)).collect();
+    // Runs that differ in a few places are aligned exactly, however
+    // long (Myers' cost is length × distance).
+    let near = align::edits_near(&kx, &ky);
+    let (edits, exact) = if let Some(e) = near {
+        (e, true)
+    } else if outcomes {
+        // Two long runs far apart: run of the root by run of the
+        // root, then tick by tick, so that the answer does not hang
+        // on a time bound (and so on the machine's load).
+        let episode =
+            |first: bool, i: usize| u64::from(if first { xs[i].episode } else { ys[i].episode });
+        let tick = |first: bool, i: usize| {
+            u64::from(if first { xs[i].tick } else { ys[i].tick }.unwrap_or(0))
+        };
+        (align::edits_by_units(&kx, &ky, &[&episode, &tick]), false)
+    } else {
+        align::edits_bounded(&kx, &ky)
+    };
+    if outcomes {
+        return (unlike_apart(edits, xs, ys), exact);
+    }
+    (edits, exact)
+}
+
 impl Diff {
     pub fn new(a: &Side, b: &Side) -> Diff {
         let outcomes = a.session.is_some() && b.session.is_some();
@@ -482,64 +547,8 @@ impl Diff {
             sb.into_iter().map(Some).collect(),
         );
         let mut sections = Vec::new();
-        let mut pair = |x: Option<Sequence>, y: Option<Sequence>| {
-            let name = match (&x, &y) {
-                (Some(x), Some(y)) if x.name != y.name => format!("{} → {}", x.name, y.name),
-                _ => x
-                    .as_ref()
-                    .or(y.as_ref())
-                    .map(|s| s.name.clone())
-                    .unwrap_or_default(),
-            };
-            let (a_subgoal, b_subgoal) =
-                (x.as_ref().map(|s| s.subgoal), y.as_ref().map(|s| s.subgoal));
-            let xs = x.map(|s| s.steps).unwrap_or_default();
-            let ys = y.map(|s| s.steps).unwrap_or_default();
-            let kx: Vec<_> = xs.iter().map(|s| s.key(outcomes)).collect();
-            let ky: Vec<_> = ys.iter().map(|s| s.key(outcomes)).collect();
-            // Runs that differ in a few places are aligned exactly, however
-            // long (Myers' cost is length × distance).
-            let near = align::edits_near(&kx, &ky);
-            let (mut edits, exact) = if let Some(e) = near {
-                (e, true)
-            } else if outcomes {
-                // Two long runs far apart: run of the root by run of the
-                // root, then tick by tick, so that the answer does not hang
-                // on a time bound (and so on the machine's load).
-                let episode = |first: bool, i: usize| {
-                    u64::from(if first { xs[i].episode } else { ys[i].episode })
-                };
-                let tick = |first: bool, i: usize| {
-                    u64::from(if first { xs[i].tick } else { ys[i].tick }.unwrap_or(0))
-                };
-                (align::edits_by_units(&kx, &ky, &[&episode, &tick]), false)
-            } else {
-                align::edits_bounded(&kx, &ky)
-            };
-            if outcomes {
-                edits = unlike_apart(edits, &xs, &ys);
-            }
-            let roles = edits
-                .iter()
-                .map(|e| {
-                    if e.op == Op::Same {
-                        Role::Same
-                    } else {
-                        Role::Own
-                    }
-                })
-                .collect();
-            sections.push(Section {
-                name,
-                a_subgoal,
-                b_subgoal,
-                a: xs,
-                b: ys,
-                edits,
-                exact,
-                roles,
-            });
-        };
+        let mut pair =
+            |x: Option<Sequence>, y: Option<Sequence>| sections.push(section(x, y, outcomes));
         // The goals always pair.
         pair(sa[0].take(), sb[0].take());
         for e in subgoals {

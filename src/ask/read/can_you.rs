@@ -43,23 +43,50 @@ const ROBOTS: &[&str] = &[
     "it",
 ];
 
-/// The words of "Can you X?" after its opening, or `None`.
-pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
-    let free: Vec<(usize, &Word)> =
-        s.q.iter()
-            .enumerate()
-            .filter(|(i, w)| {
-                // "to" and "know" lead other questions ("I want to know"),
-                // and are words of the openings here ("able to").
-                (!LEAD.contains(&w.text.as_str()) || ["to", "know"].contains(&w.text.as_str()))
-                    && !["the", "a", "an", "this", "that"].contains(&w.text.as_str())
-                    // "robot, can you pick a screw": the robot addressed.
-                    && (*i != 0 || !["robot", "bot"].contains(&w.text.as_str()))
-            })
-            .collect();
-    // "Can the taxi refuel?", "does this BT know how to move down?": the
-    // robot called by what it is, read as "robot"; "make the robot back
-    // up" is the robot backing up.
+/// The openings of "Can you X?", the robot called "robot" (see
+/// [`robot_as_robot`]).
+const OPENINGS: &[&[&str]] = &[
+    &["can", "you"],
+    &["could", "you"],
+    &["can", "it"],
+    &["could", "it"],
+    &["are", "you", "able", "to"],
+    &["is", "it", "able", "to"],
+    &["are", "you", "able"],
+    &["can", "robot"],
+    &["could", "robot"],
+    &["is", "robot", "able", "to"],
+    &["are", "you", "capable", "of"],
+    &["is", "robot", "capable", "of"],
+    &["is", "it", "capable", "of"],
+    &["do", "you", "know", "how", "to"],
+    &["would", "you", "be", "able", "to"],
+    &["will", "you", "be", "able", "to"],
+    &["does", "robot", "know", "how", "to"],
+];
+
+/// The words of the question that may open "Can you X?" or be its X:
+/// leads, articles and a robot addressed first left out, each with its
+/// place in the question.
+fn free_words<'s>(s: &'s Sentence<'_>) -> Vec<(usize, &'s Word)> {
+    s.q.iter()
+        .enumerate()
+        .filter(|(i, w)| {
+            // "to" and "know" lead other questions ("I want to know"),
+            // and are words of the openings here ("able to").
+            (!LEAD.contains(&w.text.as_str()) || ["to", "know"].contains(&w.text.as_str()))
+                && !["the", "a", "an", "this", "that"].contains(&w.text.as_str())
+                // "robot, can you pick a screw": the robot addressed.
+                && (*i != 0 || !["robot", "bot"].contains(&w.text.as_str()))
+        })
+        .collect()
+}
+
+/// "Can the taxi refuel?", "does this BT know how to move down?": the
+/// robot called by what it is, read as "robot"; "make the robot back up"
+/// is the robot backing up. The words kept, and their texts so read.
+#[allow(clippy::type_complexity)]
+fn robot_as_robot<'a>(free: &[(usize, &'a Word)]) -> (Vec<(usize, &'a Word)>, Vec<&'a str>) {
     let opens_on_robot = free.len() > 2
         && ["can", "could", "does", "is", "will"].contains(&free[0].1.text.as_str())
         && ROBOTS.contains(&free[1].1.text.as_str());
@@ -82,7 +109,28 @@ pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         kept.push(free[k]);
         k += 1;
     }
-    let free = kept;
+    (kept, texts)
+}
+
+/// How many words the opening of "Can you X?" takes, if the question
+/// opens so: "Is the taxi able to …", "is this robot capable of …" name
+/// the robot any way, in four words.
+fn opening(texts: &[&str]) -> Option<usize> {
+    match OPENINGS.iter().find(|o| texts.starts_with(o)) {
+        Some(o) => Some(o.len()),
+        None if texts.len() > 4
+            && ["is", "are"].contains(&texts[0])
+            && (texts[2..4] == ["able", "to"] || texts[2..4] == ["capable", "of"]) =>
+        {
+            Some(4)
+        }
+        None => None,
+    }
+}
+
+/// The words of "Can you X?" after its opening, or `None`.
+pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
+    let (free, texts) = robot_as_robot(&free_words(s));
     // "Is looking around one of its capabilities?", "spinning in place: is
     // that something it can do?": the node named anywhere.
     let capability = texts
@@ -95,25 +143,6 @@ pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
             return Some(tree.description(m.uids[0]).to_string());
         }
     }
-    let openings: &[&[&str]] = &[
-        &["can", "you"],
-        &["could", "you"],
-        &["can", "it"],
-        &["could", "it"],
-        &["are", "you", "able", "to"],
-        &["is", "it", "able", "to"],
-        &["are", "you", "able"],
-        &["can", "robot"],
-        &["could", "robot"],
-        &["is", "robot", "able", "to"],
-        &["are", "you", "capable", "of"],
-        &["is", "robot", "capable", "of"],
-        &["is", "it", "capable", "of"],
-        &["do", "you", "know", "how", "to"],
-        &["would", "you", "be", "able", "to"],
-        &["will", "you", "be", "able", "to"],
-        &["does", "robot", "know", "how", "to"],
-    ];
     // "Is clearing the local costmap something you can do?", "is detecting
     // screws something this robot can do?".
     if texts.first() == Some(&"is")
@@ -124,18 +153,7 @@ pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         let m = s.nodes.iter().find(|m| m.start >= from)?;
         return Some(tree.description(m.uids[0]).to_string());
     }
-    // "Is the taxi able to …", "is this robot capable of …": the robot
-    // named any way, in four words.
-    let open = match openings.iter().find(|o| texts.starts_with(o)) {
-        Some(o) => o.len(),
-        None if texts.len() > 4
-            && ["is", "are"].contains(&texts[0])
-            && (texts[2..4] == ["able", "to"] || texts[2..4] == ["capable", "of"]) =>
-        {
-            4
-        }
-        None => return None,
-    };
+    let open = opening(&texts)?;
     // "can you tell me why …" asks what follows.
     let next = texts.get(open).copied().unwrap_or("");
     if wraps_a_question(&texts[open.min(texts.len())..])

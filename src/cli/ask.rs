@@ -46,21 +46,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     } = args;
     let detail = detail.into();
     if let Some(ep) = live {
-        // `--live wrong`: a question (a shortcut, or words), not a host;
-        // a host has a port or a dot, or is one word.
-        let question = btx::explain::Question::parse(&ep).is_some()
-            || ep.trim().contains(char::is_whitespace)
-            || ep.trim_end().ends_with('?');
-        let (ep, first) = if question && !ep.contains([':', '.']) {
-            (String::new(), Some(ep))
-        } else {
-            (ep, None)
-        };
-        let words: Vec<String> = first
-            .into_iter()
-            .chain(file.map(|f| f.display().to_string()))
-            .chain(questions)
-            .collect();
+        let (ep, words) = live_words(ep, file, questions);
         return live_ask(
             &ep,
             publisher_port,
@@ -79,45 +65,15 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let input = open_input(&file, &reading, cli.quiet)?;
     let tree = input.tree();
     let view = match input.session() {
-        Some(s) => {
-            let m = match &at {
-                Some(a) => s.moment_at(a).map_err(Failure::Plain)?,
-                None => Moment {
-                    tick: s.index.ticks().max(1),
-                    step: None,
-                },
-            };
-            if s.index.ticks() == 0 {
-                fail!("{}: the session recorded no tick", btx::text::path(&file));
-            }
-            Some(s.at(m).map_err(Failure::Plain)?)
-        }
-        None => {
-            if at.is_some() {
-                fail!(
-                    "--at picks a moment of a run, and {} is a tree, not a session",
-                    btx::text::path(&file)
-                );
-            }
-            None
-        }
+        Some(s) => Some(moment_asked(s, at.as_deref(), &file)?),
+        None if at.is_some() => fail!(
+            "--at picks a moment of a run, and {} is a tree, not a session",
+            btx::text::path(&file)
+        ),
+        None => None,
     };
     let uid = match &node {
-        Some(p) => {
-            let (uid, others) =
-                btx::pick::pick_among(tree, p).map_err(|e| Failure::Plain(e.to_string()))?;
-            // Several nodes answer to the name: say which one is meant.
-            if !others.is_empty() && matches!(format, Format::Text) {
-                let also: Vec<String> = others.iter().map(|u| format!("#{u}")).collect();
-                println!(
-                    "About #{uid} {} (\"{}\" also names {}):",
-                    btx::text::visible(&tree.display_path(uid)),
-                    btx::text::visible(p.trim()),
-                    btx::explain::han::and_list(&also)
-                );
-            }
-            Some(uid)
-        }
+        Some(p) => Some(node_asked(tree, p, format)?),
         None => None,
     };
     let cx = btx::ask::Context {
@@ -129,6 +85,66 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         last: Default::default(),
     };
     print_replies(&cx, &questions, format)
+}
+
+/// `--live [HOST] Q…`: the robot's address, and the questions. A first word
+/// that is a question (a shortcut, or words) is not a host: a host has a
+/// port or a dot, or is one word.
+fn live_words(
+    ep: String,
+    file: Option<std::path::PathBuf>,
+    questions: Vec<String>,
+) -> (String, Vec<String>) {
+    let question = btx::explain::Question::parse(&ep).is_some()
+        || ep.trim().contains(char::is_whitespace)
+        || ep.trim_end().ends_with('?');
+    let (ep, first) = if question && !ep.contains([':', '.']) {
+        (String::new(), Some(ep))
+    } else {
+        (ep, None)
+    };
+    let words: Vec<String> = first
+        .into_iter()
+        .chain(file.map(|f| f.display().to_string()))
+        .chain(questions)
+        .collect();
+    (ep, words)
+}
+
+/// The run at the moment `--at` names (default: its end).
+fn moment_asked<'s>(
+    s: &'s btx::session::Session,
+    at: Option<&str>,
+    file: &std::path::Path,
+) -> Result<btx::session::At<'s>, Failure> {
+    let m = match at {
+        Some(a) => s.moment_at(a).map_err(Failure::Plain)?,
+        None => Moment {
+            tick: s.index.ticks().max(1),
+            step: None,
+        },
+    };
+    if s.index.ticks() == 0 {
+        fail!("{}: the session recorded no tick", btx::text::path(file));
+    }
+    s.at(m).map_err(Failure::Plain)
+}
+
+/// The node `--node` names; where several answer to the name, the text
+/// says which one is meant.
+fn node_asked(tree: &btx::Tree, p: &str, format: Format) -> Result<btx::model::Uid, Failure> {
+    let (uid, others) =
+        btx::pick::pick_among(tree, p).map_err(|e| Failure::Plain(e.to_string()))?;
+    if !others.is_empty() && matches!(format, Format::Text) {
+        let also: Vec<String> = others.iter().map(|u| format!("#{u}")).collect();
+        println!(
+            "About #{uid} {} (\"{}\" also names {}):",
+            btx::text::visible(&tree.display_path(uid)),
+            btx::text::visible(p.trim()),
+            btx::explain::han::and_list(&also)
+        );
+    }
+    Ok(uid)
 }
 
 /// Asks each question in turn and prints the answers; exit status 1 when

@@ -71,58 +71,79 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     } else {
         let d = btx::diff::Diff::new(&sides[0], &sides[1]);
         let diverged = if why {
-            let (Some(a), Some(b)) = (inputs[0].session(), inputs[1].session()) else {
-                fail!("--why asks why two runs diverged: give two sessions or logs");
-            };
-            if !btx::diff::same_shape(&a.tree, &b.tree) {
-                fail!(
-                    "--why compares two runs of one tree, and {} and {} ran different trees",
-                    btx::text::path(&files[0]),
-                    btx::text::path(&files[1])
-                );
-            }
-            let dom = btx::causal::session_domain(b, domain.as_deref()).map_err(located)?;
-            Some(btx::causal::compare::why_diverged(a, b, dom, max_depth).map_err(located)?)
+            Some(why_parted(&inputs, &files, domain.as_deref(), max_depth)?)
         } else {
             None
         };
-        use btx::causal::compare::Diverged;
-        match format {
-            Format::Text => {
-                let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-                written(
-                    d.write_text(&mut out)
-                        .and_then(|()| std::io::Write::flush(&mut out)),
-                );
-                drop(out);
-                match &diverged {
-                    Some(None) => println!("\n{}", Diverged::SAME),
-                    Some(Some(x)) => {
-                        print!("\n{}", x.why_text("Why, in B: "))
-                    }
-                    None => {}
-                }
-            }
-            Format::Json => {
-                let mut v = d.json();
-                if let Some(x) = &diverged {
-                    v["why"] = match x {
-                        None => serde_json::Value::Null,
-                        Some(x) => serde_json::json!({
-                            "transition": x.difference.index + 1,
-                            "moment": x.difference.moment.to_string(),
-                            "text": x.difference.text(inputs[0].tree(), inputs[1].tree(), "A", "B"),
-                            "answer": x.why.as_ref().map(|w| w.json()),
-                        }),
-                    };
-                }
-                print!("{}", pretty(&v));
-            }
-        }
+        print_pair(&d, &diverged, format, &inputs);
         !d.is_empty() || matches!(diverged, Some(Some(_)))
     };
     if exit_code && diverges {
         return Err(Failure::Exit(1));
     }
     Ok(())
+}
+
+/// `--why`: where two runs of one tree first part ways, and why B did not
+/// do what A did (none: they do not part).
+fn why_parted(
+    inputs: &[Input],
+    files: &[PathBuf],
+    domain: Option<&std::path::Path>,
+    max_depth: usize,
+) -> Result<Option<btx::causal::compare::Diverged>, Failure> {
+    let (Some(a), Some(b)) = (inputs[0].session(), inputs[1].session()) else {
+        fail!("--why asks why two runs diverged: give two sessions or logs");
+    };
+    if !btx::diff::same_shape(&a.tree, &b.tree) {
+        fail!(
+            "--why compares two runs of one tree, and {} and {} ran different trees",
+            btx::text::path(&files[0]),
+            btx::text::path(&files[1])
+        );
+    }
+    let dom = btx::causal::session_domain(b, domain).map_err(located)?;
+    btx::causal::compare::why_diverged(a, b, dom, max_depth).map_err(located)
+}
+
+/// Two trees or runs compared, and with `--why` why they parted.
+fn print_pair(
+    d: &btx::diff::Diff,
+    diverged: &Option<Option<btx::causal::compare::Diverged>>,
+    format: Format,
+    inputs: &[Input],
+) {
+    use btx::causal::compare::Diverged;
+    match format {
+        Format::Text => {
+            let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+            written(
+                d.write_text(&mut out)
+                    .and_then(|()| std::io::Write::flush(&mut out)),
+            );
+            drop(out);
+            match diverged {
+                Some(None) => println!("\n{}", Diverged::SAME),
+                Some(Some(x)) => {
+                    print!("\n{}", x.why_text("Why, in B: "))
+                }
+                None => {}
+            }
+        }
+        Format::Json => {
+            let mut v = d.json();
+            if let Some(x) = diverged {
+                v["why"] = match x {
+                    None => serde_json::Value::Null,
+                    Some(x) => serde_json::json!({
+                        "transition": x.difference.index + 1,
+                        "moment": x.difference.moment.to_string(),
+                        "text": x.difference.text(inputs[0].tree(), inputs[1].tree(), "A", "B"),
+                        "answer": x.why.as_ref().map(|w| w.json()),
+                    }),
+                };
+            }
+            print!("{}", pretty(&v));
+        }
+    }
 }

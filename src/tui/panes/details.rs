@@ -118,7 +118,6 @@ impl Details {
         let b = block(" details ".into(), focused);
         let u = sh.selected;
         let n = sh.tree.node(u);
-        let at = sh.at();
         let mut lines = vec![
             Line::from(format!(
                 "{}  #{}",
@@ -139,40 +138,9 @@ impl Details {
                 .into_iter()
                 .map(Line::from),
         );
-        if let Some(a) = &at {
-            let last = a
-                .last_completed(u)
-                .map_or("never".to_string(), |s| s.to_string());
-            lines.push(Line::from(vec![
-                Span::raw("status "),
-                Span::styled(
-                    a.status(u).to_string(),
-                    Style::default().fg(status_color(a.status(u))),
-                ),
-                Span::raw(format!("  last completed {last}")),
-            ]));
-            if matches!(
-                n.builtin,
-                Some(crate::model::Builtin::RetryUntilSuccessful | crate::model::Builtin::Repeat)
-            ) {
-                lines.push(Line::from(format!("attempts so far {}", a.attempts(u))));
-            }
-            if let Some(d) = a.decision(u) {
-                lines.push(Line::from(format!("decision {d}")));
-            }
-        }
+        lines.extend(at_the_moment(sh, u));
         if let Some(s) = &sh.session {
-            let e = s.ending();
-            let going = sh
-                .live
-                .as_ref()
-                .is_some_and(|l| l.status.finished.is_none() && s.end.is_none());
-            lines.push(Line::from(match e.strip_prefix("no end recorded") {
-                // A robot watched now: its run is not cut off, it goes on.
-                Some(_) if going => format!("The run goes on (tick {}).", s.index.ticks()),
-                Some(rest) => format!("The run has no end recorded{rest}."),
-                None => format!("The run {e}."),
-            }));
+            lines.push(Line::from(run_ending(sh, s)));
         }
         for (k, v) in &n.metadata {
             lines.push(Line::from(Span::styled(
@@ -180,31 +148,7 @@ impl Details {
                 Style::default().add_modifier(Modifier::DIM),
             )));
         }
-        let bb = crate::run::blackboard::Blackboard::new(&sh.tree);
-        for p in &n.ports {
-            let mut s = crate::export::port_label(p);
-            if let (Some(a), Some(e)) = (&at, bb.port_entry(&sh.tree, n.scope, &p.value)) {
-                if let Some(v) = a.entry(&e) {
-                    s.push_str(&format!(" = {v}"));
-                }
-            }
-            lines.push(Line::from(s));
-        }
-        if let Some(a) = &at {
-            let state: Vec<String> = a
-                .entries()
-                .iter()
-                .filter(|(e, _)| e.scope == 0)
-                .map(|(e, v)| format!("{}={}", e.key, v))
-                .collect();
-            if !state.is_empty() {
-                lines.push(Line::from(Span::styled(
-                    "state",
-                    Style::default().add_modifier(Modifier::BOLD),
-                )));
-                lines.push(Line::from(state.join("  ")));
-            }
-        }
+        lines.extend(ports_and_state(sh, u));
         if let Some(l) = &sh.live {
             lines.extend(live_blackboard(l, &sh.tree.blackboard_name(n.scope)));
         }
@@ -212,6 +156,84 @@ impl Details {
         self.max.set(last);
         f.render_widget(p.block(b), area);
     }
+}
+
+/// The node at the moment: its status, when it last completed, a loop's
+/// attempts and an action's decision.
+fn at_the_moment(sh: &Shared, u: crate::model::Uid) -> Vec<Line<'static>> {
+    let Some(a) = sh.at() else {
+        return Vec::new();
+    };
+    let last = a
+        .last_completed(u)
+        .map_or("never".to_string(), |s| s.to_string());
+    let mut lines = vec![Line::from(vec![
+        Span::raw("status "),
+        Span::styled(
+            a.status(u).to_string(),
+            Style::default().fg(status_color(a.status(u))),
+        ),
+        Span::raw(format!("  last completed {last}")),
+    ])];
+    if matches!(
+        sh.tree.node(u).builtin,
+        Some(crate::model::Builtin::RetryUntilSuccessful | crate::model::Builtin::Repeat)
+    ) {
+        lines.push(Line::from(format!("attempts so far {}", a.attempts(u))));
+    }
+    if let Some(d) = a.decision(u) {
+        lines.push(Line::from(format!("decision {d}")));
+    }
+    lines
+}
+
+/// How the run ended; a robot watched now: its run is not cut off, it
+/// goes on.
+fn run_ending(sh: &Shared, s: &crate::session::Session) -> String {
+    let e = s.ending();
+    let going = sh
+        .live
+        .as_ref()
+        .is_some_and(|l| l.status.finished.is_none() && s.end.is_none());
+    match e.strip_prefix("no end recorded") {
+        Some(_) if going => format!("The run goes on (tick {}).", s.index.ticks()),
+        Some(rest) => format!("The run has no end recorded{rest}."),
+        None => format!("The run {e}."),
+    }
+}
+
+/// The node's ports with the values their entries hold at the moment, and
+/// the top-level state.
+fn ports_and_state(sh: &Shared, u: crate::model::Uid) -> Vec<Line<'static>> {
+    let n = sh.tree.node(u);
+    let at = sh.at();
+    let mut lines = Vec::new();
+    let bb = crate::run::blackboard::Blackboard::new(&sh.tree);
+    for p in &n.ports {
+        let mut s = crate::export::port_label(p);
+        if let (Some(a), Some(e)) = (&at, bb.port_entry(&sh.tree, n.scope, &p.value)) {
+            if let Some(v) = a.entry(&e) {
+                s.push_str(&format!(" = {v}"));
+            }
+        }
+        lines.push(Line::from(s));
+    }
+    if let Some(a) = &at {
+        let state: Vec<String> = a
+            .entries()
+            .iter()
+            .filter(|(e, _)| e.scope == 0)
+            .map(|(e, v)| format!("{}={}", e.key, v))
+            .collect();
+        if !state.is_empty() {
+            lines.push(Line::from(Span::styled(
+                "state",
+                Style::default().add_modifier(Modifier::BOLD),
+            )));
+            lines.push(Line::from(state.join("  ")));
+        }
+    }
+    lines
 }
 
 /// The robot's blackboard of the node's scope (`B`), as last fetched.

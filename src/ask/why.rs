@@ -45,61 +45,10 @@ pub fn answer(
             r.understood = format!("Why was {name} still running at {m}?");
             (format!("status(#{u})"), m)
         }
-        _ => {
-            if e == Event::KeepRunning {
-                r.answer = not_running_now(cx, at, u).unwrap_or_default();
-            }
-            let ev = events(at, u, e);
-            let Some(&p) = ev.last() else {
-                r.understood = format!("Why did {name} {}?", verb(e));
-                r.answer = never(cx, u, e);
-                return Ok(());
-            };
-            let m = step_moment(at.index, p);
-            r.understood = format!("Why did {name} {} at {m}?", verb(e));
-            if e == Event::Halted {
-                r.answer = halted_by(cx, u, p);
-                return Ok(());
-            }
-            // Called again within the tick (Nav2's RecoveryNode): the tick's
-            // causal model holds its first call only; the run says why.
-            if e == Event::Run {
-                if let Some(again) = called_again(cx, at, u, p) {
-                    r.answer = again;
-                    return Ok(());
-                }
-            }
-            // A control node's failure: the leaf it comes from, first.
-            if e == Event::Fail && !cx.tree.node(u).kind.is_leaf() {
-                if let Some(chain) = root_cause(cx, at, u, p) {
-                    r.answer = chain;
-                }
-            }
-            // A leaf decides its own outcome: what the run shows of it comes
-            // first; the search only where a domain says what it depends on.
-            if cx.tree.node(u).kind.is_leaf() && matches!(e, Event::Fail | Event::Succeed) {
-                r.answer = leaf_outcome(cx, at, u, p);
-                let domain = cx.session.is_some_and(|s| s.header.source.kind == "domain");
-                if !domain {
-                    return Ok(());
-                }
-            }
-            if ev.len() > 1 {
-                r.history = Some(format!(
-                    "{} {} {} by then: at {}.",
-                    upper(&name),
-                    past(e),
-                    times(ev.len()),
-                    super::say::moments(at.index, &ev)
-                ));
-            }
-            let t = if e == Event::Run {
-                "executed"
-            } else {
-                "status"
-            };
-            (format!("{t}(#{u})"), m)
-        }
+        _ => match event_asked(cx, at, u, e, r) {
+            Some(asked) => asked,
+            None => return Ok(()),
+        },
     };
     let asked_foil = foil.is_some();
     // "Why did X fail?" contrasts with succeeding, and the other way round,
@@ -117,6 +66,73 @@ pub fn answer(
         .into_iter()
         .collect();
     search(cx, &target, &not, moment, r)
+}
+
+/// The target and moment of "why did X fail / succeed / run / …?" at the
+/// node's last such event; none where the run itself answers (the event
+/// never happened, a halt, a call again within the tick, a leaf's own
+/// outcome without a domain).
+fn event_asked(
+    cx: &Context,
+    at: &crate::session::At,
+    u: Uid,
+    e: Event,
+    r: &mut Reply,
+) -> Option<(String, Moment)> {
+    let name = cx_name(cx, u);
+    if e == Event::KeepRunning {
+        r.answer = not_running_now(cx, at, u).unwrap_or_default();
+    }
+    let ev = events(at, u, e);
+    let Some(&p) = ev.last() else {
+        r.understood = format!("Why did {name} {}?", verb(e));
+        r.answer = never(cx, u, e);
+        return None;
+    };
+    let m = step_moment(at.index, p);
+    r.understood = format!("Why did {name} {} at {m}?", verb(e));
+    if e == Event::Halted {
+        r.answer = halted_by(cx, u, p);
+        return None;
+    }
+    // Called again within the tick (Nav2's RecoveryNode): the tick's
+    // causal model holds its first call only; the run says why.
+    if e == Event::Run {
+        if let Some(again) = called_again(cx, at, u, p) {
+            r.answer = again;
+            return None;
+        }
+    }
+    // A control node's failure: the leaf it comes from, first.
+    if e == Event::Fail && !cx.tree.node(u).kind.is_leaf() {
+        if let Some(chain) = root_cause(cx, at, u, p) {
+            r.answer = chain;
+        }
+    }
+    // A leaf decides its own outcome: what the run shows of it comes
+    // first; the search only where a domain says what it depends on.
+    if cx.tree.node(u).kind.is_leaf() && matches!(e, Event::Fail | Event::Succeed) {
+        r.answer = leaf_outcome(cx, at, u, p);
+        let domain = cx.session.is_some_and(|s| s.header.source.kind == "domain");
+        if !domain {
+            return None;
+        }
+    }
+    if ev.len() > 1 {
+        r.history = Some(format!(
+            "{} {} {} by then: at {}.",
+            upper(&name),
+            past(e),
+            times(ev.len()),
+            super::say::moments(at.index, &ev)
+        ));
+    }
+    let t = if e == Event::Run {
+        "executed"
+    } else {
+        "status"
+    };
+    Some((format!("{t}(#{u})"), m))
 }
 
 /// "Why is X still running?" asked when it is not: how it last ended, by

@@ -153,8 +153,34 @@ impl Robot {
         self.notes_said = self.feed.notes.len();
         // Each tick is printed once numbered: the numbers are final.
         let rows = self.feed.take_rows();
+        let alerts = self.alerts_of(&rows, done);
+        if !closed {
+            let out = self.printed(&rows, &alerts, say);
+            let rows = out.lines().count();
+            pr.out(out, rows);
+        }
+        if let Some(e) = self.feed.write_error.take() {
+            self.feed.halt();
+            pr.err(format!("{p}watching stopped: the run cannot be written"));
+            return Err(e.into());
+        }
+        for g in &self.feed.gaps[self.gaps_said..] {
+            pr.err(format!("{p}gap after transition {}: {}", g.at, g.why));
+        }
+        self.gaps_said = self.feed.gaps.len();
+        if self.feed.status.error != self.said {
+            if let Some(e) = &self.feed.status.error {
+                pr.err(format!("{p}{e}; connecting again"));
+            }
+            self.said = self.feed.status.error.clone();
+        }
+        Ok(alerts)
+    }
+
+    /// The faults, recoveries and ends that the rows tell, counted.
+    fn alerts_of(&mut self, rows: &[btx::session::LogRow], done: bool) -> Vec<Alert> {
         let mut alerts = Vec::new();
-        for r in &rows {
+        for r in rows {
             self.tick = r.tick;
             alerts.extend(self.alerts.push(Row {
                 tick: r.tick,
@@ -176,62 +202,47 @@ impl Robot {
             self.tally.add(&self.shell.tree, a);
             self.runs += usize::from(a.what == What::RunEnded);
         }
-        if !closed {
-            let out = match (say.format, say.transitions) {
-                // Every transition, and the events among them.
-                (Format::Json, _) => {
-                    let mut out = String::new();
-                    if !rows.is_empty() {
-                        out.push_str(&btx::export::log_json_lines(&self.shell, &rows));
-                    }
-                    for a in &alerts {
-                        out.push_str(&alert_json(&self.shell.tree, a, None).to_string());
-                        out.push('\n');
-                    }
-                    if p.is_empty() {
-                        out
-                    } else {
-                        let robot = serde_json::to_string(&self.ep).unwrap_or_default();
-                        out.lines()
-                            .map(|l| format!("{{\"robot\":{robot},{}\n", &l[1..]))
-                            .collect()
-                    }
+        alerts
+    }
+
+    /// What is printed of the rows and alerts: in JSON every transition
+    /// and the events among them; in text the transitions
+    /// (`--transitions`) or the events.
+    fn printed(&mut self, rows: &[btx::session::LogRow], alerts: &[Alert], say: Say) -> String {
+        let p = &self.prefix;
+        match (say.format, say.transitions) {
+            (Format::Json, _) => {
+                let mut out = String::new();
+                if !rows.is_empty() {
+                    out.push_str(&btx::export::log_json_lines(&self.shell, rows));
                 }
-                (Format::Text, true) if !rows.is_empty() => {
-                    let t = btx::export::log_text(&self.shell, &rows);
-                    let body = if self.header {
-                        t.split_once('\n')
-                            .map_or(String::new(), |x| x.1.to_string())
-                    } else {
-                        self.header = true;
-                        t
-                    };
-                    body.lines().map(|l| format!("{p}{l}\n")).collect()
+                for a in alerts {
+                    out.push_str(&alert_json(&self.shell.tree, a, None).to_string());
+                    out.push('\n');
                 }
-                (Format::Text, true) => String::new(),
-                (Format::Text, false) => {
-                    alerts.iter().map(|a| format!("{p}{}\n", line(a))).collect()
+                if p.is_empty() {
+                    out
+                } else {
+                    let robot = serde_json::to_string(&self.ep).unwrap_or_default();
+                    out.lines()
+                        .map(|l| format!("{{\"robot\":{robot},{}\n", &l[1..]))
+                        .collect()
                 }
-            };
-            let rows = out.lines().count();
-            pr.out(out, rows);
-        }
-        if let Some(e) = self.feed.write_error.take() {
-            self.feed.halt();
-            pr.err(format!("{p}watching stopped: the run cannot be written"));
-            return Err(e.into());
-        }
-        for g in &self.feed.gaps[self.gaps_said..] {
-            pr.err(format!("{p}gap after transition {}: {}", g.at, g.why));
-        }
-        self.gaps_said = self.feed.gaps.len();
-        if self.feed.status.error != self.said {
-            if let Some(e) = &self.feed.status.error {
-                pr.err(format!("{p}{e}; connecting again"));
             }
-            self.said = self.feed.status.error.clone();
+            (Format::Text, true) if !rows.is_empty() => {
+                let t = btx::export::log_text(&self.shell, rows);
+                let body = if self.header {
+                    t.split_once('\n')
+                        .map_or(String::new(), |x| x.1.to_string())
+                } else {
+                    self.header = true;
+                    t
+                };
+                body.lines().map(|l| format!("{p}{l}\n")).collect()
+            }
+            (Format::Text, true) => String::new(),
+            (Format::Text, false) => alerts.iter().map(|a| format!("{p}{}\n", line(a))).collect(),
         }
-        Ok(alerts)
     }
 
     /// The session finished (with --out) and what is said of the run.

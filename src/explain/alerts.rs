@@ -243,22 +243,7 @@ impl Alerts {
         // in the call that went before, as `Index::call_start` reads it.
         let fault = self.is_fault(row, rest);
         if row.prev == Status::Idle && row.status != Status::Idle {
-            self.below[u as usize] = None;
-            self.tries[u as usize] = 0;
-            if let Some(p) = tree.parent(u) {
-                let pn = tree.node(p);
-                let counts = match pn.builtin {
-                    Some(Builtin::RetryUntilSuccessful) => true,
-                    Some(Builtin::RecoveryNode) => pn.children.get(1) == Some(&u),
-                    _ => false,
-                };
-                if counts {
-                    self.tries[p as usize] += 1;
-                }
-            }
-            if u == Tree::ROOT {
-                self.ended = None;
-            }
+            self.started(u);
         }
         if fault {
             #[cfg(test)]
@@ -300,39 +285,68 @@ impl Alerts {
             }
         }
         if u == Tree::ROOT {
-            match (row.prev, row.status) {
-                (_, s @ (Status::Success | Status::Failure)) => self.ended = Some(s),
-                (Status::Success | Status::Failure, Status::Idle) => {
-                    let s = self.ended.take().unwrap_or(row.prev);
-                    self.runs += 1;
-                    for h in std::mem::take(&mut self.open) {
-                        if h.handler.is_some() {
-                            out.push(self.alert(
-                                What::NotRecovered,
-                                row,
-                                h.handler.unwrap_or(u),
-                                Some(h.cause),
-                                format!("{} not recovered: the run ended", at(row)),
-                            ));
-                        }
-                    }
-                    let mut a = self.alert(
-                        What::RunEnded,
-                        row,
-                        u,
-                        None,
-                        format!(
-                            "run {} ended at tick {}: {}",
-                            self.runs,
-                            row.tick,
-                            s.as_str()
-                        ),
-                    );
-                    a.outcome = Some(s);
-                    out.push(a);
-                }
-                _ => {}
+            self.root(row, out);
+        }
+    }
+
+    /// Node `u` started: what failed below it and its tries are of its
+    /// earlier calls; a Retry's child or a RecoveryNode's recovery
+    /// starting is one more try of its parent.
+    fn started(&mut self, u: Uid) {
+        self.below[u as usize] = None;
+        self.tries[u as usize] = 0;
+        if let Some(p) = self.tree.parent(u) {
+            let pn = self.tree.node(p);
+            let counts = match pn.builtin {
+                Some(Builtin::RetryUntilSuccessful) => true,
+                Some(Builtin::RecoveryNode) => pn.children.get(1) == Some(&u),
+                _ => false,
+            };
+            if counts {
+                self.tries[p as usize] += 1;
             }
+        }
+        if u == Tree::ROOT {
+            self.ended = None;
+        }
+    }
+
+    /// The root's transitions: its outcome, and when it is reset, the run's
+    /// end (the handlings still open are over unrecovered).
+    fn root(&mut self, row: Row, out: &mut Vec<Alert>) {
+        let u = row.uid;
+        match (row.prev, row.status) {
+            (_, s @ (Status::Success | Status::Failure)) => self.ended = Some(s),
+            (Status::Success | Status::Failure, Status::Idle) => {
+                let s = self.ended.take().unwrap_or(row.prev);
+                self.runs += 1;
+                for h in std::mem::take(&mut self.open) {
+                    if h.handler.is_some() {
+                        out.push(self.alert(
+                            What::NotRecovered,
+                            row,
+                            h.handler.unwrap_or(u),
+                            Some(h.cause),
+                            format!("{} not recovered: the run ended", at(row)),
+                        ));
+                    }
+                }
+                let mut a = self.alert(
+                    What::RunEnded,
+                    row,
+                    u,
+                    None,
+                    format!(
+                        "run {} ended at tick {}: {}",
+                        self.runs,
+                        row.tick,
+                        s.as_str()
+                    ),
+                );
+                a.outcome = Some(s);
+                out.push(a);
+            }
+            _ => {}
         }
     }
 

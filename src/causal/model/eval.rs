@@ -106,19 +106,7 @@ impl Model {
                 }
                 match leaf {
                     None => Val::Status(self.facts.outcome[*uid as usize - 1]),
-                    Some(l) => {
-                        let dv = self.d(*uid).map(|d| &vals[d]);
-                        self.memo_key(LeafFn::Status, *uid, vals, dv, &mut memo.buf);
-                        if let Some(x) = memo.status.get(&memo.buf[..]) {
-                            return Ok(Val::Status(*x));
-                        }
-                        let action = self.action_of(*uid, vals);
-                        let d = self.domain.as_ref().expect("a domain");
-                        let state = self.leaf_state(LeafFn::Status, *uid, vals);
-                        let s = d.status(*l, &state, &action)?;
-                        memo.status.insert(memo.buf.clone(), s);
-                        Val::Status(s)
-                    }
+                    Some(l) => Val::Status(self.leaf_status(*uid, *l, vals, memo)?),
                 }
             }
             Func::CompositeStatus { uid } => Val::Status(self.composite(*uid, vals)),
@@ -126,14 +114,7 @@ impl Model {
                 if !vals[self.e(*uid)].is_true() {
                     return Ok(Val::Action(None));
                 }
-                self.memo_key(LeafFn::Decide, *uid, vals, None, &mut memo.buf);
-                if let Some(x) = memo.decide.get(&memo.buf[..]) {
-                    return Ok(Val::Action(x.clone()));
-                }
-                let d = self.domain.as_ref().expect("a domain");
-                let a = d.decide(*leaf, &self.leaf_state(LeafFn::Decide, *uid, vals))?;
-                memo.decide.insert(memo.buf.clone(), a.clone());
-                Val::Action(a)
+                Val::Action(self.decision(*uid, *leaf, vals, memo)?)
             }
             Func::Copy {
                 var,
@@ -141,58 +122,121 @@ impl Model {
                 sparents,
                 writers,
             } => {
-                let d = self.domain.as_ref().expect("a domain");
                 let mut value = if let Some(p) = prev {
                     vals[*p].clone()
                 } else if !sparents.is_empty() {
-                    let key = &mut memo.buf;
-                    key.clear();
-                    key.push(3);
-                    key.extend_from_slice(&(*var as u32).to_le_bytes());
-                    for &(_, c) in sparents {
-                        vals[c].key(key);
-                    }
-                    match memo.derive.get(&memo.buf[..]) {
-                        Some(x) => Val::Data(x.clone()),
-                        None => {
-                            let mut s: State = vec![Value::Null; d.vars.len()];
-                            for &(x, c) in sparents {
-                                if let Val::Data(val) = &vals[c] {
-                                    s[x] = val.clone();
-                                }
-                            }
-                            let x = d.derive(*var, &s)?;
-                            memo.derive.insert(memo.buf.clone(), x.clone());
-                            Val::Data(x)
-                        }
-                    }
+                    Val::Data(self.derived(*var, sparents, vals, memo)?)
                 } else {
                     self.exogenous(v)
                 };
                 for &w in writers {
-                    if !vals[self.e(w)].is_true() {
-                        continue;
-                    }
-                    let l = self.leaf_of[w as usize - 1].expect("writers have domain leaves");
-                    let dv = self.d(w).map(|d| &vals[d]);
-                    self.memo_key(LeafFn::Effect, w, vals, dv, &mut memo.buf);
-                    let effect = match memo.effect.get(&memo.buf[..]) {
-                        Some(e) => Arc::clone(e),
-                        None => {
-                            let action = self.action_of(w, vals);
-                            let state = self.leaf_state(LeafFn::Effect, w, vals);
-                            let e = Arc::new(d.effect(l, &state, &action)?);
-                            memo.effect.insert(memo.buf.clone(), Arc::clone(&e));
-                            e
+                    if vals[self.e(w)].is_true() {
+                        if let Some(x) = self.written(w, *var, vals, memo)? {
+                            value = Val::Data(x);
                         }
-                    };
-                    if let Some((_, x)) = effect.iter().find(|(x, _)| x == var) {
-                        value = Val::Data(x.clone());
                     }
                 }
                 value
             }
         })
+    }
+
+    /// The status a domain's leaf `l` returns, as `uid`, on its inputs.
+    fn leaf_status(
+        &self,
+        uid: Uid,
+        l: usize,
+        vals: &[Val],
+        memo: &mut Memo,
+    ) -> Result<Status, Located> {
+        let dv = self.d(uid).map(|d| &vals[d]);
+        self.memo_key(LeafFn::Status, uid, vals, dv, &mut memo.buf);
+        if let Some(x) = memo.status.get(&memo.buf[..]) {
+            return Ok(*x);
+        }
+        let action = self.action_of(uid, vals);
+        let d = self.domain.as_ref().expect("a domain");
+        let state = self.leaf_state(LeafFn::Status, uid, vals);
+        let s = d.status(l, &state, &action)?;
+        memo.status.insert(memo.buf.clone(), s);
+        Ok(s)
+    }
+
+    /// The action a domain's leaf decides on its inputs.
+    fn decision(
+        &self,
+        uid: Uid,
+        leaf: usize,
+        vals: &[Val],
+        memo: &mut Memo,
+    ) -> Result<Option<String>, Located> {
+        self.memo_key(LeafFn::Decide, uid, vals, None, &mut memo.buf);
+        if let Some(x) = memo.decide.get(&memo.buf[..]) {
+            return Ok(x.clone());
+        }
+        let d = self.domain.as_ref().expect("a domain");
+        let a = d.decide(leaf, &self.leaf_state(LeafFn::Decide, uid, vals))?;
+        memo.decide.insert(memo.buf.clone(), a.clone());
+        Ok(a)
+    }
+
+    /// A derived state variable, from its state parents' copies.
+    fn derived(
+        &self,
+        var: usize,
+        sparents: &[(usize, VarId)],
+        vals: &[Val],
+        memo: &mut Memo,
+    ) -> Result<Value, Located> {
+        let key = &mut memo.buf;
+        key.clear();
+        key.push(3);
+        key.extend_from_slice(&(var as u32).to_le_bytes());
+        for &(_, c) in sparents {
+            vals[c].key(key);
+        }
+        if let Some(x) = memo.derive.get(&memo.buf[..]) {
+            return Ok(x.clone());
+        }
+        let d = self.domain.as_ref().expect("a domain");
+        let mut s: State = vec![Value::Null; d.vars.len()];
+        for &(x, c) in sparents {
+            if let Val::Data(val) = &vals[c] {
+                s[x] = val.clone();
+            }
+        }
+        let x = d.derive(var, &s)?;
+        memo.derive.insert(memo.buf.clone(), x.clone());
+        Ok(x)
+    }
+
+    /// What the executed leaf `w` writes to state variable `var`, if it
+    /// writes it.
+    fn written(
+        &self,
+        w: Uid,
+        var: usize,
+        vals: &[Val],
+        memo: &mut Memo,
+    ) -> Result<Option<Value>, Located> {
+        let l = self.leaf_of[w as usize - 1].expect("writers have domain leaves");
+        let dv = self.d(w).map(|d| &vals[d]);
+        self.memo_key(LeafFn::Effect, w, vals, dv, &mut memo.buf);
+        let effect = match memo.effect.get(&memo.buf[..]) {
+            Some(e) => Arc::clone(e),
+            None => {
+                let action = self.action_of(w, vals);
+                let state = self.leaf_state(LeafFn::Effect, w, vals);
+                let d = self.domain.as_ref().expect("a domain");
+                let e = Arc::new(d.effect(l, &state, &action)?);
+                memo.effect.insert(memo.buf.clone(), Arc::clone(&e));
+                e
+            }
+        };
+        Ok(effect
+            .iter()
+            .find(|(x, _)| *x == var)
+            .map(|(_, x)| x.clone()))
     }
 
     pub(super) fn r_val(&self, uid: Uid, vals: &[Val]) -> Status {

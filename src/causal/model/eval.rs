@@ -254,17 +254,18 @@ impl Model {
                 cont,
                 start,
                 asynch,
-            } => {
-                if k < start {
-                    false
-                } else if k == start {
-                    ep
-                } else {
+            } => match k.cmp(&start) {
+                std::cmp::Ordering::Less => false,
+                std::cmp::Ordering::Equal => ep,
+                // An asynchronous one yields after a child's first
+                // completion: the next is ticked only if that one was
+                // running already.
+                std::cmp::Ordering::Greater => {
                     continues(left(k - 1), cont)
                         && (!asynch
                             || self.facts.start[kids[k - 1] as usize - 1] == Status::Running)
                 }
-            }
+            },
             Flow::Reactive { cont } => {
                 if k == 0 {
                     ep
@@ -280,17 +281,12 @@ impl Model {
                 // Ticked unless the Parallel already decided before child k.
                 !matches!(self.parallel(p, vals, k), Some(s) if s != Status::Running)
             }
-            Flow::Branch { start } => {
-                if start > 0 {
-                    k == start && ep
-                } else {
-                    match k {
-                        0 => ep,
-                        1 => left(0) == Status::Success,
-                        _ => left(0) == Status::Failure,
-                    }
-                }
-            }
+            Flow::Branch { start } if start > 0 => k == start && ep,
+            Flow::Branch { .. } => match k {
+                0 => ep,
+                1 => left(0) == Status::Success,
+                _ => left(0) == Status::Failure,
+            },
             Flow::Map(Mapping::Loop { again, max }) => {
                 if k == 0 {
                     return ep;
@@ -311,13 +307,7 @@ impl Model {
                 start,
                 failed,
                 wraps,
-            } => {
-                let n = kids.len();
-                let pos = (k + n - start) % n;
-                ep && pos < n - failed
-                    && (wraps || k >= start)
-                    && (0..pos).all(|j| left((start + j) % n) == Status::Failure)
-            }
+            } => ep && self.round_robin_ticks(p, k, vals, (start, failed, wraps)),
             Flow::Recovery {
                 start,
                 count,
@@ -330,15 +320,38 @@ impl Model {
                     _ => false,
                 }
             }
-            Flow::Gated => {
-                ep && if self.facts.ticked[fi] {
-                    self.facts.ticked[kids[k] as usize - 1]
-                } else {
-                    k == 0
-                        || matches!(self.tree.node(p).builtin, Some(Builtin::Switch(_)))
-                            && k + 1 == kids.len()
-                }
-            }
+            Flow::Gated => ep && self.gated_ticks(p, k),
+        }
+    }
+
+    /// Whether a RoundRobin ticks child `k` in its turn from `start`: the
+    /// children before it in the turn failed, and it has not failed before
+    /// (nor, when the turn does not wrap, is it behind the start).
+    fn round_robin_ticks(
+        &self,
+        p: Uid,
+        k: usize,
+        vals: &[Val],
+        (start, failed, wraps): (usize, usize, bool),
+    ) -> bool {
+        let kids = &self.tree.node(p).children;
+        let n = kids.len();
+        let pos = (k + n - start) % n;
+        pos < n - failed
+            && (wraps || k >= start)
+            && (0..pos).all(|j| self.r_val(kids[(start + j) % n], vals) == Status::Failure)
+    }
+
+    /// Whether a gated node ticks child `k`: as in the run while the node
+    /// ran; otherwise its first child, or a Switch's default (its last).
+    fn gated_ticks(&self, p: Uid, k: usize) -> bool {
+        let kids = &self.tree.node(p).children;
+        if self.facts.ticked[p as usize - 1] {
+            self.facts.ticked[kids[k] as usize - 1]
+        } else {
+            k == 0
+                || matches!(self.tree.node(p).builtin, Some(Builtin::Switch(_)))
+                    && k + 1 == kids.len()
         }
     }
 

@@ -185,6 +185,57 @@ impl FromIterator<u32> for Spells {
     }
 }
 
+/// A file's runs summarised, or the file's name and why it could not be
+/// read; and what could not be written of it.
+type Read = (Result<Vec<RunSummary>, (String, String)>, Vec<String>);
+
+/// Reads and summarises each run of a file (a bag of several robots'
+/// logs: each its own robot), its transitions and nodes written under
+/// `out` if given.
+fn read_file(
+    src: &Source,
+    opts: &crate::xml::LoadOptions,
+    reference: Option<&Session>,
+    out: Option<&export::Files>,
+) -> Read {
+    let f = &src.file;
+    let mut runs = Vec::new();
+    let mut unwritten = Vec::new();
+    let r = crate::input::each_robot_run(f, opts, |t, k, n, s: Session| {
+        let path = match t {
+            Some(t) => format!("{}:{}", crate::text::path(f), crate::text::visible(t)),
+            None => crate::text::path(f),
+        };
+        let name = if n > 1 { format!("{path}#{k}") } else { path };
+        let mut run = summarise(name, &s, reference);
+        run.file = f.clone();
+        run.run = (n > 1).then_some(k);
+        run.topic = t.map(str::to_string);
+        if let Some(files) = out {
+            let at = partition::Partition::of(f, &src.given, t, &s);
+            if let Err(e) = export::transitions(files, &at, &run.name, &s) {
+                unwritten.push(e.to_string());
+            }
+            if let Err(e) = export::nodes(files, &at, &run) {
+                unwritten.push(e.to_string());
+            }
+            run.partition = Some(at);
+        }
+        runs.push(run);
+        Ok(())
+    });
+    let r = r.map(|()| runs).map_err(|e| {
+        // The file's name is said once, before its error.
+        let (name, e) = (crate::text::path(f), e.to_string());
+        let e = e
+            .strip_prefix(&format!("{name}: "))
+            .unwrap_or(&e)
+            .to_string();
+        (name, e)
+    });
+    (r, unwritten)
+}
+
 impl Fleet {
     /// Reads and summarises every run of `files` on every core, each
     /// compared with `reference` if given and its transitions written
@@ -196,7 +247,6 @@ impl Fleet {
         export: Option<&Path>,
         done: &(dyn Fn() + Sync),
     ) -> Fleet {
-        type Read = (Result<Vec<RunSummary>, (String, String)>, Vec<String>);
         let mut fleet = Fleet {
             runs: Vec::new(),
             stats: BTreeMap::new(),
@@ -213,46 +263,9 @@ impl Fleet {
             let read: Vec<Read> = part
                 .par_iter()
                 .map(|src| {
-                    let f = &src.file;
-                    let mut runs = Vec::new();
-                    let mut unwritten = Vec::new();
-                    let r = crate::input::each_robot_run(f, opts, |t, k, n, s: Session| {
-                        // A bag of several robots' logs: each its own robot.
-                        let path = match t {
-                            Some(t) => {
-                                format!("{}:{}", crate::text::path(f), crate::text::visible(t))
-                            }
-                            None => crate::text::path(f),
-                        };
-                        let name = if n > 1 { format!("{path}#{k}") } else { path };
-                        let mut run = summarise(name, &s, reference);
-                        run.file = f.clone();
-                        run.run = (n > 1).then_some(k);
-                        run.topic = t.map(str::to_string);
-                        if let Some(files) = &out {
-                            let at = partition::Partition::of(f, &src.given, t, &s);
-                            if let Err(e) = export::transitions(files, &at, &run.name, &s) {
-                                unwritten.push(e.to_string());
-                            }
-                            if let Err(e) = export::nodes(files, &at, &run) {
-                                unwritten.push(e.to_string());
-                            }
-                            run.partition = Some(at);
-                        }
-                        runs.push(run);
-                        Ok(())
-                    });
+                    let r = read_file(src, opts, reference, out.as_ref());
                     done();
-                    let r = r.map(|()| runs).map_err(|e| {
-                        // The file's name is said once, before its error.
-                        let (name, e) = (crate::text::path(f), e.to_string());
-                        let e = e
-                            .strip_prefix(&format!("{name}: "))
-                            .unwrap_or(&e)
-                            .to_string();
-                        (name, e)
-                    });
-                    (r, unwritten)
+                    r
                 })
                 .collect();
             for (r, unwritten) in read {

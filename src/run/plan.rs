@@ -218,7 +218,15 @@ impl PlanLeaves {
                 }
             }
         }
-        let mut unplanned: Vec<String> = p
+        p.warn_unplanned(tree);
+        p.warn_at_once(tree);
+        p.warn_unused(tree, &used);
+        p
+    }
+
+    /// Leaves no plan entry drives: they succeed at once, said.
+    fn warn_unplanned(&mut self, tree: &Tree) {
+        let mut unplanned: Vec<String> = self
             .assigned
             .iter()
             .filter(|(_, (e, _))| e.is_none())
@@ -226,21 +234,26 @@ impl PlanLeaves {
             .collect();
         if !unplanned.is_empty() {
             unplanned.sort();
-            p.warnings.push(Warning {
-                location: crate::text::path(&p.plan.path),
-                message: format!(
-                    "no plan entry for {} (add @default_action / @default_condition); they succeed at once",
-                    unplanned.join(", ")
-                ),
-            });
+            self.warnings.push(Warning {
+            location: crate::text::path(&self.plan.path),
+            message: format!(
+                "no plan entry for {} (add @default_action / @default_condition); they succeed at once",
+                unplanned.join(", ")
+            ),
+        });
         }
-        let mut at_once: Vec<(usize, &str)> = p
+    }
+
+    /// Nav2 actions that complete in the tick they start, given RUNNING
+    /// ticks by the plan: the ticks are dropped, said at the entry's line.
+    fn warn_at_once(&mut self, tree: &Tree) {
+        let mut at_once: Vec<(usize, &str)> = self
             .assigned
             .iter()
             .filter_map(|(&u, &(e, _))| {
                 let n = tree.node(u);
                 let e = e?;
-                let entry = &p.plan.entries[e];
+                let entry = &self.plan.entries[e];
                 (n.kind == Kind::Action
                     && crate::model::nav2::at_once(&n.id, tree.release).is_some()
                     && !entry.key.starts_with('@')
@@ -251,19 +264,24 @@ impl PlanLeaves {
         at_once.sort();
         at_once.dedup();
         for (line, id) in at_once {
-            p.warnings.push(Warning {
-                location: format!("{}:{line}:1", crate::text::path(&p.plan.path)),
-                message: format!(
-                    "Nav2's {id} completes in the tick it starts and never returns RUNNING; its RUNNING ticks here are dropped"
-                ),
-            });
+            self.warnings.push(Warning {
+            location: format!("{}:{line}:1", crate::text::path(&self.plan.path)),
+            message: format!(
+                "Nav2's {id} completes in the tick it starts and never returns RUNNING; its RUNNING ticks here are dropped"
+            ),
+        });
         }
+    }
+
+    /// Plan entries that match no leaf, each with the name it might have
+    /// meant.
+    fn warn_unused(&mut self, tree: &Tree, used: &[bool]) {
         // The names a key might have meant, made only when one matches none.
-        let unused = p
+        let unused = self
             .plan
             .entries
             .iter()
-            .zip(&used)
+            .zip(used)
             .any(|(e, u)| !u && !e.key.starts_with('@'));
         let mut keys: Vec<(String, String)> = Vec::new();
         let mut seen = std::collections::HashSet::new();
@@ -280,10 +298,10 @@ impl PlanLeaves {
                 }
             }
         }
-        for (e, u) in p.plan.entries.iter().zip(&used) {
+        for (e, u) in self.plan.entries.iter().zip(used) {
             if !u && !e.key.starts_with('@') {
-                p.warnings.push(Warning {
-                    location: format!("{}:{}:1", crate::text::path(&p.plan.path), e.line),
+                self.warnings.push(Warning {
+                    location: format!("{}:{}:1", crate::text::path(&self.plan.path), e.line),
                     message: format!(
                         "\"{}\" matches no leaf of the tree{}",
                         e.key,
@@ -292,7 +310,6 @@ impl PlanLeaves {
                 });
             }
         }
-        p
     }
 
     /// Which plan entry drives a leaf: its fullPath (v4 only), then its

@@ -109,32 +109,7 @@ pub fn ahead(session: &Session, pos: u32) -> Result<Ahead, String> {
         .filter(|(i, s)| s.0 == Status::Running && session.tree.node(*i as Uid + 1).kind.is_leaf())
         .map(|(i, s)| (i as Uid + 1, s.2))
         .collect();
-    let record = if tick > idx.ticks() {
-        Record::Silent
-    } else {
-        let span = pos as usize..idx.tick_range(tick).end;
-        let rec: Vec<Step> = span
-            .clone()
-            .map(|i| {
-                let t = idx.transitions[i];
-                let start = idx.tick_range(t.tick).start;
-                Step {
-                    tick: t.tick,
-                    step: (i - start) as u32 + 1,
-                    uid: t.uid,
-                    prev: t.prev,
-                    status: t.status,
-                }
-            })
-            .collect();
-        let same = |a: &Step, b: &Step| (a.uid, a.prev, a.status) == (b.uid, b.prev, b.status);
-        match rec.iter().zip(&steps).position(|(a, b)| !same(a, b)) {
-            Some(i) => Record::Parted(Some(rec[i])),
-            None if rec.len() > steps.len() => Record::Parted(Some(rec[steps.len()])),
-            None if rec.len() < steps.len() => Record::Parted(None),
-            None => Record::Same,
-        }
-    };
+    let record = against_the_record(session, pos, tick, &steps);
     Ok(Ahead {
         from: step_moment(idx, pos),
         tick,
@@ -143,6 +118,36 @@ pub fn ahead(session: &Session, pos: u32) -> Result<Ahead, String> {
         running,
         record,
     })
+}
+
+/// The steps predicted, against what the record holds of the same span:
+/// the first where they part, if they do.
+fn against_the_record(session: &Session, pos: u32, tick: u32, steps: &[Step]) -> Record {
+    let idx = &session.index;
+    if tick > idx.ticks() {
+        return Record::Silent;
+    }
+    let span = pos as usize..idx.tick_range(tick).end;
+    let rec: Vec<Step> = span
+        .map(|i| {
+            let t = idx.transitions[i];
+            let start = idx.tick_range(t.tick).start;
+            Step {
+                tick: t.tick,
+                step: (i - start) as u32 + 1,
+                uid: t.uid,
+                prev: t.prev,
+                status: t.status,
+            }
+        })
+        .collect();
+    let same = |a: &Step, b: &Step| (a.uid, a.prev, a.status) == (b.uid, b.prev, b.status);
+    match rec.iter().zip(steps).position(|(a, b)| !same(a, b)) {
+        Some(i) => Record::Parted(Some(rec[i])),
+        None if rec.len() > steps.len() => Record::Parted(Some(rec[steps.len()])),
+        None if rec.len() < steps.len() => Record::Parted(None),
+        None => Record::Same,
+    }
 }
 
 fn verb(s: Status) -> &'static str {
@@ -212,8 +217,25 @@ impl Ahead {
         } else {
             format!("{when}, {}{ends}.", crate::explain::han::and_list(&said))
         };
-        // What was assumed: checks answer as they last did, and actions
-        // not ended by the moment (or started after it) run on.
+        out.push_str(&self.assumes(tree));
+        match &self.record {
+            Record::Silent => {}
+            Record::Same => out.push_str(" The run shows the same."),
+            Record::Parted(Some(s)) => out.push_str(&format!(
+                " The run went otherwise: {} {} at {}:{}.",
+                tree.told(s.uid),
+                past(s.status),
+                s.tick,
+                s.step
+            )),
+            Record::Parted(None) => out.push_str(" The record ends before that."),
+        }
+        out
+    }
+
+    /// What was assumed: checks answer as they last did, and actions not
+    /// ended by the moment (or started after it) run on.
+    fn assumes(&self, tree: &Tree) -> String {
         let (checks, actions): (Vec<Uid>, Vec<Uid>) = self
             .assumed
             .iter()
@@ -240,25 +262,10 @@ impl Ahead {
         if !self.running.is_empty() || !actions.is_empty() {
             assumes.push("actions keep running".into());
         }
-        if !assumes.is_empty() {
-            out.push_str(&format!(
-                " This assumes {}.",
-                crate::explain::han::and_list(&assumes)
-            ));
+        if assumes.is_empty() {
+            return String::new();
         }
-        match &self.record {
-            Record::Silent => {}
-            Record::Same => out.push_str(" The run shows the same."),
-            Record::Parted(Some(s)) => out.push_str(&format!(
-                " The run went otherwise: {} {} at {}:{}.",
-                tree.told(s.uid),
-                past(s.status),
-                s.tick,
-                s.step
-            )),
-            Record::Parted(None) => out.push_str(" The record ends before that."),
-        }
-        out
+        format!(" This assumes {}.", crate::explain::han::and_list(&assumes))
     }
 
     pub fn json(&self, tree: &Tree) -> serde_json::Value {

@@ -144,71 +144,10 @@ fn verified(
     let reach = verify::Reach::of(model, query);
     let mut split: Vec<Explanation> = Vec::new();
     for e in answer.explanations.drain(..) {
-        let mut parts: Vec<Explanation> = Vec::new();
-        for values in &e.values {
-            let dos: Vec<(VarId, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
-            // One evaluation of the change serves every test below (the
-            // search evaluated it already, so it does not fail here).
-            let vals = model.evaluate_with(&dos).ok();
-            let vals = vals.as_deref();
-            // The question is about the node's last call in the tick: a
-            // change that leaves it as it was, only in another attempt,
-            // explains nothing (a later attempt is said as a retry below).
-            let later = vals.and_then(|v| verify::later_attempt_next(model, query, v));
-            if later.is_none() && vals.is_some_and(|v| !same_in_tick(model, query, v)) {
-                continue;
-            }
-            // A consequence the model only guesses is said as what it rests
-            // on, unless a re-run settles it (below). Then a log's leaves
-            // not ticked: what they would have returned decides whether a
-            // Retry is reached at all.
-            let mut next = vals.and_then(|v| verify::opaque_next(model, &reach, v));
-            if rerunner.is_err() && next.is_none() {
-                let one = Explanation {
-                    values: vec![values.clone()],
-                    next: None,
-                    ..e.clone()
-                };
-                next = verify::unknown_next(model, query, &reach, &one);
-            }
-            if next.is_none() {
-                next = later;
-            }
-            if next.is_none() {
-                next = vals.and_then(|v| verify::retry_next(model, query, &reach, v));
-            }
-            match parts.iter_mut().find(|p| p.next == next) {
-                Some(p) => p.values.push(values.clone()),
-                None => parts.push(Explanation {
-                    values: vec![values.clone()],
-                    next,
-                    ..e.clone()
-                }),
-            }
-        }
-        split.extend(parts);
+        split.extend(by_consequent(model, query, &reach, rerunner.is_err(), e));
     }
-    let checks: Vec<verify::Check> = match &rerunner {
-        Ok(r) => split
-            .iter_mut()
-            .map(|e| match e.next {
-                Some(search::Next::Retry { node, .. }) => r.check_retry(model, query, e, node),
-                Some(search::Next::Opaque(_)) => {
-                    // The model's guess stands where a re-run confirms it,
-                    // and is dropped where a re-run disproves it.
-                    let guess = Explanation {
-                        next: None,
-                        ..e.clone()
-                    };
-                    let c = r.check(model, query, &guess, watch);
-                    if !matches!(c, verify::Check::NotRerun(_)) {
-                        e.next = None;
-                    }
-                    c
-                }
-                _ => r.check(model, query, e, watch),
-            })
-            .collect(),
+    let checks = match &rerunner {
+        Ok(r) => checked_each(r, model, query, &mut split, watch),
         Err(why) => vec![verify::Check::NotRerun(why.clone()); split.len()],
     };
     let mut kept = Vec::new();
@@ -224,6 +163,91 @@ fn verified(
     }
     answer.explanations = kept;
     (answer, kept_checks, dropped)
+}
+
+/// An explanation split by what each of its assignments leads to past
+/// what the model holds (none: the model follows it to the end); an
+/// assignment that leaves the node's last call as it was is dropped.
+fn by_consequent(
+    model: &Model,
+    query: &Query,
+    reach: &verify::Reach,
+    no_rerun: bool,
+    e: Explanation,
+) -> Vec<Explanation> {
+    let mut parts: Vec<Explanation> = Vec::new();
+    for values in &e.values {
+        let dos: Vec<(VarId, Val)> = e.vars.iter().copied().zip(values.clone()).collect();
+        // One evaluation of the change serves every test below (the
+        // search evaluated it already, so it does not fail here).
+        let vals = model.evaluate_with(&dos).ok();
+        let vals = vals.as_deref();
+        // The question is about the node's last call in the tick: a
+        // change that leaves it as it was, only in another attempt,
+        // explains nothing (a later attempt is said as a retry below).
+        let later = vals.and_then(|v| verify::later_attempt_next(model, query, v));
+        if later.is_none() && vals.is_some_and(|v| !same_in_tick(model, query, v)) {
+            continue;
+        }
+        // A consequence the model only guesses is said as what it rests
+        // on, unless a re-run settles it (below). Then a log's leaves
+        // not ticked: what they would have returned decides whether a
+        // Retry is reached at all.
+        let mut next = vals.and_then(|v| verify::opaque_next(model, reach, v));
+        if no_rerun && next.is_none() {
+            let one = Explanation {
+                values: vec![values.clone()],
+                next: None,
+                ..e.clone()
+            };
+            next = verify::unknown_next(model, query, reach, &one);
+        }
+        if next.is_none() {
+            next = later;
+        }
+        if next.is_none() {
+            next = vals.and_then(|v| verify::retry_next(model, query, reach, v));
+        }
+        match parts.iter_mut().find(|p| p.next == next) {
+            Some(p) => p.values.push(values.clone()),
+            None => parts.push(Explanation {
+                values: vec![values.clone()],
+                next,
+                ..e.clone()
+            }),
+        }
+    }
+    parts
+}
+
+/// Each explanation re-run: a retry checked as one; a consequence the
+/// model only guesses stands where a re-run confirms it, and is dropped
+/// where a re-run disproves it.
+fn checked_each(
+    r: &verify::Rerunner,
+    model: &Model,
+    query: &Query,
+    split: &mut [Explanation],
+    watch: Option<usize>,
+) -> Vec<verify::Check> {
+    split
+        .iter_mut()
+        .map(|e| match e.next {
+            Some(search::Next::Retry { node, .. }) => r.check_retry(model, query, e, node),
+            Some(search::Next::Opaque(_)) => {
+                let guess = Explanation {
+                    next: None,
+                    ..e.clone()
+                };
+                let c = r.check(model, query, &guess, watch);
+                if !matches!(c, verify::Check::NotRerun(_)) {
+                    e.next = None;
+                }
+                c
+            }
+            _ => r.check(model, query, e, watch),
+        })
+        .collect()
 }
 
 /// Whether, under the values `vals` of a change, each target's value in

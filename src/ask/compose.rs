@@ -178,62 +178,7 @@ fn with_node(
             r.about.get_or_insert(u);
             f(u, r)
         }
-        Err(Unresolved::Several(us)) => {
-            let phrase = match &who {
-                Subject::Named(p) | Subject::Nodes(_, p) => p.clone(),
-                _ => unreachable!("the task is one node"),
-            };
-            // The name as the XML writes it, where they all share it.
-            let d = cx.tree.description(us[0]);
-            let phrase = if us.iter().all(|&u| cx.tree.description(u) == d) {
-                d.to_string()
-            } else {
-                phrase
-            };
-            // Told apart among every node the words name, so that those
-            // the event never happened to can be said too: "names X and Y"
-            // alone would say they are all.
-            let all: Vec<Uid> = if us.iter().all(|u| named_alike.contains(u)) {
-                named_alike.clone()
-            } else {
-                us.clone()
-            };
-            let labels = told_apart(cx.tree, &all);
-            let label = |u: Uid| labels[all.iter().position(|&a| a == u).unwrap_or(0)].clone();
-            let kinds: Vec<String> = us.iter().map(|&u| label(u)).collect();
-            let mut lines = vec![format!(
-                "{} names {}.",
-                crate::causal::english::capitalised(&phrase),
-                and_list(&kinds)
-            )];
-            for (&u, kind) in us.iter().zip(&kinds) {
-                let mut sub = Reply::new(&r.question, r.short);
-                let said = match f(u, &mut sub) {
-                    Ok(()) => sub.answer.clone(),
-                    Err(e) => e,
-                };
-                let first = super::detail::first_sentence(&said);
-                lines.push(format!(
-                    "{}: {first}",
-                    crate::causal::english::capitalised(kind)
-                ));
-                if r.understood.is_empty() {
-                    r.understood = sub
-                        .understood
-                        .replace(&cx.name(u), &format!("{phrase} ({})", hashes(&us)));
-                }
-                r.nodes.extend(sub.nodes);
-                r.nodes.push(u);
-            }
-            let rest: Vec<Uid> = all.iter().copied().filter(|u| !us.contains(u)).collect();
-            if let (false, Some(e)) = (rest.is_empty(), event) {
-                lines.push(also_named(cx, &all, &labels, &rest, &phrase, e));
-                r.nodes.extend(rest);
-            }
-            r.about = us.first().copied();
-            r.answer = lines.join("\n");
-            Ok(())
-        }
+        Err(Unresolved::Several(us)) => each_named(cx, &who, &us, &named_alike, event, r, f),
         Err(Unresolved::Unknown(close)) => {
             let p = match &who {
                 Subject::Named(p) | Subject::Nodes(_, p) => p.clone(),
@@ -246,6 +191,73 @@ fn with_node(
             ))
         }
     }
+}
+
+/// Nodes named alike, each answered in a line of its own under the name
+/// they share; those the event never happened to said too.
+fn each_named(
+    cx: &Context,
+    who: &Subject,
+    us: &[Uid],
+    named_alike: &[Uid],
+    event: Option<Event>,
+    r: &mut Reply,
+    f: impl Fn(Uid, &mut Reply) -> Result<(), String>,
+) -> Result<(), String> {
+    let phrase = match &who {
+        Subject::Named(p) | Subject::Nodes(_, p) => p.clone(),
+        _ => unreachable!("the task is one node"),
+    };
+    // The name as the XML writes it, where they all share it.
+    let d = cx.tree.description(us[0]);
+    let phrase = if us.iter().all(|&u| cx.tree.description(u) == d) {
+        d.to_string()
+    } else {
+        phrase
+    };
+    // Told apart among every node the words name, so that those
+    // the event never happened to can be said too: "names X and Y"
+    // alone would say they are all.
+    let all: Vec<Uid> = if us.iter().all(|u| named_alike.contains(u)) {
+        named_alike.to_vec()
+    } else {
+        us.to_vec()
+    };
+    let labels = told_apart(cx.tree, &all);
+    let label = |u: Uid| labels[all.iter().position(|&a| a == u).unwrap_or(0)].clone();
+    let kinds: Vec<String> = us.iter().map(|&u| label(u)).collect();
+    let mut lines = vec![format!(
+        "{} names {}.",
+        crate::causal::english::capitalised(&phrase),
+        and_list(&kinds)
+    )];
+    for (&u, kind) in us.iter().zip(&kinds) {
+        let mut sub = Reply::new(&r.question, r.short);
+        let said = match f(u, &mut sub) {
+            Ok(()) => sub.answer.clone(),
+            Err(e) => e,
+        };
+        let first = super::detail::first_sentence(&said);
+        lines.push(format!(
+            "{}: {first}",
+            crate::causal::english::capitalised(kind)
+        ));
+        if r.understood.is_empty() {
+            r.understood = sub
+                .understood
+                .replace(&cx.name(u), &format!("{phrase} ({})", hashes(us)));
+        }
+        r.nodes.extend(sub.nodes);
+        r.nodes.push(u);
+    }
+    let rest: Vec<Uid> = all.iter().copied().filter(|u| !us.contains(u)).collect();
+    if let (false, Some(e)) = (rest.is_empty(), event) {
+        lines.push(also_named(cx, &all, &labels, &rest, &phrase, e));
+        r.nodes.extend(rest);
+    }
+    r.about = us.first().copied();
+    r.answer = lines.join("\n");
+    Ok(())
 }
 
 fn hashes(us: &[Uid]) -> String {

@@ -802,6 +802,53 @@ pub fn anything_wrong(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
     }
 }
 
+/// The handler a fallback fell back to: "fell back to run the X" reads as
+/// "fell back to the X", and an unnamed handler is said as what it runs,
+/// not as its type ("the sequence").
+fn fell_back_to(tree: &Tree, h: Uid) -> String {
+    let deed = tree.deed(h);
+    if tree.has_name(h) || tree.node(h).children.is_empty() {
+        return deed.strip_prefix("run ").unwrap_or(&deed).to_string();
+    }
+    let parts: Vec<String> = tree
+        .node(h)
+        .children
+        .iter()
+        .map(|&c| format!("{} (#{c})", tree.description(c)))
+        .collect();
+    let parts: Vec<&str> = parts.iter().map(String::as_str).collect();
+    format!(
+        "the {} (#{h}) of {}",
+        tree.node(h).id,
+        super::han::and_list(&parts)
+    )
+}
+
+/// "I am retrying to X: N attempts failed, this is attempt N+1 of M.":
+/// the Retry `r` (of the named `rp`) after `a` failed attempts.
+fn retrying_text(tree: &Tree, r: Uid, rp: Uid, a: u32) -> String {
+    let max = tree
+        .node(r)
+        .ports
+        .iter()
+        .find(|p| p.name == "num_attempts")
+        .and_then(|p| match &p.value {
+            crate::model::PortValue::Literal(s) => s.trim().parse::<i64>().ok(),
+            _ => None,
+        });
+    let of = match max {
+        Some(m) if m > 0 => format!(" of {m}"),
+        _ => String::new(),
+    };
+    format!(
+        "I am retrying to {}: {} attempt{} failed, this is attempt {}{of}.",
+        tree.deed(rp),
+        a,
+        if a == 1 { "" } else { "s" },
+        a + 1
+    )
+}
+
 /// "How was the failure handled?"
 pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
     let d = diagnose(tree, run, n);
@@ -818,29 +865,10 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
         match handler {
             Some(h) => {
                 let first = tree.node(fb).children[0];
-                // "fell back to run the X" reads as "fell back to the X".
-                let deed = tree.deed(h);
-                // An unnamed handler is said as what it runs, not as its
-                // type ("the sequence").
-                let to = if tree.has_name(h) || tree.node(h).children.is_empty() {
-                    deed.strip_prefix("run ").unwrap_or(&deed).to_string()
-                } else {
-                    let parts: Vec<String> = tree
-                        .node(h)
-                        .children
-                        .iter()
-                        .map(|&c| format!("{} (#{c})", tree.description(c)))
-                        .collect();
-                    let parts: Vec<&str> = parts.iter().map(String::as_str).collect();
-                    format!(
-                        "the {} (#{h}) of {}",
-                        tree.node(h).id,
-                        super::han::and_list(&parts)
-                    )
-                };
                 parts.push(format!(
-                    "When {} failed, I fell back to {to}.",
+                    "When {} failed, I fell back to {}.",
                     tree.spoken(first),
+                    fell_back_to(tree, h)
                 ));
                 nodes.push(h);
             }
@@ -850,29 +878,10 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
             )),
         }
     }
-    for (r, a) in &d.retrying {
-        let rp = named_ancestor(tree, *r).unwrap_or(*r);
-        let max = tree
-            .node(*r)
-            .ports
-            .iter()
-            .find(|p| p.name == "num_attempts")
-            .and_then(|p| match &p.value {
-                crate::model::PortValue::Literal(s) => s.trim().parse::<i64>().ok(),
-                _ => None,
-            });
-        let of = match max {
-            Some(m) if m > 0 => format!(" of {m}"),
-            _ => String::new(),
-        };
-        parts.push(format!(
-            "I am retrying to {}: {} attempt{} failed, this is attempt {}{of}.",
-            tree.deed(rp),
-            a,
-            if *a == 1 { "" } else { "s" },
-            a + 1
-        ));
-        nodes.extend([*r, rp]);
+    for &(r, a) in &d.retrying {
+        let rp = named_ancestor(tree, r).unwrap_or(r);
+        parts.push(retrying_text(tree, r, rp, a));
+        nodes.extend([r, rp]);
     }
     if parts.is_empty() && run.status(Tree::ROOT) == Status::Running {
         // Asked at the failure itself: what handles it comes after.

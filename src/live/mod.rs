@@ -1118,40 +1118,12 @@ fn numbering(
             last,
         } = raw;
         let received = records.len();
-        // A uid the tree does not have names no node: the record is left
-        // out, as a transition lost at its place.
         let nodes = tree.len();
-        if records.iter().any(|r| !recorder::is_node(r.uid, nodes)) {
-            for r in records.iter().filter(|r| !recorder::is_node(r.uid, nodes)) {
-                gaps.push(Gap {
-                    at: r.offset,
-                    why: format!(
-                        "the server sent a transition of uid {}, which is no node of its tree ({nodes} nodes): it is left out",
-                        r.uid
-                    ),
-                });
-            }
-            gaps.sort_by_key(|g| g.at);
-            records.retain(|r| recorder::is_node(r.uid, nodes));
-        }
+        no_node_left_out(&mut records, &mut gaps, nodes);
         gaps.extend(states_of_nodes(&mut resyncs, nodes));
         gaps.sort_by_key(|g| g.at);
-        // Each gap's records before it are numbered as they are, and
-        // ticks go by timing after it.
-        let mut numbered = Vec::new();
-        let mut from = 0;
-        for g in &gaps {
-            let upto = records
-                .iter()
-                .position(|r| r.offset >= g.at)
-                .unwrap_or(records.len())
-                .max(from);
-            numbered.extend(ticks.push(&records[from..upto]));
-            numbered.extend(ticks.gap());
-            from = upto;
-        }
+        let mut numbered = numbered_around_gaps(&mut ticks, &records, &gaps);
         let quiet = records.is_empty();
-        numbered.extend(ticks.push(&records[from..]));
         if last {
             numbered.extend(ticks.finish());
         } else if quiet {
@@ -1195,6 +1167,48 @@ fn numbering(
             break;
         }
     }
+}
+
+/// A uid the tree does not have names no node: the record is left out, as
+/// a transition lost at its place.
+fn no_node_left_out(records: &mut Vec<Record>, gaps: &mut Vec<Gap>, nodes: usize) {
+    if records.iter().all(|r| recorder::is_node(r.uid, nodes)) {
+        return;
+    }
+    for r in records.iter().filter(|r| !recorder::is_node(r.uid, nodes)) {
+        gaps.push(Gap {
+            at: r.offset,
+            why: format!(
+                "the server sent a transition of uid {}, which is no node of its tree ({nodes} nodes): it is left out",
+                r.uid
+            ),
+        });
+    }
+    gaps.sort_by_key(|g| g.at);
+    records.retain(|r| recorder::is_node(r.uid, nodes));
+}
+
+/// The records numbered into ticks: each gap's records before it are
+/// numbered as they are, and ticks go by timing after it.
+fn numbered_around_gaps(
+    ticks: &mut crate::logs::ticks::Stream,
+    records: &[Record],
+    gaps: &[Gap],
+) -> Vec<(Record, u32)> {
+    let mut numbered = Vec::new();
+    let mut from = 0;
+    for g in gaps {
+        let upto = records
+            .iter()
+            .position(|r| r.offset >= g.at)
+            .unwrap_or(records.len())
+            .max(from);
+        numbered.extend(ticks.push(&records[from..upto]));
+        numbered.extend(ticks.gap());
+        from = upto;
+    }
+    numbered.extend(ticks.push(&records[from..]));
+    numbered
 }
 
 /// Leaves out of `resyncs` the states of uids that are no node of a tree

@@ -241,10 +241,11 @@ fn open(path: &Path, whole_pages: bool) -> Result<(Connection, Option<WalCopy>),
 /// Every session id in the file, oldest first, and the one asked for (the
 /// last if `which` is `None`), read.
 pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), Located> {
-    let fail = |m: String| Located::file(path, m);
-    // What a file cut short lost may be any table's: said with each error.
-    let cut = cut_short(path).map_or(String::new(), |c| c.note());
-    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}{cut}"));
+    let e = Said {
+        path,
+        // What a file cut short lost may be any table's: said with each error.
+        cut: cut_short(path).map_or(String::new(), |c| c.note()),
+    };
     let (conn, _copy) = open_read_only(path)?;
     for table in ["Definitions", "Nodes", "Transitions"] {
         let n: i64 = conn
@@ -253,34 +254,24 @@ pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), L
                 [table],
                 |r| r.get(0),
             )
-            .map_err(|e| sql("not a readable SQLite database", e))?;
+            .map_err(|x| e.sql("not a readable SQLite database", x))?;
         if n == 0 {
-            return Err(fail(format!(
-                "not a BehaviorTree.CPP SqliteLogger database: it has no table {table}{cut}"
+            return Err(e.fail(format!(
+                "not a BehaviorTree.CPP SqliteLogger database: it has no table {table}{}",
+                e.cut
             )));
         }
     }
-    let mut ids: Vec<(i64, String)> = Vec::new();
-    {
-        let mut st = conn
-            .prepare("SELECT session_id, coalesce(date, '') FROM Definitions ORDER BY session_id")
-            .map_err(|e| sql("table Definitions", e))?;
-        let rows = st
-            .query_map([], |r| Ok((r.get::<_, i64>(0)?, r.get::<_, String>(1)?)))
-            .map_err(|e| sql("table Definitions", e))?;
-        for row in rows {
-            ids.push(row.map_err(|e| sql("table Definitions", e))?);
-        }
-    }
+    let ids = session_ids(&conn, &e)?;
     let Some(last) = ids.last() else {
-        return Err(fail(
+        return Err(e.fail(
             "the database has no session (table Definitions is empty): the logger wrote nothing"
                 .into(),
         ));
     };
     let id = which.unwrap_or(last.0);
     let Some((_, date)) = ids.iter().find(|x| x.0 == id).cloned() else {
-        return Err(fail(format!(
+        return Err(e.fail(format!(
             "no session {id} in table Definitions; it has {}",
             ids.iter()
                 .map(|x| x.0.to_string())
@@ -294,74 +285,14 @@ pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), L
             [id],
             |r| r.get::<_, Option<String>>(0),
         )
-        .map_err(|e| sql(&format!("table Definitions, session {id}"), e))?
+        .map_err(|x| e.sql(&format!("table Definitions, session {id}"), x))?
         .ok_or_else(|| {
-            fail(format!(
+            e.fail(format!(
                 "table Definitions, session {id}: xml_tree is empty"
             ))
         })?;
-    let mut nodes = Vec::new();
-    {
-        let mut st = conn
-            .prepare("SELECT node_uid, fullpath FROM Nodes WHERE session_id = ?1 ORDER BY rowid")
-            .map_err(|e| sql("table Nodes", e))?;
-        let rows = st
-            .query_map([id], |r| {
-                Ok((r.get::<_, i64>(0)?, r.get::<_, Option<String>>(1)?))
-            })
-            .map_err(|e| sql("table Nodes", e))?;
-        for (i, row) in rows.enumerate() {
-            let (uid, p) = row.map_err(|e| sql(&format!("table Nodes, row {}", i + 1), e))?;
-            let uid = u32::try_from(uid).map_err(|_| {
-                fail(format!(
-                    "table Nodes, row {}: node_uid {uid} is not a uid",
-                    i + 1
-                ))
-            })?;
-            nodes.push((uid, p.unwrap_or_default()));
-        }
-    }
-    let mut records = Vec::new();
-    {
-        let mut st = conn
-            .prepare(
-                "SELECT timestamp, node_uid, state FROM Transitions WHERE session_id = ?1 ORDER BY timestamp",
-            )
-            .map_err(|e| sql("table Transitions", e))?;
-        let rows = st
-            .query_map([id], |r| {
-                Ok((
-                    r.get::<_, i64>(0)?,
-                    r.get::<_, i64>(1)?,
-                    r.get::<_, i64>(2)?,
-                ))
-            })
-            .map_err(|e| sql("table Transitions", e))?;
-        for (i, row) in rows.enumerate() {
-            let n = i + 1;
-            let (time_us, uid, state) =
-                row.map_err(|e| sql(&format!("table Transitions, session {id}, row {n}"), e))?;
-            let status = u8::try_from(state)
-                .ok()
-                .and_then(Status::from_code)
-                .ok_or_else(|| {
-                    fail(format!(
-                        "table Transitions, session {id}, row {n} (timestamp {time_us}): state {state} is not a status (0-4)"
-                    ))
-                })?;
-            let uid = u32::try_from(uid).map_err(|_| {
-                fail(format!(
-                    "table Transitions, session {id}, row {n} (timestamp {time_us}): node_uid {uid} is not a uid"
-                ))
-            })?;
-            records.push(Record {
-                time_us,
-                uid,
-                status,
-                offset: n,
-            });
-        }
-    }
+    let nodes = nodes_of(&conn, id, &e)?;
+    let records = transitions_of(&conn, id, &e)?;
     Ok((
         ids.iter().map(|x| x.0).collect(),
         Db3Session {
@@ -372,4 +303,104 @@ pub fn read(path: &Path, which: Option<i64>) -> Result<(Vec<i64>, Db3Session), L
             nodes,
         },
     ))
+}
+
+/// How an error of the file is said: with its path, and what a file cut
+/// short lost.
+struct Said<'a> {
+    path: &'a Path,
+    cut: String,
+}
+
+impl Said<'_> {
+    fn fail(&self, m: String) -> Located {
+        Located::file(self.path, m)
+    }
+
+    fn sql(&self, what: &str, e: rusqlite::Error) -> Located {
+        self.fail(format!("{what}: {e}{}", self.cut))
+    }
+}
+
+/// The sessions of table Definitions, oldest first, with their dates.
+fn session_ids(conn: &rusqlite::Connection, e: &Said) -> Result<Vec<(i64, String)>, Located> {
+    let mut ids = Vec::new();
+    let mut st = conn
+        .prepare("SELECT session_id, coalesce(date, '') FROM Definitions ORDER BY session_id")
+        .map_err(|x| e.sql("table Definitions", x))?;
+    let rows = st
+        .query_map([], |r| Ok((r.get::<_, i64>(0)?, r.get::<_, String>(1)?)))
+        .map_err(|x| e.sql("table Definitions", x))?;
+    for row in rows {
+        ids.push(row.map_err(|x| e.sql("table Definitions", x))?);
+    }
+    Ok(ids)
+}
+
+/// Session `id`'s nodes of table Nodes, in order: uid and full path.
+fn nodes_of(conn: &rusqlite::Connection, id: i64, e: &Said) -> Result<Vec<(u32, String)>, Located> {
+    let mut nodes = Vec::new();
+    let mut st = conn
+        .prepare("SELECT node_uid, fullpath FROM Nodes WHERE session_id = ?1 ORDER BY rowid")
+        .map_err(|x| e.sql("table Nodes", x))?;
+    let rows = st
+        .query_map([id], |r| {
+            Ok((r.get::<_, i64>(0)?, r.get::<_, Option<String>>(1)?))
+        })
+        .map_err(|x| e.sql("table Nodes", x))?;
+    for (i, row) in rows.enumerate() {
+        let (uid, p) = row.map_err(|x| e.sql(&format!("table Nodes, row {}", i + 1), x))?;
+        let uid = u32::try_from(uid).map_err(|_| {
+            e.fail(format!(
+                "table Nodes, row {}: node_uid {uid} is not a uid",
+                i + 1
+            ))
+        })?;
+        nodes.push((uid, p.unwrap_or_default()));
+    }
+    Ok(nodes)
+}
+
+/// Session `id`'s transitions of table Transitions, by time, each checked.
+fn transitions_of(conn: &rusqlite::Connection, id: i64, e: &Said) -> Result<Vec<Record>, Located> {
+    let mut records = Vec::new();
+    let mut st = conn
+        .prepare(
+            "SELECT timestamp, node_uid, state FROM Transitions WHERE session_id = ?1 ORDER BY timestamp",
+        )
+        .map_err(|x| e.sql("table Transitions", x))?;
+    let rows = st
+        .query_map([id], |r| {
+            Ok((
+                r.get::<_, i64>(0)?,
+                r.get::<_, i64>(1)?,
+                r.get::<_, i64>(2)?,
+            ))
+        })
+        .map_err(|x| e.sql("table Transitions", x))?;
+    for (i, row) in rows.enumerate() {
+        let n = i + 1;
+        let (time_us, uid, state) =
+            row.map_err(|x| e.sql(&format!("table Transitions, session {id}, row {n}"), x))?;
+        let status = u8::try_from(state)
+            .ok()
+            .and_then(Status::from_code)
+            .ok_or_else(|| {
+                e.fail(format!(
+                    "table Transitions, session {id}, row {n} (timestamp {time_us}): state {state} is not a status (0-4)"
+                ))
+            })?;
+        let uid = u32::try_from(uid).map_err(|_| {
+            e.fail(format!(
+                "table Transitions, session {id}, row {n} (timestamp {time_us}): node_uid {uid} is not a uid"
+            ))
+        })?;
+        records.push(Record {
+            time_us,
+            uid,
+            status,
+            offset: n,
+        });
+    }
+    Ok(records)
 }

@@ -196,116 +196,10 @@ pub fn tree_xml(path: &Path, tree: &[u8], base: usize, what: &str) -> Result<Str
         .map(|f| fb.u16(f))
         .transpose()?
         .unwrap_or(1);
-    // NodeModel: registration_name (0), type (1).
-    let mut kinds = std::collections::HashMap::new();
-    for m in fb.vector(root, 2, 4, true)? {
-        let name = fb.string(m, 0)?;
-        let ty = fb.field(m, 1)?.map(|f| fb.u8(f)).transpose()?.unwrap_or(0);
-        kinds.insert(name, ty);
-    }
-    // TreeNode: uid (0), children_uid (1), status (2), instance_name (3), registration_name (4), port_remaps (5).
-    struct N {
-        children: Vec<u16>,
-        name: String,
-        reg: String,
-        ports: Vec<(String, String)>,
-    }
-    let mut nodes = std::collections::HashMap::new();
-    for t in fb.vector(root, 1, 4, true)? {
-        let uid = fb.field(t, 0)?.map(|f| fb.u16(f)).transpose()?.unwrap_or(0);
-        let children = fb
-            .vector(t, 1, 2, false)?
-            .into_iter()
-            .map(|p| fb.u16(p))
-            .collect::<Result<_, _>>()?;
-        let mut ports = Vec::new();
-        for p in fb.vector(t, 5, 4, true)? {
-            ports.push((fb.string(p, 0)?, fb.string(p, 1)?));
-        }
-        nodes.insert(
-            uid,
-            N {
-                children,
-                name: fb.string(t, 3)?,
-                reg: fb.string(t, 4)?,
-                ports,
-            },
-        );
-    }
+    let kinds = model_kinds(&fb, root)?;
+    let nodes = tree_nodes(&fb, root)?;
     // The instantiated XML: one <BehaviorTree> per subtree instance.
     let mut trees: Vec<String> = Vec::new();
-    fn element(
-        u: u16,
-        nodes: &std::collections::HashMap<u16, N>,
-        kinds: &std::collections::HashMap<String, u8>,
-        trees: &mut Vec<String>,
-        out: &mut String,
-        seen: &mut std::collections::HashSet<u16>,
-        depth: usize,
-    ) -> Result<(), String> {
-        let n = nodes
-            .get(&u)
-            .ok_or_else(|| format!("the tree names node {u}, which it does not describe"))?;
-        // A node reached twice would be a cycle, or a copy that multiplies
-        // at every level.
-        if !seen.insert(u) {
-            return Err(format!("node {u} is the child of more than one node"));
-        }
-        if depth > 10_000 {
-            return Err("the tree is nested too deep".into());
-        }
-        let ports: String = n
-            .ports
-            .iter()
-            .map(|(k, v)| format!(" {}=\"{}\"", esc(k), esc(v)))
-            .collect();
-        if n.reg == "SubTree" || n.reg == "SubTreePlus" || kinds.get(&n.reg) == Some(&5) {
-            let path = format!("{u}/{}", n.name);
-            out.push_str(&format!(
-                "<{} ID=\"{}\" _fullpath=\"{}\" _uid=\"{u}\"{ports}/>",
-                n.reg,
-                esc(&n.name),
-                esc(&path)
-            ));
-            let mut sub = String::new();
-            for &c in &n.children {
-                element(c, nodes, kinds, trees, &mut sub, seen, depth + 1)?;
-            }
-            trees.push(format!(
-                "<BehaviorTree ID=\"{}\" _fullpath=\"{}\">{sub}</BehaviorTree>",
-                esc(&n.name),
-                esc(&path)
-            ));
-            return Ok(());
-        }
-        let explicit = match kinds.get(&n.reg) {
-            _ if crate::model::builtins::lookup(&n.reg).is_some() => None,
-            Some(1) => Some("Action"),
-            Some(2) => Some("Condition"),
-            Some(3) => Some("Control"),
-            Some(4) => Some("Decorator"),
-            _ => Some("Action"),
-        };
-        let open = match explicit {
-            Some(tag) => format!("{tag} ID=\"{}\"", esc(&n.reg)),
-            None => n.reg.clone(),
-        };
-        let close = explicit.unwrap_or(&n.reg).to_string();
-        out.push_str(&format!(
-            "<{open} name=\"{}\" _uid=\"{u}\"{ports}",
-            esc(&n.name)
-        ));
-        if n.children.is_empty() {
-            out.push_str("/>");
-        } else {
-            out.push('>');
-            for &c in &n.children {
-                element(c, nodes, kinds, trees, out, seen, depth + 1)?;
-            }
-            out.push_str(&format!("</{close}>"));
-        }
-        Ok(())
-    }
     let mut main = String::new();
     let mut seen = std::collections::HashSet::new();
     element(
@@ -324,4 +218,127 @@ pub fn tree_xml(path: &Path, tree: &[u8], base: usize, what: &str) -> Result<Str
     }
     xml.push_str("</root>");
     Ok(xml)
+}
+
+/// The node models: each registration name's type (NodeModel:
+/// registration_name (0), type (1)).
+fn model_kinds(fb: &Fb, root: usize) -> Result<std::collections::HashMap<String, u8>, Located> {
+    let mut kinds = std::collections::HashMap::new();
+    for m in fb.vector(root, 2, 4, true)? {
+        let name = fb.string(m, 0)?;
+        let ty = fb.field(m, 1)?.map(|f| fb.u8(f)).transpose()?.unwrap_or(0);
+        kinds.insert(name, ty);
+    }
+    Ok(kinds)
+}
+
+/// A node of the flatbuffer's tree.
+struct FbNode {
+    children: Vec<u16>,
+    name: String,
+    reg: String,
+    ports: Vec<(String, String)>,
+}
+
+/// The tree's nodes by uid (TreeNode: uid (0), children_uid (1), status
+/// (2), instance_name (3), registration_name (4), port_remaps (5)).
+fn tree_nodes(fb: &Fb, root: usize) -> Result<std::collections::HashMap<u16, FbNode>, Located> {
+    let mut nodes = std::collections::HashMap::new();
+    for t in fb.vector(root, 1, 4, true)? {
+        let uid = fb.field(t, 0)?.map(|f| fb.u16(f)).transpose()?.unwrap_or(0);
+        let children = fb
+            .vector(t, 1, 2, false)?
+            .into_iter()
+            .map(|p| fb.u16(p))
+            .collect::<Result<_, _>>()?;
+        let mut ports = Vec::new();
+        for p in fb.vector(t, 5, 4, true)? {
+            ports.push((fb.string(p, 0)?, fb.string(p, 1)?));
+        }
+        nodes.insert(
+            uid,
+            FbNode {
+                children,
+                name: fb.string(t, 3)?,
+                reg: fb.string(t, 4)?,
+                ports,
+            },
+        );
+    }
+    Ok(nodes)
+}
+
+/// Node `u` as an XML element of `out`, a subtree's nodes as a
+/// <BehaviorTree> of its own in `trees`.
+fn element(
+    u: u16,
+    nodes: &std::collections::HashMap<u16, FbNode>,
+    kinds: &std::collections::HashMap<String, u8>,
+    trees: &mut Vec<String>,
+    out: &mut String,
+    seen: &mut std::collections::HashSet<u16>,
+    depth: usize,
+) -> Result<(), String> {
+    let n = nodes
+        .get(&u)
+        .ok_or_else(|| format!("the tree names node {u}, which it does not describe"))?;
+    // A node reached twice would be a cycle, or a copy that multiplies
+    // at every level.
+    if !seen.insert(u) {
+        return Err(format!("node {u} is the child of more than one node"));
+    }
+    if depth > 10_000 {
+        return Err("the tree is nested too deep".into());
+    }
+    let ports: String = n
+        .ports
+        .iter()
+        .map(|(k, v)| format!(" {}=\"{}\"", esc(k), esc(v)))
+        .collect();
+    if n.reg == "SubTree" || n.reg == "SubTreePlus" || kinds.get(&n.reg) == Some(&5) {
+        let path = format!("{u}/{}", n.name);
+        out.push_str(&format!(
+            "<{} ID=\"{}\" _fullpath=\"{}\" _uid=\"{u}\"{ports}/>",
+            n.reg,
+            esc(&n.name),
+            esc(&path)
+        ));
+        let mut sub = String::new();
+        for &c in &n.children {
+            element(c, nodes, kinds, trees, &mut sub, seen, depth + 1)?;
+        }
+        trees.push(format!(
+            "<BehaviorTree ID=\"{}\" _fullpath=\"{}\">{sub}</BehaviorTree>",
+            esc(&n.name),
+            esc(&path)
+        ));
+        return Ok(());
+    }
+    let explicit = match kinds.get(&n.reg) {
+        _ if crate::model::builtins::lookup(&n.reg).is_some() => None,
+        Some(1) => Some("Action"),
+        Some(2) => Some("Condition"),
+        Some(3) => Some("Control"),
+        Some(4) => Some("Decorator"),
+        _ => Some("Action"),
+    };
+    let open = match explicit {
+        Some(tag) => format!("{tag} ID=\"{}\"", esc(&n.reg)),
+        None => n.reg.clone(),
+    };
+    let close = explicit.unwrap_or(&n.reg).to_string();
+    out.push_str(&format!(
+        "<{open} name=\"{}\" _uid=\"{u}\"{ports}",
+        esc(&n.name)
+    ));
+    if n.children.is_empty() {
+        out.push_str("/>");
+    } else {
+        out.push('>');
+        for &c in &n.children {
+            element(c, nodes, kinds, trees, out, seen, depth + 1)?;
+        }
+        out.push_str(&format!("</{close}>"));
+    }
+    Ok(())
 }

@@ -151,6 +151,51 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         )
     })?;
     let top = rd.obj(&doc, "the log")?;
+    let (tree, order) = btcm_tree(&rd, top)?;
+    // Node ids in pre-order are uids 1, 2, … as BehaviorTree.CPP numbers them.
+    let uid_of: HashMap<&str, Uid> = order
+        .iter()
+        .enumerate()
+        .map(|(i, id)| (id.as_str(), i as Uid + 1))
+        .collect();
+    let mut r = Replayed::new(&tree);
+    for (i, (t, steps)) in ticks_of(&rd, top)?.iter().enumerate() {
+        let tick = i as u32 + 1;
+        if *t != i as u64 {
+            r.warnings.push(Warning {
+                location: crate::text::path(path),
+                message: format!(
+                    "tick {t} follows tick {}: ticks are renumbered",
+                    i as i64 - 1
+                ),
+            });
+        }
+        for (time, step) in time_steps(&rd, *t, steps)? {
+            let at = format!("tick {t}, time {time}");
+            r.step(&rd, &tree, &uid_of, tick, &at, step)?;
+        }
+        r.end_tick(&tree, tick);
+    }
+    let header = super::import_header(path, &tree, crate::model::Version::V4, "btcm", r.initial);
+    let ticks = r.index.ticks();
+    Ok(Session {
+        path: path.to_path_buf(),
+        header,
+        tree,
+        index: r.index,
+        end: Some((ticks, r.root_status, "imported".into())),
+        inserts: Vec::new(),
+        span_us: None,
+        times_us: Vec::new(),
+        warnings: r.warnings,
+        run: None,
+    })
+}
+
+/// The log's tree, as BehaviorTree.CPP 4 XML loaded (leaves are declared
+/// by kind), and its node ids in pre-order.
+fn btcm_tree(rd: &Reader, top: &Map<String, Value>) -> Result<(crate::Tree, Vec<String>), Located> {
+    let path = rd.path;
     let nodes = rd.obj(
         top.get("tree")
             .ok_or_else(|| rd.err("the log", "no \"tree\""))?,
@@ -161,15 +206,13 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         .next()
         .ok_or_else(|| rd.err("tree", "no nodes"))?
         .clone();
-
-    // The tree, as BehaviorTree.CPP 4 XML; leaves are declared by kind.
     let mut out = Emitted {
         xml: String::from("<root BTCPP_format=\"4\" main_tree_to_execute=\"btcm\">\n  <BehaviorTree ID=\"btcm\">\n"),
         models: Vec::new(),
         order: Vec::new(),
         seen: Default::default(),
     };
-    emit(&rd, nodes, &root_id, 0, &mut out)?;
+    emit(rd, nodes, &root_id, 0, &mut out)?;
     // btcm takes the first node as the root; a node it never reaches would
     // be a second root whose run the log cannot place in the tree.
     if let Some(stray) = nodes.keys().find(|k| !out.seen.contains(k.as_str())) {
@@ -203,14 +246,15 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         },
     )?
     .tree;
-    // Node ids in pre-order are uids 1, 2, … as BehaviorTree.CPP numbers them.
-    let uid_of: HashMap<&str, Uid> = order
-        .iter()
-        .enumerate()
-        .map(|(i, id)| (id.as_str(), i as Uid + 1))
-        .collect();
+    Ok((tree, order))
+}
 
-    // Ticks: "0", "1", … each with time steps keyed by a global counter.
+/// Ticks: "0", "1", … in order, each with its time steps.
+#[allow(clippy::type_complexity)]
+fn ticks_of<'v>(
+    rd: &Reader,
+    top: &'v Map<String, Value>,
+) -> Result<Vec<(u64, &'v Map<String, Value>)>, Located> {
     let mut ticks: Vec<(u64, &Map<String, Value>)> = Vec::new();
     for (k, v) in top {
         if let Ok(t) = k.parse::<u64>() {
@@ -218,146 +262,154 @@ pub fn open_btcm(path: &Path, text: &str) -> Result<Session, Located> {
         }
     }
     ticks.sort_by_key(|(t, _)| *t);
-    let mut index = Index::new(tree.len());
-    let mut status = vec![Status::Idle; tree.len()];
-    let mut state: HashMap<String, Value> = HashMap::new();
-    let mut initial: Vec<(EntryId, Value)> = Vec::new();
-    let mut warnings = Vec::new();
-    let mut root_status = Status::Idle;
-    for (i, (t, steps)) in ticks.iter().enumerate() {
-        let tick = i as u32 + 1;
-        if *t != i as u64 {
-            warnings.push(Warning {
-                location: crate::text::path(path),
-                message: format!(
-                    "tick {t} follows tick {}: ticks are renumbered",
-                    i as i64 - 1
-                ),
-            });
+    Ok(ticks)
+}
+
+/// A tick's time steps, keyed by a global counter, in order.
+fn time_steps<'v>(
+    rd: &Reader,
+    t: u64,
+    steps: &'v Map<String, Value>,
+) -> Result<Vec<(u64, &'v Value)>, Located> {
+    let mut times: Vec<(u64, &Value)> = Vec::new();
+    for (k, v) in steps {
+        let n = k.parse::<u64>().map_err(|_| {
+            rd.err(
+                &format!("tick {t}"),
+                format!("time step key \"{k}\" is not a number"),
+            )
+        })?;
+        times.push((n, v));
+    }
+    times.sort_by_key(|(n, _)| *n);
+    Ok(times)
+}
+
+/// The run as the log's steps replay it.
+struct Replayed {
+    index: Index,
+    status: Vec<Status>,
+    state: HashMap<String, Value>,
+    initial: Vec<(EntryId, Value)>,
+    warnings: Vec<Warning>,
+    root_status: Status,
+}
+
+impl Replayed {
+    fn new(tree: &crate::Tree) -> Replayed {
+        Replayed {
+            index: Index::new(tree.len()),
+            status: vec![Status::Idle; tree.len()],
+            state: HashMap::new(),
+            initial: Vec::new(),
+            warnings: Vec::new(),
+            root_status: Status::Idle,
         }
-        let mut times: Vec<(u64, &Value)> = Vec::new();
-        for (k, v) in *steps {
-            let n = k.parse::<u64>().map_err(|_| {
+    }
+
+    /// One time step: a node's update (its status, the state it wrote,
+    /// an action's decision), or the initial state.
+    fn step(
+        &mut self,
+        rd: &Reader,
+        tree: &crate::Tree,
+        uid_of: &HashMap<&str, Uid>,
+        tick: u32,
+        at: &str,
+        step: &Value,
+    ) -> Result<(), Located> {
+        let step = rd.obj(step, at)?;
+        let snapshot = step.get("state").and_then(Value::as_object);
+        let Some(update) = step.get("update").and_then(Value::as_object) else {
+            // The initial state (tick 0, time 0).
+            if let Some(s) = snapshot {
+                self.initial_state(s);
+            }
+            return Ok(());
+        };
+        let (id, u) = update
+            .iter()
+            .next()
+            .ok_or_else(|| rd.err(at, "an empty update"))?;
+        let u = rd.obj(u, at)?;
+        let uid = *uid_of
+            .get(id.as_str())
+            .ok_or_else(|| rd.err(at, format!("node \"{id}\" is not in the tree")))?;
+        let raw = rd.str(u, "status", at)?;
+        let st = Status::parse(raw.trim_start_matches("Status."))
+            .filter(|s| *s != Status::Idle)
+            .ok_or_else(|| {
                 rd.err(
-                    &format!("tick {t}"),
-                    format!("time step key \"{k}\" is not a number"),
+                    at,
+                    format!("status \"{raw}\" is not SUCCESS, FAILURE or RUNNING"),
                 )
             })?;
-            times.push((n, v));
-        }
-        times.sort_by_key(|(n, _)| *n);
-        for (time, step) in times {
-            let at = format!("tick {t}, time {time}");
-            let step = rd.obj(step, &at)?;
-            let snapshot = step.get("state").and_then(Value::as_object);
-            let update = step.get("update").and_then(Value::as_object);
-            let Some(update) = update else {
-                // The initial state (tick 0, time 0).
-                if let Some(s) = snapshot {
-                    for (k, v) in s {
-                        if state.insert(k.clone(), v.clone()).is_none()
-                            && index.transitions.is_empty()
-                        {
-                            initial.push((
-                                EntryId {
-                                    scope: 0,
-                                    key: k.clone(),
-                                },
-                                v.clone(),
-                            ));
-                        }
-                    }
-                }
-                continue;
-            };
-            let (id, u) = update
-                .iter()
-                .next()
-                .ok_or_else(|| rd.err(&at, "an empty update"))?;
-            let u = rd.obj(u, &at)?;
-            let uid = *uid_of
-                .get(id.as_str())
-                .ok_or_else(|| rd.err(&at, format!("node \"{id}\" is not in the tree")))?;
-            let raw = rd.str(u, "status", &at)?;
-            let st = Status::parse(raw.trim_start_matches("Status."))
-                .filter(|s| *s != Status::Idle)
-                .ok_or_else(|| {
-                    rd.err(
-                        &at,
-                        format!("status \"{raw}\" is not SUCCESS, FAILURE or RUNNING"),
-                    )
-                })?;
-            if let Some(s) = snapshot {
-                for (k, v) in s {
-                    if state.get(k) != Some(v) {
-                        state.insert(k.clone(), v.clone());
-                        index.push_write_by(
-                            tick,
-                            uid,
-                            EntryId {
-                                scope: 0,
-                                key: k.clone(),
-                            },
-                            v.clone(),
-                        );
-                    }
-                }
-            }
-            let decision = match (tree.node(uid).kind, u.get("action").and_then(Value::as_str)) {
-                (crate::model::Kind::Action, Some("NullAction")) => Some("null".to_string()),
-                (crate::model::Kind::Action, Some(a)) => Some(a.to_string()),
-                _ => None,
-            };
-            let prev = status[uid as usize - 1];
-            status[uid as usize - 1] = st;
-            if uid == 1 {
-                root_status = st;
-            }
-            index.push_transition(
-                &tree,
-                Transition {
-                    tick,
-                    uid,
-                    prev,
-                    status: st,
-                },
-                decision,
-            );
-        }
-        // A completed root ends the tick's run: every node is reset, as
-        // btcm resets its BT variables.
-        if status[0].is_completed() {
-            for u in 1..=tree.len() as Uid {
-                let prev = status[u as usize - 1];
-                if prev != Status::Idle {
-                    status[u as usize - 1] = Status::Idle;
-                    index.push_transition(
-                        &tree,
-                        Transition {
-                            tick,
-                            uid: u,
-                            prev,
-                            status: Status::Idle,
-                        },
-                        None,
-                    );
+        if let Some(s) = snapshot {
+            for (k, v) in s {
+                if self.state.get(k) != Some(v) {
+                    self.state.insert(k.clone(), v.clone());
+                    let e = EntryId {
+                        scope: 0,
+                        key: k.clone(),
+                    };
+                    self.index.push_write_by(tick, uid, e, v.clone());
                 }
             }
         }
-        index.end_tick(tick);
+        let decision = match (tree.node(uid).kind, u.get("action").and_then(Value::as_str)) {
+            (crate::model::Kind::Action, Some("NullAction")) => Some("null".to_string()),
+            (crate::model::Kind::Action, Some(a)) => Some(a.to_string()),
+            _ => None,
+        };
+        let prev = self.status[uid as usize - 1];
+        self.status[uid as usize - 1] = st;
+        if uid == 1 {
+            self.root_status = st;
+        }
+        let t = Transition {
+            tick,
+            uid,
+            prev,
+            status: st,
+        };
+        self.index.push_transition(tree, t, decision);
+        Ok(())
     }
-    let header = super::import_header(path, &tree, crate::model::Version::V4, "btcm", initial);
-    let ticks = index.ticks();
-    Ok(Session {
-        path: path.to_path_buf(),
-        header,
-        tree,
-        index,
-        end: Some((ticks, root_status, "imported".into())),
-        inserts: Vec::new(),
-        span_us: None,
-        times_us: Vec::new(),
-        warnings,
-        run: None,
-    })
+
+    /// The state before the first transition: the blackboard's initial
+    /// entries.
+    fn initial_state(&mut self, s: &Map<String, Value>) {
+        for (k, v) in s {
+            if self.state.insert(k.clone(), v.clone()).is_none()
+                && self.index.transitions.is_empty()
+            {
+                let e = EntryId {
+                    scope: 0,
+                    key: k.clone(),
+                };
+                self.initial.push((e, v.clone()));
+            }
+        }
+    }
+
+    /// A completed root ends the tick's run: every node is reset, as btcm
+    /// resets its BT variables.
+    fn end_tick(&mut self, tree: &crate::Tree, tick: u32) {
+        if self.status[0].is_completed() {
+            for u in 1..=tree.len() as Uid {
+                let prev = self.status[u as usize - 1];
+                if prev != Status::Idle {
+                    self.status[u as usize - 1] = Status::Idle;
+                    let t = Transition {
+                        tick,
+                        uid: u,
+                        prev,
+                        status: Status::Idle,
+                    };
+                    self.index.push_transition(tree, t, None);
+                }
+            }
+        }
+        self.index.end_tick(tick);
+    }
 }

@@ -1198,7 +1198,6 @@ impl<'t, L: Leaves> Executor<'t, L> {
 
     fn tick_builtin(&mut self, uid: Uid, b: Builtin) -> R<Status> {
         let tree = self.tree;
-        let children = &tree.node(uid).children;
         match b {
             Builtin::Sequence | Builtin::AsyncSequence => self.tick_sequential(uid, b == Builtin::AsyncSequence, Status::Success),
             Builtin::Fallback | Builtin::AsyncFallback => self.tick_sequential(uid, b == Builtin::AsyncFallback, Status::Failure),
@@ -1207,52 +1206,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
             Builtin::ReactiveFallback => self.tick_reactive(uid, Status::Failure),
             Builtin::Parallel => self.tick_parallel(uid),
             Builtin::ParallelAll => self.tick_parallel_all(uid),
-            Builtin::IfThenElse => {
-                self.set_status(uid, Status::Running);
-                if self.rt(uid).idx == 0 {
-                    match self.exec(children[0])? {
-                        Status::Running => return Ok(Status::Running),
-                        Status::Success => self.rt(uid).idx = 1,
-                        Status::Failure if children.len() == 3 => self.rt(uid).idx = 2,
-                        Status::Failure => return Ok(Status::Failure),
-                        // BehaviorTree.CPP keeps the index at 0 and throws.
-                        _ => return Err(self.err(uid, "its condition was skipped; BehaviorTree.CPP throws \"Something unexpected happened in IfThenElseNode\"")),
-                    }
-                }
-                let i = self.rt(uid).idx;
-                let s = self.exec(children[i])?;
-                if s == Status::Running {
-                    return Ok(s);
-                }
-                self.reset_children(uid);
-                self.rt(uid).idx = 0;
-                Ok(s)
-            }
-            Builtin::WhileDoElse => {
-                self.set_status(uid, Status::Running);
-                let c = self.exec(children[0])?;
-                let s = match c {
-                    Status::Running => return Ok(Status::Running),
-                    Status::Success => {
-                        if children.len() == 3 {
-                            self.halt_child(children[2]);
-                        }
-                        self.exec(children[1])?
-                    }
-                    Status::Failure if children.len() == 3 => {
-                        self.halt_child(children[1]);
-                        self.exec(children[2])?
-                    }
-                    Status::Failure => Status::Failure,
-                    // BehaviorTree.CPP returns IDLE, and setting it throws.
-                    _ => return Err(self.err(uid, "its condition was skipped; BehaviorTree.CPP throws \"you are not allowed to set manually the status to IDLE\"")),
-                };
-                if s == Status::Running {
-                    return Ok(s);
-                }
-                self.reset_children(uid);
-                Ok(s)
-            }
+            Builtin::IfThenElse => self.tick_if_then_else(uid),
+            Builtin::WhileDoElse => self.tick_while_do_else(uid),
             Builtin::TryCatch => self.tick_try_catch(uid),
             Builtin::PipelineSequence => self.tick_pipeline(uid),
             Builtin::RecoveryNode => self.tick_recovery(uid),
@@ -1262,30 +1217,8 @@ impl<'t, L: Leaves> Executor<'t, L> {
             Builtin::PauseResumeController => self.tick_pause_resume(uid),
             Builtin::Switch(k) => self.tick_switch(uid, k as usize),
             Builtin::ManualSelector => Err(self.err(uid, "ManualSelector asks a person at the terminal; btx cannot run it")),
-            Builtin::Inverter => {
-                self.set_status(uid, Status::Running);
-                let s = self.exec(children[0])?;
-                Ok(match s {
-                    Status::Success => {
-                        self.halt_child(children[0]);
-                        Status::Failure
-                    }
-                    Status::Failure => {
-                        self.halt_child(children[0]);
-                        Status::Success
-                    }
-                    other => other,
-                })
-            }
-            Builtin::ForceSuccess | Builtin::ForceFailure => {
-                self.set_status(uid, Status::Running);
-                let s = self.exec(children[0])?;
-                if s.is_completed() {
-                    self.halt_child(children[0]);
-                    return Ok(if b == Builtin::ForceSuccess { Status::Success } else { Status::Failure });
-                }
-                Ok(s)
-            }
+            Builtin::Inverter => self.tick_inverter(uid),
+            Builtin::ForceSuccess | Builtin::ForceFailure => self.tick_force(uid, b),
             Builtin::RateController => self.tick_rate_controller(uid),
             Builtin::DistanceController => self.tick_distance_controller(uid),
             Builtin::SpeedController => self.tick_speed_controller(uid),
@@ -1295,115 +1228,15 @@ impl<'t, L: Leaves> Executor<'t, L> {
             Builtin::SingleTrigger => self.tick_single_trigger(uid),
             Builtin::RetryUntilSuccessful => self.tick_retry(uid),
             Builtin::Repeat => self.tick_repeat(uid),
-            Builtin::KeepRunningUntilFailure => {
-                self.set_status(uid, Status::Running);
-                let s = self.exec(children[0])?;
-                match s {
-                    Status::Failure => {
-                        self.halt_child(children[0]);
-                        Ok(Status::Failure)
-                    }
-                    Status::Success => {
-                        self.halt_child(children[0]);
-                        Ok(Status::Running)
-                    }
-                    // A skipped child leaves the node's own RUNNING.
-                    Status::Skipped => Ok(Status::Running),
-                    other => Ok(other),
-                }
-            }
-            Builtin::Timeout => {
-                if !self.rt(uid).started {
-                    let ms = self.port_int(uid, &["msec"], None)?;
-                    self.start_timer(uid, ms);
-                    // No timeout at all when msec <= 0.
-                    self.rt(uid).fired = false;
-                }
-                if self.rt(uid).fired {
-                    let r = self.rt(uid);
-                    r.started = false;
-                    r.fired = false;
-                    return Ok(Status::Failure);
-                }
-                let s = self.exec(children[0])?;
-                if s.is_completed() {
-                    let r = self.rt(uid);
-                    r.started = false;
-                    r.deadline = None;
-                    self.halt_child(children[0]);
-                }
-                Ok(s)
-            }
-            Builtin::Delay => {
-                if !self.rt(uid).started {
-                    let ms = self.port_int(uid, &["delay_msec"], None)?;
-                    self.start_timer(uid, ms);
-                }
-                if !self.rt(uid).fired {
-                    return Ok(Status::Running);
-                }
-                let s = self.exec(children[0])?;
-                if s.is_completed() {
-                    let r = self.rt(uid);
-                    r.started = false;
-                    r.fired = false;
-                    self.halt_child(children[0]);
-                }
-                Ok(s)
-            }
-            Builtin::RunOnce => {
-                let skip = self.port_str(uid, "then_skip").is_none_or(|s| s.trim() != "false");
-                if self.rt(uid).started {
-                    return Ok(if skip { Status::Skipped } else { self.rt(uid).cached });
-                }
-                self.set_status(uid, Status::Running);
-                let s = self.exec(children[0])?;
-                if s.is_completed() {
-                    let r = self.rt(uid);
-                    r.started = true;
-                    r.cached = s;
-                    self.halt_child(children[0]);
-                }
-                Ok(s)
-            }
+            Builtin::KeepRunningUntilFailure => self.tick_keep_running(uid),
+            Builtin::Timeout => self.tick_timeout(uid),
+            Builtin::Delay => self.tick_delay(uid),
+            Builtin::RunOnce => self.tick_run_once(uid),
             Builtin::BlackboardCheckInt
             | Builtin::BlackboardCheckDouble
             | Builtin::BlackboardCheckString
-            | Builtin::BlackboardCheckBool => {
-                let a = self.port_str(uid, "value_A");
-                let bv = self.port_str(uid, "value_B");
-                let equal = match (a, bv, b) {
-                    (Some(a), Some(bv), Builtin::BlackboardCheckInt | Builtin::BlackboardCheckDouble) => {
-                        match (a.trim().parse::<f64>(), bv.trim().parse::<f64>()) {
-                            (Ok(x), Ok(y)) => x == y,
-                            _ => a == bv,
-                        }
-                    }
-                    (Some(a), Some(bv), _) => a.trim() == bv.trim(),
-                    _ => false,
-                };
-                if equal {
-                    return self.exec(children[0]);
-                }
-                if self.status(children[0]) == Status::Running {
-                    self.halt_child(children[0]);
-                }
-                let ret = self.port_str(uid, "return_on_mismatch").unwrap_or_else(|| "FAILURE".into());
-                Status::parse(&ret).ok_or_else(|| self.err(uid, format!("return_on_mismatch=\"{ret}\" is not a status")))
-            }
-            Builtin::Precondition => {
-                let child = children[0];
-                let code = self.port_str(uid, "if").unwrap_or_default();
-                if self.status(child) == Status::Running || self.script_test(uid, &code, "if")? {
-                    let s = self.exec(child)?;
-                    if s.is_completed() {
-                        self.halt_child(child);
-                    }
-                    return Ok(s);
-                }
-                let otherwise = self.port_str(uid, "else").unwrap_or_else(|| "FAILURE".into());
-                Status::parse(&otherwise).ok_or_else(|| self.err(uid, format!("else=\"{otherwise}\" is not a status")))
-            }
+            | Builtin::BlackboardCheckBool => self.tick_blackboard_check(uid, b),
+            Builtin::Precondition => self.tick_precondition(uid),
             Builtin::LoopInt | Builtin::LoopBool | Builtin::LoopDouble | Builtin::LoopString => self.tick_loop(uid, b),
             Builtin::SkipUnlessUpdated
             | Builtin::WaitValueUpdate => Err(self.err(
@@ -1420,6 +1253,239 @@ impl<'t, L: Leaves> Executor<'t, L> {
             | Builtin::Sleep
             | Builtin::WasEntryUpdated => unreachable!("leaves and subtrees are ticked elsewhere"),
         }
+    }
+
+    /// IfThenElse: the condition, then its branch until that completes.
+    fn tick_if_then_else(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        self.set_status(uid, Status::Running);
+        if self.rt(uid).idx == 0 {
+            match self.exec(children[0])? {
+                Status::Running => return Ok(Status::Running),
+                Status::Success => self.rt(uid).idx = 1,
+                Status::Failure if children.len() == 3 => self.rt(uid).idx = 2,
+                Status::Failure => return Ok(Status::Failure),
+                // BehaviorTree.CPP keeps the index at 0 and throws.
+                _ => return Err(self.err(uid, "its condition was skipped; BehaviorTree.CPP throws \"Something unexpected happened in IfThenElseNode\"")),
+            }
+        }
+        let i = self.rt(uid).idx;
+        let s = self.exec(children[i])?;
+        if s == Status::Running {
+            return Ok(s);
+        }
+        self.reset_children(uid);
+        self.rt(uid).idx = 0;
+        Ok(s)
+    }
+
+    /// WhileDoElse: the condition every tick, and the branch it chooses (the other halted).
+    fn tick_while_do_else(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        self.set_status(uid, Status::Running);
+        let c = self.exec(children[0])?;
+        let s = match c {
+            Status::Running => return Ok(Status::Running),
+            Status::Success => {
+                if children.len() == 3 {
+                    self.halt_child(children[2]);
+                }
+                self.exec(children[1])?
+            }
+            Status::Failure if children.len() == 3 => {
+                self.halt_child(children[1]);
+                self.exec(children[2])?
+            }
+            Status::Failure => Status::Failure,
+            // BehaviorTree.CPP returns IDLE, and setting it throws.
+            _ => return Err(self.err(uid, "its condition was skipped; BehaviorTree.CPP throws \"you are not allowed to set manually the status to IDLE\"")),
+        };
+        if s == Status::Running {
+            return Ok(s);
+        }
+        self.reset_children(uid);
+        Ok(s)
+    }
+
+    /// Inverter: SUCCESS and FAILURE swapped.
+    fn tick_inverter(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        self.set_status(uid, Status::Running);
+        let s = self.exec(children[0])?;
+        Ok(match s {
+            Status::Success => {
+                self.halt_child(children[0]);
+                Status::Failure
+            }
+            Status::Failure => {
+                self.halt_child(children[0]);
+                Status::Success
+            }
+            other => other,
+        })
+    }
+
+    /// ForceSuccess and ForceFailure: a completed child's status replaced.
+    fn tick_force(&mut self, uid: Uid, b: Builtin) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        self.set_status(uid, Status::Running);
+        let s = self.exec(children[0])?;
+        if s.is_completed() {
+            self.halt_child(children[0]);
+            return Ok(if b == Builtin::ForceSuccess {
+                Status::Success
+            } else {
+                Status::Failure
+            });
+        }
+        Ok(s)
+    }
+
+    /// KeepRunningUntilFailure: RUNNING while the child succeeds.
+    fn tick_keep_running(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        self.set_status(uid, Status::Running);
+        let s = self.exec(children[0])?;
+        match s {
+            Status::Failure => {
+                self.halt_child(children[0]);
+                Ok(Status::Failure)
+            }
+            Status::Success => {
+                self.halt_child(children[0]);
+                Ok(Status::Running)
+            }
+            // A skipped child leaves the node's own RUNNING.
+            Status::Skipped => Ok(Status::Running),
+            other => Ok(other),
+        }
+    }
+
+    /// Timeout: the child halted and FAILURE once `msec` pass.
+    fn tick_timeout(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        if !self.rt(uid).started {
+            let ms = self.port_int(uid, &["msec"], None)?;
+            self.start_timer(uid, ms);
+            // No timeout at all when msec <= 0.
+            self.rt(uid).fired = false;
+        }
+        if self.rt(uid).fired {
+            let r = self.rt(uid);
+            r.started = false;
+            r.fired = false;
+            return Ok(Status::Failure);
+        }
+        let s = self.exec(children[0])?;
+        if s.is_completed() {
+            let r = self.rt(uid);
+            r.started = false;
+            r.deadline = None;
+            self.halt_child(children[0]);
+        }
+        Ok(s)
+    }
+
+    /// Delay: the child ticked once `delay_msec` pass.
+    fn tick_delay(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        if !self.rt(uid).started {
+            let ms = self.port_int(uid, &["delay_msec"], None)?;
+            self.start_timer(uid, ms);
+        }
+        if !self.rt(uid).fired {
+            return Ok(Status::Running);
+        }
+        let s = self.exec(children[0])?;
+        if s.is_completed() {
+            let r = self.rt(uid);
+            r.started = false;
+            r.fired = false;
+            self.halt_child(children[0]);
+        }
+        Ok(s)
+    }
+
+    /// RunOnce: the child's first completion, kept (or skipped after it).
+    fn tick_run_once(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        let skip = self
+            .port_str(uid, "then_skip")
+            .is_none_or(|s| s.trim() != "false");
+        if self.rt(uid).started {
+            return Ok(if skip {
+                Status::Skipped
+            } else {
+                self.rt(uid).cached
+            });
+        }
+        self.set_status(uid, Status::Running);
+        let s = self.exec(children[0])?;
+        if s.is_completed() {
+            let r = self.rt(uid);
+            r.started = true;
+            r.cached = s;
+            self.halt_child(children[0]);
+        }
+        Ok(s)
+    }
+
+    /// BlackboardCheckInt, Double, String and Bool: the child ticked while
+    /// the entry equals the value, else `return_on_mismatch`.
+    fn tick_blackboard_check(&mut self, uid: Uid, b: Builtin) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        let a = self.port_str(uid, "value_A");
+        let bv = self.port_str(uid, "value_B");
+        let equal = match (a, bv, b) {
+            (Some(a), Some(bv), Builtin::BlackboardCheckInt | Builtin::BlackboardCheckDouble) => {
+                match (a.trim().parse::<f64>(), bv.trim().parse::<f64>()) {
+                    (Ok(x), Ok(y)) => x == y,
+                    _ => a == bv,
+                }
+            }
+            (Some(a), Some(bv), _) => a.trim() == bv.trim(),
+            _ => false,
+        };
+        if equal {
+            return self.exec(children[0]);
+        }
+        if self.status(children[0]) == Status::Running {
+            self.halt_child(children[0]);
+        }
+        let ret = self
+            .port_str(uid, "return_on_mismatch")
+            .unwrap_or_else(|| "FAILURE".into());
+        Status::parse(&ret)
+            .ok_or_else(|| self.err(uid, format!("return_on_mismatch=\"{ret}\" is not a status")))
+    }
+
+    /// Precondition: the child ticked while `if` holds, else the `else` status.
+    fn tick_precondition(&mut self, uid: Uid) -> R<Status> {
+        let tree = self.tree;
+        let children = &tree.node(uid).children;
+        let child = children[0];
+        let code = self.port_str(uid, "if").unwrap_or_default();
+        if self.status(child) == Status::Running || self.script_test(uid, &code, "if")? {
+            let s = self.exec(child)?;
+            if s.is_completed() {
+                self.halt_child(child);
+            }
+            return Ok(s);
+        }
+        let otherwise = self
+            .port_str(uid, "else")
+            .unwrap_or_else(|| "FAILURE".into());
+        Status::parse(&otherwise)
+            .ok_or_else(|| self.err(uid, format!("else=\"{otherwise}\" is not a status")))
     }
 
     /// Sequence (`goes_on` = SUCCESS) and Fallback (FAILURE), mirrors of

@@ -880,126 +880,11 @@ impl Loader {
             && self.tree_ids.contains(&id);
 
         // What kind of node, and which built-in behaviour.
-        let mut guessed = false;
-        let (kind, builtin) = if explicit_kind == Some(Kind::SubTree) || called {
-            (Kind::SubTree, Some(Builtin::SubTree))
-        } else if let Some(spec) = builtins::lookup(&id) {
-            match (spec.availability, version) {
-                (Availability::V3Only, Version::V4) => {
-                    let msg = match spec.builtin.v4_name() {
-                        Some(v4) => format!("\"{id}\" is a BehaviorTree.CPP 3 name; read as {v4}"),
-                        None => format!("\"{id}\" exists only in BehaviorTree.CPP 3"),
-                    };
-                    self.warn(file, el, msg);
-                }
-                (Availability::V4Only, Version::V3) => {
-                    self.warn(
-                        file,
-                        el,
-                        format!("\"{id}\" does not exist in BehaviorTree.CPP 3"),
-                    );
-                }
-                _ => {}
-            }
-            (spec.kind, Some(spec.builtin))
-        } else if let Some(m) = self.models.get(&id) {
-            (m.kind, None)
-        } else if let Some(k) = explicit_kind {
-            (k, None)
-        } else {
-            guessed = true;
-            let (k, what) = match el.children.len() {
-                0 => (Kind::Action, "an Action"),
-                1 => (Kind::Decorator, "a Decorator"),
-                _ => (Kind::Control, "a Control"),
-            };
-            match self.unknown_at.get(&id) {
-                Some(&i) => self.unknown[i].4 += 1,
-                None => {
-                    self.unknown_at.insert(id.clone(), self.unknown.len());
-                    self.unknown.push((id.clone(), file, el.start, what, 1));
-                }
-            }
-            (k, None)
-        };
-
+        let (kind, builtin, guessed) = self.kind_of(version, file, el, &id, explicit_kind, called);
         if builtin.is_none() {
-            if let Some(k) = explicit_kind.filter(|k| *k != kind) {
-                let msg = format!(
-                    "<{}> names \"{id}\", which <TreeNodesModel> declares {}; read as {}",
-                    k.as_str(),
-                    a_kind(kind),
-                    a_kind(kind)
-                );
-                self.warn(file, el, msg);
-            }
-            let (first, ffile, fstart) = *self
-                .kinds
-                .entry(id.clone())
-                .or_insert((kind, file, el.start));
-            if first != kind {
-                let f = &self.files[ffile];
-                let (line, _) = crate::source::line_col(&f.text, fstart);
-                let msg = format!(
-                    "\"{id}\" is used as {} here and as {} at {}:{line}; BehaviorTree.CPP registers one kind per ID",
-                    a_kind(kind),
-                    a_kind(first),
-                    f.path.display()
-                );
-                self.warn(file, el, msg);
-            }
+            self.check_declared_kind(file, el, &id, explicit_kind, kind);
         }
-
-        // Child counts, as BehaviorTree.CPP verifies them. Version 3's
-        // VerifyXML asks for a child only of Sequence, SequenceStar, Fallback
-        // and FallbackStar (by element name, xml_parsing.cpp of 3.8): a
-        // ManualSelector or a custom control node may have none.
-        let n = el.children.len();
-        let v3_childless = version == Version::V3
-            && kind == Kind::Control
-            && matches!(builtin, None | Some(Builtin::ManualSelector));
-        let (min, max) = match builtin {
-            _ if v3_childless => (0, None),
-            Some(Builtin::SubTree) => (0, Some(0)),
-            Some(b) => b.spec().children,
-            None => match kind {
-                Kind::Action | Kind::Condition | Kind::SubTree => (0, Some(0)),
-                Kind::Decorator => (1, Some(1)),
-                Kind::Control => (1, None),
-            },
-        };
-        if n < min || max.is_some_and(|m| n > m) {
-            let what = match (min, max) {
-                (a, Some(b)) if a == b && a == 0 => "no children".to_string(),
-                (a, Some(b)) if a == b && a == 1 => "exactly one child".to_string(),
-                (a, Some(b)) if a == b => format!("exactly {a} children"),
-                (a, Some(b)) => format!("{a} to {b} children"),
-                (a, None) => format!("at least {a} {}", if a == 1 { "child" } else { "children" }),
-            };
-            return Err(self.err(
-                file,
-                el,
-                format!("{} \"{id}\" must have {what}, found {n}", kind.as_str()),
-            ));
-        }
-
-        // BehaviorTree.CPP 4's verifyXML: a ReactiveSequence may hold one
-        // AsyncSequence at most (by element name), or two would race.
-        if version == Version::V4
-            && el.tag == "ReactiveSequence"
-            && el
-                .children
-                .iter()
-                .filter(|c| c.tag == "AsyncSequence")
-                .count()
-                > 1
-        {
-            return Err(self.err(
-                file,
-                el,
-                "A ReactiveSequence cannot have more than one async child (BehaviorTree.CPP refuses it: two AsyncSequence children would race)".to_string(),
-            ));
-        }
+        self.check_children(version, file, el, &id, kind, builtin)?;
 
         // Instance name, by the version's rules.
         let name_attr = el.attr("name");
@@ -1113,7 +998,7 @@ impl Loader {
             metadata,
             kind_declared: !guessed,
             parent,
-            children: Vec::with_capacity(n),
+            children: Vec::with_capacity(el.children.len()),
             scope,
             opens_scope: None,
             depth,
@@ -1123,6 +1008,167 @@ impl Loader {
                 end: el.end,
             },
         })
+    }
+
+    /// What kind of node `id` is, and which built-in behaviour: a SubTree
+    /// called, a built-in (a name of the other version said), a model's
+    /// declared kind, the element's, or a kind guessed from the children
+    /// (counted, to be said once per ID). Whether it was guessed.
+    #[allow(clippy::too_many_arguments)]
+    fn kind_of(
+        &mut self,
+        version: Version,
+        file: FileId,
+        el: &Element,
+        id: &str,
+        explicit_kind: Option<Kind>,
+        called: bool,
+    ) -> (Kind, Option<Builtin>, bool) {
+        let mut guessed = false;
+        let (kind, builtin) = if explicit_kind == Some(Kind::SubTree) || called {
+            (Kind::SubTree, Some(Builtin::SubTree))
+        } else if let Some(spec) = builtins::lookup(id) {
+            match (spec.availability, version) {
+                (Availability::V3Only, Version::V4) => {
+                    let msg = match spec.builtin.v4_name() {
+                        Some(v4) => format!("\"{id}\" is a BehaviorTree.CPP 3 name; read as {v4}"),
+                        None => format!("\"{id}\" exists only in BehaviorTree.CPP 3"),
+                    };
+                    self.warn(file, el, msg);
+                }
+                (Availability::V4Only, Version::V3) => {
+                    self.warn(
+                        file,
+                        el,
+                        format!("\"{id}\" does not exist in BehaviorTree.CPP 3"),
+                    );
+                }
+                _ => {}
+            }
+            (spec.kind, Some(spec.builtin))
+        } else if let Some(m) = self.models.get(id) {
+            (m.kind, None)
+        } else if let Some(k) = explicit_kind {
+            (k, None)
+        } else {
+            guessed = true;
+            let (k, what) = match el.children.len() {
+                0 => (Kind::Action, "an Action"),
+                1 => (Kind::Decorator, "a Decorator"),
+                _ => (Kind::Control, "a Control"),
+            };
+            match self.unknown_at.get(id) {
+                Some(&i) => self.unknown[i].4 += 1,
+                None => {
+                    self.unknown_at.insert(id.to_string(), self.unknown.len());
+                    self.unknown.push((id.to_string(), file, el.start, what, 1));
+                }
+            }
+            (k, None)
+        };
+        (kind, builtin, guessed)
+    }
+
+    /// A node that is not built in keeps one kind per ID, as
+    /// BehaviorTree.CPP registers it: an element or a use elsewhere that
+    /// says another is warned of.
+    fn check_declared_kind(
+        &mut self,
+        file: FileId,
+        el: &Element,
+        id: &str,
+        explicit_kind: Option<Kind>,
+        kind: Kind,
+    ) {
+        if let Some(k) = explicit_kind.filter(|k| *k != kind) {
+            let msg = format!(
+                "<{}> names \"{id}\", which <TreeNodesModel> declares {}; read as {}",
+                k.as_str(),
+                a_kind(kind),
+                a_kind(kind)
+            );
+            self.warn(file, el, msg);
+        }
+        let (first, ffile, fstart) = *self
+            .kinds
+            .entry(id.to_string())
+            .or_insert((kind, file, el.start));
+        if first != kind {
+            let f = &self.files[ffile];
+            let (line, _) = crate::source::line_col(&f.text, fstart);
+            let msg = format!(
+                "\"{id}\" is used as {} here and as {} at {}:{line}; BehaviorTree.CPP registers one kind per ID",
+                a_kind(kind),
+                a_kind(first),
+                f.path.display()
+            );
+            self.warn(file, el, msg);
+        }
+    }
+
+    /// Child counts, as BehaviorTree.CPP verifies them, and its other
+    /// checks of children.
+    #[allow(clippy::too_many_arguments)]
+    fn check_children(
+        &self,
+        version: Version,
+        file: FileId,
+        el: &Element,
+        id: &str,
+        kind: Kind,
+        builtin: Option<Builtin>,
+    ) -> Result<(), Located> {
+        // Child counts, as BehaviorTree.CPP verifies them. Version 3's
+        // VerifyXML asks for a child only of Sequence, SequenceStar, Fallback
+        // and FallbackStar (by element name, xml_parsing.cpp of 3.8): a
+        // ManualSelector or a custom control node may have none.
+        let n = el.children.len();
+        let v3_childless = version == Version::V3
+            && kind == Kind::Control
+            && matches!(builtin, None | Some(Builtin::ManualSelector));
+        let (min, max) = match builtin {
+            _ if v3_childless => (0, None),
+            Some(Builtin::SubTree) => (0, Some(0)),
+            Some(b) => b.spec().children,
+            None => match kind {
+                Kind::Action | Kind::Condition | Kind::SubTree => (0, Some(0)),
+                Kind::Decorator => (1, Some(1)),
+                Kind::Control => (1, None),
+            },
+        };
+        if n < min || max.is_some_and(|m| n > m) {
+            let what = match (min, max) {
+                (a, Some(b)) if a == b && a == 0 => "no children".to_string(),
+                (a, Some(b)) if a == b && a == 1 => "exactly one child".to_string(),
+                (a, Some(b)) if a == b => format!("exactly {a} children"),
+                (a, Some(b)) => format!("{a} to {b} children"),
+                (a, None) => format!("at least {a} {}", if a == 1 { "child" } else { "children" }),
+            };
+            return Err(self.err(
+                file,
+                el,
+                format!("{} \"{id}\" must have {what}, found {n}", kind.as_str()),
+            ));
+        }
+
+        // BehaviorTree.CPP 4's verifyXML: a ReactiveSequence may hold one
+        // AsyncSequence at most (by element name), or two would race.
+        if version == Version::V4
+            && el.tag == "ReactiveSequence"
+            && el
+                .children
+                .iter()
+                .filter(|c| c.tag == "AsyncSequence")
+                .count()
+                > 1
+        {
+            return Err(self.err(
+            file,
+            el,
+            "A ReactiveSequence cannot have more than one async child (BehaviorTree.CPP refuses it: two AsyncSequence children would race)".to_string(),
+        ));
+        }
+        Ok(())
     }
 }
 

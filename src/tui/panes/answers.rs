@@ -2,7 +2,7 @@
 //! to pick and follow up, the earlier answers, and copying.
 
 use super::overlays::Overlay;
-use super::{Component, Handled, Hints, Scrolled};
+use super::{Component, Handled, Hints, Lines};
 use crate::ask::Reply;
 use crate::tui::keymap::Action;
 use crate::tui::shared::{shown, Shared, WhyView};
@@ -16,23 +16,19 @@ use ratatui::Frame;
 /// [`Shared`]).
 #[derive(Debug, Clone, Default)]
 pub struct Answers {
-    /// Lines scrolled, in the answer on screen.
-    scroll: Scrolled<usize>,
-    /// How far it could scroll when last drawn (its wrapped height less the
-    /// pane's), so scrolling stops there.
-    max: std::cell::Cell<usize>,
+    /// Scrolled in the answer on screen.
+    lines: Lines,
 }
 
 impl Answers {
     /// Up, Down, a page, Home and End within the pane.
     pub fn scroll(&mut self, a: Action, sh: &Shared) -> bool {
-        let max = self.max.get();
-        super::scroll_lines(self.scroll.get_mut(sh.answered), a, max)
+        self.lines.key(a, sh.answered)
     }
 
     /// How far the pane is scrolled in the answer on screen.
     pub fn scrolled(&self, sh: &Shared) -> usize {
-        self.scroll.get(sh.answered)
+        self.lines.get(sh.answered)
     }
 
     /// Keys while the answers pane has the focus: ↑↓ pick a why-answer's
@@ -113,8 +109,7 @@ impl Component for Answers {
             }
         };
         push_history(sh, &mut lines);
-        let (p, last) = scrolled(lines, self.scroll.get(sh.answered), area);
-        self.max.set(last);
+        let p = self.lines.paragraph(lines, sh.answered, area);
         f.render_widget(p.block(block(title.into(), focused)), area);
     }
 }

@@ -1,7 +1,7 @@
 //! The details pane: the selected node's ports, state and the run's end, or
 //! the why-answer's causal model, as a list or as the graph view.
 
-use super::{Component, Handled, Hints, Scrolled};
+use super::{Component, Handled, Hints, Lines};
 use crate::tui::keymap::Action;
 use crate::tui::shared::{Shared, WhyView};
 use crate::tui::view::*;
@@ -13,18 +13,14 @@ use ratatui::Frame;
 /// The details pane's own state.
 #[derive(Debug, Clone, Default)]
 pub struct Details {
-    /// Lines scrolled, at the moment.
-    scroll: Scrolled<usize>,
-    /// How far it could scroll when last drawn (its wrapped height less the
-    /// pane's), so scrolling stops there.
-    max: std::cell::Cell<usize>,
+    /// Scrolled at the moment.
+    lines: Lines,
 }
 
 impl Details {
     /// Up, Down, a page, Home and End within the pane.
     pub fn scroll(&mut self, a: Action, sh: &Shared) -> bool {
-        let max = self.max.get();
-        super::scroll_lines(self.scroll.get_mut(sh.moved), a, max)
+        self.lines.key(a, sh.moved)
     }
 }
 
@@ -107,8 +103,7 @@ impl Details {
         let centre = w.centre.unwrap_or(w.why.query.targets[0]);
         let n = w.why.neighbourhood(centre, w.selected);
         let lines = crate::tui::graph_view::draw(&n, w.pick, inner.width as usize);
-        let (p, last) = scrolled(lines, self.scroll.get(sh.moved), area);
-        self.max.set(last);
+        let p = self.lines.paragraph(lines, sh.moved, area);
         f.render_widget(p.block(b), area);
     }
 
@@ -152,8 +147,7 @@ impl Details {
         if let Some(l) = &sh.live {
             lines.extend(live_blackboard(l, &sh.tree.blackboard_name(n.scope)));
         }
-        let (p, last) = scrolled(lines, self.scroll.get(sh.moved), area);
-        self.max.set(last);
+        let p = self.lines.paragraph(lines, sh.moved, area);
         f.render_widget(p.block(b), area);
     }
 }

@@ -90,6 +90,42 @@ pub fn scroll_lines(pos: &mut usize, a: Action, max: usize) -> bool {
     true
 }
 
+/// A pane of wrapped lines, scrolled for one thing on screen (its
+/// `epoch`), stopping where its last page shows.
+#[derive(Debug, Clone, Default)]
+pub struct Lines {
+    scroll: Scrolled<usize>,
+    /// How far it could scroll when last drawn (its wrapped height less the
+    /// pane's).
+    max: std::cell::Cell<usize>,
+}
+
+impl Lines {
+    /// Up, Down, a page, Home and End.
+    pub fn key(&mut self, a: Action, epoch: u64) -> bool {
+        let max = self.max.get();
+        scroll_lines(self.scroll.get_mut(epoch), a, max)
+    }
+
+    /// How far it is scrolled.
+    pub fn get(&self, epoch: u64) -> usize {
+        self.scroll.get(epoch)
+    }
+
+    /// `lines` wrapped and scrolled in `area`, noting how far they can
+    /// scroll.
+    pub fn paragraph(
+        &self,
+        lines: Vec<ratatui::text::Line<'static>>,
+        epoch: u64,
+        area: Rect,
+    ) -> ratatui::widgets::Paragraph<'static> {
+        let (p, last) = crate::tui::view::scrolled(lines, self.get(epoch), area);
+        self.max.set(last);
+        p
+    }
+}
+
 /// How far a pane is scrolled, for one thing on screen: when the thing
 /// changes (a new moment, a new answer: its `epoch`), the pane is back at
 /// its top.

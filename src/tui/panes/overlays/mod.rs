@@ -22,6 +22,24 @@ use crate::tui::text_input::{Edit, Edited, TextInput};
 use ratatui::layout::Rect;
 use ratatui::Frame;
 
+/// `$e` of the window's component `$c`, whichever window it is.
+macro_rules! each_window {
+    ($w:expr, $c:ident => $e:expr) => {
+        match $w {
+            Overlay::Help($c) => $e,
+            Overlay::Finder($c) => $e,
+            Overlay::Why($c) => $e,
+            Overlay::Running($c) => $e,
+            Overlay::Faults($c) => $e,
+            Overlay::Pick($c) => $e,
+            Overlay::Words($c) => $e,
+            Overlay::CanYou($c) => $e,
+            Overlay::Filter($c) => $e,
+            Overlay::Export($c) => $e,
+        }
+    };
+}
+
 /// A window over the panes.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Overlay {
@@ -99,33 +117,11 @@ impl Overlay {
     }
 
     fn component(&self) -> &dyn Component {
-        match self {
-            Overlay::Help(c) => c,
-            Overlay::Finder(c) => c,
-            Overlay::Why(c) => c,
-            Overlay::Running(c) => c,
-            Overlay::Faults(c) => c,
-            Overlay::Pick(c) => c,
-            Overlay::Words(c) => c,
-            Overlay::CanYou(c) => c,
-            Overlay::Filter(c) => c,
-            Overlay::Export(c) => c,
-        }
+        each_window!(self, c => c)
     }
 
     fn component_mut(&mut self) -> &mut dyn Component {
-        match self {
-            Overlay::Help(c) => c,
-            Overlay::Finder(c) => c,
-            Overlay::Why(c) => c,
-            Overlay::Running(c) => c,
-            Overlay::Faults(c) => c,
-            Overlay::Pick(c) => c,
-            Overlay::Words(c) => c,
-            Overlay::CanYou(c) => c,
-            Overlay::Filter(c) => c,
-            Overlay::Export(c) => c,
-        }
+        each_window!(self, c => c)
     }
 
     /// The text being typed, in a window that takes text (a letter there

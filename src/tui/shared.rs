@@ -738,7 +738,6 @@ pub fn shown(d: crate::ask::Detail) -> Option<usize> {
     }
 }
 
-/// What the finder matches against: description, ID, path and uid.
 /// The finder's line for each node, by uid − 1: uid, description, ID and
 /// path, the path built top-down and cut to its last `FINDER_PATH_MAX`
 /// characters, so a 10,000-level tree costs its size, once.

@@ -1,5 +1,5 @@
 //! The tree pane: moving the selection, folding, and the framed view. The
-//! selection lives here but every pane reads it, so these keys act whichever
+//! selection is shared (every pane reads it), so these keys act whichever
 //! pane has the focus (unless the focused pane took the key first).
 
 use super::{Component, Handled, Hints, PAGE};

@@ -19,6 +19,7 @@ const RULES: &[fn(&Cues) -> Option<Readings>] = &[
     can_you_asked,
     what_if,
     all_well_in_few_words,
+    handled_whether,
     anything_failed,
     recovered,
     how_often,
@@ -122,6 +123,20 @@ fn all_well_in_few_words(c: &Cues) -> Option<Readings> {
     None
 }
 
+/// "Was the failure handled?", "did the fallback take care of it?", "did
+/// the agent cope?": whether a failure was handled is answered by how it
+/// was (what handled it, and whether that worked).
+fn handled_whether(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let handle = s.has_stem(&["handl", "dealt", "cope", "mitig"])
+        || s.phrase(&["deal", "with"]).is_some()
+        || s.phrase(&["care", "of"]).is_some();
+    let counted = s.phrase(&["how", "often"]).is_some() || s.phrase(&["how", "many"]).is_some();
+    (handle && !c.why && !c.when_q && !counted && !s.has_prefix(&["recover"]))
+        .then(|| c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93))
+        .flatten()
+}
+
 /// "Did anything fail (while patrolling)?": yes or no, whatever is named.
 fn anything_failed(c: &Cues) -> Option<Readings> {
     let s = c.s;
@@ -146,6 +161,8 @@ fn generic(m: &Mention) -> bool {
             "the",
             "recovery",
             "recoveries",
+            "recover",
+            "recovered",
             "retry",
             "retries",
             "fallback",
@@ -177,6 +194,8 @@ fn recovered(c: &Cues) -> Option<Readings> {
         && !c.why
         // "L0 failed, but did the tree recover?": the question after "but".
         && (c.yes_no
+            // "In the end, did the robot recover?".
+            || (s.has("did") || s.has("has")) && !c.what && !c.when_q
             || s.has("manage")
             || s.has("managed")
             || c.first.starts_with("recover")
@@ -185,8 +204,11 @@ fn recovered(c: &Cues) -> Option<Readings> {
             || fixed_it
             || on_track
             || retry_word && c.named.iter().all(|m| generic(m)))
-        && !matches!(c.ev, Some(Event::Halted | Event::Skipped | Event::NotRun))
-        && (c.ev != Some(Event::Fail) || recovery_word || fixed_it)
+        // "Did drive recover after being halted?": the verb asks.
+        && (!matches!(c.ev, Some(Event::Halted | Event::Skipped | Event::NotRun))
+            || s.has("recover")
+            || s.has("recovered"))
+        && (c.ev != Some(Event::Fail) || recovery_word || fixed_it || on_track)
     {
         return c.only(Intent::Recovered, 0.93);
     }
@@ -359,7 +381,12 @@ fn why_not(c: &Cues) -> Option<Readings> {
 
 /// "Why is FollowPath still running?": a node named as running on.
 fn why_still_running(c: &Cues) -> Option<Readings> {
-    if !(c.s.has("still") && !c.named.is_empty() && progressive(c.s)) {
+    let still = c.s.has("still") && progressive(c.s);
+    // "Why does drive keep running for several ticks?".
+    let keeps = c.ev == Some(Event::KeepRunning)
+        && (c.s.phrase(&["keep", "running"]).is_some()
+            || c.s.phrase(&["keeps", "running"]).is_some());
+    if !((still || keeps) && !c.named.is_empty()) {
         return None;
     }
     let node = c.subject()?;
@@ -378,13 +405,17 @@ fn why_still_running(c: &Cues) -> Option<Readings> {
 fn why_doing_now(c: &Cues) -> Option<Readings> {
     let s = c.s;
     let now = s.has("now") && !["did", "was", "were", "had"].iter().any(|w| s.has(w));
-    ((progressive(s) || now) && matches!(c.ev, None | Some(Event::Run) | Some(Event::KeepRunning)))
-        .then(|| {
-            vec![(
-                Intent::Fixed(Question::Tree(TreeQuestion::Why)),
-                c.sure_of_words(0.93),
-            )]
-        })
+    // "Why does it look at the chuck roughly again?": the present of a
+    // node named, as "why is it looking at …".
+    let present = s.phrase(&["why", "does"]).is_some() && !c.named.is_empty() && c.ev.is_none();
+    ((progressive(s) || now || present)
+        && matches!(c.ev, None | Some(Event::Run) | Some(Event::KeepRunning)))
+    .then(|| {
+        vec![(
+            Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+            c.sure_of_words(0.93),
+        )]
+    })
 }
 
 /// "Why did X fail?", "why did it stop?", "why is it doing this?".
@@ -447,7 +478,7 @@ fn handled(c: &Cues) -> Option<Readings> {
         || s.phrase(&["do", "about"]).is_some()
         || s.phrase(&["did", "about"]).is_some()
         || s.phrase(&["done", "about"]).is_some()
-        || (c.what && s.has_prefix(&["recover"]) && c.named.is_empty())
+        || (c.what && s.has_prefix(&["recover"]) && c.named.is_empty() && !asks_steps(c))
     {
         return c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93);
     }

@@ -48,7 +48,13 @@ impl<'a, 's> Cues<'a, 's> {
             || s.phrase(&["what", "caused"]).is_some()
             || s.phrase(&["what", "made"]).is_some()
             || s.has_stem(&["reason", "caus", "cause"])
-            || (s.has("explain") && !s.has("how") && !s.nodes.is_empty() && ev.is_some());
+            // "Explain look at chuck's failure"; not "explain the strategy
+            // this BT uses", "explain what went wrong in this run".
+            || (s.has("explain")
+                && !s.has("how")
+                && !s.has("what")
+                && !s.nodes.is_empty()
+                && ev.is_some_and(|e| e != Event::Run));
         let what = s.has("what") || s.has("which") || IMPERATIVE.iter().any(|w| s.has(w));
         let break_down = s.has("breakdown");
         let problem = problem(s, break_down);

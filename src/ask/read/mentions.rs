@@ -70,6 +70,11 @@ const PLAIN: &[&str] = &[
     "mission", "goal", "job", "you", "me",
 ];
 
+/// Verbs that "back" after them makes a way of moving ("go back to").
+const MOVES_BACK: &[&str] = &[
+    "go", "goes", "going", "gone", "went", "get", "got", "come", "came", "coming",
+];
+
 const ARTICLES: &[&str] = &["the", "a", "an", "its", "your", "my", "our"];
 
 /// Words of the question's own English that are never a typo of a name
@@ -233,6 +238,14 @@ impl Vocabulary {
                 if span
                     .iter()
                     .all(|w| PLAIN.contains(&w.text.as_str()) || PLAIN.contains(&w.stem.as_str()))
+                {
+                    continue;
+                }
+                // "Why did it go back to planning": moving again, not BackUp.
+                if span.len() == 1
+                    && span[0].text == "back"
+                    && i > 0
+                    && MOVES_BACK.contains(&q[i - 1].text.as_str())
                 {
                     continue;
                 }

@@ -348,6 +348,13 @@ fn about_the_world(word: &str) -> bool {
         "brand",
         "manufacturer",
         "month",
+        "payload",
+        "voltage",
+        "speed",
+        "velocity",
+        "lighting",
+        "algorithm",
+        "launch",
     ];
     WORLD.contains(&word)
 }

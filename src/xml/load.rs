@@ -558,18 +558,6 @@ impl Loader {
             autoremap: false,
             shared: false,
         }];
-        struct Work<'a> {
-            el: &'a Element,
-            file: FileId,
-            parent: Option<Uid>,
-            scope: ScopeId,
-            depth: u32,
-            chain: std::rc::Rc<Chain>,
-        }
-        enum Step<'a> {
-            Enter(Work<'a>),
-            Leave(String),
-        }
         let def_el = |d: &Def| {
             &roots[d.file]
                 .as_ref()
@@ -605,24 +593,7 @@ impl Loader {
             // SubTrees that call others twice double the tree at each
             // level: the count and depth after expansion are bounded.
             if nodes.len() >= NODES_MAX || w.depth as usize >= DEPTH_MAX {
-                return Err(self.err(
-                    w.file,
-                    w.el,
-                    format!(
-                        "the tree grows past {} once its SubTrees are expanded; btx stops here (at most {NODES_MAX} nodes, {DEPTH_MAX} levels deep)",
-                        if nodes.len() >= NODES_MAX {
-                            format!("{NODES_MAX} nodes")
-                        } else {
-                            format!("{DEPTH_MAX} levels")
-                        }
-                    ),
-                )
-                .with_help(if nodes.len() >= NODES_MAX {
-                    "SubTrees that call others more than once multiply the tree at each level"
-                } else {
-                    // Measured with behaviortreepy (docs/limits.md).
-                    "BehaviorTree.CPP sets no limit of its own but recurses on its stack: BehaviorTree.CPP 4.8 on an 8 MiB stack crashes past about 13,900 levels"
-                }));
+                return Err(self.too_big(&w, nodes.len() >= NODES_MAX));
             }
             let uid = Uid::try_from(nodes.len() + 1).expect("fewer than 2^32 nodes");
             let mut node =
@@ -631,52 +602,8 @@ impl Loader {
                 nodes[(p - 1) as usize].children.push(uid);
             }
             if node.kind == Kind::SubTree {
-                let by_path =
-                    w.el.attr("_fullpath")
-                        .and_then(|p| by_fullpath.get(p).copied());
-                let Some(di) = by_path.or_else(|| by_id.get(&node.id).copied()) else {
-                    let items: Vec<(String, String)> =
-                        by_id.keys().map(|k| (k.clone(), k.clone())).collect();
-                    const ELSEWHERE: &str = "tree defined in another file is read with --with FILE|DIR (a directory: every .xml in it)";
-                    let help =
-                        match crate::rank::misspelt(&node.id, by_id.keys().map(String::as_str)) {
-                            Some(k) => format!("did you mean \"{k}\"? Else a {ELSEWHERE}"),
-                            None => {
-                                let near = crate::rank::rank(&node.id, &items, 5);
-                                format!("A {ELSEWHERE}; the trees read are: {}", near.join(", "))
-                            }
-                        };
-                    return Err(self
-                        .err(
-                            w.file,
-                            w.el,
-                            format!(
-                                "unknown SubTree ID \"{}\": no <BehaviorTree> read has it",
-                                node.id
-                            ),
-                        )
-                        .with_help(help));
-                };
-                if on_path.contains(&node.id) {
-                    let mut cycle: Vec<&str> = Vec::new();
-                    for c in w.chain.ids() {
-                        cycle.push(c);
-                        if c == node.id {
-                            break;
-                        }
-                    }
-                    cycle.reverse();
-                    cycle.push(&node.id);
-                    return Err(self.err(
-                        w.file,
-                        w.el,
-                        format!(
-                            "SubTree \"{}\" includes itself: {}",
-                            node.id,
-                            cycle.join(" → ")
-                        ),
-                    ));
-                }
+                let di = self.subtree_def(&node, &w, (by_id, by_fullpath))?;
+                self.check_cycle(&node, &w, &on_path)?;
                 let scope = subtree_scope(&node, w.el, w.scope);
                 scopes.push(scope);
                 node.opens_scope = Some(scopes.len() - 1);
@@ -710,6 +637,94 @@ impl Loader {
             nodes.push(node);
         }
         Ok((nodes, scopes))
+    }
+
+    /// The error for a tree that grows past what btx expands.
+    fn too_big(&self, w: &Work, nodes: bool) -> Located {
+        self.err(
+            w.file,
+            w.el,
+            format!(
+                "the tree grows past {} once its SubTrees are expanded; btx stops here (at most {NODES_MAX} nodes, {DEPTH_MAX} levels deep)",
+                if nodes {
+                    format!("{NODES_MAX} nodes")
+                } else {
+                    format!("{DEPTH_MAX} levels")
+                }
+            ),
+        )
+        .with_help(if nodes {
+            "SubTrees that call others more than once multiply the tree at each level"
+        } else {
+            // Measured with behaviortreepy (docs/limits.md).
+            "BehaviorTree.CPP sets no limit of its own but recurses on its stack: BehaviorTree.CPP 4.8 on an 8 MiB stack crashes past about 13,900 levels"
+        })
+    }
+
+    /// The `<BehaviorTree>` a SubTree node calls: by its `_fullpath` (a
+    /// log's tree), else by its ID.
+    fn subtree_def(
+        &self,
+        node: &Node,
+        w: &Work,
+        (by_id, by_fullpath): ByIdAndPath,
+    ) -> Result<usize, Located> {
+        let by_path =
+            w.el.attr("_fullpath")
+                .and_then(|p| by_fullpath.get(p).copied());
+        let Some(di) = by_path.or_else(|| by_id.get(&node.id).copied()) else {
+            let items: Vec<(String, String)> =
+                by_id.keys().map(|k| (k.clone(), k.clone())).collect();
+            const ELSEWHERE: &str = "tree defined in another file is read with --with FILE|DIR (a directory: every .xml in it)";
+            let help = match crate::rank::misspelt(&node.id, by_id.keys().map(String::as_str)) {
+                Some(k) => format!("did you mean \"{k}\"? Else a {ELSEWHERE}"),
+                None => {
+                    let near = crate::rank::rank(&node.id, &items, 5);
+                    format!("A {ELSEWHERE}; the trees read are: {}", near.join(", "))
+                }
+            };
+            return Err(self
+                .err(
+                    w.file,
+                    w.el,
+                    format!(
+                        "unknown SubTree ID \"{}\": no <BehaviorTree> read has it",
+                        node.id
+                    ),
+                )
+                .with_help(help));
+        };
+        Ok(di)
+    }
+
+    /// A SubTree that includes itself, on the path from the root.
+    fn check_cycle(
+        &self,
+        node: &Node,
+        w: &Work,
+        on_path: &std::collections::HashSet<String>,
+    ) -> Result<(), Located> {
+        if on_path.contains(&node.id) {
+            let mut cycle: Vec<&str> = Vec::new();
+            for c in w.chain.ids() {
+                cycle.push(c);
+                if c == node.id {
+                    break;
+                }
+            }
+            cycle.reverse();
+            cycle.push(&node.id);
+            return Err(self.err(
+                w.file,
+                w.el,
+                format!(
+                    "SubTree \"{}\" includes itself: {}",
+                    node.id,
+                    cycle.join(" → ")
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// Every `<BehaviorTree>` of the files given (not those of `--with`)
@@ -843,15 +858,62 @@ impl Loader {
         depth: u32,
     ) -> Result<Node, Located> {
         let tag = el.tag.as_str();
-        let explicit_kind = match tag {
-            "Action" => Some(Kind::Action),
-            "Condition" => Some(Kind::Condition),
-            "Control" => Some(Kind::Control),
-            "Decorator" => Some(Kind::Decorator),
-            "SubTree" | "SubTreePlus" => Some(Kind::SubTree),
-            _ => None,
-        };
-        let id = match explicit_kind {
+        let explicit_kind = explicit_kind(tag);
+        let id = self.node_id(file, el, explicit_kind)?;
+        // A bare element named after a <BehaviorTree> calls it as a SubTree
+        // when no node is registered under that name (createNodeFromXML
+        // looks at the factory's builders before the tree roots).
+        let called = explicit_kind.is_none()
+            && builtins::lookup(&id).is_none()
+            && !self.models.contains_key(&id)
+            && self.tree_ids.contains(&id);
+
+        // What kind of node, and which built-in behaviour.
+        let (kind, builtin, guessed) = self.kind_of(version, file, el, &id, explicit_kind, called);
+        if builtin.is_none() {
+            self.check_declared_kind(file, el, &id, explicit_kind, kind);
+        }
+        self.check_children(version, file, el, &id, kind, builtin)?;
+
+        let name = instance_name(version, el, kind, &id);
+
+        // Ports, scripts and subtree flags.
+        let (mut ports, scripts, metadata) =
+            self.attributes(version, file, el, uid, &id, kind, builtin)?;
+        self.subtree_defaults(file, el, &id, kind, &mut ports)?;
+        Ok(Node {
+            uid,
+            kind,
+            id,
+            name,
+            builtin,
+            ports,
+            scripts,
+            metadata,
+            kind_declared: !guessed,
+            parent,
+            children: Vec::with_capacity(el.children.len()),
+            scope,
+            opens_scope: None,
+            depth,
+            origin: Origin {
+                file,
+                start: el.start,
+                end: el.end,
+            },
+        })
+    }
+
+    /// A node's ID: the `ID` attribute of an explicit element (`<Action
+    /// ID="…">`), else the tag of the compact form.
+    fn node_id(
+        &mut self,
+        file: FileId,
+        el: &Element,
+        explicit_kind: Option<Kind>,
+    ) -> Result<String, Located> {
+        let tag = el.tag.as_str();
+        Ok(match explicit_kind {
             Some(_) => match el.attr("ID") {
                 Some(id) => id.to_string(),
                 None => return Err(self.err(file, el, format!("<{tag}> needs an ID attribute"))),
@@ -869,41 +931,24 @@ impl Loader {
                 }
                 tag.to_string()
             }
-        };
-        let old_style_subtree = tag == "SubTree" && version == Version::V3;
-        // A bare element named after a <BehaviorTree> calls it as a SubTree
-        // when no node is registered under that name (createNodeFromXML
-        // looks at the factory's builders before the tree roots).
-        let called = explicit_kind.is_none()
-            && builtins::lookup(&id).is_none()
-            && !self.models.contains_key(&id)
-            && self.tree_ids.contains(&id);
+        })
+    }
 
-        // What kind of node, and which built-in behaviour.
-        let (kind, builtin, guessed) = self.kind_of(version, file, el, &id, explicit_kind, called);
-        if builtin.is_none() {
-            self.check_declared_kind(file, el, &id, explicit_kind, kind);
-        }
-        self.check_children(version, file, el, &id, kind, builtin)?;
-
-        // Instance name, by the version's rules.
-        let name_attr = el.attr("name");
-        let name = if kind == Kind::SubTree {
-            match (version, name_attr, el.attr("_fullpath")) {
-                (Version::V4, Some(n), _) if !n.is_empty() => n.to_string(),
-                // The instantiated XML of a log names a subtree by its path.
-                (_, None, Some(path)) => match path.rsplit('/').next() {
-                    Some(last) if !last.is_empty() && !last.contains("::") => last.to_string(),
-                    _ => id.clone(),
-                },
-                _ => id.clone(),
-            }
-        } else {
-            name_attr.unwrap_or(&id).to_string()
-        };
-
-        // Ports, scripts and subtree flags.
-        let model_ports: &[PortModel] = self.models.get(&id).map_or(&[], |m| &m.ports);
+    /// A node's attributes: its ports (with their directions, from its
+    /// model or the built-in's), its scripts and the editors' metadata.
+    #[allow(clippy::too_many_arguments)]
+    fn attributes(
+        &self,
+        version: Version,
+        file: FileId,
+        el: &Element,
+        uid: Uid,
+        id: &str,
+        kind: Kind,
+        builtin: Option<Builtin>,
+    ) -> Result<Attributes, Located> {
+        let old_style_subtree = el.tag == "SubTree" && version == Version::V3;
+        let model_ports: &[PortModel] = self.models.get(id).map_or(&[], |m| &m.ports);
         let mut ports = Vec::new();
         let mut scripts = Vec::new();
         let mut metadata = Vec::new();
@@ -957,13 +1002,25 @@ impl Loader {
                 direction,
             });
         }
+        Ok((ports, scripts, metadata))
+    }
+
+    /// A SubTree's ports its instance does not remap, from its model.
+    fn subtree_defaults(
+        &self,
+        file: FileId,
+        el: &Element,
+        id: &str,
+        kind: Kind,
+        ports: &mut Vec<Port>,
+    ) -> Result<(), Located> {
         // A SubTree's model (the only models BehaviorTree.CPP 4's executor
         // reads): a port the instance does not remap takes the model's
         // default, and without one the tree is refused (`loadSubtreeModel`
         // and the check in `recursivelyCreateSubtree`, xml_parsing.cpp).
         if let Some(m) = self
             .models
-            .get(&id)
+            .get(id)
             .filter(|m| kind == Kind::SubTree && m.kind == Kind::SubTree)
         {
             for pm in &m.ports {
@@ -987,27 +1044,7 @@ impl Loader {
                 });
             }
         }
-        Ok(Node {
-            uid,
-            kind,
-            id,
-            name,
-            builtin,
-            ports,
-            scripts,
-            metadata,
-            kind_declared: !guessed,
-            parent,
-            children: Vec::with_capacity(el.children.len()),
-            scope,
-            opens_scope: None,
-            depth,
-            origin: Origin {
-                file,
-                start: el.start,
-                end: el.end,
-            },
-        })
+        Ok(())
     }
 
     /// What kind of node `id` is, and which built-in behaviour: a SubTree
@@ -1202,6 +1239,23 @@ fn uses_v4_only(el: &Element) -> bool {
 /// The definitions by ID, and a log's by the `_fullpath` they stand for.
 type ByIdAndPath<'a, 'd> = (&'a HashMap<String, usize>, &'a HashMap<&'d str, usize>);
 
+/// An element to expand, where it goes in the tree.
+struct Work<'a> {
+    el: &'a Element,
+    file: FileId,
+    parent: Option<Uid>,
+    scope: ScopeId,
+    depth: u32,
+    chain: std::rc::Rc<Chain>,
+}
+
+/// Expanding is depth first on a stack of its own (a chain of SubTrees may
+/// be 10^4 deep): an element to enter, or a SubTree left.
+enum Step<'a> {
+    Enter(Work<'a>),
+    Leave(String),
+}
+
 struct Chain {
     id: String,
     up: Option<std::rc::Rc<Chain>>,
@@ -1210,5 +1264,39 @@ struct Chain {
 impl Chain {
     fn ids(&self) -> impl Iterator<Item = &str> {
         std::iter::successors(Some(self), |c| c.up.as_deref()).map(|c| c.id.as_str())
+    }
+}
+
+/// A node's ports, scripts and metadata (`_`-prefixed attributes), as
+/// `(name, value)` for the last two.
+type Attributes = (Vec<Port>, Vec<(String, String)>, Vec<(String, String)>);
+
+/// The kind an element's tag says, in the explicit form (`<Action ID=…>`).
+fn explicit_kind(tag: &str) -> Option<Kind> {
+    match tag {
+        "Action" => Some(Kind::Action),
+        "Condition" => Some(Kind::Condition),
+        "Control" => Some(Kind::Control),
+        "Decorator" => Some(Kind::Decorator),
+        "SubTree" | "SubTreePlus" => Some(Kind::SubTree),
+        _ => None,
+    }
+}
+
+/// A node's instance name, by the version's rules.
+fn instance_name(version: Version, el: &Element, kind: Kind, id: &str) -> String {
+    let name_attr = el.attr("name");
+    if kind == Kind::SubTree {
+        match (version, name_attr, el.attr("_fullpath")) {
+            (Version::V4, Some(n), _) if !n.is_empty() => n.to_string(),
+            // The instantiated XML of a log names a subtree by its path.
+            (_, None, Some(path)) => match path.rsplit('/').next() {
+                Some(last) if !last.is_empty() && !last.contains("::") => last.to_string(),
+                _ => id.to_string(),
+            },
+            _ => id.to_string(),
+        }
+    } else {
+        name_attr.unwrap_or(id).to_string()
     }
 }

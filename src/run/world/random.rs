@@ -122,6 +122,50 @@ pub fn generate(p: &Params, flip: Option<&str>) -> Generated {
     let mut rng = Rng::new(p.seed.wrapping_mul(1_000_003) ^ (n as u64) << 32 ^ p.leaves as u64);
     let n_top = round_half_even(0.5 * n as f64).max(1);
     let n_int = round_half_even(0.25 * n as f64).min(n - n_top);
+    let vars = variables(&mut rng, n, n_top, n_int, p.connectivity, flip);
+    let kids = shape(&mut rng, p.leaves);
+    let mut b = Builder {
+        rng,
+        p,
+        vars: &vars,
+        internals: (n_top..n_top + n_int).collect(),
+        k_in: round_half_even(0.5 * n as f64),
+        k_out: round_half_even(0.5 * n_int as f64).max(1),
+        nodes: Vec::new(),
+        leaf_defs: String::new(),
+        models: String::new(),
+        extra_vars: String::new(),
+        leaf_no: 0,
+        comp_no: 0,
+    };
+    let root = b.node(0, &kids);
+    let mut body = String::new();
+    write(&b.nodes, root, 0, &mut body);
+    let xml = format!(
+        "<root BTCPP_format=\"4\" main_tree_to_execute=\"Random\">\n  <BehaviorTree ID=\"Random\">\n{body}  </BehaviorTree>\n  <TreeNodesModel>\n{}  </TreeNodesModel>\n</root>\n",
+        b.models
+    );
+    let mut domain = domain_header(p, n, &vars);
+    domain.push_str(&b.extra_vars);
+    domain.push_str(&b.leaf_defs);
+    Generated {
+        xml,
+        domain,
+        top: vars[..n_top].iter().map(|v| v.name.clone()).collect(),
+    }
+}
+
+/// The state variables: top, intermediate and bottom, edges only into the
+/// bottom ones from any earlier variable, each bottom one the AND or OR of
+/// its parents.
+fn variables(
+    rng: &mut Rng,
+    n: usize,
+    n_top: usize,
+    n_int: usize,
+    connectivity: f64,
+    flip: Option<&str>,
+) -> Vec<Var> {
     let mut vars: Vec<Var> = (0..n)
         .map(|i| Var {
             name: if i < n_top {
@@ -136,14 +180,13 @@ pub fn generate(p: &Params, flip: Option<&str>) -> Generated {
             initial: false,
         })
         .collect();
-    // Edges only into bottom variables, from any earlier variable.
     let mut candidates = Vec::new();
     for b in n_top + n_int..n {
         for a in 0..b {
             candidates.push((a, b));
         }
     }
-    let k = (p.connectivity * candidates.len() as f64).round() as usize;
+    let k = (connectivity * candidates.len() as f64).round() as usize;
     for i in rng.choose(candidates.len(), k) {
         let (a, b) = candidates[i];
         vars[b].parents.push(a);
@@ -161,11 +204,15 @@ pub fn generate(p: &Params, flip: Option<&str>) -> Generated {
             v.initial = !v.initial;
         }
     }
+    vars
+}
 
-    // The tree's shape.
+/// The tree's shape: each node's children, grown a leaf at a time by
+/// splitting a node drawn at random.
+fn shape(rng: &mut Rng, leaves: usize) -> Vec<Vec<usize>> {
     let mut kids: Vec<Vec<usize>> = vec![Vec::new()];
-    let mut leaves = 1;
-    while leaves < p.leaves.max(1) {
+    let mut grown = 1;
+    while grown < leaves.max(1) {
         let i = rng.range(0, kids.len() - 1);
         let new = if kids[i].is_empty() { 2 } else { 1 };
         for _ in 0..new {
@@ -173,228 +220,228 @@ pub fn generate(p: &Params, flip: Option<&str>) -> Generated {
             let c = kids.len() - 1;
             kids[i].push(c);
         }
-        leaves += 1;
+        grown += 1;
     }
-    let k_in = round_half_even(0.5 * n as f64);
-    let k_out = round_half_even(0.5 * n_int as f64).max(1);
-    let internals: Vec<usize> = (n_top..n_top + n_int).collect();
-    let mut nodes: Vec<Node> = Vec::new();
-    let mut leaf_defs = String::new();
-    let mut models = String::new();
-    let mut extra_vars = String::new();
-    let mut leaf_no = 0;
-    let mut comp_no = 0;
-    // Builds node `i` of the shape, returning its index in `nodes`.
-    #[allow(clippy::too_many_arguments)]
-    fn build(
-        i: usize,
-        kids: &[Vec<usize>],
-        rng: &mut Rng,
-        p: &Params,
-        vars: &[Var],
-        internals: &[usize],
-        k_in: usize,
-        k_out: usize,
-        nodes: &mut Vec<Node>,
-        leaf_defs: &mut String,
-        models: &mut String,
-        extra_vars: &mut String,
-        leaf_no: &mut usize,
-        comp_no: &mut usize,
-    ) -> usize {
+    kids
+}
+
+/// Builds the tree's nodes and the leaves' tables, drawing from one random
+/// stream in a fixed order: the same problem for the same seed.
+struct Builder<'a> {
+    rng: Rng,
+    p: &'a Params,
+    vars: &'a [Var],
+    internals: Vec<usize>,
+    k_in: usize,
+    k_out: usize,
+    nodes: Vec<Node>,
+    leaf_defs: String,
+    models: String,
+    extra_vars: String,
+    leaf_no: usize,
+    comp_no: usize,
+}
+
+fn quote(xs: &[String]) -> String {
+    xs.iter()
+        .map(|x| format!("\"{x}\""))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl Builder<'_> {
+    /// Node `i` of the shape, perhaps under a decorator: its index in
+    /// `nodes`.
+    fn node(&mut self, i: usize, kids: &[Vec<usize>]) -> usize {
         let me = if kids[i].is_empty() {
-            let l = *leaf_no;
-            *leaf_no += 1;
-            let name = format!("L{l}");
-            let action = rng.coin() && !internals.is_empty();
-            let n_in = if action {
-                rng.range(0, k_in)
-            } else {
-                rng.range(1, k_in.max(1))
-            };
-            let mut inputs = rng.choose(vars.len(), n_in);
-            let quote = |xs: &[String]| {
-                xs.iter()
-                    .map(|x| format!("\"{x}\""))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
-            if action {
-                let n_out = rng.range(1, k_out.min(internals.len()));
-                let outputs: Vec<usize> = rng
-                    .choose(internals.len(), n_out)
-                    .into_iter()
-                    .map(|j| internals[j])
-                    .collect();
-                let n_act = rng.range(1, 2);
-                let acts: Vec<usize> = rng.choose(4, n_act);
-                let names: Vec<String> = acts.iter().map(|a| format!("RandomAction{a}")).collect();
-                let key = names[rng.range(0, names.len() - 1)].clone();
-                // A leaf that stays RUNNING until it has made progress.
-                let slow = p.extended && rng.range(0, 3) == 0;
-                let progress = format!("P{l}");
-                let mut in_names: Vec<String> =
-                    inputs.iter().map(|&x| vars[x].name.clone()).collect();
-                let mut out_names: Vec<String> =
-                    outputs.iter().map(|&x| vars[x].name.clone()).collect();
-                inputs.sort_unstable();
-                let rows = 1usize << inputs.len();
-                let table: Vec<String> = (0..rows)
-                    .map(|_| {
-                        let c = rng.range(0, names.len());
-                        if c == names.len() {
-                            "()".to_string()
-                        } else {
-                            format!("\"{}\"", names[c])
-                        }
-                    })
-                    .collect();
-                let index = input_index(&inputs, vars);
-                let mut effect = String::from("switch action {\n");
-                for a in &names {
-                    let mut sets: Vec<String> = Vec::new();
-                    for &o in &outputs {
-                        if rng.coin() {
-                            sets.push(format!("{}: {}", vars[o].name, rng.coin()));
-                        }
-                    }
-                    if slow {
-                        sets.push(format!("{progress}: true"));
-                    }
-                    effect.push_str(&format!("    \"{a}\" => #{{ {} }},\n", sets.join(", ")));
-                }
-                effect.push_str("    _ => ()\n}");
-                let mut status = format!("if action == \"{key}\" {{ SUCCESS }} else {{ FAILURE }}");
-                if slow {
-                    status =
-                        format!("if action != () && !{progress} {{ RUNNING }} else {{ {status} }}");
-                    extra_vars.push_str(&format!(
-                        "\n[state.{progress}]\ntype = \"bool\"\ninitial = false\n"
-                    ));
-                    in_names.push(progress.clone());
-                    out_names.push(progress.clone());
-                }
-                leaf_defs.push_str(&format!(
-                    "\n[leaf.{name}]\ninputs = [{}]\noutputs = [{}]\nactions = [{}]\ndecide = '''\nlet i = {index};\n[{}][i]\n'''\neffect = '''\n{effect}\n'''\nstatus = '''\n{status}\n'''\n",
-                    quote(&in_names),
-                    quote(&out_names),
-                    quote(&names),
-                    table.join(", "),
-                ));
-                models.push_str(&format!("    <Action ID=\"{name}\"/>\n"));
-            } else {
-                let rows = 1usize << inputs.len();
-                let table: Vec<String> = (0..rows).map(|_| rng.coin().to_string()).collect();
-                let in_names: Vec<String> = inputs.iter().map(|&x| vars[x].name.clone()).collect();
-                leaf_defs.push_str(&format!(
-                    "\n[leaf.{name}]\ninputs = [{}]\nstatus = '''\nlet i = {};\nif [{}][i] {{ SUCCESS }} else {{ FAILURE }}\n'''\n",
-                    quote(&in_names),
-                    input_index(&inputs, vars),
-                    table.join(", "),
-                ));
-                models.push_str(&format!("    <Condition ID=\"{name}\"/>\n"));
-            }
-            nodes.push(Node::Leaf(l));
-            nodes.len() - 1
+            self.leaf()
         } else {
-            let children: Vec<usize> = kids[i]
-                .iter()
-                .map(|&c| {
-                    build(
-                        c, kids, rng, p, vars, internals, k_in, k_out, nodes, leaf_defs, models,
-                        extra_vars, leaf_no, comp_no,
-                    )
-                })
-                .collect();
-            let c = *comp_no;
-            *comp_no += 1;
-            let (tag, attrs) = if p.extended {
-                match rng.range(0, 6) {
-                    0 => ("Sequence", String::new()),
-                    1 => ("Fallback", String::new()),
-                    2 => ("ReactiveSequence", String::new()),
-                    3 => ("ReactiveFallback", String::new()),
-                    4 => ("SequenceWithMemory", String::new()),
-                    5 if children.len() <= 3 => ("IfThenElse", String::new()),
-                    _ => (
-                        "Parallel",
-                        format!(
-                            " success_count=\"{}\" failure_count=\"1\"",
-                            rng.range(1, children.len())
-                        ),
-                    ),
-                }
-            } else if rng.coin() {
-                ("Sequence", String::new())
-            } else {
-                ("Fallback", String::new())
-            };
-            nodes.push(Node::Composite {
-                tag,
-                attrs: format!(" name=\"C{c}\"{attrs}"),
-                children,
-            });
-            nodes.len() - 1
+            self.composite(i, kids)
         };
-        if p.extended && i != 0 && rng.range(0, 4) == 0 {
+        if self.p.extended && i != 0 && self.rng.range(0, 4) == 0 {
             let tag = [
                 "Inverter",
                 "ForceSuccess",
                 "ForceFailure",
                 "KeepRunningUntilFailure",
-            ][rng.range(0, 3)];
-            nodes.push(Node::Decorator {
+            ][self.rng.range(0, 3)];
+            self.nodes.push(Node::Decorator {
                 tag,
                 attrs: String::new(),
                 child: me,
             });
-            return nodes.len() - 1;
+            return self.nodes.len() - 1;
         }
         me
     }
-    let root = build(
-        0,
-        &kids,
-        &mut rng,
-        p,
-        &vars,
-        &internals,
-        k_in,
-        k_out,
-        &mut nodes,
-        &mut leaf_defs,
-        &mut models,
-        &mut extra_vars,
-        &mut leaf_no,
-        &mut comp_no,
-    );
-    fn write(nodes: &[Node], i: usize, depth: usize, out: &mut String) {
-        let pad = "  ".repeat(depth + 2);
-        match &nodes[i] {
-            Node::Leaf(l) => out.push_str(&format!("{pad}<L{l}/>\n")),
-            Node::Composite {
-                tag,
-                attrs,
-                children,
-            } => {
-                out.push_str(&format!("{pad}<{tag}{attrs}>\n"));
-                for &c in children {
-                    write(nodes, c, depth + 1, out);
+
+    /// A leaf: an action writing intermediate variables, or a condition.
+    fn leaf(&mut self) -> usize {
+        let l = self.leaf_no;
+        self.leaf_no += 1;
+        let action = self.rng.coin() && !self.internals.is_empty();
+        let n_in = if action {
+            self.rng.range(0, self.k_in)
+        } else {
+            self.rng.range(1, self.k_in.max(1))
+        };
+        let inputs = self.rng.choose(self.vars.len(), n_in);
+        if action {
+            self.action(l, inputs);
+        } else {
+            self.condition(l, inputs);
+        }
+        self.nodes.push(Node::Leaf(l));
+        self.nodes.len() - 1
+    }
+
+    /// An action leaf: a decision table over its inputs, an effect of each
+    /// action on its outputs, success for one action.
+    fn action(&mut self, l: usize, mut inputs: Vec<usize>) {
+        let vars = self.vars;
+        let rng = &mut self.rng;
+        let name = format!("L{l}");
+        let n_out = rng.range(1, self.k_out.min(self.internals.len()));
+        let outputs: Vec<usize> = rng
+            .choose(self.internals.len(), n_out)
+            .into_iter()
+            .map(|j| self.internals[j])
+            .collect();
+        let n_act = rng.range(1, 2);
+        let acts: Vec<usize> = rng.choose(4, n_act);
+        let names: Vec<String> = acts.iter().map(|a| format!("RandomAction{a}")).collect();
+        let key = names[rng.range(0, names.len() - 1)].clone();
+        // A leaf that stays RUNNING until it has made progress.
+        let slow = self.p.extended && rng.range(0, 3) == 0;
+        let progress = format!("P{l}");
+        let mut in_names: Vec<String> = inputs.iter().map(|&x| vars[x].name.clone()).collect();
+        let mut out_names: Vec<String> = outputs.iter().map(|&x| vars[x].name.clone()).collect();
+        inputs.sort_unstable();
+        let rows = 1usize << inputs.len();
+        let table: Vec<String> = (0..rows)
+            .map(|_| {
+                let c = rng.range(0, names.len());
+                if c == names.len() {
+                    "()".to_string()
+                } else {
+                    format!("\"{}\"", names[c])
                 }
-                out.push_str(&format!("{pad}</{tag}>\n"));
+            })
+            .collect();
+        let index = input_index(&inputs, vars);
+        let mut effect = String::from("switch action {\n");
+        for a in &names {
+            let mut sets: Vec<String> = Vec::new();
+            for &o in &outputs {
+                if rng.coin() {
+                    sets.push(format!("{}: {}", vars[o].name, rng.coin()));
+                }
             }
-            Node::Decorator { tag, attrs, child } => {
-                out.push_str(&format!("{pad}<{tag}{attrs}>\n"));
-                write(nodes, *child, depth + 1, out);
-                out.push_str(&format!("{pad}</{tag}>\n"));
+            if slow {
+                sets.push(format!("{progress}: true"));
             }
+            effect.push_str(&format!("    \"{a}\" => #{{ {} }},\n", sets.join(", ")));
+        }
+        effect.push_str("    _ => ()\n}");
+        let mut status = format!("if action == \"{key}\" {{ SUCCESS }} else {{ FAILURE }}");
+        if slow {
+            status = format!("if action != () && !{progress} {{ RUNNING }} else {{ {status} }}");
+            self.extra_vars.push_str(&format!(
+                "\n[state.{progress}]\ntype = \"bool\"\ninitial = false\n"
+            ));
+            in_names.push(progress.clone());
+            out_names.push(progress.clone());
+        }
+        self.leaf_defs.push_str(&format!(
+            "\n[leaf.{name}]\ninputs = [{}]\noutputs = [{}]\nactions = [{}]\ndecide = '''\nlet i = {index};\n[{}][i]\n'''\neffect = '''\n{effect}\n'''\nstatus = '''\n{status}\n'''\n",
+            quote(&in_names),
+            quote(&out_names),
+            quote(&names),
+            table.join(", "),
+        ));
+        self.models
+            .push_str(&format!("    <Action ID=\"{name}\"/>\n"));
+    }
+
+    /// A condition leaf: a truth table over its inputs.
+    fn condition(&mut self, l: usize, inputs: Vec<usize>) {
+        let name = format!("L{l}");
+        let rows = 1usize << inputs.len();
+        let table: Vec<String> = (0..rows).map(|_| self.rng.coin().to_string()).collect();
+        let in_names: Vec<String> = inputs.iter().map(|&x| self.vars[x].name.clone()).collect();
+        self.leaf_defs.push_str(&format!(
+            "\n[leaf.{name}]\ninputs = [{}]\nstatus = '''\nlet i = {};\nif [{}][i] {{ SUCCESS }} else {{ FAILURE }}\n'''\n",
+            quote(&in_names),
+            input_index(&inputs, self.vars),
+            table.join(", "),
+        ));
+        self.models
+            .push_str(&format!("    <Condition ID=\"{name}\"/>\n"));
+    }
+
+    /// A composite over node `i`'s children, built first: a Sequence or a
+    /// Fallback, or in the extended problems any control node btx models.
+    fn composite(&mut self, i: usize, kids: &[Vec<usize>]) -> usize {
+        let children: Vec<usize> = kids[i].iter().map(|&c| self.node(c, kids)).collect();
+        let c = self.comp_no;
+        self.comp_no += 1;
+        let rng = &mut self.rng;
+        let (tag, attrs) = if self.p.extended {
+            match rng.range(0, 6) {
+                0 => ("Sequence", String::new()),
+                1 => ("Fallback", String::new()),
+                2 => ("ReactiveSequence", String::new()),
+                3 => ("ReactiveFallback", String::new()),
+                4 => ("SequenceWithMemory", String::new()),
+                5 if children.len() <= 3 => ("IfThenElse", String::new()),
+                _ => (
+                    "Parallel",
+                    format!(
+                        " success_count=\"{}\" failure_count=\"1\"",
+                        rng.range(1, children.len())
+                    ),
+                ),
+            }
+        } else if rng.coin() {
+            ("Sequence", String::new())
+        } else {
+            ("Fallback", String::new())
+        };
+        self.nodes.push(Node::Composite {
+            tag,
+            attrs: format!(" name=\"C{c}\"{attrs}"),
+            children,
+        });
+        self.nodes.len() - 1
+    }
+}
+
+/// Node `i` as BehaviorTree.CPP 4 XML, indented by its depth.
+fn write(nodes: &[Node], i: usize, depth: usize, out: &mut String) {
+    let pad = "  ".repeat(depth + 2);
+    match &nodes[i] {
+        Node::Leaf(l) => out.push_str(&format!("{pad}<L{l}/>\n")),
+        Node::Composite {
+            tag,
+            attrs,
+            children,
+        } => {
+            out.push_str(&format!("{pad}<{tag}{attrs}>\n"));
+            for &c in children {
+                write(nodes, c, depth + 1, out);
+            }
+            out.push_str(&format!("{pad}</{tag}>\n"));
+        }
+        Node::Decorator { tag, attrs, child } => {
+            out.push_str(&format!("{pad}<{tag}{attrs}>\n"));
+            write(nodes, *child, depth + 1, out);
+            out.push_str(&format!("{pad}</{tag}>\n"));
         }
     }
-    let mut body = String::new();
-    write(&nodes, root, 0, &mut body);
-    let xml = format!(
-        "<root BTCPP_format=\"4\" main_tree_to_execute=\"Random\">\n  <BehaviorTree ID=\"Random\">\n{body}  </BehaviorTree>\n  <TreeNodesModel>\n{models}  </TreeNodesModel>\n</root>\n"
-    );
+}
+
+/// The domain file's header and its state tables.
+fn domain_header(p: &Params, n: usize, vars: &[Var]) -> String {
     let mut domain = format!(
         "# Generated by btx: seed {}, {} variables, connectivity {}, {} leaves{}.\nbtx_domain = 1\nname = \"random {} {} {} {}\"\n",
         p.seed,
@@ -407,7 +454,7 @@ pub fn generate(p: &Params, flip: Option<&str>) -> Generated {
         p.connectivity,
         p.leaves
     );
-    for v in &vars {
+    for v in vars {
         domain.push_str(&format!("\n[state.{}]\ntype = \"bool\"\n", v.name));
         if v.parents.is_empty() {
             domain.push_str(&format!("initial = {}\n", v.initial));
@@ -419,21 +466,11 @@ pub fn generate(p: &Params, flip: Option<&str>) -> Generated {
             }
             domain.push_str(&format!(
                 "parents = [{}]\nfunction = \"{f}\"\n",
-                names
-                    .iter()
-                    .map(|x| format!("\"{x}\""))
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                quote(&names)
             ));
         }
     }
-    domain.push_str(&extra_vars);
-    domain.push_str(&leaf_defs);
-    Generated {
-        xml,
-        domain,
-        top: vars[..n_top].iter().map(|v| v.name.clone()).collect(),
-    }
+    domain
 }
 
 #[cfg(test)]

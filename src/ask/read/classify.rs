@@ -141,7 +141,7 @@ fn handled_whether(c: &Cues) -> Option<Readings> {
 fn anything_failed(c: &Cues) -> Option<Readings> {
     let s = c.s;
     if c.yes_no
-        && (s.has("anything") || s.has("something") || s.has("any"))
+        && (s.has("anything") || s.has("something") || s.has("any") || s.has("everything"))
         && (c.problem || c.fine)
         && !c.why
         && !s.has_prefix(&["recover"])
@@ -364,6 +364,16 @@ fn why_not(c: &Cues) -> Option<Readings> {
     } else {
         c.named.clone()
     };
+    // "In the FollowPath recovery fallback, why did GoalUpdated get
+    // checked instead of …": a place before the question is no side.
+    let mut named = named;
+    if named.len() >= 3
+        && named[0].start > 0
+        && named[0].start <= 2
+        && ["in", "inside", "under", "within"].contains(&s.q[named[0].start - 1].text.as_str())
+    {
+        named.remove(0);
+    }
     // A node is never contrasted with itself ("why was the path not
     // clear" names path clear twice).
     if named.len() < 2 || named[0].uids == named[1].uids {
@@ -381,7 +391,15 @@ fn why_not(c: &Cues) -> Option<Readings> {
 
 /// "Why is FollowPath still running?": a node named as running on.
 fn why_still_running(c: &Cues) -> Option<Readings> {
-    let still = c.s.has("still") && progressive(c.s);
+    // "Why is it still walking?", the node named by its verb, asks why it
+    // does what it does (Han's Q2), as "why is it walking?".
+    let named_by_verb = c.named.iter().any(|m| {
+        c.s.q[m.start..m.end]
+            .iter()
+            .any(|w| w.text.len() > 4 && w.text.ends_with("ing"))
+    }) && !c.s.has("running")
+        && !c.s.has("going");
+    let still = c.s.has("still") && progressive(c.s) && !named_by_verb;
     // "Why does drive keep running for several ticks?".
     let keeps = c.ev == Some(Event::KeepRunning)
         && (c.s.phrase(&["keep", "running"]).is_some()
@@ -503,7 +521,9 @@ fn next(c: &Cues) -> Option<Readings> {
         // "And then?".
         || s.q.len() <= 3 && s.q.last().is_some_and(|w| w.text == "then") && !s.has("if")
         || s.phrase(&["from", "here"]).is_some() && s.has("go")
-        || (s.has("after") && (s.has("will") || s.has("happens")));
+        || (s.has("after") && (s.has("will") || s.has("happens")))
+        // "And what does it do after picking the first screw?".
+        || c.what && s.phrase(&["does", "it", "do", "after"]).is_some();
     // "What happens now?", "and now what?", "what will the tree do now?",
     // "what do you plan to do after walking?".
     let past = ["did", "was", "were", "had", "happened"]

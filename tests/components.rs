@@ -4,8 +4,13 @@
 //! without the focus, and draws after it. What the router relies on is
 //! checked here: a key a pane ignores changes nothing, the panes' keys
 //! that act wherever the focus is are each one pane's, and a window takes
-//! every key and closes on Esc.
+//! every key and closes on Esc. The fleet view's components are pressed
+//! the same way over what they share.
 
+mod common;
+
+use btx::tui::fleet::panes::{Failures, FleetHelp, RunDetail, Runs, Spells};
+use btx::tui::fleet::FleetShared;
 use btx::tui::keymap::{Action, Keymap, KEYMAP};
 use btx::tui::panes::answers::Answers;
 use btx::tui::panes::details::Details;
@@ -187,4 +192,91 @@ fn every_components_hints_name_keys_that_are_bound() {
             Hints::Text(t) => assert!(t.contains("Esc"), "{name}: {t}"),
         }
     }
+}
+
+/// The fleet view's shared state over the shipped kitting sessions.
+fn fleet_shared() -> FleetShared {
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).unwrap();
+    let files = btx::fleet::files(&common::kitting_fleet()).unwrap();
+    let opts = btx::xml::LoadOptions::default();
+    let fleet = btx::fleet::Fleet::read(&files, &opts, None, None, &|| {});
+    let sh = btx::tui::fleet::FleetApp::new(fleet, opts).shared;
+    assert!(!sh.nodes.is_empty() && sh.shown.len() > 1);
+    sh
+}
+
+type FleetPart = Box<dyn Component<FleetShared>>;
+
+fn fleet_panes() -> Vec<(&'static str, FleetPart)> {
+    vec![
+        ("failures", Box::new(Failures)),
+        ("spells", Box::new(Spells)),
+        ("runs", Box::new(Runs)),
+        ("run detail", Box::new(RunDetail)),
+    ]
+}
+
+fn fleet_fingerprint(sh: &FleetShared) -> String {
+    format!(
+        "{} {} {:?} {:?} {:?}",
+        sh.node, sh.run, sh.shown, sh.only, sh.message
+    )
+}
+
+#[test]
+fn every_key_of_every_fleet_component_in_isolation() {
+    for (name, _) in fleet_panes() {
+        for focused in [true, false] {
+            for a in actions() {
+                let mut sh = fleet_shared();
+                let mut pane = fleet_panes().into_iter().find(|p| p.0 == name).unwrap().1;
+                let before = fleet_fingerprint(&sh);
+                let h = pane.key(a, &mut sh, focused);
+                if h == Handled::Ignored {
+                    assert_eq!(fleet_fingerprint(&sh), before, "{name} ignored {a:?}");
+                }
+                if matches!(name, "spells" | "run detail") {
+                    assert_eq!(h, Handled::Ignored, "{name} only draws, yet took {a:?}");
+                }
+                for (w, hgt) in [(80, 24), (24, 6)] {
+                    let mut t = ratatui::Terminal::new(ratatui::backend::TestBackend::new(w, hgt))
+                        .expect("a backend");
+                    t.draw(|f| pane.draw(&sh, f, f.area(), focused))
+                        .expect("drawing into memory");
+                }
+            }
+        }
+    }
+    // The router hands a key to the focused list, then the other: no two
+    // take a key unfocused.
+    for a in actions() {
+        let takers: Vec<&str> = fleet_panes()
+            .into_iter()
+            .filter_map(|(name, mut p)| {
+                let mut sh = fleet_shared();
+                sh.only = Some(0);
+                (p.key(a, &mut sh, false) != Handled::Ignored).then_some(name)
+            })
+            .collect();
+        assert!(takers.len() <= 1, "{a:?} is taken by {takers:?}");
+    }
+    // The help takes every key; Esc closes it.
+    for a in actions() {
+        let mut sh = fleet_shared();
+        let h = FleetHelp.key(a, &mut sh, true);
+        assert_ne!(h, Handled::Ignored, "the fleet's help let {a:?} through");
+        if a == Action::Back {
+            assert_eq!(h, Handled::Close);
+        }
+    }
+    // Enter on an action lists the runs it failed in, and says it picked.
+    let mut sh = fleet_shared();
+    assert_eq!(
+        Failures.key(Action::Toggle, &mut sh, true),
+        Handled::Pick(0)
+    );
+    assert_eq!(sh.only, Some(0));
+    assert!(sh.shown.len() < fleet_shared().shown.len());
+    assert_eq!(Runs.key(Action::Back, &mut sh, false), Handled::Taken);
+    assert_eq!(sh.shown.len(), fleet_shared().shown.len());
 }

@@ -1364,16 +1364,18 @@ fn the_fleet_view_shows_failures_as_bars_and_opens_a_run() {
     }
     // Look at chuck: the runs it failed in are the two that say so.
     let look = app
+        .shared
         .nodes
         .iter()
         .position(|n| n.name == "look at chuck #18")
         .unwrap();
-    app.node = look;
+    app.shared.node = look;
     app.update(Action::Toggle);
     let names: Vec<&str> = app
+        .shared
         .shown
         .iter()
-        .map(|&i| app.fleet.runs[i].name.as_str())
+        .map(|&i| app.shared.fleet.runs[i].name.as_str())
         .collect();
     assert_eq!(names.len(), 2, "{names:?}");
     assert!(names.iter().all(|n| n.contains("lookat")), "{names:?}");
@@ -1396,9 +1398,10 @@ fn the_fleet_view_shows_failures_as_bars_and_opens_a_run() {
     assert!(app.opened.is_none() && !app.quit);
     // Esc lists every run again; a key the view has no use for says so.
     app.update(Action::Back);
-    assert_eq!(app.shown.len(), app.fleet.runs.len());
+    assert_eq!(app.shared.shown.len(), app.shared.fleet.runs.len());
     app.update(Action::Why);
     assert!(app
+        .shared
         .message
         .as_deref()
         .unwrap()

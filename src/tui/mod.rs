@@ -7,7 +7,6 @@ pub mod choices;
 pub mod diff;
 pub mod diff_view;
 pub mod fleet;
-pub mod fleet_view;
 pub mod graph_view;
 pub mod keymap;
 pub mod panes;
@@ -235,7 +234,7 @@ impl Screen for diff::DiffApp {
 
 impl Screen for fleet::FleetApp {
     fn draw(&self, f: &mut ratatui::Frame) {
-        fleet_view::view(self, f)
+        self.view(f)
     }
     fn event(&mut self, ev: Event, size: (u16, u16)) {
         // A run opened from the fleet has the keys until it quits, which

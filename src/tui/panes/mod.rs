@@ -63,16 +63,18 @@ pub enum Hints {
     Text(&'static str),
 }
 
-/// A pane or a window of the explorer.
-pub trait Component {
+/// A pane or a window of a screen: of the explorer, over what its panes
+/// share ([`Shared`]), or of another screen over what that one's share
+/// (the fleet view's `FleetShared`).
+pub trait Component<S = Shared> {
     /// A key. `focused`: whether this pane has the focus (a pane's own
     /// keys, such as scrolling, act only then; the others wherever the
     /// focus is).
-    fn key(&mut self, a: Action, sh: &mut Shared, focused: bool) -> Handled;
+    fn key(&mut self, a: Action, sh: &mut S, focused: bool) -> Handled;
     /// The keys it names in the status bar.
-    fn hints(&self, sh: &Shared) -> Hints;
+    fn hints(&self, sh: &S) -> Hints;
     /// Draws it in `area`.
-    fn draw(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool);
+    fn draw(&self, sh: &S, f: &mut Frame, area: Rect, focused: bool);
 }
 
 /// Up, Down, a page, Home and End over the lines of a pane scrolled by

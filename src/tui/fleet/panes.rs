@@ -1,79 +1,37 @@
-//! Drawing the fleet view: the failures as bars, the selected action's
-//! RUNNING spells as a sparkline, the runs on a time axis by outcome, the
-//! runs' list and the selected run's ending.
+//! The fleet view's components: the actions that failed as bars (a list),
+//! the chosen action's RUNNING spells as a sparkline, the runs (a list),
+//! the runs on a time axis by outcome with the chosen run's ending, and
+//! the help.
 
-use super::fleet::{FleetApp, Focus};
-use super::view::{block, centered, first_shown as first, fit, status_color};
+use super::FleetShared;
 use crate::run::Status;
-use ratatui::layout::{Constraint, Direction, Layout, Rect};
+use crate::tui::keymap::Action;
+use crate::tui::panes::{Component, Handled, Hints, PAGE};
+use crate::tui::view::{block, centered, first_shown as first, fit, status_color};
+use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Clear, Paragraph, Wrap};
 use ratatui::Frame;
 
-pub fn view(app: &FleetApp, f: &mut Frame) {
-    if let Some(run) = &app.opened {
-        return run.draw(f);
-    }
-    let v = Layout::default()
-        .direction(Direction::Vertical)
-        .constraints([
-            Constraint::Percentage(45),
-            Constraint::Min(6),
-            Constraint::Length(1),
-        ])
-        .split(f.area());
-    let top = halves(v[0]);
-    let middle = halves(v[1]);
-    failures(app, f, top[0]);
-    spells(app, f, top[1]);
-    runs(app, f, middle[0]);
-    run_detail(app, f, middle[1]);
-    let status = match &app.message {
-        Some(m) => Span::styled(fit(m, v[2].width as usize), Style::default().fg(Color::Yellow)),
-        None => Span::styled(
-            super::view::first_fitting(
-                &[
-                    "↑↓ choose  Tab nodes/runs  Enter the runs it failed in / open the run  Esc every run  q quit  ? help",
-                    "↑↓ choose  Tab nodes/runs  Enter its runs / open  Esc every run  q quit  ? help",
-                    "↑↓  Tab  Enter  Esc  q quit  ? help",
-                ],
-                v[2].width as usize,
-            ),
-            Style::default().fg(Color::DarkGray),
-        ),
-    };
-    f.render_widget(Paragraph::new(status), v[2]);
-    if app.help {
-        help(f);
-    }
-}
-
-fn halves(area: Rect) -> std::rc::Rc<[Rect]> {
-    Layout::default()
-        .direction(Direction::Horizontal)
-        .constraints([Constraint::Percentage(60), Constraint::Percentage(40)])
-        .split(area)
-}
-
 /// Each failing action's runs failed in, as a bar out of every run.
-fn failures(app: &FleetApp, f: &mut Frame, area: Rect) {
-    let runs = app.fleet.runs.len().max(1);
+fn failures(sh: &FleetShared, f: &mut Frame, area: Rect, focused: bool) {
+    let runs = sh.fleet.runs.len().max(1);
     let b = block(
         format!(
             " actions that failed, by the runs they failed in (of {}) ",
-            crate::text::counted(app.fleet.runs.len(), "run")
+            crate::text::counted(sh.fleet.runs.len(), "run")
         ),
-        app.focus == Focus::Nodes,
+        focused,
     );
     let inner = b.inner(area);
     f.render_widget(b, area);
-    if app.nodes.is_empty() {
+    if sh.nodes.is_empty() {
         f.render_widget(Paragraph::new("no action failed in any run"), inner);
         return;
     }
     let w = inner.width as usize;
-    let name_w = app
+    let name_w = sh
         .nodes
         .iter()
         .map(|n| n.name.chars().count())
@@ -83,16 +41,16 @@ fn failures(app: &FleetApp, f: &mut Frame, area: Rect) {
     let bar_w = w.saturating_sub(name_w + 12).max(1);
     let h = inner.height as usize;
     let mut lines = Vec::new();
-    for (i, n) in app
+    for (i, n) in sh
         .nodes
         .iter()
         .enumerate()
-        .skip(first(app.node, app.nodes.len(), h))
+        .skip(first(sh.node, sh.nodes.len(), h))
         .take(h)
     {
         let filled = (n.faulted_in * bar_w).div_ceil(runs);
         let mut name = Style::default();
-        if i == app.node {
+        if i == sh.node {
             name = name.add_modifier(Modifier::REVERSED);
         }
         lines.push(Line::from(vec![
@@ -110,11 +68,11 @@ fn failures(app: &FleetApp, f: &mut Frame, area: Rect) {
 }
 
 /// The selected action: its RUNNING spells and what recovered it.
-fn spells(app: &FleetApp, f: &mut Frame, area: Rect) {
+fn spells(sh: &FleetShared, f: &mut Frame, area: Rect) {
     let b = block(" the action chosen ".into(), false);
     let inner = b.inner(area);
     f.render_widget(b, area);
-    let Some(n) = app.nodes.get(app.node) else {
+    let Some(n) = sh.nodes.get(sh.node) else {
         return;
     };
     let q = |p| n.running_quantile(p).unwrap_or(0);
@@ -161,28 +119,28 @@ fn outcome_mark(o: Option<Status>) -> (&'static str, Color) {
     }
 }
 
-fn runs(app: &FleetApp, f: &mut Frame, area: Rect) {
-    let title = match app.only.and_then(|i| app.nodes.get(i)) {
+fn runs(sh: &FleetShared, f: &mut Frame, area: Rect, focused: bool) {
+    let title = match sh.only.and_then(|i| sh.nodes.get(i)) {
         Some(n) => format!(" the runs {} failed in (Esc: every run) ", n.name),
-        None => format!(" {} ", crate::text::counted(app.fleet.runs.len(), "run")),
+        None => format!(" {} ", crate::text::counted(sh.fleet.runs.len(), "run")),
     };
-    let b = block(title, app.focus == Focus::Runs);
+    let b = block(title, focused);
     let inner = b.inner(area);
     f.render_widget(b, area);
     let h = inner.height as usize;
     let w = inner.width as usize;
     let mut lines = Vec::new();
-    for (row, &i) in app
+    for (row, &i) in sh
         .shown
         .iter()
         .enumerate()
-        .skip(first(app.run, app.shown.len(), h))
+        .skip(first(sh.run, sh.shown.len(), h))
         .take(h)
     {
-        let r = &app.fleet.runs[i];
+        let r = &sh.fleet.runs[i];
         let (mark, colour) = outcome_mark(r.outcome);
         let mut name = Style::default();
-        if row == app.run {
+        if row == sh.run {
             name = name.add_modifier(Modifier::REVERSED);
         }
         let ticks = format!("  {} ticks", r.ticks);
@@ -196,13 +154,13 @@ fn runs(app: &FleetApp, f: &mut Frame, area: Rect) {
 }
 
 /// The runs on a time axis by outcome, then the selected run's ending.
-fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
+fn run_detail(sh: &FleetShared, f: &mut Frame, area: Rect) {
     let b = block(" when, and how it ended ".into(), false);
     let inner = b.inner(area);
     f.render_widget(b, area);
     let w = inner.width as usize;
     let mut lines = Vec::new();
-    match app.timeline() {
+    match sh.timeline() {
         Some((marks, (lo, hi))) if w > 2 => {
             let timed = marks.len();
             // One cell a slice of time; a failure shows over a success.
@@ -253,10 +211,10 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
             lines.push(Line::from(Span::styled(
                 format!(
                     "{} by start time: S succeeded, F failed, · unfinished",
-                    if timed == app.fleet.runs.len() {
+                    if timed == sh.fleet.runs.len() {
                         "the runs".to_string()
                     } else {
-                        format!("the {timed} of {} runs that say when", app.fleet.runs.len())
+                        format!("the {timed} of {} runs that say when", sh.fleet.runs.len())
                     }
                 ),
                 Style::default().fg(Color::DarkGray),
@@ -267,7 +225,7 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
             Style::default().fg(Color::DarkGray),
         ))),
     }
-    if let Some(r) = app.selected_run() {
+    if let Some(r) = sh.selected_run() {
         lines.push(Line::from(""));
         lines.push(Line::from(Span::styled(
             r.name.clone(),
@@ -290,23 +248,181 @@ fn run_detail(app: &FleetApp, f: &mut Frame, area: Rect) {
     f.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), inner);
 }
 
-fn help(f: &mut Frame) {
-    let r = centered(f.area(), 66, 12);
-    f.render_widget(Clear, r);
-    let text = [
-        "↑↓ k j     choose in the list focused",
-        "PgUp PgDn  a page; g G the first, the last",
-        "Tab        the actions, or the runs",
-        "Enter      on an action: the runs it failed in",
-        "           on a run: open it in the explorer (q comes back)",
-        "Esc        every run again",
-        "q          quit",
-    ];
-    f.render_widget(
-        Paragraph::new(text.iter().map(|l| Line::from(*l)).collect::<Vec<_>>()).block(block(
-            " the fleet view's keys (Esc or ? closes) ".into(),
-            true,
-        )),
-        r,
-    );
+/// Up, Down, a page, Home and End over a list of `len` rows; at an end,
+/// the status line says so.
+fn list_key(at: &mut usize, len: usize, a: Action, message: &mut Option<String>) -> bool {
+    match a {
+        Action::Up | Action::PageUp | Action::Start if *at == 0 => {
+            *message = Some("at the top of the list".into())
+        }
+        Action::Down | Action::PageDown | Action::End if *at + 1 >= len => {
+            *message = Some("at the end of the list".into())
+        }
+        Action::Up => *at -= 1,
+        Action::Down => *at += 1,
+        Action::PageUp => *at = at.saturating_sub(PAGE),
+        Action::PageDown => *at = (*at + PAGE).min(len - 1),
+        Action::Start => *at = 0,
+        Action::End => *at = len - 1,
+        _ => return false,
+    }
+    true
+}
+
+/// The actions that failed, by the runs they failed in: Enter lists
+/// those runs alone (and says it picked them).
+pub struct Failures;
+
+impl Component<FleetShared> for Failures {
+    fn key(&mut self, a: Action, sh: &mut FleetShared, focused: bool) -> Handled {
+        if !focused {
+            return Handled::Ignored;
+        }
+        let len = sh.nodes.len();
+        if list_key(&mut sh.node, len, a, &mut sh.message) {
+            return Handled::Taken;
+        }
+        if !matches!(a, Action::Toggle | Action::Expand) {
+            return Handled::Ignored;
+        }
+        let Some(n) = sh.nodes.get(sh.node) else {
+            return Handled::Taken;
+        };
+        sh.shown = sh
+            .fleet
+            .runs
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.tree_key == n.tree_key && r.faulted.contains(&n.uid))
+            .map(|(i, _)| i)
+            .collect();
+        sh.message = Some(format!(
+            "the {} runs {} failed in (Esc: every run)",
+            sh.shown.len(),
+            n.name
+        ));
+        sh.only = Some(sh.node);
+        sh.run = 0;
+        Handled::Pick(sh.node)
+    }
+
+    fn hints(&self, _: &FleetShared) -> Hints {
+        Hints::Keys(&[(Action::Toggle, "the runs it failed in")])
+    }
+
+    fn draw(&self, sh: &FleetShared, f: &mut Frame, area: Rect, focused: bool) {
+        failures(sh, f, area, focused)
+    }
+}
+
+/// The action chosen: its failures, what recovered it, its RUNNING spells.
+pub struct Spells;
+
+impl Component<FleetShared> for Spells {
+    fn key(&mut self, _: Action, _: &mut FleetShared, _: bool) -> Handled {
+        Handled::Ignored
+    }
+
+    fn hints(&self, _: &FleetShared) -> Hints {
+        Hints::Keys(&[])
+    }
+
+    fn draw(&self, sh: &FleetShared, f: &mut Frame, area: Rect, _: bool) {
+        spells(sh, f, area)
+    }
+}
+
+/// The runs listed: Enter picks one to open; Esc lists every run again,
+/// wherever the focus is.
+pub struct Runs;
+
+impl Component<FleetShared> for Runs {
+    fn key(&mut self, a: Action, sh: &mut FleetShared, focused: bool) -> Handled {
+        if a == Action::Back && sh.only.is_some() {
+            sh.only = None;
+            sh.shown = (0..sh.fleet.runs.len()).collect();
+            sh.run = 0;
+            return Handled::Taken;
+        }
+        if !focused {
+            return Handled::Ignored;
+        }
+        let len = sh.shown.len();
+        if list_key(&mut sh.run, len, a, &mut sh.message) {
+            return Handled::Taken;
+        }
+        match a {
+            Action::Toggle | Action::Expand => Handled::Pick(sh.run),
+            _ => Handled::Ignored,
+        }
+    }
+
+    fn hints(&self, _: &FleetShared) -> Hints {
+        Hints::Keys(&[
+            (Action::Toggle, "open the run"),
+            (Action::Back, "every run"),
+        ])
+    }
+
+    fn draw(&self, sh: &FleetShared, f: &mut Frame, area: Rect, focused: bool) {
+        runs(sh, f, area, focused)
+    }
+}
+
+/// The runs on a time axis by outcome, and how the chosen run ended.
+pub struct RunDetail;
+
+impl Component<FleetShared> for RunDetail {
+    fn key(&mut self, _: Action, _: &mut FleetShared, _: bool) -> Handled {
+        Handled::Ignored
+    }
+
+    fn hints(&self, _: &FleetShared) -> Hints {
+        Hints::Keys(&[])
+    }
+
+    fn draw(&self, sh: &FleetShared, f: &mut Frame, area: Rect, _: bool) {
+        run_detail(sh, f, area)
+    }
+}
+
+/// The fleet view's keys, over the panes: Esc, ?, q or Enter closes it.
+pub struct FleetHelp;
+
+impl Component<FleetShared> for FleetHelp {
+    fn key(&mut self, a: Action, sh: &mut FleetShared, _: bool) -> Handled {
+        if matches!(
+            a,
+            Action::Help | Action::Back | Action::Quit | Action::Toggle
+        ) {
+            return Handled::Close;
+        }
+        sh.message = Some("the help is open: Esc or ? closes it".into());
+        Handled::Taken
+    }
+
+    fn hints(&self, _: &FleetShared) -> Hints {
+        Hints::Text("Esc or ? closes the help")
+    }
+
+    fn draw(&self, _: &FleetShared, f: &mut Frame, area: Rect, _: bool) {
+        let r = centered(area, 66, 12);
+        f.render_widget(Clear, r);
+        let text = [
+            "↑↓ k j     choose in the list focused",
+            "PgUp PgDn  a page; g G the first, the last",
+            "Tab        the actions, or the runs",
+            "Enter      on an action: the runs it failed in",
+            "           on a run: open it in the explorer (q comes back)",
+            "Esc        every run again",
+            "q          quit",
+        ];
+        f.render_widget(
+            Paragraph::new(text.iter().map(|l| Line::from(*l)).collect::<Vec<_>>()).block(block(
+                " the fleet view's keys (Esc or ? closes) ".into(),
+                true,
+            )),
+            r,
+        );
+    }
 }

@@ -4,11 +4,13 @@
 //! without the focus, and draws after it. What the router relies on is
 //! checked here: a key a pane ignores changes nothing, the panes' keys
 //! that act wherever the focus is are each one pane's, and a window takes
-//! every key and closes on Esc. The fleet view's components are pressed
-//! the same way over what they share.
+//! every key and closes on Esc. The fleet view's and the side-by-side
+//! diff's components are pressed the same way over what they share.
 
 mod common;
 
+use btx::tui::diff::panes::{DiffHelp, Summary, Timelines, Trees};
+use btx::tui::diff::DiffShared;
 use btx::tui::fleet::panes::{Failures, FleetHelp, RunDetail, Runs, Spells};
 use btx::tui::fleet::FleetShared;
 use btx::tui::keymap::{Action, Keymap, KEYMAP};
@@ -279,4 +281,92 @@ fn every_key_of_every_fleet_component_in_isolation() {
     assert!(sh.shown.len() < fleet_shared().shown.len());
     assert_eq!(Runs.key(Action::Back, &mut sh, false), Handled::Taken);
     assert_eq!(sh.shown.len(), fleet_shared().shown.len());
+}
+
+/// The diff of the nominal kitting run and the one where look at chuck
+/// fails once.
+fn diff_shared() -> DiffShared {
+    std::env::set_current_dir(env!("CARGO_MANIFEST_DIR")).unwrap();
+    btx::tui::open_diff(
+        std::path::Path::new("tests/fixtures/logs/kitting_nominal.btlog"),
+        std::path::Path::new("tests/fixtures/logs/kitting_lookat_fails_once.btlog"),
+        &Default::default(),
+    )
+    .unwrap()
+    .shared
+}
+
+type DiffPart = Box<dyn Component<DiffShared>>;
+
+fn diff_panes() -> Vec<(&'static str, DiffPart)> {
+    vec![
+        ("trees", Box::new(Trees)),
+        ("summary", Box::new(Summary)),
+        ("timelines", Box::new(Timelines)),
+    ]
+}
+
+fn diff_fingerprint(sh: &DiffShared) -> String {
+    format!(
+        "{} {} {} {:?} {:?} {:?}",
+        sh.a.pos, sh.b.pos, sh.selected, sh.divergence, sh.answer, sh.message
+    )
+}
+
+#[test]
+fn every_key_of_every_diff_component_in_isolation() {
+    let base = diff_shared();
+    let mut takers: std::collections::BTreeMap<String, Vec<&str>> = Default::default();
+    for (name, _) in diff_panes() {
+        for a in actions() {
+            let mut sh = diff_shared();
+            let mut pane = diff_panes().into_iter().find(|p| p.0 == name).unwrap().1;
+            let before = diff_fingerprint(&sh);
+            let h = pane.key(a, &mut sh, true);
+            if h == Handled::Ignored {
+                assert_eq!(diff_fingerprint(&sh), before, "{name} ignored {a:?}");
+            } else {
+                takers.entry(format!("{a:?}")).or_default().push(name);
+            }
+            for (w, hgt) in [(80, 24), (24, 6)] {
+                let mut t = ratatui::Terminal::new(ratatui::backend::TestBackend::new(w, hgt))
+                    .expect("a backend");
+                t.draw(|f| pane.draw(&sh, f, f.area(), true))
+                    .expect("drawing into memory");
+            }
+        }
+    }
+    // The diff has no focus: a key goes to each pane in turn, so each key
+    // is one pane's.
+    for (a, names) in &takers {
+        assert_eq!(names.len(), 1, "{a} is taken by {names:?}");
+    }
+    // Its keys: ↑↓ the trees, d D w Esc the summary, n p . , g G time.
+    assert_eq!(takers["NextDivergence"], ["summary"]);
+    assert_eq!(takers["StepForward"], ["timelines"]);
+    assert_eq!(takers["Down"], ["trees"]);
+    // The help stays open for ↑↓ only; any other key closes it.
+    for a in actions() {
+        let mut sh = diff_shared();
+        let mut help = DiffHelp {
+            keymap: Keymap::default(),
+        };
+        let h = help.key(a, &mut sh, true);
+        assert_ne!(h, Handled::Ignored, "the diff's help let {a:?} through");
+        if a == Action::Back {
+            assert_eq!(h, Handled::Close);
+        }
+    }
+    // d moves both timelines to the divergence's tick.
+    let mut sh = diff_shared();
+    assert_eq!(
+        Summary.key(Action::NextDivergence, &mut sh, true),
+        Handled::Taken
+    );
+    assert_ne!(sh.b.pos, base.b.pos);
+    assert!(sh
+        .message
+        .as_deref()
+        .unwrap()
+        .starts_with("divergence 1 of"));
 }

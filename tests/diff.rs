@@ -588,7 +588,7 @@ fn every_pair_of_runs_parts_at_one_place_in_diff_why_and_the_side_by_side() {
             )
             .unwrap();
             app.update(btx::tui::keymap::Action::NextDivergence);
-            let said = app.message.clone().unwrap();
+            let said = app.shared.message.clone().unwrap();
             assert!(
                 said.contains(" (the runs part ways here")
                     || said.contains(" (the first to differ after"),
@@ -631,13 +631,13 @@ fn steps_made_only_because_the_runs_parted_follow_from_it() {
         &Default::default(),
     )
     .unwrap();
-    let mut divergent: Vec<_> = app.b.divergent.iter().copied().collect();
+    let mut divergent: Vec<_> = app.shared.b.divergent.iter().copied().collect();
     divergent.sort();
     assert_eq!(divergent, [18]);
-    let mut following: Vec<_> = app.b.following.iter().copied().collect();
+    let mut following: Vec<_> = app.shared.b.following.iter().copied().collect();
     following.sort();
     assert_eq!(following, [10, 11, 12, 15, 16, 17, 27]);
-    assert_eq!(app.diff.divergences().len(), 1);
+    assert_eq!(app.shared.diff.divergences().len(), 1);
 }
 
 /// #39 item 9: a long loop that goes wrong once, against the same loop,

@@ -336,10 +336,10 @@ fn side_by_side_taxi_policies_colour_the_detour() {
     };
     let y = row_of("move left #10", 55);
     let x = (55..110).find(|&x| buf[(x, y)].symbol() == "m").unwrap();
-    assert_eq!(buf[(x, y)].bg, btx::tui::diff_view::DIVERGENT);
+    assert_eq!(buf[(x, y)].bg, btx::tui::diff::DIVERGENT);
     let y = row_of("navigate to passenger #4", 55);
     let x = (55..110).find(|&x| buf[(x, y)].symbol() == "n").unwrap();
-    assert_eq!(buf[(x, y)].bg, btx::tui::diff_view::PARENT);
+    assert_eq!(buf[(x, y)].bg, btx::tui::diff::PARENT);
     // The left side has a gap facing each inserted action.
     let left: String = (0..55).map(|x| buf[(x, y + 3)].symbol()).collect();
     assert!(left.trim_matches(['│', ' ']).is_empty(), "{left:?}");
@@ -347,7 +347,7 @@ fn side_by_side_taxi_policies_colour_the_detour() {
     let mut seen = Vec::new();
     for _ in 0..5 {
         app.update(Action::NextDivergence);
-        seen.push(app.message.clone().unwrap());
+        seen.push(app.shared.message.clone().unwrap());
     }
     assert!(
         seen[0].starts_with("divergence 1 of 4: go pick up passenger"),
@@ -356,6 +356,7 @@ fn side_by_side_taxi_policies_colour_the_detour() {
     assert_eq!(seen[4], seen[0]);
     app.update(Action::PrevDivergence);
     assert!(app
+        .shared
         .message
         .as_deref()
         .unwrap()
@@ -369,21 +370,24 @@ fn side_by_side_runs_move_together_and_say_why_they_diverged() {
         "sessions/kitting-lookat-fails-once.jsonl",
     );
     app.update(Action::TickForward);
-    let (a, b) = (app.a.moment().unwrap(), app.b.moment().unwrap());
+    let (a, b) = (
+        app.shared.a.moment().unwrap(),
+        app.shared.b.moment().unwrap(),
+    );
     assert_eq!((a.tick, b.tick), (2, 2));
     app.update(Action::NextDivergence);
-    assert_eq!(app.b.moment().unwrap().tick, 9);
-    assert_eq!(app.a.moment().unwrap().tick, 9);
+    assert_eq!(app.shared.b.moment().unwrap().tick, 9);
+    assert_eq!(app.shared.a.moment().unwrap().tick, 9);
     app.update(Action::Why);
-    let text = app.answer.clone().unwrap();
+    let text = app.shared.answer.clone().unwrap();
     assert!(
         text.starts_with("The runs part ways at transition 32 (moment 10:1): look at chuck (#18) became FAILURE in B and SUCCESS in A."),
         "{text}"
     );
-    assert_eq!(app.b.moment().unwrap().to_string(), "10:1");
+    assert_eq!(app.shared.b.moment().unwrap().to_string(), "10:1");
     insta::assert_snapshot!("diff_runs_why", screen(&app, 110, 34));
     app.update(Action::Back);
-    assert!(app.answer.is_none());
+    assert!(app.shared.answer.is_none());
 }
 
 #[test]
@@ -1320,7 +1324,7 @@ fn every_key_in_every_pane_and_mode_acts_or_says_why_not() {
                     "tests/fixtures/logs/kitting_lookat_fails_once.btlog",
                 );
                 setup(&mut d);
-                d.message = None;
+                d.shared.message = None;
                 let before = render(&d, 120, 40);
                 btx::tui::Screen::event(&mut d, Event::Key(key_event(k)), (120, 40));
                 if d.quit {
@@ -1702,7 +1706,7 @@ fn long_lines_wrap_in_popups_and_the_status_bar() {
         "sessions/kitting-lookat-fails-once.jsonl",
     );
     d.update(Action::NextDivergence);
-    let said = d.message.clone().unwrap();
+    let said = d.shared.message.clone().unwrap();
     assert!(said.chars().count() > 80, "{said}");
     let s = screen(&d, 80, 30);
     assert!(joined(&s).ends_with(&said), "{said:?} cut:\n{s}");

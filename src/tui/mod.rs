@@ -5,7 +5,6 @@ mod abort;
 pub mod app;
 pub mod choices;
 pub mod diff;
-pub mod diff_view;
 pub mod fleet;
 pub mod graph_view;
 pub mod keymap;
@@ -202,7 +201,7 @@ const IDLE_SLICE: Duration = Duration::from_millis(8);
 
 impl Screen for diff::DiffApp {
     fn draw(&self, f: &mut ratatui::Frame) {
-        diff_view::view(self, f)
+        self.view(f)
     }
     fn event(&mut self, ev: Event, size: (u16, u16)) {
         let act = match ev {
@@ -215,15 +214,16 @@ impl Screen for diff::DiffApp {
             _ => None,
         };
         if let Some(a) = act {
-            self.message = None;
+            self.shared.message = None;
             let before = render(self, size.0, size.1);
             self.update(a);
-            if !self.quit && self.message.is_none() && render(self, size.0, size.1) == before {
+            if !self.quit && self.shared.message.is_none() && render(self, size.0, size.1) == before
+            {
                 let key = match ev {
                     Event::Key(k) => keymap::key_name(&k).unwrap_or_default(),
                     _ => "the wheel".into(),
                 };
-                self.message = Some(unmoved::diff_reason(self, a, &key));
+                self.shared.message = Some(unmoved::diff_reason(self, a, &key));
             }
         }
     }

@@ -74,7 +74,7 @@ pub fn reason(app: &App, a: Action, key: &str) -> String {
 
 /// Why `key` (bound to `a`) changed nothing in the side-by-side diff.
 pub fn diff_reason(app: &DiffApp, a: Action, key: &str) -> String {
-    if app.help {
+    if app.help.is_some() {
         return format!("{key}: the help is open; Esc or ? closes it");
     }
     match a {

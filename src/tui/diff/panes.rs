@@ -1,0 +1,470 @@
+//! The side-by-side diff's components: the two aligned trees scrolled
+//! together, the edit summary (divergences, and the answer to "why did
+//! they diverge?"), the two timelines moved together, and the help.
+
+use super::{DiffShared, Pane};
+use crate::run::Status;
+use crate::tui::keymap::{Action, Keymap};
+use crate::tui::panes::{Component, Handled, Hints};
+use crate::tui::view::{block, status_color, tree_glyph};
+use ratatui::layout::{Constraint, Direction, Layout, Rect};
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Clear, Paragraph, Wrap};
+use ratatui::Frame;
+
+/// Fig. 14's colours: divergent leaves dark blue, their parents blue-grey.
+pub const DIVERGENT: Color = Color::Rgb(0, 0, 139);
+pub const PARENT: Color = Color::Rgb(96, 125, 139);
+
+/// The first row shown so that the selection stays in view.
+fn first_row(sh: &DiffShared, height: usize) -> usize {
+    crate::tui::view::first_shown(sh.selected, sh.rows.len(), height)
+}
+
+fn tree_pane(app: &DiffShared, side: usize, f: &mut Frame, area: Rect) {
+    let p: &Pane = if side == 0 { &app.a } else { &app.b };
+    let letter = if side == 0 { "A" } else { "B" };
+    let title = match p.moment() {
+        Some(m) => format!(" {letter} · {} · moment {m} ", p.name),
+        None => format!(" {letter} · {} ", p.name),
+    };
+    let b = block(title, false);
+    let inner = b.inner(area);
+    f.render_widget(b, area);
+    let h = inner.height as usize;
+    let first = first_row(app, h);
+    let at = p.session.as_ref().map(|s| s.index.at(p.pos));
+    let mut lines = Vec::with_capacity(h);
+    for (i, r) in app.rows.iter().enumerate().skip(first).take(h) {
+        let cell = if side == 0 { r.a } else { r.b };
+        let selected = i == app.selected;
+        let Some((uid, depth)) = cell else {
+            let style = if selected {
+                Style::default().add_modifier(Modifier::REVERSED)
+            } else {
+                Style::default()
+            };
+            lines.push(Line::from(Span::styled(" ", style)));
+            continue;
+        };
+        let status = at.as_ref().map_or(Status::Idle, |a| a.status(uid));
+        let marker = match status {
+            Status::Idle => " ".to_string(),
+            s => s.as_str()[..1].to_string(),
+        };
+        let mut name = Style::default();
+        // The mark says it without colour too (NO_COLOR, monochrome terminals).
+        let mark = if p.divergent.contains(&uid) {
+            "≠ "
+        } else if p.parents.contains(&uid) {
+            "› "
+        } else if p.following.contains(&uid) {
+            "· "
+        } else {
+            "  "
+        };
+        if p.divergent.contains(&uid) {
+            name = name
+                .bg(DIVERGENT)
+                .fg(Color::White)
+                .add_modifier(Modifier::BOLD);
+        } else if p.parents.contains(&uid) {
+            name = name.bg(PARENT).fg(Color::White);
+        } else if p.following.contains(&uid) {
+            name = name.add_modifier(Modifier::ITALIC);
+        }
+        if selected {
+            name = name.add_modifier(Modifier::REVERSED);
+        }
+        lines.push(Line::from(vec![
+            Span::styled(
+                format!("{marker} "),
+                Style::default()
+                    .fg(status_color(status))
+                    .add_modifier(Modifier::BOLD),
+            ),
+            Span::styled(mark, Style::default().add_modifier(Modifier::BOLD)),
+            Span::raw("  ".repeat(depth)),
+            Span::styled(
+                format!("{} ", tree_glyph(&p.tree, uid)),
+                Style::default().fg(Color::Blue),
+            ),
+            // A long name ends in `…` and keeps its whole `#uid`.
+            Span::styled(
+                crate::tui::view::fit(
+                    &crate::text::visible(p.tree.description(uid)),
+                    (inner.width as usize)
+                        .saturating_sub(6 + 2 * depth + format!(" #{uid}").chars().count()),
+                ),
+                name,
+            ),
+            Span::styled(format!(" #{uid}"), Style::default().fg(Color::DarkGray)),
+        ]));
+    }
+    f.render_widget(Paragraph::new(lines), inner);
+}
+
+/// Per subgoal: edit distance, LCS and what changed; or the why-answer.
+fn summary_pane(app: &DiffShared, f: &mut Frame, area: Rect) {
+    if let Some(text) = &app.answer {
+        let b = block(" why did they diverge? (Esc to close) ".into(), true);
+        f.render_widget(
+            Paragraph::new(text.clone())
+                .block(b)
+                .wrap(Wrap { trim: false }),
+            area,
+        );
+        return;
+    }
+    let d = &app.diff;
+    let title = if d.is_empty() {
+        " edits · no divergence ".to_string()
+    } else {
+        format!(
+            " edits · edit distance {}, LCS {} in all ",
+            d.distance(),
+            d.lcs()
+        )
+    };
+    let current = app
+        .divergence
+        .and_then(|i| d.divergences().get(i).copied())
+        .map(|(s, _)| s);
+    let mut lines = Vec::new();
+    for (i, sec) in d.sections.iter().enumerate() {
+        if sec.a.is_empty() && sec.b.is_empty() {
+            continue;
+        }
+        let mut style = if sec.diverges() {
+            Style::default().fg(Color::LightBlue)
+        } else {
+            Style::default().fg(Color::DarkGray)
+        };
+        if current == Some(i) {
+            style = style.add_modifier(Modifier::BOLD | Modifier::REVERSED);
+        }
+        lines.push(Line::from(Span::styled(
+            format!(
+                "{}: distance {}, LCS {} (A {}, B {}): {}",
+                sec.name,
+                sec.distance(),
+                sec.lcs(),
+                sec.a.len(),
+                sec.b.len(),
+                sec.summary()
+            ),
+            style,
+        )));
+    }
+    f.render_widget(
+        Paragraph::new(lines)
+            .block(block(title, false))
+            .wrap(Wrap { trim: false }),
+        area,
+    );
+}
+
+fn timeline_line(p: &Pane, letter: &str) -> Line<'static> {
+    let Some(s) = &p.session else {
+        return Line::from(Span::styled(
+            format!("{letter}: a tree (no run)"),
+            Style::default().fg(Color::DarkGray),
+        ));
+    };
+    let m = s.index.moment(p.pos);
+    let mut spans = vec![Span::raw(format!(
+        "{letter}: moment {m} · tick {} of {} · transition {} of {}",
+        m.tick,
+        s.index.ticks(),
+        p.pos,
+        s.index.transitions.len()
+    ))];
+    if p.pos > 0 {
+        let t = s.index.transitions[p.pos as usize - 1];
+        spans.push(Span::raw(format!(
+            "  #{} {} → ",
+            t.uid,
+            crate::text::visible(s.tree.description(t.uid))
+        )));
+        spans.push(Span::styled(
+            t.status.as_str(),
+            Style::default().fg(status_color(t.status)),
+        ));
+    }
+    Line::from(spans)
+}
+
+fn help(keymap: &Keymap, f: &mut Frame, area: Rect) {
+    let mut lines = vec![Line::from(Span::styled(
+        "Side-by-side diff (Han et al. Fig. 14)",
+        Style::default().add_modifier(Modifier::BOLD),
+    ))];
+    lines.push(Line::from(vec![
+        Span::styled("≠ leaf ", Style::default().bg(DIVERGENT).fg(Color::White)),
+        Span::raw(" a divergent action   "),
+        Span::styled("› parent ", Style::default().bg(PARENT).fg(Color::White)),
+        Span::raw(" its parent   "),
+        Span::styled("· leaf", Style::default().add_modifier(Modifier::ITALIC)),
+        Span::raw(" ran (or not) only because the runs had parted"),
+    ]));
+    lines.push(Line::from(""));
+    for (keys, action, help, _) in &keymap.keys {
+        use crate::tui::keymap::Action as A;
+        if matches!(
+            action,
+            A::Up
+                | A::Down
+                | A::NextDivergence
+                | A::PrevDivergence
+                | A::StepForward
+                | A::StepBack
+                | A::TickForward
+                | A::TickBack
+                | A::Start
+                | A::End
+                | A::Why
+                | A::Back
+                | A::Help
+                | A::Quit
+        ) {
+            let text = match action {
+                A::Why => "why did the runs diverge? (first divergence)",
+                A::Up | A::Down => "scroll both trees",
+                _ => help,
+            };
+            lines.push(Line::from(format!("{:<14} {text}", keys.join(", "))));
+        }
+    }
+    let w = 64.min(area.width);
+    let h = (lines.len() as u16 + 2).min(area.height);
+    let r = Rect::new(
+        area.x + (area.width - w) / 2,
+        area.y + (area.height - h) / 2,
+        w,
+        h,
+    );
+    f.render_widget(Clear, r);
+    f.render_widget(Paragraph::new(lines).block(block(" help ".into(), true)), r);
+}
+
+impl DiffShared {
+    fn step(&mut self, by: i64) {
+        for p in [&mut self.a, &mut self.b] {
+            p.go_to_pos((p.pos as i64 + by).clamp(0, p.len() as i64) as u32);
+        }
+        if self.a.session.is_none() && self.b.session.is_none() {
+            self.message = Some("two trees: there is no run to step through".into());
+        }
+    }
+
+    /// Moves the selection to the next (or previous) divergent edit, and
+    /// for runs, both timelines to the tick where it started.
+    fn jump(&mut self, forward: bool) {
+        let all = self.diff.divergences();
+        if all.is_empty() {
+            self.message = Some("no divergence: A and B do the same".into());
+            return;
+        }
+        let n = all.len();
+        let next = match (self.divergence, forward) {
+            (None, true) => 0,
+            (None, false) => n - 1,
+            (Some(i), true) => (i + 1) % n,
+            (Some(i), false) => (i + n - 1) % n,
+        };
+        self.divergence = Some(next);
+        let (s, i) = all[next];
+        let sec = &self.diff.sections[s];
+        let e = sec.edits[i];
+        let (ua, ub) = (e.a.map(|k| &sec.a[k]), e.b.map(|k| &sec.b[k]));
+        if let Some(r) = self.rows.iter().position(|r| {
+            ub.is_some_and(|x| r.b.is_some_and(|(u, _)| u == x.uid))
+                || ua.is_some_and(|x| r.a.is_some_and(|(u, _)| u == x.uid))
+        }) {
+            self.selected = r;
+        }
+        if let Some(t) = ub.and_then(|x| x.tick).or(ua.and_then(|x| x.tick)) {
+            self.a.go_to_tick(t);
+            self.b.go_to_tick(t);
+        }
+        let parting = if self.diff.parting_edit() == Some((s, i)) {
+            let here = if self.diff.parting_held {
+                "the runs part ways here"
+            } else {
+                "the first to differ after the runs part"
+            };
+            match self.diff.following().len() {
+                0 => format!(" ({here})"),
+                1 => format!(" ({here}; 1 step follows, ·)"),
+                k => format!(" ({here}; {k} steps follow, ·)"),
+            }
+        } else {
+            String::new()
+        };
+        self.message = Some(format!(
+            "divergence {} of {n}{parting}: {}",
+            next + 1,
+            self.diff.describe(s, i)
+        ));
+    }
+
+    /// "Why did they diverge?": the first transition where the runs differ,
+    /// asked in B's model of that tick with A's value as the foil. Both
+    /// timelines move to that transition.
+    fn ask_why(&mut self) {
+        let (Some(sa), Some(sb)) = (&self.a.session, &self.b.session) else {
+            self.message = Some("why they diverged is a question about two runs".into());
+            return;
+        };
+        if !crate::diff::same_shape(&sa.tree, &sb.tree) {
+            self.message =
+                Some("these runs are of different trees: no transition to compare".into());
+            return;
+        }
+        let domain = match crate::causal::session_domain(sb, None) {
+            Ok(d) => d,
+            Err(e) => {
+                self.message = Some(e.to_string());
+                return;
+            }
+        };
+        match crate::causal::compare::why_diverged(sa, sb, domain, 2) {
+            Ok(None) => self.answer = Some(crate::causal::compare::Diverged::SAME.into()),
+            Ok(Some(x)) => {
+                let i = x.difference.index as u32 + 1;
+                let text = x.text(&sb.tree, "");
+                self.a.go_to_pos(i);
+                self.b.go_to_pos(i);
+                self.answer = Some(text);
+            }
+            Err(e) => self.message = Some(e.to_string()),
+        }
+    }
+}
+
+/// The two trees, scrolled together by ↑↓.
+pub struct Trees;
+
+impl Component<DiffShared> for Trees {
+    fn key(&mut self, a: Action, sh: &mut DiffShared, _: bool) -> Handled {
+        let last = sh.rows.len().saturating_sub(1);
+        match a {
+            Action::Up => sh.selected = sh.selected.saturating_sub(1),
+            Action::Down => sh.selected = (sh.selected + 1).min(last),
+            _ => return Handled::Ignored,
+        }
+        Handled::Taken
+    }
+
+    fn hints(&self, _: &DiffShared) -> Hints {
+        Hints::Keys(&[(Action::Down, "scroll both trees")])
+    }
+
+    fn draw(&self, sh: &DiffShared, f: &mut Frame, area: Rect, _: bool) {
+        let top = Layout::default()
+            .direction(Direction::Horizontal)
+            .constraints([Constraint::Percentage(50), Constraint::Percentage(50)])
+            .split(area);
+        tree_pane(sh, 0, f, top[0]);
+        tree_pane(sh, 1, f, top[1]);
+    }
+}
+
+/// The edits by subgoal, or the answer to "why did they diverge?": d and
+/// D jump between divergences, w asks why, Esc closes the answer.
+pub struct Summary;
+
+impl Component<DiffShared> for Summary {
+    fn key(&mut self, a: Action, sh: &mut DiffShared, _: bool) -> Handled {
+        match a {
+            Action::Back => sh.answer = None,
+            Action::NextDivergence => sh.jump(true),
+            Action::PrevDivergence => sh.jump(false),
+            Action::Why => sh.ask_why(),
+            _ => return Handled::Ignored,
+        }
+        Handled::Taken
+    }
+
+    fn hints(&self, _: &DiffShared) -> Hints {
+        Hints::Keys(&[
+            (Action::NextDivergence, "next divergence"),
+            (Action::Why, "why did they diverge?"),
+        ])
+    }
+
+    fn draw(&self, sh: &DiffShared, f: &mut Frame, area: Rect, _: bool) {
+        summary_pane(sh, f, area)
+    }
+}
+
+/// The two timelines, moved together: a step, a tick, the start, the end.
+pub struct Timelines;
+
+impl Component<DiffShared> for Timelines {
+    fn key(&mut self, a: Action, sh: &mut DiffShared, _: bool) -> Handled {
+        match a {
+            Action::StepForward => sh.step(1),
+            Action::StepBack => sh.step(-1),
+            Action::TickForward | Action::TickBack => {
+                if let Some(m) = sh.a.moment().or(sh.b.moment()) {
+                    let t = if a == Action::TickForward {
+                        m.tick + 1
+                    } else {
+                        m.tick.saturating_sub(1)
+                    };
+                    sh.a.go_to_tick(t);
+                    sh.b.go_to_tick(t);
+                }
+            }
+            Action::Start => {
+                sh.a.go_to_tick(1);
+                sh.b.go_to_tick(1);
+                sh.selected = 0;
+            }
+            Action::End => {
+                sh.a.go_to_pos(sh.a.len());
+                sh.b.go_to_pos(sh.b.len());
+            }
+            _ => return Handled::Ignored,
+        }
+        Handled::Taken
+    }
+
+    fn hints(&self, _: &DiffShared) -> Hints {
+        Hints::Keys(&[(Action::StepForward, "step"), (Action::TickForward, "tick")])
+    }
+
+    fn draw(&self, sh: &DiffShared, f: &mut Frame, area: Rect, _: bool) {
+        f.render_widget(
+            Paragraph::new(vec![timeline_line(&sh.a, "A"), timeline_line(&sh.b, "B")]),
+            area,
+        );
+    }
+}
+
+/// The diff's keys, over the panes: ↑↓ keep it open, any other key closes
+/// it.
+pub struct DiffHelp {
+    /// The keys in force, as the help lists them.
+    pub keymap: Keymap,
+}
+
+impl Component<DiffShared> for DiffHelp {
+    fn key(&mut self, a: Action, _: &mut DiffShared, _: bool) -> Handled {
+        if matches!(a, Action::Up | Action::Down) {
+            Handled::Taken
+        } else {
+            Handled::Close
+        }
+    }
+
+    fn hints(&self, _: &DiffShared) -> Hints {
+        Hints::Text("Esc or ? closes the help")
+    }
+
+    fn draw(&self, _: &DiffShared, f: &mut Frame, area: Rect, _: bool) {
+        help(&self.keymap, f, area)
+    }
+}

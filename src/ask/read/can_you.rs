@@ -75,7 +75,8 @@ fn free_words<'s>(s: &'s Sentence<'_>) -> Vec<(usize, &'s Word)> {
             // "to" and "know" lead other questions ("I want to know"),
             // and are words of the openings here ("able to").
             (!LEAD.contains(&w.text.as_str()) || ["to", "know"].contains(&w.text.as_str()))
-                && !["the", "a", "an", "this", "that"].contains(&w.text.as_str())
+                && !["the", "a", "an", "this", "that", "your", "ur", "our", "my"]
+                    .contains(&w.text.as_str())
                 // "robot, can you pick a screw": the robot addressed.
                 && (*i != 0 || !["robot", "bot"].contains(&w.text.as_str()))
         })

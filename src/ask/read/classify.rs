@@ -192,6 +192,8 @@ fn recovered(c: &Cues) -> Option<Readings> {
         s.phrase(&["on", "track"]).is_some() || s.phrase(&["back", "to", "normal"]).is_some();
     if !c.how
         && !c.why
+        // "Recoveries done, what comes next?" asks what comes next.
+        && !s.has("next")
         // "L0 failed, but did the tree recover?": the question after "but".
         && (c.yes_no
             // "In the end, did the robot recover?".
@@ -273,7 +275,9 @@ fn purpose(c: &Cues) -> Option<Readings> {
         return None;
     }
     let current = c.doing_words || s.has("now") || s.has("current") || s.has_stem(&["action"]);
-    if c.whole && !current && c.named.is_empty() && !c.how {
+    // "What is this tree for?": the whole's purpose.
+    let whole = c.whole || s.has("tree") || s.has("bt");
+    if whole && !current && c.named.is_empty() && !c.how {
         return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Goal)), 0.9);
     }
     if matches!(c.ev, None | Some(Event::Run)) && (current || !c.named.is_empty()) {
@@ -681,6 +685,8 @@ fn asks_subgoal(c: &Cues) -> bool {
         || s.phrase(&["sub", "task"]).is_some()
         || s.phrase(&["intermediate", "goal"]).is_some()
         || s.phrase(&["current", "step"]).is_some()
+        // "Which step of the patrol is it on?".
+        || s.has("which") && s.has_stem(&["step"]) && s.has("on")
         || stage && c.named.is_empty() && (c.what || s.has("which"))
 }
 
@@ -733,7 +739,12 @@ fn how_achieved(c: &Cues) -> Option<Readings> {
         return None;
     }
     let goal_named = c.s.nodes.iter().any(|m| m.uids == [c.root]);
-    if asks_subgoal(c) && (steps || c.how) {
+    // "How does it achieve what it's working on now?", "how does it
+    // achieve the watch and walk bit?": the part it is in, or a part named.
+    let now = c.now_words && !c.whole && c.named.is_empty();
+    let part_named =
+        matches!(&c.named[..], [m] if m.uids.iter().all(|&u| !c.tree.node(u).kind.is_leaf()));
+    if (asks_subgoal(c) || now || part_named && c.how && !goal_named) && (steps || c.how) {
         return c.only(
             Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
             0.93,
@@ -827,7 +838,10 @@ fn doing(c: &Cues) -> Option<Readings> {
     let doing = c.doing_words
         || s.has_stem(&["happen", "run", "execut", "act", "action", "behavior"])
         || s.has_prefix(&["doin"]);
-    (doing && (c.what || s.empty() || c.first == "current") && c.named.is_empty())
+    // "What is it doing now, looking at the chuck again?": the names are
+    // the asker's guess; the question is what it does.
+    let guessed = s.has("doing") && c.what && !c.why && !c.how;
+    (doing && (c.what || s.empty() || c.first == "current") && (c.named.is_empty() || guessed))
         .then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Doing)), 0.93))?
 }
 

@@ -242,10 +242,13 @@ impl Vocabulary {
                     continue;
                 }
                 // "Why did it go back to planning": moving again, not BackUp.
+                // "Went straight back to": an adverb may come between.
+                let moved = |k: usize| MOVES_BACK.contains(&q[k].text.as_str());
+                let adverb = |k: usize| ["straight", "right", "just"].contains(&q[k].text.as_str());
                 if span.len() == 1
                     && span[0].text == "back"
                     && i > 0
-                    && MOVES_BACK.contains(&q[i - 1].text.as_str())
+                    && (moved(i - 1) || i > 1 && adverb(i - 1) && moved(i - 2))
                 {
                     continue;
                 }

@@ -447,6 +447,18 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     if whole.as_ref().is_some_and(|r| r.confidence >= SURE) {
         return whole;
     }
+    // "Final status is SUCCESS but two nodes are red, did anything go
+    // wrong": where nothing of the whole is read, the question after the
+    // story's comma, read surely (where the whole is read, the words before
+    // the comma say what it is about: "the ask about the large gear, when
+    // was it triggered?").
+    if whole.is_none() && asked.as_ref().is_none_or(|q| q.confidence < SURE) {
+        if let Some(a) =
+            asked_after_a_comma(vocabulary, tree, text).filter(|a| a.confidence >= SURE)
+        {
+            return Some(a);
+        }
+    }
     match (whole, asked) {
         (Some(w), Some(a)) if a.confidence <= w.confidence => Some(w),
         // The moment the story told ("… returned FAILURE at tick 10. Why
@@ -457,6 +469,24 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         }
         (w, a) => a.or(w),
     }
+}
+
+/// The surest reading of what follows a comma where a question opens
+/// there ("…, can the taxi move down", "…, what is it doing now").
+fn asked_after_a_comma(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
+    const OPENS: &[&str] = &[
+        "what", "whats", "what's", "why", "how", "when", "which", "where", "did", "does", "do",
+        "is", "was", "were", "are", "can", "could", "has", "have", "will", "would",
+    ];
+    text.match_indices(", ")
+        .map(|(i, _)| &text[i + 2..])
+        .filter(|rest| {
+            rest.split_whitespace()
+                .next()
+                .is_some_and(|w| OPENS.contains(&w.to_lowercase().as_str()))
+        })
+        .filter_map(|rest| read_one(vocabulary, tree, rest))
+        .reduce(|a, b| if b.confidence > a.confidence { b } else { a })
 }
 
 /// The questions a text of several sentences asks: each sentence that

@@ -500,7 +500,11 @@ fn handled(c: &Cues) -> Option<Readings> {
         || s.phrase(&["do", "about"]).is_some()
         || s.phrase(&["did", "about"]).is_some()
         || s.phrase(&["done", "about"]).is_some()
-        || (c.what && s.has_prefix(&["recover"]) && c.named.is_empty() && !asks_steps(c))
+        || (c.what
+            && s.has_prefix(&["recover"])
+            && c.named.is_empty()
+            && !asks_steps(c)
+            && !s.has("next"))
     {
         return c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93);
     }

@@ -205,8 +205,9 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         || s.phrase(&["what", "time"]).is_some()
         || s.phrase(&["which", "tick"]).is_some()
         || s.phrase(&["what", "tick"]).is_some()
-        || s.phrase(&["which", "step"]).is_some()
-        || s.phrase(&["what", "step"]).is_some()
+        // "Which step did it fail at?", not "which step is it on?".
+        || (s.phrase(&["which", "step"]).is_some() || s.phrase(&["what", "step"]).is_some())
+            && !s.has("on")
         || s.phrase(&["at", "what", "point"]).is_some()
         // "list the ticks where it failed".
         || (s.has("tick") || s.has("ticks"))

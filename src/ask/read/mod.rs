@@ -633,14 +633,22 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
         .windows(2)
         .any(|p| p[0].text == "should" && ["i", "we"].contains(&p[1].text.as_str()))
         || q.iter().any(|w| ADVICE.contains(&w.text.as_str()));
+    // "How much battery did it burn?": an amount the run does not hold
+    // ("how much time" it does).
+    let amount = q.windows(3).any(|p| {
+        p[0].text == "how"
+            && p[1].text == "much"
+            && !["time", "longer"].contains(&p[2].text.as_str())
+    });
     advice
         || s.nodes
             .iter()
             .filter(|m| !m.weak)
             .all(|m| m.uids == [tree.root().uid])
-            && q.iter()
-                .enumerate()
-                .any(|(i, w)| !in_mention[i] && about_the_world(&w.text))
+            && (amount
+                || q.iter()
+                    .enumerate()
+                    .any(|(i, w)| !in_mention[i] && about_the_world(&w.text)))
 }
 
 /// What the sentence asks, best first: read with its strong mentions;

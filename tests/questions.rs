@@ -14,7 +14,9 @@
 //! corpus8 until `corpus9.jsonl` (280 by a ninth, who checked each label
 //! against the run's tree and log with a script of their own), corpus9
 //! until `corpus10.jsonl` (280 by a tenth, asked for sloppy, long,
-//! incident-time wording, labels checked the same way); corpus10 is never
+//! incident-time wording, labels checked the same way), corpus10 until
+//! `corpus11.jsonl` (280 by an eleventh, asked for a mix of careful
+//! engineers, hurried operators and forum posters); corpus11 is never
 //! tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
@@ -460,26 +462,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus7.jsonl",
             "corpus8.jsonl",
             "corpus9.jsonl",
+            "corpus10.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus9 (tuned on)", &t3);
-    let t = tally(&["corpus10.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus10)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus10 (tuned on)", &t3);
+    let t = tally(&["corpus11.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus11)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 2_040 && t.total >= 280,
+        t3.total >= 2_320 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus9: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus10: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -496,11 +499,11 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus9 as tuned on (92.3 % understood, 3.5 % misread; first
+/// corpus3 to corpus10 as tuned on (91.3 % understood, 3.8 % misread; first
 /// read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %,
-/// 69.3 %/10.0 %, 83.6 %/9.6 % and 95.0 %/1.8 %), and corpus10, never tuned
-/// on (78.2 % and 8.2 % when it was first read).
-const C3_FLOOR: f64 = 92.1;
-const C3_MISREAD: f64 = 3.6;
-const FRESH_FLOOR: f64 = 78.0;
-const FRESH_MISREAD: f64 = 8.4;
+/// 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 % and 78.2 %/8.2 %), and
+/// corpus11, never tuned on (91.1 % and 5.4 % when it was first read).
+const C3_FLOOR: f64 = 91.1;
+const C3_MISREAD: f64 = 3.9;
+const FRESH_FLOOR: f64 = 90.9;
+const FRESH_MISREAD: f64 = 5.6;

@@ -244,7 +244,10 @@ fn how_often(c: &Cues) -> Option<Readings> {
 /// "When did X first fail?".
 fn when_it_happened(c: &Cues) -> Option<Readings> {
     let s = c.s;
-    if !c.when_q || c.why || c.after_failure || c.how_handled {
+    // "When the retries ran out, what did the tree do about it?": the
+    // "when" says which failure; what was done about it is asked.
+    let done_about = s.phrase(&["do", "about"]).is_some() || s.phrase(&["done", "about"]).is_some();
+    if !c.when_q || c.why || c.after_failure || c.how_handled || done_about {
         return None;
     }
     let node = c.subject();
@@ -352,9 +355,15 @@ fn why_not(c: &Cues) -> Option<Readings> {
         && s.q[c.named[0].end..c.named[1].start]
             .iter()
             .any(|w| w.text == "not" || w.text == "never");
+    // "Why was X never executed even though the controller failed?": what
+    // is granted is no side of a contrast.
+    let granted = s.phrase(&["even", "though"]).is_some()
+        || s.has("although")
+        || s.has("despite")
+        || s.phrase(&["even", "if"]).is_some();
     let contrast = s.phrase(&["instead", "of"]).is_some()
         || s.phrase(&["rather", "than"]).is_some()
-        || not_between
+        || not_between && !granted
         || s.has("over")
         || s.has("vs")
         || s.has("versus");
@@ -708,7 +717,12 @@ fn asks_goal(s: &Sentence) -> bool {
 
 fn asks_steps(c: &Cues) -> bool {
     let s = c.s;
+    // "At this step": a moment, not the steps.
+    let this_step = ["this", "that", "current", "which"]
+        .iter()
+        .any(|w| s.phrase(&[w, "step"]).is_some());
     !s.has("doing")
+        && !this_step
         && s.has_stem(&[
             "step", "plan", "procedur", "strategi", "approach", "outlin", "recip", "method",
             "mechan", "breakdown",

@@ -355,6 +355,10 @@ fn about_the_world(word: &str) -> bool {
         "lighting",
         "algorithm",
         "launch",
+        "hardware",
+        "engine",
+        "fence",
+        "safe",
     ];
     WORLD.contains(&word)
 }

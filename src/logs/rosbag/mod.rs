@@ -6,11 +6,16 @@
 //! caller gives the tree the robot ran. Every goal (the root starting
 //! again after it stopped) is a run of its own.
 
+mod mcap_file;
+mod sqlite;
+
 use super::btlog::Record;
 use super::cdr::{Definitions, Slot, SlotKind, Value};
 use crate::model::{Tree, Uid};
 use crate::run::Status;
 use crate::source::Located;
+use mcap_file::*;
+use sqlite::*;
 use std::path::{Path, PathBuf};
 
 /// The type of the topic's messages.
@@ -55,10 +60,6 @@ pub struct BagRecords {
 /// The status changes read of one bag at most (32 bytes each, then the
 /// session's index): past them the rest is said, not read.
 pub const BAG_TRANSITIONS_MAX: usize = 10_000_000;
-/// An MCAP chunk decompresses to at most this (rosbag2 writes chunks of
-/// about 768 KiB): a chunk that claims more is refused before it is
-/// decompressed.
-pub const MCAP_CHUNK_MAX: u64 = 256 << 20;
 
 /// Whether `path` is a bag: a directory with `metadata.yaml`, an MCAP
 /// file, or a SQLite file with rosbag2's tables.
@@ -250,82 +251,6 @@ pub fn log_topics(path: &Path) -> Result<Vec<String>, Located> {
     Ok(logs)
 }
 
-fn is_mcap(file: &Path) -> bool {
-    std::fs::File::open(file)
-        .and_then(|mut f| {
-            let mut h = [0u8; 8];
-            std::io::Read::read_exact(&mut f, &mut h).map(|()| h)
-        })
-        .is_ok_and(|h| h == MCAP_MAGIC)
-}
-
-/// Every topic of a `.db3` and its type.
-fn db3_topics(file: &Path) -> Result<Vec<(String, String)>, Located> {
-    let sql = |e: rusqlite::Error| Located::file(file, format!("table topics: {e}"));
-    let (conn, _copy) = super::db3::open_read_only(file)?;
-    let mut st = conn
-        .prepare("SELECT name, type FROM topics ORDER BY id")
-        .map_err(sql)?;
-    let rows = st
-        .query_map([], |r| Ok((r.get(0)?, r.get(1)?)))
-        .map_err(sql)?;
-    rows.collect::<Result<_, _>>().map_err(sql)
-}
-
-/// Every topic of an MCAP and its type: from its summary, or else from
-/// its channels in order (as far as the file is whole).
-fn mcap_topics(file: &Path) -> Result<Vec<(String, String)>, Located> {
-    use mcap::records::Record;
-    let bytes = crate::source::read_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
-    let name_of = |schema: Option<&std::sync::Arc<mcap::Schema>>| {
-        schema.map_or(String::new(), |s| s.name.clone())
-    };
-    if let Ok(Some(summary)) = mcap::Summary::read(&bytes) {
-        if !summary.channels.is_empty() {
-            let mut ch: Vec<_> = summary.channels.values().collect();
-            ch.sort_by_key(|c| c.id);
-            return Ok(ch
-                .into_iter()
-                .map(|c| (c.topic.clone(), name_of(c.schema.as_ref())))
-                .collect());
-        }
-    }
-    let reader = mcap::read::LinearReader::new_with_options(
-        &bytes,
-        mcap::read::Options::IgnoreEndMagic.into(),
-    )
-    .map_err(|e| Located::file(file, format!("not a readable MCAP file: {e}")))?;
-    let mut schemas = std::collections::HashMap::new();
-    let mut topics = Vec::new();
-    let mut take = |r: Record| match r {
-        Record::Schema { header, .. } => {
-            schemas.insert(header.id, header.name);
-        }
-        Record::Channel(c) => {
-            let ty = schemas.get(&c.schema_id).cloned().unwrap_or_default();
-            topics.push((c.topic, ty));
-        }
-        _ => {}
-    };
-    for rec in reader {
-        // Past a cut, the topics before it are the bag's (`read` says the cut).
-        let Ok(rec) = rec else { break };
-        match rec {
-            Record::Chunk { header, data } if header.uncompressed_size <= MCAP_CHUNK_MAX => {
-                let Ok(inner) = mcap::read::ChunkReader::new(header, &data) else {
-                    break;
-                };
-                for r in inner.map_while(Result::ok) {
-                    take(r);
-                }
-            }
-            Record::DataEnd(_) | Record::Footer(_) => break,
-            r => take(r),
-        }
-    }
-    Ok(topics)
-}
-
 fn too_many(m: &Matcher) -> String {
     format!(
         "the bag holds more than {} status changes: btx read the first {} (to {}), not the rest",
@@ -354,20 +279,6 @@ fn cut_short(m: &Matcher, why: &str) -> String {
         (true, None) => "the bag ends in the middle of a record, before any message of Nav2's log was whole: a recorder stopped".into(),
         (false, Some(at)) => format!("the bag cannot be read past its last whole record{at} ({why}): read up to there"),
         (false, None) => format!("the bag cannot be read ({why}) before any message of Nav2's log"),
-    }
-}
-
-/// Said of a `.db3` shorter than its header says (a copy or a disk that
-/// ran out): read in the order written, up to its first page lost.
-fn db3_cut(m: &Matcher, len: u64, whole: u64) -> String {
-    match m.records.last() {
-        Some(r) => format!(
-            "the bag's database ends at byte {len} of the {whole} its header says, after the change at {}: the file was cut short; read up to there",
-            &crate::clock::utc(r.time_us)[11..]
-        ),
-        None => format!(
-            "the bag's database ends at byte {len} of the {whole} its header says, before any message of Nav2's log: the file was cut short"
-        ),
     }
 }
 
@@ -516,294 +427,6 @@ fn take_message(v: &Value, message: usize, m: &mut Matcher) -> Result<(), Locate
         m.take(&change, message)?;
     }
     Ok(())
-}
-
-/// The bag's log topic, and where it is cut short if it is.
-fn read_db3(
-    file: &Path,
-    m: &mut Matcher,
-    want: Option<&str>,
-) -> Result<(String, Option<String>), Located> {
-    let fail = |m: String| Located::file(file, m);
-    let cut = super::db3::cut_short(file);
-    let note = cut.map_or(String::new(), |c| c.note());
-    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}{note}"));
-    let (conn, _copy) = super::db3::open_read_only(file)?;
-    let topics: Vec<(i64, String, String)> = {
-        let mut st = conn
-            .prepare("SELECT id, name, type FROM topics")
-            .map_err(|e| sql("table topics", e))?;
-        let rows = st
-            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
-            .map_err(|e| sql("table topics", e))?;
-        rows.collect::<Result<_, _>>()
-            .map_err(|e| sql("table topics", e))?
-    };
-    let topic = log_topic(
-        file,
-        topics.iter().map(|(_, n, t)| (n.as_str(), t.as_str())),
-        want,
-    )?;
-    let id = topics.iter().find(|t| t.1 == topic).map_or(0, |t| t.0);
-    // From Iron on, the bag keeps each type's definition.
-    let definition: Option<String> = conn
-        .query_row(
-            "SELECT encoded_message_definition FROM message_definitions WHERE topic_type = ?1",
-            [LOG_TYPE],
-            |r| r.get(0),
-        )
-        .ok();
-    // A file cut short has lost pages of the time index too: its rows are
-    // read in the order the recorder wrote them, up to the cut.
-    let order = if cut.is_some() { "id" } else { "timestamp, id" };
-    let mut st = conn
-        .prepare(&format!(
-            "SELECT data FROM messages WHERE topic_id = ?1 ORDER BY {order}"
-        ))
-        .map_err(|e| sql("table messages", e))?;
-    let mut rows = st
-        .query_map([id], |r| r.get::<_, Vec<u8>>(0))
-        .map_err(|e| sql("table messages", e))?
-        .peekable();
-    let first = match rows.peek() {
-        Some(Ok(b)) => Some(b.clone()),
-        _ => None,
-    };
-    let said = |m: &Matcher, e: Option<rusqlite::Error>| match cut {
-        Some(c) => db3_cut(m, c.len, c.whole),
-        None => cut_short(m, &e.map_or(String::new(), |e| e.to_string())),
-    };
-    if first.is_none() && cut.is_some() {
-        return Err(fail(said(m, None)));
-    }
-    let defs = m.definitions(file, &topic, definition.as_deref(), first.as_deref())?;
-    for r in rows {
-        let data = match r {
-            Ok(d) => d,
-            // A page past the last one read is damaged: the rows before it
-            // are the run so far.
-            Err(e) if m.messages > 0 => return Ok((topic, Some(said(m, Some(e))))),
-            Err(e) => return Err(sql("table messages", e)),
-        };
-        m.message(&defs, &data)?;
-        if m.full() {
-            break;
-        }
-    }
-    Ok((topic, cut.map(|_| said(m, None))))
-}
-
-/// An MCAP file read in order, record by record, as its specification
-/// describes for a file with no summary: a file cut short (a recorder
-/// killed) is read up to its last whole record, and what follows is said.
-fn read_mcap(
-    file: &Path,
-    m: &mut Matcher,
-    want: Option<&str>,
-) -> Result<(String, Option<String>), Located> {
-    use mcap::records::Record;
-    let mut st = McapLog {
-        file,
-        want,
-        schemas: Default::default(),
-        topics: Vec::new(),
-        log: None,
-        defs: None,
-    };
-    let mut ended = false;
-    let (len, error) = mcap_records(file, |rec| {
-        match rec {
-            Record::Chunk { header, data } => {
-                if header.uncompressed_size > MCAP_CHUNK_MAX {
-                    return Err(Located::file(
-                        file,
-                        format!(
-                            "an MCAP chunk claims {} bytes decompressed, more than the {} MiB btx reads in one chunk (rosbag2 writes chunks of about 768 KiB)",
-                            header.uncompressed_size,
-                            MCAP_CHUNK_MAX >> 20
-                        ),
-                    ));
-                }
-                let inner = mcap::read::ChunkReader::new(header, &data)
-                    .map_err(|e| Located::file(file, format!("MCAP chunk: {e}")))?;
-                for r in inner {
-                    let r = r.map_err(|e| Located::file(file, format!("MCAP chunk: {e}")))?;
-                    st.take(r, m)?;
-                    if m.full() {
-                        break;
-                    }
-                }
-            }
-            Record::DataEnd(_) | Record::Footer(_) => ended = true,
-            r => st.take(r, m)?,
-        }
-        Ok(!m.full() && !ended)
-    })?;
-    if m.full() {
-        return Ok((st.topic()?, None));
-    }
-    let cut = match error {
-        Some(e) => Some(cut_short(m, &e)),
-        None if !ended => Some(cut_short(m, "")),
-        None => None,
-    };
-    // Where: the file's end, a byte offset the user can check.
-    let cut = cut.map(|c| format!("byte offset {len}: {c}"));
-    if let (Some(c), 0) = (&cut, m.messages) {
-        // Nothing whole to read: the cut is what there is to say.
-        return Err(Located::file(file, c.clone()));
-    }
-    Ok((st.topic()?, cut))
-}
-
-/// An MCAP file's records in order, as its specification describes for a
-/// file with no summary, read a piece at a time (the bag is never held
-/// whole: a chunk at most, with its records), chunks given whole to `take`
-/// until it says stop. The file's length, and the error a cut file (a
-/// recorder killed) ends in, if any.
-fn mcap_records(
-    file: &Path,
-    mut take: impl FnMut(mcap::records::Record<'_>) -> Result<bool, Located>,
-) -> Result<(u64, Option<String>), Located> {
-    use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
-    use std::io::Read;
-    let len = crate::source::check_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
-    let cannot = |e: std::io::Error| Located::file(file, format!("cannot read the bag: {e}"));
-    let mut f = std::fs::File::open(file).map_err(cannot)?;
-    let options = LinearReaderOptions::default()
-        .with_skip_end_magic(true)
-        .with_emit_chunks(true)
-        // A chunk's compressed bytes: past what it may decompress to, and
-        // a margin, a length is a broken file, not an allocation.
-        .with_record_length_limit((MCAP_CHUNK_MAX + (1 << 20)) as usize);
-    let mut reader = LinearReader::new_with_options(options);
-    let mut read_any = false;
-    while let Some(event) = reader.next_event() {
-        match event {
-            Ok(LinearReadEvent::ReadRequest(need)) => {
-                let n = f.read(reader.insert(need.max(1 << 16))).map_err(cannot)?;
-                reader.notify_read(n);
-            }
-            Ok(LinearReadEvent::Record { opcode, data }) => {
-                let record = match mcap::parse_record(opcode, data) {
-                    Ok(r) => r,
-                    Err(e) => return Ok((len, Some(e.to_string()))),
-                };
-                read_any = true;
-                if !take(record)? {
-                    return Ok((len, None));
-                }
-            }
-            Err(mcap::McapError::BadMagic) if !read_any => {
-                return Err(Located::file(
-                    file,
-                    format!("not a readable MCAP file: {}", mcap::McapError::BadMagic),
-                ))
-            }
-            Err(e) => return Ok((len, Some(e.to_string()))),
-        }
-    }
-    Ok((len, None))
-}
-
-/// What an MCAP's records said so far: schemas, channels, the log's.
-struct McapLog<'a> {
-    file: &'a Path,
-    want: Option<&'a str>,
-    /// By id: name, encoding, text.
-    schemas: std::collections::HashMap<u16, (String, String, Vec<u8>)>,
-    /// Every topic and its type, in the order they came.
-    topics: Vec<(String, String)>,
-    /// The log's channel, and its definitions once its first message came.
-    log: Option<LogChannel>,
-    defs: Option<LogDefs>,
-}
-
-struct LogChannel {
-    id: u16,
-    topic: String,
-    /// Its schema's text, where the bag carries one.
-    text: Option<String>,
-}
-
-impl McapLog<'_> {
-    fn take(&mut self, r: mcap::records::Record, m: &mut Matcher) -> Result<(), Located> {
-        use mcap::records::Record;
-        match r {
-            Record::Schema { header, data } => {
-                self.schemas
-                    .insert(header.id, (header.name, header.encoding, data.into_owned()));
-            }
-            Record::Channel(c) => {
-                let ty = self
-                    .schemas
-                    .get(&c.schema_id)
-                    .map_or(String::new(), |s| s.0.clone());
-                if self.topics.iter().any(|(n, _)| *n == c.topic) {
-                    return Ok(());
-                }
-                self.topics.push((c.topic.clone(), ty.clone()));
-                if !is_log(&c.topic, &ty) {
-                    return Ok(());
-                }
-                let chosen = match self.want {
-                    Some(w) => w == c.topic,
-                    None if self.log.is_none() => true,
-                    None => {
-                        let logs: Vec<&str> = self
-                            .topics
-                            .iter()
-                            .filter(|(n, t)| is_log(n, t))
-                            .map(|(n, _)| n.as_str())
-                            .collect();
-                        return Err(several(self.file, &logs));
-                    }
-                };
-                if chosen {
-                    let text = self
-                        .schemas
-                        .get(&c.schema_id)
-                        .filter(|s| s.1 == "ros2msg")
-                        .map(|s| String::from_utf8_lossy(&s.2).into_owned());
-                    self.log = Some(LogChannel {
-                        id: c.id,
-                        topic: c.topic,
-                        text,
-                    });
-                }
-            }
-            Record::Message { header, data } => {
-                let Some(log) = &self.log else {
-                    return Ok(());
-                };
-                if header.channel_id != log.id {
-                    return Ok(());
-                }
-                if self.defs.is_none() {
-                    let defs =
-                        m.definitions(self.file, &log.topic, log.text.as_deref(), Some(&data))?;
-                    self.defs = Some(defs);
-                }
-                if let Some(d) = &self.defs {
-                    m.message(d, &data)?;
-                }
-            }
-            _ => {}
-        }
-        Ok(())
-    }
-
-    /// The log's topic, or why there is none.
-    fn topic(&self) -> Result<String, Located> {
-        match &self.log {
-            Some(l) => Ok(l.topic.clone()),
-            None => log_topic(
-                self.file,
-                self.topics.iter().map(|(n, t)| (n.as_str(), t.as_str())),
-                self.want,
-            ),
-        }
-    }
 }
 
 /// The name BehaviorTree.CPP gives a node: its instance name, else its ID.

@@ -1,0 +1,106 @@
+//! A rosbag2 SQLite storage file (`.db3`): its topics, where a file cut
+//! short ends, and its `behavior_tree_log` messages in order.
+
+use super::*;
+
+/// Every topic of a `.db3` and its type.
+pub(super) fn db3_topics(file: &Path) -> Result<Vec<(String, String)>, Located> {
+    let sql = |e: rusqlite::Error| Located::file(file, format!("table topics: {e}"));
+    let (conn, _copy) = crate::logs::db3::open_read_only(file)?;
+    let mut st = conn
+        .prepare("SELECT name, type FROM topics ORDER BY id")
+        .map_err(sql)?;
+    let rows = st
+        .query_map([], |r| Ok((r.get(0)?, r.get(1)?)))
+        .map_err(sql)?;
+    rows.collect::<Result<_, _>>().map_err(sql)
+}
+
+/// Said of a `.db3` shorter than its header says (a copy or a disk that
+/// ran out): read in the order written, up to its first page lost.
+pub(super) fn db3_cut(m: &Matcher, len: u64, whole: u64) -> String {
+    match m.records.last() {
+        Some(r) => format!(
+            "the bag's database ends at byte {len} of the {whole} its header says, after the change at {}: the file was cut short; read up to there",
+            &crate::clock::utc(r.time_us)[11..]
+        ),
+        None => format!(
+            "the bag's database ends at byte {len} of the {whole} its header says, before any message of Nav2's log: the file was cut short"
+        ),
+    }
+}
+
+/// The bag's log topic, and where it is cut short if it is.
+pub(super) fn read_db3(
+    file: &Path,
+    m: &mut Matcher,
+    want: Option<&str>,
+) -> Result<(String, Option<String>), Located> {
+    let fail = |m: String| Located::file(file, m);
+    let cut = crate::logs::db3::cut_short(file);
+    let note = cut.map_or(String::new(), |c| c.note());
+    let sql = |what: &str, e: rusqlite::Error| fail(format!("{what}: {e}{note}"));
+    let (conn, _copy) = crate::logs::db3::open_read_only(file)?;
+    let topics: Vec<(i64, String, String)> = {
+        let mut st = conn
+            .prepare("SELECT id, name, type FROM topics")
+            .map_err(|e| sql("table topics", e))?;
+        let rows = st
+            .query_map([], |r| Ok((r.get(0)?, r.get(1)?, r.get(2)?)))
+            .map_err(|e| sql("table topics", e))?;
+        rows.collect::<Result<_, _>>()
+            .map_err(|e| sql("table topics", e))?
+    };
+    let topic = log_topic(
+        file,
+        topics.iter().map(|(_, n, t)| (n.as_str(), t.as_str())),
+        want,
+    )?;
+    let id = topics.iter().find(|t| t.1 == topic).map_or(0, |t| t.0);
+    // From Iron on, the bag keeps each type's definition.
+    let definition: Option<String> = conn
+        .query_row(
+            "SELECT encoded_message_definition FROM message_definitions WHERE topic_type = ?1",
+            [LOG_TYPE],
+            |r| r.get(0),
+        )
+        .ok();
+    // A file cut short has lost pages of the time index too: its rows are
+    // read in the order the recorder wrote them, up to the cut.
+    let order = if cut.is_some() { "id" } else { "timestamp, id" };
+    let mut st = conn
+        .prepare(&format!(
+            "SELECT data FROM messages WHERE topic_id = ?1 ORDER BY {order}"
+        ))
+        .map_err(|e| sql("table messages", e))?;
+    let mut rows = st
+        .query_map([id], |r| r.get::<_, Vec<u8>>(0))
+        .map_err(|e| sql("table messages", e))?
+        .peekable();
+    let first = match rows.peek() {
+        Some(Ok(b)) => Some(b.clone()),
+        _ => None,
+    };
+    let said = |m: &Matcher, e: Option<rusqlite::Error>| match cut {
+        Some(c) => db3_cut(m, c.len, c.whole),
+        None => cut_short(m, &e.map_or(String::new(), |e| e.to_string())),
+    };
+    if first.is_none() && cut.is_some() {
+        return Err(fail(said(m, None)));
+    }
+    let defs = m.definitions(file, &topic, definition.as_deref(), first.as_deref())?;
+    for r in rows {
+        let data = match r {
+            Ok(d) => d,
+            // A page past the last one read is damaged: the rows before it
+            // are the run so far.
+            Err(e) if m.messages > 0 => return Ok((topic, Some(said(m, Some(e))))),
+            Err(e) => return Err(sql("table messages", e)),
+        };
+        m.message(&defs, &data)?;
+        if m.full() {
+            break;
+        }
+    }
+    Ok((topic, cut.map(|_| said(m, None))))
+}

@@ -106,7 +106,11 @@ fn what_if(c: &Cues) -> Option<Readings> {
 /// whether all is well.
 fn all_well_in_few_words(c: &Cues) -> Option<Readings> {
     let s = c.s;
+    // "Until now there is any problem?", "is all ok until here?".
     let so_far = s.phrase(&["so", "far"]).is_some()
+        || s.phrase(&["until", "now"]).is_some()
+        || s.phrase(&["until", "here"]).is_some()
+        || s.phrase(&["till", "now"]).is_some()
         || s.phrase(&["up", "to", "this", "point"]).is_some()
         || s.phrase(&["up", "to", "now"]).is_some();
     if (s.q.len() <= 3 || so_far)
@@ -201,7 +205,10 @@ fn recovered(c: &Cues) -> Option<Readings> {
             || s.has("manage")
             || s.has("managed")
             || c.first.starts_with("recover")
-            || s.phrase(&["but", "did"]).is_some())
+            || s.phrase(&["but", "did"]).is_some()
+            // "It recovered or not, after this fail at tick 10?", "robot was
+            // able to recover, or the mission failed finally?".
+            || (s.has("recover") || s.has("recovered")) && !c.what && !c.when_q)
         && (recovery_word
             || fixed_it
             || on_track
@@ -273,6 +280,8 @@ fn purpose(c: &Cues) -> Option<Readings> {
     let s = c.s;
     let purpose = s.has_stem(&["purpos", "reason"])
         || s.phrase(&["point", "of"]).is_some()
+        // "For what it runs the detect chuck action again?".
+        || c.first == "for" && s.phrase(&["for", "what"]).is_some()
         || c.what && s.q.last().is_some_and(|w| w.text == "for");
     if !purpose || c.why {
         return None;
@@ -362,6 +371,8 @@ fn why_not(c: &Cues) -> Option<Readings> {
         || s.has("despite")
         || s.phrase(&["even", "if"]).is_some();
     let contrast = s.phrase(&["instead", "of"]).is_some()
+        // "Why is L2 done here instead L1?".
+        || s.has("instead") && c.named.len() >= 2
         || s.phrase(&["rather", "than"]).is_some()
         || not_between && !granted
         || s.has("over")
@@ -438,7 +449,11 @@ fn why_doing_now(c: &Cues) -> Option<Readings> {
     let now = s.has("now") && !["did", "was", "were", "had"].iter().any(|w| s.has(w));
     // "Why does it look at the chuck roughly again?": the present of a
     // node named, as "why is it looking at …".
-    let present = s.phrase(&["why", "does"]).is_some() && !c.named.is_empty() && c.ev.is_none();
+    let present = (s.phrase(&["why", "does"]).is_some()
+        // "Why it runs the CaseStudySequence at the moment?".
+        || s.phrase(&["why", "it"]).is_some() && c.now_words)
+        && !c.named.is_empty()
+        && c.ev.is_none();
     ((progressive(s) || now || present)
         && matches!(c.ev, None | Some(Event::Run) | Some(Event::KeepRunning)))
     .then(|| {
@@ -555,7 +570,7 @@ fn next(c: &Cues) -> Option<Readings> {
                         .iter()
                         .map(|w| w.text.as_str())
                         .eq(["now", "what"])
-                || s.has("will") && s.has("do") && c.what
+                || s.has("will") && s.has("do") && c.what && !c.how
                 || s.phrase(&["plan", "to", "do"]).is_some());
     next.then(|| vec![(Intent::Next, c.sure_of_words(0.93))])
 }

@@ -70,7 +70,10 @@ impl<'a, 's> Cues<'a, 's> {
             why,
             what,
             // "How much does it cost", "how much RAM": an amount, never the steps.
-            how: s.has("how") && s.phrase(&["how", "much"]).is_none(),
+            // "In which way it accomplishes …", "by what way does it reach …".
+            how: s.has("how") && s.phrase(&["how", "much"]).is_none()
+                || s.phrase(&["which", "way"]).is_some()
+                || s.phrase(&["what", "way"]).is_some(),
             problem,
             fine: s.has_stem(&[
                 "ok", "fine", "good", "alright", "smooth", "normal", "nomin", "healthi", "healthy",

@@ -359,6 +359,9 @@ fn about_the_world(word: &str) -> bool {
         "engine",
         "fence",
         "safe",
+        "wrote",
+        "author",
+        "team",
     ];
     WORLD.contains(&word)
 }

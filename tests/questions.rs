@@ -21,8 +21,11 @@
 //! is good but not idiomatic), corpus12 until `corpus13.jsonl` (280 by a
 //! thirteenth, each question from one of the tool's users: a Nav2
 //! integrator, a cell operator, a student of the papers, a game-AI
-//! programmer, a QA engineer, a manager); corpus13 is never tuned on: its
-//! figures are the fresh ones, and its
+//! programmer, a QA engineer, a manager), corpus13 until `corpus14.jsonl`
+//! (280 by a fourteenth, asked for users who quote the log beside the chat
+//! (uids, statuses in capitals, moments as the log prints them, XML tags)
+//! and for follow-ups in a running conversation); corpus14 is never tuned
+//! on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
 //!
@@ -470,26 +473,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus10.jsonl",
             "corpus11.jsonl",
             "corpus12.jsonl",
+            "corpus13.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus12 (tuned on)", &t3);
-    let t = tally(&["corpus13.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus13)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus13 (tuned on)", &t3);
+    let t = tally(&["corpus14.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus14)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 2_880 && t.total >= 280,
+        t3.total >= 3_160 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus12: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus13: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -506,12 +510,12 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus12 as tuned on (91.9 % understood, 3.7 % misread; first
+/// corpus3 to corpus13 as tuned on (91.9 % understood, 3.8 % misread; first
 /// read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %,
-/// 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %, 78.2 %/8.2 %, 91.1 %/5.4 %
-/// and 88.6 %/6.4 %), and corpus13, never tuned on (92.1 % and 4.6 % when
-/// it was first read).
+/// 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %, 78.2 %/8.2 %, 91.1 %/5.4 %,
+/// 88.6 %/6.4 % and 92.1 %/4.6 %), and corpus14, never tuned on (83.6 %
+/// and 11.1 % when it was first read).
 const C3_FLOOR: f64 = 91.7;
-const C3_MISREAD: f64 = 3.8;
-const FRESH_FLOOR: f64 = 91.9;
-const FRESH_MISREAD: f64 = 4.8;
+const C3_MISREAD: f64 = 3.9;
+const FRESH_FLOOR: f64 = 83.4;
+const FRESH_MISREAD: f64 = 11.3;

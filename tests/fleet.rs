@@ -343,8 +343,8 @@ fn duckdb_reads_the_export_of_a_thousand_runs_to_the_same_figures() {
         let from_transitions = d["failed_in_from_transitions"][&uid].as_u64().unwrap_or(0);
         assert_eq!(n["failed_in"], from_transitions, "#{uid}");
     }
-    // The ticks, steps and times of the runs a .btlog timed, row for row
-    // as `btx log` gives them.
+    // The ticks, steps, times, nodes and statuses of the runs a .btlog
+    // timed, row for row as `btx log` gives them.
     let logs = d["log_rows"].as_object().unwrap();
     assert_eq!(logs.len(), 1000 / sources.len());
     for (run, rows) in logs {
@@ -356,7 +356,17 @@ fn duckdb_reads_the_export_of_a_thousand_runs_to_the_same_figures() {
             .map(|t| serde_json::json!([t["tick"], t["step"], t["uid"], t["time_us"]]))
             .collect();
         assert!(want.len() > 10, "{run}");
-        assert_eq!(rows.as_array().unwrap(), &want, "{run}");
+        assert_eq!(rows["numbers"].as_array().unwrap(), &want, "{run}");
+        // The text columns, written by their places in each row group's
+        // dictionaries (`table::Columns::indexed`), read as `btx log`
+        // names them.
+        let texts: Vec<Value> = log["transitions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| serde_json::json!([t["node"], t["prev"], t["status"]]))
+            .collect();
+        assert_eq!(rows["texts"].as_array().unwrap(), &texts, "{run}");
     }
     for c in v["causes"].as_array().unwrap() {
         let why = c["what_went_wrong"].as_str().unwrap();

@@ -32,9 +32,9 @@ out = {
     # Every row of each .btlog run (its ticks, steps and times are
     # bit-packed differences in the export), in order.
     "log_rows": {
-        run: rows
-        for run, rows in db.sql(
-            "select run, list([tick, step, uid, time_us] order by tick, step) from transitions where run like '%.btlog' group by run"
+        run: {"numbers": rows, "texts": texts}
+        for run, rows, texts in db.sql(
+            "select run, list([tick, step, uid, time_us] order by tick, step), list([node, prev, status] order by tick, step) from transitions where run like '%.btlog' group by run"
         ).fetchall()
     },
     "causes": dict(db.sql("select what_went_wrong, count(*) from runs where outcome = 'FAILURE' group by all").fetchall()),

@@ -1131,6 +1131,83 @@ fn tags_stages_capabilities_contrasts_and_counted_names_are_read_as_meant() {
 }
 
 #[test]
+fn marks_appositions_introductions_occasions_and_choosers_are_read_as_meant() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
+    let patrol = "tests/fixtures/questions/patrol.jsonl";
+    let case = "sessions/case-study.jsonl";
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // "y/n" asks yes or no: its "y" is no "why".
+        (
+            vec![patrol, "--at", "4"],
+            "is it fine so far? y/n",
+            "Was there anything wrong?",
+        ),
+        // "Could you walk me through …" asks for an account, not whether it can.
+        (
+            vec![taxi],
+            "could you walk me through how the taxi delivers the passenger?",
+            "How do you achieve your goal?",
+        ),
+        // A tick asked by its number; what follows says which it is.
+        (
+            vec![nav2],
+            "what happened at tick 4, when the controller failed the first time?",
+            "What happened at tick 4?",
+        ),
+        (
+            vec![nav2],
+            "describe tick 3, right after the planner started",
+            "What happened at tick 3?",
+        ),
+        // "Ops here": who asks, not where the robot is.
+        (
+            vec![patrol, "--at", "4"],
+            "ops here, what is the robot supposed to accomplish?",
+            "What is your goal?",
+        ),
+        // How the subgoal is reached, the failure its occasion.
+        (
+            vec![case, "--at", "1:5"],
+            "how will it achieve its subgoal now that L0 failed?",
+            "How do you achieve your subgoal?",
+        ),
+        // Which of two failed is what went wrong.
+        (
+            vec![nav2],
+            "what broke in this run, the planner or the controller?",
+            "What went wrong?",
+        ),
+        // The node that chose is no side of the contrast; what it chose is.
+        (
+            vec![nav2],
+            "Why did the recovery fallback end up with GoalUpdated rather than ClearingActions?",
+            "Why did I do GoalUpdated (#12, #15) and not ClearingActions (#17) in tick 4?",
+        ),
+        // What the tree did about a failure, whenever it happened, is how
+        // it was handled, not a what-if.
+        (
+            vec![taxi],
+            "if a move failed, what did the taxi do about it?",
+            "How was the failure handled?",
+        ),
+    ];
+    first_lines_are(cases);
+    // A measure of the world, whatever node is named.
+    for q in [
+        "how many meters did the robot travel?",
+        "how many meters did the base drive?",
+    ] {
+        let (ok, out, _) = btx(&["ask", nav2, q]);
+        assert!(!ok, "{q}: {out}");
+        assert!(
+            out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

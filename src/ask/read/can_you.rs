@@ -11,16 +11,37 @@ pub fn wraps_a_question(after: &[&str]) -> bool {
         "confirm", "check", "verify", "find", "figure", "see", "look", "work", "let", "count",
         "tell", "say", "show",
     ];
+    // "Could you walk me through …", "can you explain the failure":
+    // verbs that ask for an account whatever follows them.
+    const ACCOUNT: &[&str] = &[
+        "walk",
+        "explain",
+        "describe",
+        "list",
+        "summarize",
+        "summarise",
+        "remind",
+        "clarify",
+        "elaborate",
+        "detail",
+        "outline",
+    ];
     let Some((first, rest)) = after.split_first() else {
         return false;
     };
-    REPORT.contains(first)
-        && (rest
-            .iter()
-            .any(|w| ["why", "when", "what", "which", "where"].contains(w))
-            || rest
-                .windows(2)
-                .any(|p| p[0] == "how" && ["many", "often", "much", "long"].contains(&p[1])))
+    let account = ACCOUNT.contains(first)
+        && rest.first().is_some_and(|next| {
+            // "can it walk" asks whether it can.
+            *first != "walk" || ["me", "us", "through"].contains(next)
+        });
+    account
+        || REPORT.contains(first)
+            && (rest
+                .iter()
+                .any(|w| ["why", "when", "what", "which", "where", "how"].contains(w))
+                || rest
+                    .windows(2)
+                    .any(|p| p[0] == "how" && ["many", "often", "much", "long"].contains(&p[1])))
 }
 
 /// What a robot is called in "can the taxi …": never a behaviour.

@@ -18,6 +18,7 @@ const RULES: &[fn(&Cues) -> Option<Readings>] = &[
     which_failed,
     can_you_asked,
     what_if,
+    tick_by_number,
     all_well_in_few_words,
     handled_whether,
     anything_failed,
@@ -89,7 +90,11 @@ fn what_if(c: &Cues) -> Option<Readings> {
         || s.has("had") && (c.first == "say" || s.phrase(&["then", "what"]).is_some())
         // "L0 succeeds: how does the run change?".
         || c.how && s.has_stem(&["chang", "differ"]) && c.ev.is_some() && !c.named.is_empty();
-    if !conditional {
+    // "If a move failed here, what did the tree do about it in this
+    // run?": what was done, in the run, whenever it happened.
+    let what_was_done = s.phrase(&["did", "about"]).is_some()
+        || s.phrase(&["do", "about", "it"]).is_some() && s.has("did");
+    if !conditional || what_was_done && !s.has("would") {
         return None;
     }
     let node @ Subject::Nodes(..) = c.subject()? else {
@@ -398,6 +403,25 @@ fn why_not(c: &Cues) -> Option<Readings> {
     {
         named.remove(0);
     }
+    // "Why did the recovery fallback end with GoalUpdated instead of
+    // running the recoveries?", "why did the fallback pick L2 over L1?":
+    // the node that chose is no side; what it chose is.
+    if named.len() >= 3 {
+        let gap = &s.q[named[0].end..named[1].start];
+        let chose = gap.iter().any(|w| {
+            [
+                "end", "finish", "pick", "choos", "chose", "select", "go", "settl", "prefer",
+                "take", "opt", "run", "tick", "execut", "call", "tri",
+            ]
+            .contains(&w.stem.as_str())
+        });
+        let apart = gap.iter().any(|w| {
+            ["not", "never", "instead", "rather", "and", "or", "than"].contains(&w.text.as_str())
+        });
+        if chose && !apart {
+            named.remove(0);
+        }
+    }
     // A node is never contrasted with itself ("why was the path not
     // clear" names path clear twice).
     if named.len() < 2 || named[0].uids == named[1].uids {
@@ -518,6 +542,12 @@ fn handled(c: &Cues) -> Option<Readings> {
         "handl", "deal", "dealt", "respond", "respons", "react", "cope", "mitig", "recov",
         "recoveri", "fix", "fixed", "past", "overcom", "surviv",
     ]) || s.has_prefix(&["recover", "handl"]);
+    // "How is it going to achieve the subgoal now that the sequence
+    // failed?": how the (sub)goal is reached, the failure its occasion.
+    let achieving = s.has_stem(&["achiev", "accomplish"]) && s.has_stem(&["goal", "subgoal"]);
+    if achieving && !handle {
+        return None;
+    }
     if (c.how && (handle || c.problem && !s.has("often") && !s.has("many")))
         || c.how_handled && !c.why
         || c.after_failure
@@ -582,7 +612,10 @@ fn what_went_wrong(c: &Cues) -> Option<Readings> {
         return None;
     }
     let asked_when = when::find(s.q);
-    if !c.named.is_empty() && c.ev == Some(Event::Fail) && asked_when.is_none() {
+    // "What failed in goal 1 - planner or controller?": which did is
+    // what went wrong, not why one did.
+    let either = c.what && s.has("or") && !c.why;
+    if !c.named.is_empty() && c.ev == Some(Event::Fail) && asked_when.is_none() && !either {
         let node = c.subject().unwrap_or(Subject::Task);
         return Some(vec![(
             Intent::Why {
@@ -619,6 +652,28 @@ fn anything_wrong(c: &Cues) -> Option<Readings> {
             ),
         ]
     })
+}
+
+/// "What happened in tick 4, right before the failure?", "tell me about
+/// tick 6, the first time detection failed": a tick asked by its number,
+/// right after the words that ask it; what follows says which it is.
+fn tick_by_number(c: &Cues) -> Option<Readings> {
+    let q: Vec<&str> = c.s.q.iter().map(|w| w.text.as_str()).collect();
+    let asks = |i: usize| {
+        ["happened", "happens", "happen", "describe"].contains(&q[i])
+            || (q[i] == "about" && i >= 2 && q[i - 2] == "tell")
+    };
+    let at = (0..q.len()).find(|&i| asks(i))?;
+    let mut k = at + 1;
+    while k < q.len() && ["at", "in", "on", "during", "for", "the"].contains(&q[k]) {
+        k += 1;
+    }
+    let n: u32 = (q.get(k) == Some(&"tick"))
+        .then(|| q.get(k + 1)?.parse().ok())
+        .flatten()?;
+    let other = ["wrong", "why", "if", "how"];
+    (n > 0 && !q.iter().any(|w| other.contains(w)))
+        .then(|| vec![(Intent::Tick(n), c.sure_of_words(0.95))])
 }
 
 /// A tick's transitions: "describe tick 9", "what happened in the last tick".
@@ -724,6 +779,7 @@ fn asks_goal(s: &Sentence) -> bool {
     ]) || s.phrase(&["trying", "to"]).is_some()
         || s.phrase(&["try", "to"]).is_some()
         || s.phrase(&["supposed", "to"]).is_some()
+        || s.phrase(&["meant", "to"]).is_some()
         || s.phrase(&["working", "towards"]).is_some()
         || s.phrase(&["working", "toward"]).is_some()
         || s.phrase(&["get", "done"]).is_some()
@@ -810,8 +866,20 @@ fn subgoal_or_goal(c: &Cues) -> Option<Readings> {
     let named_goal = s.has_stem(&["goal", "object", "mission", "purpos", "job", "target"]);
     // "What's the goal here?" names the goal; "what is it trying to get
     // done here" the part it is in.
+    // "Manager here, what is it supposed to accomplish?": who asks, not
+    // where the robot is.
+    let introduced = s.q.len() > 2
+        && s.q[1].text == "here"
+        && ![
+            "what", "is", "are", "why", "how", "which", "where", "and", "so",
+        ]
+        .contains(&s.q[0].text.as_str());
+    let here_said =
+        s.q.iter()
+            .enumerate()
+            .any(|(i, w)| w.text == "here" && !(introduced && i == 1));
     let here = c.now_words
-        || (s.has("here") || s.phrase(&["this", "point"]).is_some()) && !s.has_stem(&["goal"]);
+        || (here_said || s.phrase(&["this", "point"]).is_some()) && !s.has_stem(&["goal"]);
     // "What is it trying to achieve?", with neither "now" nor "in the
     // end": the whole task's goal, or that of the part it is in. Both are
     // read, and asked back.

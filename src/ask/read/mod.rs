@@ -647,7 +647,38 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
             && p[1].text == "much"
             && !["time", "longer"].contains(&p[2].text.as_str())
     });
+    // "How many meters did the base drive?": a measure of the world,
+    // whatever node the question names.
+    let measure = q.windows(3).any(|p| {
+        p[0].text == "how"
+            && p[1].text == "many"
+            && [
+                "meters",
+                "metres",
+                "kilometers",
+                "kilometres",
+                "km",
+                "miles",
+                "feet",
+                "centimeters",
+                "cm",
+                "mm",
+                "millimeters",
+                "degrees",
+                "radians",
+                "volts",
+                "amps",
+                "watts",
+                "joules",
+                "kwh",
+                "calories",
+                "pixels",
+                "frames",
+            ]
+            .contains(&p[2].text.as_str())
+    });
     advice
+        || measure
         || s.nodes
             .iter()
             .filter(|m| !m.weak)

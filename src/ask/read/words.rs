@@ -211,7 +211,14 @@ pub fn split_name(s: &str) -> String {
 
 /// The words of a question.
 pub fn words(text: &str) -> Vec<Word> {
-    let mut s = split_name(text.trim()).to_lowercase();
+    // "y/n" asks for yes or no: its "y" is no "why".
+    let mut text = text.trim().to_string();
+    for yes_no in ["y/n", "Y/N", "y/N", "Y/n", "yes/no", "Yes/No", "YES/NO"] {
+        if text.contains(yes_no) {
+            text = text.replace(yes_no, " yes or no ");
+        }
+    }
+    let mut s = split_name(&text).to_lowercase();
     if s.contains(['\'', '’', '‘', '`', '´']) {
         s = s.replace(['’', '‘', '`', '´'], "'");
         for (from, to) in CONTRACTIONS {

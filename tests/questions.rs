@@ -24,8 +24,11 @@
 //! programmer, a QA engineer, a manager), corpus13 until `corpus14.jsonl`
 //! (280 by a fourteenth, asked for users who quote the log beside the chat
 //! (uids, statuses in capitals, moments as the log prints them, XML tags)
-//! and for follow-ups in a running conversation); corpus14 is never tuned
-//! on: its figures are the fresh ones, and its
+//! and for follow-ups in a running conversation), corpus14 until
+//! `corpus15.jsonl` (280 by a fifteenth, asked for questions spoken to the
+//! tool and written down by speech-to-text: no punctuation, numbers
+//! spelled out, fillers, self-corrections, misheard names); corpus15 is
+//! never tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
 //!
@@ -474,26 +477,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus11.jsonl",
             "corpus12.jsonl",
             "corpus13.jsonl",
+            "corpus14.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus13 (tuned on)", &t3);
-    let t = tally(&["corpus14.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus14)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus14 (tuned on)", &t3);
+    let t = tally(&["corpus15.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus15)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 3_160 && t.total >= 280,
+        t3.total >= 3_440 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus13: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus14: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -510,12 +514,12 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus13 as tuned on (92.2 % understood, 3.5 % misread; first
+/// corpus3 to corpus14 as tuned on (91.6 % understood, 4.1 % misread; first
 /// read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %,
 /// 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %, 78.2 %/8.2 %, 91.1 %/5.4 %,
-/// 88.6 %/6.4 % and 92.1 %/4.6 %), and corpus14, never tuned on (83.6 %
-/// and 11.1 % when it was first read).
-const C3_FLOOR: f64 = 92.0;
-const C3_MISREAD: f64 = 3.6;
-const FRESH_FLOOR: f64 = 83.4;
-const FRESH_MISREAD: f64 = 11.3;
+/// 88.6 %/6.4 %, 92.1 %/4.6 % and 83.6 %/11.1 %), and corpus15, never
+/// tuned on (81.1 % and 7.9 % when it was first read).
+const C3_FLOOR: f64 = 91.4;
+const C3_MISREAD: f64 = 4.2;
+const FRESH_FLOOR: f64 = 80.9;
+const FRESH_MISREAD: f64 = 8.1;

@@ -1208,6 +1208,61 @@ fn marks_appositions_introductions_occasions_and_choosers_are_read_as_meant() {
 }
 
 #[test]
+fn what_users_copy_from_the_log_is_read_as_the_log_means_it() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
+    let detect = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // "uid N", "node N" are #N; "t=N" is tick N.
+        (
+            vec![taxi],
+            "how often did uid 13 succeed",
+            "How often did the go drop off passenger sequence (#13) succeed?",
+        ),
+        (
+            vec![detect],
+            "why did node 7 FAIL at 12:9",
+            "Why did RetryUntilSuccessful (#7) fail at 12:9?",
+        ),
+        (vec![kitting], "which subgoal was it on at t=12?", "What was your subgoal at tick 12?"),
+        // A moment as the log prints it, wherever it stands.
+        (vec![nav2, "--at", "4:1"], "FollowPath FAILED (4:1), what next", "What will I do next?"),
+        // A row of the log pasted in is its moment and its node, not an
+        // event asked about.
+        (
+            vec![kitting],
+            "the log says `10  1  18  look at chuck  RUNNING  -> FAILURE` - what was it doing then?",
+            "What were you doing at 10:1?",
+        ),
+        // "And then what does it do" asks what comes next, whatever the
+        // node named before it is called.
+        (
+            vec![nav2, "--at", "6:12"],
+            "RecoveryFallback is SUCCESS at 6:12, and then what does it do",
+            "What will I do next?",
+        ),
+        // "Retry X" is X done again, not the Retry decorator.
+        (
+            vec![nav2],
+            "why did it back up rather than retry FollowPath",
+            "Why did I do BackUp (#22) and not FollowPath (#9, #10)?",
+        ),
+        // "What failed, the planner?" asks what went wrong.
+        (vec![nav2], "what failed first, the planner?", "What went wrong?"),
+    ];
+    first_lines_are(cases);
+    // An opinion is no run's.
+    let q = "is the tree well designed in your opinion?";
+    let (ok, out, _) = btx(&["ask", taxi, q]);
+    assert!(!ok, "{q}: {out}");
+    assert!(
+        out.starts_with("I don't know how to answer that."),
+        "{q}: {out}"
+    );
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

@@ -201,8 +201,10 @@ fn recovered(c: &Cues) -> Option<Readings> {
         s.phrase(&["on", "track"]).is_some() || s.phrase(&["back", "to", "normal"]).is_some();
     if !c.how
         && !c.why
-        // "Recoveries done, what comes next?" asks what comes next.
+        // "Recoveries done, what comes next?", "RecoveryFallback is SUCCESS
+        // at 6:12, and then what does it do" ask what comes next.
         && !s.has("next")
+        && s.phrase(&["then", "what"]).is_none()
         // "L0 failed, but did the tree recover?": the question after "but".
         && (c.yes_no
             // "In the end, did the robot recover?".
@@ -403,6 +405,18 @@ fn why_not(c: &Cues) -> Option<Readings> {
     {
         named.remove(0);
     }
+    // "Rather than retry FollowPath", "why retry the spin": "retry" says
+    // what was done to the node after it, not the Retry decorator.
+    let verb = |m: &Mention| ["retry", "retrying", "retried", "rerun"].contains(&m.phrase.as_str());
+    let next_to = |a: &Mention, b: &Mention| {
+        b.start >= a.end && s.q[a.end..b.start].iter().all(|w| w.text == "the")
+    };
+    let retried: Vec<usize> = (0..named.len().saturating_sub(1))
+        .filter(|&k| verb(named[k]) && next_to(named[k], named[k + 1]))
+        .collect();
+    for k in retried.into_iter().rev() {
+        named.remove(k);
+    }
     // "Why did the recovery fallback end with GoalUpdated instead of
     // running the recoveries?", "why did the fallback pick L2 over L1?":
     // the node that chose is no side; what it chose is.
@@ -411,9 +425,10 @@ fn why_not(c: &Cues) -> Option<Readings> {
         let chose = gap.iter().any(|w| {
             [
                 "end", "finish", "pick", "choos", "chose", "select", "go", "settl", "prefer",
-                "take", "opt", "run", "tick", "execut", "call", "tri",
+                "take", "opt", "run", "tick", "execut", "call", "tri", "succeed", "use",
             ]
             .contains(&w.stem.as_str())
+                || ["through", "via", "by"].contains(&w.text.as_str())
         });
         let apart = gap.iter().any(|w| {
             ["not", "never", "instead", "rather", "and", "or", "than"].contains(&w.text.as_str())
@@ -580,6 +595,8 @@ fn next(c: &Cues) -> Option<Readings> {
         || s.has("upcoming")
         // "What's the following action gonna be?".
         || s.has("following") && (s.phrase(&["going", "to", "be"]).is_some() || s.has("will"))
+        // "And then what does it do?".
+        || s.phrase(&["then", "what"]).is_some() && !s.has("if")
         // "And then?".
         || s.q.len() <= 3 && s.q.last().is_some_and(|w| w.text == "then") && !s.has("if")
         || s.phrase(&["from", "here"]).is_some() && s.has("go")
@@ -614,7 +631,11 @@ fn what_went_wrong(c: &Cues) -> Option<Readings> {
     let asked_when = when::find(s.q);
     // "What failed in goal 1 - planner or controller?": which did is
     // what went wrong, not why one did.
-    let either = c.what && s.has("or") && !c.why;
+    // "Tell me what failed earlier, the controller?" asks the same.
+    let what_failed = ["failed", "broke", "crashed"]
+        .iter()
+        .any(|v| s.phrase(&["what", v]).is_some());
+    let either = c.what && (s.has("or") || what_failed) && !c.why;
     if !c.named.is_empty() && c.ev == Some(Event::Fail) && asked_when.is_none() && !either {
         let node = c.subject().unwrap_or(Subject::Task);
         return Some(vec![(

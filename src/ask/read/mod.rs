@@ -960,6 +960,7 @@ pub const ADVICE: &[&str] = &[
     "suggest",
     "advise",
     "advice",
+    "opinion",
 ];
 
 /// An intent said back in btx's words, for "did you mean".

@@ -261,9 +261,10 @@ fn step_of_tick(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
             return Some((When::Step(n, s), lead(q, i, (i..=i + 4).collect())));
         }
     }
+    // "at 7:1", and a moment copied from the log anywhere ("look at chuck
+    // just FAILED (10:1)", "right after 2:8"): "TICK:STEP" is no other word.
     let (tk, s) = step(t(i))?;
-    (i > 0 && (BEFORE.contains(&t(i - 1)) || t(i - 1) == "moment"))
-        .then(|| (When::Step(tk, s), lead(q, i, vec![i])))
+    Some((When::Step(tk, s), lead(q, i, vec![i])))
 }
 
 /// "moment 9": the end of tick 9.

@@ -218,6 +218,7 @@ pub fn words(text: &str) -> Vec<Word> {
             text = text.replace(yes_no, " yes or no ");
         }
     }
+    let text = log_rows(&text);
     let mut s = split_name(&text).to_lowercase();
     if s.contains(['\'', '’', '‘', '`', '´']) {
         s = s.replace(['’', '‘', '`', '´'], "'");
@@ -264,6 +265,68 @@ pub fn words(text: &str) -> Vec<Word> {
                     stem: stem(w),
                 });
             }
+        }
+    }
+    as_logs_say(out)
+}
+
+/// A row of `btx log` pasted into a question ("`10  1  18  look at chuck
+/// RUNNING -> FAILURE`") is the moment and the node it names: "#18 at
+/// 10:1". Its status words would otherwise read as an event asked about.
+fn log_rows(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(open) = rest.find('`') {
+        let Some(len) = rest[open + 1..].find('`') else {
+            break;
+        };
+        let inside = &rest[open + 1..open + 1 + len];
+        out.push_str(&rest[..open]);
+        match log_row(inside) {
+            Some((tick, step, uid)) => out.push_str(&format!(" #{uid} at {tick}:{step} ")),
+            None => out.push_str(&rest[open..open + len + 2]),
+        }
+        rest = &rest[open + len + 2..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The tick, step and uid of a log row: three numbers, a name, and
+/// "PREV -> STATUS".
+fn log_row(row: &str) -> Option<(u32, u32, u32)> {
+    let words: Vec<&str> = row.split_whitespace().collect();
+    let [tick, step, uid, ..] = words[..] else {
+        return None;
+    };
+    let status = |w: &str| ["IDLE", "RUNNING", "SUCCESS", "FAILURE", "SKIPPED"].contains(&w);
+    let n = words.len();
+    (n >= 6 && words[n - 2] == "->" && status(words[n - 1]) && status(words[n - 3]))
+        .then_some(())?;
+    Some((tick.parse().ok()?, step.parse().ok()?, uid.parse().ok()?))
+}
+
+/// A node and a tick as a log and its readers say them: "node 8", "uid
+/// 7", "id 7" are `#8`, `#7`; "t=30" is tick 30.
+fn as_logs_say(words: Vec<Word>) -> Vec<Word> {
+    let number = |w: Option<&Word>| w.is_some_and(|w| w.text.chars().all(|c| c.is_ascii_digit()));
+    let mut out: Vec<Word> = Vec::with_capacity(words.len());
+    let mut it = words.into_iter().peekable();
+    while let Some(w) = it.next() {
+        if ["node", "uid", "id"].contains(&w.text.as_str()) && number(it.peek()) {
+            let n = it.next().map(|n| n.text).unwrap_or_default();
+            let uid = format!("#{n}");
+            out.push(Word {
+                stem: uid.clone(),
+                text: uid,
+            });
+        } else if w.text == "t" && number(it.peek()) {
+            out.push(Word {
+                text: "tick".into(),
+                stem: "tick".into(),
+            });
+        } else {
+            out.push(w);
         }
     }
     out

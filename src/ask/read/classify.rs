@@ -679,7 +679,11 @@ fn anything_wrong(c: &Cues) -> Option<Readings> {
 /// tick 6, the first time detection failed": a tick asked by its number,
 /// right after the words that ask it; what follows says which it is.
 fn tick_by_number(c: &Cues) -> Option<Readings> {
-    let q: Vec<&str> = c.s.q.iter().map(|w| w.text.as_str()).collect();
+    let words = c.s.q;
+    if !words.iter().any(|w| w.text == "tick") {
+        return None;
+    }
+    let q: Vec<&str> = words.iter().map(|w| w.text.as_str()).collect();
     let asks = |i: usize| {
         ["happened", "happens", "happen", "describe"].contains(&q[i])
             || (q[i] == "about" && i >= 2 && q[i - 2] == "tell")

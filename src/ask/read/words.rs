@@ -213,12 +213,16 @@ pub fn split_name(s: &str) -> String {
 pub fn words(text: &str) -> Vec<Word> {
     // "y/n" asks for yes or no: its "y" is no "why".
     let mut text = text.trim().to_string();
-    for yes_no in ["y/n", "Y/N", "y/N", "Y/n", "yes/no", "Yes/No", "YES/NO"] {
-        if text.contains(yes_no) {
-            text = text.replace(yes_no, " yes or no ");
+    if text.contains('/') {
+        for yes_no in ["y/n", "Y/N", "y/N", "Y/n", "yes/no", "Yes/No", "YES/NO"] {
+            if text.contains(yes_no) {
+                text = text.replace(yes_no, " yes or no ");
+            }
         }
     }
-    let text = log_rows(&text);
+    if text.contains('`') {
+        text = log_rows(&text);
+    }
     let mut s = split_name(&text).to_lowercase();
     if s.contains(['\'', '’', '‘', '`', '´']) {
         s = s.replace(['’', '‘', '`', '´'], "'");
@@ -309,6 +313,12 @@ fn log_row(row: &str) -> Option<(u32, u32, u32)> {
 /// A node and a tick as a log and its readers say them: "node 8", "uid
 /// 7", "id 7" are `#8`, `#7`; "t=30" is tick 30.
 fn as_logs_say(words: Vec<Word>) -> Vec<Word> {
+    if !words
+        .iter()
+        .any(|w| ["node", "uid", "id", "t"].contains(&w.text.as_str()))
+    {
+        return words;
+    }
     let number = |w: Option<&Word>| w.is_some_and(|w| w.text.chars().all(|c| c.is_ascii_digit()));
     let mut out: Vec<Word> = Vec::with_capacity(words.len());
     let mut it = words.into_iter().peekable();

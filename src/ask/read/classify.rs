@@ -388,8 +388,29 @@ fn why_not(c: &Cues) -> Option<Readings> {
     if !contrast {
         return None;
     }
+    let named = sides(c);
+    // A node is never contrasted with itself ("why was the path not
+    // clear" names path clear twice).
+    if named.len() < 2 || named[0].uids == named[1].uids {
+        return None;
+    }
+    let done = Subject::Nodes(named[0].uids.clone(), named[0].phrase.clone());
+    let instead = Subject::Nodes(named[1].uids.clone(), named[1].phrase.clone());
+    let (done, instead) = if negated_first(s, named[0], named[1]) {
+        (instead, done)
+    } else {
+        (done, instead)
+    };
+    Some(vec![(Intent::WhyNot { done, instead }, c.sure(0.93))])
+}
+
+/// The nodes a contrast may set against each other, in the order named:
+/// the mentions, less a place the question is asked in, "retry" said of
+/// the node after it, and the node that chose between the two.
+fn sides<'a>(c: &Cues<'a, '_>) -> Vec<&'a Mention> {
     // "Why did the whole patrol fail rather than just the drive?": the
     // task itself may be one side of a contrast.
+    let s = c.s;
     let named: Vec<&Mention> = if c.named.len() < 2 && s.nodes.len() >= 2 {
         s.nodes.iter().collect()
     } else {
@@ -437,19 +458,7 @@ fn why_not(c: &Cues) -> Option<Readings> {
             named.remove(0);
         }
     }
-    // A node is never contrasted with itself ("why was the path not
-    // clear" names path clear twice).
-    if named.len() < 2 || named[0].uids == named[1].uids {
-        return None;
-    }
-    let done = Subject::Nodes(named[0].uids.clone(), named[0].phrase.clone());
-    let instead = Subject::Nodes(named[1].uids.clone(), named[1].phrase.clone());
-    let (done, instead) = if negated_first(s, named[0], named[1]) {
-        (instead, done)
-    } else {
-        (done, instead)
-    };
-    Some(vec![(Intent::WhyNot { done, instead }, c.sure(0.93))])
+    named
 }
 
 /// "Why is FollowPath still running?": a node named as running on.

@@ -101,11 +101,19 @@ impl Columns<'_, '_> {
         values: impl Iterator<Item = Option<P::T>>,
     ) -> parquet::errors::Result<()> {
         let (vals, defs) = split(values);
+        let optional = self.schema.column(self.next).max_def_level() > 0;
+        self.batch::<P>(&vals, optional.then_some(&defs[..]))
+    }
+
+    /// The next column's values, and its levels if it is OPTIONAL.
+    fn batch<P: DataType>(
+        &mut self,
+        values: &[P::T],
+        levels: Option<&[i16]>,
+    ) -> parquet::errors::Result<()> {
         self.next += 1;
         let mut c = self.rg.next_column()?.expect("a column of the schema");
-        let w = c.typed::<P>();
-        let defs = (w.get_descriptor().max_def_level() > 0).then_some(defs);
-        w.write_batch(&vals, defs.as_deref(), None)?;
+        c.typed::<P>().write_batch(values, levels, None)?;
         c.close()
     }
 
@@ -186,10 +194,7 @@ impl Columns<'_, '_> {
 
     /// A REQUIRED column of the values as they are, with no copy.
     pub fn values<P: DataType>(&mut self, values: &[P::T]) -> parquet::errors::Result<()> {
-        self.next += 1;
-        let mut c = self.rg.next_column()?.expect("a column of the schema");
-        c.typed::<P>().write_batch(values, None, None)?;
-        c.close()
+        self.batch::<P>(values, None)
     }
 
     /// An OPTIONAL column: the values present, and a level a row (1
@@ -199,10 +204,7 @@ impl Columns<'_, '_> {
         values: &[P::T],
         levels: &[i16],
     ) -> parquet::errors::Result<()> {
-        self.next += 1;
-        let mut c = self.rg.next_column()?.expect("a column of the schema");
-        c.typed::<P>().write_batch(values, Some(levels), None)?;
-        c.close()
+        self.batch::<P>(values, Some(levels))
     }
 
     pub fn ints(

@@ -1263,6 +1263,60 @@ fn what_users_copy_from_the_log_is_read_as_the_log_means_it() {
 }
 
 #[test]
+fn what_speech_to_text_writes_is_read_as_it_was_said() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let case = "sessions/case-study.jsonl";
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // Numbers in words where a log's numbers stand.
+        (
+            vec![kitting],
+            "describe tick nineteen",
+            "What happened at tick 19?",
+        ),
+        (
+            vec![kitting],
+            "what went on in tick thirty one please",
+            "What happened at tick 31?",
+        ),
+        (
+            vec![nav2],
+            "what was the robot doing at tick six step three",
+            "What were you doing at 6:3?",
+        ),
+        // A letter and a number said apart are the name they spell.
+        (
+            vec![case],
+            "how often did el two succeed",
+            "How often did L2 (#5) succeed?",
+        ),
+        (
+            vec![case],
+            "why did l zero fail",
+            "Why did L0 (#3) fail at 1:3?",
+        ),
+        // What follows a correction is what is asked.
+        (
+            vec![kitting],
+            "when did it uh no wait why did look at chuck fail",
+            "Why did look at chuck (#18) fail at 10:1?",
+        ),
+        // "Or no" at the end is "or not"; "yes or no" stays as it is.
+        (
+            vec![kitting, "--at", "20"],
+            "did the arm get back on track or no",
+            "Did the recovery work?",
+        ),
+        (
+            vec![kitting],
+            "is everything fine yes or no",
+            "Was there anything wrong?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

@@ -421,6 +421,7 @@ fn asks(stem: &str) -> bool {
 /// each on its own: the surest of them, the first of equals (what follows
 /// a question is most often about it: "Is this a bug?"), is what it asks.
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
+    let text = after_a_correction(text);
     let whole = read_one(vocabulary, tree, text);
     let questions = questions_in(text);
     let asked = questions
@@ -476,6 +477,24 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         }
         (w, a) => a.or(w),
     }
+}
+
+/// What is asked after the asker corrected themselves ("why did the uh no
+/// wait when did look at chuck fail"): the words after the last "no
+/// wait", "wait no" or "scratch that", where they are a question.
+fn after_a_correction(text: &str) -> &str {
+    const MARKS: &[&str] = &["no wait", "wait no", "scratch that", "no sorry", "sorry no"];
+    let lower = text.to_lowercase();
+    if lower.len() != text.len() {
+        return text;
+    }
+    MARKS
+        .iter()
+        .filter_map(|m| lower.rfind(m).map(|i| i + m.len()))
+        .max()
+        .map(|end| text[end..].trim_start_matches([',', '.', ' ']))
+        .filter(|rest| rest.split_whitespace().count() >= 3)
+        .unwrap_or(text)
 }
 
 /// The surest reading of what follows a comma where a question opens

@@ -271,7 +271,112 @@ pub fn words(text: &str) -> Vec<Word> {
             }
         }
     }
-    as_logs_say(out)
+    // "…, or no?" is "or not?": no "no" a node was told.
+    if let [.., yes, or, no] = &mut out[..] {
+        if yes.text != "yes" && or.text == "or" && no.text == "no" {
+            *no = Word {
+                text: "not".into(),
+                stem: "not".into(),
+            };
+        }
+    }
+    as_logs_say(spoken_numbers(out))
+}
+
+/// Numbers in words, as speech-to-text writes them.
+const UNITS: [&str; 20] = [
+    "zero",
+    "one",
+    "two",
+    "three",
+    "four",
+    "five",
+    "six",
+    "seven",
+    "eight",
+    "nine",
+    "ten",
+    "eleven",
+    "twelve",
+    "thirteen",
+    "fourteen",
+    "fifteen",
+    "sixteen",
+    "seventeen",
+    "eighteen",
+    "nineteen",
+];
+const TENS: [&str; 8] = [
+    "twenty", "thirty", "forty", "fifty", "sixty", "seventy", "eighty", "ninety",
+];
+
+/// The number spelled by the words of `q` from `i` ("twenty six", "one
+/// hundred and four"), and how many words it took.
+fn spelled_number(q: &[Word], i: usize) -> Option<(u32, usize)> {
+    let at = |k: usize| q.get(k).map_or("", |w| w.text.as_str());
+    let below_100 = |k: usize| -> Option<(u32, usize)> {
+        if let Some(u) = UNITS.iter().position(|&u| u == at(k)) {
+            return Some((u as u32, 1));
+        }
+        let t = TENS.iter().position(|&t| t == at(k))? as u32 * 10 + 20;
+        match UNITS.iter().position(|&u| u == at(k + 1)) {
+            Some(u @ 1..=9) => Some((t + u as u32, 2)),
+            _ => Some((t, 1)),
+        }
+    };
+    let (n, used) = below_100(i)?;
+    if at(i + used) != "hundred" || !(1..=9).contains(&n) {
+        return Some((n, used));
+    }
+    let k = i + used + 1 + usize::from(at(i + used + 1) == "and");
+    match below_100(k) {
+        Some((m, more)) => Some((n * 100 + m, k - i + more)),
+        None => Some((n * 100, used + 1)),
+    }
+}
+
+/// A number said in words where a log's numbers stand, after "tick",
+/// "step", "node", "uid" or "#" ("tick twenty six" is tick 26), and a
+/// letter said before one, as a name's ("el zero" is L0).
+fn spoken_numbers(words: Vec<Word>) -> Vec<Word> {
+    let spelled = |w: &Word| UNITS.contains(&w.text.as_str()) || TENS.contains(&w.text.as_str());
+    if !words.iter().any(spelled) {
+        return words;
+    }
+    let counted =
+        |w: &str| ["tick", "ticks", "step", "steps", "node", "uid", "id", "#"].contains(&w);
+    let letter = |w: &str| w == "el" || (w.len() == 1 && !["a", "i", "#"].contains(&w));
+    let mut out: Vec<Word> = Vec::with_capacity(words.len());
+    let mut i = 0;
+    while i < words.len() {
+        let w = &words[i];
+        let before = out.last().map_or("", |p: &Word| p.text.as_str());
+        let number = (counted(before) || (letter(&w.text) && i + 1 < words.len()))
+            .then(|| spelled_number(&words, i + usize::from(!counted(before))))
+            .flatten();
+        match number {
+            Some((n, used)) if counted(before) => {
+                out.push(Word {
+                    text: n.to_string(),
+                    stem: n.to_string(),
+                });
+                i += used;
+            }
+            Some((n, used)) if n < 10 && used == 1 => {
+                let name = format!("{}{n}", if w.text == "el" { "l" } else { &w.text });
+                out.push(Word {
+                    stem: name.clone(),
+                    text: name,
+                });
+                i += 2;
+            }
+            _ => {
+                out.push(w.clone());
+                i += 1;
+            }
+        }
+    }
+    out
 }
 
 /// A row of `btx log` pasted into a question ("`10  1  18  look at chuck
@@ -373,6 +478,23 @@ mod tests {
             ["why", "did", "detect", "chuk", "fail"]
         );
         assert_eq!(texts("r u ok"), ["are", "you", "ok"]);
+    }
+
+    #[test]
+    fn numbers_said_in_words_are_numbers_where_a_log_has_them() {
+        assert_eq!(texts("at tick twenty six"), ["at", "tick", "26"]);
+        assert_eq!(
+            texts("tick one hundred and four step two"),
+            ["tick", "104", "step", "2"]
+        );
+        assert_eq!(texts("node thirteen"), ["#13"]);
+        assert_eq!(texts("why did el zero fail"), ["why", "did", "l0", "fail"]);
+        // Elsewhere a number word is a word: "the one that failed".
+        assert_eq!(
+            texts("which one failed twice"),
+            ["which", "one", "failed", "twice"]
+        );
+        assert_eq!(texts("a one off"), ["a", "one", "off"]);
     }
 
     #[test]

@@ -30,7 +30,9 @@
 //! spelled out, fillers, self-corrections, misheard names), corpus15 until
 //! `corpus16.jsonl` (280 by a sixteenth, asked for an on-call chat's
 //! shorthand: dropped words, the team's abbreviations, arrows and symbols,
-//! glued names, pasted log rows); corpus16 is
+//! glued names, pasted log rows), corpus16 until `corpus17.jsonl` (280 by
+//! a seventeenth, asked for newcomers who describe what they see the robot
+//! do rather than name its nodes); corpus17 is
 //! never tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
@@ -482,26 +484,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus13.jsonl",
             "corpus14.jsonl",
             "corpus15.jsonl",
+            "corpus16.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus15 (tuned on)", &t3);
-    let t = tally(&["corpus16.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus16)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus16 (tuned on)", &t3);
+    let t = tally(&["corpus17.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus17)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 3_720 && t.total >= 280,
+        t3.total >= 4_000 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus15: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus16: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -518,13 +521,13 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus15 as tuned on (92.1 % understood, 3.4 % misread; first
-/// read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %,
+/// corpus3 to corpus16 (91.6 % understood, 3.8 % misread, corpus16 not yet
+/// tuned on; first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %,
 /// 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %, 78.2 %/8.2 %,
-/// 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 % and
-/// 81.1 %/7.9 %), and corpus16, never tuned on (85.0 % and 8.2 % when it
-/// was first read).
-const C3_FLOOR: f64 = 92.0;
-const C3_MISREAD: f64 = 3.5;
-const FRESH_FLOOR: f64 = 84.9;
-const FRESH_MISREAD: f64 = 8.3;
+/// 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %, 81.1 %/7.9 %
+/// and 85.0 %/8.2 %), and corpus17, never tuned on (79.3 % and 8.6 % when
+/// it was first read).
+const C3_FLOOR: f64 = 91.5;
+const C3_MISREAD: f64 = 3.9;
+const FRESH_FLOOR: f64 = 79.2;
+const FRESH_MISREAD: f64 = 8.7;

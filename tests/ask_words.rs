@@ -1317,6 +1317,61 @@ fn what_speech_to_text_writes_is_read_as_it_was_said() {
 }
 
 #[test]
+fn an_on_call_chats_shorthand_is_read_as_meant() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let detect = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // "t30" is tick 30, wherever it stands.
+        (
+            vec![kitting],
+            "doing @ t30?",
+            "What were you doing at tick 30?",
+        ),
+        (vec![kitting], "t19 summary", "What happened at tick 19?"),
+        // The team's abbreviations of the field.
+        (
+            vec![nav2],
+            "plnr fail count",
+            "How often did the ComputePathToPose action (#5) fail?",
+        ),
+        (
+            vec![nav2],
+            "when did the ctrl last fail",
+            "When did the FollowPath action (#10) last fail?",
+        ),
+        (
+            vec![nav2],
+            "any probs w/ the recov",
+            "Did the recovery work?",
+        ),
+        // "vs" is "rather than".
+        (
+            vec![taxi],
+            "y move up vs move right first",
+            "Why did I do move up (#8, #9) and not move right (#5, #6, #7) in tick 4?",
+        ),
+        // An ID as code writes it picks the node written so, where the
+        // words alone name the Sequence above it too.
+        (
+            vec![detect],
+            "why did detect_chuck fail @ t9",
+            "Why did the detect chuck action (#12) fail at 9:1?",
+        ),
+    ];
+    first_lines_are(cases);
+    // The sensors' state and an opinion are no run's.
+    for q in ["is the camera calibrated", "is it the best detector imo"] {
+        let (ok, out, _) = btx(&["ask", detect, q]);
+        assert!(
+            !ok && out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

@@ -694,13 +694,28 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
     }
     let q: Vec<&str> = words.iter().map(|w| w.text.as_str()).collect();
     let asks = |i: usize| {
-        ["happened", "happens", "happen", "describe"].contains(&q[i])
+        [
+            "happened",
+            "happens",
+            "happen",
+            "describe",
+            "summary",
+            "summarize",
+            "summarise",
+            "recap",
+            "rundown",
+        ]
+        .contains(&q[i])
             || (q[i] == "about" && i >= 2 && q[i - 2] == "tell")
     };
     let at = (0..q.len()).find(|&i| asks(i))?;
     let mut k = at + 1;
-    while k < q.len() && ["at", "in", "on", "during", "for", "the"].contains(&q[k]) {
+    while k < q.len() && ["at", "in", "on", "during", "for", "the", "of"].contains(&q[k]) {
         k += 1;
+    }
+    // "Tick 13 summary", "t5 what happened": the tick said first.
+    if q.get(k) != Some(&"tick") && (q[0] == "tick" || at >= 2 && q[at - 2] == "tick") {
+        k = if q[0] == "tick" { 0 } else { at - 2 };
     }
     let n: u32 = (q.get(k) == Some(&"tick"))
         .then(|| q.get(k + 1)?.parse().ok())
@@ -976,7 +991,11 @@ fn doing(c: &Cues) -> Option<Readings> {
     // "What is it doing now, looking at the chuck again?": the names are
     // the asker's guess; the question is what it does.
     let guessed = s.has("doing") && c.what && !c.why && !c.how;
-    (doing && (c.what || s.empty() || c.first == "current") && (c.named.is_empty() || guessed))
+    // "Doing @ t30?": the chat's shorthand.
+    let bare = c.first == "doing" && c.named.is_empty() && !c.why && !c.how;
+    (doing
+        && (c.what || s.empty() || c.first == "current" || bare)
+        && (c.named.is_empty() || guessed))
         .then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Doing)), 0.93))?
 }
 

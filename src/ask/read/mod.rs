@@ -26,7 +26,7 @@ use clauses::{
 };
 use event::{event, foil, gave_up, loops_of, negated_first, progressive, subject};
 pub use mentions::{Mention, Vocabulary};
-use rewrite::{paths_as_uids, states_as_outcomes};
+use rewrite::{ids_as_uids, paths_as_uids, states_as_outcomes};
 pub use when::{ordinal_word, Side, When};
 use words::Word;
 
@@ -362,6 +362,12 @@ fn about_the_world(word: &str) -> bool {
         "wrote",
         "author",
         "team",
+        "calibrated",
+        "calibration",
+        "lidar",
+        "trained",
+        "training",
+        "dataset",
     ];
     WORLD.contains(&word)
 }
@@ -546,7 +552,7 @@ fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             about: None,
         });
     }
-    let text = states_as_outcomes(tree, &paths_as_uids(tree, text));
+    let text = states_as_outcomes(tree, &ids_as_uids(tree, &paths_as_uids(tree, text)));
     let q = words::words(&text);
     if q.is_empty() {
         return None;

@@ -98,6 +98,54 @@ fn spliced(toks: &[&str], from: usize, to: usize, said: &str) -> String {
     out.join(" ")
 }
 
+/// A name written as code writes it ("detect_chuck", "DetectChuck") is
+/// the one node whose ID or name is written so, where the words alone
+/// would name several ("detect chuck" is also the Sequence above it). A
+/// built-in's ID ("ReactiveSequence") names its kind, not a node.
+pub(super) fn ids_as_uids(tree: &Tree, text: &str) -> String {
+    let as_code = |t: &str| {
+        t.contains('_')
+            || t.as_bytes()
+                .windows(2)
+                .any(|w| w[0].is_ascii_lowercase() && w[1].is_ascii_uppercase())
+    };
+    if !text.split_whitespace().any(as_code) {
+        return text.to_string();
+    }
+    let toks: Vec<String> = text
+        .split_whitespace()
+        .map(|t| {
+            let bare = t.trim_matches(|c: char| "?!.,;'\"()".contains(c));
+            if !as_code(bare) {
+                return t.to_string();
+            }
+            if tree
+                .nodes
+                .iter()
+                .any(|n| n.builtin.is_some() && n.id == bare)
+            {
+                return t.to_string();
+            }
+            let mut written = tree.nodes.iter().filter(|n| n.id == bare || n.name == bare);
+            let (Some(n), None) = (written.next(), written.next()) else {
+                return t.to_string();
+            };
+            let said = words::name_words(bare);
+            let alike = tree
+                .nodes
+                .iter()
+                .filter(|m| words::name_words(&m.name) == said || words::name_words(&m.id) == said)
+                .count();
+            if alike > 1 {
+                t.replace(bare, &format!("#{}", n.uid))
+            } else {
+                t.to_string()
+            }
+        })
+        .collect();
+    toks.join(" ")
+}
+
 pub(super) fn paths_as_uids(tree: &Tree, text: &str) -> String {
     if !text.contains('/') {
         return text.to_string();

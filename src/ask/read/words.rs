@@ -161,10 +161,28 @@ const SPELLINGS: &[(&str, &str)] = &[
     ("okay", "ok"),
     ("alright", "ok"),
     ("behaviour", "behavior"),
+    // An on-call chat's shorthand.
+    ("ctrl", "controller"),
+    ("plnr", "planner"),
+    ("recov", "recovery"),
+    ("recovs", "recoveries"),
+    ("recovd", "recovered"),
+    ("probs", "problems"),
+    ("prob", "problem"),
+    ("seq", "sequence"),
+    ("deco", "decorator"),
+    ("nah", "not"),
+    ("w", "with"),
+    ("lvl", "level"),
+    ("imo", "in my opinion"),
+    ("imho", "in my opinion"),
+    ("vs", "rather than"),
+    ("versus", "rather than"),
 ];
 
 /// "didn't" and "it's": the apostrophe's forms, before the apostrophe goes.
 const CONTRACTIONS: &[(&str, &str)] = &[
+    ("recov'd", "recovered"),
     ("can't", "can not"),
     ("won't", "will not"),
     ("n't", " not"),
@@ -418,9 +436,15 @@ fn log_row(row: &str) -> Option<(u32, u32, u32)> {
 /// A node and a tick as a log and its readers say them: "node 8", "uid
 /// 7", "id 7" are `#8`, `#7`; "t=30" is tick 30.
 fn as_logs_say(words: Vec<Word>) -> Vec<Word> {
+    // "t44", "@ t6": tick 44, tick 6.
+    let tick_n = |w: &Word| {
+        w.text.len() > 1
+            && w.text.starts_with('t')
+            && w.text[1..].chars().all(|c| c.is_ascii_digit())
+    };
     if !words
         .iter()
-        .any(|w| ["node", "uid", "id", "t"].contains(&w.text.as_str()))
+        .any(|w| ["node", "uid", "id", "t"].contains(&w.text.as_str()) || tick_n(w))
     {
         return words;
     }
@@ -434,6 +458,15 @@ fn as_logs_say(words: Vec<Word>) -> Vec<Word> {
             out.push(Word {
                 stem: uid.clone(),
                 text: uid,
+            });
+        } else if tick_n(&w) {
+            out.push(Word {
+                text: "tick".into(),
+                stem: "tick".into(),
+            });
+            out.push(Word {
+                stem: w.text[1..].to_string(),
+                text: w.text[1..].to_string(),
             });
         } else if w.text == "t" && number(it.peek()) {
             out.push(Word {

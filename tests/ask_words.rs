@@ -1372,6 +1372,62 @@ fn an_on_call_chats_shorthand_is_read_as_meant() {
 }
 
 #[test]
+fn what_a_newcomer_sees_is_read_as_meant() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let patrol = "tests/fixtures/questions/patrol.jsonl";
+    let case = "sessions/case-study.jsonl";
+    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // "Go wrong" said of a node is its failing; Groot's colours are
+        // the outcomes they draw.
+        (
+            vec![kitting],
+            "when did the look at chuck step go wrong",
+            "When did look at chuck (#18) fail?",
+        ),
+        (
+            vec![case],
+            "why did L0 turn red",
+            "Why did L0 (#3) fail at 1:3?",
+        ),
+        (
+            vec![case],
+            "why did L2 turn green",
+            "Why did L2 (#5) succeed at 1:6?",
+        ),
+        // "What went wrong when …": the "when" says which time.
+        (
+            vec![taxi],
+            "what went wrong when it moved left",
+            "What went wrong?",
+        ),
+        // A condition found, or remaining, in its state.
+        (
+            vec![patrol],
+            "how often did it find the path clear",
+            "How often did path clear (#6) succeed?",
+        ),
+        (
+            vec![patrol],
+            "what if the path had remained clear",
+            "What happens if path clear (#6) succeeds?",
+        ),
+        (
+            vec![nav2],
+            "did it get going again after the planner failed",
+            "Did the recovery work?",
+        ),
+        (
+            vec![patrol],
+            "what is the point of the robot",
+            "What is your goal?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

@@ -197,8 +197,10 @@ fn recovered(c: &Cues) -> Option<Readings> {
     // "Did clearing the costmap fix the failure?": whether it recovered.
     let fixed_it = s.has_stem(&["fix"])
         && (s.has("it") || s.has("that") || s.has("things") || c.yes_no && c.problem);
-    let on_track =
-        s.phrase(&["on", "track"]).is_some() || s.phrase(&["back", "to", "normal"]).is_some();
+    // "Did it get going again after the controller gave up?".
+    let on_track = s.phrase(&["on", "track"]).is_some()
+        || s.phrase(&["back", "to", "normal"]).is_some()
+        || s.phrase(&["going", "again"]).is_some() && s.has("after");
     if !c.how
         && !c.why
         // "Recoveries done, what comes next?", "RecoveryFallback is SUCCESS
@@ -296,7 +298,11 @@ fn purpose(c: &Cues) -> Option<Readings> {
     let current = c.doing_words || s.has("now") || s.has("current") || s.has_stem(&["action"]);
     // "What is this tree for?": the whole's purpose.
     let whole = c.whole || s.has("tree") || s.has("bt");
-    if whole && !current && c.named.is_empty() && !c.how {
+    // "What's the point of this robot?": the whole's, whatever it is doing.
+    let of_the_agent = ["robot", "agent", "system", "program"]
+        .iter()
+        .any(|a| s.phrase(&["of", "this", a]).is_some() || s.phrase(&["of", "the", a]).is_some());
+    if (whole && !current || of_the_agent) && c.named.is_empty() && !c.how {
         return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Goal)), 0.9);
     }
     if matches!(c.ev, None | Some(Event::Run)) && (current || !c.named.is_empty()) {

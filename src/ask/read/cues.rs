@@ -204,7 +204,9 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         && (s.has("time") || s.has("times"))
         && !why;
     every_time
-        || s.has("when")
+        // "What went wrong when it dropped the passenger off?": the
+        // "when" says which time.
+        || s.has("when") && s.phrase(&["wrong", "when"]).is_none()
         || s.phrase(&["what", "time"]).is_some()
         || s.phrase(&["which", "tick"]).is_some()
         || s.phrase(&["what", "tick"]).is_some()

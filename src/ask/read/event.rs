@@ -41,7 +41,16 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
         || s.phrase(&["long", "time"]).is_some();
     // "Had path clear stayed true": a condition's outcome said as its
     // value.
+    // "When did looking at the chuck go wrong?", "why did the sequence box
+    // go red?" (Groot draws a failure red, a success green).
+    let went_wrong = (s.phrase(&["go", "wrong"]).is_some()
+        || s.phrase(&["gone", "wrong"]).is_some())
+        && !s.nodes.is_empty();
     let e = if gave_up(s)
+        || went_wrong
+        || s.phrase(&["go", "red"]).is_some()
+        || s.phrase(&["turn", "red"]).is_some()
+        || s.phrase(&["turned", "red"]).is_some()
         || s.has("false")
         || s.has_stem(&[
             "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
@@ -68,6 +77,9 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
         || s.has("work")
         || s.has("worked")
         || s.has("works")
+        || s.phrase(&["go", "green"]).is_some()
+        || s.phrase(&["turn", "green"]).is_some()
+        || s.phrase(&["turned", "green"]).is_some()
     {
         Some(Event::Succeed)
     } else if s.has_stem(&["finish", "end", "complet", "done"]) {

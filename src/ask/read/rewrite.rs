@@ -14,8 +14,11 @@ use super::*;
 pub(super) fn states_as_outcomes(tree: &Tree, text: &str) -> String {
     const BE: &[&str] = &[
         "is", "was", "were", "are", "be", "been", "being", "had", "has", "have", "isnt", "wasnt",
-        "werent", "arent", "not", "never",
+        "werent", "arent", "not", "never", "stayed", "stay", "stays", "remained", "remain",
+        "remains", "still", "last", "reported", "as",
     ];
+    // "How many times did it find the path clear?".
+    const FOUND: &[&str] = &["find", "found", "finds", "saw", "see", "sees"];
     const ASKING: &[&str] = &[
         "is", "was", "were", "are", "isnt", "wasnt", "werent", "arent",
     ];
@@ -64,6 +67,13 @@ pub(super) fn states_as_outcomes(tree: &Tree, text: &str) -> String {
                 let failed = not_after || NOT.contains(&low[start - 1].as_str());
                 let said = format!("did {d} {}", if failed { "fail" } else { "succeed" });
                 return spliced(&toks, start - 1, end + 1, &said);
+            }
+            if start > 0
+                && FOUND.contains(&low[start - 1].as_str())
+                && low.get(after) == Some(&state[0])
+            {
+                let said = format!("{d} succeeded");
+                return spliced(&toks, start - 1, after + 1, &said);
             }
             // "the path had (not) been clear": told, the verb between.
             let mut j = after;

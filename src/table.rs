@@ -311,6 +311,7 @@ fn bits(n: usize) -> u8 {
 /// holds 64 groups at most, as the parquet crate writes them; the last
 /// group is filled with zeros (the page says how many values it holds).
 fn bit_packed(width: u8, values: &[u32], out: &mut Vec<u8>) {
+    out.reserve(values.len().div_ceil(8) * usize::from(width) + values.len() / 256 + 2);
     for run in values.chunks(64 * 8) {
         let groups = run.len().div_ceil(8);
         let mut header = (groups << 1) | 1;
@@ -319,17 +320,40 @@ fn bit_packed(width: u8, values: &[u32], out: &mut Vec<u8>) {
             header >>= 7;
         }
         out.push(header as u8);
+        let (whole, last) = run.split_at(run.len() / 8 * 8);
+        for group in whole.chunks_exact(8) {
+            pack_group(width, group, out);
+        }
+        if !last.is_empty() {
+            let mut padded = [0u32; 8];
+            padded[..last.len()].copy_from_slice(last);
+            pack_group(width, &padded, out);
+        }
+    }
+}
+
+/// Eight values of `width` bits each, as `width` bytes. Indices into a
+/// dictionary of up to 2^16 values (every one a fleet's export writes)
+/// are packed in one register, which is most of what packing costs.
+fn pack_group(width: u8, group: &[u32], out: &mut Vec<u8>) {
+    let w = u32::from(width);
+    if w <= 16 {
+        let mut acc = 0u128;
+        for (k, &v) in group.iter().enumerate() {
+            acc |= u128::from(v) << (k as u32 * w);
+        }
+        out.extend_from_slice(&acc.to_le_bytes()[..w as usize]);
+    } else {
         let (mut acc, mut held) = (0u64, 0u32);
-        for k in 0..groups * 8 {
-            acc |= u64::from(run.get(k).copied().unwrap_or(0)) << held;
-            held += u32::from(width);
+        for &v in group {
+            acc |= u64::from(v) << held;
+            held += w;
             while held >= 8 {
                 out.push(acc as u8);
                 acc >>= 8;
                 held -= 8;
             }
         }
-        debug_assert_eq!(held, 0, "eight values fill whole bytes");
     }
 }
 

@@ -35,7 +35,9 @@
 //! do rather than name its nodes), corpus17 until `corpus18.jsonl` (280
 //! by an eighteenth, asked for integrators who name nodes by what the XML
 //! says of them: ports and their values, blackboard keys, classes, places
-//! among their siblings); corpus18 is
+//! among their siblings), corpus18 until `corpus19.jsonl` (280 by a
+//! nineteenth, asked for safety auditors: formal, hedged, passive,
+//! conditional, findings numbered and requirements quoted); corpus19 is
 //! never tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
@@ -489,26 +491,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus15.jsonl",
             "corpus16.jsonl",
             "corpus17.jsonl",
+            "corpus18.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus17 (tuned on)", &t3);
-    let t = tally(&["corpus18.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus18)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus18 (tuned on)", &t3);
+    let t = tally(&["corpus19.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus19)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 4_280 && t.total >= 280,
+        t3.total >= 4_560 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus17: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus18: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -525,13 +528,13 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus17 as tuned on (91.5 % understood, 3.5 % misread; first
-/// read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %,
-/// 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %, 78.2 %/8.2 %,
-/// 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %, 81.1 %/7.9 %,
-/// 85.0 %/8.2 % and 79.3 %/8.6 %), and corpus18, never tuned on (81.8 % and
-/// 7.5 % when it was first read).
-const C3_FLOOR: f64 = 91.4;
-const C3_MISREAD: f64 = 3.6;
-const FRESH_FLOOR: f64 = 81.7;
-const FRESH_MISREAD: f64 = 7.6;
+/// corpus3 to corpus18 as tuned on (90.9 % understood, 3.8 % misread, with
+/// corpus18 not yet tuned on; first read 72.2 %/8.4 %, 77.2 %/5.6 %,
+/// 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
+/// 78.2 %/8.2 %, 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %,
+/// 81.1 %/7.9 %, 85.0 %/8.2 %, 79.3 %/8.6 % and 81.8 %/7.5 %), and
+/// corpus19, never tuned on (58.9 % and 11.4 % when it was first read).
+const C3_FLOOR: f64 = 90.8;
+const C3_MISREAD: f64 = 3.9;
+const FRESH_FLOOR: f64 = 58.8;
+const FRESH_MISREAD: f64 = 11.5;

@@ -445,7 +445,10 @@ impl Transitions {
     fn push(&mut self, run: &str, s: &Session) {
         let ts = &s.index.transitions;
         if self.run.is_empty() {
-            self.reserve(ts.len().max(ROW_GROUP));
+            // Rows are written once they reach a row group, so the run
+            // that crosses it lands past it: room for it too, or each
+            // column is copied to twice its size once a row group.
+            self.reserve(ts.len() + ROW_GROUP);
         }
         let r = self.runs.len() as u32;
         self.runs.push(ByteArray::from(run.as_bytes().to_vec()));

@@ -1428,6 +1428,75 @@ fn what_a_newcomer_sees_is_read_as_meant() {
 }
 
 #[test]
+fn what_the_xml_says_of_a_node_picks_it() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let patrol = "tests/fixtures/questions/patrol.jsonl";
+    let case = "sessions/case-study.jsonl";
+    let bag = [
+        "tests/fixtures/rosbag/two_goals",
+        "--tree",
+        "tests/fixtures/rosbag/navigator.xml",
+        "--run",
+        "1",
+    ];
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // A port and its value, as the XML writes them.
+        (
+            vec![nav2],
+            "why did the action with controller_id=\"FollowPath\" fail at tick 6?",
+            "Why did the FollowPath action (#10) fail at 6:1?",
+        ),
+        (
+            vec![nav2],
+            "how many times did ComputePathToPose with planner_id=\"GridBased\" run",
+            "How often did the ComputePathToPose action (#5) start?",
+        ),
+        // A port told of a node is no pick: the contrast is still read.
+        (
+            vec![patrol],
+            "The Parallel watch and walk has success_count=2, so I assumed it would keep walking while driving. Why did it drive rather than keep walking?",
+            "Why did I do drive (#7) and not walk (#3) in tick 3?",
+        ),
+        // A place among siblings.
+        (
+            vec![case],
+            "at what step did the second child of CaseStudyFallback succeed",
+            "When did L2 (#5) succeed?",
+        ),
+        (
+            bag.to_vec(),
+            "when did the second child of the FollowPath fallback run?",
+            "When did ClearLocalCostmap (#4) start?",
+        ),
+        (
+            vec![patrol],
+            "how many times was the Condition under the ReactiveSequence ticked",
+            "How often did path clear (#6) start?",
+        ),
+        // A built-in's ID names its nodes; its "Failure" is no failure.
+        (
+            vec![kitting],
+            "what would have happened if the retreat_arm inside the ForceFailure had failed",
+            "What happens if the retreat arm action (#27) fails?",
+        ),
+        // An ID and a name, as `ID` and `name` say them.
+        (
+            bag.to_vec(),
+            "what if the Act named FollowPath had succeeded on the first try?",
+            "What happens if the FollowPath action (#3) succeeds?",
+        ),
+        // The tick told by what happened in it.
+        (
+            bag.to_vec(),
+            "describe the tick where the spin failed",
+            "What happened at tick 4?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

@@ -735,8 +735,15 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
 fn tick(c: &Cues) -> Option<Readings> {
     let s = c.s;
     let asked_when = when::find(s.q).map(|(w, _)| w);
-    let this_tick =
-        s.phrase(&["this", "tick"]).is_some() || s.phrase(&["current", "tick"]).is_some();
+    // "The tick where the spin failed": the moment is that failure's.
+    let this_tick = s.phrase(&["this", "tick"]).is_some()
+        || s.phrase(&["current", "tick"]).is_some()
+        || s.q.windows(2).enumerate().any(|(i, p)| {
+            p[0].text == "tick"
+                && !s.used[i]
+                && s.used[i + 1]
+                && ["where", "when", "in", "that"].contains(&p[1].text.as_str())
+        });
     if asked_when.is_none() && !this_tick {
         return None;
     }

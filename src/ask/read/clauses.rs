@@ -221,3 +221,138 @@ pub(super) fn governing_verbs_dropped(q: &[Word], nodes: Vec<Mention>) -> Vec<Me
         .filter_map(|(m, k)| k.then_some(m))
         .collect()
 }
+
+/// "The second child of the FollowPath fallback", "the 5th child of
+/// navigate to passenger", "the child of the RetryUntilSuccessful", "the
+/// condition under the ReactiveSequence": a node named by its place under
+/// another. Said beside a name ("look_at, 4th child of the insert large
+/// gear Sequence"), the place picks which of the nodes so named.
+pub(super) fn children_by_place(tree: &Tree, q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
+    const UNDER: &[&str] = &["of", "under", "in", "inside", "within", "below", "beneath"];
+    let mut out: Vec<Mention> = Vec::with_capacity(nodes.len());
+    for m in nodes {
+        let mut k = m.start;
+        while k > 0 && ["the", "a", "its"].contains(&q[k - 1].text.as_str()) {
+            k -= 1;
+        }
+        let placed = (k >= 2 && UNDER.contains(&q[k - 1].text.as_str()))
+            .then(|| place(tree, q, k - 2, &m))
+            .flatten();
+        let Some((start, children)) = placed else {
+            out.push(m);
+            continue;
+        };
+        // A kind word the place starts with ("the condition under") is no
+        // mention of its own.
+        while out.last().is_some_and(|a| a.start >= start) {
+            out.pop();
+        }
+        // Beside a name said just before that is one of them, the place
+        // only picks among that name's nodes.
+        if let Some(a) = out.last_mut().filter(|a| {
+            start >= a.end && start - a.end <= 8 && a.uids.iter().any(|u| children.contains(u))
+        }) {
+            a.uids.retain(|u| children.contains(u));
+            a.end = m.end;
+            a.phrase = words::said(&q[a.start..a.end]);
+            continue;
+        }
+        if out.last().is_some_and(|a| a.end > start) {
+            out.push(m);
+            continue;
+        }
+        out.push(Mention {
+            start,
+            end: m.end,
+            uids: children,
+            score: m.score,
+            weak: false,
+            phrase: words::said(&q[start..m.end]),
+        });
+    }
+    out
+}
+
+/// The nodes the words ending at `at` place under `of`'s nodes, and where
+/// those words start: "[the] [N-th|last|only] child", or a kind word
+/// ("the condition under").
+fn place(tree: &Tree, q: &[Word], at: usize, of: &Mention) -> Option<(usize, Vec<Uid>)> {
+    let word = q[at].text.as_str();
+    let parents = of.uids.iter().map(|&u| tree.node(u));
+    let (mut start, children): (usize, Vec<Uid>) = if ["child", "kid"].contains(&word) {
+        let nth = at.checked_sub(1).and_then(|k| match q[k].text.as_str() {
+            "last" => Some(0),
+            w => when::ordinal(w).map(|n| n as usize),
+        });
+        let picked = parents
+            .filter_map(|p| match nth {
+                Some(0) => p.children.last().copied(),
+                Some(n) => p.children.get(n - 1).copied(),
+                None => (p.children.len() == 1).then(|| p.children[0]),
+            })
+            .collect();
+        (if nth.is_some() { at - 1 } else { at }, picked)
+    } else if mentions::is_kind_word(word) && !["node", "step"].contains(&word) {
+        let picked: Vec<Uid> = parents
+            .filter_map(|p| {
+                let mut of_kind = p
+                    .children
+                    .iter()
+                    .copied()
+                    .filter(|&c| mentions::of_kind(word, tree.node(c)));
+                match (of_kind.next(), of_kind.next()) {
+                    (Some(c), None) => Some(c),
+                    _ => None,
+                }
+            })
+            .collect();
+        (at, picked)
+    } else {
+        return None;
+    };
+    if children.is_empty() {
+        return None;
+    }
+    while start > 0 && ["the", "a", "its"].contains(&q[start - 1].text.as_str()) {
+        start -= 1;
+    }
+    Some((start, children))
+}
+
+/// "The tick where the spin failed", "the tick in which X failed": the
+/// moment of that failure (X's first, or the N-th said), and the words
+/// that say it.
+pub(super) fn tick_of_a_failure(
+    tree: &Tree,
+    q: &[Word],
+    used: &[bool],
+    mentions: &[Mention],
+) -> Option<(When, Vec<usize>)> {
+    let k = (0..q.len()).find(|&i| !used[i] && q[i].text == "tick")?;
+    let mut j = k + 1;
+    while j < q.len() && ["where", "when", "in", "which", "that"].contains(&q[j].text.as_str()) {
+        j += 1;
+    }
+    if j == k + 1 {
+        return None;
+    }
+    let m = mentions.iter().find(|m| {
+        m.start >= j
+            && q[j..m.start]
+                .iter()
+                .all(|w| w.text == "the" || when::ordinal(&w.text).is_some())
+    })?;
+    let end = (m.end..q.len().min(m.end + 2)).find(|&i| q[i].stem.starts_with("fail"))?;
+    let n = q[j..m.start]
+        .iter()
+        .chain(&q[end + 1..q.len().min(end + 3)])
+        .find_map(|w| when::ordinal(&w.text))
+        .unwrap_or(1);
+    let w = When::Ended {
+        uid: deepest(tree, &m.uids),
+        n,
+        failed: true,
+        side: Side::At,
+    };
+    Some((w, (k + 1..=end).collect()))
+}

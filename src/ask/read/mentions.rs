@@ -94,6 +94,15 @@ fn is_article(w: &str) -> bool {
     ARTICLES.contains(&w)
 }
 
+pub(super) fn is_kind_word(w: &str) -> bool {
+    kind_word(w).is_some()
+}
+
+/// Whether a node is of the kind a kind word names.
+pub(super) fn of_kind(w: &str, n: &crate::model::Node) -> bool {
+    kind_word(w).is_some_and(|is| is(n))
+}
+
 /// Kind words: "the FollowPath action", "the insert large gear fallback".
 fn kind_word(w: &str) -> Option<fn(&crate::model::Node) -> bool> {
     Some(match w {
@@ -563,6 +572,27 @@ fn named_spans(
     out
 }
 
+/// The nodes whose built-in ID (of two words or more) the words from `k`
+/// spell, and how many words.
+fn builtin_said(tree: &Tree, q: &[Word], k: usize, taken: &[bool]) -> Option<(usize, Vec<Uid>)> {
+    (2..=4).rev().find_map(|len| {
+        let span = q.get(k..k + len)?;
+        if taken[k..k + len].iter().any(|&t| t) {
+            return None;
+        }
+        let joined: String = span.iter().map(|w| w.text.as_str()).collect();
+        let uids: Vec<Uid> = tree
+            .preorder()
+            .into_iter()
+            .filter(|&u| {
+                let n = tree.node(u);
+                n.builtin.is_some() && n.id.eq_ignore_ascii_case(&joined)
+            })
+            .collect();
+        (!uids.is_empty()).then_some((len, uids))
+    })
+}
+
 /// A node called by its kind alone ("the parallel", "the retry node"):
 /// every node of that kind, for the run to choose among.
 fn kinds_alone(tree: &Tree, q: &[Word], taken: &mut [bool]) -> Vec<Mention> {
@@ -571,6 +601,24 @@ fn kinds_alone(tree: &Tree, q: &[Word], taken: &mut [bool]) -> Vec<Mention> {
     while k < q.len() {
         if taken[k] {
             k += 1;
+            continue;
+        }
+        // "The ForceFailure", "the ReactiveSequence": a built-in's ID as
+        // written, its words joined, names the nodes of that ID (and its
+        // "failure" is no failure asked about).
+        if let Some((len, uids)) = builtin_said(tree, q, k, taken) {
+            for t in &mut taken[k..k + len] {
+                *t = true;
+            }
+            out.push(Mention {
+                start: k,
+                end: k + len,
+                uids,
+                score: 0.9,
+                weak: false,
+                phrase: words::said(&q[k..k + len]),
+            });
+            k += len;
             continue;
         }
         let two = q.get(k + 1).map(|w| w.text.as_str());

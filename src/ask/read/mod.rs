@@ -22,11 +22,12 @@ use can_you::can_you;
 pub use can_you::wraps_a_question;
 use classify::classify;
 use clauses::{
-    counted_among_alike, deepest, elided_foil, failure_clause, governing_verbs_dropped, scoped,
+    children_by_place, counted_among_alike, deepest, elided_foil, failure_clause,
+    governing_verbs_dropped, scoped, tick_of_a_failure,
 };
 use event::{event, foil, gave_up, loops_of, negated_first, progressive, subject};
 pub use mentions::{Mention, Vocabulary};
-use rewrite::{ids_as_uids, paths_as_uids, states_as_outcomes};
+use rewrite::{ids_as_uids, named_as_uids, paths_as_uids, ports_as_uids, states_as_outcomes};
 pub use when::{ordinal_word, Side, When};
 use words::Word;
 
@@ -552,7 +553,13 @@ fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             about: None,
         });
     }
-    let text = states_as_outcomes(tree, &ids_as_uids(tree, &paths_as_uids(tree, text)));
+    let text = states_as_outcomes(
+        tree,
+        &ids_as_uids(
+            tree,
+            &paths_as_uids(tree, &named_as_uids(tree, &ports_as_uids(tree, text))),
+        ),
+    );
     let q = words::words(&text);
     if q.is_empty() {
         return None;
@@ -646,8 +653,18 @@ fn named_parts<'a>(
             mentions.retain(|m| !(m.start..m.end).any(|i| s.used[i]));
         }
     }
+    if when.is_none() {
+        if let Some((w, used)) = tick_of_a_failure(tree, q, &s.used, &mentions) {
+            when = Some(w);
+            for i in used {
+                s.used[i] = true;
+            }
+            mentions.retain(|m| !(m.start..m.end).any(|i| s.used[i]));
+        }
+    }
     s.nodes.extend(mentions);
     s.nodes.sort_by_key(|m| m.start);
+    s.nodes = children_by_place(tree, q, std::mem::take(&mut s.nodes));
     s.nodes = scoped(tree, q, std::mem::take(&mut s.nodes));
     s.nodes = governing_verbs_dropped(q, std::mem::take(&mut s.nodes));
     s.nodes = counted_among_alike(q, std::mem::take(&mut s.nodes));

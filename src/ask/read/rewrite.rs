@@ -178,3 +178,201 @@ pub(super) fn paths_as_uids(tree: &Tree, text: &str) -> String {
     }
     text.to_string()
 }
+
+/// "The look_at with pose={object pose}", "the action with
+/// controller_id=\"FollowPath\"": a port and its value, as the XML writes
+/// them, pick the nodes that have it. Where a name said just before is one
+/// of those nodes' (or no name is said and the port picks one node), the
+/// name and the port are written as that node's #uid.
+pub(super) fn ports_as_uids(tree: &Tree, text: &str) -> String {
+    if !text.contains('=') {
+        return text.to_string();
+    }
+    let mut toks: Vec<String> = text.split_whitespace().map(str::to_string).collect();
+    let mut i = 0;
+    while i < toks.len() {
+        let Some((key, value, end, tail)) = port_said(&toks, i) else {
+            i += 1;
+            continue;
+        };
+        let having: Vec<Uid> = tree
+            .nodes
+            .iter()
+            .filter(|n| has_port(n, &key, &value))
+            .map(|n| n.uid)
+            .collect();
+        let Some(said) = said_with(tree, &toks, i, &having) else {
+            i = end;
+            continue;
+        };
+        let (from, uid) = said;
+        // What the port was said with goes: "(the one with", "with", ")".
+        let mut out: Vec<String> = toks[..from].to_vec();
+        out.push(format!("#{uid}"));
+        if !tail.is_empty() {
+            out.push(tail.to_string());
+        }
+        let next = out.len();
+        out.extend(toks[end..].iter().cloned());
+        toks = out;
+        i = next;
+    }
+    toks.join(" ")
+}
+
+/// The port said at token `i` ("pose={object", "pose})"): its key (without
+/// `in:` or `out:`), its value, the token after it, and what its last
+/// token holds after the value (")?").
+fn port_said(toks: &[String], i: usize) -> Option<(String, String, usize, String)> {
+    let t = toks[i].trim_start_matches(['(', '[', ',']);
+    let (key, rest) = t.split_once('=')?;
+    let key = key.rsplit(':').next()?.to_lowercase();
+    if key.is_empty() || !key.chars().all(|c| c.is_alphanumeric() || c == '_') {
+        return None;
+    }
+    let close = match rest.chars().next()? {
+        '"' => '"',
+        '\'' => '\'',
+        '{' => '}',
+        _ => {
+            let v = rest.trim_end_matches(|c: char| ")],;?!.".contains(c));
+            let tail = rest[v.len()..].trim_start_matches(')').to_string();
+            return (!v.is_empty()).then(|| (key, v.to_lowercase(), i + 1, tail));
+        }
+    };
+    let mut value = rest[1..].to_string();
+    let mut end = i + 1;
+    while !value.contains(close) {
+        let next = toks.get(end)?;
+        value.push(' ');
+        value.push_str(next);
+        end += 1;
+        if end - i > 12 {
+            return None;
+        }
+    }
+    let at = value.find(close)?;
+    let tail = value[at + 1..].trim_start_matches(')').to_string();
+    Some((key, value[..at].trim().to_lowercase(), end, tail))
+}
+
+fn has_port(n: &crate::model::Node, key: &str, value: &str) -> bool {
+    let plain = |v: &str| {
+        v.trim_matches(|c: char| "{}\"' ".contains(c))
+            .to_lowercase()
+    };
+    n.ports
+        .iter()
+        .any(|p| p.name.to_lowercase() == key && plain(&p.value.to_xml()) == plain(value))
+}
+
+/// The node of `having` a port picks, and the token its words start at:
+/// a name said within the few words before the port that is one of
+/// theirs, or the port alone where it picks one node (then the words that
+/// lead to it, "the node with", go with it).
+fn said_with(tree: &Tree, toks: &[String], i: usize, having: &[Uid]) -> Option<(usize, Uid)> {
+    if having.is_empty() {
+        return None;
+    }
+    let mut start = i;
+    while start > 0 && i - start < 10 {
+        let t = &toks[start - 1];
+        if t.ends_with(['.', '?', '!', ';']) {
+            break;
+        }
+        start -= 1;
+    }
+    let before: Vec<(usize, String)> = (start..i)
+        .flat_map(|k| words::name_words(&toks[k]).into_iter().map(move |w| (k, w)))
+        .collect();
+    // "The one with", "node (in:", "-": only words that lead to a port
+    // may come between the name and it ("detect_chuck again - the one
+    // with" says more than which node; "has" makes a statement of it).
+    let lead = |t: &str| {
+        let t = t
+            .trim_matches(|c: char| "(),-–—:".contains(c))
+            .to_lowercase();
+        t.is_empty()
+            || [
+                "with", "having", "whose", "one", "node", "the", "a", "an", "in", "out", "inout",
+            ]
+            .contains(&t.as_str())
+            || super::mentions::is_kind_word(&t)
+    };
+    let named_at = |u: Uid| {
+        let n = tree.node(u);
+        [&n.name, &n.id].into_iter().find_map(|s| {
+            let said = words::name_words(s);
+            if said.is_empty() || said.len() > before.len() {
+                return None;
+            }
+            (0..=before.len() - said.len())
+                .rev()
+                .find(|&k| {
+                    before[k..k + said.len()]
+                        .iter()
+                        .map(|b| &b.1)
+                        .eq(said.iter())
+                        && toks[before[k + said.len() - 1].0 + 1..i]
+                            .iter()
+                            .all(|t| lead(t))
+                })
+                .map(|k| before[k].0)
+        })
+    };
+    let named: Vec<(usize, Uid)> = having
+        .iter()
+        .filter_map(|&u| named_at(u).map(|k| (k, u)))
+        .collect();
+    match (&named[..], having) {
+        ([one], _) => Some(*one),
+        // "The node with", "the one with", "the action having": the port
+        // picks the node ("has success_count=2" tells of it).
+        ([], [u])
+            if i > start
+                && ["with", "having", "whose", "("]
+                    .contains(&toks[i - 1].to_lowercase().as_str())
+                || toks[i].starts_with('(') =>
+        {
+            let mut from = i;
+            while from > start && lead(&toks[from - 1]) {
+                from -= 1;
+            }
+            Some((from, *u))
+        }
+        _ => None,
+    }
+}
+
+/// "The Act named FollowPath", "the Fallback called FollowPath": an ID (or
+/// a kind word) and a name, as the XML's `ID` and `name` say them, are the
+/// one node that has both.
+pub(super) fn named_as_uids(tree: &Tree, text: &str) -> String {
+    let toks: Vec<&str> = text.split_whitespace().collect();
+    let Some(at) = toks
+        .iter()
+        .position(|t| ["named", "called"].contains(&t.to_lowercase().as_str()))
+        .filter(|&at| at > 0)
+    else {
+        return text.to_string();
+    };
+    let kind = toks[at - 1].trim_matches(|c: char| !c.is_alphanumeric());
+    let kind_said = words::name_words(kind);
+    for len in (1..=4.min(toks.len() - at - 1)).rev() {
+        let name = toks[at + 1..at + 1 + len].join(" ");
+        let bare = name.trim_end_matches(|c: char| "?!.,;:)'\"".contains(c));
+        let name_said = words::name_words(bare);
+        let mut both = tree.nodes.iter().filter(|n| {
+            words::name_words(&n.name) == name_said
+                && (words::name_words(&n.id) == kind_said
+                    || super::mentions::of_kind(&kind.to_lowercase(), n))
+        });
+        if let (Some(n), None) = (both.next(), both.next()) {
+            let mut out: Vec<String> = toks[..at - 1].iter().map(|t| t.to_string()).collect();
+            out.push(format!("#{}{}", n.uid, &name[bare.len()..]));
+            out.extend(toks[at + 1 + len..].iter().map(|t| t.to_string()));
+            return out.join(" ");
+        }
+    }
+    text.to_string()
+}

@@ -1497,6 +1497,66 @@ fn what_the_xml_says_of_a_node_picks_it() {
 }
 
 #[test]
+fn an_auditors_formal_questions_are_read_as_meant() {
+    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
+    let patrol = "tests/fixtures/questions/patrol.jsonl";
+    let case = "sessions/case-study.jsonl";
+    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // The conditional put first, and the outcome it supposes.
+        (
+            vec![case],
+            "Had L0 returned SUCCESS, would L1 have been executed?",
+            "What happens if L0 (#3) succeeds?",
+        ),
+        (
+            vec![case],
+            "Suppose CaseStudySequence had succeeded; would L2 still have been ticked?",
+            "What happens if CaseStudySequence (#2) succeeds?",
+        ),
+        (
+            vec![kitting],
+            "what if #18 had not FAILED at tick 10, i.e. look at chuck succeeded straight away?",
+            "What happens if look at chuck (#18) succeeds?",
+        ),
+        // A request put formally is the question it puts.
+        (
+            vec![patrol],
+            "Did any element of the tree report an anomaly during this run?",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![case],
+            "Is everything in order up to this point?",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![nav2],
+            "On what grounds did the RecoveryFallback return SUCCESS at tick 6 without executing any recovery behaviour?",
+            "Why did RecoveryFallback (#14) succeed at 6:12?",
+        ),
+        (
+            vec![taxi],
+            "Identify the tick in which the navigate to destination sequence completed with SUCCESS.",
+            "When did navigate to destination (#14) succeed?",
+        ),
+        (
+            vec![taxi],
+            "Explain, at the level of subgoals, how the item under test achieves its goal.",
+            "How do you achieve your goal?",
+        ),
+        // "Confirm" asks for the answer, not whether btx can.
+        (
+            vec![taxi],
+            "Could you confirm that no node returned FAILURE during the taxi run?",
+            "I read this as \"Was there anything wrong?\". Did you mean: \"What went wrong?\"?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

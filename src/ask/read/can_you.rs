@@ -25,6 +25,13 @@ pub fn wraps_a_question(after: &[&str]) -> bool {
         "elaborate",
         "detail",
         "outline",
+        // An auditor's: "could you state which …", "kindly indicate".
+        "state",
+        "indicate",
+        "document",
+        "quantify",
+        "specify",
+        "account",
     ];
     let Some((first, rest)) = after.split_first() else {
         return false;
@@ -34,14 +41,16 @@ pub fn wraps_a_question(after: &[&str]) -> bool {
             // "can it walk" asks whether it can.
             *first != "walk" || ["me", "us", "through"].contains(next)
         });
-    account
-        || REPORT.contains(first)
-            && (rest
-                .iter()
-                .any(|w| ["why", "when", "what", "which", "where", "how"].contains(w))
-                || rest
-                    .windows(2)
-                    .any(|p| p[0] == "how" && ["many", "often", "much", "long"].contains(&p[1])))
+    let asks = rest
+        .iter()
+        .any(|w| ["why", "when", "what", "which", "where", "how"].contains(w))
+        || rest
+            .windows(2)
+            .any(|p| p[0] == "how" && ["many", "often", "much", "long"].contains(&p[1]));
+    // "Could you confirm that no node failed": never a capability, where
+    // "can it check whether the path is clear" is one.
+    let confirm = *first == "confirm" && !rest.is_empty();
+    account || REPORT.contains(first) && asks || confirm
 }
 
 /// What a robot is called in "can the taxi …": never a behaviour.
@@ -84,6 +93,11 @@ const OPENINGS: &[&[&str]] = &[
     &["would", "you", "be", "able", "to"],
     &["will", "you", "be", "able", "to"],
     &["does", "robot", "know", "how", "to"],
+    &["does", "robot", "have", "capability", "to"],
+    &["does", "robot", "have", "ability", "to"],
+    &["does", "robot", "make", "any", "provision", "for"],
+    &["does", "robot", "include", "any", "means", "of"],
+    &["does", "robot", "provide", "for"],
 ];
 
 /// The words of the question that may open "Can you X?" or be its X:

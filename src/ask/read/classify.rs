@@ -81,7 +81,14 @@ fn what_if(c: &Cues) -> Option<Readings> {
         || s.phrase(&["happened", "if"]).is_some()
         || s.phrase(&["do", "if"]).is_some()
         || s.has("suppose")
+        || s.has("supposing")
         || s.has("imagine")
+        // "Had path clear returned SUCCESS, would …", "what would have
+        // happened had X failed": the conditional put first.
+        || c.first == "had"
+        || s.has("had") && s.has("would")
+        || s.phrase(&["consider", "the", "case"]).is_some()
+        || s.phrase(&["in", "the", "event"]).is_some()
         || s.has("hypothetically")
         || c.first == "if"
         // "How would the run differ if look around had failed?", "say the
@@ -100,11 +107,39 @@ fn what_if(c: &Cues) -> Option<Readings> {
     let node @ Subject::Nodes(..) = c.subject()? else {
         return None;
     };
-    let event = match c.ev {
+    // The outcome supposed is the one said in the condition ("suppose X
+    // had succeeded; would L2 still have been ticked?").
+    let event = match supposed(s).or(c.ev) {
         Some(Event::Succeed) => Event::Succeed,
         _ => Event::Fail,
     };
     Some(vec![(Intent::WhatIf { node, event }, c.sure(0.92))])
+}
+
+/// The outcome said between a conditional's mark ("if", "had",
+/// "suppose") and what is asked of it ("would", "what", "then").
+fn supposed(s: &Sentence) -> Option<Event> {
+    const MARK: &[&str] = &["if", "had", "suppose", "supposing", "case", "event"];
+    let q = s.q;
+    let from = q.iter().position(|w| MARK.contains(&w.text.as_str()))?;
+    let clause: Vec<&crate::ask::read::words::Word> = q[from + 1..]
+        .iter()
+        .take_while(|w| !["would", "what", "then", "how"].contains(&w.text.as_str()))
+        .collect();
+    // "Had not failed" supposes it succeeded.
+    let not = clause
+        .iter()
+        .any(|w| ["not", "never"].contains(&w.text.as_str()));
+    let said = clause.iter().find_map(|w| match w.stem.as_str() {
+        "succeed" | "success" | "pass" | "true" => Some(Event::Succeed),
+        "fail" | "failur" | "fals" => Some(Event::Fail),
+        _ => None,
+    })?;
+    Some(match (said, not) {
+        (Event::Fail, true) => Event::Succeed,
+        (Event::Succeed, true) => Event::Fail,
+        (e, _) => e,
+    })
 }
 
 /// "Robot ok??", "something wrong?", "so far so good?": a few words asking
@@ -248,7 +283,7 @@ fn how_often(c: &Cues) -> Option<Readings> {
         || s.phrase(&["how", "many"]).is_some()
         || s.phrase(&["how", "frequently"]).is_some()
         || s.phrase(&["number", "of"]).is_some()
-        || s.has_stem(&["count"]);
+        || s.has_stem(&["count", "quantifi"]);
     if !often {
         return None;
     }
@@ -710,13 +745,32 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
             "summarise",
             "recap",
             "rundown",
+            "account",
+            "occurred",
         ]
         .contains(&q[i])
             || (q[i] == "about" && i >= 2 && q[i - 2] == "tell")
+            // "What took place in tick 1".
+            || (q[i] == "place" && i >= 1 && ["took", "take", "takes"].contains(&q[i - 1]))
     };
     let at = (0..q.len()).find(|&i| asks(i))?;
     let mut k = at + 1;
-    while k < q.len() && ["at", "in", "on", "during", "for", "the", "of"].contains(&q[k]) {
+    // "Account for the transitions in tick 6", "an account of that tick".
+    while k < q.len()
+        && [
+            "at",
+            "in",
+            "on",
+            "during",
+            "for",
+            "the",
+            "of",
+            "that",
+            "transitions",
+            "events",
+        ]
+        .contains(&q[k])
+    {
         k += 1;
     }
     // "Tick 13 summary", "t5 what happened": the tick said first.
@@ -895,6 +949,12 @@ fn how_achieved(c: &Cues) -> Option<Readings> {
     let now = c.now_words && !c.whole && c.named.is_empty();
     let part_named =
         matches!(&c.named[..], [m] if m.uids.iter().all(|&u| !c.tree.node(u).kind.is_leaf()));
+    // "How does it achieve its goal, subgoal by subgoal?", "through which
+    // subgoals does it reach its goal?": the subgoals are how the goal is.
+    let by_subgoals = c.s.has("subgoals") || c.s.phrase(&["subgoal", "by", "subgoal"]).is_some();
+    if by_subgoals && asks_goal(c.s) && (steps || c.how) {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.93);
+    }
     if (asks_subgoal(c) || now || part_named && c.how && !goal_named) && (steps || c.how) {
         return c.only(
             Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),

@@ -48,6 +48,9 @@ impl<'a, 's> Cues<'a, 's> {
             || s.phrase(&["what", "caused"]).is_some()
             || s.phrase(&["what", "made"]).is_some()
             || s.has_stem(&["reason", "caus", "cause"])
+            // "On what grounds did …", "on what basis".
+            || s.phrase(&["what", "grounds"]).is_some()
+            || s.phrase(&["what", "basis"]).is_some()
             // "Explain look at chuck's failure"; not "explain the strategy
             // this BT uses", "explain what went wrong in this run".
             || (s.has("explain")
@@ -75,10 +78,13 @@ impl<'a, 's> Cues<'a, 's> {
                 || s.phrase(&["which", "way"]).is_some()
                 || s.phrase(&["what", "way"]).is_some(),
             problem,
+            // "Is everything in order?", not "in order to".
             fine: s.has_stem(&[
                 "ok", "fine", "good", "alright", "smooth", "normal", "nomin", "healthi", "healthy",
                 "clean",
-            ]),
+            ]) || s
+                .phrase(&["in", "order"])
+                .is_some_and(|i| s.q.get(i + 2).is_none_or(|w| w.text != "to")),
             doing_words: doing_words(s),
             now_words: s.has("now")
                 || s.has("currently")
@@ -181,7 +187,8 @@ fn problem(s: &Sentence, break_down: bool) -> bool {
         || !break_down
             && s.has_stem(&[
                 "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad",
-                "mess", "hiccup", "glitch", "snag", "hitch", "troubl",
+                "mess", "hiccup", "glitch", "snag", "hitch", "troubl", "anomali", "anomal",
+                "deviat", "incid",
             ])
         || s.phrase(&["off", "the", "rails"]).is_some()
 }
@@ -214,6 +221,9 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         || (s.phrase(&["which", "step"]).is_some() || s.phrase(&["what", "step"]).is_some())
             && !s.has("on")
         || s.phrase(&["at", "what", "point"]).is_some()
+        // "Identify the tick at which X returned SUCCESS".
+        || (s.has("tick") || s.has("step"))
+            && (s.phrase(&["at", "which"]).is_some() || s.phrase(&["in", "which"]).is_some())
         // "list the ticks where it failed".
         || (s.has("tick") || s.has("ticks"))
             && ["list", "where", "show", "give"].iter().any(|w| s.has(w))

@@ -80,6 +80,15 @@ const IRREGULAR: &[(&str, &str)] = &[
 
 /// Words written as one that are several ("didnt"), and casual spellings.
 const SPELLINGS: &[(&str, &str)] = &[
+    // "A downward move" is a move down.
+    ("downward", "down"),
+    ("downwards", "down"),
+    ("upward", "up"),
+    ("upwards", "up"),
+    ("leftward", "left"),
+    ("leftwards", "left"),
+    ("rightward", "right"),
+    ("rightwards", "right"),
     ("didnt", "did not"),
     ("dident", "did not"),
     ("dint", "did not"),
@@ -242,6 +251,17 @@ pub fn words(text: &str) -> Vec<Word> {
         text = log_rows(&text);
     }
     let mut s = split_name(&text).to_lowercase();
+    // What an assessment calls the robot.
+    for (said, robot) in [
+        ("item under test", "robot"),
+        ("system under test", "robot"),
+        ("unit under test", "robot"),
+        ("device under test", "robot"),
+    ] {
+        if s.contains(said) {
+            s = s.replace(said, robot);
+        }
+    }
     if s.contains(['\'', '’', '‘', '`', '´']) {
         s = s.replace(['’', '‘', '`', '´'], "'");
         for (from, to) in CONTRACTIONS {

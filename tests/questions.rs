@@ -39,8 +39,11 @@
 //! nineteenth, asked for safety auditors: formal, hedged, passive,
 //! conditional, findings numbered and requirements quoted), corpus19 until
 //! `corpus20.jsonl` (280 by a twentieth, asked for field technicians on a
-//! phone or tablet: touch typos, autocorrect's damage, dropped words);
-//! corpus20 is never tuned on: its figures are the fresh ones, and its
+//! phone or tablet: touch typos, autocorrect's damage, dropped words),
+//! corpus20 until `corpus21.jsonl` (280 by a twenty-first, asked for
+//! students of the two papers, in their vocabulary: Q1 to Q5,
+//! interventions, counterfactuals, the explanation model); corpus21 is
+//! never tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
 //!
@@ -495,26 +498,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus17.jsonl",
             "corpus18.jsonl",
             "corpus19.jsonl",
+            "corpus20.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus19 (tuned on)", &t3);
-    let t = tally(&["corpus20.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus20)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus20 (tuned on)", &t3);
+    let t = tally(&["corpus21.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus21)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 4_840 && t.total >= 280,
+        t3.total >= 5_120 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus19: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus20: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -531,13 +535,14 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus19 as tuned on (90.1 % understood, 3.6 % misread;
-/// first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %,
-/// 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %, 78.2 %/8.2 %, 91.1 %/5.4 %,
-/// 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %, 81.1 %/7.9 %, 85.0 %/8.2 %,
-/// 79.3 %/8.6 %, 81.8 %/7.5 % and 58.9 %/11.4 %), and corpus20, never
-/// tuned on (85.4 % and 7.9 % when it was first read).
-const C3_FLOOR: f64 = 90.0;
-const C3_MISREAD: f64 = 3.7;
-const FRESH_FLOOR: f64 = 85.3;
-const FRESH_MISREAD: f64 = 8.0;
+/// corpus3 to corpus20 as tuned on (89.8 % understood, 3.8 % misread, with
+/// corpus20 not yet tuned on; first read 72.2 %/8.4 %, 77.2 %/5.6 %,
+/// 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
+/// 78.2 %/8.2 %, 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %,
+/// 81.1 %/7.9 %, 85.0 %/8.2 %, 79.3 %/8.6 %, 81.8 %/7.5 %, 58.9 %/11.4 %
+/// and 85.4 %/7.9 %), and corpus21, never tuned on (77.9 % and 9.3 % when
+/// it was first read).
+const C3_FLOOR: f64 = 89.7;
+const C3_MISREAD: f64 = 3.9;
+const FRESH_FLOOR: f64 = 77.8;
+const FRESH_MISREAD: f64 = 9.4;

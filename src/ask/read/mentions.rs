@@ -572,24 +572,36 @@ fn named_spans(
     out
 }
 
+/// The built-in IDs of a tree's nodes, lowercased, each with its nodes.
+fn builtin_ids(tree: &Tree) -> Vec<(String, Vec<Uid>)> {
+    let mut ids: Vec<(String, Vec<Uid>)> = Vec::new();
+    for n in tree.nodes.iter().filter(|n| n.builtin.is_some()) {
+        let id = n.id.to_lowercase();
+        match ids.iter_mut().find(|(i, _)| *i == id) {
+            Some((_, us)) => us.push(n.uid),
+            None => ids.push((id, vec![n.uid])),
+        }
+    }
+    ids
+}
+
 /// The nodes whose built-in ID (of two words or more) the words from `k`
 /// spell, and how many words.
-fn builtin_said(tree: &Tree, q: &[Word], k: usize, taken: &[bool]) -> Option<(usize, Vec<Uid>)> {
+fn builtin_said(
+    ids: &[(String, Vec<Uid>)],
+    q: &[Word],
+    k: usize,
+    taken: &[bool],
+) -> Option<(usize, Vec<Uid>)> {
     (2..=4).rev().find_map(|len| {
         let span = q.get(k..k + len)?;
         if taken[k..k + len].iter().any(|&t| t) {
             return None;
         }
         let joined: String = span.iter().map(|w| w.text.as_str()).collect();
-        let uids: Vec<Uid> = tree
-            .preorder()
-            .into_iter()
-            .filter(|&u| {
-                let n = tree.node(u);
-                n.builtin.is_some() && n.id.eq_ignore_ascii_case(&joined)
-            })
-            .collect();
-        (!uids.is_empty()).then_some((len, uids))
+        ids.iter()
+            .find(|(id, _)| *id == joined)
+            .map(|(_, us)| (len, us.clone()))
     })
 }
 
@@ -597,6 +609,7 @@ fn builtin_said(tree: &Tree, q: &[Word], k: usize, taken: &[bool]) -> Option<(us
 /// every node of that kind, for the run to choose among.
 fn kinds_alone(tree: &Tree, q: &[Word], taken: &mut [bool]) -> Vec<Mention> {
     let mut out = Vec::new();
+    let ids = builtin_ids(tree);
     let mut k = 0;
     while k < q.len() {
         if taken[k] {
@@ -606,7 +619,7 @@ fn kinds_alone(tree: &Tree, q: &[Word], taken: &mut [bool]) -> Vec<Mention> {
         // "The ForceFailure", "the ReactiveSequence": a built-in's ID as
         // written, its words joined, names the nodes of that ID (and its
         // "failure" is no failure asked about).
-        if let Some((len, uids)) = builtin_said(tree, q, k, taken) {
+        if let Some((len, uids)) = builtin_said(&ids, q, k, taken) {
             for t in &mut taken[k..k + len] {
                 *t = true;
             }

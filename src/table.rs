@@ -311,7 +311,9 @@ fn bits(n: usize) -> u8 {
 /// holds 64 groups at most, as the parquet crate writes them; the last
 /// group is filled with zeros (the page says how many values it holds).
 fn bit_packed(width: u8, values: &[u32], out: &mut Vec<u8>) {
-    out.reserve(values.len().div_ceil(8) * usize::from(width) + values.len() / 256 + 2);
+    let w = usize::from(width);
+    out.reserve(values.len().div_ceil(8) * w + values.len() / 256 + 2);
+    let pack = packer(width);
     for run in values.chunks(64 * 8) {
         let groups = run.len().div_ceil(8);
         let mut header = (groups << 1) | 1;
@@ -320,39 +322,66 @@ fn bit_packed(width: u8, values: &[u32], out: &mut Vec<u8>) {
             header >>= 7;
         }
         out.push(header as u8);
+        let start = out.len();
+        out.resize(start + groups * w, 0);
+        let bytes = &mut out[start..];
         let (whole, last) = run.split_at(run.len() / 8 * 8);
-        for group in whole.chunks_exact(8) {
-            pack_group(width, group, out);
+        for (group, to) in whole.chunks_exact(8).zip(bytes.chunks_exact_mut(w)) {
+            pack(group, to);
         }
         if !last.is_empty() {
             let mut padded = [0u32; 8];
             padded[..last.len()].copy_from_slice(last);
-            pack_group(width, &padded, out);
+            pack(&padded, &mut bytes[(groups - 1) * w..]);
         }
     }
 }
 
-/// Eight values of `width` bits each, as `width` bytes. Indices into a
-/// dictionary of up to 2^16 values (every one a fleet's export writes)
-/// are packed in one register, which is most of what packing costs.
-fn pack_group(width: u8, group: &[u32], out: &mut Vec<u8>) {
-    let w = u32::from(width);
-    if w <= 16 {
-        let mut acc = 0u128;
-        for (k, &v) in group.iter().enumerate() {
-            acc |= u128::from(v) << (k as u32 * w);
-        }
-        out.extend_from_slice(&acc.to_le_bytes()[..w as usize]);
-    } else {
-        let (mut acc, mut held) = (0u64, 0u32);
-        for &v in group {
-            acc |= u64::from(v) << held;
-            held += w;
-            while held >= 8 {
-                out.push(acc as u8);
-                acc >>= 8;
-                held -= 8;
-            }
+/// Packs eight values into `width` bytes: a function made for each width
+/// up to 16 (every dictionary index a fleet's export writes), whose
+/// shifts the compiler knows, which is most of what packing costs.
+fn packer(width: u8) -> fn(&[u32], &mut [u8]) {
+    match width {
+        1 => pack_eight::<1>,
+        2 => pack_eight::<2>,
+        3 => pack_eight::<3>,
+        4 => pack_eight::<4>,
+        5 => pack_eight::<5>,
+        6 => pack_eight::<6>,
+        7 => pack_eight::<7>,
+        8 => pack_eight::<8>,
+        9 => pack_eight::<9>,
+        10 => pack_eight::<10>,
+        11 => pack_eight::<11>,
+        12 => pack_eight::<12>,
+        13 => pack_eight::<13>,
+        14 => pack_eight::<14>,
+        15 => pack_eight::<15>,
+        16 => pack_eight::<16>,
+        _ => pack_eight_wide,
+    }
+}
+
+fn pack_eight<const W: u32>(group: &[u32], to: &mut [u8]) {
+    let mut acc = 0u128;
+    for (k, &v) in group.iter().enumerate().take(8) {
+        acc |= u128::from(v) << (k as u32 * W);
+    }
+    to[..W as usize].copy_from_slice(&acc.to_le_bytes()[..W as usize]);
+}
+
+/// Eight values of more than 16 bits each, a byte at a time.
+fn pack_eight_wide(group: &[u32], to: &mut [u8]) {
+    let w = to.len().min(32) as u32;
+    let (mut acc, mut held, mut at) = (0u64, 0u32, 0);
+    for &v in group.iter().take(8) {
+        acc |= u64::from(v) << held;
+        held += w;
+        while held >= 8 {
+            to[at] = acc as u8;
+            at += 1;
+            acc >>= 8;
+            held -= 8;
         }
     }
 }

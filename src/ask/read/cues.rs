@@ -42,22 +42,7 @@ impl<'a, 's> Cues<'a, 's> {
         let root = tree.root().uid;
         let (ev, negated) = event(s);
         let first = s.first_free().unwrap_or("");
-        let why = s.has("why")
-            || s.has_stem(&["justifi", "justif"])
-            || s.phrase(&["how", "come"]).is_some()
-            || s.phrase(&["what", "caused"]).is_some()
-            || s.phrase(&["what", "made"]).is_some()
-            || s.has_stem(&["reason", "caus", "cause"])
-            // "On what grounds did …", "on what basis".
-            || s.phrase(&["what", "grounds"]).is_some()
-            || s.phrase(&["what", "basis"]).is_some()
-            // "Explain look at chuck's failure"; not "explain the strategy
-            // this BT uses", "explain what went wrong in this run".
-            || (s.has("explain")
-                && !s.has("how")
-                && !s.has("what")
-                && !s.nodes.is_empty()
-                && ev.is_some_and(|e| e != Event::Run));
+        let why = asks_why(s, ev);
         let what = s.has("what") || s.has("which") || IMPERATIVE.iter().any(|w| s.has(w));
         let break_down = s.has("breakdown");
         let problem = problem(s, break_down);
@@ -93,25 +78,7 @@ impl<'a, 's> Cues<'a, 's> {
                 || s.has("moment")
                 || s.has("working")
                 || s.has("towards"),
-            whole: [
-                "whole",
-                "end",
-                "final",
-                "mission",
-                "big",
-                "overall",
-                "entire",
-                "ultimate",
-                "ultimately",
-                "eventually",
-                "main",
-                "everything",
-                "all",
-                "top",
-                "recording",
-            ]
-            .iter()
-            .any(|w| s.has(w)),
+            whole: whole(s),
             break_down,
             when_q: asks_when(s, why),
             after_failure: after_failure(s, problem),
@@ -149,6 +116,50 @@ impl<'a, 's> Cues<'a, 's> {
     pub(super) fn only(&self, intent: Intent, base: f32) -> Option<Readings> {
         Some(vec![(intent, self.sure_of_words(base))])
     }
+}
+
+/// Whether a sentence asks why: "why", "how come", "what caused", "on
+/// what grounds", or "explain" said of an event.
+fn asks_why(s: &Sentence, ev: Option<Event>) -> bool {
+    s.has("why")
+        || s.has_stem(&["justifi", "justif"])
+        || s.phrase(&["how", "come"]).is_some()
+        || s.phrase(&["what", "caused"]).is_some()
+        || s.phrase(&["what", "made"]).is_some()
+        || s.has_stem(&["reason", "caus", "cause"])
+        // "On what grounds did …", "on what basis".
+        || s.phrase(&["what", "grounds"]).is_some()
+        || s.phrase(&["what", "basis"]).is_some()
+        // "Explain look at chuck's failure"; not "explain the strategy
+        // this BT uses", "explain what went wrong in this run".
+        || (s.has("explain")
+            && !s.has("how")
+            && !s.has("what")
+            && !s.nodes.is_empty()
+            && ev.is_some_and(|e| e != Event::Run))
+}
+
+/// Whether a sentence speaks of the whole task ("overall", "in the end").
+fn whole(s: &Sentence) -> bool {
+    [
+        "whole",
+        "end",
+        "final",
+        "mission",
+        "big",
+        "overall",
+        "entire",
+        "ultimate",
+        "ultimately",
+        "eventually",
+        "main",
+        "everything",
+        "all",
+        "top",
+        "recording",
+    ]
+    .iter()
+    .any(|w| s.has(w))
 }
 
 fn yes_no(s: &Sentence, first: &str) -> bool {

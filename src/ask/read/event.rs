@@ -32,70 +32,7 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     let negated = s.has("not") && s.phrase(&["or", "not"]).is_none()
         || s.has("never")
         || s.has("no") && !s.has("one");
-    let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang", "slow"])
-        || s.has("longer")
-        || s.phrase(&["so", "long"]).is_some()
-        || s.phrase(&["take", "long"]).is_some()
-        || s.phrase(&["taking", "long"]).is_some()
-        || s.phrase(&["took", "long"]).is_some()
-        || s.phrase(&["long", "time"]).is_some();
-    // "Had path clear stayed true": a condition's outcome said as its
-    // value.
-    // "When did looking at the chuck go wrong?", "why did the sequence box
-    // go red?" (Groot draws a failure red, a success green).
-    let went_wrong = (s.phrase(&["go", "wrong"]).is_some()
-        || s.phrase(&["gone", "wrong"]).is_some())
-        && !s.nodes.is_empty();
-    let e = if gave_up(s)
-        || went_wrong
-        || s.phrase(&["go", "red"]).is_some()
-        || s.phrase(&["turn", "red"]).is_some()
-        || s.phrase(&["turned", "red"]).is_some()
-        || s.has("false")
-        || s.has_stem(&[
-            "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
-        ]) {
-        Some(Event::Fail)
-    } else if s.has_stem(&["skip"]) {
-        Some(Event::Skipped)
-    } else if s.has_stem(&[
-        "halt",
-        "stop",
-        "interrupt",
-        "cancel",
-        "preempt",
-        "kill",
-        "abandon",
-    ]) {
-        Some(Event::Halted)
-    } else if keep {
-        Some(Event::KeepRunning)
-    } else if s.has_stem(&["succeed", "success", "pass", "manag", "ok"])
-        || s.has("true")
-        || s.has("successful")
-        || s.has("successfully")
-        || s.has("work")
-        || s.has("worked")
-        || s.has("works")
-        || s.phrase(&["go", "green"]).is_some()
-        || s.phrase(&["turn", "green"]).is_some()
-        || s.phrase(&["turned", "green"]).is_some()
-    {
-        Some(Event::Succeed)
-    } else if s.has_stem(&["finish", "end", "complet", "done"]) {
-        Some(Event::Finish)
-    } else if s.has_stem(&[
-        "run", "start", "execut", "tick", "call", "trigger", "begin", "activ", "launch", "fire",
-        "check", "kick", "invok", "attempt", "tri", "tried", "enter", "chose", "choos", "pick",
-        "select", "use",
-    ]) {
-        Some(Event::Run)
-    } else if s.has_stem(&["reach", "arriv"]) {
-        // "When did it reach the goal": got there, said of the task.
-        Some(Event::Succeed)
-    } else {
-        None
-    };
+    let e = verbs_said(s);
     // "Why did it keep trying to detect the chuck?": it ran again and
     // again, which is starting, not one call running on.
     let retrying = s.has_stem(&["keep", "kept"])
@@ -116,6 +53,78 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
         (e, _) => e,
     };
     (e, negated)
+}
+
+/// The event the sentence's verbs say, before negation: failing first,
+/// then skipping, halting, running on, succeeding, finishing, running.
+fn verbs_said(s: &Sentence) -> Option<Event> {
+    let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang", "slow"])
+        || s.has("longer")
+        || s.phrase(&["so", "long"]).is_some()
+        || s.phrase(&["take", "long"]).is_some()
+        || s.phrase(&["taking", "long"]).is_some()
+        || s.phrase(&["took", "long"]).is_some()
+        || s.phrase(&["long", "time"]).is_some();
+    // "When did looking at the chuck go wrong?", "why did the sequence box
+    // go red?" (Groot draws a failure red, a success green).
+    let went_wrong = (s.phrase(&["go", "wrong"]).is_some()
+        || s.phrase(&["gone", "wrong"]).is_some())
+        && !s.nodes.is_empty();
+    let said = |words: &[&str]| words.iter().any(|w| s.has(w));
+    let coloured = |colour: &str| {
+        ["go", "turn", "turned"]
+            .iter()
+            .any(|v| s.phrase(&[v, colour]).is_some())
+    };
+    if gave_up(s)
+        || went_wrong
+        || coloured("red")
+        || s.has("false")
+        || s.has_stem(&[
+            "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
+        ])
+    {
+        Some(Event::Fail)
+    } else if s.has_stem(&["skip"]) {
+        Some(Event::Skipped)
+    } else if s.has_stem(&[
+        "halt",
+        "stop",
+        "interrupt",
+        "cancel",
+        "preempt",
+        "kill",
+        "abandon",
+    ]) {
+        Some(Event::Halted)
+    } else if keep {
+        Some(Event::KeepRunning)
+    } else if s.has_stem(&["succeed", "success", "pass", "manag", "ok"])
+        || said(&[
+            "true",
+            "successful",
+            "successfully",
+            "work",
+            "worked",
+            "works",
+        ])
+        || coloured("green")
+    {
+        Some(Event::Succeed)
+    } else if s.has_stem(&["finish", "end", "complet", "done"]) {
+        Some(Event::Finish)
+    } else if s.has_stem(&[
+        "run", "start", "execut", "tick", "call", "trigger", "begin", "activ", "launch", "fire",
+        "check", "kick", "invok", "attempt", "tri", "tried", "enter", "chose", "choos", "pick",
+        "select", "use",
+    ]) {
+        Some(Event::Run)
+    } else if s.has_stem(&["reach", "arriv"]) {
+        // "When did it reach the goal": got there, said of the task.
+        Some(Event::Succeed)
+    } else {
+        None
+    }
 }
 
 /// The event a question's verbs name, if any, and whether they are negated.

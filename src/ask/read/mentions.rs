@@ -234,31 +234,8 @@ impl Vocabulary {
                 if q[i..j].iter().any(|w| w.text == "\u{0}") {
                     break;
                 }
-                // "recovery node", "retry node": a kind, not a name.
-                if ["recovery", "retry"].contains(&q[j - 1].text.as_str())
-                    && q.get(j).is_some_and(|w| w.text == "node")
-                    && i == j - 1
-                {
-                    continue;
-                }
                 let span: Vec<&Word> = q[i..j].iter().filter(|w| !is_article(&w.text)).collect();
-                // Words any sentence has ("did", "with") never name a node
-                // on their own, whatever an ID says (`Do`).
-                if span
-                    .iter()
-                    .all(|w| PLAIN.contains(&w.text.as_str()) || PLAIN.contains(&w.stem.as_str()))
-                {
-                    continue;
-                }
-                // "Why did it go back to planning": moving again, not BackUp.
-                // "Went straight back to": an adverb may come between.
-                let moved = |k: usize| MOVES_BACK.contains(&q[k].text.as_str());
-                let adverb = |k: usize| ["straight", "right", "just"].contains(&q[k].text.as_str());
-                if span.len() == 1
-                    && span[0].text == "back"
-                    && i > 0
-                    && (moved(i - 1) || i > 1 && adverb(i - 1) && moved(i - 2))
-                {
+                if never_a_name(q, i, j, &span) {
                     continue;
                 }
                 // "LO" for "L0": a zero read as the letter.
@@ -336,6 +313,26 @@ impl Vocabulary {
                 .iter()
                 .any(|e| e.joined.starts_with(&head) || e.stems.iter().any(|s| close(s, text)))
     }
+}
+
+/// Spans that name no node whatever the tree's names: a kind ("recovery
+/// node"), words any sentence has ("did", "with", whatever an ID says), and
+/// "back" after a verb of moving ("why did it go back to planning").
+fn never_a_name(q: &[Word], i: usize, j: usize, span: &[&Word]) -> bool {
+    let kind = ["recovery", "retry"].contains(&q[j - 1].text.as_str())
+        && q.get(j).is_some_and(|w| w.text == "node")
+        && i == j - 1;
+    let plain = span
+        .iter()
+        .all(|w| PLAIN.contains(&w.text.as_str()) || PLAIN.contains(&w.stem.as_str()));
+    // "Went straight back to": an adverb may come between.
+    let moved = |k: usize| MOVES_BACK.contains(&q[k].text.as_str());
+    let adverb = |k: usize| ["straight", "right", "just"].contains(&q[k].text.as_str());
+    let moving_back = span.len() == 1
+        && span[0].text == "back"
+        && i > 0
+        && (moved(i - 1) || i > 1 && adverb(i - 1) && moved(i - 2));
+    kind || plain || moving_back
 }
 
 /// Nav2's field words as a question's words, read once a process.

@@ -236,8 +236,10 @@ pub fn split_name(s: &str) -> String {
     out
 }
 
-/// The words of a question.
-pub fn words(text: &str) -> Vec<Word> {
+/// The text lowercased with its names split, what it pastes or abbreviates
+/// said plainly: "y/n", a log's rows, "the item under test", contractions
+/// and possessives.
+fn plain_text(text: &str) -> String {
     // "y/n" asks for yes or no: its "y" is no "why".
     let mut text = text.trim().to_string();
     if text.contains('/') {
@@ -252,14 +254,14 @@ pub fn words(text: &str) -> Vec<Word> {
     }
     let mut s = split_name(&text).to_lowercase();
     // What an assessment calls the robot.
-    for (said, robot) in [
-        ("item under test", "robot"),
-        ("system under test", "robot"),
-        ("unit under test", "robot"),
-        ("device under test", "robot"),
+    for said in [
+        "item under test",
+        "system under test",
+        "unit under test",
+        "device under test",
     ] {
         if s.contains(said) {
-            s = s.replace(said, robot);
+            s = s.replace(said, "robot");
         }
     }
     if s.contains(['\'', '’', '‘', '`', '´']) {
@@ -271,6 +273,12 @@ pub fn words(text: &str) -> Vec<Word> {
         // is a word's end.
         s = s.replace("'s ", " ");
     }
+    s
+}
+
+/// The words of a question.
+pub fn words(text: &str) -> Vec<Word> {
+    let s = plain_text(text);
     let mut out = Vec::new();
     for raw in s.split(|c: char| !(c.is_alphanumeric() || c == '#' || c == ':')) {
         let raw = raw.trim_matches(':');

@@ -1557,6 +1557,43 @@ fn an_auditors_formal_questions_are_read_as_meant() {
 }
 
 #[test]
+fn a_technicians_phone_typing_is_read_as_meant() {
+    let patrol = "tests/fixtures/questions/patrol.jsonl";
+    let bag = [
+        "tests/fixtures/rosbag/two_goals",
+        "--tree",
+        "tests/fixtures/rosbag/navigator.xml",
+        "--run",
+        "1",
+    ];
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // Autocorrect's costmap.
+        (
+            bag.to_vec(),
+            "why did clear local coat map run",
+            "Why did ClearLocalCostmap (#4) start at 2:2?",
+        ),
+        (
+            vec![patrol],
+            "walk me through tick 5",
+            "What happened at tick 5?",
+        ),
+        // "X done, what now": what comes next ("doing what rn" is not).
+        (
+            vec![patrol, "--at", "2"],
+            "look around done, what now",
+            "What will I do next?",
+        ),
+        (
+            vec![patrol, "--at", "2"],
+            "doing what rn",
+            "What are you doing?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

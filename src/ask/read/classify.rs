@@ -667,6 +667,14 @@ fn next(c: &Cues) -> Option<Readings> {
                         .iter()
                         .map(|w| w.text.as_str())
                         .eq(["now", "what"])
+                // "Look around done, what now?": what comes after it ("doing
+                // what rn" asks what it does).
+                || !c.doing_words
+                    && s.q.len() >= 2
+                    && s.q[s.q.len() - 2..]
+                        .iter()
+                        .map(|w| w.text.as_str())
+                        .eq(["what", "now"])
                 || s.has("will") && s.has("do") && c.what && !c.how
                 || s.phrase(&["plan", "to", "do"]).is_some());
     next.then(|| vec![(Intent::Next, c.sure_of_words(0.93))])
@@ -750,8 +758,9 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
         ]
         .contains(&q[i])
             || (q[i] == "about" && i >= 2 && q[i - 2] == "tell")
-            // "What took place in tick 1".
+            // "What took place in tick 1", "walk me through tick 5".
             || (q[i] == "place" && i >= 1 && ["took", "take", "takes"].contains(&q[i - 1]))
+            || (q[i] == "through" && i >= 1 && ["walk", "me", "us"].contains(&q[i - 1]))
     };
     let at = (0..q.len()).find(|&i| asks(i))?;
     let mut k = at + 1;

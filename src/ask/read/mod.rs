@@ -441,7 +441,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // asks; the story around it only tells when.
     let stands_alone = |q: &str| {
         let said = words::words(q);
-        said.len() >= 4
+        said.len() >= 3
             && !text[..text.find(q).unwrap_or(0)].trim_end().ends_with(':')
             && !said.iter().any(|w| {
                 [

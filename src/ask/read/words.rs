@@ -253,6 +253,12 @@ fn plain_text(text: &str) -> String {
         text = log_rows(&text);
     }
     let mut s = split_name(&text).to_lowercase();
+    // What autocorrect makes of a costmap.
+    for said in ["coat map", "coast map"] {
+        if s.contains(said) {
+            s = s.replace(said, "costmap");
+        }
+    }
     // What an assessment calls the robot.
     for said in [
         "item under test",

@@ -642,19 +642,15 @@ fn named_parts<'a>(
         }
     }
     let mut mentions = vocabulary.mentions(tree, &free_words(q, &s.used), &asks);
-    // "What were you doing just before look at chuck failed?": the clause
-    // says when; what is asked is the rest.
-    if when.is_none() {
-        if let Some((w, used)) = failure_clause(tree, q, &s.used, &mentions) {
-            when = Some(w);
-            for i in used {
-                s.used[i] = true;
-            }
-            mentions.retain(|m| !(m.start..m.end).any(|i| s.used[i]));
+    // "What were you doing just before look at chuck failed?", "describe
+    // the tick where the spin failed": the clause says when; what is asked
+    // is the rest.
+    type Clause = fn(&Tree, &[Word], &[bool], &[Mention]) -> Option<(When, Vec<usize>)>;
+    for clause in [failure_clause as Clause, tick_of_a_failure] {
+        if when.is_some() {
+            break;
         }
-    }
-    if when.is_none() {
-        if let Some((w, used)) = tick_of_a_failure(tree, q, &s.used, &mentions) {
+        if let Some((w, used)) = clause(tree, q, &s.used, &mentions) {
             when = Some(w);
             for i in used {
                 s.used[i] = true;

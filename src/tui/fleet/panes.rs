@@ -159,93 +159,109 @@ fn run_detail(sh: &FleetShared, f: &mut Frame, area: Rect) {
     let inner = b.inner(area);
     f.render_widget(b, area);
     let w = inner.width as usize;
+    let grey = Style::default().fg(Color::DarkGray);
     let mut lines = Vec::new();
     match sh.timeline() {
         Some((marks, (lo, hi))) if w > 2 => {
-            let timed = marks.len();
-            // One cell a slice of time; a failure shows over a success.
-            let mut cells: Vec<Option<Option<Status>>> = vec![None; w];
-            for (p, o) in marks {
-                let c = &mut cells[((p * (w - 1) as f64).round() as usize).min(w - 1)];
-                let worse = match (*c, o) {
-                    (None, _) => true,
-                    (Some(Some(Status::Failure)), _) => false,
-                    (_, Some(Status::Failure)) => true,
-                    (Some(Some(Status::Success)), None) => true,
-                    _ => false,
-                };
-                if worse {
-                    *c = Some(o);
-                }
-            }
-            lines.push(Line::from(
-                cells
-                    .into_iter()
-                    .map(|c| match c {
-                        None => Span::styled("─", Style::default().fg(Color::DarkGray)),
-                        Some(o) => {
-                            let (m, colour) = outcome_mark(o);
-                            Span::styled(m, Style::default().fg(colour))
-                        }
-                    })
-                    .collect::<Vec<_>>(),
-            ));
-            // The axis's ends, dated (UTC, the robots' clocks).
-            let (first, last) = (crate::clock::utc(lo), crate::clock::utc(hi));
-            let last = if first[..10] == last[..10] {
-                format!("{} UTC", &last[11..16])
+            lines.push(strip(&marks, w));
+            lines.push(Line::from(Span::styled(axis_ends(lo, hi, w), grey)));
+            let which = if marks.len() == sh.fleet.runs.len() {
+                "the runs".to_string()
             } else {
-                format!("{} UTC", &last[..16])
-            };
-            let first = &first[..16];
-            let pad = w.saturating_sub(first.chars().count() + last.chars().count());
-            let ends = if pad > 0 {
-                format!("{first}{}{last}", " ".repeat(pad))
-            } else {
-                format!("from {first}")
-            };
-            lines.push(Line::from(Span::styled(
-                ends,
-                Style::default().fg(Color::DarkGray),
-            )));
-            lines.push(Line::from(Span::styled(
                 format!(
-                    "{} by start time: S succeeded, F failed, · unfinished",
-                    if timed == sh.fleet.runs.len() {
-                        "the runs".to_string()
-                    } else {
-                        format!("the {timed} of {} runs that say when", sh.fleet.runs.len())
-                    }
-                ),
-                Style::default().fg(Color::DarkGray),
+                    "the {} of {} runs that say when",
+                    marks.len(),
+                    sh.fleet.runs.len()
+                )
+            };
+            lines.push(Line::from(Span::styled(
+                format!("{which} by start time: S succeeded, F failed, · unfinished"),
+                grey,
             )));
         }
         _ => lines.push(Line::from(Span::styled(
             "no run says when it happened (a session keeps no times; a robot's log does)",
-            Style::default().fg(Color::DarkGray),
+            grey,
         ))),
     }
     if let Some(r) = sh.selected_run() {
-        lines.push(Line::from(""));
-        lines.push(Line::from(Span::styled(
-            r.name.clone(),
-            Style::default().add_modifier(Modifier::BOLD),
-        )));
-        if let Some((first, _)) = r.span_us {
-            lines.push(Line::from(format!(
-                "started {} UTC",
-                &crate::clock::utc(first)[..19]
-            )));
-        }
-        lines.push(Line::from(format!(
-            "{}.",
-            crate::causal::english::capitalised(&r.ending)
-        )));
-        if let Some(w) = &r.wrong {
-            lines.push(Line::from(w.clone()));
-        }
+        lines.extend(how_it_ended(r));
     }
     f.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), inner);
+}
+
+/// The runs by start time, one cell a slice of time; a failure shows over
+/// a success.
+fn strip(marks: &[(f64, Option<Status>)], w: usize) -> Line<'static> {
+    let mut cells: Vec<Option<Option<Status>>> = vec![None; w];
+    for &(p, o) in marks {
+        let c = &mut cells[((p * (w - 1) as f64).round() as usize).min(w - 1)];
+        let worse = match (*c, o) {
+            (None, _) => true,
+            (Some(Some(Status::Failure)), _) => false,
+            (_, Some(Status::Failure)) => true,
+            (Some(Some(Status::Success)), None) => true,
+            _ => false,
+        };
+        if worse {
+            *c = Some(o);
+        }
+    }
+    Line::from(
+        cells
+            .into_iter()
+            .map(|c| match c {
+                None => Span::styled("─", Style::default().fg(Color::DarkGray)),
+                Some(o) => {
+                    let (m, colour) = outcome_mark(o);
+                    Span::styled(m, Style::default().fg(colour))
+                }
+            })
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// The axis's ends, dated (UTC, the robots' clocks), `w` cells apart.
+fn axis_ends(lo: i64, hi: i64, w: usize) -> String {
+    let (first, last) = (crate::clock::utc(lo), crate::clock::utc(hi));
+    let last = if first[..10] == last[..10] {
+        format!("{} UTC", &last[11..16])
+    } else {
+        format!("{} UTC", &last[..16])
+    };
+    let first = &first[..16];
+    let pad = w.saturating_sub(first.chars().count() + last.chars().count());
+    if pad > 0 {
+        format!("{first}{}{last}", " ".repeat(pad))
+    } else {
+        format!("from {first}")
+    }
+}
+
+/// The selected run: its name, when it started, how it ended, what went
+/// wrong.
+fn how_it_ended(r: &crate::fleet::summary::RunSummary) -> Vec<Line<'static>> {
+    let mut lines = vec![
+        Line::from(""),
+        Line::from(Span::styled(
+            r.name.clone(),
+            Style::default().add_modifier(Modifier::BOLD),
+        )),
+    ];
+    if let Some((first, _)) = r.span_us {
+        lines.push(Line::from(format!(
+            "started {} UTC",
+            &crate::clock::utc(first)[..19]
+        )));
+    }
+    lines.push(Line::from(format!(
+        "{}.",
+        crate::causal::english::capitalised(&r.ending)
+    )));
+    if let Some(w) = &r.wrong {
+        lines.push(Line::from(w.clone()));
+    }
+    lines
 }
 
 /// Up, Down, a page, Home and End over a list of `len` rows; at an end,

@@ -136,22 +136,7 @@ fn owner(tree: &Tree, uid: Uid) -> Uid {
 /// order (also those that executed nothing).
 pub fn sequences(side: &Side) -> Vec<Sequence> {
     let tree = side.tree;
-    let mut seqs = vec![Sequence {
-        subgoal: Tree::ROOT,
-        name: tree.description(Tree::ROOT).to_string(),
-        steps: Vec::new(),
-    }];
-    let mut slot = vec![0usize; tree.len() + 1];
-    for uid in tree.descendants(Tree::ROOT) {
-        if uid != Tree::ROOT && tree.node(uid).kind == Kind::SubTree {
-            slot[uid as usize] = seqs.len();
-            seqs.push(Sequence {
-                subgoal: uid,
-                name: tree.description(uid).to_string(),
-                steps: Vec::new(),
-            });
-        }
-    }
+    let (mut seqs, slot) = subgoals(tree);
     let names: Vec<std::sync::Arc<str>> = (0..=tree.len() as Uid)
         .map(|u| {
             tree.get(u)
@@ -174,54 +159,82 @@ pub fn sequences(side: &Side) -> Vec<Sequence> {
                     .push(step(uid, None, None, None, 0));
             }
         }
-        Some(s) => {
-            // An execution starts when a leaf leaves IDLE (or a finished
-            // status) for RUNNING, SUCCESS or FAILURE; a RUNNING leaf's next
-            // transition ends it. Re-ticks that do not change the status
-            // leave no record in any log, so they cannot be counted.
-            let mut open: Vec<Option<(usize, usize)>> = vec![None; tree.len() + 1];
-            let mut episode = 0;
-            for (k, t) in s.index.transitions.iter().enumerate() {
-                if t.uid == Tree::ROOT && t.status.is_completed() {
-                    episode += 1;
-                }
-                let Some(node) = tree.get(t.uid) else {
-                    continue;
-                };
-                if !node.kind.is_leaf() {
-                    continue;
-                }
-                if let Some((q, i)) = open[t.uid as usize].take() {
-                    let st = &mut seqs[q].steps[i];
-                    st.outcome = Some(t.status);
-                    st.span = st.span.map(|(from, _)| (from, k as u32));
-                    if t.status == Status::Running {
-                        open[t.uid as usize] = Some((q, i));
-                    }
-                    continue;
-                }
-                let starts = t.prev != Status::Running
-                    && matches!(
-                        t.status,
-                        Status::Running | Status::Success | Status::Failure
-                    );
-                if starts {
-                    let q = slot[owner(tree, t.uid) as usize];
-                    seqs[q].steps.push(step(
-                        t.uid,
-                        Some(t.tick),
-                        Some(t.status),
-                        Some((k as u32, k as u32)),
-                        episode,
-                    ));
-                    if t.status == Status::Running {
-                        open[t.uid as usize] = Some((q, seqs[q].steps.len() - 1));
-                    }
-                }
+        Some(s) => executions(tree, s, &slot, &mut seqs, &step),
+    }
+    seqs
+}
+
+/// A sequence for the root and for each SubTree, empty, and each SubTree's
+/// place among them by uid.
+fn subgoals(tree: &Tree) -> (Vec<Sequence>, Vec<usize>) {
+    let mut seqs = vec![Sequence {
+        subgoal: Tree::ROOT,
+        name: tree.description(Tree::ROOT).to_string(),
+        steps: Vec::new(),
+    }];
+    let mut slot = vec![0usize; tree.len() + 1];
+    for uid in tree.descendants(Tree::ROOT) {
+        if uid != Tree::ROOT && tree.node(uid).kind == Kind::SubTree {
+            slot[uid as usize] = seqs.len();
+            seqs.push(Sequence {
+                subgoal: uid,
+                name: tree.description(uid).to_string(),
+                steps: Vec::new(),
+            });
+        }
+    }
+    (seqs, slot)
+}
+
+/// A made step: uid, tick, outcome, span, episode.
+type MakeStep<'a> = dyn Fn(Uid, Option<u32>, Option<Status>, Option<(u32, u32)>, u32) -> Step + 'a;
+
+/// Each execution of a leaf in the run, as a step of its subgoal's
+/// sequence. An execution starts when a leaf leaves IDLE (or a finished
+/// status) for RUNNING, SUCCESS or FAILURE; a RUNNING leaf's next
+/// transition ends it. Re-ticks that do not change the status leave no
+/// record in any log, so they cannot be counted.
+fn executions(tree: &Tree, s: &Session, slot: &[usize], seqs: &mut [Sequence], step: &MakeStep) {
+    let mut open: Vec<Option<(usize, usize)>> = vec![None; tree.len() + 1];
+    let mut episode = 0;
+    for (k, t) in s.index.transitions.iter().enumerate() {
+        if t.uid == Tree::ROOT && t.status.is_completed() {
+            episode += 1;
+        }
+        let Some(node) = tree.get(t.uid) else {
+            continue;
+        };
+        if !node.kind.is_leaf() {
+            continue;
+        }
+        if let Some((q, i)) = open[t.uid as usize].take() {
+            let st = &mut seqs[q].steps[i];
+            st.outcome = Some(t.status);
+            st.span = st.span.map(|(from, _)| (from, k as u32));
+            if t.status == Status::Running {
+                open[t.uid as usize] = Some((q, i));
+            }
+            continue;
+        }
+        let starts = t.prev != Status::Running
+            && matches!(
+                t.status,
+                Status::Running | Status::Success | Status::Failure
+            );
+        if starts {
+            let q = slot[owner(tree, t.uid) as usize];
+            seqs[q].steps.push(step(
+                t.uid,
+                Some(t.tick),
+                Some(t.status),
+                Some((k as u32, k as u32)),
+                episode,
+            ));
+            if t.status == Status::Running {
+                open[t.uid as usize] = Some((q, seqs[q].steps.len() - 1));
             }
         }
     }
-    seqs
 }
 
 /// One subgoal compared: its steps on each side and the edit script. A

@@ -67,6 +67,18 @@ impl Fleet {
 
     pub fn text(&self) -> String {
         let names = self.short_names();
+        let mut out = format!(
+            "Reference: {}\nEach cell: edit distance from the reference (+inserted -deleted ~changed), = when the same.\n\n",
+            self.reference
+        );
+        out.push_str(&self.table(&names));
+        out.push('\n');
+        out.push_str(&self.summary(&names));
+        out
+    }
+
+    /// A row a subgoal and one for the whole run, a column a run, aligned.
+    fn table(&self, names: &[String]) -> String {
         let label_w = self
             .subgoals
             .iter()
@@ -103,18 +115,9 @@ impl Fleet {
                     .unwrap_or(1)
             })
             .collect();
-        let mut out = format!(
-            "Reference: {}\nEach cell: edit distance from the reference (+inserted -deleted ~changed), = when the same.\n\n",
-            self.reference
-        );
-
-        let mut line = format!("{:<label_w$}", "subgoal");
-        for (n, w) in names.iter().zip(&widths) {
-            line.push_str(&format!("  {n:<w$}"));
-        }
-        out.push_str(line.trim_end());
-        out.push('\n');
-        for (label, cells) in &rows {
+        let mut out = String::new();
+        let header = std::iter::once(("subgoal".to_string(), names.to_vec()));
+        for (label, cells) in header.chain(rows) {
             let mut line = format!("{label:<label_w$}");
             for (c, w) in cells.iter().zip(&widths) {
                 line.push_str(&format!("  {c:<w$}"));
@@ -122,7 +125,13 @@ impl Fleet {
             out.push_str(line.trim_end());
             out.push('\n');
         }
-        out.push('\n');
+        out
+    }
+
+    /// How many runs diverge in each subgoal, how many do what the
+    /// reference does, and where each run first diverges.
+    fn summary(&self, names: &[String]) -> String {
+        let mut out = String::new();
         for sg in &self.subgoals {
             let n = self
                 .diffs
@@ -138,7 +147,7 @@ impl Fleet {
             "runs that do what the reference does: {same} of {}\n",
             self.diffs.len()
         ));
-        for (d, name) in self.diffs.iter().zip(&names) {
+        for (d, name) in self.diffs.iter().zip(names) {
             if let Some(&(s, i)) = d.divergences().first() {
                 out.push_str(&format!(
                     "{name}: first divergence: {}\n",

@@ -114,6 +114,21 @@ fn corpus() -> Vec<(String, &'static str, Option<u32>)> {
     out
 }
 
+/// The runs the reader's tests ask about.
+const NAV2: &str = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
+const KITTING: &str = "sessions/kitting-lookat-fails-once.jsonl";
+const PATROL: &str = "tests/fixtures/questions/patrol.jsonl";
+const CASE: &str = "sessions/case-study.jsonl";
+const TAXI: &str = "tests/fixtures/logs/taxi_nominal.btlog";
+/// Nav2's rosbag, its first goal, read with the tree the robot ran.
+const BAG: [&str; 5] = [
+    "tests/fixtures/rosbag/two_goals",
+    "--tree",
+    "tests/fixtures/rosbag/navigator.xml",
+    "--run",
+    "1",
+];
+
 #[test]
 fn a_corpus_of_phrasings_is_understood_as_expected() {
     let input = open(
@@ -1373,53 +1388,48 @@ fn an_on_call_chats_shorthand_is_read_as_meant() {
 
 #[test]
 fn what_a_newcomer_sees_is_read_as_meant() {
-    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
-    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
-    let patrol = "tests/fixtures/questions/patrol.jsonl";
-    let case = "sessions/case-study.jsonl";
-    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
     let cases: Vec<(Vec<&str>, &str, &str)> = vec![
         // "Go wrong" said of a node is its failing; Groot's colours are
         // the outcomes they draw.
         (
-            vec![kitting],
+            vec![KITTING],
             "when did the look at chuck step go wrong",
             "When did look at chuck (#18) fail?",
         ),
         (
-            vec![case],
+            vec![CASE],
             "why did L0 turn red",
             "Why did L0 (#3) fail at 1:3?",
         ),
         (
-            vec![case],
+            vec![CASE],
             "why did L2 turn green",
             "Why did L2 (#5) succeed at 1:6?",
         ),
         // "What went wrong when …": the "when" says which time.
         (
-            vec![taxi],
+            vec![TAXI],
             "what went wrong when it moved left",
             "What went wrong?",
         ),
         // A condition found, or remaining, in its state.
         (
-            vec![patrol],
+            vec![PATROL],
             "how often did it find the path clear",
             "How often did path clear (#6) succeed?",
         ),
         (
-            vec![patrol],
+            vec![PATROL],
             "what if the path had remained clear",
             "What happens if path clear (#6) succeeds?",
         ),
         (
-            vec![nav2],
+            vec![NAV2],
             "did it get going again after the planner failed",
             "Did the recovery work?",
         ),
         (
-            vec![patrol],
+            vec![PATROL],
             "what is the point of the robot",
             "What is your goal?",
         ),
@@ -1429,66 +1439,55 @@ fn what_a_newcomer_sees_is_read_as_meant() {
 
 #[test]
 fn what_the_xml_says_of_a_node_picks_it() {
-    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
-    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
-    let patrol = "tests/fixtures/questions/patrol.jsonl";
-    let case = "sessions/case-study.jsonl";
-    let bag = [
-        "tests/fixtures/rosbag/two_goals",
-        "--tree",
-        "tests/fixtures/rosbag/navigator.xml",
-        "--run",
-        "1",
-    ];
     let cases: Vec<(Vec<&str>, &str, &str)> = vec![
         // A port and its value, as the XML writes them.
         (
-            vec![nav2],
+            vec![NAV2],
             "why did the action with controller_id=\"FollowPath\" fail at tick 6?",
             "Why did the FollowPath action (#10) fail at 6:1?",
         ),
         (
-            vec![nav2],
+            vec![NAV2],
             "how many times did ComputePathToPose with planner_id=\"GridBased\" run",
             "How often did the ComputePathToPose action (#5) start?",
         ),
         // A port told of a node is no pick: the contrast is still read.
         (
-            vec![patrol],
+            vec![PATROL],
             "The Parallel watch and walk has success_count=2, so I assumed it would keep walking while driving. Why did it drive rather than keep walking?",
             "Why did I do drive (#7) and not walk (#3) in tick 3?",
         ),
         // A place among siblings.
         (
-            vec![case],
+            vec![CASE],
             "at what step did the second child of CaseStudyFallback succeed",
             "When did L2 (#5) succeed?",
         ),
         (
-            bag.to_vec(),
+            BAG.to_vec(),
             "when did the second child of the FollowPath fallback run?",
             "When did ClearLocalCostmap (#4) start?",
         ),
         (
-            vec![patrol],
+            vec![PATROL],
             "how many times was the Condition under the ReactiveSequence ticked",
             "How often did path clear (#6) start?",
         ),
         // A built-in's ID names its nodes; its "Failure" is no failure.
         (
-            vec![kitting],
+            vec![KITTING],
             "what would have happened if the retreat_arm inside the ForceFailure had failed",
             "What happens if the retreat arm action (#27) fails?",
         ),
         // An ID and a name, as `ID` and `name` say them.
         (
-            bag.to_vec(),
+            BAG.to_vec(),
             "what if the Act named FollowPath had succeeded on the first try?",
             "What happens if the FollowPath action (#3) succeeds?",
         ),
         // The tick told by what happened in it.
         (
-            bag.to_vec(),
+            BAG.to_vec(),
             "describe the tick where the spin failed",
             "What happened at tick 4?",
         ),
@@ -1498,57 +1497,52 @@ fn what_the_xml_says_of_a_node_picks_it() {
 
 #[test]
 fn an_auditors_formal_questions_are_read_as_meant() {
-    let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
-    let kitting = "sessions/kitting-lookat-fails-once.jsonl";
-    let patrol = "tests/fixtures/questions/patrol.jsonl";
-    let case = "sessions/case-study.jsonl";
-    let taxi = "tests/fixtures/logs/taxi_nominal.btlog";
     let cases: Vec<(Vec<&str>, &str, &str)> = vec![
         // The conditional put first, and the outcome it supposes.
         (
-            vec![case],
+            vec![CASE],
             "Had L0 returned SUCCESS, would L1 have been executed?",
             "What happens if L0 (#3) succeeds?",
         ),
         (
-            vec![case],
+            vec![CASE],
             "Suppose CaseStudySequence had succeeded; would L2 still have been ticked?",
             "What happens if CaseStudySequence (#2) succeeds?",
         ),
         (
-            vec![kitting],
+            vec![KITTING],
             "what if #18 had not FAILED at tick 10, i.e. look at chuck succeeded straight away?",
             "What happens if look at chuck (#18) succeeds?",
         ),
         // A request put formally is the question it puts.
         (
-            vec![patrol],
+            vec![PATROL],
             "Did any element of the tree report an anomaly during this run?",
             "Was there anything wrong?",
         ),
         (
-            vec![case],
+            vec![CASE],
             "Is everything in order up to this point?",
             "Was there anything wrong?",
         ),
         (
-            vec![nav2],
+            vec![NAV2],
             "On what grounds did the RecoveryFallback return SUCCESS at tick 6 without executing any recovery behaviour?",
             "Why did RecoveryFallback (#14) succeed at 6:12?",
         ),
         (
-            vec![taxi],
+            vec![TAXI],
             "Identify the tick in which the navigate to destination sequence completed with SUCCESS.",
             "When did navigate to destination (#14) succeed?",
         ),
         (
-            vec![taxi],
+            vec![TAXI],
             "Explain, at the level of subgoals, how the item under test achieves its goal.",
             "How do you achieve your goal?",
         ),
         // "Confirm" asks for the answer, not whether btx can.
         (
-            vec![taxi],
+            vec![TAXI],
             "Could you confirm that no node returned FAILURE during the taxi run?",
             "I read this as \"Was there anything wrong?\". Did you mean: \"What went wrong?\"?",
         ),
@@ -1558,34 +1552,26 @@ fn an_auditors_formal_questions_are_read_as_meant() {
 
 #[test]
 fn a_technicians_phone_typing_is_read_as_meant() {
-    let patrol = "tests/fixtures/questions/patrol.jsonl";
-    let bag = [
-        "tests/fixtures/rosbag/two_goals",
-        "--tree",
-        "tests/fixtures/rosbag/navigator.xml",
-        "--run",
-        "1",
-    ];
     let cases: Vec<(Vec<&str>, &str, &str)> = vec![
         // Autocorrect's costmap.
         (
-            bag.to_vec(),
+            BAG.to_vec(),
             "why did clear local coat map run",
             "Why did ClearLocalCostmap (#4) start at 2:2?",
         ),
         (
-            vec![patrol],
+            vec![PATROL],
             "walk me through tick 5",
             "What happened at tick 5?",
         ),
         // "X done, what now": what comes next ("doing what rn" is not).
         (
-            vec![patrol, "--at", "2"],
+            vec![PATROL, "--at", "2"],
             "look around done, what now",
             "What will I do next?",
         ),
         (
-            vec![patrol, "--at", "2"],
+            vec![PATROL, "--at", "2"],
             "doing what rn",
             "What are you doing?",
         ),

@@ -358,15 +358,24 @@ pub(super) fn named_as_uids(tree: &Tree, text: &str) -> String {
     };
     let kind = toks[at - 1].trim_matches(|c: char| !c.is_alphanumeric());
     let kind_said = words::name_words(kind);
+    // The nodes of that ID or kind, each with its name's words, read once.
+    let of_kind: Vec<(&crate::model::Node, Vec<String>)> = tree
+        .nodes
+        .iter()
+        .filter(|n| {
+            words::name_words(&n.id) == kind_said
+                || super::mentions::of_kind(&kind.to_lowercase(), n)
+        })
+        .map(|n| (n, words::name_words(&n.name)))
+        .collect();
     for len in (1..=4.min(toks.len() - at - 1)).rev() {
         let name = toks[at + 1..at + 1 + len].join(" ");
         let bare = name.trim_end_matches(|c: char| "?!.,;:)'\"".contains(c));
         let name_said = words::name_words(bare);
-        let mut both = tree.nodes.iter().filter(|n| {
-            words::name_words(&n.name) == name_said
-                && (words::name_words(&n.id) == kind_said
-                    || super::mentions::of_kind(&kind.to_lowercase(), n))
-        });
+        let mut both = of_kind
+            .iter()
+            .filter(|(_, said)| *said == name_said)
+            .map(|(n, _)| n);
         if let (Some(n), None) = (both.next(), both.next()) {
             let mut out: Vec<String> = toks[..at - 1].iter().map(|t| t.to_string()).collect();
             out.push(format!("#{}{}", n.uid, &name[bare.len()..]));

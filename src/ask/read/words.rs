@@ -236,6 +236,17 @@ pub fn split_name(s: &str) -> String {
     out
 }
 
+/// Phrases said as one word: what autocorrect makes of a costmap, what an
+/// assessment calls the robot.
+const PHRASES: &[(&str, &str)] = &[
+    ("coat map", "costmap"),
+    ("coast map", "costmap"),
+    ("item under test", "robot"),
+    ("system under test", "robot"),
+    ("unit under test", "robot"),
+    ("device under test", "robot"),
+];
+
 /// The text lowercased with its names split, what it pastes or abbreviates
 /// said plainly: "y/n", a log's rows, "the item under test", contractions
 /// and possessives.
@@ -253,21 +264,9 @@ fn plain_text(text: &str) -> String {
         text = log_rows(&text);
     }
     let mut s = split_name(&text).to_lowercase();
-    // What autocorrect makes of a costmap.
-    for said in ["coat map", "coast map"] {
+    for (said, plain) in PHRASES {
         if s.contains(said) {
-            s = s.replace(said, "costmap");
-        }
-    }
-    // What an assessment calls the robot.
-    for said in [
-        "item under test",
-        "system under test",
-        "unit under test",
-        "device under test",
-    ] {
-        if s.contains(said) {
-            s = s.replace(said, "robot");
+            s = s.replace(said, plain);
         }
     }
     if s.contains(['\'', '’', '‘', '`', '´']) {

@@ -214,90 +214,130 @@ pub fn serve_rep(
     properties: &[(&[u8], &[u8])],
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
 ) -> std::io::Result<()> {
-    let ready: std::rc::Rc<[u8]> = ready(b"REP", properties).into();
     listener.set_nonblocking(true)?;
-    let endpoint = listener.local_addr()?.to_string();
-    let mut listener = TcpListener::from_std(listener);
-    let mut poll = Poll::new()?;
-    poll.registry()
-        .register(&mut listener, LISTENER, Interest::READABLE)?;
-    let mut conns: Vec<Option<Conn>> = Vec::new();
+    let mut server = Server {
+        ready: ready(b"REP", properties).into(),
+        endpoint: listener.local_addr()?.to_string(),
+        listener: TcpListener::from_std(listener),
+        poll: Poll::new()?,
+        conns: Vec::new(),
+        refused_said: Instant::now() - Duration::from_secs(60),
+    };
+    server
+        .poll
+        .registry()
+        .register(&mut server.listener, LISTENER, Interest::READABLE)?;
     let mut events = Events::with_capacity(256);
-    let mut refused_said = Instant::now() - Duration::from_secs(60);
     while !stop.load(std::sync::atomic::Ordering::Relaxed) {
-        match poll.poll(&mut events, Some(Duration::from_millis(100))) {
+        match server
+            .poll
+            .poll(&mut events, Some(Duration::from_millis(100)))
+        {
             Ok(()) => {}
             Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
             Err(e) => return Err(e),
         }
         for ev in &events {
             if ev.token() == LISTENER {
-                loop {
-                    let (mut stream, peer) = match listener.accept() {
-                        Ok(x) => x,
-                        Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => break,
-                        Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
-                        // Out of descriptors and the like: this client is
-                        // lost, the server goes on.
-                        Err(_) => break,
-                    };
-                    let open = conns.iter().filter(|c| c.is_some()).count();
-                    if open >= CONNECTIONS_MAX {
-                        drop(stream);
-                        if refused_said.elapsed() >= Duration::from_secs(1) {
-                            refused_said = Instant::now();
-                            eprintln!("{endpoint}: refused a client ({peer}): {CONNECTIONS_MAX} are connected, the most btx serves at once");
-                        }
-                        continue;
-                    }
-                    let _ = stream.set_nodelay(true);
-                    let slot = conns.iter().position(Option::is_none).unwrap_or_else(|| {
-                        conns.push(None);
-                        conns.len() - 1
-                    });
-                    let interest = Interest::READABLE | Interest::WRITABLE;
-                    if poll
-                        .registry()
-                        .register(&mut stream, Token(slot), interest)
-                        .is_ok()
-                    {
-                        let mut c = Conn::new(stream, std::rc::Rc::clone(&ready));
-                        // The greeting goes at once.
-                        if c.write().is_ok() {
-                            conns[slot] = Some(c);
-                        }
-                    }
-                }
-                continue;
-            }
-            let slot = ev.token().0;
-            let Some(c) = conns.get_mut(slot).and_then(Option::as_mut) else {
-                continue;
-            };
-            // Events come on edges: write what waits, read until the socket
-            // is drained, answering as requests come whole.
-            let alive = (|| -> Result<(), Closed> {
-                loop {
-                    if !c.write()? {
-                        // The rest waits for the socket to take it.
-                        return Ok(());
-                    }
-                    if c.read(&answer)? {
-                        return c.write().map(|_| ());
-                    }
-                }
-            })();
-            if alive.is_err() {
-                close(&poll, &mut conns[slot]);
+                server.accept_all();
+            } else {
+                server.serve(ev.token().0, &answer);
             }
         }
-        for slot in &mut conns {
-            if slot.as_ref().is_some_and(|c| c.heard.elapsed() >= IDLE_MAX) {
-                close(&poll, slot);
+        server.close_idle();
+    }
+    Ok(())
+}
+
+/// The REP server's state between events: its clients by token.
+struct Server {
+    ready: std::rc::Rc<[u8]>,
+    endpoint: String,
+    listener: TcpListener,
+    poll: Poll,
+    conns: Vec<Option<Conn>>,
+    /// When a refused client was last told of on stderr.
+    refused_said: Instant,
+}
+
+impl Server {
+    /// Accepts every client waiting, up to `CONNECTIONS_MAX` connected.
+    fn accept_all(&mut self) {
+        loop {
+            let (mut stream, peer) = match self.listener.accept() {
+                Ok(x) => x,
+                Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => break,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                // Out of descriptors and the like: this client is
+                // lost, the server goes on.
+                Err(_) => break,
+            };
+            let open = self.conns.iter().filter(|c| c.is_some()).count();
+            if open >= CONNECTIONS_MAX {
+                drop(stream);
+                if self.refused_said.elapsed() >= Duration::from_secs(1) {
+                    self.refused_said = Instant::now();
+                    eprintln!("{}: refused a client ({peer}): {CONNECTIONS_MAX} are connected, the most btx serves at once", self.endpoint);
+                }
+                continue;
+            }
+            let _ = stream.set_nodelay(true);
+            let slot = self
+                .conns
+                .iter()
+                .position(Option::is_none)
+                .unwrap_or_else(|| {
+                    self.conns.push(None);
+                    self.conns.len() - 1
+                });
+            let interest = Interest::READABLE | Interest::WRITABLE;
+            if self
+                .poll
+                .registry()
+                .register(&mut stream, Token(slot), interest)
+                .is_ok()
+            {
+                let mut c = Conn::new(stream, std::rc::Rc::clone(&self.ready));
+                // The greeting goes at once.
+                if c.write().is_ok() {
+                    self.conns[slot] = Some(c);
+                }
             }
         }
     }
-    Ok(())
+
+    /// Serves the client in `slot` after an event on its socket; one that
+    /// broke the protocol or hung up is closed.
+    fn serve(&mut self, slot: usize, answer: &Answer) {
+        let Some(c) = self.conns.get_mut(slot).and_then(Option::as_mut) else {
+            return;
+        };
+        // Events come on edges: write what waits, read until the socket
+        // is drained, answering as requests come whole.
+        let alive = (|| -> Result<(), Closed> {
+            loop {
+                if !c.write()? {
+                    // The rest waits for the socket to take it.
+                    return Ok(());
+                }
+                if c.read(answer)? {
+                    return c.write().map(|_| ());
+                }
+            }
+        })();
+        if alive.is_err() {
+            close(&self.poll, &mut self.conns[slot]);
+        }
+    }
+
+    /// Closes the connections silent for `IDLE_MAX`.
+    fn close_idle(&mut self) {
+        for slot in &mut self.conns {
+            if slot.as_ref().is_some_and(|c| c.heard.elapsed() >= IDLE_MAX) {
+                close(&self.poll, slot);
+            }
+        }
+    }
 }
 
 fn close(poll: &Poll, slot: &mut Option<Conn>) {

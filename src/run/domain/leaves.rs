@@ -142,69 +142,23 @@ impl DomainLeaves {
     }
 
     fn step(&mut self, call: &mut LeafCall) -> Result<LeafOutcome, Located> {
-        let leaf = match self.assigned.get(&call.uid) {
-            Some(&l) => l,
-            None => {
-                let l = self.domain.leaf_for(call.tree, call.uid).ok_or_else(|| {
-                    Located::file(
-                        &self.domain.path,
-                        format!(
-                            "no [leaf] for {} #{}",
-                            call.tree.description(call.uid),
-                            call.uid
-                        ),
-                    )
-                })?;
-                self.assigned.insert(call.uid, l);
-                l
-            }
-        };
+        let leaf = self.leaf_of(call)?;
         let d = Arc::clone(&self.domain);
         if d.end_after.contains(&d.leaves[leaf].key) {
             self.ended = true;
         }
-        let call_no = if call.tick == self.intervene.tick {
-            let c = self.intervene.calls.entry(call.uid).or_insert(0);
-            *c += 1;
-            *c
-        } else {
-            0
-        };
+        let call_no = self.intervened_call(call);
         let forced = self
             .intervene
             .actions
             .iter()
             .find(|(u, k, _)| *u == call.uid && *k == call_no)
             .map(|(_, _, a)| a.clone());
-        let mut derived_early = Vec::new();
-        if call_no > 0 {
-            let iv = &mut self.intervene;
-            iv.applied.resize(iv.sets.len(), false);
-            let here = iv.order.get(call.uid as usize - 1).copied().unwrap_or(0);
-            let boundary = match iv.watch {
-                Some((_, Some(b))) if iv.seen.is_none() && here >= b => Some(b),
-                _ => None,
-            };
-            // Copies set at or before the watched place first, then the
-            // watched value, then the rest.
-            let mut due: Vec<usize> = (0..iv.sets.len())
-                .filter(|&i| !iv.applied[i] && iv.sets[i].0 <= here)
-                .collect();
-            due.sort_by_key(|&i| boundary.is_some_and(|b| iv.sets[i].0 > b));
-            let mut watched = false;
-            for i in due {
-                let (place, x, v) = self.intervene.sets[i].clone();
-                if !watched && boundary.is_some_and(|b| place > b) {
-                    self.watch_now();
-                    watched = true;
-                }
-                self.intervene.applied[i] = true;
-                derived_early.extend(self.apply(x, v)?);
-            }
-            if !watched && boundary.is_some() {
-                self.watch_now();
-            }
-        }
+        let derived_early = if call_no > 0 {
+            self.apply_due_sets(call.uid)?
+        } else {
+            Vec::new()
+        };
         let action = match forced {
             Some(a) => a,
             None => d.decide(leaf, &self.state)?,
@@ -234,6 +188,69 @@ impl DomainLeaves {
             None
         };
         Ok(LeafOutcome { status, decision })
+    }
+
+    /// The domain's `[leaf]` that `call`'s node executes.
+    fn leaf_of(&mut self, call: &LeafCall) -> Result<usize, Located> {
+        if let Some(&l) = self.assigned.get(&call.uid) {
+            return Ok(l);
+        }
+        let l = self.domain.leaf_for(call.tree, call.uid).ok_or_else(|| {
+            Located::file(
+                &self.domain.path,
+                format!(
+                    "no [leaf] for {} #{}",
+                    call.tree.description(call.uid),
+                    call.uid
+                ),
+            )
+        })?;
+        self.assigned.insert(call.uid, l);
+        Ok(l)
+    }
+
+    /// Which call of its node within the intervened tick `call` is, from 1;
+    /// 0 in every other tick.
+    fn intervened_call(&mut self, call: &LeafCall) -> u32 {
+        if call.tick != self.intervene.tick {
+            return 0;
+        }
+        let c = self.intervene.calls.entry(call.uid).or_insert(0);
+        *c += 1;
+        *c
+    }
+
+    /// Sets the intervention's values due before `uid`'s call: those placed
+    /// at or before the watched place first, then the watched value is
+    /// read, then the rest. The variables they change, with what follows
+    /// from them.
+    fn apply_due_sets(&mut self, uid: Uid) -> Result<Vec<usize>, Located> {
+        let iv = &mut self.intervene;
+        iv.applied.resize(iv.sets.len(), false);
+        let here = iv.order.get(uid as usize - 1).copied().unwrap_or(0);
+        let boundary = match iv.watch {
+            Some((_, Some(b))) if iv.seen.is_none() && here >= b => Some(b),
+            _ => None,
+        };
+        let mut due: Vec<usize> = (0..iv.sets.len())
+            .filter(|&i| !iv.applied[i] && iv.sets[i].0 <= here)
+            .collect();
+        due.sort_by_key(|&i| boundary.is_some_and(|b| iv.sets[i].0 > b));
+        let mut changed = Vec::new();
+        let mut watched = false;
+        for i in due {
+            let (place, x, v) = self.intervene.sets[i].clone();
+            if !watched && boundary.is_some_and(|b| place > b) {
+                self.watch_now();
+                watched = true;
+            }
+            self.intervene.applied[i] = true;
+            changed.extend(self.apply(x, v)?);
+        }
+        if !watched && boundary.is_some() {
+            self.watch_now();
+        }
+        Ok(changed)
     }
 }
 

@@ -254,6 +254,15 @@ pub struct Executor<'t, L: Leaves> {
     leaf_called: bool,
 }
 
+/// Where a call began: its sequence number and the counts of transitions
+/// and events then, which say what the call itself did.
+struct CallStart {
+    seq: u64,
+    own_transitions: u64,
+    tick_transitions: u32,
+    events: usize,
+}
+
 /// One tick of a node within the current tick: the causal model gives each
 /// attempt of a Retry's or Repeat's child its own copy of the child's
 /// variables, from these.
@@ -676,40 +685,13 @@ impl<'t, L: Leaves> Executor<'t, L> {
     /// stays IDLE).
     fn exec(&mut self, uid: Uid) -> R<Status> {
         let n = self.tree.node(uid);
-        self.seq += 1;
-        let seq = self.seq;
-        let wraps = n.builtin == Some(Builtin::RoundRobin) && self.round_robin_wraps(uid);
-        let r = self.rt(uid);
-        r.entry.wraps = wraps;
-        r.entry_seq = seq;
-        r.entry_status = r.status;
-        r.entry.idx = r.idx;
-        r.entry.successes = r.successes;
-        r.entry.failures = r.failures;
-        r.entry.skipped = r.skipped;
-        r.entry.count = r.count;
-        r.entry.started = r.started;
-        if !r.completed.is_empty() || !r.entry.completed.is_empty() {
-            r.entry.completed.clone_from(&r.completed);
-        }
-        let c = &mut self.calls[(uid - 1) as usize];
-        *c = c.saturating_add(1);
-        let own_before = self.rt[(uid - 1) as usize].transitions;
-        let (transitions_before, events_before) = (self.tick_transitions, self.events.len());
+        let start = self.enter_call(uid);
         let mut s = match self.pre_conditions(uid)? {
             Some(s) => s,
             None => self.tick_node(uid)?,
         };
-        if !self.forced.is_empty() {
-            let call = self.calls[(uid - 1) as usize];
-            let tick = self.tick;
-            if let Some(f) = self
-                .forced
-                .iter()
-                .find(|f| f.tick == tick && f.uid == uid && f.call == call)
-            {
-                s = f.status;
-            }
+        if let Some(forced) = self.forced_status(uid) {
+            s = forced;
         }
         let replayed = n.kind.is_leaf()
             && n.builtin.is_none()
@@ -729,46 +711,95 @@ impl<'t, L: Leaves> Executor<'t, L> {
             self.set_status(uid, s);
         }
         if self.record_calls {
-            let r = &self.rt[(uid - 1) as usize];
-            let record = CallRecord {
-                uid,
-                call: self.calls[(uid - 1) as usize],
-                entry_seq: seq,
-                exit_seq: self.seq,
-                entry: r.entry.clone(),
-                entry_status: r.entry_status,
-                returned: s,
-                transitions_before,
-                transitions_after: self.tick_transitions,
-                transitioned: r.transitions != own_before,
-                // Only a leaf decides; a control node's call spans all of
-                // its subtree's events, which are not searched.
-                decision: n
-                    .kind
-                    .is_leaf()
-                    .then(|| {
-                        self.events[events_before.min(self.events.len())..]
-                            .iter()
-                            .rev()
-                            .find_map(|e| match e {
-                                Event::Transition {
-                                    uid: u,
-                                    decision: Some(d),
-                                    ..
-                                }
-                                | Event::Decision {
-                                    uid: u,
-                                    decision: d,
-                                    ..
-                                } if *u == uid => Some(d.clone()),
-                                _ => None,
-                            })
-                    })
-                    .flatten(),
-            };
+            let record = self.call_record(uid, &start, s);
             self.call_log.push(record);
         }
         Ok(s)
+    }
+
+    /// Counts a call of `uid` and keeps its state as the call found it
+    /// (what a counterfactual replays the call from).
+    fn enter_call(&mut self, uid: Uid) -> CallStart {
+        self.seq += 1;
+        let seq = self.seq;
+        let wraps =
+            self.tree.node(uid).builtin == Some(Builtin::RoundRobin) && self.round_robin_wraps(uid);
+        let r = self.rt(uid);
+        r.entry.wraps = wraps;
+        r.entry_seq = seq;
+        r.entry_status = r.status;
+        r.entry.idx = r.idx;
+        r.entry.successes = r.successes;
+        r.entry.failures = r.failures;
+        r.entry.skipped = r.skipped;
+        r.entry.count = r.count;
+        r.entry.started = r.started;
+        if !r.completed.is_empty() || !r.entry.completed.is_empty() {
+            r.entry.completed.clone_from(&r.completed);
+        }
+        let c = &mut self.calls[(uid - 1) as usize];
+        *c = c.saturating_add(1);
+        CallStart {
+            seq,
+            own_transitions: self.rt[(uid - 1) as usize].transitions,
+            tick_transitions: self.tick_transitions,
+            events: self.events.len(),
+        }
+    }
+
+    /// The status a plan forces on this call of `uid` in this tick, if any.
+    fn forced_status(&self, uid: Uid) -> Option<Status> {
+        let call = self.calls[(uid - 1) as usize];
+        self.forced
+            .iter()
+            .find(|f| f.tick == self.tick && f.uid == uid && f.call == call)
+            .map(|f| f.status)
+    }
+
+    /// The record of the call of `uid` that began at `start` and returned `s`.
+    fn call_record(&self, uid: Uid, start: &CallStart, s: Status) -> CallRecord {
+        let r = &self.rt[(uid - 1) as usize];
+        CallRecord {
+            uid,
+            call: self.calls[(uid - 1) as usize],
+            entry_seq: start.seq,
+            exit_seq: self.seq,
+            entry: r.entry.clone(),
+            entry_status: r.entry_status,
+            returned: s,
+            transitions_before: start.tick_transitions,
+            transitions_after: self.tick_transitions,
+            transitioned: r.transitions != start.own_transitions,
+            // Only a leaf decides; a control node's call spans all of
+            // its subtree's events, which are not searched.
+            decision: self
+                .tree
+                .node(uid)
+                .kind
+                .is_leaf()
+                .then(|| self.decision_since(uid, start.events))
+                .flatten(),
+        }
+    }
+
+    /// The last decision `uid` made among the events from `from` on.
+    fn decision_since(&self, uid: Uid, from: usize) -> Option<String> {
+        self.events[from.min(self.events.len())..]
+            .iter()
+            .rev()
+            .find_map(|e| match e {
+                Event::Transition {
+                    uid: u,
+                    decision: Some(d),
+                    ..
+                }
+                | Event::Decision {
+                    uid: u,
+                    decision: d,
+                    ..
+                } if *u == uid => Some(d.clone()),
+                _ => None,
+            })
     }
 
     fn tick_node(&mut self, uid: Uid) -> R<Status> {

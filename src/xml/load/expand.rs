@@ -25,13 +25,13 @@ impl Loader {
             autoremap: false,
             shared: false,
         }];
-        let def_el = |d: &Def| {
+        let tree_of = |d: &Def| {
             &roots[d.file]
                 .as_ref()
                 .expect("every file has a root")
                 .children[d.idx]
+                .children[0]
         };
-        let main_def = &defs[main];
         // The SubTree IDs on the path from the root: one is added on
         // entering a SubTree and removed by the `Leave` pushed under its
         // subtree, so the cycle check costs one lookup, not a walk up a
@@ -39,8 +39,8 @@ impl Loader {
         let mut on_path: std::collections::HashSet<String> =
             std::iter::once(main_id.to_string()).collect();
         let mut stack = vec![Step::Enter(Work {
-            el: &def_el(main_def).children[0],
-            file: main_def.file,
+            el: tree_of(&defs[main]),
+            file: defs[main].file,
             parent: None,
             scope: 0,
             depth: 0,
@@ -69,37 +69,19 @@ impl Loader {
                 nodes[(p - 1) as usize].children.push(uid);
             }
             if node.kind == Kind::SubTree {
-                let di = self.subtree_def(&node, &w, (by_id, by_fullpath))?;
+                let d = &defs[self.subtree_def(&node, &w, (by_id, by_fullpath))?];
                 self.check_cycle(&node, &w, &on_path)?;
-                let scope = subtree_scope(&node, w.el, w.scope);
-                scopes.push(scope);
-                node.opens_scope = Some(scopes.len() - 1);
-                let chain = Chain {
-                    id: node.id.clone(),
-                    up: Some(w.chain.clone()),
-                };
-                let d = &defs[di];
                 on_path.insert(node.id.clone());
                 stack.push(Step::Leave(node.id.clone()));
-                stack.push(Step::Enter(Work {
-                    el: &def_el(d).children[0],
-                    file: d.file,
-                    parent: Some(uid),
-                    scope: scopes.len() - 1,
-                    depth: w.depth + 1,
-                    chain: std::rc::Rc::new(chain),
-                }));
+                let inner = enter_subtree(&mut node, &w, (d.file, tree_of(d)), &mut scopes);
+                stack.push(Step::Enter(inner));
             } else {
-                for c in w.el.children.iter().rev() {
-                    stack.push(Step::Enter(Work {
-                        el: c,
-                        file: w.file,
-                        parent: Some(uid),
-                        scope: w.scope,
-                        depth: w.depth + 1,
-                        chain: w.chain.clone(),
-                    }));
-                }
+                stack.extend(
+                    w.el.children
+                        .iter()
+                        .rev()
+                        .map(|c| Step::Enter(w.child(c, uid))),
+                );
             }
             nodes.push(node);
         }
@@ -237,6 +219,44 @@ struct Work<'a> {
     scope: ScopeId,
     depth: u32,
     chain: std::rc::Rc<Chain>,
+}
+
+impl<'a> Work<'a> {
+    /// The work of one child element of the node `uid` that `self` made.
+    fn child(&self, el: &'a Element, uid: Uid) -> Work<'a> {
+        Work {
+            el,
+            file: self.file,
+            parent: Some(uid),
+            scope: self.scope,
+            depth: self.depth + 1,
+            chain: self.chain.clone(),
+        }
+    }
+}
+
+/// Enters the SubTree `node` made from `w`: the blackboard scope it opens
+/// is pushed on `scopes`, and the work returned is its tree's root `el`
+/// (in `file`), one level deeper with the SubTree's ID on its chain.
+fn enter_subtree<'a>(
+    node: &mut Node,
+    w: &Work<'a>,
+    (file, el): (FileId, &'a Element),
+    scopes: &mut Vec<Scope>,
+) -> Work<'a> {
+    scopes.push(subtree_scope(node, w.el, w.scope));
+    node.opens_scope = Some(scopes.len() - 1);
+    Work {
+        el,
+        file,
+        parent: Some(node.uid),
+        scope: scopes.len() - 1,
+        depth: w.depth + 1,
+        chain: std::rc::Rc::new(Chain {
+            id: node.id.clone(),
+            up: Some(w.chain.clone()),
+        }),
+    }
 }
 
 /// Expanding is depth first on a stack of its own (a chain of SubTrees may

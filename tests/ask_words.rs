@@ -978,6 +978,9 @@ fn advice_and_amounts_are_refused() {
         "what should I set num_attempts to?",
         "how much does the taxi cost?",
         "should I use BehaviorTree.CPP or py_trees for my next project?",
+        // The world's future and feelings, whatever node is named.
+        "will the taxi's vendor deprecate the move up action?",
+        "how frustrated was the passenger?",
     ] {
         let (ok, out, _) = btx(&["ask", "tests/fixtures/logs/taxi_nominal.btlog", q]);
         assert!(!ok, "{q}: {out}");
@@ -1574,6 +1577,107 @@ fn a_technicians_phone_typing_is_read_as_meant() {
             vec![PATROL, "--at", "2"],
             "doing what rn",
             "What are you doing?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+/// What corpus21's students of the papers taught, each in other words:
+/// a counterfactual or an intervention named is a what-if, a condition
+/// that held succeeded, Han's framing named is no question of it, a uid
+/// told of a shared name picks it, a story's "at this point" and ", so why"
+/// leave the question standing, and a bag's "goal 1" names the run.
+#[test]
+fn a_students_framings_and_counterfactuals_are_read_as_meant() {
+    let cases: Vec<(Vec<&str>, &str, &str)> =
+        vec![
+        (
+            vec![CASE],
+            "the counterfactual in which L0 fails: what happens then?",
+            "What happens if L0 (#3) fails?",
+        ),
+        (
+            vec![PATROL],
+            "If path_clear had held at tick 4, would drive have run?",
+            "What happens if path clear (#6) succeeds?",
+        ),
+        (
+            vec![PATROL],
+            "what intervention on walk would make the patrol fail?",
+            "What happens if walk (#3) fails?",
+        ),
+        // What becomes of the goal is not what the goal is.
+        (
+            vec![CASE],
+            "suppose L2 fails. does the task still succeed?",
+            "What happens if L2 (#5) fails?",
+        ),
+        (
+            vec![TAXI],
+            "what if the move up (#9) had failed?",
+            "What happens if the move up action (#9) fails?",
+        ),
+        (
+            vec![KITTING, "--at", "33"],
+            "In the goal/subgoals/steps/actions framing, which subgoal does tick 33 fall under?",
+            "What was your subgoal at tick 33?",
+        ),
+        (
+            vec![CASE, "--at", "1"],
+            "What subgoal is it pursuing at step 6?",
+            "What is your subgoal?",
+        ),
+        (
+            vec![TAXI],
+            "overall, which subgoals and steps deliver the passenger?",
+            "How do you achieve your goal?",
+        ),
+        (
+            vec![TAXI, "--at", "9"],
+            "at step 2 of tick 9, which action is executing?",
+            "What were you doing at 9:2?",
+        ),
+        (
+            vec![PATROL, "--at", "2"],
+            "walk finished. what does it move on to?",
+            "What will I do next?",
+        ),
+        (
+            vec![CASE, "--at", "1:3"],
+            "L0 has just failed. What is the robot doing at this point?",
+            "What are you doing?",
+        ),
+        (
+            vec![NAV2, "--at", "6"],
+            "FollowPath failed just now, so why is it running again?",
+            "Why are you doing this?",
+        ),
+        (
+            vec![CASE],
+            "why L2 as opposed to L1?",
+            "Why did I do L2 (#5) and not L1 (#4) in tick 1?",
+        ),
+        (
+            vec![KITTING, "--at", "20"],
+            "did it bounce back from the look at chuck failure?",
+            "Did the recovery work?",
+        ),
+        (
+            vec![KITTING],
+            "episodic memory of tick 10",
+            "What happened at tick 10?",
+        ),
+        (
+            vec![TAXI, "--at", "9"],
+            "why move down rather than the move lefts?",
+            "Why did I do the move down action (#16) and not move left (#18, #19, #20) in tick 9?",
+        ),
+        // "Action" alone is no half of RecoveryActions.
+        (vec![NAV2, "--at", "3"], "current action?", "What are you doing?"),
+        (
+            BAG.to_vec(),
+            "which action was active in the first tick of goal 1?",
+            "What were you doing in the first tick?",
         ),
     ];
     first_lines_are(cases);

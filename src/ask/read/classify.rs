@@ -90,6 +90,11 @@ fn what_if(c: &Cues) -> Option<Readings> {
         || s.phrase(&["consider", "the", "case"]).is_some()
         || s.phrase(&["in", "the", "event"]).is_some()
         || s.has("hypothetically")
+        // "The counterfactual where the move right fails: what happens to
+        // the goal?", as the papers' students say it.
+        || s.has_prefix(&["counterfactual"]) && c.ev.is_some() && !c.why
+        // "What intervention on walk would change things?".
+        || s.has_stem(&["intervent", "interven"]) && s.has("would") && c.ev.is_some()
         || c.first == "if"
         // "How would the run differ if look around had failed?", "say the
         // second move up had failed: then what?".
@@ -119,7 +124,15 @@ fn what_if(c: &Cues) -> Option<Readings> {
 /// The outcome said between a conditional's mark ("if", "had",
 /// "suppose") and what is asked of it ("would", "what", "then").
 fn supposed(s: &Sentence) -> Option<Event> {
-    const MARK: &[&str] = &["if", "had", "suppose", "supposing", "case", "event"];
+    const MARK: &[&str] = &[
+        "if",
+        "had",
+        "suppose",
+        "supposing",
+        "case",
+        "event",
+        "counterfactual",
+    ];
     let q = s.q;
     let from = q.iter().position(|w| MARK.contains(&w.text.as_str()))?;
     let clause: Vec<&crate::ask::read::words::Word> = q[from + 1..]
@@ -131,7 +144,8 @@ fn supposed(s: &Sentence) -> Option<Event> {
         .iter()
         .any(|w| ["not", "never"].contains(&w.text.as_str()));
     let said = clause.iter().find_map(|w| match w.stem.as_str() {
-        "succeed" | "success" | "pass" | "true" => Some(Event::Succeed),
+        // "Had path_clear held": a condition that held succeeded.
+        "succeed" | "success" | "pass" | "true" | "held" | "hold" => Some(Event::Succeed),
         "fail" | "failur" | "fals" => Some(Event::Fail),
         _ => None,
     })?;
@@ -643,6 +657,9 @@ fn next(c: &Cues) -> Option<Readings> {
         || s.phrase(&["after", "that"]).is_some()
         || s.has("afterwards")
         || s.has("upcoming")
+        // "What does the policy move on to?".
+        || (s.phrase(&["move", "on"]).is_some() || s.phrase(&["moves", "on"]).is_some())
+            && !s.has("did")
         // "What's the following action gonna be?".
         || s.has("following") && (s.phrase(&["going", "to", "be"]).is_some() || s.has("will"))
         // "And then what does it do?".
@@ -820,10 +837,12 @@ fn tick(c: &Cues) -> Option<Readings> {
         || c.break_down;
     let asks_tick = s.has_stem(&[
         "happen", "chang", "occur", "describ", "summar", "show", "went", "transit", "detail",
-        "event", "recap",
+        "event", "recap", "memori", "episod",
     ]) || c.break_down
         || s.empty()
-        || (c.what && !c.doing_words && !s.has_stem(&["run", "goal", "subgoal"]))
+        || (c.what
+            && !c.doing_words
+            && !s.has_stem(&["run", "goal", "subgoal", "execut", "action"]))
         || walk;
     (asks_tick && c.named.is_empty() && (!c.doing_words || walk))
         .then(|| vec![(Intent::Tick(n), c.sure_of_words(0.95))])
@@ -914,9 +933,16 @@ fn asks_goal(s: &Sentence) -> bool {
 fn asks_steps(c: &Cues) -> bool {
     let s = c.s;
     // "At this step": a moment, not the steps.
+    // "At step 6": a moment too.
     let this_step = ["this", "that", "current", "which"]
         .iter()
-        .any(|w| s.phrase(&[w, "step"]).is_some());
+        .any(|w| s.phrase(&[w, "step"]).is_some())
+        || s.free().any(|(i, w)| {
+            w.text == "step"
+                && s.q
+                    .get(i + 1)
+                    .is_some_and(|n| n.text.bytes().all(|b| b.is_ascii_digit()))
+        });
     !s.has("doing")
         && !this_step
         && s.has_stem(&[
@@ -961,7 +987,7 @@ fn how_achieved(c: &Cues) -> Option<Readings> {
     // "How does it achieve its goal, subgoal by subgoal?", "through which
     // subgoals does it reach its goal?": the subgoals are how the goal is.
     let by_subgoals = c.s.has("subgoals") || c.s.phrase(&["subgoal", "by", "subgoal"]).is_some();
-    if by_subgoals && asks_goal(c.s) && (steps || c.how) {
+    if by_subgoals && (asks_goal(c.s) || c.whole) && (steps || c.how) {
         return c.only(Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.93);
     }
     if (asks_subgoal(c) || now || part_named && c.how && !goal_named) && (steps || c.how) {
@@ -994,7 +1020,11 @@ fn subgoal_or_goal(c: &Cues) -> Option<Readings> {
         return None;
     }
     let trying = s.phrase(&["trying", "to"]).is_some() || s.phrase(&["try", "to"]).is_some();
-    let named_goal = s.has_stem(&["goal", "object", "mission", "purpos", "job", "target"]);
+    // "Trying to do on goal 1": the run named by its goal, whose goal it is.
+    let named_goal = s.has_stem(&["goal", "object", "mission", "purpos", "job", "target"])
+        || s.q
+            .windows(2)
+            .any(|p| p[0].text == "goal" && p[1].text.bytes().all(|b| b.is_ascii_digit()));
     // "What's the goal here?" names the goal; "what is it trying to get
     // done here" the part it is in.
     // "Manager here, what is it supposed to accomplish?": who asks, not
@@ -1033,7 +1063,12 @@ fn subgoal_or_goal(c: &Cues) -> Option<Readings> {
     // another node is likely not the question of what the goal is.
     let beside = !c.named.is_empty()
         || c.when_q
-        || s.has_stem(&["fail", "reach", "arriv", "halt", "abort", "cancel"]);
+        || s.has_stem(&["fail", "reach", "arriv", "halt", "abort", "cancel"])
+        // "Does the goal still succeed?", "what happens to the goal?": what
+        // becomes of the goal, not what it is.
+        || s.has_stem(&["succeed", "success"])
+        || s.phrase(&["happens", "to"]).is_some()
+        || s.phrase(&["happen", "to"]).is_some();
     let base = if beside { 0.6 } else { 0.9 };
     let mut out = vec![(Intent::Fixed(Question::Tree(q)), c.sure_of_words(base))];
     if beside && c.problem {

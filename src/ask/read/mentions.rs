@@ -67,7 +67,7 @@ const PLAIN: &[&str] = &[
     "was", "were", "are", "has", "have", "had", "can", "could", "will", "would", "a", "the",
     "from", "by", "up", "out", "all", "any", "node", "nodes", "tree", "robot", "time", "times",
     "entire", "whole", "first", "last", "after", "before", "again", "so", "while", "task",
-    "mission", "goal", "job", "you", "me", "until",
+    "mission", "goal", "job", "you", "me", "until", "action", "current",
 ];
 
 /// Verbs that "back" after them makes a way of moving ("go back to").

@@ -369,6 +369,7 @@ fn about_the_world(word: &str) -> bool {
         "trained",
         "training",
         "dataset",
+        "resolution",
     ];
     WORLD.contains(&word)
 }
@@ -439,15 +440,20 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // question that stands on its own (no "it" or "that" pointing into
     // the story, no topic before a colon), read surely, is what the post
     // asks; the story around it only tells when.
+    // "At this point" points at the story's moment, which the reading
+    // takes from the whole, not at a thing the story names.
     let stands_alone = |q: &str| {
         let said = words::words(q);
         said.len() >= 3
             && !text[..text.find(q).unwrap_or(0)].trim_end().ends_with(':')
-            && !said.iter().any(|w| {
+            && !said.iter().enumerate().any(|(i, w)| {
                 [
                     "it", "its", "that", "this", "there", "them", "they", "these", "those",
                 ]
                 .contains(&w.text.as_str())
+                    && !said.get(i + 1).is_some_and(|n| {
+                        ["point", "moment", "instant", "stage", "time"].contains(&n.text.as_str())
+                    })
             })
     };
     if let (Some(w), [q]) = (&whole, &questions[..]) {
@@ -458,6 +464,13 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             }
             _ => {}
         }
+    }
+    // "Spin failed a moment ago within this same tick, so why is it
+    // running again?": what follows ", so" is asked; the story before it
+    // says when.
+    if let Some(mut a) = asked_after_so(vocabulary, tree, text).filter(|a| a.confidence >= SURE) {
+        a.when = a.when.or(whole.as_ref().and_then(|w| w.when));
+        return Some(a);
     }
     if whole.as_ref().is_some_and(|r| r.confidence >= SURE) {
         return whole;
@@ -520,6 +533,18 @@ fn asked_after_a_comma(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Opti
         })
         .filter_map(|rest| read_one(vocabulary, tree, rest))
         .reduce(|a, b| if b.confidence > a.confidence { b } else { a })
+}
+
+/// The reading of a question that follows ", so" ("…, so why is it
+/// running again?").
+fn asked_after_so(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
+    const OPENS: &[&str] = &["what", "why", "how", "when", "which", "where"];
+    let (_, rest) = text.rsplit_once(", so ")?;
+    let first = rest.split_whitespace().next()?.to_lowercase();
+    OPENS
+        .contains(&first.as_str())
+        .then(|| read_one(vocabulary, tree, rest))
+        .flatten()
 }
 
 /// The questions a text of several sentences asks: each sentence that
@@ -613,6 +638,17 @@ fn named_parts<'a>(
         }
         w
     });
+    for i in han_framing(q) {
+        s.used[i] = true;
+    }
+    // "In goal 1", "the first tick of goal 2": a bag's goals by number
+    // name the run, not the goal asked about.
+    for i in 0..q.len().saturating_sub(1) {
+        if q[i].text == "goal" && q[i + 1].text.bytes().all(|b| b.is_ascii_digit()) {
+            s.used[i] = true;
+            s.used[i + 1] = true;
+        }
+    }
     // "Right now", "right after": "right" says when, it names no move.
     for i in 0..q.len().saturating_sub(1) {
         if q[i].text == "right"
@@ -659,6 +695,7 @@ fn named_parts<'a>(
         }
     }
     s.nodes.extend(mentions);
+    s.nodes = uids_told_of_names(std::mem::take(&mut s.nodes));
     s.nodes.sort_by_key(|m| m.start);
     s.nodes = children_by_place(tree, q, std::mem::take(&mut s.nodes));
     s.nodes = scoped(tree, q, std::mem::take(&mut s.nodes));
@@ -668,6 +705,54 @@ fn named_parts<'a>(
         s.nodes.push(m);
     }
     (s, when)
+}
+
+/// "In the goal/subgoals/steps/actions framing", "Han et al. partition
+/// the tree into {goal, subgoals, steps, actions}": the framing's four
+/// words in a row name the framing, not one of its questions.
+fn han_framing(q: &[Word]) -> Vec<usize> {
+    const PARTS: &[&str] = &["goal", "subgoal", "step", "action"];
+    let part = |w: &Word| PARTS.contains(&w.stem.as_str());
+    let mut used = Vec::new();
+    let mut i = 0;
+    while i < q.len() {
+        let mut j = i;
+        while j < q.len() && (part(&q[j]) || q[j].text == "and" && j > i) {
+            j += 1;
+        }
+        let kinds: rustc_hash::FxHashSet<&str> = q[i..j]
+            .iter()
+            .filter(|w| part(w))
+            .map(|w| w.stem.as_str())
+            .collect();
+        if kinds.len() >= 3 {
+            used.extend(i..j);
+        }
+        i = j.max(i + 1);
+    }
+    used
+}
+
+/// "The move right at the start of navigate to destination (#15)": a uid
+/// the asker adds to a name shared by several nodes says which of them
+/// is meant; the name is that node, said once.
+fn uids_told_of_names(mut nodes: Vec<Mention>) -> Vec<Mention> {
+    let told: Vec<Uid> = nodes
+        .iter()
+        .filter(|m| m.phrase.starts_with('#'))
+        .map(|m| m.uids[0])
+        .collect();
+    let mut merged = Vec::new();
+    for m in nodes.iter_mut().filter(|m| !m.phrase.starts_with('#')) {
+        if m.uids.len() > 1 {
+            if let Some(&u) = told.iter().find(|u| m.uids.contains(u)) {
+                m.uids = vec![u];
+                merged.push(u);
+            }
+        }
+    }
+    nodes.retain(|m| !(m.phrase.starts_with('#') && merged.contains(&m.uids[0])));
+    nodes
 }
 
 /// Advice ("what should I set num_attempts to?", "should I use
@@ -715,8 +800,26 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
             ]
             .contains(&p[2].text.as_str())
     });
+    // "Is Nav2 going to deprecate the Spin behavior?", "how frustrated was
+    // the operator?": the world's future and feelings, whatever is named.
+    let outside = q.iter().any(|w| {
+        [
+            "deprecate",
+            "deprecated",
+            "deprecation",
+            "roadmap",
+            "funding",
+            "funded",
+            "frustrated",
+            "frustration",
+            "salary",
+            "budget",
+        ]
+        .contains(&w.text.as_str())
+    });
     advice
         || measure
+        || outside
         || s.nodes
             .iter()
             .filter(|m| !m.weak)
@@ -938,7 +1041,10 @@ fn corrected(w: &Word, tree_words: &rustc_hash::FxHashSet<String>) -> Word {
     if t.chars().count() < 3
         || CUE_WORDS.contains(&t)
         // Words of their own a letter from a cue ("past" is not "last").
-        || ["past", "fast", "lost", "cast", "vast", "then", "tickle"].contains(&t)
+        || [
+            "past", "fast", "lost", "cast", "vast", "then", "tickle", "fall", "falls", "hell",
+        ]
+        .contains(&t)
         || cue_stems.contains(&w.stem)
         || tree_words.contains(&w.stem)
         || FILLER.contains(&t)

@@ -63,6 +63,8 @@ const IRREGULAR: &[(&str, &str)] = &[
     ("had", "have"),
     ("has", "have"),
     ("left", "leave"),
+    // "One of the move lefts": a name's plural, stemmed as the name is.
+    ("lefts", "leave"),
     ("brought", "bring"),
     ("caught", "catch"),
     ("found", "find"),
@@ -245,6 +247,11 @@ const PHRASES: &[(&str, &str)] = &[
     ("system under test", "robot"),
     ("unit under test", "robot"),
     ("device under test", "robot"),
+    ("as opposed to", "instead of"),
+    // Not "bounced back to planning": that is going back.
+    ("bounced back from", "recovered from"),
+    ("bounces back from", "recovers from"),
+    ("bounce back from", "recover from"),
 ];
 
 /// The text lowercased with its names split, what it pastes or abbreviates

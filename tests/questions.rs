@@ -45,7 +45,10 @@
 //! interventions, counterfactuals, the explanation model), corpus21 until
 //! `corpus22.jsonl` (280 by a twenty-second, asked for game-AI
 //! programmers who ask in their engine's words: tasks, selectors,
-//! frames, aborts, the pawn); corpus22 is never tuned on: its figures are the fresh ones, and its
+//! frames, aborts, the pawn), corpus22 until `corpus23.jsonl` (280 by a
+//! twenty-third, asked for roboticists from ROS 1 who ask in py_trees' and
+//! SMACH's words: the tip, the chooser, states and outcomes, preempted);
+//! corpus23 is never tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
 //!
@@ -502,26 +505,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus19.jsonl",
             "corpus20.jsonl",
             "corpus21.jsonl",
+            "corpus22.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus21 (tuned on)", &t3);
-    let t = tally(&["corpus22.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus22)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus22 (tuned on)", &t3);
+    let t = tally(&["corpus23.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus23)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 5_400 && t.total >= 280,
+        t3.total >= 5_680 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus21: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus22: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -538,14 +542,13 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus21 as tuned on (89.7 % understood, 3.7 % misread;
+/// corpus3 to corpus22 as tuned on (88.8 % understood, 4.3 % misread;
 /// first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
 /// 78.2 %/8.2 %, 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %,
 /// 81.1 %/7.9 %, 85.0 %/8.2 %, 79.3 %/8.6 %, 81.8 %/7.5 %, 58.9 %/11.4 %,
-/// 85.4 %/7.9 % and 77.9 %/9.3 %), and corpus22, never tuned on (69.6 %
-/// and 15.0 % when it was first read; 70.0 % since corpus21 taught that a
-/// uid told of a shared name picks it).
-const C3_FLOOR: f64 = 89.6;
-const C3_MISREAD: f64 = 3.8;
-const FRESH_FLOOR: f64 = 69.9;
-const FRESH_MISREAD: f64 = 15.1;
+/// 85.4 %/7.9 %, 77.9 %/9.3 % and 69.6 %/15.0 %), and corpus23, never
+/// tuned on (78.9 % and 5.7 % when it was first read).
+const C3_FLOOR: f64 = 88.7;
+const C3_MISREAD: f64 = 4.4;
+const FRESH_FLOOR: f64 = 78.8;
+const FRESH_MISREAD: f64 = 5.8;

@@ -82,54 +82,86 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
         out: &out,
     };
     let asked_at = ask.as_ref().map(|a| a.tick);
-    // A plan's run, from a plan file or a kitting scenario.
-    let planned = |source: Source, plan: Plan| -> Result<(), Failure> {
-        let mut leaves = PlanLeaves::new(plan, &tree);
-        for a in &set {
-            leaves.seed(a).map_err(Failure::Plain)?;
-        }
-        warn_all(cli.quiet, &leaves.warnings);
-        report_run(&tree, asked_at, record(req(source), leaves))
-    };
     if !set.is_empty() && domain.is_none() && plan.is_none() {
         fail!("--set starts a domain's state variable or a plan's blackboard entry, and a world has neither: it would change nothing");
     }
-    if let Some(p) = &plan {
+    match chosen_leaves(plan.as_deref(), domain.as_deref(), world, seed, &tree)? {
+        Chosen::Plan(source, plan) => {
+            let mut leaves = PlanLeaves::new(plan, &tree);
+            for a in &set {
+                leaves.seed(a).map_err(Failure::Plain)?;
+            }
+            warn_all(cli.quiet, &leaves.warnings);
+            report_run(&tree, asked_at, record(req(source), leaves))
+        }
+        Chosen::Domain(source, d) => {
+            let mut leaves = DomainLeaves::new(d, &tree)?;
+            for a in &set {
+                leaves.set(a).map_err(Failure::Plain)?;
+            }
+            report_run(&tree, asked_at, record(req(source), leaves))
+        }
+        Chosen::Taxi(source) => report_run(
+            &tree,
+            asked_at,
+            record(req(source), TaxiLeaves::new(Grid::han())),
+        ),
+    }
+}
+
+/// Where a run's leaves come from, and the session's record of it.
+enum Chosen {
+    /// A plan file, or a kitting scenario's plan.
+    Plan(Source, Plan),
+    Domain(Source, std::sync::Arc<Domain>),
+    Taxi(Source),
+}
+
+/// Loads the one source of leaves the command line names.
+fn chosen_leaves(
+    plan: Option<&std::path::Path>,
+    domain: Option<&std::path::Path>,
+    world: Option<World>,
+    seed: u64,
+    tree: &btx::model::Tree,
+) -> Result<Chosen, Failure> {
+    if let Some(p) = plan {
         let plan = Plan::load(p)?;
-        planned(source("plan", Some(p), Some(&plan.text), None), plan)?;
-    } else if let Some(p) = &domain {
+        return Ok(Chosen::Plan(
+            source("plan", Some(p), Some(&plan.text), None),
+            plan,
+        ));
+    }
+    if let Some(p) = domain {
         let d = std::sync::Arc::new(Domain::load(p)?);
         let source = source("domain", Some(p), Some(&d.text), Some(d.name.clone()));
-        let mut leaves = DomainLeaves::new(d, &tree)?;
-        for a in &set {
-            leaves.set(a).map_err(Failure::Plain)?;
+        return Ok(Chosen::Domain(source, d));
+    }
+    match world.expect("clap requires one source of leaves") {
+        World::Taxi => {
+            let unknown = TaxiLeaves::unknown_leaves(tree);
+            if !unknown.is_empty() {
+                fail!(
+                    "the taxi world moves, picks up and drops off; it cannot run {}",
+                    unknown.join(", ")
+                );
+            }
+            Ok(Chosen::Taxi(source(
+                "world",
+                None,
+                None,
+                Some("taxi".into()),
+            )))
         }
-        report_run(&tree, asked_at, record(req(source), leaves))?;
-    } else {
-        match world.expect("clap requires one source of leaves") {
-            World::Taxi => {
-                let unknown = TaxiLeaves::unknown_leaves(&tree);
-                if !unknown.is_empty() {
-                    fail!(
-                        "the taxi world moves, picks up and drops off; it cannot run {}",
-                        unknown.join(", ")
-                    );
-                }
-                let source = source("world", None, None, Some("taxi".into()));
-                report_run(
-                    &tree,
-                    asked_at,
-                    record(req(source), TaxiLeaves::new(Grid::han())),
-                )?;
-            }
-            World::Kitting => {
-                let (name, plan) = kitting::scenario(seed).map_err(Failure::Plain)?;
-                let name = format!("kitting: {name}");
-                planned(source("world", None, Some(&plan.text), Some(name)), plan)?;
-            }
+        World::Kitting => {
+            let (name, plan) = kitting::scenario(seed).map_err(Failure::Plain)?;
+            let name = format!("kitting: {name}");
+            Ok(Chosen::Plan(
+                source("world", None, Some(&plan.text), Some(name)),
+                plan,
+            ))
         }
     }
-    Ok(())
 }
 
 /// `--ask-at TICK "Can you X?"`: the question asked between ticks.

@@ -67,6 +67,54 @@ fn parse_outcome(s: &str) -> Option<Outcome> {
     })
 }
 
+/// The names an `@enum` line declares: `@enum RED = 0`, or a C++ enum's
+/// names numbered from 0, `@enum Color = RED, GREEN, BLUE`.
+fn declared_enums(
+    name: &str,
+    list: &str,
+    enums: &[(String, i64)],
+    at: &dyn Fn(String) -> Located,
+) -> Result<Vec<(String, i64)>, Located> {
+    let declared: Vec<(String, i64)> = match list.trim().parse::<i64>() {
+        Ok(v) => vec![(name.to_string(), v)],
+        Err(_) => list
+            .split(',')
+            .map(str::trim)
+            .enumerate()
+            .map(|(i, n)| (n.to_string(), i as i64))
+            .collect(),
+    };
+    for (n, _) in &declared {
+        let ok = n
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_alphabetic() || c == '_')
+            && n.chars().all(|c| c.is_alphanumeric() || c == '_');
+        if !ok {
+            return Err(at(format!("\"{n}\" is not an enum name")).with_help(
+                "`@enum NAME = 3`, or `@enum Color = RED, GREEN, BLUE` (numbered from 0)",
+            ));
+        }
+        if enums.iter().any(|(m, _)| m == n) {
+            return Err(at(format!("the enum \"{n}\" is declared twice")));
+        }
+    }
+    Ok(declared)
+}
+
+/// A plan line's outcomes, `S, F, 2RS`.
+fn outcomes_of(list: &str, at: &dyn Fn(String) -> Located) -> Result<Vec<Outcome>, Located> {
+    list.split(',')
+        .map(|o| {
+            parse_outcome(o).ok_or_else(|| {
+                at(format!("\"{}\" is not an outcome", o.trim())).with_help(
+                    "outcomes are S, F, nRS or nRF (RUNNING for n ticks, then SUCCESS or FAILURE)",
+                )
+            })
+        })
+        .collect()
+}
+
 impl Plan {
     pub fn parse(path: &Path, text: &str) -> Result<Plan, Located> {
         let mut entries: Vec<PlanEntry> = Vec::new();
@@ -89,32 +137,7 @@ impl Plan {
             // outcome has one; a key may, being a node's name).
             let list = list.split_once('#').map_or(list, |(l, _)| l);
             if let Some(name) = key.trim().strip_prefix("@enum ") {
-                // `@enum RED = 0`, or a C++ enum's names numbered from 0:
-                // `@enum Color = RED, GREEN, BLUE`.
-                let name = name.trim();
-                let declared: Vec<(String, i64)> = match list.trim().parse::<i64>() {
-                    Ok(v) => vec![(name.to_string(), v)],
-                    Err(_) => list
-                        .split(',')
-                        .map(str::trim)
-                        .enumerate()
-                        .map(|(i, n)| (n.to_string(), i as i64))
-                        .collect(),
-                };
-                for (n, _) in &declared {
-                    let ok = n
-                        .chars()
-                        .next()
-                        .is_some_and(|c| c.is_alphabetic() || c == '_')
-                        && n.chars().all(|c| c.is_alphanumeric() || c == '_');
-                    if !ok {
-                        return Err(at(format!("\"{n}\" is not an enum name"))
-                            .with_help("`@enum NAME = 3`, or `@enum Color = RED, GREEN, BLUE` (numbered from 0)"));
-                    }
-                    if enums.iter().any(|(m, _)| m == n) {
-                        return Err(at(format!("the enum \"{n}\" is declared twice")));
-                    }
-                }
+                let declared = declared_enums(name.trim(), list, &enums, &at)?;
                 enums.extend(declared);
                 continue;
             }
@@ -122,16 +145,7 @@ impl Plan {
             if key.is_empty() {
                 return Err(at("a plan line needs a key before `=`".into()));
             }
-            let mut outcomes = Vec::new();
-            for o in list.split(',') {
-                match parse_outcome(o) {
-                    Some(x) => outcomes.push(x),
-                    None => {
-                        return Err(at(format!("\"{}\" is not an outcome", o.trim()))
-                            .with_help("outcomes are S, F, nRS or nRF (RUNNING for n ticks, then SUCCESS or FAILURE)"))
-                    }
-                }
-            }
+            let outcomes = outcomes_of(list, &at)?;
             if key.starts_with('@') && key != "@default_action" && key != "@default_condition" {
                 return Err(at(format!("\"{key}\" is not a plan directive")).with_help(
                     "the directives are @default_action, @default_condition and @enum",

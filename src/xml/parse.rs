@@ -33,7 +33,6 @@ impl Element {
     }
 }
 
-/// Parses a whole document and returns its top element.
 /// The deepest nesting of elements read, as tinyxml2's
 /// TINYXML2_MAX_ELEMENT_DEPTH (BehaviorTree.CPP reads XML with tinyxml2).
 pub const NESTING_MAX: usize = 500;
@@ -44,6 +43,7 @@ pub const NAME_MAX: usize = 4096;
 /// The longest other attribute value (a port, a script) or text.
 pub const ATTRIBUTE_MAX: usize = 1 << 20;
 
+/// Parses a whole document and returns its top element.
 pub fn parse_document(path: &Path, text: &str) -> Result<Element, Located> {
     let mut reader = Reader::from_str(text);
     reader.config_mut().trim_text(true);
@@ -79,8 +79,7 @@ pub fn parse_document(path: &Path, text: &str) -> Result<Element, Located> {
                         format!("elements nest deeper than {NESTING_MAX} levels, which BehaviorTree.CPP's XML reader (tinyxml2) refuses too"),
                     ));
                 }
-                let el = element(path, text, &e, start, end)?;
-                stack.push(el);
+                stack.push(element(path, text, &e, start, end)?);
             }
             Event::Empty(e) => {
                 let el = element(path, text, &e, start, end)?;
@@ -90,29 +89,42 @@ pub fn parse_document(path: &Path, text: &str) -> Result<Element, Located> {
                 let el = stack.pop().expect("quick-xml checks end names");
                 attach(path, text, &mut stack, &mut top, el)?;
             }
-            Event::Text(t) => {
-                if let Some(cur) = stack.last_mut() {
-                    cur.text.push_str(&t);
-                }
-            }
-            Event::CData(t) => {
-                if let Some(cur) = stack.last_mut() {
-                    cur.text.push_str(&t);
-                }
-            }
-            Event::GeneralRef(r) => {
-                if let Some(cur) = stack.last_mut() {
-                    if let Ok(Some(c)) = r.resolve_char_ref() {
-                        cur.text.push(c);
-                    } else if let Some(s) = quick_xml::escape::resolve_predefined_entity(&r) {
-                        cur.text.push_str(s);
-                    }
-                }
-            }
             Event::Eof => break,
-            Event::Comment(_) | Event::Decl(_) | Event::PI(_) | Event::DocType(_) => {}
+            other => {
+                if let Some(cur) = stack.last_mut() {
+                    append_text(&mut cur.text, &other);
+                }
+            }
         }
     }
+    finished(path, text, &stack, top)
+}
+
+/// Text, CDATA and character references inside an element, kept as its
+/// text; comments, declarations and the like are not.
+fn append_text(to: &mut String, event: &Event) {
+    match event {
+        Event::Text(t) => to.push_str(t),
+        Event::CData(t) => to.push_str(t),
+        Event::GeneralRef(r) => {
+            if let Ok(Some(c)) = r.resolve_char_ref() {
+                to.push(c);
+            } else if let Some(s) = quick_xml::escape::resolve_predefined_entity(r) {
+                to.push_str(s);
+            }
+        }
+        _ => {}
+    }
+}
+
+/// The document's top element once the reader is at its end: an error if
+/// an element is left open or there is none.
+fn finished(
+    path: &Path,
+    text: &str,
+    stack: &[Element],
+    top: Option<Element>,
+) -> Result<Element, Located> {
     if let Some(open) = stack.last() {
         return Err(Located::at(
             path,

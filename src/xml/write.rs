@@ -316,6 +316,34 @@ type PortOut<'a> = (
 /// An ID whose kind btx guessed from its children gets none, and one used
 /// as two kinds is written in the explicit form instead.
 fn write_models(tree: &Tree, names: &Names, out: &mut String) {
+    let models = models_written(tree, names);
+    if models.is_empty() {
+        return;
+    }
+    out.push_str("  <TreeNodesModel>\n");
+    for (kind, id, declared) in models {
+        let _ = write!(
+            out,
+            "    <{} ID=\"{}\"",
+            kind.as_str(),
+            escape(names.get(id))
+        );
+        if declared.is_empty() {
+            out.push_str("/>\n");
+            continue;
+        }
+        out.push_str(">\n");
+        for port in declared {
+            write_port(port, out);
+        }
+        let _ = writeln!(out, "    </{}>", kind.as_str());
+    }
+    out.push_str("  </TreeNodesModel>\n");
+}
+
+/// The models to write, in the order their IDs are first used (then the
+/// models of IDs never used): each ID's kind and ports.
+fn models_written<'a>(tree: &'a Tree, names: &Names) -> Vec<(Kind, &'a str, Vec<PortOut<'a>>)> {
     let mut order: Vec<&str> = Vec::new();
     let mut first: HashMap<&str, &Node> = HashMap::new();
     let mut guessed: HashSet<&str> = HashSet::new();
@@ -358,49 +386,33 @@ fn write_models(tree: &Tree, names: &Names, out: &mut String) {
             models.push((first[id].kind, id, Vec::new()));
         }
     }
-    if models.is_empty() {
-        return;
+    models
+}
+
+/// One `<input_port>`, `<output_port>` or `<inout_port>` of a model.
+fn write_port((name, dir, pm, spec_default): PortOut, out: &mut String) {
+    let tag = match dir {
+        Direction::In => "input_port",
+        Direction::Out => "output_port",
+        Direction::InOut => "inout_port",
+    };
+    let _ = write!(out, "      <{tag} name=\"{}\"", escape(&name));
+    if let Some(d) = spec_default {
+        let _ = write!(out, " default=\"{}\"", escape(d));
     }
-    out.push_str("  <TreeNodesModel>\n");
-    for (kind, id, declared) in models {
-        let _ = write!(
-            out,
-            "    <{} ID=\"{}\"",
-            kind.as_str(),
-            escape(names.get(id))
-        );
-        if declared.is_empty() {
-            out.push_str("/>\n");
-            continue;
+    if let Some(pm) = pm {
+        if let Some(t) = &pm.type_name {
+            let _ = write!(out, " type=\"{}\"", escape(t));
         }
-        out.push_str(">\n");
-        for (name, dir, pm, spec_default) in declared {
-            let tag = match dir {
-                Direction::In => "input_port",
-                Direction::Out => "output_port",
-                Direction::InOut => "inout_port",
-            };
-            let _ = write!(out, "      <{tag} name=\"{}\"", escape(&name));
-            if let Some(d) = spec_default {
-                let _ = write!(out, " default=\"{}\"", escape(d));
-            }
-            if let Some(pm) = pm {
-                if let Some(t) = &pm.type_name {
-                    let _ = write!(out, " type=\"{}\"", escape(t));
-                }
-                if let Some(d) = &pm.default {
-                    let _ = write!(out, " default=\"{}\"", escape(d));
-                }
-                if let Some(desc) = &pm.description {
-                    let _ = writeln!(out, ">{}</{tag}>", escape(desc));
-                    continue;
-                }
-            }
-            out.push_str("/>\n");
+        if let Some(d) = &pm.default {
+            let _ = write!(out, " default=\"{}\"", escape(d));
         }
-        let _ = writeln!(out, "    </{}>", kind.as_str());
+        if let Some(desc) = &pm.description {
+            let _ = writeln!(out, ">{}</{tag}>", escape(desc));
+            return;
+        }
     }
-    out.push_str("  </TreeNodesModel>\n");
+    out.push_str("/>\n");
 }
 
 #[cfg(test)]

@@ -638,44 +638,12 @@ fn named_parts<'a>(
         }
         w
     });
-    for i in han_framing(q) {
+    for i in naming_nothing(q) {
         s.used[i] = true;
     }
-    // "In goal 1", "the first tick of goal 2": a bag's goals by number
-    // name the run, not the goal asked about.
-    for i in 0..q.len().saturating_sub(1) {
-        if q[i].text == "goal" && q[i + 1].text.bytes().all(|b| b.is_ascii_digit()) {
-            s.used[i] = true;
-            s.used[i + 1] = true;
-        }
-    }
-    // "Right now", "right after": "right" says when, it names no move.
-    for i in 0..q.len().saturating_sub(1) {
-        if q[i].text == "right"
-            && ["now", "away", "after", "before", "then", "there", "here"]
-                .contains(&q[i + 1].text.as_str())
-        {
-            s.used[i] = true;
-        }
-    }
-    // "#18": a uid, as everywhere in btx.
-    for (i, w) in q.iter().enumerate() {
-        if s.used[i] {
-            continue;
-        }
-        if let Some(uid) = w.text.strip_prefix('#').and_then(|n| n.parse::<Uid>().ok()) {
-            if tree.get(uid).is_some() {
-                s.nodes.push(Mention {
-                    start: i,
-                    end: i + 1,
-                    uids: vec![uid],
-                    score: 1.0,
-                    weak: false,
-                    phrase: w.text.clone(),
-                });
-                s.used[i] = true;
-            }
-        }
+    for m in uids_said(tree, q, &s.used) {
+        s.used[m.start] = true;
+        s.nodes.push(m);
     }
     let mut mentions = vocabulary.mentions(tree, &free_words(q, &s.used), &asks);
     // "What were you doing just before look at chuck failed?", "describe
@@ -705,6 +673,47 @@ fn named_parts<'a>(
         s.nodes.push(m);
     }
     (s, when)
+}
+
+/// Words that name no node and ask nothing of their own: Han's framing
+/// named, a bag's goal by number, "right" saying when.
+fn naming_nothing(q: &[Word]) -> Vec<usize> {
+    let mut used = han_framing(q);
+    for i in 0..q.len().saturating_sub(1) {
+        let next = q[i + 1].text.as_str();
+        // "In goal 1", "the first tick of goal 2": a bag's goals by number
+        // name the run, not the goal asked about.
+        if q[i].text == "goal" && next.bytes().all(|b| b.is_ascii_digit()) {
+            used.extend([i, i + 1]);
+        }
+        // "Right now", "right after": "right" says when, it names no move.
+        if q[i].text == "right"
+            && ["now", "away", "after", "before", "then", "there", "here"].contains(&next)
+        {
+            used.push(i);
+        }
+    }
+    used
+}
+
+/// "#18": a uid, as everywhere in btx, among the words not yet read.
+fn uids_said(tree: &Tree, q: &[Word], used: &[bool]) -> Vec<Mention> {
+    q.iter()
+        .enumerate()
+        .filter(|(i, _)| !used[*i])
+        .filter_map(|(i, w)| {
+            let uid = w.text.strip_prefix('#')?.parse::<Uid>().ok()?;
+            tree.get(uid)?;
+            Some(Mention {
+                start: i,
+                end: i + 1,
+                uids: vec![uid],
+                score: 1.0,
+                weak: false,
+                phrase: w.text.clone(),
+            })
+        })
+        .collect()
 }
 
 /// "In the goal/subgoals/steps/actions framing", "Han et al. partition

@@ -981,6 +981,7 @@ fn advice_and_amounts_are_refused() {
         // The world's future and feelings, whatever node is named.
         "will the taxi's vendor deprecate the move up action?",
         "how frustrated was the passenger?",
+        "how does the taxi feel about move up?",
     ] {
         let (ok, out, _) = btx(&["ask", "tests/fixtures/logs/taxi_nominal.btlog", q]);
         assert!(!ok, "{q}: {out}");
@@ -1678,6 +1679,73 @@ fn a_students_framings_and_counterfactuals_are_read_as_meant() {
             BAG.to_vec(),
             "which action was active in the first tick of goal 1?",
             "What were you doing in the first tick?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+/// What corpus22's game-AI programmers taught, each in other words: a
+/// frame is a tick, a node "aborted" by another was halted (one that
+/// aborts failed), a sequence that bailed failed, Unreal's task prefix is
+/// the action, a sub-objective is a subgoal, "the condition" alone names
+/// the conditions, a tag "right?" is no move right.
+#[test]
+fn a_game_programmers_words_are_read_as_meant() {
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![KITTING],
+            "what happened on frame 10?",
+            "What happened at tick 10?",
+        ),
+        (
+            vec![PATROL],
+            "how many frames did path clear fail?",
+            "How often did path clear (#6) fail?",
+        ),
+        (
+            vec![PATROL],
+            "why did drive get aborted?",
+            "Why did drive (#7) get halted at 5:3?",
+        ),
+        (
+            vec![NAV2],
+            "when did the controller abort?",
+            "When did the FollowPath action (#10) fail?",
+        ),
+        (
+            vec![PATROL],
+            "when did the guarded drive bail?",
+            "When did guarded drive (#5) fail?",
+        ),
+        (
+            vec![NAV2, "--at", "3"],
+            "why is BTT_FollowPath running?",
+            "Why are you doing this?",
+        ),
+        (
+            vec![TAXI, "--at", "12"],
+            "how does it finish the sub-objective it is on?",
+            "How do you achieve your subgoal?",
+        ),
+        (
+            vec![PATROL],
+            "how many times was the condition checked?",
+            "How often did path clear (#6) start?",
+        ),
+        (
+            vec![TAXI],
+            "no problems, right?",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![CASE],
+            "L0 failed at which transition?",
+            "When did L0 (#3) fail?",
+        ),
+        (
+            vec![PATROL, "--at", "2"],
+            "active leaf?",
+            "What are you doing?",
         ),
     ];
     first_lines_are(cases);

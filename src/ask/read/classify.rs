@@ -1111,7 +1111,7 @@ fn doing(c: &Cues) -> Option<Readings> {
     // "Doing @ t30?": the chat's shorthand.
     let bare = c.first == "doing" && c.named.is_empty() && !c.why && !c.how;
     (doing
-        && (c.what || s.empty() || c.first == "current" || bare)
+        && (c.what || s.empty() || ["current", "active", "running"].contains(&c.first) || bare)
         && (c.named.is_empty() || guessed))
         .then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Doing)), 0.93))?
 }

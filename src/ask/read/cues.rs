@@ -227,6 +227,8 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         || s.has("when") && s.phrase(&["wrong", "when"]).is_none()
         || s.phrase(&["what", "time"]).is_some()
         || s.phrase(&["which", "tick"]).is_some()
+        || s.phrase(&["which", "transition"]).is_some()
+        || s.phrase(&["what", "transition"]).is_some()
         || s.phrase(&["what", "tick"]).is_some()
         // "Which step did it fail at?", not "which step is it on?".
         || (s.phrase(&["which", "step"]).is_some() || s.phrase(&["what", "step"]).is_some())

@@ -76,12 +76,23 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
             .iter()
             .any(|v| s.phrase(&[v, colour]).is_some())
     };
-    if gave_up(s)
+    // "Why did drive get aborted?", "why was it aborted": a node aborted
+    // by another was halted (a game engine's observer abort); one that
+    // aborts (Nav2's controller) failed.
+    let aborted_by_another = s.free().any(|(i, w)| {
+        w.text == "aborted"
+            && i > 0
+            && ["get", "got", "was", "were", "been", "be", "gets", "getting"]
+                .contains(&s.q[i - 1].text.as_str())
+    });
+    if aborted_by_another {
+        Some(Event::Halted)
+    } else if gave_up(s)
         || went_wrong
         || coloured("red")
         || s.has("false")
         || s.has_stem(&[
-            "fail", "abort", "crash", "die", "error", "fault", "broke", "break",
+            "fail", "abort", "crash", "die", "error", "fault", "broke", "break", "bail",
         ])
     {
         Some(Event::Fail)

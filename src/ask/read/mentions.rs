@@ -57,8 +57,8 @@ pub struct Mention {
     pub phrase: String,
 }
 
-/// Whether a node ID is of a kind a kind word names.
-type IsKind = fn(&str) -> bool;
+/// Whether a node is of the kind a word said alone names.
+type IsKind = fn(&crate::model::Node) -> bool;
 
 /// Words any sentence has: never half a name on their own.
 const PLAIN: &[&str] = &[
@@ -633,27 +633,29 @@ fn kinds_alone(tree: &Tree, q: &[Word], taken: &mut [bool]) -> Vec<Mention> {
         }
         let two = q.get(k + 1).map(|w| w.text.as_str());
         let (len, is): (usize, Option<IsKind>) = match (q[k].text.as_str(), two) {
-            ("recovery", Some("node")) => (2, Some(|id| id == "RecoveryNode")),
+            ("recovery", Some("node")) => (2, Some(|n| n.id == "RecoveryNode")),
             ("retry", Some("node")) | ("retry", Some("decorator")) => {
-                (2, Some(|id| id.starts_with("Retry")))
+                (2, Some(|n| n.id.starts_with("Retry")))
             }
-            ("parallel", _) => (1, Some(|id| id.contains("Parallel"))),
-            ("sequence", _) => (1, Some(|id| id.contains("Sequence"))),
+            ("parallel", _) => (1, Some(|n| n.id.contains("Parallel"))),
+            ("sequence", _) => (1, Some(|n| n.id.contains("Sequence"))),
             ("fallback", _) | ("selector", _) => (
                 1,
-                Some(|id| id.contains("Fallback") || id.contains("Selector")),
+                Some(|n| n.id.contains("Fallback") || n.id.contains("Selector")),
             ),
-            ("inverter", _) => (1, Some(|id| id == "Inverter")),
-            ("repeat", _) => (1, Some(|id| id == "Repeat")),
-            ("timeout", _) => (1, Some(|id| id == "Timeout")),
-            ("pipeline", _) => (1, Some(|id| id == "PipelineSequence")),
+            ("inverter", _) => (1, Some(|n| n.id == "Inverter")),
+            ("repeat", _) => (1, Some(|n| n.id == "Repeat")),
+            ("timeout", _) => (1, Some(|n| n.id == "Timeout")),
+            ("pipeline", _) => (1, Some(|n| n.id == "PipelineSequence")),
+            // "How many times did the condition pass?": the conditions.
+            ("condition", _) => (1, Some(|n| n.kind == Kind::Condition)),
             _ => (1, None),
         };
         if let Some(is) = is {
             let uids: Vec<Uid> = tree
                 .preorder()
                 .into_iter()
-                .filter(|&u| is(&tree.node(u).id))
+                .filter(|&u| is(tree.node(u)))
                 .collect();
             if !uids.is_empty() && !taken[k..(k + len).min(q.len())].iter().any(|&t| t) {
                 let end = (k + len).min(q.len());

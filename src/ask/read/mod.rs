@@ -663,6 +663,7 @@ fn named_parts<'a>(
         }
     }
     s.nodes.extend(mentions);
+    s.nodes = right_as_a_tag(q, std::mem::take(&mut s.nodes));
     s.nodes = uids_told_of_names(std::mem::take(&mut s.nodes));
     s.nodes.sort_by_key(|m| m.start);
     s.nodes = children_by_place(tree, q, std::mem::take(&mut s.nodes));
@@ -740,6 +741,28 @@ fn han_framing(q: &[Word]) -> Vec<usize> {
         i = j.max(i + 1);
     }
     used
+}
+
+/// "No errors, right?": a last "right" that names nothing else in the
+/// question asks yes or no; it is no move right ("… go right?" is).
+fn right_as_a_tag(q: &[Word], mut nodes: Vec<Mention>) -> Vec<Mention> {
+    const MOVED: &[&str] = &[
+        "move", "moves", "moved", "moving", "go", "goes", "went", "going", "turn", "turned",
+        "turning", "the", "to", "and", "or", "than", "of",
+    ];
+    let tag = |m: &Mention| {
+        m.end == q.len()
+            && m.start + 1 == m.end
+            && q[m.start].text == "right"
+            && m.start > 0
+            && !MOVED.contains(&q[m.start - 1].text.as_str())
+    };
+    if let [only] = &nodes[..] {
+        if tag(only) {
+            nodes.clear();
+        }
+    }
+    nodes
 }
 
 /// "The move right at the start of navigate to destination (#15)": a uid
@@ -823,6 +846,11 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
             "frustration",
             "salary",
             "budget",
+            "firmware",
+            "feel",
+            "feels",
+            "feeling",
+            "feelings",
         ]
         .contains(&w.text.as_str())
     });

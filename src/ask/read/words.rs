@@ -82,6 +82,12 @@ const IRREGULAR: &[(&str, &str)] = &[
 
 /// Words written as one that are several ("didnt"), and casual spellings.
 const SPELLINGS: &[(&str, &str)] = &[
+    // Unreal's prefix of a task class, "BTT_FollowPath", "BTTask_LookAt":
+    // the action of that name.
+    ("btt", "action"),
+    ("bttask", "action"),
+    // A sub-objective is a subgoal.
+    ("subobjective", "subgoal"),
     // "A downward move" is a move down.
     ("downward", "down"),
     ("downwards", "down"),
@@ -248,6 +254,8 @@ const PHRASES: &[(&str, &str)] = &[
     ("unit under test", "robot"),
     ("device under test", "robot"),
     ("as opposed to", "instead of"),
+    ("sub objective", "subgoal"),
+    ("sub-objective", "subgoal"),
     // Not "bounced back to planning": that is going back.
     ("bounced back from", "recovered from"),
     ("bounces back from", "recovers from"),
@@ -327,6 +335,30 @@ pub fn words(text: &str) -> Vec<Word> {
                     stem: stem(w),
                 });
             }
+        }
+    }
+    // "On frame 10", "this frame": a game engine's frame is a tick (a
+    // node named with "frame" keeps it).
+    for i in 0..out.len() {
+        let said_as_moment = out
+            .get(i + 1)
+            .is_some_and(|n| n.text.bytes().all(|b| b.is_ascii_digit()))
+            || i > 0
+                && [
+                    "this", "that", "last", "previous", "prev", "same", "next", "first", "every",
+                    "each", "per", "final", "current", "one", "many", "which", "what",
+                ]
+                .contains(&out[i - 1].text.as_str());
+        if said_as_moment && ["frame", "frames"].contains(&out[i].text.as_str()) {
+            let tick = if out[i].text == "frame" {
+                "tick"
+            } else {
+                "ticks"
+            };
+            out[i] = Word {
+                text: tick.into(),
+                stem: stem(tick),
+            };
         }
     }
     // "…, or no?" is "or not?": no "no" a node was told.

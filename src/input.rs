@@ -280,27 +280,8 @@ fn open_bytes(
             path, &bytes, given,
         )?)));
     }
-    let kind = first.map(|i| bytes[i]);
-    if path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("fbl"))
-    {
-        return Err(Located::file(path, crate::logs::fbl::not_fbl(&bytes)));
-    }
-    if let Some(b) = kind.filter(|b| !matches!(b, b'{' | b'<' | 0xEF)) {
-        let what = std::str::from_utf8(&bytes)
-            .ok()
-            .and_then(|text| what_file(path, text));
-        return Err(Located::file(
-            path,
-            match what {
-                Some(w) => format!("not a tree or a session: {w}"),
-                None => format!(
-                    "not a BehaviorTree.CPP XML tree nor a btx session (byte offset {} is 0x{b:02x})",
-                    first.unwrap_or(0)
-                ),
-            },
-        ));
+    if let Some(e) = not_text(path, &bytes, first) {
+        return Err(e);
     }
     let text = String::from_utf8(bytes).map_err(|e| {
         Located::file(
@@ -311,6 +292,46 @@ fn open_bytes(
             ),
         )
     })?;
+    open_text(path, opts, &text, first.map(|i| text.as_bytes()[i]), given)
+}
+
+/// Why a file that is no binary format btx reads is not a tree or a
+/// session either, where it does not open as one (`first`: its first byte
+/// that is not white space).
+fn not_text(path: &Path, bytes: &[u8], first: Option<usize>) -> Option<Located> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("fbl"))
+    {
+        return Some(Located::file(path, crate::logs::fbl::not_fbl(bytes)));
+    }
+    let b = first
+        .map(|i| bytes[i])
+        .filter(|b| !matches!(b, b'{' | b'<' | 0xEF))?;
+    let what = std::str::from_utf8(bytes)
+        .ok()
+        .and_then(|text| what_file(path, text));
+    Some(Located::file(
+        path,
+        match what {
+            Some(w) => format!("not a tree or a session: {w}"),
+            None => format!(
+                "not a BehaviorTree.CPP XML tree nor a btx session (byte offset {} is 0x{b:02x})",
+                first.unwrap_or(0)
+            ),
+        },
+    ))
+}
+
+/// A text file by its first byte (`kind`): a btcm log or a btx session
+/// (`{`), else a tree.
+fn open_text(
+    path: &Path,
+    opts: &LoadOptions,
+    text: &str,
+    kind: Option<u8>,
+    given: Option<crate::logs::GivenTree>,
+) -> Result<Input, Located> {
     // btx's own sessions and btcm's logs: their index does not rest on the
     // tree's scripts, so a given tree is put in after.
     let with_given = |mut s: Session| -> Result<Input, Located> {
@@ -320,12 +341,12 @@ fn open_bytes(
         Ok(Input::Session(Box::new(s)))
     };
     match kind {
-        Some(b'{') if crate::logs::btcm::is_btcm(&text) => {
-            with_given(crate::logs::btcm::open_btcm(path, &text)?)
+        Some(b'{') if crate::logs::btcm::is_btcm(text) => {
+            with_given(crate::logs::btcm::open_btcm(path, text)?)
         }
-        Some(b'{') => with_given(Session::parse(path, &text)?),
+        Some(b'{') => with_given(Session::parse(path, text)?),
         Some(_) => {
-            let l = load_str(path, &text, opts)?;
+            let l = load_str(path, text, opts)?;
             Ok(Input::Tree {
                 tree: l.tree,
                 warnings: l.warnings,

@@ -410,6 +410,32 @@ fn sibling_outcome(cx: &Context, u: Uid, span: std::ops::Range<u32>) -> Option<(
     })
 }
 
+/// Nothing would have made it the contrast the words imply: what would
+/// have changed it at all becomes the answer (`w`), and the line that says
+/// so is returned; nothing where nothing would have.
+fn widened(
+    s: &crate::session::Session,
+    d: Option<std::sync::Arc<crate::run::domain::Domain>>,
+    target: &str,
+    at: Moment,
+    w: &mut crate::causal::Why,
+    r: &mut Reply,
+) -> Result<String, String> {
+    let any = crate::causal::why(s, d, target, &[], Some(at), 2)
+        .map(|w| crate::causal::Why { root: None, ..w })
+        .map_err(|e| e.to_string())?;
+    if any.answer.explanations.is_empty() {
+        return Ok(String::new());
+    }
+    let said = format!(
+        "No change of up to 2 things would have made it {}; what would have changed it:\n",
+        r.not.join(" or ")
+    );
+    r.not.clear();
+    *w = any;
+    Ok(said)
+}
+
 /// Asks the counterfactual search, and keeps its explanations (its own
 /// restatement, the first line, is replaced by ours).
 fn search(
@@ -439,22 +465,11 @@ fn search(
         }
         Err(e) => return Err(e.to_string()),
     };
-    let mut widened = String::new();
-    // Nothing would have made it the contrast the words imply: say so, and
-    // what would have changed it at all.
-    if w.answer.explanations.is_empty() && !not.is_empty() && r.foil_implied {
-        let any = crate::causal::why(s, d, target, &[], Some(at), 2)
-            .map(|w| crate::causal::Why { root: None, ..w })
-            .map_err(|e| e.to_string())?;
-        if !any.answer.explanations.is_empty() {
-            widened = format!(
-                "No change of up to 2 things would have made it {}; what would have changed it:\n",
-                not.join(" or ")
-            );
-            r.not.clear();
-            w = any;
-        }
-    }
+    let mut widened = if w.answer.explanations.is_empty() && !not.is_empty() && r.foil_implied {
+        widened(s, d, target, at, &mut w, r)?
+    } else {
+        String::new()
+    };
     // Answered from the run's own calls, the chain is told there, checked
     // by running the tree again: the record's chain would say it twice.
     if w.by_calls.is_some() {

@@ -118,68 +118,80 @@ pub fn unroll(tree: &Tree, facts: TickFacts) -> Unrolled {
             u.folded[li] = within.saturating_sub(1) as i64;
             continue;
         }
-        let calls = calls_within(&log, l, child);
-        let Some(last) = calls.last() else {
-            continue;
-        };
-        let k = calls.len();
-        let earlier = (k - 1).min(COPIES_MAX - 1);
-        let folded = (k - 1 - earlier) as i64;
-        u.folded[li] = folded;
-        let start = u.facts.flows[li].count;
-        let spent_before_last = start + k as i64 - 1;
-        let more = spent_before_last + 1 < kind.max || kind.max == -1;
-        let wakes = tree.version == Version::V4 && last.entry_status == Status::Idle;
-        let next =
-            last.returned != kind.again && last.returned != Status::Skipped && more && !wakes;
-        if earlier == 0 && !next {
-            continue;
+        if let Some(kids) = attempts(&mut u, tree, &log, l, &kind) {
+            for d in tree.descendants(l).skip(1) {
+                inside[d as usize - 1] = true;
+            }
+            u.tree.nodes[li].children = kids;
         }
-        for d in tree.descendants(l).skip(1) {
-            inside[d as usize - 1] = true;
-        }
-        let mut kids = Vec::new();
-        for (j, c) in calls[k - 1 - earlier..k - 1].iter().enumerate() {
-            let attempt = start + folded + j as i64 + 1;
-            kids.push(copy_subtree(
-                &mut u,
-                tree,
-                &log,
-                child,
-                l,
-                attempt,
-                Some((c.entry_seq, c.exit_seq)),
-            ));
-        }
-        kids.push(child);
-        if next {
-            kids.push(copy_subtree(
-                &mut u,
-                tree,
-                &log,
-                child,
-                l,
-                spent_before_last + 2,
-                None,
-            ));
-        }
-        u.tree.nodes[li].children = kids;
     }
-    // A leaf ticked more than once is the session's node at its last call.
-    for r in &log {
+    at_last_calls(&mut u.facts, &log);
+    u.facts.call_log = log;
+    u
+}
+
+/// The children the loop `l` has unrolled: a copy of its child for each
+/// earlier attempt in the tick (at most `COPIES_MAX` − 1, the rest folded),
+/// the child itself for the last, and a copy for the attempt that would
+/// come next; none where there is only the child.
+fn attempts(
+    u: &mut Unrolled,
+    tree: &Tree,
+    log: &[CallRecord],
+    l: Uid,
+    kind: &LoopKind,
+) -> Option<Vec<Uid>> {
+    let li = l as usize - 1;
+    let child = tree.node(l).children[0];
+    let calls = calls_within(log, l, child);
+    let last = calls.last()?;
+    let k = calls.len();
+    let earlier = (k - 1).min(COPIES_MAX - 1);
+    let folded = (k - 1 - earlier) as i64;
+    u.folded[li] = folded;
+    let start = u.facts.flows[li].count;
+    let spent_before_last = start + k as i64 - 1;
+    let more = spent_before_last + 1 < kind.max || kind.max == -1;
+    let wakes = tree.version == Version::V4 && last.entry_status == Status::Idle;
+    let next = last.returned != kind.again && last.returned != Status::Skipped && more && !wakes;
+    if earlier == 0 && !next {
+        return None;
+    }
+    let mut kids = Vec::new();
+    for (j, c) in calls[k - 1 - earlier..k - 1].iter().enumerate() {
+        let attempt = start + folded + j as i64 + 1;
+        let window = Some((c.entry_seq, c.exit_seq));
+        kids.push(copy_subtree(u, tree, log, child, l, attempt, window));
+    }
+    kids.push(child);
+    if next {
+        kids.push(copy_subtree(
+            u,
+            tree,
+            log,
+            child,
+            l,
+            spent_before_last + 2,
+            None,
+        ));
+    }
+    Some(kids)
+}
+
+/// A leaf ticked more than once is the session's node at its last call.
+fn at_last_calls(facts: &mut TickFacts, log: &[CallRecord]) {
+    for r in log {
         let i = r.uid as usize - 1;
-        if r.call == u.facts.calls[i] {
-            if let Some(c) = u.facts.per_call.get(&(r.uid, r.call)) {
-                u.facts.state_before.insert(r.uid, c.state_before.clone());
+        if r.call == facts.calls[i] {
+            if let Some(c) = facts.per_call.get(&(r.uid, r.call)) {
+                facts.state_before.insert(r.uid, c.state_before.clone());
                 match c.done_at {
-                    Some(p) => u.facts.done_at.insert(r.uid, p),
-                    None => u.facts.done_at.remove(&r.uid),
+                    Some(p) => facts.done_at.insert(r.uid, p),
+                    None => facts.done_at.remove(&r.uid),
                 };
             }
         }
     }
-    u.facts.call_log = log;
-    u
 }
 
 /// Appends a copy of `src`'s subtree under `parent`, for `attempt`; with

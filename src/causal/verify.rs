@@ -544,31 +544,7 @@ pub fn unknown_next(model: &Model, query: &Query, reach: &Reach, e: &Explanation
     }
     let t = query.targets[0];
     let unknown = |u: Uid| model.tree.node(u).kind.is_leaf() && !model.facts.ticked[u as usize - 1];
-    // Only leaves whose status can reach the target matter, or reach a
-    // node the target rests on whose way on the model may not follow (a
-    // RecoveryNode going back to its first child reaches the target through
-    // no edge of the model).
-    // The question is about the node's last call in the tick: every
-    // attempt's copy of it counts (`Model::in_tick`).
-    let mut ends = vec![t];
-    if let VarKind::Executed(n) | VarKind::Status(n) | VarKind::Decision(n) = model.vars[t].kind {
-        let origin = model.origin(n);
-        for c in 1..=model.tree.len() as Uid {
-            if c != n && model.origin(c) == origin {
-                ends.extend([model.e(c), model.r(c)]);
-            }
-        }
-    }
-    let near = model.ancestors(&ends);
-    for u in 1..=model.tree.len() as Uid {
-        let kids = &model.tree.node(u).children;
-        if model.may_be_opaque(u)
-            && (near.contains(&model.r(u)) || kids.iter().any(|&c| near.contains(&model.e(c))))
-        {
-            ends.push(model.r(u));
-        }
-    }
-    let matters = model.ancestors(&ends);
+    let matters = what_matters(model, t);
     let unknown = |u: Uid| unknown(u) && matters.contains(&model.r(u));
     let order = model.tree.preorder();
     let mut budget = UNKNOWN_EVALUATIONS_MAX;
@@ -623,6 +599,34 @@ pub fn unknown_next(model: &Model, query: &Query, reach: &Reach, e: &Explanation
         }
     }
     None
+}
+
+/// The variables whose values can change the target `t`: only leaves
+/// whose status can reach the target matter, or reach a node the target
+/// rests on whose way on the model may not follow (a RecoveryNode going
+/// back to its first child reaches the target through no edge of the
+/// model). The question is about the node's last call in the tick: every
+/// attempt's copy of it counts (`Model::in_tick`).
+fn what_matters(model: &Model, t: VarId) -> Vec<VarId> {
+    let mut ends = vec![t];
+    if let VarKind::Executed(n) | VarKind::Status(n) | VarKind::Decision(n) = model.vars[t].kind {
+        let origin = model.origin(n);
+        for c in 1..=model.tree.len() as Uid {
+            if c != n && model.origin(c) == origin {
+                ends.extend([model.e(c), model.r(c)]);
+            }
+        }
+    }
+    let near = model.ancestors(&ends);
+    for u in 1..=model.tree.len() as Uid {
+        let kids = &model.tree.node(u).children;
+        if model.may_be_opaque(u)
+            && (near.contains(&model.r(u)) || kids.iter().any(|&c| near.contains(&model.e(c))))
+        {
+            ends.push(model.r(u));
+        }
+    }
+    model.ancestors(&ends)
 }
 
 /// What reaches the targets of a question in the model: the variables

@@ -81,7 +81,6 @@ impl Told {
         let Ok(found) = &self.found else {
             return Vec::new();
         };
-        let me = tree.told(self.uid);
         // One leaf's several calls are one cause: it failed again.
         let mut groups: Vec<Vec<&CallCause>> = Vec::new();
         for c in &found.causes {
@@ -93,75 +92,61 @@ impl Told {
                 None => groups.push(vec![c]),
             }
         }
-        groups
+        groups.iter().map(|g| self.sentence(tree, g)).collect()
+    }
+
+    /// The sentence of one leaf's calls that caused this call's end: the
+    /// latest first, then what each earlier one would have changed.
+    fn sentence(&self, tree: &Tree, g: &[&CallCause]) -> String {
+        let me = tree.told(self.uid);
+        let c = g[0];
+        let other = if c.was == Status::Success {
+            Status::Failure
+        } else {
+            Status::Success
+        };
+        let would = |c: &CallCause| match c.instead {
+            Some((s, m)) => format!("{me} would have {} at {m}", past(s)),
+            None => format!(
+                "{me} would not have ended that call by tick {}, where the run ends",
+                self.last_tick
+            ),
+        };
+        let assumed = assumed_said(tree, g);
+        if g.len() == 1 {
+            return format!(
+                "{} {} at {} because {} {} at {}. Had it {} then, {}{assumed}.",
+                capitalised(&me),
+                past(self.status),
+                self.moment,
+                tree.told(c.leaf),
+                past(c.was),
+                c.at,
+                past(other),
+                would(c),
+            );
+        }
+        let earlier: Vec<String> = g[1..].iter().map(|c| c.at.to_string()).collect();
+        let alternatives: Vec<String> = g[1..]
             .iter()
-            .map(|g| {
-                let c = g[0];
-                let other = if c.was == Status::Success {
-                    Status::Failure
-                } else {
-                    Status::Success
-                };
-                let would = |c: &CallCause| match c.instead {
-                    Some((s, m)) => format!("{me} would have {} at {m}", past(s)),
-                    None => format!(
-                        "{me} would not have ended that call by tick {}, where the run ends",
-                        self.last_tick
-                    ),
-                };
-                let mut assumed: Vec<Uid> = Vec::new();
-                for c in g {
-                    for &a in &c.assumed {
-                        if !assumed.contains(&a) {
-                            assumed.push(a);
-                        }
-                    }
-                }
-                let assumed = if assumed.is_empty() {
-                    String::new()
-                } else {
-                    let names: Vec<String> = assumed.iter().map(|&a| tree.told(a)).collect();
-                    format!(
-                        " (assuming {} went on as the run last showed)",
-                        names.join(", ")
-                    )
-                };
-                if g.len() == 1 {
-                    return format!(
-                        "{} {} at {} because {} {} at {}. Had it {} then, {}{assumed}.",
-                        capitalised(&me),
-                        past(self.status),
-                        self.moment,
-                        tree.told(c.leaf),
-                        past(c.was),
-                        c.at,
-                        past(other),
-                        would(c),
-                    );
-                }
-                let earlier: Vec<String> = g[1..].iter().map(|c| c.at.to_string()).collect();
-                let alternatives: Vec<String> = g[1..]
-                    .iter()
-                    .map(|c| format!("had it {} at {}, {}", past(other), c.at, would(c)))
-                    .collect();
-                format!(
-                    "{} {} at {} because {} {} again at {}, after it {} at {}{}. Had it {} at {}, {}; {}{assumed}.",
-                    capitalised(&me),
-                    past(self.status),
-                    self.moment,
-                    tree.told(c.leaf),
-                    past(c.was),
-                    c.at,
-                    past(c.was),
-                    earlier.join(", "),
-                    self.retries_used(tree, c.leaf),
-                    past(other),
-                    c.at,
-                    would(c),
-                    alternatives.join("; "),
-                )
-            })
-            .collect()
+            .map(|c| format!("had it {} at {}, {}", past(other), c.at, would(c)))
+            .collect();
+        format!(
+            "{} {} at {} because {} {} again at {}, after it {} at {}{}. Had it {} at {}, {}; {}{assumed}.",
+            capitalised(&me),
+            past(self.status),
+            self.moment,
+            tree.told(c.leaf),
+            past(c.was),
+            c.at,
+            past(c.was),
+            earlier.join(", "),
+            self.retries_used(tree, c.leaf),
+            past(other),
+            c.at,
+            would(c),
+            alternatives.join("; "),
+        )
     }
 
     /// ", and the retries of the node that repeats `leaf` were used on it
@@ -574,4 +559,25 @@ pub(super) fn tried_again(
         ),
         None => format!("{hn} tried it again at {}", step_moment(idx, a)),
     })
+}
+
+/// " (assuming X went on as the run last showed)": the nodes the calls'
+/// causes take as the run last showed them, each once.
+fn assumed_said(tree: &Tree, g: &[&CallCause]) -> String {
+    let mut assumed: Vec<Uid> = Vec::new();
+    for c in g {
+        for &a in &c.assumed {
+            if !assumed.contains(&a) {
+                assumed.push(a);
+            }
+        }
+    }
+    if assumed.is_empty() {
+        return String::new();
+    }
+    let names: Vec<String> = assumed.iter().map(|&a| tree.told(a)).collect();
+    format!(
+        " (assuming {} went on as the run last showed)",
+        names.join(", ")
+    )
 }

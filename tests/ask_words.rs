@@ -1751,6 +1751,47 @@ fn a_game_programmers_words_are_read_as_meant() {
     first_lines_are(cases);
 }
 
+/// What corpus23's roboticists from ROS 1 taught, each in other words:
+/// py_trees' tip and SMACH's state are what it is doing, "that tick" is the
+/// story's tick, ", but what went wrong" is asked, "why is it running
+/// again" after a story is Han's why, "how far" is the world's.
+#[test]
+fn py_trees_and_smach_words_are_read_as_meant() {
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![PATROL, "--at", "4"],
+            "which behaviour is the tip of the tree?",
+            "What are you doing?",
+        ),
+        (
+            vec![TAXI, "--at", "9"],
+            "what state is the taxi in right now?",
+            "What are you doing?",
+        ),
+        (
+            vec![CASE],
+            "the run has a single tick. summarise that tick",
+            "What happened at tick 1?",
+        ),
+        (
+            vec![PATROL],
+            "the patrol failed, but what went wrong?",
+            "What went wrong?",
+        ),
+        (
+            vec![NAV2, "--at", "6"],
+            "FollowPath failed. why is it running again?",
+            "Why are you doing this?",
+        ),
+    ];
+    first_lines_are(cases);
+    let (ok, out, _) = btx(&["ask", PATROL, "how far did the robot drive?"]);
+    assert!(
+        !ok && out.starts_with("I don't know how to answer that."),
+        "{out}"
+    );
+}
+
 #[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";

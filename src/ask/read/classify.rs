@@ -817,6 +817,7 @@ fn tick(c: &Cues) -> Option<Readings> {
     let asked_when = when::find(s.q).map(|(w, _)| w);
     // "The tick where the spin failed": the moment is that failure's.
     let this_tick = s.phrase(&["this", "tick"]).is_some()
+        || s.phrase(&["that", "tick"]).is_some()
         || s.phrase(&["current", "tick"]).is_some()
         || s.q.windows(2).enumerate().any(|(i, p)| {
             p[0].text == "tick"
@@ -837,7 +838,7 @@ fn tick(c: &Cues) -> Option<Readings> {
         || c.break_down;
     let asks_tick = s.has_stem(&[
         "happen", "chang", "occur", "describ", "summar", "show", "went", "transit", "detail",
-        "event", "recap", "memori", "episod",
+        "event", "recap", "memori", "episod", "summaris", "summariz",
     ]) || c.break_down
         || s.empty()
         || (c.what
@@ -1107,7 +1108,7 @@ fn doing(c: &Cues) -> Option<Readings> {
         || s.has_prefix(&["doin"]);
     // "What is it doing now, looking at the chuck again?": the names are
     // the asker's guess; the question is what it does.
-    let guessed = s.has("doing") && c.what && !c.why && !c.how;
+    let guessed = (s.has("doing") || s.has("tip")) && c.what && !c.why && !c.how;
     // "Doing @ t30?": the chat's shorthand.
     let bare = c.first == "doing" && c.named.is_empty() && !c.why && !c.how;
     (doing

@@ -215,6 +215,11 @@ fn doing_words(s: &Sentence) -> bool {
         || s.phrase(&["engaged", "in"]).is_some()
         || s.phrase(&["occupied", "with"]).is_some()
         || s.has("activity")
+        // py_trees' "tip of the tree": the deepest behaviour running.
+        || s.has("tip")
+        // SMACH's "which state is the arm in".
+        || (s.phrase(&["which", "state"]).is_some() || s.phrase(&["what", "state"]).is_some())
+            && s.has("in")
 }
 
 fn asks_when(s: &Sentence, why: bool) -> bool {

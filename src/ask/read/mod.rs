@@ -458,7 +458,14 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     };
     if let (Some(w), [q]) = (&whole, &questions[..]) {
         match asked.clone() {
-            Some(mut a) if a.confidence >= SURE && stands_alone(q) => {
+            // "Why is it being ticked again?": Han's why asks of what runs
+            // now, whatever "it" the story names.
+            Some(mut a)
+                if a.confidence >= SURE
+                    && (stands_alone(q)
+                        || a.intent == Intent::Fixed(Question::Tree(TreeQuestion::Why))
+                            && q.to_lowercase().contains(" again")) =>
+            {
                 a.when = a.when.or(w.when);
                 return Some(a);
             }
@@ -524,8 +531,9 @@ fn asked_after_a_comma(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Opti
         "what", "whats", "what's", "why", "how", "when", "which", "where", "did", "does", "do",
         "is", "was", "were", "are", "can", "could", "has", "have", "will", "would",
     ];
+    // "…, but did anything go wrong on the way?".
     text.match_indices(", ")
-        .map(|(i, _)| &text[i + 2..])
+        .map(|(i, _)| text[i + 2..].strip_prefix("but ").unwrap_or(&text[i + 2..]))
         .filter(|rest| {
             rest.split_whitespace()
                 .next()
@@ -802,6 +810,10 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
             && p[1].text == "much"
             && !["time", "longer"].contains(&p[2].text.as_str())
     });
+    // "How far did it walk?": a distance in the world.
+    let far = q
+        .windows(2)
+        .any(|p| p[0].text == "how" && p[1].text == "far");
     // "How many meters did the base drive?": a measure of the world,
     // whatever node the question names.
     let measure = q.windows(3).any(|p| {
@@ -857,6 +869,7 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
     advice
         || measure
         || outside
+        || far
         || s.nodes
             .iter()
             .filter(|m| !m.weak)

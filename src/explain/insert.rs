@@ -173,29 +173,7 @@ pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> 
     };
     let named = find_named(tree, p, x);
     if named.is_empty() {
-        let items: Vec<(String, Uid)> = tree
-            .descendants(Tree::ROOT)
-            .filter(|&u| tree.has_name(u))
-            .map(|u| (tree.words_of(u), u))
-            .collect();
-        // Names that hold X's letters in order, as the finder matches.
-        let matcher = fuzzy_matcher::skim::SkimMatcherV2::default().ignore_case();
-        let close: Vec<String> = crate::rank::rank(x, &items, 3)
-            .into_iter()
-            .filter(|&u| {
-                fuzzy_matcher::FuzzyMatcher::fuzzy_match(&matcher, &tree.words_of(u), x).is_some()
-            })
-            .map(|u| format!("\"{}\" (#{u})", tree.spoken(u)))
-            .collect();
-        let none = "no subgoal, sequence or step of mine is called that";
-        return Err(refuse(
-            x,
-            &if close.is_empty() {
-                none.to_string()
-            } else {
-                format!("{none} (the closest: {})", super::han::and_list(&close))
-            },
-        ));
+        return Err(refuse(x, &none_called(tree, x)));
     }
     let mut first_refusal = None;
     for &n in &named {
@@ -234,6 +212,30 @@ pub fn can_you(tree: &Tree, current: Uid, x: &str) -> Result<Insertion, String> 
             String::new()
         }
     ))
+}
+
+/// Why no behaviour is called X: none is, and the closest names, those
+/// that hold X's letters in order, as the finder matches.
+fn none_called(tree: &Tree, x: &str) -> String {
+    let items: Vec<(String, Uid)> = tree
+        .descendants(Tree::ROOT)
+        .filter(|&u| tree.has_name(u))
+        .map(|u| (tree.words_of(u), u))
+        .collect();
+    let matcher = fuzzy_matcher::skim::SkimMatcherV2::default().ignore_case();
+    let close: Vec<String> = crate::rank::rank(x, &items, 3)
+        .into_iter()
+        .filter(|&u| {
+            fuzzy_matcher::FuzzyMatcher::fuzzy_match(&matcher, &tree.words_of(u), x).is_some()
+        })
+        .map(|u| format!("\"{}\" (#{u})", tree.spoken(u)))
+        .collect();
+    let none = "no subgoal, sequence or step of mine is called that";
+    if close.is_empty() {
+        none.to_string()
+    } else {
+        format!("{none} (the closest: {})", super::han::and_list(&close))
+    }
 }
 
 /// Algorithm 8 for `named`, and whether its self-contained node can go

@@ -77,9 +77,48 @@ pub struct NodeRun {
 /// Summarises a run; `name` says which; compared with `reference` if given.
 pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunSummary {
     let tree = &s.tree;
-    let n = tree.len();
     let end = s.index.transitions.len() as u32;
     let at_end = s.index.at(end);
+    let nodes = node_runs(s, &at_end);
+    let outcome = s
+        .end
+        .as_ref()
+        .map(|e| e.1)
+        .filter(|st| st.is_completed())
+        .or_else(|| at_end.root_outcome());
+    let wrong = (outcome == Some(Status::Failure)).then(|| went_wrong(tree, s, end));
+    RunSummary {
+        tree: tree.spoken(Tree::ROOT),
+        tree_key: shape(tree),
+        ticks: s.index.ticks(),
+        transitions: s.index.transitions.len(),
+        outcome,
+        ending: s.ending(),
+        wrong,
+        gaps: s.index.gaps.len(),
+        span_us: s.span_us,
+        partition: None,
+        file: s.path.clone(),
+        run: None,
+        topic: None,
+        nodes,
+        faulted: Vec::new(),
+        diff: reference.map(|r| {
+            use crate::diff::{Diff, Side};
+            Diff::new(
+                &Side::session(r.path.display().to_string(), r),
+                &Side::session(name.clone(), s),
+            )
+        }),
+        name,
+    }
+}
+
+/// What each node that ran did in the run: its failures and faults, its
+/// spells of RUNNING in ticks, what recovered each fault of a leaf.
+fn node_runs(s: &Session, at_end: &crate::session::index::At) -> Vec<NodeRun> {
+    let tree = &s.tree;
+    let n = tree.len();
     let mut nodes: Vec<Option<NodeRun>> = vec![None; n];
     let mut since: Vec<Option<u32>> = vec![None; n];
     for (i, t) in s.index.transitions.iter().enumerate() {
@@ -118,44 +157,13 @@ pub fn summarise(name: String, s: &Session, reference: Option<&Session>) -> RunS
             }
             nr.faults += 1;
             if nr.leaf {
-                let by = recovery(tree, &at_end, t.uid, i as u32 + 1)
+                let by = recovery(tree, at_end, t.uid, i as u32 + 1)
                     .map(|(h, _)| format!("{} #{h}", tree.spoken(h)));
                 nr.recoveries.push(by);
             }
         }
     }
-    let outcome = s
-        .end
-        .as_ref()
-        .map(|e| e.1)
-        .filter(|st| st.is_completed())
-        .or_else(|| at_end.root_outcome());
-    let wrong = (outcome == Some(Status::Failure)).then(|| went_wrong(tree, s, end));
-    RunSummary {
-        tree: tree.spoken(Tree::ROOT),
-        tree_key: shape(tree),
-        ticks: s.index.ticks(),
-        transitions: s.index.transitions.len(),
-        outcome,
-        ending: s.ending(),
-        wrong,
-        gaps: s.index.gaps.len(),
-        span_us: s.span_us,
-        partition: None,
-        file: s.path.clone(),
-        run: None,
-        topic: None,
-        nodes: nodes.into_iter().flatten().collect(),
-        faulted: Vec::new(),
-        diff: reference.map(|r| {
-            use crate::diff::{Diff, Side};
-            Diff::new(
-                &Side::session(r.path.display().to_string(), r),
-                &Side::session(name.clone(), s),
-            )
-        }),
-        name,
-    }
+    nodes.into_iter().flatten().collect()
 }
 
 /// "What went wrong?" at position `end`, as `btx ask` answers it.

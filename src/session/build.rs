@@ -135,16 +135,7 @@ impl Builder {
                 entry,
                 value,
                 ..
-            } => {
-                if entry.scope >= self.tree.scopes.len() {
-                    return Err(err(format!(
-                        "a write to scope {}, and the session's tree has {} scopes",
-                        entry.scope,
-                        self.tree.scopes.len()
-                    )));
-                }
-                self.index.push_write_by(tick, uid, entry, value)
-            }
+            } => self.write(tick, uid, entry, value, err)?,
             Record::Insert {
                 copy_of,
                 after,
@@ -152,14 +143,7 @@ impl Builder {
                 question,
                 ..
             } => self.insert(copy_of, after, first_uid, question, err)?,
-            Record::Gap { reason, .. } => {
-                let at = self.index.transitions.len();
-                self.warn(
-                    format!("{}: transition {}", self.path.display(), at + 1),
-                    format!("gap: {reason}"),
-                );
-                self.index.gaps.push((at as u32, reason));
-            }
+            Record::Gap { reason, .. } => self.gap(reason),
             Record::Resync { states, .. } => {
                 for b in &states {
                     self.known(b.uid, err)?;
@@ -178,6 +162,36 @@ impl Builder {
             }
         }
         Ok(())
+    }
+
+    /// A blackboard write, to a scope the session's tree has.
+    fn write(
+        &mut self,
+        tick: u32,
+        uid: Uid,
+        entry: crate::run::blackboard::EntryId,
+        value: serde_json::Value,
+        err: Locate,
+    ) -> Result<(), Located> {
+        if entry.scope >= self.tree.scopes.len() {
+            return Err(err(format!(
+                "a write to scope {}, and the session's tree has {} scopes",
+                entry.scope,
+                self.tree.scopes.len()
+            )));
+        }
+        self.index.push_write_by(tick, uid, entry, value);
+        Ok(())
+    }
+
+    /// Transitions the recorder lost: said, and kept where they were lost.
+    fn gap(&mut self, reason: String) {
+        let at = self.index.transitions.len();
+        self.warn(
+            format!("{}: transition {}", self.path.display(), at + 1),
+            format!("gap: {reason}"),
+        );
+        self.index.gaps.push((at as u32, reason));
     }
 
     /// A status transition, in order of ticks; its time kept only if

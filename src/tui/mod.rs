@@ -287,21 +287,7 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
     match ev {
         Event::Key(k) if k.kind == KeyEventKind::Press => {
             if app.typing() {
-                use text_input::Edit;
-                let ctrl = k.modifiers.contains(event::KeyModifiers::CONTROL);
-                // Every prompt edits as a line editor does.
-                let e = match k.code {
-                    KeyCode::Char(c) if !ctrl => Some(Edit::Insert(c.to_string())),
-                    KeyCode::Char('w') if ctrl => Some(Edit::WordBack),
-                    KeyCode::Char('u') if ctrl => Some(Edit::ToStart),
-                    KeyCode::Backspace => Some(Edit::Backspace),
-                    KeyCode::Left => Some(Edit::Left),
-                    KeyCode::Right => Some(Edit::Right),
-                    KeyCode::Home => Some(Edit::Home),
-                    KeyCode::End => Some(Edit::End),
-                    _ => None,
-                };
-                if let Some(e) = e {
+                if let Some(e) = line_edit(&k) {
                     app.shared.message = None;
                     let before = render(app, size.0, size.1);
                     app.edit(e.clone());
@@ -327,41 +313,60 @@ pub fn handle(app: &mut App, ev: Event, size: (u16, u16)) {
         }
         // A paste, where the terminal marks one, goes into the prompt whole.
         Event::Paste(text) if app.typing() => app.edit(text_input::Edit::Insert(text)),
-        Event::Mouse(m) => {
-            let areas = view::layout(ratatui::layout::Rect::new(0, 0, size.0, size.1), app.split);
-            let t = areas.tree;
-            match m.kind {
-                MouseEventKind::Down(_)
-                    if m.column > t.x
-                        && m.column < t.x + t.width
-                        && m.row > t.y
-                        && m.row < t.y + t.height - 1 =>
-                {
-                    let first = view::first_row(&app.shared, t.height.saturating_sub(2) as usize);
-                    app.click_row((m.row - t.y - 1) as usize, first);
-                }
-                MouseEventKind::ScrollDown | MouseEventKind::ScrollUp => {
-                    // The wheel scrolls the pane under the pointer.
-                    let inside = |r: ratatui::layout::Rect| {
-                        m.column >= r.x
-                            && m.column < r.x + r.width
-                            && m.row >= r.y
-                            && m.row < r.y + r.height
-                    };
-                    let pane = if inside(areas.details) {
-                        app::Pane::Details
-                    } else if inside(areas.ask) {
-                        app::Pane::Ask
-                    } else if inside(areas.timeline) {
-                        app::Pane::Timeline
-                    } else {
-                        app::Pane::Tree
-                    };
-                    let down = matches!(m.kind, MouseEventKind::ScrollDown);
-                    app.wheel(pane, down);
-                }
-                _ => {}
-            }
+        Event::Mouse(m) => mouse(app, m, size),
+        _ => {}
+    }
+}
+
+/// Every prompt edits as a line editor does: the edit a key makes.
+fn line_edit(k: &event::KeyEvent) -> Option<text_input::Edit> {
+    use text_input::Edit;
+    let ctrl = k.modifiers.contains(event::KeyModifiers::CONTROL);
+    match k.code {
+        KeyCode::Char(c) if !ctrl => Some(Edit::Insert(c.to_string())),
+        KeyCode::Char('w') if ctrl => Some(Edit::WordBack),
+        KeyCode::Char('u') if ctrl => Some(Edit::ToStart),
+        KeyCode::Backspace => Some(Edit::Backspace),
+        KeyCode::Left => Some(Edit::Left),
+        KeyCode::Right => Some(Edit::Right),
+        KeyCode::Home => Some(Edit::Home),
+        KeyCode::End => Some(Edit::End),
+        _ => None,
+    }
+}
+
+/// A click picks the tree's row under it; the wheel scrolls the pane under
+/// the pointer.
+fn mouse(app: &mut App, m: event::MouseEvent, size: (u16, u16)) {
+    let areas = view::layout(ratatui::layout::Rect::new(0, 0, size.0, size.1), app.split);
+    let t = areas.tree;
+    match m.kind {
+        MouseEventKind::Down(_)
+            if m.column > t.x
+                && m.column < t.x + t.width
+                && m.row > t.y
+                && m.row < t.y + t.height - 1 =>
+        {
+            let first = view::first_row(&app.shared, t.height.saturating_sub(2) as usize);
+            app.click_row((m.row - t.y - 1) as usize, first);
+        }
+        MouseEventKind::ScrollDown | MouseEventKind::ScrollUp => {
+            let inside = |r: ratatui::layout::Rect| {
+                m.column >= r.x
+                    && m.column < r.x + r.width
+                    && m.row >= r.y
+                    && m.row < r.y + r.height
+            };
+            let pane = if inside(areas.details) {
+                app::Pane::Details
+            } else if inside(areas.ask) {
+                app::Pane::Ask
+            } else if inside(areas.timeline) {
+                app::Pane::Timeline
+            } else {
+                app::Pane::Tree
+            };
+            app.wheel(pane, matches!(m.kind, MouseEventKind::ScrollDown));
         }
         _ => {}
     }

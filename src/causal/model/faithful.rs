@@ -6,6 +6,18 @@ impl Model {
     /// Variables whose model value differs from the record: empty when the
     /// model is faithful to the run.
     pub fn unfaithful(&self) -> Vec<String> {
+        let mut out = self.nodes_unfaithful();
+        if let Some(d) = &self.domain {
+            out.extend(self.reads_unfaithful(d));
+            out.extend(self.ends_unfaithful(d));
+        }
+        out.sort();
+        out
+    }
+
+    /// Each node's execution, status and decision, as the model has them
+    /// against the run's.
+    fn nodes_unfaithful(&self) -> Vec<String> {
         let mut out = Vec::new();
         for u in 1..=self.tree.len() as Uid {
             let i = u as usize - 1;
@@ -25,31 +37,30 @@ impl Model {
                     self.facts.returned[i]
                 ));
             }
-            if let Some(d) = self.d(u) {
-                if let Val::Action(a) = &self.fact[d] {
-                    let rec = &self.facts.decisions[i];
-                    let same = match (a, rec) {
-                        (None, None) => true,
-                        (None, Some(x)) => x == "null",
-                        (Some(a), Some(x)) => a == x,
-                        (Some(_), None) => !self.facts.ticked[i],
-                    };
-                    if !same {
-                        out.push(format!(
-                            "decision({}) is {a:?} in the model, {rec:?} in the run",
-                            self.tree.description(u)
-                        ));
-                    }
-                }
+            let Some(Val::Action(a)) = self.d(u).map(|d| &self.fact[d]) else {
+                continue;
+            };
+            let rec = &self.facts.decisions[i];
+            let same = match (a, rec) {
+                (None, None) => true,
+                (None, Some(x)) => x == "null",
+                (Some(a), Some(x)) => a == x,
+                (Some(_), None) => !self.facts.ticked[i],
+            };
+            if !same {
+                out.push(format!(
+                    "decision({}) is {a:?} in the model, {rec:?} in the run",
+                    self.tree.description(u)
+                ));
             }
         }
-        let Some(d) = &self.domain else {
-            return out;
-        };
-        let key = |x: usize| EntryId {
-            scope: 0,
-            key: d.vars[x].name.clone(),
-        };
+        out
+    }
+
+    /// What each leaf read of the domain's state, in the model and in the
+    /// run.
+    fn reads_unfaithful(&self, d: &Domain) -> Vec<String> {
+        let mut out = Vec::new();
         for (i, inputs) in self.inputs_of.iter().enumerate() {
             let u = &(i as Uid + 1);
             if inputs.is_empty() || !self.facts.ticked[i] {
@@ -59,7 +70,7 @@ impl Model {
                 continue;
             };
             for &(x, c) in inputs {
-                if let (Val::Data(m), Some(r)) = (&self.fact[c], before.get(&key(x))) {
+                if let (Val::Data(m), Some(r)) = (&self.fact[c], before.get(&root_entry(d, x))) {
                     if !same_value(m, r) {
                         out.push(format!(
                             "{} read by {} is {m} in the model, {r} in the run",
@@ -70,14 +81,21 @@ impl Model {
                 }
             }
         }
-        // A derived variable's last copy is its value when last read; its
-        // parents may change after that, so only top-level ones are checked.
+        out
+    }
+
+    /// The state at the tick's end. A derived variable's last copy is its
+    /// value when last read; its parents may change after that, so only
+    /// top-level ones are checked.
+    fn ends_unfaithful(&self, d: &Domain) -> Vec<String> {
+        let mut out = Vec::new();
         for (x, cs) in self.copies.iter().enumerate() {
             if !d.vars[x].parents.is_empty() {
                 continue;
             }
             let last = *cs.last().expect("every variable has copy 0");
-            if let (Val::Data(m), Some(r)) = (&self.fact[last], self.facts.state_end.get(&key(x))) {
+            let end = self.facts.state_end.get(&root_entry(d, x));
+            if let (Val::Data(m), Some(r)) = (&self.fact[last], end) {
                 if !same_value(m, r) {
                     out.push(format!(
                         "{} at the end of the tick is {m} in the model, {r} in the run",
@@ -86,7 +104,14 @@ impl Model {
                 }
             }
         }
-        out.sort();
         out
+    }
+}
+
+/// The root blackboard's entry of the domain's variable `x`.
+fn root_entry(d: &Domain, x: usize) -> EntryId {
+    EntryId {
+        scope: 0,
+        key: d.vars[x].name.clone(),
     }
 }

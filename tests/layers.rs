@@ -198,3 +198,110 @@ fn the_check_sees_an_import_of_a_later_stage() {
         "{up:?}"
     );
 }
+
+/// The longest a function may be (#43 item 3): past it, it is split along
+/// its ideas.
+const FUNCTION_LINES_MAX: usize = 80;
+
+/// A line's code without its comment, string and character literals, so
+/// that only its own braces count.
+fn braces_of(line: &str) -> String {
+    let mut out = String::new();
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '/' if chars.peek() == Some(&'/') => break,
+            '"' => {
+                while let Some(d) = chars.next() {
+                    match d {
+                        '\\' => {
+                            chars.next();
+                        }
+                        '"' => break,
+                        _ => {}
+                    }
+                }
+            }
+            // '{' and '\'' are characters; 'a is a lifetime.
+            '\'' => {
+                let rest: String = chars.clone().take(3).collect();
+                if rest.starts_with('\\') {
+                    chars.nth(2);
+                } else if rest.chars().nth(1) == Some('\'') {
+                    chars.nth(1);
+                }
+            }
+            '{' | '}' => out.push(c),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Each function of `text` (up to its unit tests) longer than the most:
+/// (its line, its name, its length in lines).
+fn long_functions(text: &str) -> Vec<(usize, String, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let end = lines
+        .iter()
+        .position(|l| l.trim() == "#[cfg(test)]")
+        .unwrap_or(lines.len());
+    let mut out = Vec::new();
+    for (i, l) in lines[..end].iter().enumerate() {
+        let words: Vec<&str> = l.split_whitespace().collect();
+        let Some(at) = words.iter().position(|w| *w == "fn") else {
+            continue;
+        };
+        let header = words[..at]
+            .iter()
+            .all(|w| w.starts_with("pub") || ["const", "async", "unsafe"].contains(w));
+        if !header || l.trim_end().ends_with(';') {
+            continue;
+        }
+        let name = words
+            .get(at + 1)
+            .map_or("", |w| w.split(['(', '<']).next().unwrap_or(""));
+        let mut depth = 0i32;
+        let mut opened = false;
+        for (j, body) in lines[i..end].iter().enumerate() {
+            for b in braces_of(body).chars() {
+                depth += if b == '{' { 1 } else { -1 };
+                opened = true;
+            }
+            if opened && depth == 0 {
+                if j + 1 > FUNCTION_LINES_MAX {
+                    out.push((i + 1, name.to_string(), j + 1));
+                }
+                break;
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn no_function_is_longer_than_eighty_lines() {
+    let long: Vec<String> = files(&src())
+        .iter()
+        .flat_map(|p| {
+            let text = std::fs::read_to_string(p).unwrap();
+            long_functions(&text)
+                .into_iter()
+                .map(move |(line, name, n)| format!("{}:{line} {name}: {n} lines", p.display()))
+        })
+        .collect();
+    assert!(
+        long.is_empty(),
+        "split along their ideas:\n{}",
+        long.join("\n")
+    );
+}
+
+#[test]
+fn the_length_check_counts_a_function_to_its_closing_brace() {
+    let body: String = (0..81).map(|i| format!("    let x{i} = '{{';\n")).collect();
+    let long = format!("pub(crate) fn long(a: &'static str) -> usize {{\n{body}    0\n}}\n");
+    assert_eq!(long_functions(&long), [(1, "long".to_string(), 84)]);
+    let short = "fn short() {\n    let s = \"}}}\"; // }\n}\n";
+    assert!(long_functions(short).is_empty());
+}

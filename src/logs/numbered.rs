@@ -190,23 +190,7 @@ pub(super) fn number(
         None => ticks::reconstruct(&tree, records.view()),
     };
     let at = |i: usize| place(offsets.of(i, records.len()).unwrap_or(len));
-    if let Some(i) = capped {
-        warnings.push(Warning {
-            location: format!("{}: {}", crate::text::path(path), at(i)),
-            message: format!(
-                "the timestamps claim more than {} ticks in which nothing changed; from here a gap counts as one tick",
-                crate::session::EMPTY_TICKS_MAX
-            ),
-        });
-    }
-    if let Some(i) = fell_back {
-        warnings.push(Warning {
-            location: format!("{}: {}", crate::text::path(path), at(i)),
-            message:
-                "the replay could not follow the log from here; ticks are told apart by timing"
-                    .into(),
-        });
-    }
+    warnings.extend(numbering_warnings(path, capped, fell_back, &at));
     let btlog::Columns {
         moves,
         times: times_us,
@@ -232,6 +216,36 @@ pub(super) fn number(
         header,
         run: None,
     })
+}
+
+/// What numbering the ticks noticed, at the record (`at`) it noticed it:
+/// where timestamps claim too many empty ticks (`capped`), where the
+/// replay lost the log and timing told ticks apart (`fell_back`).
+fn numbering_warnings(
+    path: &Path,
+    capped: Option<usize>,
+    fell_back: Option<usize>,
+    at: &dyn Fn(usize) -> String,
+) -> Vec<Warning> {
+    let mut warnings = Vec::new();
+    if let Some(i) = capped {
+        warnings.push(Warning {
+            location: format!("{}: {}", crate::text::path(path), at(i)),
+            message: format!(
+                "the timestamps claim more than {} ticks in which nothing changed; from here a gap counts as one tick",
+                crate::session::EMPTY_TICKS_MAX
+            ),
+        });
+    }
+    if let Some(i) = fell_back {
+        warnings.push(Warning {
+            location: format!("{}: {}", crate::text::path(path), at(i)),
+            message:
+                "the replay could not follow the log from here; ticks are told apart by timing"
+                    .into(),
+        });
+    }
+    warnings
 }
 
 /// The tree a log's records are of: the one it embeds, or the tree file

@@ -817,55 +817,11 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
     // "How many meters did the base drive?": a measure of the world,
     // whatever node the question names.
     let measure = q.windows(3).any(|p| {
-        p[0].text == "how"
-            && p[1].text == "many"
-            && [
-                "meters",
-                "metres",
-                "kilometers",
-                "kilometres",
-                "km",
-                "miles",
-                "feet",
-                "centimeters",
-                "cm",
-                "mm",
-                "millimeters",
-                "degrees",
-                "radians",
-                "volts",
-                "amps",
-                "watts",
-                "joules",
-                "kwh",
-                "calories",
-                "pixels",
-                "frames",
-            ]
-            .contains(&p[2].text.as_str())
+        p[0].text == "how" && p[1].text == "many" && MEASURES.contains(&p[2].text.as_str())
     });
     // "Is Nav2 going to deprecate the Spin behavior?", "how frustrated was
     // the operator?": the world's future and feelings, whatever is named.
-    let outside = q.iter().any(|w| {
-        [
-            "deprecate",
-            "deprecated",
-            "deprecation",
-            "roadmap",
-            "funding",
-            "funded",
-            "frustrated",
-            "frustration",
-            "salary",
-            "budget",
-            "firmware",
-            "feel",
-            "feels",
-            "feeling",
-            "feelings",
-        ]
-        .contains(&w.text.as_str())
-    });
+    let outside = q.iter().any(|w| OUTSIDE.contains(&w.text.as_str()));
     advice
         || measure
         || outside
@@ -879,6 +835,50 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
                     .enumerate()
                     .any(|(i, w)| !in_mention[i] && about_the_world(&w.text)))
 }
+
+/// Units of the world's measures ("how many meters").
+const MEASURES: &[&str] = &[
+    "meters",
+    "metres",
+    "kilometers",
+    "kilometres",
+    "km",
+    "miles",
+    "feet",
+    "centimeters",
+    "cm",
+    "mm",
+    "millimeters",
+    "degrees",
+    "radians",
+    "volts",
+    "amps",
+    "watts",
+    "joules",
+    "kwh",
+    "calories",
+    "pixels",
+    "frames",
+];
+
+/// Words of the world's future and of feelings, which no run holds.
+const OUTSIDE: &[&str] = &[
+    "deprecate",
+    "deprecated",
+    "deprecation",
+    "roadmap",
+    "funding",
+    "funded",
+    "frustrated",
+    "frustration",
+    "salary",
+    "budget",
+    "firmware",
+    "feel",
+    "feels",
+    "feeling",
+    "feelings",
+];
 
 /// What the sentence asks, best first: read with its strong mentions;
 /// weak ones ("wait" in "wait, what failed?") stay words unless the

@@ -430,28 +430,15 @@ pub enum Within {
 }
 
 impl Replay<'_> {
-    /// The completion of node `u` at position `p` (its SUCCESS or FAILURE):
-    /// each earlier leaf call whose other outcome changes it, found by
-    /// running the tree again with that one outcome flipped.
-    pub fn causes(&self, u: Uid, p: u32, within: Within) -> CallCauses {
-        let idx = &self.session.index;
+    /// The leaf calls that ended before position `p` and may have caused
+    /// `u`'s completion there: (leaf, which call, where it ended, how).
+    fn candidates(&self, u: Uid, p: u32, within: Within) -> Vec<(Uid, usize, u32, Status)> {
         let tree = &self.session.tree;
-        let event = idx.transitions[p as usize - 1];
-        let ended = |s: Status| matches!(s, Status::Success | Status::Failure);
-        // Which of u's completions this is.
-        let nth = idx
-            .changes_of(u)
-            .iter()
-            .filter(|&&q| q <= p && ended(idx.transitions[q as usize - 1].status))
-            .count();
-        let since = idx.call_start(u, p).unwrap_or(0);
-        let mut cands: Vec<(Uid, usize, u32, Status)> = Vec::new();
+        let since = self.session.index.call_start(u, p).unwrap_or(0);
+        let mut cands = Vec::new();
         for (i, calls) in self.calls.iter().enumerate() {
             let leaf = i as Uid + 1;
-            if leaf == u {
-                continue;
-            }
-            if within == Within::Below && !tree.is_ancestor(u, leaf) {
+            if leaf == u || within == Within::Below && !tree.is_ancestor(u, leaf) {
                 continue;
             }
             for (k, c) in calls.iter().enumerate() {
@@ -462,6 +449,23 @@ impl Replay<'_> {
                 }
             }
         }
+        cands
+    }
+
+    /// The completion of node `u` at position `p` (its SUCCESS or FAILURE):
+    /// each earlier leaf call whose other outcome changes it, found by
+    /// running the tree again with that one outcome flipped.
+    pub fn causes(&self, u: Uid, p: u32, within: Within) -> CallCauses {
+        let idx = &self.session.index;
+        let event = idx.transitions[p as usize - 1];
+        let ended = |s: Status| matches!(s, Status::Success | Status::Failure);
+        // Which of u's completions this is.
+        let nth = idx
+            .changes_of(u)
+            .iter()
+            .filter(|&&q| q <= p && ended(idx.transitions[q as usize - 1].status))
+            .count();
+        let mut cands = self.candidates(u, p, within);
         cands.sort_by_key(|c| std::cmp::Reverse(c.2));
         let mut out = CallCauses {
             candidates: cands.len(),

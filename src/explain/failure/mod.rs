@@ -624,55 +624,73 @@ pub fn history(tree: &Tree, run: &At) -> Option<(String, Vec<Uid>)> {
     let mut text = capitalise(&said.join("; "));
     let from = first.unwrap_or(at);
     if let Some((h, done, ran)) = recovered_by(tree, run, leaf, at, from) {
-        // What one handler ran, each deed once.
-        let deeds_of = |by: Uid| {
-            let mut deeds: Vec<String> = Vec::new();
-            for d in ran
-                .iter()
-                .filter(|&&(g, _)| g == by)
-                .map(|&(_, u)| tree.deed(u))
-            {
-                if !deeds.contains(&d) {
-                    deeds.push(d);
-                }
-            }
-            deeds
-        };
-        // A handler below `h` that ran its recovery first, and failed: its
-        // recovery is its own, not `h`'s.
-        let mut inner: Vec<Uid> = Vec::new();
-        for &(g, _) in &ran {
-            if g != h && !inner.contains(&g) {
-                inner.push(g);
-            }
-        }
-        for g in inner {
-            let said = and_list(&deeds_of(g));
-            // A RecoveryNode goes back to its first child; a Fallback
-            // does not.
-            let how = if tree.node(g).builtin == Some(Builtin::RecoveryNode) {
-                format!("first recovered ({said}) and tried again, which failed")
-            } else {
-                format!("first fell back ({said}) and failed")
-            };
-            text.push_str(&format!("; {} {how}", tree.told(g)));
-            nodes.push(g);
-        }
-        let deeds = deeds_of(h);
-        let how = match tree.node(h).builtin {
-            Some(Builtin::RetryUntilSuccessful) => "tried again and".to_string(),
-            _ if deeds.is_empty() => "went on and".to_string(),
-            _ => format!("recovered ({}) and", and_list(&deeds)),
-        };
-        text.push_str(&format!(
-            "; {} (#{h}) {how} succeeded at tick {}",
-            tree.spoken(h),
-            run.index.transitions[done as usize - 1].tick
-        ));
-        nodes.push(h);
+        let (said, handlers) = recovery_said(tree, run, h, done, &ran);
+        text.push_str(&said);
+        nodes.extend(handlers);
         nodes.extend(ran.iter().map(|&(_, u)| u));
     }
     Some((format!("{text}."), nodes))
+}
+
+/// How the handler `h` recovered by position `done`, running `ran`: first
+/// what each handler below it tried and failed, then `h`'s own recovery;
+/// with the handlers told of.
+fn recovery_said(
+    tree: &Tree,
+    run: &At,
+    h: Uid,
+    done: u32,
+    ran: &[Recovered],
+) -> (String, Vec<Uid>) {
+    // What one handler ran, each deed once.
+    let deeds_of = |by: Uid| {
+        let mut deeds: Vec<String> = Vec::new();
+        for d in ran
+            .iter()
+            .filter(|&&(g, _)| g == by)
+            .map(|&(_, u)| tree.deed(u))
+        {
+            if !deeds.contains(&d) {
+                deeds.push(d);
+            }
+        }
+        deeds
+    };
+    let mut text = String::new();
+    let mut nodes = Vec::new();
+    // A handler below `h` that ran its recovery first, and failed: its
+    // recovery is its own, not `h`'s.
+    let mut inner: Vec<Uid> = Vec::new();
+    for &(g, _) in ran {
+        if g != h && !inner.contains(&g) {
+            inner.push(g);
+        }
+    }
+    for g in inner {
+        let said = and_list(&deeds_of(g));
+        // A RecoveryNode goes back to its first child; a Fallback
+        // does not.
+        let how = if tree.node(g).builtin == Some(Builtin::RecoveryNode) {
+            format!("first recovered ({said}) and tried again, which failed")
+        } else {
+            format!("first fell back ({said}) and failed")
+        };
+        text.push_str(&format!("; {} {how}", tree.told(g)));
+        nodes.push(g);
+    }
+    let deeds = deeds_of(h);
+    let how = match tree.node(h).builtin {
+        Some(Builtin::RetryUntilSuccessful) => "tried again and".to_string(),
+        _ if deeds.is_empty() => "went on and".to_string(),
+        _ => format!("recovered ({}) and", and_list(&deeds)),
+    };
+    text.push_str(&format!(
+        "; {} (#{h}) {how} succeeded at tick {}",
+        tree.spoken(h),
+        run.index.transitions[done as usize - 1].tick
+    ));
+    nodes.push(h);
+    (text, nodes)
 }
 
 /// A handler, and a leaf that ran in its recovery.

@@ -53,27 +53,7 @@ fn tree_pane(app: &DiffShared, side: usize, f: &mut Frame, area: Rect) {
             Status::Idle => " ".to_string(),
             s => s.as_str()[..1].to_string(),
         };
-        let mut name = Style::default();
-        // The mark says it without colour too (NO_COLOR, monochrome terminals).
-        let mark = if p.divergent.contains(&uid) {
-            "≠ "
-        } else if p.parents.contains(&uid) {
-            "› "
-        } else if p.following.contains(&uid) {
-            "· "
-        } else {
-            "  "
-        };
-        if p.divergent.contains(&uid) {
-            name = name
-                .bg(DIVERGENT)
-                .fg(Color::White)
-                .add_modifier(Modifier::BOLD);
-        } else if p.parents.contains(&uid) {
-            name = name.bg(PARENT).fg(Color::White);
-        } else if p.following.contains(&uid) {
-            name = name.add_modifier(Modifier::ITALIC);
-        }
+        let (mark, mut name) = divergence_mark(p, uid);
         if selected {
             name = name.add_modifier(Modifier::REVERSED);
         }
@@ -103,6 +83,26 @@ fn tree_pane(app: &DiffShared, side: usize, f: &mut Frame, area: Rect) {
         ]));
     }
     f.render_widget(Paragraph::new(lines), inner);
+}
+
+/// How a node's row says where it stands to the divergence: a mark, which
+/// says it without colour too (NO_COLOR, monochrome terminals), and the
+/// name's style.
+fn divergence_mark(p: &Pane, uid: crate::model::Uid) -> (&'static str, Style) {
+    let name = Style::default();
+    if p.divergent.contains(&uid) {
+        let style = name
+            .bg(DIVERGENT)
+            .fg(Color::White)
+            .add_modifier(Modifier::BOLD);
+        ("≠ ", style)
+    } else if p.parents.contains(&uid) {
+        ("› ", name.bg(PARENT).fg(Color::White))
+    } else if p.following.contains(&uid) {
+        ("· ", name.add_modifier(Modifier::ITALIC))
+    } else {
+        ("  ", name)
+    }
 }
 
 /// Per subgoal: edit distance, LCS and what changed; or the why-answer.

@@ -113,14 +113,18 @@ impl Told {
             ),
         };
         let assumed = assumed_said(tree, g);
+        // "Look at chuck failed at 10:1 because detect chuck failed".
+        let because = format!(
+            "{} {} at {} because {} {}",
+            capitalised(&me),
+            past(self.status),
+            self.moment,
+            tree.told(c.leaf),
+            past(c.was),
+        );
         if g.len() == 1 {
             return format!(
-                "{} {} at {} because {} {} at {}. Had it {} then, {}{assumed}.",
-                capitalised(&me),
-                past(self.status),
-                self.moment,
-                tree.told(c.leaf),
-                past(c.was),
+                "{because} at {}. Had it {} then, {}{assumed}.",
                 c.at,
                 past(other),
                 would(c),
@@ -132,12 +136,7 @@ impl Told {
             .map(|c| format!("had it {} at {}, {}", past(other), c.at, would(c)))
             .collect();
         format!(
-            "{} {} at {} because {} {} again at {}, after it {} at {}{}. Had it {} at {}, {}; {}{assumed}.",
-            capitalised(&me),
-            past(self.status),
-            self.moment,
-            tree.told(c.leaf),
-            past(c.was),
+            "{because} again at {}, after it {} at {}{}. Had it {} at {}, {}; {}{assumed}.",
             c.at,
             past(c.was),
             earlier.join(", "),

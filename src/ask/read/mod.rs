@@ -836,7 +836,8 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
                     .any(|(i, w)| !in_mention[i] && about_the_world(&w.text)))
 }
 
-/// Units of the world's measures ("how many meters").
+/// Units of the world's measures ("how many meters"; "how many frames"
+/// is ticks, `words` says).
 const MEASURES: &[&str] = &[
     "meters",
     "metres",
@@ -858,7 +859,6 @@ const MEASURES: &[&str] = &[
     "kwh",
     "calories",
     "pixels",
-    "frames",
 ];
 
 /// Words of the world's future and of feelings, which no run holds.

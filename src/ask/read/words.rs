@@ -255,7 +255,6 @@ const PHRASES: &[(&str, &str)] = &[
     ("device under test", "robot"),
     ("as opposed to", "instead of"),
     ("sub objective", "subgoal"),
-    ("sub-objective", "subgoal"),
     // Not "bounced back to planning": that is going back.
     ("bounced back from", "recovered from"),
     ("bounces back from", "recovers from"),
@@ -340,6 +339,9 @@ pub fn words(text: &str) -> Vec<Word> {
     // "On frame 10", "this frame": a game engine's frame is a tick (a
     // node named with "frame" keeps it).
     for i in 0..out.len() {
+        if !["frame", "frames"].contains(&out[i].text.as_str()) {
+            continue;
+        }
         let said_as_moment = out
             .get(i + 1)
             .is_some_and(|n| n.text.bytes().all(|b| b.is_ascii_digit()))
@@ -349,7 +351,7 @@ pub fn words(text: &str) -> Vec<Word> {
                     "each", "per", "final", "current", "one", "many", "which", "what",
                 ]
                 .contains(&out[i - 1].text.as_str());
-        if said_as_moment && ["frame", "frames"].contains(&out[i].text.as_str()) {
+        if said_as_moment {
             let tick = if out[i].text == "frame" {
                 "tick"
             } else {

@@ -309,12 +309,32 @@ pub enum SlotKind {
     Other,
 }
 
-/// A slot of one item, as read.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Slot<'a> {
+/// A slot of one item, as read: a text as where it lies in the message
+/// (its closing NUL left out), so that one buffer of slots serves every
+/// message and no text is copied or checked for UTF-8 until it is used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Slot {
     Absent,
     Int(i64),
-    Text(std::borrow::Cow<'a, str>),
+    Text { start: usize, end: usize },
+}
+
+impl Slot {
+    pub fn int(self) -> Option<i64> {
+        match self {
+            Slot::Int(i) => Some(i),
+            _ => None,
+        }
+    }
+
+    /// A text slot's bytes in `message` (the bytes it was read from); no
+    /// bytes for any other slot.
+    pub fn bytes(self, message: &[u8]) -> &[u8] {
+        match self {
+            Slot::Text { start, end } => &message[start..end],
+            _ => &[],
+        }
+    }
 }
 
 impl Definitions {
@@ -427,9 +447,10 @@ impl Flat {
         &self.kinds
     }
 
-    /// One message's items, each `kinds().len()` slots in a row. Its errors
-    /// are `Definitions::decode`'s, word for word.
-    pub fn decode<'a>(&self, bytes: &'a [u8]) -> Result<Vec<Slot<'a>>, String> {
+    /// One message's items into `out`, each `kinds().len()` slots in a
+    /// row. Its errors are `Definitions::decode`'s, word for word.
+    pub fn decode(&self, bytes: &[u8], out: &mut Vec<Slot>) -> Result<(), String> {
+        out.clear();
         let mut r = Reader::open(bytes)?;
         let k = self.kinds.len();
         let mut none = [];
@@ -442,17 +463,16 @@ impl Flat {
                 r.body.len() - r.at
             ));
         }
-        let mut out = vec![Slot::Absent; n * k];
-        for i in 0..n {
-            run(&self.items, &mut r, &mut out[i * k..(i + 1) * k])?;
+        out.resize(n * k, Slot::Absent);
+        for item in out.chunks_exact_mut(k.max(1)).take(n) {
+            run(&self.items, &mut r, item)?;
         }
         run(&self.tail, &mut r, &mut none)?;
-        r.finish()?;
-        Ok(out)
+        r.finish()
     }
 }
 
-fn run<'a>(ops: &[Op], r: &mut Reader<'a>, slots: &mut [Slot<'a>]) -> Result<(), String> {
+fn run(ops: &[Op], r: &mut Reader, slots: &mut [Slot]) -> Result<(), String> {
     for op in ops {
         match *op {
             Op::Int { size, signed, slot } => {
@@ -462,15 +482,22 @@ fn run<'a>(ops: &[Op], r: &mut Reader<'a>, slots: &mut [Slot<'a>]) -> Result<(),
                 }
             }
             Op::Text { slot } => {
-                let t = r.text_ref()?;
+                let (start, end) = r.text_span()?;
                 if let Some(i) = slot {
-                    slots[i] = Slot::Text(t);
+                    // Where the text lies in the message, header counted.
+                    slots[i] = Slot::Text {
+                        start: start + HEADER,
+                        end: end + HEADER,
+                    };
                 }
             }
         }
     }
     Ok(())
 }
+
+/// The encapsulation header's bytes.
+const HEADER: usize = 4;
 
 /// The bytes after the encapsulation header; alignment counts from there.
 struct Reader<'a> {
@@ -488,7 +515,7 @@ impl<'a> Reader<'a> {
             _ => return Err("not CDR (its encapsulation header is not 00 00/01 00 00)".into()),
         };
         Ok(Reader {
-            body: &bytes[4.min(bytes.len())..],
+            body: &bytes[HEADER.min(bytes.len())..],
             at: 0,
             little,
         })
@@ -504,53 +531,43 @@ impl<'a> Reader<'a> {
         }
     }
 
-    #[inline]
-    fn take(&mut self, n: usize, align: usize) -> Result<&'a [u8], String> {
-        let start = if align.is_power_of_two() {
-            (self.at + align - 1) & !(align - 1)
-        } else {
-            self.at.div_ceil(align) * align
-        };
-        match start.checked_add(n).filter(|&e| e <= self.body.len()) {
-            Some(end) => {
-                self.at = end;
-                Ok(&self.body[start..end])
-            }
-            None => Err(self.short(n)),
-        }
-    }
-
     #[cold]
     fn short(&self, n: usize) -> String {
         format!(
             "the message ends at byte {} of {n} more it needs",
-            self.body.len() + 4
+            self.body.len() + HEADER
         )
     }
 
+    /// An integer of `size` bytes (1, 2, 4 or 8: the definition's
+    /// primitives), each size read by code of its own.
     #[inline]
     fn int(&mut self, size: usize, signed: bool) -> Result<i64, String> {
-        let little = self.little;
-        let b = self.take(size, size)?;
-        let x = match (size, little) {
-            (1, _) => u64::from(b[0]),
-            (2, true) => u64::from(u16::from_le_bytes([b[0], b[1]])),
-            (2, false) => u64::from(u16::from_be_bytes([b[0], b[1]])),
-            (4, true) => u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-            (4, false) => u64::from(u32::from_be_bytes([b[0], b[1], b[2], b[3]])),
-            _ => {
-                let mut buf = [0u8; 8];
-                if little {
-                    buf[..size].copy_from_slice(b);
-                    u64::from_le_bytes(buf)
-                } else {
-                    buf[8 - size..].copy_from_slice(b);
-                    u64::from_be_bytes(buf)
-                }
-            }
+        match size {
+            1 => self.int_of::<1>(signed),
+            2 => self.int_of::<2>(signed),
+            4 => self.int_of::<4>(signed),
+            _ => self.int_of::<8>(signed),
+        }
+    }
+
+    #[inline(always)]
+    fn int_of<const N: usize>(&mut self, signed: bool) -> Result<i64, String> {
+        let start = (self.at + N - 1) & !(N - 1);
+        let Some(b) = self.body.get(start..start + N) else {
+            return Err(self.short(N));
         };
-        Ok(if signed && size < 8 {
-            let shift = 64 - 8 * size as u32;
+        self.at = start + N;
+        let mut buf = [0u8; 8];
+        let x = if self.little {
+            buf[..N].copy_from_slice(b);
+            u64::from_le_bytes(buf)
+        } else {
+            buf[8 - N..].copy_from_slice(b);
+            u64::from_be_bytes(buf)
+        };
+        Ok(if signed && N < 8 {
+            let shift = 64 - 8 * N as u32;
             ((x << shift) as i64) >> shift
         } else {
             x as i64
@@ -558,17 +575,22 @@ impl<'a> Reader<'a> {
     }
 
     fn text(&mut self) -> Result<String, String> {
-        Ok(self.text_ref()?.into_owned())
+        let (start, end) = self.text_span()?;
+        Ok(String::from_utf8_lossy(&self.body[start..end]).into_owned())
     }
 
-    fn text_ref(&mut self) -> Result<std::borrow::Cow<'a, str>, String> {
-        let n = self.int(4, false)? as usize;
-        let b = self.take(n, 1)?;
-        // The length counts the closing NUL.
-        let b = b.strip_suffix(&[0]).unwrap_or(b);
-        Ok(match std::str::from_utf8(b) {
-            Ok(t) => t.into(),
-            Err(_) => String::from_utf8_lossy(b),
+    /// Where the next string's text lies in the body, its closing NUL
+    /// (which its length counts) left out.
+    fn text_span(&mut self) -> Result<(usize, usize), String> {
+        let n = self.int_of::<4>(false)? as usize;
+        let start = self.at;
+        let Some(end) = start.checked_add(n).filter(|&e| e <= self.body.len()) else {
+            return Err(self.short(n));
+        };
+        self.at = end;
+        Ok(match self.body[start..end].last() {
+            Some(0) => (start, end - 1),
+            _ => (start, end),
         })
     }
 }
@@ -654,13 +676,17 @@ mod tests {
             .contains("a sequence of 4294967295"));
     }
 
+    /// A slot as the tree of values says it.
+    #[derive(Debug, PartialEq)]
+    enum Seen {
+        Absent,
+        Int(i64),
+        Text(String),
+    }
+
     /// Every field a flat read gives, from the tree of values of the
     /// general read: the two must agree, errors included.
-    fn flat_as_values(
-        d: &Definitions,
-        bytes: &[u8],
-        paths: &[&str],
-    ) -> Result<Vec<Slot<'static>>, String> {
+    fn flat_as_values(d: &Definitions, bytes: &[u8], paths: &[&str]) -> Result<Vec<Seen>, String> {
         let v = d.decode(bytes)?;
         let mut out = Vec::new();
         for c in v.get("event_log").unwrap().list().unwrap() {
@@ -670,9 +696,9 @@ mod tests {
                     at = at.and_then(|x| x.get(part));
                 }
                 out.push(match at {
-                    Some(Value::Int(i)) => Slot::Int(*i),
-                    Some(Value::Text(t)) => Slot::Text(t.clone().into()),
-                    _ => Slot::Absent,
+                    Some(Value::Int(i)) => Seen::Int(*i),
+                    Some(Value::Text(t)) => Seen::Text(t.clone()),
+                    _ => Seen::Absent,
                 });
             }
         }
@@ -711,19 +737,20 @@ mod tests {
             // Every cut of the message, and a byte more than it holds.
             cases.extend((0..jazzy.len()).map(|n| jazzy[..n].to_vec()));
             cases.push([jazzy.clone(), vec![0; 4]].concat());
+            // One buffer for every message, as a bag is read.
+            let mut slots = vec![Slot::Int(1); 3];
             for bytes in cases {
-                assert_eq!(
-                    flat.decode(&bytes).map(|v| v
-                        .into_iter()
-                        .map(|s| match s {
-                            Slot::Text(t) => Slot::Text(t.into_owned().into()),
-                            Slot::Int(i) => Slot::Int(i),
-                            Slot::Absent => Slot::Absent,
-                        })
-                        .collect::<Vec<_>>()),
-                    flat_as_values(&d, &bytes, &paths),
-                    "{bytes:?}"
-                );
+                let read = flat.decode(&bytes, &mut slots).map(|()| {
+                    let seen = |s: &Slot| match *s {
+                        Slot::Text { .. } => {
+                            Seen::Text(String::from_utf8_lossy(s.bytes(&bytes)).into_owned())
+                        }
+                        Slot::Int(i) => Seen::Int(i),
+                        Slot::Absent => Seen::Absent,
+                    };
+                    slots.iter().map(seen).collect::<Vec<_>>()
+                });
+                assert_eq!(read, flat_as_values(&d, &bytes, &paths), "{bytes:?}");
             }
         }
         assert_eq!(

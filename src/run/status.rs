@@ -56,6 +56,15 @@ impl Status {
             .find(|x| x.as_str().eq_ignore_ascii_case(s.trim()))
     }
 
+    /// `parse` of text as bytes: a bag's statuses are matched before
+    /// they are checked as UTF-8.
+    pub fn parse_bytes(b: &[u8]) -> Option<Status> {
+        match Status::ALL.iter().find(|x| x.as_str().as_bytes() == b) {
+            Some(&x) => Some(x),
+            None => std::str::from_utf8(b).ok().and_then(Status::parse),
+        }
+    }
+
     /// How a node ended, by its last transition (`prev` to `self`): its
     /// completion, also when it was reset to IDLE right after, as
     /// BehaviorTree.CPP resets a finished tree.

@@ -34,10 +34,11 @@ const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
 #[derive(Debug, Clone, PartialEq)]
 struct Change<'a> {
     time_us: i64,
-    name: &'a str,
+    /// As the message carries them, UTF-8 unchecked until said.
+    name: &'a [u8],
     uid: Option<u32>,
-    prev: &'a str,
-    now: &'a str,
+    prev: &'a [u8],
+    now: &'a [u8],
 }
 
 /// What a bag holds of the tree's run: its records, read as they come.
@@ -60,6 +61,10 @@ pub struct BagRecords {
 /// The status changes read of one bag at most (32 bytes each, then the
 /// session's index): past them the rest is said, not read.
 pub const BAG_TRANSITIONS_MAX: usize = 10_000_000;
+
+/// The fewest bytes a status change takes in a message: its time (8),
+/// and three strings of a length (4) and a NUL each.
+const CHANGE_BYTES_MIN: u64 = 23;
 
 /// Whether `path` is a bag: a directory with `metadata.yaml`, an MCAP
 /// file, or a SQLite file with rosbag2's tables.
@@ -202,7 +207,17 @@ fn read_at_most(
     m.max = max;
     let mut topic = None;
     let mut cut = None;
-    for file in storage_files(path)? {
+    let files = storage_files(path)?;
+    // Room for every change the files could hold, so that the records are
+    // never moved as they grow: reserved, not touched, it costs no memory.
+    let bytes: u64 = files
+        .iter()
+        .filter_map(|f| std::fs::metadata(f).ok())
+        .map(|m| m.len())
+        .sum();
+    m.records
+        .reserve(max.min((bytes / CHANGE_BYTES_MIN) as usize));
+    for file in files {
         if !std::fs::metadata(&file).is_ok_and(|m| m.is_file()) {
             return Err(Located::file(
                 &file,
@@ -419,10 +434,10 @@ fn take_message(v: &Value, message: usize, m: &mut Matcher) -> Result<(), Locate
         };
         let change = Change {
             time_us: sec.saturating_mul(1_000_000).saturating_add(nsec / 1000),
-            name: text("node_name")?,
+            name: text("node_name")?.as_bytes(),
             uid: c.get("uid").and_then(Value::int).map(|u| u as u32),
-            prev: text("previous_status")?,
-            now: text("current_status")?,
+            prev: text("previous_status")?.as_bytes(),
+            now: text("current_status")?.as_bytes(),
         };
         m.take(&change, message)?;
     }
@@ -451,8 +466,12 @@ struct Matcher<'a> {
     max: usize,
     tree: &'a Tree,
     status: Vec<Status>,
-    names: std::collections::HashMap<String, Vec<Uid>>,
+    names: std::collections::HashMap<Box<[u8]>, Vec<Uid>>,
+    /// Each node's name as a change gives it (`bt_name`), by uid from 1.
+    named: Vec<Box<[u8]>>,
     records: Vec<Record>,
+    /// One message's slots, the buffer kept from message to message.
+    slots: Vec<Slot>,
     /// Messages read so far, and the first ambiguous name and its message.
     messages: usize,
     ambiguous: Option<(String, usize)>,
@@ -462,10 +481,10 @@ struct Matcher<'a> {
 
 impl<'a> Matcher<'a> {
     fn new(path: &'a Path, tree: &'a Tree) -> Matcher<'a> {
-        let mut names: std::collections::HashMap<String, Vec<Uid>> = Default::default();
+        let mut names: std::collections::HashMap<Box<[u8]>, Vec<Uid>> = Default::default();
         for u in 1..=tree.len() as Uid {
             names
-                .entry(bt_name(tree, u).to_string())
+                .entry(bt_name(tree, u).as_bytes().into())
                 .or_default()
                 .push(u);
         }
@@ -475,7 +494,11 @@ impl<'a> Matcher<'a> {
             tree,
             status: vec![Status::Idle; tree.len()],
             names,
+            named: (1..=tree.len() as Uid)
+                .map(|u| bt_name(tree, u).as_bytes().into())
+                .collect(),
             records: Vec::new(),
+            slots: Vec::new(),
             messages: 0,
             ambiguous: None,
             uids: false,
@@ -522,50 +545,37 @@ impl<'a> Matcher<'a> {
             let v = defs.defs.decode(data).map_err(|e| self.at(n, e))?;
             return take_message(&v, n, self);
         };
-        let slots = flat.decode(data).map_err(|e| self.at(n, e))?;
-        let int = |s: &Slot| match s {
-            Slot::Int(i) => Some(*i),
-            _ => None,
+        let mut slots = std::mem::take(&mut self.slots);
+        let taken = match flat.decode(data, &mut slots) {
+            Ok(()) => slots
+                .chunks_exact(CHANGE_PATHS.len())
+                .try_for_each(|c| self.take(&change(c, data), n)),
+            Err(e) => Err(self.at(n, e)),
         };
-        fn text<'s>(s: &'s Slot<'_>) -> &'s str {
-            match s {
-                Slot::Text(t) => t,
-                _ => "",
-            }
-        }
-        for c in slots.chunks(CHANGE_PATHS.len()) {
-            let (name, prev, now) = (text(&c[3]), text(&c[5]), text(&c[6]));
-            let (sec, nsec) = (int(&c[1]).unwrap_or(0), int(&c[2]).unwrap_or(0));
-            let change = Change {
-                time_us: sec.saturating_mul(1_000_000).saturating_add(nsec / 1000),
-                name,
-                uid: int(&c[4]).map(|u| u as u32),
-                prev,
-                now,
-            };
-            self.take(&change, n)?;
-        }
-        Ok(())
+        self.slots = slots;
+        taken
     }
 
     fn take(&mut self, c: &Change, message: usize) -> Result<(), Located> {
-        let now = Status::parse(c.now).ok_or_else(|| {
+        let now = Status::parse_bytes(c.now).ok_or_else(|| {
             self.at(
                 message,
-                format!("the status \"{}\" is none BehaviorTree.CPP has", c.now),
+                format!(
+                    "the status \"{}\" is none BehaviorTree.CPP has",
+                    said(c.now)
+                ),
             )
         })?;
-        let prev = Status::parse(c.prev).unwrap_or(Status::Idle);
         self.uids |= c.uid.is_some();
         let uid = match c.uid {
             // A bag given another tree would be explained in that tree's
             // names: the names the bag carries must be the tree's.
-            Some(u) if self.tree.get(u).is_some() && bt_name(self.tree, u) != c.name => {
+            Some(u) if self.named.get((u as usize).wrapping_sub(1)).is_some_and(|n| **n != *c.name) => {
                 return Err(self.at(
                     message,
                     format!(
                         "uid {u} is \"{}\" in the bag but \"{}\" in the tree given: is it the tree the robot ran?",
-                        crate::text::visible(c.name),
+                        crate::text::visible(&said(c.name)),
                         crate::text::visible(bt_name(self.tree, u))
                     ),
                 ))
@@ -576,12 +586,13 @@ impl<'a> Matcher<'a> {
                     message,
                     format!(
                         "uid {u} ({}) is not a node of the tree given ({} nodes): is it the tree the robot ran?",
-                        c.name,
+                        said(c.name),
                         self.tree.len()
                     ),
                 ))
             }
             None => {
+                let prev = Status::parse_bytes(c.prev).unwrap_or(Status::Idle);
                 let all = self.names.get(c.name).map_or(&[][..], Vec::as_slice);
                 let fits: Vec<Uid> = all
                     .iter()
@@ -599,12 +610,12 @@ impl<'a> Matcher<'a> {
                         message,
                         format!(
                             "no node of the tree given is named \"{}\": is it the tree the robot ran?",
-                            c.name
+                            said(c.name)
                         ),
                     ));
                 };
                 if pool.len() > 1 && self.ambiguous.is_none() {
-                    self.ambiguous = Some((c.name.to_string(), message));
+                    self.ambiguous = Some((said(c.name).into_owned(), message));
                 }
                 u
             }
@@ -625,6 +636,24 @@ impl<'a> Matcher<'a> {
                 "the bag names nodes, not uids (Humble), and several nodes are named \"{name}\" (first at message {message}): each change is placed by the nodes' statuses and the tree's order"
             )
         })
+    }
+}
+
+/// A message's text as said: its bytes as UTF-8, any that are not
+/// replaced, as a message read by its definition gives them.
+fn said(text: &[u8]) -> std::borrow::Cow<'_, str> {
+    String::from_utf8_lossy(text)
+}
+
+/// The change one item's slots hold (`CHANGE_PATHS`), of `message`.
+fn change<'m>(c: &[Slot], message: &'m [u8]) -> Change<'m> {
+    let (sec, nsec) = (c[1].int().unwrap_or(0), c[2].int().unwrap_or(0));
+    Change {
+        time_us: sec.saturating_mul(1_000_000).saturating_add(nsec / 1000),
+        name: c[3].bytes(message),
+        uid: c[4].int().map(|u| u as u32),
+        prev: c[5].bytes(message),
+        now: c[6].bytes(message),
     }
 }
 

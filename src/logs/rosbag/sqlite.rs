@@ -73,34 +73,41 @@ pub(super) fn read_db3(
             "SELECT data FROM messages WHERE topic_id = ?1 ORDER BY {order}"
         ))
         .map_err(|e| sql("table messages", e))?;
-    let mut rows = st
-        .query_map([id], |r| r.get::<_, Vec<u8>>(0))
-        .map_err(|e| sql("table messages", e))?
-        .peekable();
-    let first = match rows.peek() {
-        Some(Ok(b)) => Some(b.clone()),
-        _ => None,
-    };
     let said = |m: &Matcher, e: Option<rusqlite::Error>| match cut {
         Some(c) => db3_cut(m, c.len, c.whole),
         None => cut_short(m, &e.map_or(String::new(), |e| e.to_string())),
     };
-    if first.is_none() && cut.is_some() {
-        return Err(fail(said(m, None)));
-    }
-    let defs = m.definitions(file, &topic, definition.as_deref(), first.as_deref())?;
-    for r in rows {
-        let data = match r {
-            Ok(d) => d,
+    let mut rows = st.query([id]).map_err(|e| sql("table messages", e))?;
+    let mut defs = None;
+    loop {
+        // Each row's blob read where SQLite holds it, not copied.
+        let row = rows.next().and_then(|r| match r {
+            Some(r) => r.get_ref(0).map(Some),
+            None => Ok(None),
+        });
+        let data = match row {
+            Ok(Some(v)) => v.as_blob().unwrap_or_default(),
+            Ok(None) if defs.is_none() && cut.is_some() => return Err(fail(said(m, None))),
+            Ok(None) => break,
             // A page past the last one read is damaged: the rows before it
             // are the run so far.
             Err(e) if m.messages > 0 => return Ok((topic, Some(said(m, Some(e))))),
+            Err(_) if defs.is_none() && cut.is_some() => return Err(fail(said(m, None))),
             Err(e) => return Err(sql("table messages", e)),
         };
-        m.message(&defs, &data)?;
+        if defs.is_none() {
+            defs = Some(m.definitions(file, &topic, definition.as_deref(), Some(data))?);
+        }
+        if let Some(d) = &defs {
+            m.message(d, data)?;
+        }
         if m.full() {
             break;
         }
+    }
+    if defs.is_none() {
+        // A definition that cannot be read is said even over no message.
+        m.definitions(file, &topic, definition.as_deref(), None)?;
     }
     Ok((topic, cut.map(|_| said(m, None))))
 }

@@ -1792,6 +1792,73 @@ fn py_trees_and_smach_words_are_read_as_meant() {
     );
 }
 
+/// What corpus24 (questions typed as into a search box) taught, in
+/// phrasings of its own: no verb to tense them, the tag last, names in
+/// halves, typos inside a joined name, an object before its verb.
+#[test]
+fn search_box_words_are_read_as_meant() {
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![PATROL, "--at", "3"],
+            "walk why active",
+            "Why are you doing this?",
+        ),
+        (
+            vec![TAXI],
+            "drop off attempts",
+            "How often did drop off passenger (#21) start?",
+        ),
+        (
+            vec![KITTING],
+            "why look chuck and not retreat arm",
+            "Why did I do look at chuck (#18) and not the retreat arm action (#25) in tick 17?",
+        ),
+        (
+            vec![PATROL],
+            "path clear failed - what did the robot do",
+            "How was the failure handled?",
+        ),
+        (
+            vec![TAXI],
+            "pick up passenger fails, then what",
+            "What happens if pick up passenger (#11) fails?",
+        ),
+        (
+            vec![KITTING],
+            "chuck detect - possible?",
+            "Can you detect chuck?",
+        ),
+        (
+            vec![NAV2],
+            "why folowpath faild at tick 6",
+            "Why did FollowPath (#10, #9) fail at 6:1?",
+        ),
+        (vec![CASE], "tick1 in detail", "What happened at tick 1?"),
+        (
+            vec![TAXI],
+            "tick 3 step by step",
+            "What happened at tick 3?",
+        ),
+        (
+            vec![TAXI],
+            "when was the passenger dropped off",
+            "When did drop off passenger (#21) succeed?",
+        ),
+        (
+            vec![PATROL],
+            "patrol approach",
+            "How do you achieve your goal?",
+        ),
+        (
+            vec![CASE],
+            "case study fallback overall for what",
+            "What is your goal?",
+        ),
+        (vec![NAV2], "clean goal or not", "Was there anything wrong?"),
+    ];
+    first_lines_are(cases);
+}
+
 #[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";

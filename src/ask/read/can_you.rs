@@ -148,6 +148,52 @@ fn robot_as_robot<'a>(free: &[(usize, &'a Word)]) -> (Vec<(usize, &'a Word)>, Ve
     (kept, texts)
 }
 
+/// "Collision scan - can it", "welding capability?", "costmap clearing
+/// possible?": X typed as into a search box, then a tag that asks whether
+/// it can; nothing before the tag asks anything else.
+fn tagged(s: &Sentence, tree: &Tree, free: &[(usize, &Word)], texts: &[&str]) -> Option<String> {
+    const TAGS: &[&[&str]] = &[
+        &["can", "it", "do", "that"],
+        // "That" is read past as an article.
+        &["can", "it", "do"],
+        &["can", "it"],
+        &["can", "you"],
+        &["possible"],
+        &["supported"],
+        &["capability"],
+    ];
+    const ASKING: &[&str] = &[
+        "what", "why", "how", "when", "which", "where", "who", "is", "are", "was", "were", "did",
+        "does", "do", "has", "had", "will", "would", "can", "could", "not", "no", "never",
+    ];
+    let tag = TAGS.iter().find(|t| texts.ends_with(t))?;
+    let before = &texts[..texts.len() - tag.len()];
+    if before.is_empty() || before.iter().any(|w| ASKING.contains(w)) {
+        return None;
+    }
+    let end = free[before.len()].0;
+    // The node only where its name is all of X: "collision scan" is no
+    // "allow partial collision".
+    let whole = |m: &&Mention| {
+        free[..before.len()]
+            .iter()
+            .all(|(i, _)| (m.start..m.end).contains(i))
+    };
+    if let Some(m) = s.nodes.iter().filter(|m| m.end <= end).find(whole) {
+        return Some(tree.description(m.uids[0]).to_string());
+    }
+    // "Collision scan": the words of one name, in another order.
+    let said: Vec<&Word> = free[..before.len()].iter().map(|(_, w)| *w).collect();
+    let named = (1..=tree.len() as Uid).find(|&u| {
+        let name = words::words(tree.description(u));
+        said.len() > 1 && said.iter().all(|w| name.iter().any(|n| n.stem == w.stem))
+    });
+    Some(match named {
+        Some(u) => tree.description(u).to_string(),
+        None => before.join(" "),
+    })
+}
+
 /// How many words the opening of "Can you X?" takes, if the question
 /// opens so: "Is the taxi able to …", "is this robot capable of …" name
 /// the robot any way, in four words.
@@ -188,6 +234,9 @@ pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
         let from = free.get(1)?.0;
         let m = s.nodes.iter().find(|m| m.start >= from)?;
         return Some(tree.description(m.uids[0]).to_string());
+    }
+    if let Some(x) = tagged(s, tree, &free, &texts) {
+        return Some(x);
     }
     let open = opening(&texts)?;
     // "can you tell me why …" asks what follows.

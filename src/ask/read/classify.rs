@@ -6,8 +6,8 @@
 
 use super::cues::{Cues, Readings};
 use super::{
-    can_you, foil, gave_up, loops_of, negated_first, progressive, when, Mention, Sentence, When,
-    NOT_A_VERB,
+    can_you, foil, gave_up, loops_of, negated_first, progressive, verbless, when, Mention,
+    Sentence, When, NOT_A_VERB,
 };
 use crate::ask::parse::{Event, Intent, Subject, Which};
 use crate::explain::{Question, RunQuestion, TreeQuestion};
@@ -96,6 +96,12 @@ fn what_if(c: &Cues) -> Option<Readings> {
         // "What intervention on walk would change things?".
         || s.has_stem(&["intervent", "interven"]) && s.has("would") && c.ev.is_some()
         || c.first == "if"
+        // "Drop off fails, what happens", "X fails at tick 22 what then":
+        // an outcome put in the present, then what comes of it.
+        || (s.has("fails") || s.has("succeeds"))
+            && (s.phrase(&["what", "happens"]).is_some()
+                || s.phrase(&["what", "then"]).is_some()
+                || s.phrase(&["then", "what"]).is_some())
         // "How would the run differ if look around had failed?", "say the
         // second move up had failed: then what?".
         || s.has("if") && (s.has("would") || s.has("had"))
@@ -293,11 +299,30 @@ fn counted(ev: Option<Event>) -> Event {
 /// "How often did X fail?".
 fn how_often(c: &Cues) -> Option<Readings> {
     let s = c.s;
+    // "Spin attempts", "path clear checks": a node and what is counted,
+    // typed with no verb.
+    let tallied = verbless(s)
+        && !c.why
+        && !c.when_q
+        && !c.named.is_empty()
+        && s.q.last().is_some_and(|w| {
+            [
+                "attempts",
+                "tries",
+                "retries",
+                "checks",
+                "runs",
+                "calls",
+                "executions",
+            ]
+            .contains(&w.text.as_str())
+        });
     let often = s.phrase(&["how", "often"]).is_some()
         || s.phrase(&["how", "many"]).is_some()
         || s.phrase(&["how", "frequently"]).is_some()
         || s.phrase(&["number", "of"]).is_some()
-        || s.has_stem(&["count", "quantifi"]);
+        || s.has_stem(&["count", "quantifi"])
+        || tallied;
     if !often {
         return None;
     }
@@ -340,6 +365,8 @@ fn purpose(c: &Cues) -> Option<Readings> {
         || s.phrase(&["point", "of"]).is_some()
         // "For what it runs the detect chuck action again?".
         || c.first == "for" && s.phrase(&["for", "what"]).is_some()
+        // "CaseStudyFallback ultimately for what".
+        || s.q.len() > 2 && s.q[s.q.len() - 2..].iter().map(|w| w.text.as_str()).eq(["for", "what"])
         || c.what && s.q.last().is_some_and(|w| w.text == "for");
     if !purpose || c.why {
         return None;
@@ -835,6 +862,8 @@ fn tick(c: &Cues) -> Option<Readings> {
     let walk = s.phrase(&["walk", "me", "through"]).is_some()
         || s.phrase(&["walk", "through"]).is_some()
         || s.phrase(&["went", "on"]).is_some()
+        // "Tick 1 step by step".
+        || s.phrase(&["step", "by", "step"]).is_some()
         || c.break_down;
     let asks_tick = s.has_stem(&[
         "happen", "chang", "occur", "describ", "summar", "show", "went", "transit", "detail",
@@ -974,12 +1003,18 @@ fn asks_steps(c: &Cues) -> bool {
 /// "How do you achieve your (sub)goal?", "outline the steps".
 fn how_achieved(c: &Cues) -> Option<Readings> {
     let steps = asks_steps(c);
-    let listed =
-        steps && (c.what || c.s.empty() || ["outline", "walk", "breakdown"].contains(&c.first));
+    // "Top level plan", "this subgoal - steps to finish it": steps of a
+    // goal named, typed with no verb, are asked for.
+    let goal_named = c.s.nodes.iter().any(|m| m.uids == [c.root]);
+    let of_a_goal = asks_subgoal(c) || asks_goal(c.s) || c.whole || goal_named;
+    let listed = steps
+        && (c.what
+            || c.s.empty()
+            || ["outline", "walk", "breakdown"].contains(&c.first)
+            || verbless(c.s) && of_a_goal && !c.why);
     if !c.how && !listed {
         return None;
     }
-    let goal_named = c.s.nodes.iter().any(|m| m.uids == [c.root]);
     // "How does it achieve what it's working on now?", "how does it
     // achieve the watch and walk bit?": the part it is in, or a part named.
     let now = c.now_words && !c.whole && c.named.is_empty();

@@ -185,6 +185,8 @@ fn yes_no(s: &Sentence, first: &str) -> bool {
         // "No problems so far, right?", "problems in the run, yes or no?".
         || first == "no"
         || s.q.last().is_some_and(|w| w.text == "right")
+        // "Clean run or not".
+        || s.q.len() > 2 && s.q[s.q.len() - 2..].iter().map(|w| w.text.as_str()).eq(["or", "not"])
         || s.phrase(&["yes", "or", "no"]).is_some()
 }
 
@@ -249,14 +251,32 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
 
 /// "What did it do after it failed?": how a failure was handled.
 fn after_failure(s: &Sentence, problem: bool) -> bool {
-    (s.has("after") || s.has("when") || s.has("once"))
-        && (problem || s.has_stem(&["block", "stuck"]))
-        && (s.phrase(&["did", "it", "do"]).is_some()
+    failure_told_first(s)
+        || (s.has("after") || s.has("when") || s.has("once"))
+            && (problem || s.has_stem(&["block", "stuck"]))
+            && (s.phrase(&["did", "it", "do"]).is_some()
             // "what did the fallback do when …".
             || s.has("what") && s.has("did") && s.has("do")
             || s.phrase(&["did", "you", "do"]).is_some()
             || s.phrase(&["was", "done"]).is_some()
             || s.phrase(&["did", "the", "robot", "do"]).is_some())
+}
+
+/// "Guarded drive failed - what did the tree do", "reset arm FAILURE
+/// then what": a failure told, then what came of it asked.
+fn failure_told_first(s: &Sentence) -> bool {
+    let at = |words: &[&str]| {
+        s.free()
+            .find(|(_, w)| words.contains(&w.text.as_str()))
+            .map(|(i, _)| i)
+    };
+    let (Some(failed), Some(what)) = (at(&["failed", "failure", "aborted"]), at(&["what"])) else {
+        return false;
+    };
+    let then_what = s.phrase(&["then", "what"]).is_some() || s.phrase(&["what", "then"]).is_some();
+    let did_do =
+        s.q[what..].iter().any(|w| w.text == "did") && s.q[what..].iter().any(|w| w.text == "do");
+    failed < what && !s.has("why") && !s.has("if") && (then_what || did_do)
 }
 
 /// Words every reading explains: the cue words of the questions and their

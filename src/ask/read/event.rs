@@ -32,7 +32,7 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     let negated = s.has("not") && s.phrase(&["or", "not"]).is_none()
         || s.has("never")
         || s.has("no") && !s.has("one");
-    let e = verbs_said(s);
+    let e = verbs_said(s).or_else(|| done_to(s));
     // "Why did it keep trying to detect the chuck?": it ran again and
     // again, which is starting, not one call running on.
     let retrying = s.has_stem(&["keep", "kept"])
@@ -53,6 +53,21 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
         (e, _) => e,
     };
     (e, negated)
+}
+
+/// "When was the passenger picked up?": a node named by what was done
+/// to its object, done (its verb past, its particle last), succeeded.
+fn done_to(s: &Sentence) -> Option<Event> {
+    s.nodes
+        .iter()
+        .any(|m| {
+            let span = &s.q[m.start..m.end];
+            span.len() > 2
+                && ["up", "down", "off", "on", "out", "in"]
+                    .contains(&span[span.len() - 1].text.as_str())
+                && span[span.len() - 2].text.ends_with("ed")
+        })
+        .then_some(Event::Succeed)
 }
 
 /// The event the sentence's verbs say, before negation: failing first,
@@ -171,11 +186,35 @@ pub(super) fn loops_of(tree: &Tree, us: &[Uid]) -> Option<Vec<Uid>> {
     Some(out)
 }
 
+/// A query typed as into a search box, with no verb to tense it: "spin
+/// why running", "top level plan".
+pub(super) fn verbless(s: &Sentence) -> bool {
+    const AUXILIARIES: [&str; 20] = [
+        "is", "are", "am", "was", "were", "be", "been", "do", "does", "did", "has", "have", "had",
+        "will", "would", "can", "could", "should", "shall", "may",
+    ];
+    !s.q.iter().any(|w| AUXILIARIES.contains(&w.text.as_str()))
+}
+
 /// "why is it looking at the chuck", "why does it keep driving": asked
-/// of what it is doing now, in the present progressive.
+/// of what it is doing now, in the present progressive; "drive why
+/// running", with no verb to tense it, too.
 pub(super) fn progressive(s: &Sentence) -> bool {
     if s.has("long") {
         return false;
+    }
+    // Not "drive kept running for several ticks, why?": a past said.
+    let past = s.free().any(|(_, w)| {
+        w.text.len() > 3 && w.text.ends_with("ed")
+            || ["kept", "ran", "went", "got", "began"].contains(&w.text.as_str())
+    });
+    if verbless(s)
+        && !past
+        && ["running", "active", "busy", "ticking"]
+            .iter()
+            .any(|w| s.has(w))
+    {
+        return true;
     }
     let be = s.q.iter().enumerate().position(|(i, w)| {
         ["is", "are", "am", "was", "were", "keeps", "still"].contains(&w.text.as_str())

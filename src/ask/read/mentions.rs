@@ -295,6 +295,7 @@ impl Vocabulary {
                 e.stems.iter().any(|s| *s == w.stem || *s == w.text)
                     || long && e.joined.starts_with(&head)
                     || e.stems.iter().any(|s| close(s, &w.text))
+                    || e.stems.len() > 1 && close(&e.joined, &w.text)
                     || e.joined == w.text.replace('0', "o")
             })
             .map(|(k, _)| k)
@@ -305,13 +306,15 @@ impl Vocabulary {
         if self.stems.contains(stem) || self.stems.contains(&text.replace('o', "0")) {
             return true;
         }
-        // A typo, or a name written joined ("lookatchuck").
+        // A typo, or a name written joined ("lookatchuck"), or both
+        // ("folowpath").
         let head: String = text.chars().take(4).collect();
         text.chars().count() >= 4
-            && self
-                .entries
-                .iter()
-                .any(|e| e.joined.starts_with(&head) || e.stems.iter().any(|s| close(s, text)))
+            && self.entries.iter().any(|e| {
+                e.joined.starts_with(&head)
+                    || e.stems.iter().any(|s| close(s, text))
+                    || e.stems.len() > 1 && close(&e.joined, text)
+            })
     }
 }
 
@@ -468,6 +471,21 @@ fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
     }
     if joined == e.joined {
         return 0.97 * weight;
+    }
+    // "The passenger was picked up": the object of a verb and its
+    // particle said first ("pick up passenger").
+    if span.len() == e.stems.len() && span.len() > 2 {
+        let particle = (1..span.len())
+            .find(|&k| ["up", "down", "off", "on", "out", "in"].contains(&e.stems[k].as_str()));
+        if let Some(k) = particle {
+            let (verb, object) = e.stems.split_at(k + 1);
+            let n = object.len();
+            if span[..n].iter().zip(object).all(|(w, s)| same(w, s))
+                && span[n..].iter().zip(verb).all(|(w, s)| same(w, s))
+            {
+                return 0.96 * weight;
+            }
+        }
     }
     if span.len() == e.stems.len() {
         let mut typos = 0;

@@ -25,7 +25,7 @@ use clauses::{
     children_by_place, counted_among_alike, deepest, elided_foil, failure_clause,
     governing_verbs_dropped, scoped, tick_of_a_failure,
 };
-use event::{event, foil, gave_up, loops_of, negated_first, progressive, subject};
+use event::{event, foil, gave_up, loops_of, negated_first, progressive, subject, verbless};
 pub use mentions::{Mention, Vocabulary};
 use rewrite::{ids_as_uids, named_as_uids, paths_as_uids, ports_as_uids, states_as_outcomes};
 pub use when::{ordinal_word, Side, When};
@@ -674,6 +674,7 @@ fn named_parts<'a>(
     s.nodes = right_as_a_tag(q, std::mem::take(&mut s.nodes));
     s.nodes = uids_told_of_names(std::mem::take(&mut s.nodes));
     s.nodes.sort_by_key(|m| m.start);
+    s.nodes = halves_joined(std::mem::take(&mut s.nodes));
     s.nodes = children_by_place(tree, q, std::mem::take(&mut s.nodes));
     s.nodes = scoped(tree, q, std::mem::take(&mut s.nodes));
     s.nodes = governing_verbs_dropped(q, std::mem::take(&mut s.nodes));
@@ -682,6 +683,23 @@ fn named_parts<'a>(
         s.nodes.push(m);
     }
     (s, when)
+}
+
+/// "Clear costmap": parts of one name side by side, each found alone
+/// (ClearLocalCostmap's first word and its last), are one mention.
+fn halves_joined(nodes: Vec<Mention>) -> Vec<Mention> {
+    let mut out: Vec<Mention> = Vec::with_capacity(nodes.len());
+    for m in nodes {
+        match out.last_mut() {
+            Some(p) if p.end == m.start && p.uids == m.uids && !p.weak && !m.weak => {
+                p.end = m.end;
+                p.score = p.score.min(m.score);
+                p.phrase = format!("{} {}", p.phrase, m.phrase);
+            }
+            _ => out.push(m),
+        }
+    }
+    out
 }
 
 /// Words that name no node and ask nothing of their own: Han's framing

@@ -510,12 +510,16 @@ fn log_row(row: &str) -> Option<(u32, u32, u32)> {
 /// A node and a tick as a log and its readers say them: "node 8", "uid
 /// 7", "id 7" are `#8`, `#7`; "t=30" is tick 30.
 fn as_logs_say(words: Vec<Word>) -> Vec<Word> {
-    // "t44", "@ t6": tick 44, tick 6.
-    let tick_n = |w: &Word| {
-        w.text.len() > 1
-            && w.text.starts_with('t')
-            && w.text[1..].chars().all(|c| c.is_ascii_digit())
+    // "t44", "@ t6", "tick1": tick 44, tick 6, tick 1.
+    let digits = |w: &Word| {
+        ["tick", "t"].iter().find_map(|p| {
+            w.text
+                .strip_prefix(p)
+                .filter(|d| !d.is_empty() && d.chars().all(|c| c.is_ascii_digit()))
+                .map(str::to_string)
+        })
     };
+    let tick_n = |w: &Word| digits(w).is_some();
     if !words
         .iter()
         .any(|w| ["node", "uid", "id", "t"].contains(&w.text.as_str()) || tick_n(w))
@@ -538,9 +542,10 @@ fn as_logs_say(words: Vec<Word>) -> Vec<Word> {
                 text: "tick".into(),
                 stem: "tick".into(),
             });
+            let n = digits(&w).unwrap_or_default();
             out.push(Word {
-                stem: w.text[1..].to_string(),
-                text: w.text[1..].to_string(),
+                stem: n.clone(),
+                text: n,
             });
         } else if w.text == "t" && number(it.peek()) {
             out.push(Word {

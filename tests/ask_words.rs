@@ -1855,6 +1855,13 @@ fn search_box_words_are_read_as_meant() {
             "What is your goal?",
         ),
         (vec![NAV2], "clean goal or not", "Was there anything wrong?"),
+        // A kind word a word further on that none of the nodes named is
+        // ("recovery") names the place, not the node.
+        (
+            vec![NAV2],
+            "when did GoalUpdated below RecoveryFallback succeed",
+            "When did the GoalUpdated condition (#15) succeed?",
+        ),
     ];
     first_lines_are(cases);
 }

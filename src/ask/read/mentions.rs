@@ -558,6 +558,12 @@ fn named_spans(
             }
             if let Some(is) = kind_word(&q[k].text) {
                 let kept: Vec<Uid> = uids.iter().copied().filter(|&u| is(tree.node(u))).collect();
+                // "GoalUpdated under RecoveryFallback": a kind a word
+                // further on that none of the nodes is belongs to
+                // another name.
+                if kept.is_empty() && Some(k) != after {
+                    continue;
+                }
                 if !kept.is_empty() {
                     uids = kept;
                 }

@@ -53,7 +53,10 @@
 //! quoted names, "vs" and a minus for a contrast), corpus24 until
 //! `corpus25.jsonl` (280 by a twenty-fifth, asked for testers who write
 //! each question as a bug report: expected, actual, repro, root cause,
-//! statuses in capitals); corpus25 is never
+//! statuses in capitals), corpus25 until `corpus26.jsonl` (280 by a
+//! twenty-sixth, asked for a robot vendor's customers writing to its
+//! support desk: polite, roundabout, what they saw rather than names,
+//! short follow-ups); corpus26 is never
 //! tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
@@ -514,26 +517,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus22.jsonl",
             "corpus23.jsonl",
             "corpus24.jsonl",
+            "corpus25.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus24 (tuned on)", &t3);
-    let t = tally(&["corpus25.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus25)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus25 (tuned on)", &t3);
+    let t = tally(&["corpus26.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus26)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 6_240 && t.total >= 280,
+        t3.total >= 6_520 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus24: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus25: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -550,14 +554,14 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus24 as tuned on (89.4 % understood, 3.9 % misread;
+/// corpus3 to corpus25 as tuned on (89.2 % understood, 4.1 % misread;
 /// first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
 /// 78.2 %/8.2 %, 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %,
 /// 81.1 %/7.9 %, 85.0 %/8.2 %, 79.3 %/8.6 %, 81.8 %/7.5 %, 58.9 %/11.4 %,
-/// 85.4 %/7.9 %, 77.9 %/9.3 %, 69.6 %/15.0 %, 78.9 %/5.7 % and
-/// 83.9 %/7.5 %), and corpus25, never tuned on (86.8 % and 7.1 % when it
-/// was first read).
-const C3_FLOOR: f64 = 89.3;
-const C3_MISREAD: f64 = 4.0;
-const FRESH_FLOOR: f64 = 86.7;
-const FRESH_MISREAD: f64 = 7.2;
+/// 85.4 %/7.9 %, 77.9 %/9.3 %, 69.6 %/15.0 %, 78.9 %/5.7 %, 83.9 %/7.5 %
+/// and 86.8 %/7.1 %), and corpus26, never tuned on (68.6 % and 13.2 %
+/// when it was first read).
+const C3_FLOOR: f64 = 89.1;
+const C3_MISREAD: f64 = 4.2;
+const FRESH_FLOOR: f64 = 68.5;
+const FRESH_MISREAD: f64 = 13.3;

@@ -1866,6 +1866,61 @@ fn search_box_words_are_read_as_meant() {
     first_lines_are(cases);
 }
 
+/// What corpus25 (questions written as bug reports) taught, in phrasings
+/// of its own: what was expected against what happened, "it" the node
+/// the report told of, a clause that only says when, a time denied, the
+/// robot's world.
+#[test]
+fn a_testers_bug_reports_are_read_as_meant() {
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![CASE],
+            "We expected L1 here but actually saw L2. Why?",
+            "Why did I do L2 (#5) and not L1 (#4) in tick 1?",
+        ),
+        (
+            vec![PATROL],
+            "Observed: path clear FAILURE at tick 5. Why did it fail?",
+            "Why did path clear (#6) fail at 5:1?",
+        ),
+        (
+            vec![TAXI],
+            "Why did drop off passenger only start at tick 14 and not sooner?",
+            "Why did drop off passenger (#21) start at 14:9?",
+        ),
+        (
+            vec![CASE],
+            "Why did CaseStudyFallback succeed after L0 failed?",
+            "Why did CaseStudyFallback (#1) succeed at 1:9?",
+        ),
+        (
+            vec![PATROL],
+            "guarded drive checks, total?",
+            "How often did guarded drive (#5) start?",
+        ),
+        (
+            vec![KITTING],
+            "anything abnormal so far?",
+            "Was there anything wrong?",
+        ),
+        (vec![TAXI], "Explain tick 4", "What happened at tick 4?"),
+    ];
+    first_lines_are(cases);
+    for (run, q) in [
+        (NAV2, "What was the battery level at the end?"),
+        (KITTING, "Which engineer was on shift?"),
+    ] {
+        let (ok, out, _) = btx(&["ask", run, q]);
+        assert!(
+            !ok && out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
+    // What it can do is asked, battery or not.
+    let (_, out, _) = btx(&["ask", PATROL, "can you charge your battery?"]);
+    assert!(!out.starts_with("I don't know"), "{out}");
+}
+
 #[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";

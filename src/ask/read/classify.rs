@@ -305,18 +305,20 @@ fn how_often(c: &Cues) -> Option<Readings> {
         && !c.why
         && !c.when_q
         && !c.named.is_empty()
-        && s.q.last().is_some_and(|w| {
-            [
-                "attempts",
-                "tries",
-                "retries",
-                "checks",
-                "runs",
-                "calls",
-                "executions",
-            ]
-            .contains(&w.text.as_str())
-        });
+        && (s.has("total")
+            || s.q.last().is_some_and(|w| {
+                [
+                    "attempts",
+                    "tries",
+                    "retries",
+                    "checks",
+                    "runs",
+                    "calls",
+                    "executions",
+                    "evaluations",
+                ]
+                .contains(&w.text.as_str())
+            }));
     let often = s.phrase(&["how", "often"]).is_some()
         || s.phrase(&["how", "many"]).is_some()
         || s.phrase(&["how", "frequently"]).is_some()
@@ -411,13 +413,90 @@ fn why(c: &Cues) -> Option<Readings> {
         return None;
     }
     Some(
-        why_with_a_clause(c)
+        why_expected_actual(c)
+            .or_else(|| why_with_a_clause(c))
             .or_else(|| why_not(c))
             .or_else(|| why_still_running(c))
             .or_else(|| why_doing_now(c))
             .or_else(|| why_of(c))
             .unwrap_or_default(),
     )
+}
+
+/// "Expected L1, got L2. Why?", "Actual: look at chuck FAILURE.
+/// Expected: SUCCESS. Root cause?": a report of what was expected and
+/// what happened. The why is about what happened, set against the node
+/// expected where one is; "it" is the node that happened.
+fn why_expected_actual(c: &Cues) -> Option<Readings> {
+    const EXPECTED: &[&str] = &["expected", "expecting"];
+    const ACTUAL: &[&str] = &["actual", "actually", "observed", "got", "saw"];
+    let s = c.s;
+    let marks: Vec<usize> = (0..s.q.len())
+        .filter(|&i| !s.used[i])
+        .filter(|&i| {
+            [EXPECTED, ACTUAL]
+                .iter()
+                .any(|m| m.contains(&s.q[i].text.as_str()))
+        })
+        .collect();
+    let mark = |of: &[&str]| {
+        marks
+            .iter()
+            .copied()
+            .find(|&i| of.contains(&s.q[i].text.as_str()))
+    };
+    // "Observed: BackUp never ran" needs no expectation said; "got" and
+    // "saw" report only beside one.
+    let actual = mark(ACTUAL)?;
+    let expected = mark(EXPECTED);
+    if expected.is_none() && !["actual", "observed"].contains(&s.q[actual].text.as_str()) {
+        return None;
+    }
+    // A clause runs to the next mark of the other side ("actually saw
+    // L2" is one).
+    let expecting = |i: usize| EXPECTED.contains(&s.q[i].text.as_str());
+    let clause = |from: usize| {
+        from..marks
+            .iter()
+            .copied()
+            .find(|&i| i > from && expecting(i) != expecting(from))
+            .unwrap_or(s.q.len())
+    };
+    let first_in = |r: std::ops::Range<usize>| {
+        c.named
+            .iter()
+            .copied()
+            .find(|m| r.contains(&m.start) && !generic(m))
+    };
+    let happened = first_in(clause(actual))?;
+    let done = Subject::Nodes(happened.uids.clone(), happened.phrase.clone());
+    if let Some(e) = expected.and_then(|e| first_in(clause(e))) {
+        if e.uids != happened.uids {
+            let instead = Subject::Nodes(e.uids.clone(), e.phrase.clone());
+            return Some(vec![(Intent::WhyNot { done, instead }, c.sure(0.9))]);
+        }
+    }
+    let said = |words: &[&str]| {
+        s.q[clause(actual)]
+            .iter()
+            .any(|w| words.contains(&w.text.as_str()))
+    };
+    let event = if said(&["failure", "failed", "fails", "fail"]) {
+        Event::Fail
+    } else if said(&["success", "succeeded", "succeeds"]) {
+        Event::Succeed
+    } else {
+        c.ev.unwrap_or(Event::Run)
+    };
+    let node = done;
+    Some(vec![(
+        Intent::Why {
+            node,
+            event,
+            foil: None,
+        },
+        c.sure(0.9),
+    )])
 }
 
 /// "Why didn't it X after Y failed": a why about X; the clause after
@@ -867,7 +946,7 @@ fn tick(c: &Cues) -> Option<Readings> {
         || c.break_down;
     let asks_tick = s.has_stem(&[
         "happen", "chang", "occur", "describ", "summar", "show", "went", "transit", "detail",
-        "event", "recap", "memori", "episod", "summaris", "summariz",
+        "explain", "event", "recap", "memori", "episod", "summaris", "summariz",
     ]) || c.break_down
         || s.empty()
         || (c.what

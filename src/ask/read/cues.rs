@@ -201,7 +201,7 @@ fn problem(s: &Sentence, break_down: bool) -> bool {
             && s.has_stem(&[
                 "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad",
                 "mess", "hiccup", "glitch", "snag", "hitch", "troubl", "anomali", "anomal",
-                "deviat", "incid",
+                "deviat", "incid", "abnorm",
             ])
         || s.phrase(&["off", "the", "rails"]).is_some()
 }

@@ -11,25 +11,57 @@ pub(super) fn event(s: &Sentence) -> (Option<Event>, bool) {
         ["although", "despite", "though"].contains(&w.text.as_str())
             || w.text == "even" && s.q.get(i + 1).is_some_and(|n| n.text == "if")
     });
-    if let Some(k) = concession.filter(|&k| k > 0) {
+    let before = |k: usize| {
         let mut used = s.used.clone();
         for u in &mut used[k..] {
             *u = true;
         }
-        let before = Sentence {
+        Sentence {
             q: s.q,
             tree_words: s.tree_words,
             used,
             nodes: Vec::new(),
-        };
-        return event_of(&before);
+        }
+    };
+    if let Some(k) = concession.filter(|&k| k > 0) {
+        return event_of(&before(k));
+    }
+    // "Why did the fallback succeed when its first child failed": a
+    // clause that says when does not say the event asked about, where
+    // one is said before it.
+    // Not "…, when did it fail": a question's own "when"; not a contrast,
+    // whose sides each say their event.
+    let asks = |i: usize| {
+        s.q.get(i + 1).is_some_and(|n| {
+            ["did", "does", "do", "was", "is", "were", "had", "has"].contains(&n.text.as_str())
+        })
+    };
+    let contrast = s.phrase(&["as", "opposed"]).is_some()
+        || s.has("instead")
+        || s.phrase(&["rather", "than"]).is_some();
+    let clause = s.q.iter().enumerate().position(|(i, w)| {
+        i > 0
+            && !s.used[i]
+            && ["when", "after", "once", "because", "since"].contains(&w.text.as_str())
+            && !asks(i)
+    });
+    let clause = clause.filter(|_| !contrast);
+    if let Some(said) = clause
+        .map(|k| event_of(&before(k)))
+        .filter(|e| e.0.is_some())
+    {
+        return said;
     }
     event_of(s)
 }
 
 fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     // "Did it get past that glitch or not?": "or not" asks yes or no.
-    let negated = s.has("not") && s.phrase(&["or", "not"]).is_none()
+    // "Only start at tick 8 and not earlier": a time denied, not the event.
+    let time_denied = s.q.windows(2).any(|p| {
+        p[0].text == "not" && ["earlier", "sooner", "before", "later"].contains(&p[1].text.as_str())
+    });
+    let negated = s.has("not") && s.phrase(&["or", "not"]).is_none() && !time_denied
         || s.has("never")
         || s.has("no") && !s.has("one");
     let e = verbs_said(s).or_else(|| done_to(s));
@@ -274,11 +306,22 @@ pub(super) fn foil(s: &Sentence) -> Option<Event> {
 /// The subject of a question about a node: the node named, "it"/"that",
 /// or the task itself.
 pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
-    // The task named ("nav2", "the patrol") yields to another node named.
+    // The task named ("nav2", "the patrol") yields to another node named,
+    // but not to one in a clause that only says when ("why did the patrol
+    // fail after path clear failed").
+    let cut = s.q.iter().enumerate().position(|(i, w)| {
+        i > 0 && ["when", "after", "once", "because", "since"].contains(&w.text.as_str())
+    });
+    let task_first = cut.is_some_and(|k| {
+        s.nodes
+            .first()
+            .is_some_and(|m| m.uids == [root] && m.end <= k)
+            && s.nodes.iter().all(|m| m.uids == [root] || m.start > k)
+    });
     let m = s
         .nodes
         .iter()
-        .find(|m| m.uids != [root])
+        .find(|m| m.uids != [root] && !task_first)
         .or_else(|| s.nodes.first());
     if let Some(m) = m {
         return Some(Subject::Nodes(m.uids.clone(), m.phrase.clone()));

@@ -496,6 +496,9 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     }
     match (whole, asked) {
         (Some(w), Some(a)) if a.confidence <= w.confidence => Some(w),
+        // "Actual: FollowPath FAILURE. … Why did it fail?": "it" is the
+        // node the story told of doing what the question asks about.
+        (Some(w), Some(a)) if it_is_the_story_node(&a.intent, &w.intent) => Some(w),
         // The moment the story told ("… returned FAILURE at tick 10. Why
         // did look at chuck fail there?"), where the question says none.
         (Some(w), Some(mut a)) => {
@@ -504,6 +507,18 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         }
         (w, a) => a.or(w),
     }
+}
+
+/// Whether `asked` is a why about "it" and `story` the same why about a
+/// node it names.
+fn it_is_the_story_node(asked: &Intent, story: &Intent) -> bool {
+    matches!(
+        (asked, story),
+        (
+            Intent::Why { node: Subject::It, event: a, foil: None },
+            Intent::Why { node: Subject::Nodes(..), event: b, foil: None },
+        ) if a == b
+    )
 }
 
 /// What is asked after the asker corrected themselves ("why did the uh no
@@ -839,7 +854,27 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
     });
     // "Is Nav2 going to deprecate the Spin behavior?", "how frustrated was
     // the operator?": the world's future and feelings, whatever is named.
-    let outside = q.iter().any(|w| OUTSIDE.contains(&w.text.as_str()));
+    // A node's own words ("feel surface") are not the world's.
+    let outside = q
+        .iter()
+        .enumerate()
+        .any(|(i, w)| !in_mention[i] && OUTSIDE.contains(&w.text.as_str()))
+        // "Is the next Nav2 release going to fix this?".
+        || q.windows(2).any(|p| {
+            p[0].text == "next" && ["release", "version", "sprint"].contains(&p[1].text.as_str())
+        });
+    // "What was the battery level when the goal was reached?", "which
+    // operator was on shift": the robot's world ("can you charge your
+    // battery?" asks what it can do).
+    let can_ask = q
+        .first()
+        .is_some_and(|w| ["can", "could"].contains(&w.text.as_str()));
+    let world_state = !can_ask
+        && q.iter()
+            .enumerate()
+            .any(|(i, w)| !in_mention[i] && w.text == "battery")
+        || q.windows(2)
+            .any(|p| p[0].text == "on" && p[1].text == "shift");
     advice
         || measure
         || outside
@@ -849,6 +884,7 @@ fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) ->
             .filter(|m| !m.weak)
             .all(|m| m.uids == [tree.root().uid])
             && (amount
+                || world_state
                 || q.iter()
                     .enumerate()
                     .any(|(i, w)| !in_mention[i] && about_the_world(&w.text)))
@@ -896,6 +932,7 @@ const OUTSIDE: &[&str] = &[
     "feels",
     "feeling",
     "feelings",
+    "sprint",
 ];
 
 /// What the sentence asks, best first: read with its strong mentions;

@@ -1904,6 +1904,18 @@ fn a_testers_bug_reports_are_read_as_meant() {
             "Was there anything wrong?",
         ),
         (vec![TAXI], "Explain tick 4", "What happened at tick 4?"),
+        // The short question after the report asks of what it told ("more"
+        // is no typo of "move").
+        (
+            vec![KITTING],
+            "Actual: look at chuck FAILURE at tick 10. Expected: SUCCESS like the retry later. Root cause?",
+            "I read this as \"Why did look at chuck (#18) fail at 10:1?\".",
+        ),
+        (
+            vec!["tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog"],
+            "Expected one more detect chuck try. Observed: ask ran. Why?",
+            "I read this as \"Why did I do the ask action (#28) and not detect chuck (#9, #12) in tick 12?\".",
+        ),
     ];
     first_lines_are(cases);
     for (run, q) in [

@@ -83,6 +83,7 @@ const ARTICLES: &[&str] = &["the", "a", "an", "its", "your", "my", "our"];
 const NEVER_TYPOS: &[&str] = &[
     "list", "show", "tell", "give", "explain", "describe", "steps", "step", "says", "said", "when",
     "then", "than", "what", "that", "went", "want", "done", "know", "need", "make", "clean",
+    "more",
 ];
 
 fn typo_of(name_word: &str, w: &Word) -> bool {

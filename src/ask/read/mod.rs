@@ -498,7 +498,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         (Some(w), Some(a)) if a.confidence <= w.confidence => Some(w),
         // "Actual: FollowPath FAILURE. … Why did it fail?": "it" is the
         // node the story told of doing what the question asks about.
-        (Some(w), Some(a)) if it_is_the_story_node(&a.intent, &w.intent) => Some(w),
+        (Some(w), Some(a)) if reported(text) && the_story_asks_it(&a, &w) => Some(w),
         // The moment the story told ("… returned FAILURE at tick 10. Why
         // did look at chuck fail there?"), where the question says none.
         (Some(w), Some(mut a)) => {
@@ -509,16 +509,57 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     }
 }
 
-/// Whether `asked` is a why about "it" and `story` the same why about a
-/// node it names.
-fn it_is_the_story_node(asked: &Intent, story: &Intent) -> bool {
-    matches!(
-        (asked, story),
+/// A report of what was expected and what happened ("Actual: …",
+/// "Expected: …", "Observed: …").
+fn reported(text: &str) -> bool {
+    words::words(text)
+        .iter()
+        .any(|w| ["expected", "actual", "observed"].contains(&w.text.as_str()))
+}
+
+/// Whether the story's reading is what its short question asks: "Why did
+/// it fail?" and "Root cause?" of the node the story told failed; "Why
+/// ask?" after "expected a 4th attempt, actual: ask ran" of the contrast.
+fn the_story_asks_it(asked: &Reading, story: &Reading) -> bool {
+    match (&asked.intent, &story.intent) {
         (
-            Intent::Why { node: Subject::It, event: a, foil: None },
-            Intent::Why { node: Subject::Nodes(..), event: b, foil: None },
-        ) if a == b
-    )
+            Intent::Why {
+                node: Subject::It | Subject::Task,
+                event: a,
+                foil: None,
+            },
+            Intent::Why {
+                node: Subject::Nodes(..),
+                event: b,
+                foil: None,
+            },
+        ) => a == b || *a == Event::Run,
+        (
+            Intent::Why {
+                node: Subject::It | Subject::Task,
+                ..
+            },
+            Intent::WhyNot { .. },
+        ) => true,
+        (
+            Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+            Intent::WhyNot {
+                done: Subject::Nodes(us, _),
+                ..
+            },
+        ) => asked.about.as_ref() == Some(us),
+        (
+            Intent::Why {
+                node: Subject::Nodes(a, _),
+                ..
+            },
+            Intent::WhyNot {
+                done: Subject::Nodes(b, _),
+                ..
+            },
+        ) => a == b,
+        _ => false,
+    }
 }
 
 /// What is asked after the asker corrected themselves ("why did the uh no

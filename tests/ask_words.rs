@@ -1933,6 +1933,30 @@ fn a_testers_bug_reports_are_read_as_meant() {
     assert!(!out.starts_with("I don't know"), "{out}");
 }
 
+/// What corpus26 (a support desk's customers) taught: "could you please
+/// tell us …" asks what follows, not yes or no, and not whether it can.
+#[test]
+fn a_courteous_request_asks_what_follows() {
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![PATROL],
+            "The run ended in FAILURE. Could you please tell us what went wrong?",
+            "What went wrong?",
+        ),
+        (
+            vec![TAXI],
+            "Would you kindly explain how the taxi reaches its goal?",
+            "How do you achieve your goal?",
+        ),
+        (
+            vec![TAXI],
+            "could you pick up the passenger?",
+            "Can you pick up passenger?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
 #[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";

@@ -240,6 +240,12 @@ pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
     }
     let open = opening(&texts)?;
     // "can you tell me why …" asks what follows.
+    // "Could you kindly explain …": the courtesy asks nothing.
+    let open = open
+        + texts[open.min(texts.len())..]
+            .iter()
+            .take_while(|w| ["please", "kindly", "pls"].contains(*w))
+            .count();
     let next = texts.get(open).copied().unwrap_or("");
     if wraps_a_question(&texts[open.min(texts.len())..])
         || IMPERATIVE.contains(&next)

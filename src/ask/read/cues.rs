@@ -54,7 +54,7 @@ impl<'a, 's> Cues<'a, 's> {
             ev,
             negated,
             first,
-            yes_no: yes_no(s, first),
+            yes_no: yes_no(s, first) && !requested(s),
             why,
             what,
             // "How much does it cost", "how much RAM": an amount, never the steps.
@@ -160,6 +160,20 @@ fn whole(s: &Sentence) -> bool {
     ]
     .iter()
     .any(|w| s.has(w))
+}
+
+/// "Could you please tell us what went wrong?": a request to tell, whose
+/// question is what follows, not a yes or no.
+fn requested(s: &Sentence) -> bool {
+    s.q.windows(2).enumerate().any(|(i, p)| {
+        ["could", "would", "can"].contains(&p[0].text.as_str())
+            && p[1].text == "you"
+            && s.q[i + 2..]
+                .iter()
+                .take(3)
+                .find(|w| !["please", "kindly", "pls"].contains(&w.text.as_str()))
+                .is_some_and(|w| IMPERATIVE.contains(&w.text.as_str()) || w.text == "check")
+    })
 }
 
 fn yes_no(s: &Sentence, first: &str) -> bool {

@@ -368,7 +368,7 @@ fn purpose(c: &Cues) -> Option<Readings> {
         // "For what it runs the detect chuck action again?".
         || c.first == "for" && s.phrase(&["for", "what"]).is_some()
         // "CaseStudyFallback ultimately for what".
-        || s.q.len() > 2 && s.q[s.q.len() - 2..].iter().map(|w| w.text.as_str()).eq(["for", "what"])
+        || s.q.len() > 2 && s.ends_with(&["for", "what"])
         || c.what && s.q.last().is_some_and(|w| w.text == "for");
     if !purpose || c.why {
         return None;
@@ -785,19 +785,10 @@ fn next(c: &Cues) -> Option<Readings> {
         || !past
             && (s.phrase(&["what", "happens"]).is_some()
                 && (s.has("now") || s.has("then") || s.has("after"))
-                || s.q.len() >= 2
-                    && s.q[s.q.len() - 2..]
-                        .iter()
-                        .map(|w| w.text.as_str())
-                        .eq(["now", "what"])
+                || s.ends_with(&["now", "what"])
                 // "Look around done, what now?": what comes after it ("doing
                 // what rn" asks what it does).
-                || !c.doing_words
-                    && s.q.len() >= 2
-                    && s.q[s.q.len() - 2..]
-                        .iter()
-                        .map(|w| w.text.as_str())
-                        .eq(["what", "now"])
+                || !c.doing_words && s.ends_with(&["what", "now"])
                 || s.has("will") && s.has("do") && c.what && !c.how
                 || s.phrase(&["plan", "to", "do"]).is_some());
     next.then(|| vec![(Intent::Next, c.sure_of_words(0.93))])

@@ -200,7 +200,7 @@ fn yes_no(s: &Sentence, first: &str) -> bool {
         || first == "no"
         || s.q.last().is_some_and(|w| w.text == "right")
         // "Clean run or not".
-        || s.q.len() > 2 && s.q[s.q.len() - 2..].iter().map(|w| w.text.as_str()).eq(["or", "not"])
+        || s.q.len() > 2 && s.ends_with(&["or", "not"])
         || s.phrase(&["yes", "or", "no"]).is_some()
 }
 

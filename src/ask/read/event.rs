@@ -39,12 +39,10 @@ pub(super) fn event(s: &Sentence) -> (Option<Event>, bool) {
     let contrast = s.phrase(&["as", "opposed"]).is_some()
         || s.has("instead")
         || s.phrase(&["rather", "than"]).is_some();
-    let clause = s.q.iter().enumerate().position(|(i, w)| {
-        i > 0
-            && !s.used[i]
-            && ["when", "after", "once", "because", "since"].contains(&w.text.as_str())
-            && !asks(i)
-    });
+    let clause =
+        s.q.iter().enumerate().position(|(i, w)| {
+            i > 0 && !s.used[i] && SAYS_WHEN.contains(&w.text.as_str()) && !asks(i)
+        });
     let clause = clause.filter(|_| !contrast);
     if let Some(said) = clause
         .map(|k| event_of(&before(k)))
@@ -54,6 +52,10 @@ pub(super) fn event(s: &Sentence) -> (Option<Event>, bool) {
     }
     event_of(s)
 }
+
+/// Words that open a clause saying when or why something else happened
+/// ("… succeed when its first child failed").
+const SAYS_WHEN: &[&str] = &["when", "after", "once", "because", "since"];
 
 fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     // "Did it get past that glitch or not?": "or not" asks yes or no.
@@ -309,9 +311,10 @@ pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
     // The task named ("nav2", "the patrol") yields to another node named,
     // but not to one in a clause that only says when ("why did the patrol
     // fail after path clear failed").
-    let cut = s.q.iter().enumerate().position(|(i, w)| {
-        i > 0 && ["when", "after", "once", "because", "since"].contains(&w.text.as_str())
-    });
+    let cut =
+        s.q.iter()
+            .enumerate()
+            .position(|(i, w)| i > 0 && SAYS_WHEN.contains(&w.text.as_str()));
     let task_first = cut.is_some_and(|k| {
         s.nodes
             .first()

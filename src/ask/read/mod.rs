@@ -106,6 +106,15 @@ impl<'a> Sentence<'a> {
             .find(|w| !LEAD.contains(w) && !IMPERATIVE.contains(w))
     }
 
+    /// Whether the question's last words are these ("… what now").
+    fn ends_with(&self, words: &[&str]) -> bool {
+        self.q.len() >= words.len()
+            && self.q[self.q.len() - words.len()..]
+                .iter()
+                .map(|w| w.text.as_str())
+                .eq(words.iter().copied())
+    }
+
     /// Whether nothing but filler is left.
     fn empty(&self) -> bool {
         self.free().all(|(_, w)| {
@@ -498,7 +507,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         (Some(w), Some(a)) if a.confidence <= w.confidence => Some(w),
         // "Actual: FollowPath FAILURE. … Why did it fail?": "it" is the
         // node the story told of doing what the question asks about.
-        (Some(w), Some(a)) if reported(text) && the_story_asks_it(&a, &w) => Some(w),
+        (Some(w), Some(a)) if the_story_asks_it(&a, &w) && reported(text) => Some(w),
         // The moment the story told ("… returned FAILURE at tick 10. Why
         // did look at chuck fail there?"), where the question says none.
         (Some(w), Some(mut a)) => {

@@ -1904,6 +1904,14 @@ fn a_testers_bug_reports_are_read_as_meant() {
             "Was there anything wrong?",
         ),
         (vec![TAXI], "Explain tick 4", "What happened at tick 4?"),
+        // What the report says happened is read as any event is: it ran
+        // again, after (not because of) its failure; at 4:8 the action
+        // called again within its tick.
+        (
+            vec![NAV2, "--at", "4:8"],
+            "Observed: the controller RUNNING again right after its FAILURE. Why is it running?",
+            "Why did the FollowPath action (#10) start at 4:8?",
+        ),
         // The short question after the report asks of what it told ("more"
         // is no typo of "move").
         (

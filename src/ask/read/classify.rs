@@ -476,18 +476,14 @@ fn why_expected_actual(c: &Cues) -> Option<Readings> {
             return Some(vec![(Intent::WhyNot { done, instead }, c.sure(0.9))]);
         }
     }
-    let said = |words: &[&str]| {
-        s.q[clause(actual)]
-            .iter()
-            .any(|w| words.contains(&w.text.as_str()))
-    };
-    let event = if said(&["failure", "failed", "fails", "fail"]) {
-        Event::Fail
-    } else if said(&["success", "succeeded", "succeeds"]) {
-        Event::Succeed
-    } else {
-        c.ev.unwrap_or(Event::Run)
-    };
+    // What happened is what the clause says happened, read as any
+    // question's event is ("RUNNING again right after its FAILURE" ran).
+    let only = clause(actual);
+    let mut told = s.with_nodes(s.q, Vec::new());
+    for (i, u) in told.used.iter_mut().enumerate() {
+        *u |= !only.contains(&i);
+    }
+    let event = super::event(&told).0.or(c.ev).unwrap_or(Event::Run);
     let node = done;
     Some(vec![(
         Intent::Why {

@@ -1966,6 +1966,31 @@ fn a_courteous_request_asks_what_follows() {
 }
 
 #[test]
+fn after_a_story_a_question_of_hans_asks_of_the_robot() {
+    // The story names nodes; the question that follows asks of the robot,
+    // its "it" the robot, not a node the story named.
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![NAV2, "--at", "7"],
+            "The planner has just replanned the path. How does it achieve the part it is on now?",
+            "How do you achieve your subgoal?",
+        ),
+        (
+            vec![KITTING, "--at", "31"],
+            "The gripper has let go of the gear. How does it get the job it is currently on done?",
+            "How do you achieve your subgoal?",
+        ),
+        // "What is it running for?": the purpose of what runs.
+        (
+            vec![TAXI],
+            "move right is RUNNING right after the pickup. What is it running for?",
+            "Why are you doing this?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

@@ -373,7 +373,12 @@ fn purpose(c: &Cues) -> Option<Readings> {
     if !purpose || c.why {
         return None;
     }
-    let current = c.doing_words || s.has("now") || s.has("current") || s.has_stem(&["action"]);
+    // "What is it running for?": the progressive says it runs now.
+    let current = c.doing_words
+        || s.has("now")
+        || s.has("current")
+        || s.has("running")
+        || s.has_stem(&["action"]);
     // "What is this tree for?": the whole's purpose.
     let whole = c.whole || s.has("tree") || s.has("bt");
     // "What's the point of this robot?": the whole's, whatever it is doing.

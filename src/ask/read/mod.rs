@@ -451,19 +451,39 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // asks; the story around it only tells when.
     // "At this point" points at the story's moment, which the reading
     // takes from the whole, not at a thing the story names.
-    let stands_alone = |q: &str| {
+    // "The arm has moved over to the caddy now. How does it go about the
+    // task it's currently on?": in a question of Han's that names no node,
+    // "it" is the robot, not a thing the story names.
+    let stands_alone = |q: &str, it_is_the_robot: bool| {
         let said = words::words(q);
+        let pointing: &[&str] = if it_is_the_robot {
+            &["that", "this", "there", "them", "they", "these", "those"]
+        } else {
+            &[
+                "it", "its", "that", "this", "there", "them", "they", "these", "those",
+            ]
+        };
+        // "What went on in it?": an "it" after a preposition is a thing.
+        let a_thing = |i: usize| {
+            i > 0
+                && [
+                    "in", "of", "on", "at", "about", "with", "for", "from", "during",
+                ]
+                .contains(&said[i - 1].text.as_str())
+        };
         said.len() >= 3
             && !text[..text.find(q).unwrap_or(0)].trim_end().ends_with(':')
             && !said.iter().enumerate().any(|(i, w)| {
-                [
-                    "it", "its", "that", "this", "there", "them", "they", "these", "those",
-                ]
-                .contains(&w.text.as_str())
+                (pointing.contains(&w.text.as_str())
+                    || it_is_the_robot && ["it", "its"].contains(&w.text.as_str()) && a_thing(i))
                     && !said.get(i + 1).is_some_and(|n| {
                         ["point", "moment", "instant", "stage", "time"].contains(&n.text.as_str())
                     })
             })
+    };
+    let of_the_robot = |a: &Reading| {
+        a.about.is_none()
+            && matches!(a.intent, Intent::Fixed(Question::Tree(t)) if t != TreeQuestion::Why)
     };
     if let (Some(w), [q]) = (&whole, &questions[..]) {
         match asked.clone() {
@@ -471,7 +491,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             // now, whatever "it" the story names.
             Some(mut a)
                 if a.confidence >= SURE
-                    && (stands_alone(q)
+                    && (stands_alone(q, of_the_robot(&a))
                         || a.intent == Intent::Fixed(Question::Tree(TreeQuestion::Why))
                             && q.to_lowercase().contains(" again")) =>
             {

@@ -1966,6 +1966,62 @@ fn a_courteous_request_asks_what_follows() {
 }
 
 #[test]
+fn an_engineers_shorthand_is_read_as_meant() {
+    // Initials of a name's words (with or without its small words, "&"
+    // for "and"), a status as its letter or a verb made of it, a tick
+    // after "@".
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![KITTING],
+            "LAC NOK @10 - root cause?",
+            "Why did look at chuck (#18) fail at 10:1?",
+        ),
+        (
+            vec![NAV2],
+            "when did CPTP first F?",
+            "When did ComputePathToPose (#4, #5) first fail?",
+        ),
+        (
+            vec![PATROL],
+            "W&W S'd at which tick?",
+            "When did watch and walk (#2) succeed?",
+        ),
+        (
+            vec![TAXI],
+            "why did PUP S @8",
+            "Why did pick up passenger (#11) succeed at 8:1?",
+        ),
+        // A failure told, then what went wrong asked of the whole.
+        (
+            vec![NAV2],
+            "FP F twice - what went wrong?",
+            "What went wrong?",
+        ),
+        // The story's names do not make the tick's question one of them.
+        (
+            vec![NAV2],
+            "t6: FP F, GU S, RF R. what happened in that tick?",
+            "What happened at tick 6?",
+        ),
+        // A thing the tree has no name for is asked back, not answered.
+        (
+            vec![KITTING],
+            "how often did the frobnicator run",
+            "I read this as \"How often did build a gearbox kit (#1) start?\".",
+        ),
+    ];
+    first_lines_are(cases);
+    // Initials that fit no name are said to, not read as the task.
+    let (ok, out, _) = btx(&["ask", KITTING, "how often did CPTP run"]);
+    assert!(!ok, "{out}");
+    assert_eq!(
+        out.lines().next(),
+        Some("No node of this tree has the initials CPTP: say its name or #uid."),
+        "{out}"
+    );
+}
+
+#[test]
 fn after_a_story_a_question_of_hans_asks_of_the_robot() {
     // The story names nodes; the question that follows asks of the robot,
     // its "it" the robot, not a node the story named.

@@ -168,10 +168,17 @@ fn or_list(items: &[String]) -> String {
 /// is asked, then when), then answered at the moment it names, if any.
 pub fn ask(cx: &Context, question: &str) -> Reply {
     let (reading, restate) = reading_of(cx, question);
-    let Some(reading) = reading else {
+    // "How often did CPTP run?" of a tree with no such node: said, not
+    // answered of the whole task.
+    let naming_nothing = reading
+        .as_ref()
+        .is_some_and(|r| read::asks_of_the_task_unnamed(&r.intent))
+        .then(|| read::initials_naming_nothing(cx.tree, question))
+        .flatten();
+    let (Some(reading), None) = (reading, &naming_nothing) else {
         let mut r = Reply::new(question, None);
         r.answered = false;
-        r.answer = "I don't know how to answer that.".into();
+        r.answer = naming_nothing.unwrap_or_else(|| "I don't know how to answer that.".into());
         r.suggestions = suggestions(cx, question);
         r.confidence = 0.0;
         return r;

@@ -328,8 +328,18 @@ fn how_often(c: &Cues) -> Option<Readings> {
     if !often {
         return None;
     }
-    let node = c.subject()?;
     let event = counted(c.ev);
+    // "How often did the frobnicator run?": a count of something the tree
+    // has no name for is asked back as the task's, not answered as sure.
+    let Some(node) = c.subject() else {
+        return Some(vec![(
+            Intent::HowOften {
+                node: Subject::Task,
+                event,
+            },
+            c.sure(0.6),
+        )]);
+    };
     Some(vec![(Intent::HowOften { node, event }, c.sure(0.95))])
 }
 
@@ -802,6 +812,17 @@ fn what_went_wrong(c: &Cues) -> Option<Readings> {
         return None;
     }
     let asked_when = when::find(s.q);
+    // "@2 (FP F, CLC S) - what happened exactly": the failure is told;
+    // what happened at that moment is asked.
+    let last_what = s.free().filter(|(_, w)| w.text == "what").last();
+    if let (Some((what, _)), Some(_)) = (last_what, &asked_when) {
+        let asked = s
+            .free()
+            .any(|(i, w)| i > what && super::cues::PROBLEM.contains(&w.stem.as_str()));
+        if what > 0 && !asked && s.q[what + 1..].iter().any(|w| w.stem == "happen") {
+            return None;
+        }
+    }
     // "What failed in goal 1 - planner or controller?": which did is
     // what went wrong, not why one did.
     // "Tell me what failed earlier, the controller?" asks the same.
@@ -809,7 +830,23 @@ fn what_went_wrong(c: &Cues) -> Option<Readings> {
         .iter()
         .any(|v| s.phrase(&["what", v]).is_some());
     let either = c.what && (s.has("or") || what_failed) && !c.why;
-    if !c.named.is_empty() && c.ev == Some(Event::Fail) && asked_when.is_none() && !either {
+    // "FP F x2 - what went wrong?": the failure told, then what went
+    // wrong asked of the whole, not why that node failed.
+    let told_first = s
+        .free()
+        .find(|(_, w)| w.text == "what")
+        .is_some_and(|(what, _)| {
+            c.named.iter().all(|m| m.end <= what)
+                && s.q[..what]
+                    .iter()
+                    .any(|w| ["failed", "failure", "fail"].contains(&w.text.as_str()))
+        });
+    if !c.named.is_empty()
+        && c.ev == Some(Event::Fail)
+        && asked_when.is_none()
+        && !either
+        && !told_first
+    {
         let node = c.subject().unwrap_or(Subject::Task);
         return Some(vec![(
             Intent::Why {
@@ -877,7 +914,12 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
             || (q[i] == "place" && i >= 1 && ["took", "take", "takes"].contains(&q[i - 1]))
             || (q[i] == "through" && i >= 1 && ["walk", "me", "us"].contains(&q[i - 1]))
     };
-    let at = (0..q.len()).find(|&i| asks(i))?;
+    // "t4: spin F then R again - explain": a tick said first, a story of
+    // it, and only "explain" to ask.
+    let explained = q[0] == "tick" && q.last() == Some(&"explain");
+    let at = (0..q.len())
+        .find(|&i| asks(i))
+        .or_else(|| explained.then_some(q.len() - 1))?;
     let mut k = at + 1;
     // "Account for the transitions in tick 6", "an account of that tick".
     while k < q.len()
@@ -945,7 +987,15 @@ fn tick(c: &Cues) -> Option<Readings> {
             && !c.doing_words
             && !s.has_stem(&["run", "goal", "subgoal", "execut", "action"]))
         || walk;
-    (asks_tick && c.named.is_empty() && (!c.doing_words || walk))
+    // "t10: FP S, then a bunch of halts. What exactly happened in that
+    // tick?": the names are the story's, told before what is asked.
+    let asked_from = s
+        .free()
+        .filter(|(_, w)| w.text == "what")
+        .last()
+        .map_or(0, |(i, _)| i);
+    let named_in_question = c.named.iter().any(|m| m.end > asked_from);
+    (asks_tick && !named_in_question && (!c.doing_words || walk))
         .then(|| vec![(Intent::Tick(n), c.sure_of_words(0.95))])
 }
 
@@ -1217,9 +1267,10 @@ fn doing(c: &Cues) -> Option<Readings> {
     let guessed = (s.has("doing") || s.has("tip")) && c.what && !c.why && !c.how;
     // "Doing @ t30?": the chat's shorthand.
     let bare = c.first == "doing" && c.named.is_empty() && !c.why && !c.how;
-    (doing
-        && (c.what || s.empty() || ["current", "active", "running"].contains(&c.first) || bare)
-        && (c.named.is_empty() || guessed))
+    // "Running node?", not "NR running -> halted": a node said running.
+    let opens = ["current", "active", "running"].contains(&c.first)
+        && s.q.first().is_some_and(|w| w.text == c.first);
+    (doing && (c.what || s.empty() || opens || bare) && (c.named.is_empty() || guessed))
         .then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Doing)), 0.93))?
 }
 

@@ -204,20 +204,20 @@ fn yes_no(s: &Sentence, first: &str) -> bool {
         || s.phrase(&["yes", "or", "no"]).is_some()
 }
 
+/// The stems of a problem's words.
+pub(super) const PROBLEM: &[&str] = &[
+    "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad", "mess",
+    "hiccup", "glitch", "snag", "hitch", "troubl", "anomali", "anomal", "deviat", "incid",
+    "abnorm",
+];
+
 fn problem(s: &Sentence, break_down: bool) -> bool {
     // "After it couldn't detect the chuck": not managing is failing.
     let could_not = s.phrase(&["could", "not"]).is_some()
         || s.phrase(&["can", "not"]).is_some()
         || s.phrase(&["was", "unable"]).is_some()
         || s.phrase(&["unable", "to"]).is_some();
-    could_not
-        || !break_down
-            && s.has_stem(&[
-                "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad",
-                "mess", "hiccup", "glitch", "snag", "hitch", "troubl", "anomali", "anomal",
-                "deviat", "incid", "abnorm",
-            ])
-        || s.phrase(&["off", "the", "rails"]).is_some()
+    could_not || !break_down && s.has_stem(PROBLEM) || s.phrase(&["off", "the", "rails"]).is_some()
 }
 
 fn doing_words(s: &Sentence) -> bool {

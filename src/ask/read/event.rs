@@ -43,6 +43,17 @@ pub(super) fn event(s: &Sentence) -> (Option<Event>, bool) {
         s.q.iter().enumerate().position(|(i, w)| {
             i > 0 && !s.used[i] && SAYS_WHEN.contains(&w.text.as_str()) && !asks(i)
         });
+    // "Why RUS R @2, FP fb only just S'd": a why's event is the one said
+    // of the node it names first; a second node named with its own event
+    // is told.
+    if s.q.first().is_some_and(|w| w.text == "why") && !contrast {
+        if let [first, second, ..] = &s.nodes[..] {
+            let said = event_of(&before(second.start));
+            if said.0.is_some() && first.end < second.start && first.start <= 2 {
+                return said;
+            }
+        }
+    }
     let clause = clause.filter(|_| !contrast);
     if let Some(said) = clause
         .map(|k| event_of(&before(k)))
@@ -113,7 +124,9 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
         || s.phrase(&["take", "long"]).is_some()
         || s.phrase(&["taking", "long"]).is_some()
         || s.phrase(&["took", "long"]).is_some()
-        || s.phrase(&["long", "time"]).is_some();
+        || s.phrase(&["long", "time"]).is_some()
+        // "TEI stayed R for two ticks".
+        || s.has_stem(&["stay", "remain"]) && s.has("running");
     // "When did looking at the chuck go wrong?", "why did the sequence box
     // go red?" (Groot draws a failure red, a success green).
     let went_wrong = (s.phrase(&["go", "wrong"]).is_some()
@@ -332,11 +345,20 @@ pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
     if s.has("it") || s.has("that") || s.has("this") || s.has("thing") {
         return Some(Subject::It);
     }
+    // "The run", "this run": the task; "did the frobnicator run": a verb.
+    let the_run = s.free().any(|(i, w)| {
+        w.text == "run"
+            && i > 0
+            && [
+                "the", "this", "that", "whole", "entire", "my", "our", "a", "each", "every",
+            ]
+            .contains(&s.q[i - 1].text.as_str())
+    });
     if s.has("you")
+        || the_run
         || s.has_stem(&[
-            "robot", "task", "mission", "tree", "bt", "run", "root", "agent", "navig", "whole",
-            "overal", "everyth", "i", "trip", "journey", "taxi", "car", "vehicl", "drone", "kit",
-            "job",
+            "robot", "task", "mission", "tree", "bt", "root", "agent", "navig", "whole", "overal",
+            "everyth", "i", "trip", "journey", "taxi", "car", "vehicl", "drone", "kit", "job",
         ])
     {
         return Some(Subject::Task);

@@ -12,6 +12,8 @@ mod cues;
 mod event;
 pub mod mentions;
 mod rewrite;
+mod shorthand;
+pub use shorthand::initials_naming_nothing;
 pub mod when;
 pub mod words;
 
@@ -675,7 +677,13 @@ fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         tree,
         &ids_as_uids(
             tree,
-            &paths_as_uids(tree, &named_as_uids(tree, &ports_as_uids(tree, text))),
+            &paths_as_uids(
+                tree,
+                &named_as_uids(
+                    tree,
+                    &ports_as_uids(tree, &shorthand::spelled_out(tree, text)),
+                ),
+            ),
         ),
     );
     let q = words::words(&text);
@@ -1258,6 +1266,21 @@ fn needs_node(i: &Intent) -> bool {
             ..
         }
     )
+}
+
+/// Whether a reading asks of an event of the task or "it", no node named
+/// ("how often did it run?").
+pub fn asks_of_the_task_unnamed(i: &Intent) -> bool {
+    match i {
+        Intent::Why { node, .. }
+        | Intent::When { node, .. }
+        | Intent::HowOften { node, .. }
+        | Intent::WhatIf { node, .. } => matches!(node, Subject::Task | Subject::It),
+        Intent::WhyNot { done, instead } => {
+            !matches!(done, Subject::Nodes(..)) || !matches!(instead, Subject::Nodes(..))
+        }
+        _ => false,
+    }
 }
 
 fn subject_of(i: &Intent) -> Option<&Subject> {

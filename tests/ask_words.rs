@@ -1966,6 +1966,27 @@ fn a_courteous_request_asks_what_follows() {
 }
 
 #[test]
+fn how_long_a_node_ran_is_told_spell_by_spell() {
+    // Each spell of RUNNING from its start to its end, as the log has it:
+    // drive started at 3:7 and was halted at 5:3.
+    for q in [
+        "how long did drive stay running?",
+        "for how long was drive running?",
+    ] {
+        let (ok, out, err) = btx(&["ask", PATROL, q]);
+        assert!(ok, "{q}: {err}");
+        assert_eq!(
+            out.lines().nth(1),
+            Some("Drive (#7) was running once by the end of the run at tick 5: from 3:7 to 5:3, over 3 ticks."),
+            "{q}: {out}"
+        );
+    }
+    // Not a question of the run: the world's future.
+    let (_, out, _) = btx(&["ask", PATROL, "how long will the drive motors last?"]);
+    assert!(!out.contains("from 3:7"), "{out}");
+}
+
+#[test]
 fn an_engineers_shorthand_is_read_as_meant() {
     // Initials of a name's words (with or without its small words, "&"
     // for "and"), a status as its letter or a verb made of it, a tick

@@ -374,6 +374,31 @@ fn timed_moment(cx: &Context, at: &At, p: u32) -> String {
     }
 }
 
+/// Each spell of RUNNING that starts at a position of `ps`: where it
+/// ended and over how many ticks, or that it was still running.
+fn spells(at: &At, u: Uid, ps: &[u32]) -> Vec<String> {
+    let changes = at.index.changes_of(u);
+    ps.iter()
+        .map(|&p| {
+            let from = step_moment(at.index, p);
+            let end = changes.iter().copied().find(|&c| c > p && c <= at.pos);
+            match end {
+                Some(c) => {
+                    let to = step_moment(at.index, c);
+                    let ticks = to.tick - from.tick + 1;
+                    let over = if ticks == 1 {
+                        "within its tick".to_string()
+                    } else {
+                        format!("over {ticks} ticks")
+                    };
+                    format!("from {from} to {to}, {over}")
+                }
+                None => format!("from {from}, still running then"),
+            }
+        })
+        .collect()
+}
+
 fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(), String> {
     let at = run_of(cx, &r.question)?;
     let ev = events(at, u, e);
@@ -388,6 +413,14 @@ fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(
         .is_some_and(|s| s.times_us.len() == at.index.transitions.len());
     r.understood = format!("When did {name} {what}{}?", verb(e));
     r.answer = match (ev.first(), ev.last(), which) {
+        // "How long did drive stay running?": each spell, start to end.
+        (Some(_), _, Which::Every) if e == Event::KeepRunning => format!(
+            "{} {} {} {by}: {}.",
+            upper(&name),
+            past(e),
+            times(ev.len()),
+            spells(at, u, &ev).join("; ")
+        ),
         // Still running then: not yet, rather than never.
         (None, _, _)
             if matches!(e, Event::Succeed | Event::Fail | Event::Finish)

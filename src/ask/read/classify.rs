@@ -25,6 +25,7 @@ const RULES: &[fn(&Cues) -> Option<Readings>] = &[
     recovered,
     how_often,
     when_it_happened,
+    how_long,
     purpose,
     why_bare_verb,
     why,
@@ -341,6 +342,33 @@ fn how_often(c: &Cues) -> Option<Readings> {
         )]);
     };
     Some(vec![(Intent::HowOften { node, event }, c.sure(0.95))])
+}
+
+/// "How long did drive stay running?", "GD R for how long": the spells
+/// of a node named running, each from its start to its end.
+fn how_long(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    // Of the run: "how long did it stay running", not "how long will the
+    // motors last" or "how long is the warranty".
+    let past = ["did", "was", "were", "running", "ran"]
+        .iter()
+        .any(|w| s.has(w))
+        || s.has_stem(&["stay", "remain"]);
+    let ahead = ["will", "until", "till", "would", "is", "does", "last"]
+        .iter()
+        .any(|w| s.has(w));
+    let asked = s.phrase(&["how", "long"]).is_some() && !c.why && past && !ahead;
+    let node = c.subject().filter(|n| matches!(n, Subject::Nodes(..)))?;
+    asked.then(|| {
+        vec![(
+            Intent::When {
+                node,
+                event: Event::KeepRunning,
+                which: Which::Every,
+            },
+            c.sure(0.85),
+        )]
+    })
 }
 
 /// "When did X first fail?".

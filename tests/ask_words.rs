@@ -1966,6 +1966,42 @@ fn a_courteous_request_asks_what_follows() {
 }
 
 #[test]
+fn what_is_granted_or_said_in_passing_is_not_what_is_asked() {
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        // What "even though" grants names no subject.
+        (
+            vec![CASE],
+            "why did the root end up succeeding even though L0 failed?",
+            "Why did CaseStudyFallback (#1) succeed at 1:9?",
+        ),
+        // "Done" is finished ("halfway done" is not).
+        (
+            vec![TAXI],
+            "pick up passenger done when?",
+            "When did pick up passenger (#11) finish?",
+        ),
+        // A tick said first, then "explain that tick".
+        (
+            vec![PATROL],
+            "t4 - PC S, drive R. explain that tick",
+            "What happened at tick 4?",
+        ),
+        // Handling a goal, no failure said, is how it is done.
+        (
+            vec![NAV2],
+            "how does the tree handle its goal?",
+            "How do you achieve your goal?",
+        ),
+        (
+            vec![NAV2],
+            "how does the tree handle the FollowPath failure?",
+            "How was the failure handled?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn how_long_a_node_ran_is_told_spell_by_spell() {
     // Each spell of RUNNING from its start to its end, as the log has it:
     // drive started at 3:7 and was halted at 5:3.

@@ -197,9 +197,14 @@ fn handled_whether(c: &Cues) -> Option<Readings> {
         || s.phrase(&["deal", "with"]).is_some()
         || s.phrase(&["care", "of"]).is_some();
     let counted = s.phrase(&["how", "often"]).is_some() || s.phrase(&["how", "many"]).is_some();
-    (handle && !c.why && !c.when_q && !counted && !s.has_prefix(&["recover"]))
-        .then(|| c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93))
-        .flatten()
+    (handle
+        && !c.why
+        && !c.when_q
+        && !counted
+        && !s.has_prefix(&["recover"])
+        && !of_a_goal_not_a_failure(c))
+    .then(|| c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93))
+    .flatten()
 }
 
 /// "Did anything fail (while patrolling)?": yes or no, whatever is named.
@@ -772,6 +777,9 @@ fn handled(c: &Cues) -> Option<Readings> {
     if achieving && !handle {
         return None;
     }
+    if of_a_goal_not_a_failure(c) {
+        return None;
+    }
     if (c.how && (handle || c.problem && !s.has("often") && !s.has("many")))
         || c.how_handled && !c.why
         || c.after_failure
@@ -897,6 +905,12 @@ fn what_went_wrong(c: &Cues) -> Option<Readings> {
     ])
 }
 
+/// "How does it handle the subgoal it's on?": how a goal is done, no
+/// failure said.
+fn of_a_goal_not_a_failure(c: &Cues) -> bool {
+    c.s.has_stem(&["subgoal", "goal"]) && !c.problem && !c.after_failure
+}
+
 /// "Any problems?": yes or no.
 fn anything_wrong(c: &Cues) -> Option<Readings> {
     ((c.yes_no || c.s.has("any")) && (c.problem || c.fine) && c.named.is_empty()).then(|| {
@@ -944,10 +958,17 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
     };
     // "t4: spin F then R again - explain": a tick said first, a story of
     // it, and only "explain" to ask.
-    let explained = q[0] == "tick" && q.last() == Some(&"explain");
-    let at = (0..q.len())
-        .find(|&i| asks(i))
-        .or_else(|| explained.then_some(q.len() - 1))?;
+    let explained = q[0] == "tick"
+        && q.iter().rposition(|w| *w == "explain").is_some_and(|e| {
+            q[e + 1..]
+                .iter()
+                .all(|w| ["the", "this", "that", "tick"].contains(w))
+        });
+    let at = (0..q.len()).find(|&i| asks(i)).or_else(|| {
+        explained
+            .then(|| q.iter().rposition(|w| *w == "explain"))
+            .flatten()
+    })?;
     let mut k = at + 1;
     // "Account for the transitions in tick 6", "an account of that tick".
     while k < q.len()
@@ -968,7 +989,10 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
         k += 1;
     }
     // "Tick 13 summary", "t5 what happened": the tick said first.
-    if q.get(k) != Some(&"tick") && (q[0] == "tick" || at >= 2 && q[at - 2] == "tick") {
+    // "t5 - PC F … explain the tick": the tick said first is the one.
+    let numbered =
+        q.get(k) == Some(&"tick") && q.get(k + 1).is_some_and(|n| n.parse::<u32>().is_ok());
+    if !numbered && (q[0] == "tick" || at >= 2 && q[at - 2] == "tick") {
         k = if q[0] == "tick" { 0 } else { at - 2 };
     }
     let n: u32 = (q.get(k) == Some(&"tick"))

@@ -100,6 +100,19 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     (e, negated)
 }
 
+/// "GIG done at which tick?", "when was the last move left done": done
+/// as finished, not "halfway done".
+fn done_said(s: &Sentence) -> bool {
+    s.free().any(|(i, w)| {
+        w.text == "done"
+            && (i == 0
+                || ![
+                    "halfway", "half", "partly", "almost", "nearly", "get", "got",
+                ]
+                .contains(&s.q[i - 1].text.as_str()))
+    })
+}
+
 /// "When was the passenger picked up?": a node named by what was done
 /// to its object, done (its verb past, its particle last), succeeded.
 fn done_to(s: &Sentence) -> Option<Event> {
@@ -184,7 +197,7 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
         || coloured("green")
     {
         Some(Event::Succeed)
-    } else if s.has_stem(&["finish", "end", "complet", "done"]) {
+    } else if s.has_stem(&["finish", "end", "complet"]) || done_said(s) {
         Some(Event::Finish)
     } else if s.has_stem(&[
         "run", "start", "execut", "tick", "call", "trigger", "begin", "activ", "launch", "fire",
@@ -334,11 +347,19 @@ pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
             .is_some_and(|m| m.uids == [root] && m.end <= k)
             && s.nodes.iter().all(|m| m.uids == [root] || m.start > k)
     });
+    // "Why did CSF end up S even though L0 F'd": what is granted after
+    // "even though" is not what is asked about.
+    let granted =
+        s.q.iter()
+            .position(|w| ["although", "despite", "though"].contains(&w.text.as_str()));
+    let asked = |m: &&Mention| granted.is_none_or(|k| m.start < k);
     let m = s
         .nodes
         .iter()
+        .filter(asked)
         .find(|m| m.uids != [root] && !task_first)
-        .or_else(|| s.nodes.first());
+        .or_else(|| s.nodes.iter().find(asked))
+        .or_else(|| s.nodes.first().filter(|_| granted.is_none()));
     if let Some(m) = m {
         return Some(Subject::Nodes(m.uids.clone(), m.phrase.clone()));
     }

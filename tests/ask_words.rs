@@ -1966,6 +1966,36 @@ fn a_courteous_request_asks_what_follows() {
 }
 
 #[test]
+fn a_customers_roundabout_words_are_read_as_meant() {
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![PATROL],
+            "is everything all right so far?",
+            "Was there anything wrong?",
+        ),
+        // "Okay but" opens what is said; it is no success.
+        (
+            vec![NAV2],
+            "okay but why no wait?",
+            "Why did Wait (#21) not run in tick 10?",
+        ),
+        (
+            vec![KITTING],
+            "Would you tell us at which point in the run the retreat arm failed?",
+            "When did retreat arm (#25, #27, #52, #54, #76, #78) fail?",
+        ),
+        (vec![TAXI], "what is this robot for?", "What is your goal?"),
+        // The report's name is no problem asked about.
+        (
+            vec![NAV2],
+            "For the incident review, what was it trying to achieve overall?",
+            "What is your goal?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn what_is_granted_or_said_in_passing_is_not_what_is_asked() {
     let cases: Vec<(Vec<&str>, &str, &str)> = vec![
         // What "even though" grants names no subject.

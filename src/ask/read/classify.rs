@@ -412,7 +412,9 @@ fn purpose(c: &Cues) -> Option<Readings> {
         || c.first == "for" && s.phrase(&["for", "what"]).is_some()
         // "CaseStudyFallback ultimately for what".
         || s.q.len() > 2 && s.ends_with(&["for", "what"])
-        || c.what && s.q.last().is_some_and(|w| w.text == "for");
+        || c.what && s.q.last().is_some_and(|w| w.text == "for")
+        // "What is this tree for, in plain words?".
+        || c.what && s.phrase(&["for", "in"]).is_some() && s.phrase(&["this", "tree"]).is_some();
     if !purpose || c.why {
         return None;
     }
@@ -425,9 +427,12 @@ fn purpose(c: &Cues) -> Option<Readings> {
     // "What is this tree for?": the whole's purpose.
     let whole = c.whole || s.has("tree") || s.has("bt");
     // "What's the point of this robot?": the whole's, whatever it is doing.
-    let of_the_agent = ["robot", "agent", "system", "program"]
-        .iter()
-        .any(|a| s.phrase(&["of", "this", a]).is_some() || s.phrase(&["of", "the", a]).is_some());
+    // "What is this taxi program for?" too.
+    let of_the_agent = ["robot", "agent", "system", "program"].iter().any(|a| {
+        s.phrase(&["of", "this", a]).is_some()
+            || s.phrase(&["of", "the", a]).is_some()
+            || s.has(a) && s.has("this")
+    });
     if (whole && !current || of_the_agent) && c.named.is_empty() && !c.how {
         return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Goal)), 0.9);
     }

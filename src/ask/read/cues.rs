@@ -64,12 +64,16 @@ impl<'a, 's> Cues<'a, 's> {
                 || s.phrase(&["what", "way"]).is_some(),
             problem,
             // "Is everything in order?", not "in order to".
-            fine: s.has_stem(&[
-                "ok", "fine", "good", "alright", "smooth", "normal", "nomin", "healthi", "healthy",
-                "clean",
-            ]) || s
-                .phrase(&["in", "order"])
-                .is_some_and(|i| s.q.get(i + 2).is_none_or(|w| w.text != "to")),
+            // "Is everything all right?", "going to plan".
+            fine: s.phrase(&["all", "right"]).is_some()
+                || s.phrase(&["to", "plan"]).is_some()
+                || s.phrase(&["as", "planned"]).is_some()
+                || s.has_stem(&[
+                    "ok", "fine", "good", "alright", "smooth", "normal", "nomin", "healthi",
+                    "healthy", "clean",
+                ])
+                || s.phrase(&["in", "order"])
+                    .is_some_and(|i| s.q.get(i + 2).is_none_or(|w| w.text != "to")),
             doing_words: doing_words(s),
             now_words: s.has("now")
                 || s.has("currently")
@@ -217,7 +221,15 @@ fn problem(s: &Sentence, break_down: bool) -> bool {
         || s.phrase(&["can", "not"]).is_some()
         || s.phrase(&["was", "unable"]).is_some()
         || s.phrase(&["unable", "to"]).is_some();
-    could_not || !break_down && s.has_stem(PROBLEM) || s.phrase(&["off", "the", "rails"]).is_some()
+    // "For our incident report, …": the report's name, not a problem.
+    let report = |i: usize| {
+        s.q.get(i + 1)
+            .is_some_and(|n| ["report", "log", "ticket", "review"].contains(&n.text.as_str()))
+    };
+    let said = s.free().any(|(i, w)| {
+        PROBLEM.contains(&w.stem.as_str()) && !(w.stem.starts_with("incid") && report(i))
+    });
+    could_not || !break_down && said || s.phrase(&["off", "the", "rails"]).is_some()
 }
 
 fn doing_words(s: &Sentence) -> bool {
@@ -255,6 +267,8 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         || (s.phrase(&["which", "step"]).is_some() || s.phrase(&["what", "step"]).is_some())
             && !s.has("on")
         || s.phrase(&["at", "what", "point"]).is_some()
+        // "At which point during the run did …", not "at this point".
+        || s.phrase(&["at", "which", "point"]).is_some()
         // "Identify the tick at which X returned SUCCESS".
         || (s.has("tick") || s.has("step"))
             && (s.phrase(&["at", "which"]).is_some() || s.phrase(&["in", "which"]).is_some())

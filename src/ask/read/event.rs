@@ -100,6 +100,19 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     (e, negated)
 }
 
+/// "OK", "okay" said of a node, not "ok but why no spin?", where it
+/// only opens what is said.
+fn ok_said(s: &Sentence) -> bool {
+    s.free().any(|(i, w)| {
+        w.stem == "ok"
+            && !(i == 0
+                && s.q.get(1).is_some_and(|n| {
+                    ["but", "so", "then", "and", "now", "thanks", "cool", "great"]
+                        .contains(&n.text.as_str())
+                }))
+    })
+}
+
 /// "GIG done at which tick?", "when was the last move left done": done
 /// as finished, not "halfway done".
 fn done_said(s: &Sentence) -> bool {
@@ -185,7 +198,8 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
         Some(Event::Halted)
     } else if keep {
         Some(Event::KeepRunning)
-    } else if s.has_stem(&["succeed", "success", "pass", "manag", "ok"])
+    } else if s.has_stem(&["succeed", "success", "pass", "manag"])
+        || ok_said(s)
         || said(&[
             "true",
             "successful",

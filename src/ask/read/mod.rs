@@ -483,9 +483,12 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
                     })
             })
     };
-    let of_the_robot = |a: &Reading| {
-        a.about.is_none()
-            && matches!(a.intent, Intent::Fixed(Question::Tree(t)) if t != TreeQuestion::Why)
+    // "… Why is it asking for help at this point?": a question of Han's
+    // that names its own node asks of the robot too.
+    let of_the_robot = |a: &Reading| match a.intent {
+        Intent::Fixed(Question::Tree(TreeQuestion::Why)) => a.about.is_some(),
+        Intent::Fixed(Question::Tree(_)) => a.about.is_none(),
+        _ => false,
     };
     if let (Some(w), [q]) = (&whole, &questions[..]) {
         match asked.clone() {

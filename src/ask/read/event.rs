@@ -100,6 +100,19 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     (e, negated)
 }
 
+/// "Why is it still running?", "so slow", "TEI stayed R for two ticks":
+/// a call that ran on.
+fn runs_on(s: &Sentence) -> bool {
+    s.has_stem(&["keep", "still", "stick", "forev", "hang", "slow"])
+        || s.has("longer")
+        || s.phrase(&["so", "long"]).is_some()
+        || s.phrase(&["take", "long"]).is_some()
+        || s.phrase(&["taking", "long"]).is_some()
+        || s.phrase(&["took", "long"]).is_some()
+        || s.phrase(&["long", "time"]).is_some()
+        || s.has_stem(&["stay", "remain"]) && s.has("running")
+}
+
 /// "OK", "okay" said of a node, not "ok but why no spin?", where it
 /// only opens what is said.
 fn ok_said(s: &Sentence) -> bool {
@@ -144,15 +157,7 @@ fn done_to(s: &Sentence) -> Option<Event> {
 /// The event the sentence's verbs say, before negation: failing first,
 /// then skipping, halting, running on, succeeding, finishing, running.
 fn verbs_said(s: &Sentence) -> Option<Event> {
-    let keep = s.has_stem(&["keep", "still", "stick", "forev", "hang", "slow"])
-        || s.has("longer")
-        || s.phrase(&["so", "long"]).is_some()
-        || s.phrase(&["take", "long"]).is_some()
-        || s.phrase(&["taking", "long"]).is_some()
-        || s.phrase(&["took", "long"]).is_some()
-        || s.phrase(&["long", "time"]).is_some()
-        // "TEI stayed R for two ticks".
-        || s.has_stem(&["stay", "remain"]) && s.has("running");
+    let keep = runs_on(s);
     // "When did looking at the chuck go wrong?", "why did the sequence box
     // go red?" (Groot draws a failure red, a success green).
     let went_wrong = (s.phrase(&["go", "wrong"]).is_some()

@@ -451,52 +451,13 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // question that stands on its own (no "it" or "that" pointing into
     // the story, no topic before a colon), read surely, is what the post
     // asks; the story around it only tells when.
-    // "At this point" points at the story's moment, which the reading
-    // takes from the whole, not at a thing the story names.
-    // "The arm has moved over to the caddy now. How does it go about the
-    // task it's currently on?": in a question of Han's that names no node,
-    // "it" is the robot, not a thing the story names.
-    let stands_alone = |q: &str, it_is_the_robot: bool| {
-        let said = words::words(q);
-        let pointing: &[&str] = if it_is_the_robot {
-            &["that", "this", "there", "them", "they", "these", "those"]
-        } else {
-            &[
-                "it", "its", "that", "this", "there", "them", "they", "these", "those",
-            ]
-        };
-        // "What went on in it?": an "it" after a preposition is a thing.
-        let a_thing = |i: usize| {
-            i > 0
-                && [
-                    "in", "of", "on", "at", "about", "with", "for", "from", "during",
-                ]
-                .contains(&said[i - 1].text.as_str())
-        };
-        said.len() >= 3
-            && !text[..text.find(q).unwrap_or(0)].trim_end().ends_with(':')
-            && !said.iter().enumerate().any(|(i, w)| {
-                (pointing.contains(&w.text.as_str())
-                    || it_is_the_robot && ["it", "its"].contains(&w.text.as_str()) && a_thing(i))
-                    && !said.get(i + 1).is_some_and(|n| {
-                        ["point", "moment", "instant", "stage", "time"].contains(&n.text.as_str())
-                    })
-            })
-    };
-    // "… Why is it asking for help at this point?": a question of Han's
-    // that names its own node asks of the robot too.
-    let of_the_robot = |a: &Reading| match a.intent {
-        Intent::Fixed(Question::Tree(TreeQuestion::Why)) => a.about.is_some(),
-        Intent::Fixed(Question::Tree(_)) => a.about.is_none(),
-        _ => false,
-    };
     if let (Some(w), [q]) = (&whole, &questions[..]) {
         match asked.clone() {
             // "Why is it being ticked again?": Han's why asks of what runs
             // now, whatever "it" the story names.
             Some(mut a)
                 if a.confidence >= SURE
-                    && (stands_alone(q, of_the_robot(&a))
+                    && (stands_alone(text, q, of_the_robot(&a))
                         || a.intent == Intent::Fixed(Question::Tree(TreeQuestion::Why))
                             && q.to_lowercase().contains(" again")) =>
             {
@@ -540,6 +501,51 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             Some(a)
         }
         (w, a) => a.or(w),
+    }
+}
+
+/// Whether the question `q` of the post `text` stands on its own: no
+/// "it" or "that" pointing into the story (in a question of Han's that
+/// names no node, "it" is the robot: "The arm has moved over to the caddy
+/// now. How does it go about the task it's currently on?"), no topic
+/// before a colon. "At this point" points at the story's moment, which
+/// the reading takes from the whole, not at a thing the story names.
+fn stands_alone(text: &str, q: &str, it_is_the_robot: bool) -> bool {
+    let said = words::words(q);
+    let pointing: &[&str] = if it_is_the_robot {
+        &["that", "this", "there", "them", "they", "these", "those"]
+    } else {
+        &[
+            "it", "its", "that", "this", "there", "them", "they", "these", "those",
+        ]
+    };
+    // "What went on in it?": an "it" after a preposition is a thing.
+    let a_thing = |i: usize| {
+        i > 0
+            && [
+                "in", "of", "on", "at", "about", "with", "for", "from", "during",
+            ]
+            .contains(&said[i - 1].text.as_str())
+    };
+    said.len() >= 3
+        && !text[..text.find(q).unwrap_or(0)].trim_end().ends_with(':')
+        && !said.iter().enumerate().any(|(i, w)| {
+            (pointing.contains(&w.text.as_str())
+                || it_is_the_robot && ["it", "its"].contains(&w.text.as_str()) && a_thing(i))
+                && !said.get(i + 1).is_some_and(|n| {
+                    ["point", "moment", "instant", "stage", "time"].contains(&n.text.as_str())
+                })
+        })
+}
+
+/// Whether "it" in a question of Han's is the robot: one that names no
+/// node, or a why that names its own ("… Why is it asking for help at
+/// this point?").
+fn of_the_robot(a: &Reading) -> bool {
+    match a.intent {
+        Intent::Fixed(Question::Tree(TreeQuestion::Why)) => a.about.is_some(),
+        Intent::Fixed(Question::Tree(_)) => a.about.is_none(),
+        _ => false,
     }
 }
 

@@ -2134,6 +2134,33 @@ fn after_a_story_a_question_of_hans_asks_of_the_robot() {
 }
 
 #[test]
+fn why_it_runs_again_is_told_after_the_papers_answer() {
+    // At 4:8 the FollowPath action runs again, called by its RecoveryNode
+    // after it failed at 4:1: Han's "why" tells the purpose, then the run
+    // tells why it runs again; "the FP ctrl" is the action, not the
+    // RecoveryNode of the same name.
+    for q in ["FP ctrl R again - why?", "q2"] {
+        let (ok, out, err) = btx(&["ask", NAV2, "--at", "4:8", q]);
+        assert!(ok, "{q}: {err}");
+        // The paper's wording is not said back; the user's words are.
+        let lines: Vec<&str> = out.lines().collect();
+        let purpose = lines
+            .iter()
+            .position(|l| *l == "I run FollowPath in order to run NavigateWithReplanning.");
+        assert!(purpose.is_some_and(|i| i <= 1), "{q}: {out}");
+        assert!(
+            lines.get(purpose.unwrap() + 1).is_some_and(|l| l.starts_with(
+                "The FollowPath action (#10) started again at 4:8, after it failed at 4:1 in the same tick. The FollowPath recovery node (#9) ran its recovery"
+            )),
+            "{q}: {out}"
+        );
+    }
+    // Its first call is no call again.
+    let (_, out, _) = btx(&["ask", NAV2, "--at", "3", "q2"]);
+    assert!(!out.contains("started again"), "{out}");
+}
+
+#[test]
 fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     let nav2 = "tests/fixtures/questions/nav2-followpath-fails-twice.jsonl";
     // "After the first X failure" is a start, as "after X failed" is: the

@@ -3,7 +3,7 @@
 
 use super::context::Context;
 use super::Reply;
-use crate::explain::Question;
+use crate::explain::{Question, TreeQuestion};
 
 pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
     // "Can you X?" inserts a subgoal into a run that goes on: once the
@@ -44,6 +44,17 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
     r.about = Some(uid);
     r.understood = q.wording();
     r.answer = a.text;
+    // Nav2 calls a node again within its tick: why it runs again is what
+    // the run shows, told after the paper's answer.
+    if let (Question::Tree(TreeQuestion::Why), Some(at)) = (q, cx.at.as_ref()) {
+        let again = (at.status(uid) == crate::run::Status::Running)
+            .then(|| at.index.call_start(uid, at.pos + 1))
+            .flatten()
+            .and_then(|p| super::why::called_again(cx, at, uid, p));
+        if let Some(again) = again {
+            r.answer = format!("{}\n{again}", r.answer);
+        }
+    }
     r.nodes = a.nodes;
     r.insertion = a.insertion;
     Ok(())

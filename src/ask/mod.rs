@@ -197,10 +197,13 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
     // Han's questions asked of a node named: the one of them running at
     // the moment, if one is.
     let named = reading.about.as_ref().map(|us| {
+        // The deepest of them running (a node's uid is past its parent's):
+        // the action a RecoveryNode of the same name runs.
         let running = cx.at.as_ref().and_then(|at| {
             us.iter()
                 .copied()
-                .find(|&u| at.status(u) == crate::run::Status::Running)
+                .filter(|&u| at.status(u) == crate::run::Status::Running)
+                .max()
         });
         moved_to(cx, cx.at, running.or(us.first().copied()))
     });

@@ -179,7 +179,12 @@ fn leaf_outcome(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> String
 /// its parent ticked it again, and a RecoveryNode does so once its
 /// recovery succeeded. Told from the run's transitions; `None` for a
 /// first call.
-fn called_again(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> Option<String> {
+pub(super) fn called_again(
+    cx: &Context,
+    at: &crate::session::At,
+    u: Uid,
+    p: u32,
+) -> Option<String> {
     let index = at.index;
     let tick = index.transitions[p as usize - 1].tick;
     let start = index.tick_range(tick).start as u32;

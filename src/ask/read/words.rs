@@ -85,6 +85,8 @@ const SPELLINGS: &[(&str, &str)] = &[
     // Unreal's prefix of a task class, "BTT_FollowPath", "BTTask_LookAt":
     // the action of that name.
     ("btt", "action"),
+    // "The FP ctrl": the controller.
+    ("ctrl", "controller"),
     ("bttask", "action"),
     // A sub-objective is a subgoal.
     ("subobjective", "subgoal"),

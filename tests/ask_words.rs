@@ -2106,6 +2106,14 @@ fn an_engineers_shorthand_is_read_as_meant() {
         Some("No node of this tree has the initials CPTP: say its name or #uid."),
         "{out}"
     );
+    // Initials two names share: which they could be.
+    let (ok, out, _) = btx(&["ask", KITTING, "why did RA S @20"]);
+    assert!(!ok, "{out}");
+    assert_eq!(
+        out.lines().next(),
+        Some("RA could be retreat arm or reset arm: say which."),
+        "{out}"
+    );
 }
 
 #[test]

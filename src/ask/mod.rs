@@ -169,12 +169,17 @@ fn or_list(items: &[String]) -> String {
 pub fn ask(cx: &Context, question: &str) -> Reply {
     let (reading, restate) = reading_of(cx, question);
     // "How often did CPTP run?" of a tree with no such node: said, not
-    // answered of the whole task.
-    let naming_nothing = reading
-        .as_ref()
-        .is_some_and(|r| read::asks_of_the_task_unnamed(&r.intent))
-        .then(|| read::initials_naming_nothing(cx.tree, question))
-        .flatten();
+    // answered of the whole task; "why did RA S?" where RA could be
+    // retreat arm or reset arm: which, rather than not understood.
+    let naming_nothing = match &reading {
+        Some(r) if read::asks_of_the_task_unnamed(&r.intent) => {
+            read::initials_naming_nothing(cx.tree, question).map(|u| u.told)
+        }
+        None => read::initials_naming_nothing(cx.tree, question)
+            .filter(|u| u.several)
+            .map(|u| u.told),
+        Some(_) => None,
+    };
     let (Some(reading), None) = (reading, &naming_nothing) else {
         let mut r = Reply::new(question, None);
         r.answered = false;

@@ -47,10 +47,18 @@ pub(super) fn spelled_out(tree: &Tree, text: &str) -> String {
         .join(" ")
 }
 
+/// Capitals shaped as a node's initials that name no one node.
+pub struct Unread {
+    /// Said to the asker: none fits, or which could.
+    pub told: String,
+    /// Whether several names fit (none did otherwise).
+    pub several: bool,
+}
+
 /// What capitals that look like a node's initials and name none of its
-/// nodes are ("CPTP" asked of the kitting tree): said so, rather than
-/// read as the whole task.
-pub fn initials_naming_nothing(tree: &Tree, text: &str) -> Option<String> {
+/// nodes, or several, are ("CPTP" asked of the kitting tree): said so,
+/// rather than read as the whole task.
+pub fn initials_naming_nothing(tree: &Tree, text: &str) -> Option<Unread> {
     let names = Initials::of(tree);
     let tree_words: Vec<String> = tree
         .nodes
@@ -64,11 +72,15 @@ pub fn initials_naming_nothing(tree: &Tree, text: &str) -> Option<String> {
             return None;
         }
         match &names.all_named(&shaped)[..] {
-            [] => Some(format!(
-                "No node of this tree has the initials {b}: say its name or #uid."
-            )),
+            [] => Some(Unread {
+                told: format!("No node of this tree has the initials {b}: say its name or #uid."),
+                several: false,
+            }),
             [_] => None,
-            several => Some(format!("{b} could be {}: say which.", several.join(" or "))),
+            several => Some(Unread {
+                told: format!("{b} could be {}: say which.", several.join(" or ")),
+                several: true,
+            }),
         }
     })
 }
@@ -249,7 +261,9 @@ mod tests {
         // Two names fit: neither is picked, and the asker is told.
         assert_eq!(spelled_out(&t, "LC S'd"), "LC succeeded");
         assert_eq!(
-            initials_naming_nothing(&t, "how often did LC run").as_deref(),
+            initials_naming_nothing(&t, "how often did LC run")
+                .map(|u| u.told)
+                .as_deref(),
             Some("LC could be lift cart or load cart: say which.")
         );
         assert!(initials_naming_nothing(&t, "how often did FYI run").is_none());

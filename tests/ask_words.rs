@@ -2047,6 +2047,38 @@ fn how_long_a_node_ran_is_told_spell_by_spell() {
             "{q}: {out}"
         );
     }
+    // Fifteen spells are cut as a list of moments is: ten, then the last.
+    let dir = tempfile::tempdir().unwrap();
+    let (tree, plan, session) = (
+        dir.path().join("t.xml"),
+        dir.path().join("plan.txt"),
+        dir.path().join("s.jsonl"),
+    );
+    std::fs::write(
+        &tree,
+        r#"<root BTCPP_format="4"><BehaviorTree ID="M"><Repeat num_cycles="15"><Action ID="work" name="polish"/></Repeat></BehaviorTree></root>"#,
+    )
+    .unwrap();
+    std::fs::write(&plan, "work = 1RS\n").unwrap();
+    let at = |p: &std::path::PathBuf| p.to_str().unwrap().to_string();
+    let (ok, _, err) = btx(&[
+        "run",
+        &at(&tree),
+        "--plan",
+        &at(&plan),
+        "--out",
+        &at(&session),
+    ]);
+    assert!(ok, "{err}");
+    let (ok, out, err) = btx(&["ask", &at(&session), "how long did polish stay running?"]);
+    assert!(ok, "{err}");
+    let told = out.lines().nth(1).unwrap_or_default();
+    assert!(
+        told.starts_with("Polish (#2) was running 15 times by the end of the run at tick 16: from 1:2 to 2:1, over 2 ticks; ")
+            && told.ends_with("from 10:3 to 11:1, over 2 ticks; … and from 15:3 to 16:1, over 2 ticks."),
+        "{out}"
+    );
+    assert_eq!(told.matches("from ").count(), 11, "{out}");
     // Not a question of the run: the world's future.
     let (_, out, _) = btx(&["ask", PATROL, "how long will the drive motors last?"]);
     assert!(!out.contains("from 3:7"), "{out}");

@@ -375,28 +375,35 @@ fn timed_moment(cx: &Context, at: &At, p: u32) -> String {
 }
 
 /// Each spell of RUNNING that starts at a position of `ps`: where it
-/// ended and over how many ticks, or that it was still running.
-fn spells(at: &At, u: Uid, ps: &[u32]) -> Vec<String> {
+/// ended and over how many ticks, or that it was still running. A long
+/// list is cut as `moments` cuts one: the first ten, then the last.
+fn spells(at: &At, u: Uid, ps: &[u32]) -> String {
     let changes = at.index.changes_of(u);
-    ps.iter()
-        .map(|&p| {
-            let from = step_moment(at.index, p);
-            let end = changes.iter().copied().find(|&c| c > p && c <= at.pos);
-            match end {
-                Some(c) => {
-                    let to = step_moment(at.index, c);
-                    let ticks = to.tick - from.tick + 1;
-                    let over = if ticks == 1 {
-                        "within its tick".to_string()
-                    } else {
-                        format!("over {ticks} ticks")
-                    };
-                    format!("from {from} to {to}, {over}")
-                }
-                None => format!("from {from}, still running then"),
+    let spell = |&p: &u32| {
+        let from = step_moment(at.index, p);
+        let next = changes.partition_point(|&c| c <= p);
+        match changes.get(next).copied().filter(|&c| c <= at.pos) {
+            Some(c) => {
+                let to = step_moment(at.index, c);
+                let ticks = to.tick - from.tick + 1;
+                let over = if ticks == 1 {
+                    "within its tick".to_string()
+                } else {
+                    format!("over {ticks} ticks")
+                };
+                format!("from {from} to {to}, {over}")
             }
-        })
-        .collect()
+            None => format!("from {from}, still running then"),
+        }
+    };
+    match ps {
+        [first @ .., last] if ps.len() > 12 => format!(
+            "{}; … and {}",
+            first[..10].iter().map(spell).collect::<Vec<_>>().join("; "),
+            spell(last)
+        ),
+        _ => ps.iter().map(spell).collect::<Vec<_>>().join("; "),
+    }
 }
 
 fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(), String> {
@@ -419,7 +426,7 @@ fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(
             upper(&name),
             past(e),
             times(ev.len()),
-            spells(at, u, &ev).join("; ")
+            spells(at, u, &ev)
         ),
         // Still running then: not yet, rather than never.
         (None, _, _)

@@ -4,11 +4,15 @@
 
 use super::*;
 
+/// Words after which what is said is granted, not asked ("even though
+/// L0 failed").
+const GRANTS: &[&str] = &["although", "despite", "though"];
+
 pub(super) fn event(s: &Sentence) -> (Option<Event>, bool) {
     // "Why did X succeed even though the controller failed": what is
     // granted after "even though" is not the event asked about.
     let concession = s.q.iter().enumerate().position(|(i, w)| {
-        ["although", "despite", "though"].contains(&w.text.as_str())
+        GRANTS.contains(&w.text.as_str())
             || w.text == "even" && s.q.get(i + 1).is_some_and(|n| n.text == "if")
     });
     let before = |k: usize| {
@@ -368,9 +372,7 @@ pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
     });
     // "Why did CSF end up S even though L0 F'd": what is granted after
     // "even though" is not what is asked about.
-    let granted =
-        s.q.iter()
-            .position(|w| ["although", "despite", "though"].contains(&w.text.as_str()));
+    let granted = s.q.iter().position(|w| GRANTS.contains(&w.text.as_str()));
     let asked = |m: &&Mention| granted.is_none_or(|k| m.start < k);
     let m = s
         .nodes

@@ -2174,10 +2174,10 @@ fn after_a_story_a_question_of_hans_asks_of_the_robot() {
 }
 
 #[test]
-fn why_it_runs_again_is_told_after_the_papers_answer() {
+fn why_it_runs_again_is_told_before_the_papers_answer() {
     // At 4:8 the FollowPath action runs again, called by its RecoveryNode
-    // after it failed at 4:1: Han's "why" tells the purpose, then the run
-    // tells why it runs again; "the FP ctrl" is the action, not the
+    // after it failed at 4:1: the run tells why it runs again (the root
+    // cause, once), then Han's "why" tells the purpose; "the FP ctrl" is the action, not the
     // RecoveryNode of the same name.
     for q in ["FP ctrl R again - why?", "q2"] {
         let (ok, out, err) = btx(&["ask", NAV2, "--at", "4:8", q]);
@@ -2187,9 +2187,9 @@ fn why_it_runs_again_is_told_after_the_papers_answer() {
         let purpose = lines
             .iter()
             .position(|l| *l == "I run FollowPath in order to run NavigateWithReplanning.");
-        assert!(purpose.is_some_and(|i| i <= 1), "{q}: {out}");
+        assert!(purpose.is_some_and(|i| (1..=2).contains(&i)), "{q}: {out}");
         assert!(
-            lines.get(purpose.unwrap() + 1).is_some_and(|l| l.starts_with(
+            lines.get(purpose.unwrap() - 1).is_some_and(|l| l.starts_with(
                 "The FollowPath action (#10) started again at 4:8, after it failed at 4:1 in the same tick. The FollowPath recovery node (#9) ran its recovery"
             )),
             "{q}: {out}"

@@ -44,15 +44,16 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
     r.about = Some(uid);
     r.understood = q.wording();
     r.answer = a.text;
-    // Nav2 calls a node again within its tick: why it runs again is what
-    // the run shows, told after the paper's answer.
+    // Nav2 calls a node again within its tick: why it runs again (the
+    // failure and the retry the run shows) is the root cause, told before
+    // the paper's answer of what it runs for.
     if let (Question::Tree(TreeQuestion::Why), Some(at)) = (q, cx.at.as_ref()) {
         let again = (at.status(uid) == crate::run::Status::Running)
             .then(|| at.index.call_start(uid, at.pos + 1))
             .flatten()
             .and_then(|p| super::why::called_again(cx, at, uid, p));
         if let Some(again) = again {
-            r.answer = format!("{}\n{again}", r.answer);
+            r.answer = format!("{again}\n{}", r.answer);
         }
     }
     r.nodes = a.nodes;

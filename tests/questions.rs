@@ -64,7 +64,10 @@
 //! "(2 marks)", true or false, a scenario before the task), corpus28
 //! until `corpus29.jsonl` (280 by a twenty-ninth, asked for Groot2's
 //! users: the colours of the boxes, the timeline slider, the blackboard
-//! panel, "the box under X"); corpus29 is never tuned on: its figures are the fresh ones, and its
+//! panel, "the box under X"), corpus29 until `corpus30.jsonl` (280 by a
+//! thirtieth, asked for reliability engineers and analysts who ask in
+//! counts, ranges and firsts: "count(fail) of FollowPath", "the 2nd time",
+//! "between tick 3 and 7"); corpus30 is never tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
 //!
@@ -528,26 +531,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus26.jsonl",
             "corpus27.jsonl",
             "corpus28.jsonl",
+            "corpus29.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus28 (tuned on)", &t3);
-    let t = tally(&["corpus29.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus29)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus29 (tuned on)", &t3);
+    let t = tally(&["corpus30.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus30)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 7_360 && t.total >= 280,
+        t3.total >= 7_640 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus28: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus29: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -564,14 +568,14 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus28 as tuned on (87.8 % understood, 4.1 % misread;
+/// corpus3 to corpus29 as tuned on (87.3 % understood, 4.3 % misread;
 /// first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
 /// 78.2 %/8.2 %, 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %,
 /// 81.1 %/7.9 %, 85.0 %/8.2 %, 79.3 %/8.6 %, 81.8 %/7.5 %, 58.9 %/11.4 %,
 /// 85.4 %/7.9 %, 77.9 %/9.3 %, 69.6 %/15.0 %, 78.9 %/5.7 %, 83.9 %/7.5 %,
-/// 86.8 %/7.1 %, 68.6 %/13.2 %, 63.6 %/20.4 % and 57.1 %/10.7 %), and
-/// corpus29, never tuned on (73.2 % and 11.8 % when it was first read).
-const C3_FLOOR: f64 = 87.7;
-const C3_MISREAD: f64 = 4.2;
-const FRESH_FLOOR: f64 = 73.1;
-const FRESH_MISREAD: f64 = 11.9;
+/// 86.8 %/7.1 %, 68.6 %/13.2 %, 63.6 %/20.4 %, 57.1 %/10.7 % and 73.2 %/11.8 %),
+/// and corpus30, never tuned on (81.4 % and 7.9 % when it was first read).
+const C3_FLOOR: f64 = 87.2;
+const C3_MISREAD: f64 = 4.4;
+const FRESH_FLOOR: f64 = 81.3;
+const FRESH_MISREAD: f64 = 8.0;

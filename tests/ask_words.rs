@@ -2239,6 +2239,86 @@ fn a_node_called_again_within_its_tick_is_told_why_from_the_run() {
     }
 }
 
+#[test]
+fn an_instructors_task_is_read_as_the_question_it_sets() {
+    // The marks, the part labels and "Justify" are not asked; "State" and
+    // "Identify" ask as "tell me" does; "Account for X" asks why X; "True
+    // or false: S" asks whether S; "the end of tick 4" is tick 4, not the
+    // last; a story then "Explain what went wrong." asks what went wrong.
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![NAV2],
+            "Describe how the tree is pursuing its current subgoal at the end of tick 4. (3 marks)",
+            "How do you achieve your subgoal at tick 4?",
+        ),
+        (
+            vec![NAV2],
+            "Part (a): what subgoal is bt_navigator working on at the end of tick 2?",
+            "What was your subgoal at tick 2?",
+        ),
+        (
+            vec![NAV2],
+            "Up to and including tick 2, has anything gone wrong?",
+            "Was there anything wrong at tick 2?",
+        ),
+        (
+            vec![CASE],
+            "Scenario: CaseStudySequence has just returned FAILURE (tick 1, step 5). Explain what went wrong.",
+            "What went wrong at 1:5?",
+        ),
+        (
+            vec![CASE],
+            "Account for the FAILURE of condition L0 at step 3 of tick 1.",
+            "Why did L0 (#3) fail at 1:3?",
+        ),
+        (
+            vec![TAXI],
+            "The taxi is at the end of tick 5. State the action currently executing. (1 mark)",
+            "What were you doing at tick 5?",
+        ),
+        (
+            vec![TAXI],
+            "The second move up succeeded at tick 6. Predict the outcome of the run had it failed instead.",
+            "What happens if the move up action (#9) fails?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
+fn whether_it_came_through_a_failure_is_told_of_that_failure() {
+    // Asked at the end of the run, "after look at chuck failed" names the
+    // failure asked about; it is not the moment to look from (from just
+    // after it, nothing had recovered yet).
+    for q in [
+        "after look at chuck failed, did the robot still manage to insert the large gear?",
+        "True or false: after look at chuck failed, the robot still managed to insert the large gear. Justify.",
+    ] {
+        let (ok, out, err) = btx(&["ask", KITTING, q]);
+        assert!(ok, "{q}: {err}");
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.first(), Some(&"Did the recovery work?"), "{q}: {out}");
+        assert_eq!(
+            lines.get(1),
+            Some(&"Yes. Look at chuck (#18) failed at 10:1; the insert large gear fallback (#13) failed too, at 11:6; RetryUntilSuccessful (#7), which handles it, succeeded at 26:20."),
+            "{q}: {out}"
+        );
+    }
+    // Of the Nav2 run's two controller failures, the first is the one named.
+    let (ok, out, err) = btx(&[
+        "ask",
+        NAV2,
+        "after FollowPath failed the first time, did it recover?",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.lines()
+            .nth(1)
+            .is_some_and(|l| l.starts_with("Yes. The FollowPath action (#10) failed at 4:1;")),
+        "{out}"
+    );
+}
+
 /// Each question asked of its files (and options) is answered, its first
 /// line (what btx read it as) the one given.
 fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {

@@ -16,6 +16,12 @@ use crate::session::At;
 
 /// The answer to a question btx understood.
 pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
+    compose_from(cx, question, intent, None)
+}
+
+/// `compose`, where a question of recovery names the failure it asks
+/// about (its position in the run).
+pub fn compose_from(cx: &Context, question: &str, intent: &Intent, failed: Option<u32>) -> Reply {
     let mut r = Reply::new(question, Some(intent.short()));
     r.moment = cx.at.as_ref().map(|a| a.moment().to_string());
     let done = match intent {
@@ -50,7 +56,7 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
             };
             tick(cx, n, &mut r)
         }
-        Intent::Recovered => recovered(cx, &mut r),
+        Intent::Recovered => recovered(cx, &mut r, failed),
         // At a moment of a recorded run, the tree is run on from there.
         Intent::Next if cx.node.is_none() && cx.session.is_some() && cx.at.is_some() => {
             ahead(cx, &mut r)
@@ -538,13 +544,15 @@ fn tick(cx: &Context, n: u32, r: &mut Reply) -> Result<(), String> {
     Ok(())
 }
 
-fn recovered(cx: &Context, r: &mut Reply) -> Result<(), String> {
+fn recovered(cx: &Context, r: &mut Reply, said: Option<u32>) -> Result<(), String> {
     let at = run_of(cx, &r.question)?;
     let tree = cx.tree;
     r.understood = "Did the recovery work?".into();
-    let failed = (1..=at.pos).rev().find(|&p| {
-        let t = at.index.transitions[p as usize - 1];
-        t.status == Status::Failure && tree.node(t.uid).kind.is_leaf()
+    let failed = said.or_else(|| {
+        (1..=at.pos).rev().find(|&p| {
+            let t = at.index.transitions[p as usize - 1];
+            t.status == Status::Failure && tree.node(t.uid).kind.is_leaf()
+        })
     });
     let Some(p) = failed else {
         r.answer = format!(

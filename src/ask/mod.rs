@@ -188,7 +188,9 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         r.confidence = 0.0;
         return r;
     };
+    let failure = failure_said(cx, &reading);
     let moved = match (reading.when, cx.at.as_ref()) {
+        (Some(_), Some(_)) if failure.is_some() => None,
         (Some(w), Some(at)) => match moment_of(cx.tree, at, w) {
             Ok(pos) => {
                 let pos = past_the_clause(at, &reading, pos);
@@ -213,9 +215,25 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         moved_to(cx, cx.at, running.or(us.first().copied()))
     });
     let cx = named.as_ref().unwrap_or(cx);
-    let mut r = compose::compose(cx, question, &reading.intent);
+    let mut r = compose::compose_from(cx, question, &reading.intent, failure);
     said_as_read(cx, &reading, restate, &mut r);
     r
+}
+
+/// "After look at chuck failed, did it still manage to insert the large
+/// gear?": the failure a question of recovery names is the one asked
+/// about, seen from the moment asked (seen from just after it, nothing
+/// had recovered yet). Its position in the run, where it is one.
+fn failure_said(cx: &Context, reading: &read::Reading) -> Option<u32> {
+    let (parse::Intent::Recovered, Some(w), Some(at)) = (&reading.intent, reading.when, &cx.at)
+    else {
+        return None;
+    };
+    moment_of(cx.tree, at, w).ok().filter(|&p| {
+        p > 0
+            && p <= at.pos
+            && at.index.transitions[p as usize - 1].status == crate::run::Status::Failure
+    })
 }
 
 /// The question as read: one of the paper's fixed wordings (not restated)

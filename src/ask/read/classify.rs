@@ -107,6 +107,8 @@ fn what_if(c: &Cues) -> Option<Readings> {
         // second move up had failed: then what?".
         || s.has("if") && (s.has("would") || s.has("had"))
         || s.has("had") && (c.first == "say" || s.phrase(&["then", "what"]).is_some())
+        // "Predict the outcome of the run had it failed instead".
+        || s.has("had") && (s.has("instead") || s.has("outcome")) && !c.why
         // "L0 succeeds: how does the run change?".
         || c.how && s.has_stem(&["chang", "differ"]) && c.ev.is_some() && !c.named.is_empty();
     // "If a move failed here, what did the tree do about it in this
@@ -252,8 +254,15 @@ fn recovered(c: &Cues) -> Option<Readings> {
         || s.nodes.iter().any(generic)
         || s.phrase(&["bounce", "back"]).is_some()
         || s.phrase(&["bounced", "back"]).is_some()
-        || s.phrase(&["get", "past"]).is_some()
-        || s.phrase(&["got", "past"]).is_some();
+        || ["get", "got", "gotten", "getting"]
+            .iter()
+            .any(|g| s.phrase(&[g, "past"]).is_some())
+        // "After look at chuck failed, did it still manage to insert the
+        // large gear?": whether the task came through the failure.
+        || s.has("still")
+            && s.has_stem(&["manag"])
+            && s.q.iter().any(|w| w.text == "after")
+            && s.q.iter().any(|w| w.stem == "fail");
     let retry_word = s.has_prefix(&["retr", "fallback"]);
     // "Did clearing the costmap fix the failure?": whether it recovered.
     let fixed_it = s.has_stem(&["fix"])
@@ -1003,7 +1012,7 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
     let n: u32 = (q.get(k) == Some(&"tick"))
         .then(|| q.get(k + 1)?.parse().ok())
         .flatten()?;
-    let other = ["wrong", "why", "if", "how"];
+    let other = ["wrong", "why", "if", "how", "subgoal", "goal"];
     (n > 0 && !q.iter().any(|w| other.contains(w)))
         .then(|| vec![(Intent::Tick(n), c.sure_of_words(0.95))])
 }
@@ -1035,14 +1044,20 @@ fn tick(c: &Cues) -> Option<Readings> {
         // "Tick 1 step by step".
         || s.phrase(&["step", "by", "step"]).is_some()
         || c.break_down;
-    let asks_tick = s.has_stem(&[
-        "happen", "chang", "occur", "describ", "summar", "show", "went", "transit", "detail",
-        "explain", "event", "recap", "memori", "episod", "summaris", "summariz",
+    // "What went on", not "what went wrong"; "describe how it pursues its
+    // subgoal at tick 5" asks how, not what happened.
+    let asks_other = s.has_stem(&["achiev", "accomplish", "pursu"])
+        && s.has_stem(&["goal", "subgoal"])
+        || s.phrase(&["went", "wrong"]).is_some();
+    let asks_tick = (s.has_stem(&[
+        "happen", "chang", "occur", "describ", "summar", "show", "transit", "detail", "explain",
+        "event", "recap", "memori", "episod", "summaris", "summariz",
     ]) || c.break_down
         || s.empty()
         || (c.what
             && !c.doing_words
-            && !s.has_stem(&["run", "goal", "subgoal", "execut", "action"]))
+            && !s.has_stem(&["run", "goal", "subgoal", "execut", "action"])))
+        && !asks_other
         || walk;
     // "t10: FP S, then a bunch of halts. What exactly happened in that
     // tick?": the names are the story's, told before what is asked.

@@ -8,6 +8,7 @@
 mod can_you;
 mod classify;
 mod clauses;
+mod coursework;
 mod cues;
 mod event;
 pub mod mentions;
@@ -440,7 +441,8 @@ fn asks(stem: &str) -> bool {
 /// each on its own: the surest of them, the first of equals (what follows
 /// a question is most often about it: "Is this a bug?"), is what it asks.
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
-    let text = after_a_correction(text);
+    let set = coursework::as_asked(text);
+    let text = after_a_correction(&set);
     let whole = read_one(vocabulary, tree, text);
     let questions = questions_in(text);
     let asked = questions
@@ -483,9 +485,14 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // the comma say what it is about: "the ask about the large gear, when
     // was it triggered?").
     if whole.is_none() && asked.as_ref().is_none_or(|q| q.confidence < SURE) {
-        if let Some(a) =
+        if let Some(mut a) =
             asked_after_a_comma(vocabulary, tree, text).filter(|a| a.confidence >= SURE)
         {
+            // "Up to and including tick 2, has anything gone wrong?": the
+            // moment said before the comma.
+            a.when = a
+                .when
+                .or_else(|| when::find(&words::words(text)).map(|(w, _)| w));
             return Some(a);
         }
     }
@@ -666,10 +673,30 @@ fn questions_in(text: &str) -> Vec<&str> {
     if cuts.len() <= 2 {
         return Vec::new();
     }
+    // "CaseStudySequence has just returned FAILURE. Explain what went
+    // wrong.": a last sentence that bids is asked as a question is.
+    let last = cuts.len() - 2;
     cuts.windows(2)
-        .map(|w| text[w[0]..w[1]].trim())
-        .filter(|s| s.ends_with('?'))
+        .enumerate()
+        .map(|(i, w)| (i, text[w[0]..w[1]].trim()))
+        .filter(|&(i, s)| s.ends_with('?') || i == last && bids(s, &text[..cuts[last]]))
+        .map(|(_, s)| s)
         .collect()
+}
+
+/// A sentence that bids the reader explain or describe, after a story that
+/// supposes nothing ("Explain what went wrong.", not "Suppose X had
+/// failed. Describe what the tree would do.").
+fn bids(sentence: &str, story: &str) -> bool {
+    let mut words = sentence.split_whitespace();
+    let first = words.next().unwrap_or("").to_lowercase();
+    let supposes = story.split_whitespace().any(|w| {
+        ["suppose", "imagine", "had", "if", "would", "hypothetically"].contains(
+            &w.to_lowercase()
+                .trim_matches(|c: char| !c.is_alphanumeric()),
+        )
+    });
+    ["explain", "describe"].contains(&first.as_str()) && words.count() >= 2 && !supposes
 }
 
 fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {

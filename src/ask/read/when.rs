@@ -288,6 +288,16 @@ fn end_or_start(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
         return None;
     }
     let mut used = vec![i - 2, i - 1, i];
+    // "At the end of tick 2" is that tick, not the run's last; "at the
+    // start of tick 3", the end of the one before.
+    if t(i + 1) == "of" {
+        if let Some((When::Tick(n), said)) = tick_said(q, i + 2) {
+            used.push(i + 1);
+            used.extend(said);
+            let n = if w == "end" { n } else { n.saturating_sub(1) };
+            return (n > 0).then_some((When::Tick(n), used));
+        }
+    }
     if t(i + 1) == "of" && ["run", "mission", "log", "task"].contains(&t(i + 3)) {
         used.extend([i + 1, i + 2, i + 3]);
     }
@@ -361,5 +371,17 @@ mod tests {
             Some(When::AfterRecovery)
         );
         assert_eq!(when("what went wrong"), None);
+    }
+
+    #[test]
+    fn the_end_of_a_tick_is_that_tick_not_the_last() {
+        assert_eq!(
+            when("what is the subgoal at the end of tick 2?"),
+            Some(When::Tick(2))
+        );
+        assert_eq!(when("by the end of tick 4, why"), Some(When::Tick(4)));
+        assert_eq!(when("at the start of tick 3"), Some(When::Tick(2)));
+        assert_eq!(when("at the end of the run"), Some(When::LastTick));
+        assert_eq!(when("at the end, what failed"), Some(When::LastTick));
     }
 }

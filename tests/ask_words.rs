@@ -2286,6 +2286,46 @@ fn an_instructors_task_is_read_as_the_question_it_sets() {
 }
 
 #[test]
+fn a_boxs_colour_in_groot_is_its_status() {
+    // Green SUCCESS, red FAILURE, orange RUNNING, grey never run; "at 5"
+    // with no unit is tick 5; a failure told ("went red") then another
+    // question asks that question.
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![
+        (
+            vec![PATROL, "--at", "4"],
+            "why is drive orange",
+            "Why are you doing this?",
+        ),
+        (
+            vec![PATROL],
+            "why was drive halted at 5",
+            "Why did drive (#7) get halted at 5:3?",
+        ),
+        (
+            vec![PATROL],
+            "what if path clear had gone green at 5",
+            "What happens if path clear (#6) succeeds?",
+        ),
+        (
+            vec![CASE],
+            "L0 just went red, what subgoal was it on",
+            "What is your subgoal?",
+        ),
+        (
+            vec![NAV2],
+            "NavigateWithReplanning just turned red, what went wrong",
+            "What went wrong?",
+        ),
+        (
+            vec![NAV2],
+            "Spin stays grey the whole run - why",
+            "Why did Spin (#20) not run in tick 10?",
+        ),
+    ];
+    first_lines_are(cases);
+}
+
+#[test]
 fn whether_it_came_through_a_failure_is_told_of_that_failure() {
     // Asked at the end of the run, "after look at chuck failed" names the
     // failure asked about; it is not the moment to look from (from just

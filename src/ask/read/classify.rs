@@ -862,16 +862,8 @@ fn what_went_wrong(c: &Cues) -> Option<Readings> {
         return None;
     }
     let asked_when = when::find(s.q);
-    // "@2 (FP F, CLC S) - what happened exactly": the failure is told;
-    // what happened at that moment is asked.
-    let last_what = s.free().filter(|(_, w)| w.text == "what").last();
-    if let (Some((what, _)), Some(_)) = (last_what, &asked_when) {
-        let asked = s
-            .free()
-            .any(|(i, w)| i > what && super::cues::PROBLEM.contains(&w.stem.as_str()));
-        if what > 0 && !asked && s.q[what + 1..].iter().any(|w| w.stem == "happen") {
-            return None;
-        }
+    if asks_past_a_told_failure(s, asked_when.is_some()) {
+        return None;
     }
     // "What failed in goal 1 - planner or controller?": which did is
     // what went wrong, not why one did.
@@ -880,22 +872,13 @@ fn what_went_wrong(c: &Cues) -> Option<Readings> {
         .iter()
         .any(|v| s.phrase(&["what", v]).is_some());
     let either = c.what && (s.has("or") || what_failed) && !c.why;
-    // "FP F x2 - what went wrong?": the failure told, then what went
-    // wrong asked of the whole, not why that node failed.
-    let told_first = s
-        .free()
-        .find(|(_, w)| w.text == "what")
-        .is_some_and(|(what, _)| {
-            c.named.iter().all(|m| m.end <= what)
-                && s.q[..what]
-                    .iter()
-                    .any(|w| ["failed", "failure", "fail"].contains(&w.text.as_str()))
-        });
+    let (told_first, told_after) = failure_told(c);
     if !c.named.is_empty()
         && c.ev == Some(Event::Fail)
         && asked_when.is_none()
         && !either
         && !told_first
+        && !told_after
     {
         let node = c.subject().unwrap_or(Subject::Task);
         return Some(vec![(
@@ -917,6 +900,62 @@ fn what_went_wrong(c: &Cues) -> Option<Readings> {
             0.3,
         ),
     ])
+}
+
+/// Whether what follows the last "what" asks past a failure the text
+/// tells: "@2 (FP F, CLC S) - what happened exactly" (what happened at
+/// that moment), "L0 just went red, what subgoal was it on?".
+fn asks_past_a_told_failure(s: &Sentence, moment_said: bool) -> bool {
+    let Some((what, _)) = s.free().filter(|(_, w)| w.text == "what").last() else {
+        return false;
+    };
+    let asks_a_problem = |from: usize| {
+        s.free()
+            .any(|(i, w)| i > from && super::cues::PROBLEM.contains(&w.stem.as_str()))
+    };
+    if moment_said
+        && what > 0
+        && !asks_a_problem(what)
+        && s.q[what + 1..].iter().any(|w| w.stem == "happen")
+    {
+        return true;
+    }
+    let told = s.q[..what]
+        .iter()
+        .any(|w| w.stem == "fail" || w.text == "failure");
+    let asks_else = s.q[what + 1..].iter().any(|w| {
+        ["subgoal", "goal", "doing", "next", "comes", "up", "purpose"].contains(&w.text.as_str())
+    });
+    let happened = s.free().any(|(i, w)| i > what && w.stem == "happen");
+    what > 0 && told && !asks_a_problem(what) && !happened && asks_else
+}
+
+/// Whether a failure is told before what went wrong is asked ("FP F x2 -
+/// what went wrong?"), or after it ("what went wrong, L0 is red"): what
+/// went wrong is asked of the whole, not why that node failed.
+fn failure_told(c: &Cues) -> (bool, bool) {
+    let s = c.s;
+    let told_first = s
+        .free()
+        .find(|(_, w)| w.text == "what")
+        .is_some_and(|(what, _)| {
+            c.named.iter().all(|m| m.end <= what)
+                && s.q[..what]
+                    .iter()
+                    .any(|w| w.stem == "fail" || w.text == "failure")
+        });
+    let told_after = s.q.len() > 3
+        && s.q[..3]
+            .iter()
+            .map(|w| w.text.as_str())
+            .eq(["what", "went", "wrong"])
+        && c.named.first().is_some_and(|m| {
+            m.start == 3
+                && s.q
+                    .get(m.end)
+                    .is_some_and(|w| ["is", "was"].contains(&w.text.as_str()))
+        });
+    (told_first, told_after)
 }
 
 /// "How does it handle the subgoal it's on?": how a goal is done, no
@@ -1336,7 +1375,12 @@ fn doing(c: &Cues) -> Option<Readings> {
         || s.has_prefix(&["doin"]);
     // "What is it doing now, looking at the chuck again?": the names are
     // the asker's guess; the question is what it does.
-    let guessed = (s.has("doing") || s.has("tip")) && c.what && !c.why && !c.how;
+    // "Guarded drive went orange, what is the robot up to": the names are
+    // a story told first.
+    let guessed = (s.has("doing") || s.has("tip") || s.phrase(&["up", "to"]).is_some())
+        && c.what
+        && !c.why
+        && !c.how;
     // "Doing @ t30?": the chat's shorthand.
     let bare = c.first == "doing" && c.named.is_empty() && !c.why && !c.how;
     // "Running node?", not "NR running -> halted": a node said running.

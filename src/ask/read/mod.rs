@@ -8,6 +8,7 @@
 mod can_you;
 mod classify;
 mod clauses;
+mod colours;
 mod coursework;
 mod cues;
 mod event;
@@ -717,7 +718,10 @@ fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
                 tree,
                 &named_as_uids(
                     tree,
-                    &ports_as_uids(tree, &shorthand::spelled_out(tree, text)),
+                    &ports_as_uids(
+                        tree,
+                        &shorthand::spelled_out(tree, &colours::as_statuses(tree, text)),
+                    ),
                 ),
             ),
         ),

@@ -174,13 +174,39 @@ const MOVES: &[&str] = &[
 
 /// The moment named, and the word positions that said it.
 pub fn find(q: &[Word]) -> Option<(When, Vec<usize>)> {
-    (0..q.len()).find_map(|i| {
-        tick_said(q, i)
-            .or_else(|| step_of_tick(q, i))
-            .or_else(|| moment_said(q, i))
-            .or_else(|| end_or_start(q, i))
-            .or_else(|| around_a_failure(q, i))
-    })
+    // A tick said by its number comes before "the end of the run" said
+    // elsewhere ("at the end of the run, what did frame 13 do?").
+    (0..q.len())
+        .find_map(|i| {
+            tick_said(q, i)
+                .or_else(|| step_of_tick(q, i))
+                .or_else(|| moment_said(q, i))
+                .or_else(|| end_or_start(q, i).filter(|(w, _)| matches!(w, When::Tick(_))))
+                .or_else(|| at_a_number(q, i))
+        })
+        .or_else(|| {
+            (0..q.len()).find_map(|i| end_or_start(q, i).or_else(|| around_a_failure(q, i)))
+        })
+}
+
+/// "Why was drive halted at 5", "what if it had gone green at 10": a
+/// number after "at", with no unit after it, is a tick.
+fn at_a_number(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
+    const UNITS: &[&str] = &[
+        "hz", "m", "s", "ms", "sec", "secs", "second", "seconds", "percent", "metres", "meters",
+        "metre", "meter", "mph", "kmh", "degrees", "deg", "rad", "x", "times", "fps", "pm", "am",
+        "hours", "hour", "minutes", "minute", "mins", "min", "cm", "mm", "km", "kg", "g", "v",
+        "volts", "a", "amps", "w", "watts", "o'clock", "oclock", "nodes", "ticks",
+    ];
+    let t = |i: usize| text(q, i);
+    if t(i) != "at" || !t(i + 1).chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    let n = number(t(i + 1))?;
+    if UNITS.contains(&t(i + 2)) || t(i + 2) == "." {
+        return None;
+    }
+    Some((When::Tick(n), vec![i, i + 1]))
 }
 
 /// Word `i` of `q`, or "" past the end.
@@ -383,5 +409,21 @@ mod tests {
         assert_eq!(when("at the start of tick 3"), Some(When::Tick(2)));
         assert_eq!(when("at the end of the run"), Some(When::LastTick));
         assert_eq!(when("at the end, what failed"), Some(When::LastTick));
+        assert_eq!(
+            when("at the end of the run, what did frame 13 do"),
+            Some(When::Tick(13))
+        );
+    }
+
+    #[test]
+    fn a_number_after_at_is_a_tick_unless_it_has_a_unit() {
+        assert_eq!(when("why was drive halted at 5"), Some(When::Tick(5)));
+        assert_eq!(
+            when("what if it had gone green at 10?"),
+            Some(When::Tick(10))
+        );
+        assert_eq!(when("why is the rate controller at 1 hz"), None);
+        assert_eq!(when("why did it stop at 2 m"), None);
+        assert_eq!(when("why did #18 fail at #7"), None);
     }
 }

@@ -6,53 +6,16 @@ use crate::model::Tree;
 
 /// Words before a colour that say a box shows it.
 const SHOWS: &[&str] = &[
-    "go",
-    "goes",
-    "going",
-    "went",
-    "gone",
-    "turn",
-    "turns",
-    "turned",
-    "turning",
-    "become",
-    "becomes",
-    "became",
-    "is",
-    "was",
-    "are",
-    "were",
-    "be",
-    "been",
-    "being",
-    "stay",
-    "stays",
-    "stayed",
-    "staying",
-    "remain",
-    "remains",
-    "remained",
-    "still",
-    "lit",
-    "light",
-    "lights",
-    "flash",
-    "flashes",
-    "flashed",
-    "glow",
-    "glows",
-    "glowed",
-    "show",
-    "shows",
-    "showed",
-    "all",
-    "everything",
-    "of",
-    "than",
-    "and",
-    "or",
-    "not",
+    "go", "goes", "going", "went", "gone", "turn", "turns", "turned", "turning", "become",
+    "becomes", "became", "is", "was", "are", "were", "be", "been", "being", "stay", "stays",
+    "stayed", "staying", "remain", "remains", "remained", "still", "lit", "light", "lights",
+    "flash", "flashes", "flashed", "glow", "glows", "glowed", "show", "shows", "showed", "all",
+    "everything", "of", "than", "and", "or", "not", "end", "ends", "ended", "finish", "finishes",
+    "finished", "any",
 ];
+
+/// Words after a colour that say it is a box's: "any red boxes?".
+const BOXES: &[&str] = &["box", "boxes", "node", "nodes", "one", "ones"];
 
 /// Verbs of a box left as it was: grey all along is never run.
 const STAYS: &[&str] = &[
@@ -64,11 +27,14 @@ const STAYS: &[&str] = &[
 /// "succeeds", "going orange" "starting".
 fn became(verb: &str, colour: &str) -> Option<String> {
     const PAST: &[&str] = &[
-        "went", "gone", "turned", "became", "flashed", "lit", "glowed", "showed",
+        "went", "gone", "turned", "became", "flashed", "lit", "glowed", "showed", "ended",
+        "finished",
     ];
-    const BASE: &[&str] = &["go", "turn", "become", "flash", "light", "glow", "show"];
+    const BASE: &[&str] = &[
+        "go", "turn", "become", "flash", "light", "glow", "show", "end", "finish",
+    ];
     const THIRD: &[&str] = &[
-        "goes", "turns", "becomes", "flashes", "lights", "glows", "shows",
+        "goes", "turns", "becomes", "flashes", "lights", "glows", "shows", "ends", "finishes",
     ];
     const ING: &[&str] = &[
         "going", "turning", "becoming", "flashing", "lighting", "glowing",
@@ -137,10 +103,12 @@ pub(super) fn as_statuses(tree: &Tree, text: &str) -> String {
     for (i, t) in toks.iter().enumerate() {
         let c = &lowered[i];
         let before = |k: usize| i.checked_sub(k).map(|j| lowered[j].as_str());
-        let shown = [before(1), before(2)]
-            .iter()
-            .flatten()
-            .any(|b| SHOWS.contains(b));
+        let boxed = lowered.get(i + 1).is_some_and(|n| BOXES.contains(&n.as_str()));
+        let shown = boxed
+            || [before(1), before(2)]
+                .iter()
+                .flatten()
+                .any(|b| SHOWS.contains(b));
         let verb = before(1).and_then(|b| became(b, c));
         match status(c).filter(|_| shown && !named(i)) {
             Some("IDLE") if before(1).is_some_and(|b| STAYS.contains(&b)) => {
@@ -155,6 +123,16 @@ pub(super) fn as_statuses(tree: &Tree, text: &str) -> String {
                     .find(c.as_str())
                     .map_or(t.len(), |k| k + c.len())..];
                 out.push(format!("{}{tail}", verb.unwrap_or_default()));
+            }
+            // "Any red boxes?" is any failed ones.
+            Some(s) if boxed && verb.is_none() => {
+                let adjective = match s {
+                    "FAILURE" => "failed",
+                    "SUCCESS" => "succeeded",
+                    "RUNNING" => "running",
+                    _ => "idle",
+                };
+                out.push(t.to_lowercase().replacen(c.as_str(), adjective, 1))
             }
             Some(s) => out.push(t.to_lowercase().replacen(c.as_str(), s, 1)),
             None => out.push(t.to_string()),
@@ -191,6 +169,11 @@ mod tests {
         assert_eq!(
             as_statuses(&t, "what if drive had gone green instead of red"),
             "what if drive had succeeded instead of FAILURE"
+        );
+        assert_eq!(as_statuses(&t, "any red boxes at all?"), "any failed boxes at all?");
+        assert_eq!(
+            as_statuses(&t, "root ends green, so is everything fine?"),
+            "root succeeds, so is everything fine?"
         );
         assert_eq!(
             as_statuses(&t, "drive just went orange, what now?"),

@@ -258,7 +258,7 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
     every_time
         // "What went wrong when it dropped the passenger off?": the
         // "when" says which time.
-        || s.has("when") && s.phrase(&["wrong", "when"]).is_none()
+        || s.has("when") && s.phrase(&["wrong", "when"]).is_none() && !when_says_which_time(s)
         || s.phrase(&["what", "time"]).is_some()
         || s.phrase(&["which", "tick"]).is_some()
         || s.phrase(&["which", "transition"]).is_some()
@@ -276,6 +276,28 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         // "list the ticks where it failed".
         || (s.has("tick") || s.has("ticks"))
             && ["list", "where", "show", "give"].iter().any(|w| s.has(w))
+}
+
+/// "What went on in tick 10 when everything turned green": a "when"
+/// after another question word, not joined to it by "and" or "or", says
+/// which time the question is about.
+fn when_says_which_time(s: &Sentence) -> bool {
+    const ASKS: &[&str] = &["what", "whats", "why", "how", "which", "who", "where"];
+    // "In which case, when exactly is halt called": a question's inversion.
+    let inverted = |i: usize| {
+        s.q.get(i + 1).is_some_and(|n| {
+            [
+                "exactly", "did", "does", "do", "is", "was", "were", "will", "has", "had",
+            ]
+            .contains(&n.text.as_str())
+        })
+    };
+    s.free().filter(|(_, w)| w.text == "when").all(|(i, _)| {
+        i > 0
+            && !inverted(i)
+            && !["and", "or", "but", "so", "then", "exactly"].contains(&s.q[i - 1].text.as_str())
+            && s.q[..i].iter().any(|w| ASKS.contains(&w.text.as_str()))
+    })
 }
 
 /// "What did it do after it failed?": how a failure was handled.

@@ -203,7 +203,10 @@ fn at_a_number(q: &[Word], i: usize) -> Option<(When, Vec<usize>)> {
         return None;
     }
     let n = number(t(i + 1))?;
-    if UNITS.contains(&t(i + 2)) || t(i + 2) == "." {
+    // "At 1.0 hz": a decimal's parts are two words.
+    let unit =
+        |w: &str| UNITS.contains(&w) || !w.is_empty() && w.chars().all(|c| c.is_ascii_digit());
+    if unit(t(i + 2)) {
         return None;
     }
     Some((When::Tick(n), vec![i, i + 1]))
@@ -423,6 +426,7 @@ mod tests {
             Some(When::Tick(10))
         );
         assert_eq!(when("why is the rate controller at 1 hz"), None);
+        assert_eq!(when("why is it orange with the badge at 1.0 hz"), None);
         assert_eq!(when("why did it stop at 2 m"), None);
         assert_eq!(when("why did #18 fail at #7"), None);
     }

@@ -2326,6 +2326,33 @@ fn a_boxs_colour_in_groot_is_its_status() {
 }
 
 #[test]
+fn why_an_action_is_still_running_is_told_from_its_spell() {
+    // An action runs on by its own work: the run tells since when, and
+    // that the reason is not in the run, rather than a search that found
+    // nothing ("No explanation up to depth 2").
+    let (ok, out, err) = btx(&[
+        "ask",
+        PATROL,
+        "--at",
+        "2",
+        "why is walk still running at tick 2 when look around already succeeded?",
+    ]);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines.first(),
+        Some(&"Why was walk (#3) still running at 2?"),
+        "{out}"
+    );
+    assert_eq!(
+        lines.get(1),
+        Some(&"Walk (#3) has been running since 1:3 (2 ticks) and had not finished by 2: it is an action, so it runs on by its own work, not by anything the tree decides. Why it runs on is not in the run: the plan scripted it; give a domain file (--domain FILE) to say what it depends on."),
+        "{out}"
+    );
+    assert!(!out.contains("No explanation up to depth"), "{out}");
+}
+
+#[test]
 fn whether_it_came_through_a_failure_is_told_of_that_failure() {
     // Asked at the end of the run, "after look at chuck failed" names the
     // failure asked about; it is not the moment to look from (from just

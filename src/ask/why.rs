@@ -43,6 +43,9 @@ pub fn answer(
         Event::KeepRunning if at.status(u) == Status::Running => {
             let m = at.moment();
             r.understood = format!("Why was {name} still running at {m}?");
+            if leaf_runs_on(cx, at, u, r) {
+                return Ok(());
+            }
             (format!("status(#{u})"), m)
         }
         _ => match event_asked(cx, at, u, e, r) {
@@ -133,6 +136,27 @@ fn event_asked(
         "status"
     };
     Some((format!("{t}(#{u})"), m))
+}
+
+/// A leaf still running runs on by its own work: what the run shows of
+/// its spell comes first, and is the whole answer where no domain says
+/// what the leaf depends on (the search could only say it found nothing).
+fn leaf_runs_on(cx: &Context, at: &crate::session::At, u: Uid, r: &mut Reply) -> bool {
+    let (Some(s), true) = (cx.session, cx.tree.node(u).kind.is_leaf()) else {
+        return false;
+    };
+    let Some(since) = at
+        .index
+        .changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&p| p <= at.pos)
+        .rfind(|&p| at.index.transitions[p as usize - 1].status == Status::Running)
+    else {
+        return false;
+    };
+    r.answer = crate::causal::calls::leaf_running(s, u, since, at.pos);
+    s.header.source.kind != "domain"
 }
 
 /// "Why is X still running?" asked when it is not: how it last ended, by

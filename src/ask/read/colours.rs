@@ -6,12 +6,59 @@ use crate::model::Tree;
 
 /// Words before a colour that say a box shows it.
 const SHOWS: &[&str] = &[
-    "go", "goes", "going", "went", "gone", "turn", "turns", "turned", "turning", "become",
-    "becomes", "became", "is", "was", "are", "were", "be", "been", "being", "stay", "stays",
-    "stayed", "staying", "remain", "remains", "remained", "still", "lit", "light", "lights",
-    "flash", "flashes", "flashed", "glow", "glows", "glowed", "show", "shows", "showed", "all",
-    "everything", "of", "than", "and", "or", "not", "end", "ends", "ended", "finish", "finishes",
-    "finished", "any",
+    "go",
+    "goes",
+    "going",
+    "went",
+    "gone",
+    "turn",
+    "turns",
+    "turned",
+    "turning",
+    "become",
+    "becomes",
+    "became",
+    "is",
+    "was",
+    "are",
+    "were",
+    "be",
+    "been",
+    "being",
+    "stay",
+    "stays",
+    "stayed",
+    "staying",
+    "remain",
+    "remains",
+    "remained",
+    "still",
+    "lit",
+    "light",
+    "lights",
+    "flash",
+    "flashes",
+    "flashed",
+    "glow",
+    "glows",
+    "glowed",
+    "show",
+    "shows",
+    "showed",
+    "all",
+    "everything",
+    "of",
+    "than",
+    "and",
+    "or",
+    "not",
+    "end",
+    "ends",
+    "ended",
+    "finish",
+    "finishes",
+    "finished",
+    "any",
 ];
 
 /// Words after a colour that say it is a box's: "any red boxes?".
@@ -103,7 +150,9 @@ pub(super) fn as_statuses(tree: &Tree, text: &str) -> String {
     for (i, t) in toks.iter().enumerate() {
         let c = &lowered[i];
         let before = |k: usize| i.checked_sub(k).map(|j| lowered[j].as_str());
-        let boxed = lowered.get(i + 1).is_some_and(|n| BOXES.contains(&n.as_str()));
+        let boxed = lowered
+            .get(i + 1)
+            .is_some_and(|n| BOXES.contains(&n.as_str()));
         let shown = boxed
             || [before(1), before(2)]
                 .iter()
@@ -170,7 +219,10 @@ mod tests {
             as_statuses(&t, "what if drive had gone green instead of red"),
             "what if drive had succeeded instead of FAILURE"
         );
-        assert_eq!(as_statuses(&t, "any red boxes at all?"), "any failed boxes at all?");
+        assert_eq!(
+            as_statuses(&t, "any red boxes at all?"),
+            "any failed boxes at all?"
+        );
         assert_eq!(
             as_statuses(&t, "root ends green, so is everything fine?"),
             "root succeeds, so is everything fine?"

@@ -405,6 +405,32 @@ pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
     out.join(" ")
 }
 
+/// What the run shows of a leaf still running at position `upto`, in the
+/// spell that began at `since`: it runs on by its own work, which the tree
+/// does not decide ("why is walk still running?" of an action).
+pub fn leaf_running(session: &Session, u: Uid, since: u32, upto: u32) -> String {
+    let idx = &session.index;
+    let name = capitalised(&session.tree.told(u));
+    let began = idx.transitions[since as usize - 1].tick;
+    let now = idx.moment(upto);
+    let ticks = now.tick - began + 1;
+    let what = session.tree.node(u).kind.as_str().to_lowercase();
+    let mut out = vec![format!(
+        "{name} has been running since {} ({ticks} tick{}) and had not finished by {now}: it is {} {what}, so it runs on by its own work, not by anything the tree decides.",
+        step_moment(idx, since),
+        if ticks == 1 { "" } else { "s" },
+        if what.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" }
+    )];
+    out.push(match session.header.source.kind.as_str() {
+        "domain" => String::new(),
+        "plan" => "Why it runs on is not in the run: the plan scripted it; give a domain file (--domain FILE) to say what it depends on.".into(),
+        "world" => "Why it runs on is not in the run: the world's scenario decided it.".into(),
+        _ => "Why it runs on is not in the run: the robot's log records that it ran, not what it was waiting for (the node's own logs or its outputs may say).".into(),
+    });
+    out.retain(|l| !l.is_empty());
+    out.join(" ")
+}
+
 /// "X returned FAILURE itself at 10:1, after running from 9:3 (2 ticks):
 /// it is an action, so nothing in the tree decided it."
 pub(super) fn returned_itself(session: &Session, u: Uid, p: u32, start: Option<u32>) -> String {

@@ -2276,6 +2276,17 @@ fn an_instructors_task_is_read_as_the_question_it_sets() {
             "The taxi is at the end of tick 5. State the action currently executing. (1 mark)",
             "What were you doing at tick 5?",
         ),
+        (vec![PATROL], "what's this tree for, overall?", "What is your goal?"),
+        (
+            vec![TAXI],
+            "what's the overall point of this tree? what counts as done?",
+            "What is your goal?",
+        ),
+        (
+            vec![PATROL],
+            "when guarded drive failed, did anything in the tree do something about it?",
+            "How was the failure handled?",
+        ),
         (
             vec![TAXI],
             "The second move up succeeded at tick 6. Predict the outcome of the run had it failed instead.",

@@ -338,7 +338,10 @@ fn how_often(c: &Cues) -> Option<Readings> {
         || s.phrase(&["how", "many"]).is_some()
         || s.phrase(&["how", "frequently"]).is_some()
         || s.phrase(&["number", "of"]).is_some()
+        // Not "what counts as done?": what is taken for it.
         || s.has_stem(&["count", "quantifi"])
+            && s.phrase(&["counts", "as"]).is_none()
+            && s.phrase(&["count", "as"]).is_none()
         || tallied;
     if !often {
         return None;
@@ -410,6 +413,23 @@ fn when_it_happened(c: &Cues) -> Option<Readings> {
     Some(vec![(Intent::When { node, event, which }, c.sure(0.95))])
 }
 
+/// "This tree for, overall": the whole named, then "for" with no moment
+/// or thing or deed after it ("the tree for tick 3", "the tree for
+/// reaching the goal" are no purpose).
+fn whole_for(s: &Sentence) -> bool {
+    s.q.windows(2).enumerate().any(|(i, p)| {
+        ["tree", "bt", "robot", "program", "system", "agent"].contains(&p[0].text.as_str())
+            && p[1].text == "for"
+            && s.q.get(i + 2).is_none_or(|n| {
+                !["tick", "ticks", "step", "the", "a", "an", "each", "every", "this", "that"]
+                    .contains(&n.text.as_str())
+                    && n.text.parse::<u32>().is_err()
+                    // "The strategy of the tree for reaching the goal".
+                    && !n.text.ends_with("ing")
+            })
+    })
+}
+
 /// "What's the purpose of the thing you're doing now?", "what is L2 for?",
 /// "whats the point of driving right now?": why it does what it does; the
 /// whole's purpose ("big picture, what is it for?") is its goal.
@@ -423,7 +443,10 @@ fn purpose(c: &Cues) -> Option<Readings> {
         || s.q.len() > 2 && s.ends_with(&["for", "what"])
         || c.what && s.q.last().is_some_and(|w| w.text == "for")
         // "What is this tree for, in plain words?".
-        || c.what && s.phrase(&["for", "in"]).is_some() && s.phrase(&["this", "tree"]).is_some();
+        || c.what && s.phrase(&["for", "in"]).is_some() && s.phrase(&["this", "tree"]).is_some()
+        // "What's this tree for, overall?", "whats this whole tree for, top
+        // to bottom": what the whole is for, more said after.
+        || c.what && whole_for(s);
     if !purpose || c.why {
         return None;
     }

@@ -309,6 +309,9 @@ fn after_failure(s: &Sentence, problem: bool) -> bool {
             // "what did the fallback do when …".
             || s.has("what") && s.has("did") && s.has("do")
             || s.phrase(&["did", "you", "do"]).is_some()
+            // "When guarded drive failed, did anything in the tree do
+            // something about it?".
+            || s.has("did") && s.has("do") && s.phrase(&["about", "it"]).is_some()
             || s.phrase(&["was", "done"]).is_some()
             || s.phrase(&["did", "the", "robot", "do"]).is_some())
 }

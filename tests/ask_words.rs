@@ -2364,6 +2364,38 @@ fn why_an_action_is_still_running_is_told_from_its_spell() {
 }
 
 #[test]
+fn what_if_a_node_kept_running_is_told_from_the_tree() {
+    // Checked by a re-run of the taxi tree with drop off RUNNING for 50
+    // ticks: from tick 14 on nothing else starts and the root stays
+    // RUNNING. A reactive parent may still halt it (path clear failing
+    // halts drive in the patrol).
+    let cases: Vec<(Vec<&str>, &str, &str)> = vec![(
+        vec![TAXI],
+        "Hypothetically, if drop off passenger had kept returning RUNNING, what would the tree be doing at the end of tick 15?",
+        "What happens if drop off passenger (#21) keeps running?",
+    )];
+    first_lines_are(cases);
+    let (_, out, _) = btx(&["ask", TAXI, "what if drop off passenger had kept running?"]);
+    assert_eq!(
+        out.lines().nth(1),
+        Some("If drop off passenger (#21) keeps running, the go drop off passenger sequence (#13), the go drop off passenger subtree (#12) and go deliver passenger (#1) keep running too, nothing after it starts, and the run does not end while it runs."),
+        "{out}"
+    );
+    let (_, out, _) = btx(&["ask", PATROL, "what if drive had kept running?"]);
+    assert_eq!(
+        out.lines().nth(1),
+        Some("If drive (#7) keeps running, nothing after it starts while it runs; guarded drive (#5), a ReactiveSequence, may still end or halt it by itself."),
+        "{out}"
+    );
+    // "Stayed true" is a success kept, not a call running on.
+    let (_, out, _) = btx(&["ask", PATROL, "what if path clear had stayed true?"]);
+    assert!(
+        out.starts_with("What happens if path clear (#6) succeeds?"),
+        "{out}"
+    );
+}
+
+#[test]
 fn whether_it_came_through_a_failure_is_told_of_that_failure() {
     // Asked at the end of the run, "after look at chuck failed" names the
     // failure asked about; it is not the moment to look from (from just

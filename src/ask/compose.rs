@@ -82,13 +82,10 @@ pub fn compose_from(cx: &Context, question: &str, intent: &Intent, failed: Optio
                 }
                 _ => node.clone(),
             };
-            with_node(cx, &node, Some(Event::Run), &mut r, |u, r| {
-                let s = if *event == Event::Fail {
-                    Status::Failure
-                } else {
-                    Status::Success
-                };
-                next(cx, u, s, r, false)
+            with_node(cx, &node, Some(Event::Run), &mut r, |u, r| match event {
+                Event::KeepRunning => keeps_running(cx, u, r),
+                Event::Fail => next(cx, u, Status::Failure, r, false),
+                _ => next(cx, u, Status::Success, r, false),
             })
         }
     };
@@ -609,6 +606,68 @@ fn recovered(cx: &Context, r: &mut Reply, said: Option<u32>) -> Result<(), Strin
         }
     }
     r.answer = format!("No. {}: nothing above recovered.", upper(&said.join("; ")));
+    Ok(())
+}
+
+/// "What if drop off passenger had kept running?": a node that runs on
+/// holds each node above it running (a Sequence, a Fallback, a decorator
+/// pass RUNNING up and tick nothing after it), up to the first that may
+/// end or halt it by itself (a reactive or parallel node, a Timeout, a
+/// node the tree alone does not describe).
+fn keeps_running(cx: &Context, u: Uid, r: &mut Reply) -> Result<(), String> {
+    let tree = cx.tree;
+    let name = cx.name(u);
+    r.about = Some(u);
+    r.understood = format!("What happens if {name} keeps running?");
+    let holds = |n: &crate::model::Node| {
+        n.kind == crate::model::Kind::SubTree
+            || matches!(
+                n.builtin,
+                Some(
+                    Builtin::Sequence
+                        | Builtin::AsyncSequence
+                        | Builtin::SequenceWithMemory
+                        | Builtin::Fallback
+                        | Builtin::AsyncFallback
+                        | Builtin::Inverter
+                        | Builtin::ForceSuccess
+                        | Builtin::ForceFailure
+                        | Builtin::RetryUntilSuccessful
+                        | Builtin::Repeat
+                        | Builtin::KeepRunningUntilFailure
+                        | Builtin::RecoveryNode
+                        | Builtin::RoundRobin
+                )
+            )
+    };
+    let mut held: Vec<Uid> = Vec::new();
+    let mut decider = None;
+    let mut child = u;
+    while let Some(p) = tree.parent(child) {
+        if !holds(tree.node(p)) {
+            decider = Some(p);
+            break;
+        }
+        held.push(p);
+        child = p;
+    }
+    r.nodes = std::iter::once(u).chain(held.iter().copied()).collect();
+    let names: Vec<String> = held.iter().map(|&p| cx.name(p)).collect();
+    let up = match names.len() {
+        0 => String::new(),
+        1 => format!("{} keeps running too, ", names[0]),
+        _ => format!("{} keep running too, ", and_list(&names)),
+    };
+    r.answer = match decider {
+        None => format!(
+            "If {name} keeps running, {up}nothing after it starts, and the run does not end while it runs."
+        ),
+        Some(p) => format!(
+            "If {name} keeps running, {up}nothing after it starts while it runs; {}, a {}, may still end or halt it by itself.",
+            cx.name(p),
+            tree.node(p).id
+        ),
+    };
     Ok(())
 }
 

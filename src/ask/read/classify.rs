@@ -125,6 +125,8 @@ fn what_if(c: &Cues) -> Option<Readings> {
     // had succeeded; would L2 still have been ticked?").
     let event = match supposed(s).or(c.ev) {
         Some(Event::Succeed) => Event::Succeed,
+        // "If drop off passenger had kept returning RUNNING".
+        Some(Event::KeepRunning) => Event::KeepRunning,
         _ => Event::Fail,
     };
     Some(vec![(Intent::WhatIf { node, event }, c.sure(0.92))])
@@ -157,8 +159,19 @@ fn supposed(s: &Sentence) -> Option<Event> {
         "succeed" | "success" | "pass" | "true" | "held" | "hold" => Some(Event::Succeed),
         "fail" | "failur" | "fals" => Some(Event::Fail),
         _ => None,
-    })?;
+    });
+    // "Had drop off kept returning RUNNING", not "had path clear stayed
+    // true" or "keeps failing".
+    let runs_on = clause.iter().any(|w| {
+        ["kept", "keep", "keeps", "stayed", "stuck", "hung", "still"].contains(&w.text.as_str())
+    }) && clause.iter().any(|w| w.text == "running");
+    let said = if runs_on {
+        Some(Event::KeepRunning)
+    } else {
+        said
+    }?;
     Some(match (said, not) {
+        (Event::KeepRunning, _) => Event::KeepRunning,
         (Event::Fail, true) => Event::Succeed,
         (Event::Succeed, true) => Event::Fail,
         (e, _) => e,

@@ -1375,6 +1375,10 @@ pub fn wording(tree: &Tree, intent: &Intent) -> String {
         }
         Intent::Tick(n) => format!("What happened at tick {n}?"),
         Intent::Next => "What will you do next?".into(),
+        Intent::WhatIf {
+            node,
+            event: Event::KeepRunning,
+        } => format!("What if {} keeps running?", who(node)),
         Intent::WhatIf { node, event } => format!("What if {} {}s?", who(node), verb(*event)),
         Intent::Recovered => "Did the recovery work?".into(),
     }

@@ -2396,6 +2396,34 @@ fn what_if_a_node_kept_running_is_told_from_the_tree() {
 }
 
 #[test]
+fn why_it_runs_again_in_a_later_tick_is_told_from_the_run() {
+    // Look at chuck roughly succeeded at 5:1 and started again at 7:2: the
+    // retry above it started its Sequence again after detect chuck failed.
+    // Checked by a re-run with detect chuck succeeding (plan
+    // kitting_detect_chuck_always_fails with `detect chuck = 1RS`): look
+    // at chuck roughly then starts once, at 4:2. The doubt after the
+    // question ("didn't it already succeed?") is not what is asked.
+    let told = "Look at chuck roughly (#11) started again at 7:2, after it succeeded at 5:1. Sequence (#8) failed at 6:7 because the detect chuck sequence (#9) failed at 6:5, because the detect chuck action (#12) returned FAILURE at 6:1. RetryUntilSuccessful (#7) then started Sequence (#8) again at 6:9.";
+    let detect = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    for (q, first) in [
+        (
+            "why is look at chuck roughly being run again at tick 7? didn't it already succeed?",
+            "Why were you doing this at tick 7?",
+        ),
+        (
+            "why did look at chuck roughly start again?",
+            "Why did look at chuck roughly (#11) start at 7:2?",
+        ),
+    ] {
+        let (ok, out, err) = btx(&["ask", detect, "--at", "7", q]);
+        assert!(ok, "{q}: {err}");
+        let lines: Vec<&str> = out.lines().collect();
+        assert_eq!(lines.first(), Some(&first), "{q}: {out}");
+        assert_eq!(lines.get(1), Some(&told), "{q}: {out}");
+    }
+}
+
+#[test]
 fn whether_it_came_through_a_failure_is_told_of_that_failure() {
     // Asked at the end of the run, "after look at chuck failed" names the
     // failure asked about; it is not the moment to look from (from just

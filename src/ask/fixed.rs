@@ -51,7 +51,16 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
         let again = (at.status(uid) == crate::run::Status::Running)
             .then(|| at.index.call_start(uid, at.pos + 1))
             .flatten()
-            .and_then(|p| super::why::called_again(cx, at, uid, p));
+            .and_then(|p| {
+                super::why::called_again(cx, at, uid, p).or_else(|| {
+                    // "Why is it being run again?": a start in a later tick.
+                    r.question
+                        .to_lowercase()
+                        .contains("again")
+                        .then(|| super::why::restarted(cx, at, uid, p))
+                        .flatten()
+                })
+            });
         if let Some(again) = again {
             r.answer = format!("{again}\n{}", r.answer);
         }

@@ -105,6 +105,11 @@ fn event_asked(
             r.answer = again;
             return None;
         }
+        // Started again in a later tick: what the run shows of why, the
+        // root cause, before the tick's causal model.
+        if let Some(again) = restarted(cx, at, u, p) {
+            r.answer = again;
+        }
     }
     // A control node's failure: the leaf it comes from, first.
     if e == Event::Fail && !cx.tree.node(u).kind.is_leaf() {
@@ -264,6 +269,108 @@ pub(super) fn called_again(
         None => format!("{} ticked it again.", upper(&cx_name(cx, parent))),
     });
     Some(text)
+}
+
+/// A start at `p` of a node that had ended in an earlier tick ("why is
+/// look at chuck roughly being run again?"): the node above it that ended
+/// and was entered again, why that one ended (its root cause, for a
+/// failure), and what entered it again: the loop above it, or the tree
+/// ticked anew from its root. Told from the run's transitions; `None` for
+/// a first start.
+pub(super) fn restarted(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -> Option<String> {
+    let index = at.index;
+    let tick = index.transitions[p as usize - 1].tick;
+    let (q, how) =
+        last_end(index, u, p).filter(|&(q, _)| index.transitions[q as usize - 1].tick < tick)?;
+    let mut text = format!(
+        "{} started again at {}, after it {} at {}.",
+        upper(&cx_name(cx, u)),
+        step_moment(index, p),
+        outcome(how),
+        step_moment(index, q)
+    );
+    // The highest of the nodes above it that ended in between, each the
+    // parent of the last: the one above that stayed is what looped.
+    let ended = cx
+        .tree
+        .ancestors(u)
+        .map_while(|a| {
+            last_end(index, a, p)
+                .filter(|&(x, _)| x > q)
+                .map(|(x, _)| (a, x))
+        })
+        .last();
+    let Some((a, x)) = ended else {
+        let parent = cx.tree.parent(u)?;
+        text.push_str(&format!(
+            " {} ticked it again.",
+            upper(&cx_name(cx, parent))
+        ));
+        return Some(text);
+    };
+    text.push(' ');
+    text.push_str(why_it_ended(cx, index, a, x).trim_end_matches('.'));
+    text.push('.');
+    text.push_str(&entered_again(cx, index, a, x, p));
+    Some(text)
+}
+
+/// The last end (SUCCESS or FAILURE) of `v` before position `p`.
+fn last_end(index: &crate::session::Index, v: Uid, p: u32) -> Option<(u32, Status)> {
+    index
+        .changes_of(v)
+        .iter()
+        .copied()
+        .filter(|&x| x < p)
+        .map(|x| (x, index.transitions[x as usize - 1].status))
+        .rfind(|(_, st)| matches!(st, Status::Success | Status::Failure))
+}
+
+fn outcome(st: Status) -> &'static str {
+    if st == Status::Failure {
+        "failed"
+    } else {
+        "succeeded"
+    }
+}
+
+/// Why `a` ended at `x`: for a failure, followed down to the leaf it
+/// comes from.
+fn why_it_ended(cx: &Context, index: &crate::session::Index, a: Uid, x: u32) -> String {
+    let st = index.transitions[x as usize - 1].status;
+    (st == Status::Failure)
+        .then(|| crate::causal::chain::RootCause::of(cx.tree, index, a, x))
+        .flatten()
+        .map(|c| c.text(cx.tree))
+        .unwrap_or_else(|| {
+            format!(
+                "{} {} at {}.",
+                upper(&cx_name(cx, a)),
+                outcome(st),
+                step_moment(index, x)
+            )
+        })
+}
+
+/// " Its parent then started it again at y.", or the root ticked anew.
+fn entered_again(cx: &Context, index: &crate::session::Index, a: Uid, x: u32, p: u32) -> String {
+    let entered =
+        index.changes_of(a).iter().copied().find(|&y| {
+            y > x && y <= p && index.transitions[y as usize - 1].status == Status::Running
+        });
+    match (cx.tree.parent(a), entered) {
+        (Some(l), Some(y)) => format!(
+            " {} then started {} again at {}.",
+            upper(&cx_name(cx, l)),
+            cx_name(cx, a),
+            step_moment(index, y)
+        ),
+        (None, Some(y)) => format!(
+            " The tree was ticked again from its root at {}.",
+            step_moment(index, y)
+        ),
+        _ => String::new(),
+    }
 }
 
 /// "Why did X not run?" in the tick of the moment: the target and moment

@@ -443,7 +443,7 @@ fn asks(stem: &str) -> bool {
 /// a question is most often about it: "Is this a bug?"), is what it asks.
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     let set = coursework::as_asked(text);
-    let text = after_a_correction(&set);
+    let text = without_a_challenge(after_a_correction(&set));
     let whole = read_one(vocabulary, tree, text);
     let questions = questions_in(text);
     let asked = questions
@@ -607,6 +607,43 @@ fn the_story_asks_it(asked: &Reading, story: &Reading) -> bool {
             },
         ) => a == b,
         _ => false,
+    }
+}
+
+/// A question without the doubt put after it ("why is look at chuck
+/// roughly being run again? didn't it already succeed?"): the doubt says
+/// what the asker thought, not what is asked.
+fn without_a_challenge(text: &str) -> &str {
+    const DOUBTS: &[&str] = &[
+        "didn't",
+        "didnt",
+        "wasn't",
+        "wasnt",
+        "hasn't",
+        "hasnt",
+        "isn't",
+        "isnt",
+        "doesn't",
+        "doesnt",
+        "shouldn't",
+        "shouldnt",
+        "wouldn't",
+        "wouldnt",
+    ];
+    let Some(end) = text.find("? ") else {
+        return text;
+    };
+    let rest = text[end + 2..].trim_start();
+    let mut words = rest.split_whitespace().map(|w| w.to_lowercase());
+    let first = words.next().unwrap_or_default();
+    let first = first.trim_start_matches("but").trim();
+    let doubt = DOUBTS.contains(&first)
+        || first.is_empty() && words.next().is_some_and(|w| DOUBTS.contains(&w.as_str()));
+    let asks_why = text[..end].to_lowercase().starts_with("why");
+    if doubt && asks_why && !rest[..rest.len().saturating_sub(1)].contains('?') {
+        &text[..=end]
+    } else {
+        text
     }
 }
 

@@ -86,10 +86,13 @@ pub(super) fn as_asked(text: &str) -> String {
     t = without_labels(&t);
     t = claim_asked(&t);
     t = format!(" {}", without_instructions(&t));
+    // ASCII (above): the lowercase copy keeps the text's offsets.
+    let mut lower = t.to_ascii_lowercase();
     for p in HOW_TO_ANSWER {
-        while let Some(i) = t.to_lowercase().find(p) {
+        while let Some(i) = lower.find(p) {
             let keep = if p.ends_with(',') { "," } else { "" };
             t.replace_range(i..i + p.len(), keep);
+            lower.replace_range(i..i + p.len(), keep);
         }
     }
     let t = replaced_words(&t);

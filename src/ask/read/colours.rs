@@ -207,34 +207,29 @@ mod tests {
     #[test]
     fn a_boxs_colour_is_its_status() {
         let t = tree();
-        assert_eq!(
-            as_statuses(&t, "why is drive orange?"),
-            "why is drive RUNNING?"
-        );
-        assert_eq!(
-            as_statuses(&t, "why did drive go red at 5"),
-            "why did drive fail at 5"
-        );
-        assert_eq!(
-            as_statuses(&t, "what if drive had gone green instead of red"),
-            "what if drive had succeeded instead of FAILURE"
-        );
-        assert_eq!(
-            as_statuses(&t, "any red boxes at all?"),
-            "any failed boxes at all?"
-        );
-        assert_eq!(
-            as_statuses(&t, "root ends green, so is everything fine?"),
-            "root succeeds, so is everything fine?"
-        );
-        assert_eq!(
-            as_statuses(&t, "drive just went orange, what now?"),
-            "drive just started, what now?"
-        );
-        assert_eq!(
-            as_statuses(&t, "Spin and Wait stay grey the whole run - why"),
-            "Spin and Wait never ran the whole run - why"
-        );
+        for (said, read) in [
+            ("why is drive orange?", "why is drive RUNNING?"),
+            ("why did drive go red at 5", "why did drive fail at 5"),
+            (
+                "what if drive had gone green instead of red",
+                "what if drive had succeeded instead of FAILURE",
+            ),
+            ("any red boxes at all?", "any failed boxes at all?"),
+            (
+                "root ends green, so is everything fine?",
+                "root succeeds, so is everything fine?",
+            ),
+            (
+                "drive just went orange, what now?",
+                "drive just started, what now?",
+            ),
+            (
+                "Spin and Wait stay grey the whole run - why",
+                "Spin and Wait never ran the whole run - why",
+            ),
+        ] {
+            assert_eq!(as_statuses(&t, said), read);
+        }
     }
 
     #[test]

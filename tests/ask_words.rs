@@ -2332,6 +2332,12 @@ fn a_boxs_colour_in_groot_is_its_status() {
             "Spin stays grey the whole run - why",
             "Why did Spin (#20) not run in tick 10?",
         ),
+        // "Into" and "around" alone are no half of a name ("look around").
+        (
+            vec![KITTING],
+            "why did it go into reset arm instead of carrying on to approach door after look at chuck",
+            "Why did I do the reset arm force failure (#26) and not approach door (#19) in tick 10?",
+        ),
     ];
     first_lines_are(cases);
 }

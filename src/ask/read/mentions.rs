@@ -67,7 +67,8 @@ const PLAIN: &[&str] = &[
     "was", "were", "are", "has", "have", "had", "can", "could", "will", "would", "a", "the",
     "from", "by", "up", "out", "all", "any", "node", "nodes", "tree", "robot", "time", "times",
     "entire", "whole", "first", "last", "after", "before", "again", "so", "while", "task",
-    "mission", "goal", "job", "you", "me", "until", "action", "current",
+    "mission", "goal", "job", "you", "me", "until", "action", "current", "around", "about", "over",
+    "into", "through", "along",
 ];
 
 /// Verbs that "back" after them makes a way of moving ("go back to").

@@ -14,14 +14,9 @@ use crate::model::{Builtin, Tree, Uid};
 use crate::run::Status;
 use crate::session::At;
 
-/// The answer to a question btx understood.
-pub fn compose(cx: &Context, question: &str, intent: &Intent) -> Reply {
-    compose_from(cx, question, intent, None)
-}
-
-/// `compose`, where a question of recovery names the failure it asks
-/// about (its position in the run).
-pub fn compose_from(cx: &Context, question: &str, intent: &Intent, failed: Option<u32>) -> Reply {
+/// The answer to a question btx understood; `failed`, where a question of
+/// recovery names the failure it asks about, is its position in the run.
+pub fn compose(cx: &Context, question: &str, intent: &Intent, failed: Option<u32>) -> Reply {
     let mut r = Reply::new(question, Some(intent.short()));
     r.moment = cx.at.as_ref().map(|a| a.moment().to_string());
     let done = match intent {

@@ -215,7 +215,7 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
         moved_to(cx, cx.at, running.or(us.first().copied()))
     });
     let cx = named.as_ref().unwrap_or(cx);
-    let mut r = compose::compose_from(cx, question, &reading.intent, failure);
+    let mut r = compose::compose(cx, question, &reading.intent, failure);
     said_as_read(cx, &reading, restate, &mut r);
     r
 }

@@ -150,14 +150,7 @@ fn leaf_runs_on(cx: &Context, at: &crate::session::At, u: Uid, r: &mut Reply) ->
     let (Some(s), true) = (cx.session, cx.tree.node(u).kind.is_leaf()) else {
         return false;
     };
-    let Some(since) = at
-        .index
-        .changes_of(u)
-        .iter()
-        .copied()
-        .filter(|&p| p <= at.pos)
-        .rfind(|&p| at.index.transitions[p as usize - 1].status == Status::Running)
-    else {
+    let Some(since) = at.index.call_start(u, at.pos + 1) else {
         return false;
     };
     r.answer = crate::causal::calls::leaf_running(s, u, since, at.pos);
@@ -230,11 +223,7 @@ pub(super) fn called_again(
         .filter_map(ended)
         .next_back()?;
     let name = upper(&cx_name(cx, u));
-    let outcome = if how == Status::Failure {
-        "failed"
-    } else {
-        "succeeded"
-    };
+    let outcome = crate::causal::calls::past(how);
     let mut text = format!(
         "{name} started again at {}, after it {outcome} at {} in the same tick.",
         step_moment(index, p),
@@ -286,7 +275,7 @@ pub(super) fn restarted(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -
         "{} started again at {}, after it {} at {}.",
         upper(&cx_name(cx, u)),
         step_moment(index, p),
-        outcome(how),
+        crate::causal::calls::past(how),
         step_moment(index, q)
     );
     // The highest of the nodes above it that ended in between, each the
@@ -315,23 +304,15 @@ pub(super) fn restarted(cx: &Context, at: &crate::session::At, u: Uid, p: u32) -
     Some(text)
 }
 
-/// The last end (SUCCESS or FAILURE) of `v` before position `p`.
+/// The last end (SUCCESS or FAILURE) of `v` before position `p`: its
+/// changes are in order, so those before `p` are found by halving (the
+/// root's list holds every run of a long log).
 fn last_end(index: &crate::session::Index, v: Uid, p: u32) -> Option<(u32, Status)> {
-    index
-        .changes_of(v)
+    let changes = index.changes_of(v);
+    changes[..changes.partition_point(|&x| x < p)]
         .iter()
-        .copied()
-        .filter(|&x| x < p)
-        .map(|x| (x, index.transitions[x as usize - 1].status))
+        .map(|&x| (x, index.transitions[x as usize - 1].status))
         .rfind(|(_, st)| matches!(st, Status::Success | Status::Failure))
-}
-
-fn outcome(st: Status) -> &'static str {
-    if st == Status::Failure {
-        "failed"
-    } else {
-        "succeeded"
-    }
 }
 
 /// Why `a` ended at `x`: for a failure, followed down to the leaf it
@@ -346,7 +327,7 @@ fn why_it_ended(cx: &Context, index: &crate::session::Index, a: Uid, x: u32) -> 
             format!(
                 "{} {} at {}.",
                 upper(&cx_name(cx, a)),
-                outcome(st),
+                crate::causal::calls::past(st),
                 step_moment(index, x)
             )
         })
@@ -354,10 +335,12 @@ fn why_it_ended(cx: &Context, index: &crate::session::Index, a: Uid, x: u32) -> 
 
 /// " Its parent then started it again at y.", or the root ticked anew.
 fn entered_again(cx: &Context, index: &crate::session::Index, a: Uid, x: u32, p: u32) -> String {
-    let entered =
-        index.changes_of(a).iter().copied().find(|&y| {
-            y > x && y <= p && index.transitions[y as usize - 1].status == Status::Running
-        });
+    let changes = index.changes_of(a);
+    let entered = changes[changes.partition_point(|&y| y <= x)..]
+        .iter()
+        .copied()
+        .take_while(|&y| y <= p)
+        .find(|&y| index.transitions[y as usize - 1].status == Status::Running);
     match (cx.tree.parent(a), entered) {
         (Some(l), Some(y)) => format!(
             " {} then started {} again at {}.",

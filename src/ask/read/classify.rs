@@ -154,24 +154,21 @@ fn supposed(s: &Sentence) -> Option<Event> {
     let not = clause
         .iter()
         .any(|w| ["not", "never"].contains(&w.text.as_str()));
-    let said = clause.iter().find_map(|w| match w.stem.as_str() {
-        // "Had path_clear held": a condition that held succeeded.
-        "succeed" | "success" | "pass" | "true" | "held" | "hold" => Some(Event::Succeed),
-        "fail" | "failur" | "fals" => Some(Event::Fail),
-        _ => None,
-    });
     // "Had drop off kept returning RUNNING", not "had path clear stayed
     // true" or "keeps failing".
     let runs_on = clause.iter().any(|w| {
         ["kept", "keep", "keeps", "stayed", "stuck", "hung", "still"].contains(&w.text.as_str())
     }) && clause.iter().any(|w| w.text == "running");
-    let said = if runs_on {
-        Some(Event::KeepRunning)
-    } else {
-        said
-    }?;
+    if runs_on {
+        return Some(Event::KeepRunning);
+    }
+    let said = clause.iter().find_map(|w| match w.stem.as_str() {
+        // "Had path_clear held": a condition that held succeeded.
+        "succeed" | "success" | "pass" | "true" | "held" | "hold" => Some(Event::Succeed),
+        "fail" | "failur" | "fals" => Some(Event::Fail),
+        _ => None,
+    })?;
     Some(match (said, not) {
-        (Event::KeepRunning, _) => Event::KeepRunning,
         (Event::Fail, true) => Event::Succeed,
         (Event::Succeed, true) => Event::Fail,
         (e, _) => e,

@@ -123,6 +123,14 @@ fn status(colour: &str) -> Option<&'static str> {
 /// itself where it says none, or where the tree names a node by the colour.
 pub(super) fn as_statuses(tree: &Tree, text: &str) -> String {
     let lower = text.to_lowercase();
+    // Most questions say no colour: they are read as they are, with no
+    // word split out (this runs on each part of every question).
+    const COLOURS: &[&str] = &[
+        "red", "green", "orange", "yellow", "amber", "grey", "gray", "white",
+    ];
+    if !COLOURS.iter().any(|c| lower.contains(c)) {
+        return text.to_string();
+    }
     let said = |w: &str| {
         w.trim_matches(|c: char| !c.is_ascii_alphabetic())
             .to_string()

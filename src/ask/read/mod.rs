@@ -634,11 +634,12 @@ fn without_a_challenge(text: &str) -> &str {
         return text;
     };
     let rest = text[end + 2..].trim_start();
-    let mut words = rest.split_whitespace().map(|w| w.to_lowercase());
-    let first = words.next().unwrap_or_default();
-    let first = first.trim_start_matches("but").trim();
-    let doubt = DOUBTS.contains(&first)
-        || first.is_empty() && words.next().is_some_and(|w| DOUBTS.contains(&w.as_str()));
+    // "… but didn't it already succeed?" too.
+    let mut words = rest
+        .split_whitespace()
+        .map(|w| w.to_lowercase())
+        .skip_while(|w| w == "but");
+    let doubt = words.next().is_some_and(|w| DOUBTS.contains(&w.as_str()));
     let asks_why = text[..end].to_lowercase().starts_with("why");
     if doubt && asks_why && !rest[..rest.len().saturating_sub(1)].contains('?') {
         &text[..=end]
@@ -728,13 +729,16 @@ fn questions_in(text: &str) -> Vec<&str> {
 fn bids(sentence: &str, story: &str) -> bool {
     let mut words = sentence.split_whitespace();
     let first = words.next().unwrap_or("").to_lowercase();
+    if !["explain", "describe"].contains(&first.as_str()) || words.count() < 2 {
+        return false;
+    }
     let supposes = story.split_whitespace().any(|w| {
         ["suppose", "imagine", "had", "if", "would", "hypothetically"].contains(
             &w.to_lowercase()
                 .trim_matches(|c: char| !c.is_alphanumeric()),
         )
     });
-    ["explain", "describe"].contains(&first.as_str()) && words.count() >= 2 && !supposes
+    !supposes
 }
 
 fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {

@@ -23,7 +23,7 @@ pub struct Told {
     pub design: Option<String>,
 }
 
-pub(super) fn past(s: Status) -> &'static str {
+pub fn past(s: Status) -> &'static str {
     match s {
         Status::Success => "succeeded",
         Status::Failure => "failed",
@@ -386,21 +386,11 @@ pub fn leaf_facts(session: &Session, u: Uid, p: u32, upto: u32) -> String {
         out.push(handled(session, u, p, upto));
     }
     out.push(ports_said(session, u, start.unwrap_or(p), p));
-    out.push(match session.header.source.kind.as_str() {
-        "domain" => String::new(),
-        "plan" => format!(
-            "Why it {} is not in the run: the plan scripted it; give a domain file (--domain FILE) to say what it depends on.",
-            past(t.status)
-        ),
-        "world" => format!(
-            "Why it {} is not in the run: the world's scenario decided it.",
-            past(t.status)
-        ),
-        _ => format!(
-            "Why it {} is not in the run: the robot's log records the outcome, not its reason (the node's own logs or its outputs may say).",
-            past(t.status)
-        ),
-    });
+    out.push(not_in_the_run(
+        session,
+        past(t.status),
+        "the outcome, not its reason",
+    ));
     out.retain(|l| !l.is_empty());
     out.join(" ")
 }
@@ -414,21 +404,47 @@ pub fn leaf_running(session: &Session, u: Uid, since: u32, upto: u32) -> String 
     let began = idx.transitions[since as usize - 1].tick;
     let now = idx.moment(upto);
     let ticks = now.tick - began + 1;
-    let what = session.tree.node(u).kind.as_str().to_lowercase();
     let mut out = vec![format!(
-        "{name} has been running since {} ({ticks} tick{}) and had not finished by {now}: it is {} {what}, so it runs on by its own work, not by anything the tree decides.",
+        "{name} has been running since {} ({ticks} tick{}) and had not finished by {now}: it is {}, so it runs on by its own work, not by anything the tree decides.",
         step_moment(idx, since),
         if ticks == 1 { "" } else { "s" },
-        if what.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" }
+        a_kind(session, u)
     )];
-    out.push(match session.header.source.kind.as_str() {
-        "domain" => String::new(),
-        "plan" => "Why it runs on is not in the run: the plan scripted it; give a domain file (--domain FILE) to say what it depends on.".into(),
-        "world" => "Why it runs on is not in the run: the world's scenario decided it.".into(),
-        _ => "Why it runs on is not in the run: the robot's log records that it ran, not what it was waiting for (the node's own logs or its outputs may say).".into(),
-    });
+    out.push(not_in_the_run(
+        session,
+        "runs on",
+        "that it ran, not what it was waiting for",
+    ));
     out.retain(|l| !l.is_empty());
     out.join(" ")
+}
+
+/// "an action", "a condition": what kind of node `u` is.
+fn a_kind(session: &Session, u: Uid) -> String {
+    let what = session.tree.node(u).kind.as_str().to_lowercase();
+    let a = if what.starts_with(['a', 'e', 'i', 'o', 'u']) {
+        "an"
+    } else {
+        "a"
+    };
+    format!("{a} {what}")
+}
+
+/// Where a leaf's outcome came from, when the run does not say why ("Why
+/// it failed is not in the run: the plan scripted it; …"): `did` is what it
+/// did, `log_says` what a robot's log records of it. Nothing where a domain
+/// says what the leaf depends on.
+fn not_in_the_run(session: &Session, did: &str, log_says: &str) -> String {
+    match session.header.source.kind.as_str() {
+        "domain" => String::new(),
+        "plan" => format!(
+            "Why it {did} is not in the run: the plan scripted it; give a domain file (--domain FILE) to say what it depends on."
+        ),
+        "world" => format!("Why it {did} is not in the run: the world's scenario decided it."),
+        _ => format!(
+            "Why it {did} is not in the run: the robot's log records {log_says} (the node's own logs or its outputs may say)."
+        ),
+    }
 }
 
 /// "X returned FAILURE itself at 10:1, after running from 9:3 (2 ticks):
@@ -438,7 +454,6 @@ pub(super) fn returned_itself(session: &Session, u: Uid, p: u32, start: Option<u
     let t = idx.transitions[p as usize - 1];
     let name = capitalised(&session.tree.told(u));
     let m = step_moment(idx, p);
-    let what = session.tree.node(u).kind.as_str().to_lowercase();
     let ran = match start {
         Some(q) if idx.transitions[q as usize - 1].status == Status::Running => {
             let ticks = t.tick - idx.transitions[q as usize - 1].tick + 1;
@@ -451,9 +466,9 @@ pub(super) fn returned_itself(session: &Session, u: Uid, p: u32, start: Option<u
         _ => " in the call that started it".to_string(),
     };
     format!(
-        "{name} returned {} itself at {m}{ran}: it is {} {what}, so nothing in the tree decided it.",
+        "{name} returned {} itself at {m}{ran}: it is {}, so nothing in the tree decided it.",
         t.status.as_str(),
-        if what.starts_with(['a', 'e', 'i', 'o', 'u']) { "an" } else { "a" }
+        a_kind(session, u)
     )
 }
 

@@ -2437,6 +2437,8 @@ fn whether_it_came_through_a_failure_is_told_of_that_failure() {
     for q in [
         "after look at chuck failed, did the robot still manage to insert the large gear?",
         "True or false: after look at chuck failed, the robot still managed to insert the large gear. Justify.",
+        // A tick named: its failure; how long it took is asked after.
+        "did the insert large gear sequence recover after it failed at tick 10, and how many ticks did getting back cost?",
     ] {
         let (ok, out, err) = btx(&["ask", KITTING, q]);
         assert!(ok, "{q}: {err}");
@@ -2459,6 +2461,69 @@ fn whether_it_came_through_a_failure_is_told_of_that_failure() {
         out.lines()
             .nth(1)
             .is_some_and(|l| l.starts_with("Yes. The FollowPath action (#10) failed at 4:1;")),
+        "{out}"
+    );
+}
+
+#[test]
+fn an_analysts_counts_ticks_and_spells_are_read_as_meant() {
+    // A tick asked for as a query is typed, a fraction counted, the
+    // longest spell of running measured; a node's settings in parentheses
+    // only say which node; "step" past a deed is no part of a name.
+    first_lines_are(vec![
+        (
+            vec![KITTING],
+            "tick of the last look_at failure?",
+            "When did look at chuck (#18) last fail?",
+        ),
+        (
+            vec![TAXI],
+            "first move down: tick?",
+            "When did move down (#16, #17) first start?",
+        ),
+        (
+            vec![PATROL],
+            "what fraction of ticks was drive RUNNING?",
+            "How often did drive (#7) keep running?",
+        ),
+        (
+            vec![KITTING],
+            "longest time trial and error insert stayed RUNNING, in ticks?",
+            "When did trial and error insert (#21) keep running?",
+        ),
+        (
+            vec![NAV2],
+            "why did the FollowPath RecoveryNode (number_of_retries=1) go FAILURE at 6:4?",
+            "Why did the FollowPath recovery node (#9) fail at 6:4?",
+        ),
+        (
+            vec![CASE],
+            "when did CaseStudySequence fail (step #)?",
+            "When did CaseStudySequence (#2) fail?",
+        ),
+        (vec![CASE], "tick 1 - full narrative please", "What happened at tick 1?"),
+        (
+            vec![NAV2],
+            "all green through tick 2?",
+            "Was there anything wrong at tick 2?",
+        ),
+        (
+            vec![NAV2],
+            "after NavigateWithReplanning failed at tick 6 did it get back on track? how many ticks until it was healthy again?",
+            "Did the recovery work?",
+        ),
+    ]);
+    // Of several spells, the longest is said.
+    let (ok, out, err) = btx(&[
+        "ask",
+        NAV2,
+        "how long did the FollowPath action stay running?",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.lines().nth(1).is_some_and(|l| l.ends_with(
+            "from 7:8 to 10:1, over 4 ticks. The longest: from 7:8 to 10:1, over 4 ticks."
+        )),
         "{out}"
     );
 }

@@ -12,7 +12,7 @@ use super::Reply;
 use crate::explain::han::and_list;
 use crate::model::{Builtin, Tree, Uid};
 use crate::run::Status;
-use crate::session::At;
+use crate::session::{At, Moment};
 
 /// The answer to a question btx understood; `failed`, where a question of
 /// recovery names the failure it asks about, is its position in the run.
@@ -373,34 +373,52 @@ fn timed_moment(cx: &Context, at: &At, p: u32) -> String {
 }
 
 /// Each spell of RUNNING that starts at a position of `ps`: where it
-/// ended and over how many ticks, or that it was still running. A long
-/// list is cut as `moments` cuts one: the first ten, then the last.
+/// ended and over how many ticks, or that it was still running; of
+/// several, which lasted longest ("the longest time Spin stayed
+/// RUNNING"). A long list is cut as `moments` cuts one: the first ten,
+/// then the last.
 fn spells(at: &At, u: Uid, ps: &[u32]) -> String {
     let changes = at.index.changes_of(u);
-    let spell = |&p: &u32| {
+    // From, to (None: still running then), and over how many ticks.
+    let span = |&p: &u32| {
         let from = step_moment(at.index, p);
         let next = changes.partition_point(|&c| c <= p);
-        match changes.get(next).copied().filter(|&c| c <= at.pos) {
-            Some(c) => {
-                let to = step_moment(at.index, c);
-                let ticks = to.tick - from.tick + 1;
-                let over = if ticks == 1 {
-                    "within its tick".to_string()
-                } else {
-                    format!("over {ticks} ticks")
-                };
-                format!("from {from} to {to}, {over}")
-            }
-            None => format!("from {from}, still running then"),
-        }
+        let to = changes
+            .get(next)
+            .copied()
+            .filter(|&c| c <= at.pos)
+            .map(|c| step_moment(at.index, c));
+        let ticks = to.map_or(at.moment().tick, |t| t.tick) - from.tick + 1;
+        (from, to, ticks)
     };
-    match ps {
-        [first @ .., last] if ps.len() > 12 => format!(
+    let said = |(from, to, ticks): (Moment, Option<Moment>, u32)| match to {
+        Some(to) if ticks == 1 => format!("from {from} to {to}, within its tick"),
+        Some(to) => format!("from {from} to {to}, over {ticks} ticks"),
+        None => format!("from {from}, still running then"),
+    };
+    let spans: Vec<_> = ps.iter().map(span).collect();
+    let list = match &spans[..] {
+        [first @ .., last] if spans.len() > 12 => format!(
             "{}; … and {}",
-            first[..10].iter().map(spell).collect::<Vec<_>>().join("; "),
-            spell(last)
+            first[..10]
+                .iter()
+                .map(|&s| said(s))
+                .collect::<Vec<_>>()
+                .join("; "),
+            said(*last)
         ),
-        _ => ps.iter().map(spell).collect::<Vec<_>>().join("; "),
+        _ => spans
+            .iter()
+            .map(|&s| said(s))
+            .collect::<Vec<_>>()
+            .join("; "),
+    };
+    let longest = spans.iter().max_by_key(|s| s.2);
+    match longest {
+        Some(&l) if spans.iter().filter(|s| s.2 == l.2).count() == 1 && spans.len() > 1 => {
+            format!("{list}. The longest: {}", said(l))
+        }
+        _ => list,
     }
 }
 

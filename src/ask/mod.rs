@@ -223,17 +223,36 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
 /// "After look at chuck failed, did it still manage to insert the large
 /// gear?": the failure a question of recovery names is the one asked
 /// about, seen from the moment asked (seen from just after it, nothing
-/// had recovered yet). Its position in the run, where it is one.
+/// had recovered yet). Its position in the run, where it is one. "Did it
+/// recover after it failed at tick 10?": the tick's failure, of the node
+/// named where it failed then, else the tick's first.
 fn failure_said(cx: &Context, reading: &read::Reading) -> Option<u32> {
     let (parse::Intent::Recovered, Some(w), Some(at)) = (&reading.intent, reading.when, &cx.at)
     else {
         return None;
     };
-    moment_of(cx.tree, at, w).ok().filter(|&p| {
-        p > 0
-            && p <= at.pos
-            && at.index.transitions[p as usize - 1].status == crate::run::Status::Failure
-    })
+    let failed =
+        |p: u32| at.index.transitions[p as usize - 1].status == crate::run::Status::Failure;
+    let p = moment_of(cx.tree, at, w)
+        .ok()
+        .filter(|&p| p > 0 && p <= at.pos)?;
+    if failed(p) {
+        return Some(p);
+    }
+    let tick = at.index.moment(p).tick;
+    let in_tick: Vec<u32> = at
+        .index
+        .tick_range(tick)
+        .map(|i| i as u32 + 1)
+        .filter(|&q| q <= at.pos && failed(q))
+        .collect();
+    let named = reading.about.as_deref().unwrap_or_default();
+    in_tick
+        .iter()
+        .rev()
+        .find(|&&q| named.contains(&at.index.transitions[q as usize - 1].uid))
+        .or(in_tick.first())
+        .copied()
 }
 
 /// The question as read: one of the paper's fixed wordings (not restated)

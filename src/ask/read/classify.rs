@@ -185,7 +185,11 @@ fn all_well_in_few_words(c: &Cues) -> Option<Readings> {
         || s.phrase(&["until", "here"]).is_some()
         || s.phrase(&["till", "now"]).is_some()
         || s.phrase(&["up", "to", "this", "point"]).is_some()
-        || s.phrase(&["up", "to", "now"]).is_some();
+        || s.phrase(&["up", "to", "now"]).is_some()
+        // "All green through tick 2?": up to a tick said.
+        || ["through", "until", "till", "to"]
+            .iter()
+            .any(|w| s.phrase(&[w, "tick"]).is_some());
     if (s.q.len() <= 3 || so_far)
         && (c.problem || c.fine)
         && c.named.is_empty()
@@ -264,6 +268,9 @@ fn recovered(c: &Cues) -> Option<Readings> {
         || s.nodes.iter().any(generic)
         || s.phrase(&["bounce", "back"]).is_some()
         || s.phrase(&["bounced", "back"]).is_some()
+        // "Did it ever fail and come back from it?".
+        || s.phrase(&["come", "back", "from"]).is_some()
+        || s.phrase(&["came", "back", "from"]).is_some()
         || ["get", "got", "gotten", "getting"]
             .iter()
             .any(|g| s.phrase(&[g, "past"]).is_some())
@@ -281,7 +288,7 @@ fn recovered(c: &Cues) -> Option<Readings> {
     let on_track = s.phrase(&["on", "track"]).is_some()
         || s.phrase(&["back", "to", "normal"]).is_some()
         || s.phrase(&["going", "again"]).is_some() && s.has("after");
-    if !c.how
+    if (!c.how || costed_after(s))
         && !c.why
         // "Recoveries done, what comes next?", "RecoveryFallback is SUCCESS
         // at 6:12, and then what does it do" ask what comes next.
@@ -311,6 +318,19 @@ fn recovered(c: &Cues) -> Option<Readings> {
         return c.only(Intent::Recovered, 0.93);
     }
     None
+}
+
+/// "Did it recover after it failed at tick 10, and how many ticks did
+/// getting back cost?": whether it recovered is asked first, what it cost
+/// after it.
+fn costed_after(s: &Sentence) -> bool {
+    let at = |w: &str| s.free().position(|(_, x)| x.text == w);
+    let recovery = s
+        .free()
+        .position(|(_, w)| w.text.starts_with("recover") || w.text == "back" || w.text == "track");
+    let how = at("how");
+    let costed = s.phrase(&["how", "many"]).is_some() || s.phrase(&["how", "long"]).is_some();
+    costed && matches!((recovery, how), (Some(r), Some(h)) if r < h)
 }
 
 /// An event as counted or timed: not running is counted as runs.
@@ -352,11 +372,18 @@ fn how_often(c: &Cues) -> Option<Readings> {
         || s.has_stem(&["count", "quantifi"])
             && s.phrase(&["counts", "as"]).is_none()
             && s.phrase(&["count", "as"]).is_none()
+        || s.has_stem(&["fraction", "percentag", "proport", "ratio"])
         || tallied;
-    if !often {
+    if !often || spell_asked(s) {
         return None;
     }
-    let event = counted(c.ev);
+    // "What fraction of ticks was drive RUNNING?": the ticks it spent
+    // running, not its starts.
+    let event = if s.has_prefix(&["tick"]) && (s.has("was") || s.has("were")) && s.has("running") {
+        Event::KeepRunning
+    } else {
+        counted(c.ev)
+    };
     // "How often did the frobnicator run?": a count of something the tree
     // has no name for is asked back as the task's, not answered as sure.
     let Some(node) = c.subject() else {
@@ -384,7 +411,8 @@ fn how_long(c: &Cues) -> Option<Readings> {
     let ahead = ["will", "until", "till", "would", "is", "does", "last"]
         .iter()
         .any(|w| s.has(w));
-    let asked = s.phrase(&["how", "long"]).is_some() && !c.why && past && !ahead;
+    let asked =
+        !c.why && (s.phrase(&["how", "long"]).is_some() && past && !ahead || spell_asked(s));
     let node = c.subject().filter(|n| matches!(n, Subject::Nodes(..)))?;
     asked.then(|| {
         vec![(
@@ -396,6 +424,15 @@ fn how_long(c: &Cues) -> Option<Readings> {
             c.sure(0.85),
         )]
     })
+}
+
+/// "The longest time trial and error insert stayed RUNNING", "on average,
+/// how many ticks does one move action stay RUNNING?": a spell of running
+/// measured, not a count of starts.
+fn spell_asked(s: &Sentence) -> bool {
+    let stayed = s.has_stem(&["stay", "remain"]);
+    (s.has("longest") || s.has("shortest") || s.has("average")) && (stayed || s.has("running"))
+        || s.phrase(&["how", "many", "ticks"]).is_some() && stayed
 }
 
 /// "When did X first fail?".
@@ -1035,6 +1072,14 @@ fn tick_by_number(c: &Cues) -> Option<Readings> {
             "rundown",
             "account",
             "occurred",
+            // "Tick 1 - full narrative please", "per-tick view for tick 4".
+            "narrative",
+            "narrate",
+            "story",
+            "view",
+            "walkthrough",
+            "timeline",
+            "transcript",
         ]
         .contains(&q[i])
             || (q[i] == "about" && i >= 2 && q[i - 2] == "tell")

@@ -115,7 +115,15 @@ pub(super) fn failure_clause(
                 .all(|w| w.text == "the" || when::ordinal(&w.text).is_some())
     })?;
     let end = (m.end..q.len().min(m.end + 2)).find(|&i| q[i].stem.starts_with("fail"))?;
-    let asked_after = mentions.iter().any(|n| n.start > end);
+    // "After FollowPath failed the second time, did the bot come back from
+    // that?": whether it recovered is asked after it.
+    let rest = &q[end + 1..];
+    let recovery_after = rest.iter().any(|w| w.text.starts_with("recover"))
+        || rest.windows(2).any(|p| {
+            ["come", "came", "get", "got", "bounce", "bounced"].contains(&p[0].text.as_str())
+                && p[1].text == "back"
+        });
+    let asked_after = mentions.iter().any(|n| n.start > end) || recovery_after;
     if !(doing || opens && asked_after) {
         return None;
     }

@@ -3,7 +3,8 @@
 //! ("Part (a): … (3 marks)", "Justify your answer using the log."); a
 //! verb that sets the task ("State", "Identify", "Predict") asks as "tell
 //! me" does; "Account for X" asks why X; "True or false: S" asks whether
-//! S.
+//! S. A node's settings quoted beside its name ("NavigateRecovery (root,
+//! number_of_retries=6)") say which node is meant, not what is asked.
 
 /// Words that label a part of a worksheet, before its number or letter.
 const LABELS: &[&str] = &[
@@ -82,7 +83,7 @@ pub(super) fn as_asked(text: &str) -> String {
     if !text.is_ascii() {
         return text.to_string();
     }
-    let mut t = without_marks(text);
+    let mut t = without_marks_or_settings(text);
     t = without_labels(&t);
     t = claim_asked(&t);
     t = format!(" {}", without_instructions(&t));
@@ -104,8 +105,8 @@ pub(super) fn as_asked(text: &str) -> String {
     }
 }
 
-/// "(2 marks)", "[1 mark]", "(3 pts)" taken out.
-fn without_marks(text: &str) -> String {
+/// "(2 marks)", "[1 mark]", "(3 pts)", "(number_of_retries=1)" taken out.
+fn without_marks_or_settings(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
     while let Some(i) = rest.find(['(', '[']) {
@@ -118,8 +119,14 @@ fn without_marks(text: &str) -> String {
             n.chars().all(|c| c.is_ascii_digit())
                 && ["mark", "marks", "pt", "pts", "point", "points"].contains(&w)
         });
+        // A port set as the XML sets it: "name=value", no space between.
+        let setting = inner.split_once('=').is_some_and(|(k, v)| {
+            k.ends_with(|c: char| c.is_alphanumeric() || c == '_')
+                && !v.is_empty()
+                && !v.starts_with(' ')
+        });
         out.push_str(&rest[..i]);
-        if !marks {
+        if !marks && !setting {
             out.push_str(&rest[i..=j]);
         }
         rest = &rest[j + 1..];
@@ -302,6 +309,10 @@ mod tests {
             as_asked("With reference to tick 12, describe each transition"),
             "at tick 12, describe each transition"
         );
+        assert_eq!(
+            as_asked("what is NavigateRecovery (root, number_of_retries=6) there to achieve?"),
+            "what is NavigateRecovery there to achieve?"
+        );
     }
 
     #[test]
@@ -312,6 +323,8 @@ mod tests {
             "name?",
             "Justify why look at chuck failed.",
             "q",
+            // A status compared, not a port set.
+            "first tick where detect chuck (= FAILURE)?",
         ] {
             assert_eq!(as_asked(q), q);
         }

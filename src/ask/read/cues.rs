@@ -68,6 +68,9 @@ impl<'a, 's> Cues<'a, 's> {
             fine: s.phrase(&["all", "right"]).is_some()
                 || s.phrase(&["to", "plan"]).is_some()
                 || s.phrase(&["as", "planned"]).is_some()
+                // "All green?" (a box's colour read as its status).
+                || s.phrase(&["all", "success"]).is_some()
+                || s.phrase(&["all", "succeeded"]).is_some()
                 || s.has_stem(&[
                     "ok", "fine", "good", "alright", "smooth", "normal", "nomin", "healthi",
                     "healthy", "clean",
@@ -276,6 +279,30 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         // "list the ticks where it failed".
         || (s.has("tick") || s.has("ticks"))
             && ["list", "where", "show", "give"].iter().any(|w| s.has(w))
+        || tick_asked_for(s)
+}
+
+/// "Tick of the last detect_chuck failure?", "last tick X returned
+/// SUCCESS?", "first move down: tick?": a tick asked for as a query is
+/// typed, with no question word; not "last tick, anything wrong?".
+fn tick_asked_for(s: &Sentence) -> bool {
+    const ASKS: &[&str] = &[
+        "what", "whats", "why", "how", "which", "who", "where", "when", "anything",
+    ];
+    const ORDINAL: &[&str] = &["first", "last", "final", "earliest", "latest"];
+    if s.nodes.is_empty() || s.free().any(|(_, w)| ASKS.contains(&w.text.as_str())) {
+        return false;
+    }
+    let free: Vec<&str> = s
+        .free()
+        .map(|(_, w)| w.text.as_str())
+        .skip_while(|w| *w == "the")
+        .collect();
+    let tick_of = free.starts_with(&["tick", "of"]) || free.starts_with(&["tick", "number", "of"]);
+    let ordinal_tick = free.len() > 2 && ORDINAL.contains(&free[0]) && free[1] == "tick";
+    // The last word, after a name: "first move down: tick?".
+    let tick_last = s.q.len() > 1 && s.q[s.q.len() - 1].text == "tick" && s.used[s.q.len() - 2];
+    tick_of || ordinal_tick || tick_last
 }
 
 /// "What went on in tick 10 when everything turned green": a "when"

@@ -84,7 +84,7 @@ const ARTICLES: &[&str] = &["the", "a", "an", "its", "your", "my", "our"];
 const NEVER_TYPOS: &[&str] = &[
     "list", "show", "tell", "give", "explain", "describe", "steps", "step", "says", "said", "when",
     "then", "than", "what", "that", "went", "want", "done", "know", "need", "make", "clean",
-    "more",
+    "cleanly", "more",
 ];
 
 fn typo_of(name_word: &str, w: &Word) -> bool {
@@ -535,6 +535,12 @@ fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
     0.0
 }
 
+/// Stems of what a node does, which no name goes on past.
+const DEEDS: &[&str] = &[
+    "fail", "succeed", "success", "run", "ran", "start", "halt", "finish", "complet", "return",
+    "stop", "end",
+];
+
 /// The spans taken, best first, none overlapping; a kind word beside a
 /// name ("the FollowPath action") picks among the nodes that share it.
 fn named_spans(
@@ -556,6 +562,16 @@ fn named_spans(
         let before = (0..i).rev().find(|&k| !is_article(&q[k].text));
         for k in [after, after.map(|a| a + 1), before].into_iter().flatten() {
             if k >= q.len() || taken[k] {
+                continue;
+            }
+            // "When did CaseStudySequence fail (step #)?": a word past the
+            // next is a kind only where the next word is no deed, and
+            // "step" or "node" there picks nothing among the nodes.
+            let past_next = Some(k) != after && Some(k) != before;
+            if past_next
+                && (["node", "step"].contains(&q[k].text.as_str())
+                    || after.is_some_and(|a| DEEDS.contains(&q[a].stem.as_str())))
+            {
                 continue;
             }
             if let Some(is) = kind_word(&q[k].text) {

@@ -2528,6 +2528,31 @@ fn an_analysts_counts_ticks_and_spells_are_read_as_meant() {
     );
 }
 
+#[test]
+fn how_a_goal_is_achieved_is_read_in_any_form_of_the_verb() {
+    // "achieved", "overall", "supposed to" explain themselves; the
+    // recoveries named as part of the goal ask how it is reached, not how
+    // a failure was handled.
+    first_lines_are(vec![
+        (
+            vec![KITTING],
+            "how is the overall goal achieved, top down?",
+            "How do you achieve your goal?",
+        ),
+        (
+            vec![NAV2],
+            "explain how the tree achieves its overall mission, incl. replanning and the recoveries",
+            "How do you achieve your goal?",
+        ),
+    ]);
+    // What a thing is, not what it is for, is no goal.
+    let (ok, out, _) = btx(&["ask", TAXI, "which city is this taxi grid supposed to be"]);
+    assert!(
+        !ok && out.starts_with("I don't know how to answer that."),
+        "{out}"
+    );
+}
+
 /// Each question asked of its files (and options) is answered, its first
 /// line (what btx read it as) the one given.
 fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {

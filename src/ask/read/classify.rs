@@ -1031,7 +1031,7 @@ fn failure_told(c: &Cues) -> (bool, bool) {
 /// "How does it handle the subgoal it's on?": how a goal is done, no
 /// failure said.
 fn of_a_goal_not_a_failure(c: &Cues) -> bool {
-    c.s.has_stem(&["subgoal", "goal"]) && !c.problem && !c.after_failure
+    c.s.has_stem(&["subgoal", "goal", "mission", "object"]) && !c.problem && !c.after_failure
 }
 
 /// "Any problems?": yes or no.
@@ -1262,12 +1262,20 @@ fn asks_goal(s: &Sentence) -> bool {
         "goal", "object", "mission", "aim", "purpos", "task", "intent", "job", "target",
     ]) || s.phrase(&["trying", "to"]).is_some()
         || s.phrase(&["try", "to"]).is_some()
-        || s.phrase(&["supposed", "to"]).is_some()
-        || s.phrase(&["meant", "to"]).is_some()
+        // Not "which city is this grid supposed to be": what it is, not
+        // what it is for.
+        || s.phrase(&["supposed", "to"]).is_some() && !ends_being(s, "supposed")
+        || s.phrase(&["meant", "to"]).is_some() && !ends_being(s, "meant")
         || s.phrase(&["working", "towards"]).is_some()
         || s.phrase(&["working", "toward"]).is_some()
         || s.phrase(&["get", "done"]).is_some()
         || s.has_stem(&["achiev", "accomplish"])
+}
+
+/// "… supposed to be" with nothing after it.
+fn ends_being(s: &Sentence, verb: &str) -> bool {
+    let free: Vec<&str> = s.free().map(|(_, w)| w.text.as_str()).collect();
+    free.ends_with(&[verb, "to", "be"])
 }
 
 fn asks_steps(c: &Cues) -> bool {

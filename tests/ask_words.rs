@@ -2553,6 +2553,45 @@ fn how_a_goal_is_achieved_is_read_in_any_form_of_the_verb() {
     );
 }
 
+#[test]
+fn a_contrast_sets_what_was_done_against_every_alternative_named() {
+    // A node told before "why" is the story's; "via X rather than by Y"
+    // sets X against Y; "rather than spin or back up" is one side of two.
+    first_lines_are(vec![(
+        vec![NAV2],
+        "after FollowPath failed at tick 4, why did FollowPathRecoveryFallback succeed via GoalUpdated rather than by clearing the local costmap?",
+        "Why did I do the GoalUpdated condition (#12) and not ClearLocalCostmap-Context (#13) in tick 4?",
+    )]);
+    let (ok, out, err) = btx(&[
+        "ask",
+        NAV2,
+        "at tick 6, why did it replan (ComputePathToPose again) rather than spin or back up?",
+    ]);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines[0],
+        "Why did I do ComputePathToPose (#4, #5) and not spin or back up (#20, #22) in tick 6?"
+    );
+    // Each alternative answered of each node called ComputePathToPose.
+    assert_eq!(
+        lines
+            .iter()
+            .filter(|l| l.starts_with("  Spin (#20): "))
+            .count(),
+        2,
+        "{out}"
+    );
+    assert_eq!(
+        lines
+            .iter()
+            .filter(|l| l.starts_with("  BackUp (#22): "))
+            .count(),
+        2,
+        "{out}"
+    );
+}
+
 /// Each question asked of its files (and options) is answered, its first
 /// line (what btx read it as) the one given.
 fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {

@@ -235,7 +235,18 @@ fn each_named(
             Ok(()) => sub.answer.clone(),
             Err(e) => e,
         };
-        let first = super::detail::first_sentence(&said);
+        // Other nodes named alike within it ("rather than spin or back up"
+        // of each ComputePathToPose): each of theirs, indented.
+        let first = if sub.nodes.len() > 1 && said.contains(" names ") && said.contains('\n') {
+            said.lines()
+                .map(|l| format!("  {l}"))
+                .collect::<Vec<_>>()
+                .join("\n")
+                .trim_start()
+                .to_string()
+        } else {
+            super::detail::first_sentence(&said)
+        };
         lines.push(format!(
             "{}: {first}",
             crate::causal::english::capitalised(kind)

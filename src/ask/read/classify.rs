@@ -11,7 +11,7 @@ use super::{
 };
 use crate::ask::parse::{Event, Intent, Subject, Which};
 use crate::explain::{Question, RunQuestion, TreeQuestion};
-use crate::model::Tree;
+use crate::model::{Tree, Uid};
 
 /// The rules, in the order they are tried.
 const RULES: &[fn(&Cues) -> Option<Readings>] = &[
@@ -684,13 +684,41 @@ fn why_not(c: &Cues) -> Option<Readings> {
         return None;
     }
     let done = Subject::Nodes(named[0].uids.clone(), named[0].phrase.clone());
-    let instead = Subject::Nodes(named[1].uids.clone(), named[1].phrase.clone());
+    let (uids, phrase) = alternatives(s, &named[1..]);
+    let instead = Subject::Nodes(uids, phrase);
     let (done, instead) = if negated_first(s, named[0], named[1]) {
         (instead, done)
     } else {
         (done, instead)
     };
     Some(vec![(Intent::WhyNot { done, instead }, c.sure(0.93))])
+}
+
+/// "Rather than spin or back up": the nodes named one after another,
+/// joined by "or", "and" or a comma, as one side; their uids and words.
+fn alternatives(s: &Sentence, named: &[&Mention]) -> (Vec<Uid>, String) {
+    let mut uids = named[0].uids.clone();
+    let mut phrase = named[0].phrase.clone();
+    for pair in named.windows(2) {
+        let gap = &s.q[pair[0].end..pair[1].start];
+        let joined = !gap.is_empty()
+            && gap
+                .iter()
+                .all(|w| ["or", "and", "nor", "either", "the"].contains(&w.text.as_str()))
+            && gap.iter().any(|w| w.text != "the");
+        if !joined {
+            break;
+        }
+        uids.extend(
+            pair[1]
+                .uids
+                .iter()
+                .filter(|u| !uids.contains(u))
+                .collect::<Vec<_>>(),
+        );
+        phrase = format!("{phrase} or {}", pair[1].phrase);
+    }
+    (uids, phrase)
 }
 
 /// The nodes a contrast may set against each other, in the order named:
@@ -714,6 +742,14 @@ fn sides<'a>(c: &Cues<'a, '_>) -> Vec<&'a Mention> {
         && ["in", "inside", "under", "within"].contains(&s.q[named[0].start - 1].text.as_str())
     {
         named.remove(0);
+    }
+    // "After FollowPath failed at tick 4, why did the fallback succeed via
+    // GoalUpdated rather than …": a node told before the question word,
+    // where two are named after it, is the story's, no side.
+    if let Some(w) = s.q.iter().position(|w| w.text == "why") {
+        if named.iter().filter(|m| m.start > w).count() >= 2 {
+            named.retain(|m| m.start > w);
+        }
     }
     // "Rather than retry FollowPath", "why retry the spin": "retry" says
     // what was done to the node after it, not the Retry decorator.

@@ -2592,6 +2592,27 @@ fn a_contrast_sets_what_was_done_against_every_alternative_named() {
     );
 }
 
+#[test]
+fn can_you_once_the_run_has_ended_says_whether_the_tree_can() {
+    // No subgoal can be added once the root has completed; a bare "No"
+    // would say the tree cannot look around, which it can.
+    let (ok, out, err) = btx(&["ask", PATROL, "can it look around while walking?"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out.lines().nth(1),
+        Some("The tree can: Look around (#4) is one of its behaviours (it last ended SUCCESS at 2:1). But the run had ended by then (patrol FAILURE at 5:7), so there is no subgoal to add it to. Ask while the robot runs, or of the tree."),
+        "{out}"
+    );
+    // The paper's own wording is answered without restating it.
+    let (ok, out, err) = btx(&["ask", PATROL, "Can you recharge?"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out.lines().next(),
+        Some("No: no behaviour of the tree is called \"recharge\" (and the run had ended by then: patrol FAILURE at 5:7)."),
+        "{out}"
+    );
+}
+
 /// Each question asked of its files (and options) is answered, its first
 /// line (what btx read it as) the one given.
 fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {

@@ -17,12 +17,20 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
         ) {
             r.about = Some(root);
             r.understood = q.wording();
-            r.answer = format!(
-                "No: the run had ended by then ({} {} at {}), so there is no subgoal to add it to. Ask while the robot runs, or of the tree.",
+            let end = format!(
+                "{} {} at {}",
                 cx.tree.spoken(root),
                 s.as_str(),
                 super::say::step_moment(at.index, p)
             );
+            let ended = format!("the run had ended by then ({end}), so there is no subgoal to add it to. Ask while the robot runs, or of the tree.");
+            r.answer = match (q, has_it(cx, at, q)) {
+                (_, Some(has)) => format!("{has} But {ended}"),
+                (Question::CanYou(x), None) => format!(
+                    "No: no behaviour of the tree is called \"{x}\" (and the run had ended by then: {end})."
+                ),
+                _ => format!("No: {ended}"),
+            };
             return Ok(());
         }
     }
@@ -68,4 +76,26 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
     r.nodes = a.nodes;
     r.insertion = a.insertion;
     Ok(())
+}
+
+/// "Can you look around?" asked once the run has ended: the tree has it,
+/// where it does, and what it last did in the run; not a bare "No".
+fn has_it(cx: &Context, at: &crate::session::At, q: &Question) -> Option<String> {
+    let Question::CanYou(x) = q else {
+        return None;
+    };
+    let &u = crate::explain::insert::named_in_tree(cx.tree, x).first()?;
+    let did = match at.last_completion(u) {
+        Some((p, s)) => format!(
+            "it last ended {} at {}",
+            s.as_str(),
+            super::say::step_moment(at.index, p)
+        ),
+        None if at.index.changes_of(u).is_empty() => "it did not run in this run".into(),
+        None => "it ran in this run".into(),
+    };
+    Some(format!(
+        "The tree can: {} (#{u}) is one of its behaviours ({did}).",
+        crate::causal::english::capitalised(&cx.tree.spoken(u))
+    ))
 }

@@ -148,6 +148,12 @@ fn self_contained_given(
     Ok(ns)
 }
 
+/// The behaviours of the tree "X" names, wherever they are ("can you look
+/// around?" asked once the run has ended: whether the tree has it at all).
+pub fn named_in_tree(tree: &Tree, x: &str) -> Vec<Uid> {
+    find_named(tree, Tree::ROOT, x)
+}
+
 /// Answers "Can you X?" for the robot executing `current`: the first
 /// behaviour of that name that can be inserted after the current subgoal
 /// (Han §7.2 inserts even the subgoal being done, after itself); when none

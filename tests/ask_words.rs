@@ -2613,6 +2613,15 @@ fn can_you_once_the_run_has_ended_says_whether_the_tree_can() {
     );
 }
 
+#[test]
+fn a_bare_why_after_a_but_asks_of_what_the_but_sets_apart() {
+    first_lines_are(vec![(
+        vec![KITTING],
+        "retreat arm succeeded at 11:1 but reset arm still returned FAILURE at 11:3. why?",
+        "Why did the reset arm force failure (#26) fail at 11:3?",
+    )]);
+}
+
 /// Each question asked of its files (and options) is answered, its first
 /// line (what btx read it as) the one given.
 fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {

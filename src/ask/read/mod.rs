@@ -444,6 +444,14 @@ fn asks(stem: &str) -> bool {
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     let set = coursework::as_asked(text);
     let text = without_a_challenge(after_a_correction(&set));
+    let asked_why;
+    let text = match why_of_the_story(text) {
+        Some(w) => {
+            asked_why = w;
+            asked_why.as_str()
+        }
+        None => text,
+    };
     let whole = read_one(vocabulary, tree, text);
     let questions = questions_in(text);
     let asked = questions
@@ -608,6 +616,45 @@ fn the_story_asks_it(asked: &Reading, story: &Reading) -> bool {
         ) => a == b,
         _ => false,
     }
+}
+
+/// "Retreat arm succeeded at 11:1 but reset arm still returned FAILURE at
+/// 11:3. Why?": a bare why after a story that sets one thing against
+/// another asks why of the part after its last "but" or "yet".
+fn why_of_the_story(text: &str) -> Option<String> {
+    const BARE: &[&str] = &[
+        "why?",
+        "why so?",
+        "why is that?",
+        "but why?",
+        "how come?",
+        "why though?",
+    ];
+    let t = text.trim();
+    let lower = t.to_lowercase();
+    let bare = BARE.iter().find(|b| lower.ends_with(*b))?;
+    let story = t[..t.len() - bare.len()].trim_end();
+    let story = story
+        .strip_suffix(['.', ',', ';', '-'])
+        .unwrap_or(story)
+        .trim_end();
+    // Only after a sentence of its own: "…FAILURE at 11:3. Why?".
+    let before = t[..t.len() - bare.len()].trim_end();
+    if story.is_empty() || !before.ends_with(['.', ',', ';', '-']) {
+        return None;
+    }
+    let last = story
+        .rfind(['.', '!', ';'])
+        .map_or(story, |i| &story[i + 1..]);
+    let l = last.to_lowercase();
+    // Only the part a "but" sets apart is the surprise; a story without
+    // one is read whole (the why asks of what it tells as a whole).
+    let after = [" but ", " yet "]
+        .iter()
+        .filter_map(|c| l.rfind(c).map(|i| i + c.len()))
+        .max()?;
+    let told = &last[after..];
+    (told.split_whitespace().count() >= 2).then(|| format!("why {}?", told.trim()))
 }
 
 /// A question without the doubt put after it ("why is look at chuck

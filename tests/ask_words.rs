@@ -2614,6 +2614,26 @@ fn can_you_once_the_run_has_ended_says_whether_the_tree_can() {
 }
 
 #[test]
+fn nodes_listed_with_and_are_each_asked_about() {
+    first_lines_are(vec![(
+        vec![NAV2],
+        "Spin, Wait and BackUp stay grey the whole run - why",
+        "Why did spin, wait and back up (#20, #21, #22) not run in tick 10?",
+    )]);
+    // Neither started: each says so, and nothing says one did.
+    let (ok, out, err) = btx(&["ask", NAV2, "how often did spin and backup run?"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out.lines().skip(2).collect::<Vec<_>>(),
+        [
+            "Spin (#20): Spin (#20) never started by the end of the run at tick 10.",
+            "BackUp (#22): BackUp (#22) never started by the end of the run at tick 10."
+        ],
+        "{out}"
+    );
+}
+
+#[test]
 fn a_bare_why_after_a_but_asks_of_what_the_but_sets_apart() {
     first_lines_are(vec![(
         vec![KITTING],

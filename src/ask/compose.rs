@@ -105,7 +105,9 @@ fn counted(
     let (Subject::Nodes(all, _), Some(at), Some(u)) = (who, cx.at.as_ref(), r.about) else {
         return Ok(());
     };
-    if all.len() < 2 || !all.contains(&u) {
+    // None had it: `with_node` answered each, and "also names" would say
+    // the one answered had.
+    if all.len() < 2 || !all.contains(&u) || events(at, u, event).is_empty() {
         return Ok(());
     }
     let rest: Vec<Uid> = all

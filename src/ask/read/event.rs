@@ -356,6 +356,32 @@ pub(super) fn foil(s: &Sentence) -> Option<Event> {
 
 /// The subject of a question about a node: the node named, "it"/"that",
 /// or the task itself.
+/// "Spin, Wait and BackUp stay grey the whole run - why": the nodes
+/// listed from `m` on, one after another with "and" or "or" (or only a
+/// comma) between them, and "and" or "or" once at least; else `m` alone.
+fn listed(s: &Sentence, m: &Mention) -> Subject {
+    let alone = Subject::Nodes(m.uids.clone(), m.phrase.clone());
+    let Some(k) = s.nodes.iter().position(|n| std::ptr::eq(n, m)) else {
+        return alone;
+    };
+    let (mut uids, mut names, mut joined) = (m.uids.clone(), vec![m.phrase.clone()], false);
+    for pair in s.nodes[k..].windows(2) {
+        let gap = &s.q[pair[0].end..pair[1].start];
+        if !gap.iter().all(|w| ["and", "or"].contains(&w.text.as_str())) || gap.len() > 1 {
+            break;
+        }
+        joined |= !gap.is_empty();
+        uids.extend(pair[1].uids.iter().filter(|u| !m.uids.contains(u)));
+        names.push(pair[1].phrase.clone());
+    }
+    uids.dedup();
+    if !joined || names.len() < 2 {
+        return alone;
+    }
+    let last = names.pop().unwrap_or_default();
+    Subject::Nodes(uids, format!("{} and {last}", names.join(", ")))
+}
+
 pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
     // The task named ("nav2", "the patrol") yields to another node named,
     // but not to one in a clause that only says when ("why did the patrol
@@ -382,7 +408,7 @@ pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
         .or_else(|| s.nodes.iter().find(asked))
         .or_else(|| s.nodes.first().filter(|_| granted.is_none()));
     if let Some(m) = m {
-        return Some(Subject::Nodes(m.uids.clone(), m.phrase.clone()));
+        return Some(listed(s, m));
     }
     if s.has("it") || s.has("that") || s.has("this") || s.has("thing") {
         return Some(Subject::It);

@@ -2634,6 +2634,29 @@ fn nodes_listed_with_and_are_each_asked_about() {
 }
 
 #[test]
+fn the_last_of_steps_alike_is_the_last_of_them() {
+    // The taxi's three move left actions under navigate to destination and
+    // one before: "the last move left" is #20 (checked by a re-run with #20
+    // failing: navigate to destination, go drop off passenger and the task
+    // fail, as the answer says). Asked when, "last" is a time, of them all.
+    let (ok, out, err) = btx(&["ask", TAXI, "what if the last move left had gone red"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out.lines().collect::<Vec<_>>(),
+        [
+            "What happens if the move left action (#20) fails?",
+            "If the move left action (#20) fails, navigate to destination (#14) fails, then the go drop off passenger sequence (#13) fails, then the go drop off passenger subtree (#12) fails, so the task fails."
+        ]
+    );
+    let (ok, out, err) = btx(&["ask", TAXI, "when was the last move left done"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.starts_with("When did move left (#10, #18, #19, #20) last finish?"),
+        "{out}"
+    );
+}
+
+#[test]
 fn a_bare_why_after_a_but_asks_of_what_the_but_sets_apart() {
     first_lines_are(vec![(
         vec![KITTING],

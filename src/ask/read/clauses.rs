@@ -43,8 +43,11 @@ pub(super) fn elided_foil(
 
 /// "The second move up", "the third move left": of the nodes a name
 /// calls, the N-th in the tree (uids count in its order), where no
-/// "time" or "try" after says it is the N-th run of one node.
-pub(super) fn counted_among_alike(q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
+/// "time" or "try" after says it is the N-th run of one node. "The last
+/// move left" of steps alike (one type, one kind: the taxi's four move
+/// left actions) is the last of them, which is also the last to run; of
+/// nodes that only share a name (a Sequence and its action), it is a time.
+pub(super) fn counted_among_alike(tree: &Tree, q: &[Word], nodes: Vec<Mention>) -> Vec<Mention> {
     if when::nth_time(q).is_some() {
         return nodes;
     }
@@ -52,16 +55,34 @@ pub(super) fn counted_among_alike(q: &[Word], nodes: Vec<Mention>) -> Vec<Mentio
         .into_iter()
         .map(|mut m| {
             let before = (0..m.start).rev().find(|&k| q[k].text != "the");
-            // "The first" and "the last" most often mean a time, not a node.
+            let mut uids = m.uids.clone();
+            uids.sort_unstable();
+            let steps_alike = uids.iter().all(|&u| {
+                let (a, b) = (tree.node(u), tree.node(uids[0]));
+                a.id == b.id && a.kind == b.kind
+            });
+            // "When was the last move left done": the last time, asked of
+            // them all.
+            let timed = q
+                .iter()
+                .any(|w| ["when", "tick", "time", "ticks"].contains(&w.text.as_str()));
+            let last = !timed
+                && before.is_some_and(|k| {
+                    ["last", "final"].contains(&q[k].text.as_str())
+                        && k > 0
+                        && q[k - 1].text == "the"
+                });
+            // "The first" most often means a time, not a node.
             let n = before
                 .and_then(|k| when::ordinal(&q[k].text))
                 .filter(|&n| n >= 2);
-            if let (Some(n), true) = (n, m.uids.len() >= 2) {
-                let mut uids = m.uids.clone();
-                uids.sort_unstable();
-                if let Some(&u) = uids.get(n as usize - 1) {
-                    m.uids = vec![u];
-                }
+            let picked = match (n, last && steps_alike) {
+                (Some(n), _) => uids.get(n as usize - 1),
+                (None, true) => uids.last(),
+                _ => None,
+            };
+            if let (Some(&u), true) = (picked, m.uids.len() >= 2) {
+                m.uids = vec![u];
             }
             m
         })

@@ -899,7 +899,7 @@ fn named_parts<'a>(
     s.nodes = children_by_place(tree, q, std::mem::take(&mut s.nodes));
     s.nodes = scoped(tree, q, std::mem::take(&mut s.nodes));
     s.nodes = governing_verbs_dropped(q, std::mem::take(&mut s.nodes));
-    s.nodes = counted_among_alike(q, std::mem::take(&mut s.nodes));
+    s.nodes = counted_among_alike(tree, q, std::mem::take(&mut s.nodes));
     if let Some(m) = elided_foil(vocabulary, tree, q, &s.nodes) {
         s.nodes.push(m);
     }

@@ -2323,6 +2323,11 @@ fn a_boxs_colour_in_groot_is_its_status() {
             "What is your subgoal?",
         ),
         (
+            [&BAG[..], &["--at", "4"]].concat(),
+            "FollowPath fallback is green and the retry box is lit - which subgoal is that",
+            "What is your subgoal?",
+        ),
+        (
             vec![NAV2],
             "NavigateWithReplanning just turned red, what went wrong",
             "What went wrong?",

@@ -288,8 +288,10 @@ fn recovered(c: &Cues) -> Option<Readings> {
     let on_track = s.phrase(&["on", "track"]).is_some()
         || s.phrase(&["back", "to", "normal"]).is_some()
         || s.phrase(&["going", "again"]).is_some() && s.has("after");
+    // "The retry box is lit - which subgoal is that?": the subgoal.
     if (!c.how || costed_after(s))
         && !c.why
+        && (!c.what || !asks_subgoal(c))
         // "Recoveries done, what comes next?", "RecoveryFallback is SUCCESS
         // at 6:12, and then what does it do" ask what comes next.
         && !s.has("next")

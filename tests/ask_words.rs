@@ -613,7 +613,7 @@ fn can_you_is_refused_once_the_run_has_ended() {
     let (ok, out, _) = btx(&["ask", run, "can you walk?"]);
     assert!(ok);
     assert!(
-        out.contains("No: the run had ended by then (patrol FAILURE at 5:7)"),
+        out.contains("But the run had ended by then (patrol FAILURE at 5:7), so there is no subgoal to add it to."),
         "{out}"
     );
     let (_, log, _) = btx(&["log", run, "--node", "#1"]);
@@ -2518,6 +2518,16 @@ fn an_analysts_counts_ticks_and_spells_are_read_as_meant() {
             "Did the recovery work?",
         ),
     ]);
+    // A fraction of ticks: in how many it was running (drive from 3:7 to
+    // 5:3: ticks 3, 4 and 5).
+    let (ok, out, err) = btx(&["ask", PATROL, "what fraction of ticks was drive RUNNING?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.lines()
+            .nth(1)
+            .is_some_and(|l| l.ends_with("it started once, and was running in 3 of the 5 ticks.")),
+        "{out}"
+    );
     // Of several spells, the longest is said.
     let (ok, out, err) = btx(&[
         "ask",

@@ -391,19 +391,7 @@ fn timed_moment(cx: &Context, at: &At, p: u32) -> String {
 /// RUNNING"). A long list is cut as `moments` cuts one: the first ten,
 /// then the last.
 fn spells(at: &At, u: Uid, ps: &[u32]) -> String {
-    let changes = at.index.changes_of(u);
-    // From, to (None: still running then), and over how many ticks.
-    let span = |&p: &u32| {
-        let from = step_moment(at.index, p);
-        let next = changes.partition_point(|&c| c <= p);
-        let to = changes
-            .get(next)
-            .copied()
-            .filter(|&c| c <= at.pos)
-            .map(|c| step_moment(at.index, c));
-        let ticks = to.map_or(at.moment().tick, |t| t.tick) - from.tick + 1;
-        (from, to, ticks)
-    };
+    let span = |&p: &u32| spell(at, u, p);
     let said = |(from, to, ticks): (Moment, Option<Moment>, u32)| match to {
         Some(to) if ticks == 1 => format!("from {from} to {to}, within its tick"),
         Some(to) => format!("from {from} to {to}, over {ticks} ticks"),
@@ -433,6 +421,36 @@ fn spells(at: &At, u: Uid, ps: &[u32]) -> String {
         }
         _ => list,
     }
+}
+
+/// The spell of RUNNING that starts at position `p`: from, to (None:
+/// still running then), and over how many ticks.
+fn spell(at: &At, u: Uid, p: u32) -> (Moment, Option<Moment>, u32) {
+    let changes = at.index.changes_of(u);
+    let from = step_moment(at.index, p);
+    let next = changes.partition_point(|&c| c <= p);
+    let to = changes
+        .get(next)
+        .copied()
+        .filter(|&c| c <= at.pos)
+        .map(|c| step_moment(at.index, c));
+    let ticks = to.map_or(at.moment().tick, |t| t.tick) - from.tick + 1;
+    (from, to, ticks)
+}
+
+/// In how many ticks the spells starting at `ps` were running (a tick
+/// where one ended and the next began counted once).
+fn ticks_running(at: &At, u: Uid, ps: &[u32]) -> u32 {
+    let mut counted = 0;
+    let mut last = 0;
+    for &p in ps {
+        let (from, to, _) = spell(at, u, p);
+        let end = to.map_or(at.moment().tick, |t| t.tick);
+        let start = from.tick.max(last + 1);
+        counted += (end + 1).saturating_sub(start);
+        last = last.max(end);
+    }
+    counted
 }
 
 fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(), String> {
@@ -514,10 +532,16 @@ fn how_often(cx: &Context, u: Uid, e: Event, r: &mut Reply) -> Result<(), String
     r.answer = if ev.is_empty() {
         format!("{} {} {}.", upper(&name), never(e), cx.by(at))
     } else {
-        let started = if e == Event::Run {
-            String::new()
-        } else {
-            format!("; it started {}", times(started))
+        let started = match e {
+            Event::Run => String::new(),
+            // "What fraction of ticks was drive RUNNING?".
+            Event::KeepRunning => format!(
+                "; it started {}, and was running in {} of the {} ticks",
+                times(started),
+                ticks_running(at, u, &ev),
+                at.moment().tick
+            ),
+            _ => format!("; it started {}", times(started)),
         };
         format!(
             "{} {} {} {} (at {}){started}.",

@@ -288,9 +288,9 @@ fn recovered(c: &Cues) -> Option<Readings> {
     let on_track = s.phrase(&["on", "track"]).is_some()
         || s.phrase(&["back", "to", "normal"]).is_some()
         || s.phrase(&["going", "again"]).is_some() && s.has("after");
-    // "The retry box is lit - which subgoal is that?": the subgoal.
     if (!c.how || costed_after(s))
         && !c.why
+        // "The retry box is lit - which subgoal is that?": the subgoal.
         && (!c.what || !asks_subgoal(c))
         // "Recoveries done, what comes next?", "RecoveryFallback is SUCCESS
         // at 6:12, and then what does it do" ask what comes next.
@@ -697,7 +697,7 @@ fn why_not(c: &Cues) -> Option<Readings> {
 }
 
 /// "Rather than spin or back up": the nodes named one after another,
-/// joined by "or", "and" or a comma, as one side; their uids and words.
+/// joined by "or" or "and", as one side; their uids and words.
 fn alternatives(s: &Sentence, named: &[&Mention]) -> (Vec<Uid>, String) {
     let mut uids = named[0].uids.clone();
     let mut phrase = named[0].phrase.clone();

@@ -631,7 +631,11 @@ fn why_of_the_story(text: &str) -> Option<String> {
         "why though?",
     ];
     let t = text.trim();
-    let lower = t.to_lowercase();
+    // ASCII: the lowercase copy keeps the text's offsets.
+    if !t.is_ascii() {
+        return None;
+    }
+    let lower = t.to_ascii_lowercase();
     let bare = BARE.iter().find(|b| lower.ends_with(*b))?;
     let story = t[..t.len() - bare.len()].trim_end();
     let story = story
@@ -646,7 +650,17 @@ fn why_of_the_story(text: &str) -> Option<String> {
     let last = story
         .rfind(['.', '!', ';'])
         .map_or(story, |i| &story[i + 1..]);
-    let l = last.to_lowercase();
+    let l = last.to_ascii_lowercase();
+    // "We expected L1 here but actually saw L2. Why?": an expectation
+    // against what happened asks why the one and not the other, read whole.
+    if [
+        "expect", "thought", "should", "supposed", "wanted", "instead",
+    ]
+    .iter()
+    .any(|w| l.contains(w))
+    {
+        return None;
+    }
     // Only the part a "but" sets apart is the surprise; a story without
     // one is read whole (the why asks of what it tells as a whole).
     let after = [" but ", " yet "]

@@ -613,7 +613,7 @@ fn can_you_is_refused_once_the_run_has_ended() {
     let (ok, out, _) = btx(&["ask", run, "can you walk?"]);
     assert!(ok);
     assert!(
-        out.contains("But the run had ended by then (patrol FAILURE at 5:7), so there is no subgoal to add it to."),
+        out.contains("No, not now: the run had ended by then (patrol FAILURE at 5:7)"),
         "{out}"
     );
     let (_, log, _) = btx(&["log", run, "--node", "#1"]);
@@ -2610,12 +2610,12 @@ fn a_contrast_sets_what_was_done_against_every_alternative_named() {
 #[test]
 fn can_you_once_the_run_has_ended_says_whether_the_tree_can() {
     // No subgoal can be added once the root has completed; a bare "No"
-    // would say the tree cannot look around, which it can.
+    // would let it be heard as "the tree cannot look around", which it can.
     let (ok, out, err) = btx(&["ask", PATROL, "can it look around while walking?"]);
     assert!(ok, "{err}");
     assert_eq!(
         out.lines().nth(1),
-        Some("The tree can: Look around (#4) is one of its behaviours (it last ended SUCCESS at 2:1). But the run had ended by then (patrol FAILURE at 5:7), so there is no subgoal to add it to. Ask while the robot runs, or of the tree."),
+        Some("No, not now: the run had ended by then (patrol FAILURE at 5:7), so there is no subgoal to add it to. The tree has it: Look around (#4), it last ended SUCCESS at 2:1. Ask while the robot runs, or of the tree."),
         "{out}"
     );
     // The paper's own wording is answered without restating it.

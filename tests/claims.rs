@@ -435,7 +435,7 @@ fn the_patrols_answers_are_true() {
         say(&c, "why was scan area halted?"),
         "Scan area (#8) was halted at 7:8 because battery ok (#7) became FAILURE at 7:5, so the ReactiveSequence guarded patrol step (#4) stopped ticking it."
     );
-    assert!(say(&c, "can you scan the area?").starts_with("No: the run had ended by then"));
+    assert!(say(&c, "can you scan the area?").starts_with("No, not now: the run had ended by then"));
     assert!(say(&c, "why did the patrol fail?")
         .contains("because battery ok (#7) returned FAILURE at 7:5"));
     assert_eq!(

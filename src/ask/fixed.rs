@@ -23,13 +23,15 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
                 s.as_str(),
                 super::say::step_moment(at.index, p)
             );
-            let ended = format!("the run had ended by then ({end}), so there is no subgoal to add it to. Ask while the robot runs, or of the tree.");
+            let ended =
+                format!("the run had ended by then ({end}), so there is no subgoal to add it to.");
+            let later = "Ask while the robot runs, or of the tree.";
             r.answer = match (q, has_it(cx, at, q)) {
-                (_, Some(has)) => format!("{has} But {ended}"),
+                (_, Some(has)) => format!("No, not now: {ended} {has} {later}"),
                 (Question::CanYou(x), None) => format!(
                     "No: no behaviour of the tree is called \"{x}\" (and the run had ended by then: {end})."
                 ),
-                _ => format!("No: {ended}"),
+                _ => format!("No: {ended} {later}"),
             };
             return Ok(());
         }
@@ -95,7 +97,7 @@ fn has_it(cx: &Context, at: &crate::session::At, q: &Question) -> Option<String>
         None => "it ran in this run".into(),
     };
     Some(format!(
-        "The tree can: {} (#{u}) is one of its behaviours ({did}).",
+        "The tree has it: {} (#{u}), {did}.",
         crate::causal::english::capitalised(&cx.tree.spoken(u))
     ))
 }

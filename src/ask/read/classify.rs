@@ -6,8 +6,8 @@
 
 use super::cues::{Cues, Readings};
 use super::{
-    can_you, foil, gave_up, loops_of, negated_first, progressive, verbless, when, Mention,
-    Sentence, When, NOT_A_VERB,
+    can_you, foil, gave_up, joined, loops_of, negated_first, progressive, uids_of, verbless, when,
+    Mention, Sentence, When, NOT_A_VERB,
 };
 use crate::ask::parse::{Event, Intent, Subject, Which};
 use crate::explain::{Question, RunQuestion, TreeQuestion};
@@ -699,28 +699,13 @@ fn why_not(c: &Cues) -> Option<Readings> {
 /// "Rather than spin or back up": the nodes named one after another,
 /// joined by "or" or "and", as one side; their uids and words.
 fn alternatives(s: &Sentence, named: &[&Mention]) -> (Vec<Uid>, String) {
-    let mut uids = named[0].uids.clone();
-    let mut phrase = named[0].phrase.clone();
-    for pair in named.windows(2) {
-        let gap = &s.q[pair[0].end..pair[1].start];
-        let joined = !gap.is_empty()
-            && gap
-                .iter()
-                .all(|w| ["or", "and", "nor", "either", "the"].contains(&w.text.as_str()))
-            && gap.iter().any(|w| w.text != "the");
-        if !joined {
-            break;
-        }
-        uids.extend(
-            pair[1]
-                .uids
-                .iter()
-                .filter(|u| !uids.contains(u))
-                .collect::<Vec<_>>(),
-        );
-        phrase = format!("{phrase} or {}", pair[1].phrase);
-    }
-    (uids, phrase)
+    let run = joined(s, named);
+    let phrase = run
+        .iter()
+        .map(|m| m.phrase.as_str())
+        .collect::<Vec<_>>()
+        .join(" or ");
+    (uids_of(&run), phrase)
 }
 
 /// The nodes a contrast may set against each other, in the order named:

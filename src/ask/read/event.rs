@@ -354,34 +354,62 @@ pub(super) fn foil(s: &Sentence) -> Option<Event> {
     })
 }
 
-/// The subject of a question about a node: the node named, "it"/"that",
-/// or the task itself.
-/// "Spin, Wait and BackUp stay grey the whole run - why": the nodes
-/// listed from `m` on, one after another with "and" or "or" (or only a
-/// comma) between them, and "and" or "or" once at least; else `m` alone.
-fn listed(s: &Sentence, m: &Mention) -> Subject {
-    let alone = Subject::Nodes(m.uids.clone(), m.phrase.clone());
-    let Some(k) = s.nodes.iter().position(|n| std::ptr::eq(n, m)) else {
-        return alone;
-    };
-    let (mut uids, mut names, mut joined) = (m.uids.clone(), vec![m.phrase.clone()], false);
-    for pair in s.nodes[k..].windows(2) {
+/// "Spin, Wait and BackUp", "spin or back up": the mentions from the
+/// first of `chain` on, one after another with only "and", "or", "nor",
+/// "either", "the" (or a comma) between them, "and" or "or" said once at
+/// least; the first alone where they are not so joined.
+pub(super) fn joined<'m>(s: &Sentence, chain: &[&'m Mention]) -> Vec<&'m Mention> {
+    const JOINS: &[&str] = &["and", "or", "nor", "either", "the"];
+    let mut run = chain[..chain.len().min(1)].to_vec();
+    let mut conjunction = false;
+    for pair in chain.windows(2) {
         let gap = &s.q[pair[0].end..pair[1].start];
-        if !gap.iter().all(|w| ["and", "or"].contains(&w.text.as_str())) || gap.len() > 1 {
+        if !gap.iter().all(|w| JOINS.contains(&w.text.as_str())) {
             break;
         }
-        joined |= !gap.is_empty();
-        uids.extend(pair[1].uids.iter().filter(|u| !m.uids.contains(u)));
-        names.push(pair[1].phrase.clone());
+        conjunction |= gap.iter().any(|w| w.text != "the");
+        run.push(pair[1]);
     }
-    uids.dedup();
-    if !joined || names.len() < 2 {
-        return alone;
+    if !conjunction {
+        run.truncate(1);
     }
-    let last = names.pop().unwrap_or_default();
-    Subject::Nodes(uids, format!("{} and {last}", names.join(", ")))
+    run
 }
 
+/// The uids of the mentions, each once, in the order named.
+pub(super) fn uids_of(run: &[&Mention]) -> Vec<Uid> {
+    let mut uids: Vec<Uid> = Vec::new();
+    for m in run {
+        uids.extend(
+            m.uids
+                .iter()
+                .filter(|u| !uids.contains(u))
+                .collect::<Vec<_>>(),
+        );
+    }
+    uids
+}
+
+/// Nodes listed from `m` on ("Spin, Wait and BackUp stay grey the whole
+/// run - why") as one subject; else `m` alone.
+fn listed(s: &Sentence, m: &Mention) -> Subject {
+    let chain: Vec<&Mention> = s
+        .nodes
+        .iter()
+        .skip_while(|n| !std::ptr::eq(*n, m))
+        .collect();
+    let run = joined(s, &chain);
+    let names: Vec<String> = run.iter().map(|n| n.phrase.clone()).collect();
+    match names.split_last() {
+        Some((last, rest)) if !rest.is_empty() => {
+            Subject::Nodes(uids_of(&run), format!("{} and {last}", rest.join(", ")))
+        }
+        _ => Subject::Nodes(m.uids.clone(), m.phrase.clone()),
+    }
+}
+
+/// The subject of a question about a node: the node named, "it"/"that",
+/// or the task itself.
 pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
     // The task named ("nav2", "the patrol") yields to another node named,
     // but not to one in a clause that only says when ("why did the patrol

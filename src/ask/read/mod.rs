@@ -29,7 +29,9 @@ use clauses::{
     children_by_place, counted_among_alike, deepest, elided_foil, failure_clause,
     governing_verbs_dropped, scoped, tick_of_a_failure,
 };
-use event::{event, foil, gave_up, loops_of, negated_first, progressive, subject, verbless};
+use event::{
+    event, foil, gave_up, joined, loops_of, negated_first, progressive, subject, uids_of, verbless,
+};
 pub use mentions::{Mention, Vocabulary};
 use rewrite::{ids_as_uids, named_as_uids, paths_as_uids, ports_as_uids, states_as_outcomes};
 pub use when::{ordinal_word, Side, When};
@@ -444,14 +446,8 @@ fn asks(stem: &str) -> bool {
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     let set = coursework::as_asked(text);
     let text = without_a_challenge(after_a_correction(&set));
-    let asked_why;
-    let text = match why_of_the_story(text) {
-        Some(w) => {
-            asked_why = w;
-            asked_why.as_str()
-        }
-        None => text,
-    };
+    let why_asked = why_of_the_story(text);
+    let text = why_asked.as_deref().unwrap_or(text);
     let whole = read_one(vocabulary, tree, text);
     let questions = questions_in(text);
     let asked = questions
@@ -637,14 +633,12 @@ fn why_of_the_story(text: &str) -> Option<String> {
     }
     let lower = t.to_ascii_lowercase();
     let bare = BARE.iter().find(|b| lower.ends_with(*b))?;
-    let story = t[..t.len() - bare.len()].trim_end();
-    let story = story
-        .strip_suffix(['.', ',', ';', '-'])
-        .unwrap_or(story)
-        .trim_end();
     // Only after a sentence of its own: "…FAILURE at 11:3. Why?".
-    let before = t[..t.len() - bare.len()].trim_end();
-    if story.is_empty() || !before.ends_with(['.', ',', ';', '-']) {
+    let story = t[..t.len() - bare.len()]
+        .trim_end()
+        .strip_suffix(['.', ',', ';', '-'])?
+        .trim_end();
+    if story.is_empty() {
         return None;
     }
     let last = story

@@ -752,6 +752,7 @@ fn per_call_facts(
 #[cfg(test)]
 mod tests {
     use super::{From, TickFacts};
+    use crate::logs::btlog::repeated;
 
     /// The recorded kitting run, `times` over, as one `.btlog`.
     fn long_log(times: usize) -> Vec<u8> {
@@ -761,27 +762,6 @@ mod tests {
         ))
         .unwrap();
         repeated(&bytes, times)
-    }
-
-    /// A `.btlog`'s records again and again, each time later.
-    fn repeated(bytes: &[u8], times: usize) -> Vec<u8> {
-        let n = i32::from_le_bytes(bytes[19..23].try_into().unwrap()) as usize;
-        let (head, body) = bytes.split_at(31 + n);
-        let span = u64::from_le_bytes(
-            [&body[body.len() - 9..body.len() - 3], &[0, 0][..]]
-                .concat()
-                .try_into()
-                .unwrap(),
-        ) + 100_000;
-        let mut out = head.to_vec();
-        for k in 0..times as u64 {
-            for r in body.chunks_exact(9) {
-                let dt = u64::from_le_bytes([&r[..6], &[0, 0][..]].concat().try_into().unwrap());
-                out.extend_from_slice(&(dt + k * span).to_le_bytes()[..6]);
-                out.extend_from_slice(&r[6..]);
-            }
-        }
-        out
     }
 
     /// The facts as text, their maps in order.

@@ -123,13 +123,6 @@ impl Follower {
     }
 }
 
-/// What a walk over a log's run meets: the robot's reading of the
-/// nodes' states, after how many transitions, or a transition.
-pub(super) enum Step<'a> {
-    States(usize, &'a [crate::session::Before]),
-    Move(usize, Transition),
-}
-
 use btlog::unpack;
 
 /// Where each record of a log is.
@@ -399,12 +392,8 @@ impl Numbered {
     }
 
     /// Each transition, with its place in the log, in order.
-    pub fn each_transition(&self, mut f: impl FnMut(usize, Transition)) {
-        self.walk(&[], |step| {
-            if let Step::Move(i, t) = step {
-                f(i, t)
-            }
-        });
+    pub fn each_transition(&self, f: impl FnMut(usize, Transition)) {
+        self.walk(&[], f);
     }
 
     /// Each transition of node `uid`, with its place in the log and its
@@ -440,23 +429,24 @@ impl Numbered {
         }
     }
 
-    /// The transitions in order, each robot's reading of the nodes'
-    /// states (`resyncs`: after how many transitions) where it came.
+    /// The transitions in order, with their places in the log; each
+    /// changes from the status the robot last said (`resyncs`: its readings
+    /// of the nodes' states, after how many transitions) or the records
+    /// followed since.
     pub(super) fn walk(
         &self,
         resyncs: &[(usize, Vec<crate::session::Before>)],
-        mut f: impl FnMut(Step),
+        mut f: impl FnMut(usize, Transition),
     ) {
         let mut follower = Follower::new(self.tree.len());
         let mut next = resyncs.iter().peekable();
         for (i, (&m, &tick)) in self.moves.iter().zip(&self.ticks).enumerate() {
             while let Some((_, states)) = next.next_if(|(at, _)| *at <= i) {
-                f(Step::States(i, states));
                 follower.read(states);
             }
             let (uid, status) = unpack(m);
             let prev = follower.step(uid, status);
-            f(Step::Move(
+            f(
                 i,
                 Transition {
                     tick,
@@ -464,10 +454,7 @@ impl Numbered {
                     prev,
                     status,
                 },
-            ));
-        }
-        for (at, states) in next {
-            f(Step::States(*at, states));
+            );
         }
     }
 
@@ -483,12 +470,25 @@ impl Numbered {
         resyncs: &[(usize, Vec<crate::session::Before>)],
     ) -> Session {
         let mut index = Index::new(self.tree.len());
-        index.reserve(self.moves.iter().map(|&m| unpack(m).0));
-        self.walk(resyncs, |step| match step {
-            Step::States(0, states) => index.set_before(states),
-            Step::States(_, states) => index.push_resync(states),
-            Step::Move(_, t) => index.push_transition(&self.tree, t, None),
+        let moves = || {
+            self.ticks.iter().zip(&self.moves).map(|(&tick, &m)| {
+                let (uid, status) = unpack(m);
+                (tick, uid, status)
+            })
+        };
+        index.push_whole(&self.tree, self.moves.len(), moves, |ts| {
+            self.walk(resyncs, |_, t| ts.push(t))
         });
+        // Where the robot said the nodes' states: before any transition
+        // (recording began in the run's middle), or after the transitions
+        // before it (those past the end, at the end).
+        let len = self.moves.len();
+        for (at, states) in resyncs {
+            match *at {
+                0 => index.set_before(states),
+                at => index.push_resync_at(at.min(len) as u32, states),
+            }
+        }
         let Numbered {
             path,
             tree,
@@ -557,5 +557,58 @@ impl GivenTree<'_> {
         s.header.tree.path = Some(self.path.display().to_string());
         s.header.tree.xml = crate::xml::to_v4_xml(&s.tree);
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::session::Index;
+
+    /// Every recorded log of the fixtures, as read and also repeated past
+    /// the length where the index's passes run side by side: its tables
+    /// as pushing the transitions one at a time makes them.
+    #[test]
+    fn a_run_read_whole_is_indexed_as_one_pushed_a_transition_at_a_time() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/logs");
+        let mut logs: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "btlog"))
+            .collect();
+        logs.sort();
+        assert!(logs.len() >= 8, "{logs:?}");
+        for path in &logs {
+            let bytes = std::fs::read(path).unwrap();
+            let once = crate::logs::open_btlog(path, &bytes).unwrap();
+            let times = (1 << 17) / once.index.transitions.len().max(1) + 1;
+            let many = crate::logs::btlog::repeated(&bytes, times);
+            for s in [once, crate::logs::open_btlog(path, &many).unwrap()] {
+                let mut pushed = Index::new(s.tree.len());
+                for &t in &s.index.transitions {
+                    pushed.push_transition(&s.tree, t, None);
+                }
+                assert_eq!(s.index.tables(), pushed.tables(), "{}", path.display());
+                // The current node, kept at some positions and found from the
+                // transitions between: the leaf ticked most recently.
+                let mut now = 0;
+                for (pos, t) in std::iter::once(None)
+                    .chain(s.index.transitions.iter().map(Some))
+                    .enumerate()
+                {
+                    if let Some(t) = t.filter(|t| t.status != crate::run::Status::Idle) {
+                        if s.tree.node(t.uid).kind.is_leaf() {
+                            now = t.uid;
+                        }
+                    }
+                    let shown = s.index.at(pos as u32).current();
+                    assert_eq!(
+                        shown,
+                        Some(now).filter(|&u| u != 0),
+                        "{} at {pos}",
+                        path.display()
+                    );
+                }
+            }
+        }
     }
 }

@@ -116,6 +116,11 @@ impl<T> Changes<T> {
         i.checked_sub(1).map(|i| &self.at[i].1)
     }
 
+    /// The value in force after every change so far.
+    fn last(&self) -> Option<&T> {
+        self.at.last().map(|(_, v)| v)
+    }
+
     pub fn positions(&self) -> impl Iterator<Item = u32> + '_ {
         self.at.iter().map(|(p, _)| *p)
     }
@@ -135,9 +140,19 @@ pub struct Index {
     by_node: Vec<Vec<u32>>,
     /// Per node: positions after each completion (SUCCESS/FAILURE).
     completed: Vec<Vec<u32>>,
-    /// Per position: the current node (0 = none yet).
+    /// Transitions indexed (`index_pending` indexes those after them).
+    indexed: usize,
+    /// The current node (0 = none yet) at every `CURRENT_EVERY`-th
+    /// position; between them it is found from the transitions (kept at
+    /// every position it was 4 bytes a transition, 20 MB of a log of
+    /// 5·10⁶).
     current: Vec<Uid>,
+    /// The current node after the transitions indexed.
+    current_now: Uid,
     attempts: HashMap<Uid, Changes<u32>>,
+    /// What each node is to the tables (by uid - 1), worked out once for
+    /// the tree's shape rather than for each transition.
+    roles: Roles,
     entries: HashMap<EntryId, Changes<Value>>,
     decisions: HashMap<Uid, Changes<String>>,
     /// Decisions taken with a transition, by transition index.
@@ -206,7 +221,11 @@ impl Index {
     /// live run): from this position on, a node with no later transition
     /// has it.
     pub fn push_resync(&mut self, states: &[crate::session::Before]) {
-        let pos = self.transitions.len() as u32;
+        self.push_resync_at(self.transitions.len() as u32, states)
+    }
+
+    /// `push_resync` at a position.
+    pub fn push_resync_at(&mut self, pos: u32, states: &[crate::session::Before]) {
         let states = self.states_of(states);
         self.resyncs.retain(|(p, _)| *p != pos);
         self.resyncs.push((pos, states));
@@ -283,32 +302,12 @@ impl Index {
         }
     }
 
-    /// Room for `n` more transitions of these nodes, reserved at once: a
-    /// run read whole knows its length, and growing by doubling would hold
-    /// up to twice that while copying.
-    pub fn reserve(&mut self, uids: impl Iterator<Item = Uid> + Clone) {
-        let n = uids.clone().count();
-        // On huge pages where they are big (see `pages`): a log of
-        // millions of transitions faulted them in 4 KB at a time.
-        fn room<T>(v: &mut Vec<T>, n: usize) {
-            if v.capacity() - v.len() >= n {
-                return;
-            }
-            let mut bigger = crate::pages::with_capacity(v.len() + n);
-            bigger.append(v);
-            *v = bigger;
-        }
+    /// Room for `n` more transitions, reserved at once: a run read whole
+    /// knows its length, and growing by doubling would hold up to twice
+    /// that while copying. (Each node's lists are reserved by the pass
+    /// that fills them, `nodes_from`.)
+    pub fn reserve(&mut self, n: usize) {
         room(&mut self.transitions, n);
-        room(&mut self.current, n);
-        let mut per = vec![0usize; self.by_node.len()];
-        for u in uids {
-            if let Some(c) = per.get_mut((u as usize).wrapping_sub(1)) {
-                *c += 1;
-            }
-        }
-        for (list, n) in self.by_node.iter_mut().zip(per) {
-            room(list, n);
-        }
     }
 
     pub fn push_transition(&mut self, tree: &Tree, t: Transition, decision: Option<String>) {
@@ -320,47 +319,61 @@ impl Index {
                 .insert(self.transitions.len() as u32, d.clone());
             self.push_decision(t.uid, d);
         }
-        while self.tick_end.len() < t.tick as usize {
-            self.tick_end.push(self.transitions.len() as u32);
-        }
         self.transitions.push(t);
-        let pos = self.transitions.len() as u32;
-        let i = (t.uid - 1) as usize;
-        self.by_node[i].push(pos);
-        if t.status.is_completed() {
-            self.completed[i].push(pos);
-        }
-        let n = tree.node(t.uid);
-        // The current node: the leaf ticked most recently.
-        let cur = if n.kind.is_leaf() && t.status != Status::Idle {
-            t.uid
-        } else {
-            *self.current.last().expect("seeded")
-        };
-        self.current.push(cur);
-        // Retry attempts (failures of the child) and Repeat cycles (successes).
-        if let Some(p) = n.parent {
-            let counts = match tree.node(p).builtin {
-                Some(Builtin::RetryUntilSuccessful) => Some(Status::Failure),
-                Some(Builtin::Repeat) => Some(Status::Success),
-                _ => None,
-            };
-            if counts == Some(t.status) {
-                let ch = self.attempts.entry(p).or_default();
-                let k = ch.at(pos).copied().unwrap_or(0);
-                ch.push(pos, k + 1);
-            }
-        }
-        if matches!(
-            n.builtin,
-            Some(Builtin::RetryUntilSuccessful | Builtin::Repeat)
-        ) && t.status != Status::Running
-        {
-            self.attempts.entry(t.uid).or_default().push(pos, 0);
-        }
-        self.tick_end.truncate(t.tick as usize - 1);
-        self.tick_end.push(pos);
+        self.index_pending(tree);
         self.release_writes();
+    }
+
+    /// Indexes the transitions pushed since the last time.
+    fn index_pending(&mut self, tree: &Tree) {
+        let from = self.indexed;
+        let (tables, ts) = self.split();
+        let ts = &ts[from..];
+        tables.fill(tree, from, ts.len(), &|| {
+            ts.iter().map(|t| (t.tick, t.uid, t.status))
+        });
+    }
+
+    /// The transitions of a run read whole, `n` of them: `push` pushes
+    /// them (only it needs each one's previous status, which takes
+    /// following the run), while the tables are filled from `moves`, the
+    /// same transitions' ticks, nodes and statuses; the two at once, and
+    /// the tables two at a time.
+    pub fn push_whole<F, I>(
+        &mut self,
+        tree: &Tree,
+        n: usize,
+        moves: F,
+        push: impl FnOnce(&mut Vec<Transition>) + Send,
+    ) where
+        F: Fn() -> I + Sync,
+        I: Iterator<Item = (u32, Uid, Status)>,
+    {
+        let from = self.indexed;
+        self.reserve(n);
+        let (tables, ts) = self.split();
+        rayon::join(|| push(ts), || tables.fill(tree, from, n, &moves));
+        assert_eq!(
+            self.transitions.len(),
+            self.indexed,
+            "pushed the transitions the tables were made from"
+        );
+    }
+
+    fn split(&mut self) -> (Tables<'_>, &mut Vec<Transition>) {
+        (
+            Tables {
+                roles: &mut self.roles,
+                tick_end: &mut self.tick_end,
+                by_node: &mut self.by_node,
+                completed: &mut self.completed,
+                indexed: &mut self.indexed,
+                current: &mut self.current,
+                current_now: &mut self.current_now,
+                attempts: &mut self.attempts,
+            },
+            &mut self.transitions,
+        )
     }
 
     /// Records that tick `tick` ended (it may have had no transitions).
@@ -545,6 +558,250 @@ impl Index {
     }
 }
 
+/// A vector with room for `n` more, on huge pages where it is big (see
+/// `pages`: a log of millions of transitions faulted them in 4 KB at a time).
+fn room<T>(v: &mut Vec<T>, n: usize) {
+    if v.capacity() - v.len() >= n {
+        return;
+    }
+    let mut bigger = crate::pages::with_capacity(v.len() + n);
+    bigger.append(v);
+    *v = bigger;
+}
+
+/// Transitions below which the index's passes run one after the other:
+/// a thread costs more than a short pass.
+const PARALLEL_MIN: usize = 1 << 16;
+
+/// The index's tables, each filled from the transitions' ticks, nodes and
+/// statuses by its own pass. Positions count from 1: transition `i`
+/// (0-based) is position `i + 1`.
+struct Tables<'a> {
+    roles: &'a mut Roles,
+    tick_end: &'a mut Vec<u32>,
+    by_node: &'a mut Vec<Vec<u32>>,
+    completed: &'a mut Vec<Vec<u32>>,
+    indexed: &'a mut usize,
+    current: &'a mut Vec<Uid>,
+    current_now: &'a mut Uid,
+    attempts: &'a mut HashMap<Uid, Changes<u32>>,
+}
+
+impl Tables<'_> {
+    /// The tables for `n` transitions after the first `from`.
+    fn fill<F, I>(self, tree: &Tree, from: usize, n: usize, moves: &F)
+    where
+        F: Fn() -> I + Sync,
+        I: Iterator<Item = (u32, Uid, Status)>,
+    {
+        let Tables {
+            roles,
+            tick_end,
+            by_node,
+            completed,
+            indexed,
+            current,
+            current_now,
+            attempts,
+        } = self;
+        *indexed = from + n;
+        if roles.of.len() != tree.len() {
+            *roles = Roles::of(tree);
+        }
+        let roles = &*roles;
+        let mut nodes = || nodes_from(by_node, completed, from, n, moves);
+        let mut rest = || {
+            ticks_from(tick_end, from, moves());
+            current_from(current, current_now, roles, from, moves());
+            attempts_from(attempts, tree, roles, from, moves());
+        };
+        if n >= PARALLEL_MIN {
+            rayon::join(nodes, rest);
+        } else {
+            nodes();
+            rest();
+        }
+    }
+}
+
+/// The position at the end of each tick; a tick with no transition ends
+/// where the one before it did.
+fn ticks_from(
+    tick_end: &mut Vec<u32>,
+    from: usize,
+    moves: impl Iterator<Item = (u32, Uid, Status)>,
+) {
+    for (i, (tick, _, _)) in (from..).zip(moves) {
+        let t = tick as usize;
+        if tick_end.len() == t {
+            tick_end[t - 1] = i as u32 + 1;
+            continue;
+        }
+        while tick_end.len() < t {
+            tick_end.push(i as u32);
+        }
+        tick_end.truncate(t - 1);
+        tick_end.push(i as u32 + 1);
+    }
+}
+
+/// Each node's changes and completions; where there are many, each list
+/// reserved first at its length.
+fn nodes_from<I>(
+    by_node: &mut [Vec<u32>],
+    completed: &mut [Vec<u32>],
+    from: usize,
+    n: usize,
+    moves: impl Fn() -> I,
+) where
+    I: Iterator<Item = (u32, Uid, Status)>,
+{
+    if n >= PARALLEL_MIN {
+        let mut per = vec![(0usize, 0usize); by_node.len()];
+        for (_, uid, status) in moves() {
+            let c = &mut per[(uid - 1) as usize];
+            c.0 += 1;
+            c.1 += usize::from(status.is_completed());
+        }
+        for ((changes, done), (k, d)) in by_node.iter_mut().zip(completed.iter_mut()).zip(per) {
+            room(changes, k);
+            room(done, d);
+        }
+    }
+    for (i, (_, uid, status)) in (from..).zip(moves()) {
+        let u = (uid - 1) as usize;
+        by_node[u].push(i as u32 + 1);
+        if status.is_completed() {
+            completed[u].push(i as u32 + 1);
+        }
+    }
+}
+
+/// What each node is to the index's tables (by uid - 1), and whether any
+/// counts its child's attempts.
+#[derive(Debug, Clone, Default)]
+struct Roles {
+    of: Vec<Role>,
+    counting: bool,
+}
+
+impl Roles {
+    fn of(tree: &Tree) -> Roles {
+        let of = Role::all(tree);
+        let counting = of.iter().any(|r| r.counts);
+        Roles { of, counting }
+    }
+
+    /// Whether this transition makes its node the current one: a leaf
+    /// ticked (Han's state listener reports the leaf ticked most recently).
+    fn makes_current(&self, uid: Uid, status: Status) -> bool {
+        status != Status::Idle
+            && self
+                .of
+                .get((uid as usize).wrapping_sub(1))
+                .is_some_and(|r| r.leaf)
+    }
+}
+
+/// What a node is to the index's tables.
+#[derive(Debug, Clone, Copy, Default)]
+struct Role {
+    leaf: bool,
+    /// The status of it its parent counts (a RetryUntilSuccessful its
+    /// child's failures, a Repeat its successes).
+    counted: Option<Status>,
+    /// It counts its child's: its count starts again whenever it ends.
+    counts: bool,
+}
+
+impl Role {
+    fn all(tree: &Tree) -> Vec<Role> {
+        let counter = |u: Uid| match tree.node(u).builtin {
+            Some(Builtin::RetryUntilSuccessful) => Some(Status::Failure),
+            Some(Builtin::Repeat) => Some(Status::Success),
+            _ => None,
+        };
+        (1..=tree.len() as Uid)
+            .map(|u| {
+                let n = tree.node(u);
+                Role {
+                    leaf: n.kind.is_leaf(),
+                    counted: n.parent.and_then(counter),
+                    counts: counter(u).is_some(),
+                }
+            })
+            .collect()
+    }
+}
+
+/// Positions between two kept of the current node.
+const CURRENT_EVERY: usize = 256;
+
+/// The current node, the leaf ticked most recently, at every
+/// `CURRENT_EVERY`-th position.
+fn current_from(
+    current: &mut Vec<Uid>,
+    now: &mut Uid,
+    roles: &Roles,
+    from: usize,
+    moves: impl Iterator<Item = (u32, Uid, Status)>,
+) {
+    for (i, (_, uid, status)) in (from..).zip(moves) {
+        if roles.makes_current(uid, status) {
+            *now = uid;
+        }
+        if (i + 1) % CURRENT_EVERY == 0 {
+            current.push(*now);
+        }
+    }
+}
+
+/// Retry attempts (failures of the child) and Repeat cycles (successes),
+/// counted from 0 again whenever the decorator ends or halts.
+fn attempts_from(
+    attempts: &mut HashMap<Uid, Changes<u32>>,
+    tree: &Tree,
+    roles: &Roles,
+    from: usize,
+    moves: impl Iterator<Item = (u32, Uid, Status)>,
+) {
+    if !roles.counting {
+        return;
+    }
+    for (i, (_, uid, status)) in (from..).zip(moves) {
+        let pos = i as u32 + 1;
+        let role = roles.of[(uid - 1) as usize];
+        if role.counted == Some(status) {
+            let p = tree.node(uid).parent.expect("a counted node has a parent");
+            let ch = attempts.entry(p).or_default();
+            let k = ch.last().copied().unwrap_or(0);
+            ch.push(pos, k + 1);
+        }
+        if role.counts && status != Status::Running {
+            attempts.entry(uid).or_default().push(pos, 0);
+        }
+    }
+}
+
+#[cfg(test)]
+impl Index {
+    /// Every table, as text: two indexes of one run compared.
+    pub(crate) fn tables(&self) -> String {
+        let mut attempts: Vec<_> = self.attempts.iter().collect();
+        attempts.sort_by_key(|(u, _)| **u);
+        format!(
+            "{:?}\n{:?}\n{:?}\n{:?}\n{:?} {}\n{attempts:?}\n{:?}",
+            self.transitions,
+            self.tick_end,
+            self.by_node,
+            self.completed,
+            self.current,
+            self.current_now,
+            self.resyncs
+        )
+    }
+}
+
 /// What a node did in one tick (`Index::tick_mark`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TickMark {
@@ -709,13 +966,19 @@ impl At<'_> {
     /// from its middle, before its first transition: the last node (in
     /// tree order, so a deepest one) running when recording began.
     pub fn current(&self) -> Option<Uid> {
-        Some(self.index.current[self.pos as usize])
-            .filter(|&u| u != 0)
-            .or_else(|| {
-                (1..=self.index.by_node.len() as Uid)
-                    .rev()
-                    .find(|&u| self.index.before(u).0 == Status::Running)
-            })
+        let i = self.index;
+        let pos = self.pos as usize;
+        let kept = pos / CURRENT_EVERY;
+        let now = i.transitions[kept * CURRENT_EVERY..pos]
+            .iter()
+            .rev()
+            .find(|t| i.roles.makes_current(t.uid, t.status))
+            .map_or(i.current[kept], |t| t.uid);
+        Some(now).filter(|&u| u != 0).or_else(|| {
+            (1..=self.index.by_node.len() as Uid)
+                .rev()
+                .find(|&u| self.index.before(u).0 == Status::Running)
+        })
     }
 
     pub fn entry(&self, e: &EntryId) -> Option<&Value> {

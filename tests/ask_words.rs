@@ -2680,6 +2680,58 @@ fn a_bare_why_after_a_but_asks_of_what_the_but_sets_apart() {
     )]);
 }
 
+/// People who speak of the robot rather than the tree: the part it is
+/// on, how it works in general, what happened when something was done,
+/// and its failures ("it stalled") as its actions', where the task itself
+/// never failed.
+#[test]
+fn the_robot_spoken_of_as_a_whole_is_read_as_meant() {
+    const DETECT: &str = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    first_lines_are(vec![
+        (
+            vec![KITTING],
+            "what bit of the job are you on now?",
+            "What is your subgoal?",
+        ),
+        (
+            vec![NAV2],
+            "generally speaking, how does it reach where it's going?",
+            "How do you achieve your goal?",
+        ),
+        (
+            vec![TAXI],
+            "what went on when move left first succeeded?",
+            "What happened at tick 14?",
+        ),
+        (
+            vec![DETECT],
+            "what happened when detect chuck failed the second time?",
+            "What happened at tick 9?",
+        ),
+        (
+            vec![NAV2],
+            "when did it stall?",
+            "When did the FollowPath action (#10) fail?",
+        ),
+        (
+            vec![NAV2],
+            "why did it stall the first time?",
+            "Why did the FollowPath action (#10) fail at 4:1?",
+        ),
+        (
+            vec![KITTING],
+            "how often did it fail?",
+            "How often did look at chuck (#18) fail?",
+        ),
+        // Nothing failed: the task is what "it" asks of.
+        (
+            vec![TAXI],
+            "how often did it fail?",
+            "How often did go deliver passenger (#1) fail?",
+        ),
+    ]);
+}
+
 /// Each question asked of its files (and options) is answered, its first
 /// line (what btx read it as) the one given.
 fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {

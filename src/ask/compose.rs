@@ -167,6 +167,10 @@ fn with_node(
         _ => Vec::new(),
     };
     let who = match (who, event, cx.at.as_ref()) {
+        (Subject::It, Some(Event::Fail), Some(at)) => robots_failures(cx, at).map_or_else(
+            || Subject::Nodes(vec![cx.it()], "it".into()),
+            |u| Subject::Nodes(vec![u], "it".into()),
+        ),
         (Subject::It, _, _) => Subject::Nodes(vec![cx.it()], "it".into()),
         (Subject::Nodes(us, p), Some(e), Some(at)) if us.len() > 1 => {
             Subject::Nodes(by_event(cx.tree, at, us, e), p.clone())
@@ -190,6 +194,26 @@ fn with_node(
                 and_list(&names)
             ))
         }
+    }
+}
+
+/// "How many times did it fail to spot it?", "when did it stall for the
+/// last time?": a failure asked of the robot (no node asked of before it,
+/// none picked) while the task itself never failed is its actions'. The
+/// one action that failed by the moment, if only one did.
+fn robots_failures(cx: &Context, at: &At) -> Option<Uid> {
+    let root = cx.tree.root().uid;
+    if cx.last.get().is_some() || cx.node.is_some() || !events(at, root, Event::Fail).is_empty() {
+        return None;
+    }
+    let mut failed = cx
+        .tree
+        .nodes
+        .iter()
+        .filter(|n| n.kind.is_leaf() && !events(at, n.uid, Event::Fail).is_empty());
+    match (failed.next(), failed.next()) {
+        (Some(n), None) => Some(n.uid),
+        _ => None,
     }
 }
 

@@ -469,6 +469,7 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
             let p = nth_end(tree, at, uid, n, failed)?;
             Ok(if side == read::Side::Before { p - 1 } else { p })
         }
+        When::NthFailure(n) => nth_failure(tree, at, n),
         When::BeforeFailure => first_failure(),
         When::AfterFailure => first_failure().map(|i| i + 1),
         When::AfterRecovery => {
@@ -483,6 +484,25 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
                 })
         }
     }
+}
+
+/// The position right after the run's N-th failure of an action or
+/// condition.
+fn nth_failure(tree: &Tree, at: &crate::session::At, n: u32) -> Result<u32, String> {
+    at.index
+        .transitions
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| t.status == crate::run::Status::Failure && tree.node(t.uid).kind.is_leaf())
+        .nth(n as usize - 1)
+        .map(|(i, _)| i as u32 + 1)
+        .ok_or_else(|| match n {
+            1 => "No action failed in this run: there is no first time.".to_string(),
+            n => format!(
+                "No action failed a {} time in this run.",
+                read::ordinal_word(n)
+            ),
+        })
 }
 
 /// The position right after `u`'s last failure by the moment, else its

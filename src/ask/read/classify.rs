@@ -1171,7 +1171,14 @@ fn tick(c: &Cues) -> Option<Readings> {
                 && s.used[i + 1]
                 && ["where", "when", "in", "that"].contains(&p[1].text.as_str())
         });
-    if asked_when.is_none() && !this_tick {
+    // "What happened when drop off passenger succeeded?": the moment is
+    // that event's (`clauses::moment_of_an_event` took its words).
+    let at_an_event = asked_when.is_none()
+        && s.q
+            .iter()
+            .enumerate()
+            .any(|(i, w)| s.used[i] && ["when", "moment", "as", "time"].contains(&w.text.as_str()));
+    if asked_when.is_none() && !this_tick && !at_an_event {
         return None;
     }
     let n = match asked_when {
@@ -1278,6 +1285,19 @@ fn asks_subgoal(c: &Cues) -> bool {
         // "Which step of the patrol is it on?".
         || s.has("which") && s.has_stem(&["step"]) && s.has("on")
         || stage && c.named.is_empty() && (c.what || s.has("which"))
+        || where_it_is(c)
+}
+
+/// "What step is it on at the moment?", "which big step of the kit is it
+/// on?", "what chunk of the work is it on?": the part of the task it is
+/// in, not the steps of one.
+fn where_it_is(c: &Cues) -> bool {
+    let s = c.s;
+    (c.what || s.has("which"))
+        && s.has_stem(&["step", "part", "chunk", "stage", "phase", "bit", "section"])
+        && ["it", "you", "robot", "we"]
+            .iter()
+            .any(|who| s.phrase(&[who, "on"]).is_some())
 }
 
 fn asks_goal(s: &Sentence) -> bool {
@@ -1316,6 +1336,7 @@ fn asks_steps(c: &Cues) -> bool {
         });
     !s.has("doing")
         && !this_step
+        && !where_it_is(c)
         && s.has_stem(&[
             "step", "plan", "procedur", "strategi", "approach", "outlin", "recip", "method",
             "mechan", "breakdown",

@@ -385,3 +385,69 @@ pub(super) fn tick_of_a_failure(
     };
     Some((w, (k + 1..=end).collect()))
 }
+
+/// "What happened when drop off passenger succeeded?", "what went on at
+/// the moment it dropped the passenger off?", "what all happened the first
+/// time FollowPath failed?": what happened is asked at the moment of an
+/// event said of a node (its N-th failure, or its N-th end where it
+/// succeeded or was done), and the words that say it.
+pub(super) fn moment_of_an_event(
+    tree: &Tree,
+    q: &[Word],
+    used: &[bool],
+    mentions: &[Mention],
+) -> Option<(When, Vec<usize>)> {
+    let happened = q.iter().any(|w| {
+        ["happened", "happen", "happening", "occurred", "occur"].contains(&w.text.as_str())
+    }) || q
+        .windows(2)
+        .any(|p| ["went", "goes", "going"].contains(&p[0].text.as_str()) && p[1].text == "on");
+    if !happened || !q.iter().any(|w| w.text == "what") {
+        return None;
+    }
+    let marker = |i: usize| match q[i].text.as_str() {
+        "when" | "moment" | "as" => true,
+        "time" => i > 0 && when::ordinal(&q[i - 1].text).is_some(),
+        _ => false,
+    };
+    let k = (0..q.len()).find(|&i| !used[i] && marker(i))?;
+    // Between the marker and the name: who did it, or which time.
+    let m = mentions.iter().find(|m| {
+        m.start > k
+            && q[k + 1..m.start].iter().all(|w| {
+                [
+                    "the", "it", "robot", "bot", "he", "she", "they", "first", "finally",
+                ]
+                .contains(&w.text.as_str())
+                    || when::ordinal(&w.text).is_some()
+            })
+    })?;
+    let after = m.end..q.len().min(m.end + 2);
+    let failed = after.clone().find(|&i| q[i].stem.starts_with("fail"));
+    let done = after.clone().find(|&i| {
+        ["succeed", "finish", "complet", "done", "work"]
+            .iter()
+            .any(|v| q[i].stem.starts_with(v))
+    });
+    // "When it dropped the passenger off": a step said as done, by its verb.
+    let said_done = q[m.start].text.ends_with("ed") || q[m.start].text == "did";
+    let (end, failed) = match (failed, done) {
+        (Some(i), _) => (i, true),
+        (None, Some(i)) => (i, false),
+        (None, None) if said_done => (m.end - 1, false),
+        _ => return None,
+    };
+    let n = q[k.saturating_sub(1)..m.start]
+        .iter()
+        .chain(&q[end + 1..q.len().min(end + 3)])
+        .find_map(|w| when::ordinal(&w.text))
+        .unwrap_or(1);
+    let w = When::Ended {
+        uid: deepest(tree, &m.uids),
+        n,
+        failed,
+        side: Side::At,
+    };
+    let from = if q[k].text == "time" { k - 1 } else { k };
+    Some((w, (from..=end).collect()))
+}

@@ -168,6 +168,9 @@ fn whole(s: &Sentence) -> bool {
     ]
     .iter()
     .any(|w| s.has(w))
+        // "In general, how does it get where it is sent?"
+        || s.phrase(&["in", "general"]).is_some()
+        || s.has("generally")
 }
 
 /// "Could you please tell us what went wrong?": a request to tell, whose

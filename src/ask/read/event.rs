@@ -189,7 +189,7 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
         || coloured("red")
         || s.has("false")
         || s.has_stem(&[
-            "fail", "abort", "crash", "die", "error", "fault", "broke", "break", "bail",
+            "fail", "abort", "crash", "die", "error", "fault", "broke", "break", "bail", "stall",
         ])
     {
         Some(Event::Fail)

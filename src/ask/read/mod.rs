@@ -27,7 +27,7 @@ pub use can_you::wraps_a_question;
 use classify::classify;
 use clauses::{
     children_by_place, counted_among_alike, deepest, elided_foil, failure_clause,
-    governing_verbs_dropped, scoped, tick_of_a_failure,
+    governing_verbs_dropped, moment_of_an_event, scoped, tick_of_a_failure,
 };
 use event::{
     event, foil, gave_up, joined, loops_of, negated_first, progressive, subject, uids_of, verbless,
@@ -887,7 +887,11 @@ fn named_parts<'a>(
     // the tick where the spin failed": the clause says when; what is asked
     // is the rest.
     type Clause = fn(&Tree, &[Word], &[bool], &[Mention]) -> Option<(When, Vec<usize>)>;
-    for clause in [failure_clause as Clause, tick_of_a_failure] {
+    for clause in [
+        failure_clause as Clause,
+        tick_of_a_failure,
+        moment_of_an_event,
+    ] {
         if when.is_some() {
             break;
         }
@@ -1252,6 +1256,13 @@ fn chosen(
 /// time" asks which, not at when.
 fn nth_end(tree: &Tree, intent: &Intent, n: u32) -> Option<When> {
     let (uids, failed) = match intent {
+        // "Why did it stall the first time?": of the robot, whose failures
+        // are its actions'.
+        Intent::Why {
+            node: Subject::It,
+            event: Event::Fail,
+            ..
+        } => return Some(When::NthFailure(n)),
         Intent::Why {
             node: Subject::Nodes(us, _),
             event,

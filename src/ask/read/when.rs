@@ -24,6 +24,9 @@ pub enum When {
     BeforeFailureOf(crate::model::Uid),
     /// Just after this node failed.
     AfterFailureOf(crate::model::Uid),
+    /// The N-th failure of an action or condition in the run: "the
+    /// first time it stalled" asked of the robot, not of a node.
+    NthFailure(u32),
     /// The N-th time (from 1) this node ended, failed if `failed` ("the
     /// second time it failed", "on the third try"), and which side of it.
     Ended {
@@ -58,6 +61,7 @@ impl When {
             When::AfterRecovery => "after the recovery".into(),
             When::BeforeFailureOf(u) => format!("just before #{u} failed"),
             When::AfterFailureOf(u) => format!("just after #{u} failed"),
+            When::NthFailure(n) => format!("at the {} failure", ordinal_word(n)),
             When::Ended {
                 uid,
                 n,

@@ -864,14 +864,7 @@ mod tests {
     /// late one first), against its replay from the first tick.
     #[test]
     fn every_tick_from_what_is_kept_has_the_facts_of_a_replay_from_the_first() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/logs");
-        let mut logs: Vec<_> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|x| x == "btlog"))
-            .collect();
-        logs.sort();
-        assert!(logs.len() >= 8, "{logs:?}");
+        let logs = crate::logs::btlog::fixture_logs();
         for (path, times) in logs.iter().flat_map(|p| [(p, 1), (p, 3)]) {
             let bytes = repeated(&std::fs::read(path).unwrap(), times);
             let s = crate::logs::open_btlog(path, &bytes).unwrap();

@@ -215,3 +215,17 @@ pub(crate) fn repeated(bytes: &[u8], times: usize) -> Vec<u8> {
     }
     out
 }
+
+/// Every recorded `.btlog` of the fixtures, in order.
+#[cfg(test)]
+pub(crate) fn fixture_logs() -> Vec<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/logs");
+    let mut logs: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "btlog"))
+        .collect();
+    logs.sort();
+    assert!(logs.len() >= 8, "{logs:?}");
+    logs
+}

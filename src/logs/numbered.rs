@@ -569,14 +569,7 @@ mod tests {
     /// as pushing the transitions one at a time makes them.
     #[test]
     fn a_run_read_whole_is_indexed_as_one_pushed_a_transition_at_a_time() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/logs");
-        let mut logs: Vec<_> = std::fs::read_dir(&dir)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| p.extension().is_some_and(|x| x == "btlog"))
-            .collect();
-        logs.sort();
-        assert!(logs.len() >= 8, "{logs:?}");
+        let logs = crate::logs::btlog::fixture_logs();
         for path in &logs {
             let bytes = std::fs::read(path).unwrap();
             let once = crate::logs::open_btlog(path, &bytes).unwrap();

@@ -2723,6 +2723,12 @@ fn the_robot_spoken_of_as_a_whole_is_read_as_meant() {
             "how often did it fail?",
             "How often did look at chuck (#18) fail?",
         ),
+        (
+            vec!["--at", "4:8", NAV2],
+            "did it give up?",
+            "Was there anything wrong?",
+        ),
+        (vec![TAXI], "was it stuck?", "Was there anything wrong?"),
         // Nothing failed: the task is what "it" asks of.
         (
             vec![TAXI],

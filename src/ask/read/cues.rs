@@ -236,7 +236,13 @@ fn problem(s: &Sentence, break_down: bool) -> bool {
     let said = s.free().any(|(i, w)| {
         PROBLEM.contains(&w.stem.as_str()) && !(w.stem.starts_with("incid") && report(i))
     });
-    could_not || !break_down && said || s.phrase(&["off", "the", "rails"]).is_some()
+    // "Was it stuck?", "did it give up?": a person's words for a failure,
+    // asked yes or no.
+    let asked_if = s.q.first().is_some_and(|w| {
+        ["did", "was", "is", "has", "had", "does", "were"].contains(&w.text.as_str())
+    });
+    let plain = asked_if && (s.has("stuck") || super::event::gave_up(s));
+    could_not || !break_down && (said || plain) || s.phrase(&["off", "the", "rails"]).is_some()
 }
 
 fn doing_words(s: &Sentence) -> bool {

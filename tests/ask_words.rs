@@ -2729,6 +2729,16 @@ fn the_robot_spoken_of_as_a_whole_is_read_as_meant() {
             "Was there anything wrong?",
         ),
         (vec![TAXI], "was it stuck?", "Was there anything wrong?"),
+        (
+            vec!["--at", "5", TAXI],
+            "Which leg is it in, the pickup or the drop-off?",
+            "What is your subgoal?",
+        ),
+        (
+            vec![TAXI],
+            "when did the ride end?",
+            "When did go deliver passenger (#1) finish?",
+        ),
         // Nothing failed: the task is what "it" asks of.
         (
             vec![TAXI],

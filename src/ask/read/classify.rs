@@ -1293,11 +1293,16 @@ fn asks_subgoal(c: &Cues) -> bool {
 /// in, not the steps of one.
 fn where_it_is(c: &Cues) -> bool {
     let s = c.s;
-    (c.what || s.has("which"))
-        && s.has_stem(&["step", "part", "chunk", "stage", "phase", "bit", "section"])
-        && ["it", "you", "robot", "we"]
-            .iter()
-            .any(|who| s.phrase(&[who, "on"]).is_some())
+    let part = s.has_stem(&[
+        "step", "part", "chunk", "stage", "phase", "bit", "section", "leg",
+    ]);
+    // "Is it on the pickup leg or the drop-off leg?": which of the parts.
+    let which = c.what || s.has("which") || s.has("or");
+    let on = ["it", "you", "robot", "we"]
+        .iter()
+        .any(|who| s.phrase(&[who, "on"]).is_some() || s.phrase(&[who, "in"]).is_some())
+        || s.phrase(&["working", "on"]).is_some();
+    which && part && on
 }
 
 fn asks_goal(s: &Sentence) -> bool {

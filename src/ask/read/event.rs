@@ -455,6 +455,7 @@ pub(super) fn subject(s: &Sentence, root: Uid) -> Option<Subject> {
         || s.has_stem(&[
             "robot", "task", "mission", "tree", "bt", "root", "agent", "navig", "whole", "overal",
             "everyth", "i", "trip", "journey", "taxi", "car", "vehicl", "drone", "kit", "job",
+            "ride", "deliveri",
         ])
     {
         return Some(Subject::Task);

@@ -2730,6 +2730,16 @@ fn the_robot_spoken_of_as_a_whole_is_read_as_meant() {
         ),
         (vec![TAXI], "was it stuck?", "Was there anything wrong?"),
         (
+            vec![TAXI],
+            "is all on track so far?",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![NAV2],
+            "is it back on track after the failures?",
+            "Did the recovery work?",
+        ),
+        (
             vec!["--at", "5", TAXI],
             "Which leg is it in, the pickup or the drop-off?",
             "What is your subgoal?",

@@ -285,7 +285,10 @@ fn recovered(c: &Cues) -> Option<Readings> {
     let fixed_it = s.has_stem(&["fix"])
         && (s.has("it") || s.has("that") || s.has("things") || c.yes_no && c.problem);
     // "Did it get going again after the controller gave up?".
+    // "Is everything on track?" asks whether all is well; "back on track
+    // after the failure?" whether it recovered.
     let on_track = s.phrase(&["on", "track"]).is_some()
+        && (s.q.iter().any(|w| w.text == "back") || s.has("after") || c.problem)
         || s.phrase(&["back", "to", "normal"]).is_some()
         || s.phrase(&["going", "again"]).is_some() && s.has("after");
     if (!c.how || costed_after(s))

@@ -67,6 +67,7 @@ impl<'a, 's> Cues<'a, 's> {
             // "Is everything all right?", "going to plan".
             fine: s.phrase(&["all", "right"]).is_some()
                 || s.phrase(&["to", "plan"]).is_some()
+                || s.phrase(&["on", "track"]).is_some() && !s.q.iter().any(|w| w.text == "back")
                 || s.phrase(&["as", "planned"]).is_some()
                 // "All green?" (a box's colour read as its status).
                 || s.phrase(&["all", "success"]).is_some()

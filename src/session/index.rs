@@ -707,7 +707,7 @@ impl Roles {
 #[derive(Debug, Clone, Copy, Default)]
 struct Role {
     leaf: bool,
-    /// The status of it its parent counts (a RetryUntilSuccessful its
+    /// Which of its statuses its parent counts (a RetryUntilSuccessful its
     /// child's failures, a Repeat its successes).
     counted: Option<Status>,
     /// It counts its child's: its count starts again whenever it ends.

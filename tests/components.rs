@@ -30,6 +30,37 @@ fn shared() -> Shared {
     app.shared
 }
 
+/// The demo at its first fault, then after `keys` pressed in the explorer:
+/// the states in which the panes' keys mean something.
+fn shared_after(keys: &[Action], focus: Option<btx::tui::app::Pane>) -> Shared {
+    let mut app = btx::tui::demo();
+    app.update(Action::NextFailure);
+    if let Some(p) = focus {
+        app.focus = p;
+    }
+    for &k in keys {
+        app.update(k);
+    }
+    app.shared
+}
+
+/// The states the help is held against: at a fault; with a question
+/// answered; with a why-answer; its causal graph; the graph centred on a
+/// neighbour.
+const STATES: usize = 5;
+
+fn state(i: usize) -> Shared {
+    use btx::tui::app::Pane;
+    use Action::*;
+    match i {
+        0 => shared_after(&[], None),
+        1 => shared_after(&[Ask, Toggle], None),
+        2 => shared_after(&[Why, Toggle], None),
+        3 => shared_after(&[Why, Toggle, Graph], None),
+        _ => shared_after(&[Why, Toggle, Graph, Expand, Toggle], Some(Pane::Details)),
+    }
+}
+
 fn panes() -> Vec<(&'static str, Box<dyn Component>)> {
     vec![
         ("tree", Box::new(TreePane)),
@@ -46,7 +77,7 @@ fn windows(sh: &mut Shared, dir: &std::path::Path) -> Vec<(&'static str, Overlay
     assert!(!faults.is_empty());
     let path = dir.join("model.dot").display().to_string();
     vec![
-        ("help", Overlay::help()),
+        ("help", Overlay::help(btx::tui::demo().panes.help())),
         ("finder", Overlay::finder()),
         ("why", Overlay::why(targets)),
         ("running", Overlay::running()),
@@ -169,6 +200,85 @@ fn every_window_takes_every_key_and_esc_closes_it() {
     }
 }
 
+/// What a pane's help says it takes (wherever the focus is, and only with
+/// it), set against the actions it takes in every state.
+fn help_against_keys<S>(
+    name: &str,
+    pane: &dyn Fn() -> Box<dyn Component<S>>,
+    state: &dyn Fn(usize) -> S,
+    states: usize,
+) {
+    let help = pane().help();
+    let said = |keys: &[(Action, &str)]| {
+        let mut v: Vec<String> = keys.iter().map(|k| format!("{:?}", k.0)).collect();
+        v.sort();
+        v.dedup();
+        v
+    };
+    let (mut anywhere, mut only_focused) = (Vec::new(), Vec::new());
+    for a in actions() {
+        for i in 0..states {
+            let takes = |focused| pane().key(a, &mut state(i), focused) != Handled::Ignored;
+            let (unfocused, focused) = (takes(false), takes(true));
+            if unfocused {
+                anywhere.push(format!("{a:?}"));
+            } else if focused {
+                only_focused.push(format!("{a:?}"));
+            }
+        }
+    }
+    for v in [&mut anywhere, &mut only_focused] {
+        v.sort();
+        v.dedup();
+    }
+    assert_eq!(
+        said(help.anywhere),
+        anywhere,
+        "{name}: keys taken wherever the focus is"
+    );
+    assert_eq!(
+        said(help.focused),
+        only_focused,
+        "{name}: keys taken only with the focus"
+    );
+}
+
+#[test]
+fn each_panes_help_names_the_keys_it_takes_and_no_other() {
+    for (name, _) in panes() {
+        let pane = || panes().into_iter().find(|p| p.0 == name).unwrap().1;
+        help_against_keys(name, &pane, &state, STATES);
+    }
+}
+
+#[test]
+fn the_help_names_every_action_of_the_keymap_once_wherever_the_focus_is() {
+    // The explorer's own keys and the panes' keys taken wherever the focus
+    // is: every action of the keymap, each once (the router gives a key to
+    // one of them); the focused panes' own meanings come on top.
+    let parts = btx::tui::demo().panes.help();
+    let mut named: Vec<String> = parts
+        .iter()
+        .flat_map(|p| p.anywhere.iter().map(|k| format!("{:?}", k.0)))
+        .collect();
+    named.sort();
+    let mut all: Vec<String> = actions().iter().map(|a| format!("{a:?}")).collect();
+    all.sort();
+    assert_eq!(named, all);
+    // And the keys the app keeps are those no pane takes unfocused.
+    let own = &parts[0];
+    for (a, _) in own.anywhere {
+        for (name, mut p) in panes() {
+            let mut sh = shared();
+            assert_eq!(
+                p.key(*a, &mut sh, false),
+                Handled::Ignored,
+                "{name} takes {a:?}"
+            );
+        }
+    }
+}
+
 #[test]
 fn every_components_hints_name_keys_that_are_bound() {
     let keymap = Keymap::default();
@@ -265,11 +375,29 @@ fn every_key_of_every_fleet_component_in_isolation() {
     // The help takes every key; Esc closes it.
     for a in actions() {
         let mut sh = fleet_shared();
-        let h = FleetHelp.key(a, &mut sh, true);
+        let mut help = FleetHelp {
+            keymap: Keymap::default(),
+            parts: Vec::new(),
+            scroll: Default::default(),
+        };
+        let h = help.key(a, &mut sh, true);
         assert_ne!(h, Handled::Ignored, "the fleet's help let {a:?} through");
         if a == Action::Back {
             assert_eq!(h, Handled::Close);
         }
+    }
+    // Each list's help names the keys it takes (Esc only once a node has
+    // picked the runs listed).
+    let state = |i| {
+        let mut sh = fleet_shared();
+        sh.only = (i == 1).then_some(0);
+        sh.node = 1;
+        sh.run = 1;
+        sh
+    };
+    for (name, _) in fleet_panes() {
+        let pane = || fleet_panes().into_iter().find(|p| p.0 == name).unwrap().1;
+        help_against_keys(name, &pane, &state, 2);
     }
     // Enter on an action lists the runs it failed in, and says it picked.
     let mut sh = fleet_shared();
@@ -341,6 +469,26 @@ fn every_key_of_every_diff_component_in_isolation() {
     for (a, names) in &takers {
         assert_eq!(names.len(), 1, "{a} is taken by {names:?}");
     }
+    // The diff has no focus: each pane's help names as taken wherever the
+    // focus is what it takes (it is always handed keys as focused).
+    for (name, _) in diff_panes() {
+        let help = diff_panes()
+            .into_iter()
+            .find(|p| p.0 == name)
+            .unwrap()
+            .1
+            .help();
+        let mut said: Vec<String> = help.anywhere.iter().map(|k| format!("{:?}", k.0)).collect();
+        said.sort();
+        let mut taken: Vec<String> = takers
+            .iter()
+            .filter(|(_, names)| names.contains(&name))
+            .map(|(a, _)| a.clone())
+            .collect();
+        taken.sort();
+        assert_eq!(said, taken, "{name}");
+        assert!(help.focused.is_empty(), "{name}");
+    }
     // Its keys: ↑↓ the trees, d D w Esc the summary, n p . , g G time.
     assert_eq!(takers["NextDivergence"], ["summary"]);
     assert_eq!(takers["StepForward"], ["timelines"]);
@@ -350,6 +498,8 @@ fn every_key_of_every_diff_component_in_isolation() {
         let mut sh = diff_shared();
         let mut help = DiffHelp {
             keymap: Keymap::default(),
+            parts: Vec::new(),
+            scroll: Default::default(),
         };
         let h = help.key(a, &mut sh, true);
         assert_ne!(h, Handled::Ignored, "the diff's help let {a:?} through");

@@ -122,17 +122,31 @@ fn framed_view_and_collapsing() {
 }
 
 #[test]
-fn help_lists_every_binding_of_the_keymap() {
+fn help_lists_every_binding_of_the_keymap_under_the_pane_that_takes_it() {
     let app = scene("help").unwrap();
-    let s = screen(&app, 110, 70);
+    let s = screen(&app, 110, 120);
     for b in KEYMAP {
-        assert!(s.contains(b.help), "help lacks {:?}", b.help);
         assert!(
             s.contains(&b.keys.join(" ")),
             "help lacks the keys {:?}",
             b.keys
         );
     }
+    // Each pane's keys under its heading, in its words or the keymap's.
+    let parts = app.panes.help();
+    for p in &parts {
+        for (a, own) in p.anywhere.iter().chain(p.focused) {
+            let words = match *own {
+                "" => KEYMAP.iter().find(|b| b.action == *a).unwrap().help,
+                w => w,
+            };
+            assert!(s.contains(words), "help lacks {words:?} ({})", p.name);
+        }
+    }
+    let at = |h: &str| s.find(h).unwrap_or_else(|| panic!("no heading {h:?}"));
+    assert!(at("│the explorer") < at("│tree ") && at("│tree ") < at("│timeline "));
+    assert!(at("│answers ") < at("│timeline, when it has the focus"));
+    assert!(at("Esc             clear the answer") < at("details, when it has the focus"));
 }
 
 #[test]
@@ -1710,4 +1724,43 @@ fn long_lines_wrap_in_popups_and_the_status_bar() {
     assert!(said.chars().count() > 80, "{said}");
     let s = screen(&d, 80, 30);
     assert!(joined(&s).ends_with(&said), "{said:?} cut:\n{s}");
+}
+
+#[test]
+fn the_diffs_and_the_fleets_help_scroll_to_their_last_key_on_a_small_terminal() {
+    let mut diff = diff_app(
+        "sessions/kitting-nominal.jsonl",
+        "sessions/kitting-lookat-fails-once.jsonl",
+    );
+    diff.update(Action::Help);
+    let top = screen(&diff, 80, 16);
+    assert!(top.contains("↓ more") && top.contains("the diff"), "{top}");
+    assert!(!top.contains("end of the run"), "{top}");
+    diff.update(Action::End);
+    let end = screen(&diff, 80, 16);
+    assert!(
+        end.contains("end of the run") && !end.contains("↓ more"),
+        "{end}"
+    );
+    // Up from the end scrolls at once (the end is where the last page shows).
+    diff.update(Action::Up);
+    assert!(screen(&diff, 80, 16).contains("↓ more"));
+
+    let files = btx::fleet::files(&common::kitting_fleet()).unwrap();
+    let opts = btx::xml::LoadOptions::default();
+    let fleet = btx::fleet::Fleet::read(&files, &opts, None, None, &|| {});
+    let mut app = btx::tui::fleet::FleetApp::new(fleet, opts);
+    app.update(Action::Help);
+    let top = screen(&app, 80, 24);
+    assert!(
+        top.contains("↓ more") && top.contains("the actions, or the runs"),
+        "{top}"
+    );
+    app.update(Action::End);
+    let end = screen(&app, 80, 24);
+    assert!(
+        end.contains("open the run in the explorer (q comes back)"),
+        "{end}"
+    );
+    assert!(!end.contains("↓ more"), "{end}");
 }

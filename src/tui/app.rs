@@ -9,7 +9,7 @@ use super::panes::details::Details;
 use super::panes::overlays::Overlay;
 use super::panes::timeline::{self, Timeline};
 use super::panes::tree::TreePane;
-use super::panes::{Component, Handled, Hints};
+use super::panes::{Component, Handled, Hints, KeyHelp};
 use super::shared::Shared;
 use super::text_input::Edit;
 use super::view::{fit, layout};
@@ -49,6 +49,15 @@ impl Panes {
         }
     }
 
+    /// The help: the explorer's own keys, then each pane's.
+    pub fn help(&self) -> Vec<KeyHelp> {
+        let mut parts = vec![OWN_KEYS];
+        parts.extend(
+            [Pane::Tree, Pane::Timeline, Pane::Ask, Pane::Details].map(|p| self.get(p).help()),
+        );
+        parts
+    }
+
     fn get_mut(&mut self, p: Pane) -> &mut dyn Component {
         match p {
             Pane::Tree => &mut self.tree,
@@ -58,6 +67,24 @@ impl Panes {
         }
     }
 }
+
+/// The keys the app takes itself ([`App::own_key`]), for the help.
+pub const OWN_KEYS: KeyHelp = KeyHelp {
+    name: "the explorer",
+    anywhere: &[
+        (Action::Help, ""),
+        (Action::Quit, ""),
+        (Action::NextPane, ""),
+        (Action::Zoom, ""),
+        (Action::Wider, ""),
+        (Action::Narrower, ""),
+        (Action::Find, ""),
+        (Action::Pick, ""),
+        (Action::NextDivergence, ""),
+        (Action::PrevDivergence, ""),
+    ],
+    focused: &[],
+};
 
 pub struct App {
     /// The run, the moment, the selection and the conversation.
@@ -141,7 +168,7 @@ impl App {
                 }
             }
             Action::Find => self.overlay = Some(Overlay::finder()),
-            Action::Help => self.overlay = Some(Overlay::help()),
+            Action::Help => self.overlay = Some(Overlay::help(self.panes.help())),
             Action::NextDivergence | Action::PrevDivergence => {
                 self.shared.message = Some("divergences are shown by btx open --diff A B".into())
             }

@@ -210,8 +210,16 @@ impl DiffApp {
         match act {
             Action::Quit => self.quit = true,
             Action::Help => {
+                let parts = [
+                    panes::DIFF_KEYS,
+                    self.trees.help(),
+                    self.summary.help(),
+                    self.timelines.help(),
+                ];
                 self.help = Some(DiffHelp {
                     keymap: self.keymap.clone(),
+                    parts: parts.to_vec(),
+                    scroll: Default::default(),
                 })
             }
             _ => {

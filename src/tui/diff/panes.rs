@@ -5,12 +5,12 @@
 use super::{DiffShared, Pane};
 use crate::run::Status;
 use crate::tui::keymap::{Action, Keymap};
-use crate::tui::panes::{Component, Handled, Hints};
+use crate::tui::panes::{help_lines, help_window, Component, Handled, Hints, KeyHelp, Lines};
 use crate::tui::view::{block, status_color, tree_glyph};
 use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Clear, Paragraph, Wrap};
+use ratatui::widgets::{Paragraph, Wrap};
 use ratatui::Frame;
 
 /// Fig. 14's colours: divergent leaves dark blue, their parents blue-grey.
@@ -195,7 +195,7 @@ fn timeline_line(p: &Pane, letter: &str) -> Line<'static> {
     Line::from(spans)
 }
 
-fn help(keymap: &Keymap, f: &mut Frame, area: Rect) {
+fn help(keymap: &Keymap, parts: &[KeyHelp], scroll: &Lines, f: &mut Frame, area: Rect) {
     let mut lines = vec![Line::from(Span::styled(
         "Side-by-side diff (Han et al. Fig. 14)",
         Style::default().add_modifier(Modifier::BOLD),
@@ -204,48 +204,17 @@ fn help(keymap: &Keymap, f: &mut Frame, area: Rect) {
         Span::styled("≠ leaf ", Style::default().bg(DIVERGENT).fg(Color::White)),
         Span::raw(" a divergent action   "),
         Span::styled("› parent ", Style::default().bg(PARENT).fg(Color::White)),
-        Span::raw(" its parent   "),
+        Span::raw(" its parent"),
+    ]));
+    // The third sign on a line of its own: the three do not fit the help's
+    // width on one.
+    lines.push(Line::from(vec![
         Span::styled("· leaf", Style::default().add_modifier(Modifier::ITALIC)),
         Span::raw(" ran (or not) only because the runs had parted"),
     ]));
     lines.push(Line::from(""));
-    for (keys, action, help, _) in &keymap.keys {
-        use crate::tui::keymap::Action as A;
-        if matches!(
-            action,
-            A::Up
-                | A::Down
-                | A::NextDivergence
-                | A::PrevDivergence
-                | A::StepForward
-                | A::StepBack
-                | A::TickForward
-                | A::TickBack
-                | A::Start
-                | A::End
-                | A::Why
-                | A::Back
-                | A::Help
-                | A::Quit
-        ) {
-            let text = match action {
-                A::Why => "why did the runs diverge? (first divergence)",
-                A::Up | A::Down => "scroll both trees",
-                _ => help,
-            };
-            lines.push(Line::from(format!("{:<14} {text}", keys.join(", "))));
-        }
-    }
-    let w = 64.min(area.width);
-    let h = (lines.len() as u16 + 2).min(area.height);
-    let r = Rect::new(
-        area.x + (area.width - w) / 2,
-        area.y + (area.height - h) / 2,
-        w,
-        h,
-    );
-    f.render_widget(Clear, r);
-    f.render_widget(Paragraph::new(lines).block(block(" help ".into(), true)), r);
+    lines.extend(help_lines(keymap, parts));
+    help_window(f, area, 64, " help (↑↓ scroll, Esc closes) ", lines, scroll);
 }
 
 impl DiffShared {
@@ -361,6 +330,17 @@ impl Component<DiffShared> for Trees {
         Hints::Keys(&[(Action::Down, "scroll both trees")])
     }
 
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "the two trees",
+            anywhere: &[
+                (Action::Up, "scroll both trees up"),
+                (Action::Down, "scroll both trees down"),
+            ],
+            focused: &[],
+        }
+    }
+
     fn draw(&self, sh: &DiffShared, f: &mut Frame, area: Rect, _: bool) {
         let top = Layout::default()
             .direction(Direction::Horizontal)
@@ -392,6 +372,19 @@ impl Component<DiffShared> for Summary {
             (Action::NextDivergence, "next divergence"),
             (Action::Why, "why did they diverge?"),
         ])
+    }
+
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "the divergences",
+            anywhere: &[
+                (Action::NextDivergence, "the next divergence"),
+                (Action::PrevDivergence, "the previous divergence"),
+                (Action::Why, "why did the runs diverge? (first divergence)"),
+                (Action::Back, "close the answer"),
+            ],
+            focused: &[],
+        }
     }
 
     fn draw(&self, sh: &DiffShared, f: &mut Frame, area: Rect, _: bool) {
@@ -436,6 +429,21 @@ impl Component<DiffShared> for Timelines {
         Hints::Keys(&[(Action::StepForward, "step"), (Action::TickForward, "tick")])
     }
 
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "the two timelines, moved together",
+            anywhere: &[
+                (Action::StepForward, ""),
+                (Action::StepBack, ""),
+                (Action::TickForward, ""),
+                (Action::TickBack, ""),
+                (Action::Start, ""),
+                (Action::End, ""),
+            ],
+            focused: &[],
+        }
+    }
+
     fn draw(&self, sh: &DiffShared, f: &mut Frame, area: Rect, _: bool) {
         f.render_widget(
             Paragraph::new(vec![timeline_line(&sh.a, "A"), timeline_line(&sh.b, "B")]),
@@ -444,16 +452,27 @@ impl Component<DiffShared> for Timelines {
     }
 }
 
-/// The diff's keys, over the panes: ↑↓ keep it open, any other key closes
-/// it.
+/// The diff's own keys, for the help.
+pub const DIFF_KEYS: KeyHelp = KeyHelp {
+    name: "the diff",
+    anywhere: &[(Action::Help, ""), (Action::Quit, "")],
+    focused: &[],
+};
+
+/// The diff's keys, over the panes: ↑↓, a page, Home and End scroll it,
+/// any other key closes it.
 pub struct DiffHelp {
     /// The keys in force, as the help lists them.
     pub keymap: Keymap,
+    /// The diff's own keys and each pane's.
+    pub parts: Vec<KeyHelp>,
+    /// How far it is scrolled.
+    pub scroll: Lines,
 }
 
 impl Component<DiffShared> for DiffHelp {
     fn key(&mut self, a: Action, _: &mut DiffShared, _: bool) -> Handled {
-        if matches!(a, Action::Up | Action::Down) {
+        if self.scroll.key(a, 0) {
             Handled::Taken
         } else {
             Handled::Close
@@ -461,10 +480,10 @@ impl Component<DiffShared> for DiffHelp {
     }
 
     fn hints(&self, _: &DiffShared) -> Hints {
-        Hints::Text("Esc or ? closes the help")
+        Hints::Text("↑↓ scroll  Esc or ? closes the help")
     }
 
     fn draw(&self, _: &DiffShared, f: &mut Frame, area: Rect, _: bool) {
-        help(&self.keymap, f, area)
+        help(&self.keymap, &self.parts, &self.scroll, f, area)
     }
 }

@@ -146,7 +146,14 @@ impl FleetApp {
         }
         match a {
             Action::Quit => self.quit = true,
-            Action::Help => self.help = Some(FleetHelp),
+            Action::Help => {
+                let parts = [panes::FLEET_KEYS, self.failures.help(), self.runs.help()];
+                self.help = Some(FleetHelp {
+                    keymap: self.keymap.clone(),
+                    parts: parts.to_vec(),
+                    scroll: Default::default(),
+                })
+            }
             Action::NextPane => {
                 self.focus = match self.focus {
                     Focus::Nodes => Focus::Runs,

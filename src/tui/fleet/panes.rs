@@ -5,13 +5,13 @@
 
 use super::FleetShared;
 use crate::run::Status;
-use crate::tui::keymap::Action;
-use crate::tui::panes::{Component, Handled, Hints, PAGE};
-use crate::tui::view::{block, centered, first_shown as first, fit, status_color};
+use crate::tui::keymap::{Action, Keymap};
+use crate::tui::panes::{help_lines, help_window, Component, Handled, Hints, KeyHelp, Lines, PAGE};
+use crate::tui::view::{block, first_shown as first, fit, status_color};
 use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
-use ratatui::widgets::{Clear, Paragraph, Wrap};
+use ratatui::widgets::{Paragraph, Wrap};
 use ratatui::Frame;
 
 /// Each failing action's runs failed in, as a bar out of every run.
@@ -326,6 +326,23 @@ impl Component<FleetShared> for Failures {
         Hints::Keys(&[(Action::Toggle, "the runs it failed in")])
     }
 
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "the actions that failed",
+            anywhere: &[],
+            focused: &[
+                (Action::Up, "the action above"),
+                (Action::Down, "the action below"),
+                (Action::PageUp, "a page up"),
+                (Action::PageDown, "a page down"),
+                (Action::Start, "the first action"),
+                (Action::End, "the last action"),
+                (Action::Toggle, "the runs it failed in"),
+                (Action::Expand, "the runs it failed in"),
+            ],
+        }
+    }
+
     fn draw(&self, sh: &FleetShared, f: &mut Frame, area: Rect, focused: bool) {
         failures(sh, f, area, focused)
     }
@@ -380,6 +397,29 @@ impl Component<FleetShared> for Runs {
         ])
     }
 
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "the runs",
+            anywhere: &[(Action::Back, "every run again")],
+            focused: &[
+                (Action::Up, "the run above"),
+                (Action::Down, "the run below"),
+                (Action::PageUp, "a page up"),
+                (Action::PageDown, "a page down"),
+                (Action::Start, "the first run"),
+                (Action::End, "the last run"),
+                (
+                    Action::Toggle,
+                    "open the run in the explorer (q comes back)",
+                ),
+                (
+                    Action::Expand,
+                    "open the run in the explorer (q comes back)",
+                ),
+            ],
+        }
+    }
+
     fn draw(&self, sh: &FleetShared, f: &mut Frame, area: Rect, focused: bool) {
         runs(sh, f, area, focused)
     }
@@ -403,7 +443,25 @@ impl Component<FleetShared> for RunDetail {
 }
 
 /// The fleet view's keys, over the panes: Esc, ?, q or Enter closes it.
-pub struct FleetHelp;
+pub struct FleetHelp {
+    /// The keys in force, as the help lists them.
+    pub keymap: Keymap,
+    /// The view's own keys and each list's.
+    pub parts: Vec<KeyHelp>,
+    /// How far it is scrolled.
+    pub scroll: Lines,
+}
+
+/// The fleet view's own keys, for the help.
+pub const FLEET_KEYS: KeyHelp = KeyHelp {
+    name: "the fleet view",
+    anywhere: &[
+        (Action::Help, ""),
+        (Action::Quit, ""),
+        (Action::NextPane, "the actions, or the runs"),
+    ],
+    focused: &[],
+};
 
 impl Component<FleetShared> for FleetHelp {
     fn key(&mut self, a: Action, sh: &mut FleetShared, _: bool) -> Handled {
@@ -413,32 +471,19 @@ impl Component<FleetShared> for FleetHelp {
         ) {
             return Handled::Close;
         }
-        sh.message = Some("the help is open: Esc or ? closes it".into());
+        if !self.scroll.key(a, 0) {
+            sh.message = Some("the help is open: Esc or ? closes it".into());
+        }
         Handled::Taken
     }
 
     fn hints(&self, _: &FleetShared) -> Hints {
-        Hints::Text("Esc or ? closes the help")
+        Hints::Text("↑↓ scroll  Esc or ? closes the help")
     }
 
     fn draw(&self, _: &FleetShared, f: &mut Frame, area: Rect, _: bool) {
-        let r = centered(area, 66, 12);
-        f.render_widget(Clear, r);
-        let text = [
-            "↑↓ k j     choose in the list focused",
-            "PgUp PgDn  a page; g G the first, the last",
-            "Tab        the actions, or the runs",
-            "Enter      on an action: the runs it failed in",
-            "           on a run: open it in the explorer (q comes back)",
-            "Esc        every run again",
-            "q          quit",
-        ];
-        f.render_widget(
-            Paragraph::new(text.iter().map(|l| Line::from(*l)).collect::<Vec<_>>()).block(block(
-                " the fleet view's keys (Esc or ? closes) ".into(),
-                true,
-            )),
-            r,
-        );
+        let lines = help_lines(&self.keymap, &self.parts);
+        let title = " the fleet view's keys (↑↓ scroll, Esc or ? closes) ";
+        help_window(f, area, 66, title, lines, &self.scroll);
     }
 }

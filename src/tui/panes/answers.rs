@@ -2,7 +2,7 @@
 //! to pick and follow up, the earlier answers, and copying.
 
 use super::overlays::Overlay;
-use super::{Component, Handled, Hints, Lines};
+use super::{Component, Handled, Hints, KeyHelp, Lines};
 use crate::ask::Reply;
 use crate::tui::keymap::Action;
 use crate::tui::shared::{shown, Shared, WhyView};
@@ -74,6 +74,34 @@ impl Component for Answers {
                 (Action::ExportGraph, "export"),
             ]),
             None => Hints::Keys(&[(Action::NextPane, "next pane")]),
+        }
+    }
+
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "answers",
+            anywhere: &[
+                (Action::Ask, ""),
+                (Action::AskWords, ""),
+                (Action::Why, ""),
+                (Action::Graph, ""),
+                (Action::ExportGraph, ""),
+                (Action::Running, ""),
+                (Action::Faults, ""),
+                (Action::Copy, ""),
+                (Action::Back, "clear the answer"),
+            ],
+            focused: &[
+                (Action::Up, "a why-answer's previous reason, or scroll up"),
+                (Action::Down, "a why-answer's next reason, or scroll down"),
+                (Action::Toggle, "why that? (of the reason picked)"),
+                (Action::Start, "the answer's first line"),
+                (Action::End, "the answer's last line"),
+                (Action::PageUp, "a page of the answer up"),
+                (Action::PageDown, "a page of the answer down"),
+                (Action::Faster, "say more of the answer"),
+                (Action::Slower, "say less of the answer"),
+            ],
         }
     }
 

@@ -1,7 +1,7 @@
 //! The details pane: the selected node's ports, state and the run's end, or
 //! the why-answer's causal model, as a list or as the graph view.
 
-use super::{Component, Handled, Hints, Lines};
+use super::{Component, Handled, Hints, KeyHelp, Lines};
 use crate::tui::keymap::Action;
 use crate::tui::shared::{Shared, WhyView};
 use crate::tui::view::*;
@@ -33,6 +33,31 @@ impl Component for Details {
 
     fn hints(&self, _sh: &Shared) -> Hints {
         Hints::Keys(&[(Action::NextPane, "next pane")])
+    }
+
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "details",
+            anywhere: &[],
+            focused: &[
+                (Action::Up, "scroll up"),
+                (Action::Down, "scroll down"),
+                (Action::Start, "the first line"),
+                (Action::End, "the last line"),
+                (Action::PageUp, "a page up"),
+                (Action::PageDown, "a page down"),
+                (Action::Expand, "the causal graph: the next neighbour"),
+                (Action::Collapse, "the causal graph: the previous neighbour"),
+                (
+                    Action::Toggle,
+                    "the causal graph: centre on the neighbour picked",
+                ),
+                (
+                    Action::Back,
+                    "the causal graph: back to the variable asked about",
+                ),
+            ],
+        }
     }
 
     fn draw(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool) {

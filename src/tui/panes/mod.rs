@@ -18,9 +18,11 @@ pub mod overlays;
 pub mod timeline;
 pub mod tree;
 
-use crate::tui::keymap::Action;
+use crate::tui::keymap::{Action, Keymap};
 use crate::tui::shared::Shared;
 use ratatui::layout::Rect;
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
 use ratatui::Frame;
 
 /// Rows or lines a page key moves.
@@ -63,6 +65,80 @@ pub enum Hints {
     Text(&'static str),
 }
 
+/// The keys a component names in the help: its heading, the actions it
+/// takes wherever the focus is, and those it takes only when it has the
+/// focus. Each action is said in the component's own words, or, where
+/// they are empty, as the keymap says it (so a keymap file's `saying`
+/// shows). `tests/components.rs` holds each list to the keys the
+/// component really takes.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KeyHelp {
+    pub name: &'static str,
+    pub anywhere: &'static [(Action, &'static str)],
+    pub focused: &'static [(Action, &'static str)],
+}
+
+/// The help of a screen, built from its components' [`KeyHelp`]: the keys
+/// that act wherever the focus is first, then each pane's own.
+pub fn help_lines(keymap: &Keymap, parts: &[KeyHelp]) -> Vec<Line<'static>> {
+    let heading = |s: String| {
+        Line::from(Span::styled(
+            s,
+            Style::default().add_modifier(Modifier::BOLD),
+        ))
+    };
+    let key_lines = |keys: &[(Action, &'static str)]| -> Vec<Line<'static>> {
+        keys.iter()
+            .filter_map(|&(a, own)| {
+                let b = keymap.keys.iter().find(|b| b.1 == a && !b.0.is_empty())?;
+                let words = if own.is_empty() { b.2 } else { own };
+                Some(Line::from(vec![
+                    Span::styled(
+                        format!("  {:<16}", b.0.join(" ")),
+                        Style::default().fg(Color::Yellow),
+                    ),
+                    Span::raw(words),
+                ]))
+            })
+            .collect()
+    };
+    let mut lines = Vec::new();
+    for p in parts.iter().filter(|p| !p.anywhere.is_empty()) {
+        lines.push(heading(p.name.to_string()));
+        lines.extend(key_lines(p.anywhere));
+    }
+    for p in parts.iter().filter(|p| !p.focused.is_empty()) {
+        lines.push(heading(format!("{}, when it has the focus", p.name)));
+        lines.extend(key_lines(p.focused));
+    }
+    lines
+}
+
+/// A help window: `lines` wrapped in a box `width` wide, centred, scrolled
+/// by `scroll`, with a mark while more follows.
+pub fn help_window(
+    f: &mut Frame,
+    area: Rect,
+    width: u16,
+    title: &str,
+    lines: Vec<Line<'static>>,
+    scroll: &Lines,
+) {
+    let r = crate::tui::view::centered(area, width, lines.len() as u16 + 2);
+    let p = scroll.paragraph(lines, 0, r);
+    let more = if scroll.more(0) { " ↓ more " } else { "" };
+    f.render_widget(ratatui::widgets::Clear, r);
+    f.render_widget(
+        p.block(
+            ratatui::widgets::Block::default()
+                .borders(ratatui::widgets::Borders::ALL)
+                .title(title.to_string())
+                .title_bottom(more),
+        ),
+        r,
+    );
+}
+
 /// A pane or a window of a screen: of the explorer, over what its panes
 /// share ([`Shared`]), or of another screen over what that one's share
 /// (the fleet view's `FleetShared`).
@@ -73,6 +149,11 @@ pub trait Component<S = Shared> {
     fn key(&mut self, a: Action, sh: &mut S, focused: bool) -> Handled;
     /// The keys it names in the status bar.
     fn hints(&self, sh: &S) -> Hints;
+    /// The keys it names in the help (a window says its keys in the status
+    /// bar only: none).
+    fn help(&self) -> KeyHelp {
+        KeyHelp::default()
+    }
     /// Draws it in `area`.
     fn draw(&self, sh: &S, f: &mut Frame, area: Rect, focused: bool);
 }
@@ -94,7 +175,7 @@ pub fn scroll_lines(pos: &mut usize, a: Action, max: usize) -> bool {
 
 /// A pane of wrapped lines, scrolled for one thing on screen (its
 /// `epoch`), stopping where its last page shows.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct Lines {
     scroll: Scrolled<usize>,
     /// How far it could scroll when last drawn (its wrapped height less the
@@ -112,6 +193,11 @@ impl Lines {
     /// How far it is scrolled.
     pub fn get(&self, epoch: u64) -> usize {
         self.scroll.get(epoch)
+    }
+
+    /// Whether lines below the pane are hidden, as last drawn.
+    pub fn more(&self, epoch: u64) -> bool {
+        self.get(epoch) < self.max.get()
     }
 
     /// `lines` wrapped and scrolled in `area`, noting how far they can

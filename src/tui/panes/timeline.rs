@@ -2,7 +2,7 @@
 //! the list of transitions, which scrolls and filters.
 
 use super::overlays::Overlay;
-use super::{Component, Handled, Hints, Scrolled, PAGE};
+use super::{Component, Handled, Hints, KeyHelp, Scrolled, PAGE};
 use crate::run::Status;
 use crate::tui::keymap::Action;
 use crate::tui::shared::Shared;
@@ -243,6 +243,38 @@ impl Component for Timeline {
 
     fn hints(&self, _sh: &Shared) -> Hints {
         Hints::Keys(&[(Action::NextPane, "next pane")])
+    }
+
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "timeline",
+            anywhere: &[
+                (Action::StepForward, ""),
+                (Action::StepBack, ""),
+                (Action::TickForward, ""),
+                (Action::TickBack, ""),
+                (Action::Start, ""),
+                (Action::End, ""),
+                (Action::NextFailure, ""),
+                (Action::PrevFailure, ""),
+                (Action::NextChange, ""),
+                (Action::PrevChange, ""),
+                (Action::Follow, ""),
+                (Action::Play, ""),
+                (Action::Faster, ""),
+                (Action::Slower, ""),
+                (Action::HideResets, ""),
+                (Action::OnlyBelow, ""),
+                (Action::OnlyStatus, ""),
+            ],
+            focused: &[
+                (Action::Up, "scroll the transitions up"),
+                (Action::Down, "scroll the transitions down"),
+                (Action::PageUp, "a page of transitions up"),
+                (Action::PageDown, "a page of transitions down"),
+                (Action::Find, "show only the transitions of nodes named so"),
+            ],
+        }
     }
 
     fn draw(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool) {

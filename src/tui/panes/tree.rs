@@ -2,7 +2,7 @@
 //! selection is shared (every pane reads it), so these keys act whichever
 //! pane has the focus (unless the focused pane took the key first).
 
-use super::{Component, Handled, Hints, PAGE};
+use super::{Component, Handled, Hints, KeyHelp, PAGE};
 use crate::model::Uid;
 use crate::run::Status;
 use crate::tui::keymap::Action;
@@ -30,6 +30,23 @@ impl Component for TreePane {
             (Action::Expand, "open"),
             (Action::Collapse, "close"),
         ])
+    }
+
+    fn help(&self) -> KeyHelp {
+        KeyHelp {
+            name: "tree",
+            anywhere: &[
+                (Action::Up, ""),
+                (Action::Down, ""),
+                (Action::Collapse, ""),
+                (Action::Expand, ""),
+                (Action::Toggle, ""),
+                (Action::PageUp, "select the node a page above"),
+                (Action::PageDown, "select the node a page below"),
+                (Action::ToggleFramed, ""),
+            ],
+            focused: &[],
+        }
     }
 
     fn draw(&self, sh: &Shared, f: &mut Frame, area: Rect, focused: bool) {

@@ -56,8 +56,12 @@ pub enum Overlay {
 }
 
 impl Overlay {
-    pub fn help() -> Overlay {
-        Overlay::Help(Help::default())
+    /// The help, of the components `parts` name.
+    pub fn help(parts: Vec<super::KeyHelp>) -> Overlay {
+        Overlay::Help(Help {
+            scroll: Default::default(),
+            parts,
+        })
     }
 
     pub fn finder() -> Overlay {

@@ -178,22 +178,13 @@ fn same_file(f: &File, path: &Path) -> bool {
     }
 }
 
-/// Why a write failed, in the user's terms.
-pub fn why(e: &std::io::Error) -> String {
-    use std::io::ErrorKind as K;
-    match e.kind() {
-        K::ReadOnlyFilesystem => "the file system is read-only".to_string(),
-        K::StorageFull | K::QuotaExceeded => "the disk is full".to_string(),
-        K::FileTooLarge => "the file size limit (ulimit -f) is reached".to_string(),
-        K::PermissionDenied => "permission denied: this directory cannot be written".to_string(),
-        _ => e.to_string(),
-    }
-}
-
 /// An output that cannot be written.
 fn unwritable(path: &Path, e: std::io::Error) -> Located {
-    Located::file(path, format!("cannot write here: {}", why(&e)))
-        .with_help("choose another --out; nothing was run or recorded")
+    Located::file(
+        path,
+        format!("cannot write here: {}", super::write::why(&e)),
+    )
+    .with_help("choose another --out; nothing was run or recorded")
 }
 
 /// Refuses an output already there, or a run's partial left beside it.

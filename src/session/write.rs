@@ -126,7 +126,7 @@ impl SessionWriter {
             &self.partial,
             format!(
                 "cannot write the session: {}; this file keeps the run up to tick {tick} ({n} transitions)",
-                super::output::why(&e)
+                why(&e)
             ),
         )
     }
@@ -343,5 +343,17 @@ impl SessionWriter {
     /// Finishes a copy: its end record, if any, was copied as a record.
     pub fn finish_copy(self) -> Result<PathBuf, Located> {
         self.close()
+    }
+}
+
+/// Why a write failed, in the user's terms.
+pub fn why(e: &std::io::Error) -> String {
+    use std::io::ErrorKind as K;
+    match e.kind() {
+        K::ReadOnlyFilesystem => "the file system is read-only".to_string(),
+        K::StorageFull | K::QuotaExceeded => "the disk is full".to_string(),
+        K::FileTooLarge => "the file size limit (ulimit -f) is reached".to_string(),
+        K::PermissionDenied => "permission denied: this directory cannot be written".to_string(),
+        _ => e.to_string(),
     }
 }

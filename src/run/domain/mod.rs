@@ -20,9 +20,8 @@ mod leaves;
 mod parse;
 
 pub use engine::{dynamic_to_json, json_to_dynamic};
-use engine::{engine, NEXT_DOMAIN};
+use engine::{engine, offset_in, NEXT_DOMAIN};
 pub use leaves::{DomainLeaves, Intervention};
-use parse::offset_in;
 pub use parse::GRID_MAX;
 
 pub const FORMAT_VERSION: i64 = 1;

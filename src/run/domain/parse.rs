@@ -446,22 +446,6 @@ pub(super) fn script_start(text: &str, span: &std::ops::Range<usize>) -> usize {
     s
 }
 
-/// The file offset of a (1-based) line and column inside a script.
-pub(super) fn offset_in(text: &str, start: usize, line: usize, col: usize) -> usize {
-    let mut off = start;
-    for _ in 1..line {
-        match text[off..].find('\n') {
-            Some(i) => off += i + 1,
-            None => break,
-        }
-    }
-    let line_text = text[off..].split('\n').next().unwrap_or("");
-    off + line_text
-        .char_indices()
-        .nth(col.saturating_sub(1))
-        .map_or(line_text.len(), |(i, _)| i)
-}
-
 /// The most values a float variable's grid may have.
 pub const GRID_MAX: usize = 10_000;
 

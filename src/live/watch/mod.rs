@@ -10,6 +10,8 @@ use crate::session::{Before, Session};
 use crate::source::Warning;
 use groot2::{Client, LiveError, SERVER_BUFFER};
 
+mod publisher;
+
 /// A live run being watched.
 pub struct Watch {
     pub endpoint: String,
@@ -18,7 +20,7 @@ pub struct Watch {
     pub(super) client: Option<Client>,
     /// A BehaviorTree.CPP 3 robot's publisher, and the publisher's port
     /// the user gave.
-    pub(super) groot1: Option<groot1::Link>,
+    pub(super) groot1: Option<publisher::Link>,
     pub(super) publisher: Option<u16>,
     /// The tree as the server sent it (XML with `_uid`s).
     pub xml: String,

@@ -1,0 +1,263 @@
+//! Han et al.'s questions of the tree: what it is doing, its subgoal and
+//! goal, and how it achieves them.
+
+use super::*;
+
+/// The words that name a part of the task: "the immediate objective",
+/// "what part of the mission", "which phase of the patrol is underway?",
+/// "which branch is it in", "at this stage (the current chunk)".
+pub(super) fn asks_subgoal(c: &Cues) -> bool {
+    let s = c.s;
+    let part = s.has_stem(&["immedi"]) || s.phrase(&["part", "of"]).is_some();
+    let stage = s.has_stem(&["phase", "stage", "branch", "chunk", "leg", "portion"])
+        || s.phrase(&["this", "level"]).is_some()
+        || s.phrase(&["higher", "level"]).is_some()
+        || (c.what || s.has("which")) && s.has("part") && !s.has("how");
+    s.has_stem(&["subgoal", "subtask", "milestone"])
+        || part && s.has_stem(&["goal", "object", "mission", "task", "job", "aim"])
+        || s.phrase(&["sub", "goal"]).is_some()
+        || s.phrase(&["sub", "task"]).is_some()
+        || s.phrase(&["intermediate", "goal"]).is_some()
+        || s.phrase(&["current", "step"]).is_some()
+        // "Which step of the patrol is it on?".
+        || s.has("which") && s.has_stem(&["step"]) && s.has("on")
+        || stage && c.named.is_empty() && (c.what || s.has("which"))
+        || where_it_is(c)
+}
+
+/// "What step is it on at the moment?", "which big step of the kit is it
+/// on?", "what chunk of the work is it on?": the part of the task it is
+/// in, not the steps of one.
+pub(super) fn where_it_is(c: &Cues) -> bool {
+    let s = c.s;
+    let part = s.has_stem(&[
+        "step", "part", "chunk", "stage", "phase", "bit", "section", "leg",
+    ]);
+    // "Is it on the pickup leg or the drop-off leg?": which of the parts.
+    let which = c.what || s.has("which") || s.has("or");
+    let on = ["it", "you", "robot", "we"]
+        .iter()
+        .any(|who| s.phrase(&[who, "on"]).is_some() || s.phrase(&[who, "in"]).is_some())
+        || s.phrase(&["working", "on"]).is_some();
+    which && part && on
+}
+
+pub(super) fn asks_goal(s: &Sentence) -> bool {
+    s.has_stem(&[
+        "goal", "object", "mission", "aim", "purpos", "task", "intent", "job", "target",
+    ]) || s.phrase(&["trying", "to"]).is_some()
+        || s.phrase(&["try", "to"]).is_some()
+        // Not "which city is this grid supposed to be": what it is, not
+        // what it is for.
+        || s.phrase(&["supposed", "to"]).is_some() && !ends_being(s, "supposed")
+        || s.phrase(&["meant", "to"]).is_some() && !ends_being(s, "meant")
+        || s.phrase(&["working", "towards"]).is_some()
+        || s.phrase(&["working", "toward"]).is_some()
+        || s.phrase(&["get", "done"]).is_some()
+        || s.has_stem(&["achiev", "accomplish"])
+}
+
+/// "… supposed to be" with nothing after it.
+pub(super) fn ends_being(s: &Sentence, verb: &str) -> bool {
+    let free: Vec<&str> = s.free().map(|(_, w)| w.text.as_str()).collect();
+    free.ends_with(&[verb, "to", "be"])
+}
+
+pub(super) fn asks_steps(c: &Cues) -> bool {
+    let s = c.s;
+    // "At this step": a moment, not the steps.
+    // "At step 6": a moment too.
+    let this_step = ["this", "that", "current", "which"]
+        .iter()
+        .any(|w| s.phrase(&[w, "step"]).is_some())
+        || s.free().any(|(i, w)| {
+            w.text == "step"
+                && s.q
+                    .get(i + 1)
+                    .is_some_and(|n| n.text.bytes().all(|b| b.is_ascii_digit()))
+        });
+    !s.has("doing")
+        && !this_step
+        && !where_it_is(c)
+        && s.has_stem(&[
+            "step", "plan", "procedur", "strategi", "approach", "outlin", "recip", "method",
+            "mechan", "breakdown",
+        ])
+        || s.has("means")
+        || s.phrase(&["walk", "me", "through"]).is_some()
+        || c.break_down
+        // "What does the tree do to get it done?": the steps to it.
+        || c.what && s.phrase(&["do", "to"]).is_some()
+        || (c.how
+            && s.has_stem(&[
+                "do",
+                "get",
+                "complet",
+                "go",
+                "make",
+                "finish",
+                "build",
+                "work",
+                "achiev",
+                "accomplish",
+                "reach",
+            ]))
+}
+
+/// "How do you achieve your (sub)goal?", "outline the steps".
+pub(super) fn how_achieved(c: &Cues) -> Option<Readings> {
+    let steps = asks_steps(c);
+    // "Top level plan", "this subgoal - steps to finish it": steps of a
+    // goal named, typed with no verb, are asked for.
+    let goal_named = c.s.nodes.iter().any(|m| m.uids == [c.root]);
+    let of_a_goal = asks_subgoal(c) || asks_goal(c.s) || c.whole || goal_named;
+    let listed = steps
+        && (c.what
+            || c.s.empty()
+            || ["outline", "walk", "breakdown"].contains(&c.first)
+            || verbless(c.s) && of_a_goal && !c.why);
+    if !c.how && !listed {
+        return None;
+    }
+    // "How does it achieve what it's working on now?", "how does it
+    // achieve the watch and walk bit?": the part it is in, or a part named.
+    let now = c.now_words && !c.whole && c.named.is_empty();
+    let part_named =
+        matches!(&c.named[..], [m] if m.uids.iter().all(|&u| !c.tree.node(u).kind.is_leaf()));
+    // "How does it achieve its goal, subgoal by subgoal?", "through which
+    // subgoals does it reach its goal?": the subgoals are how the goal is.
+    let by_subgoals = c.s.has("subgoals") || c.s.phrase(&["subgoal", "by", "subgoal"]).is_some();
+    if by_subgoals && (asks_goal(c.s) || c.whole) && (steps || c.how) {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.93);
+    }
+    if (asks_subgoal(c) || now || part_named && c.how && !goal_named) && (steps || c.how) {
+        return c.only(
+            Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
+            0.93,
+        );
+    }
+    if (asks_goal(c.s) || c.whole || goal_named) && (steps || c.how) {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.93);
+    }
+    steps.then(|| {
+        vec![
+            (
+                Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
+                c.sure_of_words(0.85),
+            ),
+            (Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.4),
+        ]
+    })
+}
+
+/// "What is your subgoal?", "what is your goal?".
+pub(super) fn subgoal_or_goal(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    if asks_subgoal(c) {
+        return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)), 0.95);
+    }
+    if !asks_goal(s) || s.has("doing") {
+        return None;
+    }
+    let trying = s.phrase(&["trying", "to"]).is_some() || s.phrase(&["try", "to"]).is_some();
+    // "Trying to do on goal 1": the run named by its goal, whose goal it is.
+    let named_goal = s.has_stem(&["goal", "object", "mission", "purpos", "job", "target"])
+        || s.q
+            .windows(2)
+            .any(|p| p[0].text == "goal" && p[1].text.bytes().all(|b| b.is_ascii_digit()));
+    // "What's the goal here?" names the goal; "what is it trying to get
+    // done here" the part it is in.
+    // "Manager here, what is it supposed to accomplish?": who asks, not
+    // where the robot is.
+    let introduced = s.q.len() > 2
+        && s.q[1].text == "here"
+        && ![
+            "what", "is", "are", "why", "how", "which", "where", "and", "so",
+        ]
+        .contains(&s.q[0].text.as_str());
+    let here_said =
+        s.q.iter()
+            .enumerate()
+            .any(|(i, w)| w.text == "here" && !(introduced && i == 1));
+    let here = c.now_words
+        || (here_said || s.phrase(&["this", "point"]).is_some()) && !s.has_stem(&["goal"]);
+    // "What is it trying to achieve?", with neither "now" nor "in the
+    // end": the whole task's goal, or that of the part it is in. Both are
+    // read, and asked back.
+    if trying && !named_goal && !here && !c.whole {
+        return Some(vec![
+            (
+                Intent::Fixed(Question::Tree(TreeQuestion::Goal)),
+                c.sure_of_words(0.65),
+            ),
+            (Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)), 0.6),
+        ]);
+    }
+    let q = if here && !c.whole {
+        TreeQuestion::Subgoal
+    } else {
+        TreeQuestion::Goal
+    };
+    // "Navigation fails even though the robot reaches the goal", "the
+    // GoalUpdated condition cannot halt …": a goal said beside an event or
+    // another node is likely not the question of what the goal is.
+    let beside = !c.named.is_empty()
+        || c.when_q
+        || s.has_stem(&["fail", "reach", "arriv", "halt", "abort", "cancel"])
+        // "Does the goal still succeed?", "what happens to the goal?": what
+        // becomes of the goal, not what it is.
+        || s.has_stem(&["succeed", "success"])
+        || s.phrase(&["happens", "to"]).is_some()
+        || s.phrase(&["happen", "to"]).is_some();
+    let base = if beside { 0.6 } else { 0.9 };
+    let mut out = vec![(Intent::Fixed(Question::Tree(q)), c.sure_of_words(base))];
+    if beside && c.problem {
+        out.push((
+            Intent::Fixed(Question::Run(RunQuestion::WhatWentWrong)),
+            0.5,
+        ));
+    }
+    if beside {
+        let other = if q == TreeQuestion::Goal {
+            TreeQuestion::HowGoal
+        } else {
+            TreeQuestion::HowSubgoal
+        };
+        out.push((Intent::Fixed(Question::Tree(other)), 0.4));
+    }
+    Some(out)
+}
+
+/// "Is it planning or driving right now?": which of two it is doing.
+pub(super) fn which_of_two(c: &Cues) -> Option<Readings> {
+    let either = c.named.len() == 2
+        && c.yes_no
+        && c.ev.is_none()
+        && c.s.q[c.named[0].end..c.named[1].start]
+            .iter()
+            .all(|w| ["or", "the", "a", "an"].contains(&w.text.as_str()));
+    either.then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Doing)), 0.9))?
+}
+
+/// "What are you doing?".
+pub(super) fn doing(c: &Cues) -> Option<Readings> {
+    let s = c.s;
+    let doing = c.doing_words
+        || s.has_stem(&["happen", "run", "execut", "act", "action", "behavior"])
+        || s.has_prefix(&["doin"]);
+    // "What is it doing now, looking at the chuck again?": the names are
+    // the asker's guess; the question is what it does.
+    // "Guarded drive went orange, what is the robot up to": the names are
+    // a story told first.
+    let guessed = (s.has("doing") || s.has("tip") || s.phrase(&["up", "to"]).is_some())
+        && c.what
+        && !c.why
+        && !c.how;
+    // "Doing @ t30?": the chat's shorthand.
+    let bare = c.first == "doing" && c.named.is_empty() && !c.why && !c.how;
+    // "Running node?", not "NR running -> halted": a node said running.
+    let opens = ["current", "active", "running"].contains(&c.first)
+        && s.q.first().is_some_and(|w| w.text == c.first);
+    (doing && (c.what || s.empty() || opens || bare) && (c.named.is_empty() || guessed))
+        .then(|| c.only(Intent::Fixed(Question::Tree(TreeQuestion::Doing)), 0.93))?
+}

@@ -1,0 +1,289 @@
+//! A question inside its text: a post that tells a story before it asks,
+//! a challenge or a correction before the question, several questions in
+//! one text, and which of them the text asks.
+
+use super::*;
+
+/// Whether the question `q` of the post `text` stands on its own: no
+/// "it" or "that" pointing into the story (in a question of Han's that
+/// names no node, "it" is the robot: "The arm has moved over to the caddy
+/// now. How does it go about the task it's currently on?"), no topic
+/// before a colon. "At this point" points at the story's moment, which
+/// the reading takes from the whole, not at a thing the story names.
+pub(super) fn stands_alone(text: &str, q: &str, it_is_the_robot: bool) -> bool {
+    let said = words::words(q);
+    let pointing: &[&str] = if it_is_the_robot {
+        &["that", "this", "there", "them", "they", "these", "those"]
+    } else {
+        &[
+            "it", "its", "that", "this", "there", "them", "they", "these", "those",
+        ]
+    };
+    // "What went on in it?": an "it" after a preposition is a thing.
+    let a_thing = |i: usize| {
+        i > 0
+            && [
+                "in", "of", "on", "at", "about", "with", "for", "from", "during",
+            ]
+            .contains(&said[i - 1].text.as_str())
+    };
+    said.len() >= 3
+        && !text[..text.find(q).unwrap_or(0)].trim_end().ends_with(':')
+        && !said.iter().enumerate().any(|(i, w)| {
+            (pointing.contains(&w.text.as_str())
+                || it_is_the_robot && ["it", "its"].contains(&w.text.as_str()) && a_thing(i))
+                && !said.get(i + 1).is_some_and(|n| {
+                    ["point", "moment", "instant", "stage", "time"].contains(&n.text.as_str())
+                })
+        })
+}
+
+/// Whether "it" in a question of Han's is the robot: one that names no
+/// node, or a why that names its own ("… Why is it asking for help at
+/// this point?").
+pub(super) fn of_the_robot(a: &Reading) -> bool {
+    match a.intent {
+        Intent::Fixed(Question::Tree(TreeQuestion::Why)) => a.about.is_some(),
+        Intent::Fixed(Question::Tree(_)) => a.about.is_none(),
+        _ => false,
+    }
+}
+
+/// A report of what was expected and what happened ("Actual: …",
+/// "Expected: …", "Observed: …").
+pub(super) fn reported(text: &str) -> bool {
+    words::words(text)
+        .iter()
+        .any(|w| ["expected", "actual", "observed"].contains(&w.text.as_str()))
+}
+
+/// Whether the story's reading is what its short question asks: "Why did
+/// it fail?" and "Root cause?" of the node the story told failed; "Why
+/// ask?" after "expected a 4th attempt, actual: ask ran" of the contrast.
+pub(super) fn the_story_asks_it(asked: &Reading, story: &Reading) -> bool {
+    match (&asked.intent, &story.intent) {
+        (
+            Intent::Why {
+                node: Subject::It | Subject::Task,
+                event: a,
+                foil: None,
+            },
+            Intent::Why {
+                node: Subject::Nodes(..),
+                event: b,
+                foil: None,
+            },
+        ) => a == b || *a == Event::Run,
+        (
+            Intent::Why {
+                node: Subject::It | Subject::Task,
+                ..
+            },
+            Intent::WhyNot { .. },
+        ) => true,
+        (
+            Intent::Fixed(Question::Tree(TreeQuestion::Why)),
+            Intent::WhyNot {
+                done: Subject::Nodes(us, _),
+                ..
+            },
+        ) => asked.about.as_ref() == Some(us),
+        (
+            Intent::Why {
+                node: Subject::Nodes(a, _),
+                ..
+            },
+            Intent::WhyNot {
+                done: Subject::Nodes(b, _),
+                ..
+            },
+        ) => a == b,
+        _ => false,
+    }
+}
+
+/// "Retreat arm succeeded at 11:1 but reset arm still returned FAILURE at
+/// 11:3. Why?": a bare why after a story that sets one thing against
+/// another asks why of the part after its last "but" or "yet".
+pub(super) fn why_of_the_story(text: &str) -> Option<String> {
+    const BARE: &[&str] = &[
+        "why?",
+        "why so?",
+        "why is that?",
+        "but why?",
+        "how come?",
+        "why though?",
+    ];
+    let t = text.trim();
+    // ASCII: the lowercase copy keeps the text's offsets.
+    if !t.is_ascii() {
+        return None;
+    }
+    let lower = t.to_ascii_lowercase();
+    let bare = BARE.iter().find(|b| lower.ends_with(*b))?;
+    // Only after a sentence of its own: "…FAILURE at 11:3. Why?".
+    let story = t[..t.len() - bare.len()]
+        .trim_end()
+        .strip_suffix(['.', ',', ';', '-'])?
+        .trim_end();
+    if story.is_empty() {
+        return None;
+    }
+    let last = story
+        .rfind(['.', '!', ';'])
+        .map_or(story, |i| &story[i + 1..]);
+    let l = last.to_ascii_lowercase();
+    // "We expected L1 here but actually saw L2. Why?": an expectation
+    // against what happened asks why the one and not the other, read whole.
+    if [
+        "expect", "thought", "should", "supposed", "wanted", "instead",
+    ]
+    .iter()
+    .any(|w| l.contains(w))
+    {
+        return None;
+    }
+    // Only the part a "but" sets apart is the surprise; a story without
+    // one is read whole (the why asks of what it tells as a whole).
+    let after = [" but ", " yet "]
+        .iter()
+        .filter_map(|c| l.rfind(c).map(|i| i + c.len()))
+        .max()?;
+    let told = &last[after..];
+    (told.split_whitespace().count() >= 2).then(|| format!("why {}?", told.trim()))
+}
+
+/// A question without the doubt put after it ("why is look at chuck
+/// roughly being run again? didn't it already succeed?"): the doubt says
+/// what the asker thought, not what is asked.
+pub(super) fn without_a_challenge(text: &str) -> &str {
+    const DOUBTS: &[&str] = &[
+        "didn't",
+        "didnt",
+        "wasn't",
+        "wasnt",
+        "hasn't",
+        "hasnt",
+        "isn't",
+        "isnt",
+        "doesn't",
+        "doesnt",
+        "shouldn't",
+        "shouldnt",
+        "wouldn't",
+        "wouldnt",
+    ];
+    let Some(end) = text.find("? ") else {
+        return text;
+    };
+    let rest = text[end + 2..].trim_start();
+    // "… but didn't it already succeed?" too.
+    let mut words = rest
+        .split_whitespace()
+        .map(|w| w.to_lowercase())
+        .skip_while(|w| w == "but");
+    let doubt = words.next().is_some_and(|w| DOUBTS.contains(&w.as_str()));
+    let asks_why = text[..end].to_lowercase().starts_with("why");
+    if doubt && asks_why && !rest[..rest.len().saturating_sub(1)].contains('?') {
+        &text[..=end]
+    } else {
+        text
+    }
+}
+
+/// What is asked after the asker corrected themselves ("why did the uh no
+/// wait when did look at chuck fail"): the words after the last "no
+/// wait", "wait no" or "scratch that", where they are a question.
+pub(super) fn after_a_correction(text: &str) -> &str {
+    const MARKS: &[&str] = &["no wait", "wait no", "scratch that", "no sorry", "sorry no"];
+    let lower = text.to_lowercase();
+    if lower.len() != text.len() {
+        return text;
+    }
+    MARKS
+        .iter()
+        .filter_map(|m| lower.rfind(m).map(|i| i + m.len()))
+        .max()
+        .map(|end| text[end..].trim_start_matches([',', '.', ' ']))
+        .filter(|rest| rest.split_whitespace().count() >= 3)
+        .unwrap_or(text)
+}
+
+/// The surest reading of what follows a comma where a question opens
+/// there ("…, can the taxi move down", "…, what is it doing now").
+pub(super) fn asked_after_a_comma(
+    vocabulary: &Vocabulary,
+    tree: &Tree,
+    text: &str,
+) -> Option<Reading> {
+    const OPENS: &[&str] = &[
+        "what", "whats", "what's", "why", "how", "when", "which", "where", "did", "does", "do",
+        "is", "was", "were", "are", "can", "could", "has", "have", "will", "would",
+    ];
+    // "…, but did anything go wrong on the way?".
+    text.match_indices(", ")
+        .map(|(i, _)| text[i + 2..].strip_prefix("but ").unwrap_or(&text[i + 2..]))
+        .filter(|rest| {
+            rest.split_whitespace()
+                .next()
+                .is_some_and(|w| OPENS.contains(&w.to_lowercase().as_str()))
+        })
+        .filter_map(|rest| read_one(vocabulary, tree, rest))
+        .reduce(|a, b| if b.confidence > a.confidence { b } else { a })
+}
+
+/// The reading of a question that follows ", so" ("…, so why is it
+/// running again?").
+pub(super) fn asked_after_so(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
+    const OPENS: &[&str] = &["what", "why", "how", "when", "which", "where"];
+    let (_, rest) = text.rsplit_once(", so ")?;
+    let first = rest.split_whitespace().next()?.to_lowercase();
+    OPENS
+        .contains(&first.as_str())
+        .then(|| read_one(vocabulary, tree, rest))
+        .flatten()
+}
+
+/// The questions a text of several sentences asks: each sentence that
+/// ends in "?", and what follows a colon ("I need the exact point in the
+/// run: when did look at chuck fail?"). None for a text of one sentence.
+pub(super) fn questions_in(text: &str) -> Vec<&str> {
+    let mut cuts = vec![0];
+    let b = text.as_bytes();
+    for i in 0..b.len().saturating_sub(1) {
+        if matches!(b[i], b'.' | b'?' | b'!' | b':' | b';') && b[i + 1].is_ascii_whitespace() {
+            cuts.push(i + 1);
+        }
+    }
+    cuts.push(text.len());
+    if cuts.len() <= 2 {
+        return Vec::new();
+    }
+    // "CaseStudySequence has just returned FAILURE. Explain what went
+    // wrong.": a last sentence that bids is asked as a question is.
+    let last = cuts.len() - 2;
+    cuts.windows(2)
+        .enumerate()
+        .map(|(i, w)| (i, text[w[0]..w[1]].trim()))
+        .filter(|&(i, s)| s.ends_with('?') || i == last && bids(s, &text[..cuts[last]]))
+        .map(|(_, s)| s)
+        .collect()
+}
+
+/// A sentence that bids the reader explain or describe, after a story that
+/// supposes nothing ("Explain what went wrong.", not "Suppose X had
+/// failed. Describe what the tree would do.").
+pub(super) fn bids(sentence: &str, story: &str) -> bool {
+    let mut words = sentence.split_whitespace();
+    let first = words.next().unwrap_or("").to_lowercase();
+    if !["explain", "describe"].contains(&first.as_str()) || words.count() < 2 {
+        return false;
+    }
+    let supposes = story.split_whitespace().any(|w| {
+        ["suppose", "imagine", "had", "if", "would", "hypothetically"].contains(
+            &w.to_lowercase()
+                .trim_matches(|c: char| !c.is_alphanumeric()),
+        )
+    });
+    !supposes
+}

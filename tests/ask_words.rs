@@ -2770,3 +2770,35 @@ fn first_lines_are(cases: Vec<(Vec<&str>, &str, &str)>) {
         assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
     }
 }
+
+#[test]
+fn not_managing_is_failing_and_a_check_that_says_no_failed() {
+    first_lines_are(vec![
+        (
+            vec![KITTING],
+            "why could it not look at the chuck?",
+            "Why did look at chuck (#18) fail at 10:1?",
+        ),
+        (
+            vec![NAV2],
+            "why could the robot not follow its path the second time?",
+            "Why did the FollowPath action (#10) fail at 6:1?",
+        ),
+        (
+            vec![PATROL],
+            "how come path clear said no?",
+            "Why did path clear (#6) fail at 5:1?",
+        ),
+        (
+            vec![PATROL],
+            "why did the path clear check answer yes?",
+            "Why did path clear (#6) succeed at 4:1?",
+        ),
+        // Never having run is still "didn't".
+        (
+            vec![NAV2],
+            "why didn't it spin?",
+            "Why did Spin (#20) not run in tick 10?",
+        ),
+    ]);
+}

@@ -93,7 +93,30 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     } else {
         e
     };
+    // "Why couldn't it look at the chuck?": it tried and did not manage,
+    // which is failing, not never running.
+    // "Could the robot not follow its path": the "not" a few words on.
+    let free: Vec<&str> = s.free().map(|(_, w)| w.text.as_str()).collect();
+    let could_not = free.iter().enumerate().any(|(i, w)| {
+        ["could", "can"].contains(w) && free[i + 1..].iter().take(3).any(|n| *n == "not")
+    }) || s.phrase(&["not", "able"]).is_some()
+        || s.phrase(&["unable", "to"]).is_some();
+    let negated = negated || could_not;
+    // "Why did the path clear check say no?": a condition's answer.
+    let answered = ["say", "said", "says", "answer", "answered"]
+        .iter()
+        .find_map(|v| {
+            if s.phrase(&[v, "no"]).is_some() {
+                Some(Event::Fail)
+            } else {
+                s.phrase(&[v, "yes"]).map(|_| Event::Succeed)
+            }
+        });
+    if answered.is_some() {
+        return (answered, false);
+    }
     let e = match (e, negated) {
+        (Some(Event::Run) | None, true) if could_not => Some(Event::Fail),
         (Some(Event::Run), true) => Some(Event::NotRun),
         (Some(Event::Succeed), true) => Some(Event::Fail),
         (Some(Event::Fail), true) if s.has_stem(&["fail"]) => Some(Event::Succeed),

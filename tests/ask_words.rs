@@ -2802,3 +2802,30 @@ fn not_managing_is_failing_and_a_check_that_says_no_failed() {
         ),
     ]);
 }
+
+#[test]
+fn what_it_is_meant_to_do_overall_is_its_goal_and_how_it_handles_a_part_its_steps() {
+    first_lines_are(vec![
+        (
+            vec!["--at", "20", KITTING],
+            "what is it supposed to be doing overall?",
+            "What is your goal?",
+        ),
+        (
+            vec!["--at", "20", KITTING],
+            "what is it supposed to be doing right now?",
+            "What are you doing?",
+        ),
+        (
+            vec!["--at", "4:8", NAV2],
+            "how does it handle the part it's on now?",
+            "How do you achieve your subgoal?",
+        ),
+        // A failure said: how it was handled.
+        (
+            vec!["--at", "20", KITTING],
+            "how does it handle the failure of look at chuck?",
+            "How was the failure handled?",
+        ),
+    ]);
+}

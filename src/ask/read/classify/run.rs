@@ -64,9 +64,22 @@ pub(super) fn handled_whether(c: &Cues) -> Option<Readings> {
         && !c.when_q
         && !counted
         && !s.has_prefix(&["recover"])
-        && !of_a_goal_not_a_failure(c))
+        && !of_a_goal_not_a_failure(c)
+        && !does_a_part(c))
     .then(|| c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93))
     .flatten()
+}
+
+/// "How does it handle picking up the screw?", "how does it handle the
+/// bit it's on right now?": how it does a part, no failure said.
+fn does_a_part(c: &Cues) -> bool {
+    let s = c.s;
+    c.how
+        && (s.has("does") || s.has("do"))
+        && s.has_prefix(&["handl"])
+        && !c.problem
+        && !c.after_failure
+        && !s.has_prefix(&["recover"])
 }
 
 /// "Did anything fail (while patrolling)?": yes or no, whatever is named.
@@ -197,7 +210,7 @@ pub(super) fn handled(c: &Cues) -> Option<Readings> {
     if achieving && !handle {
         return None;
     }
-    if of_a_goal_not_a_failure(c) {
+    if of_a_goal_not_a_failure(c) || does_a_part(c) {
         return None;
     }
     if (c.how && (handle || c.problem && !s.has("often") && !s.has("many")))

@@ -156,7 +156,14 @@ pub(super) fn subgoal_or_goal(c: &Cues) -> Option<Readings> {
     if asks_subgoal(c) {
         return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)), 0.95);
     }
-    if !asks_goal(s) || s.has("doing") {
+    // "What's it meant to be doing overall?", "the whole task it's
+    // supposed to be doing": what it is for, as a whole, is its goal; what
+    // it is meant to be doing now is what it does.
+    let meant_overall = (s.phrase(&["meant", "to"]).is_some()
+        || s.phrase(&["supposed", "to"]).is_some())
+        && c.whole
+        && !c.now_words;
+    if !asks_goal(s) || s.has("doing") && !meant_overall {
         return None;
     }
     let trying = s.phrase(&["trying", "to"]).is_some() || s.phrase(&["try", "to"]).is_some();

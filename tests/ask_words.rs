@@ -2829,3 +2829,30 @@ fn what_it_is_meant_to_do_overall_is_its_goal_and_how_it_handles_a_part_its_step
         ),
     ]);
 }
+
+#[test]
+fn a_smaller_aim_is_the_subgoal_and_where_it_is_supposed_to_be_is_no_goal() {
+    first_lines_are(vec![
+        (
+            vec!["--at", "4:8", NAV2],
+            "what smaller goal is it after right now?",
+            "What is your subgoal?",
+        ),
+        (
+            vec![TAXI],
+            "what is the robot supposed to be doing in the end?",
+            "What is your goal?",
+        ),
+    ]);
+    // Where it is supposed to be is not what it is for: refused.
+    for (run, q) in [
+        (KITTING, "which lab is the arm supposed to be in?"),
+        (TAXI, "which street is the robot supposed to be on?"),
+    ] {
+        let (ok, out, _) = btx(&["ask", run, q]);
+        assert!(
+            !ok && out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
+}

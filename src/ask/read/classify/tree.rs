@@ -8,7 +8,15 @@ use super::*;
 /// "which branch is it in", "at this stage (the current chunk)".
 pub(super) fn asks_subgoal(c: &Cues) -> bool {
     let s = c.s;
-    let part = s.has_stem(&["immedi"]) || s.phrase(&["part", "of"]).is_some();
+    // "What smaller aim is it working on, within the whole trip?": a goal
+    // within the goal.
+    let part = s.has_stem(&["immedi"])
+        || s.phrase(&["part", "of"]).is_some()
+        || ["smaller", "little", "small"].iter().any(|a| {
+            ["goal", "aim", "objective"]
+                .iter()
+                .any(|g| s.phrase(&[a, g]).is_some())
+        });
     let stage = s.has_stem(&["phase", "stage", "branch", "chunk", "leg", "portion"])
         || s.phrase(&["this", "level"]).is_some()
         || s.phrase(&["higher", "level"]).is_some()
@@ -57,10 +65,18 @@ pub(super) fn asks_goal(s: &Sentence) -> bool {
         || s.has_stem(&["achiev", "accomplish"])
 }
 
-/// "… supposed to be" with nothing after it.
+/// "… supposed to be" with nothing after it, or only where: "what city
+/// is this taxi supposed to be in?" asks where it is, not what it is for.
 pub(super) fn ends_being(s: &Sentence, verb: &str) -> bool {
     let free: Vec<&str> = s.free().map(|(_, w)| w.text.as_str()).collect();
-    free.ends_with(&[verb, "to", "be"])
+    let Some(i) = free.windows(3).rposition(|w| w == [verb, "to", "be"]) else {
+        return false;
+    };
+    match &free[i + 3..] {
+        [] => true,
+        [place] => ["in", "at", "on", "near", "from", "located", "based"].contains(place),
+        _ => false,
+    }
 }
 
 pub(super) fn asks_steps(c: &Cues) -> bool {

@@ -2856,3 +2856,21 @@ fn a_smaller_aim_is_the_subgoal_and_where_it_is_supposed_to_be_is_no_goal() {
         );
     }
 }
+
+#[test]
+fn what_it_ended_up_doing_it_ran() {
+    const DETECT: &str = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    first_lines_are(vec![
+        (
+            vec![DETECT],
+            "how come it ended up asking the operator?",
+            "Why did the ask action (#28) start at 12:13?",
+        ),
+        // What it ended up as is its outcome.
+        (
+            vec![PATROL],
+            "why did the patrol end up failing?",
+            "Why did patrol (#1) fail at 5:7?",
+        ),
+    ]);
+}

@@ -81,7 +81,17 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     let negated = s.has("not") && s.phrase(&["or", "not"]).is_none() && !time_denied
         || s.has("never")
         || s.has("no") && !s.has("one");
-    let e = verbs_said(s).or_else(|| done_to(s));
+    // "Why did it end up asking for help?": it came to do it, which is
+    // running it, not finishing ("ends up aborting" is aborting).
+    let ended_up = s.q.windows(3).any(|w| {
+        ["end", "ended", "ends"].contains(&w[0].text.as_str())
+            && w[1].text == "up"
+            && w[2].text.ends_with("ing")
+    });
+    let e = match verbs_said(s).or_else(|| done_to(s)) {
+        Some(Event::Finish) if ended_up => Some(Event::Run),
+        e => e,
+    };
     // "Why did it keep trying to detect the chuck?": it ran again and
     // again, which is starting, not one call running on.
     let retrying = s.has_stem(&["keep", "kept"])

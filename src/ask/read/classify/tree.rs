@@ -166,20 +166,23 @@ pub(super) fn how_achieved(c: &Cues) -> Option<Readings> {
     })
 }
 
+/// "What's it meant to be doing overall?", "the whole task it's supposed
+/// to be doing": what it is for, as a whole, is its goal; what it is meant
+/// to be doing now is what it does.
+fn meant_overall(c: &Cues) -> bool {
+    let s = c.s;
+    (s.phrase(&["meant", "to"]).is_some() || s.phrase(&["supposed", "to"]).is_some())
+        && c.whole
+        && !c.now_words
+}
+
 /// "What is your subgoal?", "what is your goal?".
 pub(super) fn subgoal_or_goal(c: &Cues) -> Option<Readings> {
     let s = c.s;
     if asks_subgoal(c) {
         return c.only(Intent::Fixed(Question::Tree(TreeQuestion::Subgoal)), 0.95);
     }
-    // "What's it meant to be doing overall?", "the whole task it's
-    // supposed to be doing": what it is for, as a whole, is its goal; what
-    // it is meant to be doing now is what it does.
-    let meant_overall = (s.phrase(&["meant", "to"]).is_some()
-        || s.phrase(&["supposed", "to"]).is_some())
-        && c.whole
-        && !c.now_words;
-    if !asks_goal(s) || s.has("doing") && !meant_overall {
+    if !asks_goal(s) || s.has("doing") && !meant_overall(c) {
         return None;
     }
     let trying = s.phrase(&["trying", "to"]).is_some() || s.phrase(&["try", "to"]).is_some();

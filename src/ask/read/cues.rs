@@ -225,10 +225,7 @@ pub(super) const PROBLEM: &[&str] = &[
 
 fn problem(s: &Sentence, break_down: bool) -> bool {
     // "After it couldn't detect the chuck": not managing is failing.
-    let could_not = s.phrase(&["could", "not"]).is_some()
-        || s.phrase(&["can", "not"]).is_some()
-        || s.phrase(&["was", "unable"]).is_some()
-        || s.phrase(&["unable", "to"]).is_some();
+    let could_not = super::event::could_not(s);
     // "For our incident report, …": the report's name, not a problem.
     let report = |i: usize| {
         s.q.get(i + 1)

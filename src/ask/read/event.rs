@@ -105,25 +105,20 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     };
     // "Why couldn't it look at the chuck?": it tried and did not manage,
     // which is failing, not never running.
-    // "Could the robot not follow its path": the "not" a few words on.
-    let free: Vec<&str> = s.free().map(|(_, w)| w.text.as_str()).collect();
-    let could_not = free.iter().enumerate().any(|(i, w)| {
-        ["could", "can"].contains(w) && free[i + 1..].iter().take(3).any(|n| *n == "not")
-    }) || s.phrase(&["not", "able"]).is_some()
-        || s.phrase(&["unable", "to"]).is_some();
+    let could_not = could_not(s);
     let negated = negated || could_not;
     // "Why did the path clear check say no?": a condition's answer.
-    let answered = ["say", "said", "says", "answer", "answered"]
-        .iter()
-        .find_map(|v| {
-            if s.phrase(&[v, "no"]).is_some() {
-                Some(Event::Fail)
-            } else {
-                s.phrase(&[v, "yes"]).map(|_| Event::Succeed)
-            }
-        });
-    if answered.is_some() {
-        return (answered, false);
+    let free: Vec<&str> = s.free().map(|(_, w)| w.text.as_str()).collect();
+    let says = |answer| {
+        free.windows(2).any(|p| {
+            ["say", "said", "says", "answer", "answered"].contains(&p[0]) && p[1] == answer
+        })
+    };
+    if says("no") {
+        return (Some(Event::Fail), false);
+    }
+    if says("yes") {
+        return (Some(Event::Succeed), false);
     }
     let e = match (e, negated) {
         (Some(Event::Run) | None, true) if could_not => Some(Event::Fail),
@@ -135,6 +130,18 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
         (e, _) => e,
     };
     (e, negated)
+}
+
+/// "Couldn't detect the chuck", "could the robot not follow its path" (the
+/// "not" a few words on), "was unable to", "not able to": it tried and did
+/// not manage.
+pub(super) fn could_not(s: &Sentence) -> bool {
+    let free: Vec<&str> = s.free().map(|(_, w)| w.text.as_str()).collect();
+    free.iter().enumerate().any(|(i, w)| {
+        ["could", "can"].contains(w) && free[i + 1..].iter().take(3).any(|n| *n == "not")
+    }) || s.phrase(&["not", "able"]).is_some()
+        || s.phrase(&["unable", "to"]).is_some()
+        || s.phrase(&["was", "unable"]).is_some()
 }
 
 /// "Why is it still running?", "so slow", "TEI stayed R for two ticks":

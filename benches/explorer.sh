@@ -2,7 +2,9 @@
 # The explorer at the end of a long log, in a real terminal (#42 item 3):
 # a .btlog of RECORDS transitions (the recorded kitting run repeated,
 # benches/repeat_btlog.py) opened by `btx open` in tmux (160×45, the
-# screen polled every 5 ms); times the first frame, then `G` and, DELAY
+# screen polled every 5 ms); times the first frame (the log's first part,
+# shown while the rest is read), the frame that shows it read whole
+# ("of RECORDS" transitions), then `G` and, DELAY
 # seconds later, `w` (the why-questions) and Enter (the first one's
 # answer), RUNS times; and `btx log LOG --node '#2'` for the first frame's
 # ratio, measured in the same run.
@@ -27,8 +29,10 @@ shows() { local n=0; until screen | grep -q "$1"; do sleep 0.005; n=$((n + 1)); 
 for _ in $(seq "$runs"); do
   t=$(now)
   tmux -L "$sock" new-session -d -s b -x 160 -y 45 "$btx -q open $dir/L.btlog; sleep 30"
-  shows "of $records"
+  shows "moment 1 "
   first=$(since "$t")
+  shows "of $records"
+  whole=$(since "$t")
   tmux -L "$sock" send-keys -t b G
   sleep "$delay"
   screen > "$dir/before"
@@ -38,5 +42,5 @@ for _ in $(seq "$runs"); do
   tmux -L "$sock" send-keys -t b q
   tmux -L "$sock" kill-server
   t=$(now); "$btx" -q log "$dir/L.btlog" --node '#2' > /dev/null; node=$(since "$t")
-  echo "first frame ${first} ms (btx log --node '#2' ${node} ms: $(python3 -c "print(f'{$first / $node:.1f}')")x); w ${w} ms, Enter ${enter} ms, ${delay} s after G"
+  echo "first frame ${first} ms (btx log --node '#2' ${node} ms: $(python3 -c "print(f'{$first / $node:.2f}')")x), read whole ${whole} ms ($(python3 -c "print(f'{$whole / $node:.1f}')")x); w ${w} ms, Enter ${enter} ms, ${delay} s after G"
 done

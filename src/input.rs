@@ -428,3 +428,95 @@ fn what_file(path: &Path, text: &str) -> Option<String> {
         "this is a plan (leaf = outcomes); give it with --plan FILE, with the tree it drives".into()
     })
 }
+
+/// How many records of a long `.btlog` the explorer shows while it reads
+/// the rest: the first screens of the run, read in a few milliseconds.
+pub const FIRST_RECORDS: usize = 1 << 16;
+
+/// A long `.btlog`'s first `records` records as a run of their own, to
+/// show at once while the whole is read (`Reading`), as a pager shows its
+/// first page: None where the file is no `.btlog`, holds no more records
+/// than that, or `--run` picks one of its runs (which may lie further on).
+/// A file that cannot be read is None too: reading it whole says why.
+pub fn open_first(
+    path: &Path,
+    opts: &LoadOptions,
+    records: usize,
+) -> Result<Option<Session>, Located> {
+    use std::io::Read;
+    let Ok(len) = crate::source::check_input(path, crate::source::INPUT_SIZE_MAX, "the file")
+    else {
+        return Ok(None);
+    };
+    let Ok(mut file) = std::fs::File::open(path) else {
+        return Ok(None);
+    };
+    let mut head = [0u8; 23];
+    if opts.run.is_some()
+        || file.read_exact(&mut head).is_err()
+        || !head.starts_with(crate::logs::btlog::MAGIC)
+    {
+        return Ok(None);
+    }
+    let xml = i32::from_le_bytes(head[19..23].try_into().expect("4 bytes"));
+    let Ok(xml) = usize::try_from(xml) else {
+        return Ok(None);
+    };
+    let want = 31 + xml + 9 * records;
+    if len <= want as u64 {
+        return Ok(None);
+    }
+    let mut bytes = vec![0; want];
+    bytes[..23].copy_from_slice(&head);
+    if file.read_exact(&mut bytes[23..]).is_err() {
+        return Ok(None);
+    }
+    let tree = run_tree(opts)?;
+    let log = crate::logs::number_btlog(path, bytes, given(&tree, opts))?;
+    Ok(Some(log.into_session()))
+}
+
+/// A run read whole on a thread of its own, while a part of it is shown.
+pub struct Reading {
+    path: std::path::PathBuf,
+    rx: std::sync::mpsc::Receiver<Result<Session, Located>>,
+}
+
+impl Reading {
+    /// Starts reading the run in `path` whole, as `open` reads it.
+    pub fn start(path: &Path, opts: &LoadOptions) -> Reading {
+        let (tx, rx) = std::sync::mpsc::sync_channel(1);
+        let (file, opts) = (path.to_path_buf(), opts.clone());
+        std::thread::spawn(move || {
+            let run = open(&file, &opts).and_then(|input| match input {
+                Input::Session(s) => Ok(*s),
+                Input::Tree { .. } => Err(Located::file(&file, "this is a tree, not a run")),
+            });
+            // The explorer may have quit; nobody is left to tell.
+            let _ = tx.send(run);
+        });
+        Reading {
+            path: path.to_path_buf(),
+            rx,
+        }
+    }
+
+    /// The whole run, if it is read within `wait`.
+    pub fn take(&self, wait: std::time::Duration) -> Option<Result<Session, Located>> {
+        use std::sync::mpsc::RecvTimeoutError;
+        match self.rx.recv_timeout(wait) {
+            Ok(run) => Some(run),
+            Err(RecvTimeoutError::Timeout) => None,
+            Err(RecvTimeoutError::Disconnected) => Some(Err(self.stopped())),
+        }
+    }
+
+    /// The whole run, once it is read.
+    pub fn wait(&self) -> Result<Session, Located> {
+        self.rx.recv().unwrap_or_else(|_| Err(self.stopped()))
+    }
+
+    fn stopped(&self) -> Located {
+        Located::file(&self.path, "the reading stopped before the end of the file")
+    }
+}

@@ -665,3 +665,44 @@ fn every_prompt_takes_text_in_a_real_terminal() {
     let s = t.wait_for("EXITED:");
     assert!(s.contains("EXITED:0"), "{s}");
 }
+
+#[test]
+fn a_long_log_shows_at_once_and_then_whole_and_one_broken_further_on_says_where() {
+    if !tmux_here() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let long = dir.path().join("long.btlog");
+    let mut bytes = common::long_btlog(600);
+    std::fs::write(&long, &bytes).unwrap();
+    let t = Tmux(format!("btx-e2e-long-{}", std::process::id()));
+    t.start(&format!(
+        "{} --ascii {}; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx"),
+        long.display()
+    ));
+    // The whole comes without a key pressed: the screen is drawn again.
+    t.wait_for("transition 6 of 148800 ");
+    t.run(&["send-keys", "-t", "btx", "q"]);
+    t.wait_for("EXITED:0");
+    drop(t);
+
+    let n = i32::from_le_bytes(bytes[19..23].try_into().unwrap()) as usize;
+    let at = 31 + n + 9 * 100_000 + 8;
+    bytes[at] = 9;
+    let broken = dir.path().join("broken.btlog");
+    std::fs::write(&broken, &bytes).unwrap();
+    let t = Tmux(format!("btx-e2e-broken-{}", std::process::id()));
+    t.start(&format!(
+        "{} --ascii {}; echo EXITED:$?; sleep 30",
+        env!("CARGO_BIN_EXE_btx"),
+        broken.display()
+    ));
+    // A long path may wrap the message at the screen's edge.
+    let s = t.wait_for("EXITED:1").replace('\n', "");
+    assert!(
+        s.contains(&format!("byte offset {at}: status byte 9 is not a status")),
+        "{s}"
+    );
+    assert_eq!(t.terminal(), "0 0 1", "the terminal is given back");
+}

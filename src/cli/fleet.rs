@@ -64,7 +64,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     if args.open {
         let mut app = btx::tui::fleet::FleetApp::new(fleet, opts);
         app.keymap = keymap(cli.keys.as_deref())?;
-        return btx::tui::run_with(app, cli.ascii)
+        return btx::tui::run_with(&mut app, cli.ascii)
             .map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     }
     match args.format {

@@ -416,7 +416,7 @@ fn dispatch(cli: Cli) -> Result<(), Failure> {
         }
         let mut app = btx::tui::demo();
         app.shared.keymap = keymap(globals.keys.as_deref())?;
-        return btx::tui::run_with(app, globals.ascii)
+        return btx::tui::run_with(&mut app, globals.ascii)
             .map_err(|e| Failure::Plain(format!("the terminal: {e}")));
     };
     let before = cli.explorer;

@@ -59,7 +59,7 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
             }
             let mut app = btx::tui::open_diff(&files[0], &files[1], &reading.options()?)?;
             app.keymap = keymap(cli.keys.as_deref())?;
-            btx::tui::run_with(app, cli.ascii)
+            btx::tui::run_with(&mut app, cli.ascii)
                 .map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
         }
         Args {
@@ -82,6 +82,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                         btx::text::path(log)
                     );
                 }
+                // Following starts from the whole log as it is now.
+                app.read_whole();
                 let mut f = btx::input::Follow::new(log);
                 // The first reading is the one just opened.
                 let _ = f.poll();
@@ -90,8 +92,12 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
                 app.update(btx::tui::Action::End);
             }
             app.shared.keymap = keymap(cli.keys.as_deref())?;
-            btx::tui::run_with(app, cli.ascii)
+            btx::tui::run_with(&mut app, cli.ascii)
                 .map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
+            // A long log broken past the part shown first.
+            if let Some(e) = app.failed.take() {
+                return Err(e.into());
+            }
         }
     }
     Ok(())
@@ -140,7 +146,8 @@ fn live(
         });
     }
     app.shared.keymap = keymap(cli.keys.as_deref())?;
-    btx::tui::run_with(app, cli.ascii).map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
+    btx::tui::run_with(&mut app, cli.ascii)
+        .map_err(|e| Failure::Plain(format!("the terminal: {e}")))?;
     if !cli.quiet {
         for o in robots.outs.iter().flatten().filter(|o| o.exists()) {
             eprintln!("the run is in {}", btx::text::path(o));

@@ -98,6 +98,8 @@ pub struct App {
     /// The tree pane's share of the width, in percent.
     pub split: u16,
     pub quit: bool,
+    /// Why the explorer stopped, where the run it read whole was broken.
+    pub failed: Option<crate::source::Located>,
 }
 
 impl App {
@@ -110,6 +112,7 @@ impl App {
             zoom: false,
             split: 58,
             quit: false,
+            failed: None,
         }
     }
 
@@ -118,6 +121,13 @@ impl App {
     /// is (the tree's selection, the timeline's time, the answers'
     /// questions), and last to the explorer's own keys.
     pub fn update(&mut self, a: Action) {
+        if self.shared.reading.is_some() && !a.moves_only() {
+            // An answer, a search or a list is about the whole run.
+            self.read_whole();
+            if self.quit {
+                return;
+            }
+        }
         if let Some(o) = &mut self.overlay {
             let h = o.key(a, &mut self.shared, true);
             return self.apply(h);
@@ -348,6 +358,36 @@ impl App {
             Ok(Some(s)) => self.grow(s),
             // A log caught mid-write reads again at the next poll.
             Err(e) => self.shared.message = Some(format!("following: {e}")),
+        }
+    }
+
+    /// Waits for the log read whole, and takes it in place of its first part.
+    pub fn read_whole(&mut self) {
+        if let Some(r) = self.shared.reading.take() {
+            self.took(r.wait());
+        }
+    }
+
+    /// Takes the log read whole if it is read within `wait`: whether it came.
+    pub fn take_read(&mut self, wait: std::time::Duration) -> bool {
+        let Some(run) = self.shared.reading.as_ref().and_then(|r| r.take(wait)) else {
+            return false;
+        };
+        self.shared.reading = None;
+        self.took(run);
+        true
+    }
+
+    /// The whole run in place of its first part; a log broken further on
+    /// stops the explorer with the error, as `btx open` gives it for a
+    /// log broken at its start.
+    fn took(&mut self, run: Result<Session, crate::source::Located>) {
+        match run {
+            Ok(s) => self.grow(s),
+            Err(e) => {
+                self.failed = Some(e);
+                self.quit = true;
+            }
         }
     }
 

@@ -388,6 +388,38 @@ pub fn key_name(k: &KeyEvent) -> Option<String> {
 }
 
 impl Action {
+    /// Whether the action only moves through what is on screen (the tree,
+    /// the moment, the panes), so that it means the same on the first part
+    /// of a log as on the whole; an answer, a search, a list or the next
+    /// failure is about the whole run.
+    pub fn moves_only(self) -> bool {
+        use Action::*;
+        matches!(
+            self,
+            Up | Down
+                | Collapse
+                | Expand
+                | Toggle
+                | NextPane
+                | StepForward
+                | StepBack
+                | TickForward
+                | TickBack
+                | Start
+                | End
+                | PageUp
+                | PageDown
+                | Wider
+                | Narrower
+                | Zoom
+                | Help
+                | Quit
+                | Back
+                | Follow
+                | ToggleFramed
+        )
+    }
+
     /// What the help says the action does.
     pub fn help(self) -> &'static str {
         KEYMAP

@@ -49,15 +49,19 @@ pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<A
     if second.is_none() && opts.run.is_none() && crate::logs::rosbag::is_bag(first) {
         return open_runs(first, opts);
     }
+    if second.is_none() {
+        if let Some(part) = crate::input::open_first(first, opts, crate::input::FIRST_RECORDS)? {
+            let mut app = App::new(part.tree.clone(), Some(part), title_of(first));
+            app.shared.reading = Some(crate::input::Reading::start(first, opts));
+            return Ok(app);
+        }
+    }
     let a = open_input(first, opts)?;
     let b = match second {
         Some(p) => Some(open_input(p, opts)?),
         None => None,
     };
-    let title = first.file_name().map_or_else(
-        || first.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
+    let title = title_of(first);
     match (a, b) {
         (Input::Session(s), None) => {
             let tree = s.tree.clone();
@@ -81,13 +85,18 @@ pub fn open(first: &Path, second: Option<&Path>, opts: &LoadOptions) -> Result<A
     }
 }
 
+/// The explorer's title for a file: its name.
+fn title_of(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
 /// A log of several runs (a rosbag's goals), showing the last, with the
 /// others to pick from (`R`).
 fn open_runs(path: &Path, opts: &LoadOptions) -> Result<App, Located> {
-    let name = path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| n.to_string_lossy().into_owned(),
-    );
+    let name = title_of(path);
     let mut runs = Vec::new();
     crate::input::each_run(path, opts, |k, n, s| {
         let span = s.span_us.map_or(String::new(), |(a, b)| {
@@ -141,11 +150,21 @@ pub trait Screen {
     fn take_clipboard(&mut self) -> Option<String> {
         None
     }
-    /// Work done while no key is pending, a few milliseconds at a time:
-    /// whether there is more.
-    fn idle(&mut self) -> bool {
-        false
+    /// Work done while no key is pending, a few milliseconds at a time.
+    fn idle(&mut self) -> Idle {
+        Idle::Done
     }
+}
+
+/// What a screen's work between keys did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Idle {
+    /// Nothing is left to do: wait for a key.
+    Done,
+    /// Some was done, more is left, and the screen is the same.
+    More,
+    /// What is on screen changed; there may be more.
+    Changed,
 }
 
 /// The OSC 52 sequence that asks the terminal to put `text` on the
@@ -186,12 +205,18 @@ impl Screen for App {
     fn take_clipboard(&mut self) -> Option<String> {
         self.shared.clipboard.take()
     }
-    fn idle(&mut self) -> bool {
+    fn idle(&mut self) -> Idle {
+        if self.shared.reading.is_some() {
+            return match self.take_read(IDLE_SLICE) {
+                true => Idle::Changed,
+                false => Idle::More,
+            };
+        }
         // The replay's marks, so that a question late in a long run is
         // answered from the nearest (a live run is still growing).
         match (&self.shared.session, &self.shared.live) {
-            (Some(s), None) => crate::causal::facts::lay_marks(s, IDLE_SLICE),
-            _ => false,
+            (Some(s), None) if crate::causal::facts::lay_marks(s, IDLE_SLICE) => Idle::More,
+            _ => Idle::Done,
         }
     }
 }
@@ -393,8 +418,8 @@ fn suspend() -> std::io::Result<()> {
 
 /// Runs the explorer until the person quits. The terminal is restored on
 /// quit, on error and on panic (ratatui's hook).
-pub fn run(app: impl Screen) -> std::io::Result<()> {
-    run_with(app, false)
+pub fn run(mut app: impl Screen) -> std::io::Result<()> {
+    run_with(&mut app, false)
 }
 
 /// The signs the explorer draws, as ASCII (`--ascii`): box drawing, arrows,
@@ -446,7 +471,7 @@ fn asciify(buf: &mut ratatui::buffer::Buffer) {
 }
 
 /// `run`, drawing only ASCII signs when `ascii` is set.
-pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
+pub fn run_with(app: &mut impl Screen, ascii: bool) -> std::io::Result<()> {
     let watcher = restore_on_signals()?;
     abort::guard();
     let mut terminal = ratatui::try_init()?;
@@ -462,7 +487,7 @@ pub fn run_with(mut app: impl Screen, ascii: bool) -> std::io::Result<()> {
         ratatui_hook(info);
     }));
     let _ = ratatui::crossterm::execute!(std::io::stdout(), event::EnableMouseCapture);
-    let result = event_loop(&mut app, &mut terminal, ascii);
+    let result = event_loop(app, &mut terminal, ascii);
     let _ = ratatui::crossterm::execute!(std::io::stdout(), event::DisableMouseCapture);
     ratatui::restore();
     watcher.close();
@@ -534,10 +559,15 @@ fn event_loop(
             }
         } else if event::poll(Duration::ZERO)? {
             Some(event::read()?)
-        } else if app.idle() {
-            None
         } else {
-            Some(event::read()?)
+            match app.idle() {
+                Idle::Done => Some(event::read()?),
+                Idle::More => None,
+                Idle::Changed => {
+                    dirty = true;
+                    None
+                }
+            }
         };
         let Some(ev) = ev else { continue };
         if is_suspend(&ev) {

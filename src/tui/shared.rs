@@ -93,6 +93,9 @@ pub struct Shared {
     pub keymap: super::keymap::Keymap,
     /// A log still being written, read again as it grows (`--follow`).
     pub follow: Option<crate::input::Follow>,
+    /// A long log read whole while its first part is shown: moving
+    /// through that part goes on, every other key waits for the whole.
+    pub reading: Option<crate::input::Reading>,
     /// A robot running now (`btx open --live`): the run grows from it.
     pub live: Option<crate::live::Feed>,
     /// A live run's faults in numbers, for the timeline's title.
@@ -141,6 +144,7 @@ impl Shared {
             play_ms: 200,
             keymap: super::keymap::Keymap::default(),
             follow: None,
+            reading: None,
             live: None,
             choices: None,
             rows: Vec::new(),

@@ -314,3 +314,21 @@ pub fn one_line(err: &str) -> String {
         .collect::<Vec<_>>()
         .join(" ")
 }
+
+/// The recorded kitting run (`tests/fixtures/logs/kitting_lookat_fails_once.btlog`)
+/// `times` over as one `.btlog`, each copy later than the last.
+pub fn long_btlog(times: u64) -> Vec<u8> {
+    let bytes = std::fs::read(fixture("logs/kitting_lookat_fails_once.btlog")).unwrap();
+    let n = i32::from_le_bytes(bytes[19..23].try_into().unwrap()) as usize;
+    let (head, body) = bytes.split_at(31 + n);
+    let dt = |r: &[u8]| u64::from_le_bytes([&r[..6], &[0, 0][..]].concat().try_into().unwrap());
+    let span = dt(&body[body.len() - 9..]) + 100_000;
+    let mut out = head.to_vec();
+    for k in 0..times {
+        for r in body.chunks_exact(9) {
+            out.extend_from_slice(&(dt(r) + k * span).to_le_bytes()[..6]);
+            out.extend_from_slice(&r[6..]);
+        }
+    }
+    out
+}

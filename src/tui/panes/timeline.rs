@@ -376,6 +376,13 @@ fn head(
     if sh.follow.is_some() {
         play.push_str("  · following the log");
     }
+    // The first part of a long log, while the rest is read: more to come.
+    let more = if sh.reading.is_some() {
+        play.push_str("  · reading the rest of the log");
+        "+"
+    } else {
+        ""
+    };
     let head = match &sh.live {
         // A robot watched before its first tick is numbered: "tick 1 of 0"
         // says nothing true.
@@ -390,7 +397,7 @@ fn head(
             None => "waiting for the robot's first tick".to_string(),
         },
         _ => format!(
-            "moment {m}  ·  tick {} of {ticks}  ·  transition {} of {total}{play}",
+            "moment {m}  ·  tick {} of {ticks}{more}  ·  transition {} of {total}{more}{play}",
             m.tick, sh.pos
         ),
     };

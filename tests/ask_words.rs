@@ -2874,3 +2874,76 @@ fn what_it_ended_up_doing_it_ran() {
         ),
     ]);
 }
+
+#[test]
+fn a_name_in_quotes_is_the_name_whatever_letter_it_starts_with() {
+    const DETECT: &str = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    // "'detect" and "`reset" had been read as the contractions "'d" and
+    // "'re" ("wouldetect", "areset").
+    first_lines_are(vec![
+        (
+            vec![DETECT],
+            "why did 'detect chuck' fail in tick 6?",
+            "Why did detect chuck (#12, #9) fail at 6:1?",
+        ),
+        (
+            vec![DETECT],
+            "why did 'retreat arm' start?",
+            "Why did retreat arm (#52, #76) start at 27:2?",
+        ),
+        (
+            vec![KITTING],
+            "when does `reset arm` fail?",
+            "When did the reset arm force failure (#26) fail?",
+        ),
+        // A contraction stays one.
+        (vec![KITTING], "what's it doing?", "What are you doing?"),
+    ]);
+}
+
+#[test]
+fn which_ticks_asks_when_and_a_hedge_or_a_greeting_changes_nothing() {
+    first_lines_are(vec![
+        (
+            vec![KITTING],
+            "in which ticks did 'look at chuck' fail?",
+            "When did look at chuck (#18) fail?",
+        ),
+        (
+            vec![NAV2],
+            "At which ticks does FollowPath return FAILURE?",
+            "When did FollowPath (#10, #9) fail?",
+        ),
+        // "Feels like" hedges; how the robot feels is no question of the run.
+        (
+            vec![NAV2],
+            "how many times did it replan? feels like too many",
+            "How often did ComputePathToPose (#4, #5) start?",
+        ),
+        (vec![PATROL], "yo when did walk wrap up", "When did walk (#3) finish?"),
+    ]);
+    let (ok, out, _) = btx(&["ask", KITTING, "how does the arm feel today?"]);
+    assert!(!ok && out.starts_with("I don't know how to answer that."), "{out}");
+}
+
+#[test]
+fn a_robot_called_by_a_word_and_what_it_is_can_and_it_bounces_back() {
+    const DETECT: &str = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    first_lines_are(vec![
+        (vec![PATROL], "can our patrol bot drive?", "Can you drive?"),
+        (vec![TAXI], "can the yellow cab move left?", "Can you move left?"),
+        // A node's name is no robot: "reset arm" is a ForceFailure.
+        (
+            vec![KITTING],
+            "can reset arm fail?",
+            "I read this as \"Why did the reset arm force failure (#26) fail at 11:3?\". Did you mean: \"When did the reset arm force failure (#26) fail?\" or \"How often did the reset arm force failure (#26) fail?\"?",
+        ),
+        // "Back" starts "back to approach pose": bouncing back is recovering.
+        (vec![DETECT], "did it bounce back?", "Did the recovery work?"),
+        (
+            vec![DETECT],
+            "did the bot ever bounce back after bailing on the large gear",
+            "Did the recovery work?",
+        ),
+    ]);
+}

@@ -70,6 +70,11 @@ const ROBOTS: &[&str] = &[
     "rover",
     "drone",
     "machine",
+    "cab",
+    "forklift",
+    "amr",
+    "turtlebot",
+    "manipulator",
     "it",
 ];
 
@@ -120,18 +125,35 @@ fn free_words<'s>(s: &'s Sentence<'_>) -> Vec<(usize, &'s Word)> {
 
 /// "Can the taxi refuel?", "does this BT know how to move down?": the
 /// robot called by what it is, read as "robot"; "make the robot back up"
-/// is the robot backing up. The words kept, and their texts so read.
+/// is the robot backing up. The words kept, and their texts so read
+/// (`named`: whether the word at a place is in a node's name).
 #[allow(clippy::type_complexity)]
-fn robot_as_robot<'a>(free: &[(usize, &'a Word)]) -> (Vec<(usize, &'a Word)>, Vec<&'a str>) {
-    let opens_on_robot = free.len() > 2
-        && ["can", "could", "does", "is", "will"].contains(&free[0].1.text.as_str())
-        && ROBOTS.contains(&free[1].1.text.as_str());
+fn robot_as_robot<'a>(
+    free: &[(usize, &'a Word)],
+    named: impl Fn(usize) -> bool,
+) -> (Vec<(usize, &'a Word)>, Vec<&'a str>) {
+    let asks = free.len() > 2 && ["can", "could", "does", "is", "will"].contains(&free[0].1.text.as_str());
+    // "Can our patrol bot drive?": the robot called by a word and what it
+    // is ("can reset arm fail?" names a node).
+    let called = asks
+        && free.len() > 3
+        && free[2].1.text != "it"
+        && !named(free[2].0)
+        && ROBOTS.contains(&free[2].1.text.as_str())
+        && !ROBOTS.contains(&free[1].1.text.as_str());
+    let opens_on_robot = asks && (called || ROBOTS.contains(&free[1].1.text.as_str()));
+    // Where the robot is named, its word before it left out.
+    let robot = if called { 2 } else { 1 };
     let mut kept: Vec<(usize, &Word)> = Vec::with_capacity(free.len());
     let mut texts: Vec<&str> = Vec::with_capacity(free.len());
     let mut k = 0;
     while k < free.len() {
+        if k == 1 && called {
+            k += 1;
+            continue;
+        }
         let t = free[k].1.text.as_str();
-        if k == 2
+        if k == robot + 1
             && opens_on_robot
             && ["make", "get", "have"].contains(&t)
             && free
@@ -141,7 +163,7 @@ fn robot_as_robot<'a>(free: &[(usize, &'a Word)]) -> (Vec<(usize, &'a Word)>, Ve
             k += 2;
             continue;
         }
-        texts.push(if k == 1 && opens_on_robot { "robot" } else { t });
+        texts.push(if k == robot && opens_on_robot { "robot" } else { t });
         kept.push(free[k]);
         k += 1;
     }
@@ -212,7 +234,8 @@ fn opening(texts: &[&str]) -> Option<usize> {
 
 /// The words of "Can you X?" after its opening, or `None`.
 pub(super) fn can_you(s: &Sentence, tree: &Tree) -> Option<String> {
-    let (free, texts) = robot_as_robot(&free_words(s));
+    let named = |i: usize| s.nodes.iter().any(|m| (m.start..m.end).contains(&i));
+    let (free, texts) = robot_as_robot(&free_words(s), named);
     // "Is looking around one of its capabilities?", "spinning in place: is
     // that something it can do?": the node named anywhere.
     let capability = texts

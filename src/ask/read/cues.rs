@@ -270,10 +270,11 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         // "when" says which time.
         || s.has("when") && s.phrase(&["wrong", "when"]).is_none() && !when_says_which_time(s)
         || s.phrase(&["what", "time"]).is_some()
-        || s.phrase(&["which", "tick"]).is_some()
-        || s.phrase(&["which", "transition"]).is_some()
-        || s.phrase(&["what", "transition"]).is_some()
-        || s.phrase(&["what", "tick"]).is_some()
+        || ["which", "what"].iter().any(|q| {
+            ["tick", "ticks", "transition", "transitions"]
+                .iter()
+                .any(|t| s.phrase(&[q, t]).is_some())
+        })
         // "Which step did it fail at?", not "which step is it on?".
         || (s.phrase(&["which", "step"]).is_some() || s.phrase(&["what", "step"]).is_some())
             && !s.has("on")
@@ -281,7 +282,7 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         // "At which point during the run did …", not "at this point".
         || s.phrase(&["at", "which", "point"]).is_some()
         // "Identify the tick at which X returned SUCCESS".
-        || (s.has("tick") || s.has("step"))
+        || ["tick", "ticks", "step", "steps"].iter().any(|t| s.has(t))
             && (s.phrase(&["at", "which"]).is_some() || s.phrase(&["in", "which"]).is_some())
         // "list the ticks where it failed".
         || (s.has("tick") || s.has("ticks"))

@@ -260,7 +260,7 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
         || coloured("green")
     {
         Some(Event::Succeed)
-    } else if s.has_stem(&["finish", "end", "complet"]) || done_said(s) {
+    } else if s.has_stem(&["finish", "end", "complet"]) || done_said(s) || wrapped_up(s) {
         Some(Event::Finish)
     } else if s.has_stem(&[
         "run", "start", "execut", "tick", "call", "trigger", "begin", "activ", "launch", "fire",
@@ -274,6 +274,13 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
     } else {
         None
     }
+}
+
+/// "When did walk wrap up?": it finished.
+fn wrapped_up(s: &Sentence) -> bool {
+    ["wrap", "wraps", "wrapped", "wrapping"]
+        .iter()
+        .any(|w| s.phrase(&[w, "up"]).is_some())
 }
 
 /// The event a question's verbs name, if any, and whether they are negated.

@@ -146,7 +146,7 @@ const NOT_A_VERB: &[&str] = &[
 const LEAD: &[&str] = &[
     "please", "btx", "hey", "hi", "so", "ok", "um", "uh", "umm", "hmm", "well", "just", "and",
     "but", "then", "also", "me", "quick", "question", "bro", "dude", "now", "i", "wonder", "want",
-    "to", "know",
+    "to", "know", "yo", "ngl", "bruh", "lowkey", "guys", "yall", "folks",
 ];
 
 /// Words that ask nothing: politeness, imperatives, hedges.

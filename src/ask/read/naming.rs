@@ -228,7 +228,7 @@ pub(super) fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: 
     let outside = q
         .iter()
         .enumerate()
-        .any(|(i, w)| !in_mention[i] && OUTSIDE.contains(&w.text.as_str()))
+        .any(|(i, w)| !in_mention[i] && OUTSIDE.contains(&w.text.as_str()) && !hedge(q, i))
         // "Is the next Nav2 release going to fix this?".
         || q.windows(2).any(|p| {
             p[0].text == "next" && ["release", "version", "sprint"].contains(&p[1].text.as_str())
@@ -258,6 +258,15 @@ pub(super) fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: 
                 || q.iter()
                     .enumerate()
                     .any(|(i, w)| !in_mention[i] && about_the_world(&w.text)))
+}
+
+/// "Feels like a lot", "I feel it failed too often": the asker hedging,
+/// not a feeling asked about.
+fn hedge(q: &[Word], i: usize) -> bool {
+    let feel = ["feel", "feels"].contains(&q[i].text.as_str());
+    let by_asker = i > 0 && ["i", "we"].contains(&q[i - 1].text.as_str());
+    let like = q.get(i + 1).is_some_and(|w| w.text == "like");
+    feel && (by_asker || like)
 }
 
 /// Units of the world's measures ("how many meters"; "how many frames"

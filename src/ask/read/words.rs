@@ -286,7 +286,7 @@ fn plain_text(text: &str) -> String {
         }
     }
     if s.contains(['\'', '’', '‘', '`', '´']) {
-        s = s.replace(['’', '‘', '`', '´'], "'");
+        s = quotes_apart(&s.replace(['’', '‘', '`', '´'], "'"));
         for (from, to) in CONTRACTIONS {
             s = s.replace(from, to);
         }
@@ -295,6 +295,25 @@ fn plain_text(text: &str) -> String {
         s = s.replace("'s ", " ");
     }
     s
+}
+
+/// Quotes around a name ("why did 'detect chuck' fail?") set apart from
+/// its words: a mark with no letter before it or none after it is a
+/// quote, not a contraction's ("'detect" is no "'d", "would").
+fn quotes_apart(s: &str) -> String {
+    let chars: Vec<char> = s.chars().collect();
+    let letter = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(|c| c.is_alphanumeric());
+    chars
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| {
+            if c == '\'' && !(letter(i.checked_sub(1)) && letter(Some(i + 1))) {
+                ' '
+            } else {
+                c
+            }
+        })
+        .collect()
 }
 
 /// The words of a question.

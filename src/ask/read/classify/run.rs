@@ -120,13 +120,22 @@ pub(super) fn generic(m: &Mention) -> bool {
     })
 }
 
+/// "Did it bounce back?", whatever node "back" may start the name of
+/// ("back to approach pose"); "bounced back to planning" went back.
+fn bounced_back(s: &Sentence) -> bool {
+    s.q.windows(2).enumerate().any(|(i, p)| {
+        ["bounce", "bounced", "bounces"].contains(&p[0].text.as_str())
+            && p[1].text == "back"
+            && s.q.get(i + 2).is_none_or(|w| w.text != "to")
+    })
+}
+
 /// Did the recovery work?
 pub(super) fn recovered(c: &Cues) -> Option<Readings> {
     let s = c.s;
     let recovery_word = s.has_prefix(&["recover"])
         || s.nodes.iter().any(generic)
-        || s.phrase(&["bounce", "back"]).is_some()
-        || s.phrase(&["bounced", "back"]).is_some()
+        || bounced_back(s)
         // "Did it ever fail and come back from it?".
         || s.phrase(&["come", "back", "from"]).is_some()
         || s.phrase(&["came", "back", "from"]).is_some()

@@ -2920,10 +2920,17 @@ fn which_ticks_asks_when_and_a_hedge_or_a_greeting_changes_nothing() {
             "how many times did it replan? feels like too many",
             "How often did ComputePathToPose (#4, #5) start?",
         ),
-        (vec![PATROL], "yo when did walk wrap up", "When did walk (#3) finish?"),
+        (
+            vec![PATROL],
+            "yo when did walk wrap up",
+            "When did walk (#3) finish?",
+        ),
     ]);
     let (ok, out, _) = btx(&["ask", KITTING, "how does the arm feel today?"]);
-    assert!(!ok && out.starts_with("I don't know how to answer that."), "{out}");
+    assert!(
+        !ok && out.starts_with("I don't know how to answer that."),
+        "{out}"
+    );
 }
 
 #[test]
@@ -2946,4 +2953,86 @@ fn a_robot_called_by_a_word_and_what_it_is_can_and_it_bounces_back() {
             "Did the recovery work?",
         ),
     ]);
+}
+
+#[test]
+fn the_steps_of_the_part_it_is_in_are_how_it_does_that_part() {
+    first_lines_are(vec![
+        (
+            vec!["--at", "35", KITTING],
+            "At tick 30, what are the steps of the sub-task it's in?",
+            "How do you achieve your subgoal at tick 30?",
+        ),
+        (
+            vec!["--at", "4:8", NAV2],
+            "what's the plan for the current step",
+            "How do you achieve your subgoal?",
+        ),
+        (
+            vec!["--at", "2", PATROL],
+            "how's it gonna do this step",
+            "How do you achieve your subgoal?",
+        ),
+        // The steps of a tick are what happened in it; what it is going to
+        // do is what comes next.
+        (
+            vec![KITTING],
+            "what are the steps in tick 5",
+            "What happened at tick 5?",
+        ),
+        (
+            vec!["--at", "2", PATROL],
+            "what's it gonna do next?",
+            "What will I do next?",
+        ),
+        // What it goes for overall is its goal; the purpose of the motion
+        // it makes now is why it does what it does.
+        (
+            vec![TAXI],
+            "what was the robot going for overall",
+            "What is your goal?",
+        ),
+        (
+            vec!["--at", "50", KITTING],
+            "what is the purpose of the motion the arm is making at this point?",
+            "Why are you doing this?",
+        ),
+        // "At this point of the delivery" is a moment, not a purpose.
+        (
+            vec!["--at", "4:8", NAV2],
+            "what's the immediate objective at this point of the delivery?",
+            "What is your subgoal?",
+        ),
+    ]);
+}
+
+#[test]
+fn a_leaf_stuck_on_running_ran_on_by_its_own_work_from_its_start_to_its_end() {
+    // The spell as the log has it: trial and error insert (#21) RUNNING at
+    // 20:2, SUCCESS at 22:1; drive (#7) RUNNING at 3:7, halted at 5:3.
+    for (run, q, first, says) in [
+        (
+            KITTING,
+            "trial and error insert sat in RUNNING for more than one tick - why?",
+            "Why did trial and error insert (#21) keep running until 22:1?",
+            "Trial and error insert (#21) ran from 20:2 until it succeeded at 22:1 (3 ticks): it is an action, so it ran on by its own work",
+        ),
+        (
+            KITTING,
+            "why was move to screw station stuck on RUNNING for like 2 ticks",
+            "Why did move to screw station (#33) keep running until 28:1?",
+            "ran from 26:32 until it succeeded at 28:1 (3 ticks)",
+        ),
+        (
+            PATROL,
+            "why did driving take so long",
+            "Why did drive (#7) keep running until 5:3?",
+            "Drive (#7) ran from 3:7 until it was halted at 5:3 (3 ticks)",
+        ),
+    ] {
+        let (ok, out, _) = btx(&["ask", run, q]);
+        assert!(ok, "{q}: {out}");
+        assert_eq!(out.lines().next(), Some(first), "{q}: {out}");
+        assert!(out.contains(says), "{q}: {out}");
+    }
 }

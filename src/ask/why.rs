@@ -30,6 +30,9 @@ pub fn answer(
     let name = cx_name(cx, u);
     r.nodes = vec![u];
     r.short_event = Some(e);
+    if e == Event::KeepRunning && at.status(u) != Status::Running && leaf_ran_on(cx, at, u, r) {
+        return Ok(());
+    }
     let (target, moment) = match e {
         Event::Skipped => {
             let tick = at.moment().tick;
@@ -155,6 +158,36 @@ fn leaf_runs_on(cx: &Context, at: &crate::session::At, u: Uid, r: &mut Reply) ->
     };
     r.answer = crate::causal::calls::leaf_running(s, u, since, at.pos);
     s.header.source.kind != "domain"
+}
+
+/// "Why did X keep running?" of a leaf that has stopped: its last spell,
+/// told from the run as `leaf_runs_on` tells one still going, where no
+/// domain says what the leaf depends on.
+fn leaf_ran_on(cx: &Context, at: &crate::session::At, u: Uid, r: &mut Reply) -> bool {
+    let (Some(s), true) = (cx.session, cx.tree.node(u).kind.is_leaf()) else {
+        return false;
+    };
+    if s.header.source.kind == "domain" {
+        return false;
+    }
+    let Some(&since) = events(at, u, Event::KeepRunning).last() else {
+        return false;
+    };
+    let Some(&end) = at
+        .index
+        .changes_of(u)
+        .iter()
+        .find(|&&p| p > since && p <= at.pos)
+    else {
+        return false;
+    };
+    r.understood = format!(
+        "Why did {} keep running until {}?",
+        cx_name(cx, u),
+        step_moment(at.index, end)
+    );
+    r.answer = crate::causal::calls::leaf_ran(s, u, since, end);
+    true
 }
 
 /// "Why is X still running?" asked when it is not: how it last ended, by

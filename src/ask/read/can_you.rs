@@ -132,7 +132,8 @@ fn robot_as_robot<'a>(
     free: &[(usize, &'a Word)],
     named: impl Fn(usize) -> bool,
 ) -> (Vec<(usize, &'a Word)>, Vec<&'a str>) {
-    let asks = free.len() > 2 && ["can", "could", "does", "is", "will"].contains(&free[0].1.text.as_str());
+    let asks =
+        free.len() > 2 && ["can", "could", "does", "is", "will"].contains(&free[0].1.text.as_str());
     // "Can our patrol bot drive?": the robot called by a word and what it
     // is ("can reset arm fail?" names a node).
     let called = asks
@@ -163,7 +164,11 @@ fn robot_as_robot<'a>(
             k += 2;
             continue;
         }
-        texts.push(if k == robot && opens_on_robot { "robot" } else { t });
+        texts.push(if k == robot && opens_on_robot {
+            "robot"
+        } else {
+            t
+        });
         kept.push(free[k]);
         k += 1;
     }

@@ -155,6 +155,9 @@ fn runs_on(s: &Sentence) -> bool {
         || s.phrase(&["took", "long"]).is_some()
         || s.phrase(&["long", "time"]).is_some()
         || s.has_stem(&["stay", "remain"]) && s.has("running")
+        // "Why was X stuck on RUNNING?", "X sat in RUNNING for two ticks".
+        || s.has("stuck")
+        || ["sat", "sit", "sits", "sitting"].iter().any(|w| s.has(w)) && s.has("running")
 }
 
 /// "OK", "okay" said of a node, not "ok but why no spin?", where it

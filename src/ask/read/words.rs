@@ -302,7 +302,10 @@ fn plain_text(text: &str) -> String {
 /// quote, not a contraction's ("'detect" is no "'d", "would").
 fn quotes_apart(s: &str) -> String {
     let chars: Vec<char> = s.chars().collect();
-    let letter = |i: Option<usize>| i.and_then(|i| chars.get(i)).is_some_and(|c| c.is_alphanumeric());
+    let letter = |i: Option<usize>| {
+        i.and_then(|i| chars.get(i))
+            .is_some_and(|c| c.is_alphanumeric())
+    };
     chars
         .iter()
         .enumerate()

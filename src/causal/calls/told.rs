@@ -419,6 +419,34 @@ pub fn leaf_running(session: &Session, u: Uid, since: u32, upto: u32) -> String 
     out.join(" ")
 }
 
+/// A leaf's finished spell of RUNNING, from its start at position `since`
+/// to the transition at `end` that ended it, told as `leaf_running` tells
+/// one still going: its own work, not the tree's.
+pub fn leaf_ran(session: &Session, u: Uid, since: u32, end: u32) -> String {
+    let idx = &session.index;
+    let name = capitalised(&session.tree.told(u));
+    let t = idx.transitions[end as usize - 1];
+    let ticks = t.tick - idx.transitions[since as usize - 1].tick + 1;
+    let how = match t.status {
+        Status::Idle => "was halted",
+        s => past(s),
+    };
+    let mut out = vec![format!(
+        "{name} ran from {} until it {how} at {} ({ticks} tick{}): it is {}, so it ran on by its own work, not by anything the tree decided.",
+        step_moment(idx, since),
+        step_moment(idx, end),
+        if ticks == 1 { "" } else { "s" },
+        a_kind(session, u)
+    )];
+    out.push(not_in_the_run(
+        session,
+        "ran on",
+        "that it ran, not what it was waiting for",
+    ));
+    out.retain(|l| !l.is_empty());
+    out.join(" ")
+}
+
 /// "an action", "a condition": what kind of node `u` is.
 fn a_kind(session: &Session, u: Uid) -> String {
     let what = session.tree.node(u).kind.as_str().to_lowercase();

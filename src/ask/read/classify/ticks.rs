@@ -124,7 +124,9 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
     // subgoal at tick 5" asks how, not what happened.
     let asks_other = s.has_stem(&["achiev", "accomplish", "pursu"])
         && s.has_stem(&["goal", "subgoal"])
-        || s.phrase(&["went", "wrong"]).is_some();
+        || s.phrase(&["went", "wrong"]).is_some()
+        // "At tick 35, what are the steps of the sub-task it's in?".
+        || steps_of_a_part(s);
     let asks_tick = (s.has_stem(&[
         "happen", "chang", "occur", "describ", "summar", "show", "transit", "detail", "explain",
         "event", "recap", "memori", "episod", "summaris", "summariz",
@@ -188,5 +190,7 @@ pub(super) fn next(c: &Cues) -> Option<Readings> {
                 || !c.doing_words && s.ends_with(&["what", "now"])
                 || s.has("will") && s.has("do") && c.what && !c.how
                 || s.phrase(&["plan", "to", "do"]).is_some());
-    next.then(|| vec![(Intent::Next, c.sure_of_words(0.93))])
+    // "How's it gonna do this step?": how it does the part, not what next.
+    let how_a_part = c.how && s.has_stem(&["step", "part", "subgoal", "stage"]);
+    (next && !how_a_part).then(|| vec![(Intent::Next, c.sure_of_words(0.93))])
 }

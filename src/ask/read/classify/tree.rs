@@ -36,6 +36,20 @@ pub(super) fn asks_subgoal(c: &Cues) -> bool {
 /// "What step is it on at the moment?", "which big step of the kit is it
 /// on?", "what chunk of the work is it on?": the part of the task it is
 /// in, not the steps of one.
+/// "The steps of the sub-task it's in", "the plan for the current
+/// step", "steps for what it's doing now": the steps of a part, wherever
+/// it is said to be; not "the steps in tick 5".
+pub(super) fn steps_of_a_part(s: &Sentence) -> bool {
+    s.q.windows(2).enumerate().any(|(i, p)| {
+        ["steps", "plan", "procedure"].contains(&p[0].text.as_str())
+            && ["of", "for", "in", "to"].contains(&p[1].text.as_str())
+            && s.q[i + 2..]
+                .iter()
+                .find(|w| !["the", "this", "its", "that", "a"].contains(&w.text.as_str()))
+                .is_some_and(|w| !["tick", "ticks", "run", "log"].contains(&w.text.as_str()))
+    })
+}
+
 pub(super) fn where_it_is(c: &Cues) -> bool {
     let s = c.s;
     let part = s.has_stem(&[
@@ -59,6 +73,8 @@ pub(super) fn asks_goal(s: &Sentence) -> bool {
         // what it is for.
         || s.phrase(&["supposed", "to"]).is_some() && !ends_being(s, "supposed")
         || s.phrase(&["meant", "to"]).is_some() && !ends_being(s, "meant")
+        // "What was the robot going for overall?".
+        || s.phrase(&["going", "for"]).is_some() && (s.has("overall") || s.has("ultimately"))
         || s.phrase(&["working", "towards"]).is_some()
         || s.phrase(&["working", "toward"]).is_some()
         || s.phrase(&["get", "done"]).is_some()
@@ -81,6 +97,9 @@ pub(super) fn ends_being(s: &Sentence, verb: &str) -> bool {
 
 pub(super) fn asks_steps(c: &Cues) -> bool {
     let s = c.s;
+    if steps_of_a_part(s) {
+        return true;
+    }
     // "At this step": a moment, not the steps.
     // "At step 6": a moment too.
     let this_step = ["this", "that", "current", "which"]

@@ -24,8 +24,12 @@ pub(super) fn whole_for(s: &Sentence) -> bool {
 /// whole's purpose ("big picture, what is it for?") is its goal.
 pub(super) fn purpose(c: &Cues) -> Option<Readings> {
     let s = c.s;
+    // "The point of it", not "at this point of the delivery".
+    let point_of = s.phrase(&["point", "of"]).is_some_and(|i| {
+        i == 0 || !["this", "that", "which", "what", "some"].contains(&s.q[i - 1].text.as_str())
+    });
     let purpose = s.has_stem(&["purpos", "reason"])
-        || s.phrase(&["point", "of"]).is_some()
+        || point_of
         // "For what it runs the detect chuck action again?".
         || c.first == "for" && s.phrase(&["for", "what"]).is_some()
         // "CaseStudyFallback ultimately for what".
@@ -44,7 +48,11 @@ pub(super) fn purpose(c: &Cues) -> Option<Readings> {
         || s.has("now")
         || s.has("current")
         || s.has("running")
-        || s.has_stem(&["action"]);
+        || s.has_stem(&["action"])
+        // "The purpose of the motion the arm is making at this point".
+        || s.has_stem(&["motion", "movement"])
+        || s.phrase(&["this", "point"]).is_some()
+        || s.phrase(&["this", "moment"]).is_some();
     // "What is this tree for?": the whole's purpose.
     let whole = c.whole || s.has("tree") || s.has("bt");
     // "What's the point of this robot?": the whole's, whatever it is doing.
@@ -328,9 +336,18 @@ pub(super) fn why_still_running(c: &Cues) -> Option<Readings> {
         && !c.s.has("going");
     let still = c.s.has("still") && progressive(c.s) && !named_by_verb;
     // "Why does drive keep running for several ticks?".
+    // "Why was X stuck on RUNNING?", "X sat in RUNNING for two ticks - why?".
+    let held = c.s.has("stuck")
+        || c.s.has("running")
+            && [
+                "sat", "sit", "sits", "sitting", "stayed", "stays", "remained",
+            ]
+            .iter()
+            .any(|w| c.s.has(w));
     let keeps = c.ev == Some(Event::KeepRunning)
         && (c.s.phrase(&["keep", "running"]).is_some()
-            || c.s.phrase(&["keeps", "running"]).is_some());
+            || c.s.phrase(&["keeps", "running"]).is_some()
+            || held);
     if !((still || keeps) && !c.named.is_empty()) {
         return None;
     }

@@ -3036,3 +3036,47 @@ fn a_leaf_stuck_on_running_ran_on_by_its_own_work_from_its_start_to_its_end() {
         assert!(out.contains(says), "{q}: {out}");
     }
 }
+
+#[test]
+fn before_any_action_runs_the_papers_questions_are_about_the_node_running() {
+    // At 1:2 of the case study only CaseStudyFallback (#1) and
+    // CaseStudySequence (#2) have started; these had been answered "nothing
+    // has been ticked yet at moment 1:2; pick a node with --node".
+    for (q, said) in [
+        ("what is it doing?", "I have not started yet."),
+        ("what is your goal?", "My goal is to run CaseStudyFallback."),
+        (
+            "why are you doing this?",
+            "I run CaseStudySequence in order to run CaseStudyFallback.",
+        ),
+    ] {
+        let (ok, out, _) = btx(&["ask", "--at", "1:2", CASE, q]);
+        assert!(ok, "{q}: {out}");
+        assert!(out.lines().any(|l| l == said), "{q}: {out}");
+    }
+}
+
+#[test]
+fn a_story_gives_the_moment_of_the_node_asked_about_and_a_topic_before_a_dash_is_no_subject() {
+    first_lines_are(vec![
+        // The clause that names look at chuck says tick 10; the story's
+        // first moment, tick 6, is detect chuck's.
+        (
+            vec![KITTING],
+            "`detect chuck` came back SUCCESS at tick 6, yet `look at chuck` went to FAILURE at tick 10. Why did look at chuck fail?",
+            "Why did look at chuck (#18) fail at 10:1?",
+        ),
+        (
+            vec![NAV2],
+            "Tuning the RateController hz - how many times did ComputePathToPose run in this log?",
+            "How often did ComputePathToPose (#4, #5) start?",
+        ),
+        // A question that points into the topic is asked of it.
+        (vec![TAXI], "tick 14 - what went on there", "What happened at tick 14?"),
+        (
+            vec![CASE],
+            "L0 succeeds - how does the run change?",
+            "What happens if L0 (#3) succeeds?",
+        ),
+    ]);
+}

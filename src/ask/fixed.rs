@@ -38,12 +38,14 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
     }
     let uid = match (cx.node, cx.at.as_ref()) {
         (Some(u), _) => u,
-        (None, Some(at)) => at.current().ok_or_else(|| {
-            format!(
-                "nothing has been ticked yet at moment {}; pick a node with --node",
-                at.moment()
-            )
-        })?,
+        // Before any action is ticked, the deepest node running (the
+        // paper's questions are then about it), else the root.
+        (None, Some(at)) => at.current().unwrap_or_else(|| {
+            (1..=cx.tree.len() as crate::model::Uid)
+                .rev()
+                .find(|&u| at.status(u) == crate::run::Status::Running)
+                .unwrap_or(cx.tree.root().uid)
+        }),
         (None, None) => {
             return Err(
                 "pick the node to ask about with --node (a tree has no current node)".into(),

@@ -474,7 +474,11 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
                         || a.intent == Intent::Fixed(Question::Tree(TreeQuestion::Why))
                             && q.to_lowercase().contains(" again")) =>
             {
-                a.when = a.when.or(w.when);
+                let story = &text[..text.find(*q).unwrap_or(0)];
+                a.when = a
+                    .when
+                    .or_else(|| moment_of_the_node(vocabulary, tree, story, &a))
+                    .or(w.when);
                 return Some(a);
             }
             _ => {}
@@ -483,7 +487,10 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // "Spin failed a moment ago within this same tick, so why is it
     // running again?": what follows ", so" is asked; the story before it
     // says when.
-    if let Some(mut a) = asked_after_so(vocabulary, tree, text).filter(|a| a.confidence >= SURE) {
+    if let Some(mut a) = asked_after_so(vocabulary, tree, text)
+        .or_else(|| asked_after_a_dash(vocabulary, tree, text))
+        .filter(|a| a.confidence >= SURE)
+    {
         a.when = a.when.or(whole.as_ref().and_then(|w| w.when));
         return Some(a);
     }

@@ -32,8 +32,12 @@ pub(super) fn stands_alone(text: &str, q: &str, it_is_the_robot: bool) -> bool {
         && !said.iter().enumerate().any(|(i, w)| {
             (pointing.contains(&w.text.as_str())
                 || it_is_the_robot && ["it", "its"].contains(&w.text.as_str()) && a_thing(i))
+                // "In this run", "this log": the whole, not the story.
                 && !said.get(i + 1).is_some_and(|n| {
-                    ["point", "moment", "instant", "stage", "time"].contains(&n.text.as_str())
+                    [
+                        "point", "moment", "instant", "stage", "time", "run", "log", "tree",
+                    ]
+                    .contains(&n.text.as_str())
                 })
         })
 }
@@ -244,6 +248,40 @@ pub(super) fn asked_after_so(vocabulary: &Vocabulary, tree: &Tree, text: &str) -
         .flatten()
 }
 
+/// The reading of a question that follows a dash after a topic that asks
+/// nothing ("Tuning the RateController hz - how many times did
+/// ComputePathToPose run in this log?"); not "X sat in RUNNING - why?",
+/// whose question is the whole, nor one that points into the topic.
+pub(super) fn asked_after_a_dash(
+    vocabulary: &Vocabulary,
+    tree: &Tree,
+    text: &str,
+) -> Option<Reading> {
+    const OPENS: &[&str] = &[
+        "what", "whats", "what's", "why", "how", "when", "which", "where", "did", "does", "do",
+        "is", "was", "were", "are", "can", "could", "has", "have",
+    ];
+    let (topic, rest) = [" - ", " — ", " – "]
+        .iter()
+        .filter_map(|d| text.rsplit_once(d))
+        .max_by_key(|(topic, _)| topic.len())?;
+    let asks = |w: &str| OPENS.contains(&w.to_lowercase().trim_matches('?'));
+    // "L0 succeeds — how does the run change?": the topic supposes.
+    let supposes = |w: &str| {
+        ["succeeds", "fails", "if", "suppose", "had"].contains(&w.to_lowercase().as_str())
+    };
+    let topic_asks = topic.contains('?')
+        || topic.split_whitespace().any(asks)
+        || topic.split_whitespace().any(supposes);
+    let opens = rest.split_whitespace().next().is_some_and(asks);
+    if topic_asks || !opens || rest.split_whitespace().count() < 4 {
+        return None;
+    }
+    // "Tick 14 - what went on there?": a question that points into the
+    // topic is asked of it, as a whole.
+    read_one(vocabulary, tree, rest).filter(|a| stands_alone(text, rest, of_the_robot(a)))
+}
+
 /// The questions a text of several sentences asks: each sentence that
 /// ends in "?", and what follows a colon ("I need the exact point in the
 /// run: when did look at chuck fail?"). None for a text of one sentence.
@@ -286,4 +324,46 @@ pub(super) fn bids(sentence: &str, story: &str) -> bool {
         )
     });
     !supposes
+}
+
+/// The moment the story gives the node a question asks about: "`detect
+/// chuck` came back SUCCESS at tick 6, yet `look at chuck` went to FAILURE
+/// at tick 10. Why did look at chuck fail?" asks about tick 10, the
+/// moment of the clause that names look at chuck, not the story's first.
+pub(super) fn moment_of_the_node(
+    vocabulary: &Vocabulary,
+    tree: &Tree,
+    story: &str,
+    asked: &Reading,
+) -> Option<When> {
+    let uids = match &asked.intent {
+        Intent::Why {
+            node: Subject::Nodes(uids, _),
+            ..
+        }
+        | Intent::When {
+            node: Subject::Nodes(uids, _),
+            ..
+        }
+        | Intent::WhatIf {
+            node: Subject::Nodes(uids, _),
+            ..
+        } => uids,
+        _ => return None,
+    };
+    let clauses = story.split([',', ';', '.', '?', '!']);
+    let mut found = clauses.filter_map(|clause| {
+        let q = words::words(clause);
+        let (s, when) = named_parts(vocabulary, tree, &q);
+        let names = s
+            .nodes
+            .iter()
+            .any(|m| m.uids.iter().any(|u| uids.contains(u)));
+        when.filter(|_| names)
+    });
+    // Only where one clause says it: two moments of the node leave it open.
+    match (found.next(), found.next()) {
+        (Some(w), None) => Some(w),
+        _ => None,
+    }
 }

@@ -3080,3 +3080,27 @@ fn a_story_gives_the_moment_of_the_node_asked_about_and_a_topic_before_a_dash_is
         ),
     ]);
 }
+
+#[test]
+fn break_down_asks_for_the_account_a_tag_confirms_and_the_desktop_is_not_the_run() {
+    first_lines_are(vec![
+        (vec![PATROL], "Can you break down tick 3 for me?", "What happened at tick 3?"),
+        (vec![PATROL], "could you break down tick 3 for me?", "What happened at tick 3?"),
+        // A tag before the question confirms the story; the question follows.
+        (
+            vec![PATROL],
+            "ReactiveSequence re-ticks its condition, right? How many times was path clear checked in this run?",
+            "How often did path clear (#6) start?",
+        ),
+    ]);
+    for q in [
+        "Why does Groot2 crash when I open this .btlog on Windows?",
+        "which RMW works better with Nav2 on Humble?",
+    ] {
+        let (ok, out, _) = btx(&["ask", NAV2, q]);
+        assert!(
+            !ok && out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
+}

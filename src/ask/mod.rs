@@ -268,6 +268,7 @@ fn reading_of(cx: &Context, question: &str) -> (Option<read::Reading>, bool) {
             "justify", "explain", "tell", "show", "describe", "say", "give", "list",
         ]
         .contains(&first)
+            || words.starts_with(&["break", "down"])
             || read::wraps_a_question(&words)
             || words.iter().any(|w| read::ADVICE.contains(w))
     };

@@ -15,6 +15,7 @@ pub fn wraps_a_question(after: &[&str]) -> bool {
     // verbs that ask for an account whatever follows them.
     const ACCOUNT: &[&str] = &[
         "walk",
+        "breakdown",
         "explain",
         "describe",
         "list",

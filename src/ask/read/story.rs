@@ -300,10 +300,15 @@ pub(super) fn questions_in(text: &str) -> Vec<&str> {
     // "CaseStudySequence has just returned FAILURE. Explain what went
     // wrong.": a last sentence that bids is asked as a question is.
     let last = cuts.len() - 2;
+    // "ReactiveSequence re-ticks its condition, right? How many times …":
+    // a tag before another question confirms the story, it asks nothing.
+    let tag = |i: usize, s: &str| i < last && s.to_lowercase().ends_with(", right?");
     cuts.windows(2)
         .enumerate()
         .map(|(i, w)| (i, text[w[0]..w[1]].trim()))
-        .filter(|&(i, s)| s.ends_with('?') || i == last && bids(s, &text[..cuts[last]]))
+        .filter(|&(i, s)| {
+            s.ends_with('?') && !tag(i, s) || i == last && bids(s, &text[..cuts[last]])
+        })
         .map(|(_, s)| s)
         .collect()
 }

@@ -3092,6 +3092,12 @@ fn break_down_asks_for_the_account_a_tag_confirms_and_the_desktop_is_not_the_run
             "ReactiveSequence re-ticks its condition, right? How many times was path clear checked in this run?",
             "How often did path clear (#6) start?",
         ),
+        // "Before giving up" says when; trying is what is counted.
+        (
+            vec!["tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog"],
+            "How many times did it try detect chuck before giving up?",
+            "How often did detect chuck (#9, #12) start?",
+        ),
     ]);
     for q in [
         "Why does Groot2 crash when I open this .btlog on Windows?",

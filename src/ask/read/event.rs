@@ -293,7 +293,11 @@ pub(super) fn gave_up(s: &Sentence) -> bool {
     let give = ["give", "gave", "giving", "gives", "given"];
     let stop = ["stop", "stopped", "stops", "stopping", "quit", "quits"];
     let trying = ["trying", "retrying", "attempting"];
-    give.iter().any(|g| s.phrase(&[g, "up"]).is_some())
+    // "How many times did it try X before giving up?": a time, not the deed.
+    let a_time =
+        |i: usize| i > 0 && ["before", "until", "till"].contains(&s.q[i - 1].text.as_str());
+    give.iter()
+        .any(|g| s.phrase(&[g, "up"]).is_some_and(|i| !a_time(i)))
         || stop
             .iter()
             .any(|st| trying.iter().any(|t| s.phrase(&[st, t]).is_some()))

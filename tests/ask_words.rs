@@ -2926,10 +2926,15 @@ fn which_ticks_asks_when_and_a_hedge_or_a_greeting_changes_nothing() {
             "When did walk (#3) finish?",
         ),
     ]);
-    let (ok, out, _) = btx(&["ask", KITTING, "how does the arm feel today?"]);
+    refused(KITTING, "how does the arm feel today?");
+}
+
+/// `btx ask RUN Q` answers "I don't know how to answer that." and fails.
+fn refused(run: &str, q: &str) {
+    let (ok, out, _) = btx(&["ask", run, q]);
     assert!(
         !ok && out.starts_with("I don't know how to answer that."),
-        "{out}"
+        "{q}: {out}"
     );
 }
 
@@ -3103,10 +3108,6 @@ fn break_down_asks_for_the_account_a_tag_confirms_and_the_desktop_is_not_the_run
         "Why does Groot2 crash when I open this .btlog on Windows?",
         "which RMW works better with Nav2 on Humble?",
     ] {
-        let (ok, out, _) = btx(&["ask", NAV2, q]);
-        assert!(
-            !ok && out.starts_with("I don't know how to answer that."),
-            "{q}: {out}"
-        );
+        refused(NAV2, q);
     }
 }

@@ -213,6 +213,12 @@ pub(super) fn after_a_correction(text: &str) -> &str {
         .unwrap_or(text)
 }
 
+/// The words a question opens with, after a comma or a dash.
+const OPENS: &[&str] = &[
+    "what", "whats", "what's", "why", "how", "when", "which", "where", "did", "does", "do", "is",
+    "was", "were", "are", "can", "could", "has", "have", "will", "would",
+];
+
 /// The surest reading of what follows a comma where a question opens
 /// there ("…, can the taxi move down", "…, what is it doing now").
 pub(super) fn asked_after_a_comma(
@@ -220,10 +226,6 @@ pub(super) fn asked_after_a_comma(
     tree: &Tree,
     text: &str,
 ) -> Option<Reading> {
-    const OPENS: &[&str] = &[
-        "what", "whats", "what's", "why", "how", "when", "which", "where", "did", "does", "do",
-        "is", "was", "were", "are", "can", "could", "has", "have", "will", "would",
-    ];
     // "…, but did anything go wrong on the way?".
     text.match_indices(", ")
         .map(|(i, _)| text[i + 2..].strip_prefix("but ").unwrap_or(&text[i + 2..]))
@@ -257,10 +259,6 @@ pub(super) fn asked_after_a_dash(
     tree: &Tree,
     text: &str,
 ) -> Option<Reading> {
-    const OPENS: &[&str] = &[
-        "what", "whats", "what's", "why", "how", "when", "which", "where", "did", "does", "do",
-        "is", "was", "were", "are", "can", "could", "has", "have",
-    ];
     let (topic, rest) = [" - ", " — ", " – "]
         .iter()
         .filter_map(|d| text.rsplit_once(d))

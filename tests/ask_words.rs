@@ -3111,3 +3111,32 @@ fn break_down_asks_for_the_account_a_tag_confirms_and_the_desktop_is_not_the_run
         refused(NAV2, q);
     }
 }
+
+#[test]
+fn none_of_them_ran_and_the_moment_just_before_a_node_started() {
+    const DETECT: &str = "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog";
+    first_lines_are(vec![
+        (
+            vec![NAV2],
+            "why did none of the recovery actions ever run?",
+            "Why did RecoveryActions (#16) not run in tick 10?",
+        ),
+        // Ask (#28) started at 12:13 (ask #55 and #79 never did): just
+        // before it is 12:12, the detect chuck action's third failure.
+        (
+            vec![DETECT],
+            "what was it doing right before ask kicked in",
+            "What were you doing just before ask started?",
+        ),
+    ]);
+    let (ok, out, _) = btx(&[
+        "ask",
+        DETECT,
+        "what was it doing right before ask kicked in",
+    ]);
+    assert!(ok, "{out}");
+    assert!(
+        out.contains("The last thing I did was detect chuck, which failed."),
+        "{out}"
+    );
+}

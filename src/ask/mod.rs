@@ -304,6 +304,7 @@ fn past_the_clause(at: &crate::session::At, reading: &read::Reading, pos: u32) -
         Some(
             read::When::AfterFailure
                 | read::When::AfterFailureOf(_)
+                | read::When::AfterStartOf(_)
                 | read::When::AfterRecovery
                 | read::When::Ended {
                     side: read::Side::After,
@@ -461,6 +462,8 @@ pub fn moment_of(tree: &Tree, at: &crate::session::At, w: read::When) -> Result<
                 p
             })
         }
+        When::BeforeStartOf(u) => start_of(tree, at, u).map(|p| p - 1),
+        When::AfterStartOf(u) => start_of(tree, at, u),
         When::Ended {
             uid,
             n,
@@ -523,6 +526,31 @@ fn failure_of(tree: &Tree, at: &crate::session::At, u: Uid) -> Result<u32, Strin
         .or(failures.first())
         .copied()
         .ok_or_else(|| format!("{} never failed in this run.", tree.told(u)))
+}
+
+/// The position right after `u` started (left IDLE): its last start by
+/// the moment asked, else its first. Of nodes named alike ("ask" in three
+/// subtrees), the run says which: the start of any of them.
+fn start_of(tree: &Tree, at: &crate::session::At, u: Uid) -> Result<u32, String> {
+    use crate::run::Status;
+    let index = at.index;
+    let name = tree.description(u);
+    let mut starts: Vec<u32> = (1..=tree.len() as Uid)
+        .filter(|&v| tree.description(v) == name)
+        .flat_map(|v| index.changes_of(v).iter().copied())
+        .filter(|&p| {
+            let t = index.transitions[p as usize - 1];
+            t.prev == Status::Idle && t.status != Status::Idle
+        })
+        .collect();
+    starts.sort_unstable();
+    starts
+        .iter()
+        .rev()
+        .find(|&&p| p <= at.pos)
+        .or(starts.first())
+        .copied()
+        .ok_or_else(|| format!("{} never started in this run.", tree.told(u)))
 }
 
 /// The position right after `uid`'s `n`-th end (its `n`-th failure, if

@@ -97,9 +97,10 @@ pub(super) fn deepest(tree: &Tree, uids: &[Uid]) -> Uid {
         .unwrap_or(tree.root().uid)
 }
 
-/// "(just) before X failed", "right after the X failure", in a question
-/// that asks what was done or running: the moment, and the words that say
-/// it (the marker, the node's name, the failure).
+/// "(just) before X failed", "right after the X failure", "right before X
+/// kicked in", in a question that asks what was done or running: the
+/// moment, and the words that say it (the marker, the node's name, the
+/// failure or the start).
 pub(super) fn failure_clause(
     tree: &Tree,
     q: &[Word],
@@ -135,7 +136,7 @@ pub(super) fn failure_clause(
                 .iter()
                 .all(|w| w.text == "the" || when::ordinal(&w.text).is_some())
     })?;
-    let end = (m.end..q.len().min(m.end + 2)).find(|&i| q[i].stem.starts_with("fail"))?;
+    let (end, started) = event_after(q, m)?;
     // "After FollowPath failed the second time, did the bot come back from
     // that?": whether it recovered is asked after it.
     let rest = &q[end + 1..];
@@ -149,13 +150,11 @@ pub(super) fn failure_clause(
         return None;
     }
     let mut said: Vec<usize> = (k..=end).collect();
-    for j in (0..k).rev() {
-        if ["just", "right"].contains(&q[j].text.as_str()) {
-            said.push(j);
-        } else {
-            break;
-        }
-    }
+    said.extend(
+        (0..k)
+            .rev()
+            .take_while(|&j| ["just", "right"].contains(&q[j].text.as_str())),
+    );
     // Of nodes named alike, the innermost: the one whose failure the
     // others pass on (the FollowPath action, not its RecoveryNode).
     let uid = deepest(tree, &m.uids);
@@ -164,6 +163,8 @@ pub(super) fn failure_clause(
         .find_map(|w| when::ordinal(&w.text));
     let before = q[k].text == "before";
     let w = match (nth, before) {
+        _ if started && before => When::BeforeStartOf(uid),
+        _ if started => When::AfterStartOf(uid),
         (Some(n), _) => When::Ended {
             uid,
             n,
@@ -174,6 +175,30 @@ pub(super) fn failure_clause(
         (None, false) => When::AfterFailureOf(uid),
     };
     Some((w, said))
+}
+
+/// The word after the name that says the event a clause's moment is
+/// told by, and whether it is a start ("right before ask kicked in",
+/// where no failure is said) rather than a failure.
+fn event_after(q: &[Word], m: &Mention) -> Option<(usize, bool)> {
+    const STARTS: &[&str] = &[
+        "started",
+        "starts",
+        "start",
+        "kicked",
+        "kicks",
+        "began",
+        "begins",
+        "launched",
+        "triggered",
+    ];
+    let near = m.end..q.len().min(m.end + 2);
+    if let Some(i) = near.clone().find(|&i| q[i].stem.starts_with("fail")) {
+        return Some((i, false));
+    }
+    near.into_iter()
+        .find(|&i| STARTS.contains(&q[i].text.as_str()))
+        .map(|i| (i, true))
 }
 
 /// "The retreat arm in reset arm", "the costmap clearing under the

@@ -80,6 +80,8 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     });
     let negated = s.has("not") && s.phrase(&["or", "not"]).is_none() && !time_denied
         || s.has("never")
+        // "Why did none of the recovery actions ever run?".
+        || s.phrase(&["none", "of"]).is_some()
         || s.has("no") && !s.has("one");
     // "Why did it end up asking for help?": it came to do it, which is
     // running it, not finishing ("ends up aborting" is aborting).

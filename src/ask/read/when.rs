@@ -24,6 +24,11 @@ pub enum When {
     BeforeFailureOf(crate::model::Uid),
     /// Just after this node failed.
     AfterFailureOf(crate::model::Uid),
+    /// Just before this node started ("right before ask kicked in"; its
+    /// last start by the moment asked, else its first).
+    BeforeStartOf(crate::model::Uid),
+    /// Just after this node started.
+    AfterStartOf(crate::model::Uid),
     /// The N-th failure of an action or condition in the run: "the
     /// first time it stalled" asked of the robot, not of a node.
     NthFailure(u32),
@@ -61,6 +66,8 @@ impl When {
             When::AfterRecovery => "after the recovery".into(),
             When::BeforeFailureOf(u) => format!("just before #{u} failed"),
             When::AfterFailureOf(u) => format!("just after #{u} failed"),
+            When::BeforeStartOf(u) => format!("just before #{u} started"),
+            When::AfterStartOf(u) => format!("just after #{u} started"),
             When::NthFailure(n) => format!("at the {} failure", ordinal_word(n)),
             When::Ended {
                 uid,
@@ -76,6 +83,9 @@ impl When {
         match self {
             When::BeforeFailureOf(u) => format!("just before {} failed", tree.told(u)),
             When::AfterFailureOf(u) => format!("just after {} failed", tree.told(u)),
+            // By name: of nodes named alike, the run says which started.
+            When::BeforeStartOf(u) => format!("just before {} started", tree.description(u)),
+            When::AfterStartOf(u) => format!("just after {} started", tree.description(u)),
             When::Ended {
                 uid,
                 n,

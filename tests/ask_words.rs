@@ -3140,3 +3140,35 @@ fn none_of_them_ran_and_the_moment_just_before_a_node_started() {
         "{out}"
     );
 }
+
+#[test]
+fn can_you_and_the_goal_as_a_translator_puts_them() {
+    first_lines_are(vec![
+        (
+            vec![KITTING],
+            "Are you capable to retreat the arm?",
+            "Can you retreat arm?",
+        ),
+        (
+            vec![PATROL],
+            "Is it possible for you to drive?",
+            "Can you drive?",
+        ),
+        (vec![PATROL], "Driving, you can do it?", "Can you drive?"),
+        (
+            vec![BAG[0], BAG[1], BAG[2], BAG[3], BAG[4]],
+            "Clearing of the local costmap, is it possible for you?",
+            "Can you ClearLocalCostmap?",
+        ),
+        (
+            vec![PATROL],
+            "What is the finality of the robot?",
+            "What is your goal?",
+        ),
+        (
+            vec![TAXI],
+            "Which is the ultimate scope of this tree?",
+            "What is your goal?",
+        ),
+    ]);
+}

@@ -104,6 +104,18 @@ const OPENINGS: &[&[&str]] = &[
     &["does", "robot", "make", "any", "provision", "for"],
     &["does", "robot", "include", "any", "means", "of"],
     &["does", "robot", "provide", "for"],
+    // Translated: "is it in your capacity to", "are you capable to", "are
+    // you in the condition to", "is it possible for you to", "do you have
+    // the capacity of".
+    &["is", "robot", "in", "capacity", "to"],
+    &["are", "you", "capable", "to"],
+    &["are", "you", "in", "condition", "to"],
+    &["is", "robot", "possible", "for", "you", "to"],
+    &["is", "robot", "possible", "to", "you", "to"],
+    &["it", "is", "possible", "for", "you", "to"],
+    &["do", "you", "have", "capacity", "of"],
+    &["do", "you", "have", "capacity", "to"],
+    &["you", "are", "able", "to"],
 ];
 
 /// The words of the question that may open "Can you X?" or be its X:
@@ -181,6 +193,10 @@ fn robot_as_robot<'a>(
 /// it can; nothing before the tag asks anything else.
 fn tagged(s: &Sentence, tree: &Tree, free: &[(usize, &Word)], texts: &[&str]) -> Option<String> {
     const TAGS: &[&[&str]] = &[
+        // "Clearing of the local costmap, is it possible for you?",
+        // "walking, you can do it?".
+        &["is", "it", "possible", "for", "you"],
+        &["you", "can", "do", "it"],
         &["can", "it", "do", "that"],
         // "That" is read past as an article.
         &["can", "it", "do"],
@@ -211,7 +227,12 @@ fn tagged(s: &Sentence, tree: &Tree, free: &[(usize, &Word)], texts: &[&str]) ->
         return Some(tree.description(m.uids[0]).to_string());
     }
     // "Collision scan": the words of one name, in another order.
-    let said: Vec<&Word> = free[..before.len()].iter().map(|(_, w)| *w).collect();
+    // "Clearing of the local costmap": the small words are no name's.
+    let said: Vec<&Word> = free[..before.len()]
+        .iter()
+        .map(|(_, w)| *w)
+        .filter(|w| !["of", "for", "to", "the", "a", "an"].contains(&w.text.as_str()))
+        .collect();
     let named = (1..=tree.len() as Uid).find(|&u| {
         let name = words::words(tree.description(u));
         said.len() > 1 && said.iter().all(|w| name.iter().any(|n| n.stem == w.stem))

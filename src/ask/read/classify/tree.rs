@@ -73,6 +73,11 @@ pub(super) fn asks_goal(s: &Sentence) -> bool {
         // what it is for.
         || s.phrase(&["supposed", "to"]).is_some() && !ends_being(s, "supposed")
         || s.phrase(&["meant", "to"]).is_some() && !ends_being(s, "meant")
+        // Translated: "the finality of the robot", "the ultimate scope of
+        // this tree", "what does it want to reach finally".
+        || s.has("finality")
+        || s.has("scope") && ["ultimate", "final", "overall", "general"].iter().any(|w| s.has(w))
+        || s.has_stem(&["want"]) && ["reach", "obtain", "achieve"].iter().any(|w| s.has(w))
         // "What was the robot going for overall?".
         || s.phrase(&["going", "for"]).is_some() && (s.has("overall") || s.has("ultimately"))
         || s.phrase(&["working", "towards"]).is_some()

@@ -452,17 +452,13 @@ pub fn open_first(
         return Ok(None);
     };
     let mut head = [0u8; 23];
-    if opts.run.is_some()
-        || file.read_exact(&mut head).is_err()
-        || !head.starts_with(crate::logs::btlog::MAGIC)
-    {
+    if opts.run.is_some() || file.read_exact(&mut head).is_err() {
         return Ok(None);
     }
-    let xml = i32::from_le_bytes(head[19..23].try_into().expect("4 bytes"));
-    let Ok(xml) = usize::try_from(xml) else {
+    let Some(first) = crate::logs::btlog::records_start(&head) else {
         return Ok(None);
     };
-    let want = 31 + xml + 9 * records;
+    let want = first + 9 * records;
     if len <= want as u64 {
         return Ok(None);
     }

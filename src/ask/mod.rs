@@ -519,13 +519,17 @@ fn failure_of(tree: &Tree, at: &crate::session::At, u: Uid) -> Result<u32, Strin
         .copied()
         .filter(|&p| index.transitions[p as usize - 1].status == crate::run::Status::Failure)
         .collect();
-    failures
+    nearest(&failures, at.pos).ok_or_else(|| format!("{} never failed in this run.", tree.told(u)))
+}
+
+/// Of positions in order, the last at or before `pos`, else the first.
+fn nearest(positions: &[u32], pos: u32) -> Option<u32> {
+    positions
         .iter()
         .rev()
-        .find(|&&p| p <= at.pos)
-        .or(failures.first())
+        .find(|&&p| p <= pos)
+        .or(positions.first())
         .copied()
-        .ok_or_else(|| format!("{} never failed in this run.", tree.told(u)))
 }
 
 /// The position right after `u` started (left IDLE): its last start by
@@ -544,13 +548,7 @@ fn start_of(tree: &Tree, at: &crate::session::At, u: Uid) -> Result<u32, String>
         })
         .collect();
     starts.sort_unstable();
-    starts
-        .iter()
-        .rev()
-        .find(|&&p| p <= at.pos)
-        .or(starts.first())
-        .copied()
-        .ok_or_else(|| format!("{} never started in this run.", tree.told(u)))
+    nearest(&starts, at.pos).ok_or_else(|| format!("{} never started in this run.", tree.told(u)))
 }
 
 /// The position right after `uid`'s `n`-th end (its `n`-th failure, if

@@ -112,6 +112,17 @@ fn at(path: &Path, offset: usize, msg: impl std::fmt::Display) -> Located {
     Located::file(path, format!("byte offset {offset}: {msg}"))
 }
 
+/// How many bytes of a `.btlog` come before its first record, from its
+/// first 23 (the magic, the version and the XML's length): None where
+/// they are no `.btlog`'s.
+pub fn records_start(head: &[u8]) -> Option<usize> {
+    if !head.starts_with(MAGIC) {
+        return None;
+    }
+    let n = i32::from_le_bytes(head.get(19..23)?.try_into().ok()?);
+    usize::try_from(n).ok().map(|n| 31 + n)
+}
+
 /// A `.btlog`, or the start of one cut inside its magic.
 pub fn is_btlog(bytes: &[u8]) -> bool {
     bytes.starts_with(MAGIC) || (bytes.len() >= 6 && MAGIC.starts_with(bytes))

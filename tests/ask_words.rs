@@ -3129,6 +3129,21 @@ fn none_of_them_ran_and_the_moment_just_before_a_node_started() {
             "What were you doing just before ask started?",
         ),
     ]);
+    // "The controller" is the FollowPath action (#10), which last started
+    // at 4:8 by 6:9; the RecoveryNode (#9) that shares its name and went
+    // to FAILURE at 6:4 is another behaviour, not taken in its place.
+    let q = "what was it doing right before the controller started?";
+    let (ok, out, _) = btx(&["ask", "--at", "6:9", NAV2, q]);
+    assert!(ok, "{out}");
+    assert_eq!(
+        out.lines().next(),
+        Some("What were you doing just before the FollowPath action (#10) started?"),
+        "{out}"
+    );
+    assert!(
+        out.contains("The last thing I did was GoalUpdated, which succeeded."),
+        "{out}"
+    );
     let (ok, out, _) = btx(&[
         "ask",
         DETECT,

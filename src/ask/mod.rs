@@ -533,14 +533,14 @@ fn nearest(positions: &[u32], pos: u32) -> Option<u32> {
 }
 
 /// The position right after `u` started (left IDLE): its last start by
-/// the moment asked, else its first. Of nodes named alike ("ask" in three
-/// subtrees), the run says which: the start of any of them.
+/// the moment asked, else its first. Of the same behaviour in several
+/// places ("ask" in three subtrees, `read::alike`), the run says which:
+/// the start of any of them.
 fn start_of(tree: &Tree, at: &crate::session::At, u: Uid) -> Result<u32, String> {
     use crate::run::Status;
     let index = at.index;
-    let name = tree.description(u);
-    let mut starts: Vec<u32> = (1..=tree.len() as Uid)
-        .filter(|&v| tree.description(v) == name)
+    let mut starts: Vec<u32> = read::alike(tree, u)
+        .into_iter()
         .flat_map(|v| index.changes_of(v).iter().copied())
         .filter(|&p| {
             let t = index.transitions[p as usize - 1];

@@ -40,7 +40,7 @@ use naming::*;
 use one::*;
 use rewrite::{ids_as_uids, named_as_uids, paths_as_uids, ports_as_uids, states_as_outcomes};
 use story::*;
-pub use when::{ordinal_word, Side, When};
+pub use when::{alike, ordinal_word, Side, When};
 use words::Word;
 
 /// Below this, the answer says what it read and offers other readings.

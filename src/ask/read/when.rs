@@ -83,9 +83,8 @@ impl When {
         match self {
             When::BeforeFailureOf(u) => format!("just before {} failed", tree.told(u)),
             When::AfterFailureOf(u) => format!("just after {} failed", tree.told(u)),
-            // By name: of nodes named alike, the run says which started.
-            When::BeforeStartOf(u) => format!("just before {} started", tree.description(u)),
-            When::AfterStartOf(u) => format!("just after {} started", tree.description(u)),
+            When::BeforeStartOf(u) => format!("just before {} started", started(tree, u)),
+            When::AfterStartOf(u) => format!("just after {} started", started(tree, u)),
             When::Ended {
                 uid,
                 n,
@@ -94,6 +93,28 @@ impl When {
             } => ended(&tree.told(uid), n, failed, side),
             w => w.words(),
         }
+    }
+}
+
+/// The same behaviour as `u` wherever the tree has it: its ID and name
+/// ("ask" in three subtrees), not a node that only shares the name (the
+/// FollowPath RecoveryNode beside the FollowPath action).
+pub fn alike(tree: &crate::model::Tree, u: crate::model::Uid) -> Vec<crate::model::Uid> {
+    let n = tree.node(u);
+    (1..=tree.len() as crate::model::Uid)
+        .filter(|&v| {
+            let m = tree.node(v);
+            m.id == n.id && tree.description(v) == tree.description(u)
+        })
+        .collect()
+}
+
+/// The node a start is told by: by name where the behaviour is in several
+/// places (the run says which started), else the node itself.
+fn started(tree: &crate::model::Tree, u: crate::model::Uid) -> String {
+    match alike(tree, u).len() {
+        1 => tree.told(u),
+        _ => tree.description(u).to_string(),
     }
 }
 

@@ -2,11 +2,7 @@
 //! messages read a chunk at a time.
 
 use super::*;
-
-/// An MCAP chunk decompresses to at most this (rosbag2 writes chunks of
-/// about 768 KiB): a chunk that claims more is refused before it is
-/// decompressed.
-pub const MCAP_CHUNK_MAX: u64 = 256 << 20;
+use std::sync::Arc;
 
 pub(super) fn is_mcap(file: &Path) -> bool {
     std::fs::File::open(file)
@@ -56,7 +52,7 @@ pub(super) fn mcap_topics(file: &Path) -> Result<Vec<(String, String)>, Located>
         // Past a cut, the topics before it are the bag's (`read` says the cut).
         let Ok(rec) = rec else { break };
         match rec {
-            Record::Chunk { header, data } if header.uncompressed_size <= MCAP_CHUNK_MAX => {
+            Record::Chunk { header, data } if header.uncompressed_size <= chunk::MCAP_CHUNK_MAX => {
                 let Ok(inner) = mcap::read::ChunkReader::new(header, &data) else {
                     break;
                 };
@@ -74,12 +70,13 @@ pub(super) fn mcap_topics(file: &Path) -> Result<Vec<(String, String)>, Located>
 /// An MCAP file read in order, record by record, as its specification
 /// describes for a file with no summary: a file cut short (a recorder
 /// killed) is read up to its last whole record, and what follows is said.
+/// Once the log's messages are known plain, its chunks are read on every
+/// core (`pool`), joined in the file's order.
 pub(super) fn read_mcap(
     file: &Path,
     m: &mut Matcher,
     want: Option<&str>,
 ) -> Result<(String, Option<String>), Located> {
-    use mcap::records::Record;
     let mut st = McapLog {
         file,
         want,
@@ -87,40 +84,19 @@ pub(super) fn read_mcap(
         topics: Vec::new(),
         log: None,
         defs: None,
+        cut: None,
     };
-    let mut ended = false;
-    let (len, error) = mcap_records(file, |rec| {
-        match rec {
-            Record::Chunk { header, data } => {
-                if header.uncompressed_size > MCAP_CHUNK_MAX {
-                    return Err(Located::file(
-                        file,
-                        format!(
-                            "an MCAP chunk claims {} bytes decompressed, more than the {} MiB btx reads in one chunk (rosbag2 writes chunks of about 768 KiB)",
-                            header.uncompressed_size,
-                            MCAP_CHUNK_MAX >> 20
-                        ),
-                    ));
-                }
-                let inner = mcap::read::ChunkReader::new(header, &data)
-                    .map_err(|e| Located::file(file, format!("MCAP chunk: {e}")))?;
-                for r in inner {
-                    let r = r.map_err(|e| Located::file(file, format!("MCAP chunk: {e}")))?;
-                    st.take(r, m)?;
-                    if m.full() {
-                        break;
-                    }
-                }
-            }
-            Record::DataEnd(_) | Record::Footer(_) => ended = true,
-            r => st.take(r, m)?,
-        }
-        Ok(!m.full() && !ended)
-    })?;
+    let mut reading = Reading {
+        pool: None,
+        ended: false,
+    };
+    let (len, error) = mcap_records(file, |rec, bag| reading.record(rec, bag, &mut st, m))?;
+    reading.finish(&mut st, m)?;
+    let ended = reading.ended;
     if m.full() {
         return Ok((st.topic()?, None));
     }
-    let cut = match error {
+    let cut = match st.cut.take().or(error) {
         Some(e) => Some(cut_short(m, &e)),
         None if !ended => Some(cut_short(m, "")),
         None => None,
@@ -134,54 +110,206 @@ pub(super) fn read_mcap(
     Ok((st.topic()?, cut))
 }
 
-/// An MCAP file's records in order, as its specification describes for a
-/// file with no summary, read a piece at a time (the bag is never held
-/// whole: a chunk at most, with its records), chunks given whole to `take`
-/// until it says stop. The file's length, and the error a cut file (a
-/// recorder killed) ends in, if any.
-pub(super) fn mcap_records(
-    file: &Path,
-    mut take: impl FnMut(mcap::records::Record<'_>) -> Result<bool, Located>,
-) -> Result<(u64, Option<String>), Located> {
-    use mcap::sans_io::linear_reader::{LinearReadEvent, LinearReader, LinearReaderOptions};
-    use std::io::Read;
-    let len = crate::source::check_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
-    let cannot = |e: std::io::Error| Located::file(file, format!("cannot read the bag: {e}"));
-    let mut f = std::fs::File::open(file).map_err(cannot)?;
-    let options = LinearReaderOptions::default()
-        .with_skip_end_magic(true)
-        .with_emit_chunks(true)
-        // A chunk's compressed bytes: past what it may decompress to, and
-        // a margin, a length is a broken file, not an allocation.
-        .with_record_length_limit((MCAP_CHUNK_MAX + (1 << 20)) as usize);
-    let mut reader = LinearReader::new_with_options(options);
-    let mut read_any = false;
-    while let Some(event) = reader.next_event() {
-        match event {
-            Ok(LinearReadEvent::ReadRequest(need)) => {
-                let n = f.read(reader.insert(need.max(1 << 16))).map_err(cannot)?;
-                reader.notify_read(n);
-            }
-            Ok(LinearReadEvent::Record { opcode, data }) => {
-                let record = match mcap::parse_record(opcode, data) {
-                    Ok(r) => r,
-                    Err(e) => return Ok((len, Some(e.to_string()))),
-                };
-                read_any = true;
-                if !take(record)? {
-                    return Ok((len, None));
+/// Where reading an MCAP is: its chunks given to the pool, if one is
+/// started; its end reached.
+struct Reading {
+    pool: Option<pool::Pool>,
+    ended: bool,
+}
+
+impl Reading {
+    /// One record, in the file's order; whether to read on.
+    fn record(
+        &mut self,
+        rec: McapRecord,
+        bag: &Arc<std::fs::File>,
+        st: &mut McapLog,
+        m: &mut Matcher,
+    ) -> Result<bool, Located> {
+        use mcap::records::Record;
+        match rec {
+            McapRecord::Chunk { at, len } => {
+                if self.pool.is_none() {
+                    // Once the log's messages are known plain.
+                    let layout = st.defs.as_ref().zip(st.log.as_ref());
+                    self.pool = layout
+                        .and_then(|(d, l)| m.layout(d, l.id))
+                        .and_then(|l| pool::Pool::start(l, st.file));
+                }
+                match &mut self.pool {
+                    Some(p) => p.give(pool::Piece::Chunk(bag.clone(), at, len), &mut |p, r| {
+                        join(p, r, st, m)
+                    })?,
+                    None => chunk(bag, at, len, st, m)?,
                 }
             }
-            Err(mcap::McapError::BadMagic) if !read_any => {
-                return Err(Located::file(
-                    file,
-                    format!("not a readable MCAP file: {}", mcap::McapError::BadMagic),
-                ))
+            // Indexes, statistics, attachments: nothing of the log.
+            McapRecord::Other(
+                Record::MessageIndex(_)
+                | Record::ChunkIndex(_)
+                | Record::Statistics(_)
+                | Record::Attachment { .. }
+                | Record::AttachmentIndex(_)
+                | Record::Metadata(_)
+                | Record::MetadataIndex(_)
+                | Record::SummaryOffset(_),
+            ) => {}
+            McapRecord::Other(r) => {
+                // In the bag's order: every chunk before it first.
+                self.finish(st, m)?;
+                match r {
+                    _ if st.cut.is_some() => {}
+                    Record::DataEnd(_) | Record::Footer(_) => self.ended = true,
+                    r => st.take(r, m)?,
+                }
             }
-            Err(e) => return Ok((len, Some(e.to_string()))),
+        }
+        Ok(!m.full() && !self.ended && st.cut.is_none())
+    }
+
+    /// Every chunk given out joined.
+    fn finish(&mut self, st: &mut McapLog, m: &mut Matcher) -> Result<(), Located> {
+        match self.pool.take() {
+            Some(mut p) => p.finish(&mut |p, r| join(p, r, st, m)),
+            None => Ok(()),
         }
     }
-    Ok((len, None))
+}
+
+/// A chunk back from the pool: its records, or, where a worker could not
+/// read it, the chunk read here.
+fn join(
+    piece: pool::Piece,
+    read: Option<pool::Read>,
+    st: &mut McapLog,
+    m: &mut Matcher,
+) -> Result<(), Located> {
+    match (read, piece) {
+        _ if m.full() || st.cut.is_some() => Ok(()),
+        (Some(read), _) => {
+            m.join(&read);
+            Ok(())
+        }
+        (None, pool::Piece::Chunk(bag, at, len)) => chunk(&bag, at, len, st, m),
+        (None, pool::Piece::Messages(..)) => Ok(()),
+    }
+}
+
+/// A chunk's records, read in order on this thread. A chunk that is not
+/// one is where the file stops being readable (`McapLog::cut`).
+fn chunk(
+    bag: &std::fs::File,
+    at: u64,
+    len: usize,
+    st: &mut McapLog,
+    m: &mut Matcher,
+) -> Result<(), Located> {
+    let file = st.file;
+    let mut bytes = Vec::new();
+    chunk::read_at(bag, at, len, &mut bytes)
+        .map_err(|e| Located::file(file, format!("cannot read the bag: {e}")))?;
+    let (header, data) = match chunk::open(&bytes[..len]) {
+        Ok(c) => c,
+        Err(chunk::Unread::Broken(why)) => {
+            st.cut = Some(why);
+            return Ok(());
+        }
+        Err(chunk::Unread::TooBig(size)) => {
+            return Err(Located::file(
+                file,
+                format!(
+                    "an MCAP chunk claims {size} bytes decompressed, more than the {} MiB btx reads in one chunk (rosbag2 writes chunks of about 768 KiB)",
+                    chunk::MCAP_CHUNK_MAX >> 20
+                ),
+            ))
+        }
+    };
+    let inner = mcap::read::ChunkReader::new(header, &data)
+        .map_err(|e| Located::file(file, format!("MCAP chunk: {e}")))?;
+    for r in inner {
+        let r = r.map_err(|e| Located::file(file, format!("MCAP chunk: {e}")))?;
+        st.take(r, m)?;
+        if m.full() {
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// A record of an MCAP as its file holds it: a chunk by where its bytes
+/// lie, so that any thread can read it, any other read.
+pub(super) enum McapRecord<'a> {
+    Chunk { at: u64, len: usize },
+    Other(mcap::records::Record<'a>),
+}
+
+/// An MCAP file's records in order, as its specification describes for a
+/// file with no summary: an opcode, a length, that many bytes. The bag is
+/// never held whole: a chunk is given as where it lies, any other record
+/// read. Given to `take` until it says stop. The file's length, and why a
+/// cut file (a recorder killed) stops where it does, if it does.
+pub(super) fn mcap_records(
+    file: &Path,
+    mut take: impl FnMut(McapRecord<'_>, &Arc<std::fs::File>) -> Result<bool, Located>,
+) -> Result<(u64, Option<String>), Located> {
+    use std::io::{Read, Seek, SeekFrom};
+    let len = crate::source::check_input(file, crate::source::INPUT_SIZE_MAX, "the bag")?;
+    let cannot = |e: std::io::Error| Located::file(file, format!("cannot read the bag: {e}"));
+    let bag = Arc::new(std::fs::File::open(file).map_err(cannot)?);
+    let mut f = std::io::BufReader::with_capacity(1 << 16, &*bag);
+    let mut magic = [0u8; 8];
+    if f.read_exact(&mut magic).is_err() || magic != *MCAP_MAGIC {
+        return Err(Located::file(
+            file,
+            format!("not a readable MCAP file: {}", mcap::McapError::BadMagic),
+        ));
+    }
+    // A chunk's compressed bytes: past what it may decompress to, and a
+    // margin, a length is a broken file, not an allocation.
+    let limit = chunk::MCAP_CHUNK_MAX + (1 << 20);
+    let mut at = 8u64;
+    let mut bytes = Vec::new();
+    loop {
+        // A record's opcode and length, then its bytes: a file that ends
+        // inside one was cut there.
+        let mut head = [0u8; 9];
+        if len - at < 9 {
+            return Ok((len, None));
+        }
+        f.read_exact(&mut head).map_err(cannot)?;
+        let n = u64::from_le_bytes(head[1..].try_into().expect("8 bytes"));
+        if n > limit {
+            return Ok((
+                len,
+                Some(format!("record length {n} exceeds limit {limit}")),
+            ));
+        }
+        if len - at - 9 < n {
+            return Ok((len, None));
+        }
+        let body = at + 9;
+        at = body + n;
+        let go = if head[0] == mcap::records::op::CHUNK {
+            f.seek(SeekFrom::Start(at)).map_err(cannot)?;
+            take(
+                McapRecord::Chunk {
+                    at: body,
+                    len: n as usize,
+                },
+                &bag,
+            )?
+        } else {
+            bytes.resize(n as usize, 0);
+            f.read_exact(&mut bytes).map_err(cannot)?;
+            match mcap::parse_record(head[0], &bytes) {
+                Ok(r) => take(McapRecord::Other(r), &bag)?,
+                Err(e) => return Ok((len, Some(e.to_string()))),
+            }
+        };
+        if !go {
+            return Ok((len, None));
+        }
+    }
 }
 
 /// What an MCAP's records said so far: schemas, channels, the log's.
@@ -195,6 +323,8 @@ pub(super) struct McapLog<'a> {
     /// The log's channel, and its definitions once its first message came.
     pub(super) log: Option<LogChannel>,
     pub(super) defs: Option<LogDefs>,
+    /// Why the file cannot be read past a chunk, where one is not one.
+    pub(super) cut: Option<String>,
 }
 
 pub(super) struct LogChannel {

@@ -6,7 +6,9 @@
 //! caller gives the tree the robot ran. Every goal (the root starting
 //! again after it stopped) is a run of its own.
 
+mod chunk;
 mod mcap_file;
+mod pool;
 mod sqlite;
 
 use super::btlog::Record;
@@ -194,17 +196,22 @@ fn storage_files(path: &Path) -> Result<Vec<PathBuf>, Located> {
 /// The `behavior_tree_log` topic as records of `tree`, in the bag's order.
 /// `want` names the topic when the bag has several (`--topic`).
 pub fn read(path: &Path, tree: &Tree, want: Option<&str>) -> Result<BagRecords, Located> {
-    read_at_most(path, tree, want, BAG_TRANSITIONS_MAX)
+    read_at_most(path, tree, want, BAG_TRANSITIONS_MAX, false).map(|(r, _)| r)
 }
 
+/// The bag read up to `max` changes, on this thread `alone` or else on
+/// every core once its messages are known plain; with the pieces the
+/// other threads read.
 fn read_at_most(
     path: &Path,
     tree: &Tree,
     want: Option<&str>,
     max: usize,
-) -> Result<BagRecords, Located> {
+    alone: bool,
+) -> Result<(BagRecords, usize), Located> {
     let mut m = Matcher::new(path, tree);
     m.max = max;
+    m.alone = alone;
     let mut topic = None;
     let mut cut = None;
     let files = storage_files(path)?;
@@ -238,13 +245,15 @@ fn read_at_most(
         }
     }
     let by_layout = (m.messages > 0 && !m.uids).then_some(crate::model::nav2::Release::Humble);
-    Ok(BagRecords {
+    let pieces = m.pieces;
+    let records = BagRecords {
         topic: topic.unwrap_or_default(),
         ambiguous: m.said(),
         release: distro(path).or(by_layout),
         records: m.records,
         cut,
-    })
+    };
+    Ok((records, pieces))
 }
 
 /// The bag's `behavior_tree_log` topics, one robot's each, in the order
@@ -468,7 +477,7 @@ struct Matcher<'a> {
     status: Vec<Status>,
     names: std::collections::HashMap<Box<[u8]>, Vec<Uid>>,
     /// Each node's name as a change gives it (`bt_name`), by uid from 1.
-    named: Vec<Box<[u8]>>,
+    named: std::sync::Arc<[Box<[u8]>]>,
     records: Vec<Record>,
     /// One message's slots, the buffer kept from message to message.
     slots: Vec<Slot>,
@@ -477,6 +486,9 @@ struct Matcher<'a> {
     ambiguous: Option<(String, usize)>,
     /// Whether the changes carry uids (Jazzy's messages and later).
     uids: bool,
+    /// Whether to read on this thread only; the pieces read on others.
+    alone: bool,
+    pieces: usize,
 }
 
 impl<'a> Matcher<'a> {
@@ -502,6 +514,8 @@ impl<'a> Matcher<'a> {
             messages: 0,
             ambiguous: None,
             uids: false,
+            alone: false,
+            pieces: 0,
         }
     }
 
@@ -534,7 +548,10 @@ impl<'a> Matcher<'a> {
             let k = f.kinds();
             k[0] != SlotKind::Absent && [k[3], k[5], k[6]].iter().all(|&k| k == SlotKind::Text)
         });
-        Ok(LogDefs { defs, flat })
+        Ok(LogDefs {
+            defs,
+            flat: flat.map(std::sync::Arc::new),
+        })
     }
 
     /// One message's changes.
@@ -557,6 +574,11 @@ impl<'a> Matcher<'a> {
     }
 
     fn take(&mut self, c: &Change, message: usize) -> Result<(), Located> {
+        if let Some((uid, now)) = plain(&self.named, c) {
+            self.uids = true;
+            self.push(c.time_us, uid, now);
+            return Ok(());
+        }
         let now = Status::parse_bytes(c.now).ok_or_else(|| {
             self.at(
                 message,
@@ -620,14 +642,49 @@ impl<'a> Matcher<'a> {
                 u
             }
         };
-        self.status[uid as usize - 1] = now;
+        self.push(c.time_us, uid, now);
+        Ok(())
+    }
+
+    fn push(&mut self, time_us: i64, uid: Uid, status: Status) {
+        self.status[uid as usize - 1] = status;
         self.records.push(Record {
-            time_us: c.time_us,
+            time_us,
             uid,
-            status: now,
+            status,
             offset: self.records.len(),
         });
-        Ok(())
+    }
+
+    /// A piece's records, read on another thread, message by message as
+    /// `message` would have taken them.
+    fn join(&mut self, read: &pool::Read) {
+        self.pieces += 1;
+        let mut from = 0;
+        for &end in &read.ends {
+            if self.full() {
+                return;
+            }
+            self.messages += 1;
+            self.uids |= end > from;
+            for r in &read.records[from..end] {
+                self.push(r.time_us, r.uid, r.status);
+            }
+            from = end;
+        }
+    }
+
+    /// How pieces of the bag can be read on other threads, where its
+    /// messages so far were plain: uids, and a flat layout.
+    fn layout(&self, defs: &LogDefs, channel: u16) -> Option<pool::Layout> {
+        if !self.uids || self.alone {
+            return None;
+        }
+        Some(pool::Layout {
+            flat: defs.flat.clone()?,
+            named: self.named.clone(),
+            channel,
+        })
     }
 
     fn said(&self) -> Option<String> {
@@ -637,6 +694,16 @@ impl<'a> Matcher<'a> {
             )
         })
     }
+}
+
+/// A change whose uid names the tree's node of its name, to a status
+/// that is one: its node and status, as read on any thread. Any other is
+/// placed by `Matcher::take`, which says what is wrong with it.
+fn plain(named: &[Box<[u8]>], c: &Change) -> Option<(Uid, Status)> {
+    let uid = c.uid?;
+    let name = named.get((uid as usize).wrapping_sub(1))?;
+    (**name == *c.name).then_some(())?;
+    Some((uid, Status::parse_bytes(c.now)?))
 }
 
 /// A message's text as said: its bytes as UTF-8, any that are not
@@ -672,7 +739,7 @@ const CHANGE_PATHS: [&str; 7] = [
 /// where it has one.
 struct LogDefs {
     defs: Definitions,
-    flat: Option<super::cdr::Flat>,
+    flat: Option<std::sync::Arc<super::cdr::Flat>>,
 }
 
 /// Where each run starts among the records: at the first, and wherever
@@ -708,7 +775,7 @@ mod tests {
         assert!(whole.cut.is_none());
         // Read message by message: the message that reaches the bound is
         // read whole, and nothing after it.
-        let part = read_at_most(&bag, &tree, None, 5).unwrap();
+        let (part, _) = read_at_most(&bag, &tree, None, 5, false).unwrap();
         assert_eq!(part.records.len(), 10);
         assert_eq!(part.records[..], whole.records[..10]);
         assert!(whole.records.len() > 10);
@@ -720,6 +787,60 @@ mod tests {
             "{cut}"
         );
         assert!(cut.ends_with("), not the rest"), "{cut}");
+    }
+
+    /// `bag`'s MCAP rewritten in chunks of about `size` bytes, by the
+    /// `mcap` crate's own writer, with no summary (as a recorder killed
+    /// leaves it).
+    fn rechunked(bag: &Path, size: u64, out: &Path) {
+        let bytes = std::fs::read(bag).unwrap();
+        let mut w = mcap::WriteOptions::new()
+            .chunk_size(Some(size))
+            .emit_summary_records(false)
+            .emit_summary_offsets(false)
+            .create(std::io::BufWriter::new(std::fs::File::create(out).unwrap()))
+            .unwrap();
+        for m in mcap::MessageStream::new(&bytes).unwrap() {
+            w.write(&m.unwrap()).unwrap();
+        }
+        w.finish().unwrap();
+    }
+
+    #[test]
+    fn a_bag_read_on_every_core_is_read_as_on_one_thread() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/rosbag");
+        let tree = crate::xml::load_file(&dir.join("navigator.xml"), &Default::default())
+            .unwrap()
+            .tree;
+        let tmp = tempfile::tempdir().unwrap();
+        let small = tmp.path().join("small.mcap");
+        rechunked(&dir.join("two_goals/two_goals.mcap"), 100, &small);
+        let bytes = std::fs::read(&small).unwrap();
+        let said = |r: Result<(BagRecords, usize), Located>| match r {
+            Ok((b, n)) => (Ok((b.records, b.cut, b.topic)), n),
+            Err(e) => (Err(e.to_string()), 0),
+        };
+        let mut pooled = 0;
+        // Whole, bounded at messages of each piece, and cut anywhere.
+        for len in (40..bytes.len()).step_by(97).chain([bytes.len()]) {
+            let cut = tmp.path().join("cut.mcap");
+            std::fs::write(&cut, &bytes[..len]).unwrap();
+            for max in [3, 17, 40, BAG_TRANSITIONS_MAX] {
+                let (alone, none) = said(read_at_most(&cut, &tree, None, max, true));
+                let (together, n) = said(read_at_most(&cut, &tree, None, max, false));
+                assert_eq!(none, 0);
+                assert_eq!(alone, together, "{len} bytes, at most {max}");
+                if len == bytes.len() && max == BAG_TRANSITIONS_MAX {
+                    pooled = n;
+                }
+            }
+        }
+        // The whole bag read on every core: each chunk (a message each)
+        // after the first of the log.
+        let messages = mcap::MessageStream::new(&bytes).unwrap().count();
+        if std::thread::available_parallelism().map_or(1, |n| n.get()) > 1 {
+            assert_eq!(pooled, messages - 1);
+        }
     }
 
     fn rec(uid: Uid, status: Status) -> Record {

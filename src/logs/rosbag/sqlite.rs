@@ -30,6 +30,9 @@ pub(super) fn db3_cut(m: &Matcher, len: u64, whole: u64) -> String {
     }
 }
 
+/// The bytes of `.db3` messages given to the pool at a time.
+const PIECE_BYTES: usize = 1 << 20;
+
 /// The bag's log topic, and where it is cut short if it is.
 pub(super) fn read_db3(
     file: &Path,
@@ -79,35 +82,110 @@ pub(super) fn read_db3(
     };
     let mut rows = st.query([id]).map_err(|e| sql("table messages", e))?;
     let mut defs = None;
-    loop {
-        // Each row's blob read where SQLite holds it, not copied.
-        let row = rows.next().and_then(|r| match r {
-            Some(r) => r.get_ref(0).map(Some),
-            None => Ok(None),
-        });
-        let data = match row {
-            Ok(Some(v)) => v.as_blob().unwrap_or_default(),
-            Ok(None) if defs.is_none() && cut.is_some() => return Err(fail(said(m, None))),
-            Ok(None) => break,
-            // A page past the last one read is damaged: the rows before it
-            // are the run so far.
-            Err(e) if m.messages > 0 => return Ok((topic, Some(said(m, Some(e))))),
-            Err(_) if defs.is_none() && cut.is_some() => return Err(fail(said(m, None))),
-            Err(e) => return Err(sql("table messages", e)),
-        };
-        if defs.is_none() {
-            defs = Some(m.definitions(file, &topic, definition.as_deref(), Some(data))?);
-        }
-        if let Some(d) = &defs {
-            m.message(d, data)?;
-        }
-        if m.full() {
-            break;
-        }
+    let stop = messages(
+        &mut rows,
+        &mut defs,
+        (&topic, definition.as_deref()),
+        m,
+        file,
+    )?;
+    match stop {
+        None if defs.is_none() && cut.is_some() => return Err(fail(said(m, None))),
+        None => {}
+        // A page past the last one read is damaged: the rows before it
+        // are the run so far.
+        Some(e) if m.messages > 0 => return Ok((topic, Some(said(m, Some(e))))),
+        Some(_) if defs.is_none() && cut.is_some() => return Err(fail(said(m, None))),
+        Some(e) => return Err(sql("table messages", e)),
     }
     if defs.is_none() {
         // A definition that cannot be read is said even over no message.
         m.definitions(file, &topic, definition.as_deref(), None)?;
     }
     Ok((topic, cut.map(|_| said(m, None))))
+}
+
+/// The log's messages, row by row, to `m`: on this thread until they are
+/// known plain, then on every core, a run of them a piece, joined in
+/// order; the definition, the topic's and the bag's, read by the first
+/// message. What stopped the rows early, if anything did.
+fn messages(
+    rows: &mut rusqlite::Rows,
+    defs: &mut Option<LogDefs>,
+    (topic, definition): (&str, Option<&str>),
+    m: &mut Matcher,
+    file: &Path,
+) -> Result<Option<rusqlite::Error>, Located> {
+    // Messages read on every core once they are known plain, a run of
+    // them a piece, joined in order.
+    let mut pool: Option<pool::Pool> = None;
+    let mut piece = (Vec::new(), Vec::new());
+    let join =
+        |piece: pool::Piece, read: Option<pool::Read>, defs: &LogDefs, m: &mut Matcher| match (
+            read, piece,
+        ) {
+            _ if m.full() => Ok(()),
+            (Some(read), _) => {
+                m.join(&read);
+                Ok(())
+            }
+            (None, pool::Piece::Messages(bytes, ends)) => {
+                let mut from = 0;
+                for end in ends {
+                    m.message(defs, &bytes[from..end])?;
+                    if m.full() {
+                        break;
+                    }
+                    from = end;
+                }
+                Ok(())
+            }
+            (None, pool::Piece::Chunk(..)) => Ok(()),
+        };
+    let stop = loop {
+        // Each row's blob read where SQLite holds it, not copied (but
+        // into a piece for the pool).
+        let row = rows.next().and_then(|r| match r {
+            Some(r) => r.get_ref(0).map(Some),
+            None => Ok(None),
+        });
+        let data = match row {
+            Ok(Some(v)) => v.as_blob().unwrap_or_default(),
+            Ok(None) => break None,
+            Err(e) => break Some(e),
+        };
+        if defs.is_none() {
+            *defs = Some(m.definitions(file, topic, definition, Some(data))?);
+        }
+        let Some(d) = &*defs else { continue };
+        if pool.is_none() {
+            pool = m.layout(d, 0).and_then(|l| pool::Pool::start(l, file));
+        }
+        let Some(p) = &mut pool else {
+            m.message(d, data)?;
+            if m.full() {
+                break None;
+            }
+            continue;
+        };
+        piece.0.extend_from_slice(data);
+        piece.1.push(piece.0.len());
+        if piece.0.len() >= PIECE_BYTES {
+            let given =
+                pool::Piece::Messages(std::mem::take(&mut piece.0), std::mem::take(&mut piece.1));
+            p.give(given, &mut |p, r| join(p, r, d, m))?;
+            if m.full() {
+                break None;
+            }
+        }
+    };
+    if let (Some(mut p), Some(d)) = (pool.take(), &*defs) {
+        if !piece.1.is_empty() {
+            p.give(pool::Piece::Messages(piece.0, piece.1), &mut |p, r| {
+                join(p, r, d, m)
+            })?;
+        }
+        p.finish(&mut |p, r| join(p, r, d, m))?;
+    }
+    Ok(stop)
 }

@@ -3187,3 +3187,51 @@ fn can_you_and_the_goal_as_a_translator_puts_them() {
         ),
     ]);
 }
+
+#[test]
+fn a_scenario_in_given_when_then_asks_its_then() {
+    first_lines_are(vec![
+        // The question is the "then"; the moment, where it names none,
+        // the story's.
+        (
+            vec![KITTING],
+            "Given the log is open, when I move the cursor to tick 12, then what is the arm working on there?",
+            "What were you doing at tick 12?",
+        ),
+        // With no "then", the question after the given's comma.
+        (
+            vec![PATROL],
+            "Given a finished patrol, can you drive?",
+            "Can you drive?",
+        ),
+        (
+            vec![TAXI],
+            "Given the taxi reached the passenger, why did pick up passenger start?",
+            "Why did pick up passenger (#11) start at 7:9?",
+        ),
+        // A scenario that supposes an outcome, then what would have come
+        // of it.
+        (
+            vec![PATROL],
+            "Scenario: path clear succeeds at tick 5. What would guarded drive have done?",
+            "What happens if path clear (#6) succeeds?",
+        ),
+        (
+            vec![PATROL],
+            "Drive fails at tick 2. Then what would the patrol have returned?",
+            "What happens if drive (#7) fails?",
+        ),
+        // Controls: a given that supposes is the question's own condition;
+        // a "when" with its "then" was read before.
+        (
+            vec![KITTING],
+            "Given retreat arm had failed at tick 20, would the kit still have been built?",
+            "What happens if the retreat arm action (#27) fails?",
+        ),
+        (
+            vec![KITTING],
+            "When I open tick 30, then which node failed?",
+            "What went wrong at tick 30?",
+        ),
+    ]);
+}

@@ -493,6 +493,9 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // "Spin failed a moment ago within this same tick, so why is it
     // running again?": what follows ", so" is asked; the story before it
     // says when.
+    if let Some(a) = asked_after_then(vocabulary, tree, text).filter(|a| a.confidence >= SURE) {
+        return Some(a);
+    }
     if let Some(mut a) = asked_after_so(vocabulary, tree, text)
         .or_else(|| asked_after_a_dash(vocabulary, tree, text))
         .filter(|a| a.confidence >= SURE)

@@ -27,8 +27,16 @@ pub(super) fn stands_alone(text: &str, q: &str, it_is_the_robot: bool) -> bool {
             ]
             .contains(&said[i - 1].text.as_str())
     };
+    let story = &text[..text.find(q).unwrap_or(0)];
+    // "L2 fails at step 6. Then what would the fallback have returned?":
+    // what would be asks of what the story supposes.
+    let supposed = said.iter().any(|w| w.text == "would")
+        && words::words(story)
+            .iter()
+            .any(|w| ["fails", "succeeds", "suppose", "if", "imagine"].contains(&w.text.as_str()));
     said.len() >= 3
-        && !text[..text.find(q).unwrap_or(0)].trim_end().ends_with(':')
+        && !supposed
+        && !story.trim_end().ends_with(':')
         && !said.iter().enumerate().any(|(i, w)| {
             (pointing.contains(&w.text.as_str())
                 || it_is_the_robot && ["it", "its"].contains(&w.text.as_str()) && a_thing(i))
@@ -248,6 +256,59 @@ pub(super) fn asked_after_so(vocabulary: &Vocabulary, tree: &Tree, text: &str) -
         .contains(&first.as_str())
         .then(|| read_one(vocabulary, tree, rest))
         .flatten()
+}
+
+/// The reading of the question a scenario asks in its "then" ("Given the
+/// cursor is on tick 26, when I expand it, then what went on in this
+/// tick?"): what the "given" and "when" say is the story; where the
+/// question names no moment, the story's is asked about.
+pub(super) fn asked_after_then(
+    vocabulary: &Vocabulary,
+    tree: &Tree,
+    text: &str,
+) -> Option<Reading> {
+    let lower = text.to_lowercase();
+    if lower.len() != text.len() {
+        return None;
+    }
+    let opening = lower
+        .split_once(':')
+        .filter(|(label, _)| label.split_whitespace().count() <= 4)
+        .map_or(lower.as_str(), |(_, rest)| rest)
+        .trim_start();
+    if !["given ", "when "].iter().any(|g| opening.starts_with(g)) {
+        return None;
+    }
+    let opens = |rest: &str| {
+        rest.split_whitespace()
+            .next()
+            .is_some_and(|w| OPENS.contains(&w.to_lowercase().trim_matches('?')))
+    };
+    // "Given a fresh taxi run, can you move down?": with no "then", the
+    // question opens after the given's comma.
+    let then = [", then ", "; then ", ". then "]
+        .iter()
+        .filter_map(|t| lower.rfind(t).map(|i| (i, i + t.len())))
+        .max();
+    // Not "Given look at chuck had succeeded at tick 10, would …": a given
+    // that supposes is the question's own condition.
+    let given = || {
+        lower
+            .match_indices(", ")
+            .map(|(i, _)| (i, i + 2))
+            .find(|&(_, j)| opens(&text[j..]))
+            .filter(|&(_, j)| opening.starts_with("given ") && !lower[j..].contains("would"))
+    };
+    let at = then.or_else(given)?;
+    let rest = &text[at.1..];
+    if !opens(rest) {
+        return None;
+    }
+    let mut a = read_one(vocabulary, tree, rest)?;
+    a.when = a
+        .when
+        .or_else(|| when::find(&words::words(&text[..at.0])).map(|(w, _)| w));
+    Some(a)
 }
 
 /// The reading of a question that follows a dash after a topic that asks

@@ -35,10 +35,13 @@ pub(super) fn what_if(c: &Cues) -> Option<Readings> {
         || c.first == "if"
         // "Drop off fails, what happens", "X fails at tick 22 what then":
         // an outcome put in the present, then what comes of it.
+        // "Scenario: walk fails at tick 3. What would the robot have
+        // done?": a test's scenario, then what would have come of it.
         || (s.has("fails") || s.has("succeeds"))
             && (s.phrase(&["what", "happens"]).is_some()
                 || s.phrase(&["what", "then"]).is_some()
-                || s.phrase(&["then", "what"]).is_some())
+                || s.phrase(&["then", "what"]).is_some()
+                || s.has("would") && s.has("have"))
         // "How would the run differ if look around had failed?", "say the
         // second move up had failed: then what?".
         || s.has("if") && (s.has("would") || s.has("had"))

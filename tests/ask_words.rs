@@ -3235,3 +3235,29 @@ fn a_scenario_in_given_when_then_asks_its_then() {
         ),
     ]);
 }
+
+#[test]
+fn a_test_case_id_names_no_moment() {
+    // "TC-T3" is a test case's id, not tick 3: the answer is of the whole
+    // run, as without it.
+    for q in [
+        "TC-T3: when did pick up passenger succeed?",
+        "TC-T3 'pickup happens': when did pick up passenger succeed?",
+        "when did pick up passenger succeed?",
+    ] {
+        let (ok, out, err) = btx(&["ask", TAXI, q]);
+        assert!(ok, "{q}: {err}");
+        assert!(
+            out.contains("Pick up passenger (#11) succeeded once by the end of the run at tick 15"),
+            "{q}: {out}"
+        );
+    }
+    // A moment said in the question is still one.
+    let (ok, out, _) = btx(&[
+        "ask",
+        TAXI,
+        "TC-T3: did pick up passenger succeed by tick 3?",
+    ]);
+    assert!(ok);
+    assert!(!out.contains("at tick 15"), "{out}");
+}

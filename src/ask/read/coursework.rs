@@ -84,6 +84,7 @@ pub(super) fn as_asked(text: &str) -> String {
         return text.to_string();
     }
     let mut t = without_marks_or_settings(text);
+    t = without_a_case_id(&t).to_string();
     t = without_labels(&t);
     t = claim_asked(&t);
     t = format!(" {}", without_instructions(&t));
@@ -170,6 +171,38 @@ fn without_labels(text: &str) -> String {
             .max()
             .unwrap_or(0);
         t = t[cut..].trim_start();
+    }
+}
+
+/// A test case's id and title ("TC-T28:", "BT-7 'retry on fail':") are
+/// not asked: "TC-T28: in which tick did X succeed?" names no tick 28.
+fn without_a_case_id(text: &str) -> &str {
+    let t = text.trim_start();
+    let Some(id) = t.split_whitespace().next() else {
+        return text;
+    };
+    let bare = id.trim_end_matches(':');
+    let is_id = bare.split_once('-').is_some_and(|(letters, rest)| {
+        (1..=4).contains(&letters.len())
+            && letters.chars().all(|c| c.is_ascii_alphabetic())
+            && rest.chars().any(|c| c.is_ascii_digit())
+            && rest.chars().all(|c| c.is_ascii_alphanumeric() || c == '-')
+    });
+    if !is_id {
+        return text;
+    }
+    let after = t[id.len()..].trim_start();
+    if id.ends_with(':') {
+        return after;
+    }
+    // A quoted title, then the colon.
+    match after.chars().next() {
+        Some(q @ ('\'' | '"')) => after[1..]
+            .find(q)
+            .and_then(|end| after[end + 2..].strip_prefix(':'))
+            .map_or(text, str::trim_start),
+        Some(':') => after[1..].trim_start(),
+        _ => text,
     }
 }
 

@@ -3261,3 +3261,57 @@ fn a_test_case_id_names_no_moment() {
     assert!(ok);
     assert!(!out.contains("at tick 15"), "{out}");
 }
+
+#[test]
+fn why_are_you_doing_this_is_of_what_it_says_it_does() {
+    // At 2 of the patrol, look around (ticked last) has succeeded and walk
+    // runs on under the Parallel: Q1 says "I walk", and Q2 is of walk too.
+    let at = |m: &str, q: &str| {
+        let (ok, out, err) = btx(&["ask", PATROL, "--at", m, q]);
+        assert!(ok, "{q}: {err}");
+        out.lines().next().unwrap_or("").to_string()
+    };
+    assert_eq!(at("2", "what are you doing?"), "I walk.");
+    assert_eq!(
+        at("2", "why are you doing this?"),
+        "I walk in order to run the watch and walk."
+    );
+    // A condition ticked last is what is checked now (control).
+    assert_eq!(
+        at("4", "why are you doing this?"),
+        "I check whether the path is clear in order to run the guarded drive."
+    );
+    // A label before the colon is no topic; "doing this" is what it does.
+    let (ok, out, _) = btx(&[
+        "ask",
+        PATROL,
+        "--at",
+        "2",
+        "Context: look around is done and walk goes on. Question: why is the robot doing this?",
+    ]);
+    assert!(ok);
+    assert_eq!(
+        out.lines().take(2).collect::<Vec<_>>(),
+        [
+            "Why are you doing this?",
+            "I walk in order to run the watch and walk."
+        ],
+        "{out}"
+    );
+}
+
+#[test]
+fn the_explorer_s_words_for_the_tick_and_the_steps_of_a_part() {
+    first_lines_are(vec![
+        (
+            vec![KITTING, "--at", "13"],
+            "describe the tick at the cursor",
+            "What happened at tick 13?",
+        ),
+        (
+            vec![TAXI, "--at", "11"],
+            "which steps make up the part it is working on?",
+            "How do you achieve your subgoal?",
+        ),
+    ]);
+}

@@ -36,22 +36,7 @@ pub fn answer(cx: &Context, q: &Question, r: &mut Reply) -> Result<(), String> {
             return Ok(());
         }
     }
-    let uid = match (cx.node, cx.at.as_ref()) {
-        (Some(u), _) => u,
-        // Before any action is ticked, the deepest node running (the
-        // paper's questions are then about it), else the root.
-        (None, Some(at)) => at.current().unwrap_or_else(|| {
-            (1..=cx.tree.len() as crate::model::Uid)
-                .rev()
-                .find(|&u| at.status(u) == crate::run::Status::Running)
-                .unwrap_or(cx.tree.root().uid)
-        }),
-        (None, None) => {
-            return Err(
-                "pick the node to ask about with --node (a tree has no current node)".into(),
-            )
-        }
-    };
+    let uid = asked_of(cx, q)?;
     let a = crate::explain::answer(cx.tree, cx.at.as_ref(), uid, q)?;
     r.about = Some(uid);
     r.understood = q.wording();
@@ -102,4 +87,42 @@ fn has_it(cx: &Context, at: &crate::session::At, q: &Question) -> Option<String>
         "The tree has it: {} (#{u}), {did}.",
         crate::causal::english::capitalised(&cx.tree.spoken(u))
     ))
+}
+
+/// The node a question of Han's or of the run is asked of, where the
+/// question names none.
+fn asked_of(cx: &Context, q: &Question) -> Result<crate::model::Uid, String> {
+    Ok(match (cx.node, cx.at.as_ref()) {
+        (Some(u), _) => u,
+        // Han's current node (the leaf ticked last) where it still runs.
+        // Where an action has finished beside a leaf still running ("look
+        // around" done, "walk" on under a Parallel), Han's questions are of
+        // that leaf, so that "why are you doing this?" is of what "what are
+        // you doing?" says; a condition ticked last is what is checked now,
+        // and what went wrong stays of the leaf that finished. Before any
+        // action is ticked, the deepest node running (the paper's questions
+        // are then about it), else the root.
+        (None, Some(at)) => {
+            let running = |u: crate::model::Uid| at.status(u) == crate::run::Status::Running;
+            match at.current() {
+                Some(c)
+                    if !running(c)
+                        && matches!(q, Question::Tree(_))
+                        && cx.tree.node(c).kind == crate::model::Kind::Action =>
+                {
+                    at.running_leaves(cx.tree).first().copied().unwrap_or(c)
+                }
+                Some(c) => c,
+                None => (1..=cx.tree.len() as crate::model::Uid)
+                    .rev()
+                    .find(|&u| running(u))
+                    .unwrap_or(cx.tree.root().uid),
+            }
+        }
+        (None, None) => {
+            return Err(
+                "pick the node to ask about with --node (a tree has no current node)".into(),
+            )
+        }
+    })
 }

@@ -490,16 +490,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             _ => {}
         }
     }
-    // "Spin failed a moment ago within this same tick, so why is it
-    // running again?": what follows ", so" is asked; the story before it
-    // says when.
-    if let Some(a) = asked_after_then(vocabulary, tree, text).filter(|a| a.confidence >= SURE) {
-        return Some(a);
-    }
-    if let Some(mut a) = asked_after_so(vocabulary, tree, text)
-        .or_else(|| asked_after_a_dash(vocabulary, tree, text))
-        .filter(|a| a.confidence >= SURE)
-    {
+    if let Some(mut a) = asked_after_the_story(vocabulary, tree, text) {
         a.when = a.when.or(whole.as_ref().and_then(|w| w.when));
         return Some(a);
     }

@@ -34,11 +34,23 @@ pub(super) fn stands_alone(text: &str, q: &str, it_is_the_robot: bool) -> bool {
         && words::words(story)
             .iter()
             .any(|w| ["fails", "succeeds", "suppose", "if", "imagine"].contains(&w.text.as_str()));
+    // "… walk is still going. Query: why is the robot doing this?": a
+    // label before the colon, not a topic.
+    let topic = story.trim_end().strip_suffix(':').is_some_and(|before| {
+        let last = before
+            .rsplit(|c: char| !c.is_alphanumeric())
+            .next()
+            .unwrap_or("");
+        !["query", "question", "q", "ask", "asked", "check", "verify"]
+            .contains(&last.to_lowercase().as_str())
+    });
     said.len() >= 3
         && !supposed
-        && !story.trim_end().ends_with(':')
+        && !topic
         && !said.iter().enumerate().any(|(i, w)| {
-            (pointing.contains(&w.text.as_str())
+            // "Why is the robot doing this?": Han's question, of what it does.
+            let doing_this = w.text == "this" && i > 0 && said[i - 1].text == "doing";
+            (pointing.contains(&w.text.as_str()) && !doing_this
                 || it_is_the_robot && ["it", "its"].contains(&w.text.as_str()) && a_thing(i))
                 // "In this run", "this log": the whole, not the story.
                 && !said.get(i + 1).is_some_and(|n| {
@@ -248,7 +260,7 @@ pub(super) fn asked_after_a_comma(
 
 /// The reading of a question that follows ", so" ("…, so why is it
 /// running again?").
-pub(super) fn asked_after_so(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
+fn asked_after_so(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     const OPENS: &[&str] = &["what", "why", "how", "when", "which", "where"];
     let (_, rest) = text.rsplit_once(", so ")?;
     let first = rest.split_whitespace().next()?.to_lowercase();
@@ -258,15 +270,31 @@ pub(super) fn asked_after_so(vocabulary: &Vocabulary, tree: &Tree, text: &str) -
         .flatten()
 }
 
-/// The reading of the question a scenario asks in its "then" ("Given the
-/// cursor is on tick 26, when I expand it, then what went on in this
-/// tick?"): what the "given" and "when" say is the story; where the
-/// question names no moment, the story's is asked about.
-pub(super) fn asked_after_then(
+/// The question a story's last clause asks, read surely: a scenario's
+/// "then" ("Given …, when …, then what went on in this tick?"), what
+/// follows ", so" ("Spin failed a moment ago within this same tick, so
+/// why is it running again?") or a topic's dash; the story before it
+/// says when.
+pub(super) fn asked_after_the_story(
     vocabulary: &Vocabulary,
     tree: &Tree,
     text: &str,
 ) -> Option<Reading> {
+    let sure = |a: &Reading| a.confidence >= SURE;
+    asked_after_then(vocabulary, tree, text)
+        .filter(sure)
+        .or_else(|| {
+            asked_after_so(vocabulary, tree, text)
+                .or_else(|| asked_after_a_dash(vocabulary, tree, text))
+                .filter(sure)
+        })
+}
+
+/// The reading of the question a scenario asks in its "then" ("Given the
+/// cursor is on tick 26, when I expand it, then what went on in this
+/// tick?"): what the "given" and "when" say is the story; where the
+/// question names no moment, the story's is asked about.
+fn asked_after_then(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     let lower = text.to_lowercase();
     if lower.len() != text.len() {
         return None;
@@ -315,11 +343,7 @@ pub(super) fn asked_after_then(
 /// nothing ("Tuning the RateController hz - how many times did
 /// ComputePathToPose run in this log?"); not "X sat in RUNNING - why?",
 /// whose question is the whole, nor one that points into the topic.
-pub(super) fn asked_after_a_dash(
-    vocabulary: &Vocabulary,
-    tree: &Tree,
-    text: &str,
-) -> Option<Reading> {
+fn asked_after_a_dash(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     let (topic, rest) = [" - ", " — ", " – "]
         .iter()
         .filter_map(|d| text.rsplit_once(d))

@@ -94,6 +94,10 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
     let this_tick = s.phrase(&["this", "tick"]).is_some()
         || s.phrase(&["that", "tick"]).is_some()
         || s.phrase(&["current", "tick"]).is_some()
+        // The explorer's words: "the tick under the cursor".
+        || s.phrase(&["tick", "under", "the", "cursor"]).is_some()
+        || s.phrase(&["tick", "at", "the", "cursor"]).is_some()
+        || s.phrase(&["selected", "tick"]).is_some()
         || s.q.windows(2).enumerate().any(|(i, p)| {
             p[0].text == "tick"
                 && !s.used[i]

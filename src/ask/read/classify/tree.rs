@@ -40,14 +40,19 @@ pub(super) fn asks_subgoal(c: &Cues) -> bool {
 /// step", "steps for what it's doing now": the steps of a part, wherever
 /// it is said to be; not "the steps in tick 5".
 pub(super) fn steps_of_a_part(s: &Sentence) -> bool {
-    s.q.windows(2).enumerate().any(|(i, p)| {
-        ["steps", "plan", "procedure"].contains(&p[0].text.as_str())
-            && ["of", "for", "in", "to"].contains(&p[1].text.as_str())
-            && s.q[i + 2..]
-                .iter()
-                .find(|w| !["the", "this", "its", "that", "a"].contains(&w.text.as_str()))
-                .is_some_and(|w| !["tick", "ticks", "run", "log"].contains(&w.text.as_str()))
-    })
+    // "Which steps make up the subgoal it is working on?".
+    let make_up = ["make", "makes", "making"].iter().any(|m| {
+        s.phrase(&["steps", m, "up"]).is_some() || s.phrase(&["steps", "that", m, "up"]).is_some()
+    });
+    make_up
+        || s.q.windows(2).enumerate().any(|(i, p)| {
+            ["steps", "plan", "procedure"].contains(&p[0].text.as_str())
+                && ["of", "for", "in", "to"].contains(&p[1].text.as_str())
+                && s.q[i + 2..]
+                    .iter()
+                    .find(|w| !["the", "this", "its", "that", "a"].contains(&w.text.as_str()))
+                    .is_some_and(|w| !["tick", "ticks", "run", "log"].contains(&w.text.as_str()))
+        })
 }
 
 pub(super) fn where_it_is(c: &Cues) -> bool {

@@ -6,6 +6,8 @@
 //! transition for transition, tick for tick.
 
 mod common;
+#[path = "common/rechunk.rs"]
+mod rechunk;
 use btx::session::Session;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -390,26 +392,6 @@ fn a_bag_of_two_robots_is_refused_unless_a_topic_is_picked() {
     }
 }
 
-/// The bag's MCAP file rewritten in small chunks, as a recorder with a
-/// small chunk size writes it up to its summary (which a recorder killed
-/// never writes), by the `mcap` crate's own writer.
-fn rechunked(mcap_file: &Path, out: &Path) {
-    let bytes = std::fs::read(mcap_file).unwrap();
-    let mut w = mcap::WriteOptions::new()
-        .chunk_size(Some(400))
-        .emit_message_indexes(false)
-        .emit_summary_records(false)
-        .emit_summary_offsets(false)
-        .emit_chunk_indexes(false)
-        .emit_statistics(false)
-        .create(std::io::BufWriter::new(std::fs::File::create(out).unwrap()))
-        .unwrap();
-    for m in mcap::MessageStream::new(&bytes).unwrap() {
-        w.write(&m.unwrap()).unwrap();
-    }
-    w.finish().unwrap();
-}
-
 #[test]
 fn an_mcap_cut_short_is_read_up_to_its_last_whole_record() {
     // A recorder killed leaves no summary and half a record: the bag read
@@ -426,7 +408,7 @@ fn an_mcap_cut_short_is_read_up_to_its_last_whole_record() {
         .find(|p| p.extension().is_some_and(|x| x == "mcap"))
         .unwrap();
     let small = dir.path().join("small.mcap");
-    rechunked(&file, &small);
+    rechunk::rechunked(&file, 400, false, &small);
     let whole_runs: Vec<_> = (1..=2)
         .map(|k| changes(&bag_run(&small, &tree, None, k)))
         .collect();

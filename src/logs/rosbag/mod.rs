@@ -761,7 +761,12 @@ pub fn run_starts(records: &[Record]) -> Vec<usize> {
 }
 
 #[cfg(test)]
+#[path = "../../../tests/common/rechunk.rs"]
+mod rechunk;
+
+#[cfg(test)]
 mod tests {
+    use super::rechunk::rechunked;
     use super::*;
 
     #[test]
@@ -789,23 +794,6 @@ mod tests {
         assert!(cut.ends_with("), not the rest"), "{cut}");
     }
 
-    /// `bag`'s MCAP rewritten in chunks of about `size` bytes, by the
-    /// `mcap` crate's own writer, with no summary (as a recorder killed
-    /// leaves it).
-    fn rechunked(bag: &Path, size: u64, out: &Path) {
-        let bytes = std::fs::read(bag).unwrap();
-        let mut w = mcap::WriteOptions::new()
-            .chunk_size(Some(size))
-            .emit_summary_records(false)
-            .emit_summary_offsets(false)
-            .create(std::io::BufWriter::new(std::fs::File::create(out).unwrap()))
-            .unwrap();
-        for m in mcap::MessageStream::new(&bytes).unwrap() {
-            w.write(&m.unwrap()).unwrap();
-        }
-        w.finish().unwrap();
-    }
-
     #[test]
     fn a_bag_read_on_every_core_is_read_as_on_one_thread() {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/rosbag");
@@ -814,7 +802,7 @@ mod tests {
             .tree;
         let tmp = tempfile::tempdir().unwrap();
         let small = tmp.path().join("small.mcap");
-        rechunked(&dir.join("two_goals/two_goals.mcap"), 100, &small);
+        rechunked(&dir.join("two_goals/two_goals.mcap"), 100, true, &small);
         let bytes = std::fs::read(&small).unwrap();
         let said = |r: Result<(BagRecords, usize), Located>| match r {
             Ok((b, n)) => (Ok((b.records, b.cut, b.topic)), n),

@@ -3221,6 +3221,13 @@ fn a_scenario_in_given_when_then_asks_its_then() {
             "Drive fails at tick 2. Then what would the patrol have returned?",
             "What happens if drive (#7) fails?",
         ),
+        // Han's question is asked at the cursor, not at the moment of an
+        // event the given tells.
+        (
+            vec![NAV2, "--at", "4:8"],
+            "Given FollowPath failed at 4:1, when its recovery is over, then why is it running FollowPath?",
+            "Why are you doing this?",
+        ),
         // Controls: a given that supposes is the question's own condition;
         // a "when" with its "then" was read before.
         (

@@ -490,8 +490,9 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
             _ => {}
         }
     }
-    if let Some(mut a) = asked_after_the_story(vocabulary, tree, text) {
-        a.when = a.when.or(whole.as_ref().and_then(|w| w.when));
+    if let Some(a) =
+        asked_after_the_story(vocabulary, tree, text, whole.as_ref().and_then(|w| w.when))
+    {
         return Some(a);
     }
     if whole.as_ref().is_some_and(|r| r.confidence >= SURE) {

@@ -274,19 +274,23 @@ fn asked_after_so(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Re
 /// "then" ("Given …, when …, then what went on in this tick?"), what
 /// follows ", so" ("Spin failed a moment ago within this same tick, so
 /// why is it running again?") or a topic's dash; the story before it
-/// says when.
+/// says when (a scenario's, where it puts the asker: `whole` is the
+/// moment the whole text says).
 pub(super) fn asked_after_the_story(
     vocabulary: &Vocabulary,
     tree: &Tree,
     text: &str,
+    whole: Option<When>,
 ) -> Option<Reading> {
     let sure = |a: &Reading| a.confidence >= SURE;
     asked_after_then(vocabulary, tree, text)
         .filter(sure)
         .or_else(|| {
-            asked_after_so(vocabulary, tree, text)
+            let mut a = asked_after_so(vocabulary, tree, text)
                 .or_else(|| asked_after_a_dash(vocabulary, tree, text))
-                .filter(sure)
+                .filter(sure)?;
+            a.when = a.when.or(whole);
+            Some(a)
         })
 }
 
@@ -333,10 +337,33 @@ fn asked_after_then(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<
         return None;
     }
     let mut a = read_one(vocabulary, tree, rest)?;
+    let of_the_robot = matches!(a.intent, Intent::Fixed(Question::Tree(_)));
     a.when = a
         .when
-        .or_else(|| when::find(&words::words(&text[..at.0])).map(|(w, _)| w));
+        .or_else(|| where_the_story_is(&text[..at.0], of_the_robot));
     Some(a)
+}
+
+/// The moment a scenario's story tells: of Han's questions (what it is
+/// doing, why), where the story puts the asker ("when I jump back to tick
+/// 21", "the cursor is on tick 26"), not when an event of it happened
+/// ("Given FollowPath failed at 4:1, then why is it running it again?"
+/// asks at the cursor); of an event's ("Given look at chuck failed at
+/// tick 10, how was that handled?"), either.
+fn where_the_story_is(story: &str, of_the_robot: bool) -> Option<When> {
+    let said = words::words(story);
+    let (when, at) = when::find(&said)?;
+    if !of_the_robot {
+        return Some(when);
+    }
+    let first = *at.iter().min()?;
+    let of_an_event = said[first.saturating_sub(2)..first].iter().any(|w| {
+        [
+            "fail", "succeed", "start", "finish", "ran", "run", "return", "halt", "stop", "complet",
+        ]
+        .contains(&w.stem.as_str())
+    });
+    (!of_an_event).then_some(when)
 }
 
 /// The reading of a question that follows a dash after a topic that asks

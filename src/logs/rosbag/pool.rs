@@ -109,11 +109,7 @@ pub(super) struct Pool {
 impl Pool {
     /// A worker a core, where there are several; else none.
     pub(super) fn start(layout: Layout, file: &Path) -> Option<Pool> {
-        // Asked once: the standard library reads the cgroup's files each
-        // time, and a pool is asked for at each piece until it starts.
-        static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-        let cores =
-            *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        let cores = crate::logs::cores();
         if cores < 2 {
             return None;
         }

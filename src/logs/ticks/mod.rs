@@ -91,10 +91,7 @@ const PARALLEL_MIN: usize = 1 << 17;
 /// a script its blackboard) makes a piece's replay not follow its
 /// records, and then the log is replayed in one piece.
 fn by_structure(tree: &Tree, recs: Packed) -> Result<Vec<u32>, usize> {
-    // Asked once: the standard library reads the cgroup's files each time,
-    // and a bag's thousands of runs are each numbered on their own.
-    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    let cores = *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let cores = super::cores();
     if let Some(ticks) = by_distinct_runs(tree, recs, cores) {
         return Ok(ticks);
     }

@@ -206,10 +206,17 @@ fn why_fell_back(tree: &Tree, run: &At, x: Uid, d: &mut Diagnosis) {
         }
         (None, None) => failed_unseen(tree, run, x, d),
     }
-    let handler = children[1..]
-        .iter()
-        .copied()
-        .find(|&c| run.status(c).is_active() || run.last_completed(c).is_some());
+    // The child that runs, or ran, after the first child's last failure:
+    // a RecoveryNode whose first child failed again at 6:1 has not fallen
+    // back to the recovery it ran at 4:6.
+    let failed_at = run.last_failure_since(children[0], since);
+    let handler = children[1..].iter().copied().find(|&c| {
+        run.status(c).is_active()
+            || match (failed_at, run.last_completion(c)) {
+                (Some(f), Some((q, _))) => q > f,
+                _ => run.last_completed(c).is_some(),
+            }
+    });
     d.fell_back = Some((x, handler));
 }
 
@@ -880,20 +887,16 @@ pub fn how_handled(tree: &Tree, run: &At, n: Uid) -> (String, Vec<Uid>) {
     let mut nodes = Vec::new();
     if let Some((fb, handler)) = d.fell_back {
         nodes.push(fb);
-        match handler {
-            Some(h) => {
-                let first = tree.node(fb).children[0];
-                parts.push(format!(
-                    "When {} failed, I fell back to {}.",
-                    tree.spoken(first),
-                    fell_back_to(tree, h)
-                ));
-                nodes.push(h);
-            }
-            None => parts.push(format!(
-                "When {} failed, I fell back.",
-                tree.spoken(tree.node(fb).children[0])
-            )),
+        // Asked at the failure itself, nothing has run in its place yet
+        // (said below).
+        if let Some(h) = handler {
+            let first = tree.node(fb).children[0];
+            parts.push(format!(
+                "When {} failed, I fell back to {}.",
+                tree.spoken(first),
+                fell_back_to(tree, h)
+            ));
+            nodes.push(h);
         }
     }
     for &(r, a) in &d.retrying {

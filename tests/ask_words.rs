@@ -3322,3 +3322,134 @@ fn the_explorer_s_words_for_the_tick_and_the_steps_of_a_part() {
         ),
     ]);
 }
+
+/// A correction said as the asker types replaces what it corrects: the
+/// words from the last one it begins like, or the question begun again
+/// (its "it" the node the question begun named). A hesitation, and a
+/// clause that only goes on after one, replace nothing.
+#[test]
+fn a_correction_said_as_typed_replaces_what_it_corrects() {
+    first_lines_are(vec![
+        (
+            vec![NAV2],
+            "what happened at tick 5 — er, no, tick 7?",
+            "What happened at tick 7?",
+        ),
+        (
+            vec![TAXI],
+            "why did pick up passenger fail — hmm, no, why did it succeed?",
+            "Why did pick up passenger (#11) succeed at 8:1?",
+        ),
+        (
+            vec![PATROL],
+            "why did walk, no sorry, path clear fail?",
+            "Why did path clear (#6) fail at 5:1?",
+        ),
+        (
+            vec![NAV2, "--at", "5"],
+            "can you turn on the spot — sorry, can you back up a little?",
+            "Yes. I will run BackUp after run FollowPath, the step of NavigateWithReplanning (#2) I am on.",
+        ),
+        // Controls: a hesitation, and what goes on after one.
+        (
+            vec![PATROL],
+            "what happened at tick 3, uh, when the walk finished?",
+            "What happened at tick 3?",
+        ),
+        (
+            vec![PATROL],
+            "what would have happened if, er, path clear had succeeded?",
+            "What happens if path clear (#6) succeeds?",
+        ),
+    ]);
+}
+
+/// "Can you X?" is answered of the behaviour the reader finds in the
+/// words ("back up a little" is BackUp), never of one that only looks
+/// alike ("weld the gearbox housing" is not build a gearbox kit).
+#[test]
+fn can_you_is_answered_of_the_behaviour_said() {
+    first_lines_are(vec![
+        (
+            vec![NAV2, "--at", "5"],
+            "can you back up a little?",
+            "Yes. I will run BackUp after run FollowPath, the step of NavigateWithReplanning (#2) I am on.",
+        ),
+        (
+            vec![KITTING],
+            "can you weld the gearbox housing?",
+            "No: no behaviour of the tree is called \"weld the gearbox housing\" (and the run had ended by then: build a gearbox kit SUCCESS at 54:28).",
+        ),
+    ]);
+}
+
+/// "How did it cope with FollowPath's first failure?" is answered of that
+/// failure: what each fallback, retry or recovery above it ran, and how
+/// it went, as the log shows it. Asked at a failure nothing has handled
+/// yet, it says so, not what handled an earlier one.
+#[test]
+fn the_failure_a_question_of_handling_names_is_the_one_answered() {
+    let (ok, out, err) = btx(&[
+        "ask",
+        NAV2,
+        "how did the tree cope with FollowPath's first failure?",
+    ]);
+    assert!(ok, "{err}");
+    let mut lines = out.lines();
+    assert_eq!(
+        lines.next(),
+        Some("How was the failure handled when the FollowPath action (#10) failed for the first time?")
+    );
+    assert_eq!(
+        lines.next(),
+        Some(
+            "The FollowPath action (#10) failed at 4:1. The FollowPath recovery node (#9) ran \
+             FollowPathRecoveryFallback (#11, succeeded at 4:6) and tried it again at 4:8, and it \
+             failed again at 6:1; the FollowPath recovery node (#9) then failed, at 6:4; \
+             NavigateRecovery (#1) ran RecoveryFallback (#14, succeeded at 6:12) and tried it \
+             again at 7:8, and it succeeded at 10:1; NavigateRecovery (#1) then succeeded at 10:10."
+        )
+    );
+    let (ok, out, err) = btx(&["ask", NAV2, "--at", "6:1", "how was the failure handled?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("Nothing has handled it yet at 6:1")
+            && !out.contains("FollowPathRecoveryFallback"),
+        "{out}"
+    );
+}
+
+/// A guess at the answer after a "which" question is not its topic; a
+/// kind denied in passing ("not the recovery node") names the node and
+/// denies nothing; gone well is succeeded; "the step it is in" is the
+/// subgoal. Control: "did not" still denies.
+#[test]
+fn a_guess_a_kind_denied_and_the_step_it_is_in() {
+    first_lines_are(vec![
+        (
+            vec![PATROL, "--at", "4"],
+            "which step of the patrol is it in now, the walking one?",
+            "What is your subgoal?",
+        ),
+        (
+            vec![PATROL, "--at", "4"],
+            "what's the step it is in?",
+            "What is your subgoal?",
+        ),
+        (
+            vec![NAV2],
+            "when did FollowPath (the action, not the recovery node) first fail?",
+            "When did the FollowPath action (#10) first fail?",
+        ),
+        (
+            vec![KITTING],
+            "what if look at chuck had gone well the first time?",
+            "What happens if look at chuck (#18) succeeds?",
+        ),
+        (
+            vec![CASE],
+            "why did not the action L1 run?",
+            "Why did L1 (#4) not run in tick 1?",
+        ),
+    ]);
+}

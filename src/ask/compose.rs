@@ -20,6 +20,11 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent, failed: Option<u32
     let mut r = Reply::new(question, Some(intent.short()));
     r.moment = cx.at.as_ref().map(|a| a.moment().to_string());
     let done = match intent {
+        Intent::Fixed(crate::explain::Question::Run(crate::explain::RunQuestion::Handled))
+            if failed.is_some() =>
+        {
+            handled(cx, &mut r, failed.unwrap_or_default())
+        }
         Intent::Fixed(q) => super::fixed::answer(cx, q, &mut r),
         Intent::Why { node, event, foil } => with_node(cx, node, Some(*event), &mut r, |u, r| {
             super::why::answer(cx, u, *event, *foil, r)
@@ -612,6 +617,31 @@ fn tick(cx: &Context, n: u32, r: &mut Reply) -> Result<(), String> {
         ),
         _ => format!("At tick {n}: {}.", said.join(", ")),
     };
+    Ok(())
+}
+
+/// "How was FollowPath's second failure handled?": that failure, and
+/// what each fallback, retry or recovery above it did from then on, by
+/// the moment asked (the words a call's why says it with).
+fn handled(cx: &Context, r: &mut Reply, p: u32) -> Result<(), String> {
+    let at = run_of(cx, &r.question)?;
+    let session = cx.session.ok_or("a run is needed")?;
+    let u = at.index.transitions[p as usize - 1].uid;
+    let when = step_moment(at.index, p);
+    r.understood = "How was the failure handled?".into();
+    r.about = Some(u);
+    r.nodes = std::iter::once(u)
+        .chain(
+            cx.tree
+                .ancestors(u)
+                .filter(|&a| crate::explain::failure::handles_failure(cx.tree, a)),
+        )
+        .collect();
+    r.answer = format!(
+        "{} failed at {when}. {}",
+        upper(&cx.name(u)),
+        crate::causal::calls::handled(session, u, p, at.pos)
+    );
     Ok(())
 }
 

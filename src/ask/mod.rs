@@ -227,10 +227,13 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
 /// recover after it failed at tick 10?": the tick's failure, of the node
 /// named where it failed then, else the tick's first.
 fn failure_said(cx: &Context, reading: &read::Reading) -> Option<u32> {
-    let (parse::Intent::Recovered, Some(w), Some(at)) = (&reading.intent, reading.when, &cx.at)
-    else {
+    let handled = parse::Intent::Fixed(Question::Run(crate::explain::RunQuestion::Handled));
+    let (Some(w), Some(at)) = (reading.when, &cx.at) else {
         return None;
     };
+    if reading.intent != parse::Intent::Recovered && reading.intent != handled {
+        return None;
+    }
     let failed =
         |p: u32| at.index.transitions[p as usize - 1].status == crate::run::Status::Failure;
     let p = moment_of(cx.tree, at, w)
@@ -272,7 +275,33 @@ fn reading_of(cx: &Context, question: &str) -> (Option<read::Reading>, bool) {
             || read::wraps_a_question(&words)
             || words.iter().any(|w| read::ADVICE.contains(w))
     };
-    match Question::parse(question).filter(|q| !matches!(q, Question::CanYou(x) if polite(x))) {
+    let vocabulary = read::Vocabulary::new(cx.tree);
+    let meant = read::as_meant(&vocabulary, cx.tree, question);
+    let parsed = Question::parse(&meant).filter(|q| !matches!(q, Question::CanYou(x) if polite(x)));
+    // "Can you check if the screw is grasped?": the behaviour as the
+    // reader finds it among the tree's names (check if grasped), not the
+    // words as said.
+    let parsed = parsed.map(|q| match (&q, read::read(&vocabulary, cx.tree, question)) {
+        (
+            Question::CanYou(said),
+            Some(read::Reading {
+                intent: parse::Intent::Fixed(Question::CanYou(found)),
+                confidence,
+                ..
+            }),
+        ) if confidence >= read::SURE
+            && read::said_by(&found, said)
+            && cx
+                .tree
+                .nodes
+                .iter()
+                .any(|n| n.name == found || n.id == found) =>
+        {
+            Question::CanYou(found)
+        }
+        _ => q,
+    });
+    match parsed {
         Some(q) => (
             Some(read::Reading {
                 intent: parse::Intent::Fixed(q),
@@ -283,10 +312,7 @@ fn reading_of(cx: &Context, question: &str) -> (Option<read::Reading>, bool) {
             }),
             false,
         ),
-        None => (
-            read::read(&read::Vocabulary::new(cx.tree), cx.tree, question),
-            true,
-        ),
+        None => (read::read(&vocabulary, cx.tree, question), true),
     }
 }
 

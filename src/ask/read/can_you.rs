@@ -4,6 +4,33 @@
 
 use super::*;
 
+/// Whether the words said name the behaviour the reader found: each word
+/// of its name said, joined or apart ("the local cost map" names
+/// ClearLocalCostmap's "costmap"), or with one letter wrong ("chuk"),
+/// and not only a name that looks alike ("weld the gearbox housing" does
+/// not name build a gearbox kit).
+pub fn said_by(name: &str, said: &str) -> bool {
+    let squeeze = |s: &str| -> String {
+        s.chars()
+            .filter(|c| c.is_alphanumeric())
+            .flat_map(char::to_lowercase)
+            .collect()
+    };
+    let joined = squeeze(said);
+    let said_words: Vec<String> = said.split_whitespace().map(squeeze).collect();
+    words::split_name(name)
+        .split_whitespace()
+        .map(squeeze)
+        .filter(|w| !w.is_empty() && !["a", "an", "the"].contains(&w.as_str()))
+        .all(|w| {
+            joined.contains(&w)
+                || w.len() >= 4
+                    && said_words
+                        .iter()
+                        .any(|s| strsim::damerau_levenshtein(s, &w) <= 1)
+        })
+}
+
 /// "Could you confirm how many times it failed", "can you check when
 /// it stopped": a question put politely, not whether the robot can.
 pub fn wraps_a_question(after: &[&str]) -> bool {

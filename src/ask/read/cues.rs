@@ -275,9 +275,12 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
                 .iter()
                 .any(|t| s.phrase(&[q, t]).is_some())
         })
-        // "Which step did it fail at?", not "which step is it on?".
+        // "Which step did it fail at?", not "which step is it on?" or
+        // "which step of the patrol is it in?".
         || (s.phrase(&["which", "step"]).is_some() || s.phrase(&["what", "step"]).is_some())
             && !s.has("on")
+            && s.phrase(&["is", "it", "in"]).is_none()
+            && s.phrase(&["it", "is", "in"]).is_none()
         || s.phrase(&["at", "what", "point"]).is_some()
         // "At which point during the run did …", not "at this point".
         || s.phrase(&["at", "which", "point"]).is_some()

@@ -78,7 +78,23 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
     let time_denied = s.q.windows(2).any(|p| {
         p[0].text == "not" && ["earlier", "sooner", "before", "later"].contains(&p[1].text.as_str())
     });
-    let negated = s.has("not") && s.phrase(&["or", "not"]).is_none() && !time_denied
+    // "When did detect chuck (the action, not the sequence) first
+    // succeed?": a kind denied says which node, not that it did not.
+    let kind_denied = |i: usize| {
+        let next = s.q[i + 1..]
+            .iter()
+            .map(|w| w.text.as_str())
+            .find(|w| !["the", "a", "an"].contains(w));
+        next.is_some_and(mentions::is_kind_word)
+    };
+    // "Why did not the action run?" still denies.
+    let after_a_verb = |i: usize| {
+        i > 0 && NOT_A_VERB.contains(&s.q[i - 1].text.as_str()) && s.q[i - 1].text != "the"
+    };
+    let a_plain_not = s
+        .free()
+        .any(|(i, w)| w.text == "not" && (after_a_verb(i) || !kind_denied(i)));
+    let negated = a_plain_not && s.phrase(&["or", "not"]).is_none() && !time_denied
         || s.has("never")
         // "Why did none of the recovery actions ever run?".
         || s.phrase(&["none", "of"]).is_some()
@@ -165,14 +181,20 @@ fn runs_on(s: &Sentence) -> bool {
 /// "OK", "okay" said of a node, not "ok but why no spin?", where it
 /// only opens what is said.
 fn ok_said(s: &Sentence) -> bool {
-    s.free().any(|(i, w)| {
-        w.stem == "ok"
-            && !(i == 0
-                && s.q.get(1).is_some_and(|n| {
-                    ["but", "so", "then", "and", "now", "thanks", "cool", "great"]
-                        .contains(&n.text.as_str())
-                }))
-    })
+    // "Suppose look at chuck had gone fine": it went well, it succeeded.
+    let went_well = s.q.windows(2).any(|p| {
+        ["gone", "went"].contains(&p[0].text.as_str())
+            && ["fine", "well", "right", "smoothly", "ok", "okay"].contains(&p[1].text.as_str())
+    });
+    went_well
+        || s.free().any(|(i, w)| {
+            w.stem == "ok"
+                && !(i == 0
+                    && s.q.get(1).is_some_and(|n| {
+                        ["but", "so", "then", "and", "now", "thanks", "cool", "great"]
+                            .contains(&n.text.as_str())
+                    }))
+        })
 }
 
 /// "GIG done at which tick?", "when was the last move left done": done

@@ -15,6 +15,7 @@ mod event;
 pub mod mentions;
 mod naming;
 mod one;
+mod repair;
 mod rewrite;
 mod shorthand;
 mod story;
@@ -26,7 +27,7 @@ use super::parse::{Event, Intent, Subject};
 use crate::explain::{Question, TreeQuestion};
 use crate::model::{Kind, Tree, Uid};
 use can_you::can_you;
-pub use can_you::wraps_a_question;
+pub use can_you::{said_by, wraps_a_question};
 use classify::classify;
 use clauses::{
     children_by_place, counted_among_alike, deepest, elided_foil, failure_clause,
@@ -450,14 +451,22 @@ fn asks(stem: &str) -> bool {
     CUES.contains(&stem)
 }
 
+/// The question the text asks, as its asker meant it: an exercise's
+/// task as the question it sets, the asker's corrections of themselves
+/// applied ("can you grasp — sorry, can you release a screw?").
+pub fn as_meant(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> String {
+    let set = coursework::as_asked(text);
+    repair::repaired(vocabulary, tree, &set).into_owned()
+}
+
 /// Reads a question about a tree. A post that tells its story before it
 /// asks ("We ran the cell overnight … Why did reset arm run?") is read
 /// whole, and, where the whole is not read surely, its questions are read
 /// each on its own: the surest of them, the first of equals (what follows
 /// a question is most often about it: "Is this a bug?"), is what it asks.
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
-    let set = coursework::as_asked(text);
-    let text = without_a_challenge(after_a_correction(&set));
+    let meant = as_meant(vocabulary, tree, text);
+    let text = without_a_guess(without_a_challenge(&meant));
     let why_asked = why_of_the_story(text);
     let text = why_asked.as_deref().unwrap_or(text);
     let whole = read_one(vocabulary, tree, text);

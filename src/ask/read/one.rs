@@ -137,6 +137,7 @@ pub(super) fn chosen(
         (Some(n), None) => nth_end(tree, &intent, n),
         (_, w) => w,
     };
+    let when = when.or_else(|| failure_handled(tree, s, q, &intent));
     let about = match intent {
         Intent::Fixed(Question::Tree(_)) => s
             .nodes
@@ -186,6 +187,28 @@ pub(super) fn nth_end(tree: &Tree, intent: &Intent, n: u32) -> Option<When> {
         failed,
         side: Side::At,
     })
+}
+
+/// "How did it handle the first follow path failure?", "what did it do
+/// when FollowPath failed the second time?": the failure a question of
+/// handling names, where it says which.
+fn failure_handled(tree: &Tree, s: &Sentence, q: &[Word], intent: &Intent) -> Option<When> {
+    if *intent != Intent::Fixed(Question::Run(crate::explain::RunQuestion::Handled)) {
+        return None;
+    }
+    let n = q.iter().find_map(|w| when::ordinal(&w.text))?;
+    let m = s
+        .nodes
+        .iter()
+        .find(|m| !m.weak && m.uids != [tree.root().uid])?;
+    q.iter()
+        .any(|w| w.stem.starts_with("fail"))
+        .then(|| When::Ended {
+            uid: deepest(tree, &m.uids),
+            n,
+            failed: true,
+            side: Side::At,
+        })
 }
 
 /// A reading about the task or "it", where a weak mention may be the node.

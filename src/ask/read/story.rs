@@ -177,6 +177,41 @@ pub(super) fn why_of_the_story(text: &str) -> Option<String> {
     (told.split_whitespace().count() >= 2).then(|| format!("why {}?", told.trim()))
 }
 
+/// A "which" or "what" question without the asker's guess at its answer
+/// put after it ("which step of the patrol is it in right now — the
+/// drive bit?"): the guess names a node, but the question asks which.
+pub(super) fn without_a_guess(text: &str) -> &str {
+    const THING: &[&str] = &["one", "bit", "part", "thing", "ones", "bits", "stuff"];
+    let Some(cut) = [", ", " — ", " – ", " - "]
+        .iter()
+        .filter_map(|m| text.rfind(m))
+        .max()
+    else {
+        return text;
+    };
+    let asked = text[..cut].trim();
+    let guess: Vec<String> = text[cut..]
+        .split_whitespace()
+        .map(|w| {
+            w.trim_matches(|c: char| !c.is_alphanumeric())
+                .to_lowercase()
+        })
+        .filter(|w| !w.is_empty())
+        .collect();
+    let opens = asked
+        .split_whitespace()
+        .next()
+        .is_some_and(|w| ["which", "what"].contains(&w.to_lowercase().as_str()));
+    let a_guess = guess.len() <= 5
+        && guess.first().is_some_and(|w| w == "the")
+        && guess.last().is_some_and(|w| THING.contains(&w.as_str()));
+    if opens && a_guess && !asked.contains('?') {
+        asked
+    } else {
+        text
+    }
+}
+
 /// A question without the doubt put after it ("why is look at chuck
 /// roughly being run again? didn't it already succeed?"): the doubt says
 /// what the asker thought, not what is asked.
@@ -215,26 +250,8 @@ pub(super) fn without_a_challenge(text: &str) -> &str {
     }
 }
 
-/// What is asked after the asker corrected themselves ("why did the uh no
-/// wait when did look at chuck fail"): the words after the last "no
-/// wait", "wait no" or "scratch that", where they are a question.
-pub(super) fn after_a_correction(text: &str) -> &str {
-    const MARKS: &[&str] = &["no wait", "wait no", "scratch that", "no sorry", "sorry no"];
-    let lower = text.to_lowercase();
-    if lower.len() != text.len() {
-        return text;
-    }
-    MARKS
-        .iter()
-        .filter_map(|m| lower.rfind(m).map(|i| i + m.len()))
-        .max()
-        .map(|end| text[end..].trim_start_matches([',', '.', ' ']))
-        .filter(|rest| rest.split_whitespace().count() >= 3)
-        .unwrap_or(text)
-}
-
 /// The words a question opens with, after a comma or a dash.
-const OPENS: &[&str] = &[
+pub(super) const OPENS: &[&str] = &[
     "what", "whats", "what's", "why", "how", "when", "which", "where", "did", "does", "do", "is",
     "was", "were", "are", "can", "could", "has", "have", "will", "would",
 ];

@@ -531,7 +531,7 @@ pub(super) fn ended_so_before(session: &Session, u: Uid, p: u32) -> String {
 
 /// What handled the leaf's failure at `p`, by position `upto`: each
 /// handler above it in turn, from where the one below ended.
-pub(super) fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
+pub fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
     let idx = &session.index;
     let tree = &session.tree;
     let mut said = Vec::new();
@@ -553,25 +553,37 @@ pub(super) fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
             .map(|q| (q, idx.transitions[q as usize - 1].status))
             .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
         let hn = tree.told(h);
-        let again = tried_again(session, u, p, from, upto, done.map(|d| d.0), &hn);
+        let a = again_at(session, u, from, upto, done.map(|d| d.0));
+        let ran = ran_between(session, h, u, from, a.or(done.map(|d| d.0)).unwrap_or(upto));
+        let who = if ran.is_empty() {
+            hn.clone()
+        } else {
+            format!("{hn} ran {ran} and")
+        };
+        let again = a.map(|a| tried_again(session, u, p, a, upto, done.map(|d| d.0), &who));
         if let Some(line) = &again {
             said.push(line.clone());
         }
         match done {
             Some((q, Status::Success)) => {
-                said.push(format!(
-                    "{hn} {} succeeded at {}",
-                    if again.is_some() {
-                        "then"
-                    } else {
-                        "handled it and"
-                    },
-                    step_moment(idx, q)
-                ));
+                said.push(match (&again, ran.is_empty()) {
+                    (Some(_), _) => format!("{hn} then succeeded at {}", step_moment(idx, q)),
+                    (None, true) => {
+                        format!("{hn} handled it and succeeded at {}", step_moment(idx, q))
+                    }
+                    (None, false) => format!(
+                        "{hn} handled it by running {ran}, and succeeded at {}",
+                        step_moment(idx, q)
+                    ),
+                });
                 break;
             }
             Some((q, _)) => {
-                said.push(format!("{hn} then failed, at {}", step_moment(idx, q)));
+                said.push(if again.is_none() && !ran.is_empty() {
+                    format!("{hn} ran {ran}, and failed at {}", step_moment(idx, q))
+                } else {
+                    format!("{hn} then failed, at {}", step_moment(idx, q))
+                });
                 from = q;
             }
             None => {
@@ -587,26 +599,63 @@ pub(super) fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
     }
 }
 
-/// Whether the handler `hn` tried the leaf again after `from` before it
-/// ended (at `done`), and how that went.
-pub(super) fn tried_again(
+/// Where the leaf started again after `from`, before its handler ended
+/// (at `done`) and by `upto`.
+fn again_at(session: &Session, u: Uid, from: u32, upto: u32, done: Option<u32>) -> Option<u32> {
+    let idx = &session.index;
+    idx.changes_of(u)
+        .iter()
+        .copied()
+        .filter(|&q| q > from && q <= upto && done.is_none_or(|d| q < d))
+        .find(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)
+}
+
+/// What the handler `h` ran of its own between the failure it handles
+/// (at `from`) and `until`: the children it tried other than the one the
+/// leaf is under ("FollowPathRecoveryFallback (#11, succeeded at 4:6)"),
+/// said as a list, or "" where it ran none.
+fn ran_between(session: &Session, h: Uid, u: Uid, from: u32, until: u32) -> String {
+    let idx = &session.index;
+    let tree = &session.tree;
+    let ran: Vec<String> = tree
+        .node(h)
+        .children
+        .iter()
+        .copied()
+        .filter(|&c| c != u && !tree.is_ancestor(c, u))
+        .filter_map(|c| {
+            let (q, s) = idx
+                .changes_of(c)
+                .iter()
+                .copied()
+                .filter(|&q| q > from && q <= until)
+                .map(|q| (q, idx.transitions[q as usize - 1].status))
+                .find(|(_, s)| matches!(s, Status::Success | Status::Failure))?;
+            let told = tree.told(c);
+            let how = format!("{} at {}", past(s), step_moment(idx, q));
+            Some(match told.strip_suffix(')') {
+                Some(named) => format!("{named}, {how})"),
+                None => format!("{told} ({how})"),
+            })
+        })
+        .collect();
+    crate::explain::han::and_list(&ran)
+}
+
+/// How the leaf went, started again by its handler at `a` (`who`: the
+/// handler, and what it ran first) before the handler ended (at `done`).
+fn tried_again(
     session: &Session,
     u: Uid,
     p: u32,
-    from: u32,
+    a: u32,
     upto: u32,
     done: Option<u32>,
-    hn: &str,
-) -> Option<String> {
+    who: &str,
+) -> String {
     let idx = &session.index;
     let status = idx.transitions[p as usize - 1].status;
     let before_done = |q: u32| q <= upto && done.is_none_or(|d| q < d);
-    let a = idx
-        .changes_of(u)
-        .iter()
-        .copied()
-        .filter(|&q| q > from && before_done(q))
-        .find(|&q| idx.transitions[q as usize - 1].prev == Status::Idle)?;
     let ended = idx
         .changes_of(u)
         .iter()
@@ -614,9 +663,9 @@ pub(super) fn tried_again(
         .filter(|&q| q >= a && before_done(q))
         .map(|q| (q, idx.transitions[q as usize - 1].status))
         .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
-    Some(match ended {
+    match ended {
         Some((q, s)) => format!(
-            "{hn} tried it again at {}, and it {} at {}",
+            "{who} tried it again at {}, and it {} at {}",
             step_moment(idx, a),
             if s == status {
                 format!("{} again", past(s))
@@ -625,8 +674,8 @@ pub(super) fn tried_again(
             },
             step_moment(idx, q)
         ),
-        None => format!("{hn} tried it again at {}", step_moment(idx, a)),
-    })
+        None => format!("{who} tried it again at {}", step_moment(idx, a)),
+    }
 }
 
 /// " (assuming X went on as the run last showed)": the nodes the calls'

@@ -27,8 +27,16 @@ pub(super) fn asks_subgoal(c: &Cues) -> bool {
         || s.phrase(&["sub", "task"]).is_some()
         || s.phrase(&["intermediate", "goal"]).is_some()
         || s.phrase(&["current", "step"]).is_some()
-        // "Which step of the patrol is it on?".
+        // "Which step of the patrol is it on?", "which step is it in
+        // right now", "the step it's in".
         || s.has("which") && s.has_stem(&["step"]) && s.has("on")
+        || s.q.windows(3).enumerate().any(|(i, p)| {
+            p[0].text == "which"
+                && (p[1].text == "step" || p[2].text == "step")
+                && s.q[i + 2..].iter().any(|w| w.text == "in")
+        })
+        || s.has_stem(&["step"])
+            && (s.phrase(&["it", "is", "in"]).is_some() || s.phrase(&["is", "it", "in"]).is_some())
         || stage && c.named.is_empty() && (c.what || s.has("which"))
         || where_it_is(c)
 }
@@ -112,9 +120,11 @@ pub(super) fn asks_steps(c: &Cues) -> bool {
     }
     // "At this step": a moment, not the steps.
     // "At step 6": a moment too.
+    // "The step it's in": the part it is in, not the steps of one.
     let this_step = ["this", "that", "current", "which"]
         .iter()
         .any(|w| s.phrase(&[w, "step"]).is_some())
+        || s.phrase(&["step", "it", "is", "in"]).is_some() && !s.has("steps")
         || s.free().any(|(i, w)| {
             w.text == "step"
                 && s.q

@@ -3410,6 +3410,39 @@ fn the_failure_a_question_of_handling_names_is_the_one_answered() {
              again at 7:8, and it succeeded at 10:1; NavigateRecovery (#1) then succeeded at 10:10."
         )
     );
+    // Asked before it happened, of the run as recorded; "the second one"
+    // corrects only which.
+    let (ok, out, err) = btx(&[
+        "ask",
+        NAV2,
+        "--at",
+        "2",
+        "how did it handle the first follow path failure — sorry, the second one?",
+    ]);
+    assert!(ok, "{err}");
+    let mut lines = out.lines();
+    assert_eq!(
+        lines.next(),
+        Some("How was the failure handled when the FollowPath action (#10) failed for the second time?")
+    );
+    assert!(
+        lines
+            .next()
+            .is_some_and(|l| l.starts_with("The FollowPath action (#10) failed at 6:1. The FollowPath recovery node (#9) then failed, at 6:4;")),
+        "{out}"
+    );
+    let (ok, out, err) = btx(&[
+        "ask",
+        NAV2,
+        "--at",
+        "5",
+        "did it recover after FollowPath failed at 6:1?",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("Yes. The FollowPath action (#10) failed at 6:1;"),
+        "{out}"
+    );
     let (ok, out, err) = btx(&["ask", NAV2, "--at", "6:1", "how was the failure handled?"]);
     assert!(ok, "{err}");
     assert!(

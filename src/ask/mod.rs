@@ -190,7 +190,10 @@ pub fn ask(cx: &Context, question: &str) -> Reply {
     };
     let failure = failure_said(cx, &reading);
     let moved = match (reading.when, cx.at.as_ref()) {
-        (Some(_), Some(_)) if failure.is_some() => None,
+        (Some(_), Some(at)) if failure.is_some() => failure.filter(|&p| p > at.pos).map(|_| {
+            let end = at.index.transitions.len() as u32;
+            moved_to(cx, Some(at.index.at(end)), cx.node)
+        }),
         (Some(w), Some(at)) => match moment_of(cx.tree, at, w) {
             Ok(pos) => {
                 let pos = past_the_clause(at, &reading, pos);
@@ -236,9 +239,13 @@ fn failure_said(cx: &Context, reading: &read::Reading) -> Option<u32> {
     }
     let failed =
         |p: u32| at.index.transitions[p as usize - 1].status == crate::run::Status::Failure;
-    let p = moment_of(cx.tree, at, w)
-        .ok()
-        .filter(|&p| p > 0 && p <= at.pos)?;
+    let p = moment_of(cx.tree, at, w).ok().filter(|&p| p > 0)?;
+    // "How was FollowPath's second failure handled?", "did it recover
+    // after it?" asked before it happened: of the run as far as it was
+    // recorded (`ask` moves there).
+    if p > at.pos {
+        return failed(p).then_some(p);
+    }
     if failed(p) {
         return Some(p);
     }

@@ -202,17 +202,19 @@ fn replaced(
     if how == Said::Dash {
         return None;
     }
-    begun_alike(said, repair, &opens).or_else(|| {
-        // "Why did detect chuck, no wait, look at chuck fail?": the node
-        // named last, where the words corrected end with it.
-        let phrase = node_phrase(vocabulary, tree, said).filter(|_| how == Said::Edit)?;
-        let lower = said.to_lowercase();
-        let at = lower.rfind(&phrase).filter(|_| lower.len() == said.len())?;
-        lower[at + phrase.len()..]
-            .trim()
-            .is_empty()
-            .then(|| format!("{}{repair}", &said[..at]))
-    })
+    another_ordinal(said, repair)
+        .or_else(|| begun_alike(said, repair, &opens))
+        .or_else(|| {
+            // "Why did detect chuck, no wait, look at chuck fail?": the node
+            // named last, where the words corrected end with it.
+            let phrase = node_phrase(vocabulary, tree, said).filter(|_| how == Said::Edit)?;
+            let lower = said.to_lowercase();
+            let at = lower.rfind(&phrase).filter(|_| lower.len() == said.len())?;
+            lower[at + phrase.len()..]
+                .trim()
+                .is_empty()
+                .then(|| format!("{}{repair}", &said[..at]))
+        })
 }
 
 /// Whether `repair`, which opens as a question does, asks the question
@@ -245,6 +247,39 @@ fn asked_again(vocabulary: &Vocabulary, tree: &Tree, said: &str, repair: &str, h
         Said::Hesitation => (said_words.len() >= 3 || again(1)) && !clause() && reads(SURE),
         Said::Dash => again(2),
     }
+}
+
+/// "The first follow path failure — sorry, the second one": the
+/// ordinal said last replaced, the rest kept.
+fn another_ordinal(said: &str, repair: &str) -> Option<String> {
+    let words: Vec<String> = repair
+        .split_whitespace()
+        .map(|w| {
+            w.trim_matches(|c: char| !c.is_alphanumeric())
+                .to_lowercase()
+        })
+        .collect();
+    let [.., n, last] = &words[..] else {
+        return None;
+    };
+    if !["one", "ones"].contains(&last.as_str()) || when::ordinal(n).is_none() {
+        return None;
+    }
+    let mut said_words: Vec<&str> = said.split_whitespace().collect();
+    let i = said_words.iter().rposition(|w| {
+        when::ordinal(
+            &w.trim_matches(|c: char| !c.is_alphanumeric())
+                .to_lowercase(),
+        )
+        .is_some()
+    })?;
+    said_words[i] = n;
+    let tail = repair.trim_end().chars().last().filter(|c| *c == '?');
+    Some(format!(
+        "{}{}",
+        said_words.join(" "),
+        tail.map(String::from).unwrap_or_default()
+    ))
 }
 
 /// `said` from the last word the repair begins like, replaced by it

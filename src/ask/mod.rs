@@ -285,29 +285,7 @@ fn reading_of(cx: &Context, question: &str) -> (Option<read::Reading>, bool) {
     let vocabulary = read::Vocabulary::new(cx.tree);
     let meant = read::as_meant(&vocabulary, cx.tree, question);
     let parsed = Question::parse(&meant).filter(|q| !matches!(q, Question::CanYou(x) if polite(x)));
-    // "Can you check if the screw is grasped?": the behaviour as the
-    // reader finds it among the tree's names (check if grasped), not the
-    // words as said.
-    let parsed = parsed.map(|q| match (&q, read::read(&vocabulary, cx.tree, question)) {
-        (
-            Question::CanYou(said),
-            Some(read::Reading {
-                intent: parse::Intent::Fixed(Question::CanYou(found)),
-                confidence,
-                ..
-            }),
-        ) if confidence >= read::SURE
-            && read::said_by(&found, said)
-            && cx
-                .tree
-                .nodes
-                .iter()
-                .any(|n| n.name == found || n.id == found) =>
-        {
-            Question::CanYou(found)
-        }
-        _ => q,
-    });
+    let parsed = parsed.map(|q| found_by_the_reader(cx, &vocabulary, question, q));
     match parsed {
         Some(q) => (
             Some(read::Reading {
@@ -320,6 +298,37 @@ fn reading_of(cx: &Context, question: &str) -> (Option<read::Reading>, bool) {
             false,
         ),
         None => (read::read(&vocabulary, cx.tree, question), true),
+    }
+}
+
+/// "Can you check if the screw is grasped?": the behaviour as the reader
+/// finds it among the tree's names (check if grasped), where every word
+/// of its name is said, not the words as said.
+fn found_by_the_reader(
+    cx: &Context,
+    vocabulary: &read::Vocabulary,
+    question: &str,
+    q: Question,
+) -> Question {
+    let Question::CanYou(said) = &q else {
+        return q;
+    };
+    match read::read(vocabulary, cx.tree, question) {
+        Some(read::Reading {
+            intent: parse::Intent::Fixed(Question::CanYou(found)),
+            confidence,
+            ..
+        }) if confidence >= read::SURE
+            && read::said_by(&found, said)
+            && cx
+                .tree
+                .nodes
+                .iter()
+                .any(|n| n.name == found || n.id == found) =>
+        {
+            Question::CanYou(found)
+        }
+        _ => q,
     }
 }
 

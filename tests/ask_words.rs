@@ -3443,6 +3443,22 @@ fn the_failure_a_question_of_handling_names_is_the_one_answered() {
         out.contains("Yes. The FollowPath action (#10) failed at 6:1;"),
         "{out}"
     );
+    // Asked while the recovery runs, it says so.
+    let (ok, out, err) = btx(&[
+        "ask",
+        NAV2,
+        "--at",
+        "4:5",
+        "how was the first FollowPath failure handled?",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains(
+            "The FollowPath recovery node (#9) handles it with FollowPathRecoveryFallback (#11, \
+             still running), and had not finished by moment 4:5."
+        ),
+        "{out}"
+    );
     let (ok, out, err) = btx(&["ask", NAV2, "--at", "6:1", "how was the failure handled?"]);
     assert!(ok, "{err}");
     assert!(

@@ -587,7 +587,11 @@ pub fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
                 from = q;
             }
             None => {
-                said.push(format!("{hn} handles it, and had not finished {by}"));
+                said.push(if ran.is_empty() || again.is_some() {
+                    format!("{hn} handles it, and had not finished {by}")
+                } else {
+                    format!("{hn} handles it with {ran}, and had not finished {by}")
+                });
                 break;
             }
         }
@@ -624,15 +628,23 @@ fn ran_between(session: &Session, h: Uid, u: Uid, from: u32, until: u32) -> Stri
         .copied()
         .filter(|&c| c != u && !tree.is_ancestor(c, u))
         .filter_map(|c| {
-            let (q, s) = idx
+            let changes: Vec<(u32, Status)> = idx
                 .changes_of(c)
                 .iter()
                 .copied()
                 .filter(|&q| q > from && q <= until)
                 .map(|q| (q, idx.transitions[q as usize - 1].status))
-                .find(|(_, s)| matches!(s, Status::Success | Status::Failure))?;
+                .collect();
+            let ended = changes
+                .iter()
+                .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
+            // Asked while the recovery runs: that it runs.
+            let how = match (ended, changes.last()) {
+                (Some(&(q, s)), _) => format!("{} at {}", past(s), step_moment(idx, q)),
+                (None, Some(&(_, Status::Running))) => "still running".to_string(),
+                _ => return None,
+            };
             let told = tree.told(c);
-            let how = format!("{} at {}", past(s), step_moment(idx, q));
             Some(match told.strip_suffix(')') {
                 Some(named) => format!("{named}, {how})"),
                 None => format!("{told} ({how})"),

@@ -254,7 +254,7 @@ fn did_the_recovery_work_is_answered_from_the_ticks_that_followed() {
     let (_, end, _) = btx(&["ask", run, "did the recovery work?"]);
     assert!(
         end.contains("Yes.")
-            && end.contains("RetryUntilSuccessful (#7), which handles it, succeeded at 26:20"),
+            && end.contains("RetryUntilSuccessful (#7) tried it again at 17:2, and it succeeded at 18:1; RetryUntilSuccessful (#7) then succeeded at 26:20."),
         "{end}"
     );
 }
@@ -279,7 +279,7 @@ fn what_went_wrong_after_a_recovery_tells_the_history() {
     assert!(ok, "{err}");
     assert_eq!(
         out,
-        "Nothing is wrong now. FollowPath failed at ticks 4 and 6; the FollowPath recovery node (#9) first recovered (check GoalUpdated) and tried again, which failed; NavigateRecovery (#1) recovered (check GoalUpdated) and succeeded at tick 10.\nDid the recovery work?\nYes. The FollowPath action (#10) failed at 6:1; the FollowPath recovery node (#9) failed too, at 6:4; NavigateRecovery (#1), which handles it, succeeded at 10:10.\n"
+        "Nothing is wrong now. FollowPath failed at ticks 4 and 6; the FollowPath recovery node (#9) first recovered (check GoalUpdated) and tried again, which failed; NavigateRecovery (#1) recovered (check GoalUpdated) and succeeded at tick 10.\nDid the recovery work?\nYes. The FollowPath action (#10) failed at 6:1. The FollowPath recovery node (#9) then failed, at 6:4; NavigateRecovery (#1) ran RecoveryFallback (#14, succeeded at 6:12) and tried it again at 7:8, and it succeeded at 10:1; NavigateRecovery (#1) then succeeded at 10:10.\n"
     );
 }
 
@@ -2451,7 +2451,7 @@ fn whether_it_came_through_a_failure_is_told_of_that_failure() {
         assert_eq!(lines.first(), Some(&"Did the recovery work?"), "{q}: {out}");
         assert_eq!(
             lines.get(1),
-            Some(&"Yes. Look at chuck (#18) failed at 10:1; the insert large gear fallback (#13) failed too, at 11:6; RetryUntilSuccessful (#7), which handles it, succeeded at 26:20."),
+            Some(&"Yes. Look at chuck (#18) failed at 10:1. The insert large gear fallback (#13) ran the reset arm force failure (#26, failed at 11:3), and failed at 11:6; RetryUntilSuccessful (#7) tried it again at 17:2, and it succeeded at 18:1; RetryUntilSuccessful (#7) then succeeded at 26:20."),
             "{q}: {out}"
         );
     }
@@ -2465,7 +2465,7 @@ fn whether_it_came_through_a_failure_is_told_of_that_failure() {
     assert!(
         out.lines()
             .nth(1)
-            .is_some_and(|l| l.starts_with("Yes. The FollowPath action (#10) failed at 4:1;")),
+            .is_some_and(|l| l.starts_with("Yes. The FollowPath action (#10) failed at 4:1. The FollowPath recovery node (#9) ran FollowPathRecoveryFallback (#11, succeeded at 4:6) and tried it again at 4:8, and it failed again at 6:1;")),
         "{out}"
     );
 }
@@ -3440,7 +3440,28 @@ fn the_failure_a_question_of_handling_names_is_the_one_answered() {
     ]);
     assert!(ok, "{err}");
     assert!(
-        out.contains("Yes. The FollowPath action (#10) failed at 6:1;"),
+        out.contains("Yes. The FollowPath action (#10) failed at 6:1."),
+        "{out}"
+    );
+    // Said as FollowPath's own, the failure is still the one recovered from.
+    let (ok, out, err) = btx(&[
+        "ask",
+        NAV2,
+        "--at",
+        "2",
+        "did it recover after FollowPath's second failure?",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("Yes. The FollowPath action (#10) failed at 6:1. The FollowPath recovery node (#9) then failed, at 6:4; NavigateRecovery (#1) ran RecoveryFallback (#14, succeeded at 6:12)"),
+        "{out}"
+    );
+    // While the retried action runs, the recovery that ran is said, and
+    // that it is not known yet whether it held.
+    let (ok, out, err) = btx(&["ask", NAV2, "--at", "4:8", "did the recovery work?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("Not yet. The FollowPath action (#10) failed at 4:1. The FollowPath recovery node (#9) ran FollowPathRecoveryFallback (#11, succeeded at 4:6) and tried it again at 4:8;"),
         "{out}"
     );
     // Asked while the recovery runs, it says so.

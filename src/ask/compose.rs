@@ -645,6 +645,10 @@ fn handled(cx: &Context, r: &mut Reply, p: u32) -> Result<(), String> {
     Ok(())
 }
 
+/// "Did the recovery work?": yes where a handler above the failed leaf
+/// succeeded after it, no where each failed, not yet where one had not
+/// ended; then what each handler ran and how the leaf went when tried
+/// again, so a recovery that ran but did not hold is seen as such.
 fn recovered(cx: &Context, r: &mut Reply, said: Option<u32>) -> Result<(), String> {
     let at = run_of(cx, &r.question)?;
     let tree = cx.tree;
@@ -668,48 +672,48 @@ fn recovered(cx: &Context, r: &mut Reply, said: Option<u32>) -> Result<(), Strin
         .ancestors(leaf)
         .filter(|&a| crate::explain::failure::handles_failure(tree, a))
         .collect();
-    if handlers.is_empty() {
+    let Some(session) = cx.session.filter(|_| !handlers.is_empty()) else {
         r.answer = format!(
             "Nothing recovered from the last failure: {} failed at {when}, and no fallback, retry or recovery is above it.",
             cx.name(leaf)
         );
         return Ok(());
-    }
-    r.nodes = vec![leaf];
-    let mut said = vec![format!("{} failed at {when}", cx.name(leaf))];
-    for h in handlers {
+    };
+    r.nodes = std::iter::once(leaf)
+        .chain(handlers.iter().copied())
+        .collect();
+    let mut verdict = "No";
+    let mut from = p;
+    for &h in &handlers {
         r.about = Some(h);
-        r.nodes.push(h);
         let end = at
             .index
             .changes_of(h)
             .iter()
             .copied()
-            .filter(|&q| q > p && q <= at.pos)
+            .filter(|&q| q > from && q <= at.pos)
             .map(|q| (q, at.index.transitions[q as usize - 1].status))
             .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
-        let h_n = cx.name(h);
         match end {
-            Some((q, Status::Success)) => {
-                said.push(format!(
-                    "{h_n}, which handles it, succeeded at {}",
-                    step_moment(at.index, q)
-                ));
-                r.answer = format!("Yes. {}.", upper(&said.join("; ")));
-                return Ok(());
+            Some((_, Status::Success)) => verdict = "Yes",
+            Some((q, _)) => {
+                from = q;
+                continue;
             }
-            Some((q, _)) => said.push(format!("{h_n} failed too, at {}", step_moment(at.index, q))),
-            None => {
-                said.push(format!(
-                    "{h_n}, which handles it, had not finished {}",
-                    cx.by(at)
-                ));
-                r.answer = format!("Not yet. {}.", upper(&said.join("; ")));
-                return Ok(());
-            }
+            None => verdict = "Not yet",
         }
+        break;
     }
-    r.answer = format!("No. {}: nothing above recovered.", upper(&said.join("; ")));
+    let story = crate::causal::calls::handled(session, leaf, p, at.pos);
+    let nothing = if verdict == "No" {
+        " Nothing above recovered."
+    } else {
+        ""
+    };
+    r.answer = format!(
+        "{verdict}. {} failed at {when}. {story}{nothing}",
+        upper(&cx.name(leaf))
+    );
     Ok(())
 }
 

@@ -190,10 +190,12 @@ pub(super) fn nth_end(tree: &Tree, intent: &Intent, n: u32) -> Option<When> {
 }
 
 /// "How did it handle the first follow path failure?", "what did it do
-/// when FollowPath failed the second time?": the failure a question of
-/// handling names, where it says which.
+/// when FollowPath failed the second time?", "did it recover after
+/// FollowPath's second failure?": the failure a question of handling or
+/// recovery names, where it says which.
 fn failure_handled(tree: &Tree, s: &Sentence, q: &[Word], intent: &Intent) -> Option<When> {
-    if *intent != Intent::Fixed(Question::Run(crate::explain::RunQuestion::Handled)) {
+    let handled = Intent::Fixed(Question::Run(crate::explain::RunQuestion::Handled));
+    if *intent != handled && *intent != Intent::Recovered {
         return None;
     }
     let n = q.iter().find_map(|w| when::ordinal(&w.text))?;

@@ -270,12 +270,27 @@ fn tagged(s: &Sentence, tree: &Tree, free: &[(usize, &Word)], texts: &[&str]) ->
     })
 }
 
+/// Words before "able to" that make it no call to the robot ("why was it
+/// not able to", "who is able to").
+const NOT_A_CALL_SIGN: &[&str] = &[
+    "why", "was", "were", "is", "are", "not", "when", "how", "what", "who", "which", "be", "been",
+    "never", "unable", "if", "so", "still",
+];
+
 /// How many words the opening of "Can you X?" takes, if the question
 /// opens so: "Is the taxi able to …", "is this robot capable of …" name
 /// the robot any way, in four words.
 fn opening(texts: &[&str]) -> Option<usize> {
+    // Radio talk drops the subject: "Able to spin? Over.", "Rover, able
+    // to spin in place?" (a call sign first).
+    let clipped = |k: usize| {
+        texts.get(k..k + 2) == Some(&["able", "to"][..])
+            && (k == 0 || !NOT_A_CALL_SIGN.contains(&texts[0]))
+    };
     match OPENINGS.iter().find(|o| texts.starts_with(o)) {
         Some(o) => Some(o.len()),
+        None if clipped(0) => Some(2),
+        None if clipped(1) => Some(3),
         None if texts.len() > 4
             && ["is", "are"].contains(&texts[0])
             && (texts[2..4] == ["able", "to"] || texts[2..4] == ["capable", "of"]) =>

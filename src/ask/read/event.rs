@@ -227,6 +227,17 @@ fn done_to(s: &Sentence) -> Option<Event> {
 
 /// The event the sentence's verbs say, before negation: failing first,
 /// then skipping, halting, running on, succeeding, finishing, running.
+/// "Why'd FollowPath bomb out?", "move right craps out": slang for
+/// failing, a verb and "out".
+fn conked_out(s: &Sentence) -> bool {
+    s.q.windows(2).any(|p| {
+        p[1].text == "out"
+            && ["bomb", "crap", "conk", "flake", "peter"]
+                .iter()
+                .any(|v| p[0].text.starts_with(v))
+    })
+}
+
 fn verbs_said(s: &Sentence) -> Option<Event> {
     let keep = runs_on(s);
     // "When did looking at the chuck go wrong?", "why did the sequence box
@@ -236,7 +247,7 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
         && !s.nodes.is_empty();
     let said = |words: &[&str]| words.iter().any(|w| s.has(w));
     let coloured = |colour: &str| {
-        ["go", "turn", "turned"]
+        ["go", "goes", "went", "gone", "turn", "turned"]
             .iter()
             .any(|v| s.phrase(&[v, colour]).is_some())
     };
@@ -254,6 +265,8 @@ fn verbs_said(s: &Sentence) -> Option<Event> {
     } else if gave_up(s)
         || went_wrong
         || coloured("red")
+        || coloured("negative")
+        || conked_out(s)
         || s.has("false")
         || s.has_stem(&[
             "fail", "abort", "crash", "die", "error", "fault", "broke", "break", "bail", "stall",

@@ -526,6 +526,14 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     }
     match (whole, asked) {
         (Some(w), Some(a)) if a.confidence <= w.confidence => Some(w),
+        // "Assume FollowPath held at tick 4. How'd the run go?": what the
+        // story supposes is what the question after it asks the outcome of.
+        (Some(w), Some(a))
+            if matches!(w.intent, Intent::WhatIf { .. })
+                && !matches!(a.intent, Intent::WhatIf { .. }) =>
+        {
+            Some(w)
+        }
         // "Actual: FollowPath FAILURE. … Why did it fail?": "it" is the
         // node the story told of doing what the question asks about.
         (Some(w), Some(a)) if the_story_asks_it(&a, &w) && reported(text) => Some(w),

@@ -19,6 +19,10 @@ pub(super) fn what_if(c: &Cues) -> Option<Readings> {
         || s.phrase(&["do", "if"]).is_some()
         || s.has("suppose")
         || s.has("supposing")
+        // "Assume FollowPath held", not "I assume it is expected".
+        || s.q.first().is_some_and(|w| ["assume", "assuming"].contains(&w.text.as_str()))
+        || s.phrase(&["let's", "assume"]).is_some()
+        || s.phrase(&["lets", "assume"]).is_some()
         || s.has("imagine")
         // "Had path clear returned SUCCESS, would …", "what would have
         // happened had X failed": the conditional put first.
@@ -37,10 +41,14 @@ pub(super) fn what_if(c: &Cues) -> Option<Readings> {
         // an outcome put in the present, then what comes of it.
         // "Scenario: walk fails at tick 3. What would the robot have
         // done?": a test's scenario, then what would have come of it.
-        || (s.has("fails") || s.has("succeeds"))
+        // "Third move right at tick 4 craps out. Consequence?", "L0
+        // passes at 1:3 instead. Then what?".
+        || outcome_in_the_present(s)
             && (s.phrase(&["what", "happens"]).is_some()
                 || s.phrase(&["what", "then"]).is_some()
                 || s.phrase(&["then", "what"]).is_some()
+                || s.has_stem(&["consequ", "fallout", "knock"])
+                || s.phrase(&["play", "out"]).is_some()
                 || s.has("would") && s.has("have"))
         // "How would the run differ if look around had failed?", "say the
         // second move up had failed: then what?".
@@ -71,6 +79,14 @@ pub(super) fn what_if(c: &Cues) -> Option<Readings> {
     Some(vec![(Intent::WhatIf { node, event }, c.sure(0.92))])
 }
 
+/// "Fails", "succeeds", "passes", "craps out": an outcome put in the
+/// present, as a scenario is.
+fn outcome_in_the_present(s: &Sentence) -> bool {
+    ["fails", "succeeds", "passes", "craps", "bombs", "conks"]
+        .iter()
+        .any(|w| s.has(w))
+}
+
 /// The outcome said between a conditional's mark ("if", "had",
 /// "suppose") and what is asked of it ("would", "what", "then").
 pub(super) fn supposed(s: &Sentence) -> Option<Event> {
@@ -79,6 +95,8 @@ pub(super) fn supposed(s: &Sentence) -> Option<Event> {
         "had",
         "suppose",
         "supposing",
+        "assume",
+        "assuming",
         "case",
         "event",
         "counterfactual",

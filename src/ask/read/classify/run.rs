@@ -41,6 +41,8 @@ pub(super) fn all_well_in_few_words(c: &Cues) -> Option<Readings> {
         && c.named.is_empty()
         && !c.why
         && !c.what
+        // "How were faults handled so far?" asks how, not whether.
+        && !c.how
     {
         return c.only(
             Intent::Fixed(Question::Run(RunQuestion::AnythingWrong)),
@@ -227,6 +229,9 @@ pub(super) fn handled(c: &Cues) -> Option<Readings> {
         || c.after_failure
         || s.phrase(&["do", "about"]).is_some()
         || s.phrase(&["did", "about"]).is_some()
+        // "Copy FollowPath fault at tick 4. What action taken?",
+        // "detect chuck failed three times. Response?".
+        || c.problem && !c.why && !c.when_q && answered_by_action(s)
         || s.phrase(&["done", "about"]).is_some()
         || (c.what
             && s.has_prefix(&["recover"])
@@ -237,6 +242,15 @@ pub(super) fn handled(c: &Cues) -> Option<Readings> {
         return c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93);
     }
     None
+}
+
+/// "Corrective action", "action taken", "response": what was done about
+/// a failure said beside it.
+fn answered_by_action(s: &Sentence) -> bool {
+    s.has_stem(&["correct"])
+        || s.phrase(&["action", "taken"]).is_some()
+        || s.phrase(&["actions", "taken"]).is_some()
+        || s.has("response")
 }
 
 /// "What went wrong?", and "what made look at chuck fail?" (a why).

@@ -135,7 +135,7 @@ fn asks_why(s: &Sentence, ev: Option<Event>) -> bool {
         || s.phrase(&["what", "caused"]).is_some()
         || s.phrase(&["what", "made"]).is_some()
         // Not "what went wrong that caused this": what went wrong is asked.
-        || s.has_stem(&["reason", "caus", "cause"]) && s.phrase(&["went", "wrong"]).is_none()
+        || s.has_stem(&["reason", "caus", "cause", "rational"]) && s.phrase(&["went", "wrong"]).is_none()
         // "On what grounds did …", "on what basis".
         || s.phrase(&["what", "grounds"]).is_some()
         || s.phrase(&["what", "basis"]).is_some()

@@ -169,6 +169,8 @@ pub(super) fn how_achieved(c: &Cues) -> Option<Readings> {
     let listed = steps
         && (c.what
             || c.s.empty()
+            // "Plan for this step?", "request steps for current leg.".
+            || steps_of_a_part(c.s) && !c.why
             || ["outline", "walk", "breakdown"].contains(&c.first)
             || verbless(c.s) && of_a_goal && !c.why);
     if !c.how && !listed {
@@ -185,7 +187,9 @@ pub(super) fn how_achieved(c: &Cues) -> Option<Readings> {
     if by_subgoals && (asks_goal(c.s) || c.whole) && (steps || c.how) {
         return c.only(Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.93);
     }
-    if (asks_subgoal(c) || now || part_named && c.how && !goal_named) && (steps || c.how) {
+    if (asks_subgoal(c) || now || this_part(c.s) || part_named && c.how && !goal_named)
+        && (steps || c.how)
+    {
         return c.only(
             Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
             0.93,
@@ -202,6 +206,15 @@ pub(super) fn how_achieved(c: &Cues) -> Option<Readings> {
             ),
             (Intent::Fixed(Question::Tree(TreeQuestion::HowGoal)), 0.4),
         ]
+    })
+}
+
+/// "This step", "the current leg": the part it is in, said as one.
+fn this_part(s: &Sentence) -> bool {
+    ["this", "current", "present"].iter().any(|a| {
+        ["step", "leg", "stage", "phase", "part", "bit", "subtask"]
+            .iter()
+            .any(|p| s.phrase(&[a, p]).is_some())
     })
 }
 

@@ -28,8 +28,11 @@ pub(super) fn purpose(c: &Cues) -> Option<Readings> {
     let point_of = s.phrase(&["point", "of"]).is_some_and(|i| {
         i == 0 || !["this", "that", "which", "what", "some"].contains(&s.q[i - 1].text.as_str())
     });
+    // "What's this in aid of?": what it is for.
+    let in_aid = s.phrase(&["in", "aid", "of"]).is_some();
     let purpose = s.has_stem(&["purpos", "reason"])
         || point_of
+        || in_aid
         // "For what it runs the detect chuck action again?".
         || c.first == "for" && s.phrase(&["for", "what"]).is_some()
         // "CaseStudyFallback ultimately for what".
@@ -52,7 +55,8 @@ pub(super) fn purpose(c: &Cues) -> Option<Readings> {
         // "The purpose of the motion the arm is making at this point".
         || s.has_stem(&["motion", "movement"])
         || s.phrase(&["this", "point"]).is_some()
-        || s.phrase(&["this", "moment"]).is_some();
+        || s.phrase(&["this", "moment"]).is_some()
+        || in_aid && s.has("this");
     // "What is this tree for?": the whole's purpose.
     let whole = c.whole || s.has("tree") || s.has("bt");
     // "What's the point of this robot?": the whole's, whatever it is doing.
@@ -366,7 +370,9 @@ pub(super) fn why_still_running(c: &Cues) -> Option<Readings> {
 /// why it is doing what it does.
 pub(super) fn why_doing_now(c: &Cues) -> Option<Readings> {
     let s = c.s;
-    let now = s.has("now") && !["did", "was", "were", "had"].iter().any(|w| s.has(w));
+    // "Reason for current action?", "rationale on current op?".
+    let now = (s.has("now") || s.has("current") || s.has("currently"))
+        && !["did", "was", "were", "had"].iter().any(|w| s.has(w));
     // "Why does it look at the chuck roughly again?": the present of a
     // node named, as "why is it looking at …".
     let present = (s.phrase(&["why", "does"]).is_some()

@@ -307,9 +307,20 @@ fn tick_asked_for(s: &Sentence) -> bool {
     let free: Vec<&str> = s
         .free()
         .map(|(_, w)| w.text.as_str())
-        .skip_while(|w| *w == "the")
+        .skip_while(|w| ["the", "say", "request", "confirm", "give"].contains(w))
         .collect();
-    let tick_of = free.starts_with(&["tick", "of"]) || free.starts_with(&["tick", "number", "of"]);
+    // "Time of first FollowPath abort?", "time L0 went red?".
+    let time_of = ["time", "timestamp"].contains(&free.first().copied().unwrap_or(""))
+        && s.q
+            .iter()
+            .position(|w| ["time", "timestamp"].contains(&w.text.as_str()))
+            .is_some_and(|i| {
+                s.q.get(i + 1)
+                    .is_some_and(|n| n.text == "of" || n.text == "the")
+                    || s.used.get(i + 1) == Some(&true)
+            });
+    let tick_of =
+        free.starts_with(&["tick", "of"]) || free.starts_with(&["tick", "number", "of"]) || time_of;
     let ordinal_tick = free.len() > 2 && ORDINAL.contains(&free[0]) && free[1] == "tick";
     // The last word, after a name: "first move down: tick?".
     let tick_last = s.q.len() > 1 && s.q[s.q.len() - 1].text == "tick" && s.used[s.q.len() - 2];

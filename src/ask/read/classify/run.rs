@@ -177,6 +177,8 @@ pub(super) fn recovered(c: &Cues) -> Option<Readings> {
             || s.has("managed")
             || c.first.starts_with("recover")
             || s.phrase(&["but", "did"]).is_some()
+            // "Confirm recovery from CaseStudySequence failure.".
+            || s.q.first().is_some_and(|w| ["confirm", "verify"].contains(&w.text.as_str()))
             // "It recovered or not, after this fail at tick 10?", "robot was
             // able to recover, or the mission failed finally?".
             || (s.has("recover") || s.has("recovered")) && !c.what && !c.when_q)

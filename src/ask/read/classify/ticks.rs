@@ -114,6 +114,12 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
     if asked_when.is_none() && !this_tick && !at_an_event {
         return None;
     }
+    // "What was happening at 1:6?", "what were you on at 12:13?": what it
+    // was doing at a step, not the whole tick.
+    let going_on = s.has("happening") || s.phrase(&["going", "on"]).is_some() || on_it(s);
+    if matches!(asked_when, Some(When::Step(..))) && going_on {
+        return None;
+    }
     let n = match asked_when {
         Some(When::Tick(n) | When::Step(n, _)) => n,
         _ => 0,
@@ -133,7 +139,7 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
         || steps_of_a_part(s);
     let asks_tick = (s.has_stem(&[
         "happen", "chang", "occur", "describ", "summar", "show", "transit", "detail", "explain",
-        "event", "recap", "memori", "episod", "summaris", "summariz",
+        "event", "recap", "memori", "episod", "summaris", "summariz", "sitrep",
     ]) || c.break_down
         || s.empty()
         || (c.what
@@ -151,6 +157,18 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
     let named_in_question = c.named.iter().any(|m| m.end > asked_from);
     (asks_tick && !named_in_question && (!c.doing_words || walk))
         .then(|| vec![(Intent::Tick(n), c.sure_of_words(0.95))])
+}
+
+/// "What are you on right now?", "what were you on at 12:13?": what it
+/// is busy with; not "which step is it on?" (read before).
+pub(super) fn on_it(s: &Sentence) -> bool {
+    s.q.windows(3).any(|p| {
+        ["you", "it", "we", "robot"].contains(&p[0].text.as_str()) && p[1].text == "on" && {
+            let after = p[2].text.as_str();
+            ["at", "right", "now", "rn", "atm", "currently", "in"].contains(&after)
+        }
+    }) || s.ends_with(&["you", "on"])
+        || s.ends_with(&["it", "on"])
 }
 
 /// What next?

@@ -321,6 +321,7 @@ pub(super) fn which_of_two(c: &Cues) -> Option<Readings> {
 pub(super) fn doing(c: &Cues) -> Option<Readings> {
     let s = c.s;
     let doing = c.doing_words
+        || on_it(s)
         || s.has_stem(&["happen", "run", "execut", "act", "action", "behavior"])
         || s.has_prefix(&["doin"]);
     // "What is it doing now, looking at the chuck again?": the names are

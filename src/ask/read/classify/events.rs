@@ -17,7 +17,10 @@ pub(super) fn what_if(c: &Cues) -> Option<Readings> {
         || s.phrase(&["happens", "if"]).is_some()
         || s.phrase(&["happened", "if"]).is_some()
         || s.phrase(&["do", "if"]).is_some()
-        || s.has("suppose")
+        // "Suppose X had failed", not "after it ran out of tries, I suppose".
+        || s.free().any(|(i, w)| {
+            w.text == "suppose" && (i == 0 || !["i", "we"].contains(&s.q[i - 1].text.as_str()))
+        })
         || s.has("supposing")
         // "Assume FollowPath held", not "I assume it is expected".
         || s.q.first().is_some_and(|w| ["assume", "assuming"].contains(&w.text.as_str()))

@@ -391,6 +391,7 @@ const WORLD: &[&str] = &[
     "training",
     "dataset",
     "resolution",
+    "sender",
 ];
 
 /// Words of questions about the robot's world, not its run (what it costs,

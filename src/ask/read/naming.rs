@@ -244,7 +244,8 @@ pub(super) fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: 
             .enumerate()
             .any(|(i, w)| !in_mention[i] && w.text == "battery")
         || q.windows(2)
-            .any(|p| p[0].text == "on" && p[1].text == "shift");
+            .any(|p| p[0].text == "on" && p[1].text == "shift")
+        || of_the_setup(q);
     advice
         || measure
         || outside
@@ -267,6 +268,21 @@ fn hedge(q: &[Word], i: usize) -> bool {
     let by_asker = i > 0 && ["i", "we"].contains(&q[i - 1].text.as_str());
     let like = q.get(i + 1).is_some_and(|w| w.text == "like");
     feel && (by_asker || like)
+}
+
+/// "What robot is this running on?", "which map was loaded?", "who sent
+/// this goal?": the setup around the run, which its log does not hold.
+fn of_the_setup(q: &[Word]) -> bool {
+    let asked = |what: &[&str]| {
+        q.windows(2).any(|p| {
+            ["what", "which"].contains(&p[0].text.as_str()) && what.contains(&p[1].text.as_str())
+        })
+    };
+    let said = |w: &str| q.iter().any(|x| x.text == w);
+    asked(&["robot", "platform", "machine", "computer", "hardware"])
+        && q.last().is_some_and(|w| w.text == "on")
+        || asked(&["map", "maps"])
+        || said("sent") && (said("who") || said("whos") || said("operator"))
 }
 
 /// Units of the world's measures ("how many meters"; "how many frames"

@@ -261,6 +261,11 @@ const PHRASES: &[(&str, &str)] = &[
     ("bounced back from", "recovered from"),
     ("bounces back from", "recovers from"),
     ("bounce back from", "recover from"),
+    // "Why no call for help this run?": asking for help, as the tree says.
+    ("call for help", "ask for help"),
+    ("calls for help", "asks for help"),
+    ("called for help", "asked for help"),
+    ("calling for help", "asking for help"),
 ];
 
 /// The text lowercased with its names split, what it pastes or abbreviates

@@ -3523,3 +3523,60 @@ fn a_guess_a_kind_denied_and_the_step_it_is_in() {
         ),
     ]);
 }
+
+#[test]
+fn a_node_that_never_ran_is_told_why_across_the_run() {
+    // The kitting run: the ask for help under go insert large gear never
+    // ran, because the fallback's first child succeeded; said before the
+    // search's why of the last tick.
+    let (ok, out, err) = btx(&[
+        "ask",
+        KITTING,
+        "why did the ask action under go insert large gear never run?",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out.lines().nth(1),
+        Some(
+            "The ask action (#28) never ran by the end of the run at tick 54: the go insert large \
+             gear fallback (#3) ran once (a fallback: it tries a child only when the ones before \
+             it fail), and the go insert large gear sequence (#4) succeeded at 26:23. The ask \
+             action (#28) would have run had the go insert large gear sequence (#4) failed."
+        ),
+        "{out}"
+    );
+    // The claim, on the run of the same tree where detect chuck always
+    // fails: there go insert large gear failed, and the ask ran next.
+    let (ok, out, err) = btx(&[
+        "ask",
+        "tests/fixtures/logs/kitting_detect_chuck_always_fails.btlog",
+        "when did the go insert large gear sequence fail?",
+        "when did the ask action under go insert large gear start?",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("failed once by the end of the run at tick 41: at 12:12")
+            && out.contains("started once by the end of the run at tick 41: at 12:13"),
+        "{out}"
+    );
+    // Nav2: the recoveries below RecoveryActions were never reached, since
+    // the goal-updated check succeeded the one time recovery ran.
+    let (ok, out, err) = btx(&["ask", NAV2, "how come it never spun?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains(
+            "Spin (#20) never ran by the end of the run at tick 10, nor did RecoveryActions (#16) \
+             above it: RecoveryFallback (#14) ran once (a fallback: it tries a child only when the \
+             ones before it fail), and the GoalUpdated condition (#15) succeeded at 6:10. \
+             RecoveryActions (#16) would have run had the GoalUpdated condition (#15) failed."
+        ),
+        "{out}"
+    );
+    // Asked while the child before it still runs, that is what holds it.
+    let (ok, out, err) = btx(&["ask", KITTING, "--at", "12", "why didn't #28 run?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("and the go insert large gear sequence (#4) was still running from 1:4."),
+        "{out}"
+    );
+}

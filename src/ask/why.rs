@@ -410,6 +410,14 @@ fn not_run(cx: &Context, u: Uid, r: &mut Reply) -> Option<(String, Moment)> {
         );
         return None;
     }
+    // A node that never ran at all: why, across the run, first; the
+    // search then says what held it back in the tick.
+    if let Some(never) = cx
+        .session
+        .and_then(|s| crate::causal::calls::never_ran(s, u, at.pos))
+    {
+        r.answer = never;
+    }
     Some((format!("executed(#{u})"), Moment { tick, step: None }))
 }
 

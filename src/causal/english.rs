@@ -145,7 +145,7 @@ fn or_list(items: &[String]) -> String {
     }
 }
 
-fn and_list(items: &[String]) -> String {
+pub(crate) fn and_list(items: &[String]) -> String {
     match items.len() {
         0 => String::new(),
         1 => items[0].clone(),

@@ -7,8 +7,10 @@
 //! reproduce the record (time-driven nodes, blackboard values the record
 //! does not hold), nothing is claimed from a re-run.
 
+mod never;
 mod told;
 
+pub use never::never_ran;
 pub use told::*;
 
 use super::english::capitalised;

@@ -610,14 +610,15 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus39 as tuned on (88.0 % understood, 4.3 % misread when
-/// corpus39 joined; first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
+/// corpus3 to corpus39 as tuned on (88.4 % understood, 4.1 % misread; 88.0 %
+/// and 4.3 % when corpus39 joined; first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
 /// 78.2 %/8.2 %, 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %,
 /// 81.1 %/7.9 %, 85.0 %/8.2 %, 79.3 %/8.6 %, 81.8 %/7.5 %, 58.9 %/11.4 %,
 /// 85.4 %/7.9 %, 77.9 %/9.3 %, 69.6 %/15.0 %, 78.9 %/5.7 %, 83.9 %/7.5 %,
 /// 86.8 %/7.1 %, 68.6 %/13.2 %, 63.6 %/20.4 %, 57.1 %/10.7 %, 73.2 %/11.8 %, 81.4 %/7.9 %, 75.4 %/10.4 %, 82.9 %/7.1 %, 68.9 %/13.6 %, 81.4 %/9.3 %, 85.7 %/7.5 %, 63.6 %/11.8 %, 84.3 %/8.6 %, 85.0 %/9.6 % and 78.9 %/8.6 %),
-/// and corpus40, never tuned on (87.5 % and 6.4 % when it was first read).
-const C3_FLOOR: f64 = 87.9;
-const C3_MISREAD: f64 = 4.4;
-const FRESH_FLOOR: f64 = 87.4;
+/// and corpus40, never tuned on (87.5 % and 6.4 % when it was first read;
+/// 87.9 % after the rules corpus39 taught, its own failures unread).
+const C3_FLOOR: f64 = 88.3;
+const C3_MISREAD: f64 = 4.2;
+const FRESH_FLOOR: f64 = 87.8;
 const FRESH_MISREAD: f64 = 6.5;

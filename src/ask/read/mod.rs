@@ -480,19 +480,13 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // question that stands on its own (no "it" or "that" pointing into
     // the story, no topic before a colon), read surely, is what the post
     // asks; the story around it only tells when.
-    // "Assume FollowPath held at tick 4. How'd the run go?": a question
-    // after what the story supposes asks what comes of it.
-    let story_supposes = whole
-        .as_ref()
-        .is_some_and(|w| matches!(w.intent, Intent::WhatIf { .. }));
-    let supposed = |a: &Reading| story_supposes && !matches!(a.intent, Intent::WhatIf { .. });
     if let (Some(w), [q]) = (&whole, &questions[..]) {
         match asked.clone() {
             // "Why is it being ticked again?": Han's why asks of what runs
             // now, whatever "it" the story names.
             Some(mut a)
                 if a.confidence >= SURE
-                    && !supposed(&a)
+                    && !after_a_supposition(whole.as_ref(), &a)
                     && (stands_alone(text, q, of_the_robot(&a))
                         || a.intent == Intent::Fixed(Question::Tree(TreeQuestion::Why))
                             && q.to_lowercase().contains(" again")) =>
@@ -534,9 +528,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     }
     match (whole, asked) {
         (Some(w), Some(a)) if a.confidence <= w.confidence => Some(w),
-        // "Assume FollowPath held at tick 4. How'd the run go?": what the
-        // story supposes is what the question after it asks the outcome of.
-        (Some(w), Some(a)) if supposed(&a) => Some(w),
+        (Some(w), Some(a)) if after_a_supposition(Some(&w), &a) => Some(w),
         // "Actual: FollowPath FAILURE. … Why did it fail?": "it" is the
         // node the story told of doing what the question asks about.
         (Some(w), Some(a)) if the_story_asks_it(&a, &w) && reported(text) => Some(w),
@@ -548,6 +540,14 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         }
         (w, a) => a.or(w),
     }
+}
+
+/// "Assume FollowPath held at tick 4. How'd the run go?": a question after
+/// what the story supposes (the whole read as a what-if) asks what comes
+/// of it, however surely it reads alone.
+fn after_a_supposition(whole: Option<&Reading>, asked: &Reading) -> bool {
+    whole.is_some_and(|w| matches!(w.intent, Intent::WhatIf { .. }))
+        && !matches!(asked.intent, Intent::WhatIf { .. })
 }
 
 /// Whether a reading asks of an event of the task or "it", no node named

@@ -109,11 +109,15 @@ fn turns(session: &Session, above: Uid, branch: Uid, upto: u32) -> Vec<Turn> {
         .copied()
         .filter(|&p| p <= upto)
         .collect();
-    let starts: Vec<u32> = changes
+    let mut starts: Vec<u32> = changes
         .iter()
         .copied()
         .filter(|&p| idx.transitions[p as usize - 1].prev == Status::Idle)
         .collect();
+    // A record that begins with the node already running: that is a run.
+    if changes.first().is_some_and(|f| starts.first() != Some(f)) {
+        starts.insert(0, changes[0]);
+    }
     let before: Vec<Uid> = tree
         .node(above)
         .children
@@ -175,13 +179,7 @@ fn deciders(session: &Session, above: Uid, branch: Uid, turns: &[Turn]) -> Strin
             ),
         };
     }
-    let mut each: Vec<(Uid, Status, Vec<u32>)> = Vec::new();
-    for (c, s, p) in turns.iter().filter_map(|t| t.decider) {
-        match each.iter_mut().find(|(d, st, _)| *d == c && *st == s) {
-            Some(e) => e.2.push(p),
-            None => each.push((c, s, vec![p])),
-        }
-    }
+    let each = by_decider(turns);
     let told: Vec<String> = each
         .iter()
         .map(|(c, s, ps)| {
@@ -228,4 +226,17 @@ fn deciders(session: &Session, above: Uid, branch: Uid, turns: &[Turn]) -> Strin
         }
     }
     out
+}
+
+/// The runs grouped by the child that decided them and how: each with the
+/// positions where it did.
+fn by_decider(turns: &[Turn]) -> Vec<(Uid, Status, Vec<u32>)> {
+    let mut each: Vec<(Uid, Status, Vec<u32>)> = Vec::new();
+    for (c, s, p) in turns.iter().filter_map(|t| t.decider) {
+        match each.iter_mut().find(|(d, st, _)| *d == c && *st == s) {
+            Some(e) => e.2.push(p),
+            None => each.push((c, s, vec![p])),
+        }
+    }
+    each
 }

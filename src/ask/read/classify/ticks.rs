@@ -159,18 +159,6 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
         .then(|| vec![(Intent::Tick(n), c.sure_of_words(0.95))])
 }
 
-/// "What are you on right now?", "what were you on at 12:13?": what it
-/// is busy with; not "which step is it on?" (read before).
-pub(super) fn on_it(s: &Sentence) -> bool {
-    s.q.windows(3).any(|p| {
-        ["you", "it", "we", "robot"].contains(&p[0].text.as_str()) && p[1].text == "on" && {
-            let after = p[2].text.as_str();
-            ["at", "right", "now", "rn", "atm", "currently", "in"].contains(&after)
-        }
-    }) || s.ends_with(&["you", "on"])
-        || s.ends_with(&["it", "on"])
-}
-
 /// What next?
 pub(super) fn next(c: &Cues) -> Option<Readings> {
     let s = c.s;

@@ -587,7 +587,10 @@ pub fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
                 from = q;
             }
             None => {
-                said.push(if ran.is_empty() || again.is_some() {
+                said.push(if again.is_some() {
+                    // What it ran and the try again are told just before.
+                    format!("{hn} had not finished {by}")
+                } else if ran.is_empty() {
                     format!("{hn} handles it, and had not finished {by}")
                 } else {
                     format!("{hn} handles it with {ran}, and had not finished {by}")

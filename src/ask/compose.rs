@@ -682,33 +682,12 @@ fn recovered(cx: &Context, r: &mut Reply, said: Option<u32>) -> Result<(), Strin
     r.nodes = std::iter::once(leaf)
         .chain(handlers.iter().copied())
         .collect();
-    let mut verdict = "No";
-    let mut from = p;
-    for &h in &handlers {
-        r.about = Some(h);
-        let end = at
-            .index
-            .changes_of(h)
-            .iter()
-            .copied()
-            .filter(|&q| q > from && q <= at.pos)
-            .map(|q| (q, at.index.transitions[q as usize - 1].status))
-            .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
-        match end {
-            Some((_, Status::Success)) => verdict = "Yes",
-            Some((q, _)) => {
-                from = q;
-                continue;
-            }
-            None => verdict = "Not yet",
-        }
-        break;
-    }
-    let story = crate::causal::calls::handled(session, leaf, p, at.pos);
-    let nothing = if verdict == "No" {
-        " Nothing above recovered."
-    } else {
-        ""
+    let (handling, story) = crate::causal::calls::handling(session, leaf, p, at.pos);
+    r.about = handling.by;
+    let (verdict, nothing) = match handling.ended {
+        Some(Status::Success) => ("Yes", ""),
+        Some(_) => ("No", " Nothing above recovered."),
+        None => ("Not yet", ""),
     };
     r.answer = format!(
         "{verdict}. {} failed at {when}. {story}{nothing}",

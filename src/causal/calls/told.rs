@@ -529,18 +529,32 @@ pub(super) fn ended_so_before(session: &Session, u: Uid, p: u32) -> String {
     }
 }
 
+/// How the handlers above a failed leaf came out, by the moment asked:
+/// the last one reached, and how it ended (`None`: it had not ended).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Handling {
+    pub by: Option<Uid>,
+    pub ended: Option<Status>,
+}
+
 /// What handled the leaf's failure at `p`, by position `upto`: each
 /// handler above it in turn, from where the one below ended.
 pub fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
+    handling(session, u, p, upto).1
+}
+
+/// [`handled`], with how the handling came out: a handler's success ends
+/// it, a failure passes it to the next one up.
+pub fn handling(session: &Session, u: Uid, p: u32, upto: u32) -> (Handling, String) {
     let idx = &session.index;
     let tree = &session.tree;
     let mut said = Vec::new();
     let mut from = p;
-    let by = if upto as usize >= idx.transitions.len() {
-        "when the run ends".to_string()
-    } else {
-        format!("by moment {}", idx.moment(upto))
+    let mut out = Handling {
+        by: None,
+        ended: None,
     };
+    let by = by_then(idx, upto);
     for h in tree
         .ancestors(u)
         .filter(|&a| crate::explain::failure::handles_failure(tree, a))
@@ -553,6 +567,10 @@ pub fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
             .map(|q| (q, idx.transitions[q as usize - 1].status))
             .find(|(_, s)| matches!(s, Status::Success | Status::Failure));
         let hn = tree.told(h);
+        out = Handling {
+            by: Some(h),
+            ended: done.map(|d| d.1),
+        };
         let a = again_at(session, u, from, upto, done.map(|d| d.0));
         let ran = ran_between(session, h, u, from, a.or(done.map(|d| d.0)).unwrap_or(upto));
         let who = if ran.is_empty() {
@@ -599,10 +617,20 @@ pub fn handled(session: &Session, u: Uid, p: u32, upto: u32) -> String {
             }
         }
     }
-    if said.is_empty() {
+    let told = if said.is_empty() {
         "No fallback, retry or recovery is above it: its failure went up the tree.".into()
     } else {
         format!("{}.", capitalised(&said.join("; ")))
+    };
+    (out, told)
+}
+
+/// "when the run ends", or "by moment 4:5".
+fn by_then(idx: &crate::session::Index, upto: u32) -> String {
+    if upto as usize >= idx.transitions.len() {
+        "when the run ends".to_string()
+    } else {
+        format!("by moment {}", idx.moment(upto))
     }
 }
 

@@ -451,44 +451,47 @@ fn after_a_full_buffer_every_nodes_state_is_read_again() {
         .iter()
         .find(|r| r.0 >= full + 1000)
         .expect("a resync after the full buffer");
-    let read = read as usize;
+    let (read, full) = (read as usize, full as usize);
     assert!(
         watched
             .index
             .gaps
             .iter()
-            .any(|g| g.0 as usize == read - 1000
-                && g.1.contains("was full")
-                && g.1.contains("read every node's state again")),
+            .any(|g| g.0 as usize == full && g.1.contains("read every node's state again")),
         "{:?}",
         watched.index.gaps
     );
     // Where the 1,000 received with the full buffer are in the robot's log.
     let key = |t: &btx::session::Transition| (t.uid, t.status);
-    let got: Vec<_> = all[read - 1000..read].iter().map(key).collect();
+    let got: Vec<_> = all[full..full + 1000].iter().map(key).collect();
     let j = (0..l.len() - 1000)
         .find(|&j| l[j..j + 1000].iter().map(key).eq(got.iter().copied()))
         .expect("the records of the full buffer are in the robot's log");
-    // From the read to the next gap, if any (BehaviorTree.CPP 4.8's race,
-    // see `Watch::take`), every transition is the robot's, its `prev`
+    // The read is placed among the transitions that came after those
+    // 1,000 (the robot went on between the two requests), and from there
+    // to the next gap, if any (BehaviorTree.CPP 4.8's race, see
+    // `Watch::take`), every transition is the robot's, its `prev`
     // included: those of each node's first transition come from the read.
     let end = watched
         .index
         .gaps
         .iter()
         .map(|g| g.0 as usize)
-        .find(|&g| g > read)
+        .find(|&g| g > full)
         .unwrap_or(all.len());
     assert!(
         end - read >= 1000,
         "{} transitions after the read",
         end - read
     );
-    let full = |t: &btx::session::Transition| (t.uid, t.prev, t.status);
-    let there = j + 1000 + end - read;
+    let whole = |t: &btx::session::Transition| (t.uid, t.prev, t.status);
+    let there = j + end - full;
     assert_eq!(
-        all[read..end].iter().map(full).collect::<Vec<_>>(),
-        l[j + 1000..there].iter().map(full).collect::<Vec<_>>()
+        all[read..end].iter().map(whole).collect::<Vec<_>>(),
+        l[j + read - full..there]
+            .iter()
+            .map(whole)
+            .collect::<Vec<_>>()
     );
     let ended = |ts: &[btx::session::Transition]| {
         ts.iter()

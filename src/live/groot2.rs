@@ -80,7 +80,7 @@ pub fn header(kind: u8, id: u32) -> [u8; 6] {
 
 /// A status byte of the protocol (IDLE, RUNNING, SUCCESS, FAILURE, SKIPPED;
 /// in `S` replies IDLE after a status is 10 + that status).
-fn status_of(b: u8) -> Option<Status> {
+pub(super) fn status_of(b: u8) -> Option<Status> {
     Some(match b {
         0 | 10..=14 => Status::Idle,
         1 => Status::Running,

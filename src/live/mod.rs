@@ -97,4 +97,62 @@ mod tests {
             .any(|b| b.uid == 2 && b.status == Status::Success));
         stop.store(true, std::sync::atomic::Ordering::Relaxed);
     }
+
+    /// A Groot2 server of a Sequence (#1) of one leaf (#2) that fills its
+    /// buffer of 1,000 once, and went on between btx's two requests after:
+    /// its `S` reply is the state after the first two transitions of the
+    /// `t` reply that follows.
+    fn busy_server() -> (String, Arc<AtomicBool>) {
+        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let addr = l.local_addr().unwrap().to_string();
+        let stop = Arc::new(AtomicBool::new(false));
+        let ts = Arc::new(AtomicUsize::new(0));
+        let answer: zmtp::Answer = Arc::new(move |parts: &[Vec<u8>]| {
+            let mut h = parts[0].clone();
+            h.extend_from_slice(&[7; 16]);
+            let recs = |cycle: &[(u16, u8)]| -> Vec<u8> {
+                let mut out = Vec::new();
+                for &(uid, status) in cycle {
+                    out.extend_from_slice(&1_000u64.to_le_bytes()[..6]);
+                    out.extend_from_slice(&uid.to_le_bytes());
+                    out.push(status);
+                }
+                out
+            };
+            // RUNNING, the leaf's SUCCESS, the Sequence's, both reset.
+            let cycle = [(1, 1), (2, 2), (1, 2), (2, 0), (1, 0)];
+            let body = match parts[0][1] {
+                b'T' => b"<root/>".to_vec(),
+                b'r' => b"1700000000000000".to_vec(),
+                b'S' if ts.load(Ordering::SeqCst) < 2 => vec![1, 0, 10, 2, 0, 10],
+                // The Sequence RUNNING, the leaf SUCCESS.
+                b'S' => vec![1, 0, 1, 2, 0, 2],
+                b't' => match ts.fetch_add(1, Ordering::SeqCst) {
+                    1 => recs(&cycle.repeat(200)),
+                    2 => recs(&[cycle.as_slice(), &[(1, 1)]].concat()),
+                    _ => Vec::new(),
+                },
+                _ => Vec::new(),
+            };
+            vec![h, body]
+        });
+        let halt = Arc::clone(&stop);
+        std::thread::spawn(move || rep::serve_rep(l, answer, &[], halt));
+        (addr, stop)
+    }
+
+    #[test]
+    fn a_read_after_a_full_buffer_is_placed_where_the_robot_was_when_it_answered() {
+        let (addr, stop) = busy_server();
+        let mut w = Watch::start(&addr, None).unwrap();
+        assert_eq!(w.poll().unwrap(), 1006);
+        assert!(w.gaps.iter().any(|g| g.at == 0 && g.why.contains("was full")));
+        // Not after the 1,000, where btx asked: the robot had moved two
+        // more by then.
+        let (at, states) = w.resyncs.last().unwrap();
+        assert_eq!(*at, 1002);
+        let leaf = states.iter().find(|b| b.uid == 2).unwrap();
+        assert_eq!(leaf.status, Status::Success);
+        stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    }
 }

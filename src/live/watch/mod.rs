@@ -11,6 +11,7 @@ use crate::source::Warning;
 use groot2::{Client, LiveError, SERVER_BUFFER};
 
 mod publisher;
+mod settle;
 
 /// A live run being watched.
 pub struct Watch {
@@ -52,6 +53,11 @@ pub struct Watch {
     pub finished: Option<String>,
     /// Replies larger than the buffer the server announced, in a row.
     pub(super) oversized: usize,
+    /// Transitions were lost: every node's state is to be read again.
+    pub(super) unsettled: bool,
+    /// The state read (`S` codes), to be placed among the transitions of
+    /// the next reply (`settle`).
+    pub(super) settling: Option<Vec<(u32, u8)>>,
 }
 
 /// Replies larger than the server's buffer, in a row, after which btx
@@ -183,6 +189,8 @@ impl Watch {
             root: None,
             finished: None,
             oversized: 0,
+            unsettled: false,
+            settling: None,
         }
     }
 
@@ -245,13 +253,7 @@ impl Watch {
             w.notes.push("--publisher-port is for a BehaviorTree.CPP 3 robot; this one speaks Groot2, on one port: it is not used".into());
         }
         w.take(first);
-        if overflowed {
-            // Where the lost transitions left the nodes.
-            let states = w.client.as_mut().map(|c| c.states()).transpose()?;
-            if let Some(states) = states {
-                w.resyncs.push((w.received(), states));
-            }
-        }
+        w.settle()?;
         Ok(w)
     }
 
@@ -301,23 +303,9 @@ impl Watch {
                         groot2::TRANSITIONS_REPLY_MAX
                     ));
                 }
-                let buffer = self.client.as_ref().map_or(SERVER_BUFFER, |c| c.buffer);
-                let full = ts.len() >= buffer;
+                self.unsettled |= dropped.is_some();
                 let n = self.take(ts);
-                if full || dropped.is_some() {
-                    // The statuses now, as the lost transitions left them.
-                    let states = self.client.as_mut().map(|c| c.states());
-                    match states {
-                        Some(Ok(states)) => self.resyncs.push((self.received(), states)),
-                        Some(Err(e)) => {
-                            self.client = None;
-                            self.gap(format!("the connection dropped ({e})"));
-                            return Err(e);
-                        }
-                        None => {}
-                    }
-                }
-                Ok(n)
+                self.settle().map(|k| n + k)
             }
             Err(e) => {
                 self.client = None;
@@ -372,6 +360,11 @@ impl Watch {
         } else if ts.len() == buffer {
             self.gap(format!("the server's buffer of {buffer} transitions was full: older ones may be lost{RESYNCED} after these {buffer}"));
         }
+        let read = self.settling.take();
+        // A read followed by lost transitions may belong among them: it is
+        // placed first, where btx took it, and read again.
+        let lost = sent >= buffer || ts.iter().any(|t| t.uid == 0);
+        self.unsettled |= lost;
         let n = ts.len();
         // BehaviorTree.CPP 4.8's publisher sizes its reply before it locks
         // the buffer: records that arrive meanwhile come out as zeros (uid
@@ -380,17 +373,50 @@ impl Watch {
         if zeroed > 0 {
             self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost{RESYNCED}"));
         }
-        self.keep(ts.into_iter().filter(|t| t.uid != 0));
-        if zeroed > 0 {
-            // Where the lost transitions left the nodes: without it a node
-            // whose completion was lost would show RUNNING until its next
-            // transition, and that one as a halt. A failed read leaves the
-            // connection to the next poll.
-            if let Some(Ok(states)) = self.client.as_mut().map(|c| c.states()) {
-                self.resyncs.push((self.received(), states));
+        ts.retain(|t| t.uid != 0);
+        let at = read.as_ref().map_or(0, |codes| {
+            (!lost)
+                .then(|| settle::settled_at(codes, &ts))
+                .flatten()
+                .unwrap_or(0)
+        });
+        let after = ts.split_off(at);
+        self.keep(ts.into_iter());
+        if let Some(codes) = read {
+            self.resyncs
+                .push((self.received(), groot2::states_of(&codes)));
+        }
+        self.keep(after.into_iter());
+        n
+    }
+
+    /// After lost transitions, reads where they left the nodes (without
+    /// it a node whose completion was lost would show RUNNING until its
+    /// next transition, and that one as a halt), then the transitions
+    /// since, among which the read is placed (`settle::settled_at`); how
+    /// many transitions came.
+    pub(super) fn settle(&mut self) -> Result<usize, LiveError> {
+        if !self.unsettled {
+            return Ok(0);
+        }
+        let Some(c) = self.client.as_mut() else {
+            return Ok(0);
+        };
+        self.unsettled = false;
+        match c
+            .codes()
+            .and_then(|codes| c.transitions().map(|ts| (codes, ts)))
+        {
+            Ok((codes, ts)) => {
+                self.settling = Some(codes);
+                Ok(self.take(ts))
+            }
+            Err(e) => {
+                self.client = None;
+                self.gap(format!("the connection dropped ({e})"));
+                Err(e)
             }
         }
-        n
     }
 
     /// Keeps transitions as records; how many.

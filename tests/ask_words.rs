@@ -3580,3 +3580,62 @@ fn a_node_that_never_ran_is_told_why_across_the_run() {
         "{out}"
     );
 }
+
+/// Words taught by the venting users of corpus40: slang for going wrong
+/// and for what happened, "this thing" for the robot, a rhetorical "should
+/// I start worrying?", a failure that only says when, an idiom that is no
+/// first time, and the setup around the run, which no record holds.
+#[test]
+fn a_venting_users_words_are_read_for_what_they_ask() {
+    first_lines_are(vec![
+        (
+            vec![NAV2],
+            "did anything go sideways during this run? yes or no",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![NAV2, "--at", "3"],
+            "Everything fine so far, or should I start worrying?",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![PATROL],
+            "So did it ever get going again after that failure?",
+            "Did the recovery work?",
+        ),
+        (
+            vec![NAV2],
+            "Can this thing even back up when it's stuck?",
+            "Can you BackUp?",
+        ),
+        (
+            vec![TAXI],
+            "so what just went down in this final tick?",
+            "What happened at tick 15?",
+        ),
+        (
+            vec![NAV2],
+            "tick 6 looks like a disaster in the log. break it down for me?",
+            "What happened at tick 6?",
+        ),
+        (
+            vec![NAV2],
+            "what was going on at 2:2?",
+            "What were you doing at 2:2?",
+        ),
+        (
+            vec![KITTING],
+            "how was this thing supposed to get the overall job done in the first place?",
+            "How do you achieve your goal?",
+        ),
+    ]);
+    for (run, q) in [
+        (TAXI, "what colour is the taxi?"),
+        (NAV2, "who recorded this bag?"),
+        (KITTING, "what's the serial number of this robot?"),
+        (PATROL, "is path clear checking a laser or a camera?"),
+    ] {
+        let (ok, out, _) = common::btx(&["ask", run, q]);
+        assert!(!ok && out.contains("I don't know how to answer that."), "{q}: {out}");
+    }
+}

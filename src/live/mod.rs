@@ -146,7 +146,10 @@ mod tests {
         let (addr, stop) = busy_server();
         let mut w = Watch::start(&addr, None).unwrap();
         assert_eq!(w.poll().unwrap(), 1006);
-        assert!(w.gaps.iter().any(|g| g.at == 0 && g.why.contains("was full")));
+        assert!(w
+            .gaps
+            .iter()
+            .any(|g| g.at == 0 && g.why.contains("was full")));
         // Not after the 1,000, where btx asked: the robot had moved two
         // more by then.
         let (at, states) = w.resyncs.last().unwrap();

@@ -103,6 +103,8 @@ const ROBOTS: &[&str] = &[
     "amr",
     "turtlebot",
     "manipulator",
+    // "Can this thing even dock?".
+    "thing",
     "it",
 ];
 

@@ -44,7 +44,13 @@ impl<'a, 's> Cues<'a, 's> {
         let first = s.first_free().unwrap_or("");
         let why = asks_why(s, ev);
         let what = s.has("what") || s.has("which") || IMPERATIVE.iter().any(|w| s.has(w));
-        let break_down = s.has("breakdown");
+        // "Break it down for me": told part by part, not broken.
+        let break_down = s.has("breakdown")
+            || s.q.windows(3).any(|p| {
+                p[0].text == "break"
+                    && ["it", "that", "this"].contains(&p[1].text.as_str())
+                    && p[2].text == "down"
+            });
         let problem = problem(s, break_down);
         Cues {
             s,
@@ -220,7 +226,7 @@ fn yes_no(s: &Sentence, first: &str) -> bool {
 pub(super) const PROBLEM: &[&str] = &[
     "wrong", "problem", "error", "issu", "fail", "broke", "break", "fault", "bad", "mess",
     "hiccup", "glitch", "snag", "hitch", "troubl", "anomali", "anomal", "deviat", "incid",
-    "abnorm",
+    "abnorm", "sideway",
 ];
 
 fn problem(s: &Sentence, break_down: bool) -> bool {
@@ -288,8 +294,9 @@ fn asks_when(s: &Sentence, why: bool) -> bool {
         || ["tick", "ticks", "step", "steps"].iter().any(|t| s.has(t))
             && (s.phrase(&["at", "which"]).is_some() || s.phrase(&["in", "which"]).is_some())
         // "list the ticks where it failed".
-        || (s.has("tick") || s.has("ticks"))
-            && ["list", "where", "show", "give"].iter().any(|w| s.has(w))
+        // ("Give me all of it" about this tick asks what happened in it.)
+        || s.has("ticks") && ["list", "where", "show", "give"].iter().any(|w| s.has(w))
+        || s.has("tick") && ["list", "where", "show"].iter().any(|w| s.has(w))
         || tick_asked_for(s)
 }
 

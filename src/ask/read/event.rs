@@ -98,7 +98,8 @@ fn event_of(s: &Sentence) -> (Option<Event>, bool) {
         || s.has("never")
         // "Why did none of the recovery actions ever run?".
         || s.phrase(&["none", "of"]).is_some()
-        || s.has("no") && !s.has("one");
+        // "… yes or no?" asks yes or no; it denies nothing.
+        || s.has("no") && !s.has("one") && s.phrase(&["yes", "or", "no"]).is_none();
     // "Why did it end up asking for help?": it came to do it, which is
     // running it, not finishing ("ends up aborting" is aborting).
     let ended_up = s.q.windows(3).any(|w| {

@@ -333,11 +333,17 @@ fn never_a_name(q: &[Word], i: usize, j: usize, span: &[&Word]) -> bool {
     // "Went straight back to": an adverb may come between.
     let moved = |k: usize| MOVES_BACK.contains(&q[k].text.as_str());
     let adverb = |k: usize| ["straight", "right", "just"].contains(&q[k].text.as_str());
-    let moving_back = span.len() == 1
-        && span[0].text == "back"
+    // "Going back to detect chuck": "back to" is where it went, not
+    // "back to approach pose".
+    let moving_back = span[0].text == "back"
+        && span[1..].iter().all(|w| w.text == "to")
         && i > 0
         && (moved(i - 1) || i > 1 && adverb(i - 1) && moved(i - 2));
-    kind || plain || moving_back
+    // "Tick 6 looks like a disaster": how it seems, not look at chuck.
+    let seems = span.len() == 1
+        && ["look", "looks", "looked"].contains(&span[0].text.as_str())
+        && q.get(j).is_some_and(|w| w.text == "like");
+    kind || plain || moving_back || seems
 }
 
 /// Nav2's field words as a question's words, read once a process.

@@ -202,9 +202,16 @@ pub(super) fn uids_told_of_names(mut nodes: Vec<Mention>) -> Vec<Mention> {
 /// py_trees?") and the robot's world where no node but the task is named
 /// ("what was the temperature in the cell?"): no run holds the answer.
 pub(super) fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: &[bool]) -> bool {
+    // "… or should I start worrying?" asks whether all is well.
+    let worried = q.iter().any(|w| {
+        ["worri", "worry", "panic", "concern"]
+            .iter()
+            .any(|p| w.stem.starts_with(p))
+    });
     let advice = q
         .windows(2)
         .any(|p| p[0].text == "should" && ["i", "we"].contains(&p[1].text.as_str()))
+        && !worried
         || q.iter().any(|w| ADVICE.contains(&w.text.as_str()));
     // "How much battery did it burn?": an amount the run does not hold
     // ("how much time" it does).
@@ -249,6 +256,7 @@ pub(super) fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: 
     advice
         || measure
         || outside
+        || which_hardware(q, in_mention)
         || far
         || s.nodes
             .iter()
@@ -279,10 +287,68 @@ fn of_the_setup(q: &[Word]) -> bool {
         })
     };
     let said = |w: &str| q.iter().any(|x| x.text == w);
-    asked(&["robot", "platform", "machine", "computer", "hardware"])
-        && q.last().is_some_and(|w| w.text == "on")
+    // "What's the real-world robot this runs on?": the thing asked for a
+    // few words after "what".
+    let asked_near = |what: &[&str]| {
+        q.iter().enumerate().any(|(i, w)| {
+            ["what", "which", "whats"].contains(&w.text.as_str())
+                && q[i + 1..]
+                    .iter()
+                    .take(5)
+                    .any(|x| what.contains(&x.text.as_str()))
+        })
+    };
+    // "Who recorded this bag?", "who bought it?": people and purchases.
+    let who_did = said("who")
+        && q.iter().any(|w| {
+            [
+                "recorded",
+                "bought",
+                "built",
+                "made",
+                "wrote",
+                "programmed",
+                "installed",
+                "configured",
+                "deployed",
+                "purchased",
+            ]
+            .contains(&w.text.as_str())
+        });
+    let runs_on = q.len() > 2
+        && q[q.len() - 1].text == "on"
+        && ["run", "runs", "running", "ran", "based", "deployed"]
+            .contains(&q[q.len() - 2].text.as_str());
+    asked_near(&["robot", "platform", "machine", "computer", "hardware"]) && runs_on
         || asked(&["map", "maps"])
         || said("sent") && (said("who") || said("whos") || said("operator"))
+        || who_did
+        // "What colour is the taxi?": the robot's body.
+        || asked(&["colour", "color"])
+            && q.iter().any(|w| ["taxi", "robot", "car", "vehicle", "rover", "bot"].contains(&w.text.as_str()))
+}
+
+/// "Is L0 checking a laser or a camera?": which sensor, a choice of the
+/// robot's hardware, which no run holds.
+fn which_hardware(q: &[Word], in_mention: &[bool]) -> bool {
+    const SENSORS: &[&str] = &[
+        "laser",
+        "camera",
+        "lidar",
+        "sonar",
+        "radar",
+        "gps",
+        "imu",
+        "encoder",
+        "ultrasonic",
+        "infrared",
+    ];
+    let sensors = q
+        .iter()
+        .enumerate()
+        .filter(|(i, w)| !in_mention[*i] && SENSORS.contains(&w.text.as_str()))
+        .count();
+    sensors >= 2 && q.iter().any(|w| w.text == "or")
 }
 
 /// Units of the world's measures ("how many meters"; "how many frames"
@@ -323,6 +389,14 @@ pub(super) const OUTSIDE: &[&str] = &[
     "salary",
     "budget",
     "firmware",
+    "serial",
+    "warranty",
+    "cheap",
+    "expensive",
+    "pricey",
+    "price",
+    "bought",
+    "purchased",
     "feel",
     "feels",
     "feeling",

@@ -266,6 +266,12 @@ const PHRASES: &[(&str, &str)] = &[
     ("calls for help", "asks for help"),
     ("called for help", "asked for help"),
     ("calling for help", "asking for help"),
+    // "What just went down in this tick?": slang for what happened, not
+    // a move down.
+    ("what just went down", "what just happened"),
+    ("what went down", "what happened"),
+    // An idiom ("why did it fail in the first place?"), not the first time.
+    ("in the first place", ""),
 ];
 
 /// The text lowercased with its names split, what it pastes or abbreviates

@@ -160,7 +160,8 @@ pub(super) fn recovered(c: &Cues) -> Option<Readings> {
     let on_track = s.phrase(&["on", "track"]).is_some()
         && (s.q.iter().any(|w| w.text == "back") || s.has("after") || c.problem)
         || s.phrase(&["back", "to", "normal"]).is_some()
-        || s.phrase(&["going", "again"]).is_some() && s.has("after");
+        // "After that failure" may be read as the moment: its words count.
+        || s.phrase(&["going", "again"]).is_some() && s.q.iter().any(|w| w.text == "after");
     if (!c.how || costed_after(s))
         && !c.why
         // "The retry box is lit - which subgoal is that?": the subgoal.
@@ -219,7 +220,10 @@ pub(super) fn handled(c: &Cues) -> Option<Readings> {
     ]) || s.has_prefix(&["recover", "handl"]);
     // "How is it going to achieve the subgoal now that the sequence
     // failed?": how the (sub)goal is reached, the failure its occasion.
-    let achieving = s.has_stem(&["achiev", "accomplish"]) && s.has_stem(&["goal", "subgoal"]);
+    // "How does it get its subgoal done if Spin keeps failing?" too.
+    let get_done = s.has("done") && ["get", "gets", "getting"].iter().any(|g| s.has(g));
+    let achieving =
+        (s.has_stem(&["achiev", "accomplish"]) || get_done) && s.has_stem(&["goal", "subgoal"]);
     if achieving && !handle {
         return None;
     }
@@ -256,13 +260,26 @@ fn answered_by_action(s: &Sentence) -> bool {
 }
 
 /// "What went wrong?", and "what made look at chuck fail?" (a why).
+/// "What was it doing at tick 8, before the second detect chuck
+/// failure?": the failure says when; what it was doing is asked.
+fn doing_by_a_failure(c: &Cues) -> bool {
+    let q = c.s.q;
+    let problem_at =
+        |w: &super::super::Word| crate::ask::read::cues::PROBLEM.contains(&w.stem.as_str());
+    let clause = q
+        .iter()
+        .position(|w| ["before", "after", "until", "till"].contains(&w.text.as_str()));
+    c.s.has("doing")
+        && clause.is_some_and(|k| !q[..k].iter().any(problem_at) && q[k..].iter().any(problem_at))
+}
+
 pub(super) fn what_went_wrong(c: &Cues) -> Option<Readings> {
     let s = c.s;
     if !(c.problem && (c.what || s.empty() || s.has("where")) && !c.yes_no) {
         return None;
     }
     let asked_when = when::find(s.q);
-    if asks_past_a_told_failure(s, asked_when.is_some()) {
+    if asks_past_a_told_failure(s, asked_when.is_some()) || doing_by_a_failure(c) {
         return None;
     }
     // "What failed in goal 1 - planner or controller?": which did is

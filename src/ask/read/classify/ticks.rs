@@ -116,9 +116,17 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
     }
     // "What was happening at 1:6?", "what were you on at 12:13?": what it
     // was doing at a step, not the whole tick.
-    let going_on = s.has("happening") || s.phrase(&["going", "on"]).is_some() || on_it(s);
+    // ("On at 2:2" may be read as the moment: the words count.)
+    let going_on = s.has("happening")
+        || s.q
+            .windows(2)
+            .any(|p| p[0].text == "going" && p[1].text == "on")
+        || on_it(s);
     if matches!(asked_when, Some(When::Step(..))) && going_on {
-        return None;
+        return Some(vec![(
+            Intent::Fixed(Question::Tree(TreeQuestion::Doing)),
+            c.sure_of_words(0.93),
+        )]);
     }
     let n = match asked_when {
         Some(When::Tick(n) | When::Step(n, _)) => n,

@@ -131,7 +131,12 @@ pub(super) fn asks_steps(c: &Cues) -> bool {
                     .get(i + 1)
                     .is_some_and(|n| n.text.bytes().all(|b| b.is_ascii_digit()))
         });
-    !s.has("doing")
+    // "What steps does it take for what it's doing now?": the steps asked
+    // of what it does.
+    let steps_asked = ["what", "which"]
+        .iter()
+        .any(|w| s.phrase(&[w, "steps"]).is_some());
+    (!s.has("doing") || steps_asked)
         && !this_step
         && !where_it_is(c)
         && s.has_stem(&[

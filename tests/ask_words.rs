@@ -3572,6 +3572,43 @@ fn a_node_that_never_ran_is_told_why_across_the_run() {
         ),
         "{out}"
     );
+    // The claim, on a re-run of the navigator with the plan of that run
+    // and GoalUpdated failing: RecoveryActions runs, the tick after it
+    // fails; and Spin is then not reached for the RoundRobin's turn.
+    let dir = tempfile::tempdir().unwrap();
+    let plan = dir.path().join("goal_updated_fails.plan");
+    let mut text =
+        std::fs::read_to_string("tests/fixtures/plans/nav2_followpath_fails_twice.plan").unwrap();
+    text.push_str("GoalUpdated = F\n");
+    std::fs::write(&plan, text).unwrap();
+    let rerun = dir.path().join("rerun.jsonl");
+    let (ok, _, err) = btx(&[
+        "-q",
+        "run",
+        "tests/fixtures/realworld/nav2/navigate_to_pose_w_replanning_and_recovery.xml",
+        "--models",
+        "tests/fixtures/realworld/nav2/nav2_tree_nodes.main.xml",
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        rerun.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let rerun = rerun.to_str().unwrap();
+    let (ok, out, err) = btx(&[
+        "ask",
+        rerun,
+        "when did the GoalUpdated condition under RecoveryFallback fail?",
+        "when did RecoveryActions first start?",
+        "how come it never spun?",
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("The GoalUpdated condition (#15) failed 3 times by the end of the run at tick 13: at 7:10,")
+            && out.contains("RecoveryActions (#16) first started at 7:11")
+            && out.contains("RecoveryActions (#16) ran once (a RoundRobin: it ticks one child each time it runs), and ran ClearingActions (#17) instead."),
+        "{out}"
+    );
     // Asked while the child before it still runs, that is what holds it.
     let (ok, out, err) = btx(&["ask", KITTING, "--at", "12", "why didn't #28 run?"]);
     assert!(ok, "{err}");
@@ -3636,6 +3673,9 @@ fn a_venting_users_words_are_read_for_what_they_ask() {
         (PATROL, "is path clear checking a laser or a camera?"),
     ] {
         let (ok, out, _) = common::btx(&["ask", run, q]);
-        assert!(!ok && out.contains("I don't know how to answer that."), "{q}: {out}");
+        assert!(
+            !ok && out.contains("I don't know how to answer that."),
+            "{q}: {out}"
+        );
     }
 }

@@ -3679,3 +3679,22 @@ fn a_venting_users_words_are_read_for_what_they_ask() {
         );
     }
 }
+
+/// Asked at a step before its tick's end, the causal search's why covers
+/// the whole tick, and says so first: GoalUpdated succeeding at 6:10 had
+/// not happened by 6:5. At the tick's end there is nothing past it.
+#[test]
+fn a_why_of_the_whole_tick_asked_mid_tick_says_it_goes_past_the_moment() {
+    let (ok, out, err) = btx(&["ask", NAV2, "--at", "6:5", "why didn't it spin?"]);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(
+        lines.get(2),
+        Some(&"Over the whole of tick 6, to 6:17, past the moment asked (6:5):"),
+        "{out}"
+    );
+    assert!(lines[3].contains("GoalUpdated (#15) succeeded"), "{out}");
+    let (ok, out, err) = btx(&["ask", NAV2, "--at", "6", "why didn't it spin?"]);
+    assert!(ok, "{err}");
+    assert!(!out.contains("past the moment asked"), "{out}");
+}

@@ -661,7 +661,7 @@ fn search(
             return Ok(());
         }
     }
-    r.answer = format!("{widened}{}", body.trim_end());
+    r.answer = format!("{widened}{}{}", past_the_moment(cx, at), body.trim_end());
     if r.answer.trim().is_empty() && facts.is_empty() {
         // Never an empty line where an answer goes.
         r.answer = format!(
@@ -673,6 +673,26 @@ fn search(
         r.answer = format!("{facts}\n{}", r.answer);
     }
     Ok(())
+}
+
+/// Where the conversation's moment is a step before the end of the tick
+/// the search covers whole, the line that says so: what the tick's causal
+/// model holds after that step ("GoalUpdated succeeded" at 6:10, asked at
+/// 6:5) had not happened by the moment asked.
+fn past_the_moment(cx: &Context, at: Moment) -> String {
+    let Some(now) = cx.at.as_ref() else {
+        return String::new();
+    };
+    let asked = now.moment();
+    let range = now.index.tick_range(at.tick);
+    if at.step.is_some() || asked.tick != at.tick || now.pos as usize >= range.end {
+        return String::new();
+    }
+    format!(
+        "Over the whole of tick {t}, to {t}:{last}, past the moment asked ({asked}):\n",
+        t = at.tick,
+        last = range.end - range.start
+    )
 }
 
 /// Whether the search's own question asks about `e`.

@@ -39,11 +39,16 @@ mod tests {
     use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
     use std::sync::Arc;
 
-    /// A Groot2 server of a two-node tree whose second `t` reply holds a
-    /// zeroed record between two whole ones, as BehaviorTree.CPP 4.8's
-    /// publisher sends when its buffer grows while it answers; `S` then
-    /// says where the lost transition left the nodes.
-    fn racing_server() -> (String, Arc<AtomicBool>) {
+    /// A Groot2 server of a two-node tree (`T`, `r`), whose `S` replies
+    /// are `before` until the first `t` reply with records was sent and
+    /// `after` from then, and whose `t` replies are `second` then `third`
+    /// (the first, taken when btx attaches, and those after are empty).
+    fn scripted_server(
+        before: Vec<u8>,
+        after: Vec<u8>,
+        second: Vec<u8>,
+        third: Vec<u8>,
+    ) -> (String, Arc<AtomicBool>) {
         let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
         let addr = l.local_addr().unwrap().to_string();
         let stop = Arc::new(AtomicBool::new(false));
@@ -51,20 +56,14 @@ mod tests {
         let answer: zmtp::Answer = Arc::new(move |parts: &[Vec<u8>]| {
             let mut h = parts[0].clone();
             h.extend_from_slice(&[7; 16]);
-            let rec = |uid: u16, status: u8| {
-                let mut r = 1_000u64.to_le_bytes()[..6].to_vec();
-                r.extend_from_slice(&uid.to_le_bytes());
-                r.push(status);
-                r
-            };
             let body = match parts[0][1] {
                 b'T' => b"<root/>".to_vec(),
                 b'r' => b"1700000000000000".to_vec(),
-                b'S' if ts.load(Ordering::SeqCst) < 2 => vec![1, 0, 10, 2, 0, 10],
-                // The root RUNNING, the leaf SUCCESS (its record was zeroed).
-                b'S' => vec![1, 0, 1, 2, 0, 2],
+                b'S' if ts.load(Ordering::SeqCst) < 2 => before.clone(),
+                b'S' => after.clone(),
                 b't' => match ts.fetch_add(1, Ordering::SeqCst) {
-                    1 => [rec(1, 1), vec![0; 9], rec(2, 1)].concat(),
+                    1 => second.clone(),
+                    2 => third.clone(),
                     _ => Vec::new(),
                 },
                 _ => Vec::new(),
@@ -74,6 +73,31 @@ mod tests {
         let halt = Arc::clone(&stop);
         std::thread::spawn(move || rep::serve_rep(l, answer, &[], halt));
         (addr, stop)
+    }
+
+    /// Records of a `t` reply: uid and status each.
+    fn records(of: &[(u16, u8)]) -> Vec<u8> {
+        let mut out = Vec::new();
+        for &(uid, status) in of {
+            out.extend_from_slice(&1_000u64.to_le_bytes()[..6]);
+            out.extend_from_slice(&uid.to_le_bytes());
+            out.push(status);
+        }
+        out
+    }
+
+    /// A server whose second `t` reply holds a zeroed record between two
+    /// whole ones, as BehaviorTree.CPP 4.8's publisher sends when its
+    /// buffer grows while it answers; `S` then says where the lost
+    /// transition left the nodes (the root RUNNING, the leaf SUCCESS).
+    fn racing_server() -> (String, Arc<AtomicBool>) {
+        let second = [records(&[(1, 1)]), vec![0; 9], records(&[(2, 1)])].concat();
+        scripted_server(
+            vec![1, 0, 10, 2, 0, 10],
+            vec![1, 0, 1, 2, 0, 2],
+            second,
+            Vec::new(),
+        )
     }
 
     #[test]
@@ -98,47 +122,19 @@ mod tests {
         stop.store(true, std::sync::atomic::Ordering::Relaxed);
     }
 
-    /// A Groot2 server of a Sequence (#1) of one leaf (#2) that fills its
-    /// buffer of 1,000 once, and went on between btx's two requests after:
-    /// its `S` reply is the state after the first two transitions of the
-    /// `t` reply that follows.
+    /// A server of a Sequence (#1) of one leaf (#2) that fills its buffer
+    /// of 1,000 once, and went on between btx's two requests after: its
+    /// `S` reply (the Sequence RUNNING, the leaf SUCCESS) is the state
+    /// after the first two transitions of the `t` reply that follows.
     fn busy_server() -> (String, Arc<AtomicBool>) {
-        let l = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
-        let addr = l.local_addr().unwrap().to_string();
-        let stop = Arc::new(AtomicBool::new(false));
-        let ts = Arc::new(AtomicUsize::new(0));
-        let answer: zmtp::Answer = Arc::new(move |parts: &[Vec<u8>]| {
-            let mut h = parts[0].clone();
-            h.extend_from_slice(&[7; 16]);
-            let recs = |cycle: &[(u16, u8)]| -> Vec<u8> {
-                let mut out = Vec::new();
-                for &(uid, status) in cycle {
-                    out.extend_from_slice(&1_000u64.to_le_bytes()[..6]);
-                    out.extend_from_slice(&uid.to_le_bytes());
-                    out.push(status);
-                }
-                out
-            };
-            // RUNNING, the leaf's SUCCESS, the Sequence's, both reset.
-            let cycle = [(1, 1), (2, 2), (1, 2), (2, 0), (1, 0)];
-            let body = match parts[0][1] {
-                b'T' => b"<root/>".to_vec(),
-                b'r' => b"1700000000000000".to_vec(),
-                b'S' if ts.load(Ordering::SeqCst) < 2 => vec![1, 0, 10, 2, 0, 10],
-                // The Sequence RUNNING, the leaf SUCCESS.
-                b'S' => vec![1, 0, 1, 2, 0, 2],
-                b't' => match ts.fetch_add(1, Ordering::SeqCst) {
-                    1 => recs(&cycle.repeat(200)),
-                    2 => recs(&[cycle.as_slice(), &[(1, 1)]].concat()),
-                    _ => Vec::new(),
-                },
-                _ => Vec::new(),
-            };
-            vec![h, body]
-        });
-        let halt = Arc::clone(&stop);
-        std::thread::spawn(move || rep::serve_rep(l, answer, &[], halt));
-        (addr, stop)
+        // RUNNING, the leaf's SUCCESS, the Sequence's, both reset.
+        let cycle = [(1, 1), (2, 2), (1, 2), (2, 0), (1, 0)];
+        scripted_server(
+            vec![1, 0, 10, 2, 0, 10],
+            vec![1, 0, 1, 2, 0, 2],
+            records(&cycle.repeat(200)),
+            records(&[cycle.as_slice(), &[(1, 1)]].concat()),
+        )
     }
 
     #[test]

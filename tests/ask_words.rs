@@ -3461,7 +3461,7 @@ fn the_failure_a_question_of_handling_names_is_the_one_answered() {
     let (ok, out, err) = btx(&["ask", NAV2, "--at", "4:8", "did the recovery work?"]);
     assert!(ok, "{err}");
     assert!(
-        out.contains("Not yet. The FollowPath action (#10) failed at 4:1. The FollowPath recovery node (#9) ran FollowPathRecoveryFallback (#11, succeeded at 4:6) and tried it again at 4:8; the FollowPath recovery node (#9) had not finished by moment 4."),
+        out.contains("Not yet. The FollowPath action (#10) failed at 4:1. The FollowPath recovery node (#9) ran FollowPathRecoveryFallback (#11, succeeded at 4:6) and tried it again at 4:8; the FollowPath recovery node (#9) had not finished by the end of tick 4."),
         "{out}"
     );
     // Asked while the recovery runs, it says so.

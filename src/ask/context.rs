@@ -34,14 +34,10 @@ impl Context<'_> {
         self.tree.told(uid)
     }
 
-    /// "by the end of the run (tick 54)" or "by moment 10:3".
+    /// "by the end of the run at tick 54", "by the end of tick 12" or "by
+    /// moment 10:3".
     pub(super) fn by(&self, at: &At) -> String {
-        let m = at.moment();
-        if at.pos as usize == at.index.transitions.len() {
-            format!("by the end of the run at tick {}", m.tick)
-        } else {
-            format!("by moment {m}")
-        }
+        crate::causal::calls::by_moment(at.index, at.pos)
     }
 }
 

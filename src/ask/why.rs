@@ -478,7 +478,7 @@ pub fn instead(cx: &Context, done: Uid, other: Uid, r: &mut Reply) -> Result<(),
 
 fn by(cx: &Context) -> String {
     match &cx.at {
-        Some(a) => format!("by moment {}", a.moment()),
+        Some(a) => crate::causal::calls::by_moment(a.index, a.pos),
         None => String::new(),
     }
 }

@@ -13,6 +13,19 @@ mod told;
 pub use never::never_ran;
 pub use told::*;
 
+/// "by moment 4:5", "by the end of tick 6", or "by the end of the run at
+/// tick 10": how far the run is told, at position `upto`.
+pub fn by_moment(idx: &crate::session::Index, upto: u32) -> String {
+    let m = idx.moment(upto);
+    if upto as usize >= idx.transitions.len() {
+        format!("by the end of the run at tick {}", m.tick)
+    } else if m.step.is_none() {
+        format!("by the end of tick {}", m.tick)
+    } else {
+        format!("by moment {m}")
+    }
+}
+
 use super::english::capitalised;
 use crate::model::{Tree, Uid};
 use crate::run::exec::{Event, Executor, LeafCall, LeafOutcome, Leaves, RunOptions};

@@ -64,11 +64,7 @@ pub fn never_ran(session: &Session, u: Uid, upto: u32) -> Option<String> {
         }
         branch = p;
     };
-    let by = if upto as usize >= idx.transitions.len() {
-        format!("by the end of the run at tick {}", idx.moment(upto).tick)
-    } else {
-        format!("by moment {}", idx.moment(upto))
-    };
+    let by = super::by_moment(idx, upto);
     let mut said = format!("{} never ran {by}", capitalised(&tree.told(u)));
     if branch != u {
         said.push_str(&format!(", nor did {} above it", tree.told(branch)));

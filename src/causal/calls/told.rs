@@ -630,7 +630,7 @@ fn by_then(idx: &crate::session::Index, upto: u32) -> String {
     if upto as usize >= idx.transitions.len() {
         "when the run ends".to_string()
     } else {
-        format!("by moment {}", idx.moment(upto))
+        super::by_moment(idx, upto)
     }
 }
 

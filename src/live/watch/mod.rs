@@ -360,11 +360,6 @@ impl Watch {
         } else if ts.len() == buffer {
             self.gap(format!("the server's buffer of {buffer} transitions was full: older ones may be lost{RESYNCED} after these {buffer}"));
         }
-        let read = self.settling.take();
-        // A read followed by lost transitions may belong among them: it is
-        // placed first, where btx took it, and read again.
-        let lost = sent >= buffer || ts.iter().any(|t| t.uid == 0);
-        self.unsettled |= lost;
         let n = ts.len();
         // BehaviorTree.CPP 4.8's publisher sizes its reply before it locks
         // the buffer: records that arrive meanwhile come out as zeros (uid
@@ -374,6 +369,11 @@ impl Watch {
             self.gap(format!("the server sent {zeroed} zeroed records (its buffer grew while it answered): those transitions are lost{RESYNCED}"));
         }
         ts.retain(|t| t.uid != 0);
+        let read = self.settling.take();
+        // A read followed by lost transitions may belong among them: it is
+        // placed first, where btx took it, and read again.
+        let lost = sent >= buffer || zeroed > 0;
+        self.unsettled |= lost;
         let at = read.as_ref().map_or(0, |codes| {
             (!lost)
                 .then(|| settle::settled_at(codes, &ts))

@@ -285,8 +285,10 @@ pub struct Flat {
     kinds: Vec<SlotKind>,
 }
 
-#[derive(Debug, Clone, Copy)]
-enum Op {
+/// One field a `Flat` reads, in the order it lies: an integer of a
+/// size, or a string; with the slot it fills, if any.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Op {
     Int {
         size: usize,
         signed: bool,
@@ -445,6 +447,12 @@ impl Flat {
     /// What each path asked for is in this definition.
     pub fn kinds(&self) -> &[SlotKind] {
         &self.kinds
+    }
+
+    /// The fields before the sequence, of each of its items, and after
+    /// it: for a reader of one known layout to check it is that one.
+    pub fn ops(&self) -> [&[Op]; 3] {
+        [&self.head, &self.items, &self.tail]
     }
 
     /// One message's items into `out`, each `kinds().len()` slots in a

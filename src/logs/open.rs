@@ -247,16 +247,17 @@ impl<'a> BagRuns<'a> {
                 format!("{}: the topic holds no status change", log.topic),
             ));
         }
-        let starts = rosbag::run_starts(&log.records);
+        let starts = rosbag::run_starts(log.records.iter());
         if let Some(cut) = log.cut.as_mut() {
             // Every run before the last ended (another started); the last
             // one did if its root completed before the cut.
-            let last = &log.records[starts[starts.len() - 1]..];
-            let done = |s: Status| matches!(s, Status::Success | Status::Failure);
-            let mut root = last
-                .iter()
+            let roots: Vec<&crate::logs::btlog::Record> = log
+                .records
+                .iter_range(starts[starts.len() - 1], log.records.len())
                 .filter(|r| r.uid == crate::model::Tree::ROOT)
-                .rev();
+                .collect();
+            let done = |s: Status| matches!(s, Status::Success | Status::Failure);
+            let mut root = roots.iter().rev();
             // BehaviorTree.CPP sets a finished tree back to IDLE.
             let ended = match (root.next(), root.next()) {
                 (Some(a), _) if done(a.status) => true,
@@ -307,7 +308,7 @@ impl<'a> BagRuns<'a> {
                 partial_tail: 0,
                 xml: "",
                 version: self.given.tree.release,
-                records: Recs::Records(self.log.records[start..end].into()),
+                records: Recs::Records(self.log.records.range(start, end).into()),
                 kind: "rosbag",
                 resyncs: &[],
                 ticks: None,

@@ -187,7 +187,7 @@ fn join(
     match (read, piece) {
         _ if m.full() || st.cut.is_some() => Ok(()),
         (Some(read), _) => {
-            m.join(&read);
+            m.join(read);
             Ok(())
         }
         (None, pool::Piece::Chunk(bag, at, len)) => chunk(&bag, at, len, st, m),

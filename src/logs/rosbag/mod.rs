@@ -6,7 +6,9 @@
 //! caller gives the tree the robot ran. Every goal (the root starting
 //! again after it stopped) is a run of its own.
 
+mod changes;
 mod chunk;
+mod direct;
 mod mcap_file;
 mod pool;
 mod sqlite;
@@ -16,6 +18,7 @@ use super::cdr::{Definitions, Slot, SlotKind, Value};
 use crate::model::{Tree, Uid};
 use crate::run::Status;
 use crate::source::Located;
+pub use changes::Changes;
 use mcap_file::*;
 use sqlite::*;
 use std::path::{Path, PathBuf};
@@ -47,7 +50,7 @@ struct Change<'a> {
 #[derive(Debug, Clone)]
 pub struct BagRecords {
     pub topic: String,
-    pub records: Vec<Record>,
+    pub records: Changes,
     /// Several nodes have a name a change gave (a bag without uids): said
     /// once.
     pub ambiguous: Option<String>,
@@ -222,8 +225,7 @@ fn read_at_most(
         .filter_map(|f| std::fs::metadata(f).ok())
         .map(|m| m.len())
         .sum();
-    m.records
-        .reserve(max.min((bytes / CHANGE_BYTES_MIN) as usize));
+    m.room = max.min((bytes / CHANGE_BYTES_MIN) as usize);
     for file in files {
         if !std::fs::metadata(&file).is_ok_and(|m| m.is_file()) {
             return Err(Located::file(
@@ -474,13 +476,20 @@ struct Matcher<'a> {
     /// The changes read at most (`BAG_TRANSITIONS_MAX`).
     max: usize,
     tree: &'a Tree,
+    /// Each node's status after the changes up to `status_upto`, brought
+    /// up to date only where a change is placed by name.
     status: Vec<Status>,
+    status_upto: usize,
     names: std::collections::HashMap<Box<[u8]>, Vec<Uid>>,
     /// Each node's name as a change gives it (`bt_name`), by uid from 1.
     named: std::sync::Arc<[Box<[u8]>]>,
-    records: Vec<Record>,
-    /// One message's slots, the buffer kept from message to message.
+    records: Changes,
+    /// Room for the changes the bag's bytes could hold.
+    room: usize,
+    /// One message's slots, or its plain changes, the buffers kept from
+    /// message to message.
     slots: Vec<Slot>,
+    plain: Vec<Record>,
     /// Messages read so far, and the first ambiguous name and its message.
     messages: usize,
     ambiguous: Option<(String, usize)>,
@@ -505,12 +514,15 @@ impl<'a> Matcher<'a> {
             max: BAG_TRANSITIONS_MAX,
             tree,
             status: vec![Status::Idle; tree.len()],
+            status_upto: 0,
             names,
             named: (1..=tree.len() as Uid)
                 .map(|u| bt_name(tree, u).as_bytes().into())
                 .collect(),
-            records: Vec::new(),
+            records: Changes::default(),
+            room: 0,
             slots: Vec::new(),
+            plain: Vec::new(),
             messages: 0,
             ambiguous: None,
             uids: false,
@@ -550,6 +562,10 @@ impl<'a> Matcher<'a> {
         });
         Ok(LogDefs {
             defs,
+            direct: flat
+                .as_ref()
+                .and_then(direct::Direct::of)
+                .map(std::sync::Arc::new),
             flat: flat.map(std::sync::Arc::new),
         })
     }
@@ -562,6 +578,19 @@ impl<'a> Matcher<'a> {
             let v = defs.defs.decode(data).map_err(|e| self.at(n, e))?;
             return take_message(&v, n, self);
         };
+        if let Some(direct) = &defs.direct {
+            let mut plain = std::mem::take(&mut self.plain);
+            plain.clear();
+            let read = direct.read(data, &self.named, &mut plain).is_some();
+            for r in plain.iter().filter(|_| read) {
+                self.uids = true;
+                self.push(r.time_us, r.uid, r.status);
+            }
+            self.plain = plain;
+            if read {
+                return Ok(());
+            }
+        }
         let mut slots = std::mem::take(&mut self.slots);
         let taken = match flat.decode(data, &mut slots) {
             Ok(()) => slots
@@ -614,6 +643,7 @@ impl<'a> Matcher<'a> {
                 ))
             }
             None => {
+                self.catch_up();
                 let prev = Status::parse_bytes(c.prev).unwrap_or(Status::Idle);
                 let all = self.names.get(c.name).map_or(&[][..], Vec::as_slice);
                 let fits: Vec<Uid> = all
@@ -647,31 +677,40 @@ impl<'a> Matcher<'a> {
     }
 
     fn push(&mut self, time_us: i64, uid: Uid, status: Status) {
-        self.status[uid as usize - 1] = status;
-        self.records.push(Record {
+        let r = Record {
             time_us,
             uid,
             status,
             offset: self.records.len(),
-        });
+        };
+        self.records.push(r, self.room);
+    }
+
+    /// Each node's status brought up to the last change.
+    fn catch_up(&mut self) {
+        let (from, to) = (self.status_upto, self.records.len());
+        for r in self.records.iter_range(from, to) {
+            self.status[r.uid as usize - 1] = r.status;
+        }
+        self.status_upto = to;
     }
 
     /// A piece's records, read on another thread, message by message as
     /// `message` would have taken them.
-    fn join(&mut self, read: &pool::Read) {
+    fn join(&mut self, read: pool::Read) {
         self.pieces += 1;
         let mut from = 0;
         for &end in &read.ends {
-            if self.full() {
-                return;
+            if self.records.len() + from >= self.max {
+                break;
             }
             self.messages += 1;
             self.uids |= end > from;
-            for r in &read.records[from..end] {
-                self.push(r.time_us, r.uid, r.status);
-            }
             from = end;
         }
+        let mut records = read.records;
+        records.truncate(from);
+        self.records.append(records);
     }
 
     /// How pieces of the bag can be read on other threads, where its
@@ -682,6 +721,7 @@ impl<'a> Matcher<'a> {
         }
         Some(pool::Layout {
             flat: defs.flat.clone()?,
+            direct: defs.direct.clone(),
             named: self.named.clone(),
             channel,
         })
@@ -740,14 +780,16 @@ const CHANGE_PATHS: [&str; 7] = [
 struct LogDefs {
     defs: Definitions,
     flat: Option<std::sync::Arc<super::cdr::Flat>>,
+    /// Where the layout is Nav2's own: changes read without slots.
+    direct: Option<std::sync::Arc<direct::Direct>>,
 }
 
 /// Where each run starts among the records: at the first, and wherever
 /// the root starts again after it stopped (a new goal).
-pub fn run_starts(records: &[Record]) -> Vec<usize> {
+pub fn run_starts<'r>(records: impl IntoIterator<Item = &'r Record>) -> Vec<usize> {
     let mut starts = vec![0];
     let mut root = Status::Idle;
-    for (i, r) in records.iter().enumerate() {
+    for (i, r) in records.into_iter().enumerate() {
         if r.uid != Tree::ROOT {
             continue;
         }
@@ -782,7 +824,7 @@ mod tests {
         // read whole, and nothing after it.
         let (part, _) = read_at_most(&bag, &tree, None, 5, false).unwrap();
         assert_eq!(part.records.len(), 10);
-        assert_eq!(part.records[..], whole.records[..10]);
+        assert_eq!(part.records.range(0, 10), whole.records.range(0, 10));
         assert!(whole.records.len() > 10);
         let cut = part.cut.unwrap();
         assert!(
@@ -805,7 +847,7 @@ mod tests {
         rechunked(&dir.join("two_goals/two_goals.mcap"), 100, true, &small);
         let bytes = std::fs::read(&small).unwrap();
         let said = |r: Result<(BagRecords, usize), Located>| match r {
-            Ok((b, n)) => (Ok((b.records, b.cut, b.topic)), n),
+            Ok((b, n)) => (Ok((b.records.range(0, b.records.len()), b.cut, b.topic)), n),
             Err(e) => (Err(e.to_string()), 0),
         };
         let mut pooled = 0;

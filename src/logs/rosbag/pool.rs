@@ -33,6 +33,7 @@ pub(super) struct Read {
 #[derive(Clone)]
 pub(super) struct Layout {
     pub(super) flat: Arc<Flat>,
+    pub(super) direct: Option<Arc<super::direct::Direct>>,
     pub(super) named: Arc<[Box<[u8]>]>,
     pub(super) channel: u16,
 }
@@ -51,17 +52,21 @@ fn read(piece: &Piece, layout: &Layout, buf: &mut Vec<u8>) -> Option<Read> {
     };
     let mut slots = Vec::new();
     let mut message = |data: &[u8], out: &mut Read| -> Option<()> {
-        layout.flat.decode(data, &mut slots).ok()?;
-        for c in slots.chunks_exact(CHANGE_PATHS.len()) {
-            let c = change(c, data);
-            let (uid, status) = plain(&layout.named, &c)?;
-            out.records.push(Record {
-                time_us: c.time_us,
-                uid,
-                status,
-                offset: out.records.len(),
-            });
+        let mark = out.records.len();
+        if let Some(direct) = &layout.direct {
+            if direct.read(data, &layout.named, &mut out.records).is_some() {
+                out.ends.push(out.records.len());
+                return Some(());
+            }
+            out.records.truncate(mark);
         }
+        by_slots(
+            &layout.flat,
+            &layout.named,
+            data,
+            &mut slots,
+            &mut out.records,
+        )?;
         out.ends.push(out.records.len());
         Some(())
     };
@@ -88,7 +93,32 @@ fn read(piece: &Piece, layout: &Layout, buf: &mut Vec<u8>) -> Option<Read> {
             }
         }
     }
+    // Kept until the bag is closed: the room not used is given back.
+    out.records.shrink_to_fit();
     Some(out)
+}
+
+/// One message's changes onto `out` as its definition lays them out,
+/// read into `slots`; `None` where any is not plain.
+pub(super) fn by_slots(
+    flat: &Flat,
+    named: &[Box<[u8]>],
+    data: &[u8],
+    slots: &mut Vec<super::Slot>,
+    out: &mut Vec<Record>,
+) -> Option<()> {
+    flat.decode(data, slots).ok()?;
+    for c in slots.chunks_exact(CHANGE_PATHS.len()) {
+        let c = change(c, data);
+        let (uid, status) = plain(named, &c)?;
+        out.push(Record {
+            time_us: c.time_us,
+            uid,
+            status,
+            offset: out.len(),
+        });
+    }
+    Some(())
 }
 
 /// A piece given out, back read (or not), and not yet joined.

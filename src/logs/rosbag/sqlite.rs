@@ -126,7 +126,7 @@ fn messages(
         ) {
             _ if m.full() => Ok(()),
             (Some(read), _) => {
-                m.join(&read);
+                m.join(read);
                 Ok(())
             }
             (None, pool::Piece::Messages(bytes, ends)) => {

@@ -147,6 +147,7 @@ fn a_corpus_of_phrasings_is_understood_as_expected() {
         tree: input.tree(),
         session: Some(s),
         at: Some(at),
+        tick: None,
         node: None,
         detail: Default::default(),
         last: Default::default(),
@@ -396,6 +397,7 @@ fn questions_in_users_words_are_read_as_meant_or_refused() {
             })
             .unwrap(),
         ),
+        tick: Some(12),
         node: None,
         detail: Default::default(),
         last: Default::default(),
@@ -450,6 +452,7 @@ fn a_leafs_failure_is_answered_with_what_the_run_shows() {
                 tree,
                 session: Some(s),
                 at: Some(at),
+                tick: None,
                 node: None,
                 detail: Default::default(),
                 last: Default::default(),
@@ -3048,7 +3051,10 @@ fn before_any_action_runs_the_papers_questions_are_about_the_node_running() {
     // CaseStudySequence (#2) have started; these had been answered "nothing
     // has been ticked yet at moment 1:2; pick a node with --node".
     for (q, said) in [
-        ("what is it doing?", "I have not started yet."),
+        (
+            "what is it doing?",
+            "I have just started: CaseStudyFallback is running, and no action has started yet.",
+        ),
         ("what is your goal?", "My goal is to run CaseStudyFallback."),
         (
             "why are you doing this?",
@@ -3697,4 +3703,93 @@ fn a_why_of_the_whole_tick_asked_mid_tick_says_it_goes_past_the_moment() {
     let (ok, out, err) = btx(&["ask", NAV2, "--at", "6", "why didn't it spin?"]);
     assert!(ok, "{err}");
     assert!(!out.contains("past the moment asked"), "{out}");
+}
+
+/// English as many places speak it (corpus41): "y'all" is no "why", "come
+/// right" and "get over" are recovering, "can X or not?" and "is X
+/// something you can do?" are "can you X?", "what's it at now?" is what
+/// it is doing, "run us through this tick" asks the tick.
+#[test]
+fn english_as_many_places_speak_it_is_read_for_what_it_asks() {
+    first_lines_are(vec![
+        (
+            vec![NAV2, "--at", "2:2"],
+            "What's it gonna do next, y'reckon?",
+            "What will I do next?",
+        ),
+        (
+            vec![PATROL, "--at", "3:7"],
+            "How's it gonna finish this part, y'all?",
+            "How do you achieve your subgoal?",
+        ),
+        (
+            vec![NAV2],
+            "Did the robot come right after its FollowPath action failed?",
+            "Did the recovery work?",
+        ),
+        (
+            vec![NAV2],
+            "did it get over the spin going wrong?",
+            "Did the recovery work?",
+        ),
+        (
+            vec![NAV2],
+            "Did it manage to recover in the end, or naw?",
+            "Did the recovery work?",
+        ),
+        (vec![NAV2], "Can back up or not?", "Can you BackUp?"),
+        (
+            vec![NAV2],
+            "Is ClearLocalCostmap something you can do, our kid?",
+            "Can you ClearLocalCostmap-Context?",
+        ),
+        (
+            vec![KITTING, "--at", "22"],
+            "What was the arm at in tick 22, like?",
+            "What were you doing at tick 22?",
+        ),
+        (
+            vec![NAV2],
+            "Did anything go pear-shaped?",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![NAV2, "--at", "10"],
+            "Everything went grand in the end, did it?",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![PATROL, "--at", "5"],
+            "Run us through this tick, cobber?",
+            "What happened at tick 5?",
+        ),
+        (
+            vec![CASE, "--at", "1:5"],
+            "What's been going on in this tick so far?",
+            "What happened at tick 1?",
+        ),
+        (
+            vec![NAV2, "--at", "6:9"],
+            "What's it doing about the failure just now?",
+            "How was the failure handled?",
+        ),
+        (
+            vec![TAXI, "--at", "6"],
+            "Tell me nuh, how the taxi going to do the whole job?",
+            "How do you achieve your goal?",
+        ),
+    ]);
+}
+
+/// "This tick" is the tick the user is at, also where nothing changed in
+/// it (tick 5 of the Nav2 run has no transition, so its position is the
+/// end of tick 4): it had answered tick 4.
+#[test]
+fn this_tick_is_the_tick_asked_even_where_nothing_changed() {
+    let (ok, out, err) = btx(&["ask", NAV2, "--at", "5", "what happened in this tick?"]);
+    assert!(ok, "{err}");
+    assert_eq!(
+        out,
+        "What happened at tick 5?\nNothing changed at tick 5: every node that was running kept running.\n"
+    );
 }

@@ -69,6 +69,7 @@ fn cx<'a>(s: &'a Session, at: Moment) -> Context<'a> {
         tree: &s.tree,
         session: Some(s),
         at: Some(s.at(at).unwrap()),
+        tick: None,
         node: None,
         detail: Default::default(),
         last: Default::default(),

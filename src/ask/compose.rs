@@ -51,7 +51,7 @@ pub fn compose(cx: &Context, question: &str, intent: &Intent, failed: Option<u32
         Intent::Tick(n) => {
             // 0: the tick of the moment the question named ("the last tick").
             let n = match (*n, cx.at.as_ref()) {
-                (0, Some(at)) => at.moment().tick,
+                (0, Some(at)) => cx.tick.unwrap_or_else(|| at.moment().tick),
                 (n, _) => n,
             };
             tick(cx, n, &mut r)

@@ -13,6 +13,10 @@ pub struct Context<'a> {
     /// The run, when it can be re-run or searched (`btx why`'s input).
     pub session: Option<&'a Session>,
     pub at: Option<At<'a>>,
+    /// The tick the user is at, where it is said: a tick where nothing
+    /// changed has the position of the tick before it, and "this tick"
+    /// is still this one.
+    pub tick: Option<u32>,
     /// The node picked with `--node`, if any.
     pub node: Option<Uid>,
     pub detail: super::detail::Detail,

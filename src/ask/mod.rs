@@ -397,6 +397,7 @@ fn moved_to<'a>(
         tree: cx.tree,
         session: cx.session,
         at,
+        tick: None,
         node,
         detail: cx.detail,
         last: std::cell::Cell::new(cx.last.get()),

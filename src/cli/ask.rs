@@ -79,7 +79,8 @@ pub fn run(args: Args, cli: &Globals) -> Result<(), Failure> {
     let cx = btx::ask::Context {
         tree,
         session: input.session(),
-        at: view,
+        tick: view.as_ref().map(|(_, t)| *t),
+        at: view.map(|(a, _)| a),
         node: uid,
         detail,
         last: Default::default(),
@@ -116,7 +117,7 @@ fn moment_asked<'s>(
     s: &'s btx::session::Session,
     at: Option<&str>,
     file: &std::path::Path,
-) -> Result<btx::session::At<'s>, Failure> {
+) -> Result<(btx::session::At<'s>, u32), Failure> {
     let m = match at {
         Some(a) => s.moment_at(a).map_err(Failure::Plain)?,
         None => Moment {
@@ -127,7 +128,7 @@ fn moment_asked<'s>(
     if s.index.ticks() == 0 {
         fail!("{}: the session recorded no tick", btx::text::path(file));
     }
-    s.at(m).map_err(Failure::Plain)
+    s.at(m).map(|a| (a, m.tick)).map_err(Failure::Plain)
 }
 
 /// The node `--node` names; where several answer to the name, the text
@@ -219,6 +220,7 @@ fn live_ask(
         tree: &s.tree,
         session: None,
         at: Some(view),
+        tick: None,
         node: uid,
         detail,
         last: Default::default(),

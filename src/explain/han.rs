@@ -76,6 +76,15 @@ pub fn doing_at(tree: &Tree, run: &At) -> (String, Vec<Uid>) {
                 last_text("did")
             )
         }
+        // The root ticked, none of its actions yet (the first steps of a
+        // run): started, not "not started".
+        None if last.is_none() && run.status(Tree::ROOT) == Status::Running => {
+            nodes.push(Tree::ROOT);
+            format!(
+                "I have just started: {} is running, and no action has started yet.",
+                tree.spoken(Tree::ROOT)
+            )
+        }
         None if last.is_none() => "I have not started yet.".to_string(),
         None => format!("I am between actions at this moment.{}", last_text("did")),
     };

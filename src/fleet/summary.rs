@@ -172,6 +172,7 @@ fn went_wrong(tree: &Tree, s: &Session, end: u32) -> String {
         tree,
         session: Some(s),
         at: Some(s.index.at(end)),
+        tick: None,
         node: None,
         detail: Default::default(),
         last: Default::default(),

@@ -387,6 +387,7 @@ impl Shared {
             tree: &self.tree,
             session: self.session.as_ref(),
             at,
+            tick: self.moment().map(|m| m.tick),
             node: Some(node),
             detail: self.detail,
             last: std::cell::Cell::new(self.reply.as_ref().and_then(|r| r.about)),

@@ -222,12 +222,14 @@ pub(super) fn scoped(tree: &Tree, q: &[Word], nodes: Vec<Mention>) -> Vec<Mentio
                     || ["false", "true", "fails", "failed", "succeeds", "succeeded"]
                         .contains(&w.text.as_str())
             };
+            // "How come ask never ran in the insert large gear part?".
+            let deed_or_not = |w: &Word| deed(w) || ["never", "not"].contains(&w.text.as_str());
             let within = !between.is_empty()
                 && between.iter().any(|w| WITHIN.contains(&w.text.as_str()))
                 && between.iter().all(|w| {
                     WITHIN.contains(&w.text.as_str())
                         || ["the", "a"].contains(&w.text.as_str())
-                        || deed(w)
+                        || deed_or_not(w)
                 });
             let told = between.iter().any(deed);
             let under: Vec<Uid> = a

@@ -75,6 +75,10 @@ impl<'a, 's> Cues<'a, 's> {
                 || s.phrase(&["to", "plan"]).is_some()
                 || s.phrase(&["on", "track"]).is_some() && !s.q.iter().any(|w| w.text == "back")
                 || s.phrase(&["as", "planned"]).is_some()
+                // "Everything went grand?" (said "went well").
+                || ["go", "went", "gone", "going"]
+                    .iter()
+                    .any(|g| s.phrase(&[g, "well"]).is_some())
                 // "All green?" (a box's colour read as its status).
                 || s.phrase(&["all", "success"]).is_some()
                 || s.phrase(&["all", "succeeded"]).is_some()

@@ -512,7 +512,14 @@ fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
         }
     }
     let n = joined.len().max(e.joined.len());
+    // "Did it recover in the end?": a word any sentence has, at an end of
+    // the span, is not a letter or two of a misspelt name ("recovery").
+    let plain_end = span.len() > 1
+        && [span[0], span[span.len() - 1]]
+            .iter()
+            .any(|w| PLAIN.contains(&w.text.as_str()));
     if joined.len().abs_diff(e.joined.len()) <= allowance(n)
+        && !plain_end
         && n >= 5
         && joined.get(..2) == e.joined.get(..2)
         && strsim::osa_distance(joined, &e.joined) <= allowance(n)

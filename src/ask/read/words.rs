@@ -191,6 +191,9 @@ const SPELLINGS: &[(&str, &str)] = &[
     ("seq", "sequence"),
     ("deco", "decorator"),
     ("nah", "not"),
+    ("naw", "not"),
+    ("yuh", "you"),
+    ("gimme", "give me"),
     ("w", "with"),
     ("lvl", "level"),
     ("imo", "in my opinion"),
@@ -272,6 +275,48 @@ const PHRASES: &[(&str, &str)] = &[
     ("what went down", "what happened"),
     // An idiom ("why did it fail in the first place?"), not the first time.
     ("in the first place", ""),
+    // "y'all", "y'reckon": a "y" that is no "why".
+    ("y'all", " "),
+    ("y’all", " "),
+    ("ya'll", " "),
+    ("y'reckon", " "),
+    ("y’reckon", " "),
+    ("y'know", " "),
+    ("y’know", " "),
+    // How people in many places say a robot got going again, or things
+    // went well or badly: "did it come right?", "come good", "pick itself
+    // up", "went grand", "go pear-shaped".
+    ("come right", "recover"),
+    ("came right", "recovered"),
+    ("come good", "recover"),
+    ("came good", "recovered"),
+    ("pick itself up", "recover"),
+    ("picked itself up", "recovered"),
+    ("went grand", "went well"),
+    ("gone grand", "gone well"),
+    ("pear shaped", "wrong"),
+    ("pear-shaped", "wrong"),
+    // Southern "fixing to" is "going to".
+    ("fixin' to", "going to"),
+    ("fixing to", "going to"),
+    ("getting on with", "doing"),
+    ("gone through fine", "succeeded"),
+    ("went through fine", "succeeded"),
+    ("reckon you could", "could you"),
+    ("this here", "this"),
+    ("run us through", "describe"),
+    ("run me through", "describe"),
+    ("take me through", "describe"),
+    ("take us through", "describe"),
+    ("talk me through", "describe"),
+    ("talk us through", "describe"),
+    ("the only tick", "tick 1"),
+    // "How's it going to do the whole job?": its goal, not what is next.
+    ("do the whole job", "achieve the goal"),
+    ("do the whole task", "achieve the goal"),
+    // "The first transition of tick 4" is its first step.
+    ("first transition of", "step 1 of"),
+    ("first step of", "step 1 of"),
 ];
 
 /// The text lowercased with its names split, what it pastes or abbreviates
@@ -407,7 +452,63 @@ pub fn words(text: &str) -> Vec<Word> {
             };
         }
     }
-    as_logs_say(spoken_numbers(out))
+    as_logs_say(spoken_numbers(spoken_turns(out)))
+}
+
+fn word(w: &str) -> Word {
+    Word {
+        text: w.to_string(),
+        stem: stem(w),
+    }
+}
+
+/// Turns of English as many places speak it, said the plain way: "can
+/// back up or not?" (Singlish) is "can you back up?", "what's it at now?"
+/// (Irish) is "what is it doing now?", "is X something you can do?" is
+/// "can you X?".
+fn spoken_turns(mut out: Vec<Word>) -> Vec<Word> {
+    fn text(out: &[Word], i: usize) -> &str {
+        out.get(i).map_or("", |w| w.text.as_str())
+    }
+    const SUBJECT: &[&str] = &[
+        "you", "it", "i", "we", "they", "he", "she", "the", "this", "that", "robot", "bot", "a",
+    ];
+    let tail = if out.ends_with(&[word("or"), word("can"), word("not")]) {
+        3
+    } else if out.ends_with(&[word("or"), word("not")]) {
+        2
+    } else {
+        0
+    };
+    if text(&out, 0) == "can"
+        && tail > 0
+        && out.len() > tail + 1
+        && !SUBJECT.contains(&text(&out, 1))
+    {
+        out.truncate(out.len() - tail);
+        out.insert(1, word("you"));
+    }
+    if text(&out, 0) == "what" && ["is", "was", "are", "were"].contains(&text(&out, 1)) {
+        let at = (2..6.min(out.len())).find(|&i| text(&out, i) == "at");
+        let then = at.map(|i| text(&out, i + 1));
+        if let (Some(i), Some("" | "now" | "in" | "during" | "right" | "like" | "then" | "just")) =
+            (at, then)
+        {
+            out[i] = word("doing");
+        }
+    }
+    let can_do = ["something", "you", "can", "do"].map(word);
+    if text(&out, 0) == "is" {
+        if let Some(p) = out.windows(4).position(|w| w == can_do) {
+            if p > 1 {
+                let mut said = vec![word("can"), word("you")];
+                said.extend_from_slice(&out[1..p]);
+                said.extend_from_slice(&out[p + 4..]);
+                out = said;
+            }
+        }
+    }
+    out
 }
 
 /// Numbers in words, as speech-to-text writes them.

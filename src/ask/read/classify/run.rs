@@ -143,7 +143,7 @@ pub(super) fn recovered(c: &Cues) -> Option<Readings> {
         || s.phrase(&["came", "back", "from"]).is_some()
         || ["get", "got", "gotten", "getting"]
             .iter()
-            .any(|g| s.phrase(&[g, "past"]).is_some())
+            .any(|g| s.phrase(&[g, "past"]).is_some() || s.phrase(&[g, "over"]).is_some())
         // "After look at chuck failed, did it still manage to insert the
         // large gear?": whether the task came through the failure.
         || s.has("still")
@@ -235,6 +235,8 @@ pub(super) fn handled(c: &Cues) -> Option<Readings> {
         || c.after_failure
         || s.phrase(&["do", "about"]).is_some()
         || s.phrase(&["did", "about"]).is_some()
+        // "What's it doing about the failure just now?".
+        || s.phrase(&["doing", "about"]).is_some() && c.problem
         // "Copy FollowPath fault at tick 4. What action taken?",
         // "detect chuck failed three times. Response?".
         || c.problem && !c.why && !c.when_q && answered_by_action(s)
@@ -275,7 +277,13 @@ fn doing_by_a_failure(c: &Cues) -> bool {
 
 pub(super) fn what_went_wrong(c: &Cues) -> Option<Readings> {
     let s = c.s;
-    if !(c.problem && (c.what || s.empty() || s.has("where")) && !c.yes_no) {
+    // "NavigateWithReplanning has just failed, what's gone wrong there?":
+    // a statement, then what is asked.
+    let asks_what = ["went", "is", "has"].iter().any(|v| {
+        s.phrase(&["what", v, "wrong"]).is_some()
+            || s.phrase(&["what", v, "gone", "wrong"]).is_some()
+    });
+    if !(c.problem && (c.what || s.empty() || s.has("where")) && (!c.yes_no || asks_what)) {
         return None;
     }
     let asked_when = when::find(s.q);

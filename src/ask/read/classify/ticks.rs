@@ -137,7 +137,9 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
         || s.phrase(&["went", "on"]).is_some()
         // "Tick 1 step by step".
         || s.phrase(&["step", "by", "step"]).is_some()
-        || c.break_down;
+        || c.break_down
+        // "What's been going on in this tick so far?".
+        || going_on && this_tick;
     // "What went on", not "what went wrong"; "describe how it pursues its
     // subgoal at tick 5" asks how, not what happened.
     let asks_other = s.has_stem(&["achiev", "accomplish", "pursu"])

@@ -3783,7 +3783,8 @@ fn english_as_many_places_speak_it_is_read_for_what_it_asks() {
 
 /// "This tick" is the tick the user is at, also where nothing changed in
 /// it (tick 5 of the Nav2 run has no transition, so its position is the
-/// end of tick 4): it had answered tick 4.
+/// end of tick 4): it had answered tick 4. Asked at a step, it is told
+/// whole, past the moment, and that is said.
 #[test]
 fn this_tick_is_the_tick_asked_even_where_nothing_changed() {
     let (ok, out, err) = btx(&["ask", NAV2, "--at", "5", "what happened in this tick?"]);
@@ -3791,5 +3792,14 @@ fn this_tick_is_the_tick_asked_even_where_nothing_changed() {
     assert_eq!(
         out,
         "What happened at tick 5?\nNothing changed at tick 5: every node that was running kept running.\n"
+    );
+    // Asked at a step, the tick is told whole, and said to go past it.
+    let (ok, out, err) = btx(&["ask", NAV2, "--at", "6:5", "what happened in this tick?"]);
+    assert!(ok, "{err}");
+    assert!(
+        out.lines().nth(1).is_some_and(|l| l.starts_with(
+            "At tick 6 (to 6:17, past the moment asked, 6:5): the FollowPath action (#10) failed"
+        )),
+        "{out}"
     );
 }

@@ -605,17 +605,31 @@ fn tick(cx: &Context, n: u32, r: &mut Reply) -> Result<(), String> {
         }
     }
     r.moment = Some(n.to_string());
+    // A recorded run is told whole: where the tick goes past the moment
+    // asked (a step of it, or an earlier tick), that is said first.
+    let pos = at.pos as usize;
+    let head = if range.is_empty() || pos >= range.end {
+        format!("At tick {n}")
+    } else if pos > range.start {
+        format!(
+            "At tick {n} (to {n}:{}, past the moment asked, {})",
+            range.len(),
+            at.moment()
+        )
+    } else {
+        format!("At tick {n} (after the moment asked, {})", at.moment())
+    };
     r.answer = match said.len() {
         0 if range.is_empty() => {
             format!("Nothing changed at tick {n}: every node that was running kept running.")
         }
-        0 => format!("At tick {n} only resets happened (nodes going back to IDLE)."),
+        0 => format!("{head} only resets happened (nodes going back to IDLE)."),
         k if k > 12 => format!(
-            "At tick {n}: {}, and {} more (btx log shows every transition).",
+            "{head}: {}, and {} more (btx log shows every transition).",
             said[..12].join(", "),
             k - 12
         ),
-        _ => format!("At tick {n}: {}.", said.join(", ")),
+        _ => format!("{head}: {}.", said.join(", ")),
     };
     Ok(())
 }

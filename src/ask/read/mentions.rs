@@ -463,6 +463,22 @@ fn close(a: &str, b: &str) -> bool {
         && strsim::osa_distance(a, b) <= allowance(n)
 }
 
+/// The span's words joined are a typo of the entry's ("lookatchuk"). A
+/// word any sentence has at an end of the span is not a letter or two of
+/// a misspelt name ("did it recover in the end?" names no "recovery").
+fn joined_typo(span: &[&Word], joined: &str, e: &Entry) -> bool {
+    let n = joined.len().max(e.joined.len());
+    let plain_end = span.len() > 1
+        && [span[0], span[span.len() - 1]]
+            .iter()
+            .any(|w| PLAIN.contains(&w.text.as_str()));
+    joined.len().abs_diff(e.joined.len()) <= allowance(n)
+        && !plain_end
+        && n >= 5
+        && joined.get(..2) == e.joined.get(..2)
+        && strsim::osa_distance(joined, &e.joined) <= allowance(n)
+}
+
 /// How well a span of words names an entry: 1.0 as written, less for a
 /// typo, joined words, or a part of the name.
 fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
@@ -511,19 +527,7 @@ fn score(span: &[&Word], joined: &str, e: &Entry) -> f32 {
             return (0.92 - 0.05 * typos as f32) * weight;
         }
     }
-    let n = joined.len().max(e.joined.len());
-    // "Did it recover in the end?": a word any sentence has, at an end of
-    // the span, is not a letter or two of a misspelt name ("recovery").
-    let plain_end = span.len() > 1
-        && [span[0], span[span.len() - 1]]
-            .iter()
-            .any(|w| PLAIN.contains(&w.text.as_str()));
-    if joined.len().abs_diff(e.joined.len()) <= allowance(n)
-        && !plain_end
-        && n >= 5
-        && joined.get(..2) == e.joined.get(..2)
-        && strsim::osa_distance(joined, &e.joined) <= allowance(n)
-    {
+    if joined_typo(span, joined, e) {
         return 0.86 * weight;
     }
     // Half a name: the span's words in order inside the entry's, not

@@ -132,14 +132,8 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
         Some(When::Tick(n) | When::Step(n, _)) => n,
         _ => 0,
     };
-    let walk = s.phrase(&["walk", "me", "through"]).is_some()
-        || s.phrase(&["walk", "through"]).is_some()
-        || s.phrase(&["went", "on"]).is_some()
-        // "Tick 1 step by step".
-        || s.phrase(&["step", "by", "step"]).is_some()
-        || c.break_down
-        // "What's been going on in this tick so far?".
-        || going_on && this_tick;
+    // "What's been going on in this tick so far?".
+    let walk = walks_through(c) || going_on && this_tick;
     // "What went on", not "what went wrong"; "describe how it pursues its
     // subgoal at tick 5" asks how, not what happened.
     let asks_other = s.has_stem(&["achiev", "accomplish", "pursu"])
@@ -167,6 +161,17 @@ pub(super) fn tick(c: &Cues) -> Option<Readings> {
     let named_in_question = c.named.iter().any(|m| m.end > asked_from);
     (asks_tick && !named_in_question && (!c.doing_words || walk))
         .then(|| vec![(Intent::Tick(n), c.sure_of_words(0.95))])
+}
+
+/// "Walk me through tick 4", "what went on", "tick 1 step by step",
+/// "break it down": the tick told.
+fn walks_through(c: &Cues) -> bool {
+    let s = c.s;
+    s.phrase(&["walk", "me", "through"]).is_some()
+        || s.phrase(&["walk", "through"]).is_some()
+        || s.phrase(&["went", "on"]).is_some()
+        || s.phrase(&["step", "by", "step"]).is_some()
+        || c.break_down
 }
 
 /// What next?

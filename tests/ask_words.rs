@@ -3735,7 +3735,7 @@ fn english_as_many_places_speak_it_is_read_for_what_it_asks() {
         (
             vec![NAV2],
             "Did it manage to recover in the end, or naw?",
-            "Did the recovery work?",
+            "Did the recovery work by the end of the run?",
         ),
         (vec![NAV2], "Can back up or not?", "Can you BackUp?"),
         (
@@ -3802,4 +3802,34 @@ fn this_tick_is_the_tick_asked_even_where_nothing_changed() {
         )),
         "{out}"
     );
+}
+
+/// "Did it recover in the end?" asked mid-run is of the run's end, said
+/// so: at 4:6 of the Nav2 run the recovery had not finished, and it had
+/// by tick 10. "What's it trying to achieve in the end?" still asks the
+/// goal.
+#[test]
+fn recovered_in_the_end_is_asked_of_the_runs_end() {
+    let (ok, out, err) = btx(&["ask", NAV2, "--at", "4:6", "did it recover in the end?"]);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "Did the recovery work by the end of the run?");
+    assert!(
+        lines[1].starts_with("Yes.")
+            && lines[1].ends_with("NavigateRecovery (#1) then succeeded at 10:10."),
+        "{out}"
+    );
+    let (_, out, _) = btx(&["ask", NAV2, "--at", "4:6", "did the recovery work?"]);
+    assert!(
+        out.contains("Not yet.") && out.contains("by moment 4:6"),
+        "{out}"
+    );
+    let (_, out, _) = btx(&[
+        "ask",
+        NAV2,
+        "--at",
+        "4:6",
+        "what is it trying to achieve in the end?",
+    ]);
+    assert_eq!(out.lines().next(), Some("What is your goal?"), "{out}");
 }

@@ -431,6 +431,10 @@ fn said_as_read(cx: &Context, reading: &read::Reading, restate: bool, r: &mut Re
     r.restate = restate;
     r.confidence = reading.confidence;
     r.named_moment = reading.when.map(|w| w.told(cx.tree));
+    // "Did it recover in the end?", asked mid-run: of the run's end.
+    if reading.intent == parse::Intent::Recovered && reading.when == Some(read::When::LastTick) {
+        r.understood = "Did the recovery work by the end of the run?".into();
+    }
     if let (Some(w), parse::Intent::Fixed(Question::Tree(_) | Question::Run(_))) =
         (reading.when, &reading.intent)
     {

@@ -466,28 +466,6 @@ pub fn as_meant(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> String {
 /// each on its own: the surest of them, the first of equals (what follows
 /// a question is most often about it: "Is this a bug?"), is what it asks.
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
-    read_all(vocabulary, tree, text).map(|r| recovered_in_the_end(r, text))
-}
-
-/// "Did it recover in the end?", "did it eventually get going again?":
-/// whether it recovered by the end of the run, wherever it is asked. (Not
-/// read as a moment in general: "what's it trying to achieve in the end?"
-/// asks its goal.)
-fn recovered_in_the_end(mut r: Reading, text: &str) -> Reading {
-    if r.intent == Intent::Recovered && r.when.is_none() {
-        let q = words::words(text);
-        let said = |p: &[&str]| {
-            q.windows(p.len())
-                .any(|w| w.iter().map(|w| w.text.as_str()).eq(p.iter().copied()))
-        };
-        if said(&["in", "the", "end"]) || said(&["eventually"]) || said(&["ultimately"]) {
-            r.when = Some(When::LastTick);
-        }
-    }
-    r
-}
-
-fn read_all(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
     let meant = as_meant(vocabulary, tree, text);
     let text = without_a_guess(without_a_challenge(&meant));
     let why_asked = why_of_the_story(text);

@@ -119,6 +119,10 @@ pub(super) fn chosen(
     // recovery is from, not the moment to ask at.
     let when = match (&intent, when) {
         (Intent::Recovered, Some(When::AfterFailure | When::AfterRecovery)) => None,
+        // "Did it recover in the end?", "did it eventually recover?":
+        // by the end of the run, wherever it is asked. (Not a moment in
+        // general: "what's it trying to achieve in the end?" asks the goal.)
+        (Intent::Recovered, None) if in_the_end(q) => Some(When::LastTick),
         (_, w) => w,
     };
     let when = match (when::nth_time(q), when) {
@@ -153,6 +157,13 @@ pub(super) fn chosen(
         when,
         about,
     })
+}
+
+fn in_the_end(q: &[Word]) -> bool {
+    q.windows(3)
+        .any(|w| w.iter().map(|w| w.text.as_str()).eq(["in", "the", "end"]))
+        || q.iter()
+            .any(|w| ["eventually", "ultimately"].contains(&w.text.as_str()))
 }
 
 /// "Why did FollowPath fail the second time?", "what if detect chuck

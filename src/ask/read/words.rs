@@ -409,10 +409,7 @@ pub fn words(text: &str) -> Vec<Word> {
                     };
                     continue;
                 }
-                out.push(Word {
-                    text: w.to_string(),
-                    stem: stem(w),
-                });
+                out.push(word(w));
             }
         }
     }
@@ -437,10 +434,7 @@ pub fn words(text: &str) -> Vec<Word> {
             } else {
                 "ticks"
             };
-            out[i] = Word {
-                text: tick.into(),
-                stem: stem(tick),
-            };
+            out[i] = word(tick);
         }
     }
     // "…, or no?" is "or not?": no "no" a node was told.
@@ -455,6 +449,7 @@ pub fn words(text: &str) -> Vec<Word> {
     as_logs_say(spoken_numbers(spoken_turns(out)))
 }
 
+/// A word as read, with its stem.
 fn word(w: &str) -> Word {
     Word {
         text: w.to_string(),

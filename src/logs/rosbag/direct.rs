@@ -97,7 +97,7 @@ impl Direct {
                     .saturating_mul(1_000_000)
                     .saturating_add(nsec as i64 / 1000),
                 uid,
-                status: status(now)?,
+                status: Status::parse_bytes(now)?,
                 offset: out.len(),
             });
         }
@@ -127,17 +127,6 @@ fn text(b: &[u8], at: usize) -> Option<(&[u8], usize)> {
     Some((t.strip_suffix(&[0]).unwrap_or(t), end))
 }
 
-/// A status as Nav2 spells it, else as `Status::parse_bytes` reads it.
-#[inline(always)]
-fn status(b: &[u8]) -> Option<Status> {
-    match b {
-        b"RUNNING" => Some(Status::Running),
-        b"SUCCESS" => Some(Status::Success),
-        b"FAILURE" => Some(Status::Failure),
-        b"IDLE" => Some(Status::Idle),
-        _ => Status::parse_bytes(b),
-    }
-}
 
 #[cfg(test)]
 mod tests {

@@ -127,7 +127,6 @@ fn text(b: &[u8], at: usize) -> Option<(&[u8], usize)> {
     Some((t.strip_suffix(&[0]).unwrap_or(t), end))
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::super::{definitions, pool::by_slots, CHANGE_PATHS, JAZZY};

@@ -105,8 +105,10 @@
 //! Jamaican, South African, each with its own words and turns); corpus41
 //! until `corpus42.jsonl` (280 by a forty-second, asked for people who
 //! write long: background first, hedges, asides in parentheses, the one
-//! question in the middle of a paragraph); corpus42
-//! is never tuned on: its figures are the fresh ones, and its
+//! question in the middle of a paragraph); corpus42 until
+//! `corpus43.jsonl` (280 by a forty-third, asked for the voice of a formal
+//! report: passive, impersonal, "state", "specify", "it is requested that");
+//! corpus43 is never tuned on: its figures are the fresh ones, and its
 //! failures are never printed (`BTX_SHOW_FRESH` shows those of the
 //! corpora tuned on).
 //!
@@ -584,26 +586,27 @@ fn questions_written_after_the_reader_are_read_as_meant() {
             "corpus39.jsonl",
             "corpus40.jsonl",
             "corpus41.jsonl",
+            "corpus42.jsonl",
         ],
         |_| true,
     );
-    let (understood3, misread3) = report("corpus3 to corpus41 (tuned on)", &t3);
-    let t = tally(&["corpus42.jsonl"], |_| true);
-    let (understood, misread) = report("written after (corpus42)", &t);
+    let (understood3, misread3) = report("corpus3 to corpus42 (tuned on)", &t3);
+    let t = tally(&["corpus43.jsonl"], |_| true);
+    let (understood, misread) = report("written after (corpus43)", &t);
     if std::env::var_os("BTX_SHOW_FRESH").is_some() {
         for w in &t3.wrong {
             println!("{w}");
         }
     }
     assert!(
-        t3.total >= 11_000 && t.total >= 280,
+        t3.total >= 11_280 && t.total >= 280,
         "{} {}",
         t3.total,
         t.total
     );
     assert!(
         understood3 >= C3_FLOOR && misread3 <= C3_MISREAD,
-        "corpus3 to corpus41: {understood3:.1}% understood, {misread3:.1}% misread"
+        "corpus3 to corpus42: {understood3:.1}% understood, {misread3:.1}% misread"
     );
     assert!(
         understood >= FRESH_FLOOR && misread <= FRESH_MISREAD,
@@ -620,16 +623,16 @@ const DEV_FLOOR: f64 = 92.2;
 const DEV_MISREAD: f64 = 1.7;
 const HELD_FLOOR: f64 = 89.0;
 const HELD_MISREAD: f64 = 3.8;
-/// corpus3 to corpus41 as tuned on (88.6 % understood, 4.2 % misread, when
-/// corpus41 joined; first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
+/// corpus3 to corpus42 as tuned on (88.5 % understood, 4.1 % misread, when
+/// corpus42 joined; first read 72.2 %/8.4 %, 77.2 %/5.6 %, 74.6 %/5.4 %, 76.8 %/5.7 %, 69.3 %/10.0 %, 83.6 %/9.6 %, 95.0 %/1.8 %,
 /// 78.2 %/8.2 %, 91.1 %/5.4 %, 88.6 %/6.4 %, 92.1 %/4.6 %, 83.6 %/11.1 %,
 /// 81.1 %/7.9 %, 85.0 %/8.2 %, 79.3 %/8.6 %, 81.8 %/7.5 %, 58.9 %/11.4 %,
 /// 85.4 %/7.9 %, 77.9 %/9.3 %, 69.6 %/15.0 %, 78.9 %/5.7 %, 83.9 %/7.5 %,
-/// 86.8 %/7.1 %, 68.6 %/13.2 %, 63.6 %/20.4 %, 57.1 %/10.7 %, 73.2 %/11.8 %, 81.4 %/7.9 %, 75.4 %/10.4 %, 82.9 %/7.1 %, 68.9 %/13.6 %, 81.4 %/9.3 %, 85.7 %/7.5 %, 63.6 %/11.8 %, 84.3 %/8.6 %, 85.0 %/9.6 %, 78.9 %/8.6 % and 87.5 %/6.4 %, 84.3 %/7.9 %; corpus40 95.4 %/2.1 % and corpus41 96.4 %/2.5 % after their own;
+/// 86.8 %/7.1 %, 68.6 %/13.2 %, 63.6 %/20.4 %, 57.1 %/10.7 %, 73.2 %/11.8 %, 81.4 %/7.9 %, 75.4 %/10.4 %, 82.9 %/7.1 %, 68.9 %/13.6 %, 81.4 %/9.3 %, 85.7 %/7.5 %, 63.6 %/11.8 %, 84.3 %/8.6 %, 85.0 %/9.6 %, 78.9 %/8.6 %, 87.5 %/6.4 %, 84.3 %/7.9 % and 69.3 %/6.8 %; corpus40 95.4 %/2.1 % and corpus41 96.4 %/2.5 % after their own;
 /// 89.0 %/4.1 % in all after corpus41's rules),
-/// and corpus42, never tuned on (69.3 % and 6.8 % when it was first read,
-/// 22.5 % asked back: long messages, their one question among asides).
-const C3_FLOOR: f64 = 88.9;
+/// and corpus43, never tuned on (58.9 % and 18.2 % when it was first read,
+/// 7.5 % refused: a formal report's passive, impersonal requests).
+const C3_FLOOR: f64 = 88.4;
 const C3_MISREAD: f64 = 4.2;
-const FRESH_FLOOR: f64 = 69.2;
-const FRESH_MISREAD: f64 = 6.9;
+const FRESH_FLOOR: f64 = 58.8;
+const FRESH_MISREAD: f64 = 18.3;

@@ -3833,3 +3833,94 @@ fn recovered_in_the_end_is_asked_of_the_runs_end() {
     ]);
     assert_eq!(out.lines().next(), Some("What is your goal?"), "{out}");
 }
+
+/// Long messages (corpus42's writer): background first, a typed double
+/// hyphen for a dash, an aside or a guess after the question, a remark
+/// after it; the one question in the middle is what is asked.
+#[test]
+fn a_long_message_is_read_for_its_one_question() {
+    first_lines_are(vec![
+        (
+            vec![KITTING, "--at", "12"],
+            "Sorry if this is obvious to whoever wrote the tree. I'm at tick 12 and I've lost \
+             track of where we are in the plan -- which part of the task is the robot working \
+             on at this point?",
+            "What was your subgoal at tick 12?",
+        ),
+        (
+            vec![KITTING],
+            "Had a look at the kitting run from last night. The operator swears there was a \
+             hiccup partway through, and I'd like to understand it properly: what went wrong, \
+             exactly?",
+            "What went wrong?",
+        ),
+        (
+            vec![KITTING, "--at", "11"],
+            "Right, a whole bunch of nodes have just flipped to FAILURE. Can you explain what \
+             failed here and how one failure led to the next?",
+            "What went wrong?",
+        ),
+        (
+            vec![KITTING, "--at", "11"],
+            "Tick 10 is where the insert large gear sequence fell over. I'm not worried about \
+             the cause yet -- how did the tree respond to that failure, step by step? I need it \
+             for Thursday.",
+            "How was the failure handled at tick 10?",
+        ),
+        (
+            vec![KITTING],
+            "Long story short, kitting had one failure around the gear insertion. Did it \
+             genuinely recover from that? I'd rather not find out at the customer site.",
+            "Did the recovery work?",
+        ),
+        (
+            vec![KITTING, "--at", "47"],
+            "Right where the cursor is now, what's the subgoal the robot is pursuing? I mean \
+             which chunk of the job, not which motor command.",
+            "What is your subgoal?",
+        ),
+        (
+            vec![NAV2, "--at", "3"],
+            "I'm looking at the nav2 run a couple of ticks in. What's the subgoal it's on right \
+             now -- planning, following, recovering, something else entirely?",
+            "What is your subgoal?",
+        ),
+        (
+            vec![PATROL],
+            "Before I forward this patrol log to the vendor -- did anything go wrong in the \
+             run, or is it a clean one? Yes/no is enough for now.",
+            "Was there anything wrong?",
+        ),
+        (
+            vec![TAXI, "--at", "7"],
+            "Some of the generated policies we've had don't contain certain moves. Could the \
+             taxi move down if it needed to, with this tree?",
+            "Can you move down?",
+        ),
+    ]);
+    let mut bag = BAG.to_vec();
+    bag.push("Is the robot in this bag able to clear its local costmap?");
+    bag.push("Can the bag's navigator tree spin in place?");
+    let mut args = vec!["ask"];
+    args.extend(bag);
+    let (ok, out, err) = btx(&args);
+    assert!(ok, "{err}");
+    assert!(out.starts_with("Can you ClearLocalCostmap?\n"), "{out}");
+    assert!(out.contains("\nCan you Spin?\n"), "{out}");
+    // A post whose one question asks of the world is refused, whatever
+    // node its story or its question names.
+    for q in [
+        "Random one, apologies. Who on our team originally wrote this kitting tree? I'd like \
+         to ask them about the retry counts.",
+        "Maintenance asked me to check something: what was the gripper motor's temperature \
+         during the screw grasp? They suspect it runs hot.",
+        "What's the part number of the chuck the robot was trying to detect? Purchasing need it.",
+    ] {
+        let (ok, out, _) = btx(&["ask", KITTING, q]);
+        assert!(!ok, "{q}: {out}");
+        assert!(
+            out.starts_with("I don't know how to answer that."),
+            "{q}: {out}"
+        );
+    }
+}

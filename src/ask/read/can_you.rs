@@ -151,8 +151,24 @@ const OPENINGS: &[&[&str]] = &[
 /// leads, articles and a robot addressed first left out, each with its
 /// place in the question.
 fn free_words<'s>(s: &'s Sentence<'_>) -> Vec<(usize, &'s Word)> {
+    // "Is the robot in this bag able to …", "can the bag's navigator …":
+    // the record the robot is found in says which robot, not what it can.
+    const RECORDS: &[&str] = &["bag", "log", "run", "recording", "rosbag", "replay"];
+    let text = |i: usize| s.q.get(i).map_or("", |w: &Word| w.text.as_str());
+    let of_a_record = |i: usize| {
+        let record = |j: usize| RECORDS.contains(&text(j));
+        let placed = |j: usize| ["in", "from", "of"].contains(&text(j));
+        let article = |j: usize| ["this", "the", "that"].contains(&text(j));
+        // "the bag's navigator": the record before the robot's word.
+        record(i) && ROBOTS.contains(&text(i + 1))
+            // "in this bag": each of its words.
+            || placed(i) && (record(i + 1) || article(i + 1) && record(i + 2))
+            || article(i) && i > 0 && placed(i - 1) && record(i + 1)
+            || record(i) && i > 0 && (placed(i - 1) || article(i - 1) && i > 1 && placed(i - 2))
+    };
     s.q.iter()
         .enumerate()
+        .filter(|&(i, _)| !of_a_record(i))
         .filter(|(i, w)| {
             // "to" and "know" lead other questions ("I want to know"),
             // and are words of the openings here ("able to").

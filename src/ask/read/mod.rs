@@ -24,7 +24,7 @@ pub mod when;
 pub mod words;
 
 use super::parse::{Event, Intent, Subject};
-use crate::explain::{Question, TreeQuestion};
+use crate::explain::{Question, RunQuestion, TreeQuestion};
 use crate::model::{Kind, Tree, Uid};
 use can_you::can_you;
 pub use can_you::{said_by, wraps_a_question};
@@ -466,10 +466,7 @@ pub fn as_meant(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> String {
 /// each on its own: the surest of them, the first of equals (what follows
 /// a question is most often about it: "Is this a bug?"), is what it asks.
 pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
-    let meant = as_meant(vocabulary, tree, text);
-    let text = without_a_guess(without_a_challenge(&meant));
-    let why_asked = why_of_the_story(text);
-    let text = why_asked.as_deref().unwrap_or(text);
+    let text = &the_text_asked(vocabulary, tree, text);
     let whole = read_one(vocabulary, tree, text);
     let questions = questions_in(text);
     let asked = questions
@@ -506,6 +503,12 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     {
         return Some(a);
     }
+    // "Random one, apologies. Who wrote this tree? I'd like to ask them
+    // about the retry counts.": a post whose questions all ask of the
+    // world asks nothing of the run, whatever its story names.
+    if !questions.is_empty() && questions.iter().all(|q| of_the_world(vocabulary, tree, q)) {
+        return None;
+    }
     if whole.as_ref().is_some_and(|r| r.confidence >= SURE) {
         return whole;
     }
@@ -540,6 +543,18 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         }
         (w, a) => a.or(w),
     }
+}
+
+/// The text as its asker meant it, without what they add to a question
+/// that asks nothing more (a guess at its answer, an aside, a doubt), a
+/// bare "why?" after a story asked of the story.
+fn the_text_asked(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> String {
+    // "… lost track of where we are -- which part is it on?": a typed
+    // double hyphen is the dash it stands for.
+    let meant = as_meant(vocabulary, tree, text).replace(" -- ", " - ");
+    let unaside = without_asides(&meant);
+    let text = without_a_guess(without_a_challenge(&unaside));
+    why_of_the_story(text).unwrap_or_else(|| text.to_string())
 }
 
 /// "Assume FollowPath held at tick 4. How'd the run go?": a question after

@@ -256,6 +256,7 @@ pub(super) fn not_of_the_run(tree: &Tree, q: &[Word], s: &Sentence, in_mention: 
     advice
         || measure
         || outside
+        || a_sensed_value(q, in_mention)
         || which_hardware(q, in_mention)
         || far
         || s.nodes
@@ -326,6 +327,35 @@ fn of_the_setup(q: &[Word]) -> bool {
         // "What colour is the taxi?": the robot's body.
         || asked(&["colour", "color"])
             && q.iter().any(|w| ["taxi", "robot", "car", "vehicle", "rover", "bot"].contains(&w.text.as_str()))
+}
+
+/// "What was the gripper motor's temperature during the screw grasp?",
+/// "what was the lidar point count while it was spinning?", "what's the
+/// part number of the chuck?": a value the robot sensed or a fact of a
+/// part, asked by "what", whatever node the question names.
+fn a_sensed_value(q: &[Word], in_mention: &[bool]) -> bool {
+    const SENSED: &[&str] = &[
+        "temperature",
+        "percentage",
+        "voltage",
+        "pressure",
+        "humidity",
+        "torque",
+        "weight",
+        "obstacle",
+        "fare",
+    ];
+    let named = |w: &str| {
+        q.iter()
+            .enumerate()
+            .any(|(i, x)| !in_mention[i] && x.text == w)
+    };
+    let counted = ["point", "part", "serial"].iter().any(|w| {
+        q.windows(2)
+            .any(|p| p[0].text == *w && ["count", "number"].contains(&p[1].text.as_str()))
+    });
+    let what = ["what", "whats", "which"].iter().any(|w| named(w));
+    what && (counted || SENSED.iter().any(|w| named(w)))
 }
 
 /// "Is L0 checking a laser or a camera?": which sensor, a choice of the

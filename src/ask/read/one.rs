@@ -4,8 +4,24 @@
 use super::*;
 
 pub(super) fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading> {
+    heard(vocabulary, tree, text).ok()
+}
+
+/// Whether a question asks of the robot's world, which no run holds ("Who
+/// wrote this tree?", "what was the motor's temperature?").
+pub(super) fn of_the_world(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> bool {
+    matches!(heard(vocabulary, tree, text), Err(Unread::OfTheWorld))
+}
+
+/// Why a question has no reading.
+enum Unread {
+    Nothing,
+    OfTheWorld,
+}
+
+fn heard(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Result<Reading, Unread> {
     if text.trim().eq_ignore_ascii_case("q5") {
-        return Some(Reading {
+        return Ok(Reading {
             intent: Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
             confidence: 1.0,
             alternatives: Vec::new(),
@@ -31,7 +47,7 @@ pub(super) fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Opti
     );
     let q = words::words(&text);
     if q.is_empty() {
-        return None;
+        return Err(Unread::Nothing);
     }
     let (s, when) = named_parts(vocabulary, tree, &q);
     let mut in_mention = vec![false; q.len()];
@@ -54,9 +70,9 @@ pub(super) fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Opti
         })
         .collect();
     if not_of_the_run(tree, &q, &s, &in_mention) {
-        return None;
+        return Err(Unread::OfTheWorld);
     }
-    chosen(tree, &s, &q, readings(tree, &s, &q), when)
+    chosen(tree, &s, &q, readings(tree, &s, &q), when).ok_or(Unread::Nothing)
 }
 
 /// What the sentence asks, best first: read with its strong mentions;

@@ -212,6 +212,60 @@ pub(super) fn without_a_guess(text: &str) -> &str {
     }
 }
 
+/// Questions without what their asker adds after a dash: guesses at the
+/// answer of a "what" or "which" ("What's the subgoal it's on right now -
+/// planning, following, recovering, something else?") and asides about
+/// the asker ("Which subgoal is it on - I'd like to match it against our
+/// plan?"). A "why" keeps what follows ("why did FollowPath fail - the
+/// action or the recovery node?" says which).
+pub(super) fn without_asides(text: &str) -> String {
+    const ASIDES: &[&str] = &[
+        "i", "i'd", "i'm", "i've", "id", "im", "ive", "ideally", "just", "roughly", "bonus", "no",
+        "purely", "not",
+    ];
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(end) = rest.find('?') {
+        let sentence_start = rest[..end].rfind(['.', '!', ':', ';']).map_or(0, |i| i + 1);
+        let sentence = &rest[sentence_start..end];
+        let cut = [" - ", " — ", " – "]
+            .iter()
+            .filter_map(|d| sentence.find(d).map(|i| (i, i + d.len())))
+            .min();
+        let mut kept = sentence;
+        if let Some((at, after)) = cut {
+            let asked = sentence[..at].trim();
+            let aside = sentence[after..].trim();
+            let first = |s: &str| {
+                s.split_whitespace()
+                    .next()
+                    .unwrap_or("")
+                    .trim_matches(|c: char| !c.is_alphanumeric() && c != '\'')
+                    .to_lowercase()
+            };
+            let opener = first(asked);
+            let what = ["what", "what's", "whats", "which"].contains(&opener.as_str());
+            let guesses = aside.contains(',') || aside.contains(" or ");
+            let about_the_asker = ASIDES.contains(&first(aside).as_str());
+            let asks = OPENS.contains(&opener.as_str()) && asked.split_whitespace().count() >= 3;
+            // "- like, which chapter of the job are we in?": the question
+            // said again, no guess.
+            let restated = aside
+                .split_whitespace()
+                .any(|w| OPENS.contains(&first(w).as_str()));
+            if asks && !restated && (what && guesses || about_the_asker) {
+                kept = &sentence[..at];
+            }
+        }
+        out.push_str(&rest[..sentence_start]);
+        out.push_str(kept);
+        out.push('?');
+        rest = &rest[end + 1..];
+    }
+    out.push_str(rest);
+    out
+}
+
 /// A question without the doubt put after it ("why is look at chuck
 /// roughly being run again? didn't it already succeed?"): the doubt says
 /// what the asker thought, not what is asked.
@@ -306,7 +360,13 @@ pub(super) fn asked_after_the_story(
             let mut a = asked_after_so(vocabulary, tree, text)
                 .or_else(|| asked_after_a_dash(vocabulary, tree, text))
                 .filter(sure)?;
-            a.when = a.when.or(whole);
+            // "Sorry if this is obvious. I'm at tick 12 and lost track -
+            // which part is it on?": the moment the story says, where the
+            // whole has none.
+            a.when = a
+                .when
+                .or(whole)
+                .or_else(|| when::find(&words::words(text)).map(|(w, _)| w));
             Some(a)
         })
 }
@@ -397,16 +457,53 @@ fn asked_after_a_dash(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Optio
     let supposes = |w: &str| {
         ["succeeds", "fails", "if", "suppose", "had"].contains(&w.to_lowercase().as_str())
     };
-    let topic_asks = topic.contains('?')
-        || topic.split_whitespace().any(asks)
-        || topic.split_whitespace().any(supposes);
+    // Only the topic's last sentence can ask or suppose: "Sorry if this is
+    // obvious. I'm at tick 12 and lost track - which part is it on?".
+    let last = topic
+        .rfind(['.', '!', ';'])
+        .map_or(topic, |i| &topic[i + 1..]);
+    // "… lost track of where we are in the plan - which part is it on?":
+    // a "where" inside a clause asks nothing; one that opens it does.
+    let opens_a_clause = last.split(',').any(|clause| {
+        clause
+            .split_whitespace()
+            .find(|w| !["so", "and", "but", "then"].contains(&w.to_lowercase().as_str()))
+            .is_some_and(asks)
+    });
+    let topic_asks = topic.contains('?') || opens_a_clause || last.split_whitespace().any(supposes);
+    // "… - how did the tree respond, step by step? I need it for
+    // Thursday's call.": the question ends at its question mark.
+    let rest = rest.find("? ").map_or(rest, |i| &rest[..=i]);
     let opens = rest.split_whitespace().next().is_some_and(asks);
     if topic_asks || !opens || rest.split_whitespace().count() < 4 {
         return None;
     }
     // "Tick 14 - what went on there?": a question that points into the
     // topic is asked of it, as a whole.
-    read_one(vocabulary, tree, rest).filter(|a| stands_alone(text, rest, of_the_robot(a)))
+    read_one(vocabulary, tree, rest).filter(|a| {
+        // "Before I forward this log - did anything go wrong in the run,
+        // or is it a clean one?": "it" is the run.
+        let whole_run = a.intent == Intent::Fixed(Question::Run(RunQuestion::AnythingWrong));
+        stands_alone(text, rest, of_the_robot(a) || whole_run) || of_the_failure_told(rest, a)
+    })
+}
+
+/// "… where the insert large gear sequence fell over. I'm not worried
+/// about the cause yet - how did the tree respond to that failure?": how a
+/// failure was handled, or whether it was recovered from, asks of the
+/// failure at the moment the story says, whichever node failed.
+fn of_the_failure_told(question: &str, a: &Reading) -> bool {
+    let of_a_failure = matches!(
+        a.intent,
+        Intent::Recovered | Intent::Fixed(Question::Run(RunQuestion::Handled))
+    );
+    let said = words::words(question);
+    of_a_failure
+        && said.windows(2).any(|p| {
+            ["that", "this"].contains(&p[0].text.as_str())
+                && ["failure", "error", "fault", "problem", "crash", "abort"]
+                    .contains(&p[1].text.as_str())
+        })
 }
 
 /// The questions a text of several sentences asks: each sentence that

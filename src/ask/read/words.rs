@@ -271,6 +271,14 @@ const PHRASES: &[(&str, &str)] = &[
     ("calling for help", "asking for help"),
     // "What just went down in this tick?": slang for what happened, not
     // a move down.
+    // "Had a look at the run from last night": the asker looking, no
+    // supposition and no look at chuck.
+    ("had a look at", "checked"),
+    ("have a look at", "check"),
+    ("having a look at", "checking"),
+    ("took a look at", "checked"),
+    ("take a look at", "check"),
+    ("taking a look at", "checking"),
     ("what just went down", "what just happened"),
     ("what went down", "what happened"),
     // An idiom ("why did it fail in the first place?"), not the first time.

@@ -10,6 +10,24 @@ pub(super) fn can_you_asked(c: &Cues) -> Option<Readings> {
 }
 
 /// "What if X fails?", "what would have happened if X had failed".
+/// A "would" that supposes, not one that asks politely or prefers ("I'd
+/// like to know", "I'd rather not find out on site").
+fn would_supposes(s: &Sentence) -> bool {
+    s.free().any(|(i, w)| {
+        w.text == "would"
+            && !s.q.get(i + 1).is_some_and(|n| {
+                ["rather", "like", "love", "prefer", "appreciate"].contains(&n.text.as_str())
+            })
+    })
+}
+
+/// A "had" that may suppose, not "have had" ("the policies we've had").
+fn had_supposes(s: &Sentence) -> bool {
+    s.free().any(|(i, w)| {
+        w.text == "had" && !(i > 0 && ["have", "has", "having"].contains(&s.q[i - 1].text.as_str()))
+    })
+}
+
 pub(super) fn what_if(c: &Cues) -> Option<Readings> {
     let s = c.s;
     let conditional = s.phrase(&["what", "if"]).is_some()
@@ -30,7 +48,7 @@ pub(super) fn what_if(c: &Cues) -> Option<Readings> {
         // "Had path clear returned SUCCESS, would …", "what would have
         // happened had X failed": the conditional put first.
         || c.first == "had"
-        || s.has("had") && s.has("would")
+        || had_supposes(s) && would_supposes(s)
         || s.phrase(&["consider", "the", "case"]).is_some()
         || s.phrase(&["in", "the", "event"]).is_some()
         || s.has("hypothetically")
@@ -55,7 +73,7 @@ pub(super) fn what_if(c: &Cues) -> Option<Readings> {
                 || s.has("would") && s.has("have"))
         // "How would the run differ if look around had failed?", "say the
         // second move up had failed: then what?".
-        || s.has("if") && (s.has("would") || s.has("had"))
+        || s.has("if") && (would_supposes(s) || had_supposes(s))
         || s.has("had") && (c.first == "say" || s.phrase(&["then", "what"]).is_some())
         // "Predict the outcome of the run had it failed instead".
         || s.has("had") && (s.has("instead") || s.has("outcome")) && !c.why

@@ -227,7 +227,7 @@ pub(super) fn handled(c: &Cues) -> Option<Readings> {
     if achieving && !handle {
         return None;
     }
-    if of_a_goal_not_a_failure(c) || does_a_part(c) {
+    if of_a_goal_not_a_failure(c) || does_a_part(c) || a_chain_of_failures(s) && !handle {
         return None;
     }
     if (c.how && (handle || c.problem && !s.has("often") && !s.has("many")))
@@ -250,6 +250,17 @@ pub(super) fn handled(c: &Cues) -> Option<Readings> {
         return c.only(Intent::Fixed(Question::Run(RunQuestion::Handled)), 0.93);
     }
     None
+}
+
+/// "What failed here and how one failure led to the next?", "why it
+/// cascaded upwards": how the failures followed one from another, which
+/// is what went wrong, not how it was handled.
+pub(super) fn a_chain_of_failures(s: &Sentence) -> bool {
+    ["led", "lead", "leads", "leading"]
+        .iter()
+        .any(|l| s.phrase(&[l, "to"]).is_some())
+        || s.has_stem(&["cascad"])
+        || s.has("chain")
 }
 
 /// "Corrective action", "action taken", "response": what was done about

@@ -177,7 +177,8 @@ fn walks_through(c: &Cues) -> bool {
 /// What next?
 pub(super) fn next(c: &Cues) -> Option<Readings> {
     let s = c.s;
-    let next = s.has("next")
+    // "How one failure led to the next": the next of a chain, not of the run.
+    let next = s.has("next") && !a_chain_of_failures(s)
         || s.phrase(&["going", "to", "do"]).is_some()
         || s.phrase(&["will", "you", "do"]).is_some()
         || s.phrase(&["will", "it", "do"]).is_some()

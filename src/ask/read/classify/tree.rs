@@ -11,7 +11,10 @@ pub(super) fn asks_subgoal(c: &Cues) -> bool {
     // "What smaller aim is it working on, within the whole trip?": a goal
     // within the goal.
     let part = s.has_stem(&["immedi"])
-        || s.phrase(&["part", "of"]).is_some()
+        || s.q.windows(2).any(|p| {
+            ["part", "chunk", "portion", "piece", "section"].contains(&p[0].text.as_str())
+                && p[1].text == "of"
+        })
         || ["smaller", "little", "small"].iter().any(|a| {
             ["goal", "aim", "objective"]
                 .iter()
@@ -22,7 +25,12 @@ pub(super) fn asks_subgoal(c: &Cues) -> bool {
         || s.phrase(&["higher", "level"]).is_some()
         || (c.what || s.has("which")) && s.has("part") && !s.has("how");
     s.has_stem(&["subgoal", "subtask", "milestone"])
-        || part && s.has_stem(&["goal", "object", "mission", "task", "job", "aim"])
+        // "Which chunk of the job": "the job" names the root, and is still
+        // the whole the part is of.
+        || part
+            && s.q.iter().any(|w| {
+                ["goal", "object", "mission", "task", "job", "aim"].contains(&w.stem.as_str())
+            })
         || s.phrase(&["sub", "goal"]).is_some()
         || s.phrase(&["sub", "task"]).is_some()
         || s.phrase(&["intermediate", "goal"]).is_some()

@@ -95,7 +95,9 @@ pub(super) fn why_bare_verb(c: &Cues) -> Option<Readings> {
 /// A why: about a node's event, a contrast of two, or what it is doing.
 /// A why that names nothing it could be about is read as nothing.
 pub(super) fn why(c: &Cues) -> Option<Readings> {
-    if !c.why {
+    // "Explain what failed there and why it cascaded upwards": what went
+    // wrong, told as the chain it was.
+    if !c.why || a_chain_of_failures(c.s) && c.s.phrase(&["what", "failed"]).is_some() {
         return None;
     }
     Some(

@@ -3924,3 +3924,66 @@ fn a_long_message_is_read_for_its_one_question() {
         );
     }
 }
+
+/// "When did the taxi pick up the passenger?": an action asked of by what
+/// it does is read as when it started, and the answer says how each call
+/// ended, as the log has it (most writers meant when it was done).
+#[test]
+fn when_an_action_started_the_answer_says_how_it_ended() {
+    for (run, node, q, at) in [
+        (
+            TAXI,
+            "#11",
+            "When did the taxi pick up the passenger?",
+            None,
+        ),
+        (KITTING, "#18", "when did look at chuck start?", None),
+        (
+            KITTING,
+            "#18",
+            "when did look at chuck start?",
+            Some("17:2"),
+        ),
+    ] {
+        let mut args = vec!["ask", run, q];
+        if let Some(at) = at {
+            args.extend(["--at", at]);
+        }
+        let (ok, out, err) = btx(&args);
+        assert!(ok, "{q}: {err}");
+        // The calls' ends, from the log: each change out of RUNNING.
+        let (ok, log, err) = btx(&["log", run, "--node", node]);
+        assert!(ok, "{err}");
+        let limit = at.map(|a| {
+            let (t, s) = a.split_once(':').unwrap();
+            (t.parse::<u32>().unwrap(), s.parse::<u32>().unwrap())
+        });
+        let ends: Vec<String> = log
+            .lines()
+            .skip(1)
+            .filter_map(|l| {
+                let f: Vec<&str> = l.split_whitespace().collect();
+                let (tick, step) = (f[0].parse::<u32>().ok()?, f[1].parse::<u32>().ok()?);
+                let within = limit.is_none_or(|lim| (tick, step) <= lim);
+                (within && l.contains("RUNNING  ->"))
+                    .then(|| format!("{} at {tick}:{step}", f[f.len() - 1]))
+            })
+            .collect();
+        assert!(!ends.is_empty() || at.is_some(), "{log}");
+        for e in &ends {
+            assert!(out.contains(e.as_str()), "{q}: {e} not in {out}");
+        }
+        let answer = out.lines().nth(1).unwrap_or("");
+        match (ends.len(), at) {
+            (1, None) => assert!(
+                answer.ends_with(&format!(" It ended: {}.", ends[0])),
+                "{out}"
+            ),
+            (_, None) => assert!(answer.contains(" They ended: "), "{out}"),
+            (_, Some(_)) => assert!(
+                answer.ends_with("the last was still running then."),
+                "{out}"
+            ),
+        }
+    }
+}

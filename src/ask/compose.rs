@@ -548,8 +548,49 @@ fn when(cx: &Context, u: Uid, e: Event, which: Which, r: &mut Reply) -> Result<(
             moments(at.index, &ev)
         ),
     };
+    // "When did the taxi pick up the passenger?": an action asked of by
+    // what it does started, and was done when it ended; both are said.
+    let asked: Vec<u32> = match which {
+        Which::First => ev.first().copied().into_iter().collect(),
+        Which::Last => ev.last().copied().into_iter().collect(),
+        Which::Every => ev.clone(),
+    };
+    if e == Event::Run && cx.tree.node(u).kind.is_leaf() && (1..=3).contains(&asked.len()) {
+        r.answer.push_str(&how_the_calls_ended(at, u, &asked));
+    }
     r.nodes = vec![u];
     Ok(())
+}
+
+/// " It ended: SUCCESS at 8:1.", " They ended: FAILURE at 10:1 and SUCCESS
+/// at 18:1.": how each call started at `starts` ended, by the moment asked.
+fn how_the_calls_ended(at: &At, u: Uid, starts: &[u32]) -> String {
+    let changes = at.index.changes_of(u);
+    let ends: Vec<String> = starts
+        .iter()
+        .map(|&p| {
+            let next = changes.get(changes.partition_point(|&c| c <= p)).copied();
+            match next.filter(|&c| c <= at.pos) {
+                Some(c) => match at.index.transitions[c as usize - 1].status {
+                    Status::Success => format!("SUCCESS at {}", step_moment(at.index, c)),
+                    Status::Failure => format!("FAILURE at {}", step_moment(at.index, c)),
+                    _ => format!("halted at {}", step_moment(at.index, c)),
+                },
+                // Only the last call can be running at the moment asked.
+                None => String::new(),
+            }
+        })
+        .collect();
+    match &ends[..] {
+        [] => String::new(),
+        [one] if one.is_empty() => " It was still running then.".to_string(),
+        [one] => format!(" It ended: {one}."),
+        [first @ .., last] if last.is_empty() => format!(
+            " They ended: {}; the last was still running then.",
+            first.join(", ")
+        ),
+        [first @ .., last] => format!(" They ended: {} and {last}.", first.join(", ")),
+    }
 }
 
 fn how_often(cx: &Context, u: Uid, e: Event, r: &mut Reply) -> Result<(), String> {

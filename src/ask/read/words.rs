@@ -269,8 +269,6 @@ const PHRASES: &[(&str, &str)] = &[
     ("calls for help", "asks for help"),
     ("called for help", "asked for help"),
     ("calling for help", "asking for help"),
-    // "What just went down in this tick?": slang for what happened, not
-    // a move down.
     // "Had a look at the run from last night": the asker looking, no
     // supposition and no look at chuck.
     ("had a look at", "checked"),
@@ -279,6 +277,8 @@ const PHRASES: &[(&str, &str)] = &[
     ("took a look at", "checked"),
     ("take a look at", "check"),
     ("taking a look at", "checking"),
+    // "What just went down in this tick?": slang for what happened, not
+    // a move down.
     ("what just went down", "what just happened"),
     ("what went down", "what happened"),
     // An idiom ("why did it fail in the first place?"), not the first time.

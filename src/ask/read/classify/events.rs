@@ -9,7 +9,6 @@ pub(super) fn can_you_asked(c: &Cues) -> Option<Readings> {
     c.only(Intent::Fixed(Question::CanYou(x)), 0.95)
 }
 
-/// "What if X fails?", "what would have happened if X had failed".
 /// A "would" that supposes, not one that asks politely or prefers ("I'd
 /// like to know", "I'd rather not find out on site").
 fn would_supposes(s: &Sentence) -> bool {
@@ -28,6 +27,7 @@ fn had_supposes(s: &Sentence) -> bool {
     })
 }
 
+/// "What if X fails?", "what would have happened if X had failed".
 pub(super) fn what_if(c: &Cues) -> Option<Readings> {
     let s = c.s;
     let conditional = s.phrase(&["what", "if"]).is_some()

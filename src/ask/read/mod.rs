@@ -469,10 +469,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     let text = &the_text_asked(vocabulary, tree, text);
     let whole = read_one(vocabulary, tree, text);
     let questions = questions_in(text);
-    let asked = questions
-        .iter()
-        .filter_map(|q| read_one(vocabulary, tree, q))
-        .reduce(|a, b| if b.confidence > a.confidence { b } else { a });
+    let (asked, all_of_the_world) = surest_question(vocabulary, tree, &questions);
     // "Why is the controller running again? I thought it failed": a
     // question that stands on its own (no "it" or "that" pointing into
     // the story, no topic before a colon), read surely, is what the post
@@ -506,7 +503,7 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
     // "Random one, apologies. Who wrote this tree? I'd like to ask them
     // about the retry counts.": a post whose questions all ask of the
     // world asks nothing of the run, whatever its story names.
-    if !questions.is_empty() && questions.iter().all(|q| of_the_world(vocabulary, tree, q)) {
+    if all_of_the_world {
         return None;
     }
     if whole.as_ref().is_some_and(|r| r.confidence >= SURE) {
@@ -543,6 +540,28 @@ pub fn read(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Option<Reading>
         }
         (w, a) => a.or(w),
     }
+}
+
+/// The surest reading of the questions a text asks, the first of equals,
+/// and whether they all ask of the robot's world.
+fn surest_question(
+    vocabulary: &Vocabulary,
+    tree: &Tree,
+    questions: &[&str],
+) -> (Option<Reading>, bool) {
+    let heard_each: Vec<Result<Reading, Unread>> = questions
+        .iter()
+        .map(|q| heard(vocabulary, tree, q))
+        .collect();
+    let all_of_the_world = !heard_each.is_empty()
+        && heard_each
+            .iter()
+            .all(|h| matches!(h, Err(Unread::OfTheWorld)));
+    let asked = heard_each
+        .into_iter()
+        .filter_map(Result::ok)
+        .reduce(|a, b| if b.confidence > a.confidence { b } else { a });
+    (asked, all_of_the_world)
 }
 
 /// The text as its asker meant it, without what they add to a question

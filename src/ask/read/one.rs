@@ -7,19 +7,16 @@ pub(super) fn read_one(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Opti
     heard(vocabulary, tree, text).ok()
 }
 
-/// Whether a question asks of the robot's world, which no run holds ("Who
-/// wrote this tree?", "what was the motor's temperature?").
-pub(super) fn of_the_world(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> bool {
-    matches!(heard(vocabulary, tree, text), Err(Unread::OfTheWorld))
-}
-
-/// Why a question has no reading.
-enum Unread {
+/// Why a question has no reading: nothing in it read, or it asks of the
+/// robot's world, which no run holds ("Who wrote this tree?", "what was
+/// the motor's temperature?").
+pub(super) enum Unread {
     Nothing,
     OfTheWorld,
 }
 
-fn heard(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Result<Reading, Unread> {
+/// A question read, or why it is not.
+pub(super) fn heard(vocabulary: &Vocabulary, tree: &Tree, text: &str) -> Result<Reading, Unread> {
     if text.trim().eq_ignore_ascii_case("q5") {
         return Ok(Reading {
             intent: Intent::Fixed(Question::Tree(TreeQuestion::HowSubgoal)),
